@@ -1,0 +1,229 @@
+# ggrt -- a Whitted-style ray tracer as a C99 library, and its CLI.
+#
+#   make                 build/libggrt.a, build/libggrt.so, build/ggrt
+#   make check           install missing Debian packages, then run every test
+#                        twice: -O2 and ASan+UBSan (see tests/run-tests.sh)
+#   make demo            install missing packages, render the default scene
+#   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man page)
+#   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each
+#   make bench-optics    ns per call of the refraction variants
+#
+# Objects go to $(BUILD) (default build/); BUILD=dir keeps separate trees.
+
+VERSION       = 0.1.0
+VERSION_MAJOR = 0
+
+PREFIX     ?= /usr/local
+EXEC_PREFIX ?= $(PREFIX)
+LIBDIR     ?= $(EXEC_PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+BINDIR     ?= $(EXEC_PREFIX)/bin
+MANDIR     ?= $(PREFIX)/share/man
+PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
+DESTDIR    ?=
+
+BUILD   ?= build
+CC      ?= cc
+CFLAGS  ?= -O2 -g
+LDFLAGS ?=
+INSTALL ?= install
+
+# Flags for our code. Users' CFLAGS add to these; they cannot turn them off.
+GG_WARN   = -std=c99 -Wall -Wextra -pedantic -Werror -Wshadow -Wstrict-prototypes
+GG_CPPFLAGS = -D_POSIX_C_SOURCE=200809L -Iinclude -MMD -MP
+
+# Image I/O is the only part that touches libpng and OpenEXR's C core. Their
+# headers come in with -isystem: OpenEXR's use anonymous unions, which
+# -pedantic -Werror would reject.
+PNG_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libpng 2>/dev/null))
+PNG_LIBS   := $(shell pkg-config --libs libpng 2>/dev/null || echo -lpng16)
+EXR_CFLAGS := -isystem /usr/include/OpenEXR
+EXR_LIBS   := -lOpenEXRCore
+IMG_LIBS    = $(PNG_LIBS) $(EXR_LIBS)
+SYS_LIBS    = -lm -lpthread
+
+LIB_SRC  := $(sort $(wildcard lib/*.c))
+LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o)
+CLI_SRC  := $(sort $(wildcard cli/*.c))
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
+TEST_SRC := $(sort $(wildcard tests/test_*.c))
+TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+TESTUTIL_OBJ := $(BUILD)/tests/testutil.o
+FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
+REPLAY_BIN := $(FUZZ_SRC:tests/fuzz/fuzz_%.c=$(BUILD)/tests/replay_%)
+BENCH_SRC := $(sort $(wildcard bench/*.c))
+BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
+EXAMPLE_SRC := $(sort $(wildcard examples/*.c))
+
+STATIC = $(BUILD)/libggrt.a
+SONAME = libggrt.so.$(VERSION_MAJOR)
+SHARED = $(BUILD)/libggrt.so.$(VERSION)
+CLI    = $(BUILD)/ggrt
+
+.PHONY: all lib cli check test tests deps demo install uninstall installcheck \
+        clean fuzz bench examples format pc
+.DEFAULT_GOAL := all
+.SECONDARY:
+
+all: lib cli
+lib: $(STATIC) $(SHARED) $(BUILD)/libggrt.so
+cli: $(CLI)
+
+$(BUILD)/lib/%.o: lib/%.c
+	@mkdir -p $(@D)
+	$(CC) $(GG_CPPFLAGS) -DGG_BUILDING $(PNG_CFLAGS) $(EXR_CFLAGS) $(GG_WARN) $(CFLAGS) \
+	  -fPIC -fvisibility=hidden -c $< -o $@
+
+$(STATIC): $(LIB_OBJ)
+	@mkdir -p $(@D)
+	rm -f $@
+	$(AR) rcs $@ $^
+
+$(SHARED): $(LIB_OBJ)
+	$(CC) -shared -Wl,-soname,$(SONAME) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
+
+$(BUILD)/libggrt.so: $(SHARED)
+	ln -sf libggrt.so.$(VERSION) $(BUILD)/$(SONAME)
+	ln -sf libggrt.so.$(VERSION) $@
+
+# The CLI sees only the public header (no -Ilib): it is a client of the API.
+$(BUILD)/cli/%.o: cli/%.c
+	@mkdir -p $(@D)
+	$(CC) $(GG_CPPFLAGS) $(GG_WARN) $(CFLAGS) -c $< -o $@
+
+$(CLI): $(CLI_OBJ) $(STATIC)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
+
+# Tests may look inside (-Ilib) and link the static archive.
+$(BUILD)/tests/%.o: tests/%.c
+	@mkdir -p $(@D)
+	$(CC) $(GG_CPPFLAGS) -Ilib -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
+
+# Each fuzz harness also builds with the plain compiler as a corpus replayer.
+$(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
+	@mkdir -p $(@D)
+	$(CC) $(GG_CPPFLAGS) -Ilib -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/tests/replay_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/replay.o $(STATIC)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
+
+$(BUILD)/bench/%: bench/%.c $(STATIC)
+	@mkdir -p $(@D)
+	$(CC) $(GG_CPPFLAGS) -Ilib $(GG_WARN) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
+
+tests: $(TEST_BIN) $(REPLAY_BIN) $(CLI)
+
+# Run what is built in $(BUILD); `check` runs it twice.
+test: tests
+	@sh tests/run-tests.sh "$(BUILD)" $(TEST_BIN) -- $(REPLAY_BIN) -- $(CLI)
+
+SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+
+# check: install missing packages, then the plain and the sanitized runs,
+# then stage an install and build the examples against it. Recursive makes
+# re-read pkg-config once the packages are there.
+check: deps
+	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release
+	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
+	  LDFLAGS="-fsanitize=address,undefined"
+	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release
+	@echo "check: all suites passed (plain, sanitized, installcheck)"
+
+deps:
+	@sh scripts/deps.sh
+
+demo: deps
+	@$(MAKE) --no-print-directory all
+	$(CLI) render examples/scenes/default.nff -o demo.png
+	@echo "demo: wrote demo.png"
+
+# --- install -----------------------------------------------------------
+
+$(BUILD)/ggrt.pc: ggrt.pc.in Makefile
+	@mkdir -p $(@D)
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
+	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
+
+# Regenerated every time: PREFIX may differ between calls.
+pc:
+	@rm -f $(BUILD)/ggrt.pc
+	@$(MAKE) --no-print-directory $(BUILD)/ggrt.pc
+
+install: all pc
+	$(INSTALL) -d $(DESTDIR)$(INCLUDEDIR)/ggrt $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PKGCONFIGDIR) \
+	  $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1
+	$(INSTALL) -m 644 include/ggrt.h $(DESTDIR)$(INCLUDEDIR)/
+	$(INSTALL) -m 644 include/ggrt/*.h $(DESTDIR)$(INCLUDEDIR)/ggrt/
+	$(INSTALL) -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/
+	$(INSTALL) -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
+	ln -sf libggrt.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
+	ln -sf libggrt.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libggrt.so
+	$(INSTALL) -m 644 $(BUILD)/ggrt.pc $(DESTDIR)$(PKGCONFIGDIR)/
+	$(INSTALL) -m 755 $(CLI) $(DESTDIR)$(BINDIR)/
+	$(INSTALL) -m 644 docs/ggrt.1 $(DESTDIR)$(MANDIR)/man1/
+
+uninstall:
+	rm -f $(DESTDIR)$(INCLUDEDIR)/ggrt.h $(DESTDIR)$(LIBDIR)/libggrt.a \
+	  $(DESTDIR)$(LIBDIR)/libggrt.so $(DESTDIR)$(LIBDIR)/$(SONAME) \
+	  $(DESTDIR)$(LIBDIR)/libggrt.so.$(VERSION) $(DESTDIR)$(PKGCONFIGDIR)/ggrt.pc \
+	  $(DESTDIR)$(BINDIR)/ggrt $(DESTDIR)$(MANDIR)/man1/ggrt.1
+	rm -rf $(DESTDIR)$(INCLUDEDIR)/ggrt
+
+# Stage an install under $(BUILD)/stage with PREFIX=/usr and build and run
+# every example against it through pkg-config, as a user would.
+STAGE = $(abspath $(BUILD))/stage
+installcheck:
+	@rm -rf $(STAGE)
+	@$(MAKE) --no-print-directory install DESTDIR=$(STAGE) PREFIX=/usr >/dev/null
+	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \
+	  $(MAKE) --no-print-directory examples EXAMPLE_OUT=$(abspath $(BUILD))/examples
+	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
+	  LD_LIBRARY_PATH=$(STAGE)/usr/lib $(abspath $(BUILD))/examples/$$e \
+	    >$(abspath $(BUILD))/examples/$$e.log 2>&1 \
+	    || { echo "installcheck: example $$e failed:"; cat $(abspath $(BUILD))/examples/$$e.log; exit 1; }; \
+	  echo "installcheck: example $$e ran against the staged install"; \
+	done
+
+# Examples build against an installed libggrt found by pkg-config.
+EXAMPLE_OUT ?= $(BUILD)/examples
+examples:
+	@mkdir -p $(EXAMPLE_OUT)
+	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
+	  echo "$(CC) examples/$$e.c \`pkg-config --cflags --libs ggrt\`"; \
+	  $(CC) -std=c99 -Wall -Wextra -pedantic -Werror -O2 -o $(EXAMPLE_OUT)/$$e examples/$$e.c \
+	    `pkg-config --cflags --libs ggrt` || exit 1; \
+	done
+
+# --- fuzzing and benchmarks ---------------------------------------------
+
+FUZZ_SECONDS ?= 60
+FUZZ_CC ?= clang
+fuzz:
+	@mkdir -p $(BUILD)/fuzz
+	@for f in $(FUZZ_SRC:tests/fuzz/fuzz_%.c=%); do \
+	  $(FUZZ_CC) $(GG_CPPFLAGS) -Ilib -Itests -std=c99 -g -O1 \
+	    -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+	    $(PNG_CFLAGS) $(EXR_CFLAGS) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c $(LIB_SRC) \
+	    $(IMG_LIBS) $(SYS_LIBS) || exit 1; \
+	  mkdir -p $(BUILD)/fuzz/corpus_$$f; \
+	  $(BUILD)/fuzz/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
+	    $(BUILD)/fuzz/corpus_$$f tests/fuzz/corpus/$$f || exit 1; \
+	done
+
+bench: $(BENCH_BIN)
+	@for b in $(BENCH_BIN); do $$b || exit 1; done
+
+bench-%: $(BUILD)/bench/bench_%
+	$<
+
+format:
+	clang-format -i include/*.h include/ggrt/*.h lib/*.c lib/*.h cli/*.c cli/*.h tests/*.c \
+	  tests/*.h tests/fuzz/*.c bench/*.c examples/*.c
+
+clean:
+	rm -rf $(BUILD)
+
+-include $(wildcard $(BUILD)/lib/*.d $(BUILD)/cli/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)

@@ -1,0 +1,52 @@
+/*
+** main.c -- `ggrt`: dispatch to a subcommand.
+*/
+#include "cli.h"
+
+#include <string.h>
+
+typedef struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} command;
+
+static const command commands[] = {
+    {"render", cmd_render, "render a scene to PNG or EXR"},
+    {"trace", cmd_trace, "print the ray tree of one pixel"},
+    {"info", cmd_info, "describe a scene: objects, lights, BVH, effects"},
+    {"optics", cmd_optics, "one reflection, refraction or Fresnel evaluation"},
+    {"bench", cmd_bench, "benchmarks: SPD scenes, accuracy versus time"},
+};
+
+static void usage(FILE *f)
+{
+    size_t i;
+    fprintf(f, "usage: ggrt <command> [options]\n\ncommands:\n");
+    for (i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
+    fprintf(f, "\n'ggrt <command> --help' describes one command; 'man ggrt' all of them.\n"
+               "Exit codes: 0 success, 1 usage, 2 bad input, 3 I/O error.\n");
+}
+
+int main(int argc, char **argv)
+{
+    size_t i;
+    if (argc < 2) {
+        usage(stderr);
+        return EXIT_USAGE;
+    }
+    if (cli_is_help(argv[1]) || strcmp(argv[1], "help") == 0) {
+        usage(stdout);
+        return EXIT_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
+        printf("ggrt %s\n", ggVersion());
+        return EXIT_OK;
+    }
+    for (i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "ggrt: unknown command '%s'\n\n", argv[1]);
+    usage(stderr);
+    return EXIT_USAGE;
+}

@@ -1,0 +1,106 @@
+/*
+** ggrt/base.h -- version, export macro, status codes, errors, allocator and
+** the plain math types every other ggrt header uses.
+**
+** Conventions (the whole library follows them):
+**  - Math types are plain structs of double passed by value.
+**  - Big objects are opaque handles with a create/free pair; freeing NULL is
+**    a no-op.
+**  - Functions that can fail return an int status: GG_OK (0) or a GG_ERROR_*
+**    code. Those that can say more take an optional `ggError *` that receives
+**    the code and a message naming what and where, e.g.
+**    "scene.nff:12:5: expected a number after 's'". Pass NULL to ignore it.
+**  - The library never prints, exits or aborts.
+*/
+#ifndef GGRT_BASE_H
+#define GGRT_BASE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* GG_API marks the exported functions; everything else in libggrt.so is
+   hidden (the library is built with -fvisibility=hidden). */
+#if defined(_WIN32) && defined(GG_BUILDING_DLL)
+#define GG_API __declspec(dllexport)
+#elif defined(__GNUC__) && __GNUC__ >= 4
+#define GG_API __attribute__((visibility("default")))
+#else
+#define GG_API
+#endif
+
+#define GG_VERSION_MAJOR  0
+#define GG_VERSION_MINOR  1
+#define GG_VERSION_PATCH  0
+#define GG_VERSION_STRING "0.1.0"
+
+/* Returns GG_VERSION_STRING of the library actually linked. */
+GG_API const char *ggVersion(void);
+
+/* ------------------------------------------------------------------ */
+/* Status codes                                                        */
+/* ------------------------------------------------------------------ */
+
+#define GG_OK                0 /* success */
+#define GG_ERROR_INVALID     1 /* an argument is invalid (NULL, NaN, out of range) */
+#define GG_ERROR_NOMEM       2 /* an allocation failed */
+#define GG_ERROR_PARSE       3 /* malformed input (scene text, expression, image) */
+#define GG_ERROR_IO          4 /* a file could not be opened, read or written */
+#define GG_ERROR_UNSUPPORTED 5 /* valid but not supported (e.g. an image format) */
+#define GG_ERROR_LIMIT       6 /* input exceeds a documented limit (size, count) */
+#define GG_ERROR_CANCELLED   7 /* a callback asked to stop */
+
+/* A fixed English description of a status code ("out of memory"); never
+   NULL, also for unknown codes. */
+GG_API const char *ggStatusString(int code);
+
+/* Receives the details of a failure. `code` repeats the returned status;
+   `message` is NUL-terminated and names the place ("file:line:col: ...")
+   when there is one. */
+typedef struct ggError {
+    int code;
+    char message[512];
+} ggError;
+
+/* ------------------------------------------------------------------ */
+/* Allocator                                                           */
+/* ------------------------------------------------------------------ */
+
+/* Every object that allocates takes an optional allocator; NULL means the C
+   library's malloc/realloc/free. The three functions behave like their C
+   counterparts; `ud` is passed back unchanged. free(ud, NULL) must be a no-op.
+   The allocator must outlive every object created with it, and must be
+   thread-safe if objects created with it are used from several threads. */
+typedef struct ggAllocator {
+    void *(*malloc)(void *ud, size_t size);
+    void *(*realloc)(void *ud, void *ptr, size_t size);
+    void (*free)(void *ud, void *ptr);
+    void *ud;
+} ggAllocator;
+
+/* ------------------------------------------------------------------ */
+/* Math types                                                          */
+/* ------------------------------------------------------------------ */
+
+typedef struct ggVec3 {
+    double x, y, z;
+} ggVec3;
+
+/* Linear RGB radiance or reflectance. */
+typedef struct ggColor {
+    double r, g, b;
+} ggColor;
+
+/* A ray o + t d. d need not be unit length unless a function says so. */
+typedef struct ggRay {
+    ggVec3 o, d;
+} ggRay;
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* GGRT_BASE_H */

@@ -1,0 +1,101 @@
+/*
+** ggrt/render.h -- the Whitted renderer: ggRayColor for one ray, ggRender
+** for an image, the effect set a scene calls for, and ray statistics.
+*/
+#ifndef GGRT_RENDER_H
+#define GGRT_RENDER_H
+
+#include "ggrt/base.h"
+#include "ggrt/image.h"
+#include "ggrt/scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- effects ----
+   At ggScenePrepare the scene works out which effects it needs, each with
+   the reason (which material or object, which line). The renderer runs a
+   path specialised to that set; forcing effects on gives the same image,
+   only slower. */
+#define GG_EFFECT_SHADOWS         (1u << 0)  /* shadow rays to point lights */
+#define GG_EFFECT_REFLECTION      (1u << 1)  /* mirror rays (ks > 0) */
+#define GG_EFFECT_REFRACTION      (1u << 2)  /* transmitted rays (kt > 0) */
+#define GG_EFFECT_FRESNEL         (1u << 3)  /* Fresnel-weighted ks/kt */
+#define GG_EFFECT_ABSORPTION      (1u << 4)  /* Beer-Lambert inside media */
+#define GG_EFFECT_DISPERSION      (1u << 5)  /* per-wavelength refraction */
+#define GG_EFFECT_COLORED_SHADOWS (1u << 6)  /* light through transparent occluders */
+#define GG_EFFECT_TEXTURES        (1u << 7)  /* image or procedural textures */
+#define GG_EFFECT_IMPLICIT        (1u << 8)  /* implicit surfaces */
+#define GG_EFFECT_SUPERSAMPLING   (1u << 9)  /* more than one sample per pixel */
+#define GG_EFFECT_PHONG           (1u << 10) /* Phong highlights */
+#define GG_EFFECT_EMISSION        (1u << 11) /* emissive materials */
+#define GG_EFFECT_COUNT           12
+#define GG_EFFECT_ALL             ((1u << GG_EFFECT_COUNT) - 1)
+
+/* Short name of one effect bit ("refraction"); "?" otherwise. */
+GG_API const char *ggEffectName(unsigned effect);
+/* The effect set of a prepared scene (0 if not prepared). */
+GG_API unsigned ggSceneEffects(const ggScene *scene);
+/* Why the scene needs `effect` ("material 2 (line 14) has kt 0.9"), or
+   NULL if it does not. Valid until the scene changes. */
+GG_API const char *ggSceneEffectReason(const ggScene *scene, unsigned effect);
+
+/* ---- options ---- */
+
+/* Progress callback: done and total in pixels. Return non-zero to cancel
+   (ggRender then returns GG_ERROR_CANCELLED). Called from one thread at a
+   time, at most a few hundred times per render. */
+typedef int (*ggProgressFn)(void *ud, long done, long total);
+
+typedef struct ggRenderOptions {
+    int width, height;  /* 0: from the scene's camera */
+    int max_depth;      /* ray-tree depth counting the eye ray; 0: scene or 5 */
+    int samples;        /* samples per pixel (n*n grid when a square); 0: scene or 1 */
+    int threads;        /* worker threads; 0: all processors. Output does not depend on it */
+    /* Crop window [x0, x1) x [y0, y1) in pixels; all 0 = the whole image.
+       Pixels outside stay black; inside they equal the full render's. */
+    int crop_x0, crop_y0, crop_x1, crop_y1;
+    bool pixel_corners; /* SPD rule: rays through pixel corners, (w+1)x(h+1) eye rays */
+    bool spd_rules;     /* SPD rule: transmitters also spawn reflection rays */
+    unsigned force_effects; /* effects to simulate even if the scene does not call for them */
+    ggProgressFn progress;
+    void *progress_ud;
+} ggRenderOptions;
+
+/* Fill *opt with the defaults (all fields zero/false but the above). */
+GG_API void ggRenderOptionsDefault(ggRenderOptions *opt);
+
+/* ---- statistics ---- */
+typedef struct ggRayStats {
+    uint64_t eye;        /* eye rays cast */
+    uint64_t eye_hit;    /* eye rays that hit something */
+    uint64_t reflect;    /* mirror rays, including those from TIR */
+    uint64_t refract;    /* transmitted rays */
+    uint64_t shadow;     /* shadow rays */
+    uint64_t tir;        /* total internal reflections (also counted in reflect) */
+    uint64_t nonfinite;  /* samples that produced NaN or infinity */
+} ggRayStats;
+
+/* ---- rendering ---- */
+
+/* Render the scene into *out (a new image of the options' size). Prepares
+   the scene if needed. stats may be NULL. */
+GG_API int ggRender(ggScene *scene, const ggRenderOptions *opt, ggImage **out,
+                    ggRayStats *stats, ggError *err);
+
+/* The eye ray of pixel (x, y), sample s of the options' samples (0-based),
+   as ggRender casts it. */
+GG_API ggRay ggCameraRay(const ggScene *scene, const ggRenderOptions *opt, double x, double y);
+
+/* Colour seen along one ray of a prepared scene: emission + kd * ambient +
+   direct light (shadow rays) + ks * reflection + kt * refraction, recursing
+   until depth reaches opt->max_depth (the eye ray has depth 1). stats may be
+   NULL. */
+GG_API ggColor ggRayColor(const ggScene *scene, const ggRenderOptions *opt, ggRay ray,
+                          int depth, ggRayStats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,157 @@
+/*
+** ggrt/scene.h -- a scene: camera, lights, materials, objects, textures.
+** Load one from NFF (the SPD format plus ggrt's extensions, see
+** docs/scene-format.md) or build it in code; then render it (render.h).
+*/
+#ifndef GGRT_SCENE_H
+#define GGRT_SCENE_H
+
+#include "ggrt/base.h"
+#include "ggrt/image.h"
+#include "ggrt/implicit.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct ggScene ggScene;
+
+/* Kinds of shape, as reported in hits and statistics. */
+typedef enum ggShapeKind {
+    GG_SHAPE_SPHERE = 0,
+    GG_SHAPE_TRIANGLE, /* from NFF p with 3 vertices, or pp */
+    GG_SHAPE_POLYGON,  /* planar, any vertex count, concave allowed */
+    GG_SHAPE_CONE,     /* open cone or cylinder, no caps (NFF c) */
+    GG_SHAPE_RECT,     /* corner + two edges, (u,v) over [0,1]^2 */
+    GG_SHAPE_IMPLICIT, /* f(x,y,z) = 0 inside a box */
+    GG_SHAPE_COUNT
+} ggShapeKind;
+
+/* Name of a shape kind ("sphere"); "?" if out of range. */
+GG_API const char *ggShapeKindName(int kind);
+
+/* How a material's reflection and transmission weights are found. */
+#define GG_FRESNEL_NONE      0 /* constant ks and kt, as the SPD */
+#define GG_FRESNEL_SCHLICK   1 /* Schlick's approximation, dielectric */
+#define GG_FRESNEL_EXACT     2 /* exact unpolarised dielectric Fresnel */
+#define GG_FRESNEL_CONDUCTOR 3 /* complex index n + ik per channel */
+
+/* The wavelengths (nm) that the R, G and B channels stand for when a
+   quantity depends on wavelength (absorption, dispersion, conductors). */
+#define GG_LAMBDA_R 650.0
+#define GG_LAMBDA_G 550.0
+#define GG_LAMBDA_B 450.0
+
+typedef struct ggMaterial {
+    ggColor color; /* surface colour (NFF r g b); a texture multiplies it */
+    double kd;     /* diffuse weight */
+    double ks;     /* specular weight: Phong highlight and mirror ray */
+    double shine;  /* Phong exponent (NFF's 100000 = no highlight) */
+    double kt;     /* transmittance: weight of the refracted ray */
+    double ior;    /* index of refraction (at the G wavelength if dispersive) */
+    ggColor ke;    /* emission added to whatever the surface reflects */
+    int fresnel;   /* GG_FRESNEL_* */
+    ggColor eta_n, eta_k; /* conductor: complex index per channel */
+    /* Extinction coefficient k per channel inside a transparent medium;
+       transmittance over distance d is exp(-4 pi k d / lambda) with lambda
+       in scene units of nanometres scaled by absorb_scale (see docs). */
+    ggColor extinction;
+    double absorb_scale; /* scene units per nanometre for absorption (0 = off) */
+    double abbe;         /* dispersion: Abbe number V_d (0 = none) */
+    int texture;         /* texture index from ggSceneAddTexture, or -1 */
+    int line;            /* scene-file line that defined it (0 from code) */
+} ggMaterial;
+
+/* The NFF default: white, kd 1, everything else off, no texture. */
+GG_API ggMaterial ggMaterialDefault(void);
+
+typedef struct ggCamera {
+    ggVec3 from, at, up; /* up need not be perpendicular: it is orthogonalised */
+    double fov_deg;      /* full field of view, horizontal = vertical scaled by aspect */
+    int width, height;   /* image size */
+} ggCamera;
+
+/* New empty scene; NULL if out of memory. alloc may be NULL. */
+GG_API ggScene *ggSceneCreate(const ggAllocator *alloc);
+/* Frees the scene and everything it owns; NULL is a no-op. */
+GG_API void ggSceneFree(ggScene *scene);
+
+/* Add what an NFF file (or text) says to the scene. Errors name the place:
+   "scene.nff:12:5: expected a number after 's'". Textures named in the file
+   are read relative to the file's folder. On error the scene is left as it
+   was before the call. */
+GG_API int ggSceneLoadFile(ggScene *scene, const char *path, ggError *err);
+GG_API int ggSceneLoadString(ggScene *scene, const char *text, size_t len, const char *name,
+                             ggError *err);
+
+/* ---- building in code ----
+   Functions that add something return its index (>= 0), or a negative
+   status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID) on failure. */
+GG_API void ggSceneSetCamera(ggScene *scene, const ggCamera *cam);
+GG_API ggCamera ggSceneCamera(const ggScene *scene);
+GG_API void ggSceneSetBackground(ggScene *scene, ggColor c);
+GG_API void ggSceneSetAmbient(ggScene *scene, ggColor c);
+/* Point light; NFF lights without a colour get 1/sqrt(number of lights)
+   (the SPD convention) at render time when `color` has r < 0. */
+GG_API int ggSceneAddLight(ggScene *scene, ggVec3 pos, ggColor color);
+GG_API int ggSceneAddMaterial(ggScene *scene, const ggMaterial *m);
+/* Takes ownership of img (freed with the scene, also on failure). */
+GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);
+GG_API int ggSceneAddSphere(ggScene *scene, int material, ggVec3 center, double radius);
+/* Planar polygon, n >= 3 vertices, counter-clockwise seen from the front. */
+GG_API int ggSceneAddPolygon(ggScene *scene, int material, const ggVec3 *v, int n);
+/* Triangle with per-vertex normals (NULL normals: flat). */
+GG_API int ggSceneAddTriangle(ggScene *scene, int material, const ggVec3 v[3],
+                              const ggVec3 *normals);
+/* Open cone or cylinder from base (radius rb) to apex (radius ra). */
+GG_API int ggSceneAddCone(ggScene *scene, int material, ggVec3 base, double rb, ggVec3 apex,
+                          double ra);
+/* Rectangle corner + s e1 + t e2, (s, t) in [0,1]^2 = texture (u, v). */
+GG_API int ggSceneAddRect(ggScene *scene, int material, ggVec3 corner, ggVec3 e1, ggVec3 e2);
+/* Takes ownership of imp. */
+GG_API int ggSceneAddImplicit(ggScene *scene, int material, ggImplicit *imp);
+
+/* Render settings that a scene file may carry (0 = renderer default). */
+GG_API void ggSceneSetDepth(ggScene *scene, int max_depth);
+GG_API void ggSceneSetSamples(ggScene *scene, int samples_per_pixel);
+
+/* ---- inspection ---- */
+GG_API int ggSceneObjectCount(const ggScene *scene);
+GG_API int ggSceneLightCount(const ggScene *scene);
+GG_API int ggSceneMaterialCount(const ggScene *scene);
+GG_API ggMaterial ggSceneMaterial(const ggScene *scene, int index);
+/* Kind, material and defining line of object `index`. */
+GG_API int ggSceneObjectKind(const ggScene *scene, int index);
+GG_API int ggSceneObjectMaterial(const ggScene *scene, int index);
+GG_API int ggSceneObjectLine(const ggScene *scene, int index);
+/* Name of the file the scene was loaded from ("" if built in code). */
+GG_API const char *ggSceneFileName(const ggScene *scene);
+
+/* Build the acceleration structure and the effect set. Called by the
+   renderer when needed; call it yourself to time it or to catch errors
+   early. Adding to a prepared scene makes it unprepared again. */
+GG_API int ggScenePrepare(ggScene *scene, ggError *err);
+
+/* A ray's closest hit (valid after ggScenePrepare). */
+typedef struct ggHit {
+    double t;       /* ray parameter of the hit */
+    ggVec3 p;       /* hit point */
+    ggVec3 ng;      /* unit geometric normal, as the shape defines it (outward) */
+    ggVec3 ns;      /* unit shading normal, same side as ng */
+    double u, v;    /* surface coordinates */
+    bool front;     /* the ray arrived against ng */
+    int object;     /* object index */
+    int kind;       /* ggShapeKind */
+    int material;   /* material index */
+} ggHit;
+
+/* Closest hit with t in (tmin, tmax); false if none. */
+GG_API bool ggSceneIntersect(const ggScene *scene, ggRay ray, double tmin, double tmax,
+                             ggHit *hit);
+/* Anything hit with t in (tmin, tmax)? */
+GG_API bool ggSceneOccluded(const ggScene *scene, ggRay ray, double tmin, double tmax);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

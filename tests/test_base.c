@@ -1,0 +1,100 @@
+/*
+** test_base.c -- version, status strings, errors, allocation helpers.
+*/
+#include "testutil.h"
+
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static void test_version(void **state)
+{
+    (void)state;
+    assert_string_equal(ggVersion(), GG_VERSION_STRING);
+}
+
+static void test_status_strings(void **state)
+{
+    int c;
+    (void)state;
+    for (c = GG_OK; c <= GG_ERROR_CANCELLED; c++) {
+        assert_non_null(ggStatusString(c));
+        assert_string_not_equal(ggStatusString(c), "unknown status code");
+    }
+    assert_string_equal(ggStatusString(999), "unknown status code");
+}
+
+static void test_error_set(void **state)
+{
+    ggError e;
+    (void)state;
+    assert_int_equal(gg_error_set(&e, GG_ERROR_PARSE, "%s:%d:%d: bad", "f.nff", 12, 5),
+                     GG_ERROR_PARSE);
+    assert_int_equal(e.code, GG_ERROR_PARSE);
+    assert_string_equal(e.message, "f.nff:12:5: bad");
+    assert_int_equal(gg_error_set(NULL, GG_ERROR_IO, "x"), GG_ERROR_IO);
+}
+
+static int counted_allocs;
+static void *c_malloc(void *ud, size_t n)
+{
+    (void)ud;
+    counted_allocs++;
+    return malloc(n);
+}
+static void *c_realloc(void *ud, void *p, size_t n)
+{
+    (void)ud;
+    if (!p) counted_allocs++;
+    return realloc(p, n);
+}
+static void c_free(void *ud, void *p)
+{
+    (void)ud;
+    if (p) counted_allocs--;
+    free(p);
+}
+
+static void test_grow_with_allocator(void **state)
+{
+    ggAllocator a = {c_malloc, c_realloc, c_free, NULL};
+    int *arr = NULL;
+    size_t cap = 0, i;
+    (void)state;
+    for (i = 0; i < 1000; i++) {
+        assert_int_equal(gg_mem_grow(&a, (void **)&arr, &cap, i + 1, sizeof *arr), 0);
+        arr[i] = (int)i;
+    }
+    assert_true(cap >= 1000);
+    for (i = 0; i < 1000; i++) assert_int_equal(arr[i], (int)i);
+    assert_int_equal(counted_allocs, 1);
+    gg_mem_free(&a, arr);
+    assert_int_equal(counted_allocs, 0);
+    /* Overflow is refused, not wrapped. */
+    arr = NULL, cap = 0;
+    assert_int_equal(gg_mem_grow(&a, (void **)&arr, &cap, (size_t)-1 / 2, 16), -1);
+    assert_null(arr);
+    assert_null(gg_mem_calloc(NULL, (size_t)-1 / 2, 4));
+}
+
+static void test_ulps(void **state)
+{
+    (void)state;
+    assert_true(tu_ulps(1.0, 1.0) == 0);
+    assert_true(tu_ulps(1.0, 1.0 + 0x1p-52) == 1);
+    assert_true(tu_ulps(-0.0, 0.0) == 0);
+    assert_true(tu_ulps(0x1p-1074, -0x1p-1074) == 2);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_version),
+        cmocka_unit_test(test_status_strings),
+        cmocka_unit_test(test_error_set),
+        cmocka_unit_test(test_grow_with_allocator),
+        cmocka_unit_test(test_ulps),
+    };
+    return cmocka_run_group_tests_name("base", tests, NULL, NULL);
+}

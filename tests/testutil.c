@@ -1,0 +1,58 @@
+#include "testutil.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+uint64_t tu_ulps(double a, double b)
+{
+    int64_t ia, ib;
+    if (isnan(a) || isnan(b)) return UINT64_MAX;
+    if (a == b) return 0;
+    memcpy(&ia, &a, 8);
+    memcpy(&ib, &b, 8);
+    /* Map the sign-magnitude bit patterns onto a monotonic integer line. */
+    if (ia < 0) ia = INT64_MIN - ia;
+    if (ib < 0) ib = INT64_MIN - ib;
+    return ia > ib ? (uint64_t)ia - (uint64_t)ib : (uint64_t)ib - (uint64_t)ia;
+}
+
+uint64_t tu_next(tu_rng *r)
+{
+    uint64_t z = (r->s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+double tu_uniform(tu_rng *r) { return (double)(tu_next(r) >> 11) * 0x1.0p-53; }
+
+double tu_range(tu_rng *r, double lo, double hi) { return lo + (hi - lo) * tu_uniform(r); }
+
+ggVec3 tu_unit(tu_rng *r)
+{
+    double z = tu_range(r, -1, 1), phi = tu_range(r, 0, 6.283185307179586);
+    double s = sqrt(1 - z * z);
+    ggVec3 v;
+    v.x = s * cos(phi), v.y = s * sin(phi), v.z = z;
+    return v;
+}
+
+void tu_assert_close(double a, double b, double tol, const char *sa, const char *sb,
+                     const char *file, int line)
+{
+    double m = fabs(a) > fabs(b) ? fabs(a) : fabs(b);
+    if (m < 1) m = 1;
+    if (!(fabs(a - b) <= tol * m)) {
+        print_error("%s = %.17g, %s = %.17g, differ by %.3g (tolerance %.3g)\n", sa, a, sb, b,
+                    fabs(a - b), tol * m);
+        _fail(file, line);
+    }
+}
+
+const char *tu_spd_dir(void)
+{
+    const char *d = getenv("GG_SPD_DIR");
+    return d && *d ? d : "../shared/scenes/spd";
+}

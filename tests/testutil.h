@@ -1,0 +1,44 @@
+/*
+** testutil.h -- shared helpers for the cmocka suites.
+*/
+#ifndef GG_TESTUTIL_H
+#define GG_TESTUTIL_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "ggrt.h"
+
+/* Distance in units in the last place between two doubles (0 if equal,
+   UINT64_MAX if either is NaN). */
+uint64_t tu_ulps(double a, double b);
+
+/* Deterministic PRNG (splitmix64) so failures reproduce. */
+typedef struct tu_rng {
+    uint64_t s;
+} tu_rng;
+uint64_t tu_next(tu_rng *r);
+double tu_uniform(tu_rng *r);                  /* [0, 1) */
+double tu_range(tu_rng *r, double lo, double hi);
+ggVec3 tu_unit(tu_rng *r);                     /* uniform on the sphere */
+
+/* Assert |a - b| <= tol * max(1, |a|, |b|) with a readable message. */
+#define assert_close(a, b, tol) tu_assert_close((a), (b), (tol), #a, #b, __FILE__, __LINE__)
+void tu_assert_close(double a, double b, double tol, const char *sa, const char *sb,
+                     const char *file, int line);
+#define assert_vec_close(a, b, tol)                                                              \
+    do {                                                                                         \
+        ggVec3 a_ = (a), b_ = (b);                                                               \
+        tu_assert_close(a_.x, b_.x, (tol), #a ".x", #b ".x", __FILE__, __LINE__);                \
+        tu_assert_close(a_.y, b_.y, (tol), #a ".y", #b ".y", __FILE__, __LINE__);                \
+        tu_assert_close(a_.z, b_.z, (tol), #a ".z", #b ".z", __FILE__, __LINE__);                \
+    } while (0)
+
+/* Path of the shared SPD scenes (GG_SPD_DIR or ../shared/scenes/spd). */
+const char *tu_spd_dir(void);
+
+#endif
