@@ -371,7 +371,7 @@ typedef struct trav {
 #else
     float inv[3], invf[3], on[3], of[3];
 #endif
-    int nr[3], fr[3]; /* box rows of the entry and exit planes per axis */
+    size_t nr[3], fr[3]; /* byte offsets of the entry and exit rows per axis */
 } trav;
 
 /* Per-ray setup of the float slab test. Returns 0 when the float
@@ -431,9 +431,9 @@ static int trav_init(trav *tv, const gg_rpre *r)
     }
 #endif
     for (k = 0; k < 3; k++) {
-        int ng = (sm >> k) & 1;
-        tv->nr[k] = k + 3 * ng;
-        tv->fr[k] = k + 3 - 3 * ng;
+        size_t ng = (size_t)(sm >> k) & 1;
+        tv->nr[k] = (k + 3 * ng) * sizeof(float[4]);
+        tv->fr[k] = (k + 3 - 3 * ng) * sizeof(float[4]);
     }
     return 1;
 }
@@ -453,15 +453,16 @@ static inline float f_above(double t) { return f_near(t) * 1.0000003f + 1e-37f; 
    earlier) or the min (exit later) -- the test stays conservative -- and
    the result is never NaN because tmin/tmax come second at the bottom. */
 #ifdef GG_BVH_SIMD
+#define GG_ROW(nd, off) ((const float *)((const char *)(nd) + (off)))
 static inline int box4(const gg_bnode *nd, const trav *tv, __m128 tmin4, __m128 tmax4,
                        float tn_out[4])
 {
-    __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(nd->b[tv->nr[0]]), tv->on[0]), tv->inv[0]);
-    __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(nd->b[tv->nr[1]]), tv->on[1]), tv->inv[1]);
-    __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(nd->b[tv->nr[2]]), tv->on[2]), tv->inv[2]);
-    __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(nd->b[tv->fr[0]]), tv->of[0]), tv->invf[0]);
-    __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(nd->b[tv->fr[1]]), tv->of[1]), tv->invf[1]);
-    __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(nd->b[tv->fr[2]]), tv->of[2]), tv->invf[2]);
+    __m128 tx0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(GG_ROW(nd, tv->nr[0])), tv->on[0]), tv->inv[0]);
+    __m128 ty0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(GG_ROW(nd, tv->nr[1])), tv->on[1]), tv->inv[1]);
+    __m128 tz0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(GG_ROW(nd, tv->nr[2])), tv->on[2]), tv->inv[2]);
+    __m128 tx1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(GG_ROW(nd, tv->fr[0])), tv->of[0]), tv->invf[0]);
+    __m128 ty1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(GG_ROW(nd, tv->fr[1])), tv->of[1]), tv->invf[1]);
+    __m128 tz1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(GG_ROW(nd, tv->fr[2])), tv->of[2]), tv->invf[2]);
     __m128 tn = _mm_max_ps(_mm_max_ps(tx0, ty0), _mm_max_ps(tz0, tmin4));
     __m128 tf = _mm_min_ps(_mm_min_ps(tx1, ty1), _mm_min_ps(tz1, tmax4));
     _mm_store_ps(tn_out, tn);
@@ -477,8 +478,8 @@ static inline int box4(const gg_bnode *nd, const trav *tv, float tmin, float tma
     for (i = 0; i < 4; i++) {
         float tn = tmin, tf = tmax;
         for (k = 0; k < 3; k++) {
-            float a = (nd->b[tv->nr[k]][i] - tv->on[k]) * tv->inv[k];
-            float b = (nd->b[tv->fr[k]][i] - tv->of[k]) * tv->invf[k];
+            float a = (nd->b[tv->nr[k] / sizeof(float[4])][i] - tv->on[k]) * tv->inv[k];
+            float b = (nd->b[tv->fr[k] / sizeof(float[4])][i] - tv->of[k]) * tv->invf[k];
             tn = a > tn ? a : tn;
             tf = b < tf ? b : tf;
         }
@@ -539,13 +540,14 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
                 i1 = lowest_bit(mask);
                 mask &= mask - 1;
                 if (!mask) {
-                    /* Nearer child first, the other on the stack. */
-                    if (tn[i1] < tn[i0]) {
-                        int sw = i0;
-                        i0 = i1, i1 = sw;
-                    }
-                    stack[sp] = nd->child[i1], stack_t[sp++] = tn[i1];
-                    cur = nd->child[i0];
+                    /* Nearer child first, the other on the stack (selects,
+                       not a branch: which is nearer is a coin toss). */
+                    uint32_t c0 = nd->child[i0], c1 = nd->child[i1];
+                    float t0 = tn[i0], t1 = tn[i1];
+                    int sw = t1 < t0;
+                    stack[sp] = sw ? c0 : c1;
+                    stack_t[sp++] = sw ? t0 : t1;
+                    cur = sw ? c1 : c0;
                     continue;
                 }
                 {
@@ -595,18 +597,25 @@ done:
     return 1;
 }
 
-int gg_geom_occluded(const gg_geom *g, const gg_rayq *q)
+/* Any-hit traversal; returns the slot index + 1 of an occluder, or 0. */
+static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
 {
     gg_rpre r;
     trav tv;
-    uint32_t stack[GG_STACK], cur = 0;
+    uint32_t stack[GG_STACK], cur = 0, hit;
     int sp = 0;
     double tmax;
     gg_t4 tmin4, tmax4;
 
     if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
-    if (!trav_init(&tv, &r) || q->tmin < 0) return gg_geom_occluded_brute(g, q);
     tmax = gg_next_down(q->tmax);
+    if (cache && *cache && *cache <= g->nslots) {
+        hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
+        if (hit) return hit;
+    }
+    if (!trav_init(&tv, &r) || q->tmin < 0) {
+        return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
+    }
     tmin4 = GG_T4(f_down(q->tmin));
     tmax4 = GG_T4(f_above(tmax));
     for (;;) {
@@ -623,10 +632,20 @@ int gg_geom_occluded(const gg_geom *g, const gg_rayq *q)
                 }
                 continue;
             }
-        } else if (gg_leaf_any(g, &r, (cur & ~GG_LEAF) >> 3, (cur & 7) + 1, tmax)) {
-            return 1;
+        } else {
+            hit = gg_leaf_any(g, &r, (cur & ~GG_LEAF) >> 3, (cur & 7) + 1, tmax);
+            if (hit) return hit;
         }
         if (sp == 0) return 0;
         cur = stack[--sp];
     }
+}
+
+int gg_geom_occluded(const gg_geom *g, const gg_rayq *q) { return occluder(g, q, NULL) != 0; }
+
+int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
+{
+    uint32_t hit = occluder(g, q, cache);
+    if (hit) *cache = hit;
+    return hit != 0;
 }

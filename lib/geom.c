@@ -422,7 +422,7 @@ int gg_geom_occluded_brute(const gg_geom *g, const gg_rayq *q)
 {
     gg_rpre r;
     if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
-    return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, gg_next_down(q->tmax));
+    return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, gg_next_down(q->tmax)) != 0;
 }
 
 void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s)

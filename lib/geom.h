@@ -76,6 +76,14 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 /* Any hit in (tmin, tmax): 1 if occluded. */
 int gg_geom_occluded(const gg_geom *g, const gg_rayq *q);
 
+/* gg_geom_occluded with an occluder cache (the SPD-era "shadow cache"):
+   *cache is an opaque value the caller keeps per thread and per light
+   (start with 0). The element that occluded the previous ray is tested
+   first; whatever occludes this ray is remembered. Neighbouring shadow
+   rays are mostly blocked by the same object, so a full traversal is
+   often skipped. Same answer as gg_geom_occluded. */
+int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
+
 /* Same answers by testing every primitive (for tests). */
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 

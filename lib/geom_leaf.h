@@ -53,16 +53,17 @@ GG_INLINE int gg_leaf_closest(const gg_geom *g, const gg_rpre *r, uint32_t first
     return found;
 }
 
-/* Any hit among slots [first, first + n) with t in (tmin, tmax]. */
-GG_INLINE int gg_leaf_any(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
-                              double tmax)
+/* Any hit among slots [first, first + n) with t in (tmin, tmax]: returns
+   the slot index + 1 of one that is hit, 0 if none. */
+GG_INLINE uint32_t gg_leaf_any(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                               double tmax)
 {
     const gg_slot *s = g->slots + first, *end = s + n;
     for (; s < end; s++) {
         double t, b1, b2;
         if (s->prim == r->ignore) continue;
         if (r->skip && (g->pflags[s->prim] & r->skip)) continue;
-        if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return 1;
+        if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return (uint32_t)(s - g->slots) + 1;
     }
     return 0;
 }

@@ -116,6 +116,43 @@ static int ear_clip(const clip2 *c, int nv, int *next, int *prev, double *score,
     return nt;
 }
 
+/* Do two edges that are not neighbours in the outline touch or cross?
+   Ear clipping assumes a simple polygon; a pentagram, say, would be
+   "clipped" into triangles that cover its centre twice (the area check
+   cannot see that: a fan's signed areas always add up). Quadratic, so
+   only done up to GG_POLY_MAX_SIMPLE vertices; larger polygons rely on
+   the clipping and area checks. */
+#define GG_POLY_MAX_SIMPLE 512
+static int self_intersects(const clip2 *c, int nv)
+{
+    int i, j;
+    if (nv > GG_POLY_MAX_SIMPLE) return 0;
+    for (i = 0; i < nv; i++) {
+        int i1 = i + 1 < nv ? i + 1 : 0;
+        for (j = i + 2; j < nv; j++) {
+            int j1 = j + 1 < nv ? j + 1 : 0;
+            double a, b, d, e;
+            if (j1 == i) continue; /* neighbours share a vertex */
+            a = orient(c, i, i1, j), b = orient(c, i, i1, j1);
+            d = orient(c, j, j1, i), e = orient(c, j, j1, i1);
+            if (((a <= 0 && b >= 0) || (a >= 0 && b <= 0)) &&
+                ((d <= 0 && e >= 0) || (d >= 0 && e <= 0))) {
+                /* collinear and disjoint is not a contact */
+                if (a == 0 && b == 0) {
+                    int k;
+                    double lo1, hi1, lo2, hi2;
+                    k = fabs(c->q[i1][0] - c->q[i][0]) >= fabs(c->q[i1][1] - c->q[i][1]) ? 0 : 1;
+                    lo1 = fmin(c->q[i][k], c->q[i1][k]), hi1 = fmax(c->q[i][k], c->q[i1][k]);
+                    lo2 = fmin(c->q[j][k], c->q[j1][k]), hi2 = fmax(c->q[j][k], c->q[j1][k]);
+                    if (hi1 < lo2 || hi2 < lo1) continue;
+                }
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
 static int triangulate(gg_geom *g, const ggVec3 *p, int nv, ggVec3 nrm, gg_poly *out)
 {
     int ax, X, Y, i, nt, ok = -1;
@@ -136,7 +173,7 @@ static int triangulate(gg_geom *g, const ggVec3 *p, int nv, ggVec3 nrm, gg_poly 
     }
     c.q = (const double(*)[2])q;
     c.sg = nn[ax] > 0 ? 1 : -1;
-    nt = ear_clip(&c, nv, next, prev, score, tri);
+    nt = self_intersects(&c, nv) ? -1 : ear_clip(&c, nv, next, prev, score, tri);
     if (nt <= 0) {
         ok = 0; /* keep it whole */
         goto done;
