@@ -386,7 +386,6 @@ typedef struct trav {
 static int trav_init(trav *tv, const gg_rpre *r)
 {
     int k, sm;
-    if (!(fabs(r->o[0]) < 1e30 && fabs(r->o[1]) < 1e30 && fabs(r->o[2]) < 1e30)) return 0;
 #ifdef GG_BVH_SIMD
     {
         __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(r->o)),
@@ -394,15 +393,17 @@ static int trav_init(trav *tv, const gg_rpre *r)
         __m128 df = _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(r->d)),
                                   _mm_cvtpd_ps(_mm_load_sd(r->d + 2)));
         __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-        __m128 e = _mm_add_ps(_mm_mul_ps(_mm_and_ps(of, absm), _mm_set1_ps(0x1p-22f)),
-                              _mm_set1_ps(1e-37f));
+        __m128 ao = _mm_and_ps(of, absm);
+        __m128 e = _mm_add_ps(_mm_mul_ps(ao, _mm_set1_ps(0x1p-22f)), _mm_set1_ps(1e-37f));
         __m128 up = _mm_add_ps(of, e), dn = _mm_sub_ps(of, e);
         __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), df);
         __m128 neg = _mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(inv), 31));
         __m128 on = _mm_or_ps(_mm_and_ps(neg, dn), _mm_andnot_ps(neg, up));
         __m128 off = _mm_or_ps(_mm_and_ps(neg, up), _mm_andnot_ps(neg, dn));
-        sm = _mm_movemask_ps(inv);
         __m128 invf = _mm_mul_ps(inv, _mm_set1_ps(GG_EXIT_SCALE));
+        /* an origin beyond 1e30 (or one that overflowed to inf) */
+        if (_mm_movemask_ps(_mm_cmplt_ps(ao, _mm_set1_ps(1e30f))) != 0xf) return 0;
+        sm = _mm_movemask_ps(inv);
         tv->inv[0] = _mm_shuffle_ps(inv, inv, 0x00);
         tv->inv[1] = _mm_shuffle_ps(inv, inv, 0x55);
         tv->inv[2] = _mm_shuffle_ps(inv, inv, 0xaa);
@@ -417,6 +418,7 @@ static int trav_init(trav *tv, const gg_rpre *r)
         tv->of[2] = _mm_shuffle_ps(off, off, 0xaa);
     }
 #else
+    if (!(fabs(r->o[0]) < 1e30 && fabs(r->o[1]) < 1e30 && fabs(r->o[2]) < 1e30)) return 0;
     sm = 0;
     for (k = 0; k < 3; k++) {
         float of = (float)r->o[k], df = f_near(r->d[k]);

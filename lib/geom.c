@@ -6,6 +6,10 @@
 
 #include <string.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 gg_geom *gg_geom_create(const ggAllocator *alloc)
 {
     gg_geom *g = gg_mem_calloc(alloc, 1, sizeof *g);
@@ -375,7 +379,7 @@ void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi)
 
 int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
 {
-    double ax = fabs(q->d.x), ay = fabs(q->d.y), az = fabs(q->d.z);
+    double ax = fabs(q->d.x), ay = fabs(q->d.y), az = fabs(q->d.z), dk;
     /* x * 0 is NaN exactly when x is infinite or NaN: one test for all. */
     double z = q->o.x * 0 + q->o.y * 0 + q->o.z * 0 + q->d.x * 0 + q->d.y * 0 + q->d.z * 0;
     if (z != 0) return 0;
@@ -383,7 +387,6 @@ int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
     r->d[0] = q->d.x, r->d[1] = q->d.y, r->d[2] = q->d.z;
     r->a = q->d.x * q->d.x + q->d.y * q->d.y + q->d.z * q->d.z;
     if (!(r->a > 0) || r->a == INFINITY) return 0;
-    r->inv_a = 1 / r->a;
     r->tmin = q->tmin;
     {
         /* Written as selects: random directions make branches here
@@ -394,8 +397,19 @@ int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
         r->kz = kz;
         r->kx = neg ? ky : kx;
         r->ky = neg ? kx : ky;
+        dk = r->d[kz];
     }
-    r->sz = 1.0 / r->d[r->kz];
+#if defined(__SSE2__)
+    {
+        /* both reciprocals with one division */
+        __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), _mm_set_pd(dk, r->a));
+        r->inv_a = _mm_cvtsd_f64(inv);
+        r->sz = _mm_cvtsd_f64(_mm_unpackhi_pd(inv, inv));
+    }
+#else
+    r->inv_a = 1 / r->a;
+    r->sz = 1.0 / dk;
+#endif
     r->sx = r->d[r->kx] * r->sz;
     r->sy = r->d[r->ky] * r->sz;
     r->sphere_mode = g->sphere_mode;

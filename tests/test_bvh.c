@@ -425,6 +425,132 @@ static void test_empty(void **state)
     gg_geom_free(NULL);
 }
 
+/* The occluder cache changes nothing but speed: same answers as
+   gg_geom_occluded, with a cache that follows coherent rays. */
+static void test_occluded_cached(void **state)
+{
+    tu_rng r = {9};
+    gg_geom *g = random_scene(&r, 60, 5);
+    uint32_t cache = 0;
+    int i, occl = 0;
+    ggVec3 light = V3(3, 4, 30);
+    (void)state;
+    for (i = 0; i < 20000; i++) {
+        gg_rayq q;
+        /* shadow-like rays: from a wandering point towards one light */
+        q.o = V3(-10 + 20 * (i % 200) / 200.0, -10 + 20 * (i / 200) / 100.0, tu_range(&r, -2, 2));
+        q.d = V3(light.x - q.o.x, light.y - q.o.y, light.z - q.o.z);
+        q.tmin = 0, q.tmax = 1, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+        if (i % 7 == 0) cache = (uint32_t)(tu_next(&r) % (g->nslots + 5)); /* junk is harmless */
+        assert_int_equal(gg_geom_occluded_cached(g, &q, &cache), gg_geom_occluded(g, &q));
+        occl += gg_geom_occluded(g, &q);
+    }
+    print_message("%d of 20000 shadow rays occluded\n", occl);
+    assert_true(occl > 1000 && occl < 19000);
+    gg_geom_free(g);
+}
+
+/* Adding after a build and building again; statistics; bounds. */
+static void test_rebuild_stats_bounds(void **state)
+{
+    gg_geom *g = gg_geom_create(NULL);
+    gg_bvh_stats st;
+    ggVec3 lo, hi, p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    gg_rayq q;
+    gg_hit h;
+    (void)state;
+    assert_int_equal(gg_geom_add_sphere(g, V3(0, 0, 0), 1, 0), 0);
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    gg_geom_bounds(g, &lo, &hi);
+    assert_true(lo.x <= -1 && lo.x > -1 - 1e-12 && hi.z >= 1 && hi.z < 1 + 1e-12);
+    q.o = V3(0.25, 0.25, 10), q.d = V3(0, 0, -1), q.tmin = 0, q.tmax = INFINITY;
+    q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    assert_true(gg_geom_intersect(g, &q, &h));
+    assert_close(h.t, 10 - sqrt(1 - 0.125), 1e-15);
+    /* a new primitive in front: unbuilt queries find nothing, rebuilt ones find it */
+    p[0].z = p[1].z = p[2].z = 5;
+    assert_int_equal(gg_geom_add_triangle(g, p, NULL, 1), 1);
+    assert_false(gg_geom_intersect(g, &q, &h));
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    assert_true(gg_geom_intersect(g, &q, &h));
+    assert_int_equal(h.prim, 1);
+    gg_geom_bounds(g, &lo, &hi);
+    assert_true(hi.z >= 5);
+    gg_geom_bvh_stats(g, &st);
+    assert_true(st.nodes >= 1 && st.leaves >= 1 && st.max_depth >= 1);
+    assert_true(st.bytes >= 128 + 2 * sizeof(gg_slot));
+    assert_true(st.build_seconds >= 0);
+    gg_geom_free(g);
+}
+
+/* Every allocation goes through the allocator; a failing allocator gives
+   -1 or GG_ERROR_NOMEM, never a crash, and leaks nothing (ASan). */
+static long live, budget;
+static void *a_malloc(void *ud, size_t n)
+{
+    (void)ud;
+    if (budget-- <= 0) return NULL;
+    live++;
+    return malloc(n);
+}
+static void *a_realloc(void *ud, void *p, size_t n)
+{
+    void *q;
+    (void)ud;
+    if (budget-- <= 0) return NULL;
+    q = realloc(p, n);
+    if (q && !p) live++;
+    return q;
+}
+static void a_free(void *ud, void *p)
+{
+    (void)ud;
+    if (p) live--;
+    free(p);
+}
+
+static void test_allocator(void **state)
+{
+    ggAllocator al = {a_malloc, a_realloc, a_free, NULL};
+    long b;
+    int ok_builds = 0;
+    (void)state;
+    for (b = 0; b < 400; b += 3) {
+        tu_rng r = {17};
+        gg_geom *g;
+        ggError err;
+        int i;
+        live = 0, budget = b;
+        g = gg_geom_create(&al);
+        if (!g) {
+            assert_int_equal(live, 0);
+            continue;
+        }
+        for (i = 0; i < 60; i++) {
+            ggVec3 c = rvec(&r, -5, 5), st[8];
+            int k;
+            for (k = 0; k < 8; k++)
+                st[k] = V3(c.x + cos(k * GG_PI / 4) * (k & 1 ? 0.5 : 1),
+                           c.y + sin(k * GG_PI / 4) * (k & 1 ? 0.5 : 1), c.z);
+            gg_geom_add_sphere(g, c, 0.3, i);
+            gg_geom_add_polygon(g, st, 8, i);
+        }
+        if (gg_geom_build(g, &err) == GG_OK) {
+            gg_rayq q;
+            gg_hit h;
+            ok_builds++;
+            q.o = V3(0, 0, 20), q.d = V3(0.01, 0.02, -1), q.tmin = 0, q.tmax = INFINITY;
+            q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+            assert_int_equal(gg_geom_intersect(g, &q, &h), gg_geom_intersect_brute(g, &q, &h));
+        } else {
+            assert_int_equal(err.code, GG_ERROR_NOMEM);
+        }
+        gg_geom_free(g);
+        assert_int_equal(live, 0);
+    }
+    assert_true(ok_builds > 0);
+}
+
 /* ---- SPD scenes ---- */
 
 /* The geometry of an NFF file (s, c, p, pp; everything else skipped).
@@ -534,7 +660,9 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_mixed),     cmocka_unit_test(test_random_small_scenes),
         cmocka_unit_test(test_ignore_and_skip),  cmocka_unit_test(test_coincident),
-        cmocka_unit_test(test_empty),            cmocka_unit_test(test_spd_scenes),
+        cmocka_unit_test(test_empty),            cmocka_unit_test(test_occluded_cached),
+        cmocka_unit_test(test_rebuild_stats_bounds), cmocka_unit_test(test_allocator),
+        cmocka_unit_test(test_spd_scenes),
     };
     return cmocka_run_group_tests_name(GG_TEST_SUITE, tests, NULL, NULL);
 }
