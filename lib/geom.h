@@ -6,6 +6,28 @@
 ** Hits come in two steps: traversal finds (t, prim, b1, b2) as cheaply as
 ** possible; gg_geom_surface then works out the point, normals and (u, v)
 ** for the one hit that is shaded.
+**
+** Exactness: gg_geom_intersect returns exactly what testing every
+** primitive returns (same prim, same t to the bit; equal t is settled by
+** the smaller primitive index), whatever the traversal order. The float
+** boxes are conservative (see bvh.c), triangles are watertight (a ray
+** through a shared edge or vertex hits exactly one of the triangles).
+**
+** Thread safety: after gg_geom_build, all queries are const and may run
+** concurrently; adds, gg_geom_set_* and builds may not overlap queries.
+**
+** Spawning a secondary ray from a hit (what the renderer should do):
+**     gg_geom_surface(g, &q, &hit, &s);
+**     q2.o = gg_offset_origin(&s, dir, GG_OFFSET_SCALED);
+**     q2.d = dir; q2.tmin = 0; q2.tmax = INFINITY (or 1 for a shadow ray
+**     with dir = light - q2.o);
+**     q2.ignore_prim = hit.prim for planar kinds (TRIANGLE, POLYGON, RECT;
+**         a flat surface cannot be met again), UINT32_MAX for curved ones
+**         (SPHERE, CONE, IMPLICIT: the far side is the same primitive);
+**     q2.skip_flags = GG_PRIM_TRANSPARENT for shadow rays that let
+**         transparent occluders through (they are then handled apart).
+** The offset alone is enough to never find the surface just left (tested
+** on 1e6 rays at scales 1e-6..1e6); ignore_prim merely saves the test.
 */
 #ifndef GG_GEOM_H
 #define GG_GEOM_H
@@ -27,8 +49,15 @@ gg_geom *gg_geom_create(const ggAllocator *alloc);
 void gg_geom_free(gg_geom *g);
 
 /* Add primitives. `obj` is the owning scene object. Each returns the
-   primitive index (>= 0) or -1 when out of memory or degenerate input
-   (zero radius, collinear polygon...). */
+   primitive index (>= 0; indices are consecutive from 0) or -1 when out of
+   memory or on degenerate input: NaN/infinite coordinates, radius <= 0,
+   zero-area triangle, polygon with n < 3 or no area, cone with a negative
+   radius, both radii 0 or zero height, rectangle with parallel edges.
+   A polygon of 3 vertices becomes a triangle (kind GG_SHAPE_TRIANGLE).
+   Larger polygons are split into triangles by ear clipping when they are
+   simple (GG_POLY_TRIANGULATE); self-intersecting ones and those beyond
+   4096 vertices stay whole and use the even-odd crossing test. Triangle
+   normals that are zero or NaN make the triangle flat-shaded. */
 int gg_geom_add_sphere(gg_geom *g, ggVec3 c, double r, int32_t obj);
 int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n /* 3 or NULL */,
                          int32_t obj);
@@ -56,7 +85,10 @@ void gg_geom_set_sphere_mode(gg_geom *g, int mode);
 #define GG_POLY_CROSSING    1 /* one primitive, crossing test (also the fallback) */
 void gg_geom_set_poly_mode(gg_geom *g, int mode);
 
-/* A ray query. d need not be unit length; t is in units of |d|. */
+/* A ray query. d need not be unit length; t is in units of |d|. The
+   interval (tmin, tmax) is open at both ends; tmin >= 0 is the fast path
+   (a negative tmin works, by testing every primitive). NaN or infinite
+   o or d, d = 0, or tmax <= tmin: no hit. */
 typedef struct gg_rayq {
     ggVec3 o, d;
     double tmin, tmax;
@@ -71,7 +103,10 @@ typedef struct gg_hit {
     double b1, b2; /* shape-specific: barycentrics, or (u, v) */
 } gg_hit;
 
-/* Closest hit in (tmin, tmax): fills *hit, returns 1; 0 if none. */
+/* Closest hit in (tmin, tmax): fills *hit, returns 1; 0 if none (then
+   *hit is untouched). hit->b1, b2: triangles the barycentric weights of
+   vertices 1 and 2; polygons the same for the triangle hit->sub of the
+   polygon's split; rectangles (s, t); other kinds 0. */
 int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 /* Any hit in (tmin, tmax): 1 if occluded. */
 int gg_geom_occluded(const gg_geom *g, const gg_rayq *q);
@@ -95,6 +130,27 @@ typedef struct gg_surf {
     double perr;   /* bound on the absolute error of p (for offsets) */
 } gg_surf;
 
+/* Point, normals and (u, v) of a hit returned by gg_geom_intersect for
+   the same query q. Per kind (ng never depends on the ray: the renderer
+   decides front/back by the sign of d . ng):
+     sphere    ng outward; p re-projected onto the sphere;
+               u = azimuth about +z / 2pi in [0,1), v = polar angle from +z / pi
+     triangle  ng = unit (v1-v0) x (v2-v0), flipped to agree with the vertex
+               normals if given (decided once per triangle); ns = the
+               normalised barycentric blend of the vertex normals (ng where
+               that would fall behind ng); (u, v) = barycentrics of v1, v2
+     polygon   ng = Newell normal, the side from which the vertices run
+               counter-clockwise; (u, v) = position in the plane frame
+               (first edge, n x first edge) scaled so the polygon's bounding
+               rectangle in that frame is [0,1]^2
+     cone      ng outward, away from the axis; u = angle about the axis / 2pi,
+               v = height fraction from the base (NFF c semantics: open, the
+               radius goes linearly from base to apex)
+     rect      ng = unit e1 x e2; (u, v) = (s, t) in [0,1]^2
+     implicit  ng = unit grad f (toward growing f); (u, v) = (0, 0)
+   perr bounds each coordinate's absolute error of p: gamma(n) times the
+   magnitudes p was computed from (pbrt's analysis), e.g. gamma(7) * (|b0 v0|
+   + |b1 v1| + |b2 v2|) for triangles; see the shape files. */
 void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s);
 
 /* Origin for a ray leaving surface point s->p in direction d: pushed off
