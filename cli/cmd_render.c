@@ -1,9 +1,199 @@
-/* cmd_render.c -- `ggrt render`: not written yet (see the open issues). */
+/*
+** cmd_render.c -- `ggrt render SCENE -o out.png|out.exr`.
+*/
 #include "cli.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static void help(FILE *f)
+{
+    fprintf(f,
+            "usage: ggrt render SCENE -o OUT.png|OUT.exr [options]\n"
+            "\n"
+            "Render an NFF scene (SPD NFF plus ggrt's extensions) to an 8-bit sRGB PNG or a\n"
+            "float linear OpenEXR, chosen by the extension of OUT.\n"
+            "\n"
+            "options:\n"
+            "  -o, --output FILE     image to write (required); written atomically\n"
+            "  -s, --size WxH        image size (default: the scene's resolution)\n"
+            "  -d, --depth N         ray-tree depth counting the eye ray (default: scene, else 5)\n"
+            "  -n, --samples N       samples per pixel (default: scene, else 1)\n"
+            "  -j, --threads N       worker threads (default: all processors); the image\n"
+            "                        does not depend on it\n"
+            "      --crop X0,Y0,X1,Y1  render only [X0,X1) x [Y0,Y1); other pixels black\n"
+            "      --spd             SPD test rules: rays through pixel corners, depth 5,\n"
+            "                        transmitters also spawn reflection rays\n"
+            "      --corners         rays through pixel corners only\n"
+            "      --force-effects   simulate every effect even if the scene needs fewer\n"
+            "                        (same image, slower: for measuring)\n"
+            "  -q, --quiet           no progress bar and no summary\n"
+            "  -h, --help            this text\n"
+            "\n"
+            "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error\n");
+}
+
+typedef struct progress_state {
+    double t0;
+    int last_pct;
+} progress_state;
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int progress(void *ud, long done, long total)
+{
+    progress_state *p = ud;
+    int pct = total > 0 ? (int)(100.0 * (double)done / (double)total) : 100, i;
+    double el = now() - p->t0;
+    if (pct == p->last_pct) return 0;
+    p->last_pct = pct;
+    fprintf(stderr, "\r[");
+    for (i = 0; i < 40; i++) fputc(i < pct * 40 / 100 ? '#' : '.', stderr);
+    fprintf(stderr, "] %3d%%  %.1fs", pct, el);
+    if (pct > 0 && pct < 100) fprintf(stderr, "  ~%.0fs left ", el * (100 - pct) / pct);
+    else fprintf(stderr, "             ");
+    fflush(stderr);
+    return 0;
+}
 
 int cmd_render(int argc, char **argv)
 {
-    (void)argc;
-    fprintf(stderr, "ggrt %s: not implemented yet\n", argv[0]);
-    return EXIT_USAGE;
+    const char *scene_path = NULL, *out = NULL;
+    ggRenderOptions opt;
+    ggScene *scene;
+    ggImage *img = NULL;
+    ggRayStats st;
+    ggError err;
+    progress_state ps;
+    int i, rc, quiet = 0;
+    double t0, t1, t2, t3;
+    unsigned long long total;
+
+    ggRenderOptionsDefault(&opt);
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEEDV()                                                                                  \
+    do {                                                                                         \
+        if (!v) {                                                                                \
+            fprintf(stderr, "ggrt render: %s needs a value\n", a);                               \
+            return EXIT_USAGE;                                                                   \
+        }                                                                                        \
+        i++;                                                                                     \
+    } while (0)
+        if (cli_is_help(a)) {
+            help(stdout);
+            return EXIT_OK;
+        } else if (!strcmp(a, "-o") || !strcmp(a, "--output")) {
+            NEEDV();
+            out = v;
+        } else if (!strcmp(a, "-s") || !strcmp(a, "--size")) {
+            char *x;
+            NEEDV();
+            x = strchr(v, 'x');
+            if (!x) x = strchr(v, 'X');
+            if (!x) goto bad;
+            *x = '\0';
+            if (cli_parse_int(v, 1, 65536, &opt.width) || cli_parse_int(x + 1, 1, 65536, &opt.height))
+                goto bad;
+        } else if (!strcmp(a, "-d") || !strcmp(a, "--depth")) {
+            NEEDV();
+            if (cli_parse_int(v, 1, 64, &opt.max_depth)) goto bad;
+        } else if (!strcmp(a, "-n") || !strcmp(a, "--samples")) {
+            NEEDV();
+            if (cli_parse_int(v, 1, 4096, &opt.samples)) goto bad;
+        } else if (!strcmp(a, "-j") || !strcmp(a, "--threads")) {
+            NEEDV();
+            if (cli_parse_int(v, 1, 256, &opt.threads)) goto bad;
+        } else if (!strcmp(a, "--crop")) {
+            NEEDV();
+            if (sscanf(v, "%d,%d,%d,%d", &opt.crop_x0, &opt.crop_y0, &opt.crop_x1,
+                       &opt.crop_y1) != 4)
+                goto bad;
+        } else if (!strcmp(a, "--spd")) {
+            opt.spd_rules = true, opt.pixel_corners = true;
+            if (!opt.max_depth) opt.max_depth = 5;
+        } else if (!strcmp(a, "--corners")) {
+            opt.pixel_corners = true;
+        } else if (!strcmp(a, "--force-effects")) {
+            opt.force_effects = GG_EFFECT_ALL;
+        } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
+            quiet = 1;
+        } else if (a[0] == '-' && a[1]) {
+            fprintf(stderr, "ggrt render: unknown option '%s' (see ggrt render --help)\n", a);
+            return EXIT_USAGE;
+        } else if (!scene_path) {
+            scene_path = a;
+        } else {
+            fprintf(stderr, "ggrt render: more than one scene given ('%s')\n", a);
+            return EXIT_USAGE;
+        }
+        continue;
+    bad:
+        fprintf(stderr, "ggrt render: bad value '%s' for %s\n", v, a);
+        return EXIT_USAGE;
+#undef NEEDV
+    }
+    if (!scene_path || !out) {
+        fprintf(stderr, "ggrt render: need a scene and -o OUT (see ggrt render --help)\n");
+        return EXIT_USAGE;
+    }
+    {
+        size_t n = strlen(out);
+        if (n < 4 || (strcmp(out + n - 4, ".png") && strcmp(out + n - 4, ".exr") &&
+                      strcmp(out + n - 4, ".PNG") && strcmp(out + n - 4, ".EXR"))) {
+            fprintf(stderr, "ggrt render: output must end in .png or .exr: '%s'\n", out);
+            return EXIT_USAGE;
+        }
+    }
+
+    scene = ggSceneCreate(NULL);
+    if (!scene) {
+        fprintf(stderr, "ggrt render: out of memory\n");
+        return EXIT_INPUT;
+    }
+    t0 = now();
+    rc = ggSceneLoadFile(scene, scene_path, &err);
+    t1 = now();
+    if (rc == GG_OK) rc = ggScenePrepare(scene, &err);
+    t2 = now();
+    if (rc == GG_OK) {
+        ps.t0 = t2, ps.last_pct = -1;
+        if (!quiet && isatty(2)) opt.progress = progress, opt.progress_ud = &ps;
+        rc = ggRender(scene, &opt, &img, &st, &err);
+        if (opt.progress) fputc('\n', stderr);
+    }
+    t3 = now();
+    if (rc == GG_OK) rc = ggImageWrite(img, out, &err);
+    if (rc != GG_OK) {
+        fprintf(stderr, "ggrt: %s\n", err.message);
+        ggImageFree(img);
+        ggSceneFree(scene);
+        return cli_exit_code(rc);
+    }
+    total = (unsigned long long)(st.eye + st.reflect + st.refract + st.shadow);
+    if (!quiet) {
+        printf("%s: %dx%d, %d objects, %d lights -> %s\n", scene_path, ggImageWidth(img),
+               ggImageHeight(img), ggSceneObjectCount(scene), ggSceneLightCount(scene), out);
+        printf("rays: eye %llu (hit %llu), reflect %llu, refract %llu, shadow %llu, tir %llu, "
+               "total %llu\n",
+               (unsigned long long)st.eye, (unsigned long long)st.eye_hit,
+               (unsigned long long)st.reflect, (unsigned long long)st.refract,
+               (unsigned long long)st.shadow, (unsigned long long)st.tir, total);
+        printf("time: parse %.3fs, prepare %.3fs, render %.3fs (%.2f Mrays/s)\n", t1 - t0, t2 - t1,
+               t3 - t2, t3 > t2 ? total / (t3 - t2) / 1e6 : 0.0);
+        if (st.nonfinite)
+            printf("warning: %llu samples were NaN or infinite\n",
+                   (unsigned long long)st.nonfinite);
+    }
+    ggImageFree(img);
+    ggSceneFree(scene);
+    return EXIT_OK;
 }
