@@ -7,6 +7,7 @@
 */
 #include "shade.h"
 
+#include "trace_int.h"
 #include "vec.h"
 
 #include <math.h>
@@ -149,12 +150,35 @@ static ggColor sample_color(job *j, double px, double py, ggRayStats *st)
     return c;
 }
 
+/* Pixel (x, y) in pixel-centre mode: the mean of its samples. With rec,
+   sample `which` (or all, if -1) is recorded. */
+static ggColor pixel_center(job *j, int x, int y, ggRayStats *st, ggTrace *rec, int which)
+{
+    ggColor acc = rgb(0, 0, 0);
+    ggRayStats other;
+    int k;
+    memset(&other, 0, sizeof other);
+    for (k = 0; k < j->r.spp; k++) {
+        double sx, sy;
+        int recorded = rec && (which < 0 || which == k);
+        sample_pos(k, j->r.spp, &sx, &sy);
+        if (recorded) {
+            j->ctx.rec = rec;
+            rec->sample = k;
+        }
+        /* When tracing one sample, count only that sample's rays. */
+        acc = cadd(acc, sample_color(j, x + sx, y + sy, !rec || recorded ? st : &other));
+        j->ctx.rec = NULL;
+    }
+    return cscale(acc, 1.0 / j->r.spp);
+}
+
 static void render_tile(job *j, int t, ggRayStats *st)
 {
     int gx0 = (t % j->tiles_x) * TILE, gy0 = (t / j->tiles_x) * TILE;
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
-    int gx, gy, k;
+    int gx, gy;
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) {
             if (j->corner) {
@@ -164,14 +188,8 @@ static void render_tile(job *j, int t, ggRayStats *st)
                 o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
             } else {
                 int x = j->r.x0 + gx, y = j->r.y0 + gy;
-                ggColor acc = rgb(0, 0, 0);
+                ggColor acc = pixel_center(j, x, y, st, NULL, -1);
                 float *o = j->px + 3 * ((size_t)y * j->r.w + x);
-                for (k = 0; k < j->r.spp; k++) {
-                    double sx, sy;
-                    sample_pos(k, j->r.spp, &sx, &sy);
-                    acc = cadd(acc, sample_color(j, x + sx, y + sy, st));
-                }
-                acc = cscale(acc, 1.0 / j->r.spp);
                 o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
             }
         }
@@ -295,4 +313,56 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
         if (stats) add_stats(stats, &local);
         return c;
     }
+}
+
+GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, int sample,
+                        ggTrace *rec, ggColor *pixel, ggRayStats *stats, ggError *err)
+{
+    job j;
+    ggRayStats local;
+    ggColor c;
+    int rc, k;
+    if (!s || !rec || !pixel) return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
+    memset(&j, 0, sizeof j);
+    memset(&local, 0, sizeof local);
+    if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if (x < 0 || y < 0 || x >= j.r.w || y >= j.r.h)
+        return gg_error_set(err, GG_ERROR_INVALID, "pixel %d,%d is outside the %dx%d image", x, y,
+                            j.r.w, j.r.h);
+    if (sample < -1 || sample >= (j.r.corners ? 4 : j.r.spp))
+        return gg_error_set(err, GG_ERROR_INVALID, "sample %d does not exist (the pixel has %d)",
+                            sample, j.r.corners ? 4 : j.r.spp);
+    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd);
+    if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
+    basis(s, j.r.w, j.r.h, &j.cam);
+    gg_trace_clear(rec);
+    if (j.r.corners) {
+        /* The four corners, stored as floats and averaged as ggRender does. */
+        float cf[4][3];
+        for (k = 0; k < 4; k++) {
+            ggColor cc;
+            ggRayStats other;
+            int recorded = sample < 0 || sample == k;
+            memset(&other, 0, sizeof other);
+            if (recorded) {
+                j.ctx.rec = rec;
+                rec->sample = k;
+            }
+            cc = sample_color(&j, x + (k & 1), y + (k >> 1), recorded ? &local : &other);
+            j.ctx.rec = NULL;
+            cf[k][0] = (float)cc.r, cf[k][1] = (float)cc.g, cf[k][2] = (float)cc.b;
+        }
+        c.r = (float)(((double)cf[0][0] + cf[1][0] + cf[2][0] + cf[3][0]) * 0.25);
+        c.g = (float)(((double)cf[0][1] + cf[1][1] + cf[2][1] + cf[3][1]) * 0.25);
+        c.b = (float)(((double)cf[0][2] + cf[1][2] + cf[2][2] + cf[3][2]) * 0.25);
+    } else {
+        c = pixel_center(&j, x, y, &local, rec, sample);
+        c = rgb((float)c.r, (float)c.g, (float)c.b);
+    }
+    *pixel = c;
+    if (stats) add_stats(stats, &local);
+    if (rec->status != GG_OK)
+        return gg_error_set(err, rec->status, "out of memory recording the ray tree");
+    return GG_OK;
 }

@@ -16,6 +16,7 @@
 */
 #include "shade.h"
 
+#include "trace_int.h"
 #include "vec.h"
 
 #include <math.h>
@@ -25,6 +26,9 @@
     (GG_EFFECT_SHADOWS | GG_EFFECT_REFLECTION | GG_EFFECT_PHONG | GG_EFFECT_EMISSION |           \
      GG_EFFECT_TEXTURES | GG_EFFECT_IMPLICIT | GG_EFFECT_SUPERSAMPLING)
 #define FX_FULL GG_EFFECT_ALL
+/* Not an effect: the path that also records the ray tree (trace.h). */
+#define FX_RECORD (1u << 30)
+#define FX_REC    (FX_FULL | FX_RECORD)
 
 /* Shadow rays through transparent occluders give up after this many
    surfaces (the light is then taken as blocked). */
@@ -44,10 +48,18 @@ typedef struct ray_state {
     int depth;
     int channel;
     gg_media media;
+    int kind;   /* GG_RAY_*, recorded only */
+    int parent; /* parent node, recorded only */
 } ray_state;
 
 static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
 static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
+static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
+
+/* The same path's recursion: FX is a compile-time constant everywhere. */
+#define TRACE_CHILD(FX, c, r, st)                                                               \
+    ((FX) == FX_BASIC ? trace_basic(c, r, st)                                                   \
+                      : (FX) == FX_FULL ? trace_full(c, r, st) : trace_rec(c, r, st))
 
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules)
@@ -57,6 +69,7 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
     ctx->fx = s->effects | force;
     ctx->spd_rules = spd_rules;
     ctx->offset_mode = GG_OFFSET_SCALED;
+    ctx->rec = NULL;
 }
 
 static double media_index(const ggScene *s, const gg_media *m, int channel)
@@ -113,53 +126,74 @@ static gg_rayq make_q(ggVec3 o, ggVec3 d, double tmax, uint32_t ignore, unsigned
 /* Light arriving at the shadow origin from a light at distance 1 along d
    (d = light - o), through transparent occluders: kt per surface crossed
    and absorption inside. Returns black if an opaque surface blocks. */
+/* Light arriving at the shadow origin from a light at parameter 1 along d
+   (d = light - o), through transparent occluders: kt per surface crossed
+   and absorption inside. Returns black if an opaque surface blocks.
+   *first_obj receives the first object crossed (-1 if none) and *t_first
+   where (parameter of the original ray). */
 static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
-                           const gg_media *start)
+                           const gg_media *start, int *first_obj, double *t_first)
 {
     const ggScene *s = c->s;
+    const ggVec3 light = v3add(o, d);
     gg_media m = *start;
     ggColor tr = rgb(1, 1, 1);
-    double tprev = 0, len = v3len(d);
+    double len = v3len(d);
     gg_rayq q = make_q(o, d, 1.0, from, 0);
     gg_hit h;
     int step;
+    *first_obj = -1;
+    *t_first = 1;
     for (step = 0; step < GG_MAX_SHADOW_STEPS; step++) {
         int obj, mat;
         gg_surf sf;
-        if (!gg_geom_intersect(s->geom, &q, &h)) {
-            return cmul(tr, media_transmittance(s, &m, (1.0 - tprev) * len));
-        }
+        if (!gg_geom_intersect(s->geom, &q, &h)) return cmul(tr, media_transmittance(s, &m, len));
         obj = gg_geom_prim_object(s->geom, h.prim);
         mat = s->objects[obj].material;
-        if (s->materials[mat].kt <= 0) return rgb(0, 0, 0);
-        tr = cmul(tr, media_transmittance(s, &m, (h.t - tprev) * len));
+        if (*first_obj < 0) *first_obj = obj, *t_first = h.t;
+        if (s->materials[mat].kt <= 0) {
+            *first_obj = obj, *t_first = h.t;
+            return rgb(0, 0, 0);
+        }
+        tr = cmul(tr, media_transmittance(s, &m, h.t * len));
         tr = cscale(tr, s->materials[mat].kt);
         gg_geom_surface(s->geom, &q, &h, &sf);
-        if (v3dot(d, sf.ng) < 0) media_enter(&m, mat);
+        if (v3dot(q.d, sf.ng) < 0) media_enter(&m, mat);
         else media_exit(&m, mat);
         if (cmaxc(tr) <= 0) return tr;
-        /* Continue from just past this surface, in parameter units of the
-           original ray so the light stays at t = 1. */
-        q.o = gg_offset_origin(&sf, d, c->offset_mode);
-        q.d = v3sub(v3add(o, d), q.o);
-        o = q.o;
-        d = q.d;
-        len = v3len(d);
-        tprev = 0;
+        /* Go on from just past this surface towards the light. */
+        q.o = gg_offset_origin(&sf, q.d, c->offset_mode);
+        q.d = v3sub(light, q.o);
+        len = v3len(q.d);
         q.ignore_prim = h.prim;
     }
     return rgb(0, 0, 0);
 }
 
-/* The body of rayColor at a hit, specialised by FX at compile time. */
+#define CH_ADD(col, ch, x)                                                                       \
+    do {                                                                                         \
+        if ((ch) == 0) (col).r += (x);                                                           \
+        else if ((ch) == 1) (col).g += (x);                                                      \
+        else (col).b += (x);                                                                     \
+    } while (0)
+
+/* Weight of a child in one channel only (a dispersed ray). */
+static ggColor channel_weight(int ch, double w)
+{
+    return rgb(ch == 0 ? w : 0, ch == 1 ? w : 0, ch == 2 ? w : 0);
+}
+
+/* The body of rayColor at a hit, specialised by FX at compile time. node
+   is this ray's record (FX_RECORD only). */
 GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_rayq *q,
-                            const gg_hit *h, ggRayStats *st, const unsigned FX)
+                            const gg_hit *h, ggRayStats *st, int node, const unsigned FX)
 {
     const ggScene *s = c->s;
     const int32_t obj = gg_geom_prim_object(s->geom, h->prim);
     const int mi = s->objects[obj].material;
     const ggMaterial *m = &s->materials[mi];
     const gg_mat_fast *mf = &s->mfast[mi];
+    ggTrace *rec = c->rec;
     gg_surf sf;
     ggVec3 ng, ns, v = r->d;
     ggColor col, kdc;
@@ -180,13 +214,35 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     col = cmul(kdc, s->ambient);
     if ((FX & GG_EFFECT_EMISSION) && (mf->flags & GG_MF_EMIT)) col = cadd(col, m->ke);
 
+    if ((FX & FX_RECORD) && node >= 0) {
+        ggTraceNode *N = &rec->nodes[node];
+        N->hit = true;
+        N->object = obj, N->shape = s->objects[obj].kind, N->material = mi;
+        N->line = s->objects[obj].line;
+        N->t = h->t, N->p = sf.p, N->ng = sf.ng, N->ns = sf.ns, N->front = front;
+        N->u = sf.u, N->v = sf.v;
+        N->surface = m->kd > 0 ? cscale(kdc, 1 / m->kd) : gg_scene_surface_color(s, mi, sf.u, sf.v);
+        N->ambient = cmul(kdc, s->ambient);
+        N->emission = (mf->flags & GG_MF_EMIT) ? m->ke : rgb(0, 0, 0);
+        N->first_light = (int)rec->nlights;
+        N->n_other = N->n_medium;
+    }
+
     /* Direct light: one shadow ray per light the surface faces. */
     if (FX & GG_EFFECT_SHADOWS) {
         for (li = 0; li < s->nlights; li++) {
             ggVec3 L = v3sub(s->lights[li].pos, sf.p), Lu, so, sd;
-            ggColor lc = s->light_colors[li], through;
-            double nl, len;
+            ggColor lc = s->light_colors[li], diff, ph = rgb(0, 0, 0);
+            double nl, len, tb = 1;
+            int verdict = GG_SHADOW_VISIBLE, occ = -1, lr = -1;
             gg_rayq sq;
+            if ((FX & FX_RECORD) && node >= 0 && (lr = gg_trace_add_light(rec)) >= 0) {
+                rec->nodes[node].nlights++;
+                rec->lights[lr].light = (int)li;
+                rec->lights[lr].verdict = GG_SHADOW_FACING_AWAY;
+                rec->lights[lr].occluder = -1;
+                rec->lights[lr].t_block = 1;
+            }
             if (v3dot(ng, L) <= 0 || (nl = v3dot(ns, L)) <= 0) continue;
             len = v3len(L);
             Lu = v3scale(L, 1.0 / len);
@@ -196,31 +252,73 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             st->shadow++;
             if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
                 sq = make_q(so, sd, 1.0, h->prim, GG_PRIM_TRANSPARENT);
-                if (gg_geom_occluded(s->geom, &sq)) continue;
-                through = shadow_walk(c, so, sd, h->prim, &r->media);
-                lc = cmul(lc, through);
-                if (cis0(lc)) continue;
+                if (!(FX & FX_RECORD) && gg_geom_occluded(s->geom, &sq)) continue;
+                if (FX & FX_RECORD) {
+                    gg_hit bh;
+                    /* Recording names the occluder: find the nearest. */
+                    if (gg_geom_intersect(s->geom, &sq, &bh)) {
+                        verdict = GG_SHADOW_BLOCKED;
+                        occ = gg_geom_prim_object(s->geom, bh.prim), tb = bh.t;
+                    }
+                }
+                if (verdict == GG_SHADOW_VISIBLE) {
+                    ggColor through = shadow_walk(c, so, sd, h->prim, &r->media, &occ, &tb);
+                    if (occ >= 0) verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
+                    lc = cmul(lc, through);
+                }
             } else {
                 sq = make_q(so, sd, 1.0, h->prim, 0);
-                if (gg_geom_occluded(s->geom, &sq)) continue;
-                if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
-                    lc = cmul(lc, media_transmittance(s, &r->media, v3len(sd)));
+                if (FX & FX_RECORD) {
+                    gg_hit bh;
+                    if (gg_geom_intersect(s->geom, &sq, &bh)) {
+                        verdict = GG_SHADOW_BLOCKED;
+                        occ = gg_geom_prim_object(s->geom, bh.prim), tb = bh.t;
+                    }
+                } else if (gg_geom_occluded(s->geom, &sq))
+                    continue;
+                if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0 && verdict == GG_SHADOW_VISIBLE) {
+                    ggColor a = media_transmittance(s, &r->media, v3len(sd));
+                    if (a.r != 1 || a.g != 1 || a.b != 1) verdict = GG_SHADOW_ATTENUATED;
+                    lc = cmul(lc, a);
+                }
             }
-            col = cadd(col, cmul(kdc, cscale(lc, nl)));
+            if ((FX & FX_RECORD) && lr >= 0) {
+                ggTraceLight *R = &rec->lights[lr];
+                const ggColor l0 = s->light_colors[li];
+                R->verdict = verdict, R->occluder = occ, R->origin = so, R->dir = sd;
+                R->t_block = tb;
+                /* What got through, relative to the light's own colour. */
+                R->transmittance = verdict == GG_SHADOW_BLOCKED
+                                       ? rgb(0, 0, 0)
+                                       : rgb(l0.r > 0 ? lc.r / l0.r : 0, l0.g > 0 ? lc.g / l0.g : 0,
+                                             l0.b > 0 ? lc.b / l0.b : 0);
+            }
+            if (verdict == GG_SHADOW_BLOCKED || cis0(lc)) continue;
+            diff = cmul(kdc, cscale(lc, nl));
+            col = cadd(col, diff);
             if ((FX & GG_EFFECT_PHONG) && (mf->flags & GG_MF_PHONG)) {
                 /* Phong: (R.V)^shine with R the light's mirror direction. */
                 ggVec3 R = ggReflection(v3neg(Lu), ns);
                 double rv = -v3dot(R, v);
-                if (rv > 0) col = cadd(col, cscale(lc, m->ks * pow(rv, m->shine)));
+                if (rv > 0) {
+                    ph = cscale(lc, m->ks * pow(rv, m->shine));
+                    col = cadd(col, ph);
+                }
             }
+            if ((FX & FX_RECORD) && lr >= 0) rec->lights[lr].diffuse = diff, rec->lights[lr].phong = ph;
         }
     }
 
-    if (r->depth >= c->max_depth) return col;
+    if (r->depth >= c->max_depth) {
+        if ((FX & FX_RECORD) && node >= 0)
+            rec->nodes[node].stop =
+                (mf->flags & (GG_MF_REFLECT | GG_MF_TRANSMIT)) ? GG_STOP_DEPTH : GG_STOP_MATTE;
+        return col;
+    }
 
     {
         ggColor wr = rgb(m->ks, m->ks, m->ks); /* weight of the mirror ray */
-        int spawn_reflect = (mf->flags & GG_MF_REFLECT) != 0;
+        int spawn_reflect = (mf->flags & GG_MF_REFLECT) != 0, any_tir = 0;
         double cos_i = -v3dot(v, ns);
         if (cos_i < 0) cos_i = -cos_i;
 
@@ -243,11 +341,12 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             else media_exit(&inside, mi);
             if (c->spd_rules) spawn_reflect = 1;
             for (ch = 0; ch < nch; ch++) {
-                int chan = split ? ch : r->channel;
+                int chan = split ? ch : r->channel, ci = -1;
                 double ni, nt, F = 0, w;
                 ggVec3 t;
                 bool ok;
                 ray_state child;
+                ggColor tc;
                 if (front) {
                     ni = media_index(s, &r->media, chan);
                     nt = mat_index(s, mi, chan);
@@ -255,6 +354,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     ni = mat_index(s, mi, chan);
                     nt = media_index(s, &inside, chan);
                 }
+                if ((FX & FX_RECORD) && node >= 0) rec->nodes[node].n_other = nt;
                 ok = ggRefract(v, ns, ni, nt, &t);
                 /* A shading normal can bend t back to the incoming side:
                    refract about the true surface instead. */
@@ -264,12 +364,9 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     /* Total internal reflection: the transmitted share
                        joins the mirror ray. */
                     st->tir++;
-                    if (split) {
-                        if (ch == 0) wr.r += w;
-                        else if (ch == 1) wr.g += w;
-                        else wr.b += w;
-                    } else
-                        wr = cadd(wr, rgb(w, w, w));
+                    any_tir = 1;
+                    if (split) CH_ADD(wr, ch, w);
+                    else wr = cadd(wr, rgb(w, w, w));
                     spawn_reflect = 1;
                     continue;
                 }
@@ -277,14 +374,11 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     m->fresnel != GG_FRESNEL_CONDUCTOR) {
                     F = m->fresnel == GG_FRESNEL_SCHLICK ? ggFresnelSchlick(cos_i, ni, nt)
                                                          : ggFresnelDielectric(cos_i, ni, nt);
-                    if (split) {
-                        if (ch == 0) wr.r += w * F;
-                        else if (ch == 1) wr.g += w * F;
-                        else wr.b += w * F;
-                    } else
-                        wr = cadd(wr, rgb(w * F, w * F, w * F));
+                    if (split) CH_ADD(wr, ch, w * F);
+                    else wr = cadd(wr, rgb(w * F, w * F, w * F));
                     spawn_reflect = 1;
                     w *= 1 - F;
+                    if ((FX & FX_RECORD) && node >= 0) rec->nodes[node].fresnel = F;
                 }
                 child.o = gg_offset_origin(&sf, t, c->offset_mode);
                 child.d = t;
@@ -292,16 +386,17 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 child.depth = r->depth + 1;
                 child.channel = chan;
                 child.media = inside;
+                child.kind = GG_RAY_REFRACT;
+                child.parent = node;
                 st->refract++;
-                {
-                    ggColor tc = FX == FX_BASIC ? trace_basic(c, &child, st)
-                                                : trace_full(c, &child, st);
-                    if (split) {
-                        if (ch == 0) col.r += w * tc.r;
-                        else if (ch == 1) col.g += w * tc.g;
-                        else col.b += w * tc.b;
-                    } else
-                        col = cadd(col, cscale(tc, w));
+                if (FX & FX_RECORD) ci = (int)rec->nnodes;
+                tc = TRACE_CHILD(FX, c, &child, st);
+                if (split) CH_ADD(col, ch, w * (ch == 0 ? tc.r : ch == 1 ? tc.g : tc.b));
+                else col = cadd(col, cscale(tc, w));
+                if ((FX & FX_RECORD) && node >= 0) {
+                    ggColor cw = split ? channel_weight(ch, w) : rgb(w, w, w);
+                    if (ci >= 0 && (size_t)ci < rec->nnodes) rec->nodes[ci].weight = cw;
+                    rec->nodes[node].refract_weight = cadd(rec->nodes[node].refract_weight, cw);
                 }
             }
         }
@@ -309,6 +404,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
         if (spawn_reflect) {
             ray_state child;
             ggVec3 rd = ggReflection(v, ns);
+            ggColor rc;
+            int ci = -1;
             /* A shading normal can send the mirror ray into the surface. */
             if (v3dot(rd, ng) <= 0) rd = ggReflection(v, ng);
             child.o = gg_offset_origin(&sf, rd, c->offset_mode);
@@ -317,17 +414,20 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             child.depth = r->depth + 1;
             child.channel = r->channel;
             child.media = r->media;
+            child.kind = any_tir ? GG_RAY_TIR : GG_RAY_REFLECT;
+            child.parent = node;
             st->reflect++;
-            if (!cis0(wr)) {
-                ggColor rc = FX == FX_BASIC ? trace_basic(c, &child, st)
-                                            : trace_full(c, &child, st);
-                col = cmadd(col, wr, rc);
-            } else {
-                /* SPD rule: a transmitter spawns (and counts) a mirror ray
-                   even when its weight is zero; trace it for the counts. */
-                (void)(FX == FX_BASIC ? trace_basic(c, &child, st) : trace_full(c, &child, st));
+            if (FX & FX_RECORD) ci = (int)rec->nnodes;
+            /* Under the SPD rule a transmitter spawns (and counts) a mirror
+               ray even when its weight is zero. */
+            rc = TRACE_CHILD(FX, c, &child, st);
+            if (!cis0(wr)) col = cmadd(col, wr, rc);
+            if ((FX & FX_RECORD) && node >= 0) {
+                if (ci >= 0 && (size_t)ci < rec->nnodes) rec->nodes[ci].weight = wr;
+                rec->nodes[node].reflect_weight = wr;
             }
-        }
+        } else if ((FX & FX_RECORD) && node >= 0 && !(mf->flags & GG_MF_TRANSMIT))
+            rec->nodes[node].stop = GG_STOP_MATTE;
     }
     return col;
 }
@@ -338,17 +438,39 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, ggRayStats
     const ggScene *s = c->s;
     gg_rayq q = make_q(r->o, r->d, INFINITY, r->from_prim, 0);
     gg_hit h;
-    ggColor col;
-    if (!gg_geom_intersect(s->geom, &q, &h)) {
+    ggColor col, att = rgb(1, 1, 1);
+    int node = -1, hit;
+    if (FX & FX_RECORD) {
+        node = gg_trace_add_node(c->rec);
+        if (node >= 0) {
+            ggTraceNode *N = &c->rec->nodes[node];
+            N->parent = r->parent, N->kind = r->kind, N->depth = r->depth;
+            N->channel = r->channel, N->sample = c->rec->sample, N->o = r->o, N->d = r->d;
+            N->medium = r->media.n ? r->media.mat[r->media.n - 1] : -1;
+            N->n_medium = media_index(s, &r->media, r->channel);
+            N->object = N->shape = N->material = -1;
+            N->fresnel = -1;
+            N->weight = rgb(1, 1, 1);
+        }
+    }
+    hit = gg_geom_intersect(s->geom, &q, &h);
+    if (!hit) {
         col = s->background;
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
-            col = cmul(col, media_transmittance(s, &r->media, INFINITY));
-        return col;
+            att = media_transmittance(s, &r->media, INFINITY);
+    } else {
+        if (r->depth == 1) st->eye_hit++;
+        col = shade_hit(c, r, &q, &h, st, node, FX);
+        if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
+            att = media_transmittance(s, &r->media, h.t);
     }
-    if (r->depth == 1) st->eye_hit++;
-    col = shade_hit(c, r, &q, &h, st, FX);
-    if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
-        col = cmul(col, media_transmittance(s, &r->media, h.t));
+    if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0) col = cmul(col, att);
+    if ((FX & FX_RECORD) && node >= 0) {
+        ggTraceNode *N = &c->rec->nodes[node];
+        if (!hit) N->stop = GG_STOP_MISS;
+        N->absorption = att;
+        N->color = col;
+    }
     return col;
 }
 
@@ -362,6 +484,11 @@ static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, ggRayStats 
     return trace_fx(c, r, st, FX_FULL);
 }
 
+static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st)
+{
+    return trace_fx(c, r, st, FX_REC);
+}
+
 ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, ggRayStats *st)
 {
     ray_state r;
@@ -373,7 +500,12 @@ ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, ggRay
     r.depth = depth;
     r.channel = -1;
     r.media.n = 0;
+    r.kind = GG_RAY_EYE;
+    r.parent = -1;
     if (depth == 1) st->eye++;
+    /* The recording path computes exactly what the full path does, so a
+       recorded pixel equals the rendered one bit for bit. */
+    if (c->rec) return trace_rec(c, &r, st);
     if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, &r, st);
     return trace_full(c, &r, st);
 }

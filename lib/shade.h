@@ -22,6 +22,7 @@ typedef struct gg_shade_ctx {
     unsigned fx;     /* effects simulated: the scene's plus the forced ones */
     bool spd_rules;
     int offset_mode; /* GG_OFFSET_* */
+    ggTrace *rec;    /* non-NULL: record the ray tree (single-threaded use) */
 } gg_shade_ctx;
 
 /* Fill ctx from a prepared scene and resolved options. */
