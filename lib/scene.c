@@ -463,3 +463,23 @@ GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
     gg_geom_bounds(s->geom, &info->lo, &info->hi);
     return GG_OK;
 }
+
+GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
+{
+    const gg_object *o;
+    memset(d, 0, sizeof *d);
+    if (i < 0 || (size_t)i >= s->nobjects) return GG_ERROR_INVALID;
+    o = &s->objects[i];
+    d->kind = o->kind, d->material = o->material, d->line = o->line;
+    switch (o->kind) {
+    case GG_SHAPE_SPHERE: d->base = o->a, d->radius = o->ra; break;
+    case GG_SHAPE_CONE: d->base = o->a, d->apex = o->b, d->radius = o->ra, d->radius2 = o->rb; break;
+    case GG_SHAPE_RECT: d->base = o->a, d->e1 = o->b, d->e2 = o->c; break;
+    case GG_SHAPE_IMPLICIT: gg_implicit_bounds(o->imp, &d->base, &d->apex); break;
+    default:
+        d->nverts = o->nverts;
+        d->verts = s->verts + o->vfirst;
+        d->normals = o->has_normals ? s->norms + o->vfirst : NULL;
+    }
+    return GG_OK;
+}

@@ -125,6 +125,23 @@ GG_API ggMaterial ggSceneMaterial(const ggScene *scene, int index);
 GG_API int ggSceneObjectKind(const ggScene *scene, int index);
 GG_API int ggSceneObjectMaterial(const ggScene *scene, int index);
 GG_API int ggSceneObjectLine(const ggScene *scene, int index);
+/* An object's shape as the scene describes it. Which fields mean
+   something depends on kind: sphere (center, radius), cone (base, radius
+   = base radius, apex, radius2 = apex radius), rect (corner = base, e1, e2),
+   polygon and triangle (nverts vertices at verts, normals or NULL),
+   implicit (its box lo = base, hi = apex). Pointers stay valid until the
+   scene changes. */
+typedef struct ggShapeDesc {
+    int kind, material, line;
+    ggVec3 base, apex, e1, e2;
+    double radius, radius2;
+    int nverts;
+    const ggVec3 *verts, *normals;
+} ggShapeDesc;
+
+/* Fill *d for object index; GG_ERROR_INVALID if out of range. */
+GG_API int ggSceneObjectShape(const ggScene *scene, int index, ggShapeDesc *d);
+
 /* Name of the file the scene was loaded from ("" if built in code). */
 GG_API const char *ggSceneFileName(const ggScene *scene);
 
