@@ -8,6 +8,8 @@
 ** Every ggrt measurement runs in a child process so that its peak memory
 ** (ru_maxrss) is that scene's alone. Times are medians of --runs runs.
 */
+/* wait4 (per-child peak memory) is a BSD interface. */
+#define _DEFAULT_SOURCE
 #include "cli.h"
 #include "bench.h"
 
