@@ -29,6 +29,7 @@ static void help(FILE *f)
             "      --corners         rays through pixel corners only\n"
             "      --force-effects   simulate every effect even if the scene needs fewer\n"
             "                        (same image, slower: for measuring)\n"
+            "      --pixel X,Y       also print the value written at pixel X,Y (%%.9g, linear)\n"
             "  -q, --quiet           no progress bar and no summary\n"
             "  -h, --help            this text\n"
             "\n"
@@ -72,7 +73,7 @@ int cmd_render(int argc, char **argv)
     ggRayStats st;
     ggError err;
     progress_state ps;
-    int i, rc, quiet = 0;
+    int i, rc, quiet = 0, px = -1, py = -1;
     double t0, t1, t2, t3;
     unsigned long long total;
 
@@ -117,6 +118,9 @@ int cmd_render(int argc, char **argv)
             if (sscanf(v, "%d,%d,%d,%d", &opt.crop_x0, &opt.crop_y0, &opt.crop_x1,
                        &opt.crop_y1) != 4)
                 goto bad;
+        } else if (!strcmp(a, "--pixel")) {
+            NEEDV();
+            if (sscanf(v, "%d,%d", &px, &py) != 2 || px < 0 || py < 0) goto bad;
         } else if (!strcmp(a, "--spd")) {
             opt.spd_rules = true, opt.pixel_corners = true;
             if (!opt.max_depth) opt.max_depth = 5;
@@ -177,6 +181,16 @@ int cmd_render(int argc, char **argv)
         ggImageFree(img);
         ggSceneFree(scene);
         return cli_exit_code(rc);
+    }
+    if (px >= 0) {
+        ggColor c = ggImageGet(img, px, py);
+        if (px >= ggImageWidth(img) || py >= ggImageHeight(img)) {
+            fprintf(stderr, "ggrt render: pixel %d,%d is outside the image\n", px, py);
+            ggImageFree(img);
+            ggSceneFree(scene);
+            return EXIT_USAGE;
+        }
+        printf("pixel %d,%d %.9g %.9g %.9g\n", px, py, c.r, c.g, c.b);
     }
     total = (unsigned long long)(st.eye + st.reflect + st.refract + st.shadow);
     if (!quiet) {
