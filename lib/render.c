@@ -27,6 +27,7 @@ typedef struct resolved {
     int x0, y0, x1, y1;
     bool corners, spd;
     unsigned force;
+    ggAccuracy acc;
 } resolved;
 
 typedef struct cam_basis {
@@ -64,6 +65,11 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
     r->corners = o->pixel_corners;
     r->spd = o->spd_rules;
     r->force = o->force_effects & GG_EFFECT_ALL;
+    r->acc = o->accuracy;
+    if (!(r->acc.offset_eps >= 0) || !(r->acc.cutoff >= 0) || !(r->acc.gradient_h >= 0) ||
+        !(r->acc.implicit_tol >= 0) || !isfinite(r->acc.offset_eps) || !isfinite(r->acc.cutoff) ||
+        !isfinite(r->acc.gradient_h) || !isfinite(r->acc.implicit_tol))
+        return gg_error_set(err, GG_ERROR_INVALID, "accuracy knobs must be finite and >= 0");
     return GG_OK;
 }
 
@@ -257,7 +263,7 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
     img = ggImageCreate(j.r.w, j.r.h, s->alloc);
     if (!img) return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
-    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd);
+    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
     j.px = ggImagePixels(img);
@@ -306,7 +312,7 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
     resolved r;
     ggRayStats local;
     if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
-    gg_shade_init(&ctx, s, r.depth, r.force, r.spd);
+    gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
     memset(&local, 0, sizeof local);
     {
         ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &local);
@@ -333,7 +339,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
         return gg_error_set(err, GG_ERROR_INVALID, "sample %d does not exist (the pixel has %d)",
                             sample, j.r.corners ? 4 : j.r.spp);
     if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
-    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd);
+    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
     gg_trace_clear(rec);

@@ -393,7 +393,7 @@ nomem:
     return gg_error_set(err, GG_ERROR_NOMEM, "preparing the scene: out of memory");
 }
 
-ggColor gg_scene_surface_color(const ggScene *s, int material, double u, double v)
+ggColor gg_scene_surface_color(const ggScene *s, int material, double u, double v, int filter)
 {
     const ggMaterial *m = &s->materials[material];
     const gg_texture *t;
@@ -402,7 +402,7 @@ ggColor gg_scene_surface_color(const ggScene *s, int material, double u, double 
     t = &s->textures[m->texture];
     if (!t->img)
         c = ggTextureChecker(u, v, t->checker_n, t->checker_a, t->checker_b);
-    else if (t->nearest)
+    else if (filter == GG_ACC_TEXTURE_NEAREST || (filter == 0 && t->nearest))
         c = ggTextureNearest(t->img, u, v, t->wrap);
     else
         c = ggTextureBilinear(t->img, u, v, t->wrap);

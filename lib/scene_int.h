@@ -99,7 +99,8 @@ void gg_effects_clear(ggScene *s);
 int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, const char *dir,
                  ggError *err);
 
-/* Shared by shading: the material's colour at a surface point. */
-ggColor gg_scene_surface_color(const ggScene *s, int material, double u, double v);
+/* Shared by shading: the material's colour at a surface point. filter:
+   0 as the texture says, GG_ACC_TEXTURE_BILINEAR or _NEAREST. */
+ggColor gg_scene_surface_color(const ggScene *s, int material, double u, double v, int filter);
 
 #endif

@@ -48,6 +48,7 @@ typedef struct ray_state {
     int depth;
     int channel;
     gg_media media;
+    double weight; /* this ray's weight in the pixel (largest channel) */
     int kind;   /* GG_RAY_*, recorded only */
     int parent; /* parent node, recorded only */
 } ray_state;
@@ -62,14 +63,35 @@ static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *
                       : (FX) == FX_FULL ? trace_full(c, r, st) : trace_rec(c, r, st))
 
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
-                   bool spd_rules)
+                   bool spd_rules, const ggAccuracy *acc)
 {
     ctx->s = s;
     ctx->max_depth = max_depth;
     ctx->fx = s->effects | force;
     ctx->spd_rules = spd_rules;
-    ctx->offset_mode = GG_OFFSET_SCALED;
+    if (acc) ctx->acc = *acc;
+    else memset(&ctx->acc, 0, sizeof ctx->acc);
+    /* A Fresnel override on a transmitter needs the Fresnel code. */
+    if (ctx->acc.fresnel >= GG_ACC_FRESNEL_SCHLICK && (s->effects & GG_EFFECT_REFRACTION))
+        ctx->fx |= GG_EFFECT_FRESNEL;
     ctx->rec = NULL;
+}
+
+/* Origin of a ray leaving sf in direction d, as the offset knob says. */
+static ggVec3 spawn(const gg_shade_ctx *c, const gg_surf *sf, ggVec3 d)
+{
+    if (c->acc.offset == GG_ACC_OFFSET_FIXED)
+        return gg_offset_origin_fixed(sf, d, c->acc.offset_eps > 0 ? c->acc.offset_eps : 1e-6);
+    return gg_offset_origin(sf, d, GG_OFFSET_SCALED);
+}
+
+/* The Fresnel mode in force for a material (the knob overrides dielectrics). */
+static int fresnel_mode(const gg_shade_ctx *c, const ggMaterial *m)
+{
+    if (m->fresnel == GG_FRESNEL_CONDUCTOR || c->acc.fresnel == 0) return m->fresnel;
+    return c->acc.fresnel == GG_ACC_FRESNEL_NONE      ? GG_FRESNEL_NONE
+           : c->acc.fresnel == GG_ACC_FRESNEL_SCHLICK ? GG_FRESNEL_SCHLICK
+                                                      : GG_FRESNEL_EXACT;
 }
 
 static double media_index(const ggScene *s, const gg_media *m, int channel)
@@ -162,7 +184,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         else media_exit(&m, mat);
         if (cmaxc(tr) <= 0) return tr;
         /* Go on from just past this surface towards the light. */
-        q.o = gg_offset_origin(&sf, q.d, c->offset_mode);
+        q.o = spawn(c, &sf, q.d);
         q.d = v3sub(light, q.o);
         len = v3len(q.d);
         q.ignore_prim = h.prim;
@@ -208,7 +230,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
 
     kdc = mf->kd_color;
     if ((FX & GG_EFFECT_TEXTURES) && (mf->flags & GG_MF_TEXTURE))
-        kdc = cscale(gg_scene_surface_color(s, mi, sf.u, sf.v), m->kd);
+        kdc = cscale(gg_scene_surface_color(s, mi, sf.u, sf.v, c->acc.texture), m->kd);
 
     /* Emission and ambient. */
     col = cmul(kdc, s->ambient);
@@ -221,7 +243,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
         N->line = s->objects[obj].line;
         N->t = h->t, N->p = sf.p, N->ng = sf.ng, N->ns = sf.ns, N->front = front;
         N->u = sf.u, N->v = sf.v;
-        N->surface = m->kd > 0 ? cscale(kdc, 1 / m->kd) : gg_scene_surface_color(s, mi, sf.u, sf.v);
+        N->surface = m->kd > 0 ? cscale(kdc, 1 / m->kd) : gg_scene_surface_color(s, mi, sf.u, sf.v, c->acc.texture);
         N->ambient = cmul(kdc, s->ambient);
         N->emission = (mf->flags & GG_MF_EMIT) ? m->ke : rgb(0, 0, 0);
         N->first_light = (int)rec->nlights;
@@ -247,7 +269,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             len = v3len(L);
             Lu = v3scale(L, 1.0 / len);
             nl /= len;
-            so = gg_offset_origin(&sf, Lu, c->offset_mode);
+            so = spawn(c, &sf, Lu);
             sd = v3sub(s->lights[li].pos, so);
             st->shadow++;
             if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
@@ -335,7 +357,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                medium, or leaving it into the medium around it. */
             gg_media inside = r->media;
             int split = (FX & GG_EFFECT_DISPERSION) && (mf->flags & GG_MF_DISPERSE) &&
-                        r->channel < 0;
+                        r->channel < 0 && c->acc.wavelengths != 1;
+            const int fmode = fresnel_mode(c, m);
             int ch, nch = split ? 3 : 1;
             if (front) media_enter(&inside, mi);
             else media_exit(&inside, mi);
@@ -355,7 +378,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     nt = media_index(s, &inside, chan);
                 }
                 if ((FX & FX_RECORD) && node >= 0) rec->nodes[node].n_other = nt;
-                ok = ggRefract(v, ns, ni, nt, &t);
+                ok = c->acc.refract == GG_ACC_REFRACT_TEXTBOOK ? ggRefractTextbook(v, ns, ni, nt, &t)
+                                                               : ggRefract(v, ns, ni, nt, &t);
                 /* A shading normal can bend t back to the incoming side:
                    refract about the true surface instead. */
                 if (ok && v3dot(t, ng) >= 0) ok = ggRefract(v, ng, ni, nt, &t);
@@ -370,17 +394,21 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     spawn_reflect = 1;
                     continue;
                 }
-                if ((FX & GG_EFFECT_FRESNEL) && m->fresnel != GG_FRESNEL_NONE &&
-                    m->fresnel != GG_FRESNEL_CONDUCTOR) {
-                    F = m->fresnel == GG_FRESNEL_SCHLICK ? ggFresnelSchlick(cos_i, ni, nt)
-                                                         : ggFresnelDielectric(cos_i, ni, nt);
+                if ((FX & GG_EFFECT_FRESNEL) && fmode != GG_FRESNEL_NONE &&
+                    fmode != GG_FRESNEL_CONDUCTOR) {
+                    F = fmode == GG_FRESNEL_SCHLICK ? ggFresnelSchlick(cos_i, ni, nt)
+                                                    : ggFresnelDielectric(cos_i, ni, nt);
                     if (split) CH_ADD(wr, ch, w * F);
                     else wr = cadd(wr, rgb(w * F, w * F, w * F));
                     spawn_reflect = 1;
                     w *= 1 - F;
                     if ((FX & FX_RECORD) && node >= 0) rec->nodes[node].fresnel = F;
                 }
-                child.o = gg_offset_origin(&sf, t, c->offset_mode);
+                child.weight = r->weight * w;
+                /* Adaptive depth (POV-Ray's adc_bailout): skip rays that
+                   cannot matter. Off (0) by default. */
+                if (child.weight < c->acc.cutoff) continue;
+                child.o = spawn(c, &sf, t);
                 child.d = t;
                 child.from_prim = h->prim;
                 child.depth = r->depth + 1;
@@ -401,6 +429,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             }
         }
 
+        if (spawn_reflect && c->acc.cutoff > 0 && r->weight * cmaxc(wr) < c->acc.cutoff)
+            spawn_reflect = 0;
         if (spawn_reflect) {
             ray_state child;
             ggVec3 rd = ggReflection(v, ns);
@@ -408,13 +438,14 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             int ci = -1;
             /* A shading normal can send the mirror ray into the surface. */
             if (v3dot(rd, ng) <= 0) rd = ggReflection(v, ng);
-            child.o = gg_offset_origin(&sf, rd, c->offset_mode);
+            child.o = spawn(c, &sf, rd);
             child.d = rd;
             child.from_prim = h->prim;
             child.depth = r->depth + 1;
             child.channel = r->channel;
             child.media = r->media;
             child.kind = any_tir ? GG_RAY_TIR : GG_RAY_REFLECT;
+            child.weight = r->weight * cmaxc(wr);
             child.parent = node;
             st->reflect++;
             if (FX & FX_RECORD) ci = (int)rec->nnodes;
@@ -502,6 +533,7 @@ ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, ggRay
     r.media.n = 0;
     r.kind = GG_RAY_EYE;
     r.parent = -1;
+    r.weight = 1;
     if (depth == 1) st->eye++;
     /* The recording path computes exactly what the full path does, so a
        recorded pixel equals the rendered one bit for bit. */

@@ -21,13 +21,13 @@ typedef struct gg_shade_ctx {
     int max_depth;
     unsigned fx;     /* effects simulated: the scene's plus the forced ones */
     bool spd_rules;
-    int offset_mode; /* GG_OFFSET_* */
+    ggAccuracy acc;  /* numerical knobs (render.h) */
     ggTrace *rec;    /* non-NULL: record the ray tree (single-threaded use) */
 } gg_shade_ctx;
 
-/* Fill ctx from a prepared scene and resolved options. */
+/* Fill ctx from a prepared scene and resolved options; acc may be NULL. */
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
-                   bool spd_rules);
+                   bool spd_rules, const ggAccuracy *acc);
 
 /* Colour along a ray starting in the outside medium (an eye ray, or any
    ray of ggRayColor) at the given depth (eye ray = 1). */
