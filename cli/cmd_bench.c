@@ -29,6 +29,7 @@ static void help(FILE *f)
 {
     fprintf(f,
             "usage: ggrt bench spd|counts|effects [options]\n"
+            "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]\n"
             "\n"
             "  spd       render the 7 SPD scenes (depth 5, pixel centres, no antialiasing) and,\n"
             "            if povray is installed, the same scenes with POV-Ray 3.7; print trace\n"
@@ -37,6 +38,10 @@ static void help(FILE *f)
             "            eye-hit, reflect, refract and shadow rays against the SPD's table\n"
             "  effects   each example scene rendered with its own effect set and with every\n"
             "            effect forced on: times, ratio, and whether the images are identical\n"
+            "  accuracy  sweep each accuracy knob from the accurate default: median time, rays,\n"
+            "            RMSE, max error, PSNR, share of pixels off by > 1/255 and pixels whose\n"
+            "            ray tree changed, against an all-accurate reference; writes\n"
+            "            DIR/accuracy.csv and DIR/accuracy.svg (docs/accuracy.md)\n"
             "\n"
             "options:\n"
             "  --size N        image size N x N (spd: 1024; effects: 320)\n"
@@ -45,7 +50,8 @@ static void help(FILE *f)
             "  --spd DIR       NFF scenes (default examples/scenes/spd)\n"
             "  --pov DIR       POV-Ray scenes, .pov.gz (default ../shared/scenes/spd-pov)\n"
             "  --no-pov        do not run POV-Ray\n"
-            "  --scenes LIST   comma-separated subset of scene names\n");
+            "  --scenes LIST   comma-separated subset of scene names\n"
+            "  --out DIR       where accuracy writes its CSV and SVG (default .)\n");
 }
 
 double bench_now(void)
@@ -381,6 +387,7 @@ int cmd_bench(int argc, char **argv)
         if (!bo.size) bo.size = 320;
         return bench_effects(&bo);
     }
+    if (!strcmp(argv[1], "accuracy")) return bench_accuracy(&bo);
     fprintf(stderr, "ggrt bench: unknown benchmark '%s'\n", argv[1]);
     help(stderr);
     return EXIT_USAGE;
