@@ -181,8 +181,7 @@ installcheck:
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \
 	  $(MAKE) --no-print-directory examples EXAMPLE_OUT=$(abspath $(BUILD))/examples
 	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
-	  LD_LIBRARY_PATH=$(STAGE)/usr/lib $(abspath $(BUILD))/examples/$$e \
-	    >$(abspath $(BUILD))/examples/$$e.log 2>&1 \
+	  (cd $(abspath $(BUILD))/examples && LD_LIBRARY_PATH=$(STAGE)/usr/lib ./$$e >$$e.log 2>&1) \
 	    || { echo "installcheck: example $$e failed:"; cat $(abspath $(BUILD))/examples/$$e.log; exit 1; }; \
 	  echo "installcheck: example $$e ran against the staged install"; \
 	done
