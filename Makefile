@@ -215,6 +215,13 @@ fuzz:
 bench: $(BENCH_BIN)
 	@for b in $(BENCH_BIN); do $$b || exit 1; done
 
+# The ray-tree recorder's cost when switched off: the same renders with
+# this library and with one built without the recorder, alternated.
+bench-trace: $(BUILD)/bench/bench_render
+	@$(MAKE) --no-print-directory BUILD=$(BUILD)/norec CFLAGS="$(CFLAGS) -DGG_NO_RECORDER" \
+	  $(BUILD)/norec/bench/bench_render >/dev/null
+	@sh bench/trace_overhead.sh $(BUILD)/bench/bench_render $(BUILD)/norec/bench/bench_render
+
 bench-%: $(BUILD)/bench/bench_%
 	$<
 

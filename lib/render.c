@@ -329,6 +329,9 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     ggColor c;
     int rc, k;
     if (!s || !rec || !pixel) return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
+#ifdef GG_NO_RECORDER
+    return gg_error_set(err, GG_ERROR_UNSUPPORTED, "this libggrt was built without the recorder");
+#endif
     memset(&j, 0, sizeof j);
     memset(&local, 0, sizeof local);
     if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;

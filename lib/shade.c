@@ -55,12 +55,18 @@ typedef struct ray_state {
 
 static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
 static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
-static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
 
-/* The same path's recursion: FX is a compile-time constant everywhere. */
+/* The same path's recursion: FX is a compile-time constant everywhere.
+   GG_NO_RECORDER builds the library without the recording path, only to
+   measure what having it costs (make bench-trace). */
+#ifdef GG_NO_RECORDER
+#define TRACE_CHILD(FX, c, r, st) ((FX) == FX_BASIC ? trace_basic(c, r, st) : trace_full(c, r, st))
+#else
+static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
 #define TRACE_CHILD(FX, c, r, st)                                                               \
     ((FX) == FX_BASIC ? trace_basic(c, r, st)                                                   \
                       : (FX) == FX_FULL ? trace_full(c, r, st) : trace_rec(c, r, st))
+#endif
 
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc)
@@ -515,10 +521,12 @@ static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, ggRayStats 
     return trace_fx(c, r, st, FX_FULL);
 }
 
+#ifndef GG_NO_RECORDER
 static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st)
 {
     return trace_fx(c, r, st, FX_REC);
 }
+#endif
 
 ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, ggRayStats *st)
 {
@@ -537,7 +545,9 @@ ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, ggRay
     if (depth == 1) st->eye++;
     /* The recording path computes exactly what the full path does, so a
        recorded pixel equals the rendered one bit for bit. */
+#ifndef GG_NO_RECORDER
     if (c->rec) return trace_rec(c, &r, st);
+#endif
     if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, &r, st);
     return trace_full(c, &r, st);
 }
