@@ -40,6 +40,7 @@ typedef struct parser {
     int mat_id;          /* its index, or -1 if it changed since last used */
     bool has_peek;
     token peek;
+    token last; /* the last number read, for messages about its value */
 } parser;
 
 static int fail(parser *ps, const token *t, int code, const char *fmt, ...) GG_PRINTF(4, 5);
@@ -160,6 +161,7 @@ static int number(parser *ps, double *d, const char *what)
     if (!tok_number(&t, d))
         return fail(ps, &t, GG_ERROR_PARSE, "expected %s after '%s', got '%s'", what,
                     ps->keyword, show(&t, b, sizeof b));
+    ps->last = t;
     return GG_OK;
 }
 
@@ -192,10 +194,12 @@ static int integer(parser *ps, long lo, long hi, long *out, const char *what)
     double d;
     int rc = number(ps, &d, what);
     if (rc != GG_OK) return rc;
-    if (d != floor(d) || d < (double)lo || d > (double)hi)
-        return fail(ps, &ps->kw_tok, d > (double)hi ? GG_ERROR_LIMIT : GG_ERROR_PARSE,
-                    "%s after '%s' must be a whole number from %ld to %ld, got %g", what,
-                    ps->keyword, lo, hi, d);
+    if (d != floor(d) || d < (double)lo || d > (double)hi) {
+        char b[48];
+        return fail(ps, &ps->last, d > (double)hi ? GG_ERROR_LIMIT : GG_ERROR_PARSE,
+                    "%s after '%s' must be a whole number from %ld to %ld, got %s", what,
+                    ps->keyword, lo, hi, show(&ps->last, b, sizeof b));
+    }
     *out = (long)d;
     return GG_OK;
 }
@@ -444,7 +448,7 @@ static int kw_texture(parser *ps)
     token t, o;
     gg_texture tx;
     ggError e2;
-    char path[NFF_MAX_TOKEN + 1024], b[48];
+    char path[NFF_MAX_TOKEN + 1024];
     int rc, id;
     if (next(ps, &t) <= 0)
         return fail(ps, NULL, GG_ERROR_PARSE, "expected a file name after 'texture'");
@@ -470,7 +474,7 @@ static int kw_texture(parser *ps)
         snprintf(path, sizeof path, "%s%.*s", ps->dir, (int)t.n, t.p);
     rc = ggImageRead(path, ps->s->alloc, &tx.img, &e2);
     if (rc != GG_OK)
-        return fail(ps, &t, rc, "cannot read texture '%s': %s", show(&t, b, sizeof b), e2.message);
+        return fail(ps, &t, rc, "cannot read texture: %s", e2.message);
     id = gg_scene_add_texture_desc(ps->s, &tx);
     if (id < 0) return fail(ps, &t, -id, "cannot add the texture");
     ps->mat.texture = id;

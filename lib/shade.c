@@ -151,6 +151,13 @@ static gg_rayq make_q(ggVec3 o, ggVec3 d, double tmax, uint32_t ignore, unsigned
     return q;
 }
 
+static uint32_t leave_prim(const ggScene *s, uint32_t prim)
+{
+    int k = gg_geom_prim_kind(s->geom, prim);
+    return k == GG_SHAPE_TRIANGLE || k == GG_SHAPE_POLYGON || k == GG_SHAPE_RECT ? prim
+                                                                                 : UINT32_MAX;
+}
+
 /* Light arriving at the shadow origin from a light at distance 1 along d
    (d = light - o), through transparent occluders: kt per surface crossed
    and absorption inside. Returns black if an opaque surface blocks. */
@@ -193,7 +200,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         q.o = spawn(c, &sf, q.d);
         q.d = v3sub(light, q.o);
         len = v3len(q.d);
-        q.ignore_prim = h.prim;
+        q.ignore_prim = leave_prim(s, h.prim);
     }
     return rgb(0, 0, 0);
 }
@@ -221,6 +228,10 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     const int mi = s->objects[obj].material;
     const ggMaterial *m = &s->materials[mi];
     const gg_mat_fast *mf = &s->mfast[mi];
+    /* Rays leaving a planar primitive cannot meet it again: skip it
+       outright. Curved ones (a sphere's far side, a torus shadowing
+       itself) must stay in; the origin offset keeps them robust. */
+    const uint32_t leave = leave_prim(s, h->prim);
     ggTrace *rec = c->rec;
     gg_surf sf;
     ggVec3 ng, ns, v = r->d;
@@ -279,7 +290,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             sd = v3sub(s->lights[li].pos, so);
             st->shadow++;
             if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
-                sq = make_q(so, sd, 1.0, h->prim, GG_PRIM_TRANSPARENT);
+                sq = make_q(so, sd, 1.0, leave, GG_PRIM_TRANSPARENT);
                 if (!(FX & FX_RECORD) && gg_geom_occluded(s->geom, &sq)) continue;
                 if (FX & FX_RECORD) {
                     gg_hit bh;
@@ -290,12 +301,12 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     }
                 }
                 if (verdict == GG_SHADOW_VISIBLE) {
-                    ggColor through = shadow_walk(c, so, sd, h->prim, &r->media, &occ, &tb);
+                    ggColor through = shadow_walk(c, so, sd, leave, &r->media, &occ, &tb);
                     if (occ >= 0) verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
                     lc = cmul(lc, through);
                 }
             } else {
-                sq = make_q(so, sd, 1.0, h->prim, 0);
+                sq = make_q(so, sd, 1.0, leave, 0);
                 if (FX & FX_RECORD) {
                     gg_hit bh;
                     if (gg_geom_intersect(s->geom, &sq, &bh)) {
@@ -416,7 +427,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 if (child.weight < c->acc.cutoff) continue;
                 child.o = spawn(c, &sf, t);
                 child.d = t;
-                child.from_prim = h->prim;
+                child.from_prim = leave;
                 child.depth = r->depth + 1;
                 child.channel = chan;
                 child.media = inside;
@@ -446,7 +457,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             if (v3dot(rd, ng) <= 0) rd = ggReflection(v, ng);
             child.o = spawn(c, &sf, rd);
             child.d = rd;
-            child.from_prim = h->prim;
+            child.from_prim = leave;
             child.depth = r->depth + 1;
             child.channel = r->channel;
             child.media = r->media;

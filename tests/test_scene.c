@@ -60,7 +60,7 @@ static void test_basic_entities(void **state)
     assert_int_equal(ggSceneObjectKind(s, 2), GG_SHAPE_TRIANGLE);
     assert_int_equal(ggSceneObjectKind(s, 3), GG_SHAPE_POLYGON);
     assert_int_equal(ggSceneObjectKind(s, 4), GG_SHAPE_TRIANGLE);
-    assert_int_equal(ggSceneObjectLine(s, 0), 11);
+    assert_int_equal(ggSceneObjectLine(s, 0), 12);
     c = ggSceneCamera(s);
     assert_int_equal(c.width, 64);
     assert_int_equal(c.height, 32);
@@ -69,7 +69,7 @@ static void test_basic_entities(void **state)
     m = ggSceneMaterial(s, 0);
     assert_true(m.color.r == 1 && m.color.g == 0 && m.kd == 0.7 && m.ks == 0.3);
     assert_true(m.shine == 20 && m.kt == 0 && m.ior == 1);
-    assert_int_equal(m.line, 10);
+    assert_int_equal(m.line, 11);
     ggSceneFree(s);
 }
 
@@ -119,7 +119,7 @@ static void test_extensions(void **state)
 static void test_errors(void **state)
 {
     (void)state;
-    expect_error("s 1 2", GG_ERROR_PARSE, "scene.nff:1:1: expected a number after 's', got end of file");
+    expect_error("s 1 2", GG_ERROR_PARSE, "scene.nff:1:6: expected a number after 's', got end of file");
     expect_error("f 1 1 1 1 0 1 0 0\n  s 1 2 x 4\n", GG_ERROR_PARSE,
                  "scene.nff:2:9: expected a number after 's', got 'x'");
     expect_error("s 0 0 0 nan", GG_ERROR_PARSE, "scene.nff:1:9: expected a number after 's', got 'nan'");
@@ -128,14 +128,14 @@ static void test_errors(void **state)
     expect_error("q 1", GG_ERROR_PARSE, "scene.nff:1:1: unknown keyword 'q'");
     expect_error("s 0 0 0 -1", GG_ERROR_PARSE, "scene.nff:1:1: sphere radius must be > 0, got -1");
     expect_error("p 2 0 0 0 1 1 1", GG_ERROR_PARSE,
-                 "scene.nff:1:1: a vertex count after 'p' must be a whole number from 3 to 1000000, got 2");
+                 "scene.nff:1:3: a vertex count after 'p' must be a whole number from 3 to 1000000, got 2");
     expect_error("p 4\n0 0 0\n1 0 0\n1 1 0\n", GG_ERROR_PARSE,
-                 "scene.nff:4:6: expected a number after 'p', got end of file");
+                 "scene.nff:5:1: expected a number after 'p', got end of file");
     expect_error("p 999999999 0 0 0", GG_ERROR_LIMIT,
-                 "scene.nff:1:1: a vertex count after 'p' must be a whole number from 3 to 1000000, got 999999999");
+                 "scene.nff:1:3: a vertex count after 'p' must be a whole number from 3 to 1000000, got 999999999");
     expect_error("v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nresolution 100000 100000\n",
                  GG_ERROR_LIMIT,
-                 "scene.nff:6:1: a width after 'resolution' must be a whole number from 1 to 65536, got 100000");
+                 "scene.nff:6:12: a width after 'resolution' must be a whole number from 1 to 65536, got 100000");
     expect_error("v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nresolution 60000 60000\n",
                  GG_ERROR_LIMIT, "scene.nff:6:1: resolution 60000x60000 exceeds 268435456 pixels");
     expect_error("v\nfrom 0 0 1\nat 0 0 1\nup 0 1 0\n", GG_ERROR_PARSE,
@@ -145,12 +145,12 @@ static void test_errors(void **state)
     expect_error("fresnel maybe", GG_ERROR_PARSE,
                  "scene.nff:1:9: expected none, schlick or exact after 'fresnel', got 'maybe'");
     expect_error("texture \"no-such-file.png\"", GG_ERROR_IO,
-                 "scene.nff:1:9: cannot read texture 'no-such-file.png': no-such-file.png: "
+                 "scene.nff:1:9: cannot read texture: no-such-file.png: cannot open: "
                  "No such file or directory");
     expect_error("implicit \"x*x + y*", GG_ERROR_PARSE, "scene.nff:1:10: unterminated string");
     /* Everything before the error is rolled back too. */
     expect_error("l 0 0 0\nf 1 1 1 1 0 1 0 0\ns 0 0 0 1\ns 0 0", GG_ERROR_PARSE,
-                 "scene.nff:4:1: expected a number after 's', got end of file");
+                 "scene.nff:4:6: expected a number after 's', got end of file");
 }
 
 static void test_rollback_keeps_earlier_load(void **state)
