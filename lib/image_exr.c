@@ -106,6 +106,11 @@ static int fail(const exr_io *io, exr_result_t rv, int code, const char *path, c
     char ebuf[128];
     const char *why = io->msg[0] ? io->msg : exr_get_default_error_message(rv);
     if (rv == EXR_ERR_OUT_OF_MEMORY) code = GG_ERROR_NOMEM;
+    /* OpenEXR 3.1's C core cannot decompress DWAA/DWAB, for one. */
+    if (rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED) {
+        code = GG_ERROR_UNSUPPORTED;
+        what = "OpenEXR feature not supported";
+    }
     if (io->io_errno) {
         code = GG_ERROR_IO;
         why = gg_image_strerror(io->io_errno, ebuf, sizeof ebuf);
@@ -120,7 +125,6 @@ typedef struct exr_reader {
     exr_io *io;
     const char *path;
     ggImage *img;
-    int64_t ox, oy; /* chunk coordinates of the image's top-left pixel */
     int grey;       /* reading a lone Y channel into R */
     exr_decode_pipeline_t dec;
     int dec_ready;
@@ -137,10 +141,11 @@ static int channel_slot(const char *name, int grey)
     return -1;
 }
 
-static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, ggError *err)
+/* Decode chunk ci, whose top-left pixel is (x, y) of the image. */
+static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, int64_t x, int64_t y,
+                        ggError *err)
 {
     ggImage *img = r->img;
-    int64_t x = (int64_t)ci->start_x - r->ox, y = (int64_t)ci->start_y - r->oy;
     exr_result_t rv;
     int c;
     /* The core derives chunk sizes from the header, but a hostile file
@@ -150,8 +155,8 @@ static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, ggError *err)
         return gg_error_set(err, GG_ERROR_PARSE,
                             "%s: invalid OpenEXR file: chunk %d (%d x %d at %d, %d) lies "
                             "outside the data window",
-                            r->path, (int)ci->idx, (int)ci->width, (int)ci->height,
-                            (int)ci->start_x, (int)ci->start_y);
+                            r->path, (int)ci->idx, (int)ci->width, (int)ci->height, (int)x,
+                            (int)y);
     if (r->dec_ready)
         rv = exr_decoding_update(r->ctx, 0, ci, &r->dec);
     else
@@ -188,15 +193,14 @@ static int read_scanlines(exr_reader *r, const exr_attr_box2i_t *dw, ggError *er
     exr_result_t rv = exr_get_scanlines_per_chunk(r->ctx, 0, &lpc);
     if (rv != EXR_ERR_SUCCESS || lpc < 1)
         return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
-    r->ox = dw->min.x;
-    r->oy = dw->min.y;
     for (y = dw->min.y; y <= dw->max.y; y += lpc) {
         exr_chunk_info_t ci;
         int rc;
         rv = exr_read_scanline_chunk_info(r->ctx, 0, (int)y, &ci);
         if (rv != EXR_ERR_SUCCESS)
             return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
-        rc = decode_chunk(r, &ci, err);
+        /* Scanline chunks carry their first line's absolute y. */
+        rc = decode_chunk(r, &ci, 0, (int64_t)ci.start_y - dw->min.y, err);
         if (rc != GG_OK) return rc;
     }
     return GG_OK;
@@ -211,9 +215,6 @@ static int read_tiles(exr_reader *r, ggError *err)
         return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
     nx = (int32_t)(((int64_t)lw + tw - 1) / tw);
     ny = (int32_t)(((int64_t)lh + th - 1) / th);
-    /* Tile chunks count their pixels from the data window's corner. */
-    r->ox = 0;
-    r->oy = 0;
     for (ty = 0; ty < ny; ty++) {
         for (tx = 0; tx < nx; tx++) {
             exr_chunk_info_t ci;
@@ -221,7 +222,9 @@ static int read_tiles(exr_reader *r, ggError *err)
             rv = exr_read_tile_chunk_info(r->ctx, 0, tx, ty, 0, 0, &ci);
             if (rv != EXR_ERR_SUCCESS)
                 return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
-            rc = decode_chunk(r, &ci, err);
+            /* Tile positions count from the data window's corner; 3.1
+               reports tile indices in start_x/start_y, so use ours. */
+            rc = decode_chunk(r, &ci, (int64_t)tx * tw, (int64_t)ty * th, err);
             if (rc != GG_OK) return rc;
         }
     }

@@ -76,8 +76,9 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
    missing; any shorter file is GG_ERROR_PARSE.
 
    OpenEXR: the first part, scanline or tiled (the full-resolution level of
-   a mip- or rip-map), any compression OpenEXR 3.1 reads, half, float or
-   uint channels (uint converted to float). Channels named exactly R, G, B
+   a mip- or rip-map), any compression the linked OpenEXR C core decodes
+   (3.1 decodes all but DWAA/DWAB, which give GG_ERROR_UNSUPPORTED), half,
+   float or uint channels (uint converted to float). Channels named exactly R, G, B
    are read; a missing one reads as 0. If none of the three exists, a lone
    Y channel is read as grey. Values are kept as stored (linear, may be
    negative, > 1, infinite or NaN). The image is the file's data window.
@@ -88,7 +89,8 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
                            such file or directory")
      GG_ERROR_UNSUPPORTED  neither magic ("x.png: not a PNG or OpenEXR
                            file"), deep EXR data, subsampled R/G/B/Y
-                           channels, no R, G, B or Y channel
+                           channels, no R, G, B or Y channel, a compression
+                           the OpenEXR core cannot decode
      GG_ERROR_PARSE        corrupt or truncated file
      GG_ERROR_LIMIT        a side over GG_IMAGE_MAX_DIM or more pixels than
                            GG_IMAGE_MAX_PIXELS (checked before allocating),
