@@ -128,6 +128,9 @@ typedef struct exr_reader {
     int grey;       /* reading a lone Y channel into R */
     exr_decode_pipeline_t dec;
     int dec_ready;
+    const ggAllocator *alloc;
+    void *scratch; /* where channels we do not want are decoded to */
+    size_t scratch_cap;
 } exr_reader;
 
 /* Where a channel goes within the RGB pixel, or -1 to skip it. */
@@ -164,11 +167,22 @@ static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, int64_t x, in
     if (rv != EXR_ERR_SUCCESS)
         return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
     r->dec_ready = 1;
+    /* OpenEXR 3.1.5 can crash on channels left NULL ("skip it", as its
+       documentation allows) in some layouts, e.g. a tiled half file whose
+       last channel is unused (found by fuzzing). So unwanted channels are
+       decoded too, into a scratch buffer that is then ignored. */
+    if (gg_mem_grow(r->alloc, &r->scratch, &r->scratch_cap,
+                    (size_t)ci->width * (size_t)ci->height, sizeof(float)) != 0)
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", r->path);
     for (c = 0; c < r->dec.channel_count; c++) {
         exr_coding_channel_info_t *ch = &r->dec.channels[c];
         int slot = channel_slot(ch->channel_name, r->grey);
-        if (slot < 0 || ch->height == 0 || ch->width == 0) {
-            ch->decode_to_ptr = NULL;
+        if (slot < 0 || ch->height <= 0 || ch->width <= 0) {
+            ch->decode_to_ptr = (uint8_t *)r->scratch;
+            ch->user_pixel_stride = (int32_t)sizeof(float);
+            ch->user_line_stride = (int32_t)sizeof(float) * (ch->width > 0 ? ch->width : 1);
+            ch->user_data_type = EXR_PIXEL_FLOAT;
+            ch->user_bytes_per_element = (int16_t)sizeof(float);
             continue;
         }
         /* Decode straight into the interleaved image, converting to float. */
@@ -317,6 +331,7 @@ int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc, ggIm
     init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
     r.io = &io;
     r.path = path;
+    r.alloc = alloc;
     rv = exr_start_read(&r.ctx, path, &init);
     if (rv != EXR_ERR_SUCCESS) {
         rc = fail(&io, rv, GG_ERROR_PARSE, path, "invalid OpenEXR file", err);
@@ -325,6 +340,7 @@ int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc, ggIm
     }
     rc = read_part(&r, alloc, err);
     if (r.dec_ready) exr_decoding_destroy(r.ctx, &r.dec);
+    gg_mem_free(alloc, r.scratch);
     exr_finish(&r.ctx);
     if (rc != GG_OK) {
         ggImageFree(r.img);

@@ -78,7 +78,6 @@ GG_API int ggImageWrite(const ggImage *img, const char *path, ggError *err)
 
 int gg_image_tmp_open(gg_image_tmp *t, const char *path, ggError *err)
 {
-    static unsigned counter; /* racy across threads: O_EXCL makes that harmless */
     char ebuf[128];
     size_t n = strlen(path);
     int attempt, e = 0;
@@ -87,12 +86,16 @@ int gg_image_tmp_open(gg_image_tmp *t, const char *path, ggError *err)
     t->tmp = gg_mem_alloc(NULL, n + 48);
     if (!t->tmp) return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
     /* mkstemp would create the file 0600; an image should get the usual
-       0666 & ~umask, so pick unique names ourselves and let O_EXCL decide. */
+       0666 & ~umask, so pick names ourselves and let O_EXCL decide. The
+       process id, the address of t (distinct for threads writing at the
+       same time) and the clock make collisions rare; no shared counter, so
+       no data race. */
     for (attempt = 0; attempt < 100; attempt++) {
         struct timespec ts;
         clock_gettime(CLOCK_REALTIME, &ts);
-        snprintf(t->tmp, n + 48, "%s.tmp%ld.%u.%ld", path, (long)getpid(), counter++,
-                 (long)(ts.tv_nsec % 1000000));
+        snprintf(t->tmp, n + 48, "%s.tmp%ld.%lx.%ld", path, (long)getpid(),
+                 (unsigned long)(uintptr_t)t & 0xffffffUL,
+                 (long)(ts.tv_nsec % 1000000) + attempt);
         t->fd = open(t->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (t->fd >= 0) return GG_OK;
         e = errno;

@@ -372,6 +372,10 @@ static void test_exr_tiled(void **state)
                   16, 12, 4, EXR_TILE_MIPMAP_LEVELS};
     fixture f4 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIPS, EXR_PIXEL_FLOAT, "G", 0, 0,
                   9, 9, 2, EXR_TILE_ONE_LEVEL};
+    /* An unused channel sorting last: OpenEXR 3.1.5 crashed on it when it
+       was skipped with a NULL pointer (found by fuzzing). */
+    fixture f5 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "BGN", 1, -1,
+                  5, 4, 2, EXR_TILE_ONE_LEVEL};
     (void)state;
     write_fixture(tpath("t1.exr"), &f1, 0);
     assert_true(check_fixture(tpath("t1.exr"), &f1) == 0.0);
@@ -381,6 +385,8 @@ static void test_exr_tiled(void **state)
     assert_true(check_fixture(tpath("t3.exr"), &f3) == 0.0);
     write_fixture(tpath("t4.exr"), &f4, 0);
     assert_true(check_fixture(tpath("t4.exr"), &f4) == 0.0);
+    write_fixture(tpath("t5.exr"), &f5, 0);
+    assert_true(check_fixture(tpath("t5.exr"), &f5) == 0.0);
 }
 
 /* Files from tests/data/make_exr_fixtures.cpp (OpenEXR's C++ library). */

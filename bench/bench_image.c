@@ -1,0 +1,78 @@
+/*
+** bench_image.c -- speed of image output, input and texture sampling.
+**   make bench-image
+** Prints milliseconds for writing and reading a 1024 x 1024 render-like
+** image as PNG and EXR, and nanoseconds per texture sample.
+*/
+#include "ggrt.h"
+#include "internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+static volatile double sink;
+
+int main(void)
+{
+    const int n = 1024, samples = 10000000;
+    char png[256], exr[256];
+    const char *dir = getenv("TMPDIR");
+    ggImage *img = ggImageCreate(n, n, NULL), *back = NULL;
+    uint64_t s = 12345;
+    double t0, acc = 0.0;
+    int x, y, k, reps = 5;
+    snprintf(png, sizeof png, "%s/gg_bench_image.png", dir && *dir ? dir : "/tmp");
+    snprintf(exr, sizeof exr, "%s/gg_bench_image.exr", dir && *dir ? dir : "/tmp");
+    /* Smooth shading plus a little noise, like a render. */
+    for (y = 0; y < n; y++)
+        for (x = 0; x < n; x++) {
+            ggColor c;
+            s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+            c.r = 0.5 + 0.5 * sin(x * 0.01) * cos(y * 0.013) + (double)(s >> 40) / (1 << 24) * 0.02;
+            c.g = (double)x / n;
+            c.b = (double)y / n * 1.2;
+            ggImageSet(img, x, y, c);
+        }
+    printf("bench_image: %d x %d image, best of %d runs\n", n, n, reps);
+#define TIME(label, stmt)                                                                        \
+    do {                                                                                         \
+        double best = 1e30;                                                                      \
+        int r_;                                                                                  \
+        for (r_ = 0; r_ < reps; r_++) {                                                          \
+            t0 = gg_time_now();                                                                  \
+            stmt;                                                                                \
+            if (gg_time_now() - t0 < best) best = gg_time_now() - t0;                            \
+        }                                                                                        \
+        printf("  %-28s %8.1f ms\n", label, best * 1e3);                                        \
+    } while (0)
+    TIME("write PNG (8-bit sRGB)", ggImageWritePNG(img, png, NULL));
+    TIME("read PNG", (ggImageRead(png, NULL, &back, NULL), ggImageFree(back)));
+    TIME("write EXR (float, ZIP)", ggImageWriteEXR(img, exr, NULL));
+    TIME("read EXR", (ggImageRead(exr, NULL, &back, NULL), ggImageFree(back)));
+    t0 = gg_time_now();
+    for (k = 0; k < samples; k++) {
+        double u = (k % 9973) / 9973.0, v = (k % 7919) / 7919.0;
+        acc += ggTextureBilinear(img, u, v, GG_WRAP_REPEAT).g;
+    }
+    printf("  %-28s %8.2f ns/sample\n", "ggTextureBilinear", (gg_time_now() - t0) * 1e9 / samples);
+    t0 = gg_time_now();
+    for (k = 0; k < samples; k++) {
+        double u = (k % 9973) / 9973.0, v = (k % 7919) / 7919.0;
+        acc += ggTextureNearest(img, u, v, GG_WRAP_REPEAT).g;
+    }
+    printf("  %-28s %8.2f ns/sample\n", "ggTextureNearest", (gg_time_now() - t0) * 1e9 / samples);
+    t0 = gg_time_now();
+    for (k = 0; k < samples; k++) {
+        double u = (k % 9973) / 9973.0, v = (k % 7919) / 7919.0;
+        ggColor a = {1, 1, 1}, b = {0, 0, 0};
+        acc += ggTextureChecker(u, v, 8, a, b).g;
+    }
+    printf("  %-28s %8.2f ns/sample\n", "ggTextureChecker", (gg_time_now() - t0) * 1e9 / samples);
+    sink = acc;
+    unlink(png);
+    unlink(exr);
+    ggImageFree(img);
+    return 0;
+}
