@@ -52,10 +52,22 @@ GG_API void ggImageFree(ggImage *img)
     gg_mem_free(has ? &a : NULL, img);
 }
 
-GG_API int ggImageWidth(const ggImage *img) { return img ? img->width : 0; }
-GG_API int ggImageHeight(const ggImage *img) { return img ? img->height : 0; }
-GG_API float *ggImagePixels(ggImage *img) { return img ? img->px : NULL; }
-GG_API const float *ggImagePixelsConst(const ggImage *img) { return img ? img->px : NULL; }
+GG_API int ggImageWidth(const ggImage *img)
+{
+    return img ? img->width : 0;
+}
+GG_API int ggImageHeight(const ggImage *img)
+{
+    return img ? img->height : 0;
+}
+GG_API float *ggImagePixels(ggImage *img)
+{
+    return img ? img->px : NULL;
+}
+GG_API const float *ggImagePixelsConst(const ggImage *img)
+{
+    return img ? img->px : NULL;
+}
 
 GG_API ggColor ggImageGet(const ggImage *img, int x, int y)
 {
@@ -140,8 +152,7 @@ GG_API int ggImageCompare(const ggImage *a, const ggImage *b, int space, ggImage
     size_t n, i;
     double sum = 0.0;
     const double step = 1.0 / 255.0;
-    if (!a || !b || !out || a->width != b->width || a->height != b->height)
-        return GG_ERROR_INVALID;
+    if (!a || !b || !out || a->width != b->width || a->height != b->height) return GG_ERROR_INVALID;
     if (space != GG_COMPARE_LINEAR && space != GG_COMPARE_SRGB) return GG_ERROR_INVALID;
     memset(&r, 0, sizeof r);
     n = (size_t)a->width * (size_t)a->height;

@@ -11,7 +11,7 @@
 
 struct ggImage {
     int width, height;
-    float *px; /* 3 * width * height floats */
+    float *px;         /* 3 * width * height floats */
     ggAllocator alloc; /* copy of the creator's allocator when has_alloc */
     int has_alloc;
 };

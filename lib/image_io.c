@@ -72,8 +72,8 @@ GG_API int ggImageWrite(const ggImage *img, const char *path, ggError *err)
     if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWrite: NULL argument");
     if (has_extension(path, ".png")) return ggImageWritePNG(img, path, err);
     if (has_extension(path, ".exr")) return ggImageWriteEXR(img, path, err);
-    return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                        "%s: unknown image extension (use .png or .exr)", path);
+    return gg_error_set(err, GG_ERROR_UNSUPPORTED, "%s: unknown image extension (use .png or .exr)",
+                        path);
 }
 
 int gg_image_tmp_open(gg_image_tmp *t, const char *path, ggError *err)
@@ -94,8 +94,7 @@ int gg_image_tmp_open(gg_image_tmp *t, const char *path, ggError *err)
         struct timespec ts;
         clock_gettime(CLOCK_REALTIME, &ts);
         snprintf(t->tmp, n + 48, "%s.tmp%ld.%lx.%ld", path, (long)getpid(),
-                 (unsigned long)(uintptr_t)t & 0xffffffUL,
-                 (long)(ts.tv_nsec % 1000000) + attempt);
+                 (unsigned long)(uintptr_t)t & 0xffffffUL, (long)(ts.tv_nsec % 1000000) + attempt);
         t->fd = open(t->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (t->fd >= 0) return GG_OK;
         e = errno;

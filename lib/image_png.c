@@ -16,8 +16,7 @@ static int read_fail(FILE *fp, const char *path, const png_image *pi, ggError *e
     if (feof(fp))
         return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: truncated file (%s)", path,
                             pi->message);
-    if (ferror(fp))
-        return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path, pi->message);
+    if (ferror(fp)) return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path, pi->message);
     return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: %s", path, pi->message);
 }
 
@@ -109,8 +108,7 @@ GG_API int ggImageWritePNG(const ggImage *img, const char *path, ggError *err)
     FILE *fp;
     size_t n, i;
     int rc;
-    if (!img || !path)
-        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWritePNG: NULL argument");
+    if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWritePNG: NULL argument");
     n = (size_t)img->width * (size_t)img->height * 3;
     buf = gg_mem_alloc(GG_IMAGE_ALLOC(img), n);
     if (!buf) return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);

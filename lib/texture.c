@@ -90,9 +90,10 @@ GG_API ggColor ggTextureChecker(double u, double v, double n, ggColor a, ggColor
     double su, sv;
     if (!isfinite(u) || !isfinite(v)) return black;
     if (!(n > 0.0) || !isfinite(n)) return a;
-    /* Square indices stay doubles: n may be large, and parity of integers
-       up to 2^53 is exact in fmod. */
     su = floor((u - floor(u)) * n);
     sv = floor((v - floor(v)) * n);
+    /* The usual small n: integer parity. A huge n keeps doubles, whose
+       parity fmod gets exactly up to 2^53. */
+    if (su + sv < 1e9) return (((long)su + (long)sv) & 1) == 0 ? a : b;
     return fmod(su + sv, 2.0) == 0.0 ? a : b;
 }

@@ -137,8 +137,8 @@ static void encode_chunk(exr_context_t ctx, const fixture *f, const exr_chunk_in
 
 /* Our own writer callback: the core's default one deletes a file that was
    not finished, and the header-only fixtures are exactly that. */
-static int64_t fx_write(exr_const_context_t c, void *ud, const void *buf, uint64_t sz,
-                        uint64_t off, exr_stream_error_func_ptr_t error_cb)
+static int64_t fx_write(exr_const_context_t c, void *ud, const void *buf, uint64_t sz, uint64_t off,
+                        exr_stream_error_func_ptr_t error_cb)
 {
     (void)c, (void)error_cb;
     return (int64_t)pwrite(*(int *)ud, buf, (size_t)sz, (off_t)off);
@@ -171,9 +171,8 @@ static void write_fixture(const char *path, const fixture *f, int header_only)
                          0);
     for (k = 0; k < nch; k++) {
         char name[2] = {f->chans[k], 0};
-        assert_int_equal(exr_add_channel(ctx, part, name, f->type, EXR_PERCEPTUALLY_LOGARITHMIC,
-                                         1, 1),
-                         0);
+        assert_int_equal(
+            exr_add_channel(ctx, part, name, f->type, EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1), 0);
     }
     assert_int_equal(exr_write_header(ctx), 0);
     if (header_only) {
@@ -272,10 +271,18 @@ static void test_exr_round_trip_bit_exact(void **state)
         for (i = 0; i < n; i++) {
             uint32_t bits = (uint32_t)tu_next(&r);
             switch (i % 4) {
-            case 0: memcpy(&p[i], &bits, 4); break; /* any bit pattern, NaNs included */
-            case 1: p[i] = (float)tu_range(&r, -1e30, 1e30); break;
-            case 2: p[i] = (float)tu_range(&r, 0.0, 1.0); break;
-            default: p[i] = (float)(tu_range(&r, -1.0, 1.0) * 1e-40); break; /* denormals */
+            case 0:
+                memcpy(&p[i], &bits, 4);
+                break; /* any bit pattern, NaNs included */
+            case 1:
+                p[i] = (float)tu_range(&r, -1e30, 1e30);
+                break;
+            case 2:
+                p[i] = (float)tu_range(&r, 0.0, 1.0);
+                break;
+            default:
+                p[i] = (float)(tu_range(&r, -1.0, 1.0) * 1e-40);
+                break; /* denormals */
             }
         }
         if (n > 3) p[0] = INFINITY, p[1] = -INFINITY, p[2] = -0.0f;
@@ -323,9 +330,8 @@ static void test_exr_written_header(void **state)
 static void test_exr_half_every_compression(void **state)
 {
     static const exr_compression_t comps[] = {
-        EXR_COMPRESSION_NONE,  EXR_COMPRESSION_RLE, EXR_COMPRESSION_ZIPS,
-        EXR_COMPRESSION_ZIP,   EXR_COMPRESSION_PIZ, EXR_COMPRESSION_PXR24,
-        EXR_COMPRESSION_B44,   EXR_COMPRESSION_B44A};
+        EXR_COMPRESSION_NONE, EXR_COMPRESSION_RLE,   EXR_COMPRESSION_ZIPS, EXR_COMPRESSION_ZIP,
+        EXR_COMPRESSION_PIZ,  EXR_COMPRESSION_PXR24, EXR_COMPRESSION_B44,  EXR_COMPRESSION_B44A};
     size_t i;
     (void)state;
     for (i = 0; i < sizeof comps / sizeof comps[0]; i++) {
@@ -347,12 +353,12 @@ static void test_exr_half_every_compression(void **state)
 
 static void test_exr_float_uint_and_windows(void **state)
 {
-    fixture f1 = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_ZIP, EXR_PIXEL_FLOAT, "BGR", -5, 7,
-                  19, 37, 0, 0};
-    fixture f2 = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_PIZ, EXR_PIXEL_UINT, "RGB", 3, -2,
-                  6, 40, 0, 0};
-    fixture f3 = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_RLE, EXR_PIXEL_FLOAT, "ABGRZ", 0, 0,
-                  4, 3, 0, 0};
+    fixture f1 = {
+        EXR_STORAGE_SCANLINE, EXR_COMPRESSION_ZIP, EXR_PIXEL_FLOAT, "BGR", -5, 7, 19, 37, 0, 0};
+    fixture f2 = {
+        EXR_STORAGE_SCANLINE, EXR_COMPRESSION_PIZ, EXR_PIXEL_UINT, "RGB", 3, -2, 6, 40, 0, 0};
+    fixture f3 = {
+        EXR_STORAGE_SCANLINE, EXR_COMPRESSION_RLE, EXR_PIXEL_FLOAT, "ABGRZ", 0, 0, 4, 3, 0, 0};
     (void)state;
     write_fixture(tpath("f1.exr"), &f1, 0);
     assert_true(check_fixture(tpath("f1.exr"), &f1) == 0.0);
@@ -364,18 +370,19 @@ static void test_exr_float_uint_and_windows(void **state)
 
 static void test_exr_tiled(void **state)
 {
-    fixture f1 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_FLOAT, "RGB", 3, -4,
-                  19, 13, 8, EXR_TILE_ONE_LEVEL};
-    fixture f2 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "RGBA", 0, 0,
-                  5, 7, 32, EXR_TILE_ONE_LEVEL};
-    fixture f3 = {EXR_STORAGE_TILED, EXR_COMPRESSION_PIZ, EXR_PIXEL_HALF, "RGB", -1, -1,
-                  16, 12, 4, EXR_TILE_MIPMAP_LEVELS};
-    fixture f4 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIPS, EXR_PIXEL_FLOAT, "G", 0, 0,
-                  9, 9, 2, EXR_TILE_ONE_LEVEL};
+    fixture f1 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_FLOAT, "RGB", 3, -4, 19, 13, 8,
+                  EXR_TILE_ONE_LEVEL};
+    fixture f2 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "RGBA", 0, 0, 5, 7, 32,
+                  EXR_TILE_ONE_LEVEL};
+    fixture f3 = {
+        EXR_STORAGE_TILED,     EXR_COMPRESSION_PIZ, EXR_PIXEL_HALF, "RGB", -1, -1, 16, 12, 4,
+        EXR_TILE_MIPMAP_LEVELS};
+    fixture f4 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIPS, EXR_PIXEL_FLOAT, "G", 0, 0, 9, 9, 2,
+                  EXR_TILE_ONE_LEVEL};
     /* An unused channel sorting last: OpenEXR 3.1.5 crashed on it when it
        was skipped with a NULL pointer (found by fuzzing). */
-    fixture f5 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "BGN", 1, -1,
-                  5, 4, 2, EXR_TILE_ONE_LEVEL};
+    fixture f5 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "BGN", 1, -1, 5, 4, 2,
+                  EXR_TILE_ONE_LEVEL};
     (void)state;
     write_fixture(tpath("t1.exr"), &f1, 0);
     assert_true(check_fixture(tpath("t1.exr"), &f1) == 0.0);
@@ -434,11 +441,12 @@ static void test_exr_cpp_fixtures(void **state)
 static void test_exr_channels(void **state)
 {
     fixture y = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_ZIPS, EXR_PIXEL_HALF, "Y", 0, 0, 6, 5, 0, 0};
-    fixture g = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_FLOAT, "GA", 0, 0, 3, 3, 0, 0};
-    fixture yr = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_FLOAT, "YR", 0, 0, 3, 3,
-                  0, 0};
-    fixture none = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_FLOAT, "AZ", 0, 0, 3, 3,
-                    0, 0};
+    fixture g = {
+        EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_FLOAT, "GA", 0, 0, 3, 3, 0, 0};
+    fixture yr = {
+        EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_FLOAT, "YR", 0, 0, 3, 3, 0, 0};
+    fixture none = {
+        EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_FLOAT, "AZ", 0, 0, 3, 3, 0, 0};
     ggImage *img = NULL;
     ggError e;
     char msg[600];
@@ -466,12 +474,28 @@ static void test_exr_channels(void **state)
 
 static void test_exr_limits(void **state)
 {
-    fixture wide = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "RGB", 0, 0,
-                    GG_IMAGE_MAX_DIM + 1, 2, 0, 0};
-    fixture huge = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "RGB", -9, 0,
-                    20000, 20000, 0, 0};
-    fixture tall = {EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_HALF, "RGB", 0, 0,
-                    4000, 4000, 0, 0};
+    fixture wide = {EXR_STORAGE_SCANLINE,
+                    EXR_COMPRESSION_ZIP,
+                    EXR_PIXEL_HALF,
+                    "RGB",
+                    0,
+                    0,
+                    GG_IMAGE_MAX_DIM + 1,
+                    2,
+                    0,
+                    0};
+    fixture huge = {EXR_STORAGE_SCANLINE,
+                    EXR_COMPRESSION_ZIP,
+                    EXR_PIXEL_HALF,
+                    "RGB",
+                    -9,
+                    0,
+                    20000,
+                    20000,
+                    0,
+                    0};
+    fixture tall = {
+        EXR_STORAGE_SCANLINE, EXR_COMPRESSION_NONE, EXR_PIXEL_HALF, "RGB", 0, 0, 4000, 4000, 0, 0};
     ggImage *img = NULL;
     ggError e;
     (void)state;

@@ -26,12 +26,12 @@ static ggImage *random_image(int w, int h, tu_rng *r, double lo, double hi)
     return img;
 }
 
-#define assert_color_eq(c, R, G, B)                                                              \
-    do {                                                                                         \
-        ggColor c_ = (c);                                                                        \
-        assert_close(c_.r, (R), 1e-12);                                                          \
-        assert_close(c_.g, (G), 1e-12);                                                          \
-        assert_close(c_.b, (B), 1e-12);                                                          \
+#define assert_color_eq(c, R, G, B)                                                                \
+    do {                                                                                           \
+        ggColor c_ = (c);                                                                          \
+        assert_close(c_.r, (R), 1e-12);                                                            \
+        assert_close(c_.g, (G), 1e-12);                                                            \
+        assert_close(c_.b, (B), 1e-12);                                                            \
     } while (0)
 
 /* The notes' example: u = v = 0.5 gives u_p = 0, v_p = 0.5 and
@@ -41,8 +41,7 @@ static ggImage *random_image(int w, int h, tu_rng *r, double lo, double hi)
 static void test_notes_worked_example(void **state)
 {
     /* Rows from the top; C00 = (i, j) = (1, 0), C01 = (1, 1). */
-    const float px[] = {9, 9, 9, 0.2f, 0.4f, 0.6f, 9, 9, 9,
-                        9, 9, 9, 0.6f, 0.8f, 1.0f, 9, 9, 9};
+    const float px[] = {9, 9, 9, 0.2f, 0.4f, 0.6f, 9, 9, 9, 9, 9, 9, 0.6f, 0.8f, 1.0f, 9, 9, 9};
     ggImage *img = image_of(3, 2, px);
     ggColor c = ggTextureBilinear(img, 0.5, 0.5, GG_WRAP_CLAMP);
     (void)state;
@@ -56,7 +55,7 @@ static void test_notes_worked_example(void **state)
    weighs 1/4. Off-centre points weigh them as the formula says. */
 static void test_two_by_two(void **state)
 {
-    const float px[] = {0.0f, 0.1f, 0.2f, 0.4f, 0.5f, 0.6f, /* top: C00, C10 */
+    const float px[] = {0.0f, 0.1f, 0.2f, 0.4f, 0.5f, 0.6f,  /* top: C00, C10 */
                         0.8f, 0.2f, 0.0f, 0.2f, 0.2f, 0.2f}; /* bottom: C01, C11 */
     ggImage *img = image_of(2, 2, px);
     ggColor c;
@@ -354,7 +353,8 @@ static void test_matches_formula(void **state)
         up = di - i, vp = dj - j;
         want = ggImageGet(img, i, j).g * (1 - up) * (1 - vp) +
                ggImageGet(img, i, j + 1).g * (1 - up) * vp +
-               ggImageGet(img, i + 1, j).g * up * (1 - vp) + ggImageGet(img, i + 1, j + 1).g * up * vp;
+               ggImageGet(img, i + 1, j).g * up * (1 - vp) +
+               ggImageGet(img, i + 1, j + 1).g * up * vp;
         assert_close(ggTextureBilinear(img, u, v, GG_WRAP_REPEAT).g, want, 1e-12);
     }
     ggImageFree(img);

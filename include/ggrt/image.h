@@ -105,7 +105,8 @@ GG_API int ggImageRead(const char *path, const ggAllocator *alloc, ggImage **out
    level midpoints, so reading the PNG back and writing it again reproduces
    every byte). */
 GG_API int ggImageWritePNG(const ggImage *img, const char *path, ggError *err);
-/* Write a float (32-bit) linear R, G, B scanline OpenEXR, ZIP compressed;
+/* Write a float (32-bit) linear R, G, B scanline OpenEXR, ZIP compressed
+   (zlib level 1, which is about as small for float data and twice as fast);
    values, including NaN and infinities, are stored bit for bit. */
 GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err);
 /* Chooses PNG or EXR by the extension of path (.png / .exr, any case);
@@ -122,22 +123,23 @@ GG_API int ggImageWrite(const ggImage *img, const char *path, ggError *err);
 
 /* ---- comparison ---- */
 
-/* Colour space for ggImageCompare. */
-#define GG_COMPARE_LINEAR 0 /* the stored floats as they are */
-#define GG_COMPARE_SRGB   1 /* as the PNG writer sees them: each channel
-                               clamped to [0,1] (NaN to 0) and encoded with
-                               ggLinearToSRGB, not quantised */
+/* Colour space for ggImageCompare: GG_COMPARE_LINEAR compares the stored
+   floats as they are; GG_COMPARE_SRGB as the PNG writer sees them, each
+   channel clamped to [0,1] (NaN to 0) and encoded with ggLinearToSRGB (not
+   quantised). */
+#define GG_COMPARE_LINEAR 0
+#define GG_COMPARE_SRGB   1
 
 /* Difference metrics between two images of the same size. Channel
    differences d = |a - b| run over all 3 * width * height channels. */
 typedef struct ggImageDiff {
-    double rmse;       /* sqrt(mean of d^2) */
-    double max_abs;    /* max d */
-    double psnr;       /* 10 log10(1 / mean d^2) in dB (peak 1.0); +inf when
-                          mean d^2 is 0 */
-    double frac_over;  /* share of pixels (0..1) in which some channel has
-                          d > 1/255, or a NaN mismatch */
-    size_t pixels_over; /* the number of those pixels */
+    double rmse;         /* sqrt(mean of d^2) */
+    double max_abs;      /* max d */
+    double psnr;         /* 10 log10(1 / mean d^2) in dB (peak 1.0); +inf when
+                            mean d^2 is 0 */
+    double frac_over;    /* share of pixels (0..1) in which some channel has
+                            d > 1/255, or a NaN mismatch */
+    size_t pixels_over;  /* the number of those pixels */
     size_t nan_channels; /* channels where exactly one side is NaN; they
                             are left out of rmse, max_abs and psnr (which
                             still divide by all channels). Two NaNs count
@@ -152,12 +154,13 @@ GG_API int ggImageCompare(const ggImage *a, const ggImage *b, int space, ggImage
 
 /* ---- texture sampling ---- */
 
-/* How (u, v) outside [0,1] is brought back. Values inside [0,1], both ends
-   included, are used as they are under both modes, so u = 1 is the last
-   column, not the first. */
-#define GG_WRAP_REPEAT 0 /* u - floor(u) for u < 0 or u > 1; +-inf gives black */
-#define GG_WRAP_CLAMP  1 /* clamp to [0,1]; +-inf clamps. Any other value of
-                            `wrap` behaves as GG_WRAP_CLAMP. */
+/* How (u, v) outside [0,1] is brought back. GG_WRAP_REPEAT: u - floor(u)
+   for u < 0 or u > 1 (+-inf gives black). GG_WRAP_CLAMP: clamp to [0,1]
+   (+-inf clamps); any other value of `wrap` behaves as GG_WRAP_CLAMP.
+   Values inside [0,1], both ends included, are used as they are under both
+   modes, so u = 1 is the last column, not the first. */
+#define GG_WRAP_REPEAT 0
+#define GG_WRAP_CLAMP  1
 
 /* Bilinear sample, exactly as in the lecture notes: d_i = (w-1) u,
    d_j = (h-1) v, i = int(d_i), u_p = d_i - i (likewise j, v_p), blend of the
