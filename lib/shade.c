@@ -127,6 +127,14 @@ static void media_exit(gg_media *m, int mat)
         }
 }
 
+static int media_has(const gg_media *m, int mat)
+{
+    int i;
+    for (i = 0; i < m->n; i++)
+        if (m->mat[i] == mat) return 1;
+    return 0;
+}
+
 static void media_enter(gg_media *m, int mat)
 {
     if (m->n < GG_MAX_MEDIA) m->mat[m->n++] = mat;
@@ -193,7 +201,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         tr = cmul(tr, media_transmittance(s, &m, h.t * len));
         tr = cscale(tr, s->materials[mat].kt);
         gg_geom_surface(s->geom, &q, &h, &sf);
-        if (v3dot(q.d, sf.ng) < 0) media_enter(&m, mat);
+        if (!media_has(&m, mat)) media_enter(&m, mat);
         else media_exit(&m, mat);
         if (cmaxc(tr) <= 0) return tr;
         /* Go on from just past this surface towards the light. */
@@ -377,7 +385,11 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                         r->channel < 0 && c->acc.wavelengths != 1;
             const int fmode = fresnel_mode(c, m);
             int ch, nch = split ? 3 : 1;
-            if (front) media_enter(&inside, mi);
+            /* Entering or leaving is decided by whether the ray is inside
+               this material already, not by the face's orientation: a
+               polygon mesh wound the wrong way still works. */
+            const int entering = !media_has(&r->media, mi);
+            if (entering) media_enter(&inside, mi);
             else media_exit(&inside, mi);
             if (c->spd_rules) spawn_reflect = 1;
             for (ch = 0; ch < nch; ch++) {
@@ -387,7 +399,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 bool ok;
                 ray_state child;
                 ggColor tc;
-                if (front) {
+                if (entering) {
                     ni = media_index(s, &r->media, chan);
                     nt = mat_index(s, mi, chan);
                 } else {
