@@ -30,6 +30,8 @@ static void help(FILE *f)
             "      --force-effects   simulate every effect even if the scene needs fewer\n"
             "                        (same image, slower: for measuring)\n"
             "      --pixel X,Y       also print the value written at pixel X,Y (%%.9g, linear)\n"
+            "      --no-srgb         PNG: store the values as they are instead of sRGB-encoding\n"
+            "                        them (as POV-Ray 3.7 and SPD-era renderers do)\n"
             "  -q, --quiet           no progress bar and no summary\n"
             "  -h, --help            this text\n"
             "\n"
@@ -73,7 +75,7 @@ int cmd_render(int argc, char **argv)
     ggRayStats st;
     ggError err;
     progress_state ps;
-    int i, rc, quiet = 0, px = -1, py = -1;
+    int i, rc, quiet = 0, px = -1, py = -1, no_srgb = 0;
     double t0, t1, t2, t3;
     unsigned long long total;
 
@@ -124,6 +126,8 @@ int cmd_render(int argc, char **argv)
         } else if (!strcmp(a, "--spd")) {
             opt.spd_rules = true, opt.pixel_corners = true;
             if (!opt.max_depth) opt.max_depth = 5;
+        } else if (!strcmp(a, "--no-srgb")) {
+            no_srgb = 1;
         } else if (!strcmp(a, "--corners")) {
             opt.pixel_corners = true;
         } else if (!strcmp(a, "--force-effects")) {
@@ -175,22 +179,29 @@ int cmd_render(int argc, char **argv)
         if (opt.progress) fputc('\n', stderr);
     }
     t3 = now();
+    if (rc == GG_OK && px >= 0 && (px >= ggImageWidth(img) || py >= ggImageHeight(img))) {
+        fprintf(stderr, "ggrt render: pixel %d,%d is outside the image\n", px, py);
+        ggImageFree(img);
+        ggSceneFree(scene);
+        return EXIT_USAGE;
+    }
+    if (rc == GG_OK && px >= 0) {
+        ggColor c = ggImageGet(img, px, py);
+        printf("pixel %d,%d %.9g %.9g %.9g\n", px, py, c.r, c.g, c.b);
+    }
+    if (rc == GG_OK && no_srgb) {
+        /* The PNG writer sRGB-encodes; pre-decoding cancels it. */
+        float *p = ggImagePixels(img);
+        size_t k, n = (size_t)ggImageWidth(img) * ggImageHeight(img) * 3;
+        for (k = 0; k < n; k++)
+            p[k] = (float)ggSRGBToLinear(p[k] > 1 ? 1 : p[k] > 0 ? p[k] : 0);
+    }
     if (rc == GG_OK) rc = ggImageWrite(img, out, &err);
     if (rc != GG_OK) {
         fprintf(stderr, "ggrt: %s\n", err.message);
         ggImageFree(img);
         ggSceneFree(scene);
         return cli_exit_code(rc);
-    }
-    if (px >= 0) {
-        ggColor c = ggImageGet(img, px, py);
-        if (px >= ggImageWidth(img) || py >= ggImageHeight(img)) {
-            fprintf(stderr, "ggrt render: pixel %d,%d is outside the image\n", px, py);
-            ggImageFree(img);
-            ggSceneFree(scene);
-            return EXIT_USAGE;
-        }
-        printf("pixel %d,%d %.9g %.9g %.9g\n", px, py, c.r, c.g, c.b);
     }
     total = (unsigned long long)(st.eye + st.reflect + st.refract + st.shadow);
     if (!quiet) {
