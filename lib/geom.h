@@ -50,6 +50,12 @@ int gg_geom_build(gg_geom *g, ggError *err);
 /* Select numerical variants (defaults: stable sphere, scaled offset). */
 void gg_geom_set_sphere_mode(gg_geom *g, int mode);
 
+/* How polygons with more than 3 vertices are intersected. Takes effect for
+   polygons added after the call. */
+#define GG_POLY_TRIANGULATE 0 /* ear-clipped into watertight triangles (default) */
+#define GG_POLY_CROSSING    1 /* one primitive, crossing test (also the fallback) */
+void gg_geom_set_poly_mode(gg_geom *g, int mode);
+
 /* A ray query. d need not be unit length; t is in units of |d|. */
 typedef struct gg_rayq {
     ggVec3 o, d;
@@ -61,6 +67,7 @@ typedef struct gg_rayq {
 typedef struct gg_hit {
     double t;
     uint32_t prim;
+    uint32_t sub;  /* internal: which triangle of a split polygon (else 0) */
     double b1, b2; /* shape-specific: barycentrics, or (u, v) */
 } gg_hit;
 
@@ -84,8 +91,14 @@ void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_s
 
 /* Origin for a ray leaving surface point s->p in direction d: pushed off
    the surface along ng, to the side d goes to, far enough that the new ray
-   cannot find the same surface again and no farther than needed. */
+   cannot find the same surface again and no farther than needed.
+   GG_OFFSET_SCALED pushes by GG_OFFSET_K * s->perr (and rounds away from
+   the surface); GG_OFFSET_FIXED by 1e-6 in scene units. d . ng == 0 counts
+   as the ng side. */
 ggVec3 gg_offset_origin(const gg_surf *s, ggVec3 d, int mode);
+/* The fixed-epsilon variant with any epsilon (accuracy study). */
+ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps);
+#define GG_OFFSET_K 8.0
 
 /* BVH statistics for reports and benchmarks. */
 typedef struct gg_bvh_stats {

@@ -1,0 +1,70 @@
+/*
+** geom_leaf.h -- the loops that test a run of BVH elements against a ray,
+** shared by the BVH traversal and the brute-force reference (internal).
+** One switch on the element kind, no function pointer: the kernels inline.
+*/
+#ifndef GG_GEOM_LEAF_H
+#define GG_GEOM_LEAF_H
+
+#include "geom_int.h"
+#include "shape_cone.h"
+#include "shape_poly.h"
+#include "shape_rect.h"
+#include "shape_sphere.h"
+#include "shape_tri.h"
+
+/* Test one element; t in (r->tmin, tmax]. */
+GG_INLINE int gg_elem_hit(const gg_geom *g, const gg_slot *s, const gg_rpre *r, double tmax,
+                              double *t, double *b1, double *b2)
+{
+    uint32_t idx = s->ki & GG_EK_INDEX;
+    switch (s->ki >> GG_EK_SHIFT) {
+    case GG_EK_SPHERE: return gg_sphere_kernel(&g->lsph[idx], r, tmax, t);
+    case GG_EK_TRI: return gg_tri_kernel(&g->ltri[idx], r, tmax, t, b1, b2);
+    case GG_EK_CONE: return gg_cone_kernel(&g->lcone[idx], r, tmax, t);
+    case GG_EK_RECT: return gg_rect_kernel(&g->lrect[idx], r, tmax, t, b1, b2);
+    case GG_EK_POLY: return gg_poly_kernel(g, &g->polys[idx], r, tmax, t);
+    default: return gg_implicit_shape_hit(g->imps[idx], r, tmax, t);
+    }
+}
+
+/* Closest hit among slots [first, first + n). best->t is the inclusive
+   upper bound; equal t is settled by the smaller (prim, sub), so the
+   answer does not depend on the order elements are visited in. */
+GG_INLINE int gg_leaf_closest(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                                  gg_hit *best)
+{
+    const gg_slot *s = g->slots + first, *end = s + n;
+    int found = 0;
+    for (; s < end; s++) {
+        double t, b1 = 0, b2 = 0;
+        if (s->prim == r->ignore) continue;
+        if (r->skip && (g->pflags[s->prim] & r->skip)) continue;
+        if (!gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) continue;
+        if (t < best->t || s->prim < best->prim || (s->prim == best->prim && s->sub < best->sub)) {
+            best->t = t;
+            best->prim = s->prim;
+            best->sub = s->sub;
+            best->b1 = b1;
+            best->b2 = b2;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+/* Any hit among slots [first, first + n) with t in (tmin, tmax]. */
+GG_INLINE int gg_leaf_any(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                              double tmax)
+{
+    const gg_slot *s = g->slots + first, *end = s + n;
+    for (; s < end; s++) {
+        double t, b1, b2;
+        if (s->prim == r->ignore) continue;
+        if (r->skip && (g->pflags[s->prim] & r->skip)) continue;
+        if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return 1;
+    }
+    return 0;
+}
+
+#endif
