@@ -26,6 +26,8 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #if defined(__clang__)
 /* Clang may fuse a*b+c when the target has fma; that would break the
@@ -37,6 +39,32 @@
 #if FLT_EVAL_METHOD != 0
 #error "dd.h needs FLT_EVAL_METHOD == 0 (SSE2 doubles, not x87)"
 #endif
+
+/* Exponent helpers, for scaling inputs by exact powers of two. */
+/* 2^e for -1022 <= e <= 1023. */
+static inline double dd_pow2(int e)
+{
+    uint64_t b = (uint64_t)(e + 1023) << 52;
+    double d;
+    memcpy(&d, &b, sizeof d);
+    return d;
+}
+
+/* e with 2^e <= |x| < 2^(e+1), for finite non-zero x. */
+static inline int dd_expo(double x)
+{
+    uint64_t b;
+    int e;
+    memcpy(&b, &x, sizeof b);
+    e = (int)((b >> 52) & 0x7ff);
+    return e ? e - 1023 : ilogb(x);
+}
+
+/* x * 2^e, exact unless the result underflows. */
+static inline double dd_scale2(double x, int e)
+{
+    return e >= -1022 && e <= 1023 ? x * dd_pow2(e) : scalbn(x, e);
+}
 
 typedef struct gg_dd {
     double hi, lo;
@@ -148,6 +176,25 @@ static inline gg_dd dd_div(gg_dd x, gg_dd y)
     gg_dd r = dd_sub(x, dd_mul_d(y, q1));
     double q2 = r.hi / y.hi;
     return dd_fast_two_sum(q1, q2);
+}
+
+/* sqrt of a non-negative double-word (0 for x <= 0). */
+static inline gg_dd dd_sqrt(gg_dd x)
+{
+    double s;
+    gg_dd r;
+    if (x.hi <= 0) return dd_from(0.0);
+    s = sqrt(x.hi);
+    r = dd_sub(x, dd_two_prod(s, s));
+    return dd_fast_two_sum(s, r.hi / (2.0 * s));
+}
+
+/* 1/sqrt(x) for x > 0: one Newton step from the double estimate. */
+static inline gg_dd dd_rsqrt(gg_dd x)
+{
+    double r = 1.0 / sqrt(x.hi);
+    gg_dd e = dd_sub(dd_from(1.0), dd_mul(x, dd_two_prod(r, r)));
+    return dd_fast_two_sum(r, 0.5 * r * e.hi);
 }
 
 /* Sum of three doubles' exact squares, a^2 + b^2 + c^2, as a double-word. */

@@ -25,63 +25,17 @@
 #include "vec.h"
 
 #include <math.h>
-#include <stdint.h>
-#include <string.h>
-
-/* 2^e for -1022 <= e <= 1023. */
-static double pow2(int e)
-{
-    uint64_t b = (uint64_t)(e + 1023) << 52;
-    double d;
-    memcpy(&d, &b, sizeof d);
-    return d;
-}
-
-/* e with 2^e <= |x| < 2^(e+1), for finite non-zero x. */
-static int expo(double x)
-{
-    uint64_t b;
-    int e;
-    memcpy(&b, &x, sizeof b);
-    e = (int)((b >> 52) & 0x7ff);
-    return e ? e - 1023 : ilogb(x);
-}
-
-/* x * 2^e, exact unless the result underflows. */
-static double scale2(double x, int e)
-{
-    return e >= -1022 && e <= 1023 ? x * pow2(e) : scalbn(x, e);
-}
 
 static ggVec3 v3scale2(ggVec3 a, int e)
 {
     if (e == 0) return a;
-    if (e >= -1022 && e <= 1023) return v3scale(a, pow2(e));
+    if (e >= -1022 && e <= 1023) return v3scale(a, dd_pow2(e));
     return v3(scalbn(a.x, e), scalbn(a.y, e), scalbn(a.z, e));
 }
 
 static ggVec3 v3nan(void) { return v3(NAN, NAN, NAN); }
 
 static int v3valid(ggVec3 a) { return v3finite(a) && (a.x != 0 || a.y != 0 || a.z != 0); }
-
-/* sqrt of a non-negative double-word (0 for x <= 0). */
-static gg_dd dd_sqrt(gg_dd x)
-{
-    double s;
-    gg_dd r;
-    if (x.hi <= 0) return dd_from(0.0);
-    s = sqrt(x.hi);
-    r = dd_sub(x, dd_two_prod(s, s));
-    return dd_fast_two_sum(s, r.hi / (2.0 * s));
-}
-
-/* 1/sqrt(x) for x > 0: one Newton step from the double estimate. */
-static gg_dd dd_rsqrt(gg_dd x)
-{
-    double r = 1.0 / sqrt(x.hi);
-    gg_dd e = dd_sub(dd_from(1.0), dd_mul(x, dd_two_prod(r, r)));
-    return dd_fast_two_sum(r, 0.5 * r * e.hi);
-}
 
 /* Sign (-1, 0, 1) of the exact a.b, from the six exact terms of the
    products summed into a non-overlapping expansion (Shewchuk's
@@ -131,8 +85,8 @@ static ggVec3 dd_scale_vec(gg_dd a, const gg_dd x[3])
 static int normalise_pair(ggVec3 *v, ggVec3 *n)
 {
     if (!v3valid(*v) || !v3valid(*n)) return 0;
-    *v = v3scale2(*v, -expo(v3maxabs(*v)));
-    *n = v3scale2(*n, -expo(v3maxabs(*n)));
+    *v = v3scale2(*v, -dd_expo(v3maxabs(*v)));
+    *n = v3scale2(*n, -dd_expo(v3maxabs(*n)));
     return 1;
 }
 
@@ -145,9 +99,9 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
     if (!v3finite(v) || !v3valid(n)) return v3nan();
     if (v.x == 0 && v.y == 0 && v.z == 0) return v;
     /* The mirror image is linear in v and independent of |n|. */
-    ev = expo(v3maxabs(v));
+    ev = dd_expo(v3maxabs(v));
     v = v3scale2(v, -ev);
-    n = v3scale2(n, -expo(v3maxabs(n)));
+    n = v3scale2(n, -dd_expo(v3maxabs(n)));
     a = dd_dot3(v.x, v.y, v.z, n.x, n.y, n.z);
     nn = dd_sum_sq3(n.x, n.y, n.z);
     k2 = dd_div(a, nn);
@@ -175,12 +129,12 @@ static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
        that the smaller would underflow; then each is scaled on its own and
        the ratio's exponent is carried by the tangential part below. */
     {
-        int ei = expo(ni), et = expo(nt), em = ei > et ? ei : et;
+        int ei = dd_expo(ni), et = dd_expo(nt), em = ei > et ? ei : et;
         if (ei - et > 450) {
             ediff = ei - et;
-            ni = scale2(ni, -ei), nt = scale2(nt, -et);
+            ni = dd_scale2(ni, -ei), nt = dd_scale2(nt, -et);
         } else {
-            ni = scale2(ni, -em), nt = scale2(nt, -em);
+            ni = dd_scale2(ni, -em), nt = dd_scale2(nt, -em);
         }
     }
     vc[0] = v.x, vc[1] = v.y, vc[2] = v.z;
@@ -219,8 +173,8 @@ static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
            means eta sin(theta_i) > 1. Otherwise multiply vt by 2^ediff
            (exact) so the formulas below see eta in (1/2, 2). */
         double m = fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi);
-        if (m != 0 && expo(m) >= 4 - ediff) goto tir;
-        for (i = 0; i < 3; i++) vt[i].hi = scale2(vt[i].hi, ediff), vt[i].lo = scale2(vt[i].lo, ediff);
+        if (m != 0 && dd_expo(m) >= 4 - ediff) goto tir;
+        for (i = 0; i < 3; i++) vt[i].hi = dd_scale2(vt[i].hi, ediff), vt[i].lo = dd_scale2(vt[i].lo, ediff);
     }
 
     /* D = nt^2 |v|^2 cos^2(theta_t), two ways:
@@ -300,8 +254,8 @@ GG_API double ggCriticalAngle(double ni, double nt)
     a = fabs(ni), b = fabs(nt);
     if (b >= a) return GG_PI / 2;
     /* Scale so the squares below neither overflow nor underflow. */
-    e = expo(a);
-    a = scale2(a, -e), b = scale2(b, -e);
+    e = dd_expo(a);
+    a = dd_scale2(a, -e), b = dd_scale2(b, -e);
     /* a - b is exact when b > a/2 (Sterbenz), so cos is accurate near 90. */
     return atan2(b, sqrt((a - b) * (a + b)));
 }
