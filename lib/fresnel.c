@@ -40,8 +40,11 @@ static gg_dd cos_t_sq_nt2(double a, double b, double c, gg_dd *delta)
    digits. After scaling, ni c + sqrt q >= 2^-26 (a != b are doubles in
    [2^-52, 2) apart), so the square cannot underflow.
      rp = (nt c - ni cos_t)/(nt c + ni cos_t) = (P - Q)/(P + Q),
-   P = nt^2 c, Q = ni sqrt q, both in double-double and scaled together
-   (the index ratio may be extreme). */
+   P = nt^2 c, Q = ni sqrt q, both in double-double; when P and Q are close
+   the numerator is rewritten as (P^2 - Q^2)/(P + Q) with
+   P^2 - Q^2 = delta ((ni^2 + nt^2) c^2 - ni^2), which does not cancel
+   (it vanishes only at Brewster's angle, as rp must). Otherwise P and Q
+   are scaled together (the index ratio may be extreme). */
 static void dielectric_dd(double c, double a, double b, gg_dd *rs, gg_dd *rp)
 {
     gg_dd delta, q, sq, A, P, Q, amp;
@@ -65,6 +68,15 @@ static void dielectric_dd(double c, double a, double b, gg_dd *rs, gg_dd *rp)
     amp = dd_div(delta, dd_sqr(A));
     *rs = dd_sqr(amp);
     P = dd_mul_d(dd_two_prod(b, b), c), Q = dd_mul_d(sq, a);
+    if (P.hi <= 2 * Q.hi && Q.hi <= 2 * P.hi && P.hi > 0x1p-400) {
+        /* P - Q cancels (nearly matched media): use
+           P^2 - Q^2 = delta ((ni^2 + nt^2) c^2 - ni^2) instead. */
+        gg_dd a2 = dd_two_prod(a, a), PQ = dd_add(P, Q);
+        gg_dd br = dd_sub(dd_mul(dd_two_prod(c, c), dd_add(a2, dd_two_prod(b, b))), a2);
+        amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
+        *rp = dd_sqr(amp);
+        return;
+    }
     m = P.hi > Q.hi ? P.hi : Q.hi;
     if (m == 0) {
         *rp = dd_from(1.0);
