@@ -1,0 +1,1231 @@
+/*
+** test_implicit.c -- expressions (parser, evaluators, interval enclosures)
+** and implicit surfaces (hits against closed forms, normals, thin parts,
+** near misses, rays leaving the surface, callbacks and their warnings).
+*/
+#include "testutil.h"
+
+#include "expr.h"
+#include "implicit_int.h"
+#include "vec.h"
+
+#include <float.h>
+#include <locale.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static gg_expr *compile_ok(const char *s)
+{
+    gg_expr *e = NULL;
+    ggError err;
+    int rc = gg_expr_compile(s, strlen(s), NULL, &e, &err);
+    if (rc != GG_OK) print_error("compiling \"%s\": %s\n", s, err.message);
+    assert_int_equal(rc, GG_OK);
+    assert_non_null(e);
+    return e;
+}
+
+static ggImplicit *surface(const char *s, ggVec3 lo, ggVec3 hi)
+{
+    ggImplicit *imp = NULL;
+    ggError err;
+    int rc = ggImplicitCreateExpr(s, lo, hi, NULL, &imp, &err);
+    if (rc != GG_OK) print_error("creating \"%s\": %s\n", s, err.message);
+    assert_int_equal(rc, GG_OK);
+    return imp;
+}
+
+static ggVec3 rand_in(tu_rng *r, double lo, double hi)
+{
+    return v3(tu_range(r, lo, hi), tu_range(r, lo, hi), tu_range(r, lo, hi));
+}
+
+static ggVec3 unit_normal(const ggImplicit *imp, ggVec3 p) { return v3norm(ggGradientNormal(imp, p)); }
+
+/* ------------------------------------------------------------------ */
+/* Parser                                                              */
+/* ------------------------------------------------------------------ */
+
+static void test_parse_accepts(void **state)
+{
+    static const char *ok[] = {
+        "x", "1", ".5", "5.", "1e3", "1.5E-3", "2e+2", "-x", "+x", "--x", "x^2", "x^-2",
+        "2^3^2", "-x^2", "pi", "sqrt(x)", "sin(x)*cos(y)+tan(z)", "exp(log(abs(x)))",
+        "min(x, y)", "max(x, y, z, 1)", "pow(x, 3)", "pow(x, y)", "x^y", "x^0.5", "x ^ 1.5",
+        "( ( x ) )", " \t\n x \r\n", "x*y/z-1", "(x^2+y^2+z^2+0.75)^2-4*(x^2+y^2)",
+        "1/0", "sqrt(-1)", "x^0",
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof ok / sizeof ok[0]; i++) gg_expr_free(compile_ok(ok[i]));
+}
+
+static void test_parse_rejects_with_columns(void **state)
+{
+    static const struct {
+        const char *src;
+        int code;
+        const char *msg;
+    } bad[] = {
+        {"sinn(x)", GG_ERROR_PARSE, "1:1: unknown function 'sinn'"},
+        {"x + sinn(y)", GG_ERROR_PARSE, "1:5: unknown function 'sinn'"},
+        {"x +\n  sinn(y)", GG_ERROR_PARSE, "2:3: unknown function 'sinn'"},
+        {"", GG_ERROR_PARSE, "1:1: empty expression"},
+        {"   ", GG_ERROR_PARSE, "1:1: empty expression"},
+        {"1 +", GG_ERROR_PARSE,
+         "1:4: expected a number, a variable, a function or '(', found end of expression"},
+        {"2x", GG_ERROR_PARSE, "1:2: expected an operator or the end, found 'x'"},
+        {"(x", GG_ERROR_PARSE,
+         "1:3: expected ')' to close the '(' at column 1, found end of expression"},
+        {"x)", GG_ERROR_PARSE, "1:2: unmatched ')'"},
+        {"1e", GG_ERROR_PARSE, "1:1: malformed exponent in number '1e'"},
+        {"x*1e+", GG_ERROR_PARSE, "1:3: malformed exponent in number '1e+'"},
+        {"w", GG_ERROR_PARSE,
+         "1:1: unknown variable 'w' (the variables are x, y, z and the constant pi)"},
+        {"sin x", GG_ERROR_PARSE, "1:1: expected '(' after 'sin'"},
+        {"min(x)", GG_ERROR_PARSE, "1:1: min() takes at least 2 arguments, got 1"},
+        {"y*sqrt(x, y)", GG_ERROR_PARSE, "1:3: sqrt() takes 1 argument, got 2"},
+        {"pow(x)", GG_ERROR_PARSE, "1:1: pow() takes 2 arguments, got 1"},
+        {"x # y", GG_ERROR_PARSE, "1:3: unexpected character '#'"},
+        {"x\x01", GG_ERROR_PARSE, "1:2: unexpected character '\\x01'"},
+        {".", GG_ERROR_PARSE, "1:1: expected digits around '.'"},
+        {"1..2", GG_ERROR_PARSE, "1:3: expected an operator or the end, found '.2'"},
+        {"x^", GG_ERROR_PARSE,
+         "1:3: expected a number, a variable, a function or '(', found end of expression"},
+        {"sin()", GG_ERROR_PARSE,
+         "1:5: expected a number, a variable, a function or '(', found ')'"},
+        {"1e999", GG_ERROR_PARSE, "1:1: number '1e999' is too large for a double"},
+        {"x,y", GG_ERROR_PARSE, "1:2: expected an operator or the end, found ','"},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        gg_expr *e = (gg_expr *)1;
+        ggError err;
+        int rc = gg_expr_compile(bad[i].src, strlen(bad[i].src), NULL, &e, &err);
+        if (rc != bad[i].code || strcmp(err.message, bad[i].msg) != 0)
+            print_error("\"%s\": got %d \"%s\"\n", bad[i].src, rc, err.message);
+        assert_int_equal(rc, bad[i].code);
+        assert_int_equal(err.code, bad[i].code);
+        assert_string_equal(err.message, bad[i].msg);
+        assert_null(e);
+    }
+    /* The public constructor reports the same, and leaves *out NULL. */
+    {
+        ggImplicit *imp = (ggImplicit *)1;
+        ggError err;
+        assert_int_equal(ggImplicitCreateExpr("x + sinn(y)", v3(-1, -1, -1), v3(1, 1, 1), NULL,
+                                              &imp, &err),
+                         GG_ERROR_PARSE);
+        assert_string_equal(err.message, "1:5: unknown function 'sinn'");
+        assert_null(imp);
+    }
+}
+
+static void test_parse_limits(void **state)
+{
+    char *s = malloc(GG_EXPR_MAX_LEN + 64);
+    gg_expr *e;
+    ggError err;
+    int i, n;
+    (void)state;
+    assert_non_null(s);
+    /* Length. */
+    memset(s, ' ', GG_EXPR_MAX_LEN + 1);
+    s[0] = 'x';
+    assert_int_equal(gg_expr_compile(s, GG_EXPR_MAX_LEN, NULL, &e, &err), GG_OK);
+    gg_expr_free(e);
+    assert_int_equal(gg_expr_compile(s, GG_EXPR_MAX_LEN + 1, NULL, &e, &err), GG_ERROR_LIMIT);
+    assert_null(e);
+    /* Nesting: 63 parentheses inside the top level are fine, 64 are not. */
+    for (n = 63; n <= 64; n++) {
+        int k = 0;
+        for (i = 0; i < n; i++) s[k++] = '(';
+        s[k++] = 'x';
+        for (i = 0; i < n; i++) s[k++] = ')';
+        s[k] = 0;
+        assert_int_equal(gg_expr_compile(s, strlen(s), NULL, &e, &err),
+                         n == 63 ? GG_OK : GG_ERROR_LIMIT);
+        if (n == 64) assert_non_null(strstr(err.message, "nesting deeper than 64"));
+        gg_expr_free(e);
+    }
+    /* Unary chains and powers count too; the depth is not a C stack risk. */
+    memset(s, '-', 4000);
+    strcpy(s + 4000, "x");
+    assert_int_equal(gg_expr_compile(s, strlen(s), NULL, &e, &err), GG_ERROR_LIMIT);
+    /* Tape size: 350 distinct sines need more than 1024 instructions. */
+    for (i = 0, n = 0; i < 350; i++) n += sprintf(s + n, "%ssin(x+%d)", i ? "+" : "", i + 1);
+    assert_true(n < GG_EXPR_MAX_LEN);
+    assert_int_equal(gg_expr_compile(s, strlen(s), NULL, &e, &err), GG_ERROR_LIMIT);
+    assert_non_null(strstr(err.message, "instructions"));
+    assert_null(e);
+    free(s);
+}
+
+static void test_compile_folds_and_shares(void **state)
+{
+    gg_expr *e;
+    (void)state;
+    e = compile_ok("x^2 + x^2"); /* x, x^2, + */
+    assert_int_equal(e->n, 3);
+    gg_expr_free(e);
+    e = compile_ok("x*x"); /* becomes a square */
+    assert_int_equal(e->n, 2);
+    assert_int_equal(e->ins[1].op, GG_OP_SQR);
+    gg_expr_free(e);
+    e = compile_ok("2*3 + 4^0.5 - sqrt(16)*pi/pi"); /* all constant: 6 + 2 - 4 */
+    assert_int_equal(e->n, 1);
+    assert_close(e->ins[0].c, 4.0, 1e-14);
+    gg_expr_free(e);
+    e = compile_ok("(x^2+y^2+z^2+0.75)^2-4*(x^2+y^2)"); /* x^2 and y^2 once each */
+    {
+        size_t i, sq = 0;
+        for (i = 0; i < e->n; i++) sq += e->ins[i].op == GG_OP_SQR;
+        assert_int_equal(sq, 4); /* x^2, y^2, z^2, (...)^2 */
+    }
+    gg_expr_free(e);
+}
+
+static void test_locale_independent_numbers(void **state)
+{
+    const char *loc = setlocale(LC_NUMERIC, "de_DE.UTF-8");
+    gg_expr *e;
+    (void)state;
+    if (!loc) loc = setlocale(LC_NUMERIC, "fr_FR.UTF-8");
+    e = compile_ok("1.25 + x");
+    assert_close(gg_expr_eval(e, v3(0, 0, 0)), 1.25, 0);
+    gg_expr_free(e);
+    setlocale(LC_NUMERIC, "C");
+    if (!loc) print_message("(no comma locale installed: checked under \"C\" only)\n");
+}
+
+/* ------------------------------------------------------------------ */
+/* Evaluators                                                          */
+/* ------------------------------------------------------------------ */
+
+typedef struct fcase {
+    const char *src;
+    double (*f)(ggVec3);
+    ggVec3 (*g)(ggVec3); /* NULL: skip gradient check */
+} fcase;
+
+static double f_torus(ggVec3 p)
+{
+    double s = p.x * p.x + p.y * p.y + p.z * p.z + 0.75;
+    return s * s - 4 * (p.x * p.x + p.y * p.y);
+}
+static ggVec3 g_torus(ggVec3 p)
+{
+    double s = p.x * p.x + p.y * p.y + p.z * p.z + 0.75;
+    return v3(4 * s * p.x - 8 * p.x, 4 * s * p.y - 8 * p.y, 4 * s * p.z);
+}
+static double f_trig(ggVec3 p) { return sin(p.x) * cos(p.y) + tan(p.z / 4); }
+static ggVec3 g_trig(ggVec3 p)
+{
+    double t = tan(p.z / 4);
+    return v3(cos(p.x) * cos(p.y), -sin(p.x) * sin(p.y), (1 + t * t) / 4);
+}
+static double f_explog(ggVec3 p) { return exp(p.x / 2) * log(1 + p.y * p.y) - sqrt(2 + p.z); }
+static ggVec3 g_explog(ggVec3 p)
+{
+    return v3(0.5 * exp(p.x / 2) * log(1 + p.y * p.y),
+              exp(p.x / 2) * 2 * p.y / (1 + p.y * p.y), -0.5 / sqrt(2 + p.z));
+}
+static double f_div(ggVec3 p) { return (p.x - 2 * p.y) / (1 + p.z * p.z) - 1 / (3 + p.x); }
+static ggVec3 g_div(ggVec3 p)
+{
+    double q = 1 + p.z * p.z;
+    return v3(1 / q + 1 / ((3 + p.x) * (3 + p.x)), -2 / q,
+              -(p.x - 2 * p.y) * 2 * p.z / (q * q));
+}
+static double f_pow(ggVec3 p)
+{
+    return pow(p.x, 3) - pow(p.y, -2) + pow(fabs(p.z), 1.5) + pow(2.0, p.x) - pow(p.z, 4);
+}
+static ggVec3 g_pow(ggVec3 p)
+{
+    return v3(3 * p.x * p.x + log(2.0) * pow(2.0, p.x), 2 * pow(p.y, -3),
+              1.5 * sqrt(fabs(p.z)) * (p.z < 0 ? -1 : 1) - 4 * pow(p.z, 3));
+}
+static double f_minmax(ggVec3 p)
+{
+    return fmin(fmin(p.x, 2 * p.y), p.z - 1) + fmax(fabs(p.x), p.y * p.z) - 2;
+}
+static double f_unary(ggVec3 p) { return -p.x * p.x + -(p.y - p.z) * 3 + pow(2, pow(1.5, 2)); }
+static ggVec3 g_unary(ggVec3 p) { return v3(-2 * p.x, -3, 3); }
+static double f_blob(ggVec3 p)
+{
+    return 1 / (0.1 + (p.x - 0.5) * (p.x - 0.5) + p.y * p.y + p.z * p.z) +
+           1 / (0.1 + (p.x + 0.5) * (p.x + 0.5) + p.y * p.y + p.z * p.z) - 3;
+}
+static double f_nested(ggVec3 p) { return sqrt(exp(sin(p.x * p.y) + cos(p.z)) + pow(p.x, 2)); }
+
+static const fcase cases[] = {
+    {"(x^2+y^2+z^2+0.75)^2-4*(x^2+y^2)", f_torus, g_torus},
+    {"sin(x)*cos(y)+tan(z/4)", f_trig, g_trig},
+    {"exp(x/2)*log(1+y^2)-sqrt(2+z)", f_explog, g_explog},
+    {"(x-2*y)/(1+z^2)-1/(3+x)", f_div, g_div},
+    {"x^3 - y^-2 + abs(z)^1.5 + 2^x - pow(z, 4)", f_pow, g_pow},
+    {"min(x, 2*y, z-1) + max(abs(x), y*z) - 2", f_minmax, NULL},
+    {"-x^2 + -(y-z)*3 + 2^1.5^2", f_unary, g_unary},
+    {"1/(0.1+(x-0.5)^2+y^2+z^2) + 1/(0.1+(x+0.5)^2+y^2+z^2) - 3", f_blob, NULL},
+    {"sqrt(exp(sin(x*y)+cos(z)) + x^2)", f_nested, NULL},
+};
+#define NCASES (sizeof cases / sizeof cases[0])
+
+static void test_eval_matches_c(void **state)
+{
+    tu_rng r = {11};
+    size_t c;
+    int i, nan_both = 0;
+    (void)state;
+    for (c = 0; c < NCASES; c++) {
+        gg_expr *e = compile_ok(cases[c].src);
+        for (i = 0; i < 300; i++) {
+            ggVec3 p = rand_in(&r, -2.5, 2.5);
+            double a = gg_expr_eval(e, p), b = cases[c].f(p), ga;
+            if (isnan(b)) {
+                assert_true(isnan(a));
+                nan_both++;
+                continue;
+            }
+            assert_close(a, b, 1e-13);
+            /* The dual evaluator's value is the same computation. */
+            ga = gg_expr_grad(e, p, NULL);
+            assert_close(ga, a, 1e-14);
+        }
+        gg_expr_free(e);
+    }
+    assert_true(nan_both > 0); /* sqrt(2+z) for z < -2 */
+}
+
+static void test_dual_gradients_exact(void **state)
+{
+    tu_rng r = {12};
+    size_t c;
+    int i, checked = 0;
+    (void)state;
+    for (c = 0; c < NCASES; c++) {
+        gg_expr *e;
+        if (!cases[c].g) continue;
+        e = compile_ok(cases[c].src);
+        for (i = 0; i < 300; i++) {
+            ggVec3 p = rand_in(&r, -2.5, 2.5), g, want = cases[c].g(p);
+            if (!v3finite(want)) continue;
+            gg_expr_grad(e, p, &g);
+            assert_vec_close(g, want, 1e-12);
+            checked++;
+        }
+        gg_expr_free(e);
+    }
+    assert_true(checked > 1000);
+}
+
+/* Any point value computed in a box lies in the box's enclosure, and along
+   a ray segment the derivative lies in the derivative's enclosure. */
+static void test_interval_enclosures(void **state)
+{
+    tu_rng r = {13};
+    size_t c;
+    int i, k, tested = 0;
+    static const char *extra[] = {
+        "sin(x*3) - cos(y*7) + tan(z)", "sqrt(x) + log(y) + x^0.3", "1/x + y/(z*z)",
+        "x^5 - y^4 + z^-3", "exp(x*4) - exp(-y*5)", "abs(x-y) - min(x, z) * max(y, 1/z)",
+        "tan(x*2) * sin(10*y)", "cos(1000*x) + sin(12345*y)",
+    };
+    (void)state;
+    for (c = 0; c < NCASES + sizeof extra / sizeof extra[0]; c++) {
+        gg_expr *e = compile_ok(c < NCASES ? cases[c].src : extra[c - NCASES]);
+        for (i = 0; i < 400; i++) {
+            ggVec3 ctr = rand_in(&r, -3, 3), o, d;
+            double w = pow(10, tu_range(&r, -12, 0.5));
+            gg_ival box[3], F, D;
+            int partial = 0;
+            box[0] = gg_iv(ctr.x - w * tu_uniform(&r), ctr.x + w * tu_uniform(&r));
+            box[1] = gg_iv(ctr.y - w * tu_uniform(&r), ctr.y + w * tu_uniform(&r));
+            box[2] = gg_iv(ctr.z - w * tu_uniform(&r), ctr.z + w * tu_uniform(&r));
+            F = gg_expr_ival(e, box);
+            for (k = 0; k < 8; k++) {
+                ggVec3 p = v3(tu_range(&r, box[0].lo, box[0].hi),
+                              tu_range(&r, box[1].lo, box[1].hi),
+                              tu_range(&r, box[2].lo, box[2].hi));
+                double v = gg_expr_eval(e, p);
+                if (k == 0) p = v3(box[0].lo, box[1].hi, box[2].lo), v = gg_expr_eval(e, p);
+                if (isnan(v)) continue;
+                if (!(F.lo <= v && v <= F.hi))
+                    print_error("%s at (%.17g %.17g %.17g) = %.17g not in [%.17g, %.17g]\n",
+                                e == NULL ? "" : (c < NCASES ? cases[c].src : extra[c - NCASES]),
+                                p.x, p.y, p.z, v, F.lo, F.hi);
+                assert_true(F.lo <= v && v <= F.hi);
+                tested++;
+            }
+            /* Along a ray segment. */
+            o = rand_in(&r, -3, 3);
+            d = v3scale(tu_unit(&r), tu_range(&r, 0.1, 3));
+            {
+                double ta = tu_range(&r, -1, 1), tb = ta + w;
+                F = gg_expr_ival_ray(e, o, d, gg_iv(ta, tb), &D, &partial);
+                for (k = 0; k < 8; k++) {
+                    double t = k == 0 ? ta : k == 1 ? tb : tu_range(&r, ta, tb), v, dv, slack;
+                    ggVec3 g, p = v3(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z);
+                    v = gg_expr_grad(e, p, &g);
+                    /* The test's own dot product rounds differently from
+                       the propagated derivative: allow for that. */
+                    dv = v3dot(g, d);
+                    slack = 4 * DBL_EPSILON *
+                            (fabs(g.x * d.x) + fabs(g.y * d.y) + fabs(g.z * d.z));
+                    if (isnan(v)) continue;
+                    assert_true(F.lo <= v && v <= F.hi);
+                    if (!isnan(dv)) assert_true(D.lo - slack <= dv && dv <= D.hi + slack);
+                    tested++;
+                }
+            }
+        }
+        gg_expr_free(e);
+    }
+    assert_true(tested > 30000);
+}
+
+static void test_interval_functions(void **state)
+{
+    gg_ival a;
+    (void)state;
+    /* Extrema inside the argument are found. */
+    a = gg_ival_sin(gg_iv(1, 2)); /* pi/2 inside */
+    assert_true(a.hi == 1 && a.lo <= sin(1) && a.lo > sin(1) - 1e-14);
+    a = gg_ival_cos(gg_iv(3, 3.5)); /* pi inside */
+    assert_true(a.lo == -1 && a.hi >= cos(3.5) && a.hi < cos(3.5) + 1e-14);
+    a = gg_ival_sin(gg_iv(0.1, 0.2)); /* monotone: tight */
+    assert_true(a.lo <= sin(0.1) && a.lo > sin(0.1) - 1e-15 && a.hi < 0.2);
+    /* Poles and zero divisors give unbounded (never wrong) results. */
+    a = gg_ival_tan(gg_iv(1.5, 1.6));
+    assert_true(a.lo == -INFINITY && a.hi == INFINITY);
+    a = gg_ival_div(gg_iv(1, 2), gg_iv(-1, 1));
+    assert_true(a.lo == -INFINITY && a.hi == INFINITY);
+    a = gg_ival_div(gg_iv(1, 2), gg_iv(0, 4)); /* one-sided */
+    assert_true(a.lo <= 0.25 && a.lo > 0.2499999 && a.hi == INFINITY);
+    /* Domains. */
+    assert_true(gg_iv_isempty(gg_ival_sqrt(gg_iv(-2, -1))));
+    a = gg_ival_sqrt(gg_iv(-1, 4));
+    assert_true(a.lo == 0 && a.hi >= 2 && a.hi < 2 + 1e-14);
+    a = gg_ival_log(gg_iv(0, 1));
+    assert_true(a.lo == -INFINITY && a.hi >= 0);
+    /* Even powers of intervals straddling 0 start at 0 (not at -4). */
+    a = gg_ival_powi(gg_iv(-2, 1), 2);
+    assert_true(a.lo == 0 && a.hi >= 4);
+    a = gg_iv_sqr(gg_iv(-2, 1));
+    assert_true(a.lo == 0 && a.hi >= 4);
+    a = gg_ival_powi(gg_iv(-2, 1), 3);
+    assert_true(a.lo <= -8 && a.hi >= 1 && a.hi < 1.0000001);
+    /* 0 * inf is 0 for intervals over the reals. */
+    a = gg_iv_mul(gg_iv(0, 0), gg_iv_entire());
+    assert_true(a.lo <= 0 && a.hi >= 0 && isfinite(a.lo) && isfinite(a.hi));
+    /* Outward rounding: 0.1 + 0.2 is enclosed although it rounds up. */
+    a = gg_iv_add(gg_iv(0.1, 0.1), gg_iv(0.2, 0.2));
+    assert_true(a.lo < 0.1 + 0.2 && a.hi >= 0.1 + 0.2 && a.lo < 0.3 && a.hi > 0.3);
+}
+
+/* ------------------------------------------------------------------ */
+/* Hits against closed forms                                           */
+/* ------------------------------------------------------------------ */
+
+/* First t > tmin of the ray against the sphere (c, R), the stable way:
+   the discriminant from the distance of the centre to the line
+   (Haines et al., Ray Tracing Gems ch. 7). */
+static int sphere_hit(ggVec3 c, double R, ggVec3 o, ggVec3 d, double tmin, double *t,
+                      double *disc_out)
+{
+    double a = v3dot(d, d), b, disc, q, t0, t1, cc;
+    ggVec3 f = v3sub(o, c), l;
+    b = -v3dot(f, d);
+    l = v3sub(f, v3scale(d, -b / a));
+    disc = a * (R * R - v3dot(l, l));
+    *disc_out = disc / (a * R * R);
+    if (disc < 0) return 0;
+    q = b + (b >= 0 ? 1 : -1) * sqrt(disc);
+    cc = v3dot(f, f) - R * R;
+    t0 = cc / q, t1 = q / a;
+    if (t0 > t1) q = t0, t0 = t1, t1 = q;
+    if (t0 > tmin) {
+        *t = t0;
+        return 1;
+    }
+    if (t1 > tmin) {
+        *t = t1;
+        return 1;
+    }
+    return 0;
+}
+
+/* tol: relative to R. Rounding alone moves the surface by about
+   eps |c| / R relative to R, which matters for small spheres far out. */
+static void check_sphere(const char *src, ggVec3 c, double R, ggVec3 lo, ggVec3 hi,
+                         uint64_t seed, int nrays, double tol)
+{
+    tu_rng r = {seed};
+    ggImplicit *imp = surface(src, lo, hi);
+    int i, hits = 0, misses = 0, inside = 0;
+    for (i = 0; i < nrays; i++) {
+        ggVec3 o, target, d, n, nw;
+        double t, tw, disc;
+        int h, hw;
+        if (i % 10 == 0) { /* some rays start inside */
+            o = v3add(c, v3scale(tu_unit(&r), R * tu_range(&r, 0, 0.9)));
+            inside++;
+        } else {
+            o = v3add(c, v3scale(tu_unit(&r), R * tu_range(&r, 2.5, 8)));
+        }
+        target = v3add(c, v3scale(tu_unit(&r), R * tu_range(&r, 0, 1.3)));
+        d = v3scale(v3norm(v3sub(target, o)), i % 2 ? 1 : tu_range(&r, 0.2, 5));
+        hw = sphere_hit(c, R, o, d, 0, &tw, &disc);
+        if (fabs(disc) < 1e-8) continue; /* tangent within rounding: either answer */
+        h = gg_implicit_intersect(imp, o, d, 0, INFINITY, &t);
+        if (h != hw)
+            print_error("ray %d: implicit %d analytic %d (disc %g)\n", i, h, hw, disc);
+        assert_int_equal(h, hw);
+        if (!h) {
+            misses++;
+            continue;
+        }
+        hits++;
+        assert_close(t * v3len(d) / R, tw * v3len(d) / R, tol);
+        n = unit_normal(imp, v3madd(o, d, t));
+        nw = v3scale(v3sub(v3madd(o, d, tw), c), 1 / R);
+        assert_vec_close(n, nw, tol);
+    }
+    assert_true(hits > nrays / 3 && misses > nrays / 20 && inside > 0);
+    assert_int_equal(ggImplicitWarnings(imp), 0);
+    ggImplicitFree(imp);
+}
+
+static void test_sphere_matches_analytic(void **state)
+{
+    (void)state;
+    check_sphere("x^2+y^2+z^2-1", v3(0, 0, 0), 1, v3(-2, -2, -2), v3(2, 2, 2), 21, 20000,
+                 1e-12);
+    check_sphere("(x-0.3)^2+(y+0.2)^2+(z-0.1)^2-0.49", v3(0.3, -0.2, 0.1), 0.7,
+                 v3(-1, -1, -1), v3(1.5, 1, 1), 22, 10000, 1e-12);
+    /* Small and far from the origin (|c| / R = 1e5): the root tolerance
+       follows the box, the accuracy is what rounding of x - 100 allows. */
+    check_sphere("(x-100)^2+(y+50)^2+z^2-1e-6", v3(100, -50, 0), 1e-3, v3(99.99, -50.01, -0.01),
+                 v3(100.01, -49.99, 0.01), 23, 5000, 1e-9);
+}
+
+static double torus_first_x(double R, double r, double y0, double z0, int *hit)
+{
+    double s, rho;
+    *hit = 0;
+    if (fabs(z0) >= r) return 0;
+    s = sqrt(r * r - z0 * z0);
+    rho = R + s;
+    if (rho <= fabs(y0)) return 0;
+    *hit = 1;
+    return -sqrt(rho * rho - y0 * y0);
+}
+
+static ggVec3 torus_normal(double R, ggVec3 p)
+{
+    double rho = sqrt(p.x * p.x + p.y * p.y);
+    return v3norm(v3(p.x - R * p.x / rho, p.y - R * p.y / rho, p.z));
+}
+
+static void test_torus_closed_form(void **state)
+{
+    const double R = 1, r = 0.25;
+    tu_rng rng = {31};
+    ggImplicit *imp = surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                              v3(1.5, 1.5, 0.5));
+    int i, hits = 0, checked = 0;
+    double t;
+    (void)state;
+    /* Along the x axis the four roots are at +-0.75 and +-1.25. */
+    assert_true(gg_implicit_intersect(imp, v3(-3, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
+    assert_close(t, 3 - 1.25, 1e-14);
+    assert_true(gg_implicit_intersect(imp, v3(-3, 0, 0), v3(1, 0, 0), 3 - 1.25 + 1e-9, INFINITY,
+                                      &t));
+    assert_close(t, 3 - 0.75, 1e-14);
+    assert_true(gg_implicit_intersect(imp, v3(0, 0, 0), v3(2, 0, 0), 0, INFINITY, &t));
+    assert_close(t, 0.375, 1e-14); /* |d| = 2 */
+    /* Rays parallel to x. */
+    for (i = 0; i < 5000; i++) {
+        double y0 = tu_range(&rng, -1.4, 1.4), z0 = tu_range(&rng, -0.3, 0.3), x1;
+        double sc = tu_range(&rng, 0.5, 3);
+        int want, h;
+        x1 = torus_first_x(R, r, y0, z0, &want);
+        if (fabs(fabs(z0) - r) < 1e-6 || fabs(R + sqrt(fmax(0, r * r - z0 * z0)) - fabs(y0)) < 1e-6)
+            continue; /* tangent */
+        h = gg_implicit_intersect(imp, v3(-3, y0, z0), v3(sc, 0, 0), 0, INFINITY, &t);
+        assert_int_equal(h, want);
+        checked++;
+        if (!h) continue;
+        hits++;
+        assert_close(t * sc, x1 + 3, 1e-12);
+        assert_vec_close(unit_normal(imp, v3(-3 + t * sc, y0, z0)),
+                         torus_normal(R, v3(x1, y0, z0)), 1e-11);
+    }
+    /* Rays parallel to z, downwards. */
+    for (i = 0; i < 5000; i++) {
+        double x0 = tu_range(&rng, -1.4, 1.4), y0 = tu_range(&rng, -1.4, 1.4);
+        double rho = sqrt(x0 * x0 + y0 * y0), zt;
+        int want = fabs(rho - R) < r, h;
+        if (fabs(fabs(rho - R) - r) < 1e-6) continue;
+        h = gg_implicit_intersect(imp, v3(x0, y0, 3), v3(0, 0, -1), 0, INFINITY, &t);
+        assert_int_equal(h, want);
+        checked++;
+        if (!h) continue;
+        hits++;
+        zt = sqrt(r * r - (rho - R) * (rho - R));
+        assert_close(t, 3 - zt, 1e-12);
+        assert_vec_close(unit_normal(imp, v3(x0, y0, 3 - t)), torus_normal(R, v3(x0, y0, zt)),
+                         1e-10);
+    }
+    /* Any ray in the plane y = 0 meets two circles (x -+ R)^2 + z^2 = r^2. */
+    for (i = 0; i < 5000; i++) {
+        ggVec3 o = v3(tu_range(&rng, -3, 3), 0, tu_range(&rng, 1, 3)), d;
+        double a = tu_range(&rng, 0, 2 * GG_PI), best = INFINITY, tt, disc;
+        int k, h;
+        if (i % 2) o.z = -o.z;
+        d = v3(cos(a), 0, sin(a));
+        for (k = -1; k <= 1; k += 2) {
+            if (sphere_hit(v3(k * R, 0, 0), r, o, d, 0, &tt, &disc) && tt < best) best = tt;
+            if (fabs(disc) < 1e-8) best = NAN;
+        }
+        if (best != best) continue;
+        h = gg_implicit_intersect(imp, o, d, 0, INFINITY, &t);
+        assert_int_equal(h, best < INFINITY);
+        checked++;
+        if (!h) continue;
+        hits++;
+        assert_close(t, best, 1e-12);
+        assert_vec_close(unit_normal(imp, v3madd(o, d, t)), torus_normal(R, v3madd(o, d, best)),
+                         1e-11);
+    }
+    assert_true(hits > 3000 && checked > 12000);
+    ggImplicitFree(imp);
+}
+
+static void test_quartic_blobs(void **state)
+{
+    tu_rng rng = {41};
+    ggImplicit *cube = surface("x^4+y^4+z^4-1", v3(-1.2, -1.2, -1.2), v3(1.2, 1.2, 1.2));
+    ggImplicit *tangle = surface("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8", v3(-3, -3, -3),
+                                 v3(3, 3, 3));
+    double t, s;
+    int i, hits = 0;
+    (void)state;
+    /* Rounded cube along the diagonal: 3 s^4 = 1. */
+    assert_true(gg_implicit_intersect(cube, v3(-3, -3, -3), v3(1, 1, 1), 0, INFINITY, &t));
+    s = pow(1.0 / 3, 0.25);
+    assert_close(t, 3 - s, 1e-13);
+    assert_vec_close(unit_normal(cube, v3(-s, -s, -s)), v3norm(v3(-1, -1, -1)), 1e-14);
+    for (i = 0; i < 5000; i++) {
+        double y0 = tu_range(&rng, -1.1, 1.1), z0 = tu_range(&rng, -1.1, 1.1);
+        double c = 1 - pow(y0, 4) - pow(z0, 4), x1;
+        int h;
+        if (fabs(c) < 1e-6) continue;
+        h = gg_implicit_intersect(cube, v3(-2, y0, z0), v3(1, 0, 0), 0, INFINITY, &t);
+        assert_int_equal(h, c > 0);
+        if (!h) continue;
+        x1 = -pow(c, 0.25);
+        assert_close(t, x1 + 2, 1e-12);
+        assert_vec_close(unit_normal(cube, v3(x1, y0, z0)),
+                         v3norm(v3(x1 * x1 * x1, y0 * y0 * y0, z0 * z0 * z0)), 1e-12);
+        hits++;
+    }
+    /* Tanglecube: along x, x^2 = (5 +- sqrt(25 - 4C)) / 2; the first hit
+       from -x is the larger root's negative square root. */
+    for (i = 0; i < 5000; i++) {
+        double y0 = tu_range(&rng, -2.5, 2.5), z0 = tu_range(&rng, -2.5, 2.5);
+        double C = pow(y0, 4) - 5 * y0 * y0 + pow(z0, 4) - 5 * z0 * z0 + 11.8, disc = 25 - 4 * C;
+        double u, x1;
+        int want, h;
+        if (fabs(disc) < 1e-6) continue;
+        u = disc > 0 ? (5 + sqrt(disc)) / 2 : -1;
+        want = u > 0 && sqrt(u) < 3;
+        if (u > 0 && fabs(sqrt(u) - 3) < 1e-9) continue;
+        h = gg_implicit_intersect(tangle, v3(-4, y0, z0), v3(1, 0, 0), 0, INFINITY, &t);
+        assert_int_equal(h, want);
+        if (!h) continue;
+        x1 = -sqrt(u);
+        assert_close(t, x1 + 4, 1e-12);
+        assert_vec_close(
+            unit_normal(tangle, v3(x1, y0, z0)),
+            v3norm(v3(4 * pow(x1, 3) - 10 * x1, 4 * pow(y0, 3) - 10 * y0, 4 * pow(z0, 3) - 10 * z0)),
+            1e-12);
+        hits++;
+    }
+    assert_true(hits > 4000);
+    ggImplicitFree(cube);
+    ggImplicitFree(tangle);
+}
+
+/* ------------------------------------------------------------------ */
+/* Normals by central differences                                      */
+/* ------------------------------------------------------------------ */
+
+/* Mean relative error of central differences with step h over points on a
+   torus of major radius s, against the exact (dual-number) gradient. */
+static double central_error(const ggImplicit *imp, double s, double h)
+{
+    tu_rng r = {51};
+    double sum = 0;
+    int i;
+    for (i = 0; i < 64; i++) {
+        double phi = tu_range(&r, 0, 2 * GG_PI), th = tu_range(&r, 0, 2 * GG_PI);
+        double rho = s + 0.25 * s * cos(th);
+        ggVec3 p = v3(rho * cos(phi), rho * sin(phi), 0.25 * s * sin(th));
+        ggVec3 g = ggGradientNormal(imp, p), c = ggGradientCentral(imp, p, h);
+        sum += v3len(v3sub(c, g)) / v3len(g);
+    }
+    return sum / 64;
+}
+
+static void test_central_difference_error_curve(void **state)
+{
+    static const double scales[] = {1, 1000, 1e-3};
+    size_t k;
+    (void)state;
+    for (k = 0; k < sizeof scales / sizeof scales[0]; k++) {
+        double s = scales[k], best = INFINITY, hbest = 0, e_lo, e_hi, h0;
+        char src[200];
+        ggImplicit *imp;
+        int i;
+        snprintf(src, sizeof src, "(x^2+y^2+z^2+%.17g-%.17g)^2-4*%.17g*(x^2+y^2)", s * s,
+                 s * s / 16, s * s);
+        imp = surface(src, v3(-1.5 * s, -1.5 * s, -0.5 * s), v3(1.5 * s, 1.5 * s, 0.5 * s));
+        /* h from 1e-10 s to 1e-1 s, 5 steps per decade. */
+        for (i = 0; i <= 45; i++) {
+            double h = s * pow(10, -10 + i / 5.0), e = central_error(imp, s, h);
+            if (e < best) best = e, hbest = h;
+        }
+        e_lo = central_error(imp, s, s * 1e-10);
+        e_hi = central_error(imp, s, s * 1e-1);
+        h0 = cbrt(DBL_EPSILON) * s;
+        print_message("scale %g: error min %.2e at h = %.2e (eps^(1/3) s = %.2e, ratio %.2f); "
+                      "%.2e at 1e-10 s, %.2e at 0.1 s\n",
+                      s, best, hbest, h0, hbest / h0, e_lo, e_hi);
+        assert_true(hbest > h0 / 10 && hbest < h0 * 10);
+        assert_true(best < 1e-9);
+        assert_true(e_lo > 100 * best && e_hi > 100 * best); /* a real U, not a slope */
+        /* The default step is near the optimum. */
+        assert_true(central_error(imp, s, 0) < 30 * best);
+        ggImplicitFree(imp);
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* Thin parts, near misses, rays leaving the surface                   */
+/* ------------------------------------------------------------------ */
+
+/* acc: accuracy relative to r. The quartic form loses precision as the
+   tube thins: rounding of f (terms ~4) against |grad f| ~ 8r moves the
+   surface by about eps / (2 r^2) relative to r. */
+static void check_thin_torus(ggImplicit *imp, double R, double r, double acc, uint64_t seed)
+{
+    tu_rng rng = {seed};
+    int i;
+    double t;
+    for (i = 0; i < 4000; i++) {
+        /* Parallel to z through the tube's cross-section. */
+        /* |u| < 0.9 keeps the ray away from grazing, where the error in t
+           grows as 1 / sqrt(1 - u^2). */
+        double phi = tu_range(&rng, 0, 2 * GG_PI), u = tu_range(&rng, -0.9, 0.9);
+        double rho = R + u * r, zt = r * sqrt(1 - u * u);
+        ggVec3 o = v3(rho * cos(phi), rho * sin(phi), 1), p, c, d;
+        assert_true(gg_implicit_intersect(imp, o, v3(0, 0, -1), 0, INFINITY, &t));
+        assert_close((1 - t) / r, zt / r, acc);
+        /* Any direction through a point of the centre circle. */
+        c = v3(R * cos(phi), R * sin(phi), 0);
+        d = tu_unit(&rng);
+        o = v3madd(c, d, -tu_range(&rng, 0.05, 1));
+        if (!gg_implicit_intersect(imp, o, d, 0, INFINITY, &t))
+            print_error("missed: o (%.17g %.17g %.17g) d (%.17g %.17g %.17g) warn %u\n", o.x, o.y,
+                        o.z, d.x, d.y, d.z, ggImplicitWarnings(imp));
+        assert_true(gg_implicit_intersect(imp, o, d, 0, INFINITY, &t));
+        p = v3madd(o, d, t);
+        /* On the tube: distance r from the centre circle. */
+        {
+            double pr = sqrt(p.x * p.x + p.y * p.y);
+            assert_close(sqrt((pr - R) * (pr - R) + p.z * p.z) / r, 1.0, 10 * acc);
+        }
+        /* Just outside the tube (by 100 times the accuracy), parallel to z:
+           a miss. */
+        o = v3((R + r * (1 + 100 * acc)) * cos(phi), (R + r * (1 + 100 * acc)) * sin(phi), 1);
+        assert_false(gg_implicit_intersect(imp, o, v3(0, 0, -1), 0, INFINITY, &t));
+    }
+}
+
+static void test_thin_parts_not_missed(void **state)
+{
+    ggImplicit *imp;
+    tu_rng rng = {61};
+    double t;
+    int i;
+    (void)state;
+    imp = surface("(x^2+y^2+z^2+1-1e-6)^2-4*(x^2+y^2)", v3(-1.1, -1.1, -0.1), v3(1.1, 1.1, 0.1));
+    check_thin_torus(imp, 1, 1e-3, 1e-9, 62);
+    ggImplicitFree(imp);
+    imp = surface("(x^2+y^2+z^2+1-1e-12)^2-4*(x^2+y^2)", v3(-1.1, -1.1, -0.1), v3(1.1, 1.1, 0.1));
+    check_thin_torus(imp, 1, 1e-6, 1e-3, 63);
+    ggImplicitFree(imp);
+    /* A slab 2e-7 thick, crossed at every angle down to near-grazing. */
+    imp = surface("abs(x-0.3)-1e-7", v3(-1, -1, -1), v3(1, 1, 1));
+    for (i = 0; i < 4000; i++) {
+        ggVec3 o = v3(-0.9, tu_range(&rng, -0.5, 0.5), tu_range(&rng, -0.5, 0.5));
+        ggVec3 d = v3norm(v3(pow(10, tu_range(&rng, -3, 0)), tu_range(&rng, -0.3, 0.3),
+                             tu_range(&rng, -0.3, 0.3)));
+        double want = (0.3 - 1e-7 + 0.9) / d.x;
+        ggVec3 p = v3madd(o, d, want);
+        if (fabs(p.y) > 0.99 || fabs(p.z) > 0.99) continue;
+        assert_true(gg_implicit_intersect(imp, o, d, 0, INFINITY, &t));
+        assert_close(t, want, 1e-12);
+    }
+    ggImplicitFree(imp);
+}
+
+static void test_no_false_hits(void **state)
+{
+    static const double margins[] = {1e-4, 1e-7, 1e-9, 1e-11};
+    ggImplicit *sph = surface("x^2+y^2+z^2-1", v3(-2, -2, -2), v3(2, 2, 2));
+    ggImplicit *tor = surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                              v3(1.5, 1.5, 0.5));
+    tu_rng rng = {71};
+    size_t m;
+    int i;
+    double t;
+    (void)state;
+    for (m = 0; m < sizeof margins / sizeof margins[0]; m++) {
+        for (i = 0; i < 500; i++) {
+            /* A line whose closest approach to the centre is 1 +- margin. */
+            ggVec3 n = tu_unit(&rng), d = v3norm(v3cross(n, tu_unit(&rng)));
+            ggVec3 po = v3scale(n, 1 + margins[m]), pi = v3scale(n, 1 - margins[m]);
+            double back = tu_range(&rng, 2, 4);
+            assert_false(gg_implicit_intersect(sph, v3madd(po, d, -back), d, 0, INFINITY, &t));
+            assert_true(gg_implicit_intersect(sph, v3madd(pi, d, -back), d, 0, INFINITY, &t));
+            assert_true(t < back);
+            /* Torus: parallel to z, just outside / inside the outer rim. */
+            {
+                double phi = tu_range(&rng, 0, 2 * GG_PI), ro = 1.25 * (1 + margins[m]);
+                double ri = 1.25 * (1 - margins[m]);
+                assert_false(gg_implicit_intersect(tor, v3(ro * cos(phi), ro * sin(phi), 1),
+                                                   v3(0, 0, -1), 0, INFINITY, &t));
+                assert_true(gg_implicit_intersect(tor, v3(ri * cos(phi), ri * sin(phi), 1),
+                                                  v3(0, 0, -1), 0, INFINITY, &t));
+            }
+        }
+    }
+    ggImplicitFree(sph);
+    ggImplicitFree(tor);
+}
+
+/* Leaving a hit point, pushed off by a few ulps along the normal to the
+   side the new ray goes to: no re-hit of the same spot. */
+static void check_leaving(ggImplicit *imp, int convex, double scale, uint64_t seed)
+{
+    tu_rng rng = {seed};
+    ggVec3 lo, hi, ctr;
+    int i, n = 0, rehits = 0;
+    gg_implicit_bounds(imp, &lo, &hi);
+    ctr = v3scale(v3add(lo, hi), 0.5);
+    for (i = 0; i < 6000; i++) {
+        ggVec3 o = v3add(ctr, v3scale(tu_unit(&rng), 3 * scale)), p, nrm, d, u, w, o2;
+        ggVec3 aim = v3add(ctr, v3scale(tu_unit(&rng), 0.8 * scale));
+        double t, t2, eps, cosang;
+        int inward = i % 3 == 0, h;
+        if (!gg_implicit_intersect(imp, o, v3sub(aim, o), 0, INFINITY, &t)) continue;
+        p = v3madd(o, v3sub(aim, o), t);
+        nrm = unit_normal(imp, p);
+        if (v3dot(nrm, v3sub(aim, o)) > 0) nrm = v3neg(nrm); /* face the incoming ray */
+        /* A direction in the hemisphere the new ray goes to, often grazing. */
+        u = v3norm(v3cross(nrm, fabs(nrm.x) < 0.9 ? v3(1, 0, 0) : v3(0, 1, 0)));
+        w = v3cross(nrm, u);
+        cosang = i % 2 ? pow(10, tu_range(&rng, -6, 0)) : tu_uniform(&rng);
+        {
+            double a = tu_range(&rng, 0, 2 * GG_PI), s = sqrt(1 - cosang * cosang);
+            d = v3add(v3scale(nrm, cosang), v3add(v3scale(u, s * cos(a)), v3scale(w, s * sin(a))));
+        }
+        if (inward) d = v3neg(d), nrm = v3neg(nrm);
+        eps = 64 * DBL_EPSILON * v3maxabs(p) + 64 * DBL_EPSILON * scale;
+        o2 = v3madd(p, nrm, eps);
+        h = gg_implicit_intersect(imp, o2, d, 0, INFINITY, &t2);
+        n++;
+        /* A genuine second hit of a saddle region needs t > ~cos r / 2
+           (normal curvature at most 1 / r = 4 / scale); the same spot
+           found again would be at t ~ 0. */
+        if (h && t2 < 1e-3 * cosang * scale) {
+            rehits++;
+            print_error("re-hit at t = %g leaving (%g %g %g), cos %g, %s\n", t2, p.x, p.y, p.z,
+                        cosang, inward ? "inward" : "outward");
+        }
+        if (convex && !inward && h) {
+            print_error("outward ray from a convex surface hit at t = %g (cos %g)\n", t2, cosang);
+            rehits++;
+        }
+        if (convex && inward && cosang > 1e-3) {
+            /* Through the inside to the far side: a chord, not a re-hit. */
+            assert_true(h);
+            assert_true(t2 > 1e-3 * scale);
+        }
+    }
+    assert_true(n > 3000);
+    assert_int_equal(rehits, 0);
+}
+
+static void test_leaving_rays_do_not_rehit(void **state)
+{
+    static const double scales[] = {1e-6, 1, 1e6};
+    size_t k;
+    (void)state;
+    for (k = 0; k < sizeof scales / sizeof scales[0]; k++) {
+        double s = scales[k];
+        char src[256];
+        ggImplicit *imp;
+        snprintf(src, sizeof src, "(x-%.17g)^2+(y-%.17g)^2+(z+%.17g)^2-%.17g", 3 * s, s, 2 * s,
+                 s * s);
+        imp = surface(src, v3(1.5 * s, -0.5 * s, -3.5 * s), v3(4.5 * s, 2.5 * s, -0.5 * s));
+        check_leaving(imp, 1, s, 81 + k);
+        ggImplicitFree(imp);
+        snprintf(src, sizeof src, "(x^2+y^2+z^2+%.17g-%.17g)^2-4*%.17g*(x^2+y^2)", s * s,
+                 s * s / 16, s * s);
+        imp = surface(src, v3(-1.5 * s, -1.5 * s, -0.5 * s), v3(1.5 * s, 1.5 * s, 0.5 * s));
+        check_leaving(imp, 0, s, 91 + k);
+        ggImplicitFree(imp);
+    }
+}
+
+/* ------------------------------------------------------------------ */
+/* Domains, poles, callbacks, warnings                                 */
+/* ------------------------------------------------------------------ */
+
+static void test_domains_and_poles(void **state)
+{
+    ggImplicit *imp;
+    double t;
+    (void)state;
+    /* sqrt is undefined for x < 0: the root at x = 0.25 is still found. */
+    imp = surface("sqrt(x) - 0.5", v3(-1, -1, -1), v3(1, 1, 1));
+    assert_true(gg_implicit_intersect(imp, v3(-2, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
+    assert_close(t, 2.25, 1e-13);
+    ggImplicitFree(imp);
+    /* 1/x - 1 flips sign at the pole x = 0: not a root. */
+    imp = surface("1/x - 1", v3(-2, -1, -1), v3(2, 1, 1));
+    assert_true(gg_implicit_intersect(imp, v3(-3, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
+    assert_close(t, 4, 1e-13);
+    ggImplicitFree(imp);
+    /* tan(x) - 2 between poles: roots atan(2) + k pi only. */
+    imp = surface("tan(x) - 2", v3(-1, -1, -1), v3(5, 1, 1));
+    assert_true(gg_implicit_intersect(imp, v3(-1, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
+    assert_close(t, 1 + atan(2.0), 1e-13);
+    assert_true(gg_implicit_intersect(imp, v3(-1, 0, 0), v3(1, 0, 0), 1 + atan(2.0) + 0.1,
+                                      INFINITY, &t));
+    assert_close(t, 1 + atan(2.0) + GG_PI, 1e-13);
+    ggImplicitFree(imp);
+    /* A surface defined nowhere. */
+    imp = surface("sqrt(-1-x^2)", v3(-1, -1, -1), v3(1, 1, 1));
+    assert_false(gg_implicit_intersect(imp, v3(-2, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
+    ggImplicitFree(imp);
+    /* x - x + 1 never vanishes; interval arithmetic alone cannot see that
+       (X - X contains 0), the derivative enclosure does, quickly. */
+    imp = surface("x - x + 1e-3", v3(-1, -1, -1), v3(1, 1, 1));
+    {
+        gg_implicit_status st;
+        assert_false(gg_implicit_intersect_status(imp, v3(-2, 0.1, 0), v3(1, 0.01, 0), 0,
+                                                  INFINITY, &t, &st));
+        assert_true(st.evals < 100);
+    }
+    ggImplicitFree(imp);
+}
+
+static double cb_sphere(void *ud, ggVec3 p)
+{
+    (*(int *)ud)++;
+    return p.x * p.x + p.y * p.y + p.z * p.z - 1;
+}
+static ggVec3 cb_sphere_grad(void *ud, ggVec3 p)
+{
+    (void)ud;
+    return v3(2 * p.x, 2 * p.y, 2 * p.z);
+}
+/* Signed distance to the torus R = 1, tube radius *ud: |grad f| = 1. */
+static double cb_torus(void *ud, ggVec3 p)
+{
+    double rho = sqrt(p.x * p.x + p.y * p.y) - 1;
+    return sqrt(rho * rho + p.z * p.z) - *(double *)ud;
+}
+
+static void test_callbacks(void **state)
+{
+    tu_rng rng = {101};
+    int calls = 0, i, pass, hits = 0;
+    ggImplicit *imp;
+    double t, tw, disc;
+    (void)state;
+    for (pass = 0; pass < 2; pass++) {
+        assert_int_equal(ggImplicitCreateFn(cb_sphere, pass ? cb_sphere_grad : NULL, &calls,
+                                            v3(-2, -2, -2), v3(2, 2, 2), NULL, &imp, NULL),
+                         GG_OK);
+        /* The estimate: |grad f| reaches 2 sqrt(12) at the corners; with
+           the gradient known the bound is twice that, from differences
+           along the axes it is 2 * 3.75 (from x = 1.75 to 2). */
+        assert_true(ggImplicitGradientBound(imp) > 2 * sqrt(12.0) &&
+                    ggImplicitGradientBound(imp) < 14);
+        assert_true(calls >= 17 * 17 * 17);
+        for (i = 0; i < 3000; i++) {
+            ggVec3 o = v3scale(tu_unit(&rng), tu_range(&rng, 2.5, 6));
+            ggVec3 d = v3sub(v3scale(tu_unit(&rng), tu_range(&rng, 0, 1.3)), o);
+            int h, want = sphere_hit(v3(0, 0, 0), 1, o, d, 0, &tw, &disc);
+            if (fabs(disc) < 1e-8) continue;
+            h = gg_implicit_intersect(imp, o, d, 0, INFINITY, &t);
+            assert_int_equal(h, want);
+            if (!h) continue;
+            hits++;
+            assert_close(t, tw, 1e-12);
+            assert_vec_close(unit_normal(imp, v3madd(o, d, t)), v3norm(v3madd(o, d, tw)),
+                             pass ? 1e-12 : 1e-9);
+        }
+        /* An honest bound raises no warning; the slopes seen stay below it. */
+        assert_int_equal(ggImplicitWarnings(imp), 0);
+        assert_true(ggImplicitMaxSlope(imp) > 1 && ggImplicitMaxSlope(imp) < 2 * sqrt(12.0));
+        /* A bound 100 times too small is noticed. */
+        assert_int_equal(ggImplicitSetGradientBound(imp, 0.07), GG_OK);
+        for (i = 0; i < 50; i++) {
+            ggVec3 o = v3scale(tu_unit(&rng), 5);
+            gg_implicit_intersect(imp, o, v3neg(o), 0, INFINITY, &t);
+        }
+        assert_true(ggImplicitWarnings(imp) & GG_IMPLICIT_WARN_GRADIENT);
+        assert_true(ggImplicitMaxSlope(imp) > 1);
+        ggImplicitClearWarnings(imp);
+        assert_int_equal(ggImplicitWarnings(imp), 0);
+        assert_true(ggImplicitMaxSlope(imp) == 0);
+        ggImplicitFree(imp);
+    }
+    assert_true(hits > 2000);
+}
+
+/* Stepping by |f| / L suits distance-like callbacks. (The quartic form of
+   a thin torus behaves like distance^2, and like distance^4 along a ray
+   tangent to the tube's centre circle: |f| / L steps then crawl, which is
+   what the interval method on expressions is for.) */
+static void test_callback_thin_torus(void **state)
+{
+    double r = 1e-3;
+    ggImplicit *imp;
+    (void)state;
+    assert_int_equal(ggImplicitCreateFn(cb_torus, NULL, &r, v3(-1.1, -1.1, -0.1),
+                                        v3(1.1, 1.1, 0.1), NULL, &imp, NULL),
+                     GG_OK);
+    assert_int_equal(ggImplicitSetGradientBound(imp, 1), GG_OK);
+    check_thin_torus(imp, 1, 1e-3, 1e-9, 111);
+    assert_int_equal(ggImplicitWarnings(imp), 0);
+    ggImplicitFree(imp);
+}
+
+static void test_lipschitz_method_on_expressions(void **state)
+{
+    tu_rng rng = {121};
+    ggImplicit *a = surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                            v3(1.5, 1.5, 0.5));
+    ggImplicit *b = surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                            v3(1.5, 1.5, 0.5));
+    int i, same = 0;
+    (void)state;
+    assert_int_equal(ggImplicitSetMethod(b, GG_IMPLICIT_LIPSCHITZ), GG_OK);
+    assert_true(ggImplicitGradientBound(b) > 0);
+    for (i = 0; i < 3000; i++) {
+        ggVec3 o = v3scale(tu_unit(&rng), 3), d = v3sub(rand_in(&rng, -1.3, 1.3), o);
+        double ta, tb;
+        int ha = gg_implicit_intersect(a, o, d, 0, INFINITY, &ta);
+        int hb = gg_implicit_intersect(b, o, d, 0, INFINITY, &tb);
+        assert_int_equal(ha, hb);
+        if (ha) assert_close(ta, tb, 1e-10);
+        same += ha;
+    }
+    assert_true(same > 500);
+    assert_int_equal(ggImplicitWarnings(b), 0);
+    ggImplicitFree(a);
+    ggImplicitFree(b);
+}
+
+static void test_budget_warning(void **state)
+{
+    /* Never 0, but near x = 0 neither the enclosure of s - s (s oscillating
+       without end) nor that of its derivative can show it: far more than
+       16 evaluations. */
+    ggImplicit *imp = surface("sin(1/x) - sin(1/x) + 1e-3", v3(-1, -1, -1), v3(1, 1, 1));
+    double t;
+    (void)state;
+    assert_int_equal(ggImplicitSetBudget(imp, 16), GG_OK);
+    assert_int_equal(ggImplicitWarnings(imp), 0);
+    assert_false(gg_implicit_intersect(imp, v3(-2, 0.013, 0.3), v3(1, 0.001, 0), 0, INFINITY, &t));
+    assert_true(ggImplicitWarnings(imp) & GG_IMPLICIT_WARN_BUDGET);
+    ggImplicitFree(imp);
+}
+
+static void test_api_arguments(void **state)
+{
+    ggImplicit *imp = NULL;
+    ggError err;
+    ggVec3 lo, hi;
+    double t;
+    int calls = 0;
+    (void)state;
+    assert_int_equal(ggImplicitCreateExpr(NULL, v3(0, 0, 0), v3(1, 1, 1), NULL, &imp, &err),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitCreateExpr("x", v3(0, 0, 0), v3(1, 1, 1), NULL, NULL, &err),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitCreateExpr("x", v3(0, 0, 0), v3(1, 0, 1), NULL, &imp, &err),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitCreateExpr("x", v3(0, 0, 0), v3(1, INFINITY, 1), NULL, &imp, &err),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitCreateFn(NULL, NULL, NULL, v3(0, 0, 0), v3(1, 1, 1), NULL, &imp,
+                                        &err),
+                     GG_ERROR_INVALID);
+    assert_null(imp);
+    assert_int_equal(ggImplicitCreateFn(cb_sphere, NULL, &calls, v3(0, 0, 0), v3(1, 1, 1), NULL,
+                                        &imp, &err),
+                     GG_OK);
+    assert_int_equal(ggImplicitSetMethod(imp, GG_IMPLICIT_INTERVAL), GG_ERROR_UNSUPPORTED);
+    assert_int_equal(ggImplicitSetMethod(imp, 7), GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitSetTolerance(imp, 0), GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitSetTolerance(imp, NAN), GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitSetTolerance(imp, 1e-9), GG_OK);
+    assert_int_equal(ggImplicitSetGradientBound(imp, -1), GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitSetGradientBound(imp, INFINITY), GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitSetBudget(imp, 3), GG_ERROR_INVALID);
+    ggImplicitBounds(imp, &lo, &hi);
+    assert_true(lo.x == 0 && hi.z == 1);
+    /* Degenerate rays are misses, not crashes. */
+    assert_false(gg_implicit_intersect(imp, v3(0.5, 0.5, -1), v3(0, 0, 0), 0, INFINITY, &t));
+    assert_false(gg_implicit_intersect(imp, v3(NAN, 0.5, -1), v3(0, 0, 1), 0, INFINITY, &t));
+    assert_false(gg_implicit_intersect(imp, v3(0.5, 0.5, -1), v3(0, 0, 1), 5, 1, &t));
+    {
+        ggRay ray;
+        ray.o = v3(0.5, 0.5, -1), ray.d = v3(0, 0, 1);
+        assert_true(ggImplicitIntersect(imp, ray, 0, INFINITY, &t)); /* z = sqrt(0.5) */
+        assert_close(t, 1 + sqrt(0.5), 1e-9);
+        /* Axis-parallel ray outside the box's slab: clipped away. */
+        ray.o = v3(1.5, 0.5, -1);
+        assert_false(ggImplicitIntersect(imp, ray, 0, INFINITY, &t));
+    }
+    ggImplicitFree(imp);
+    ggImplicitFree(NULL);
+    assert_true(isnan(ggImplicitEval(NULL, v3(0, 0, 0))));
+}
+
+static int live_allocs;
+static void *c_malloc(void *ud, size_t n)
+{
+    (void)ud;
+    live_allocs++;
+    return malloc(n);
+}
+static void *c_realloc(void *ud, void *p, size_t n)
+{
+    (void)ud;
+    if (!p) live_allocs++;
+    return realloc(p, n);
+}
+static void c_free(void *ud, void *p)
+{
+    (void)ud;
+    if (p) live_allocs--;
+    free(p);
+}
+
+static void test_allocator_and_no_leaks(void **state)
+{
+    ggAllocator a = {c_malloc, c_realloc, c_free, NULL};
+    static const char *srcs[] = {"x^2+y^2+z^2-1", "sinn(x)", "(x", "1e999", "min(x)"};
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof srcs / sizeof srcs[0]; i++) {
+        ggImplicit *imp = NULL;
+        int rc = ggImplicitCreateExpr(srcs[i], v3(-1, -1, -1), v3(1, 1, 1), &a, &imp, NULL);
+        assert_int_equal(rc, i == 0 ? GG_OK : GG_ERROR_PARSE);
+        if (i == 0) assert_true(live_allocs > 0);
+        ggImplicitFree(imp);
+        assert_int_equal(live_allocs, 0);
+    }
+}
+
+/* Random bytes and mutations of good expressions: an error code or a
+   working expression, never a crash (ASan and UBSan watch in make check). */
+static void test_malformed_never_crash(void **state)
+{
+    static const char alphabet[] = "xyz0123456789.e+-*/^(),pisqrtncoabmlgw #\n";
+    tu_rng rng = {131};
+    char buf[80];
+    int i, ok = 0, bad = 0;
+    (void)state;
+    for (i = 0; i < 20000; i++) {
+        size_t n = (size_t)(tu_next(&rng) % 40), k;
+        gg_expr *e;
+        ggError err;
+        int rc;
+        if (i % 2) {
+            const char *base = cases[tu_next(&rng) % NCASES].src;
+            n = strlen(base);
+            memcpy(buf, base, n);
+            for (k = 0; k < 1 + (size_t)(i / 2) % 3; k++)
+                buf[tu_next(&rng) % n] = alphabet[tu_next(&rng) % (sizeof alphabet - 1)];
+        } else {
+            for (k = 0; k < n; k++)
+                buf[k] = i % 4 ? alphabet[tu_next(&rng) % (sizeof alphabet - 1)]
+                               : (char)(tu_next(&rng) % 256);
+        }
+        rc = gg_expr_compile(buf, n, NULL, &e, &err);
+        if (rc == GG_OK) {
+            ggVec3 g;
+            gg_ival box[3] = {{-1, 1}, {-1, 1}, {-1, 1}}, dg;
+            int partial = 0;
+            ok++;
+            gg_expr_eval(e, v3(0.5, -0.25, 2));
+            gg_expr_grad(e, v3(0.5, -0.25, 2), &g);
+            gg_expr_ival(e, box);
+            gg_expr_ival_ray(e, v3(0, 0, 0), v3(1, 2, 3), gg_iv(0, 1), &dg, &partial);
+            gg_expr_free(e);
+        } else {
+            assert_true(rc == GG_ERROR_PARSE || rc == GG_ERROR_LIMIT);
+            assert_null(e);
+            /* Every message starts with line:column. */
+            assert_true(err.message[0] >= '1' && err.message[0] <= '9' &&
+                        strchr(err.message, ':') != NULL);
+            bad++;
+        }
+    }
+    print_message("%d compiled, %d rejected\n", ok, bad);
+    assert_true(ok > 500 && bad > 5000);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_parse_accepts),
+        cmocka_unit_test(test_parse_rejects_with_columns),
+        cmocka_unit_test(test_parse_limits),
+        cmocka_unit_test(test_compile_folds_and_shares),
+        cmocka_unit_test(test_locale_independent_numbers),
+        cmocka_unit_test(test_eval_matches_c),
+        cmocka_unit_test(test_dual_gradients_exact),
+        cmocka_unit_test(test_interval_enclosures),
+        cmocka_unit_test(test_interval_functions),
+        cmocka_unit_test(test_sphere_matches_analytic),
+        cmocka_unit_test(test_torus_closed_form),
+        cmocka_unit_test(test_quartic_blobs),
+        cmocka_unit_test(test_central_difference_error_curve),
+        cmocka_unit_test(test_thin_parts_not_missed),
+        cmocka_unit_test(test_no_false_hits),
+        cmocka_unit_test(test_leaving_rays_do_not_rehit),
+        cmocka_unit_test(test_domains_and_poles),
+        cmocka_unit_test(test_callbacks),
+        cmocka_unit_test(test_callback_thin_torus),
+        cmocka_unit_test(test_lipschitz_method_on_expressions),
+        cmocka_unit_test(test_budget_warning),
+        cmocka_unit_test(test_api_arguments),
+        cmocka_unit_test(test_allocator_and_no_leaks),
+        cmocka_unit_test(test_malformed_never_crash),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
