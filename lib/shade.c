@@ -159,6 +159,11 @@ static gg_rayq make_q(ggVec3 o, ggVec3 d, double tmax, uint32_t ignore, unsigned
     return q;
 }
 
+/* r = v - 2 n (v.n) for unit n, in plain double: the hot-path twin of
+   ggReflection, which spends double-double arithmetic to be exact for any
+   input. With unit vectors the plain formula is within a few ulp. */
+static inline ggVec3 reflect(ggVec3 v, ggVec3 n) { return v3madd(v, n, -2 * v3dot(v, n)); }
+
 static uint32_t leave_prim(const ggScene *s, uint32_t prim)
 {
     int k = gg_geom_prim_kind(s->geom, prim);
@@ -345,7 +350,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             col = cadd(col, diff);
             if ((FX & GG_EFFECT_PHONG) && (mf->flags & GG_MF_PHONG)) {
                 /* Phong: (R.V)^shine with R the light's mirror direction. */
-                ggVec3 R = ggReflection(v3neg(Lu), ns);
+                ggVec3 R = reflect(v3neg(Lu), ns);
                 double rv = -v3dot(R, v);
                 if (rv > 0) {
                     ph = cscale(lc, m->ks * pow(rv, m->shine));
@@ -462,11 +467,11 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             spawn_reflect = 0;
         if (spawn_reflect) {
             ray_state child;
-            ggVec3 rd = ggReflection(v, ns);
+            ggVec3 rd = reflect(v, ns);
             ggColor rc;
             int ci = -1;
             /* A shading normal can send the mirror ray into the surface. */
-            if (v3dot(rd, ng) <= 0) rd = ggReflection(v, ng);
+            if (v3dot(rd, ng) <= 0) rd = reflect(v, ng);
             child.o = spawn(c, &sf, rd);
             child.d = rd;
             child.from_prim = leave;
