@@ -449,9 +449,9 @@ static int kw_texture(parser *ps)
     gg_texture tx;
     ggError e2;
     char path[NFF_MAX_TOKEN + 1024];
-    int rc, id;
-    if (next(ps, &t) <= 0)
-        return fail(ps, NULL, GG_ERROR_PARSE, "expected a file name after 'texture'");
+    int rc, id, r = next(ps, &t);
+    if (r < 0) return fail(ps, &t, GG_ERROR_PARSE, "unterminated string");
+    if (r == 0) return fail(ps, NULL, GG_ERROR_PARSE, "expected a file name after 'texture'");
     if (tok_is(&t, "none")) {
         ps->mat.texture = -1;
         return mat_changed(ps);
@@ -522,9 +522,10 @@ static int kw_implicit(parser *ps)
     ggVec3 lo, hi;
     ggError e2;
     char *expr;
-    int rc, line, col;
-    if (next(ps, &t) <= 0 || !t.quoted)
-        return fail(ps, next_is_number(ps) ? &t : NULL, GG_ERROR_PARSE,
+    int rc, line, col, r = next(ps, &t);
+    if (r < 0) return fail(ps, &t, GG_ERROR_PARSE, "unterminated string");
+    if (r == 0 || !t.quoted)
+        return fail(ps, r ? &t : NULL, GG_ERROR_PARSE,
                     "expected a quoted expression after 'implicit'");
     if ((rc = vec(ps, &lo)) != GG_OK || (rc = vec(ps, &hi)) != GG_OK) return rc;
     if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))

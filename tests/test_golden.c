@@ -19,7 +19,7 @@
 static const char *const scenes[] = {
     "spd/balls-s3", "spd/gears", "spd/rings",   "spd/tetra", "spd/mount",
     "spd/tree",     "spd/teapot", "default",    "glass",     "water",
-    "gold",         "prism",     "torus",       "texture",
+    "gold",         "torus",     "texture",
 };
 
 /* What an 8-bit sRGB PNG of img would hold, back in linear floats. */
