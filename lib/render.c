@@ -125,6 +125,25 @@ static void sample_pos(int k, int n, double *sx, double *sy)
     }
 }
 
+/* The accuracy knobs that live in the geometry: set on every render (so
+   one render's choice does not leak into the next). Not thread-safe
+   against concurrent renders of the same scene, as ggRender never was. */
+static void apply_geometry_knobs(ggScene *s, const ggAccuracy *acc)
+{
+    size_t i;
+    gg_geom_set_sphere_mode(s->geom, acc->sphere == GG_ACC_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK
+                                                                           : GG_SPHERE_STABLE);
+    for (i = 0; i < s->nobjects; i++) {
+        ggImplicit *imp = s->objects[i].imp;
+        ggVec3 lo, hi;
+        if (!imp) continue;
+        ggImplicitBounds(imp, &lo, &hi);
+        /* 0 restores the surface's own default, 1e-12 of the box diagonal. */
+        ggImplicitSetTolerance(imp, acc->implicit_tol > 0 ? acc->implicit_tol
+                                                          : 1e-12 * v3len(v3sub(hi, lo)));
+    }
+}
+
 typedef struct job {
     gg_shade_ctx ctx;
     resolved r;
@@ -261,6 +280,7 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     memset(&j, 0, sizeof j);
     if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
     if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    apply_geometry_knobs(s, &j.r.acc);
     img = ggImageCreate(j.r.w, j.r.h, s->alloc);
     if (!img) return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
@@ -342,6 +362,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
         return gg_error_set(err, GG_ERROR_INVALID, "sample %d does not exist (the pixel has %d)",
                             sample, j.r.corners ? 4 : j.r.spp);
     if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    apply_geometry_knobs(s, &j.r.acc);
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
