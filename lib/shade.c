@@ -83,7 +83,9 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
     ctx->rec = NULL;
 }
 
-/* Origin of a ray leaving sf in direction d, as the offset knob says. */
+/* Origin of a ray leaving sf in direction d, as the offset knob says. The
+   fixed variant is the textbook one: one epsilon and nothing else (it also
+   drops the skip of the planar primitive a ray leaves, see leave_prim). */
 static ggVec3 spawn(const gg_shade_ctx *c, const gg_surf *sf, ggVec3 d)
 {
     if (c->acc.offset == GG_ACC_OFFSET_FIXED)
@@ -213,7 +215,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         q.o = spawn(c, &sf, q.d);
         q.d = v3sub(light, q.o);
         len = v3len(q.d);
-        q.ignore_prim = leave_prim(s, h.prim);
+        q.ignore_prim = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h.prim);
     }
     return rgb(0, 0, 0);
 }
@@ -244,7 +246,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     /* Rays leaving a planar primitive cannot meet it again: skip it
        outright. Curved ones (a sphere's far side, a torus shadowing
        itself) must stay in; the origin offset keeps them robust. */
-    const uint32_t leave = leave_prim(s, h->prim);
+    const uint32_t leave = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h->prim);
     ggTrace *rec = c->rec;
     gg_surf sf;
     ggVec3 ng, ns, v = r->d;

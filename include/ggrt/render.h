@@ -53,7 +53,7 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
 #define GG_ACC_DEFAULT 0
 /* offset */
 #define GG_ACC_OFFSET_SCALED 0 /* secondary-ray origins pushed by the hit point's error bound */
-#define GG_ACC_OFFSET_FIXED  1 /* pushed by one fixed epsilon (offset_eps) */
+#define GG_ACC_OFFSET_FIXED  1 /* pushed by one fixed epsilon (offset_eps), nothing else */
 /* sphere */
 #define GG_ACC_SPHERE_STABLE   0 /* Haines et al.'s stable quadratic */
 #define GG_ACC_SPHERE_TEXTBOOK 1 /* b^2 - 4ac */
