@@ -249,7 +249,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     const uint32_t leave = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h->prim);
     ggTrace *rec = c->rec;
     gg_surf sf;
-    ggVec3 ng, ns, v = r->d;
+    ggVec3 ng, ns, v = r->d, o_out;
     ggColor col, kdc;
     int front;
     size_t li;
@@ -259,6 +259,9 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     front = v3dot(v, sf.ng) < 0;
     ng = front ? sf.ng : v3neg(sf.ng);
     ns = front ? sf.ns : v3neg(sf.ns);
+    /* The offset depends only on the side a new ray leaves to: shadow and
+       mirror rays all leave on the incoming side, so share one origin. */
+    o_out = spawn(c, &sf, ng);
 
     kdc = mf->kd_color;
     if ((FX & GG_EFFECT_TEXTURES) && (mf->flags & GG_MF_TEXTURE))
@@ -301,7 +304,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             len = v3len(L);
             Lu = v3scale(L, 1.0 / len);
             nl /= len;
-            so = spawn(c, &sf, Lu);
+            so = o_out;
             sd = v3sub(s->lights[li].pos, so);
             st->shadow++;
             if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
@@ -474,7 +477,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             int ci = -1;
             /* A shading normal can send the mirror ray into the surface. */
             if (v3dot(rd, ng) <= 0) rd = reflect(v, ng);
-            child.o = spawn(c, &sf, rd);
+            child.o = o_out;
             child.d = rd;
             child.from_prim = leave;
             child.depth = r->depth + 1;
