@@ -28,7 +28,9 @@ double gg_expr_apply(const gg_expr_ins *in, double a, double b)
     case GG_OP_CONST: return in->c;
     case GG_OP_NEG: return -a;
     case GG_OP_SQR: return a * a;
-    case GG_OP_SQRT: return sqrt(a);
+    /* + 0.0 turns sqrt(-0.0) = -0.0 into +0.0, as for the real function;
+       otherwise 1 / sqrt(x * 0) would be -inf, outside the enclosure. */
+    case GG_OP_SQRT: return sqrt(a) + 0.0;
     case GG_OP_SIN: return sin(a);
     case GG_OP_COS: return cos(a);
     case GG_OP_TAN: return tan(a);
@@ -42,8 +44,8 @@ double gg_expr_apply(const gg_expr_ins *in, double a, double b)
     case GG_OP_MUL: return a * b;
     case GG_OP_DIV: return a / b;
     /* NaN in, NaN out (fmin would drop it and hide an undefined value). */
-    case GG_OP_MIN: return a != a || b != b ? NAN : a < b ? a : b;
-    case GG_OP_MAX: return a != a || b != b ? NAN : a > b ? a : b;
+    case GG_OP_MIN: return a != a || b != b ? NAN : a <= b ? a : b;
+    case GG_OP_MAX: return a != a || b != b ? NAN : a >= b ? a : b;
     default: return NAN; /* X, Y, Z have no operands to fold */
     }
 }
@@ -113,7 +115,7 @@ double gg_expr_grad(const gg_expr *e, ggVec3 p, ggVec3 *grad)
             r.z = (a.z - r.v * b.z) / b.v;
             break;
         case GG_OP_SQR: r = dscale(a, a.v * a.v, 2 * a.v); break;
-        case GG_OP_SQRT: t = sqrt(a.v), r = dscale(a, t, 0.5 / t); break;
+        case GG_OP_SQRT: t = sqrt(a.v) + 0.0, r = dscale(a, t, 0.5 / t); break;
         case GG_OP_SIN: r = dscale(a, sin(a.v), cos(a.v)); break;
         case GG_OP_COS: r = dscale(a, cos(a.v), -sin(a.v)); break;
         case GG_OP_TAN: t = tan(a.v), r = dscale(a, t, 1 + t * t); break;

@@ -124,14 +124,17 @@ gg_ival gg_ival_max(gg_ival a, gg_ival b)
 }
 
 /* pow() on an endpoint; the point evaluator uses repeated squaring, whose
-   error grows with |n|, so widen by that much. */
+   error grows with |n| (relatively, and absolutely when the products are
+   subnormal), so widen by that much. */
 static double pw_dn(double x, int n)
 {
-    return gg_iv_dn(pow(x, n), GG_IV_RELF + 0x1p-52 * (n < 0 ? -(double)n : n));
+    double m = n < 0 ? -(double)n : n;
+    return gg_iv_dn(pow(x, n), GG_IV_RELF + 0x1p-52 * m) - m * GG_IV_TINY;
 }
 static double pw_up(double x, int n)
 {
-    return gg_iv_up(pow(x, n), GG_IV_RELF + 0x1p-52 * (n < 0 ? -(double)n : n));
+    double m = n < 0 ? -(double)n : n;
+    return gg_iv_up(pow(x, n), GG_IV_RELF + 0x1p-52 * m) + m * GG_IV_TINY;
 }
 
 gg_ival gg_ival_powi(gg_ival a, int n)

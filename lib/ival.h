@@ -75,13 +75,25 @@ static inline gg_ival gg_iv_affine(double o, gg_ival t, double d)
 
 static inline gg_ival gg_iv_neg(gg_ival a) { return gg_iv(-a.hi, -a.lo); }
 
+/* A bound of inf - inf is NaN, which would read as empty; it stands for
+   "anything on that side" (the point computation can give any value or
+   -inf there, e.g. x - 1/0 = -inf and 1 / that = -0). */
+static inline gg_ival gg_iv_sum(gg_ival a, gg_ival b, double lo, double hi)
+{
+    if (lo != lo || hi != hi) {
+        if (gg_iv_isempty(a) || gg_iv_isempty(b)) return gg_iv_empty();
+        if (lo != lo) lo = -INFINITY;
+        if (hi != hi) hi = INFINITY;
+    }
+    return gg_iv_widen(lo, hi, GG_IV_REL);
+}
 static inline gg_ival gg_iv_add(gg_ival a, gg_ival b)
 {
-    return gg_iv_widen(a.lo + b.lo, a.hi + b.hi, GG_IV_REL);
+    return gg_iv_sum(a, b, a.lo + b.lo, a.hi + b.hi);
 }
 static inline gg_ival gg_iv_sub(gg_ival a, gg_ival b)
 {
-    return gg_iv_widen(a.lo - b.hi, a.hi - b.lo, GG_IV_REL);
+    return gg_iv_sum(a, b, a.lo - b.hi, a.hi - b.lo);
 }
 
 /* 0 * inf is NaN in IEEE arithmetic but 0 in interval arithmetic over the
