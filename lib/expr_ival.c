@@ -196,12 +196,18 @@ gg_ival gg_expr_ival(const gg_expr *e, const gg_ival x[3])
     size_t i;
     for (i = 0; i < e->n; i++) {
         const gg_expr_ins *in = &e->ins[i];
-        if (in->op == GG_OP_CONST)
-            v[i] = gg_iv(in->c, in->c);
-        else if (in->op <= GG_OP_Z)
-            v[i] = x[in->op - GG_OP_X];
-        else
-            v[i] = apply(in, v[in->a], v[in->b]);
+        /* The arithmetic inline, the rest through apply(). */
+        switch (in->op) {
+        case GG_OP_CONST: v[i] = gg_iv(in->c, in->c); break;
+        case GG_OP_X:
+        case GG_OP_Y:
+        case GG_OP_Z: v[i] = x[in->op - GG_OP_X]; break;
+        case GG_OP_SQR: v[i] = gg_iv_sqr(v[in->a]); break;
+        case GG_OP_ADD: v[i] = gg_iv_add(v[in->a], v[in->b]); break;
+        case GG_OP_SUB: v[i] = gg_iv_sub(v[in->a], v[in->b]); break;
+        case GG_OP_MUL: v[i] = gg_iv_mul(v[in->a], v[in->b]); break;
+        default: v[i] = apply(in, v[in->a], v[in->b]); break;
+        }
     }
     return v[e->n - 1];
 }
@@ -252,6 +258,7 @@ gg_ival gg_expr_ival_ray(const gg_expr *e, ggVec3 o, ggVec3 d, gg_ival t, gg_iva
             a = v[in->a], b = v[in->b];
             switch (in->op) {
             case GG_OP_NEG: r = id(gg_iv_neg(a.v), gg_iv_neg(a.d)); break;
+            case GG_OP_SQR: r = id(gg_iv_sqr(a.v), gg_iv_scale(gg_iv_mul(a.v, a.d), 2)); break;
             case GG_OP_ADD: r = id(gg_iv_add(a.v, b.v), gg_iv_add(a.d, b.d)); break;
             case GG_OP_SUB: r = id(gg_iv_sub(a.v, b.v), gg_iv_sub(a.d, b.d)); break;
             case GG_OP_MUL:

@@ -278,6 +278,8 @@ void gg_implicit_bounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi)
     if (hi) *hi = imp->hi;
 }
 
+double gg_implicit_tolerance(const ggImplicit *imp) { return imp->tol; }
+
 GG_API void ggImplicitBounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi)
 {
     if (imp) gg_implicit_bounds(imp, lo, hi);
@@ -512,9 +514,14 @@ static int search_lipschitz(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0
         if (!(tb > ta)) tb = nextafter(ta, INFINITY);
         fb = eval(imp, at(o, d, tb));
         st->evals++;
-        slope = fabs(fb - fa) / ((tb - ta) * dl);
-        if (slope == slope && slope > st->max_slope) st->max_slope = slope;
-        if (slope > imp->bound * (1 + SLOPE_SLACK)) st->warn |= GG_IMPLICIT_WARN_GRADIENT;
+        /* Over a step of a few ulps (the last one, clipped to t1) the
+           quotient is rounding noise: judge slopes over hmin or more only,
+           allowing for the rounding of f itself. */
+        if (tb - ta >= hmin) {
+            slope = (fabs(fb - fa) - 8 * DBL_EPSILON * (fabs(fa) + fabs(fb))) / ((tb - ta) * dl);
+            if (slope > st->max_slope) st->max_slope = slope;
+            if (slope > imp->bound * (1 + SLOPE_SLACK)) st->warn |= GG_IMPLICIT_WARN_GRADIENT;
+        }
         if (fa == fa && fb == fb && (fb == 0 || (fa < 0) != (fb < 0)) &&
             !(fa == 0 && from_origin && ta == t0)) {
             if (refine(imp, o, d, ta, tb, fa, fb, tol, &r, st) && r > tmin) {

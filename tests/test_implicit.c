@@ -11,6 +11,7 @@
 
 #include <float.h>
 #include <locale.h>
+#include <pthread.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -386,6 +387,82 @@ static void test_interval_enclosures(void **state)
         gg_expr_free(e);
     }
     assert_true(tested > 30000);
+}
+
+/* The tape on long doubles (64-bit significand on x86-64): close enough to
+   the real value to see a bound that rounding moved inward. Arithmetic and
+   sqrt only (correctly rounded in both precisions). */
+static long double eval_long(const gg_expr *e, ggVec3 p)
+{
+    long double v[GG_EXPR_MAX_TAPE];
+    size_t i;
+    for (i = 0; i < e->n; i++) {
+        const gg_expr_ins *in = &e->ins[i];
+        long double a = i ? v[in->a] : 0, b = i ? v[in->b] : 0;
+        switch (in->op) {
+        case GG_OP_CONST: v[i] = in->c; break;
+        case GG_OP_X: v[i] = p.x; break;
+        case GG_OP_Y: v[i] = p.y; break;
+        case GG_OP_Z: v[i] = p.z; break;
+        case GG_OP_NEG: v[i] = -a; break;
+        case GG_OP_SQR: v[i] = a * a; break;
+        case GG_OP_SQRT: v[i] = sqrtl(a); break;
+        case GG_OP_ADD: v[i] = a + b; break;
+        case GG_OP_SUB: v[i] = a - b; break;
+        case GG_OP_MUL: v[i] = a * b; break;
+        case GG_OP_DIV: v[i] = a / b; break;
+        default: fail_msg("op %d not in eval_long", in->op);
+        }
+    }
+    return v[e->n - 1];
+}
+
+/* Enclosures of single points hold the (nearly) real value: this is what
+   outward rounding is for; the double result alone is always inside. */
+static void test_interval_real_enclosure(void **state)
+{
+    static const char *srcs[] = {"(x^2+y^2+z^2+0.9375)^2-4*(x^2+y^2)",
+                                 "x*y - z/(x+3.1) + sqrt(x*x+1) - 0.1*z", "x/3 + y/7 - z*z/11"};
+    tu_rng r = {14};
+    size_t c;
+    int i, outside_rounded = 0;
+    (void)state;
+    if (sizeof(long double) <= sizeof(double)) skip();
+    for (c = 0; c < sizeof srcs / sizeof srcs[0]; c++) {
+        gg_expr *e = compile_ok(srcs[c]);
+        for (i = 0; i < 3000; i++) {
+            ggVec3 p = rand_in(&r, -2, 2), o = rand_in(&r, -2, 2), d;
+            gg_ival box[3], F;
+            long double exact = eval_long(e, p);
+            double v = gg_expr_eval(e, p), t;
+            box[0] = gg_iv(p.x, p.x), box[1] = gg_iv(p.y, p.y), box[2] = gg_iv(p.z, p.z);
+            F = gg_expr_ival(e, box);
+            assert_true(F.lo <= exact && exact <= F.hi);
+            outside_rounded += (long double)v != exact;
+            /* The same for a point of a ray, with o + t d itself rounded. */
+            d = v3sub(p, o);
+            t = tu_range(&r, 0.5, 1.5);
+            {
+                gg_ival dg;
+                int partial = 0;
+                ggVec3 q;
+                long double qx = (long double)o.x + (long double)t * d.x;
+                long double qy = (long double)o.y + (long double)t * d.y;
+                long double qz = (long double)o.z + (long double)t * d.z;
+                F = gg_expr_ival_ray(e, o, d, gg_iv(t, t), &dg, &partial);
+                /* Evaluate at the exactly computed point: round it only
+                   where double holds it exactly, else skip. */
+                q = v3((double)qx, (double)qy, (double)qz);
+                if ((long double)q.x == qx && (long double)q.y == qy && (long double)q.z == qz) {
+                    exact = eval_long(e, q);
+                    assert_true(F.lo <= exact && exact <= F.hi);
+                }
+            }
+        }
+        gg_expr_free(e);
+    }
+    /* The test has teeth: the double results are mostly not the real ones. */
+    assert_true(outside_rounded > 1000);
 }
 
 static void test_interval_functions(void **state)
@@ -873,6 +950,48 @@ static void check_leaving(ggImplicit *imp, int convex, double scale, uint64_t se
     assert_int_equal(rehits, 0);
 }
 
+/* Without any offset: a ray from a hit point as computed (within rounding
+   of the surface, on either side) does not find that surface at t ~ 0. */
+static void test_origin_on_surface(void **state)
+{
+    ggImplicit *imp =
+        surface("(x-0.1)^2+(y+0.2)^2+(z-0.3)^2-0.64", v3(-1.5, -1.5, -1.5), v3(1.5, 1.5, 1.5));
+    tu_rng rng = {95};
+    int i, n = 0;
+    (void)state;
+    /* Points on the sphere, rounded to doubles, and directions around them. */
+    for (i = 0; i < 20000; i++) {
+        ggVec3 c = v3(0.1, -0.2, 0.3), p, nrm, d;
+        double t2, cosang;
+        int inward = i % 2, h;
+        nrm = tu_unit(&rng);
+        p = v3madd(c, nrm, 0.8);
+        cosang = i % 4 < 2 ? pow(10, tu_range(&rng, -3, 0)) : tu_uniform(&rng);
+        {
+            ggVec3 u = v3norm(v3cross(nrm, fabs(nrm.x) < 0.9 ? v3(1, 0, 0) : v3(0, 1, 0)));
+            ggVec3 w = v3cross(nrm, u);
+            double a = tu_range(&rng, 0, 2 * GG_PI), s = sqrt(1 - cosang * cosang);
+            d = v3add(v3scale(nrm, cosang), v3add(v3scale(u, s * cos(a)), v3scale(w, s * sin(a))));
+        }
+        if (inward) d = v3neg(d);
+        h = gg_implicit_intersect(imp, p, d, 0, INFINITY, &t2);
+        n++;
+        if (!inward) {
+            if (h) print_error("outward from the surface, hit at t = %g\n", t2);
+            assert_false(h);
+        } else {
+            /* The chord to the far side: 2 * 0.8 * cos. */
+            if (!h)
+                print_error("inward miss: p (%.17g, %.17g, %.17g) d (%.17g, %.17g, %.17g) cos %g\n",
+                            p.x, p.y, p.z, d.x, d.y, d.z, cosang);
+            assert_true(h);
+            assert_close(t2, 1.6 * cosang, 1e-9);
+        }
+    }
+    assert_true(n == 20000);
+    ggImplicitFree(imp);
+}
+
 static void test_leaving_rays_do_not_rehit(void **state)
 {
     static const double scales[] = {1e-6, 1, 1e6};
@@ -941,6 +1060,11 @@ static void test_domains_and_poles(void **state)
 static double cb_sphere(void *ud, ggVec3 p)
 {
     (*(int *)ud)++;
+    return p.x * p.x + p.y * p.y + p.z * p.z - 1;
+}
+static double cb_sphere_plain(void *ud, ggVec3 p)
+{
+    (void)ud;
     return p.x * p.x + p.y * p.y + p.z * p.z - 1;
 }
 static ggVec3 cb_sphere_grad(void *ud, ggVec3 p)
@@ -1046,6 +1170,65 @@ static void test_lipschitz_method_on_expressions(void **state)
     assert_int_equal(ggImplicitWarnings(b), 0);
     ggImplicitFree(a);
     ggImplicitFree(b);
+}
+
+/* Several threads on the same objects: the same hits as one thread, and
+   the warnings (written atomically) seen from any of them. */
+typedef struct job {
+    const ggImplicit *imp;
+    uint64_t seed;
+    int n;
+    double *t; /* n results, NAN for a miss */
+} job;
+
+static void *run_job(void *arg)
+{
+    job *j = arg;
+    tu_rng r;
+    int i;
+    r.s = j->seed;
+    for (i = 0; i < j->n; i++) {
+        ggVec3 o = v3scale(tu_unit(&r), 3), d = v3sub(rand_in(&r, -1, 1), o);
+        double t;
+        j->t[i] = gg_implicit_intersect(j->imp, o, d, 0, INFINITY, &t) ? t : NAN;
+    }
+    return NULL;
+}
+
+static void test_threads(void **state)
+{
+    enum { N = 3000, THREADS = 4 };
+    static double serial[N], par[THREADS][N];
+    ggImplicit *objs[2];
+    int k, i;
+    (void)state;
+    objs[0] = surface("(x^2+y^2+z^2+0.9375)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                      v3(1.5, 1.5, 0.5));
+    assert_int_equal(ggImplicitCreateFn(cb_sphere_plain, cb_sphere_grad, NULL, v3(-2, -2, -2),
+                                        v3(2, 2, 2), NULL, &objs[1], NULL),
+                     GG_OK);
+    /* Too small a bound: every thread raises the warning. */
+    assert_int_equal(ggImplicitSetGradientBound(objs[1], 0.5), GG_OK);
+    for (k = 0; k < 2; k++) {
+        job js = {objs[k], 200 + (uint64_t)k, N, serial}, jp[THREADS];
+        pthread_t th[THREADS];
+        run_job(&js);
+        ggImplicitClearWarnings(objs[k]);
+        for (i = 0; i < THREADS; i++) {
+            jp[i] = js;
+            jp[i].t = par[i];
+            assert_int_equal(pthread_create(&th[i], NULL, run_job, &jp[i]), 0);
+        }
+        for (i = 0; i < THREADS; i++) assert_int_equal(pthread_join(th[i], NULL), 0);
+        for (i = 0; i < THREADS; i++)
+            assert_memory_equal(serial, par[i], sizeof serial); /* bit for bit, NaN for misses */
+        assert_int_equal(ggImplicitWarnings(objs[k]), k == 1 ? GG_IMPLICIT_WARN_GRADIENT : 0);
+        if (k == 1) assert_true(ggImplicitMaxSlope(objs[k]) > 0.5);
+    }
+    assert_true(gg_implicit_tolerance(objs[0]) > 0 &&
+                gg_implicit_tolerance(objs[0]) < 1e-11);
+    ggImplicitFree(objs[0]);
+    ggImplicitFree(objs[1]);
 }
 
 static void test_budget_warning(void **state)
@@ -1210,6 +1393,7 @@ int main(void)
         cmocka_unit_test(test_eval_matches_c),
         cmocka_unit_test(test_dual_gradients_exact),
         cmocka_unit_test(test_interval_enclosures),
+        cmocka_unit_test(test_interval_real_enclosure),
         cmocka_unit_test(test_interval_functions),
         cmocka_unit_test(test_sphere_matches_analytic),
         cmocka_unit_test(test_torus_closed_form),
@@ -1217,11 +1401,13 @@ int main(void)
         cmocka_unit_test(test_central_difference_error_curve),
         cmocka_unit_test(test_thin_parts_not_missed),
         cmocka_unit_test(test_no_false_hits),
+        cmocka_unit_test(test_origin_on_surface),
         cmocka_unit_test(test_leaving_rays_do_not_rehit),
         cmocka_unit_test(test_domains_and_poles),
         cmocka_unit_test(test_callbacks),
         cmocka_unit_test(test_callback_thin_torus),
         cmocka_unit_test(test_lipschitz_method_on_expressions),
+        cmocka_unit_test(test_threads),
         cmocka_unit_test(test_budget_warning),
         cmocka_unit_test(test_api_arguments),
         cmocka_unit_test(test_allocator_and_no_leaks),
