@@ -51,7 +51,8 @@ static void eye_ray(ggVec3 eye, int i, int j, ggVec3 *d)
 {
     ggVec3 fwd = v3norm(v3neg(eye)), right = v3norm(v3cross(fwd, v3(0, 0, 1)));
     ggVec3 up = v3cross(right, fwd);
-    double s = tan(20 * GG_PI / 180), u = ((i + 0.5) / W * 2 - 1) * s, v = (1 - (j + 0.5) / H * 2) * s;
+    double s = tan(20 * GG_PI / 180), u = ((i + 0.5) / W * 2 - 1) * s,
+           v = (1 - (j + 0.5) / H * 2) * s;
     *d = v3norm(v3add(fwd, v3add(v3scale(right, u), v3scale(up, v))));
 }
 
@@ -194,10 +195,10 @@ int main(void)
         ggImplicit *g = fn(cb_torus, cb_torus_grad, tlo, thi, 1);
         printf("  expr, dual numbers (exact)          %7.1f ns\n", normal_ns(a, 0, 0));
         printf("  callback gradient (exact)           %7.1f ns\n", normal_ns(g, 0, 0));
-        printf("  expr, central differences, default h %6.1f ns  error %.1e\n",
-               normal_ns(a, 1, 0), normal_err(a, a, 0));
-        printf("  callback, central differences, def. h %5.1f ns  error %.1e\n",
-               normal_ns(b, 1, 0), normal_err(b, a, 0));
+        printf("  expr, central differences, default h %6.1f ns  error %.1e\n", normal_ns(a, 1, 0),
+               normal_err(a, a, 0));
+        printf("  callback, central differences, def. h %5.1f ns  error %.1e\n", normal_ns(b, 1, 0),
+               normal_err(b, a, 0));
         {
             static const double hs[] = {1e-9, 1e-7, 1e-5, 1e-3};
             size_t k;

@@ -28,7 +28,10 @@ static void check(int ok)
     if (!ok) abort();
 }
 
-static int inside(gg_ival f, double v) { return f.lo <= v && v <= f.hi; }
+static int inside(gg_ival f, double v)
+{
+    return f.lo <= v && v <= f.hi;
+}
 
 /* Is every slot of the tape finite at p? */
 static int real_path(const gg_expr *e, ggVec3 p)
@@ -85,8 +88,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     check(e != NULL && e->n >= 1 && e->n <= GG_EXPR_MAX_TAPE);
     {
-        static const double pts[][3] = {{0.5, -0.25, 2}, {0, 0, 0}, {-1e-3, 3, -7.5},
-                                        {1e8, -1e-8, 0.125}};
+        static const double pts[][3] = {
+            {0.5, -0.25, 2}, {0, 0, 0}, {-1e-3, 3, -7.5}, {1e8, -1e-8, 0.125}};
         size_t i;
         for (i = 0; i < sizeof pts / sizeof pts[0]; i++) {
             ggVec3 p = {pts[i][0], pts[i][1], pts[i][2]};
