@@ -34,12 +34,12 @@ enum { TK_END, TK_NUM, TK_NAME, TK_PUNCT };
 typedef struct parser {
     const char *s;
     size_t len, pos;
-    int tok;         /* current token */
-    size_t tpos;     /* its first byte */
-    size_t tlen;     /* its length */
-    double num;      /* TK_NUM value */
+    int tok;     /* current token */
+    size_t tpos; /* its first byte */
+    size_t tlen; /* its length */
+    double num;  /* TK_NUM value */
     int depth;
-    int status;      /* first error, GG_OK until then */
+    int status; /* first error, GG_OK until then */
     ggError *err;
     const ggAllocator *alloc;
     gg_expr_ins *ins;
@@ -51,10 +51,9 @@ static const struct {
     int op;
     int arity; /* -2: two or more */
 } funcs[] = {
-    {"sqrt", GG_OP_SQRT, 1}, {"sin", GG_OP_SIN, 1}, {"cos", GG_OP_COS, 1},
-    {"tan", GG_OP_TAN, 1},   {"exp", GG_OP_EXP, 1}, {"log", GG_OP_LOG, 1},
-    {"abs", GG_OP_ABS, 1},   {"min", GG_OP_MIN, -2}, {"max", GG_OP_MAX, -2},
-    {"pow", -1, 2},
+    {"sqrt", GG_OP_SQRT, 1}, {"sin", GG_OP_SIN, 1}, {"cos", GG_OP_COS, 1}, {"tan", GG_OP_TAN, 1},
+    {"exp", GG_OP_EXP, 1},   {"log", GG_OP_LOG, 1}, {"abs", GG_OP_ABS, 1}, {"min", GG_OP_MIN, -2},
+    {"max", GG_OP_MAX, -2},  {"pow", -1, 2},
 };
 
 /* ---- errors ---- */
@@ -105,8 +104,14 @@ static void describe(const parser *p, char *buf, size_t size)
 
 /* ---- tokenizer ---- */
 
-static int is_digit(int c) { return c >= '0' && c <= '9'; }
-static int is_alpha(int c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_'; }
+static int is_digit(int c)
+{
+    return c >= '0' && c <= '9';
+}
+static int is_alpha(int c)
+{
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+}
 
 /* strtod with a '.' whatever the locale says (the library must not depend
    on LC_NUMERIC); the text was already checked against the grammar. */
@@ -214,7 +219,10 @@ static int name_is(const parser *p, const char *name)
 
 /* ---- code emission ---- */
 
-static int is_const(const parser *p, int slot) { return p->ins[slot].op == GG_OP_CONST; }
+static int is_const(const parser *p, int slot)
+{
+    return p->ins[slot].op == GG_OP_CONST;
+}
 
 static int same_ins(const gg_expr_ins *x, const gg_expr_ins *y)
 {
@@ -222,8 +230,14 @@ static int same_ins(const gg_expr_ins *x, const gg_expr_ins *y)
            memcmp(&x->c, &y->c, sizeof x->c) == 0;
 }
 
-static int is_binary(int op) { return op >= GG_OP_ADD; }
-static int is_leaf(int op) { return op <= GG_OP_Z; }
+static int is_binary(int op)
+{
+    return op >= GG_OP_ADD;
+}
+static int is_leaf(int op)
+{
+    return op <= GG_OP_Z;
+}
 
 static int emit(parser *p, int op, int a, int b, int n, double c)
 {
@@ -256,7 +270,10 @@ static int emit(parser *p, int op, int a, int b, int n, double c)
     return (int)p->n++;
 }
 
-static int emit_const(parser *p, double c) { return emit(p, GG_OP_CONST, 0, 0, 0, c); }
+static int emit_const(parser *p, double c)
+{
+    return emit(p, GG_OP_CONST, 0, 0, 0, c);
+}
 
 /* base ^ ex */
 static int emit_pow(parser *p, int base, int ex)
@@ -284,8 +301,7 @@ static int p_unary(parser *p);
 static int deeper(parser *p)
 {
     if (++p->depth > GG_EXPR_MAX_DEPTH)
-        return fail(p, p->tpos, GG_ERROR_LIMIT, "nesting deeper than %d levels",
-                    GG_EXPR_MAX_DEPTH);
+        return fail(p, p->tpos, GG_ERROR_LIMIT, "nesting deeper than %d levels", GG_EXPR_MAX_DEPTH);
     return 0;
 }
 
@@ -318,8 +334,7 @@ static int p_call(parser *p)
         for (;;) {
             int a = p_expr(p);
             if (a < 0) return -1;
-            if (nargs < 2)
-                args[nargs] = a;
+            if (nargs < 2) args[nargs] = a;
             if (funcs[f].arity == -2 && nargs >= 1) /* min/max fold as they come */
                 args[0] = v = emit(p, funcs[f].op, args[0], a, 0, 0);
             nargs++;
@@ -331,8 +346,8 @@ static int p_call(parser *p)
     }
     if (funcs[f].arity == -2) {
         if (nargs < 2)
-            return fail(p, npos, GG_ERROR_PARSE, "%s() takes at least 2 arguments, got %d",
-                        name, nargs);
+            return fail(p, npos, GG_ERROR_PARSE, "%s() takes at least 2 arguments, got %d", name,
+                        nargs);
         return v;
     }
     if (nargs != funcs[f].arity)
@@ -354,8 +369,8 @@ static int p_primary(parser *p)
         int r;
         size_t save = p->pos;
         /* A name is a call when '(' follows it. */
-        while (save < p->len && (p->s[save] == ' ' || p->s[save] == '\t' ||
-                                 p->s[save] == '\n' || p->s[save] == '\r'))
+        while (save < p->len && (p->s[save] == ' ' || p->s[save] == '\t' || p->s[save] == '\n' ||
+                                 p->s[save] == '\r'))
             save++;
         if (save < p->len && p->s[save] == '(') return p_call(p);
         if (name_is(p, "x"))
@@ -481,8 +496,7 @@ int gg_expr_compile(const char *src, size_t len, const ggAllocator *alloc, gg_ex
                             GG_EXPR_MAX_LEN + 1, GG_EXPR_MAX_LEN);
     for (i = 0; i < len; i++)
         if (src[i] == 0)
-            return gg_error_set(err, GG_ERROR_PARSE, "1:%d: NUL byte in expression",
-                                (int)i + 1);
+            return gg_error_set(err, GG_ERROR_PARSE, "1:%d: NUL byte in expression", (int)i + 1);
     memset(&p, 0, sizeof p);
     p.s = src;
     p.len = len;

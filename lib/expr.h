@@ -22,7 +22,7 @@
 #define GG_EXPR_MAX_LEN   GG_IMPLICIT_MAX_EXPR  /* bytes of source text */
 #define GG_EXPR_MAX_TAPE  GG_IMPLICIT_MAX_TAPE  /* instructions after folding, sharing */
 #define GG_EXPR_MAX_DEPTH GG_IMPLICIT_MAX_DEPTH /* nesting of (), calls, unary signs, ^ */
-#define GG_EXPR_MAX_POWI  64   /* |n| up to which x^n is repeated squaring */
+#define GG_EXPR_MAX_POWI  64                    /* |n| up to which x^n is repeated squaring */
 
 enum {
     GG_OP_CONST, /* c */

@@ -79,8 +79,7 @@ static gg_ival sincos(gg_ival a, int is_cos)
 {
     double fa, fb, lo, hi, top;
     if (gg_iv_isempty(a)) return gg_iv_empty();
-    if (!(a.hi - a.lo < 6.0) || fabs(a.lo) > TRIG_MAX || fabs(a.hi) > TRIG_MAX)
-        return gg_iv(-1, 1);
+    if (!(a.hi - a.lo < 6.0) || fabs(a.lo) > TRIG_MAX || fabs(a.hi) > TRIG_MAX) return gg_iv(-1, 1);
     fa = is_cos ? cos(a.lo) : sin(a.lo);
     fb = is_cos ? cos(a.hi) : sin(a.hi);
     lo = gg_iv_dn(fa < fb ? fa : fb, GG_IV_RELF);
@@ -91,8 +90,14 @@ static gg_ival sincos(gg_ival a, int is_cos)
     return gg_iv(lo < -1 ? -1 : lo, hi > 1 ? 1 : hi);
 }
 
-gg_ival gg_ival_sin(gg_ival a) { return sincos(a, 0); }
-gg_ival gg_ival_cos(gg_ival a) { return sincos(a, 1); }
+gg_ival gg_ival_sin(gg_ival a)
+{
+    return sincos(a, 0);
+}
+gg_ival gg_ival_cos(gg_ival a)
+{
+    return sincos(a, 1);
+}
 
 gg_ival gg_ival_tan(gg_ival a)
 {
@@ -124,14 +129,17 @@ gg_ival gg_ival_max(gg_ival a, gg_ival b)
 }
 
 /* pow() on an endpoint; the point evaluator uses repeated squaring, whose
-   error grows with |n|, so widen by that much. */
+   error grows with |n| (relatively, and absolutely when the products are
+   subnormal), so widen by that much. */
 static double pw_dn(double x, int n)
 {
-    return gg_iv_dn(pow(x, n), GG_IV_RELF + 0x1p-52 * (n < 0 ? -(double)n : n));
+    double m = n < 0 ? -(double)n : n;
+    return gg_iv_dn(pow(x, n), GG_IV_RELF + 0x1p-52 * m) - m * GG_IV_TINY;
 }
 static double pw_up(double x, int n)
 {
-    return gg_iv_up(pow(x, n), GG_IV_RELF + 0x1p-52 * (n < 0 ? -(double)n : n));
+    double m = n < 0 ? -(double)n : n;
+    return gg_iv_up(pow(x, n), GG_IV_RELF + 0x1p-52 * m) + m * GG_IV_TINY;
 }
 
 gg_ival gg_ival_powi(gg_ival a, int n)
@@ -144,7 +152,7 @@ gg_ival gg_ival_powi(gg_ival a, int n)
     if (n == 0) return gg_iv(1, 1);
     if (n == 1) return a;
     if (n % 2 || a.lo >= 0) return gg_iv(pw_dn(a.lo, n), pw_up(a.hi, n)); /* increasing */
-    if (a.hi <= 0) return gg_iv(pw_dn(a.hi, n), pw_up(a.lo, n));       /* even, decreasing */
+    if (a.hi <= 0) return gg_iv(pw_dn(a.hi, n), pw_up(a.lo, n));          /* even, decreasing */
     return gg_iv(0, pw_up(-a.lo > a.hi ? a.lo : a.hi, n));
 }
 
@@ -165,25 +173,44 @@ gg_ival gg_ival_powc(gg_ival a, double c)
 static gg_ival apply(const gg_expr_ins *in, gg_ival a, gg_ival b)
 {
     switch (in->op) {
-    case GG_OP_CONST: return gg_iv(in->c, in->c);
-    case GG_OP_NEG: return gg_iv_neg(a);
-    case GG_OP_SQR: return gg_iv_sqr(a);
-    case GG_OP_SQRT: return gg_ival_sqrt(a);
-    case GG_OP_SIN: return gg_ival_sin(a);
-    case GG_OP_COS: return gg_ival_cos(a);
-    case GG_OP_TAN: return gg_ival_tan(a);
-    case GG_OP_EXP: return gg_ival_exp(a);
-    case GG_OP_LOG: return gg_ival_log(a);
-    case GG_OP_ABS: return gg_ival_abs(a);
-    case GG_OP_POWI: return gg_ival_powi(a, in->n);
-    case GG_OP_POWC: return gg_ival_powc(a, in->c);
-    case GG_OP_ADD: return gg_iv_add(a, b);
-    case GG_OP_SUB: return gg_iv_sub(a, b);
-    case GG_OP_MUL: return gg_iv_mul(a, b);
-    case GG_OP_DIV: return gg_ival_div(a, b);
-    case GG_OP_MIN: return gg_ival_min(a, b);
-    case GG_OP_MAX: return gg_ival_max(a, b);
-    default: return gg_iv_entire();
+    case GG_OP_CONST:
+        return gg_iv(in->c, in->c);
+    case GG_OP_NEG:
+        return gg_iv_neg(a);
+    case GG_OP_SQR:
+        return gg_iv_sqr(a);
+    case GG_OP_SQRT:
+        return gg_ival_sqrt(a);
+    case GG_OP_SIN:
+        return gg_ival_sin(a);
+    case GG_OP_COS:
+        return gg_ival_cos(a);
+    case GG_OP_TAN:
+        return gg_ival_tan(a);
+    case GG_OP_EXP:
+        return gg_ival_exp(a);
+    case GG_OP_LOG:
+        return gg_ival_log(a);
+    case GG_OP_ABS:
+        return gg_ival_abs(a);
+    case GG_OP_POWI:
+        return gg_ival_powi(a, in->n);
+    case GG_OP_POWC:
+        return gg_ival_powc(a, in->c);
+    case GG_OP_ADD:
+        return gg_iv_add(a, b);
+    case GG_OP_SUB:
+        return gg_iv_sub(a, b);
+    case GG_OP_MUL:
+        return gg_iv_mul(a, b);
+    case GG_OP_DIV:
+        return gg_ival_div(a, b);
+    case GG_OP_MIN:
+        return gg_ival_min(a, b);
+    case GG_OP_MAX:
+        return gg_ival_max(a, b);
+    default:
+        return gg_iv_entire();
     }
 }
 
@@ -193,12 +220,32 @@ gg_ival gg_expr_ival(const gg_expr *e, const gg_ival x[3])
     size_t i;
     for (i = 0; i < e->n; i++) {
         const gg_expr_ins *in = &e->ins[i];
-        if (in->op == GG_OP_CONST)
+        /* The arithmetic inline, the rest through apply(). */
+        switch (in->op) {
+        case GG_OP_CONST:
             v[i] = gg_iv(in->c, in->c);
-        else if (in->op <= GG_OP_Z)
+            break;
+        case GG_OP_X:
+        case GG_OP_Y:
+        case GG_OP_Z:
             v[i] = x[in->op - GG_OP_X];
-        else
+            break;
+        case GG_OP_SQR:
+            v[i] = gg_iv_sqr(v[in->a]);
+            break;
+        case GG_OP_ADD:
+            v[i] = gg_iv_add(v[in->a], v[in->b]);
+            break;
+        case GG_OP_SUB:
+            v[i] = gg_iv_sub(v[in->a], v[in->b]);
+            break;
+        case GG_OP_MUL:
+            v[i] = gg_iv_mul(v[in->a], v[in->b]);
+            break;
+        default:
             v[i] = apply(in, v[in->a], v[in->b]);
+            break;
+        }
     }
     return v[e->n - 1];
 }
@@ -219,21 +266,30 @@ static idual id(gg_ival v, gg_ival d)
 static gg_ival dunary(const gg_expr_ins *in, gg_ival a, gg_ival r)
 {
     switch (in->op) {
-    case GG_OP_SQR: return gg_iv_scale(a, 2);
-    case GG_OP_SQRT: return gg_ival_div(gg_iv(0.5, 0.5), r);
-    case GG_OP_SIN: return gg_ival_cos(a);
-    case GG_OP_COS: return gg_iv_neg(gg_ival_sin(a));
-    case GG_OP_TAN: return gg_iv_add(gg_iv(1, 1), gg_iv_sqr(r));
-    case GG_OP_EXP: return r;
-    case GG_OP_LOG: return gg_ival_div(gg_iv(1, 1), a);
-    case GG_OP_POWI: return gg_iv_scale(gg_ival_powi(a, in->n - 1), in->n);
-    case GG_OP_POWC: return gg_iv_scale(gg_ival_powc(a, in->c - 1), in->c);
-    default: return gg_iv_entire();
+    case GG_OP_SQR:
+        return gg_iv_scale(a, 2);
+    case GG_OP_SQRT:
+        return gg_ival_div(gg_iv(0.5, 0.5), r);
+    case GG_OP_SIN:
+        return gg_ival_cos(a);
+    case GG_OP_COS:
+        return gg_iv_neg(gg_ival_sin(a));
+    case GG_OP_TAN:
+        return gg_iv_add(gg_iv(1, 1), gg_iv_sqr(r));
+    case GG_OP_EXP:
+        return r;
+    case GG_OP_LOG:
+        return gg_ival_div(gg_iv(1, 1), a);
+    case GG_OP_POWI:
+        return gg_iv_scale(gg_ival_powi(a, in->n - 1), in->n);
+    case GG_OP_POWC:
+        return gg_iv_scale(gg_ival_powc(a, in->c - 1), in->c);
+    default:
+        return gg_iv_entire();
     }
 }
 
-gg_ival gg_expr_ival_ray(const gg_expr *e, ggVec3 o, ggVec3 d, gg_ival t, gg_ival *dg,
-                         int *partial)
+gg_ival gg_expr_ival_ray(const gg_expr *e, ggVec3 o, ggVec3 d, gg_ival t, gg_ival *dg, int *partial)
 {
     idual v[GG_EXPR_MAX_TAPE];
     size_t i;
@@ -241,19 +297,35 @@ gg_ival gg_expr_ival_ray(const gg_expr *e, ggVec3 o, ggVec3 d, gg_ival t, gg_iva
         const gg_expr_ins *in = &e->ins[i];
         idual a, b, r;
         switch (in->op) {
-        case GG_OP_CONST: r = id(gg_iv(in->c, in->c), gg_iv(0, 0)); break;
-        case GG_OP_X: r = id(gg_iv_affine(o.x, t, d.x), gg_iv(d.x, d.x)); break;
-        case GG_OP_Y: r = id(gg_iv_affine(o.y, t, d.y), gg_iv(d.y, d.y)); break;
-        case GG_OP_Z: r = id(gg_iv_affine(o.z, t, d.z), gg_iv(d.z, d.z)); break;
+        case GG_OP_CONST:
+            r = id(gg_iv(in->c, in->c), gg_iv(0, 0));
+            break;
+        case GG_OP_X:
+            r = id(gg_iv_affine(o.x, t, d.x), gg_iv(d.x, d.x));
+            break;
+        case GG_OP_Y:
+            r = id(gg_iv_affine(o.y, t, d.y), gg_iv(d.y, d.y));
+            break;
+        case GG_OP_Z:
+            r = id(gg_iv_affine(o.z, t, d.z), gg_iv(d.z, d.z));
+            break;
         default:
             a = v[in->a], b = v[in->b];
             switch (in->op) {
-            case GG_OP_NEG: r = id(gg_iv_neg(a.v), gg_iv_neg(a.d)); break;
-            case GG_OP_ADD: r = id(gg_iv_add(a.v, b.v), gg_iv_add(a.d, b.d)); break;
-            case GG_OP_SUB: r = id(gg_iv_sub(a.v, b.v), gg_iv_sub(a.d, b.d)); break;
+            case GG_OP_NEG:
+                r = id(gg_iv_neg(a.v), gg_iv_neg(a.d));
+                break;
+            case GG_OP_SQR:
+                r = id(gg_iv_sqr(a.v), gg_iv_scale(gg_iv_mul(a.v, a.d), 2));
+                break;
+            case GG_OP_ADD:
+                r = id(gg_iv_add(a.v, b.v), gg_iv_add(a.d, b.d));
+                break;
+            case GG_OP_SUB:
+                r = id(gg_iv_sub(a.v, b.v), gg_iv_sub(a.d, b.d));
+                break;
             case GG_OP_MUL:
-                r = id(gg_iv_mul(a.v, b.v),
-                       gg_iv_add(gg_iv_mul(a.d, b.v), gg_iv_mul(a.v, b.d)));
+                r = id(gg_iv_mul(a.v, b.v), gg_iv_add(gg_iv_mul(a.d, b.v), gg_iv_mul(a.v, b.d)));
                 break;
             case GG_OP_DIV:
                 r.v = gg_ival_div(a.v, b.v);

@@ -20,12 +20,12 @@
 
 #include <string.h>
 
-#define GRID         17     /* samples per axis for estimating a bound */
-#define STACK        100    /* subdivision depth (>= 2 per halving level) */
-#define TOL_DEFAULT  1e-12  /* times the box diagonal */
-#define STEP_MIN     1e-9   /* times the box diagonal: smallest Lipschitz step */
-#define BUDGET       100000 /* evaluations per ray */
-#define SLOPE_SLACK  1e-6   /* relative; rounding noise in observed slopes */
+#define GRID        17     /* samples per axis for estimating a bound */
+#define STACK       100    /* subdivision depth (>= 2 per halving level) */
+#define TOL_DEFAULT 1e-12  /* times the box diagonal */
+#define STEP_MIN    1e-9   /* times the box diagonal: smallest Lipschitz step */
+#define BUDGET      100000 /* evaluations per ray */
+#define SLOPE_SLACK 1e-6   /* relative; rounding noise in observed slopes */
 
 struct ggImplicit {
     const ggAllocator *alloc;
@@ -46,18 +46,36 @@ struct ggImplicit {
 /* ---- atomics: GCC and clang builtins; C99 has none of its own ---- */
 
 #if defined(__GNUC__)
-static unsigned load_u(const unsigned *p) { return __atomic_load_n(p, __ATOMIC_RELAXED); }
-static void or_u(unsigned *p, unsigned v) { __atomic_fetch_or(p, v, __ATOMIC_RELAXED); }
-static uint64_t load_u64(const uint64_t *p) { return __atomic_load_n(p, __ATOMIC_RELAXED); }
+static unsigned load_u(const unsigned *p)
+{
+    return __atomic_load_n(p, __ATOMIC_RELAXED);
+}
+static void or_u(unsigned *p, unsigned v)
+{
+    __atomic_fetch_or(p, v, __ATOMIC_RELAXED);
+}
+static uint64_t load_u64(const uint64_t *p)
+{
+    return __atomic_load_n(p, __ATOMIC_RELAXED);
+}
 static int cas_u64(uint64_t *p, uint64_t *expect, uint64_t v)
 {
     return __atomic_compare_exchange_n(p, expect, v, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
 }
 #else
 /* Without atomics: plain writes of a sticky hint (a benign race). */
-static unsigned load_u(const unsigned *p) { return *(const volatile unsigned *)p; }
-static void or_u(unsigned *p, unsigned v) { *(volatile unsigned *)p |= v; }
-static uint64_t load_u64(const uint64_t *p) { return *(const volatile uint64_t *)p; }
+static unsigned load_u(const unsigned *p)
+{
+    return *(const volatile unsigned *)p;
+}
+static void or_u(unsigned *p, unsigned v)
+{
+    *(volatile unsigned *)p |= v;
+}
+static uint64_t load_u64(const uint64_t *p)
+{
+    return *(const volatile uint64_t *)p;
+}
 static int cas_u64(uint64_t *p, uint64_t *expect, uint64_t v)
 {
     (void)expect;
@@ -101,11 +119,20 @@ static int eval_d(const ggImplicit *imp, ggVec3 p, ggVec3 d, double *f, double *
     return 1;
 }
 
-static ggVec3 at(ggVec3 o, ggVec3 d, double t) { return v3(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z); }
+static ggVec3 at(ggVec3 o, ggVec3 d, double t)
+{
+    return v3(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z);
+}
 
-static double box_diag(const ggImplicit *imp) { return v3len(v3sub(imp->hi, imp->lo)); }
+static double box_diag(const ggImplicit *imp)
+{
+    return v3len(v3sub(imp->hi, imp->lo));
+}
 
-GG_API double ggImplicitEval(const ggImplicit *imp, ggVec3 p) { return imp ? eval(imp, p) : NAN; }
+GG_API double ggImplicitEval(const ggImplicit *imp, ggVec3 p)
+{
+    return imp ? eval(imp, p) : NAN;
+}
 
 GG_API ggVec3 ggGradientCentral(const ggImplicit *imp, ggVec3 p, double h)
 {
@@ -152,8 +179,8 @@ static double estimate_bound(const ggImplicit *imp)
     for (k = 0; k < GRID; k++) {
         for (j = 0; j < GRID; j++) {
             for (i = 0; i < GRID; i++) {
-                ggVec3 p = v3(imp->lo.x + i * step.x, imp->lo.y + j * step.y,
-                              imp->lo.z + k * step.z);
+                ggVec3 p =
+                    v3(imp->lo.x + i * step.x, imp->lo.y + j * step.y, imp->lo.z + k * step.z);
                 double v = eval(imp, p), q[3] = {0, 0, 0};
                 cur[j * GRID + i] = v;
                 if (i > 0) q[0] = fabs(v - cur[j * GRID + i - 1]) / step.x;
@@ -189,8 +216,8 @@ static ggImplicit *new_implicit(ggVec3 lo, ggVec3 hi, const ggAllocator *alloc)
     return imp;
 }
 
-GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi,
-                                const ggAllocator *alloc, ggImplicit **out, ggError *err)
+GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi, const ggAllocator *alloc,
+                                ggImplicit **out, ggError *err)
 {
     ggImplicit *imp;
     gg_expr *e;
@@ -213,9 +240,8 @@ GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi,
     return GG_OK;
 }
 
-GG_API int ggImplicitCreateFn(ggImplicitFn f, ggImplicitGradFn grad, void *ud, ggVec3 lo,
-                              ggVec3 hi, const ggAllocator *alloc, ggImplicit **out,
-                              ggError *err)
+GG_API int ggImplicitCreateFn(ggImplicitFn f, ggImplicitGradFn grad, void *ud, ggVec3 lo, ggVec3 hi,
+                              const ggAllocator *alloc, ggImplicit **out, ggError *err)
 {
     ggImplicit *imp;
     if (out) *out = NULL;
@@ -253,7 +279,10 @@ GG_API int ggImplicitSetGradientBound(ggImplicit *imp, double L)
     return GG_OK;
 }
 
-GG_API double ggImplicitGradientBound(const ggImplicit *imp) { return imp ? imp->bound : 0; }
+GG_API double ggImplicitGradientBound(const ggImplicit *imp)
+{
+    return imp ? imp->bound : 0;
+}
 
 GG_API int ggImplicitSetMethod(ggImplicit *imp, int method)
 {
@@ -278,12 +307,20 @@ void gg_implicit_bounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi)
     if (hi) *hi = imp->hi;
 }
 
+double gg_implicit_tolerance(const ggImplicit *imp)
+{
+    return imp->tol;
+}
+
 GG_API void ggImplicitBounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi)
 {
     if (imp) gg_implicit_bounds(imp, lo, hi);
 }
 
-GG_API unsigned ggImplicitWarnings(const ggImplicit *imp) { return imp ? load_u(&imp->warn) : 0; }
+GG_API unsigned ggImplicitWarnings(const ggImplicit *imp)
+{
+    return imp ? load_u(&imp->warn) : 0;
+}
 
 GG_API double ggImplicitMaxSlope(const ggImplicit *imp)
 {
@@ -398,10 +435,15 @@ static int isign(gg_ival f)
     return f.lo > 0 ? 1 : f.hi < 0 ? -1 : 0;
 }
 
-static int excludes0(gg_ival f) { return gg_iv_isempty(f) || f.lo > 0 || f.hi < 0; }
+static int excludes0(gg_ival f)
+{
+    return gg_iv_isempty(f) || f.lo > 0 || f.hi < 0;
+}
 
+/* The search over [t0, t1], the part of (tmin, tmax) in the box; roots
+   are accepted strictly inside (tmin, tmax). */
 static int search_interval(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0, double t1,
-                           int from_origin, double tmin, double tol, double *t,
+                           int from_origin, double tmin, double tmax, double tol, double *t,
                            gg_implicit_status *st)
 {
     const gg_expr *e = imp->expr;
@@ -445,7 +487,8 @@ static int search_interval(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0,
             if (sa == 2 || sb == 2 || !gg_iv_finite(f)) continue;
             /* f(t0) = 0 within rounding: the surface the ray leaves. */
             if (sa == 0 && nd.a == t0 && from_origin) continue;
-            if (sa * sb > 0) continue; /* certain signs, equal: no root (mono) or none seen (leaf) */
+            if (sa * sb > 0)
+                continue; /* certain signs, equal: no root (mono) or none seen (leaf) */
             /* An end whose enclosure holds 0 may still be no root: the
                enclosure of a point is wider than the rounding of its value.
                Decide on point values: they are the same numbers for the
@@ -455,7 +498,7 @@ static int search_interval(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0,
             pb = eval(imp, at(o, d, nd.b));
             st->evals += 2;
             if (pa == pa && pb == pb && (pa == 0 || pb == 0 || (pa < 0) != (pb < 0)) &&
-                refine(imp, o, d, nd.a, nd.b, pa, pb, tol, &r, st) && r > tmin) {
+                refine(imp, o, d, nd.a, nd.b, pa, pb, tol, &r, st) && r > tmin && r < tmax) {
                 *t = r;
                 return 1;
             }
@@ -474,7 +517,7 @@ static int search_interval(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0,
 /* ---- Lipschitz method ---- */
 
 static int search_lipschitz(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0, double t1,
-                            int from_origin, double tmin, double tol, double *t,
+                            int from_origin, double tmin, double tmax, double tol, double *t,
                             gg_implicit_status *st)
 {
     double dl = v3len(d), lt = imp->bound * dl; /* bound on |df/dt| */
@@ -484,7 +527,7 @@ static int search_lipschitz(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0
     h = hmin;
     fa = eval(imp, at(o, d, ta));
     st->evals++;
-    if (fa == 0 && !from_origin && ta > tmin) {
+    if (fa == 0 && !from_origin && ta > tmin && ta < tmax) {
         *t = ta;
         return 1;
     }
@@ -512,12 +555,17 @@ static int search_lipschitz(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0
         if (!(tb > ta)) tb = nextafter(ta, INFINITY);
         fb = eval(imp, at(o, d, tb));
         st->evals++;
-        slope = fabs(fb - fa) / ((tb - ta) * dl);
-        if (slope == slope && slope > st->max_slope) st->max_slope = slope;
-        if (slope > imp->bound * (1 + SLOPE_SLACK)) st->warn |= GG_IMPLICIT_WARN_GRADIENT;
+        /* Over a step of a few ulps (the last one, clipped to t1) the
+           quotient is rounding noise: judge slopes over hmin or more only,
+           allowing for the rounding of f itself. */
+        if (tb - ta >= hmin) {
+            slope = (fabs(fb - fa) - 8 * DBL_EPSILON * (fabs(fa) + fabs(fb))) / ((tb - ta) * dl);
+            if (slope > st->max_slope) st->max_slope = slope;
+            if (slope > imp->bound * (1 + SLOPE_SLACK)) st->warn |= GG_IMPLICIT_WARN_GRADIENT;
+        }
         if (fa == fa && fb == fb && (fb == 0 || (fa < 0) != (fb < 0)) &&
             !(fa == 0 && from_origin && ta == t0)) {
-            if (refine(imp, o, d, ta, tb, fa, fb, tol, &r, st) && r > tmin) {
+            if (refine(imp, o, d, ta, tb, fa, fb, tol, &r, st) && r > tmin && r < tmax) {
                 *t = r;
                 return 1;
             }
@@ -562,8 +610,8 @@ int gg_implicit_intersect_status(const ggImplicit *imp, ggVec3 o, ggVec3 d, doub
     from_origin = t0 == tmin;
     tol = imp->tol / dl;
     if (imp->method == GG_IMPLICIT_INTERVAL && imp->expr)
-        return search_interval(imp, o, d, t0, t1, from_origin, tmin, tol, t, st);
-    return search_lipschitz(imp, o, d, t0, t1, from_origin, tmin, tol, t, st);
+        return search_interval(imp, o, d, t0, t1, from_origin, tmin, tmax, tol, t, st);
+    return search_lipschitz(imp, o, d, t0, t1, from_origin, tmin, tmax, tol, t, st);
 }
 
 int gg_implicit_intersect(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,

@@ -31,6 +31,14 @@ typedef struct gg_implicit_status {
 int gg_implicit_intersect_status(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin,
                                  double tmax, double *t, gg_implicit_status *st);
 
+/* The root tolerance in scene units (ggImplicitSetTolerance; default 1e-12
+   times the box diagonal). A hit t is within tol / |d| of a sign change of
+   the computed f, usually far closer (a final Newton step when a
+   derivative is known). For gg_surf.perr: add it to the rounding error of
+   o + t d. Where f itself is ill-conditioned (|grad f| tiny against the
+   rounding of f), the computed surface is off the exact one by more. */
+double gg_implicit_tolerance(const ggImplicit *imp);
+
 /* Fold st into imp's sticky warnings (ggImplicitWarnings) and its largest
    slope seen (ggImplicitMaxSlope). Atomic, callable from any thread. */
 void gg_implicit_note(const ggImplicit *imp, const gg_implicit_status *st);

@@ -35,11 +35,26 @@ static inline gg_ival gg_iv(double lo, double hi)
     r.lo = lo, r.hi = hi;
     return r;
 }
-static inline gg_ival gg_iv_empty(void) { return gg_iv(NAN, NAN); }
-static inline gg_ival gg_iv_entire(void) { return gg_iv(-INFINITY, INFINITY); }
-static inline int gg_iv_isempty(gg_ival a) { return a.lo != a.lo || a.hi != a.hi; }
-static inline int gg_iv_has0(gg_ival a) { return a.lo <= 0 && a.hi >= 0; }
-static inline int gg_iv_finite(gg_ival a) { return isfinite(a.lo) && isfinite(a.hi); }
+static inline gg_ival gg_iv_empty(void)
+{
+    return gg_iv(NAN, NAN);
+}
+static inline gg_ival gg_iv_entire(void)
+{
+    return gg_iv(-INFINITY, INFINITY);
+}
+static inline int gg_iv_isempty(gg_ival a)
+{
+    return a.lo != a.lo || a.hi != a.hi;
+}
+static inline int gg_iv_has0(gg_ival a)
+{
+    return a.lo <= 0 && a.hi >= 0;
+}
+static inline int gg_iv_finite(gg_ival a)
+{
+    return isfinite(a.lo) && isfinite(a.hi);
+}
 
 /* x moved down (up) by `rel` of its magnitude. +inf stays representable as
    a lower bound only as DBL_MAX (inf - inf would be NaN). */
@@ -73,20 +88,38 @@ static inline gg_ival gg_iv_affine(double o, gg_ival t, double d)
     return d >= 0 ? gg_iv(p.lo, q.hi) : gg_iv(q.lo, p.hi);
 }
 
-static inline gg_ival gg_iv_neg(gg_ival a) { return gg_iv(-a.hi, -a.lo); }
+static inline gg_ival gg_iv_neg(gg_ival a)
+{
+    return gg_iv(-a.hi, -a.lo);
+}
 
+/* A bound of inf - inf is NaN, which would read as empty; it stands for
+   "anything on that side" (the point computation can give any value or
+   -inf there, e.g. x - 1/0 = -inf and 1 / that = -0). */
+static inline gg_ival gg_iv_sum(gg_ival a, gg_ival b, double lo, double hi)
+{
+    if (lo != lo || hi != hi) {
+        if (gg_iv_isempty(a) || gg_iv_isempty(b)) return gg_iv_empty();
+        if (lo != lo) lo = -INFINITY;
+        if (hi != hi) hi = INFINITY;
+    }
+    return gg_iv_widen(lo, hi, GG_IV_REL);
+}
 static inline gg_ival gg_iv_add(gg_ival a, gg_ival b)
 {
-    return gg_iv_widen(a.lo + b.lo, a.hi + b.hi, GG_IV_REL);
+    return gg_iv_sum(a, b, a.lo + b.lo, a.hi + b.hi);
 }
 static inline gg_ival gg_iv_sub(gg_ival a, gg_ival b)
 {
-    return gg_iv_widen(a.lo - b.hi, a.hi - b.lo, GG_IV_REL);
+    return gg_iv_sum(a, b, a.lo - b.hi, a.hi - b.lo);
 }
 
 /* 0 * inf is NaN in IEEE arithmetic but 0 in interval arithmetic over the
    reals (an infinite bound stands for "unbounded", not for a value). */
-static inline double gg_iv_fix(double p) { return p == p ? p : 0.0; }
+static inline double gg_iv_fix(double p)
+{
+    return p == p ? p : 0.0;
+}
 
 static inline gg_ival gg_iv_mul(gg_ival a, gg_ival b)
 {

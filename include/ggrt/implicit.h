@@ -66,8 +66,8 @@ typedef ggVec3 (*ggImplicitGradFn)(void *ud, ggVec3 p);
    file name and line. Returns GG_OK, GG_ERROR_PARSE, GG_ERROR_LIMIT (see
    GG_IMPLICIT_MAX_*), GG_ERROR_INVALID (NULL expr or out, bad box) or
    GG_ERROR_NOMEM. alloc may be NULL (malloc). */
-GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi,
-                                const ggAllocator *alloc, ggImplicit **out, ggError *err);
+GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi, const ggAllocator *alloc,
+                                ggImplicit **out, ggError *err);
 
 /* Make the surface f = 0 inside [lo, hi] from callbacks. grad may be NULL:
    normals then come from central differences and root refinement does not
@@ -77,9 +77,8 @@ GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi,
    set the true bound with ggImplicitSetGradientBound when you know it.
    Returns GG_OK, GG_ERROR_INVALID (NULL f or out, bad box) or
    GG_ERROR_NOMEM; *out is NULL on failure. */
-GG_API int ggImplicitCreateFn(ggImplicitFn f, ggImplicitGradFn grad, void *ud, ggVec3 lo,
-                              ggVec3 hi, const ggAllocator *alloc, ggImplicit **out,
-                              ggError *err);
+GG_API int ggImplicitCreateFn(ggImplicitFn f, ggImplicitGradFn grad, void *ud, ggVec3 lo, ggVec3 hi,
+                              const ggAllocator *alloc, ggImplicit **out, ggError *err);
 
 /* Free the surface; NULL is a no-op. */
 GG_API void ggImplicitFree(ggImplicit *imp);
@@ -102,6 +101,14 @@ GG_API int ggImplicitSetGradientBound(ggImplicit *imp, double L);
    surface that was never switched to the Lipschitz method). */
 GG_API double ggImplicitGradientBound(const ggImplicit *imp);
 
+/* GG_IMPLICIT_LIPSCHITZ steps along the ray by |f| / L, never less than
+   1e-9 times the box diagonal (more after 16 such steps in a row, when a
+   ray crawls along the surface), so parts thinner than that may be missed.
+   Steps are also at most 1/16 of the ray's way through the box, so that a
+   bound far too small shows as GG_IMPLICIT_WARN_GRADIENT. It suits f that
+   grow like the distance to the surface (signed distance functions, L =
+   1); where f vanishes to second order or more (the quartic form of a thin
+   torus), steps shrink with |f| and the interval method is far faster. */
 #define GG_IMPLICIT_INTERVAL  0 /* interval arithmetic (expressions; the default) */
 #define GG_IMPLICIT_LIPSCHITZ 1 /* stepping by |f| / L (callbacks: always) */
 
@@ -127,9 +134,15 @@ GG_API void ggImplicitBounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi);
 /* First hit of ray.o + t ray.d with tmin < t < tmax inside the box
    (ray.d need not be unit length; t is in units of |ray.d|). Returns 1
    and sets *t on a hit, 0 on a miss (also for a zero or non-finite
-   direction or origin). A root within rounding error of the ray origin
-   (t = tmin, when the origin is inside the box) is not reported: that is
-   the surface a secondary ray leaves. Thread-safe. */
+   direction or origin, or tmin >= tmax). *t is within the tolerance of a
+   sign change of f as computed, usually within rounding of it.
+   Secondary rays: when the ray starts inside the box at t = tmin on the
+   surface it leaves, that surface is not reported again. For expression
+   surfaces this holds for an origin anywhere within rounding error of the
+   surface (where interval arithmetic cannot tell the sign of f); for
+   callbacks only when f is exactly 0 there, so push the origin off the
+   surface, to the side the ray goes, by more than the error of the hit
+   point. Thread-safe. */
 GG_API int ggImplicitIntersect(const ggImplicit *imp, ggRay ray, double tmin, double tmax,
                                double *t);
 
