@@ -38,6 +38,7 @@ struct ggImplicit {
     double bound; /* gradient bound, 0 = none yet */
     int method;
     long budget;
+    double normal_h; /* > 0: surface normals by central differences (accuracy study) */
     /* The only state intersection writes (atomically, see note()). */
     unsigned warn;
     uint64_t slope_bits; /* largest slope seen, bits of a double >= 0 */
@@ -299,6 +300,18 @@ GG_API int ggImplicitSetBudget(ggImplicit *imp, long max_evals)
     if (!imp || max_evals < 16) return GG_ERROR_INVALID;
     imp->budget = max_evals;
     return GG_OK;
+}
+
+GG_API int ggImplicitSetNormalStep(ggImplicit *imp, double h)
+{
+    if (!imp || !(h >= 0) || !isfinite(h)) return GG_ERROR_INVALID;
+    imp->normal_h = h;
+    return GG_OK;
+}
+
+ggVec3 gg_implicit_normal(const ggImplicit *imp, ggVec3 p)
+{
+    return imp->normal_h > 0 ? ggGradientCentral(imp, p, imp->normal_h) : ggGradientNormal(imp, p);
 }
 
 void gg_implicit_bounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi)

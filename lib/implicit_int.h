@@ -7,6 +7,11 @@
 
 #include "internal.h"
 
+/* The surface normal (unnormalised) as the renderer uses it: the exact
+   gradient, or central differences when ggImplicitSetNormalStep chose a
+   step. */
+ggVec3 gg_implicit_normal(const ggImplicit *imp, ggVec3 p);
+
 /* The box the surface lives in. */
 void gg_implicit_bounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi);
 

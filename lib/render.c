@@ -141,6 +141,7 @@ static void apply_geometry_knobs(ggScene *s, const ggAccuracy *acc)
         /* 0 restores the surface's own default, 1e-12 of the box diagonal. */
         ggImplicitSetTolerance(imp, acc->implicit_tol > 0 ? acc->implicit_tol
                                                           : 1e-12 * v3len(v3sub(hi, lo)));
+        ggImplicitSetNormalStep(imp, acc->gradient_h);
     }
 }
 

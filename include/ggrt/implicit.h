@@ -126,6 +126,12 @@ GG_API int ggImplicitSetMethod(ggImplicit *imp, int method);
    unless max_evals >= 16. */
 GG_API int ggImplicitSetBudget(ggImplicit *imp, long max_evals);
 
+/* Surface normals during rendering: h = 0 (the default) uses the exact
+   gradient (ggGradientNormal); h > 0 uses ggGradientCentral with step h,
+   for measuring what central differences cost in accuracy. Returns
+   GG_ERROR_INVALID unless h is finite and >= 0. */
+GG_API int ggImplicitSetNormalStep(ggImplicit *imp, double h);
+
 /* ---- queries ---- */
 
 /* The box given at creation. */
