@@ -27,6 +27,7 @@ int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *pe
 
 int bench_effects(const bench_opts *bo);
 int bench_accuracy(const bench_opts *bo);
+int bench_scaling(const bench_opts *bo);
 /* Is name in the comma-separated list (NULL list: everything)? */
 int bench_selected(const char *list, const char *name);
 

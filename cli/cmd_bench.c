@@ -28,7 +28,7 @@ static const char *const spd_scenes[] = {"balls-s4", "gears", "rings", "tetra",
 static void help(FILE *f)
 {
     fprintf(f,
-            "usage: ggrt bench spd|counts|effects [options]\n"
+            "usage: ggrt bench spd|counts|effects|scaling [options]\n"
             "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]\n"
             "\n"
             "  spd       render the 7 SPD scenes (depth 5, pixel centres, no antialiasing) and,\n"
@@ -41,7 +41,10 @@ static void help(FILE *f)
             "  accuracy  sweep each accuracy knob from the accurate default: median time, rays,\n"
             "            RMSE, max error, PSNR, share of pixels off by > 1/255 and pixels whose\n"
             "            ray tree changed, against an all-accurate reference; writes\n"
-            "            DIR/accuracy.csv and DIR/accuracy.svg (docs/accuracy.md)\n"
+            "            DIR/accuracy.csv and DIR/accuracy.svg (docs/accuracy.md), then the\n"
+            "            scaling tables\n"
+            "  scaling   render time against primitives (balls-s1..s4, fitted against ln n),\n"
+            "            image size and threads\n"
             "\n"
             "options:\n"
             "  --size N        image size N x N (spd: 1024; effects: 320)\n"
@@ -388,6 +391,7 @@ int cmd_bench(int argc, char **argv)
         return bench_effects(&bo);
     }
     if (!strcmp(argv[1], "accuracy")) return bench_accuracy(&bo);
+    if (!strcmp(argv[1], "scaling")) return bench_scaling(&bo);
     fprintf(stderr, "ggrt bench: unknown benchmark '%s'\n", argv[1]);
     help(stderr);
     return EXIT_USAGE;
