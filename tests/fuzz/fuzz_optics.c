@@ -111,10 +111,10 @@ static int exact_dot_sign(ggVec3 a, ggVec3 b)
    with fixed tolerances apply. */
 static int moderate(double x) { return x == 0 || (fabs(x) > 0x1p-500 && fabs(x) < 0x1p500); }
 static int moderate3(ggVec3 a) { return moderate(a.x) && moderate(a.y) && moderate(a.z); }
-/* No component is below 2^-900 of the largest: ggRefract treats those
-   below 2^-960 as zero (documented), which can decide the side of a ray
+/* No component is below 2^-470 of the largest: ggRefract treats those
+   below 2^-480 as zero (documented), which can decide the side of a ray
    that is otherwise exactly tangent. */
-static int span_ok(double x, double m) { return x == 0 || fabs(x) >= m * 0x1p-900; }
+static int span_ok(double x, double m) { return x == 0 || fabs(x) >= m * 0x1p-470; }
 static int range3(ggVec3 a)
 {
     double m = maxabs3(a);

@@ -104,6 +104,10 @@ seeds["found_huge_eta_near_normal"] = base64.b64decode(
     "MzMzmpmZPZmZAAAAAP8/AAAAAAAAAAAA8P+amZnJMzMz4wAAPwAAAAA/mpmZmQAAAAAAAAAAAAL8//8AAAAAAAA=")
 seeds["found_huge_eta_reprojection"] = base64.b64decode(
     "djt3MNFC7n9CQkJCdtFC7v+gampqampqyOuF8+HMf3Y7AAAAAAAAAGDI64Xz4SwAAAAAAAAAQu5/oMgNhfPM4X8AAAAAAAAAAMsAAAAAAABA+D9mZtg9ZmZmZuY/AAAAPw==")
+seeds["found_underflowing_products_a"] = base64.b64decode(
+    "MzMzmpmZPZmZ/z8AAAAAAAAAAAAAAAAAAAAAAAAAAAAA8P+amZnJMzMz6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+MAAD8AAAAAP5qZmZkAAAAAAAAAAAAAAAAAAAA=")
+seeds["found_underflowing_products_b"] = base64.b64decode(
+    "8wAAEAAAAAAAAAAAAAAAAAAZAAAAAAAgAAAAf/2pPJogAAAACw==")
 # short inputs use the defaults for what is missing
 seeds["short_v_only"] = struct.pack("<3d", 0.1, -1.0, 0.2)
 seeds["empty"] = b""
