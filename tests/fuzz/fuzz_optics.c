@@ -107,6 +107,19 @@ static int exact_dot_sign(ggVec3 a, ggVec3 b)
     return 0;
 }
 
+/* v x n == 0 exactly: the exact products compared pairwise (a double
+   product is exact as a long double pair, and that pair is unique). */
+static int same_prod(double a, double b, double c, double d)
+{
+    ldd p = two_prod(a, b), q = two_prod(c, d);
+    return p.hi == q.hi && p.lo == q.lo;
+}
+static int exact_parallel(ggVec3 a, ggVec3 b)
+{
+    return same_prod(a.y, b.z, a.z, b.y) && same_prod(a.z, b.x, a.x, b.z) &&
+           same_prod(a.x, b.y, a.y, b.x);
+}
+
 /* "Moderate" inputs, where the accuracy bounds and the geometric checks
    with fixed tolerances apply. */
 static int moderate(double x) { return x == 0 || (fabs(x) > 0x1p-500 && fabs(x) < 0x1p500); }
@@ -171,7 +184,7 @@ static void check_refract(ggVec3 v, ggVec3 n, double ni, double nt)
     sini = lcrosslen(v, n) / (lv * ln);
 
     if (ni == nt && ci != 0) CHECK(ok && ldiff(t, v, 1 / lv) < 0x1p-52L, "ni == nt gives v/|v|");
-    if (sini == 0 && ci != 0)
+    if (exact_parallel(v, n))
         CHECK(ok && ldiff(t, v, 1 / lv) < 0x1p-52L, "normal incidence gives v/|v|");
     if (!(fabsl(eta) > 1e-6L && fabsl(eta) < 1e6L)) return;
     if (ok) {

@@ -108,6 +108,8 @@ seeds["found_underflowing_products_a"] = base64.b64decode(
     "MzMzmpmZPZmZ/z8AAAAAAAAAAAAAAAAAAAAAAAAAAAAA8P+amZnJMzMz6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+vr6+MAAD8AAAAAP5qZmZkAAAAAAAAAAAAAAAAAAAA=")
 seeds["found_underflowing_products_b"] = base64.b64decode(
     "8wAAEAAAAAAAAAAAAAAAAAAZAAAAAAAgAAAAf/2pPJogAAAACw==")
+seeds["found_almost_parallel_huge_eta"] = base64.b64decode(
+    "MzMzMzMz0y9hAAAAAAAAAJqZmZmZmbk/mpmZmZmZyT8AAAAAAADwPwAAAAAAAABBvzMzMzO/M9MzMwAACFQ/Mwg=")
 # short inputs use the defaults for what is missing
 seeds["short_v_only"] = struct.pack("<3d", 0.1, -1.0, 0.2)
 seeds["empty"] = b""
