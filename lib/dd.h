@@ -134,6 +134,14 @@ static inline gg_dd dd_add(gg_dd x, gg_dd y)
 
 static inline gg_dd dd_sub(gg_dd x, gg_dd y) { return dd_add(x, dd_neg(y)); }
 
+/* Double-word sum of two operands of the same sign (JMP 2017, Algorithm 5,
+   "sloppy"): relative error <= 3u^2 when no cancellation is possible. */
+static inline gg_dd dd_add_same(gg_dd x, gg_dd y)
+{
+    gg_dd s = dd_two_sum(x.hi, y.hi);
+    return dd_fast_two_sum(s.hi, s.lo + (x.lo + y.lo));
+}
+
 /* Double-word plus double (JMP 2017, Algorithm 4): relative error <= 2u^2. */
 static inline gg_dd dd_add_d(gg_dd x, double y)
 {
@@ -200,8 +208,8 @@ static inline gg_dd dd_rsqrt(gg_dd x)
 /* Sum of three doubles' exact squares, a^2 + b^2 + c^2, as a double-word. */
 static inline gg_dd dd_sum_sq3(double a, double b, double c)
 {
-    gg_dd s = dd_add(dd_two_prod(a, a), dd_two_prod(b, b));
-    return dd_add(s, dd_two_prod(c, c));
+    gg_dd s = dd_add_same(dd_two_prod(a, a), dd_two_prod(b, b));
+    return dd_add_same(s, dd_two_prod(c, c));
 }
 
 /* a.b for two 3-vectors of doubles, as a double-word with error at most

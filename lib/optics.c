@@ -80,6 +80,13 @@ static ggVec3 dd_scale_vec(gg_dd a, const gg_dd x[3])
     return v3(dd_mul(a, x[0]).hi, dd_mul(a, x[1]).hi, dd_mul(a, x[2]).hi);
 }
 
+/* Components below 2^-480 of the largest one (of the same vector) are set
+   to zero. They move the direction by less than 2^-427 ulp, and keeping
+   them could make products of two of them underflow, which would break
+   the exactness of the dot product's sign (every product, and its
+   rounding error, must stay a normal number). */
+static double flush(double x) { return fabs(x) < 0x1p-480 ? 0.0 : x; }
+
 /* v and n scaled so their largest components are in [1, 2); returns 0 if
    either is zero or not finite. */
 static int normalise_pair(ggVec3 *v, ggVec3 *n)
@@ -87,6 +94,8 @@ static int normalise_pair(ggVec3 *v, ggVec3 *n)
     if (!v3valid(*v) || !v3valid(*n)) return 0;
     *v = v3scale2(*v, -dd_expo(v3maxabs(*v)));
     *n = v3scale2(*n, -dd_expo(v3maxabs(*n)));
+    *v = v3(flush(v->x), flush(v->y), flush(v->z));
+    *n = v3(flush(n->x), flush(n->y), flush(n->z));
     return 1;
 }
 
@@ -118,7 +127,7 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
 static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
     double vc[3], nc[3], sump;
-    gg_dd a, vv, nn, k, vt[3], ni2, nt2, A, D, rv, g1, g2;
+    gg_dd a, vv, nn, k, vt[3], ni2, nt2, A, D, g1, g2;
     int s, i, ediff = 0;
 
     if (!isfinite(ni) || !isfinite(nt) || ni == 0 || nt == 0 || !normalise_pair(&v, &n)) {
@@ -150,12 +159,11 @@ static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
         s = dot_sign_exact(v, n);
 
     vv = dd_sum_sq3(v.x, v.y, v.z);
-    rv = dd_rsqrt(vv);
     if (s == 0) {
         /* v lies in the surface: it never crosses, and is its own mirror. */
         gg_dd vd[3];
         for (i = 0; i < 3; i++) vd[i] = dd_from(vc[i]);
-        *t = dd_scale_vec(rv, vd);
+        *t = dd_scale_vec(dd_rsqrt(vv), vd);
         return 0;
     }
     nn = dd_sum_sq3(n.x, n.y, n.z);
@@ -166,6 +174,24 @@ static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
        2^-104 |v|), which a huge eta would magnify. */
     if (fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi) < 0x1p-90 && parallel_exact(v, n))
         vt[0] = vt[1] = vt[2] = dd_from(0.0);
+
+    /* The error of vt is about 2^-104 |v| along n (from k's rounding);
+       t takes eta times it into its normal component. Negligible unless
+       eta is huge; then vt is projected again, each pass shrinking the
+       error by about 2^-104, until it is below 2^-100 |vt| (so eta times
+       it is below 2^-100 wherever the ray is transmitted). */
+    if (ediff || fabs(ni) > 0x1p30 * fabs(nt)) {
+        int pass;
+        for (pass = 0; pass < 12; pass++) {
+            gg_dd e = dd_from(0.0);
+            double m = fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi);
+            for (i = 0; i < 3; i++) e = dd_add(e, dd_mul_d(vt[i], nc[i]));
+            e = dd_div(e, nn);
+            if (e.hi == 0) break;
+            for (i = 0; i < 3; i++) vt[i] = dd_sub(vt[i], dd_mul_d(e, nc[i]));
+            if (fabs(e.hi) * 4.0 <= 0x1p-100 * m) break;
+        }
+    }
 
     if (ediff) {
         /* eta > 2^450: transmission needs sin(theta_i) < 1/eta. With
@@ -191,7 +217,7 @@ static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
     if (!ediff && ni2.hi <= 4.0 * nt2.hi) {
         D = dd_add(dd_mul(dd_sub(nt2, ni2), vv), dd_mul(ni2, dd_mul(a, k)));
     } else {
-        gg_dd vt2 = dd_add(dd_add(dd_sqr(vt[0]), dd_sqr(vt[1])), dd_sqr(vt[2]));
+        gg_dd vt2 = dd_add_same(dd_add_same(dd_sqr(vt[0]), dd_sqr(vt[1])), dd_sqr(vt[2]));
         D = dd_sub(A, dd_mul(ni2, vt2));
     }
     if (D.hi < 0) goto tir;
@@ -203,8 +229,17 @@ static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
     g2 = dd_sqrt(dd_div(D, dd_mul(A, nn)));
     if (s < 0) g2 = dd_neg(g2);
     {
+        /* g1 vt_i + g2 n_i, rounded once: the exact products of the high
+           parts are summed with TwoSum and everything else (at most
+           2^-104 of the terms, and |t| = 1) in double. */
         double r[3];
-        for (i = 0; i < 3; i++) r[i] = dd_add(dd_mul(g1, vt[i]), dd_mul_d(g2, nc[i])).hi;
+        for (i = 0; i < 3; i++) {
+            gg_dd p = dd_two_prod(g1.hi, vt[i].hi), q = dd_two_prod(g2.hi, nc[i]);
+            gg_dd sum = dd_two_sum(p.hi, q.hi);
+            double lo = sum.lo + (p.lo + q.lo) + (g1.hi * vt[i].lo + g1.lo * vt[i].hi) +
+                        g2.lo * nc[i];
+            r[i] = sum.hi + lo;
+        }
         *t = v3(r[0], r[1], r[2]);
     }
     return 1;
@@ -213,7 +248,7 @@ tir:
     /* Mirror direction (v - 2k n) / |v|. */
     {
         double r[3];
-        gg_dd k2 = dd_make(2.0 * k.hi, 2.0 * k.lo);
+        gg_dd k2 = dd_make(2.0 * k.hi, 2.0 * k.lo), rv = dd_rsqrt(vv);
         for (i = 0; i < 3; i++) r[i] = dd_mul(dd_sub(dd_from(vc[i]), dd_mul_d(k2, nc[i])), rv).hi;
         *t = v3(r[0], r[1], r[2]);
     }

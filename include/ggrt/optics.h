@@ -29,11 +29,12 @@ extern "C" {
 /* r = v - 2 n (v.n); v is the incoming direction, n a unit normal.
 
    n need not be unit length: n/|n| is used, so r always has the length of
-   v and is its mirror image in the plane normal to n. The result is
-   accurate to about 1 ulp of |v| (the dot product is compensated).
-   Non-finite components or a zero n give (NaN, NaN, NaN). Overflow
-   (FE_OVERFLOW) is possible only when a component of the exact result
-   exceeds DBL_MAX, i.e. |v| > DBL_MAX. */
+   v and is its mirror image in the plane normal to n. Each component is
+   within 1 ulp of |v| of the exact mirror image of the given doubles (it
+   is evaluated in double-double and rounded once; docs/optics.md).
+   Non-finite components or a zero n give (NaN, NaN, NaN); a zero v gives
+   v. Overflow (FE_OVERFLOW) is possible only when a component of the exact
+   result exceeds DBL_MAX, i.e. |v| > DBL_MAX. */
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
 
 /* Refract unit direction v (travelling towards the surface) through a
@@ -43,29 +44,35 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
    the mirror direction. A negative nt (a metamaterial, as in Veselago's and
    Pendry's work) bends the ray to the same side of the normal.
 
-   Details:
+   Details (docs/optics.md derives and measures all of this):
     - v and n need not be unit length; only their directions are used
-      (both are rescaled internally), and *t is always unit length. Scaling
-      v, n or both indices by a power of two gives bit-identical results,
-      and so does replacing n by -n.
-    - Accuracy: each component of *t is within 2 ulp of the exact
-      refraction of the directions of the given doubles (an ulp here is
-      2^-53, the spacing of doubles in [0.5, 1)), for 1/4 <= |eta| <= 4,
-      including grazing incidence, eta near 1, normal incidence and angles
-      within a few ulp of the critical angle. docs/optics.md states the
-      bound and how tests/test_optics_accuracy.c measures it.
-    - The total-internal-reflection decision is the sign of the exact
-      discriminant nt^2 |v|^2 - ni^2 |v_tangential|^2 evaluated in
-      double-double arithmetic; it agrees with exact arithmetic unless the
-      incidence angle is within about 2^-100 (relative) of the critical one.
-      At exactly the critical angle the ray is transmitted along the
-      surface (returns true).
+      (both are rescaled internally by powers of two), and *t is always
+      unit length. Scaling v, n or both indices by powers of two gives
+      bit-identical results, and so does replacing n by -n. Components
+      smaller than 2^-480 times the largest component of the same vector
+      are treated as zero.
+    - Accuracy, for 1/4 <= |eta| <= 4 (every pair of real transparent
+      media): each component of *t is within 1 ulp (2^-53, the spacing of
+      doubles in [0.5, 1)) of the exact refraction or reflection of the
+      directions of the given doubles -- at grazing incidence, for eta near
+      1, at normal incidence, near the critical angle, for negative
+      indices. The one exception is a transmitted ray within 2^-40 rad of
+      the surface (only inputs within about 2^-80 of the critical angle
+      give one), where the bound is 4 ulp.
+    - The total-internal-reflection decision is the sign of the
+      discriminant nt^2 |v|^2 cos^2(theta_t), evaluated in double-double
+      arithmetic: it agrees with exact arithmetic on the given doubles
+      unless the incidence angle is within about 2^-100 (relative) of the
+      critical one. At exactly the critical angle the ray is transmitted
+      along the surface (returns true).
     - ni == nt gives t = v/|v|; normal incidence gives t = v/|v|.
-    - v exactly tangent to the surface (v.n == 0 exactly) never crosses it:
-      returns false and writes v/|v| (its own mirror direction).
+    - v exactly tangent to the surface (v.n == 0 in exact arithmetic)
+      never crosses it: returns false and writes v/|v| (its own mirror
+      direction).
     - Invalid input -- a non-finite component or index, a zero v or n, or
       ni == 0 or nt == 0 -- returns false and writes (NaN, NaN, NaN).
-    - t may be NULL: only the decision is returned. */
+    - t may be NULL: only the decision is returned.
+    - Cost: about 25 times the textbook formula (bench/bench_optics.c). */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 
 /* The textbook formula, kept for the accuracy study and the benchmark:
@@ -94,9 +101,10 @@ GG_API double ggCriticalAngle(double ni, double nt);
    Negative indices are taken as Veselago media with both epsilon and mu
    negative, whose impedance equals that of |n|: the reflectance is that of
    |ni|, |nt|. NaN if an argument is not finite or an index is zero.
-   Evaluated without cancellation (the numerators of both amplitude
-   coefficients are rewritten with nt^2 - ni^2 as a factor), accurate to a
-   few ulp including near the critical angle and for ni close to nt. */
+   Evaluated without cancellation (the numerators of the amplitude
+   coefficients are rewritten with nt^2 - ni^2 as a factor) in
+   double-double: within 1 ulp of R, also near the critical angle and for
+   ni close to nt (where R is tiny). */
 GG_API double ggFresnelDielectric(double cos_i, double ni, double nt);
 
 /* The same with both polarisations: *rs (s, TE, E perpendicular to the
