@@ -2,7 +2,9 @@
 ** cmd_render.c -- `ggrt render SCENE -o out.png|out.exr`.
 */
 #include "cli.h"
+#include "heatmap.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -32,6 +34,8 @@ static void help(FILE *f)
             "      --pixel X,Y       also print the value written at pixel X,Y (%%.9g, linear)\n"
             "      --no-srgb         PNG: store the values as they are instead of sRGB-encoding\n"
             "                        them (as POV-Ray 3.7 and SPD-era renderers do)\n"
+            "      --heatmap KIND    write a per-pixel cost map instead of the picture, with a\n"
+            "                        legend: rays (rays cast), depth (deepest ray) or time\n"
             "  -q, --quiet           no progress bar and no summary\n"
             "  -h, --help            this text\n"
             "\n"
@@ -66,6 +70,44 @@ static int progress(void *ud, long done, long total)
     return 0;
 }
 
+/* NaN, infinite or negative pixels: count them and show how to replay the
+   worst with ggrt trace (same options). */
+static void report_bad_pixels(const ggImage *img, int argc, char **argv)
+{
+    int w = ggImageWidth(img), h = ggImageHeight(img), x, y, bx = -1, by = -1, i;
+    long bad = 0;
+    double worst = 0;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            ggColor c = ggImageGet(img, x, y);
+            double m = c.r < c.g ? c.r : c.g;
+            if (c.b < m) m = c.b;
+            /* NaN and infinity rank worst, then the most negative. */
+            if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) m = -INFINITY;
+            if (m < 0) {
+                bad++;
+                if (bx < 0 || m < worst) worst = m, bx = x, by = y;
+            }
+        }
+    if (!bad) return;
+    fprintf(stderr, "ggrt render: %ld pixel%s NaN, infinite or negative; the worst is %d,%d. "
+                    "Replay it with:\n  ggrt trace",
+            bad, bad == 1 ? " is" : "s are", bx, by);
+    for (i = 1; i < argc; i++) {
+        /* Keep the scene and the render options, drop what trace lacks. */
+        if (!strcmp(argv[i], "-o") || !strcmp(argv[i], "--output") || !strcmp(argv[i], "--pixel") ||
+            !strcmp(argv[i], "--heatmap") || !strcmp(argv[i], "-j") || !strcmp(argv[i], "--threads") ||
+            !strcmp(argv[i], "--crop")) {
+            i++;
+            continue;
+        }
+        if (!strcmp(argv[i], "-q") || !strcmp(argv[i], "--quiet") || !strcmp(argv[i], "--no-srgb"))
+            continue;
+        fprintf(stderr, " %s", argv[i]);
+    }
+    fprintf(stderr, " --pixel %d,%d\n", bx, by);
+}
+
 int cmd_render(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = NULL;
@@ -75,7 +117,8 @@ int cmd_render(int argc, char **argv)
     ggRayStats st;
     ggError err;
     progress_state ps;
-    int i, rc, quiet = 0, px = -1, py = -1, no_srgb = 0;
+    int i, rc, quiet = 0, px = -1, py = -1, no_srgb = 0, heat = -1;
+    float *cost = NULL;
     double t0, t1, t2, t3;
     unsigned long long total;
 
@@ -126,6 +169,12 @@ int cmd_render(int argc, char **argv)
         } else if (!strcmp(a, "--spd")) {
             opt.spd_rules = true, opt.pixel_corners = true;
             if (!opt.max_depth) opt.max_depth = 5;
+        } else if (!strcmp(a, "--heatmap")) {
+            NEEDV();
+            if (!strcmp(v, "rays")) heat = GG_COST_RAYS;
+            else if (!strcmp(v, "depth")) heat = GG_COST_DEPTH;
+            else if (!strcmp(v, "time")) heat = GG_COST_TIME;
+            else goto bad;
         } else if (!strcmp(a, "--no-srgb")) {
             no_srgb = 1;
         } else if (!strcmp(a, "--corners")) {
@@ -175,6 +224,17 @@ int cmd_render(int argc, char **argv)
     if (rc == GG_OK) {
         ps.t0 = t2, ps.last_pct = -1;
         if (!quiet && isatty(2)) opt.progress = progress, opt.progress_ud = &ps;
+        if (heat >= 0) {
+            ggCamera cam = ggSceneCamera(scene);
+            int w = opt.width ? opt.width : cam.width, h = opt.height ? opt.height : cam.height;
+            cost = calloc((size_t)w * (size_t)h, sizeof *cost);
+            if (!cost) {
+                fprintf(stderr, "ggrt render: out of memory for the heat map\n");
+                ggSceneFree(scene);
+                return EXIT_INPUT;
+            }
+            opt.cost_map = cost, opt.cost_kind = heat;
+        }
         rc = ggRender(scene, &opt, &img, &st, &err);
         if (opt.progress) fputc('\n', stderr);
     }
@@ -189,6 +249,24 @@ int cmd_render(int argc, char **argv)
         ggColor c = ggImageGet(img, px, py);
         printf("pixel %d,%d %.9g %.9g %.9g\n", px, py, c.r, c.g, c.b);
     }
+    if (rc == GG_OK) report_bad_pixels(img, argc, argv);
+    if (rc == GG_OK && cost) {
+        static const char *const names[] = {"rays", "depth", "time s"};
+        double vmax = 0;
+        ggImage *map = heatmap_image(cost, ggImageWidth(img), ggImageHeight(img), names[heat], &vmax);
+        if (!map) {
+            fprintf(stderr, "ggrt render: out of memory for the heat map\n");
+            free(cost);
+            ggImageFree(img);
+            ggSceneFree(scene);
+            return EXIT_INPUT;
+        }
+        if (!quiet) printf("heat map: %s per pixel, 0 to %.4g\n", names[heat], vmax);
+        ggImageFree(img);
+        img = map;
+    }
+    free(cost);
+    cost = NULL;
     if (rc == GG_OK && no_srgb) {
         /* The PNG writer sRGB-encodes; pre-decoding cancels it. */
         float *p = ggImagePixels(img);

@@ -159,6 +159,8 @@ typedef struct job {
     int cancelled;
     ggProgressFn progress;
     void *progress_ud;
+    float *cost;
+    int cost_kind;
     ggRayStats stats;
 } job;
 
@@ -167,6 +169,7 @@ static void add_stats(ggRayStats *a, const ggRayStats *b)
     a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
     a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
     a->nonfinite += b->nonfinite;
+    if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
 }
 
 static ggColor sample_color(job *j, double px, double py, ggRayStats *st)
@@ -207,6 +210,9 @@ static void render_tile(job *j, int t, ggRayStats *st)
     int gx, gy;
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) {
+            ggRayStats before = *st;
+            double t0 = j->cost ? gg_time_now() : 0;
+            if (j->cost) st->max_depth = 0;
             if (j->corner) {
                 /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
                 ggColor c = sample_color(j, j->r.x0 + gx, j->r.y0 + gy, st);
@@ -217,6 +223,17 @@ static void render_tile(job *j, int t, ggRayStats *st)
                 ggColor acc = pixel_center(j, x, y, st, NULL, -1);
                 float *o = j->px + 3 * ((size_t)y * j->r.w + x);
                 o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
+            }
+            if (j->cost) {
+                int x = j->r.x0 + gx, y = j->r.y0 + gy;
+                double v = j->cost_kind == GG_COST_TIME    ? gg_time_now() - t0
+                           : j->cost_kind == GG_COST_DEPTH ? (double)st->max_depth
+                                                           : (double)(st->eye + st->reflect +
+                                                                      st->refract + st->shadow -
+                                                                      before.eye - before.reflect -
+                                                                      before.refract - before.shadow);
+                if (x < j->r.w && y < j->r.h) j->cost[(size_t)y * j->r.w + x] = (float)v;
+                if (before.max_depth > st->max_depth) st->max_depth = before.max_depth;
             }
         }
 }
@@ -288,7 +305,10 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
     j.px = ggImagePixels(img);
-    if (opt) j.progress = opt->progress, j.progress_ud = opt->progress_ud;
+    if (opt) {
+        j.progress = opt->progress, j.progress_ud = opt->progress_ud;
+        j.cost = opt->cost_map, j.cost_kind = opt->cost_kind;
+    }
     if (pthread_mutex_init(&j.mu, NULL) != 0) {
         ggImageFree(img);
         return gg_error_set(err, GG_ERROR_NOMEM, "cannot create a mutex");

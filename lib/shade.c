@@ -510,6 +510,7 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, ggRayStats
     gg_hit h;
     ggColor col, att = rgb(1, 1, 1);
     int node = -1, hit;
+    if ((uint64_t)r->depth > st->max_depth) st->max_depth = (uint64_t)r->depth;
     if (FX & FX_RECORD) {
         node = gg_trace_add_node(c->rec);
         if (node >= 0) {

@@ -97,7 +97,17 @@ typedef struct ggRenderOptions {
     ggAccuracy accuracy;    /* numerical choices; zero = accurate */
     ggProgressFn progress;
     void *progress_ud;
+    /* Optional per-pixel cost map (ggrt render --heatmap): width * height
+       floats, row by row, that ggRender fills with cost_kind's measure for
+       every rendered pixel (corner mode: for the corner at the pixel's top
+       left). NULL = none. */
+    float *cost_map;
+    int cost_kind; /* GG_COST_* */
 } ggRenderOptions;
+
+#define GG_COST_RAYS  0 /* rays cast for the pixel, every kind */
+#define GG_COST_DEPTH 1 /* depth of the deepest ray in the pixel's trees */
+#define GG_COST_TIME  2 /* seconds spent on the pixel (not reproducible) */
 
 /* Fill *opt with the defaults (all fields zero/false but the above). */
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt);
@@ -111,6 +121,7 @@ typedef struct ggRayStats {
     uint64_t shadow;     /* shadow rays */
     uint64_t tir;        /* total internal reflections (also counted in reflect) */
     uint64_t nonfinite;  /* samples that produced NaN or infinity */
+    uint64_t max_depth;  /* depth of the deepest ray cast */
 } ggRayStats;
 
 /* ---- rendering ---- */
