@@ -33,28 +33,46 @@ static void to2d(const proj *p, ggVec3 w, double *x, double *y)
     *y = p->oy + PANEL / 2 - (dot3(w, p->ay) - p->cy) * p->scale;
 }
 
-/* World points worth framing: scene bounds and every ray's ends. */
+static void grow(double *x0, double *x1, double *y0, double *y1, const proj *p, ggVec3 w)
+{
+    double a = dot3(w, p->ax), b = dot3(w, p->ay);
+    *x0 = fmin(*x0, a), *x1 = fmax(*x1, a), *y0 = fmin(*y0, b), *y1 = fmax(*y1, b);
+}
+
+/* Frame the action: every hit point and the shapes that were hit, with a
+   margin. Rays from outside (the eye, rays to lights, misses) are clipped
+   at the panel's edge. Falls back to the scene's bounds if nothing hit. */
 static void frame(proj *p, const trace_view *v, ggVec3 lo, ggVec3 hi, double reach)
 {
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300, ext;
     size_t i, n = ggTraceNodeCount(v->trace);
-    int k;
-    for (k = 0; k < 8; k++) {
-        ggVec3 c = v3s(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-        double a = dot3(c, p->ax), b = dot3(c, p->ay);
-        x0 = fmin(x0, a), x1 = fmax(x1, a), y0 = fmin(y0, b), y1 = fmax(y1, b);
-    }
+    int k, any = 0;
+    (void)reach;
     for (i = 0; i < n; i++) {
         const ggTraceNode *nd = ggTraceGetNode(v->trace, i);
-        ggVec3 e = nd->hit ? nd->p : add_s(nd->o, nd->d, reach * 0.25);
-        double a = dot3(nd->o, p->ax), b = dot3(nd->o, p->ay);
-        x0 = fmin(x0, a), x1 = fmax(x1, a), y0 = fmin(y0, b), y1 = fmax(y1, b);
-        a = dot3(e, p->ax), b = dot3(e, p->ay);
-        x0 = fmin(x0, a), x1 = fmax(x1, a), y0 = fmin(y0, b), y1 = fmax(y1, b);
+        ggShapeDesc d;
+        if (!nd->hit) continue;
+        any = 1;
+        grow(&x0, &x1, &y0, &y1, p, nd->p);
+        if (ggSceneObjectShape(v->scene, nd->object, &d) == GG_OK && d.kind == GG_SHAPE_SPHERE) {
+            for (k = 0; k < 6; k++) {
+                ggVec3 e = d.base;
+                double r = k & 1 ? d.radius : -d.radius;
+                if (k < 2) e.x += r;
+                else if (k < 4) e.y += r;
+                else e.z += r;
+                grow(&x0, &x1, &y0, &y1, p, e);
+            }
+        }
     }
+    if (!any)
+        for (k = 0; k < 8; k++)
+            grow(&x0, &x1, &y0, &y1, p,
+                 v3s(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z));
     p->cx = (x0 + x1) / 2, p->cy = (y0 + y1) / 2;
     ext = fmax(x1 - x0, y1 - y0);
-    p->scale = ext > 0 ? (PANEL * 0.92) / ext : 1;
+    if (!(ext > 0)) ext = 1;
+    p->scale = (PANEL * 0.7) / ext;
 }
 
 static void outline(FILE *f, const proj *p, const ggShapeDesc *d)
@@ -119,9 +137,13 @@ static void panel(FILE *f, const trace_view *v, proj *p, const char *title, doub
 {
     size_t i, n = ggTraceNodeCount(v->trace);
     int o, nobj = ggSceneObjectCount(v->scene), l;
-    fprintf(f, "<g>\n<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='#fbfbf8' "
-               "stroke='#bbb'/>\n",
-            p->ox, p->oy, PANEL, PANEL);
+    static int clip_id = 0;
+    clip_id++;
+    fprintf(f, "<clipPath id='c%d'><rect x='%.0f' y='%.0f' width='%.0f' height='%.0f'/></clipPath>\n",
+            clip_id, p->ox, p->oy, PANEL, PANEL);
+    fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='#fbfbf8' "
+               "stroke='#bbb'/>\n<g clip-path='url(#c%d)'>\n",
+            p->ox, p->oy, PANEL, PANEL, clip_id);
     fprintf(f, "<text x='%.0f' y='%.0f' font-size='13' fill='#333'>%s</text>\n", p->ox + 6,
             p->oy + 16, title);
     fprintf(f, "<g fill='none' stroke='#9aa' stroke-width='0.6'>\n");
@@ -133,7 +155,7 @@ static void panel(FILE *f, const trace_view *v, proj *p, const char *title, doub
     for (i = 0; i < n; i++) {
         const ggTraceNode *nd = ggTraceGetNode(v->trace, i);
         double x0, y0, x1, y1;
-        ggVec3 e = nd->hit ? nd->p : add_s(nd->o, nd->d, reach * 0.25);
+        ggVec3 e = nd->hit ? nd->p : add_s(nd->o, nd->d, reach);
         to2d(p, nd->o, &x0, &y0);
         to2d(p, e, &x1, &y1);
         fprintf(f, "<line x1='%.2f' y1='%.2f' x2='%.2f' y2='%.2f' stroke='%s' stroke-width='1.6'%s/>\n",
