@@ -181,8 +181,7 @@ installcheck:
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \
 	  $(MAKE) --no-print-directory examples EXAMPLE_OUT=$(abspath $(BUILD))/examples
 	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
-	  LD_LIBRARY_PATH=$(STAGE)/usr/lib $(abspath $(BUILD))/examples/$$e \
-	    >$(abspath $(BUILD))/examples/$$e.log 2>&1 \
+	  (cd $(abspath $(BUILD))/examples && LD_LIBRARY_PATH=$(STAGE)/usr/lib ./$$e >$$e.log 2>&1) \
 	    || { echo "installcheck: example $$e failed:"; cat $(abspath $(BUILD))/examples/$$e.log; exit 1; }; \
 	  echo "installcheck: example $$e ran against the staged install"; \
 	done
@@ -215,6 +214,13 @@ fuzz:
 
 bench: $(BENCH_BIN)
 	@for b in $(BENCH_BIN); do $$b || exit 1; done
+
+# The ray-tree recorder's cost when switched off: the same renders with
+# this library and with one built without the recorder, alternated.
+bench-trace: $(BUILD)/bench/bench_render
+	@$(MAKE) --no-print-directory BUILD=$(BUILD)/norec CFLAGS="$(CFLAGS) -DGG_NO_RECORDER" \
+	  $(BUILD)/norec/bench/bench_render >/dev/null
+	@sh bench/trace_overhead.sh $(BUILD)/bench/bench_render $(BUILD)/norec/bench/bench_render
 
 bench-%: $(BUILD)/bench/bench_%
 	$<

@@ -1,9 +1,79 @@
-/* cmd_info.c -- `ggrt info`: not written yet (see the open issues). */
+/*
+** cmd_info.c -- `ggrt info SCENE`: what a scene holds and what it costs.
+*/
 #include "cli.h"
+
+#include <string.h>
+
+static void help(FILE *f)
+{
+    fprintf(f, "usage: ggrt info SCENE\n"
+               "\n"
+               "Describe a scene: objects by kind, lights, materials, the BVH (nodes, depth,\n"
+               "memory, build time) and the effects the scene calls for, each with its reason.\n"
+               "\n"
+               "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error\n");
+}
 
 int cmd_info(int argc, char **argv)
 {
-    (void)argc;
-    fprintf(stderr, "ggrt %s: not implemented yet\n", argv[0]);
-    return EXIT_USAGE;
+    const char *path = NULL;
+    ggScene *s;
+    ggSceneInfo in;
+    ggError err;
+    ggCamera cam;
+    int i, rc;
+    unsigned fx;
+    for (i = 1; i < argc; i++) {
+        if (cli_is_help(argv[i])) {
+            help(stdout);
+            return EXIT_OK;
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            fprintf(stderr, "ggrt info: unknown option '%s'\n", argv[i]);
+            return EXIT_USAGE;
+        } else if (path) {
+            fprintf(stderr, "ggrt info: more than one scene given\n");
+            return EXIT_USAGE;
+        }
+        path = argv[i];
+    }
+    if (!path) {
+        help(stderr);
+        return EXIT_USAGE;
+    }
+    s = ggSceneCreate(NULL);
+    if (!s) return EXIT_INPUT;
+    rc = ggSceneLoadFile(s, path, &err);
+    if (rc == GG_OK) rc = ggScenePrepare(s, &err);
+    if (rc != GG_OK) {
+        fprintf(stderr, "ggrt: %s\n", err.message);
+        ggSceneFree(s);
+        return cli_exit_code(rc);
+    }
+    ggSceneGetInfo(s, &in);
+    cam = ggSceneCamera(s);
+    printf("scene      %s\n", path);
+    printf("camera     from %g %g %g  at %g %g %g  angle %g  %dx%d\n", cam.from.x, cam.from.y,
+           cam.from.z, cam.at.x, cam.at.y, cam.at.z, cam.fov_deg, cam.width, cam.height);
+    printf("objects    %d:", ggSceneObjectCount(s));
+    for (i = 0; i < GG_SHAPE_COUNT; i++)
+        if (in.objects_by_kind[i]) printf(" %d %s", in.objects_by_kind[i], ggShapeKindName(i));
+    printf("\n");
+    printf("lights     %d\n", ggSceneLightCount(s));
+    printf("materials  %d\n", ggSceneMaterialCount(s));
+    printf("bounds     %g %g %g .. %g %g %g\n", in.lo.x, in.lo.y, in.lo.z, in.hi.x, in.hi.y,
+           in.hi.z);
+    printf("bvh        %zu primitives, %zu nodes (%zu leaves), depth %zu\n", in.primitives,
+           in.bvh_nodes, in.bvh_leaves, in.bvh_depth);
+    printf("memory     %.2f MB geometry (%.1f bytes per primitive)\n", in.geometry_bytes / 1e6,
+           in.primitives ? (double)in.geometry_bytes / (double)in.primitives : 0.0);
+    printf("time       prepare %.4fs (BVH build %.4fs)\n", in.prepare_seconds, in.bvh_seconds);
+    fx = ggSceneEffects(s);
+    printf("effects    %s\n", fx ? "" : "none (ambient and emission only)");
+    for (i = 0; i < GG_EFFECT_COUNT; i++) {
+        unsigned e = 1u << i;
+        if (fx & e) printf("  %-16s %s\n", ggEffectName(e), ggSceneEffectReason(s, e));
+    }
+    ggSceneFree(s);
+    return EXIT_OK;
 }

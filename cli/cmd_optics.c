@@ -1,9 +1,435 @@
-/* cmd_optics.c -- `ggrt optics`: not written yet (see the open issues). */
+/*
+** cmd_optics.c -- `ggrt optics`: one reflection, refraction, Fresnel or
+** absorption evaluation, printed in full, for debugging one interaction.
+**
+**   ggrt optics refract --v X,Y,Z --n X,Y,Z [--ni N] [--nt N] [--textbook]
+**   ggrt optics reflect --v X,Y,Z --n X,Y,Z
+**   ggrt optics fresnel (--angle DEG | --cos C | --v X,Y,Z --n X,Y,Z)
+**                       [--ni N] [--nt N] [--k K]
+**   ggrt optics absorb  --k K --lambda L --distance D
+*/
 #include "cli.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define DEG(x) ((x) * (180.0 / PI))
+
+/* Option flags: which options a form accepts. */
+#define O_V        0x001
+#define O_N        0x002
+#define O_NI       0x004
+#define O_NT       0x008
+#define O_K        0x010
+#define O_COS      0x020
+#define O_ANGLE    0x040
+#define O_LAMBDA   0x080
+#define O_DISTANCE 0x100
+#define O_TEXTBOOK 0x200
+
+typedef struct opts {
+    unsigned seen;
+    ggVec3 v, n;
+    double ni, nt, k, cos_i, angle, lambda, distance;
+} opts;
+
+static const struct {
+    const char *name;
+    unsigned flag;
+    int vec; /* 1 vector, 0 number, -1 no value */
+} optdefs[] = {
+    {"--v", O_V, 1},           {"--n", O_N, 1},           {"--ni", O_NI, 0},
+    {"--nt", O_NT, 0},         {"--k", O_K, 0},           {"--cos", O_COS, 0},
+    {"--angle", O_ANGLE, 0},   {"--lambda", O_LAMBDA, 0}, {"--distance", O_DISTANCE, 0},
+    {"--textbook", O_TEXTBOOK, -1},
+};
+
+static const char usage_all[] =
+    "usage: ggrt optics <form> [options]   (ggrt optics <form> --help for each)\n"
+    "\n"
+    "forms:\n"
+    "  refract  transmitted direction, angles, TIR, critical angle, Fresnel terms\n"
+    "  reflect  mirror direction\n"
+    "  fresnel  reflectance of a dielectric or (with --k) a conductor\n"
+    "  absorb   Beer-Lambert transmittance of a path through an absorbing medium\n"
+    "\n"
+    "Directions are X,Y,Z (no spaces); they need not be unit length. v is the\n"
+    "incoming direction (towards the surface); n the normal, either way.\n"
+    "Exit codes: 0 success (total internal reflection included), 1 usage error\n"
+    "(unknown or missing option, malformed number), 2 invalid value (zero\n"
+    "vector or index, |cos| > 1, negative k, ...).\n";
+
+static const char usage_refract[] =
+    "usage: ggrt optics refract --v X,Y,Z --n X,Y,Z [--ni N] [--nt N] [--textbook]\n"
+    "\n"
+    "Refracts v through a surface with normal n from index ni (v's side,\n"
+    "default 1) into nt (default 1.5). A negative index is a metamaterial:\n"
+    "the ray bends to the same side of the normal. Prints the transmitted\n"
+    "direction (or, under total internal reflection, the mirror direction),\n"
+    "the incidence and refraction angles, whether TIR occurred, the critical\n"
+    "angle and the Fresnel terms Rs, Rp, R, T = 1 - R. --textbook also shows\n"
+    "the textbook formula's result and how far it is from the accurate one.\n"
+    "Example: ggrt optics refract --v 0.5,-0.866,0 --n 0,1,0 --ni 1 --nt 1.33\n";
+
+static const char usage_reflect[] =
+    "usage: ggrt optics reflect --v X,Y,Z --n X,Y,Z\n"
+    "\n"
+    "Prints r = v - 2 n (v.n)/(n.n), the mirror image of v (same length), and\n"
+    "the angle of incidence (= angle of reflection).\n";
+
+static const char usage_fresnel[] =
+    "usage: ggrt optics fresnel (--angle DEG | --cos C | --v X,Y,Z --n X,Y,Z)\n"
+    "                           [--ni N] [--nt N] [--k K]\n"
+    "\n"
+    "Fresnel reflectance for light arriving from index ni (default 1) on a\n"
+    "medium of index nt (default 1.5) at the given angle of incidence. With\n"
+    "--k the medium is a conductor of complex index nt + i k (nt >= 0, k >= 0;\n"
+    "e.g. gold at 650 nm: --nt 0.14 --k 3.70). Prints Rs, Rp, R = (Rs+Rp)/2,\n"
+    "T = 1 - R, Schlick's approximation, the critical and Brewster angles.\n";
+
+static const char usage_absorb[] =
+    "usage: ggrt optics absorb --k K --lambda L --distance D\n"
+    "\n"
+    "Beer-Lambert: the fraction T = exp(-alpha D), alpha = 4 pi K / L, of light\n"
+    "of vacuum wavelength L that survives a path of length D (same unit as L)\n"
+    "in a medium with extinction coefficient K (the imaginary part of its\n"
+    "index). Example, red light through a metre of water:\n"
+    "  ggrt optics absorb --k 1.76e-8 --lambda 650e-9 --distance 1\n";
+
+/* Parse argv[1..] into o; returns 0, or prints why and returns EXIT_USAGE.
+   *help is set for -h/--help. */
+static int parse(int argc, char **argv, unsigned allowed, opts *o, int *help)
+{
+    int i;
+    size_t j;
+    *help = 0;
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i], *val = NULL, *eq;
+        size_t len;
+        if (cli_is_help(a)) {
+            *help = 1;
+            return 0;
+        }
+        eq = strchr(a, '=');
+        len = eq ? (size_t)(eq - a) : strlen(a);
+        for (j = 0; j < sizeof optdefs / sizeof optdefs[0]; j++)
+            if (strlen(optdefs[j].name) == len && strncmp(a, optdefs[j].name, len) == 0) break;
+        if (j == sizeof optdefs / sizeof optdefs[0] || !(optdefs[j].flag & allowed)) {
+            fprintf(stderr, "ggrt optics %s: unknown option '%s'\n", argv[0], a);
+            return EXIT_USAGE;
+        }
+        if (optdefs[j].vec >= 0) {
+            if (eq)
+                val = eq + 1;
+            else if (i + 1 < argc)
+                val = argv[++i];
+            else {
+                fprintf(stderr, "ggrt optics %s: %s needs a value\n", argv[0], optdefs[j].name);
+                return EXIT_USAGE;
+            }
+        } else if (eq) {
+            fprintf(stderr, "ggrt optics %s: %s takes no value\n", argv[0], optdefs[j].name);
+            return EXIT_USAGE;
+        }
+        if (optdefs[j].vec == 1) {
+            ggVec3 *dst = optdefs[j].flag == O_V ? &o->v : &o->n;
+            if (cli_parse_vec3(val, dst) != 0) {
+                fprintf(stderr, "ggrt optics %s: %s wants X,Y,Z (three finite numbers), not '%s'\n",
+                        argv[0], optdefs[j].name, val);
+                return EXIT_USAGE;
+            }
+        } else if (optdefs[j].vec == 0) {
+            double *dst;
+            switch (optdefs[j].flag) {
+            case O_NI: dst = &o->ni; break;
+            case O_NT: dst = &o->nt; break;
+            case O_K: dst = &o->k; break;
+            case O_COS: dst = &o->cos_i; break;
+            case O_ANGLE: dst = &o->angle; break;
+            case O_LAMBDA: dst = &o->lambda; break;
+            default: dst = &o->distance; break;
+            }
+            if (cli_parse_double(val, dst) != 0) {
+                fprintf(stderr, "ggrt optics %s: %s wants a finite number, not '%s'\n", argv[0],
+                        optdefs[j].name, val);
+                return EXIT_USAGE;
+            }
+        }
+        o->seen |= optdefs[j].flag;
+    }
+    return 0;
+}
+
+static int need(const opts *o, unsigned flags, const char *form, const char *names)
+{
+    if ((o->seen & flags) == flags) return 0;
+    fprintf(stderr, "ggrt optics %s: %s required (see ggrt optics %s --help)\n", form, names,
+            form);
+    return EXIT_USAGE;
+}
+
+static int is_zero(ggVec3 a) { return a.x == 0 && a.y == 0 && a.z == 0; }
+static double dot(ggVec3 a, ggVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+/* Angle between the line of a and the normal n, in [0, 90] degrees:
+   atan2(|a x n|, |a.n|) is accurate at 0 and 90 degrees alike. Scaled
+   first so no product overflows. */
+static double angle_deg(ggVec3 a, ggVec3 n, double *cosine)
+{
+    double ma = fmax(fmax(fabs(a.x), fabs(a.y)), fabs(a.z));
+    double mn = fmax(fmax(fabs(n.x), fabs(n.y)), fabs(n.z));
+    ggVec3 w;
+    double s, c, la, ln;
+    a.x /= ma, a.y /= ma, a.z /= ma;
+    n.x /= mn, n.y /= mn, n.z /= mn;
+    w.x = a.y * n.z - a.z * n.y, w.y = a.z * n.x - a.x * n.z, w.z = a.x * n.y - a.y * n.x;
+    la = sqrt(dot(a, a)), ln = sqrt(dot(n, n));
+    s = sqrt(dot(w, w)) / (la * ln);
+    c = fabs(dot(a, n)) / (la * ln);
+    if (cosine) *cosine = c > 1 ? 1 : c;
+    return DEG(atan2(s, c));
+}
+
+/* a.n with both scaled to unit maximum component, so it cannot overflow:
+   only its sign is used. */
+static double dot_sign(ggVec3 a, ggVec3 n)
+{
+    double ma = fmax(fmax(fabs(a.x), fabs(a.y)), fabs(a.z));
+    double mn = fmax(fmax(fabs(n.x), fabs(n.y)), fabs(n.z));
+    return (a.x / ma) * (n.x / mn) + (a.y / ma) * (n.y / mn) + (a.z / ma) * (n.z / mn);
+}
+
+static void print_vec(const char *label, ggVec3 a)
+{
+    printf("%-18s (%.17g, %.17g, %.17g)\n", label, a.x, a.y, a.z);
+}
+
+static void print_fresnel(double c, double ni, double nt)
+{
+    double rs, rp, r;
+    ggFresnelDielectricPolarized(c, ni, nt, &rs, &rp);
+    r = ggFresnelDielectric(c, ni, nt);
+    printf("%-18s Rs = %.17g, Rp = %.17g\n", "Fresnel:", rs, rp);
+    printf("%-18s R = %.17g, T = 1 - R = %.17g\n", "", r, 1 - r);
+    printf("%-18s %.17g\n", "Schlick R:", ggFresnelSchlick(c, ni, nt));
+}
+
+static void print_critical(double ni, double nt)
+{
+    double tc = ggCriticalAngle(ni, nt);
+    if (fabs(nt) >= fabs(ni))
+        printf("%-18s none (|nt| >= |ni|: no total internal reflection)\n", "critical angle:");
+    else
+        printf("%-18s %.9f deg\n", "critical angle:", DEG(tc));
+}
+
+static int check_index(const char *form, const char *name, double x)
+{
+    if (x != 0) return 0;
+    fprintf(stderr, "ggrt optics %s: %s must not be zero\n", form, name);
+    return EXIT_INPUT;
+}
+
+static int check_dirs(const char *form, const opts *o)
+{
+    if (is_zero(o->v)) {
+        fprintf(stderr, "ggrt optics %s: --v must not be the zero vector\n", form);
+        return EXIT_INPUT;
+    }
+    if (is_zero(o->n)) {
+        fprintf(stderr, "ggrt optics %s: --n must not be the zero vector\n", form);
+        return EXIT_INPUT;
+    }
+    return 0;
+}
+
+static int run_refract(const opts *o)
+{
+    ggVec3 t;
+    bool ok;
+    double ci, ct, th_i, vn;
+    int rc;
+    if ((rc = need(o, O_V | O_N, "refract", "--v and --n")) != 0) return rc;
+    if ((rc = check_dirs("refract", o)) != 0) return rc;
+    vn = dot_sign(o->v, o->n);
+    if ((rc = check_index("refract", "--ni", o->ni)) != 0) return rc;
+    if ((rc = check_index("refract", "--nt", o->nt)) != 0) return rc;
+
+    ok = ggRefract(o->v, o->n, o->ni, o->nt, &t);
+    th_i = angle_deg(o->v, o->n, &ci);
+    print_vec("incident v:", o->v);
+    print_vec("normal n:", o->n);
+    printf("%-18s %s\n", "", vn < 0 ? "(n faces the incoming ray)"
+                              : vn > 0 ? "(n faces away from the incoming ray; same result)"
+                                       : "(v lies in the surface)");
+    printf("%-18s ni = %.17g, nt = %.17g, eta = ni/nt = %.17g\n", "indices:", o->ni, o->nt,
+           o->ni / o->nt);
+    if ((o->ni < 0) != (o->nt < 0))
+        printf("%-18s one index is negative: the ray bends to the same side of the normal\n", "");
+    printf("%-18s %.9f deg (cos = %.17g)\n", "incidence angle:", th_i, ci);
+    print_critical(o->ni, o->nt);
+    if (ok) {
+        double th_t = angle_deg(t, o->n, &ct);
+        printf("%-18s no\n", "TIR:");
+        print_vec("transmitted t:", t);
+        printf("%-18s %.9f deg (cos = %.17g)\n", "refraction angle:", th_t, ct);
+    } else if (vn == 0) {
+        printf("%-18s no: v lies in the surface and does not cross it\n", "TIR:");
+        print_vec("direction:", t);
+    } else {
+        printf("%-18s yes (total internal reflection)\n", "TIR:");
+        print_vec("reflected t:", t);
+    }
+    print_fresnel(ci, o->ni, o->nt);
+    if (o->seen & O_TEXTBOOK) {
+        ggVec3 u = o->v, m = o->n, tb;
+        double lu, lm, d, su = fmax(fmax(fabs(u.x), fabs(u.y)), fabs(u.z));
+        double sm = fmax(fmax(fabs(m.x), fabs(m.y)), fabs(m.z));
+        bool okb;
+        /* the textbook formula needs unit vectors: normalise (scaled
+           first, so huge or tiny input does not overflow) */
+        u.x /= su, u.y /= su, u.z /= su, m.x /= sm, m.y /= sm, m.z /= sm;
+        lu = sqrt(dot(u, u)), lm = sqrt(dot(m, m));
+        u.x /= lu, u.y /= lu, u.z /= lu, m.x /= lm, m.y /= lm, m.z /= lm;
+        okb = ggRefractTextbook(u, m, o->ni, o->nt, &tb);
+        d = fmax(fmax(fabs(tb.x - t.x), fabs(tb.y - t.y)), fabs(tb.z - t.z));
+        print_vec("textbook t:", tb);
+        printf("%-18s %s; differs by %.3g (%.4g ulp of 2^-53)\n", "", okb ? "transmitted" : "TIR",
+               d, d * 9007199254740992.0);
+    }
+    return EXIT_OK;
+}
+
+static int run_reflect(const opts *o)
+{
+    ggVec3 r;
+    double c, th;
+    int rc;
+    if ((rc = need(o, O_V | O_N, "reflect", "--v and --n")) != 0) return rc;
+    if ((rc = check_dirs("reflect", o)) != 0) return rc;
+    r = ggReflection(o->v, o->n);
+    print_vec("incident v:", o->v);
+    print_vec("normal n:", o->n);
+    print_vec("reflected r:", r);
+    th = angle_deg(o->v, o->n, &c);
+    printf("%-18s %.9f deg (cos = %.17g)\n", "incidence angle:", th, c);
+    printf("%-18s |v| = %.17g, |r| = %.17g\n", "lengths:", hypot(hypot(o->v.x, o->v.y), o->v.z),
+           hypot(hypot(r.x, r.y), r.z));
+    return EXIT_OK;
+}
+
+static int run_fresnel(const opts *o)
+{
+    double c = 1;
+    int rc, how = !!(o->seen & O_ANGLE) + !!(o->seen & O_COS) + !!(o->seen & (O_V | O_N));
+    if (how != 1) {
+        fprintf(stderr, "ggrt optics fresnel: give exactly one of --angle, --cos, or --v with --n\n");
+        return EXIT_USAGE;
+    }
+    if (o->seen & (O_V | O_N)) {
+        if ((rc = need(o, O_V | O_N, "fresnel", "--v and --n together")) != 0) return rc;
+        if ((rc = check_dirs("fresnel", o)) != 0) return rc;
+        (void)angle_deg(o->v, o->n, &c);
+    } else if (o->seen & O_ANGLE) {
+        if (o->angle < 0 || o->angle > 90) {
+            fprintf(stderr, "ggrt optics fresnel: --angle must be in [0, 90] degrees\n");
+            return EXIT_INPUT;
+        }
+        c = o->angle == 90 ? 0 : cos(o->angle * (PI / 180));
+    } else {
+        if (o->cos_i < -1 || o->cos_i > 1) {
+            fprintf(stderr, "ggrt optics fresnel: --cos must be in [-1, 1]\n");
+            return EXIT_INPUT;
+        }
+        c = fabs(o->cos_i);
+    }
+    if ((rc = check_index("fresnel", "--ni", o->ni)) != 0) return rc;
+    if ((o->seen & O_K) && (o->nt < 0 || o->k < 0 || (o->nt == 0 && o->k == 0))) {
+        fprintf(stderr, "ggrt optics fresnel: a conductor needs --nt >= 0 and --k >= 0, "
+                        "not both zero\n");
+        return EXIT_INPUT;
+    }
+    if (!(o->seen & O_K) && (rc = check_index("fresnel", "--nt", o->nt)) != 0) return rc;
+    printf("%-18s %.9f deg (cos = %.17g)\n", "incidence angle:", DEG(acos(c)), c);
+    if (o->seen & O_K) {
+        double rs, rp;
+        ggFresnelConductorPolarized(c, o->ni, o->nt, o->k, &rs, &rp);
+        printf("%-18s outside ni = %.17g, conductor n + ik = %.17g + %.17gi\n", "indices:", o->ni,
+               o->nt, o->k);
+        printf("%-18s Rs = %.17g, Rp = %.17g\n", "Fresnel:", rs, rp);
+        printf("%-18s R = %.17g, absorbed 1 - R = %.17g\n", "", ggFresnelConductor(c, o->ni,
+                                                                                     o->nt, o->k),
+               1 - ggFresnelConductor(c, o->ni, o->nt, o->k));
+        printf("%-18s %.17g\n", "normal incidence:", ggFresnelConductor(1, o->ni, o->nt, o->k));
+        return EXIT_OK;
+    }
+    printf("%-18s ni = %.17g, nt = %.17g\n", "indices:", o->ni, o->nt);
+    print_critical(o->ni, o->nt);
+    printf("%-18s %.9f deg\n", "Brewster angle:", DEG(atan2(fabs(o->nt), fabs(o->ni))));
+    printf("%-18s %s\n", "TIR:",
+           fabs(o->nt) < fabs(o->ni) && acos(c) > ggCriticalAngle(o->ni, o->nt) ? "yes" : "no");
+    print_fresnel(c, o->ni, o->nt);
+    return EXIT_OK;
+}
+
+static int run_absorb(const opts *o)
+{
+    int rc;
+    if ((rc = need(o, O_K | O_LAMBDA | O_DISTANCE, "absorb", "--k, --lambda and --distance")) != 0)
+        return rc;
+    if (o->k < 0 || o->lambda <= 0 || o->distance < 0) {
+        fprintf(stderr, "ggrt optics absorb: need --k >= 0, --lambda > 0, --distance >= 0\n");
+        return EXIT_INPUT;
+    }
+    printf("%-18s k = %.17g, lambda = %.17g, distance = %.17g\n", "medium:", o->k, o->lambda,
+           o->distance);
+    printf("%-18s %.17g per unit of length\n", "alpha = 4 pi k/L:",
+           ggAbsorptionCoefficient(o->k, o->lambda));
+    printf("%-18s %.17g\n", "transmittance T:", ggBeerLambert(o->k, o->lambda, o->distance));
+    return EXIT_OK;
+}
 
 int cmd_optics(int argc, char **argv)
 {
-    (void)argc;
-    fprintf(stderr, "ggrt %s: not implemented yet\n", argv[0]);
+    static const struct {
+        const char *name;
+        unsigned allowed;
+        const char *usage;
+        int (*run)(const opts *o);
+    } forms[] = {
+        {"refract", O_V | O_N | O_NI | O_NT | O_TEXTBOOK, usage_refract, run_refract},
+        {"reflect", O_V | O_N, usage_reflect, run_reflect},
+        {"fresnel", O_V | O_N | O_NI | O_NT | O_K | O_COS | O_ANGLE, usage_fresnel, run_fresnel},
+        {"absorb", O_K | O_LAMBDA | O_DISTANCE, usage_absorb, run_absorb},
+    };
+    size_t i;
+    opts o;
+    int help, rc;
+    if (argc < 2) {
+        fputs(usage_all, stderr);
+        return EXIT_USAGE;
+    }
+    if (cli_is_help(argv[1])) {
+        fputs(usage_all, stdout);
+        return EXIT_OK;
+    }
+    for (i = 0; i < sizeof forms / sizeof forms[0]; i++) {
+        if (strcmp(argv[1], forms[i].name) != 0) continue;
+        memset(&o, 0, sizeof o);
+        o.ni = 1.0, o.nt = 1.5;
+        rc = parse(argc - 1, argv + 1, forms[i].allowed, &o, &help);
+        if (rc != 0) {
+            fprintf(stderr, "(ggrt optics %s --help lists the options)\n", forms[i].name);
+            return rc;
+        }
+        if (help) {
+            fputs(forms[i].usage, stdout);
+            return EXIT_OK;
+        }
+        return forms[i].run(&o);
+    }
+    fprintf(stderr, "ggrt optics: unknown form '%s'\n\n", argv[1]);
+    fputs(usage_all, stderr);
     return EXIT_USAGE;
 }

@@ -9,7 +9,8 @@
 **   ggrt/image.h     ggImage, PNG/EXR read and write, texture sampling
 **   ggrt/implicit.h  implicit surfaces f(x,y,z)=0 and gradient normals
 **   ggrt/scene.h     ggScene: load NFF or build in code; materials, lights
-**   ggrt/render.h    ggRender, ggRayColor, ray statistics and recording
+**   ggrt/render.h    ggRender, ggRayColor, ray statistics, the effect set
+**   ggrt/trace.h     the ray tree of one pixel, recorded
 */
 #ifndef GGRT_H
 #define GGRT_H
@@ -20,5 +21,6 @@
 #include "ggrt/implicit.h"
 #include "ggrt/scene.h"
 #include "ggrt/render.h"
+#include "ggrt/trace.h"
 
 #endif

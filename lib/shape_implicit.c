@@ -29,7 +29,7 @@ void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg
 {
     ggVec3 lo, hi, n;
     out->p = v3madd(q->o, q->d, h->t);
-    n = ggGradientNormal(imp, out->p);
+    n = gg_implicit_normal(imp, out->p);
     n = v3norm(n);
     if (!(v3dot(n, n) > 0)) n = v3norm(v3neg(q->d)); /* a critical point of f */
     out->ng = n;

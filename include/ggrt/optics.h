@@ -1,6 +1,21 @@
 /*
-** ggrt/optics.h -- reflection, refraction, Fresnel and absorption.
-** (Being completed under issue 2; see docs/optics.md.)
+** ggrt/optics.h -- reflection, refraction, Fresnel reflectance and
+** Beer-Lambert absorption.
+**
+** Conventions (docs/optics.md derives every formula):
+**  - v is the direction of the incoming ray: it travels TOWARDS the
+**    surface. n is the surface normal; it may face either way.
+**  - ni is the refractive index on v's side, nt the one on the far side.
+**    Only eta = ni/nt matters for directions. A negative index describes a
+**    metamaterial (Veselago 1968, Pendry 2000): the ray bends to the same
+**    side of the normal.
+**  - Angles are measured from the normal; cos_i = |v.n| / (|v| |n|).
+**  - Reflectances are fractions of power in [0, 1]; "unpolarised" is the
+**    mean of the s (TE) and p (TM) reflectances.
+**  - Nothing here allocates, prints, aborts or keeps state: every function
+**    is thread-safe. No function raises FE_INVALID, FE_DIVBYZERO or
+**    FE_OVERFLOW for finite arguments (overflow of an unrepresentable
+**    result excepted, see ggReflection).
 */
 #ifndef GGRT_OPTICS_H
 #define GGRT_OPTICS_H
@@ -11,15 +26,136 @@
 extern "C" {
 #endif
 
-/* r = v - 2 n (v.n); v is the incoming direction, n a unit normal. */
+/* r = v - 2 n (v.n); v is the incoming direction, n a unit normal.
+
+   n need not be unit length: n/|n| is used, so r always has the length of
+   v and is its mirror image in the plane normal to n. Each component is
+   within 1 ulp of |v| of the exact mirror image of the given doubles (it
+   is evaluated in double-double and rounded once; docs/optics.md).
+   Non-finite components or a zero n give (NaN, NaN, NaN); a zero v gives
+   v. Overflow (FE_OVERFLOW) is possible only when a component of the exact
+   result exceeds DBL_MAX, i.e. |v| > DBL_MAX. */
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
 
 /* Refract unit direction v (travelling towards the surface) through a
    surface with unit normal n, which may face either way, from index ni
    (v's side) into nt. Returns true and writes the unit transmitted
    direction to *t; on total internal reflection returns false and writes
-   the mirror direction. */
+   the mirror direction. A negative nt (a metamaterial, as in Veselago's and
+   Pendry's work) bends the ray to the same side of the normal.
+
+   Details (docs/optics.md derives and measures all of this):
+    - v and n need not be unit length; only their directions are used
+      (both are rescaled internally by powers of two), and *t is always
+      unit length. Scaling v, n or both indices by powers of two gives
+      bit-identical results, and so does replacing n by -n. Components
+      smaller than 2^-480 times the largest component of the same vector
+      are treated as zero.
+    - Accuracy, for 1/4 <= |eta| <= 4 (every pair of real transparent
+      media): each component of *t is within 1 ulp (2^-53, the spacing of
+      doubles in [0.5, 1)) of the exact refraction or reflection of the
+      directions of the given doubles -- at grazing incidence, for eta near
+      1, at normal incidence, near the critical angle, for negative
+      indices. The one exception is a transmitted ray within 2^-40 rad of
+      the surface (only inputs within about 2^-80 of the critical angle
+      give one), where the bound is 4 ulp.
+    - The total-internal-reflection decision is the sign of the
+      discriminant nt^2 |v|^2 cos^2(theta_t), evaluated in double-double
+      arithmetic: it agrees with exact arithmetic on the given doubles
+      unless the incidence angle is within about 2^-100 (relative) of the
+      critical one. At exactly the critical angle the ray is transmitted
+      along the surface (returns true).
+    - ni == nt gives t = v/|v|; normal incidence gives t = v/|v|.
+    - v exactly tangent to the surface (v.n == 0 in exact arithmetic)
+      never crosses it: returns false and writes v/|v| (its own mirror
+      direction).
+    - Invalid input -- a non-finite component or index, a zero v or n, or
+      ni == 0 or nt == 0 -- returns false and writes (NaN, NaN, NaN).
+    - t may be NULL: only the decision is returned.
+    - Cost: about 25 times the textbook formula (bench/bench_optics.c). */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
+
+/* The textbook formula, kept for the accuracy study and the benchmark:
+      c = -v.n (n flipped to face v), eta = ni/nt,
+      k = 1 - eta^2 (1 - c^2);  TIR if k < 0, else
+      t = eta v + (eta c - sqrt(k)) n.
+   Same return convention as ggRefract, but v and n must be unit vectors,
+   nothing is validated (NaN in, NaN out) and the result loses accuracy at
+   grazing incidence, near the critical angle and for eta near 1 (see
+   docs/optics.md). ni and nt must be non-zero. */
+GG_API bool ggRefractTextbook(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
+
+/* The critical angle in radians, asin(|nt| / |ni|), beyond which light
+   going from ni into nt is totally reflected; pi/2 when |nt| >= |ni| (no
+   total internal reflection). NaN if an index is zero or not finite.
+   Computed as atan2(|nt|, sqrt((|ni|-|nt|)(|ni|+|nt|))), accurate also
+   when nt is close to ni. */
+GG_API double ggCriticalAngle(double ni, double nt);
+
+/* Fresnel reflectance of a smooth interface between two dielectrics,
+   unpolarised: (Rs + Rp) / 2, for light arriving from index ni at an
+   angle whose cosine is cos_i (its sign is ignored; |cos_i| > 1 is
+   clamped to 1). Returns 1 under total internal reflection and at grazing
+   incidence (cos_i == 0), 0 when ni == nt, ((ni-nt)/(ni+nt))^2 at normal
+   incidence. The transmittance is 1 - R (no absorption at the interface).
+   Negative indices are taken as Veselago media with both epsilon and mu
+   negative, whose impedance equals that of |n|: the reflectance is that of
+   |ni|, |nt|. NaN if an argument is not finite or an index is zero.
+   Evaluated without cancellation (the numerators of the amplitude
+   coefficients are rewritten with nt^2 - ni^2 as a factor) in
+   double-double: within 1 ulp of R, also near the critical angle and for
+   ni close to nt (where R is tiny). */
+GG_API double ggFresnelDielectric(double cos_i, double ni, double nt);
+
+/* The same with both polarisations: *rs (s, TE, E perpendicular to the
+   plane of incidence) and *rp (p, TM). Either pointer may be NULL. */
+GG_API void ggFresnelDielectricPolarized(double cos_i, double ni, double nt, double *rs,
+                                         double *rp);
+
+/* Fresnel reflectance, unpolarised, of a conductor (or any absorbing
+   medium) with complex refractive index n + i k, seen from a dielectric of
+   real index n_outside, at incidence cosine cos_i (sign ignored, clamped
+   to 1). With k == 0 it equals ggFresnelDielectric(cos_i, n_outside, n).
+   At normal incidence it is ((n-n1)^2 + k^2) / ((n+n1)^2 + k^2), n1 =
+   |n_outside|. Requires n >= 0, k >= 0, not both zero, n_outside != 0;
+   otherwise (or for a non-finite argument) NaN. Typical values (n, k):
+   gold at 650 nm (0.14, 3.70), silver at 550 nm (0.06, 3.59), aluminium
+   at 550 nm (0.96, 6.69). */
+GG_API double ggFresnelConductor(double cos_i, double n_outside, double n, double k);
+
+/* The same with both polarisations; either pointer may be NULL. */
+GG_API void ggFresnelConductorPolarized(double cos_i, double n_outside, double n, double k,
+                                        double *rs, double *rp);
+
+/* Schlick's approximation of ggFresnelDielectric: R0 + (1 - R0)(1 - c)^5,
+   R0 = ((ni - nt)/(ni + nt))^2. c is cos_i when |ni| <= |nt|; going into a
+   less dense medium it is the cosine of the transmitted angle (as Schlick
+   prescribes), and the result is 1 under total internal reflection.
+   Cheaper, and off by up to about 0.05 near grazing angles. Same argument
+   conventions and invalid results as ggFresnelDielectric. */
+GG_API double ggFresnelSchlick(double cos_i, double ni, double nt);
+
+/* Absorption coefficient alpha = 4 pi k / lambda of a medium with
+   extinction coefficient k (the imaginary part of its refractive index)
+   at vacuum wavelength lambda, in inverse units of lambda. NaN if k < 0,
+   lambda <= 0 or either is not finite; +inf if it overflows (only for
+   absurdly small lambda). */
+GG_API double ggAbsorptionCoefficient(double k, double lambda);
+
+/* Beer-Lambert transmittance exp(-alpha d), alpha = 4 pi k / lambda, of a
+   path of length `distance` (same unit as lambda) through a medium with
+   extinction coefficient k. Exactly 1 when k == 0 or distance == 0
+   (whatever the other argument, even +inf); decreases to 0 (also for
+   distance == +inf). T(d1 + d2) = T(d1) T(d2) up to rounding. NaN if
+   k < 0, lambda <= 0, distance < 0, or an argument is NaN or an infinite
+   k or lambda. Example: pure water absorbs about 0.34 per metre at 650 nm
+   and 0.0092 per metre at 450 nm (Pope and Fry 1997), i.e. k about 1.8e-8
+   and 3.3e-10: one metre transmits 71% of red and 99% of blue light. */
+GG_API double ggBeerLambert(double k, double lambda, double distance);
+
+/* Per-channel Beer-Lambert: each channel of k and lambda is one wavelength
+   sample. Invalid channels give NaN in that channel only. */
+GG_API ggColor ggBeerLambertColor(ggColor k, ggColor lambda, double distance);
 
 #ifdef __cplusplus
 }

@@ -48,6 +48,41 @@ GG_API const char *ggSceneEffectReason(const ggScene *scene, unsigned effect);
    time, at most a few hundred times per render. */
 typedef int (*ggProgressFn)(void *ud, long done, long total);
 
+/* Accuracy knobs, for measuring what accuracy costs (ggrt bench accuracy,
+   docs/accuracy.md). All zero = the accurate defaults. */
+#define GG_ACC_DEFAULT 0
+/* offset */
+#define GG_ACC_OFFSET_SCALED 0 /* secondary-ray origins pushed by the hit point's error bound */
+#define GG_ACC_OFFSET_FIXED  1 /* pushed by one fixed epsilon (offset_eps), nothing else */
+/* sphere */
+#define GG_ACC_SPHERE_STABLE   0 /* Haines et al.'s stable quadratic */
+#define GG_ACC_SPHERE_TEXTBOOK 1 /* b^2 - 4ac */
+/* refract */
+#define GG_ACC_REFRACT_ACCURATE 0 /* ggRefract */
+#define GG_ACC_REFRACT_TEXTBOOK 1 /* ggRefractTextbook: the notes' formula */
+/* fresnel: 0 = as each material says, else for every transmitter: */
+#define GG_ACC_FRESNEL_NONE    1
+#define GG_ACC_FRESNEL_SCHLICK 2
+#define GG_ACC_FRESNEL_EXACT   3
+/* texture: 0 = as each texture says, else: */
+#define GG_ACC_TEXTURE_BILINEAR 1
+#define GG_ACC_TEXTURE_NEAREST  2
+/* wavelengths: 0 = dispersive surfaces split rays into R, G, B; 1 = no split */
+
+typedef struct ggAccuracy {
+    int offset;          /* GG_ACC_OFFSET_* */
+    double offset_eps;   /* epsilon of GG_ACC_OFFSET_FIXED in scene units (0: 1e-6) */
+    int sphere;          /* GG_ACC_SPHERE_* */
+    int refract;         /* GG_ACC_REFRACT_* */
+    int fresnel;         /* 0 or GG_ACC_FRESNEL_* */
+    int texture;         /* 0 or GG_ACC_TEXTURE_* */
+    int wavelengths;     /* 0 (R, G, B) or 1 (one index for all) */
+    double cutoff;       /* adaptive depth: no ray whose weight in the pixel is below
+                            this (POV-Ray's adc_bailout); 0 = off */
+    double implicit_tol; /* root tolerance of implicit surfaces (0: their own) */
+    double gradient_h;   /* 0: exact gradients; > 0: central differences with step h */
+} ggAccuracy;
+
 typedef struct ggRenderOptions {
     int width, height;  /* 0: from the scene's camera */
     int max_depth;      /* ray-tree depth counting the eye ray; 0: scene or 5 */
@@ -59,9 +94,20 @@ typedef struct ggRenderOptions {
     bool pixel_corners; /* SPD rule: rays through pixel corners, (w+1)x(h+1) eye rays */
     bool spd_rules;     /* SPD rule: transmitters also spawn reflection rays */
     unsigned force_effects; /* effects to simulate even if the scene does not call for them */
+    ggAccuracy accuracy;    /* numerical choices; zero = accurate */
     ggProgressFn progress;
     void *progress_ud;
+    /* Optional per-pixel cost map (ggrt render --heatmap): width * height
+       floats, row by row, that ggRender fills with cost_kind's measure for
+       every rendered pixel (corner mode: for the corner at the pixel's top
+       left). NULL = none. */
+    float *cost_map;
+    int cost_kind; /* GG_COST_* */
 } ggRenderOptions;
+
+#define GG_COST_RAYS  0 /* rays cast for the pixel, every kind */
+#define GG_COST_DEPTH 1 /* depth of the deepest ray in the pixel's trees */
+#define GG_COST_TIME  2 /* seconds spent on the pixel (not reproducible) */
 
 /* Fill *opt with the defaults (all fields zero/false but the above). */
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt);
@@ -75,6 +121,7 @@ typedef struct ggRayStats {
     uint64_t shadow;     /* shadow rays */
     uint64_t tir;        /* total internal reflections (also counted in reflect) */
     uint64_t nonfinite;  /* samples that produced NaN or infinity */
+    uint64_t max_depth;  /* depth of the deepest ray cast */
 } ggRayStats;
 
 /* ---- rendering ---- */

@@ -52,11 +52,12 @@ typedef struct ggMaterial {
     ggColor ke;    /* emission added to whatever the surface reflects */
     int fresnel;   /* GG_FRESNEL_* */
     ggColor eta_n, eta_k; /* conductor: complex index per channel */
-    /* Extinction coefficient k per channel inside a transparent medium;
-       transmittance over distance d is exp(-4 pi k d / lambda) with lambda
-       in scene units of nanometres scaled by absorb_scale (see docs). */
+    /* Extinction coefficient k per channel inside a transparent medium
+       (the imaginary part of its index): over a path of d scene units the
+       light keeps exp(-4 pi k d * unit / lambda), lambda = GG_LAMBDA_R/G/B
+       in metres (Beer-Lambert). All zero: no absorption. */
     ggColor extinction;
-    double absorb_scale; /* scene units per nanometre for absorption (0 = off) */
+    double unit_m; /* metres per scene unit for absorption (0 means 1) */
     double abbe;         /* dispersion: Abbe number V_d (0 = none) */
     int texture;         /* texture index from ggSceneAddTexture, or -1 */
     int line;            /* scene-file line that defined it (0 from code) */
@@ -124,6 +125,23 @@ GG_API ggMaterial ggSceneMaterial(const ggScene *scene, int index);
 GG_API int ggSceneObjectKind(const ggScene *scene, int index);
 GG_API int ggSceneObjectMaterial(const ggScene *scene, int index);
 GG_API int ggSceneObjectLine(const ggScene *scene, int index);
+/* An object's shape as the scene describes it. Which fields mean
+   something depends on kind: sphere (center, radius), cone (base, radius
+   = base radius, apex, radius2 = apex radius), rect (corner = base, e1, e2),
+   polygon and triangle (nverts vertices at verts, normals or NULL),
+   implicit (its box lo = base, hi = apex). Pointers stay valid until the
+   scene changes. */
+typedef struct ggShapeDesc {
+    int kind, material, line;
+    ggVec3 base, apex, e1, e2;
+    double radius, radius2;
+    int nverts;
+    const ggVec3 *verts, *normals;
+} ggShapeDesc;
+
+/* Fill *d for object index; GG_ERROR_INVALID if out of range. */
+GG_API int ggSceneObjectShape(const ggScene *scene, int index, ggShapeDesc *d);
+
 /* Name of the file the scene was loaded from ("" if built in code). */
 GG_API const char *ggSceneFileName(const ggScene *scene);
 
@@ -131,6 +149,20 @@ GG_API const char *ggSceneFileName(const ggScene *scene);
    renderer when needed; call it yourself to time it or to catch errors
    early. Adding to a prepared scene makes it unprepared again. */
 GG_API int ggScenePrepare(ggScene *scene, ggError *err);
+
+/* What a prepared scene holds, for reports (`ggrt info`) and benchmarks. */
+typedef struct ggSceneInfo {
+    int objects_by_kind[GG_SHAPE_COUNT];
+    size_t primitives;      /* after splitting polygons into what the BVH holds */
+    size_t bvh_nodes, bvh_leaves, bvh_depth;
+    size_t geometry_bytes;  /* BVH nodes plus primitive data */
+    double prepare_seconds; /* last ggScenePrepare, BVH build included */
+    double bvh_seconds;     /* BVH build alone */
+    ggVec3 lo, hi;          /* bounds of everything */
+} ggSceneInfo;
+
+/* Fill *info; GG_ERROR_INVALID if the scene is not prepared. */
+GG_API int ggSceneGetInfo(const ggScene *scene, ggSceneInfo *info);
 
 /* A ray's closest hit (valid after ggScenePrepare). */
 typedef struct ggHit {

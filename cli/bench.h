@@ -1,0 +1,34 @@
+/*
+** bench.h -- shared by the `ggrt bench` subcommands.
+*/
+#ifndef GG_BENCH_H
+#define GG_BENCH_H
+
+#include "cli.h"
+
+#define BENCH_MAX_ARGS 64
+
+typedef struct bench_opts {
+    int size, threads, runs, pov;
+    const char *spd_dir, *pov_dir, *scenes, *out_dir;
+    const char *args[BENCH_MAX_ARGS]; /* scene files given on the command line */
+    int nargs;
+} bench_opts;
+
+double bench_now(void);
+/* Median of v[0..n) (sorts v). */
+double bench_median(double *v, int n);
+
+/* Run fn(arg, out) in a child process; out (outsize bytes) comes back
+   through a pipe and *peak_mb receives the child's peak resident memory.
+   Returns 0 on success. */
+typedef int (*bench_fn)(void *arg, void *out);
+int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *peak_mb);
+
+int bench_effects(const bench_opts *bo);
+int bench_accuracy(const bench_opts *bo);
+int bench_scaling(const bench_opts *bo);
+/* Is name in the comma-separated list (NULL list: everything)? */
+int bench_selected(const char *list, const char *name);
+
+#endif

@@ -1,0 +1,73 @@
+/*
+** bench_effects.c -- `ggrt bench effects`: what simulating only the
+** effects a scene calls for saves, and proof that it changes nothing.
+*/
+#include "bench.h"
+
+#include <string.h>
+
+static const char *const example_scenes[] = {"default", "glass", "water", "gold",
+                                             "prism",   "torus", "texture"};
+
+static int render_timed(ggScene *s, ggRenderOptions *o, int runs, ggImage **keep, double *med)
+{
+    double t[64];
+    int k;
+    for (k = 0; k < runs && k < 64; k++) {
+        ggImage *img = NULL;
+        double t0 = bench_now();
+        if (ggRender(s, o, &img, NULL, NULL) != GG_OK) return -1;
+        t[k] = bench_now() - t0;
+        if (k == 0) *keep = img;
+        else ggImageFree(img);
+    }
+    *med = bench_median(t, k);
+    return 0;
+}
+
+int bench_effects(const bench_opts *bo)
+{
+    size_t i;
+    int e;
+    printf("ggrt bench effects: %dx%d, %d threads, median of %d runs\n\n", bo->size, bo->size,
+           bo->threads, bo->runs);
+    printf("%-9s %9s %9s %7s %-9s  effects\n", "scene", "own", "forced", "ratio", "image");
+    for (i = 0; i < sizeof example_scenes / sizeof example_scenes[0]; i++) {
+        char path[512];
+        ggScene *s = ggSceneCreate(NULL);
+        ggRenderOptions o;
+        ggImage *a = NULL, *b = NULL;
+        ggError err;
+        double ta, tb;
+        int same;
+        unsigned fx;
+        if (!bench_selected(bo->scenes, example_scenes[i])) {
+            ggSceneFree(s);
+            continue;
+        }
+        snprintf(path, sizeof path, "examples/scenes/%s.nff", example_scenes[i]);
+        if (!s || ggSceneLoadFile(s, path, &err) != GG_OK || ggScenePrepare(s, &err) != GG_OK) {
+            printf("%-9s failed: %s\n", example_scenes[i], s ? err.message : "out of memory");
+            ggSceneFree(s);
+            return EXIT_INPUT;
+        }
+        ggRenderOptionsDefault(&o);
+        o.width = bo->size, o.height = bo->size * 3 / 4, o.threads = bo->threads;
+        if (render_timed(s, &o, bo->runs, &a, &ta) != 0) return EXIT_INPUT;
+        o.force_effects = GG_EFFECT_ALL;
+        if (render_timed(s, &o, bo->runs, &b, &tb) != 0) return EXIT_INPUT;
+        same = memcmp(ggImagePixelsConst(a), ggImagePixelsConst(b),
+                      (size_t)o.width * o.height * 3 * sizeof(float)) == 0;
+        fx = ggSceneEffects(s);
+        printf("%-9s %8.3fs %8.3fs %6.2fx %-9s ", example_scenes[i], ta, tb, tb / ta,
+               same ? "identical" : "DIFFERENT");
+        for (e = 0; e < GG_EFFECT_COUNT; e++)
+            if (fx & (1u << e)) printf(" %s", ggEffectName(1u << e));
+        printf("\n");
+        ggImageFree(a), ggImageFree(b);
+        ggSceneFree(s);
+    }
+    printf("\nown = the scene's effect set; forced = every effect simulated "
+           "(--force-effects); ratio = forced / own\n");
+    return EXIT_OK;
+}

@@ -1,0 +1,281 @@
+/*
+** trace_text.c -- a recorded ray tree as an indented tree and as JSON.
+*/
+#include "trace_out.h"
+
+#include <math.h>
+#include <string.h>
+
+#define MAX_KIDS 64
+
+int trace_children(const ggTrace *t, int i, int *kids, int max)
+{
+    size_t k, n = ggTraceNodeCount(t);
+    int c = 0;
+    for (k = (size_t)(i + 1); k < n; k++)
+        if (ggTraceGetNode(t, k)->parent == i && c < max) kids[c++] = (int)k;
+    return c;
+}
+
+static const char *medium_name(const ggScene *s, int medium, char *buf, size_t n)
+{
+    (void)s;
+    if (medium < 0) return "outside";
+    snprintf(buf, n, "material %d", medium);
+    return buf;
+}
+
+static void object_name(const trace_view *v, int obj, char *buf, size_t n)
+{
+    int line = ggSceneObjectLine(v->scene, obj);
+    if (line > 0)
+        snprintf(buf, n, "%s #%d (%s:%d)", ggShapeKindName(ggSceneObjectKind(v->scene, obj)), obj,
+                 v->path, line);
+    else
+        snprintf(buf, n, "%s #%d", ggShapeKindName(ggSceneObjectKind(v->scene, obj)), obj);
+}
+
+static void pcol(FILE *f, ggColor c) { fprintf(f, "(%.4g %.4g %.4g)", c.r, c.g, c.b); }
+static void pvec(FILE *f, ggVec3 p) { fprintf(f, "(%.6g, %.6g, %.6g)", p.x, p.y, p.z); }
+
+typedef struct glyphs {
+    const char *tee, *last, *pipe, *blank;
+} glyphs;
+
+static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, const char *branch,
+                       const char *cont, const glyphs *g)
+{
+    const ggTraceNode *n = ggTraceGetNode(v->trace, (size_t)i);
+    int kids[MAX_KIDS], nk = trace_children(v->trace, i, kids, MAX_KIDS), k, l;
+    char body[512], next[512], name[256], med[64];
+    const char *chan[] = {"red", "green", "blue"};
+
+    /* Header: kind, weight, ray. */
+    fprintf(f, "%s%s%s", prefix, branch, ggRayKindName(n->kind));
+    if (n->channel >= 0) fprintf(f, " [%s]", chan[n->channel]);
+    fprintf(f, " #%d depth %d", i, n->depth);
+    if (n->parent >= 0) {
+        fprintf(f, "  weight ");
+        pcol(f, n->weight);
+    }
+    fprintf(f, "\n");
+    snprintf(body, sizeof body, "%s%s%s", prefix, cont, nk ? g->pipe : g->blank);
+    fprintf(f, "%sray o ", body);
+    pvec(f, n->o);
+    fprintf(f, " d ");
+    pvec(f, n->d);
+    fprintf(f, " in %s (n %.6g)\n", medium_name(v->scene, n->medium, med, sizeof med),
+            n->n_medium);
+    if (!n->hit) {
+        fprintf(f, "%smissed: background\n", body);
+    } else {
+        ggMaterial m = ggSceneMaterial(v->scene, n->material);
+        object_name(v, n->object, name, sizeof name);
+        fprintf(f, "%shit %s at t %.6g, %s face\n", body, name, n->t, n->front ? "front" : "back");
+        fprintf(f, "%s    p ", body);
+        pvec(f, n->p);
+        fprintf(f, "  uv (%.4g, %.4g)\n%s    ng ", n->u, n->v, body);
+        pvec(f, n->ng);
+        fprintf(f, "  ns ");
+        pvec(f, n->ns);
+        fprintf(f, "\n%s    material %d: kd %g ks %g kt %g ior %g, surface colour ", body,
+                n->material, m.kd, m.ks, m.kt, m.ior);
+        pcol(f, n->surface);
+        fprintf(f, "\n%s    ambient ", body);
+        pcol(f, n->ambient);
+        if (n->emission.r != 0 || n->emission.g != 0 || n->emission.b != 0) {
+            fprintf(f, "  emission ");
+            pcol(f, n->emission);
+        }
+        fprintf(f, "\n");
+        for (l = 0; l < n->nlights; l++) {
+            const ggTraceLight *L = ggTraceGetLight(v->trace, (size_t)(n->first_light + l));
+            fprintf(f, "%s    light %d: %s", body, L->light, ggShadowName(L->verdict));
+            if (L->verdict == GG_SHADOW_BLOCKED || L->verdict == GG_SHADOW_ATTENUATED) {
+                if (L->occluder >= 0) {
+                    object_name(v, L->occluder, name, sizeof name);
+                    fprintf(f, " by %s at t %.4g", name, L->t_block);
+                }
+            }
+            if (L->verdict == GG_SHADOW_ATTENUATED) {
+                fprintf(f, ", transmittance ");
+                pcol(f, L->transmittance);
+            }
+            if (L->verdict == GG_SHADOW_VISIBLE || L->verdict == GG_SHADOW_ATTENUATED) {
+                fprintf(f, "  diffuse ");
+                pcol(f, L->diffuse);
+                if (L->phong.r != 0 || L->phong.g != 0 || L->phong.b != 0) {
+                    fprintf(f, " phong ");
+                    pcol(f, L->phong);
+                }
+            }
+            fprintf(f, "\n");
+        }
+        if (n->fresnel >= 0)
+            fprintf(f, "%s    fresnel R %.6g, T %.6g (n %g -> %g)\n", body, n->fresnel,
+                    1 - n->fresnel, n->n_medium, n->n_other);
+        if (n->stop != GG_STOP_NONE)
+            fprintf(f, "%s    stops: %s\n", body,
+                    n->stop == GG_STOP_DEPTH   ? "depth limit reached"
+                    : n->stop == GG_STOP_MATTE ? "no ks or kt: no secondary rays"
+                                               : ggStopName(n->stop));
+    }
+    if (n->absorption.r != 1 || n->absorption.g != 1 || n->absorption.b != 1) {
+        fprintf(f, "%sabsorption over the segment ", body);
+        pcol(f, n->absorption);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "%sreturns ", body);
+    pcol(f, n->color);
+    fprintf(f, "\n");
+    snprintf(next, sizeof next, "%s%s", prefix, cont);
+    for (k = 0; k < nk; k++) {
+        int last = k == nk - 1;
+        print_node(f, v, kids[k], next, last ? g->last : g->tee, last ? "   " : g->pipe, g);
+    }
+}
+
+void trace_print_text(FILE *f, const trace_view *v, int utf8)
+{
+    static const glyphs uni = {"\xe2\x94\x9c\xe2\x94\x80 ", "\xe2\x94\x94\xe2\x94\x80 ",
+                               "\xe2\x94\x82  ", "   "};
+    static const glyphs asc = {"+- ", "`- ", "|  ", "   "};
+    const glyphs *g = utf8 ? &uni : &asc;
+    size_t i, n = ggTraceNodeCount(v->trace);
+    fprintf(f, "pixel %d,%d of %s", v->x, v->y, v->path);
+    if (v->sample >= 0) fprintf(f, ", sample %d", v->sample);
+    fprintf(f, "\ncolour %.9g %.9g %.9g\n", v->pixel.r, v->pixel.g, v->pixel.b);
+    fprintf(f, "rays: eye %llu, reflect %llu, refract %llu, shadow %llu, tir %llu\n\n",
+            (unsigned long long)v->stats.eye, (unsigned long long)v->stats.reflect,
+            (unsigned long long)v->stats.refract, (unsigned long long)v->stats.shadow,
+            (unsigned long long)v->stats.tir);
+    for (i = 0; i < n; i++)
+        if (ggTraceGetNode(v->trace, i)->parent < 0) {
+            const ggTraceNode *r = ggTraceGetNode(v->trace, i);
+            fprintf(f, "sample %d\n", r->sample);
+            print_node(f, v, (int)i, "", "", "", g);
+            fprintf(f, "\n");
+        }
+}
+
+/* ---- JSON ---- */
+
+static void jnum(FILE *f, double d)
+{
+    /* JSON has no NaN or infinity: null stands for them. */
+    if (isfinite(d)) fprintf(f, "%.17g", d);
+    else fprintf(f, "null");
+}
+static void jvec(FILE *f, const char *k, ggVec3 p)
+{
+    fprintf(f, "\"%s\":[", k);
+    jnum(f, p.x), fputc(',', f), jnum(f, p.y), fputc(',', f), jnum(f, p.z);
+    fputc(']', f);
+}
+static void jcol(FILE *f, const char *k, ggColor c)
+{
+    fprintf(f, "\"%s\":[", k);
+    jnum(f, c.r), fputc(',', f), jnum(f, c.g), fputc(',', f), jnum(f, c.b);
+    fputc(']', f);
+}
+static void jstr(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        unsigned char ch = (unsigned char)*s;
+        if (ch == '"' || ch == '\\') fprintf(f, "\\%c", ch);
+        else if (ch < 0x20) fprintf(f, "\\u%04x", ch);
+        else fputc(ch, f);
+    }
+    fputc('"', f);
+}
+
+static void json_node(FILE *f, const trace_view *v, int i)
+{
+    const ggTraceNode *n = ggTraceGetNode(v->trace, (size_t)i);
+    int kids[MAX_KIDS], nk = trace_children(v->trace, i, kids, MAX_KIDS), k, l;
+    fprintf(f, "{\"id\":%d,\"kind\":\"%s\",\"depth\":%d,\"sample\":%d,\"channel\":", i,
+            ggRayKindName(n->kind), n->depth, n->sample);
+    if (n->channel >= 0) fprintf(f, "\"%c\"", "rgb"[n->channel]);
+    else fprintf(f, "null");
+    fputc(',', f), jvec(f, "origin", n->o), fputc(',', f), jvec(f, "direction", n->d);
+    fprintf(f, ",\"medium\":%d,\"n_medium\":", n->medium);
+    jnum(f, n->n_medium);
+    fputc(',', f), jcol(f, "weight", n->weight);
+    fputc(',', f), jcol(f, "absorption", n->absorption);
+    fprintf(f, ",\"stop\":\"%s\",", ggStopName(n->stop));
+    jcol(f, "color", n->color);
+    fprintf(f, ",\"hit\":");
+    if (!n->hit) {
+        fprintf(f, "null");
+    } else {
+        fprintf(f, "{\"object\":%d,\"shape\":\"%s\",\"line\":%d,\"material\":%d,\"t\":", n->object,
+                ggShapeKindName(n->shape), n->line, n->material);
+        jnum(f, n->t);
+        fputc(',', f), jvec(f, "point", n->p), fputc(',', f), jvec(f, "ng", n->ng);
+        fputc(',', f), jvec(f, "ns", n->ns);
+        fprintf(f, ",\"front\":%s,\"uv\":[", n->front ? "true" : "false");
+        jnum(f, n->u), fputc(',', f), jnum(f, n->v);
+        fprintf(f, "],\"n_other\":");
+        jnum(f, n->n_other);
+        fputc(',', f), jcol(f, "surface", n->surface);
+        fputc(',', f), jcol(f, "emission", n->emission);
+        fputc(',', f), jcol(f, "ambient", n->ambient);
+        fprintf(f, ",\"fresnel\":");
+        if (n->fresnel >= 0) jnum(f, n->fresnel);
+        else fprintf(f, "null");
+        fputc(',', f), jcol(f, "reflect_weight", n->reflect_weight);
+        fputc(',', f), jcol(f, "refract_weight", n->refract_weight);
+        fprintf(f, ",\"lights\":[");
+        for (l = 0; l < n->nlights; l++) {
+            const ggTraceLight *L = ggTraceGetLight(v->trace, (size_t)(n->first_light + l));
+            if (l) fputc(',', f);
+            fprintf(f, "{\"light\":%d,\"verdict\":\"%s\",\"occluder\":", L->light,
+                    ggShadowName(L->verdict));
+            if (L->occluder >= 0) fprintf(f, "%d", L->occluder);
+            else fprintf(f, "null");
+            if (L->verdict != GG_SHADOW_FACING_AWAY) {
+                fputc(',', f), jvec(f, "origin", L->origin);
+                fputc(',', f), jvec(f, "direction", L->dir);
+                fprintf(f, ",\"t_block\":");
+                jnum(f, L->t_block);
+            }
+            fputc(',', f), jcol(f, "transmittance", L->transmittance);
+            fputc(',', f), jcol(f, "diffuse", L->diffuse);
+            fputc(',', f), jcol(f, "phong", L->phong);
+            fputc('}', f);
+        }
+        fprintf(f, "]}");
+    }
+    fprintf(f, ",\"children\":[");
+    for (k = 0; k < nk; k++) {
+        if (k) fputc(',', f);
+        json_node(f, v, kids[k]);
+    }
+    fprintf(f, "]}");
+}
+
+void trace_print_json(FILE *f, const trace_view *v)
+{
+    size_t i, n = ggTraceNodeCount(v->trace);
+    int first = 1;
+    fprintf(f, "{\"ggrt_trace\":1,\"scene\":");
+    jstr(f, v->path);
+    fprintf(f, ",\"pixel\":[%d,%d],\"sample\":", v->x, v->y);
+    if (v->sample >= 0) fprintf(f, "%d", v->sample);
+    else fprintf(f, "null");
+    fputc(',', f);
+    jcol(f, "color", v->pixel);
+    fprintf(f, ",\"stats\":{\"eye\":%llu,\"reflect\":%llu,\"refract\":%llu,\"shadow\":%llu,"
+               "\"tir\":%llu},\"roots\":[",
+            (unsigned long long)v->stats.eye, (unsigned long long)v->stats.reflect,
+            (unsigned long long)v->stats.refract, (unsigned long long)v->stats.shadow,
+            (unsigned long long)v->stats.tir);
+    for (i = 0; i < n; i++)
+        if (ggTraceGetNode(v->trace, i)->parent < 0) {
+            if (!first) fputc(',', f);
+            first = 0;
+            json_node(f, v, (int)i);
+        }
+    fprintf(f, "]}\n");
+}

@@ -1,0 +1,419 @@
+/*
+** render.c -- camera rays, tiles and threads: ggRender and ggRayColor.
+**
+** Every pixel's value is a function of its coordinates only (samples sit
+** at fixed positions, nothing random, no shared accumulation), so the
+** image is bit-identical for any thread count and any crop window.
+*/
+#include "shade.h"
+
+#include "trace_int.h"
+#include "vec.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+#include <unistd.h>
+
+#define TILE 16
+
+GG_API void ggRenderOptionsDefault(ggRenderOptions *opt)
+{
+    memset(opt, 0, sizeof *opt);
+}
+
+typedef struct resolved {
+    int w, h, depth, spp, threads;
+    int x0, y0, x1, y1;
+    bool corners, spd;
+    unsigned force;
+    ggAccuracy acc;
+} resolved;
+
+typedef struct cam_basis {
+    ggVec3 eye, fwd, right, up;
+    double tx, ty;
+    int w, h;
+} cam_basis;
+
+static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggError *err)
+{
+    ggRenderOptions d;
+    long n;
+    if (!o) {
+        ggRenderOptionsDefault(&d);
+        o = &d;
+    }
+    r->w = o->width > 0 ? o->width : s->camera.width;
+    r->h = o->height > 0 ? o->height : s->camera.height;
+    if (o->width < 0 || o->height < 0 || r->w <= 0 || r->h <= 0 || r->w > GG_IMAGE_MAX_DIM ||
+        r->h > GG_IMAGE_MAX_DIM || (size_t)r->w * (size_t)r->h > GG_IMAGE_MAX_PIXELS)
+        return gg_error_set(err, GG_ERROR_LIMIT, "image size %dx%d is out of range", r->w, r->h);
+    r->depth = o->max_depth > 0 ? o->max_depth : s->depth > 0 ? s->depth : 5;
+    r->spp = o->samples > 0 ? o->samples : s->samples > 0 ? s->samples : 1;
+    if (o->max_depth < 0 || r->depth > 64 || o->samples < 0 || r->spp > 4096)
+        return gg_error_set(err, GG_ERROR_INVALID, "depth must be 1..64 and samples 1..4096");
+    n = o->threads > 0 ? o->threads : sysconf(_SC_NPROCESSORS_ONLN);
+    r->threads = (int)(n < 1 ? 1 : n > 256 ? 256 : n);
+    r->x0 = o->crop_x0, r->y0 = o->crop_y0, r->x1 = o->crop_x1, r->y1 = o->crop_y1;
+    if (r->x0 == 0 && r->y0 == 0 && r->x1 == 0 && r->y1 == 0) r->x1 = r->w, r->y1 = r->h;
+    if (r->x0 < 0 || r->y0 < 0 || r->x1 > r->w || r->y1 > r->h || r->x0 >= r->x1 ||
+        r->y0 >= r->y1)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "crop window [%d,%d)x[%d,%d) is not inside the %dx%d image", r->x0,
+                            r->x1, r->y0, r->y1, r->w, r->h);
+    r->corners = o->pixel_corners;
+    r->spd = o->spd_rules;
+    r->force = o->force_effects & GG_EFFECT_ALL;
+    r->acc = o->accuracy;
+    if (!(r->acc.offset_eps >= 0) || !(r->acc.cutoff >= 0) || !(r->acc.gradient_h >= 0) ||
+        !(r->acc.implicit_tol >= 0) || !isfinite(r->acc.offset_eps) || !isfinite(r->acc.cutoff) ||
+        !isfinite(r->acc.gradient_h) || !isfinite(r->acc.implicit_tol))
+        return gg_error_set(err, GG_ERROR_INVALID, "accuracy knobs must be finite and >= 0");
+    return GG_OK;
+}
+
+static void basis(const ggScene *s, int w, int h, cam_basis *b)
+{
+    const ggCamera *c = &s->camera;
+    b->eye = c->from;
+    b->fwd = v3norm(v3sub(c->at, c->from));
+    /* NFF's up need not be perpendicular to the view: orthogonalise. */
+    b->right = v3norm(v3cross(b->fwd, c->up));
+    b->up = v3cross(b->right, b->fwd);
+    b->tx = tan(c->fov_deg * GG_PI / 360.0);
+    b->ty = b->tx * (double)h / (double)w;
+    b->w = w, b->h = h;
+}
+
+/* Ray through image point (px, py), px in [0, w] from the left, py in
+   [0, h] from the top. */
+static ggVec3 basis_dir(const cam_basis *b, double px, double py)
+{
+    double sx = (2.0 * px / b->w - 1.0) * b->tx;
+    double sy = (1.0 - 2.0 * py / b->h) * b->ty;
+    return v3add(b->fwd, v3add(v3scale(b->right, sx), v3scale(b->up, sy)));
+}
+
+GG_API ggRay ggCameraRay(const ggScene *s, const ggRenderOptions *opt, double x, double y)
+{
+    resolved r;
+    cam_basis b;
+    ggRay ray;
+    if (resolve(s, opt, &r, NULL) != GG_OK) r.w = s->camera.width, r.h = s->camera.height;
+    basis(s, r.w > 0 ? r.w : 1, r.h > 0 ? r.h : 1, &b);
+    ray.o = b.eye;
+    ray.d = v3norm(basis_dir(&b, x, y));
+    return ray;
+}
+
+/* Position of sample k of n inside the pixel: an n = m*m grid when n is a
+   square, else a (k + 1/2)/n by radical-inverse pattern. Fixed, so the
+   render is reproducible. */
+static void sample_pos(int k, int n, double *sx, double *sy)
+{
+    int m = (int)floor(sqrt((double)n) + 0.5);
+    if (m * m == n) {
+        *sx = ((k % m) + 0.5) / m;
+        *sy = ((k / m) + 0.5) / m;
+    } else {
+        unsigned b = (unsigned)k, rev = 0;
+        int i;
+        for (i = 0; i < 32; i++) rev = (rev << 1) | ((b >> i) & 1u);
+        *sx = (k + 0.5) / n;
+        *sy = (double)rev * 0x1p-32 + 0x1p-33;
+    }
+}
+
+/* The accuracy knobs that live in the geometry: set on every render (so
+   one render's choice does not leak into the next). Not thread-safe
+   against concurrent renders of the same scene, as ggRender never was. */
+static void apply_geometry_knobs(ggScene *s, const ggAccuracy *acc)
+{
+    size_t i;
+    gg_geom_set_sphere_mode(s->geom, acc->sphere == GG_ACC_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK
+                                                                           : GG_SPHERE_STABLE);
+    for (i = 0; i < s->nobjects; i++) {
+        ggImplicit *imp = s->objects[i].imp;
+        ggVec3 lo, hi;
+        if (!imp) continue;
+        ggImplicitBounds(imp, &lo, &hi);
+        /* 0 restores the surface's own default, 1e-12 of the box diagonal. */
+        ggImplicitSetTolerance(imp, acc->implicit_tol > 0 ? acc->implicit_tol
+                                                          : 1e-12 * v3len(v3sub(hi, lo)));
+        ggImplicitSetNormalStep(imp, acc->gradient_h);
+    }
+}
+
+typedef struct job {
+    gg_shade_ctx ctx;
+    resolved r;
+    cam_basis cam;
+    float *px;     /* output pixels (full image) */
+    float *corner; /* pixel-corner mode: (cw x ch) RGB */
+    int cw, ch;    /* the grid being tiled: pixels, or corners */
+    int tiles_x, ntiles;
+    pthread_mutex_t mu;
+    int next_tile;
+    long done, total, reported;
+    int cancelled;
+    ggProgressFn progress;
+    void *progress_ud;
+    float *cost;
+    int cost_kind;
+    ggRayStats stats;
+} job;
+
+static void add_stats(ggRayStats *a, const ggRayStats *b)
+{
+    a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
+    a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
+    a->nonfinite += b->nonfinite;
+    if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
+}
+
+static ggColor sample_color(job *j, double px, double py, ggRayStats *st)
+{
+    ggColor c = gg_shade_ray(&j->ctx, j->cam.eye, basis_dir(&j->cam, px, py), 1, st);
+    if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) st->nonfinite++;
+    return c;
+}
+
+/* Pixel (x, y) in pixel-centre mode: the mean of its samples. With rec,
+   sample `which` (or all, if -1) is recorded. */
+static ggColor pixel_center(job *j, int x, int y, ggRayStats *st, ggTrace *rec, int which)
+{
+    ggColor acc = rgb(0, 0, 0);
+    ggRayStats other;
+    int k;
+    memset(&other, 0, sizeof other);
+    for (k = 0; k < j->r.spp; k++) {
+        double sx, sy;
+        int recorded = rec && (which < 0 || which == k);
+        sample_pos(k, j->r.spp, &sx, &sy);
+        if (recorded) {
+            j->ctx.rec = rec;
+            rec->sample = k;
+        }
+        /* When tracing one sample, count only that sample's rays. */
+        acc = cadd(acc, sample_color(j, x + sx, y + sy, !rec || recorded ? st : &other));
+        j->ctx.rec = NULL;
+    }
+    return cscale(acc, 1.0 / j->r.spp);
+}
+
+static void render_tile(job *j, int t, ggRayStats *st)
+{
+    int gx0 = (t % j->tiles_x) * TILE, gy0 = (t / j->tiles_x) * TILE;
+    int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
+    int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
+    int gx, gy;
+    for (gy = gy0; gy < gy1; gy++)
+        for (gx = gx0; gx < gx1; gx++) {
+            ggRayStats before = *st;
+            double t0 = j->cost ? gg_time_now() : 0;
+            if (j->cost) st->max_depth = 0;
+            if (j->corner) {
+                /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
+                ggColor c = sample_color(j, j->r.x0 + gx, j->r.y0 + gy, st);
+                float *o = j->corner + 3 * ((size_t)gy * j->cw + gx);
+                o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
+            } else {
+                int x = j->r.x0 + gx, y = j->r.y0 + gy;
+                ggColor acc = pixel_center(j, x, y, st, NULL, -1);
+                float *o = j->px + 3 * ((size_t)y * j->r.w + x);
+                o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
+            }
+            if (j->cost) {
+                int x = j->r.x0 + gx, y = j->r.y0 + gy;
+                double v = j->cost_kind == GG_COST_TIME    ? gg_time_now() - t0
+                           : j->cost_kind == GG_COST_DEPTH ? (double)st->max_depth
+                                                           : (double)(st->eye + st->reflect +
+                                                                      st->refract + st->shadow -
+                                                                      before.eye - before.reflect -
+                                                                      before.refract - before.shadow);
+                if (x < j->r.w && y < j->r.h) j->cost[(size_t)y * j->r.w + x] = (float)v;
+                if (before.max_depth > st->max_depth) st->max_depth = before.max_depth;
+            }
+        }
+}
+
+static void *worker(void *arg)
+{
+    job *j = arg;
+    ggRayStats st;
+    memset(&st, 0, sizeof st);
+    for (;;) {
+        int t;
+        long tile_px;
+        pthread_mutex_lock(&j->mu);
+        t = j->cancelled ? j->ntiles : j->next_tile++;
+        pthread_mutex_unlock(&j->mu);
+        if (t >= j->ntiles) break;
+        render_tile(j, t, &st);
+        tile_px = (long)TILE * TILE;
+        pthread_mutex_lock(&j->mu);
+        j->done += tile_px;
+        if (j->done > j->total) j->done = j->total;
+        /* Report about every 1/200 of the work: enough for a smooth bar,
+           few enough not to matter. */
+        if (j->progress && (j->done - j->reported >= j->total / 200 || j->done == j->total)) {
+            j->reported = j->done;
+            if (j->progress(j->progress_ud, j->done, j->total)) j->cancelled = 1;
+        }
+        pthread_mutex_unlock(&j->mu);
+    }
+    pthread_mutex_lock(&j->mu);
+    add_stats(&j->stats, &st);
+    pthread_mutex_unlock(&j->mu);
+    return NULL;
+}
+
+static void run_tiles(job *j, int cw, int ch)
+{
+    pthread_t th[256];
+    int i, started = 0;
+    j->cw = cw, j->ch = ch;
+    j->tiles_x = (cw + TILE - 1) / TILE;
+    j->ntiles = j->tiles_x * ((ch + TILE - 1) / TILE);
+    j->next_tile = 0;
+    j->done = 0, j->reported = 0;
+    j->total = (long)j->ntiles * TILE * TILE;
+    for (i = 1; i < j->r.threads && i < j->ntiles; i++) {
+        if (pthread_create(&th[started], NULL, worker, j) != 0) break;
+        started++;
+    }
+    worker(j); /* the calling thread works too */
+    for (i = 0; i < started; i++) pthread_join(th[i], NULL);
+}
+
+GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRayStats *stats,
+                    ggError *err)
+{
+    job j;
+    ggImage *img;
+    int rc;
+    if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggRender: NULL argument");
+    *out = NULL;
+    memset(&j, 0, sizeof j);
+    if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    apply_geometry_knobs(s, &j.r.acc);
+    img = ggImageCreate(j.r.w, j.r.h, s->alloc);
+    if (!img) return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
+    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
+    basis(s, j.r.w, j.r.h, &j.cam);
+    j.px = ggImagePixels(img);
+    if (opt) {
+        j.progress = opt->progress, j.progress_ud = opt->progress_ud;
+        j.cost = opt->cost_map, j.cost_kind = opt->cost_kind;
+    }
+    if (pthread_mutex_init(&j.mu, NULL) != 0) {
+        ggImageFree(img);
+        return gg_error_set(err, GG_ERROR_NOMEM, "cannot create a mutex");
+    }
+    if (j.r.corners) {
+        /* SPD sampling: rays through the (w+1) x (h+1) pixel corners, each
+           pixel the mean of its four corners. Corners are shaded once. */
+        int cw = j.r.x1 - j.r.x0 + 1, ch = j.r.y1 - j.r.y0 + 1, x, y, k;
+        j.corner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * sizeof(float));
+        if (!j.corner) {
+            pthread_mutex_destroy(&j.mu);
+            ggImageFree(img);
+            return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for pixel corners");
+        }
+        run_tiles(&j, cw, ch);
+        for (y = j.r.y0; y < j.r.y1 && !j.cancelled; y++)
+            for (x = j.r.x0; x < j.r.x1; x++) {
+                const float *c00 = j.corner + 3 * ((size_t)(y - j.r.y0) * cw + (x - j.r.x0));
+                const float *c10 = c00 + 3, *c01 = c00 + 3 * (size_t)cw, *c11 = c01 + 3;
+                float *o = j.px + 3 * ((size_t)y * j.r.w + x);
+                for (k = 0; k < 3; k++)
+                    o[k] = (float)(((double)c00[k] + c10[k] + c01[k] + c11[k]) * 0.25);
+            }
+        gg_mem_free(s->alloc, j.corner);
+    } else {
+        run_tiles(&j, j.r.x1 - j.r.x0, j.r.y1 - j.r.y0);
+    }
+    pthread_mutex_destroy(&j.mu);
+    if (stats) *stats = j.stats;
+    if (j.cancelled) {
+        ggImageFree(img);
+        return gg_error_set(err, GG_ERROR_CANCELLED, "render cancelled by the progress callback");
+    }
+    *out = img;
+    return GG_OK;
+}
+
+GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ray, int depth,
+                          ggRayStats *stats)
+{
+    gg_shade_ctx ctx;
+    resolved r;
+    ggRayStats local;
+    if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
+    gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
+    memset(&local, 0, sizeof local);
+    {
+        ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &local);
+        if (stats) add_stats(stats, &local);
+        return c;
+    }
+}
+
+GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, int sample,
+                        ggTrace *rec, ggColor *pixel, ggRayStats *stats, ggError *err)
+{
+    job j;
+    ggRayStats local;
+    ggColor c;
+    int rc, k;
+    if (!s || !rec || !pixel) return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
+#ifdef GG_NO_RECORDER
+    return gg_error_set(err, GG_ERROR_UNSUPPORTED, "this libggrt was built without the recorder");
+#endif
+    memset(&j, 0, sizeof j);
+    memset(&local, 0, sizeof local);
+    if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if (x < 0 || y < 0 || x >= j.r.w || y >= j.r.h)
+        return gg_error_set(err, GG_ERROR_INVALID, "pixel %d,%d is outside the %dx%d image", x, y,
+                            j.r.w, j.r.h);
+    if (sample < -1 || sample >= (j.r.corners ? 4 : j.r.spp))
+        return gg_error_set(err, GG_ERROR_INVALID, "sample %d does not exist (the pixel has %d)",
+                            sample, j.r.corners ? 4 : j.r.spp);
+    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    apply_geometry_knobs(s, &j.r.acc);
+    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
+    basis(s, j.r.w, j.r.h, &j.cam);
+    gg_trace_clear(rec);
+    if (j.r.corners) {
+        /* The four corners, stored as floats and averaged as ggRender does. */
+        float cf[4][3];
+        for (k = 0; k < 4; k++) {
+            ggColor cc;
+            ggRayStats other;
+            int recorded = sample < 0 || sample == k;
+            memset(&other, 0, sizeof other);
+            if (recorded) {
+                j.ctx.rec = rec;
+                rec->sample = k;
+            }
+            cc = sample_color(&j, x + (k & 1), y + (k >> 1), recorded ? &local : &other);
+            j.ctx.rec = NULL;
+            cf[k][0] = (float)cc.r, cf[k][1] = (float)cc.g, cf[k][2] = (float)cc.b;
+        }
+        c.r = (float)(((double)cf[0][0] + cf[1][0] + cf[2][0] + cf[3][0]) * 0.25);
+        c.g = (float)(((double)cf[0][1] + cf[1][1] + cf[2][1] + cf[3][1]) * 0.25);
+        c.b = (float)(((double)cf[0][2] + cf[1][2] + cf[2][2] + cf[3][2]) * 0.25);
+    } else {
+        c = pixel_center(&j, x, y, &local, rec, sample);
+        c = rgb((float)c.r, (float)c.g, (float)c.b);
+    }
+    *pixel = c;
+    if (stats) add_stats(stats, &local);
+    if (rec->status != GG_OK)
+        return gg_error_set(err, rec->status, "out of memory recording the ray tree");
+    return GG_OK;
+}

@@ -1,0 +1,36 @@
+/*
+** shade.h -- the recursive shading core behind ggRayColor and ggRender
+** (internal).
+*/
+#ifndef GG_SHADE_H
+#define GG_SHADE_H
+
+#include "scene_int.h"
+
+/* The media a ray is inside, innermost last (materials with kt > 0). The
+   space outside every object is a vacuum-like medium of index 1. */
+#define GG_MAX_MEDIA 8
+typedef struct gg_media {
+    int n;
+    int mat[GG_MAX_MEDIA];
+} gg_media;
+
+/* Everything a shading call needs that does not change per ray. */
+typedef struct gg_shade_ctx {
+    const ggScene *s;
+    int max_depth;
+    unsigned fx;     /* effects simulated: the scene's plus the forced ones */
+    bool spd_rules;
+    ggAccuracy acc;  /* numerical knobs (render.h) */
+    ggTrace *rec;    /* non-NULL: record the ray tree (single-threaded use) */
+} gg_shade_ctx;
+
+/* Fill ctx from a prepared scene and resolved options; acc may be NULL. */
+void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
+                   bool spd_rules, const ggAccuracy *acc);
+
+/* Colour along a ray starting in the outside medium (an eye ray, or any
+   ray of ggRayColor) at the given depth (eye ray = 1). */
+ggColor gg_shade_ray(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 d, int depth, ggRayStats *st);
+
+#endif

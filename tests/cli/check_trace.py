@@ -1,0 +1,130 @@
+"""Check a `ggrt trace --format json` document against docs/trace-json.md
+and against `ggrt render --pixel X,Y --crop ...` output for the same pixel:
+the colour must be equal as 32-bit floats and the ray counts per kind equal.
+usage: check_trace.py TRACE.json RENDER.txt"""
+import json
+import re
+import struct
+import sys
+
+VEC = "vec"
+NUM = (int, float)
+
+
+def fail(msg):
+    print("check_trace:", msg)
+    sys.exit(1)
+
+
+def need(obj, key, kind, where):
+    if key not in obj:
+        fail("%s: missing '%s'" % (where, key))
+    v = obj[key]
+    if kind == VEC:
+        if not (isinstance(v, list) and len(v) == 3 and all(isinstance(c, NUM) for c in v)):
+            fail("%s: '%s' is not a 3-vector: %r" % (where, key, v))
+    elif isinstance(kind, tuple) and all(isinstance(k, str) for k in kind):
+        if v not in kind:
+            fail("%s: '%s' = %r not one of %s" % (where, key, v, kind))
+    elif kind is None:
+        pass
+    elif not isinstance(v, kind) or isinstance(v, bool) and kind is not bool:
+        fail("%s: '%s' has type %s" % (where, key, type(v).__name__))
+    return v
+
+
+def check_node(n, counts, parent_depth):
+    w = "node %s" % n.get("id")
+    need(n, "id", int, w)
+    kind = need(n, "kind", ("eye", "reflect", "refract", "tir"), w)
+    depth = need(n, "depth", int, w)
+    if parent_depth is not None and depth != parent_depth + 1:
+        fail("%s: depth %d under a parent of depth %d" % (w, depth, parent_depth))
+    need(n, "sample", int, w)
+    if n.get("channel") not in (None, "r", "g", "b"):
+        fail("%s: bad channel" % w)
+    for k in ("origin", "direction", "weight", "absorption", "color"):
+        need(n, k, VEC, w)
+    need(n, "medium", int, w)
+    need(n, "n_medium", NUM, w)
+    need(n, "stop", ("none", "miss", "depth", "matte"), w)
+    counts[kind] = counts.get(kind, 0) + 1
+    hit = n.get("hit", "absent")
+    if hit == "absent":
+        fail("%s: missing 'hit'" % w)
+    if hit is None:
+        if n["stop"] != "miss":
+            fail("%s: no hit but stop is %s" % (w, n["stop"]))
+    else:
+        for k in ("object", "line", "material"):
+            need(hit, k, int, w + " hit")
+        need(hit, "shape", ("sphere", "triangle", "polygon", "cone", "rect", "implicit"), w)
+        need(hit, "t", NUM, w)
+        for k in ("point", "ng", "ns", "surface", "emission", "ambient", "reflect_weight",
+                  "refract_weight"):
+            need(hit, k, VEC, w + " hit")
+        need(hit, "front", bool, w)
+        uv = need(hit, "uv", list, w)
+        if len(uv) != 2:
+            fail("%s: uv" % w)
+        if hit["fresnel"] is not None and not isinstance(hit["fresnel"], NUM):
+            fail("%s: fresnel" % w)
+        for L in need(hit, "lights", list, w):
+            need(L, "light", int, w + " light")
+            v = need(L, "verdict", ("visible", "blocked", "attenuated", "facing-away"), w)
+            for k in ("transmittance", "diffuse", "phong"):
+                need(L, k, VEC, w + " light")
+            if v != "facing-away":
+                counts["shadow"] = counts.get("shadow", 0) + 1
+                need(L, "origin", VEC, w), need(L, "direction", VEC, w)
+                need(L, "t_block", NUM, w)
+            if v == "blocked" and not isinstance(L["occluder"], int):
+                fail("%s: blocked light without an occluder" % w)
+    for c in need(n, "children", list, w):
+        check_node(c, counts, depth)
+
+
+def f32(x):
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def main():
+    doc = json.load(open(sys.argv[1]))
+    if doc.get("ggrt_trace") != 1:
+        fail("not a ggrt trace document")
+    color = need(doc, "color", VEC, "top")
+    need(doc, "pixel", list, "top")
+    stats = need(doc, "stats", dict, "top")
+    counts = {}
+    roots = need(doc, "roots", list, "top")
+    for r in roots:
+        if r["kind"] != "eye" or r["depth"] != 1:
+            fail("a root is not an eye ray of depth 1")
+        check_node(r, counts, None)
+    render = open(sys.argv[2]).read()
+    m = re.search(r"^pixel \d+,\d+ (\S+) (\S+) (\S+)$", render, re.M)
+    if not m:
+        fail("no pixel line in the render output:\n" + render)
+    rendered = [float(v) for v in m.groups()]
+    if [f32(c) for c in color] != [f32(c) for c in rendered]:
+        fail("traced colour %r != rendered %r" % (color, rendered))
+    # The tree's own counts agree with its stats object...
+    tree = {"eye": counts.get("eye", 0), "reflect": counts.get("reflect", 0) + counts.get("tir", 0),
+            "refract": counts.get("refract", 0), "shadow": counts.get("shadow", 0)}
+    for k, v in tree.items():
+        if stats[k] != v:
+            fail("tree has %d %s rays, its stats say %d" % (v, k, stats[k]))
+    # ...and, when every sample was recorded, with the renderer's counts.
+    if doc["sample"] is None:
+        m = re.search(r"rays: eye (\d+) \(hit \d+\), reflect (\d+), refract (\d+), shadow (\d+), "
+                      r"tir (\d+)", render)
+        if not m:
+            fail("no rays line in the render output")
+        got = dict(zip(("eye", "reflect", "refract", "shadow", "tir"), map(int, m.groups())))
+        for k in ("eye", "reflect", "refract", "shadow", "tir"):
+            if got[k] != stats[k]:
+                fail("render counted %d %s rays for the pixel, trace %d" % (got[k], k, stats[k]))
+    print("ok: colour %r, rays %r" % (color, tree))
+
+
+main()

@@ -1,0 +1,231 @@
+/*
+** test_render.c -- the renderer: thread-count and crop invariance, forced
+** effects give the same image, ggRayColor equals the rendered pixel, the
+** effect set and its reasons, the depth limit, and SPD-rule ray counts.
+*/
+#include "testutil.h"
+
+#include "scene_int.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static ggScene *load(const char *path)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    int rc = ggSceneLoadFile(s, path, &e);
+    if (rc != GG_OK) print_error("%s\n", e.message);
+    assert_int_equal(rc, GG_OK);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    return s;
+}
+
+static ggImage *render(ggScene *s, const ggRenderOptions *o, ggRayStats *st)
+{
+    ggImage *img = NULL;
+    ggError e;
+    int rc = ggRender(s, o, &img, st, &e);
+    if (rc != GG_OK) print_error("%s\n", e.message);
+    assert_int_equal(rc, GG_OK);
+    return img;
+}
+
+static int same_pixels(const ggImage *a, const ggImage *b)
+{
+    size_t n = (size_t)ggImageWidth(a) * ggImageHeight(a) * 3;
+    return ggImageWidth(a) == ggImageWidth(b) && ggImageHeight(a) == ggImageHeight(b) &&
+           memcmp(ggImagePixelsConst(a), ggImagePixelsConst(b), n * sizeof(float)) == 0;
+}
+
+static const char *const scenes[] = {
+    "examples/scenes/default.nff", "examples/scenes/glass.nff", "examples/scenes/water.nff",
+    "examples/scenes/gold.nff",    "examples/scenes/prism.nff", "examples/scenes/torus.nff",
+};
+
+/* 1, 2 and 7 threads give bit-identical images. */
+static void test_threads_identical(void **state)
+{
+    size_t i;
+    (void)state;
+    for (i = 0; i < 3; i++) {
+        ggScene *s = load(scenes[i]);
+        ggRenderOptions o;
+        ggImage *a, *b, *c;
+        ggRayStats sa, sb, sc;
+        ggRenderOptionsDefault(&o);
+        o.width = 96, o.height = 72;
+        o.threads = 1;
+        a = render(s, &o, &sa);
+        o.threads = 2;
+        b = render(s, &o, &sb);
+        o.threads = 7;
+        c = render(s, &o, &sc);
+        assert_true(same_pixels(a, b));
+        assert_true(same_pixels(a, c));
+        assert_true(sa.eye == sb.eye && sa.shadow == sc.shadow && sa.reflect == sc.reflect);
+        ggImageFree(a), ggImageFree(b), ggImageFree(c);
+        ggSceneFree(s);
+    }
+}
+
+/* A crop window reproduces exactly those pixels of the full render. */
+static void test_crop_matches_full(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggRenderOptions o;
+    ggImage *full, *part;
+    int x, y, k;
+    (void)state;
+    ggRenderOptionsDefault(&o);
+    o.width = 80, o.height = 60, o.threads = 2;
+    full = render(s, &o, NULL);
+    o.crop_x0 = 13, o.crop_y0 = 7, o.crop_x1 = 51, o.crop_y1 = 44;
+    part = render(s, &o, NULL);
+    for (y = 0; y < 60; y++)
+        for (x = 0; x < 80; x++) {
+            ggColor a = ggImageGet(full, x, y), b = ggImageGet(part, x, y);
+            int inside = x >= 13 && x < 51 && y >= 7 && y < 44;
+            for (k = 0; k < 3; k++) {
+                double va = k == 0 ? a.r : k == 1 ? a.g : a.b;
+                double vb = k == 0 ? b.r : k == 1 ? b.g : b.b;
+                if (inside) assert_true(va == vb);
+                else assert_true(vb == 0);
+            }
+        }
+    ggImageFree(full), ggImageFree(part);
+    ggSceneFree(s);
+}
+
+/* Forcing every effect on changes the time, not the image. */
+static void test_forced_effects_same_image(void **state)
+{
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
+        ggScene *s = load(scenes[i]);
+        ggRenderOptions o;
+        ggImage *a, *b;
+        ggRayStats sa, sb;
+        ggRenderOptionsDefault(&o);
+        o.width = 64, o.height = 48, o.threads = 2;
+        a = render(s, &o, &sa);
+        o.force_effects = GG_EFFECT_ALL;
+        b = render(s, &o, &sb);
+        if (!same_pixels(a, b)) print_error("%s differs when forced\n", scenes[i]);
+        assert_true(same_pixels(a, b));
+        assert_true(sa.eye == sb.eye && sa.reflect == sb.reflect && sa.refract == sb.refract);
+        ggImageFree(a), ggImageFree(b);
+        ggSceneFree(s);
+    }
+}
+
+/* ggRayColor on the camera ray of a pixel centre is that pixel. */
+static void test_raycolor_equals_pixel(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggRenderOptions o;
+    ggImage *img;
+    int x, y;
+    (void)state;
+    ggRenderOptionsDefault(&o);
+    o.width = 40, o.height = 30, o.threads = 1;
+    img = render(s, &o, NULL);
+    for (y = 0; y < 30; y += 3)
+        for (x = 0; x < 40; x += 3) {
+            ggRay r = ggCameraRay(s, &o, x + 0.5, y + 0.5);
+            ggColor c = ggRayColor(s, &o, r, 1, NULL), p = ggImageGet(img, x, y);
+            assert_true((float)c.r == (float)p.r && (float)c.g == (float)p.g &&
+                        (float)c.b == (float)p.b);
+        }
+    ggImageFree(img);
+    ggSceneFree(s);
+}
+
+static void test_effect_sets(void **state)
+{
+    ggScene *s;
+    unsigned fx;
+    (void)state;
+    s = load("examples/scenes/spd/tetra.nff");
+    fx = ggSceneEffects(s);
+    /* tetra: diffuse only, one light. */
+    assert_int_equal(fx, GG_EFFECT_SHADOWS);
+    assert_non_null(strstr(ggSceneEffectReason(s, GG_EFFECT_SHADOWS), "1 point light"));
+    assert_null(ggSceneEffectReason(s, GG_EFFECT_REFRACTION));
+    ggSceneFree(s);
+    s = load("examples/scenes/water.nff");
+    fx = ggSceneEffects(s);
+    assert_true(fx & GG_EFFECT_REFRACTION);
+    assert_true(fx & GG_EFFECT_ABSORPTION);
+    assert_true(fx & GG_EFFECT_FRESNEL);
+    assert_true(fx & GG_EFFECT_TEXTURES);
+    assert_false(fx & GG_EFFECT_DISPERSION);
+    assert_non_null(strstr(ggSceneEffectReason(s, GG_EFFECT_ABSORPTION), "water.nff:"));
+    ggSceneFree(s);
+    s = load("examples/scenes/prism.nff");
+    assert_true(ggSceneEffects(s) & GG_EFFECT_DISPERSION);
+    assert_true(ggSceneEffects(s) & GG_EFFECT_EMISSION);
+    ggSceneFree(s);
+}
+
+/* Depth 1 casts eye rays only; each extra level adds rays on a mirror. */
+static void test_depth_limit(void **state)
+{
+    const char *txt = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 30 resolution 8 8\n"
+                      "l 0 0 10\nf 1 1 1 0.5 0.5 100000 0 0\ns 0 0 0 1\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggRenderOptions o;
+    ggRayStats st;
+    ggImage *img;
+    (void)state;
+    assert_int_equal(ggSceneLoadString(s, txt, strlen(txt), "d.nff", NULL), GG_OK);
+    ggRenderOptionsDefault(&o);
+    o.max_depth = 1;
+    memset(&st, 0, sizeof st);
+    img = render(s, &o, &st);
+    assert_true(st.eye == 64 && st.reflect == 0 && st.eye_hit > 0);
+    ggImageFree(img);
+    o.max_depth = 2;
+    img = render(s, &o, &st);
+    /* Every eye ray that hits the sphere spawns one mirror ray. */
+    assert_true(st.reflect == st.eye_hit);
+    ggImageFree(img);
+    ggSceneFree(s);
+}
+
+/* A lit point's colour is the sum of its terms: check one by hand. */
+static void test_direct_light_added(void **state)
+{
+    /* Floor facing +z at z = 0, light straight above at height 1: N.L = 1,
+       colour = kd C ambient + kd C Lc. The notes' draft assigned the
+       direct term instead of adding it; ambient must survive. */
+    const char *txt = "ambient 0.25 0.25 0.25\nl 0 0 1 1 1 1\n"
+                      "f 0.5 0.5 0.5 0.8 0 100000 0 0\np 4 -1 -1 0 1 -1 0 1 1 0 -1 1 0\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggRay r;
+    ggColor c;
+    (void)state;
+    assert_int_equal(ggSceneLoadString(s, txt, strlen(txt), "l.nff", NULL), GG_OK);
+    assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
+    r.o.x = 0, r.o.y = 0, r.o.z = 0.5;
+    r.d.x = 0, r.d.y = 0, r.d.z = -1;
+    c = ggRayColor(s, NULL, r, 1, NULL);
+    assert_close(c.r, 0.8 * 0.5 * 0.25 + 0.8 * 0.5 * 1.0, 1e-12);
+    ggSceneFree(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_threads_identical),
+        cmocka_unit_test(test_crop_matches_full),
+        cmocka_unit_test(test_forced_effects_same_image),
+        cmocka_unit_test(test_raycolor_equals_pixel),
+        cmocka_unit_test(test_effect_sets),
+        cmocka_unit_test(test_depth_limit),
+        cmocka_unit_test(test_direct_light_added),
+    };
+    return cmocka_run_group_tests_name("render", tests, NULL, NULL);
+}

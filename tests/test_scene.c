@@ -1,0 +1,220 @@
+/*
+** test_scene.c -- NFF loading: the SPD scenes, extensions, and errors that
+** name file, line and column and leave the scene unchanged.
+*/
+#include "testutil.h"
+
+#include "scene_int.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static ggScene *load_ok(const char *text)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    int rc = ggSceneLoadString(s, text, strlen(text), "t.nff", &e);
+    if (rc != GG_OK) print_error("unexpected error: %s\n", e.message);
+    assert_int_equal(rc, GG_OK);
+    return s;
+}
+
+/* Loading text must fail with this code and exactly this message. */
+static void expect_error(const char *text, int code, const char *msg)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    int rc = ggSceneLoadString(s, text, strlen(text), "scene.nff", &e);
+    if (rc != code || strcmp(e.message, msg) != 0)
+        print_error("input: %s\ngot %d '%s'\nwant %d '%s'\n", text, rc,
+                    rc == GG_OK ? "" : e.message, code, msg);
+    assert_int_equal(rc, code);
+    assert_string_equal(e.message, msg);
+    /* Nothing of a failed load stays in the scene. */
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    assert_int_equal(ggSceneLightCount(s), 0);
+    assert_int_equal(ggSceneMaterialCount(s), 0);
+    ggSceneFree(s);
+}
+
+static void test_basic_entities(void **state)
+{
+    ggScene *s;
+    ggCamera c;
+    ggMaterial m;
+    (void)state;
+    s = load_ok("b 0.1 0.2 0.3\n"
+                "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 64 32\n"
+                "l 1 2 3\nl 4 5 6 0.5 0.25 1\n"
+                "f 1 0 0 0.7 0.3 20 0 0\n"
+                "s 0 0 0 1   # a comment\n"
+                "c 0 0 0 1 0 1 0 0.5\n"
+                "p 3 0 0 0 1 0 0 0 1 0\n"
+                "p 4 0 0 0 1 0 0 1 1 0 0 1 0\n"
+                "pp 3 0 0 0 0 0 1 1 0 0 0 0 1 0 1 0 0 0 1\n");
+    assert_int_equal(ggSceneObjectCount(s), 5);
+    assert_int_equal(ggSceneLightCount(s), 2);
+    assert_int_equal(ggSceneMaterialCount(s), 1);
+    assert_int_equal(ggSceneObjectKind(s, 0), GG_SHAPE_SPHERE);
+    assert_int_equal(ggSceneObjectKind(s, 1), GG_SHAPE_CONE);
+    assert_int_equal(ggSceneObjectKind(s, 2), GG_SHAPE_TRIANGLE);
+    assert_int_equal(ggSceneObjectKind(s, 3), GG_SHAPE_POLYGON);
+    assert_int_equal(ggSceneObjectKind(s, 4), GG_SHAPE_TRIANGLE);
+    assert_int_equal(ggSceneObjectLine(s, 0), 12);
+    c = ggSceneCamera(s);
+    assert_int_equal(c.width, 64);
+    assert_int_equal(c.height, 32);
+    assert_true(c.fov_deg == 40);
+    assert_true(c.from.z == 5);
+    m = ggSceneMaterial(s, 0);
+    assert_true(m.color.r == 1 && m.color.g == 0 && m.kd == 0.7 && m.ks == 0.3);
+    assert_true(m.shine == 20 && m.kt == 0 && m.ior == 1);
+    assert_int_equal(m.line, 11);
+    ggSceneFree(s);
+}
+
+static void test_materials_shared(void **state)
+{
+    ggScene *s;
+    (void)state;
+    /* One f serves many objects; an extension after it makes a new one. */
+    s = load_ok("f 1 1 1 1 0 1 0 0\ns 0 0 0 1\ns 2 0 0 1\nemission 1 0 0\ns 4 0 0 1\n"
+                "f 1 1 1 1 0 1 0.5 1.5\nfresnel exact\ns 6 0 0 1\n");
+    assert_int_equal(ggSceneMaterialCount(s), 3);
+    assert_int_equal(ggSceneObjectMaterial(s, 0), 0);
+    assert_int_equal(ggSceneObjectMaterial(s, 1), 0);
+    assert_int_equal(ggSceneObjectMaterial(s, 2), 1);
+    assert_true(ggSceneMaterial(s, 1).ke.r == 1);
+    assert_int_equal(ggSceneMaterial(s, 2).fresnel, GG_FRESNEL_EXACT);
+    /* f resets the extension state. */
+    assert_true(ggSceneMaterial(s, 2).ke.r == 0);
+    ggSceneFree(s);
+}
+
+static void test_extensions(void **state)
+{
+    ggScene *s;
+    ggMaterial m;
+    (void)state;
+    s = load_ok("ambient 0.2 0.3 0.4\ndepth 7\nsamples 4\n"
+                "f 1 1 1 0 0 1 0.9 1.33\nabsorb 1e-8 2e-9 1e-9 0.5\ndispersion 40\n"
+                "rect 0 0 0 1 0 0 0 1 0\n"
+                "f 1 1 1 0 1 1 0 0\nconductor 0.2 0.4 1.4 3.6 2.6 1.8\ns 0 0 0 1\n"
+                "checker 8 1 1 1 0 0 0\nrect 0 0 0 2 0 0 0 2 0\n");
+    assert_int_equal(ggSceneObjectCount(s), 3);
+    assert_int_equal(ggSceneObjectKind(s, 0), GG_SHAPE_RECT);
+    m = ggSceneMaterial(s, 0);
+    assert_true(m.extinction.r == 1e-8 && m.unit_m == 0.5 && m.abbe == 40 && m.ior == 1.33);
+    m = ggSceneMaterial(s, 1);
+    assert_int_equal(m.fresnel, GG_FRESNEL_CONDUCTOR);
+    assert_true(m.eta_k.r == 3.6 && m.eta_n.b == 1.4);
+    m = ggSceneMaterial(s, 2);
+    assert_int_equal(m.texture, 0);
+    assert_int_equal(s->depth, 7);
+    assert_int_equal(s->samples, 4);
+    assert_true(s->ambient.b == 0.4);
+    ggSceneFree(s);
+}
+
+static void test_errors(void **state)
+{
+    (void)state;
+    expect_error("s 1 2", GG_ERROR_PARSE, "scene.nff:1:6: expected a number after 's', got end of file");
+    expect_error("f 1 1 1 1 0 1 0 0\n  s 1 2 x 4\n", GG_ERROR_PARSE,
+                 "scene.nff:2:9: expected a number after 's', got 'x'");
+    expect_error("s 0 0 0 nan", GG_ERROR_PARSE, "scene.nff:1:9: expected a number after 's', got 'nan'");
+    expect_error("s 0 0 0 1e999", GG_ERROR_PARSE,
+                 "scene.nff:1:9: expected a number after 's', got '1e999'");
+    expect_error("q 1", GG_ERROR_PARSE, "scene.nff:1:1: unknown keyword 'q'");
+    expect_error("s 0 0 0 -1", GG_ERROR_PARSE, "scene.nff:1:1: sphere radius must be > 0, got -1");
+    expect_error("p 2 0 0 0 1 1 1", GG_ERROR_PARSE,
+                 "scene.nff:1:3: a vertex count after 'p' must be a whole number from 3 to 1000000, got 2");
+    expect_error("p 4\n0 0 0\n1 0 0\n1 1 0\n", GG_ERROR_PARSE,
+                 "scene.nff:5:1: expected a number after 'p', got end of file");
+    expect_error("p 999999999 0 0 0", GG_ERROR_LIMIT,
+                 "scene.nff:1:3: a vertex count after 'p' must be a whole number from 3 to 1000000, got 999999999");
+    expect_error("v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nresolution 100000 100000\n",
+                 GG_ERROR_LIMIT,
+                 "scene.nff:6:12: a width after 'resolution' must be a whole number from 1 to 65536, got 100000");
+    expect_error("v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nresolution 60000 60000\n",
+                 GG_ERROR_LIMIT, "scene.nff:6:1: resolution 60000x60000 exceeds 268435456 pixels");
+    expect_error("v\nfrom 0 0 1\nat 0 0 1\nup 0 1 0\n", GG_ERROR_PARSE,
+                 "scene.nff:1:1: view: 'from' and 'at' are the same point");
+    expect_error("f 1 1 1 1 0 1 0.5 0\n", GG_ERROR_PARSE,
+                 "scene.nff:1:1: a transparent material (T = 0.5) needs an index of refraction > 0");
+    expect_error("fresnel maybe", GG_ERROR_PARSE,
+                 "scene.nff:1:9: expected none, schlick or exact after 'fresnel', got 'maybe'");
+    expect_error("texture \"no-such-file.png\"", GG_ERROR_IO,
+                 "scene.nff:1:9: cannot read texture: no-such-file.png: cannot open: "
+                 "No such file or directory");
+    expect_error("implicit \"x*x + y*", GG_ERROR_PARSE, "scene.nff:1:10: unterminated string");
+    /* Everything before the error is rolled back too. */
+    expect_error("l 0 0 0\nf 1 1 1 1 0 1 0 0\ns 0 0 0 1\ns 0 0", GG_ERROR_PARSE,
+                 "scene.nff:4:6: expected a number after 's', got end of file");
+}
+
+static void test_rollback_keeps_earlier_load(void **state)
+{
+    ggScene *s = load_ok("l 0 0 0\nf 1 1 1 1 0 1 0 0\ns 0 0 0 1\n");
+    ggError e;
+    (void)state;
+    assert_int_not_equal(ggSceneLoadString(s, "s 1 1 1 1\ns 2", 14, "b.nff", &e), GG_OK);
+    assert_int_equal(ggSceneObjectCount(s), 1);
+    assert_int_equal(ggSceneLightCount(s), 1);
+    ggSceneFree(s);
+}
+
+static void test_missing_file(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    (void)state;
+    assert_int_equal(ggSceneLoadFile(s, "/nonexistent/x.nff", &e), GG_ERROR_IO);
+    assert_string_equal(e.message, "/nonexistent/x.nff: No such file or directory");
+    ggSceneFree(s);
+}
+
+/* Every SPD scene loads unchanged, with the entity counts of its README. */
+static void test_spd_scenes_load(void **state)
+{
+    static const struct {
+        const char *name;
+        int objects, lights;
+    } spd[] = {
+        {"balls-s4", 7381 + 1, 3},   {"gears", 9345, 5},         {"mount", 8192 + 4, 1},
+        {"rings", 4200 + 1 + 4200, 3}, {"tetra", 4096, 1},       {"tree", 4095 + 1 + 4095, 7},
+        {"teapot-s12", 144 + 9120, 2},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof spd / sizeof spd[0]; i++) {
+        char path[512];
+        ggScene *s = ggSceneCreate(NULL);
+        ggError e;
+        int rc;
+        snprintf(path, sizeof path, "examples/scenes/spd/%s.nff", spd[i].name);
+        rc = ggSceneLoadFile(s, path, &e);
+        if (rc != GG_OK) print_error("%s\n", e.message);
+        assert_int_equal(rc, GG_OK);
+        if (ggSceneObjectCount(s) != spd[i].objects)
+            print_error("%s: %d objects\n", spd[i].name, ggSceneObjectCount(s));
+        assert_int_equal(ggSceneObjectCount(s), spd[i].objects);
+        assert_int_equal(ggSceneLightCount(s), spd[i].lights);
+        assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+        ggSceneFree(s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_basic_entities),
+        cmocka_unit_test(test_materials_shared),
+        cmocka_unit_test(test_extensions),
+        cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_rollback_keeps_earlier_load),
+        cmocka_unit_test(test_missing_file),
+        cmocka_unit_test(test_spd_scenes_load),
+    };
+    return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
+}
