@@ -10,12 +10,13 @@
 ** direction) and on camera rays (RES x RES pixel centres), plus shadow
 ** rays from the camera rays' hit points to every light (any hit, t < 1).
 ** Scenes: generated ones (random spheres, random triangles, a sphereflake
-** like SPD balls) and the SPD files in examples/scenes/spd.
+** like SPD balls) and the SPD files in examples/scenes/spd, read with
+** ggSceneLoadFile (build time = the BVH build inside ggScenePrepare).
 */
 #include "geom.h"
+#include "scene_int.h"
 #include "vec.h"
 
-#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,111 +28,26 @@ typedef struct bscene {
     double fov;
     ggVec3 lights[16];
     int nlights;
+    int prebuilt; /* the scene loader built the BVH already */
 } bscene;
 
-/* ---- a minimal NFF reader (geometry, camera and lights only) ---- */
+/* ---- SPD files through the library's NFF loader ---- */
 
-typedef struct rd {
-    const char *p, *end;
-} rd;
-
-static int tok(rd *r, char *buf, size_t n)
+static int load_nff(bscene *s, const char *path, ggScene **owner)
 {
-    size_t k = 0;
-    for (;;) {
-        while (r->p < r->end && isspace((unsigned char)*r->p)) r->p++;
-        if (r->p < r->end && *r->p == '#') {
-            while (r->p < r->end && *r->p != '\n') r->p++;
-            continue;
-        }
-        break;
-    }
-    if (r->p >= r->end) return 0;
-    while (r->p < r->end && !isspace((unsigned char)*r->p) && k + 1 < n) buf[k++] = *r->p++;
-    buf[k] = 0;
-    return 1;
-}
-
-static double num(rd *r)
-{
-    char b[64];
-    return tok(r, b, sizeof b) ? strtod(b, NULL) : 0;
-}
-
-static ggVec3 vec(rd *r)
-{
-    double x = num(r), y = num(r);
-    return v3(x, y, num(r));
-}
-
-static int load_nff(bscene *s, const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    char *text, t[64];
-    long len;
-    rd r;
-    int obj = 0;
-    if (!f) return -1;
-    fseek(f, 0, SEEK_END);
-    len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    text = malloc((size_t)len + 1);
-    if (!text || fread(text, 1, (size_t)len, f) != (size_t)len) {
-        fclose(f);
-        free(text);
+    ggScene *sc = ggSceneCreate(NULL);
+    ggError err;
+    ggCamera cam;
+    size_t i;
+    if (!sc || ggSceneLoadFile(sc, path, &err) != GG_OK || ggScenePrepare(sc, &err) != GG_OK) {
+        ggSceneFree(sc);
         return -1;
     }
-    fclose(f);
-    r.p = text, r.end = text + len;
-    s->g = gg_geom_create(NULL);
-    while (tok(&r, t, sizeof t)) {
-        if (!strcmp(t, "from")) s->from = vec(&r);
-        else if (!strcmp(t, "at")) s->at = vec(&r);
-        else if (!strcmp(t, "up")) s->up = vec(&r);
-        else if (!strcmp(t, "angle")) s->fov = num(&r);
-        else if (!strcmp(t, "hither")) num(&r);
-        else if (!strcmp(t, "resolution")) num(&r), num(&r);
-        else if (!strcmp(t, "b")) vec(&r);
-        else if (!strcmp(t, "l")) {
-            ggVec3 p = vec(&r);
-            const char *save = r.p;
-            char b2[64];
-            /* optional colour: three more numbers on the same entity */
-            if (tok(&r, b2, sizeof b2) && (isdigit((unsigned char)b2[0]) || b2[0] == '-' ||
-                                           b2[0] == '.')) {
-                num(&r), num(&r);
-            } else {
-                r.p = save;
-            }
-            if (s->nlights < 16) s->lights[s->nlights++] = p;
-        } else if (!strcmp(t, "f")) {
-            int i;
-            for (i = 0; i < 8; i++) num(&r);
-        } else if (!strcmp(t, "s")) {
-            ggVec3 c = vec(&r);
-            gg_geom_add_sphere(s->g, c, num(&r), obj++);
-        } else if (!strcmp(t, "c")) {
-            ggVec3 b = vec(&r);
-            double rb = num(&r);
-            ggVec3 a = vec(&r);
-            gg_geom_add_cone(s->g, b, rb, a, num(&r), obj++);
-        } else if (!strcmp(t, "p") || !strcmp(t, "pp")) {
-            int n = (int)num(&r), i, pp = t[1] == 'p';
-            ggVec3 *v = malloc(sizeof *v * (size_t)(n > 0 ? n : 1));
-            ggVec3 *nv = malloc(sizeof *nv * (size_t)(n > 0 ? n : 1));
-            for (i = 0; i < n; i++) {
-                v[i] = vec(&r);
-                if (pp) nv[i] = vec(&r);
-            }
-            if (pp && n == 3)
-                gg_geom_add_triangle(s->g, v, nv, obj++);
-            else
-                gg_geom_add_polygon(s->g, v, n, obj++);
-            free(v);
-            free(nv);
-        }
-    }
-    free(text);
+    cam = ggSceneCamera(sc);
+    s->from = cam.from, s->at = cam.at, s->up = cam.up, s->fov = cam.fov_deg;
+    for (i = 0; i < sc->nlights && i < 16; i++) s->lights[s->nlights++] = sc->lights[i].pos;
+    s->g = sc->geom;
+    *owner = sc;
     return 0;
 }
 
@@ -274,7 +190,7 @@ static void run(bscene *s, int res, int nrand)
     int *sl = malloc(sizeof *sl * (size_t)res * (size_t)res * (size_t)s->nlights);
     int i, j, k, ns = 0, nc = res * res;
     double cr, ca, rr, ra, sr, sc;
-    if (gg_geom_build(s->g, NULL) != GG_OK) {
+    if (!s->g || (!s->prebuilt && gg_geom_build(s->g, NULL) != GG_OK)) {
         printf("%-24s build failed\n", s->name);
         return;
     }
@@ -353,12 +269,13 @@ int main(int argc, char **argv)
     for (i = 0; i < (nfiles ? nfiles : 7); i++) {
         bscene s;
         char path[512];
+        ggScene *owner = NULL;
         memset(&s, 0, sizeof s);
         if (nfiles)
             snprintf(path, sizeof path, "%s", argv[i + 1]);
         else
             snprintf(path, sizeof path, "examples/scenes/spd/%s.nff", spd[i]);
-        if (load_nff(&s, path)) {
+        if (load_nff(&s, path, &owner)) {
             printf("%-24s cannot read %s\n", spd[i], path);
             continue;
         }
@@ -369,8 +286,9 @@ int main(int argc, char **argv)
             memcpy(s.name, base, l);
             s.name[l] = 0;
         }
+        s.prebuilt = 1;
         run(&s, res, nrand);
-        gg_geom_free(s.g);
+        ggSceneFree(owner);
     }
     return 0;
 }

@@ -7,6 +7,7 @@
 
 #include "geom_leaf.h"
 #include "implicit_int.h"
+#include "scene_int.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -553,52 +554,27 @@ static void test_allocator(void **state)
 
 /* ---- SPD scenes ---- */
 
-/* The geometry of an NFF file (s, c, p, pp; everything else skipped).
-   Test-local stand-in until the scene loader can hand its gg_geom over. */
-static gg_geom *load_nff_geometry(const char *path)
+/* Load an SPD scene through the library's NFF loader; the scene owns
+   the gg_geom the renderer traces. */
+static ggScene *load_spd(const char *name)
 {
-    FILE *f = fopen(path, "r");
-    gg_geom *g;
-    char tok[64];
-    int obj = 0;
-    if (!f) return NULL;
-    g = gg_geom_create(NULL);
-    assert_non_null(g);
-    while (fscanf(f, "%63s", tok) == 1) {
-        if (!strcmp(tok, "s")) {
-            ggVec3 c;
-            double r;
-            assert_int_equal(fscanf(f, "%lf %lf %lf %lf", &c.x, &c.y, &c.z, &r), 4);
-            assert_true(gg_geom_add_sphere(g, c, r, obj++) >= 0);
-        } else if (!strcmp(tok, "c")) {
-            ggVec3 b, a;
-            double rb, ra;
-            assert_int_equal(fscanf(f, "%lf %lf %lf %lf %lf %lf %lf %lf", &b.x, &b.y, &b.z, &rb,
-                                    &a.x, &a.y, &a.z, &ra),
-                             8);
-            assert_true(gg_geom_add_cone(g, b, rb, a, ra, obj++) >= 0);
-        } else if (!strcmp(tok, "p") || !strcmp(tok, "pp")) {
-            int n, i, pp = tok[1] == 'p';
-            ggVec3 v[256], nv[256];
-            assert_int_equal(fscanf(f, "%d", &n), 1);
-            assert_true(n >= 3 && n <= 256);
-            for (i = 0; i < n; i++) {
-                assert_int_equal(fscanf(f, "%lf %lf %lf", &v[i].x, &v[i].y, &v[i].z), 3);
-                if (pp)
-                    assert_int_equal(fscanf(f, "%lf %lf %lf", &nv[i].x, &nv[i].y, &nv[i].z), 3);
-            }
-            if (pp && n == 3)
-                assert_true(gg_geom_add_triangle(g, v, nv, obj++) >= 0);
-            else
-                assert_true(gg_geom_add_polygon(g, v, n, obj++) >= 0);
-        } else if (!strcmp(tok, "#")) {
-            int ch;
-            while ((ch = fgetc(f)) != EOF && ch != '\n') {}
+    char path[512];
+    ggScene *sc = ggSceneCreate(NULL);
+    ggError err;
+    assert_non_null(sc);
+    snprintf(path, sizeof path, "%s/%s.nff", tu_spd_dir(), name);
+    if (ggSceneLoadFile(sc, path, &err) != GG_OK) {
+        snprintf(path, sizeof path, "examples/scenes/spd/%s.nff", name);
+        if (ggSceneLoadFile(sc, path, &err) != GG_OK) {
+            print_error("%s\n", err.message);
+            fail();
         }
     }
-    fclose(f);
-    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
-    return g;
+    if (ggScenePrepare(sc, &err) != GG_OK) {
+        print_error("%s\n", err.message);
+        fail();
+    }
+    return sc;
 }
 
 static void test_spd_scenes(void **state)
@@ -608,23 +584,13 @@ static void test_spd_scenes(void **state)
     int k;
     (void)state;
     for (k = 0; k < 7; k++) {
-        char path[512];
-        gg_geom *g;
+        ggScene *sc = load_spd(names[k]);
+        const gg_geom *g = sc->geom;
         ref rf;
         tu_rng r = {1000 + (unsigned)k};
         ggVec3 lo, hi, c;
         long nhit = 0;
         int i, npoly = 0, whole = 0;
-        snprintf(path, sizeof path, "%s/%s.nff", tu_spd_dir(), names[k]);
-        g = load_nff_geometry(path);
-        if (!g) {
-            snprintf(path, sizeof path, "examples/scenes/spd/%s.nff", names[k]);
-            g = load_nff_geometry(path);
-        }
-        if (!g) {
-            print_error("cannot read %s\n", path);
-            fail();
-        }
         for (i = 0; i < (int)g->npoly; i++) npoly++, whole += g->polys[i].npiece == 0;
         ref_init(&rf, g);
         gg_geom_bounds(g, &lo, &hi);
@@ -651,7 +617,7 @@ static void test_spd_scenes(void **state)
         assert_int_equal(whole, 0); /* every SPD polygon splits into triangles */
         assert_true(nhit > RAYS(100000) / 20);
         ref_free(&rf);
-        gg_geom_free(g);
+        ggSceneFree(sc);
     }
 }
 
