@@ -439,15 +439,21 @@ int gg_geom_occluded_brute(const gg_geom *g, const gg_rayq *q)
     return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, gg_next_down(q->tmax)) != 0;
 }
 
-void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s)
+void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
+                        unsigned what)
 {
     const gg_prim *p = &g->prims[hit->prim];
     switch (p->kind) {
-    case GG_SHAPE_SPHERE: gg_sphere_surface(&g->sphs[p->data], q, hit, s); break;
-    case GG_SHAPE_TRIANGLE: gg_tri_surface(&g->tris[p->data], q, hit, s); break;
-    case GG_SHAPE_POLYGON: gg_poly_surface(g, &g->polys[p->data], q, hit, s); break;
-    case GG_SHAPE_CONE: gg_cone_surface(&g->cones[p->data], q, hit, s); break;
+    case GG_SHAPE_SPHERE: gg_sphere_surface(&g->sphs[p->data], q, hit, s, what); break;
+    case GG_SHAPE_TRIANGLE: gg_tri_surface(&g->tris[p->data], q, hit, s, what); break;
+    case GG_SHAPE_POLYGON: gg_poly_surface(g, &g->polys[p->data], q, hit, s, what); break;
+    case GG_SHAPE_CONE: gg_cone_surface(&g->cones[p->data], q, hit, s, what); break;
     case GG_SHAPE_RECT: gg_rect_surface(&g->rects[p->data], q, hit, s); break;
     default: gg_implicit_shape_surface(g->imps[p->data], q, hit, s); break;
     }
+}
+
+void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s)
+{
+    gg_geom_surface_ex(g, q, hit, s, GG_SURF_UV);
 }

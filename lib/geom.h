@@ -153,6 +153,13 @@ typedef struct gg_surf {
    + |b1 v1| + |b2 v2|) for triangles; see the shape files. */
 void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s);
 
+/* The same, computing (u, v) only when `what` has GG_SURF_UV (spheres and
+   cones spend an atan2 on them): untextured materials can pass 0, and
+   then s->u = s->v = 0. gg_geom_surface is what = GG_SURF_UV. */
+#define GG_SURF_UV 1u
+void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
+                        unsigned what);
+
 /* Origin for a ray leaving surface point s->p in direction d: pushed off
    the surface along ng, to the side d goes to, far enough that the new ray
    cannot find the same surface again and no farther than needed.

@@ -171,19 +171,22 @@ struct gg_geom {
 
 /* Per-shape code (shape_*.c). Bounds are conservative boxes in double. */
 void gg_sphere_bounds(const gg_sph *s, double lo[3], double hi[3]);
-void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_surf *out);
+void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_surf *out,
+                       unsigned what);
 void gg_tri_bounds(const gg_ktri *t, double lo[3], double hi[3]);
-void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out);
+void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out,
+                    unsigned what);
 /* Point on a triangle from barycentrics (b1, b2 of vertices 1, 2) and its
    error bound. */
 ggVec3 gg_tri_point(const gg_ktri *t, double b1, double b2, double *perr);
 int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int n, gg_poly *out);
 void gg_poly_bounds(const gg_geom *g, const gg_poly *pl, double lo[3], double hi[3]);
 void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, const gg_hit *h,
-                     gg_surf *out);
+                     gg_surf *out, unsigned what);
 int gg_cone_prepare(ggVec3 base, double rb, ggVec3 apex, double ra, gg_cone *out);
 void gg_cone_bounds(const gg_cone *c, double lo[3], double hi[3]);
-void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_surf *out);
+void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_surf *out,
+                     unsigned what);
 int gg_rect_prepare(ggVec3 corner, ggVec3 e1, ggVec3 e2, gg_rect *out);
 void gg_rect_bounds(const gg_rect *r, double lo[3], double hi[3]);
 void gg_rect_surface(const gg_rect *r, const gg_rayq *q, const gg_hit *h, gg_surf *out);

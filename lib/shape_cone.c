@@ -50,7 +50,8 @@ void gg_cone_bounds(const gg_cone *c, double lo[3], double hi[3])
 
 /* (u, v) = (angle around the axis / 2 pi in [0, 1), height fraction from
    the base). ng points away from the axis (outward). */
-void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_surf *out)
+void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_surf *out,
+                     unsigned what)
 {
     const gg_kcone *k = &c->k;
     ggVec3 ex = v3(k->ex[0], k->ex[1], k->ex[2]), ey = v3(k->ey[0], k->ey[1], k->ey[2]);
@@ -73,10 +74,13 @@ void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_sur
     n = v3norm(n);
     out->ng = n;
     out->ns = n;
-    phi = atan2(y, x);
-    if (phi < 0) phi += 2 * GG_PI;
-    out->u = phi / (2 * GG_PI);
-    if (out->u >= 1) out->u = 0;
-    out->v = z / k->h;
+    out->u = out->v = 0;
+    if (what & GG_SURF_UV) {
+        phi = atan2(y, x);
+        if (phi < 0) phi += 2 * GG_PI;
+        out->u = phi / (2 * GG_PI);
+        if (out->u >= 1) out->u = 0;
+        out->v = z / k->h;
+    }
     out->perr = gg_gamma(8) * (v3maxabs(base) + 2 * rho + z) + gg_gamma(2) * v3maxabs(out->p);
 }

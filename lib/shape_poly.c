@@ -278,7 +278,7 @@ static double clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
    n x eu), scaled so the polygon's bounding rectangle in that frame is
    [0,1]^2. */
 void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, const gg_hit *h,
-                     gg_surf *out)
+                     gg_surf *out, unsigned what)
 {
     ggVec3 d;
     if (pl->npiece) {
@@ -293,7 +293,10 @@ void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, cons
     }
     out->ng = pl->n;
     out->ns = pl->n;
-    d = v3sub(out->p, pl->p0);
-    out->u = clamp01((v3dot(d, pl->eu) - pl->u0) * pl->su);
-    out->v = clamp01((v3dot(d, pl->ev) - pl->v0) * pl->sv);
+    out->u = out->v = 0;
+    if (what & GG_SURF_UV) {
+        d = v3sub(out->p, pl->p0);
+        out->u = clamp01((v3dot(d, pl->eu) - pl->u0) * pl->su);
+        out->v = clamp01((v3dot(d, pl->ev) - pl->v0) * pl->sv);
+    }
 }

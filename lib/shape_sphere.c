@@ -15,7 +15,8 @@ void gg_sphere_bounds(const gg_sph *s, double lo[3], double hi[3])
 
 /* (u, v) on a sphere: u = azimuth around +z / 2 pi in [0, 1), v = polar
    angle from +z / pi in [0, 1] (v = 0 at the north pole). */
-void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_surf *out)
+void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_surf *out,
+                       unsigned what)
 {
     ggVec3 pl = v3sub(v3madd(q->o, q->d, h->t), s->c);
     double len = v3len(pl), phi;
@@ -32,11 +33,14 @@ void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_su
     n = v3norm(n);
     out->ng = n;
     out->ns = n;
-    phi = atan2(n.y, n.x);
-    if (phi < 0) phi += 2 * GG_PI;
-    out->u = phi / (2 * GG_PI);
-    if (out->u >= 1) out->u = 0;
-    out->v = acos(n.z < -1 ? -1 : n.z > 1 ? 1 : n.z) / GG_PI;
+    out->u = out->v = 0;
+    if (what & GG_SURF_UV) {
+        phi = atan2(n.y, n.x);
+        if (phi < 0) phi += 2 * GG_PI;
+        out->u = phi / (2 * GG_PI);
+        if (out->u >= 1) out->u = 0;
+        out->v = acos(n.z < -1 ? -1 : n.z > 1 ? 1 : n.z) / GG_PI;
+    }
     /* |pl| is within gamma(5) of r per component, and the sum c + pl adds
        one rounding of |p|. */
     out->perr = gg_gamma(6) * v3maxabs(pl) + gg_gamma(2) * v3maxabs(out->p);

@@ -35,7 +35,8 @@ ggVec3 gg_tri_point(const gg_ktri *t, double b1, double b2, double *perr)
 static double clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
 
 /* (u, v) = the barycentric weights of vertices 1 and 2. */
-void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out)
+void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out,
+                    unsigned what)
 {
     ggVec3 a = v3(t->k.v[0][0], t->k.v[0][1], t->k.v[0][2]);
     ggVec3 b = v3(t->k.v[1][0], t->k.v[1][1], t->k.v[1][2]);
@@ -53,6 +54,6 @@ void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf 
         ns = v3norm(ns);
         if (v3dot(ns, ng) > 0) out->ns = ns;
     }
-    out->u = clamp01(h->b1);
-    out->v = clamp01(h->b2);
+    out->u = what & GG_SURF_UV ? clamp01(h->b1) : 0;
+    out->v = what & GG_SURF_UV ? clamp01(h->b2) : 0;
 }

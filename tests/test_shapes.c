@@ -173,6 +173,14 @@ static void test_sphere_surface(void **state)
         assert_close(atan2(s.ng.y, s.ng.x), atan2(sin(2 * GG_PI * s.u), cos(2 * GG_PI * s.u)),
                      1e-9);
         assert_true(s.perr > 0 && s.perr < 1e-13);
+        {
+            /* without (u, v): the same point and normals */
+            gg_surf s2;
+            gg_geom_surface_ex(g, &q, &h, &s2, 0);
+            assert_true(s2.p.x == s.p.x && s2.p.y == s.p.y && s2.p.z == s.p.z);
+            assert_true(s2.ng.x == s.ng.x && s2.ns.z == s.ns.z && s2.perr == s.perr);
+            assert_true(s2.u == 0 && s2.v == 0);
+        }
     }
     gg_geom_free(g);
 }
