@@ -377,6 +377,13 @@ void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi)
 
 /* ---- queries ---- */
 
+/* The caller has usually just written *q field by field; a 16-byte load
+   spanning two of its 8-byte stores cannot be forwarded from the store
+   buffer and stalls for ~15 cycles. Read q one double at a time: GCC's
+   SLP vectoriser would otherwise pair them up. */
+#if defined(__GNUC__) && !defined(__clang__)
+__attribute__((optimize("no-tree-slp-vectorize")))
+#endif
 int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
 {
     double ax = fabs(q->d.x), ay = fabs(q->d.y), az = fabs(q->d.z), dk;
