@@ -61,10 +61,11 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
       give one), where the bound is 4 ulp.
     - The total-internal-reflection decision is the sign of the
       discriminant nt^2 |v|^2 cos^2(theta_t), evaluated in double-double
-      arithmetic: it agrees with exact arithmetic on the given doubles
-      unless the incidence angle is within about 2^-100 (relative) of the
-      critical one. At exactly the critical angle the ray is transmitted
-      along the surface (returns true).
+      arithmetic: for |eta| <= 4 it agrees with exact arithmetic on the
+      given doubles unless |cos^2(theta_t)| < 2^-96, i.e. unless the
+      incidence angle is within about 2^-97 (relative) of the critical
+      one. At exactly the critical angle the ray is transmitted along the
+      surface (returns true).
     - ni == nt gives t = v/|v|; normal incidence gives t = v/|v|.
     - v exactly tangent to the surface (v.n == 0 in exact arithmetic)
       never crosses it: returns false and writes v/|v| (its own mirror
