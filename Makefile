@@ -209,6 +209,7 @@ fuzz:
 	    $(IMG_LIBS) $(SYS_LIBS) || exit 1; \
 	  mkdir -p $(BUILD)/fuzz/corpus_$$f; \
 	  $(BUILD)/fuzz/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
+	    -artifact_prefix=$(BUILD)/fuzz/ \
 	    $(BUILD)/fuzz/corpus_$$f tests/fuzz/corpus/$$f || exit 1; \
 	done
 

@@ -324,7 +324,8 @@ static int run_fresnel(const opts *o)
     double c = 1;
     int rc, how = !!(o->seen & O_ANGLE) + !!(o->seen & O_COS) + !!(o->seen & (O_V | O_N));
     if (how != 1) {
-        fprintf(stderr, "ggrt optics fresnel: give exactly one of --angle, --cos, or --v with --n\n");
+        fprintf(stderr,
+                "ggrt optics fresnel: give exactly one of --angle, --cos, or --v with --n\n");
         return EXIT_USAGE;
     }
     if (o->seen & (O_V | O_N)) {

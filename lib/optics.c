@@ -200,7 +200,8 @@ static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
            (exact) so the formulas below see eta in (1/2, 2). */
         double m = fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi);
         if (m != 0 && dd_expo(m) >= 4 - ediff) goto tir;
-        for (i = 0; i < 3; i++) vt[i].hi = dd_scale2(vt[i].hi, ediff), vt[i].lo = dd_scale2(vt[i].lo, ediff);
+        for (i = 0; i < 3; i++)
+            vt[i].hi = dd_scale2(vt[i].hi, ediff), vt[i].lo = dd_scale2(vt[i].lo, ediff);
     }
 
     /* D = nt^2 |v|^2 cos^2(theta_t), two ways:

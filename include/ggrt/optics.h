@@ -61,10 +61,11 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
       give one), where the bound is 4 ulp.
     - The total-internal-reflection decision is the sign of the
       discriminant nt^2 |v|^2 cos^2(theta_t), evaluated in double-double
-      arithmetic: it agrees with exact arithmetic on the given doubles
-      unless the incidence angle is within about 2^-100 (relative) of the
-      critical one. At exactly the critical angle the ray is transmitted
-      along the surface (returns true).
+      arithmetic: for |eta| <= 4 it agrees with exact arithmetic on the
+      given doubles unless |cos^2(theta_t)| < 2^-96, i.e. unless the
+      incidence angle is within about 2^-97 (relative) of the critical
+      one. At exactly the critical angle the ray is transmitted along the
+      surface (returns true).
     - ni == nt gives t = v/|v|; normal incidence gives t = v/|v|.
     - v exactly tangent to the surface (v.n == 0 in exact arithmetic)
       never crosses it: returns false and writes v/|v| (its own mirror
@@ -72,7 +73,8 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
     - Invalid input -- a non-finite component or index, a zero v or n, or
       ni == 0 or nt == 0 -- returns false and writes (NaN, NaN, NaN).
     - t may be NULL: only the decision is returned.
-    - Cost: about 25 times the textbook formula (bench/bench_optics.c). */
+    - Cost: 15 to 25 times the textbook formula, a few hundred ns
+      (make bench-optics). */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 
 /* The textbook formula, kept for the accuracy study and the benchmark:

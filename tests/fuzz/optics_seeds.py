@@ -110,6 +110,8 @@ seeds["found_underflowing_products_b"] = base64.b64decode(
     "8wAAEAAAAAAAAAAAAAAAAAAZAAAAAAAgAAAAf/2pPJogAAAACw==")
 seeds["found_almost_parallel_huge_eta"] = base64.b64decode(
     "MzMzMzMz0y9hAAAAAAAAAJqZmZmZmbk/mpmZmZmZyT8AAAAAAADwPwAAAAAAAABBvzMzMzO/M9MzMwAACFQ/Mwg=")
+seeds["found_tir_band_2m110"] = base64.b64decode(
+    "AAAAAAAACEAAAAAAAAAQwAAAAAAAAAAAAQAAAAAAADkAAAAAACjwPwAAAAAAAAAAAAAAAAAAFEAAAAAAAAAIQAA=")
 # short inputs use the defaults for what is missing
 seeds["short_v_only"] = struct.pack("<3d", 0.1, -1.0, 0.2)
 seeds["empty"] = b""
