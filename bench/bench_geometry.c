@@ -239,8 +239,8 @@ static void run(bscene *s, int res, int nrand)
 
 int main(int argc, char **argv)
 {
-    static const char *spd[] = {"balls-s4", "gears", "mount", "rings", "teapot-s12", "tetra",
-                                "tree"};
+    static const char *spd[] = {"balls-s4",   "gears", "mount", "rings",
+                                "teapot-s12", "tetra", "tree"};
     int res = 512, nrand = 300000, i, nfiles = 0;
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "-n") && i + 1 < argc)
@@ -255,8 +255,8 @@ int main(int argc, char **argv)
     printf("single thread; camera rays %dx%d pixel centres; %d random rays\n", res, res, nrand);
     printf("%-24s %6s %8s %6s %5s %6s %7s %7s %7s %7s %7s %7s\n", "scene", "prims", "build_ms",
            "nodes", "depth", "B/prim", "rnd_cl", "rnd_any", "cam_cl", "cam_any", "shadow", "shd_c");
-    printf("%-24s %6s %8s %6s %5s %6s %7s %7s %7s %7s %7s %7s\n", "", "", "", "", "", "",
-           "Mray/s", "Mray/s", "Mray/s", "Mray/s", "Mray/s", "Mray/s");
+    printf("%-24s %6s %8s %6s %5s %6s %7s %7s %7s %7s %7s %7s\n", "", "", "", "", "", "", "Mray/s",
+           "Mray/s", "Mray/s", "Mray/s", "Mray/s", "Mray/s");
     if (nfiles == 0) {
         for (i = 0; i < 3; i++) {
             bscene s;

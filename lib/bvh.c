@@ -37,12 +37,12 @@ struct gg_bnode {
 };
 
 #define GG_LEAF       0x80000000u
-#define GG_MAX_LEAF   4    /* elements per leaf */
-#define GG_NBINS      32   /* SAH bins per axis */
-#define GG_SAH_TRAV   1.0  /* cost of a node visit, in element tests */
+#define GG_MAX_LEAF   4   /* elements per leaf */
+#define GG_NBINS      32  /* SAH bins per axis */
+#define GG_SAH_TRAV   1.0 /* cost of a node visit, in element tests */
 #define GG_SAH_ISECT  1.0
-#define GG_MEDIAN_AT  40   /* below this depth splits are median splits */
-#define GG_STACK      256  /* > 3 * maximum depth (see build2) */
+#define GG_MEDIAN_AT  40                         /* below this depth splits are median splits */
+#define GG_STACK      256                        /* > 3 * maximum depth (see build2) */
 #define GG_EXIT_SCALE 1.00000059604644775390625f /* 1 + 5 * 2^-23 */
 
 /* ---- float rounding helpers ---- */
@@ -58,7 +58,10 @@ static inline float f_next_up(float f)
     memcpy(&f, &u, 4);
     return f;
 }
-static inline float f_next_down(float f) { return -f_next_up(-f); }
+static inline float f_next_down(float f)
+{
+    return -f_next_up(-f);
+}
 
 /* Round to the nearest float, or toward +-inf when out of range. */
 static inline float f_near(double x)
@@ -207,9 +210,9 @@ static uint32_t build2(bctx *c, uint32_t begin, uint32_t end, int depth)
                 lcnt += cnt[b - 1];
                 if (!lcnt || !rcnt[b]) continue;
                 la = half_area(llo, lhi);
-                cost = parea > 0 ? GG_SAH_TRAV + GG_SAH_ISECT * (la * lcnt + rarea[b] * rcnt[b]) /
-                                                     parea
-                                 : GG_SAH_TRAV + GG_SAH_ISECT * 0.5 * n;
+                cost = parea > 0
+                           ? GG_SAH_TRAV + GG_SAH_ISECT * (la * lcnt + rarea[b] * rcnt[b]) / parea
+                           : GG_SAH_TRAV + GG_SAH_ISECT * 0.5 * n;
                 if (cost < best_cost) best_cost = cost, best_axis = axis, best_bin = b;
             }
         }
@@ -386,7 +389,8 @@ typedef struct trav {
 #if defined(__GNUC__) && !defined(__clang__)
 __attribute__((optimize("no-tree-slp-vectorize")))
 #endif
-static int trav_init(trav *tv, const gg_rpre *r)
+static int
+trav_init(trav *tv, const gg_rpre *r)
 {
     int k, sm;
 #ifdef GG_BVH_SIMD
@@ -452,7 +456,10 @@ static int trav_init(trav *tv, const gg_rpre *r)
 /* A float >= t for 0 <= t (the running closest distance), without the
    exact directed rounding: fl(t) >= t (1 - 2^-24), and the product and sum
    round to nearest. */
-static inline float f_above(double t) { return f_near(t) * 1.0000003f + 1e-37f; }
+static inline float f_above(double t)
+{
+    return f_near(t) * 1.0000003f + 1e-37f;
+}
 
 /* Slab test of the four child boxes: returns the mask of boxes entered
    within [tmin, tmax] and their entry distances. Exit distances use 1/d
@@ -482,8 +489,7 @@ static inline int box4(const gg_bnode *nd, const trav *tv, __m128 tmin4, __m128 
 #define GG_T4(x) _mm_set1_ps(x)
 typedef __m128 gg_t4;
 #else
-static inline int box4(const gg_bnode *nd, const trav *tv, float tmin, float tmax,
-                       float tn_out[4])
+static inline int box4(const gg_bnode *nd, const trav *tv, float tmin, float tmax, float tn_out[4])
 {
     int i, k, mask = 0;
     for (i = 0; i < 4; i++) {
@@ -652,7 +658,10 @@ static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
     }
 }
 
-int gg_geom_occluded(const gg_geom *g, const gg_rayq *q) { return occluder(g, q, NULL) != 0; }
+int gg_geom_occluded(const gg_geom *g, const gg_rayq *q)
+{
+    return occluder(g, q, NULL) != 0;
+}
 
 int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
 {

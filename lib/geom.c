@@ -200,7 +200,10 @@ void gg_geom_set_flags(gg_geom *g, int prim, unsigned flags)
     if (prim >= 0 && (size_t)prim < g->nprim) g->pflags[prim] = (uint8_t)flags;
 }
 
-size_t gg_geom_prim_count(const gg_geom *g) { return g->nprim; }
+size_t gg_geom_prim_count(const gg_geom *g)
+{
+    return g->nprim;
+}
 
 int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim)
 {
@@ -235,16 +238,26 @@ static size_t count_elems(const gg_geom *g)
 static void elem_bounds(const gg_geom *g, const elem *e, double lo[3], double hi[3])
 {
     switch (e->kind) {
-    case GG_EK_SPHERE: gg_sphere_bounds(&g->sphs[e->data], lo, hi); break;
+    case GG_EK_SPHERE:
+        gg_sphere_bounds(&g->sphs[e->data], lo, hi);
+        break;
     case GG_EK_TRI:
         gg_tri_bounds(g->prims[e->prim].kind == GG_SHAPE_POLYGON ? &g->pieces[e->data]
                                                                  : &g->tris[e->data].k,
                       lo, hi);
         break;
-    case GG_EK_CONE: gg_cone_bounds(&g->cones[e->data], lo, hi); break;
-    case GG_EK_RECT: gg_rect_bounds(&g->rects[e->data], lo, hi); break;
-    case GG_EK_POLY: gg_poly_bounds(g, &g->polys[e->data], lo, hi); break;
-    default: gg_implicit_shape_bounds(g->imps[e->data], lo, hi); break;
+    case GG_EK_CONE:
+        gg_cone_bounds(&g->cones[e->data], lo, hi);
+        break;
+    case GG_EK_RECT:
+        gg_rect_bounds(&g->rects[e->data], lo, hi);
+        break;
+    case GG_EK_POLY:
+        gg_poly_bounds(g, &g->polys[e->data], lo, hi);
+        break;
+    default:
+        gg_implicit_shape_bounds(g->imps[e->data], lo, hi);
+        break;
     }
 }
 
@@ -256,11 +269,21 @@ static int fill_elems(const gg_geom *g, elem *el)
         elem e;
         e.prim = (uint32_t)i, e.data = p->data, e.sub = 0;
         switch (p->kind) {
-        case GG_SHAPE_SPHERE: e.kind = GG_EK_SPHERE; break;
-        case GG_SHAPE_TRIANGLE: e.kind = GG_EK_TRI; break;
-        case GG_SHAPE_CONE: e.kind = GG_EK_CONE; break;
-        case GG_SHAPE_RECT: e.kind = GG_EK_RECT; break;
-        case GG_SHAPE_IMPLICIT: e.kind = GG_EK_IMPLICIT; break;
+        case GG_SHAPE_SPHERE:
+            e.kind = GG_EK_SPHERE;
+            break;
+        case GG_SHAPE_TRIANGLE:
+            e.kind = GG_EK_TRI;
+            break;
+        case GG_SHAPE_CONE:
+            e.kind = GG_EK_CONE;
+            break;
+        case GG_SHAPE_RECT:
+            e.kind = GG_EK_RECT;
+            break;
+        case GG_SHAPE_IMPLICIT:
+            e.kind = GG_EK_IMPLICIT;
+            break;
         default: {
             const gg_poly *pl = &g->polys[p->data];
             uint32_t k;
@@ -303,8 +326,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
     g->ltri = gg_mem_calloc(g->alloc, g->ntri + g->npieces + 1, sizeof *g->ltri);
     g->lcone = gg_mem_calloc(g->alloc, g->ncone + 1, sizeof *g->lcone);
     g->lrect = gg_mem_calloc(g->alloc, g->nrect + 1, sizeof *g->lrect);
-    if (!el || !lo || !hi || !order || !g->slots || !g->lsph || !g->ltri || !g->lcone ||
-        !g->lrect)
+    if (!el || !lo || !hi || !order || !g->slots || !g->lsph || !g->ltri || !g->lcone || !g->lrect)
         goto fail;
     fill_elems(g, el);
     g->lo = v3(INFINITY, INFINITY, INFINITY);
@@ -344,7 +366,9 @@ int gg_geom_build(gg_geom *g, ggError *err)
             g->lrect[nr] = g->rects[e->data].k;
             idx = (uint32_t)nr++;
             break;
-        default: idx = e->data; break;
+        default:
+            idx = e->data;
+            break;
         }
         s->ki = e->kind << GG_EK_SHIFT | idx;
     }
@@ -451,12 +475,24 @@ void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, g
 {
     const gg_prim *p = &g->prims[hit->prim];
     switch (p->kind) {
-    case GG_SHAPE_SPHERE: gg_sphere_surface(&g->sphs[p->data], q, hit, s, what); break;
-    case GG_SHAPE_TRIANGLE: gg_tri_surface(&g->tris[p->data], q, hit, s, what); break;
-    case GG_SHAPE_POLYGON: gg_poly_surface(g, &g->polys[p->data], q, hit, s, what); break;
-    case GG_SHAPE_CONE: gg_cone_surface(&g->cones[p->data], q, hit, s, what); break;
-    case GG_SHAPE_RECT: gg_rect_surface(&g->rects[p->data], q, hit, s); break;
-    default: gg_implicit_shape_surface(g->imps[p->data], q, hit, s); break;
+    case GG_SHAPE_SPHERE:
+        gg_sphere_surface(&g->sphs[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_TRIANGLE:
+        gg_tri_surface(&g->tris[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_POLYGON:
+        gg_poly_surface(g, &g->polys[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_CONE:
+        gg_cone_surface(&g->cones[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_RECT:
+        gg_rect_surface(&g->rects[p->data], q, hit, s);
+        break;
+    default:
+        gg_implicit_shape_surface(g->imps[p->data], q, hit, s);
+        break;
     }
 }
 

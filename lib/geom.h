@@ -38,10 +38,10 @@
 #define GG_PRIM_TRANSPARENT 1u
 
 /* Numerical variants, selectable for the accuracy study (issue 6). */
-#define GG_SPHERE_STABLE    0 /* Haines et al., Ray Tracing Gems ch. 7 */
-#define GG_SPHERE_TEXTBOOK  1 /* b^2 - 4ac */
-#define GG_OFFSET_SCALED    0 /* offset scaled to the hit point's magnitude */
-#define GG_OFFSET_FIXED     1 /* one fixed epsilon (1e-6 unless set) */
+#define GG_SPHERE_STABLE   0 /* Haines et al., Ray Tracing Gems ch. 7 */
+#define GG_SPHERE_TEXTBOOK 1 /* b^2 - 4ac */
+#define GG_OFFSET_SCALED   0 /* offset scaled to the hit point's magnitude */
+#define GG_OFFSET_FIXED    1 /* one fixed epsilon (1e-6 unless set) */
 
 typedef struct gg_geom gg_geom;
 
@@ -123,11 +123,11 @@ int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 
 typedef struct gg_surf {
-    ggVec3 p;      /* hit point */
-    ggVec3 ng;     /* unit geometric normal as the shape defines it */
-    ggVec3 ns;     /* unit shading normal, on ng's side */
-    double u, v;   /* surface coordinates */
-    double perr;   /* bound on the absolute error of p (for offsets) */
+    ggVec3 p;    /* hit point */
+    ggVec3 ng;   /* unit geometric normal as the shape defines it */
+    ggVec3 ns;   /* unit shading normal, on ng's side */
+    double u, v; /* surface coordinates */
+    double perr; /* bound on the absolute error of p (for offsets) */
 } gg_surf;
 
 /* Point, normals and (u, v) of a hit returned by gg_geom_intersect for

@@ -21,7 +21,10 @@
 /* Unit roundoff of double and pbrt's gamma(n) = n u / (1 - n u), the
    bound on the relative error of n chained roundings. */
 #define GG_U 0x1p-53
-static inline double gg_gamma(int n) { return n * GG_U / (1 - n * GG_U); }
+static inline double gg_gamma(int n)
+{
+    return n * GG_U / (1 - n * GG_U);
+}
 
 #if defined(__GNUC__)
 #define GG_INLINE static inline __attribute__((always_inline))
@@ -41,7 +44,10 @@ static inline double gg_next_down(double x)
     memcpy(&x, &u, 8);
     return x;
 }
-static inline double gg_next_up(double x) { return -gg_next_down(-x); }
+static inline double gg_next_up(double x)
+{
+    return -gg_next_down(-x);
+}
 
 /* Kinds of BVH element (what the intersection kernels know). */
 enum { GG_EK_SPHERE = 0, GG_EK_TRI, GG_EK_CONE, GG_EK_RECT, GG_EK_POLY, GG_EK_IMPLICIT };
@@ -89,7 +95,7 @@ typedef struct gg_krect {
 
 /* ---- primitives in insertion order ---- */
 typedef struct gg_prim {
-    uint8_t kind; /* ggShapeKind */
+    uint8_t kind;  /* ggShapeKind */
     uint32_t data; /* index in the array of that kind */
     int32_t obj;
 } gg_prim;
@@ -101,18 +107,18 @@ typedef struct gg_sph {
 
 typedef struct gg_tri {
     gg_ktri k;
-    ggVec3 n[3];  /* vertex normals (unit) when has_n */
+    ggVec3 n[3]; /* vertex normals (unit) when has_n */
     int has_n;
-    int flip;     /* the vertex normals face -(B-A)x(C-A): ng is flipped to match */
+    int flip; /* the vertex normals face -(B-A)x(C-A): ng is flipped to match */
 } gg_tri;
 
 typedef struct gg_poly {
-    uint32_t vfirst, nv;        /* vertices in gg_geom.pverts */
+    uint32_t vfirst, nv;          /* vertices in gg_geom.pverts */
     uint32_t piece_first, npiece; /* triangles in gg_geom.pieces; 0 = crossing test */
-    ggVec3 n;                   /* unit Newell normal (front side) */
-    ggVec3 eu, ev;              /* in-plane frame for (u, v) */
-    double u0, v0, su, sv;      /* bounding rectangle in that frame: origin, 1/size */
-    ggVec3 p0;                  /* first vertex */
+    ggVec3 n;                     /* unit Newell normal (front side) */
+    ggVec3 eu, ev;                /* in-plane frame for (u, v) */
+    double u0, v0, su, sv;        /* bounding rectangle in that frame: origin, 1/size */
+    ggVec3 p0;                    /* first vertex */
 } gg_poly;
 
 typedef struct gg_cone {

@@ -15,16 +15,22 @@
 
 /* Test one element; t in (r->tmin, tmax]. */
 GG_INLINE int gg_elem_hit(const gg_geom *g, const gg_slot *s, const gg_rpre *r, double tmax,
-                              double *t, double *b1, double *b2)
+                          double *t, double *b1, double *b2)
 {
     uint32_t idx = s->ki & GG_EK_INDEX;
     switch (s->ki >> GG_EK_SHIFT) {
-    case GG_EK_SPHERE: return gg_sphere_kernel(&g->lsph[idx], r, tmax, t);
-    case GG_EK_TRI: return gg_tri_kernel(&g->ltri[idx], r, tmax, t, b1, b2);
-    case GG_EK_CONE: return gg_cone_kernel(&g->lcone[idx], r, tmax, t);
-    case GG_EK_RECT: return gg_rect_kernel(&g->lrect[idx], r, tmax, t, b1, b2);
-    case GG_EK_POLY: return gg_poly_kernel(g, &g->polys[idx], r, tmax, t);
-    default: return gg_implicit_shape_hit(g->imps[idx], r, tmax, t);
+    case GG_EK_SPHERE:
+        return gg_sphere_kernel(&g->lsph[idx], r, tmax, t);
+    case GG_EK_TRI:
+        return gg_tri_kernel(&g->ltri[idx], r, tmax, t, b1, b2);
+    case GG_EK_CONE:
+        return gg_cone_kernel(&g->lcone[idx], r, tmax, t);
+    case GG_EK_RECT:
+        return gg_rect_kernel(&g->lrect[idx], r, tmax, t, b1, b2);
+    case GG_EK_POLY:
+        return gg_poly_kernel(g, &g->polys[idx], r, tmax, t);
+    default:
+        return gg_implicit_shape_hit(g->imps[idx], r, tmax, t);
     }
 }
 
@@ -32,7 +38,7 @@ GG_INLINE int gg_elem_hit(const gg_geom *g, const gg_slot *s, const gg_rpre *r, 
    upper bound; equal t is settled by the smaller (prim, sub), so the
    answer does not depend on the order elements are visited in. */
 GG_INLINE int gg_leaf_closest(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
-                                  gg_hit *best)
+                              gg_hit *best)
 {
     const gg_slot *s = g->slots + first, *end = s + n;
     int found = 0;

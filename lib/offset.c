@@ -51,4 +51,7 @@ ggVec3 gg_offset_origin(const gg_surf *s, ggVec3 d, int mode)
     return push(s, d, GG_OFFSET_K * s->perr, 1);
 }
 
-ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps) { return push(s, d, eps, 0); }
+ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps)
+{
+    return push(s, d, eps, 0);
+}

@@ -40,6 +40,6 @@ void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg
        fraction of the box (the implicit module refines roots far below
        that) plus the rounding of o + t d. */
     gg_implicit_bounds(imp, &lo, &hi);
-    out->perr = 1e-9 * v3maxabs(v3sub(hi, lo)) +
-                gg_gamma(4) * (v3maxabs(q->o) + h->t * v3maxabs(q->d));
+    out->perr =
+        1e-9 * v3maxabs(v3sub(hi, lo)) + gg_gamma(4) * (v3maxabs(q->o) + h->t * v3maxabs(q->d));
 }

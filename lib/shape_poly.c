@@ -35,8 +35,7 @@ static int ear_empty(const clip2 *c, const int *next, int p, int i, int n)
     int j;
     for (j = next[n]; j != p; j = next[j]) {
         if (same_pt(c, j, p) || same_pt(c, j, i) || same_pt(c, j, n)) continue;
-        if (orient(c, p, i, j) >= 0 && orient(c, i, n, j) >= 0 && orient(c, n, p, j) >= 0)
-            return 0;
+        if (orient(c, p, i, j) >= 0 && orient(c, i, n, j) >= 0 && orient(c, n, p, j) >= 0) return 0;
     }
     return 1;
 }
@@ -62,8 +61,7 @@ static double ear_score(const clip2 *c, const int *next, const int *prev, int i)
    numerical dead end): the caller then keeps the polygon whole. The areas
    of the pieces must add up to the polygon's area, which catches the
    cases where clipping "succeeds" on a polygon that overlaps itself. */
-static int ear_clip(const clip2 *c, int nv, int *next, int *prev, double *score,
-                    int (*tri)[3])
+static int ear_clip(const clip2 *c, int nv, int *next, int *prev, double *score, int (*tri)[3])
 {
     int i, left = nv, nt = 0, first = 0;
     double area = 0, asum = 0, scale = 0;
@@ -271,7 +269,10 @@ void gg_poly_bounds(const gg_geom *g, const gg_poly *pl, double lo[3], double hi
     }
 }
 
-static double clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
+static double clamp01(double x)
+{
+    return x < 0 ? 0 : x > 1 ? 1 : x;
+}
 
 /* ng = the Newell normal (front = counter-clockwise side). (u, v) = the
    point's coordinates in the plane frame (eu along the first edge, ev =

@@ -15,8 +15,8 @@
    strict inequalities that agree between both sides, so two polygons
    sharing an edge never both miss it. Concave and self-intersecting
    polygons follow the even-odd rule. */
-GG_INLINE int gg_poly_kernel(const gg_geom *g, const gg_poly *pl, const gg_rpre *r,
-                                 double tmax, double *t)
+GG_INLINE int gg_poly_kernel(const gg_geom *g, const gg_poly *pl, const gg_rpre *r, double tmax,
+                             double *t)
 {
     const double(*v)[3] = (const double(*)[3])g->pverts + pl->vfirst;
     const int kx = r->kx, ky = r->ky, kz = r->kz;

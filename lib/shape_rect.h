@@ -11,7 +11,7 @@
    the dual basis a1, a2 (a_i . e_j = delta_ij), so parallelograms work
    too. Returns t in (r->tmin, tmax] and (s, t) in [0,1]^2. */
 GG_INLINE int gg_rect_kernel(const gg_krect *rc, const gg_rpre *r, double tmax, double *t,
-                                 double *s1, double *s2)
+                             double *s1, double *s2)
 {
     double den = rc->n[0] * r->d[0] + rc->n[1] * r->d[1] + rc->n[2] * r->d[2];
     double fx = r->o[0] - rc->c[0], fy = r->o[1] - rc->c[1], fz = r->o[2] - rc->c[2];

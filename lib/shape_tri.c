@@ -32,11 +32,13 @@ ggVec3 gg_tri_point(const gg_ktri *t, double b1, double b2, double *perr)
     return v3(p[0], p[1], p[2]);
 }
 
-static double clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
+static double clamp01(double x)
+{
+    return x < 0 ? 0 : x > 1 ? 1 : x;
+}
 
 /* (u, v) = the barycentric weights of vertices 1 and 2. */
-void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out,
-                    unsigned what)
+void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out, unsigned what)
 {
     ggVec3 a = v3(t->k.v[0][0], t->k.v[0][1], t->k.v[0][2]);
     ggVec3 b = v3(t->k.v[1][0], t->k.v[1][1], t->k.v[1][2]);
@@ -49,8 +51,8 @@ void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf 
     out->ns = ng;
     if (t->has_n) {
         double b0 = 1 - h->b1 - h->b2;
-        ggVec3 ns = v3add(v3add(v3scale(t->n[0], b0), v3scale(t->n[1], h->b1)),
-                          v3scale(t->n[2], h->b2));
+        ggVec3 ns =
+            v3add(v3add(v3scale(t->n[0], b0), v3scale(t->n[1], h->b1)), v3scale(t->n[2], h->b2));
         ns = v3norm(ns);
         if (v3dot(ns, ng) > 0) out->ns = ns;
     }

@@ -13,7 +13,10 @@
    shares the edge sees exactly the negated vector, so exactly one of the
    two owns it -- the "top-left" rule of rasterisers. At a vertex the same
    rule leaves exactly one triangle of the fan. */
-static inline int gg_tri_owns(double ex, double ey) { return ey > 0 || (ey == 0 && ex > 0); }
+static inline int gg_tri_owns(double ex, double ey)
+{
+    return ey > 0 || (ey == 0 && ex > 0);
+}
 
 /* Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT
    2013, in double precision. The vertices are translated to the ray origin
@@ -23,8 +26,8 @@ static inline int gg_tri_owns(double ex, double ey) { return ey > 0 || (ey == 0 
    operations, reversed order gives the exact negation), so no ray slips
    between them; ties are settled by gg_tri_owns. Returns 1 with t in
    (r->tmin, tmax] and the barycentrics of vertices 1 and 2. */
-GG_INLINE int gg_tri_kernel(const gg_ktri *tr, const gg_rpre *r, double tmax, double *t,
-                                double *b1, double *b2)
+GG_INLINE int gg_tri_kernel(const gg_ktri *tr, const gg_rpre *r, double tmax, double *t, double *b1,
+                            double *b2)
 {
     const int kx = r->kx, ky = r->ky, kz = r->kz;
     const double *A = tr->v[0], *B = tr->v[1], *C = tr->v[2];

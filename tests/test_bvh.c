@@ -74,7 +74,9 @@ static gg_geom *random_scene(tu_rng *r, int n, int kinds)
         double s = 0.05 * pow(10, tu_range(r, 0, 2)) * (20.0 / cbrt((double)n));
         int kind = (int)(tu_next(r) % (uint64_t)kinds), id = -1;
         switch (kind) {
-        case 0: id = gg_geom_add_sphere(g, c, s * 0.5, i); break;
+        case 0:
+            id = gg_geom_add_sphere(g, c, s * 0.5, i);
+            break;
         case 1:
             p[0] = vadd(c, rvec(r, -s, s)), p[1] = vadd(c, rvec(r, -s, s));
             p[2] = vadd(c, rvec(r, -s, s));
@@ -84,8 +86,12 @@ static gg_geom *random_scene(tu_rng *r, int n, int kinds)
             id = gg_geom_add_cone(g, c, s * tu_range(r, 0, 0.5), vadd(c, rvec(r, -s, s)),
                                   tu_uniform(r) < 0.3 ? 0.2 * s : s * tu_range(r, 0, 0.5), i);
             break;
-        case 3: id = gg_geom_add_rect(g, c, rvec(r, -s, s), rvec(r, -s, s), i); break;
-        default: id = add_star(g, r, c, s, 3 + (int)(tu_next(r) % 8)); break;
+        case 3:
+            id = gg_geom_add_rect(g, c, rvec(r, -s, s), rvec(r, -s, s), i);
+            break;
+        default:
+            id = add_star(g, r, c, s, 3 + (int)(tu_next(r) % 8));
+            break;
         }
         assert_true(id >= 0);
     }
@@ -119,7 +125,7 @@ static void random_ray(tu_rng *r, gg_rayq *q)
    the BVH but the kernels and gg_leaf_closest's tie rule, and it is
    itself checked against gg_geom_intersect_brute (no filter at all). */
 
-#define CH 16  /* slots per chunk */
+#define CH  16 /* slots per chunk */
 #define SCH 16 /* chunks per super-chunk */
 
 typedef struct sphb {
@@ -137,10 +143,10 @@ static void slot_points(const gg_geom *g, const gg_slot *s, double lo[3], double
     const gg_prim *p = &g->prims[s->prim];
     int k;
     for (k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
-#define PT(x, y, z)                                                                               \
-    do {                                                                                          \
-        double v_[3] = {(x), (y), (z)};                                                           \
-        for (k = 0; k < 3; k++) lo[k] = fmin(lo[k], v_[k]), hi[k] = fmax(hi[k], v_[k]);           \
+#define PT(x, y, z)                                                                                \
+    do {                                                                                           \
+        double v_[3] = {(x), (y), (z)};                                                            \
+        for (k = 0; k < 3; k++) lo[k] = fmin(lo[k], v_[k]), hi[k] = fmax(hi[k], v_[k]);            \
     } while (0)
     switch (p->kind) {
     case GG_SHAPE_SPHERE: {
@@ -229,8 +235,8 @@ static void ref_init(ref *rf, const gg_geom *g)
     for (i = 0; i < rf->nch; i++)
         rf->ch[i] = bound(g, i * CH, (i + 1) * CH < g->nslots ? (i + 1) * CH : g->nslots);
     for (i = 0; i < rf->nsup; i++)
-        rf->sup[i] = bound(g, i * CH * SCH,
-                           (i + 1) * CH * SCH < g->nslots ? (i + 1) * CH * SCH : g->nslots);
+        rf->sup[i] =
+            bound(g, i * CH * SCH, (i + 1) * CH * SCH < g->nslots ? (i + 1) * CH * SCH : g->nslots);
 }
 
 static void ref_free(ref *rf)
@@ -579,8 +585,8 @@ static ggScene *load_spd(const char *name)
 
 static void test_spd_scenes(void **state)
 {
-    static const char *names[] = {"balls-s4", "gears", "mount", "rings", "teapot-s12", "tetra",
-                                  "tree"};
+    static const char *names[] = {"balls-s4",   "gears", "mount", "rings",
+                                  "teapot-s12", "tetra", "tree"};
     int k;
     (void)state;
     for (k = 0; k < 7; k++) {
@@ -612,8 +618,7 @@ static void test_spd_scenes(void **state)
         }
         print_message("%-10s %6zu prims, %6zu elements, %d polygons (%d kept whole): %ld of %d "
                       "rays hit, BVH = reference\n",
-                      names[k], gg_geom_prim_count(g), g->nslots, npoly, whole, nhit,
-                      RAYS(100000));
+                      names[k], gg_geom_prim_count(g), g->nslots, npoly, whole, nhit, RAYS(100000));
         assert_int_equal(whole, 0); /* every SPD polygon splits into triangles */
         assert_true(nhit > RAYS(100000) / 20);
         ref_free(&rf);
@@ -624,10 +629,14 @@ static void test_spd_scenes(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_random_mixed),     cmocka_unit_test(test_random_small_scenes),
-        cmocka_unit_test(test_ignore_and_skip),  cmocka_unit_test(test_coincident),
-        cmocka_unit_test(test_empty),            cmocka_unit_test(test_occluded_cached),
-        cmocka_unit_test(test_rebuild_stats_bounds), cmocka_unit_test(test_allocator),
+        cmocka_unit_test(test_random_mixed),
+        cmocka_unit_test(test_random_small_scenes),
+        cmocka_unit_test(test_ignore_and_skip),
+        cmocka_unit_test(test_coincident),
+        cmocka_unit_test(test_empty),
+        cmocka_unit_test(test_occluded_cached),
+        cmocka_unit_test(test_rebuild_stats_bounds),
+        cmocka_unit_test(test_allocator),
         cmocka_unit_test(test_spd_scenes),
     };
     return cmocka_run_group_tests_name(GG_TEST_SUITE, tests, NULL, NULL);

@@ -17,15 +17,30 @@ static ggVec3 V(double x, double y, double z)
     v.x = x, v.y = y, v.z = z;
     return v;
 }
-static ggVec3 add(ggVec3 a, ggVec3 b) { return V(a.x + b.x, a.y + b.y, a.z + b.z); }
-static ggVec3 sub(ggVec3 a, ggVec3 b) { return V(a.x - b.x, a.y - b.y, a.z - b.z); }
-static ggVec3 mul(ggVec3 a, double s) { return V(a.x * s, a.y * s, a.z * s); }
-static double dot(ggVec3 a, ggVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static ggVec3 add(ggVec3 a, ggVec3 b)
+{
+    return V(a.x + b.x, a.y + b.y, a.z + b.z);
+}
+static ggVec3 sub(ggVec3 a, ggVec3 b)
+{
+    return V(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+static ggVec3 mul(ggVec3 a, double s)
+{
+    return V(a.x * s, a.y * s, a.z * s);
+}
+static double dot(ggVec3 a, ggVec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 static ggVec3 cross(ggVec3 a, ggVec3 b)
 {
     return V(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
-static ggVec3 unit(ggVec3 a) { return mul(a, 1 / sqrt(dot(a, a))); }
+static ggVec3 unit(ggVec3 a)
+{
+    return mul(a, 1 / sqrt(dot(a, a)));
+}
 
 static gg_rayq ray(ggVec3 o, ggVec3 d)
 {
@@ -40,7 +55,7 @@ static const char *names[S_COUNT] = {"sphere", "triangle", "cylinder", "cone", "
 
 typedef struct shape {
     int kind;
-    ggVec3 c, axis; /* centre / base, unit axis for cones */
+    ggVec3 c, axis;  /* centre / base, unit axis for cones */
     double r, r2, h; /* radius, apex radius, height */
 } shape;
 
@@ -52,7 +67,9 @@ static shape make(gg_geom *g, int kind, double scale, ggVec3 t, tu_rng *r)
     int id = -1;
     s.kind = kind, s.c = t, s.axis = a, s.r = scale, s.r2 = scale, s.h = 2 * scale;
     switch (kind) {
-    case S_SPHERE: id = gg_geom_add_sphere(g, t, scale, 0); break;
+    case S_SPHERE:
+        id = gg_geom_add_sphere(g, t, scale, 0);
+        break;
     case S_TRI: {
         ggVec3 p[3];
         p[0] = add(t, mul(b, scale)), p[1] = add(t, mul(c, scale));
@@ -65,7 +82,9 @@ static shape make(gg_geom *g, int kind, double scale, ggVec3 t, tu_rng *r)
         s.r2 = kind == S_CYL ? scale : 0.3 * scale;
         id = gg_geom_add_cone(g, t, s.r, add(t, mul(a, s.h)), s.r2, 0);
         break;
-    case S_RECT: id = gg_geom_add_rect(g, t, mul(b, scale), mul(add(c, mul(b, 0.3)), scale), 0); break;
+    case S_RECT:
+        id = gg_geom_add_rect(g, t, mul(b, scale), mul(add(c, mul(b, 0.3)), scale), 0);
+        break;
     default: {
         ggVec3 p[12];
         int i;
@@ -127,8 +146,8 @@ static long double first_root(const shape *s, ggVec3 o, ggVec3 d)
 static int primary(const gg_geom *g, const shape *s, double scale, tu_rng *r, gg_rayq *q,
                    gg_surf *sf)
 {
-    ggVec3 tgt = add(s->c, mul(V(tu_range(r, -1, 1), tu_range(r, -1, 1), tu_range(r, -1, 1)),
-                               0.8 * scale));
+    ggVec3 tgt =
+        add(s->c, mul(V(tu_range(r, -1, 1), tu_range(r, -1, 1), tu_range(r, -1, 1)), 0.8 * scale));
     ggVec3 o = add(tgt, mul(tu_unit(r), 4 * scale));
     gg_hit h;
     if (s->kind == S_CYL || s->kind == S_CONE) tgt = add(tgt, mul(s->axis, scale));
@@ -195,7 +214,9 @@ static void leave(int kind, double scale, ggVec3 t, int n, tu_rng *r, counts *ct
         i++;
         ct->rays++;
     }
-    if (i != n) print_error("%s scale %g at (%g,%g,%g): %d primary hits in %d tries\n", names[kind], scale, t.x, t.y, t.z, i, tries);
+    if (i != n)
+        print_error("%s scale %g at (%g,%g,%g): %d primary hits in %d tries\n", names[kind], scale,
+                    t.x, t.y, t.z, i, tries);
     assert_int_equal(i, n);
     gg_geom_free(g);
 }
@@ -218,8 +239,8 @@ static void test_no_rehits(void **state)
                               : V(0, 0, 0);
                 leave(kind, scales[si], t, 12000, &r, &ct);
             }
-        print_message("%-9s %ld rays (%ld grazing): %ld re-hits, %ld far sides lost\n",
-                      names[kind], ct.rays, ct.grazing, ct.rehit, ct.lost);
+        print_message("%-9s %ld rays (%ld grazing): %ld re-hits, %ld far sides lost\n", names[kind],
+                      ct.rays, ct.grazing, ct.rehit, ct.lost);
         all.rays += ct.rays, all.rehit += ct.rehit, all.lost += ct.lost;
     }
     assert_true(all.rays >= 1000000);

@@ -77,7 +77,8 @@ static sph_stats sphere_case(const sph_case *sc, int mode, int n, unsigned seed)
             double l = sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
             w = V(w.x / l, w.y / l, w.z / l);
         }
-        rad = i % 4 == 0 ? sc->r * (1 + tu_range(&r, -8, 8) * 0x1p-52) : tu_range(&r, 0, 1.5) * sc->r;
+        rad =
+            i % 4 == 0 ? sc->r * (1 + tu_range(&r, -8, 8) * 0x1p-52) : tu_range(&r, 0, 1.5) * sc->r;
         tgt = V(sc->c.x + w.x * rad, sc->c.y + w.y * rad, sc->c.z + w.z * rad);
         d = V(tgt.x - o.x, tgt.y - o.y, tgt.z - o.z);
         q = ray(o, d);
@@ -122,8 +123,8 @@ static void test_sphere_hard_cases(void **state)
     (void)state;
     for (k = 0; k < 3; k++) {
         sph_stats st = sphere_case(&cases[k], GG_SPHERE_STABLE, 40000, 11 + (unsigned)k);
-        print_message("%-30s stable: %ld wrong, %ld in band, %ld hits, %ld t off\n",
-                      cases[k].name, st.wrong, st.band, st.hits, st.tbad);
+        print_message("%-30s stable: %ld wrong, %ld in band, %ld hits, %ld t off\n", cases[k].name,
+                      st.wrong, st.band, st.hits, st.tbad);
         assert_int_equal(st.wrong, 0);
         assert_int_equal(st.tbad, 0);
         assert_true(st.hits > 10000);
@@ -337,7 +338,10 @@ static void watertight_run(const mesh *m, ggVec3 shift, double scale, unsigned s
             double t, b1, b2;
             if (gg_tri_kernel(&g->ltri[j], &rp, INFINITY, &t, &b1, &b2)) {
                 /* entering at the aimed-at point (t = 1), or leaving */
-                if (t < 1 + 1e-6) nin++; else nout++;
+                if (t < 1 + 1e-6)
+                    nin++;
+                else
+                    nout++;
                 if (nin > 1) print_error("t %.17g tri %d\n", t, j);
             }
         }
@@ -371,9 +375,11 @@ static void test_watertight_mesh(void **state)
 /* Nearest root along the ray of the cone, in long double, or -1. */
 static long double cone_ref(ggVec3 b, double rb, ggVec3 a, double ra, ggVec3 o, ggVec3 d)
 {
-    long double ax = (long double)a.x - b.x, ay = (long double)a.y - b.y, az = (long double)a.z - b.z;
+    long double ax = (long double)a.x - b.x, ay = (long double)a.y - b.y,
+                az = (long double)a.z - b.z;
     long double h = sqrtl(ax * ax + ay * ay + az * az), k = (ra - rb) / h, best = -1;
-    long double wx = (long double)o.x - b.x, wy = (long double)o.y - b.y, wz = (long double)o.z - b.z;
+    long double wx = (long double)o.x - b.x, wy = (long double)o.y - b.y,
+                wz = (long double)o.z - b.z;
     long double fz, dz, A, B, C, disc, t[2];
     int i;
     ax /= h, ay /= h, az /= h;
@@ -416,8 +422,8 @@ static void test_cone(void **state)
         assert_int_equal(gg_geom_add_cone(g, b, rb, a, ra, 0), 0);
         assert_int_equal(gg_geom_build(g, NULL), GG_OK);
         for (i = 0; i < 500; i++) {
-            ggVec3 o = V(b.x + tu_range(&r, -4, 4), b.y + tu_range(&r, -4, 4),
-                         b.z + tu_range(&r, -4, 4));
+            ggVec3 o =
+                V(b.x + tu_range(&r, -4, 4), b.y + tu_range(&r, -4, 4), b.z + tu_range(&r, -4, 4));
             double s = tu_uniform(&r);
             ggVec3 tgt = V(b.x + s * (a.x - b.x) + tu_range(&r, -1, 1),
                            b.y + s * (a.y - b.y) + tu_range(&r, -1, 1),
@@ -488,8 +494,7 @@ static void test_rect(void **state)
         gg_hit h;
         gg_surf sf;
         int in = s >= 0 && s <= 1 && t >= 0 && t <= 1, hit = gg_geom_intersect(g, &q, &h);
-        if (fabs(s) < 1e-9 || fabs(s - 1) < 1e-9 || fabs(t) < 1e-9 || fabs(t - 1) < 1e-9)
-            continue;
+        if (fabs(s) < 1e-9 || fabs(s - 1) < 1e-9 || fabs(t) < 1e-9 || fabs(t - 1) < 1e-9) continue;
         assert_int_equal(hit, in);
         if (!hit) continue;
         gg_geom_surface(g, &q, &h, &sf);
@@ -618,7 +623,8 @@ static void test_polygon_pieces_watertight(void **state)
     for (i = 0; i < (int)g->npieces; i++) {
         const gg_ktri *pc = &g->pieces[i];
         const double(*v)[3] = (const double(*)[3])pc->v;
-        double o = (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[1][1] - v[0][1]) * (v[2][0] - v[0][0]);
+        double o =
+            (v[1][0] - v[0][0]) * (v[2][1] - v[0][1]) - (v[1][1] - v[0][1]) * (v[2][0] - v[0][0]);
         assert_true(o > 0);
         parea += o;
     }
@@ -627,7 +633,8 @@ static void test_polygon_pieces_watertight(void **state)
         const double(*v)[3] = (const double(*)[3])g->pieces[tu_next(&r) % g->npieces].v;
         double s = tu_uniform(&r);
         int j = (int)(tu_next(&r) % 3), c = 0;
-        ggVec3 a = V(v[j][0], v[j][1], v[j][2]), b = V(v[(j + 1) % 3][0], v[(j + 1) % 3][1], v[(j + 1) % 3][2]);
+        ggVec3 a = V(v[j][0], v[j][1], v[j][2]),
+               b = V(v[(j + 1) % 3][0], v[(j + 1) % 3][1], v[(j + 1) % 3][2]);
         ggVec3 tgt = V(a.x + s * (b.x - a.x), a.y + s * (b.y - a.y), a.z);
         ggVec3 o = V(tgt.x + tu_range(&r, -1, 1), tgt.y + tu_range(&r, -1, 1), 2);
         gg_rayq q = ray(o, V(tgt.x - o.x, tgt.y - o.y, tgt.z - o.z));
