@@ -41,7 +41,7 @@ struct gg_bnode {
 #define GG_NBINS      32  /* SAH bins per axis */
 #define GG_SAH_TRAV   1.0 /* cost of a node visit, in element tests */
 #define GG_SAH_ISECT  1.0
-#define GG_MEDIAN_AT  40                         /* below this depth splits are median splits */
+#define GG_MEDIAN_AT  40                         /* from this depth on, median splits only */
 #define GG_STACK      256                        /* > 3 * maximum depth (see build2) */
 #define GG_EXIT_SCALE 1.00000059604644775390625f /* 1 + 5 * 2^-23 */
 
