@@ -86,13 +86,13 @@ static void gen_scene(bscene *s, int which)
     s->lights[0] = v3(10, 20, 30);
     s->lights[1] = v3(-20, 5, 25);
     if (which == 0) {
-        snprintf(s->name, sizeof s->name, "gen: 10k random spheres");
+        snprintf(s->name, sizeof s->name, "gen 10k spheres");
         for (i = 0; i < 10000; i++)
             gg_geom_add_sphere(s->g, v3(urand() * 20 - 10, urand() * 20 - 10, urand() * 20 - 10),
                                0.05 + 0.2 * urand(), obj++);
         s->from = v3(25, 18, 12), s->at = v3(0, 0, 0);
     } else if (which == 1) {
-        snprintf(s->name, sizeof s->name, "gen: 100k random triangles");
+        snprintf(s->name, sizeof s->name, "gen 100k triangles");
         for (i = 0; i < 100000; i++) {
             ggVec3 c = v3(urand() * 20 - 10, urand() * 20 - 10, urand() * 20 - 10), p[3];
             int k;
@@ -103,7 +103,7 @@ static void gen_scene(bscene *s, int which)
         s->from = v3(25, 18, 12), s->at = v3(0, 0, 0);
     } else {
         ggVec3 q[4] = {{12, 12, -0.5}, {-12, 12, -0.5}, {-12, -12, -0.5}, {12, -12, -0.5}};
-        snprintf(s->name, sizeof s->name, "gen: sphereflake (balls-like)");
+        snprintf(s->name, sizeof s->name, "gen sphereflake");
         gg_geom_add_polygon(s->g, q, 4, obj++);
         flake(s->g, v3(0, 0, 0), 0.5, v3(0, 0, 1), 4, &obj);
         s->from = v3(2.1, 1.3, 1.7), s->at = v3(0, 0, 0);
