@@ -229,6 +229,8 @@ static size_t count_elems(const gg_geom *g)
         const gg_prim *p = &g->prims[i];
         if (p->kind == GG_SHAPE_POLYGON && g->polys[p->data].npiece)
             n += g->polys[p->data].npiece;
+        else if (p->kind == GG_SHAPE_CONE)
+            n += gg_cone_slices(&g->cones[p->data]);
         else
             n++;
     }
@@ -246,9 +248,13 @@ static void elem_bounds(const gg_geom *g, const elem *e, double lo[3], double hi
                                                                  : &g->tris[e->data].k,
                       lo, hi);
         break;
-    case GG_EK_CONE:
-        gg_cone_bounds(&g->cones[e->data], lo, hi);
+    case GG_EK_CONE: {
+        gg_kcone k;
+        const gg_cone *c = &g->cones[e->data];
+        gg_cone_slice(c, e->sub, gg_cone_slices(c), &k);
+        gg_cone_bounds(&k, lo, hi);
         break;
+    }
     case GG_EK_RECT:
         gg_rect_bounds(&g->rects[e->data], lo, hi);
         break;
@@ -275,9 +281,15 @@ static int fill_elems(const gg_geom *g, elem *el)
         case GG_SHAPE_TRIANGLE:
             e.kind = GG_EK_TRI;
             break;
-        case GG_SHAPE_CONE:
-            e.kind = GG_EK_CONE;
-            break;
+        case GG_SHAPE_CONE: {
+            uint32_t k, ns = gg_cone_slices(&g->cones[p->data]);
+            for (k = 0; k < ns; k++) {
+                el[n].prim = (uint32_t)i, el[n].kind = GG_EK_CONE;
+                el[n].data = p->data, el[n].sub = k;
+                n++;
+            }
+            continue;
+        }
         case GG_SHAPE_RECT:
             e.kind = GG_EK_RECT;
             break;
@@ -324,7 +336,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
     g->slots = gg_mem_calloc(g->alloc, n + 1, sizeof *g->slots);
     g->lsph = gg_mem_calloc(g->alloc, g->nsph + 1, sizeof *g->lsph);
     g->ltri = gg_mem_calloc(g->alloc, g->ntri + g->npieces + 1, sizeof *g->ltri);
-    g->lcone = gg_mem_calloc(g->alloc, g->ncone + 1, sizeof *g->lcone);
+    g->lcone = gg_mem_calloc(g->alloc, g->ncone * 8 + 1, sizeof *g->lcone);
     g->lrect = gg_mem_calloc(g->alloc, g->nrect + 1, sizeof *g->lrect);
     if (!el || !lo || !hi || !order || !g->slots || !g->lsph || !g->ltri || !g->lcone || !g->lrect)
         goto fail;
@@ -358,10 +370,12 @@ int gg_geom_build(gg_geom *g, ggError *err)
                                                                      : g->tris[e->data].k;
             idx = (uint32_t)nt++;
             break;
-        case GG_EK_CONE:
-            g->lcone[nc] = g->cones[e->data].k;
+        case GG_EK_CONE: {
+            const gg_cone *c = &g->cones[e->data];
+            gg_cone_slice(c, e->sub, gg_cone_slices(c), &g->lcone[nc]);
             idx = (uint32_t)nc++;
             break;
+        }
         case GG_EK_RECT:
             g->lrect[nr] = g->rects[e->data].k;
             idx = (uint32_t)nr++;
@@ -373,6 +387,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
         s->ki = e->kind << GG_EK_SHIFT | idx;
     }
     g->nslots = n;
+    g->nlcone = nc;
     g->built = 1;
     rc = GG_OK;
 fail:

@@ -88,6 +88,7 @@ typedef struct gg_ktri {
 typedef struct gg_kcone {
     double base[3], ex[3], ey[3], ez[3]; /* orthonormal frame, ez along the axis */
     double rb, k, h;                     /* radius rb + k z for z in [0, h] */
+    double zlo, zhi;                     /* the slice of [0, h] this element covers */
 } gg_kcone;
 typedef struct gg_krect {
     double c[3], n[3], a1[3], a2[3]; /* corner, e1 x e2, dual basis of (e1, e2) */
@@ -168,6 +169,7 @@ struct gg_geom {
     gg_ksph *lsph;
     gg_ktri *ltri;
     gg_kcone *lcone;
+    size_t nlcone; /* cone slices */
     gg_krect *lrect;
     void *node_mem; /* raw allocation; nodes is it aligned to 64 */
     gg_bnode *nodes;
@@ -190,7 +192,12 @@ void gg_poly_bounds(const gg_geom *g, const gg_poly *pl, double lo[3], double hi
 void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, const gg_hit *h,
                      gg_surf *out, unsigned what);
 int gg_cone_prepare(ggVec3 base, double rb, ggVec3 apex, double ra, gg_cone *out);
-void gg_cone_bounds(const gg_cone *c, double lo[3], double hi[3]);
+/* Long thin cones are split into slices along the axis, one BVH element
+   each, so that their boxes hug them (a diagonal cylinder's box is mostly
+   empty). Slice i of n covers z in [h i/n, h (i+1)/n]. */
+uint32_t gg_cone_slices(const gg_cone *c);
+void gg_cone_slice(const gg_cone *c, uint32_t i, uint32_t n, gg_kcone *out);
+void gg_cone_bounds(const gg_kcone *k, double lo[3], double hi[3]);
 void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_surf *out,
                      unsigned what);
 int gg_rect_prepare(ggVec3 corner, ggVec3 e1, ggVec3 e2, gg_rect *out);

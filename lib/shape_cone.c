@@ -26,23 +26,39 @@ int gg_cone_prepare(ggVec3 base, double rb, ggVec3 apex, double ra, gg_cone *out
     out->k.rb = rb;
     out->k.k = (ra - rb) / h;
     out->k.h = h;
+    out->k.zlo = 0;
+    out->k.zhi = h;
     out->ra = ra;
     return 0;
 }
 
-void gg_cone_bounds(const gg_cone *c, double lo[3], double hi[3])
+uint32_t gg_cone_slices(const gg_cone *c)
 {
-    const gg_kcone *k = &c->k;
-    double rmax = k->rb > c->ra ? k->rb : c->ra;
+    /* about one slice per 3 radii of length, at most 8 */
+    double rmax = c->k.rb > c->ra ? c->k.rb : c->ra, n = c->k.h / (3 * rmax);
+    return n < 1 ? 1 : n > 8 ? 8 : (uint32_t)n;
+}
+
+void gg_cone_slice(const gg_cone *c, uint32_t i, uint32_t n, gg_kcone *out)
+{
+    *out = c->k;
+    out->zlo = i == 0 ? 0 : c->k.h * i / n;
+    out->zhi = i + 1 == n ? c->k.h : c->k.h * (i + 1) / n;
+}
+
+void gg_cone_bounds(const gg_kcone *k, double lo[3], double hi[3])
+{
+    double r0 = k->rb + k->k * k->zlo, r1 = k->rb + k->k * k->zhi;
+    double rmax = r0 > r1 ? r0 : r1;
     double pad = (rmax + k->h + fabs(k->base[0]) + fabs(k->base[1]) + fabs(k->base[2])) * 0x1p-44;
     int i;
     /* A disk of radius r with unit normal a spans r sqrt(1 - a_i^2) along
-       axis i; the cone's side lies within the box of its two end disks. */
+       axis i; the slice lies within the box of its two end disks. */
     for (i = 0; i < 3; i++) {
         double e = sqrt(fmax(0, 1 - k->ez[i] * k->ez[i]));
-        double b0 = k->base[i], b1 = k->base[i] + k->h * k->ez[i];
-        double l0 = b0 - k->rb * e, h0 = b0 + k->rb * e;
-        double l1 = b1 - c->ra * e, h1 = b1 + c->ra * e;
+        double b0 = k->base[i] + k->zlo * k->ez[i], b1 = k->base[i] + k->zhi * k->ez[i];
+        double l0 = b0 - r0 * e, h0 = b0 + r0 * e;
+        double l1 = b1 - r1 * e, h1 = b1 + r1 * e;
         lo[i] = (l0 < l1 ? l0 : l1) - pad;
         hi[i] = (h0 > h1 ? h0 : h1) + pad;
     }

@@ -56,7 +56,7 @@ GG_INLINE int gg_cone_kernel(const gg_kcone *cn, const gg_rpre *r, double tmax, 
         double z;
         if (!(ts[i] > r->tmin && ts[i] <= tmax)) continue;
         z = fz + ts[i] * dz;
-        if (z >= 0 && z <= cn->h) {
+        if (z >= cn->zlo && z <= cn->zhi) {
             *t = ts[i];
             return 1;
         }
