@@ -66,6 +66,8 @@ static shape make(gg_geom *g, int kind, double scale, ggVec3 t, tu_rng *r)
     ggVec3 a = tu_unit(r), b = unit(cross(a, tu_unit(r))), c = cross(a, b);
     int id = -1;
     s.kind = kind, s.c = t, s.axis = a, s.r = scale, s.r2 = scale, s.h = 2 * scale;
+    /* long enough to be split into 4 height slices (gg_cone_slices) */
+    if (kind == S_CYL || kind == S_CONE) s.h = 12 * scale;
     switch (kind) {
     case S_SPHERE:
         id = gg_geom_add_sphere(g, t, scale, 0);
@@ -150,7 +152,7 @@ static int primary(const gg_geom *g, const shape *s, double scale, tu_rng *r, gg
         add(s->c, mul(V(tu_range(r, -1, 1), tu_range(r, -1, 1), tu_range(r, -1, 1)), 0.8 * scale));
     ggVec3 o = add(tgt, mul(tu_unit(r), 4 * scale));
     gg_hit h;
-    if (s->kind == S_CYL || s->kind == S_CONE) tgt = add(tgt, mul(s->axis, scale));
+    if (s->kind == S_CYL || s->kind == S_CONE) tgt = add(tgt, mul(s->axis, tu_range(r, 0, s->h)));
     *q = ray(o, sub(tgt, o));
     if (!gg_geom_intersect(g, q, &h)) return 0;
     gg_geom_surface(g, q, &h, sf);
