@@ -176,6 +176,9 @@ uninstall:
 # every example against it through pkg-config, as a user would.
 STAGE = $(abspath $(BUILD))/stage
 installcheck:
+	@bad=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -v '^gg[A-Z]'); \
+	  if [ -n "$$bad" ]; then echo "installcheck: libggrt.so exports internal symbols: $$bad"; exit 1; fi; \
+	  echo "installcheck: libggrt.so exports $$(nm -D --defined-only $(SHARED) | wc -l) symbols, all public gg*"
 	@rm -rf $(STAGE)
 	@$(MAKE) --no-print-directory install DESTDIR=$(STAGE) PREFIX=/usr >/dev/null
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \

@@ -155,6 +155,7 @@ static int number(parser *ps, double *d, const char *what)
     token t;
     char b[48];
     int r = next(ps, &t);
+    *d = 0; /* defined on every path (gcc -O3 cannot see it otherwise) */
     if (r <= 0)
         return fail(ps, NULL, GG_ERROR_PARSE, "expected %s after '%s', got end of file", what,
                     ps->keyword);

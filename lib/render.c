@@ -112,7 +112,12 @@ GG_API ggRay ggCameraRay(const ggScene *s, const ggRenderOptions *opt, double x,
    render is reproducible. */
 static void sample_pos(int k, int n, double *sx, double *sy)
 {
-    int m = (int)floor(sqrt((double)n) + 0.5);
+    int m;
+    if (n == 1) {
+        *sx = *sy = 0.5;
+        return;
+    }
+    m = (int)floor(sqrt((double)n) + 0.5);
     if (m * m == n) {
         *sx = ((k % m) + 0.5) / m;
         *sy = ((k / m) + 0.5) / m;

@@ -207,7 +207,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         }
         tr = cmul(tr, media_transmittance(s, &m, h.t * len));
         tr = cscale(tr, s->materials[mat].kt);
-        gg_geom_surface(s->geom, &q, &h, &sf);
+        gg_geom_surface_ex(s->geom, &q, &h, &sf, 0u);
         if (!media_has(&m, mat)) media_enter(&m, mat);
         else media_exit(&m, mat);
         if (cmaxc(tr) <= 0) return tr;
@@ -254,7 +254,10 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     int front;
     size_t li;
 
-    gg_geom_surface(s->geom, q, h, &sf);
+    /* (u, v) costs an atan2 on curved shapes: only for textures and the
+       recorder. */
+    gg_geom_surface_ex(s->geom, q, h, &sf,
+                       ((FX & FX_RECORD) || (mf->flags & GG_MF_TEXTURE)) ? GG_SURF_UV : 0u);
     /* Normals facing the incoming ray: surfaces are two-sided. */
     front = v3dot(v, sf.ng) < 0;
     ng = front ? sf.ng : v3neg(sf.ng);
