@@ -177,38 +177,39 @@ static void add_stats(ggRayStats *a, const ggRayStats *b)
     if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
 }
 
-static ggColor sample_color(job *j, double px, double py, ggRayStats *st)
+static ggColor sample_color(job *j, double px, double py, gg_shade_thread *th)
 {
-    ggColor c = gg_shade_ray(&j->ctx, j->cam.eye, basis_dir(&j->cam, px, py), 1, st);
-    if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) st->nonfinite++;
+    ggColor c = gg_shade_ray(&j->ctx, j->cam.eye, basis_dir(&j->cam, px, py), 1, th);
+    if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) th->st.nonfinite++;
     return c;
 }
 
 /* Pixel (x, y) in pixel-centre mode: the mean of its samples. With rec,
    sample `which` (or all, if -1) is recorded. */
-static ggColor pixel_center(job *j, int x, int y, ggRayStats *st, ggTrace *rec, int which)
+static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *rec, int which)
 {
     ggColor acc = rgb(0, 0, 0);
-    ggRayStats other;
     int k;
-    memset(&other, 0, sizeof other);
     for (k = 0; k < j->r.spp; k++) {
         double sx, sy;
         int recorded = rec && (which < 0 || which == k);
+        ggRayStats keep = th->st;
         sample_pos(k, j->r.spp, &sx, &sy);
         if (recorded) {
             j->ctx.rec = rec;
             rec->sample = k;
         }
+        acc = cadd(acc, sample_color(j, x + sx, y + sy, th));
         /* When tracing one sample, count only that sample's rays. */
-        acc = cadd(acc, sample_color(j, x + sx, y + sy, !rec || recorded ? st : &other));
+        if (rec && !recorded) th->st = keep;
         j->ctx.rec = NULL;
     }
     return cscale(acc, 1.0 / j->r.spp);
 }
 
-static void render_tile(job *j, int t, ggRayStats *st)
+static void render_tile(job *j, int t, gg_shade_thread *th)
 {
+    ggRayStats *st = &th->st;
     int gx0 = (t % j->tiles_x) * TILE, gy0 = (t / j->tiles_x) * TILE;
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
@@ -220,12 +221,12 @@ static void render_tile(job *j, int t, ggRayStats *st)
             if (j->cost) st->max_depth = 0;
             if (j->corner) {
                 /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
-                ggColor c = sample_color(j, j->r.x0 + gx, j->r.y0 + gy, st);
+                ggColor c = sample_color(j, j->r.x0 + gx, j->r.y0 + gy, th);
                 float *o = j->corner + 3 * ((size_t)gy * j->cw + gx);
                 o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
             } else {
                 int x = j->r.x0 + gx, y = j->r.y0 + gy;
-                ggColor acc = pixel_center(j, x, y, st, NULL, -1);
+                ggColor acc = pixel_center(j, x, y, th, NULL, -1);
                 float *o = j->px + 3 * ((size_t)y * j->r.w + x);
                 o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
             }
@@ -246,8 +247,8 @@ static void render_tile(job *j, int t, ggRayStats *st)
 static void *worker(void *arg)
 {
     job *j = arg;
-    ggRayStats st;
-    memset(&st, 0, sizeof st);
+    gg_shade_thread th;
+    memset(&th, 0, sizeof th);
     for (;;) {
         int t;
         long tile_px;
@@ -255,7 +256,7 @@ static void *worker(void *arg)
         t = j->cancelled ? j->ntiles : j->next_tile++;
         pthread_mutex_unlock(&j->mu);
         if (t >= j->ntiles) break;
-        render_tile(j, t, &st);
+        render_tile(j, t, &th);
         tile_px = (long)TILE * TILE;
         pthread_mutex_lock(&j->mu);
         j->done += tile_px;
@@ -269,7 +270,7 @@ static void *worker(void *arg)
         pthread_mutex_unlock(&j->mu);
     }
     pthread_mutex_lock(&j->mu);
-    add_stats(&j->stats, &st);
+    add_stats(&j->stats, &th.st);
     pthread_mutex_unlock(&j->mu);
     return NULL;
 }
@@ -356,13 +357,13 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
 {
     gg_shade_ctx ctx;
     resolved r;
-    ggRayStats local;
+    gg_shade_thread th;
     if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
     gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
-    memset(&local, 0, sizeof local);
+    memset(&th, 0, sizeof th);
     {
-        ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &local);
-        if (stats) add_stats(stats, &local);
+        ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &th);
+        if (stats) add_stats(stats, &th.st);
         return c;
     }
 }
@@ -371,7 +372,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
                         ggTrace *rec, ggColor *pixel, ggRayStats *stats, ggError *err)
 {
     job j;
-    ggRayStats local;
+    gg_shade_thread local;
     ggColor c;
     int rc, k;
     if (!s || !rec || !pixel) return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
@@ -398,14 +399,14 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
         float cf[4][3];
         for (k = 0; k < 4; k++) {
             ggColor cc;
-            ggRayStats other;
             int recorded = sample < 0 || sample == k;
-            memset(&other, 0, sizeof other);
+            ggRayStats keep = local.st;
             if (recorded) {
                 j.ctx.rec = rec;
                 rec->sample = k;
             }
-            cc = sample_color(&j, x + (k & 1), y + (k >> 1), recorded ? &local : &other);
+            cc = sample_color(&j, x + (k & 1), y + (k >> 1), &local);
+            if (!recorded) local.st = keep;
             j.ctx.rec = NULL;
             cf[k][0] = (float)cc.r, cf[k][1] = (float)cc.g, cf[k][2] = (float)cc.b;
         }
@@ -417,7 +418,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
         c = rgb((float)c.r, (float)c.g, (float)c.b);
     }
     *pixel = c;
-    if (stats) add_stats(stats, &local);
+    if (stats) add_stats(stats, &local.st);
     if (rec->status != GG_OK)
         return gg_error_set(err, rec->status, "out of memory recording the ray tree");
     return GG_OK;

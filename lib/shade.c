@@ -53,19 +53,19 @@ typedef struct ray_state {
     int parent; /* parent node, recorded only */
 } ray_state;
 
-static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
-static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
+static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th);
+static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th);
 
 /* The same path's recursion: FX is a compile-time constant everywhere.
    GG_NO_RECORDER builds the library without the recording path, only to
    measure what having it costs (make bench-trace). */
 #ifdef GG_NO_RECORDER
-#define TRACE_CHILD(FX, c, r, st) ((FX) == FX_BASIC ? trace_basic(c, r, st) : trace_full(c, r, st))
+#define TRACE_CHILD(FX, c, r, th) ((FX) == FX_BASIC ? trace_basic(c, r, th) : trace_full(c, r, th))
 #else
-static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st);
-#define TRACE_CHILD(FX, c, r, st)                                                               \
-    ((FX) == FX_BASIC ? trace_basic(c, r, st)                                                   \
-                      : (FX) == FX_FULL ? trace_full(c, r, st) : trace_rec(c, r, st))
+static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th);
+#define TRACE_CHILD(FX, c, r, th)                                                               \
+    ((FX) == FX_BASIC ? trace_basic(c, r, th)                                                   \
+                      : (FX) == FX_FULL ? trace_full(c, r, th) : trace_rec(c, r, th))
 #endif
 
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
@@ -236,7 +236,7 @@ static ggColor channel_weight(int ch, double w)
 /* The body of rayColor at a hit, specialised by FX at compile time. node
    is this ray's record (FX_RECORD only). */
 GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_rayq *q,
-                            const gg_hit *h, ggRayStats *st, int node, const unsigned FX)
+                            const gg_hit *h, gg_shade_thread *th, int node, const unsigned FX)
 {
     const ggScene *s = c->s;
     const int32_t obj = gg_geom_prim_object(s->geom, h->prim);
@@ -309,7 +309,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             nl /= len;
             so = o_out;
             sd = v3sub(s->lights[li].pos, so);
-            st->shadow++;
+            th->st.shadow++;
             if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
                 sq = make_q(so, sd, 1.0, leave, GG_PRIM_TRANSPARENT);
                 if (!(FX & FX_RECORD) && gg_geom_occluded(s->geom, &sq)) continue;
@@ -334,7 +334,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                         verdict = GG_SHADOW_BLOCKED;
                         occ = gg_geom_prim_object(s->geom, bh.prim), tb = bh.t;
                     }
-                } else if (gg_geom_occluded(s->geom, &sq))
+                } else if (gg_geom_occluded_cached(s->geom, &sq, &th->occ[li % GG_OCC_CACHES]))
                     continue;
                 if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0 && verdict == GG_SHADOW_VISIBLE) {
                     ggColor a = media_transmittance(s, &r->media, v3len(sd));
@@ -429,7 +429,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 if (!ok) {
                     /* Total internal reflection: the transmitted share
                        joins the mirror ray. */
-                    st->tir++;
+                    th->st.tir++;
                     any_tir = 1;
                     if (split) CH_ADD(wr, ch, w);
                     else wr = cadd(wr, rgb(w, w, w));
@@ -458,9 +458,9 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 child.media = inside;
                 child.kind = GG_RAY_REFRACT;
                 child.parent = node;
-                st->refract++;
+                th->st.refract++;
                 if (FX & FX_RECORD) ci = (int)rec->nnodes;
-                tc = TRACE_CHILD(FX, c, &child, st);
+                tc = TRACE_CHILD(FX, c, &child, th);
                 if (split) CH_ADD(col, ch, w * (ch == 0 ? tc.r : ch == 1 ? tc.g : tc.b));
                 else col = cadd(col, cscale(tc, w));
                 if ((FX & FX_RECORD) && node >= 0) {
@@ -489,11 +489,11 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             child.kind = any_tir ? GG_RAY_TIR : GG_RAY_REFLECT;
             child.weight = r->weight * cmaxc(wr);
             child.parent = node;
-            st->reflect++;
+            th->st.reflect++;
             if (FX & FX_RECORD) ci = (int)rec->nnodes;
             /* Under the SPD rule a transmitter spawns (and counts) a mirror
                ray even when its weight is zero. */
-            rc = TRACE_CHILD(FX, c, &child, st);
+            rc = TRACE_CHILD(FX, c, &child, th);
             if (!cis0(wr)) col = cmadd(col, wr, rc);
             if ((FX & FX_RECORD) && node >= 0) {
                 if (ci >= 0 && (size_t)ci < rec->nnodes) rec->nodes[ci].weight = wr;
@@ -505,7 +505,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     return col;
 }
 
-GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st,
+GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                            const unsigned FX)
 {
     const ggScene *s = c->s;
@@ -513,7 +513,7 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, ggRayStats
     gg_hit h;
     ggColor col, att = rgb(1, 1, 1);
     int node = -1, hit;
-    if ((uint64_t)r->depth > st->max_depth) st->max_depth = (uint64_t)r->depth;
+    if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
     if (FX & FX_RECORD) {
         node = gg_trace_add_node(c->rec);
         if (node >= 0) {
@@ -533,8 +533,8 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, ggRayStats
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
             att = media_transmittance(s, &r->media, INFINITY);
     } else {
-        if (r->depth == 1) st->eye_hit++;
-        col = shade_hit(c, r, &q, &h, st, node, FX);
+        if (r->depth == 1) th->st.eye_hit++;
+        col = shade_hit(c, r, &q, &h, th, node, FX);
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
             att = media_transmittance(s, &r->media, h.t);
     }
@@ -548,24 +548,24 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, ggRayStats
     return col;
 }
 
-static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st)
+static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th)
 {
-    return trace_fx(c, r, st, FX_BASIC);
+    return trace_fx(c, r, th, FX_BASIC);
 }
 
-static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st)
+static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th)
 {
-    return trace_fx(c, r, st, FX_FULL);
+    return trace_fx(c, r, th, FX_FULL);
 }
 
 #ifndef GG_NO_RECORDER
-static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, ggRayStats *st)
+static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th)
 {
-    return trace_fx(c, r, st, FX_REC);
+    return trace_fx(c, r, th, FX_REC);
 }
 #endif
 
-ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, ggRayStats *st)
+ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, gg_shade_thread *th)
 {
     ray_state r;
     double len = v3len(d);
@@ -579,12 +579,12 @@ ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, ggRay
     r.kind = GG_RAY_EYE;
     r.parent = -1;
     r.weight = 1;
-    if (depth == 1) st->eye++;
+    if (depth == 1) th->st.eye++;
     /* The recording path computes exactly what the full path does, so a
        recorded pixel equals the rendered one bit for bit. */
 #ifndef GG_NO_RECORDER
-    if (c->rec) return trace_rec(c, &r, st);
+    if (c->rec) return trace_rec(c, &r, th);
 #endif
-    if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, &r, st);
-    return trace_full(c, &r, st);
+    if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, &r, th);
+    return trace_full(c, &r, th);
 }

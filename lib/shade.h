@@ -25,12 +25,21 @@ typedef struct gg_shade_ctx {
     ggTrace *rec;    /* non-NULL: record the ray tree (single-threaded use) */
 } gg_shade_ctx;
 
+/* What one rendering thread keeps for itself: its ray counts and, per
+   light, the object that blocked its last shadow ray (tested first next
+   time: neighbouring shadow rays are mostly blocked by the same one). */
+#define GG_OCC_CACHES 16
+typedef struct gg_shade_thread {
+    ggRayStats st;
+    uint32_t occ[GG_OCC_CACHES];
+} gg_shade_thread;
+
 /* Fill ctx from a prepared scene and resolved options; acc may be NULL. */
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc);
 
 /* Colour along a ray starting in the outside medium (an eye ray, or any
    ray of ggRayColor) at the given depth (eye ray = 1). */
-ggColor gg_shade_ray(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 d, int depth, ggRayStats *st);
+ggColor gg_shade_ray(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 d, int depth, gg_shade_thread *th);
 
 #endif
