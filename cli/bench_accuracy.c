@@ -5,9 +5,11 @@
 ** knob (the Pareto front marked), and prints the tables.
 **
 ** Error is measured against a reference rendered with every knob at its
-** most accurate: for the samples-per-pixel knob the reference has 16
-** samples; for every other knob it is the accurate default at the same
-** (one) sample, so that aliasing does not hide the knob's own effect.
+** most accurate. Two knobs have no finite "most accurate" setting, so they
+** get references of their own: samples per pixel (16 samples) and the depth
+** limit (depth 12); every other knob is compared with the accurate default
+** (one sample, depth 5), so that aliasing and the depth limit do not hide
+** the knob's own effect.
 ** "changed" counts pixels whose ray tree met a different object, or got a
 ** different shadow verdict, anywhere in the tree (hit/miss included).
 */
@@ -67,6 +69,7 @@ static const knob knobs[] = {
     {"depth", "3", 0, k_depth, 3},
     {"depth", "5", 1, k_depth, 5},
     {"depth", "8", 0, k_depth, 8},
+    {"depth", "12", 0, k_depth, 12},
     {"cutoff", "off", 1, k_cutoff, 0},
     {"cutoff", "1e-3", 0, k_cutoff, 1e-3},
     {"cutoff", "1e-2", 0, k_cutoff, 1e-2},
@@ -81,7 +84,8 @@ static const knob knobs[] = {
     {"samples", "9", 0, k_spp, 9},
 };
 #define NKNOBS (sizeof knobs / sizeof knobs[0])
-#define REF_SPP 16
+#define REF_SPP   16
+#define REF_DEPTH 12
 
 typedef struct row {
     double time;
@@ -232,13 +236,13 @@ int bench_accuracy(const bench_opts *bo)
                  "height='100%%' fill='white'/>\n",
             bo->nargs * 420 + 20);
     printf("ggrt bench accuracy: %dx%d, %d threads, median of %d runs; reference = every knob "
-           "accurate (%d samples for the samples knob)\n",
-           w, h, bo->threads, bo->runs, REF_SPP);
+           "accurate (samples knob: %d samples; depth knob: depth %d)\n",
+           w, h, bo->threads, bo->runs, REF_SPP, REF_DEPTH);
     for (a = 0; a < bo->nargs; a++) {
         ggScene *s = ggSceneCreate(NULL);
         ggError err;
         ggRenderOptions base, o;
-        ggImage *ref = NULL, *ref_spp = NULL;
+        ggImage *ref = NULL, *ref_spp = NULL, *ref_depth = NULL;
         uint64_t *ref_sig;
         row rows[NKNOBS];
         size_t i;
@@ -254,6 +258,9 @@ int bench_accuracy(const bench_opts *bo)
         if (measure(s, &o, 1, &ref, &rows[0]) != 0) return EXIT_INPUT;
         o.samples = REF_SPP;
         if (measure(s, &o, 1, &ref_spp, &rows[0]) != 0) return EXIT_INPUT;
+        o = base;
+        o.max_depth = REF_DEPTH;
+        if (measure(s, &o, 1, &ref_depth, &rows[0]) != 0) return EXIT_INPUT;
         ref_sig = signatures(s, &base, w, h);
         printf("\n%s\n%-13s %-12s %9s %9s %10s %9s %8s %8s %8s\n", bo->args[a], "knob", "setting",
                "time", "rays", "RMSE", "max", "PSNR", ">1/255", "changed");
@@ -261,16 +268,17 @@ int bench_accuracy(const bench_opts *bo)
             ggImage *img = NULL;
             uint64_t *sig;
             size_t p;
-            int is_spp = knobs[i].apply == k_spp;
+            int is_spp = knobs[i].apply == k_spp, is_depth = knobs[i].apply == k_depth;
             o = base;
             knobs[i].apply(&o, knobs[i].value);
             if (measure(s, &o, bo->runs, &img, &rows[i]) != 0) {
                 fprintf(stderr, "ggrt bench accuracy: render failed\n");
                 return EXIT_INPUT;
             }
-            ggImageCompare(img, is_spp ? ref_spp : ref, GG_COMPARE_LINEAR, &rows[i].d);
+            ggImageCompare(img, is_spp ? ref_spp : is_depth ? ref_depth : ref, GG_COMPARE_LINEAR,
+                           &rows[i].d);
             rows[i].changed = 0;
-            sig = is_spp ? NULL : signatures(s, &o, w, h);
+            sig = is_spp || is_depth ? NULL : signatures(s, &o, w, h);
             if (sig && ref_sig)
                 for (p = 0; p < (size_t)w * h; p++) rows[i].changed += sig[p] != ref_sig[p];
             free(sig);
@@ -298,7 +306,7 @@ int bench_accuracy(const bench_opts *bo)
         }
         plot(svg, bo->args[a], rows, a * 420.0);
         free(ref_sig);
-        ggImageFree(ref), ggImageFree(ref_spp);
+        ggImageFree(ref), ggImageFree(ref_spp), ggImageFree(ref_depth);
         ggSceneFree(s);
     }
     fprintf(svg, "</svg>\n");
