@@ -178,6 +178,11 @@ typedef struct gg_bvh_stats {
 } gg_bvh_stats;
 void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
 
+/* 0 when the segment o + t d, t in [0, 1], certainly meets no primitive
+   flagged GG_PRIM_TRANSPARENT (tested against the union of their boxes,
+   conservatively); 1 when it may. Cheap: for skipping a transparent walk. */
+int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d);
+
 /* Scene bounds (valid after build). */
 void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi);
 

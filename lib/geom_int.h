@@ -164,6 +164,7 @@ struct gg_geom {
     /* built */
     int built;
     ggVec3 lo, hi;
+    ggVec3 tlo, thi; /* union of the boxes of GG_PRIM_TRANSPARENT elements */
     gg_slot *slots;
     size_t nslots;
     gg_ksph *lsph;

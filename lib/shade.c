@@ -194,6 +194,9 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
     int step;
     *first_obj = -1;
     *t_first = 1;
+    /* Nothing transparent near the segment: the walk's first query would
+       miss (what blocks opaquely was ruled out by the caller). */
+    if (!gg_geom_transparent_may_hit(s->geom, o, d)) return media_transmittance(s, &m, len);
     for (step = 0; step < GG_MAX_SHADOW_STEPS; step++) {
         int obj, mat;
         gg_surf sf;
