@@ -406,11 +406,7 @@ static const size_t row_offsets[8][2][3] = {GG_ROWSET(0), GG_ROWSET(1), GG_ROWSE
    d) picks the planes, so d = -0 (1/d = -inf) is handled as negative.
    Entry plane lo with the origin rounded up can only shorten the entry
    distance, exit plane hi with it rounded down only lengthen the exit. */
-#if defined(__GNUC__) && !defined(__clang__)
-__attribute__((optimize("no-tree-slp-vectorize")))
-#endif
-static int
-trav_init(trav *tv, const gg_rpre *r)
+GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
 {
     int sm;
 #ifdef GG_BVH_SIMD
@@ -539,7 +535,17 @@ static inline int lowest_bit(unsigned m)
 #endif
 }
 
-int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
+/* gg_rpre_fill and trav_init inline here, reading q one double at a time:
+   the caller has usually just written *q field by field, and a 16-byte
+   load spanning two 8-byte stores cannot be forwarded from the store
+   buffer (GCC's SLP vectoriser would pair the loads up). */
+#if defined(__GNUC__) && !defined(__clang__)
+#define GG_NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
+#else
+#define GG_NO_SLP
+#endif
+
+GG_NO_SLP int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
     gg_rpre r;
     trav tv;
@@ -550,7 +556,7 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
     float tmaxf, tcull;
     gg_t4 tmin4, tmax4;
 
-    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
     /* The conservative box test assumes tmin >= 0 (a box wholly behind the
        origin could otherwise be lost to the exit scaling). */
     if (!trav_init(&tv, &r) || q->tmin < 0) return gg_geom_intersect_brute(g, q, hit);
@@ -634,7 +640,7 @@ done:
 }
 
 /* Any-hit traversal; returns the slot index + 1 of an occluder, or 0. */
-static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
+GG_NO_SLP static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
 {
     gg_rpre r;
     trav tv;
@@ -643,7 +649,7 @@ static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
     double tmax;
     gg_t4 tmin4, tmax4;
 
-    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
     tmax = gg_next_down(q->tmax);
     if (cache && *cache && *cache <= g->nslots) {
         hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
