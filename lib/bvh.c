@@ -694,3 +694,83 @@ int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
     if (hit) *cache = hit;
     return hit != 0;
 }
+
+/* Leaf of gg_geom_shadow_query: 1 as soon as an opaque element is hit;
+   transparent ones update *best as gg_leaf_closest does. */
+GG_INLINE int leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                          double tmax, gg_hit *best)
+{
+    const gg_slot *s = g->slots + first, *end = s + n;
+    for (; s < end; s++) {
+        double t, b1 = 0, b2 = 0;
+        if (s->prim == r->ignore) continue;
+        if (!(g->pflags[s->prim] & GG_PRIM_TRANSPARENT)) {
+            if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return 1;
+            continue;
+        }
+        if (!gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) continue;
+        if (t < best->t || s->prim < best->prim || (s->prim == best->prim && s->sub < best->sub)) {
+            best->t = t;
+            best->prim = s->prim;
+            best->sub = s->sub;
+            best->b1 = b1;
+            best->b2 = b2;
+        }
+    }
+    return 0;
+}
+
+/* An any-hit traversal over the whole segment (transparent hits do not
+   shorten it: an opaque one further on still blocks). The nearest
+   transparent hit comes out the same as gg_geom_intersect's because
+   every element whose box the segment enters is tested, with the same
+   kernels and the same tie rule (the answer of gg_leaf_closest does not
+   depend on the visiting order). */
+GG_NO_SLP int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr)
+{
+    gg_rpre r;
+    trav tv;
+    gg_hit best;
+    uint32_t stack[GG_STACK], cur = 0;
+    int sp = 0;
+    double tmax;
+    gg_t4 tmin4, tmax4;
+
+    *has_tr = 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    r.skip = 0;
+    tmax = gg_next_down(q->tmax);
+    best.t = tmax;
+    best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
+    if (!trav_init(&tv, &r) || q->tmin < 0) {
+        if (leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best)) return 1;
+        goto done;
+    }
+    tmin4 = GG_T4(f_down(q->tmin));
+    tmax4 = GG_T4(f_above(tmax));
+    for (;;) {
+        if (!(cur & GG_LEAF)) {
+            const gg_bnode *nd = &g->nodes[cur];
+            float tn[4];
+            unsigned mask = (unsigned)box4(nd, &tv, tmin4, tmax4, tn);
+            if (mask) {
+                cur = nd->child[lowest_bit(mask)];
+                mask &= mask - 1;
+                while (mask) {
+                    stack[sp++] = nd->child[lowest_bit(mask)];
+                    mask &= mask - 1;
+                }
+                continue;
+            }
+        } else if (leaf_shadow(g, &r, (cur & ~GG_LEAF) >> 3, (cur & 7) + 1, tmax, &best))
+            return 1;
+        if (sp == 0) break;
+        cur = stack[--sp];
+    }
+done:
+    if (best.prim != UINT32_MAX) {
+        *tr = best;
+        *has_tr = 1;
+    }
+    return 0;
+}

@@ -1,8 +1,10 @@
 /*
-** test_transparent_box.c -- gg_geom_transparent_may_hit, the shortcut of
-** the coloured-shadow walk, never says "no" for a segment that the exact
-** query finds a transparent primitive on; and it does say "no" for most
-** segments far from them (else it would save nothing).
+** test_transparent_box.c -- the coloured-shadow shortcuts:
+** gg_geom_transparent_may_hit never says "no" for a segment that the exact
+** query finds a transparent primitive on, and does say "no" for most
+** segments far from them (else it would save nothing); gg_geom_shadow_query
+** answers exactly what gg_geom_occluded (transparent skipped) and
+** gg_geom_intersect answer, bit for bit.
 */
 #include "testutil.h"
 
@@ -127,9 +129,60 @@ static void test_no_transparent(void **state)
     gg_geom_free(g);
 }
 
+static void test_shadow_query(void **state)
+{
+    static const double scales[] = {1e-6, 1.0, 1e6};
+    int si;
+    (void)state;
+    for (si = 0; si < 3; si++) {
+        double sc = scales[si];
+        tu_rng r = {31 + (uint64_t)si};
+        gg_geom *g = make_scene(&r, sc);
+        long i, n = 20000, nblock = 0, ntr = 0, nfree = 0;
+        for (i = 0; i < n; i++) {
+            ggVec3 o = rvec(&r, -sc, sc), e = (i & 1) ? rvec(&r, 0.15 * sc, 0.45 * sc)
+                                                       : rvec(&r, -sc, sc);
+            gg_rayq q;
+            gg_hit h, ht;
+            int has = -1, blocked, occ, hit;
+            q.o = o, q.d = V3(e.x - o.x, e.y - o.y, e.z - o.z);
+            q.tmin = 0, q.tmax = 1;
+            /* Sometimes leave a primitive, as a shadow ray from a surface does. */
+            q.ignore_prim = (i % 3 == 0) ? (uint32_t)(tu_next(&r) % gg_geom_prim_count(g))
+                                          : UINT32_MAX;
+            q.skip_flags = GG_PRIM_TRANSPARENT;
+            occ = gg_geom_occluded(g, &q);
+            blocked = gg_geom_shadow_query(g, &q, &ht, &has);
+            assert_int_equal(blocked, occ);
+            if (blocked) {
+                nblock++;
+                continue;
+            }
+            q.skip_flags = 0;
+            hit = gg_geom_intersect(g, &q, &h);
+            assert_int_equal(has, hit);
+            if (hit) {
+                ntr++;
+                assert_true(g->pflags[h.prim] & GG_PRIM_TRANSPARENT);
+                assert_int_equal(ht.prim, h.prim);
+                assert_int_equal(ht.sub, h.sub);
+                assert_int_equal(tu_ulps(ht.t, h.t), 0);
+                assert_int_equal(tu_ulps(ht.b1, h.b1), 0);
+                assert_int_equal(tu_ulps(ht.b2, h.b2), 0);
+            } else
+                nfree++;
+        }
+        print_message("scale %g: %ld blocked, %ld through transparent, %ld free\n", sc, nblock,
+                      ntr, nfree);
+        assert_true(nblock > n / 20 && ntr > n / 50 && nfree > n / 20);
+        gg_geom_free(g);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_shadow_query),
         cmocka_unit_test(test_never_misses),
         cmocka_unit_test(test_flags_after_build),
         cmocka_unit_test(test_no_transparent),
