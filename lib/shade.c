@@ -580,13 +580,27 @@ static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thr
 }
 #endif
 
+int gg_shade_dir(ggVec3 o, ggVec3 d, ggVec3 *u)
+{
+    double len = v3len(d);
+    if (!(len > 0) || !isfinite(len) || !v3finite(o)) return 0;
+    *u = v3scale(d, 1.0 / len);
+    return 1;
+}
+
 ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, gg_shade_thread *th)
 {
+    ggVec3 u;
+    if (!gg_shade_dir(o, d, &u)) return rgb(0, 0, 0);
+    return gg_shade_ray_unit(c, o, u, depth, th);
+}
+
+ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth,
+                          gg_shade_thread *th)
+{
     ray_state r;
-    double len = v3len(d);
-    if (!(len > 0) || !isfinite(len) || !v3finite(o)) return rgb(0, 0, 0);
     r.o = o;
-    r.d = v3scale(d, 1.0 / len);
+    r.d = u;
     r.from_prim = UINT32_MAX;
     r.depth = depth;
     r.channel = -1;
