@@ -380,6 +380,23 @@ typedef struct trav {
     size_t nr[3], fr[3]; /* byte offsets of the entry and exit rows per axis */
 } trav;
 
+/* Byte offsets of the entry (lo if the axis' 1/d >= 0, else hi) and exit
+   rows of each axis, by the sign mask of 1/d (bit k: axis k negative). */
+#define GG_ROWS(ng, k) ((k) + 3 * (ng)) * sizeof(float[4])
+#define GG_ROWSET(m)                                                                             \
+    {                                                                                            \
+        {GG_ROWS((m) & 1, 0), GG_ROWS(((m) >> 1) & 1, 1), GG_ROWS(((m) >> 2) & 1, 2)},           \
+        {                                                                                        \
+            GG_ROWS(1 - ((m) & 1), 0), GG_ROWS(1 - (((m) >> 1) & 1), 1),                         \
+                GG_ROWS(1 - (((m) >> 2) & 1), 2)                                                 \
+        }                                                                                        \
+    }
+static const size_t row_offsets[8][2][3] = {GG_ROWSET(0), GG_ROWSET(1), GG_ROWSET(2),
+                                            GG_ROWSET(3), GG_ROWSET(4), GG_ROWSET(5),
+                                            GG_ROWSET(6), GG_ROWSET(7)};
+#undef GG_ROWSET
+#undef GG_ROWS
+
 /* Per-ray setup of the float slab test. Returns 0 when the float
    traversal cannot represent the ray (an origin beyond 1e30).
    The origin is rounded to float and then moved out by 4 float half-ulps
@@ -389,13 +406,9 @@ typedef struct trav {
    d) picks the planes, so d = -0 (1/d = -inf) is handled as negative.
    Entry plane lo with the origin rounded up can only shorten the entry
    distance, exit plane hi with it rounded down only lengthen the exit. */
-#if defined(__GNUC__) && !defined(__clang__)
-__attribute__((optimize("no-tree-slp-vectorize")))
-#endif
-static int
-trav_init(trav *tv, const gg_rpre *r)
+GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
 {
-    int k, sm;
+    int sm;
 #ifdef GG_BVH_SIMD
     {
         /* One double at a time: r was just written that way, and a wider
@@ -436,7 +449,7 @@ trav_init(trav *tv, const gg_rpre *r)
 #else
     if (!(fabs(r->o[0]) < 1e30 && fabs(r->o[1]) < 1e30 && fabs(r->o[2]) < 1e30)) return 0;
     sm = 0;
-    for (k = 0; k < 3; k++) {
+    for (int k = 0; k < 3; k++) {
         float of = (float)r->o[k], df = f_near(r->d[k]);
         float e = fabsf(of) * 0x1p-22f + 1e-37f, up = of + e, dn = of - e;
         float inv = 1.0f / df;
@@ -448,11 +461,10 @@ trav_init(trav *tv, const gg_rpre *r)
         tv->of[k] = ng ? up : dn;
     }
 #endif
-    for (k = 0; k < 3; k++) {
-        size_t ng = (size_t)(sm >> k) & 1;
-        tv->nr[k] = (k + 3 * ng) * sizeof(float[4]);
-        tv->fr[k] = (k + 3 - 3 * ng) * sizeof(float[4]);
-    }
+    /* Row offsets from a table: the loop computing them cost a third of
+       this function. */
+    memcpy(tv->nr, row_offsets[sm & 7][0], sizeof tv->nr);
+    memcpy(tv->fr, row_offsets[sm & 7][1], sizeof tv->fr);
     return 1;
 }
 
@@ -523,7 +535,17 @@ static inline int lowest_bit(unsigned m)
 #endif
 }
 
-int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
+/* gg_rpre_fill and trav_init inline here, reading q one double at a time:
+   the caller has usually just written *q field by field, and a 16-byte
+   load spanning two 8-byte stores cannot be forwarded from the store
+   buffer (GCC's SLP vectoriser would pair the loads up). */
+#if defined(__GNUC__) && !defined(__clang__)
+#define GG_NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
+#else
+#define GG_NO_SLP
+#endif
+
+GG_NO_SLP int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
     gg_rpre r;
     trav tv;
@@ -534,7 +556,7 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
     float tmaxf, tcull;
     gg_t4 tmin4, tmax4;
 
-    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
     /* The conservative box test assumes tmin >= 0 (a box wholly behind the
        origin could otherwise be lost to the exit scaling). */
     if (!trav_init(&tv, &r) || q->tmin < 0) return gg_geom_intersect_brute(g, q, hit);
@@ -618,7 +640,7 @@ done:
 }
 
 /* Any-hit traversal; returns the slot index + 1 of an occluder, or 0. */
-static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
+GG_NO_SLP static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
 {
     gg_rpre r;
     trav tv;
@@ -627,7 +649,7 @@ static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
     double tmax;
     gg_t4 tmin4, tmax4;
 
-    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
     tmax = gg_next_down(q->tmax);
     if (cache && *cache && *cache <= g->nslots) {
         hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
@@ -671,4 +693,84 @@ int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
     uint32_t hit = occluder(g, q, cache);
     if (hit) *cache = hit;
     return hit != 0;
+}
+
+/* Leaf of gg_geom_shadow_query: 1 as soon as an opaque element is hit;
+   transparent ones update *best as gg_leaf_closest does. */
+GG_INLINE int leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                          double tmax, gg_hit *best)
+{
+    const gg_slot *s = g->slots + first, *end = s + n;
+    for (; s < end; s++) {
+        double t, b1 = 0, b2 = 0;
+        if (s->prim == r->ignore) continue;
+        if (!(g->pflags[s->prim] & GG_PRIM_TRANSPARENT)) {
+            if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return 1;
+            continue;
+        }
+        if (!gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) continue;
+        if (t < best->t || s->prim < best->prim || (s->prim == best->prim && s->sub < best->sub)) {
+            best->t = t;
+            best->prim = s->prim;
+            best->sub = s->sub;
+            best->b1 = b1;
+            best->b2 = b2;
+        }
+    }
+    return 0;
+}
+
+/* An any-hit traversal over the whole segment (transparent hits do not
+   shorten it: an opaque one further on still blocks). The nearest
+   transparent hit comes out the same as gg_geom_intersect's because
+   every element whose box the segment enters is tested, with the same
+   kernels and the same tie rule (the answer of gg_leaf_closest does not
+   depend on the visiting order). */
+GG_NO_SLP int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr)
+{
+    gg_rpre r;
+    trav tv;
+    gg_hit best;
+    uint32_t stack[GG_STACK], cur = 0;
+    int sp = 0;
+    double tmax;
+    gg_t4 tmin4, tmax4;
+
+    *has_tr = 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    r.skip = 0;
+    tmax = gg_next_down(q->tmax);
+    best.t = tmax;
+    best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
+    if (!trav_init(&tv, &r) || q->tmin < 0) {
+        if (leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best)) return 1;
+        goto done;
+    }
+    tmin4 = GG_T4(f_down(q->tmin));
+    tmax4 = GG_T4(f_above(tmax));
+    for (;;) {
+        if (!(cur & GG_LEAF)) {
+            const gg_bnode *nd = &g->nodes[cur];
+            float tn[4];
+            unsigned mask = (unsigned)box4(nd, &tv, tmin4, tmax4, tn);
+            if (mask) {
+                cur = nd->child[lowest_bit(mask)];
+                mask &= mask - 1;
+                while (mask) {
+                    stack[sp++] = nd->child[lowest_bit(mask)];
+                    mask &= mask - 1;
+                }
+                continue;
+            }
+        } else if (leaf_shadow(g, &r, (cur & ~GG_LEAF) >> 3, (cur & 7) + 1, tmax, &best))
+            return 1;
+        if (sp == 0) break;
+        cur = stack[--sp];
+    }
+done:
+    if (best.prim != UINT32_MAX) {
+        *tr = best;
+        *has_tr = 1;
+    }
+    return 0;
 }

@@ -95,7 +95,10 @@ static inline gg_dd dd_fast_two_sum(double a, double b)
 static inline gg_dd dd_two_prod(double a, double b)
 {
     double p = a * b;
-#ifdef FP_FAST_FMA
+#if defined(GG_DD_FMA)
+    /* a translation unit compiled for fma (refract_fma.c) */
+    return dd_make(p, __builtin_fma(a, b, -p));
+#elif defined(FP_FAST_FMA)
     return dd_make(p, fma(a, b, -p));
 #else
     /* Veltkamp split into 26-bit halves, then Dekker's exact product. */

@@ -198,6 +198,9 @@ int gg_geom_add_implicit(gg_geom *g, const ggImplicit *imp, int32_t obj)
 void gg_geom_set_flags(gg_geom *g, int prim, unsigned flags)
 {
     if (prim >= 0 && (size_t)prim < g->nprim) g->pflags[prim] = (uint8_t)flags;
+    /* Flags changed after the build: the transparent box no longer knows,
+       so it covers everything until the next build. */
+    if (g->built) g->tlo = v3(-INFINITY, -INFINITY, -INFINITY), g->thi = v3(INFINITY, INFINITY, INFINITY);
 }
 
 size_t gg_geom_prim_count(const gg_geom *g)
@@ -341,12 +344,16 @@ int gg_geom_build(gg_geom *g, ggError *err)
     if (!el || !lo || !hi || !order || !g->slots || !g->lsph || !g->ltri || !g->lcone || !g->lrect)
         goto fail;
     fill_elems(g, el);
-    g->lo = v3(INFINITY, INFINITY, INFINITY);
-    g->hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    g->lo = g->tlo = v3(INFINITY, INFINITY, INFINITY);
+    g->hi = g->thi = v3(-INFINITY, -INFINITY, -INFINITY);
     for (i = 0; i < n; i++) {
         elem_bounds(g, &el[i], lo[i], hi[i]);
         g->lo = v3min(g->lo, v3(lo[i][0], lo[i][1], lo[i][2]));
         g->hi = v3max(g->hi, v3(hi[i][0], hi[i][1], hi[i][2]));
+        if (g->pflags[el[i].prim] & GG_PRIM_TRANSPARENT) {
+            g->tlo = v3min(g->tlo, v3(lo[i][0], lo[i][1], lo[i][2]));
+            g->thi = v3max(g->thi, v3(hi[i][0], hi[i][1], hi[i][2]));
+        }
     }
     if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, n, order)) goto fail;
 
@@ -416,6 +423,46 @@ void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi)
 
 /* ---- queries ---- */
 
+/* Slab test of the segment against the transparent box grown by eps =
+   2^-20 M, M the largest magnitude involved. Every rounding below (the
+   grown planes, the numerators, the quotients) moves a slab distance by
+   less than 8 u M / |d_k|, while the growth widens each slab interval
+   by eps / |d_k| on both sides around any exact crossing: so a segment
+   that meets the box in exact arithmetic is never declared a miss. The
+   2^-20 also covers the float rounding the BVH allows its boxes. */
+int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d)
+{
+    const double lo[3] = {g->tlo.x, g->tlo.y, g->tlo.z}, hi[3] = {g->thi.x, g->thi.y, g->thi.z};
+    const double oc[3] = {o.x, o.y, o.z}, dc[3] = {d.x, d.y, d.z};
+    double tn = 0, tf = 1, m = 0, eps;
+    int k;
+    if (!g->built) return 1;
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0; /* none (or NaN) */
+    for (k = 0; k < 3; k++) {
+        double a = fabs(lo[k]), b = fabs(hi[k]), c = fabs(oc[k]);
+        m = a > m ? a : m;
+        m = b > m ? b : m;
+        m = c > m ? c : m;
+    }
+    if (!(m < 1e300) || !(fabs(dc[0]) + fabs(dc[1]) + fabs(dc[2]) < 1e300)) return 1;
+    eps = m * 0x1p-20 + 1e-300;
+    for (k = 0; k < 3; k++) {
+        double l = lo[k] - eps, h = hi[k] + eps;
+        if (dc[k] == 0) {
+            if (oc[k] < l || oc[k] > h) return 0;
+        } else {
+            double t0 = (l - oc[k]) / dc[k], t1 = (h - oc[k]) / dc[k];
+            if (t0 > t1) {
+                double x = t0;
+                t0 = t1, t1 = x;
+            }
+            if (t0 > tn) tn = t0;
+            if (t1 < tf) tf = t1;
+        }
+    }
+    return !(tn > tf);
+}
+
 /* The caller has usually just written *q field by field; a 16-byte load
    spanning two of its 8-byte stores cannot be forwarded from the store
    buffer and stalls for ~15 cycles. Read q one double at a time: GCC's
@@ -425,43 +472,7 @@ __attribute__((optimize("no-tree-slp-vectorize")))
 #endif
 int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
 {
-    double ax = fabs(q->d.x), ay = fabs(q->d.y), az = fabs(q->d.z), dk;
-    /* x * 0 is NaN exactly when x is infinite or NaN: one test for all. */
-    double z = q->o.x * 0 + q->o.y * 0 + q->o.z * 0 + q->d.x * 0 + q->d.y * 0 + q->d.z * 0;
-    if (z != 0) return 0;
-    r->o[0] = q->o.x, r->o[1] = q->o.y, r->o[2] = q->o.z;
-    r->d[0] = q->d.x, r->d[1] = q->d.y, r->d[2] = q->d.z;
-    r->a = q->d.x * q->d.x + q->d.y * q->d.y + q->d.z * q->d.z;
-    if (!(r->a > 0) || r->a == INFINITY) return 0;
-    r->tmin = q->tmin;
-    {
-        /* Written as selects: random directions make branches here
-           unpredictable, and a misprediction costs more than all of it. */
-        int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-        int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
-        int neg = r->d[kz] < 0;
-        r->kz = kz;
-        r->kx = neg ? ky : kx;
-        r->ky = neg ? kx : ky;
-        dk = r->d[kz];
-    }
-#if defined(__SSE2__)
-    {
-        /* both reciprocals with one division */
-        __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), _mm_set_pd(dk, r->a));
-        r->inv_a = _mm_cvtsd_f64(inv);
-        r->sz = _mm_cvtsd_f64(_mm_unpackhi_pd(inv, inv));
-    }
-#else
-    r->inv_a = 1 / r->a;
-    r->sz = 1.0 / dk;
-#endif
-    r->sx = r->d[r->kx] * r->sz;
-    r->sy = r->d[r->ky] * r->sz;
-    r->sphere_mode = g->sphere_mode;
-    r->ignore = q->ignore_prim;
-    r->skip = q->skip_flags;
-    return 1;
+    return gg_rpre_fill(r, g, q);
 }
 
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit)

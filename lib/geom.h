@@ -119,6 +119,14 @@ int gg_geom_occluded(const gg_geom *g, const gg_rayq *q);
    often skipped. Same answer as gg_geom_occluded. */
 int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
 
+/* The two questions of a coloured shadow ray in one traversal: returns 1
+   if a primitive not flagged GG_PRIM_TRANSPARENT is hit in (tmin, tmax)
+   (what gg_geom_occluded answers with skip_flags = GG_PRIM_TRANSPARENT);
+   else 0, with *has_tr = 1 and *tr the nearest hit when there is one
+   (then exactly what gg_geom_intersect returns for q), *has_tr = 0 if
+   nothing is hit. q->skip_flags is ignored. */
+int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr);
+
 /* Same answers by testing every primitive (for tests). */
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 
@@ -177,6 +185,11 @@ typedef struct gg_bvh_stats {
     double build_seconds;
 } gg_bvh_stats;
 void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
+
+/* 0 when the segment o + t d, t in [0, 1], certainly meets no primitive
+   flagged GG_PRIM_TRANSPARENT (tested against the union of their boxes,
+   conservatively); 1 when it may. Cheap: for skipping a transparent walk. */
+int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d);
 
 /* Scene bounds (valid after build). */
 void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi);

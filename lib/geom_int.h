@@ -18,6 +18,10 @@
 #include <math.h>
 #include <string.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 /* Unit roundoff of double and pbrt's gamma(n) = n u / (1 - n u), the
    bound on the relative error of n chained roundings. */
 #define GG_U 0x1p-53
@@ -164,6 +168,7 @@ struct gg_geom {
     /* built */
     int built;
     ggVec3 lo, hi;
+    ggVec3 tlo, thi; /* union of the boxes of GG_PRIM_TRANSPARENT elements */
     gg_slot *slots;
     size_t nslots;
     gg_ksph *lsph;
@@ -210,6 +215,49 @@ void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg
 
 /* Any-hit by testing every element (geom.c). */
 int gg_geom_occluded_brute(const gg_geom *g, const gg_rayq *q);
+
+/* The body of gg_rpre_init, inlined where the traversal sets up its own
+   per-ray state right after it (bvh.c): o and d then stay in registers. */
+GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
+{
+    double ax = fabs(q->d.x), ay = fabs(q->d.y), az = fabs(q->d.z), dk;
+    /* x * 0 is NaN exactly when x is infinite or NaN: one test for all. */
+    double z = q->o.x * 0 + q->o.y * 0 + q->o.z * 0 + q->d.x * 0 + q->d.y * 0 + q->d.z * 0;
+    if (z != 0) return 0;
+    r->o[0] = q->o.x, r->o[1] = q->o.y, r->o[2] = q->o.z;
+    r->d[0] = q->d.x, r->d[1] = q->d.y, r->d[2] = q->d.z;
+    r->a = q->d.x * q->d.x + q->d.y * q->d.y + q->d.z * q->d.z;
+    if (!(r->a > 0) || r->a == INFINITY) return 0;
+    r->tmin = q->tmin;
+    {
+        /* Written as selects: random directions make branches here
+           unpredictable, and a misprediction costs more than all of it. */
+        int kz = ax > ay ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+        int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+        int neg = r->d[kz] < 0;
+        r->kz = kz;
+        r->kx = neg ? ky : kx;
+        r->ky = neg ? kx : ky;
+        dk = r->d[kz];
+    }
+#if defined(__SSE2__)
+    {
+        /* both reciprocals with one division */
+        __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), _mm_set_pd(dk, r->a));
+        r->inv_a = _mm_cvtsd_f64(inv);
+        r->sz = _mm_cvtsd_f64(_mm_unpackhi_pd(inv, inv));
+    }
+#else
+    r->inv_a = 1 / r->a;
+    r->sz = 1.0 / dk;
+#endif
+    r->sx = r->d[r->kx] * r->sz;
+    r->sy = r->d[r->ky] * r->sz;
+    r->sphere_mode = g->sphere_mode;
+    r->ignore = q->ignore_prim;
+    r->skip = q->skip_flags;
+    return 1;
+}
 
 /* Ray precomputation; returns 0 if the ray can hit nothing (NaN, d = 0). */
 int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q);

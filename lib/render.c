@@ -214,6 +214,31 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
     int gx, gy;
+    if (!j->corner && !j->cost && j->r.spp == 1) {
+        /* One sample at the pixel centre (pixel_center and sample_color
+           below, step by step): the directions of a tile row first, then
+           the rays, so the row's divisions and square roots run in
+           parallel rather than each at the head of its ray's chain. */
+        ggVec3 u[TILE];
+        int ok[TILE];
+        for (gy = gy0; gy < gy1; gy++) {
+            int y = j->r.y0 + gy;
+            for (gx = gx0; gx < gx1; gx++) {
+                ggVec3 d = basis_dir(&j->cam, j->r.x0 + gx + 0.5, y + 0.5);
+                ok[gx - gx0] = gg_shade_dir(j->cam.eye, d, &u[gx - gx0]);
+            }
+            for (gx = gx0; gx < gx1; gx++) {
+                int x = j->r.x0 + gx;
+                ggColor acc = rgb(0, 0, 0), c = rgb(0, 0, 0);
+                float *o = j->px + 3 * ((size_t)y * j->r.w + x);
+                if (ok[gx - gx0]) c = gg_shade_ray_unit(&j->ctx, j->cam.eye, u[gx - gx0], 1, th);
+                if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) st->nonfinite++;
+                acc = cscale(cadd(acc, c), 1.0 / j->r.spp);
+                o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
+            }
+        }
+        return;
+    }
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) {
             ggRayStats before = *st;

@@ -182,7 +182,8 @@ static uint32_t leave_prim(const ggScene *s, uint32_t prim)
    *first_obj receives the first object crossed (-1 if none) and *t_first
    where (parameter of the original ray). */
 static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
-                           const gg_media *start, int *first_obj, double *t_first)
+                           const gg_media *start, int *first_obj, double *t_first, int pre,
+                           const gg_hit *pre_hit)
 {
     const ggScene *s = c->s;
     const ggVec3 light = v3add(o, d);
@@ -194,10 +195,21 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
     int step;
     *first_obj = -1;
     *t_first = 1;
+    /* Nothing transparent near the segment: the walk's first query would
+       miss (what blocks opaquely was ruled out by the caller). */
+    if (pre < 0 && !gg_geom_transparent_may_hit(s->geom, o, d))
+        return media_transmittance(s, &m, len);
     for (step = 0; step < GG_MAX_SHADOW_STEPS; step++) {
-        int obj, mat;
+        int obj, mat, found;
         gg_surf sf;
-        if (!gg_geom_intersect(s->geom, &q, &h)) return cmul(tr, media_transmittance(s, &m, len));
+        /* The first query may come answered (pre >= 0: gg_geom_shadow_query
+           found the nearest hit, pre = 1, or none, pre = 0). */
+        if (step == 0 && pre >= 0) {
+            found = pre;
+            if (found) h = *pre_hit;
+        } else
+            found = gg_geom_intersect(s->geom, &q, &h);
+        if (!found) return cmul(tr, media_transmittance(s, &m, len));
         obj = gg_geom_prim_object(s->geom, h.prim);
         mat = s->objects[obj].material;
         if (*first_obj < 0) *first_obj = obj, *t_first = h.t;
@@ -311,8 +323,11 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             sd = v3sub(s->lights[li].pos, so);
             th->st.shadow++;
             if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
+                int pre = -1;
+                gg_hit fh = {0};
                 sq = make_q(so, sd, 1.0, leave, GG_PRIM_TRANSPARENT);
-                if (!(FX & FX_RECORD) && gg_geom_occluded(s->geom, &sq)) continue;
+                /* Opaque blocker, or else the walk's first hit: one traversal. */
+                if (!(FX & FX_RECORD) && gg_geom_shadow_query(s->geom, &sq, &fh, &pre)) continue;
                 if (FX & FX_RECORD) {
                     gg_hit bh;
                     /* Recording names the occluder: find the nearest. */
@@ -322,7 +337,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     }
                 }
                 if (verdict == GG_SHADOW_VISIBLE) {
-                    ggColor through = shadow_walk(c, so, sd, leave, &r->media, &occ, &tb);
+                    ggColor through = shadow_walk(c, so, sd, leave, &r->media, &occ, &tb, pre, &fh);
                     if (occ >= 0) verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
                     lc = cmul(lc, through);
                 }
@@ -565,13 +580,27 @@ static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thr
 }
 #endif
 
+int gg_shade_dir(ggVec3 o, ggVec3 d, ggVec3 *u)
+{
+    double len = v3len(d);
+    if (!(len > 0) || !isfinite(len) || !v3finite(o)) return 0;
+    *u = v3scale(d, 1.0 / len);
+    return 1;
+}
+
 ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, gg_shade_thread *th)
 {
+    ggVec3 u;
+    if (!gg_shade_dir(o, d, &u)) return rgb(0, 0, 0);
+    return gg_shade_ray_unit(c, o, u, depth, th);
+}
+
+ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth,
+                          gg_shade_thread *th)
+{
     ray_state r;
-    double len = v3len(d);
-    if (!(len > 0) || !isfinite(len) || !v3finite(o)) return rgb(0, 0, 0);
     r.o = o;
-    r.d = v3scale(d, 1.0 / len);
+    r.d = u;
     r.from_prim = UINT32_MAX;
     r.depth = depth;
     r.channel = -1;

@@ -42,4 +42,13 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
    ray of ggRayColor) at the given depth (eye ray = 1). */
 ggColor gg_shade_ray(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 d, int depth, gg_shade_thread *th);
 
+/* gg_shade_ray in two steps, so that a caller can compute many directions
+   first (their divisions and square roots then overlap instead of
+   delaying each ray): gg_shade_dir returns 0 where gg_shade_ray would
+   return black without casting anything, else 1 with the unit direction
+   it would trace; gg_shade_ray_unit traces it. Same result, same bits. */
+int gg_shade_dir(ggVec3 o, ggVec3 d, ggVec3 *u);
+ggColor gg_shade_ray_unit(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 u, int depth,
+                          gg_shade_thread *th);
+
 #endif
