@@ -175,7 +175,8 @@ uninstall:
 # Stage an install under $(BUILD)/stage with PREFIX=/usr and build and run
 # every example against it through pkg-config, as a user would.
 STAGE = $(abspath $(BUILD))/stage
-installcheck:
+installcheck: $(SHARED) $(BUILD)/libggrt.so
+	@nm -D --defined-only $(SHARED) >/dev/null || { echo "installcheck: cannot read $(SHARED)"; exit 1; }
 	@bad=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -v '^gg[A-Z]'); \
 	  if [ -n "$$bad" ]; then echo "installcheck: libggrt.so exports internal symbols: $$bad"; exit 1; fi; \
 	  echo "installcheck: libggrt.so exports $$(nm -D --defined-only $(SHARED) | wc -l) symbols, all public gg*"
