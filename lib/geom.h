@@ -191,6 +191,16 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
    conservatively); 1 when it may. Cheap: for skipping a transparent walk. */
 int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d);
 
+/* gg_geom_intersect for a ray that starts inside the sphere `prim`
+   (a hint: e.g. refracted into it). When that sphere is isolated (at
+   build time no other element's box came within a margin of its ball),
+   the origin lies in the grown ball and the sphere is hit, nothing else
+   can be nearer: the sphere alone is tested, and the answer (1 with *hit
+   filled) is exactly gg_geom_intersect's. Returns -1 when it cannot say
+   (not an isolated sphere, origin outside, ignored, no hit): the caller
+   then asks gg_geom_intersect. */
+int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, gg_hit *hit);
+
 /* Scene bounds (valid after build). */
 void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi);
 

@@ -45,6 +45,7 @@
 typedef struct ray_state {
     ggVec3 o, d;        /* d is unit length */
     uint32_t from_prim; /* the primitive the ray leaves (UINT32_MAX for eye rays) */
+    uint32_t inside;    /* a sphere the ray starts inside of, or UINT32_MAX (a hint) */
     int depth;
     int channel;
     gg_media media;
@@ -468,6 +469,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 child.o = spawn(c, &sf, t);
                 child.d = t;
                 child.from_prim = leave;
+                /* Refracted in through a sphere's outer side: inside it. */
+                child.inside = front && leave == UINT32_MAX ? h->prim : UINT32_MAX;
                 child.depth = r->depth + 1;
                 child.channel = chan;
                 child.media = inside;
@@ -498,6 +501,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             child.o = o_out;
             child.d = rd;
             child.from_prim = leave;
+            /* Mirrored off a sphere's inner side: still inside it. */
+            child.inside = !front && leave == UINT32_MAX ? h->prim : UINT32_MAX;
             child.depth = r->depth + 1;
             child.channel = r->channel;
             child.media = r->media;
@@ -542,7 +547,10 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
             N->weight = rgb(1, 1, 1);
         }
     }
-    hit = gg_geom_intersect(s->geom, &q, &h);
+    hit = -1;
+    if (r->inside != UINT32_MAX && gg_geom_prim_kind(s->geom, r->inside) == GG_SHAPE_SPHERE)
+        hit = gg_geom_intersect_inside(s->geom, &q, r->inside, &h);
+    if (hit < 0) hit = gg_geom_intersect(s->geom, &q, &h);
     if (!hit) {
         col = s->background;
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
@@ -602,6 +610,7 @@ ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth,
     r.o = o;
     r.d = u;
     r.from_prim = UINT32_MAX;
+    r.inside = UINT32_MAX;
     r.depth = depth;
     r.channel = -1;
     r.media.n = 0;
