@@ -126,6 +126,11 @@ int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
    (then exactly what gg_geom_intersect returns for q), *has_tr = 0 if
    nothing is hit. q->skip_flags is ignored. */
 int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr);
+/* The same with an occluder cache as gg_geom_occluded_cached's (it may
+   share that cache): the opaque element that blocked last is tried first,
+   and the one that blocks is remembered. Same answers. */
+int gg_geom_shadow_query_cached(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
+                                uint32_t *cache);
 
 /* Same answers by testing every primitive (for tests). */
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);

@@ -328,7 +328,9 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 gg_hit fh = {0};
                 sq = make_q(so, sd, 1.0, leave, GG_PRIM_TRANSPARENT);
                 /* Opaque blocker, or else the walk's first hit: one traversal. */
-                if (!(FX & FX_RECORD) && gg_geom_shadow_query(s->geom, &sq, &fh, &pre)) continue;
+                if (!(FX & FX_RECORD) && gg_geom_shadow_query_cached(s->geom, &sq, &fh, &pre,
+                                                                     &th->occ[li % GG_OCC_CACHES]))
+                    continue;
                 if (FX & FX_RECORD) {
                     gg_hit bh;
                     /* Recording names the occluder: find the nearest. */
