@@ -236,9 +236,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         q.ignore_prim = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h.prim);
         /* Crossed into a sphere: the next surface may well be its far side
            (gg_geom_intersect_inside checks that nothing else can be). */
-        in_sphere = gg_geom_prim_kind(s->geom, h.prim) == GG_SHAPE_SPHERE && v3dot(q.d, sf.ng) < 0
-                        ? h.prim
-                        : UINT32_MAX;
+        in_sphere = q.ignore_prim == UINT32_MAX && v3dot(q.d, sf.ng) < 0 ? h.prim : UINT32_MAX;
     }
     return rgb(0, 0, 0);
 }
@@ -567,7 +565,7 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
         }
     }
     hit = -1;
-    if (r->inside != UINT32_MAX && gg_geom_prim_kind(s->geom, r->inside) == GG_SHAPE_SPHERE)
+    if (r->inside != UINT32_MAX)
         hit = gg_geom_intersect_inside(s->geom, &q, r->inside, &h);
     if (hit < 0) hit = gg_geom_intersect(s->geom, &q, &h);
     if (!hit) {
