@@ -695,9 +695,10 @@ int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
     return hit != 0;
 }
 
-/* Leaf of gg_geom_shadow_query: 1 as soon as an opaque element is hit;
-   transparent ones update *best as gg_leaf_closest does. */
-GG_INLINE int leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+/* Leaf of gg_geom_shadow_query: the slot index + 1 of the first opaque
+   element hit (then it stops), else 0; transparent ones update *best as
+   gg_leaf_closest does. */
+GG_INLINE uint32_t leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
                           double tmax, gg_hit *best)
 {
     const gg_slot *s = g->slots + first, *end = s + n;
@@ -705,7 +706,7 @@ GG_INLINE int leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, ui
         double t, b1 = 0, b2 = 0;
         if (s->prim == r->ignore) continue;
         if (!(g->pflags[s->prim] & GG_PRIM_TRANSPARENT)) {
-            if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return 1;
+            if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return (uint32_t)(s - g->slots) + 1;
             continue;
         }
         if (!gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) continue;
@@ -728,10 +729,16 @@ GG_INLINE int leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, ui
    depend on the visiting order). */
 GG_NO_SLP int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr)
 {
+    return gg_geom_shadow_query_cached(g, q, tr, has_tr, NULL);
+}
+
+GG_NO_SLP int gg_geom_shadow_query_cached(const gg_geom *g, const gg_rayq *q, gg_hit *tr,
+                                          int *has_tr, uint32_t *cache)
+{
     gg_rpre r;
     trav tv;
     gg_hit best;
-    uint32_t stack[GG_STACK], cur = 0;
+    uint32_t stack[GG_STACK], cur = 0, hit;
     int sp = 0;
     double tmax;
     gg_t4 tmin4, tmax4;
@@ -742,8 +749,15 @@ GG_NO_SLP int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *t
     tmax = gg_next_down(q->tmax);
     best.t = tmax;
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
+    /* The opaque element that blocked this light's previous shadow ray
+       first: if it blocks this one too, the answer (1) is the same as the
+       traversal's, whichever opaque element that would have found. */
+    if (cache && *cache && *cache <= g->nslots &&
+        !(g->pflags[g->slots[*cache - 1].prim] & GG_PRIM_TRANSPARENT) &&
+        gg_leaf_any(g, &r, *cache - 1, 1, tmax))
+        return 1;
     if (!trav_init(&tv, &r) || q->tmin < 0) {
-        if (leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best)) return 1;
+        if ((hit = leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best))) goto blocked;
         goto done;
     }
     tmin4 = GG_T4(f_down(q->tmin));
@@ -762,8 +776,8 @@ GG_NO_SLP int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *t
                 }
                 continue;
             }
-        } else if (leaf_shadow(g, &r, (cur & ~GG_LEAF) >> 3, (cur & 7) + 1, tmax, &best))
-            return 1;
+        } else if ((hit = leaf_shadow(g, &r, (cur & ~GG_LEAF) >> 3, (cur & 7) + 1, tmax, &best)))
+            goto blocked;
         if (sp == 0) break;
         cur = stack[--sp];
     }
@@ -773,4 +787,7 @@ done:
         *has_tr = 1;
     }
     return 0;
+blocked:
+    if (cache) *cache = hit;
+    return 1;
 }

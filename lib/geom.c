@@ -30,6 +30,9 @@ static void free_built(gg_geom *g)
     gg_mem_free(g->alloc, g->ltri);
     gg_mem_free(g->alloc, g->lcone);
     gg_mem_free(g->alloc, g->lrect);
+    gg_mem_free(g->alloc, g->iso);
+    gg_mem_free(g->alloc, g->iso_margin);
+    g->iso = NULL, g->iso_margin = NULL;
     g->slots = NULL, g->lsph = NULL, g->ltri = NULL, g->lcone = NULL, g->lrect = NULL;
     g->nslots = 0;
     gg_bvh_free(g);
@@ -319,6 +322,87 @@ static int fill_elems(const gg_geom *g, elem *el)
     return (int)n;
 }
 
+/* Squared distance from point c to the box [lo, hi]. */
+static double box_dist2(const double c[3], const double lo[3], const double hi[3])
+{
+    double d2 = 0;
+    int k;
+    for (k = 0; k < 3; k++) {
+        double e = c[k] < lo[k] ? lo[k] - c[k] : c[k] > hi[k] ? c[k] - hi[k] : 0;
+        d2 += e * e;
+    }
+    return d2;
+}
+
+/* Mark the spheres nothing else comes near (gg_geom_intersect_inside).
+   The margin m = 2^-30 (|c| + r) is far above the rounding of a hit point
+   or of the tests below, and far below any gap worth keeping. Another
+   sphere counts by its ball (centre distance), everything else by its
+   conservative box. Quadratic: skipped for scenes with many spheres. */
+static void mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3],
+                          const double (*hi)[3], size_t n)
+{
+    size_t i, j;
+    if (!g->nsph || (double)g->nsph * (double)n > 4e6) return;
+    g->iso = gg_mem_calloc(g->alloc, g->nprim + 1, sizeof *g->iso);
+    g->iso_margin = gg_mem_calloc(g->alloc, g->nprim + 1, sizeof *g->iso_margin);
+    if (!g->iso || !g->iso_margin) {
+        gg_mem_free(g->alloc, g->iso);
+        gg_mem_free(g->alloc, g->iso_margin);
+        g->iso = NULL, g->iso_margin = NULL;
+        return;
+    }
+    for (i = 0; i < n; i++) {
+        const gg_sph *a;
+        double c[3], m, R;
+        int ok = 1;
+        if (el[i].kind != GG_EK_SPHERE) continue;
+        a = &g->sphs[el[i].data];
+        c[0] = a->c.x, c[1] = a->c.y, c[2] = a->c.z;
+        m = 0x1p-30 * (fabs(c[0]) + fabs(c[1]) + fabs(c[2]) + a->r);
+        R = a->r + m;
+        if (!(R < 1e150) || !(fabs(c[0]) + fabs(c[1]) + fabs(c[2]) < 1e150)) continue;
+        for (j = 0; j < n && ok; j++) {
+            if (j == i) continue;
+            if (el[j].kind == GG_EK_SPHERE) {
+                const gg_sph *b = &g->sphs[el[j].data];
+                ggVec3 dc = v3sub(b->c, a->c);
+                double s = R + b->r + m;
+                ok = v3dot(dc, dc) > s * s;
+            } else
+                ok = box_dist2(c, lo[j], hi[j]) > R * R * (1 + 0x1p-40);
+        }
+        if (ok) g->iso[el[i].prim] = 1, g->iso_margin[el[i].prim] = m;
+    }
+}
+
+int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, gg_hit *hit)
+{
+    const gg_sph *sp;
+    gg_ksph k;
+    gg_rpre r;
+    ggVec3 f;
+    double t, lim;
+    if (!g->iso || prim >= g->nprim || !g->iso[prim] || q->ignore_prim == prim ||
+        (q->skip_flags & g->pflags[prim]) || !(q->tmin >= 0) || !(q->tmax > q->tmin))
+        return -1;
+    sp = &g->sphs[g->prims[prim].data];
+    /* Origin in the ball grown by half the margin (the rounding of this
+       test is far below the other half). */
+    f = v3sub(q->o, sp->c);
+    lim = sp->r + 0.5 * g->iso_margin[prim];
+    if (!(v3dot(f, f) <= lim * lim)) return -1;
+    if (!gg_rpre_fill(&r, g, q)) return -1;
+    k.c[0] = sp->c.x, k.c[1] = sp->c.y, k.c[2] = sp->c.z;
+    k.r2 = sp->r * sp->r;
+    if (!gg_sphere_kernel(&k, &r, gg_next_down(q->tmax), &t)) return -1;
+    hit->t = t;
+    hit->prim = prim;
+    hit->sub = 0;
+    hit->b1 = hit->b2 = 0;
+    return 1;
+}
+
 int gg_geom_build(gg_geom *g, ggError *err)
 {
     double t0 = gg_time_now();
@@ -355,6 +439,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
             g->thi = v3max(g->thi, v3(hi[i][0], hi[i][1], hi[i][2]));
         }
     }
+    mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n);
     if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, n, order)) goto fail;
 
     /* Copy the intersection records in leaf order. */

@@ -126,6 +126,11 @@ int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
    (then exactly what gg_geom_intersect returns for q), *has_tr = 0 if
    nothing is hit. q->skip_flags is ignored. */
 int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr);
+/* The same with an occluder cache as gg_geom_occluded_cached's (it may
+   share that cache): the opaque element that blocked last is tried first,
+   and the one that blocks is remembered. Same answers. */
+int gg_geom_shadow_query_cached(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
+                                uint32_t *cache);
 
 /* Same answers by testing every primitive (for tests). */
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
@@ -190,6 +195,16 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
    flagged GG_PRIM_TRANSPARENT (tested against the union of their boxes,
    conservatively); 1 when it may. Cheap: for skipping a transparent walk. */
 int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d);
+
+/* gg_geom_intersect for a ray that starts inside the sphere `prim`
+   (a hint: e.g. refracted into it). When that sphere is isolated (at
+   build time no other element's box came within a margin of its ball),
+   the origin lies in the grown ball and the sphere is hit, nothing else
+   can be nearer: the sphere alone is tested, and the answer (1 with *hit
+   filled) is exactly gg_geom_intersect's. Returns -1 when it cannot say
+   (not an isolated sphere, origin outside, ignored, no hit): the caller
+   then asks gg_geom_intersect. */
+int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, gg_hit *hit);
 
 /* Scene bounds (valid after build). */
 void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi);

@@ -169,6 +169,10 @@ struct gg_geom {
     int built;
     ggVec3 lo, hi;
     ggVec3 tlo, thi; /* union of the boxes of GG_PRIM_TRANSPARENT elements */
+    /* Per primitive: a sphere whose ball (grown by iso_margin) meets no
+       other element's box, see gg_geom_intersect_inside; else 0. */
+    uint8_t *iso;
+    double *iso_margin;
     gg_slot *slots;
     size_t nslots;
     gg_ksph *lsph;

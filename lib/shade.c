@@ -45,6 +45,7 @@
 typedef struct ray_state {
     ggVec3 o, d;        /* d is unit length */
     uint32_t from_prim; /* the primitive the ray leaves (UINT32_MAX for eye rays) */
+    uint32_t inside;    /* a sphere the ray starts inside of, or UINT32_MAX (a hint) */
     int depth;
     int channel;
     gg_media media;
@@ -192,6 +193,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
     double len = v3len(d);
     gg_rayq q = make_q(o, d, 1.0, from, 0);
     gg_hit h;
+    uint32_t in_sphere = UINT32_MAX; /* a sphere the current segment starts inside of */
     int step;
     *first_obj = -1;
     *t_first = 1;
@@ -207,8 +209,12 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         if (step == 0 && pre >= 0) {
             found = pre;
             if (found) h = *pre_hit;
-        } else
-            found = gg_geom_intersect(s->geom, &q, &h);
+        } else {
+            found = -1;
+            if (in_sphere != UINT32_MAX)
+                found = gg_geom_intersect_inside(s->geom, &q, in_sphere, &h);
+            if (found < 0) found = gg_geom_intersect(s->geom, &q, &h);
+        }
         if (!found) return cmul(tr, media_transmittance(s, &m, len));
         obj = gg_geom_prim_object(s->geom, h.prim);
         mat = s->objects[obj].material;
@@ -228,6 +234,9 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         q.d = v3sub(light, q.o);
         len = v3len(q.d);
         q.ignore_prim = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h.prim);
+        /* Crossed into a sphere: the next surface may well be its far side
+           (gg_geom_intersect_inside checks that nothing else can be). */
+        in_sphere = q.ignore_prim == UINT32_MAX && v3dot(q.d, sf.ng) < 0 ? h.prim : UINT32_MAX;
     }
     return rgb(0, 0, 0);
 }
@@ -326,8 +335,17 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 int pre = -1;
                 gg_hit fh = {0};
                 sq = make_q(so, sd, 1.0, leave, GG_PRIM_TRANSPARENT);
+                /* Leaving a sphere's inner side inwards: when nothing else is
+                   inside it, its far side is the walk's first hit and
+                   anything opaque lies beyond, for the walk to meet. */
+                if (!(FX & FX_RECORD) && !front && leave == UINT32_MAX) {
+                    gg_rayq iq = make_q(so, sd, 1.0, leave, 0);
+                    if (gg_geom_intersect_inside(s->geom, &iq, h->prim, &fh) > 0) pre = 1;
+                }
                 /* Opaque blocker, or else the walk's first hit: one traversal. */
-                if (!(FX & FX_RECORD) && gg_geom_shadow_query(s->geom, &sq, &fh, &pre)) continue;
+                if (!(FX & FX_RECORD) && pre < 0 && gg_geom_shadow_query_cached(s->geom, &sq, &fh, &pre,
+                                                                     &th->occ[li % GG_OCC_CACHES]))
+                    continue;
                 if (FX & FX_RECORD) {
                     gg_hit bh;
                     /* Recording names the occluder: find the nearest. */
@@ -468,6 +486,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 child.o = spawn(c, &sf, t);
                 child.d = t;
                 child.from_prim = leave;
+                /* Refracted in through a sphere's outer side: inside it. */
+                child.inside = front && leave == UINT32_MAX ? h->prim : UINT32_MAX;
                 child.depth = r->depth + 1;
                 child.channel = chan;
                 child.media = inside;
@@ -498,6 +518,8 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             child.o = o_out;
             child.d = rd;
             child.from_prim = leave;
+            /* Mirrored off a sphere's inner side: still inside it. */
+            child.inside = !front && leave == UINT32_MAX ? h->prim : UINT32_MAX;
             child.depth = r->depth + 1;
             child.channel = r->channel;
             child.media = r->media;
@@ -542,7 +564,10 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
             N->weight = rgb(1, 1, 1);
         }
     }
-    hit = gg_geom_intersect(s->geom, &q, &h);
+    hit = -1;
+    if (r->inside != UINT32_MAX)
+        hit = gg_geom_intersect_inside(s->geom, &q, r->inside, &h);
+    if (hit < 0) hit = gg_geom_intersect(s->geom, &q, &h);
     if (!hit) {
         col = s->background;
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
@@ -602,6 +627,7 @@ ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth,
     r.o = o;
     r.d = u;
     r.from_prim = UINT32_MAX;
+    r.inside = UINT32_MAX;
     r.depth = depth;
     r.channel = -1;
     r.media.n = 0;

@@ -139,6 +139,7 @@ static void test_shadow_query(void **state)
         tu_rng r = {31 + (uint64_t)si};
         gg_geom *g = make_scene(&r, sc);
         long i, n = 20000, nblock = 0, ntr = 0, nfree = 0;
+        uint32_t cache = 0;
         for (i = 0; i < n; i++) {
             ggVec3 o = rvec(&r, -sc, sc), e = (i & 1) ? rvec(&r, 0.15 * sc, 0.45 * sc)
                                                        : rvec(&r, -sc, sc);
@@ -154,6 +155,24 @@ static void test_shadow_query(void **state)
             occ = gg_geom_occluded(g, &q);
             blocked = gg_geom_shadow_query(g, &q, &ht, &has);
             assert_int_equal(blocked, occ);
+            {
+                /* The cached variant, twice: first with the cache the
+                   previous ray left, then with this ray's own occluder. */
+                gg_hit hc;
+                int k, hasc = -1;
+                for (k = 0; k < 2; k++) {
+                    assert_int_equal(gg_geom_shadow_query_cached(g, &q, &hc, &hasc, &cache), occ);
+                    if (occ) {
+                        assert_true(cache > 0);
+                        continue;
+                    }
+                    assert_int_equal(hasc, has);
+                    if (has) {
+                        assert_int_equal(hc.prim, ht.prim);
+                        assert_int_equal(tu_ulps(hc.t, ht.t), 0);
+                    }
+                }
+            }
             if (blocked) {
                 nblock++;
                 continue;
