@@ -1,7 +1,7 @@
 /*
 ** bench_render.c -- render time of scenes, for comparing library builds
 ** (make bench-trace runs it against a library built without the ray-tree
-** recorder). usage: bench_render [-s SIZE] [-r RUNS] SCENE...
+** recorder). usage: bench_render [-s SIZE] [-r RUNS] [-t THREADS] SCENE...
 ** Prints one line per scene: name and the median render seconds.
 */
 #include "ggrt.h"
@@ -27,11 +27,12 @@ static int cmp(const void *a, const void *b)
 int main(int argc, char **argv)
 {
     static char *def[] = {"examples/scenes/spd/balls-s3.nff", "examples/scenes/glass.nff"};
-    int size = 512, runs = 3, i, k;
+    int size = 512, runs = 3, threads = 2, i, k;
     for (i = 1; i < argc && argv[i][0] == '-'; i += 2) {
         if (i + 1 >= argc) return 2;
         if (!strcmp(argv[i], "-s")) size = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "-r")) runs = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "-t")) threads = atoi(argv[i + 1]);
     }
     if (i >= argc) argv = def, i = 0, argc = 2; /* `make bench` runs it bare */
     if (runs < 1 || runs > 64 || size < 1) return 2;
@@ -46,7 +47,7 @@ int main(int argc, char **argv)
         }
         ggRenderOptionsDefault(&o);
         o.width = o.height = size;
-        o.threads = 2;
+        o.threads = threads;
         for (k = 0; k < runs; k++) {
             ggImage *img = NULL;
             double t0 = now();

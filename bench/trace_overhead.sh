@@ -16,3 +16,22 @@ for s in $scenes; do
   b=$(grep "^$s " "$tmp/without" | awk '{print $2}' | sort -n | sed -n 4p)
   awk -v s="$s" -v a="$a" -v b="$b" 'BEGIN { printf "%-36s %11.4fs %11.4fs %7.3f\n", s, a, b, a / b }'
 done
+
+# Wall times on a shared 2-core machine move by several percent from run to
+# run; instruction counts do not. With valgrind, count the instructions of
+# ggRender alone, single-threaded, in both builds.
+if command -v valgrind >/dev/null 2>&1; then
+  echo
+  echo "instructions executed in ggRender (valgrind --tool=callgrind, 128x128, 1 thread)"
+  printf '%-36s %14s %14s %8s\n' scene "recorder-in" "recorder-out" ratio
+  for s in $scenes; do
+    for b in with without; do
+      bin=$with; [ $b = without ] && bin=$without
+      valgrind --tool=callgrind --callgrind-out-file="$tmp/cg.$b" --toggle-collect=ggRender \
+        "$bin" -s 128 -r 1 -t 1 "$s" >/dev/null 2>"$tmp/vg.$b" || exit 1
+      grep -o 'refs: *[0-9,]*' "$tmp/vg.$b" | tr -d ', ' | sed 's/refs://' > "$tmp/ir.$b"
+    done
+    awk -v s="$s" -v a="$(cat "$tmp/ir.with")" -v b="$(cat "$tmp/ir.without")" \
+      'BEGIN { printf "%-36s %14d %14d %8.4f\n", s, a, b, a / b }'
+  done
+fi
