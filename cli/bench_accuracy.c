@@ -164,14 +164,18 @@ static void plot(FILE *f, const char *scene, const row *rows, double yoff)
     const char *last = "";
     int c = -1;
     const double W = 640, H = 360, L = 70, T = 30 + yoff;
+    /* Time on a log axis: the samples knob multiplies it, the others move
+       it by percents. */
     for (i = 0; i < NKNOBS; i++) {
         double e = log10(rows[i].d.rmse > 1e-12 ? rows[i].d.rmse : 1e-12);
         tmin = fmin(tmin, rows[i].time), tmax = fmax(tmax, rows[i].time);
         emin = fmin(emin, e), emax = fmax(emax, e);
     }
-    if (tmax <= tmin) tmax = tmin + 1e-3;
+    tmin *= 0.9, tmax *= 1.1;
+    if (!(tmin > 0)) tmin = 1e-6;
+    if (tmax <= tmin) tmax = tmin * 2;
     if (emax <= emin) emax = emin + 1;
-    fprintf(f, "<text x='%g' y='%g' font-size='14'>%s: log10 RMSE vs render time</text>\n", L,
+    fprintf(f, "<text x='%g' y='%g' font-size='14'>%s: log10 RMSE vs render time (log)</text>\n", L,
             T - 10, scene);
     fprintf(f, "<rect x='%g' y='%g' width='%g' height='%g' fill='none' stroke='#999'/>\n", L, T, W,
             H);
@@ -181,7 +185,7 @@ static void plot(FILE *f, const char *scene, const row *rows, double yoff)
     fprintf(f, "<text x='%g' y='%g' font-size='11' text-anchor='end'>%.1f</text><text x='%g' "
                "y='%g' font-size='11' text-anchor='end'>%.1f</text>\n",
             L - 4, T + 10, emax, L - 4, T + H, emin);
-#define PX(t) (L + ((t) - tmin) / (tmax - tmin) * W)
+#define PX(t) (L + log((t) / tmin) / log(tmax / tmin) * W)
 #define PY(e) (T + H - ((e) - emin) / (emax - emin) * H)
     for (i = 0; i < NKNOBS; i++) {
         double e = log10(rows[i].d.rmse > 1e-12 ? rows[i].d.rmse : 1e-12);
