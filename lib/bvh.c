@@ -709,14 +709,7 @@ GG_INLINE uint32_t leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t firs
             if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return (uint32_t)(s - g->slots) + 1;
             continue;
         }
-        if (!gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) continue;
-        if (t < best->t || s->prim < best->prim || (s->prim == best->prim && s->sub < best->sub)) {
-            best->t = t;
-            best->prim = s->prim;
-            best->sub = s->sub;
-            best->b1 = b1;
-            best->b2 = b2;
-        }
+        if (gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) gg_leaf_take(best, s, t, b1, b2);
     }
     return 0;
 }

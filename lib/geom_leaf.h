@@ -34,6 +34,21 @@ GG_INLINE int gg_elem_hit(const gg_geom *g, const gg_slot *s, const gg_rpre *r, 
     }
 }
 
+/* Keep a hit of slot s at t <= best->t if it is closer, or equally close
+   with the smaller (prim, sub): the tie rule that makes the closest hit
+   independent of visiting order. Returns 1 if it was kept. */
+GG_INLINE int gg_leaf_take(gg_hit *best, const gg_slot *s, double t, double b1, double b2)
+{
+    if (!(t < best->t || s->prim < best->prim || (s->prim == best->prim && s->sub < best->sub)))
+        return 0;
+    best->t = t;
+    best->prim = s->prim;
+    best->sub = s->sub;
+    best->b1 = b1;
+    best->b2 = b2;
+    return 1;
+}
+
 /* Closest hit among slots [first, first + n). best->t is the inclusive
    upper bound; equal t is settled by the smaller (prim, sub), so the
    answer does not depend on the order elements are visited in. */
@@ -47,14 +62,7 @@ GG_INLINE int gg_leaf_closest(const gg_geom *g, const gg_rpre *r, uint32_t first
         if (s->prim == r->ignore) continue;
         if (r->skip && (g->pflags[s->prim] & r->skip)) continue;
         if (!gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) continue;
-        if (t < best->t || s->prim < best->prim || (s->prim == best->prim && s->sub < best->sub)) {
-            best->t = t;
-            best->prim = s->prim;
-            best->sub = s->sub;
-            best->b1 = b1;
-            best->b2 = b2;
-            found = 1;
-        }
+        found |= gg_leaf_take(best, s, t, b1, b2);
     }
     return found;
 }
