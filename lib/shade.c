@@ -302,7 +302,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
         N->line = s->objects[obj].line;
         N->t = h->t, N->p = sf.p, N->ng = sf.ng, N->ns = sf.ns, N->front = front;
         N->u = sf.u, N->v = sf.v;
-        N->surface = m->kd > 0 ? cscale(kdc, 1 / m->kd) : gg_scene_surface_color(s, mi, sf.u, sf.v, c->acc.texture);
+        N->surface = gg_scene_surface_color(s, mi, sf.u, sf.v, c->acc.texture);
         N->ambient = cmul(kdc, s->ambient);
         N->emission = (mf->flags & GG_MF_EMIT) ? m->ke : rgb(0, 0, 0);
         N->first_light = (int)rec->nlights;

@@ -131,8 +131,9 @@ typedef struct ggRayStats {
 GG_API int ggRender(ggScene *scene, const ggRenderOptions *opt, ggImage **out,
                     ggRayStats *stats, ggError *err);
 
-/* The eye ray of pixel (x, y), sample s of the options' samples (0-based),
-   as ggRender casts it. */
+/* The eye ray through image point (x, y), in pixels from the top left:
+   (x + 0.5, y + 0.5) is the centre of pixel (x, y), the point ggRender
+   samples with one sample per pixel. d is unit length. */
 GG_API ggRay ggCameraRay(const ggScene *scene, const ggRenderOptions *opt, double x, double y);
 
 /* Colour seen along one ray of a prepared scene: emission + kd * ambient +
