@@ -174,17 +174,15 @@ static uint32_t leave_prim(const ggScene *s, uint32_t prim)
                                                                                  : UINT32_MAX;
 }
 
-/* Light arriving at the shadow origin from a light at distance 1 along d
-   (d = light - o), through transparent occluders: kt per surface crossed
-   and absorption inside. Returns black if an opaque surface blocks. */
 /* Light arriving at the shadow origin from a light at parameter 1 along d
    (d = light - o), through transparent occluders: kt per surface crossed
    and absorption inside. Returns black if an opaque surface blocks.
    *first_obj receives the first object crossed (-1 if none) and *t_first
-   where (parameter of the original ray). */
+   where (parameter of the original ray). clear: the caller has found no
+   opaque surface on the segment, so only transparent ones remain. */
 static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
                            const gg_media *start, int *first_obj, double *t_first, int pre,
-                           const gg_hit *pre_hit)
+                           const gg_hit *pre_hit, int clear)
 {
     const ggScene *s = c->s;
     const ggVec3 light = v3add(o, d);
@@ -213,6 +211,10 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
             found = -1;
             if (in_sphere != UINT32_MAX)
                 found = gg_geom_intersect_inside(s->geom, &q, in_sphere, &h);
+            /* With every opaque occluder of the segment ruled out (clear),
+               only transparent surfaces remain to be found: few of them
+               are tested one by one instead of traversing the BVH. */
+            if (found < 0 && clear) found = gg_geom_intersect_transparent(s->geom, &q, &h);
             if (found < 0) found = gg_geom_intersect(s->geom, &q, &h);
         }
         if (!found) return cmul(tr, media_transmittance(s, &m, len));
@@ -332,7 +334,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
             sd = v3sub(s->lights[li].pos, so);
             th->st.shadow++;
             if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
-                int pre = -1;
+                int pre = -1, clear = 0;
                 gg_hit fh = {0};
                 sq = make_q(so, sd, 1.0, leave, GG_PRIM_TRANSPARENT);
                 /* Leaving a sphere's inner side inwards: when nothing else is
@@ -343,19 +345,24 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     if (gg_geom_intersect_inside(s->geom, &iq, h->prim, &fh) > 0) pre = 1;
                 }
                 /* Opaque blocker, or else the walk's first hit: one traversal. */
-                if (!(FX & FX_RECORD) && pre < 0 && gg_geom_shadow_query_cached(s->geom, &sq, &fh, &pre,
-                                                                     &th->occ[li % GG_OCC_CACHES]))
-                    continue;
+                if (!(FX & FX_RECORD) && pre < 0) {
+                    if (gg_geom_shadow_query_cached(s->geom, &sq, &fh, &pre,
+                                                    &th->occ[li % GG_OCC_CACHES]))
+                        continue;
+                    clear = 1;
+                }
                 if (FX & FX_RECORD) {
                     gg_hit bh;
                     /* Recording names the occluder: find the nearest. */
                     if (gg_geom_intersect(s->geom, &sq, &bh)) {
                         verdict = GG_SHADOW_BLOCKED;
                         occ = gg_geom_prim_object(s->geom, bh.prim), tb = bh.t;
-                    }
+                    } else
+                        clear = 1;
                 }
                 if (verdict == GG_SHADOW_VISIBLE) {
-                    ggColor through = shadow_walk(c, so, sd, leave, &r->media, &occ, &tb, pre, &fh);
+                    ggColor through =
+                        shadow_walk(c, so, sd, leave, &r->media, &occ, &tb, pre, &fh, clear);
                     if (occ >= 0) verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
                     lc = cmul(lc, through);
                 }
