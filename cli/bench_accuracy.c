@@ -53,6 +53,7 @@ static const knob knobs[] = {
     {"sphere", "stable", 1, k_sphere, GG_ACC_SPHERE_STABLE},
     {"sphere", "textbook", 0, k_sphere, GG_ACC_SPHERE_TEXTBOOK},
     {"refract", "accurate", 1, k_refract, GG_ACC_REFRACT_ACCURATE},
+    {"refract", "exact", 0, k_refract, GG_ACC_REFRACT_EXACT},
     {"refract", "textbook", 0, k_refract, GG_ACC_REFRACT_TEXTBOOK},
     {"fresnel", "as scene", 1, k_fresnel, 0},
     {"fresnel", "none", 0, k_fresnel, GG_ACC_FRESNEL_NONE},

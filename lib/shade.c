@@ -15,6 +15,7 @@
 ** set, so an opaque diffuse scene never pays for refraction.
 */
 #include "shade.h"
+#include "refract_unit.h"
 
 #include "trace_int.h"
 #include "vec.h"
@@ -460,8 +461,14 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                     nt = media_index(s, &inside, chan);
                 }
                 if ((FX & FX_RECORD) && node >= 0) rec->nodes[node].n_other = nt;
-                ok = c->acc.refract == GG_ACC_REFRACT_TEXTBOOK ? ggRefractTextbook(v, ns, ni, nt, &t)
-                                                               : ggRefract(v, ns, ni, nt, &t);
+                /* gg_refract_unit: plain double where refraction is well
+                   conditioned, ggRefract elsewhere (lib/refract_unit.h). */
+                if (c->acc.refract == GG_ACC_REFRACT_TEXTBOOK)
+                    ok = ggRefractTextbook(v, ns, ni, nt, &t);
+                else if (c->acc.refract == GG_ACC_REFRACT_EXACT)
+                    ok = ggRefract(v, ns, ni, nt, &t);
+                else
+                    ok = gg_refract_unit(v, ns, ni, nt, &t);
                 /* A shading normal can bend t back to the incoming side:
                    refract about the true surface instead. */
                 if (ok && v3dot(t, ng) >= 0) ok = ggRefract(v, ng, ni, nt, &t);
