@@ -7,6 +7,7 @@
 
 #include "geom_int.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -378,10 +379,53 @@ static void test_offset_basics(void **state)
     assert_true(p.z == nextafter(3, 4)); /* still at least one ulp off */
 }
 
+/* The last step of the scaled offset, one ulp further along the normal,
+   against nextafter: random points of every magnitude and sign (zeros,
+   subnormals, the largest doubles) and normals with zero components. */
+static double ref_step(double x, double n)
+{
+    if (n > 0) return nextafter(x, INFINITY);
+    if (n < 0) return nextafter(x, -INFINITY);
+    return x;
+}
+
+static void test_offset_ulp_step(void **state)
+{
+    static const double special[] = {0.0, -0.0, 0x1p-1074, -0x1p-1074, 0x1p-1022, -0x1p-1022,
+                                     DBL_MAX, -DBL_MAX, 1.0, -1.0, 0x1.fffffffffffffp-1};
+    tu_rng r = {77};
+    int i, k;
+    (void)state;
+    for (i = 0; i < 200000; i++) {
+        gg_surf s;
+        ggVec3 d, n, p, q;
+        double c[3], m[3];
+        for (k = 0; k < 3; k++) {
+            if (tu_next(&r) % 4 == 0)
+                c[k] = special[tu_next(&r) % (sizeof special / sizeof special[0])];
+            else
+                c[k] = ldexp(tu_range(&r, -1, 1), (int)(tu_next(&r) % 2100) - 1074);
+            m[k] = tu_next(&r) % 5 == 0 ? 0.0 : tu_range(&r, -1, 1);
+        }
+        s.p = V(c[0], c[1], c[2]);
+        s.ng = V(m[0], m[1], m[2]);
+        s.ns = s.ng, s.u = s.v = 0;
+        s.perr = tu_next(&r) % 3 == 0 ? 0.0 : ldexp(1, -(int)(tu_next(&r) % 60));
+        d = tu_unit(&r);
+        p = gg_offset_origin(&s, d, GG_OFFSET_SCALED);
+        n = d.x * m[0] + d.y * m[1] + d.z * m[2] < 0 ? V(-m[0], -m[1], -m[2]) : s.ng;
+        q = V(c[0] + n.x * (GG_OFFSET_K * s.perr), c[1] + n.y * (GG_OFFSET_K * s.perr),
+              c[2] + n.z * (GG_OFFSET_K * s.perr));
+        q = V(ref_step(q.x, n.x), ref_step(q.y, n.y), ref_step(q.z, n.z));
+        assert_memory_equal(&p, &q, sizeof p);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_offset_basics),
+        cmocka_unit_test(test_offset_ulp_step),
         cmocka_unit_test(test_no_rehits),
         cmocka_unit_test(test_fixed_epsilon_fails),
         cmocka_unit_test(test_nested_spheres),
