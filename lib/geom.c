@@ -480,6 +480,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
     }
     g->nslots = n;
     g->nlcone = nc;
+    if (gg_bvh_tri_leaves(g)) goto fail;
     g->built = 1;
     rc = GG_OK;
 fail:
