@@ -111,6 +111,23 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
     return hm | zm;
 }
 
+unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
+                         double b1[4], double b2[4], unsigned *zero)
+{
+    gg_tx x;
+    tri4_out o;
+    unsigned m;
+    tx_init(&x, r);
+    m = tri4_test(L, &x, tmax, &o);
+    *zero = m ? o.zero : 0;
+    if (m & ~*zero) {
+        memcpy(t, o.t, sizeof o.t);
+        memcpy(b1, o.b1, sizeof o.b1);
+        memcpy(b2, o.b2, sizeof o.b2);
+    }
+    return m & ~*zero;
+}
+
 static inline int lowest_lane(unsigned m)
 {
     return __builtin_ctz(m);
