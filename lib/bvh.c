@@ -37,7 +37,62 @@
 #define GG_NBINS     32  /* SAH bins per axis */
 #define GG_SAH_TRAV  1.0 /* cost of a node visit, in element tests */
 #define GG_SAH_ISECT 1.0
+#define GG_SAH_TLEAF 2.0 /* a block of triangles, in single tests */
 #define GG_MEDIAN_AT 40 /* from this depth on, median splits only */
+
+/* ---- run-time choice of the AVX traversal ---- */
+
+#if GG_HAVE_BVH_AVX
+static int avx_ok, avx_allowed = 1;
+static pthread_once_t avx_once = PTHREAD_ONCE_INIT;
+
+/* AVX needs the CPU flag and the OS saving the YMM registers. */
+static void avx_probe(void)
+{
+    unsigned a, b, c, d, lo, hi;
+    if (!__get_cpuid(1, &a, &b, &c, &d)) return;
+    if (!(c & bit_OSXSAVE) || !(c & bit_AVX)) return;
+    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
+    (void)hi;
+    avx_ok = (lo & 6) == 6;
+}
+
+int gg_bvh_avx_usable(void)
+{
+    pthread_once(&avx_once, avx_probe);
+    return avx_ok;
+}
+
+int gg_bvh_set_avx(int on)
+{
+    int was = avx_allowed;
+    avx_allowed = on != 0;
+    return was;
+}
+
+/* Whether this build makes triangle blocks for the AVX traversal. */
+static int avx_wanted(void)
+{
+    return avx_allowed && gg_bvh_avx_usable();
+}
+#else
+int gg_bvh_avx_usable(void)
+{
+    return 0;
+}
+
+int gg_bvh_set_avx(int on)
+{
+    (void)on;
+    return 0;
+}
+
+static int avx_wanted(void)
+{
+    return 0;
+}
+#endif
+
 
 /* ---- build ---- */
 
@@ -49,6 +104,7 @@ typedef struct bnode2 {
 
 typedef struct bctx {
     const double (*lo)[3], (*hi)[3];
+    const uint8_t *tri; /* per element: a triangle (only when blocks are made) */
     double (*cen)[3];
     uint32_t *idx;
     bnode2 *n;
@@ -106,6 +162,20 @@ static void select_mid(bctx *c, long lo, long hi, long k, int axis)
         else
             return;
     }
+}
+
+/* SAH cost of a leaf of idx[begin..begin + n). 2 to 4 triangles become
+   a block that the AVX traversal tests in one go, for about the price of
+   GG_SAH_TLEAF single tests (2 measured best on the SPD scenes: fewer
+   instructions than 1, 1.5, 2.5 or 3). The tree's shape changes, not its
+   answers, which are those of testing every element. */
+static double leaf_cost(const bctx *c, uint32_t begin, uint32_t n)
+{
+    uint32_t i;
+    if (!c->tri || n < 2) return GG_SAH_ISECT * n;
+    for (i = begin; i < begin + n; i++)
+        if (!c->tri[c->idx[i]]) return GG_SAH_ISECT * n;
+    return GG_SAH_ISECT * GG_SAH_TLEAF;
 }
 
 /* Build the binary tree over idx[begin..end); returns the node index.
@@ -172,7 +242,7 @@ static uint32_t build2(bctx *c, uint32_t begin, uint32_t end, int depth)
                 if (cost < best_cost) best_cost = cost, best_axis = axis, best_bin = b;
             }
         }
-        if (n <= GG_MAX_LEAF && (best_axis < 0 || GG_SAH_ISECT * n <= best_cost)) goto leaf;
+        if (n <= GG_MAX_LEAF && (best_axis < 0 || leaf_cost(c, begin, n) <= best_cost)) goto leaf;
     } else if (n <= GG_MAX_LEAF) {
         goto leaf;
     }
@@ -279,8 +349,8 @@ void gg_bvh_free(gg_geom *g)
     g->trav_avx = 0;
 }
 
-int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], size_t n,
-                 uint32_t *order)
+int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
+                 size_t n, uint32_t *order)
 {
     bctx c;
     size_t i;
@@ -289,6 +359,7 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], size_
     if (n == 0) return 0;
     memset(&c, 0, sizeof c);
     c.lo = lo, c.hi = hi;
+    c.tri = avx_wanted() ? tri : NULL;
     c.cen = gg_mem_calloc(g->alloc, n, sizeof *c.cen);
     c.idx = order;
     c.n = gg_mem_calloc(g->alloc, 2 * n, sizeof *c.n);
@@ -330,33 +401,6 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
 /* ---- triangle leaves for the AVX traversal ---- */
 
 #if GG_HAVE_BVH_AVX
-static int avx_ok, avx_allowed = 1;
-static pthread_once_t avx_once = PTHREAD_ONCE_INIT;
-
-/* AVX needs the CPU flag and the OS saving the YMM registers. */
-static void avx_probe(void)
-{
-    unsigned a, b, c, d, lo, hi;
-    if (!__get_cpuid(1, &a, &b, &c, &d)) return;
-    if (!(c & bit_OSXSAVE) || !(c & bit_AVX)) return;
-    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-    (void)hi;
-    avx_ok = (lo & 6) == 6;
-}
-
-int gg_bvh_avx_usable(void)
-{
-    pthread_once(&avx_once, avx_probe);
-    return avx_ok;
-}
-
-int gg_bvh_set_avx(int on)
-{
-    int was = avx_allowed;
-    avx_allowed = on != 0;
-    return was;
-}
-
 /* Whether child reference `ref` of node nd (lane i) is a leaf of 2 to 4
    triangles. A single triangle gains nothing from four lanes. */
 static int tri_leaf(const gg_geom *g, const gg_bnode *nd, int i)
@@ -374,7 +418,7 @@ int gg_bvh_tri_leaves(gg_geom *g)
     size_t i, nb = 0;
     int c;
     g->trav_avx = 0;
-    if (!g->nnodes || !avx_allowed || !gg_bvh_avx_usable()) return 0;
+    if (!g->nnodes || !avx_wanted()) return 0;
     for (i = 0; i < g->nnodes; i++)
         for (c = 0; c < 4; c++) nb += (size_t)tri_leaf(g, &g->nodes[i], c);
     g->trav_avx = 1;
@@ -403,17 +447,6 @@ int gg_bvh_tri_leaves(gg_geom *g)
     return 0;
 }
 #else
-int gg_bvh_avx_usable(void)
-{
-    return 0;
-}
-
-int gg_bvh_set_avx(int on)
-{
-    (void)on;
-    return 0;
-}
-
 int gg_bvh_tri_leaves(gg_geom *g)
 {
     g->trav_avx = 0;

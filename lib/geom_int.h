@@ -272,9 +272,11 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
 int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q);
 
 /* BVH (bvh.c): build over element boxes; writes the leaf order of the
-   elements to order[]. */
-int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], size_t n,
-                 uint32_t *order);
+   elements to order[]. tri[i] (or NULL) tells whether element i is a
+   triangle: leaves of triangles are cheaper for the AVX traversal, which
+   the build's cost model then allows for. */
+int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
+                 size_t n, uint32_t *order);
 void gg_bvh_free(gg_geom *g);
 /* After the slots are filled: keep the leaves that hold only triangles
    also as gg_tleaf blocks, and choose the traversal copy, when the CPU

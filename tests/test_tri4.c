@@ -225,7 +225,8 @@ static void same_hit(int ha, const gg_hit *a, int hb, const gg_hit *b)
 
 /* Every query of q on g (built with blocks, g->trav_avx = 1) with the
    AVX copy and the plain one, and on g2 (the same scene built without the
-   blocks). cache[0..2] are the occluder caches of the three. Returns
+   blocks, so with the plain cost model). cache[0..2] are the occluder
+   caches of the three. Returns
    whether q hit anything. */
 static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_t cache[3])
 {
@@ -246,12 +247,15 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
     for (k = 1; k < 3; k++) {
         same_hit(r[0], &h[0], r[k], &h[k]);
         assert_int_equal(s[0], s[k]);
-        /* the same occluder (the first in slot order; g2's slots are g's) */
-        assert_int_equal(oc[0], oc[k]);
         assert_int_equal(sh[0], sh[k]);
         assert_int_equal(has[0], has[k]);
         if (!sh[0]) same_hit(has[0], &tr[0], has[k], &tr[k]);
-        assert_int_equal(cache[0], cache[k]);
+        if (k == 1) {
+            /* the same occluder, the first in slot order (g2's build, made
+               without blocks, may order the slots differently) */
+            assert_int_equal(oc[0], oc[k]);
+            assert_int_equal(cache[0], cache[k]);
+        }
     }
     return r[0];
 }
