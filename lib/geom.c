@@ -429,6 +429,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
     elem *el = NULL;
     double(*lo)[3] = NULL, (*hi)[3] = NULL;
     uint32_t *order = NULL;
+    uint8_t *tri = NULL;
     int rc = GG_ERROR_NOMEM;
 
     free_built(g);
@@ -439,18 +440,21 @@ int gg_geom_build(gg_geom *g, ggError *err)
     lo = gg_mem_calloc(g->alloc, n + 1, sizeof *lo);
     hi = gg_mem_calloc(g->alloc, n + 1, sizeof *hi);
     order = gg_mem_calloc(g->alloc, n + 1, sizeof *order);
+    tri = gg_mem_calloc(g->alloc, n + 1, sizeof *tri);
     g->slots = gg_mem_calloc(g->alloc, n + 1, sizeof *g->slots);
     g->lsph = gg_mem_calloc(g->alloc, g->nsph + 1, sizeof *g->lsph);
     g->ltri = gg_mem_calloc(g->alloc, g->ntri + g->npieces + 1, sizeof *g->ltri);
     g->lcone = gg_mem_calloc(g->alloc, g->ncone * 8 + 1, sizeof *g->lcone);
     g->lrect = gg_mem_calloc(g->alloc, g->nrect + 1, sizeof *g->lrect);
-    if (!el || !lo || !hi || !order || !g->slots || !g->lsph || !g->ltri || !g->lcone || !g->lrect)
+    if (!el || !lo || !hi || !order || !tri || !g->slots || !g->lsph || !g->ltri || !g->lcone ||
+        !g->lrect)
         goto fail;
     fill_elems(g, el);
     g->lo = g->tlo = v3(INFINITY, INFINITY, INFINITY);
     g->hi = g->thi = v3(-INFINITY, -INFINITY, -INFINITY);
     for (i = 0; i < n; i++) {
         elem_bounds(g, &el[i], lo[i], hi[i]);
+        tri[i] = el[i].kind == GG_EK_TRI;
         g->lo = v3min(g->lo, v3(lo[i][0], lo[i][1], lo[i][2]));
         g->hi = v3max(g->hi, v3(hi[i][0], hi[i][1], hi[i][2]));
         if (g->pflags[el[i].prim] & GG_PRIM_TRANSPARENT) {
@@ -459,7 +463,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
         }
     }
     mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n);
-    if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, n, order)) goto fail;
+    if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, n, order)) goto fail;
 
     /* Copy the intersection records in leaf order. */
     for (i = 0; i < n; i++) {
@@ -500,6 +504,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
     g->nslots = n;
     g->nlcone = nc;
     if (list_transparent(g)) goto fail;
+    if (gg_bvh_tri_leaves(g)) goto fail;
     g->built = 1;
     rc = GG_OK;
 fail:
@@ -507,6 +512,7 @@ fail:
     gg_mem_free(g->alloc, lo);
     gg_mem_free(g->alloc, hi);
     gg_mem_free(g->alloc, order);
+    gg_mem_free(g->alloc, tri);
     if (rc != GG_OK) {
         free_built(g);
         return gg_error_set(err, rc, "geometry: out of memory building the BVH");

@@ -137,7 +137,8 @@ typedef struct gg_rect {
 } gg_rect;
 
 /* ---- the BVH ---- */
-typedef struct gg_bnode gg_bnode; /* defined in bvh.c */
+typedef struct gg_bnode gg_bnode; /* defined in bvh_int.h */
+typedef struct gg_tleaf gg_tleaf; /* defined in bvh_int.h */
 
 struct gg_geom {
     ggAllocator alloc_copy;
@@ -188,6 +189,10 @@ struct gg_geom {
     void *node_mem; /* raw allocation; nodes is it aligned to 64 */
     gg_bnode *nodes;
     size_t nnodes, nleaves, max_depth;
+    void *tleaf_mem; /* raw allocation; tleaves is it aligned to 64 */
+    gg_tleaf *tleaves;
+    size_t ntleaves;
+    int trav_avx; /* queries take the AVX copy of the traversal (bvh_avx.c) */
     double build_seconds;
 };
 
@@ -272,9 +277,22 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
 int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q);
 
 /* BVH (bvh.c): build over element boxes; writes the leaf order of the
-   elements to order[]. */
-int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], size_t n,
-                 uint32_t *order);
+   elements to order[]. tri[i] (or NULL) tells whether element i is a
+   triangle: leaves of triangles are cheaper for the AVX traversal, which
+   the build's cost model then allows for. */
+int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
+                 size_t n, uint32_t *order);
 void gg_bvh_free(gg_geom *g);
+/* After the slots are filled: keep the leaves that hold only triangles
+   also as gg_tleaf blocks, and choose the traversal copy, when the CPU
+   runs AVX (and gg_bvh_set_avx has not turned it off). Returns -1 when
+   out of memory. */
+int gg_bvh_tri_leaves(gg_geom *g);
+/* Whether builds may choose the AVX traversal: the compiler made it and
+   the CPU and OS run it. */
+int gg_bvh_avx_usable(void);
+/* Allow (1) or forbid (0) the AVX traversal for later builds, so that
+   tests run both copies; returns the previous setting. Not thread-safe. */
+int gg_bvh_set_avx(int on);
 
 #endif

@@ -82,4 +82,23 @@ GG_INLINE uint32_t gg_leaf_any(const gg_geom *g, const gg_rpre *r, uint32_t firs
     return 0;
 }
 
+/* The shadow query's test of slots [first, first + n) (bvh_trav.h): the
+   slot index + 1 of the first opaque element hit (then it stops), else 0;
+   transparent ones update *best as gg_leaf_closest does. */
+GG_INLINE uint32_t gg_leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                                  double tmax, gg_hit *best)
+{
+    const gg_slot *s = g->slots + first, *end = s + n;
+    for (; s < end; s++) {
+        double t, b1 = 0, b2 = 0;
+        if (s->prim == r->ignore) continue;
+        if (!(g->pflags[s->prim] & GG_PRIM_TRANSPARENT)) {
+            if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return (uint32_t)(s - g->slots) + 1;
+            continue;
+        }
+        if (gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) gg_leaf_take(best, s, t, b1, b2);
+    }
+    return 0;
+}
+
 #endif

@@ -1,0 +1,401 @@
+/*
+** test_tri4.c -- the 4-wide triangle test of the AVX traversal (bvh_avx.c)
+** gives the scalar kernel's bits: lane by lane on random triangles and on
+** rays exactly through shared edges and vertices, and as whole queries
+** (closest hit, any hit with its cache, shadow query) against the plain
+** traversal on the same BVH and on a BVH built without the blocks.
+** Skipped where the compiler or the CPU has no AVX copy.
+*/
+#include "testutil.h"
+
+#include "bvh_int.h"
+#include "scene_int.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#if GG_HAVE_BVH_AVX
+
+static ggVec3 V3(double x, double y, double z)
+{
+    ggVec3 v;
+    v.x = x, v.y = y, v.z = z;
+    return v;
+}
+
+/* A random small dyadic number (k / 8, |k| <= 64): sums, differences and
+   products of a few of them are exact, so edge functions of rays through
+   vertices and edge midpoints come out exactly 0. */
+static double dy(tu_rng *r)
+{
+    return (double)((int)(tu_next(r) % 129) - 64) / 8;
+}
+
+/* A direction whose shear constants are exact: the dominant component a
+   power of two, the others small dyadic numbers below it. */
+static ggVec3 dyadic_dir(tu_rng *r)
+{
+    double c[3];
+    int k = (int)(tu_next(r) % 3), i;
+    for (i = 0; i < 3; i++) c[i] = (double)((int)(tu_next(r) % 7) - 3) / 4;
+    c[k] = tu_next(r) & 1 ? 1 : -1;
+    return V3(c[0], c[1], c[2]);
+}
+
+static gg_tleaf *tleaf_new(void)
+{
+    void *p = NULL;
+    assert_int_equal(posix_memalign(&p, 64, sizeof(gg_tleaf)), 0);
+    return p;
+}
+
+static void tleaf_fill(gg_tleaf *L, const gg_ktri *t, int n)
+{
+    int k, ax, v;
+    for (k = 0; k < 4; k++)
+        for (ax = 0; ax < 3; ax++)
+            for (v = 0; v < 3; v++) L->v[ax][v][k] = k < n ? t[k].v[v][ax] : NAN;
+}
+
+static void set_tri(gg_ktri *t, ggVec3 a, ggVec3 b, ggVec3 c)
+{
+    t->v[0][0] = a.x, t->v[0][1] = a.y, t->v[0][2] = a.z;
+    t->v[1][0] = b.x, t->v[1][1] = b.y, t->v[1][2] = b.z;
+    t->v[2][0] = c.x, t->v[2][1] = c.y, t->v[2][2] = c.z;
+}
+
+static ggVec3 vert(const gg_ktri *t, int v)
+{
+    return V3(t->v[v][0], t->v[v][1], t->v[v][2]);
+}
+
+static long nlane, nhit, nzero, nzero_hit;
+
+/* Every lane of the block against the scalar kernel for ray q. */
+static void same_lanes(const gg_geom *g, const gg_tleaf *L, const gg_ktri *t, int n,
+                       const gg_rayq *q)
+{
+    gg_rpre r;
+    double tt[4], b1[4], b2[4], tmax = q->tmax;
+    unsigned zero, hit;
+    int k;
+    if (!gg_rpre_init(&r, g, q)) return;
+    hit = gg_bvh_tri4_avx(L, &r, tmax, tt, b1, b2, &zero);
+    assert_int_equal((hit | zero) >> n, 0); /* padding lanes never report */
+    assert_int_equal(hit & zero, 0);
+    for (k = 0; k < n; k++) {
+        double st = 0, s1 = 0, s2 = 0;
+        int sh = gg_tri_kernel(&t[k], &r, tmax, &st, &s1, &s2);
+        nlane++;
+        nhit += sh;
+        if (zero >> k & 1) {
+            /* left to the scalar kernel: the traversal asks it, as here */
+            nzero++;
+            nzero_hit += sh;
+            continue;
+        }
+        if ((int)(hit >> k & 1) != sh) {
+            print_error("lane %d: 4-wide %u, scalar %d; o (%a %a %a) d (%a %a %a)\n", k,
+                        hit >> k & 1, sh, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z);
+            fail();
+        }
+        if (sh) {
+            assert_memory_equal(&tt[k], &st, sizeof st);
+            assert_memory_equal(&b1[k], &s1, sizeof s1);
+            assert_memory_equal(&b2[k], &s2, sizeof s2);
+        }
+    }
+}
+
+static void test_lanes_random(void **state)
+{
+    gg_geom *g = gg_geom_create(NULL);
+    gg_tleaf *L = tleaf_new();
+    tu_rng r = {77};
+    long it;
+    (void)state;
+    nlane = nhit = 0;
+    for (it = 0; it < 20000; it++) {
+        gg_ktri t[4];
+        int n = 1 + (int)(tu_next(&r) % 4), k, j;
+        ggVec3 c = V3(tu_range(&r, -5, 5), tu_range(&r, -5, 5), tu_range(&r, -5, 5));
+        double s = pow(10, tu_range(&r, -3, 3));
+        for (k = 0; k < n; k++) {
+            ggVec3 p[3];
+            for (j = 0; j < 3; j++) {
+                ggVec3 u = tu_unit(&r);
+                p[j] = V3(c.x + s * u.x, c.y + s * u.y, c.z + s * u.z);
+            }
+            set_tri(&t[k], p[0], p[1], p[2]);
+        }
+        tleaf_fill(L, t, n);
+        for (j = 0; j < 8; j++) {
+            gg_rayq q;
+            ggVec3 a = tu_unit(&r);
+            q.o = V3(c.x + 3 * s * a.x, c.y + 3 * s * a.y, c.z + 3 * s * a.z);
+            /* towards a random point of a random lane's triangle, or anywhere */
+            if (j < 6) {
+                const gg_ktri *tk = &t[tu_next(&r) % (uint64_t)n];
+                double w1 = tu_uniform(&r), w2 = tu_uniform(&r) * (1 - w1);
+                ggVec3 A = vert(tk, 0), B = vert(tk, 1), C = vert(tk, 2);
+                ggVec3 p = V3(A.x + w1 * (B.x - A.x) + w2 * (C.x - A.x),
+                              A.y + w1 * (B.y - A.y) + w2 * (C.y - A.y),
+                              A.z + w1 * (B.z - A.z) + w2 * (C.z - A.z));
+                q.d = V3(p.x - q.o.x, p.y - q.o.y, p.z - q.o.z);
+            } else {
+                q.d = tu_unit(&r);
+            }
+            q.tmin = j == 7 ? tu_range(&r, 0, 1) : 0;
+            q.tmax = j == 5 ? tu_range(&r, 0, 2) : DBL_MAX;
+            q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+            same_lanes(g, L, t, n, &q);
+        }
+    }
+    print_message("random: %ld lanes, %ld hit\n", nlane, nhit);
+    assert_true(nhit > nlane / 10 && nhit < nlane);
+    free(L);
+    gg_geom_free(g);
+}
+
+/* Fans of triangles around a shared vertex and strips sharing edges, on a
+   dyadic grid, and rays along exact directions through their vertices
+   and edge midpoints: the edge functions are then exactly 0 and the
+   lanes go to the scalar kernel (which keeps exactly one triangle). */
+static void test_lanes_edges(void **state)
+{
+    gg_geom *g = gg_geom_create(NULL);
+    gg_tleaf *L = tleaf_new();
+    tu_rng r = {78};
+    long it;
+    (void)state;
+    nlane = nhit = nzero = nzero_hit = 0;
+    for (it = 0; it < 20000; it++) {
+        gg_ktri t[4];
+        ggVec3 c = V3(dy(&r), dy(&r), dy(&r)), p[5];
+        int n = 2 + (int)(tu_next(&r) % 3), k, j, fan = (int)(tu_next(&r) & 1);
+        for (k = 0; k < 5; k++) p[k] = V3(dy(&r), dy(&r), dy(&r));
+        for (k = 0; k < n; k++) {
+            if (fan)
+                set_tri(&t[k], c, p[k], p[k + 1]); /* shares c and an edge with the next */
+            else if (k & 1)
+                set_tri(&t[k], p[k + 1], p[k], c); /* strip: c p0 p1 / p2 p1 c / ... */
+            else
+                set_tri(&t[k], c, p[k], p[k + 1]);
+            if (k == 3 && fan) set_tri(&t[k], c, p[4], p[0]);
+        }
+        tleaf_fill(L, t, n);
+        for (j = 0; j < 8; j++) {
+            gg_rayq q;
+            const gg_ktri *tk = &t[tu_next(&r) % (uint64_t)n];
+            int v0 = (int)(tu_next(&r) % 3), v1 = (v0 + 1) % 3;
+            ggVec3 A = vert(tk, v0), B = vert(tk, v1);
+            /* a vertex, or the midpoint of an edge (exact on the grid) */
+            ggVec3 aim = j & 1 ? A : V3(0.5 * (A.x + B.x), 0.5 * (A.y + B.y), 0.5 * (A.z + B.z));
+            double back = (double)(1 + tu_next(&r) % 16);
+            q.d = dyadic_dir(&r);
+            q.o = V3(aim.x - back * q.d.x, aim.y - back * q.d.y, aim.z - back * q.d.z);
+            q.tmin = 0;
+            q.tmax = DBL_MAX;
+            q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+            same_lanes(g, L, t, n, &q);
+        }
+    }
+    print_message("edges: %ld lanes, %ld hit, %ld to the scalar kernel (%ld of them hit)\n", nlane,
+                  nhit, nzero, nzero_hit);
+    assert_true(nzero > nlane / 20);
+    assert_true(nzero_hit > 0 && nzero_hit < nzero);
+    free(L);
+    gg_geom_free(g);
+}
+
+/* ---- whole queries: AVX copy against the plain one ---- */
+
+static void same_hit(int ha, const gg_hit *a, int hb, const gg_hit *b)
+{
+    assert_int_equal(ha, hb);
+    if (!ha) return;
+    assert_int_equal(a->prim, b->prim);
+    assert_int_equal(a->sub, b->sub);
+    assert_memory_equal(&a->t, &b->t, sizeof a->t);
+    assert_memory_equal(&a->b1, &b->b1, sizeof a->b1);
+    assert_memory_equal(&a->b2, &b->b2, sizeof a->b2);
+}
+
+/* Every query of q on g (built with blocks, g->trav_avx = 1) with the
+   AVX copy and the plain one, and on g2 (the same scene built without the
+   blocks, so with the plain cost model). cache[0..2] are the occluder
+   caches of the three. Returns
+   whether q hit anything. */
+static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_t cache[3])
+{
+    gg_hit h[3], tr[3];
+    int r[3], s[3], sh[3], has[3], k;
+    uint32_t oc[3];
+    gg_rayq qs = *q;
+    qs.skip_flags = GG_PRIM_TRANSPARENT;
+    for (k = 0; k < 3; k++) {
+        gg_geom *gk = k < 2 ? g : (gg_geom *)g2;
+        g->trav_avx = k == 0;
+        oc[k] = cache[k];
+        r[k] = gg_geom_intersect(gk, q, &h[k]);
+        s[k] = gg_geom_occluded_cached(gk, q, &oc[k]);
+        sh[k] = gg_geom_shadow_query_cached(gk, &qs, &tr[k], &has[k], &cache[k]);
+    }
+    g->trav_avx = 1;
+    for (k = 1; k < 3; k++) {
+        same_hit(r[0], &h[0], r[k], &h[k]);
+        assert_int_equal(s[0], s[k]);
+        assert_int_equal(sh[0], sh[k]);
+        assert_int_equal(has[0], has[k]);
+        if (!sh[0]) same_hit(has[0], &tr[0], has[k], &tr[k]);
+        if (k == 1) {
+            /* the same occluder, the first in slot order (g2's build, made
+               without blocks, may order the slots differently) */
+            assert_int_equal(oc[0], oc[k]);
+            assert_int_equal(cache[0], cache[k]);
+        }
+    }
+    return r[0];
+}
+
+/* A height field of 2 * n * n triangles on a dyadic grid (shared edges
+   and vertices everywhere), every third row transparent. */
+static gg_geom *grid(int n, int avx, double (*h)[65])
+{
+    gg_geom *g = gg_geom_create(NULL);
+    int i, j, was = gg_bvh_set_avx(avx);
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) {
+            ggVec3 a = V3(i, j, h[i][j]), b = V3(i + 1, j, h[i + 1][j]);
+            ggVec3 c = V3(i + 1, j + 1, h[i + 1][j + 1]), d = V3(i, j + 1, h[i][j + 1]);
+            ggVec3 t1[3], t2[3];
+            int p;
+            t1[0] = a, t1[1] = b, t1[2] = c;
+            t2[0] = a, t2[1] = c, t2[2] = d;
+            p = gg_geom_add_triangle(g, t1, NULL, 0);
+            assert_true(p >= 0);
+            if (i % 3 == 1) gg_geom_set_flags(g, p, GG_PRIM_TRANSPARENT);
+            p = gg_geom_add_triangle(g, t2, NULL, 0);
+            assert_true(p >= 0);
+            if (i % 3 == 1) gg_geom_set_flags(g, p, GG_PRIM_TRANSPARENT);
+        }
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    gg_bvh_set_avx(was);
+    return g;
+}
+
+static void test_grid_queries(void **state)
+{
+    static double h[65][65];
+    tu_rng r = {79};
+    gg_geom *g, *g2;
+    uint32_t cache[3] = {0, 0, 0};
+    long i, j, n = 0;
+    (void)state;
+    for (i = 0; i <= 64; i++)
+        for (j = 0; j <= 64; j++) h[i][j] = (double)(tu_next(&r) % 9) / 4;
+    g = grid(64, 1, h), g2 = grid(64, 0, h);
+    assert_true(g->trav_avx && g->ntleaves > 0);
+    assert_true(!g2->trav_avx && g2->ntleaves == 0);
+    for (i = 0; i < 200000; i++) {
+        gg_rayq q;
+        /* through a grid vertex or an edge midpoint, exact directions,
+           or a random ray */
+        double x = (double)(tu_next(&r) % 129) / 2, y = (double)(tu_next(&r) % 129) / 2;
+        double z = x == (int)x && y == (int)y ? h[(int)x][(int)y] : 1;
+        double back = (double)(1 + tu_next(&r) % 8);
+        if (i % 4 == 3) {
+            q.o = V3(tu_range(&r, -8, 72), tu_range(&r, -8, 72), tu_range(&r, -4, 8));
+            q.d = tu_unit(&r);
+        } else {
+            q.d = dyadic_dir(&r);
+            q.o = V3(x - back * q.d.x, y - back * q.d.y, z - back * q.d.z);
+        }
+        q.tmin = 0;
+        q.tmax = i % 5 == 0 ? back : INFINITY;
+        q.ignore_prim = i % 7 == 0 ? (uint32_t)(tu_next(&r) % 8192) : UINT32_MAX;
+        q.skip_flags = i % 11 == 0 ? GG_PRIM_TRANSPARENT : 0;
+        n += same_queries(g, g2, &q, cache);
+    }
+    print_message("grid: %ld of 200000 rays hit, same answers\n", n);
+    assert_true(n > 50000);
+    gg_geom_free(g);
+    gg_geom_free(g2);
+}
+
+/* The SPD scenes that are mostly triangles, rays from the scene box. */
+static void test_spd_queries(void **state)
+{
+    static const char *names[] = {"tetra", "gears", "teapot-s12", "mount"};
+    int k;
+    (void)state;
+    for (k = 0; k < 4; k++) {
+        char path[512];
+        ggScene *sc = ggSceneCreate(NULL), *sc2 = ggSceneCreate(NULL);
+        ggError err;
+        gg_geom *g;
+        int was;
+        ggVec3 lo, hi;
+        tu_rng r = {80 + (unsigned)k};
+        uint32_t cache[3] = {0, 0, 0};
+        long i, n = 0;
+        snprintf(path, sizeof path, "%s/%s.nff", tu_spd_dir(), names[k]);
+        assert_int_equal(ggSceneLoadFile(sc, path, &err), GG_OK);
+        assert_int_equal(ggScenePrepare(sc, &err), GG_OK);
+        was = gg_bvh_set_avx(0);
+        assert_int_equal(ggSceneLoadFile(sc2, path, &err), GG_OK);
+        assert_int_equal(ggScenePrepare(sc2, &err), GG_OK);
+        gg_bvh_set_avx(was);
+        g = sc->geom;
+        assert_true(g->trav_avx && g->ntleaves > 0);
+        assert_true(!sc2->geom->trav_avx && sc2->geom->ntleaves == 0);
+        gg_geom_bounds(g, &lo, &hi);
+        for (i = 0; i < 30000; i++) {
+            gg_rayq q;
+            q.o = V3(lo.x + (hi.x - lo.x) * tu_range(&r, -0.25, 1.25),
+                     lo.y + (hi.y - lo.y) * tu_range(&r, -0.25, 1.25),
+                     lo.z + (hi.z - lo.z) * tu_range(&r, -0.25, 1.25));
+            q.d = tu_unit(&r);
+            q.tmin = 0;
+            q.tmax = i % 4 == 0 ? tu_range(&r, 0, hi.x - lo.x) : INFINITY;
+            q.ignore_prim = i % 3 == 0 ? (uint32_t)(tu_next(&r) % gg_geom_prim_count(g))
+                                       : UINT32_MAX;
+            q.skip_flags = 0;
+            n += same_queries(g, sc2->geom, &q, cache);
+        }
+        print_message("%-10s %zu triangle blocks: %ld of 30000 rays hit, same answers\n",
+                      names[k], g->ntleaves, n);
+        assert_true(n > 1000);
+        ggSceneFree(sc);
+        ggSceneFree(sc2);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_lanes_random),
+        cmocka_unit_test(test_lanes_edges),
+        cmocka_unit_test(test_grid_queries),
+        cmocka_unit_test(test_spd_queries),
+    };
+    if (!gg_bvh_avx_usable()) {
+        printf("tri4: the CPU cannot run AVX; skipped\n");
+        return 0;
+    }
+    return cmocka_run_group_tests_name("tri4", tests, NULL, NULL);
+}
+
+#else
+
+#include <stdio.h>
+
+int main(void)
+{
+    printf("tri4: no AVX copy of the traversal in this build; skipped\n");
+    return 0;
+}
+
+#endif
