@@ -488,10 +488,10 @@ GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, const gg_tx *x, ui
 }
 
 GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
-                             double tmax, gg_hit *best)
+                             double tmax, gg_hit *best, gg_tcol *col)
 {
     (void)x;
-    return gg_leaf_shadow(g, r, tx_first(g, ref), GG_LEAF_N(ref), tmax, best);
+    return gg_leaf_shadow(g, r, tx_first(g, ref), GG_LEAF_N(ref), tmax, best, col);
 }
 
 #define GG_TRAV_LINK      static
@@ -540,6 +540,28 @@ int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *ha
 int gg_geom_shadow_query_cached(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
                                 uint32_t *cache)
 {
-    return GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, tr, has_tr, cache)
-                         : shadow_plain(g, q, tr, has_tr, cache);
+    return GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, tr, has_tr, cache, NULL)
+                         : shadow_plain(g, q, tr, has_tr, cache, NULL);
+}
+
+int gg_geom_shadow_query_all(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
+                             uint32_t *cache, gg_tcol *all)
+{
+    int blocked, i, j;
+    all->n = 0, all->complete = 1;
+    blocked = GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, tr, has_tr, cache, all)
+                            : shadow_plain(g, q, tr, has_tr, cache, all);
+    if (blocked) {
+        all->n = 0, all->complete = 0;
+        return 1;
+    }
+    /* Nearest first, ties by (prim, sub) as gg_leaf_take settles them. */
+    for (i = 1; i < all->n; i++)
+        for (j = i; j > 0; j--) {
+            gg_hit a = all->h[j - 1], b = all->h[j];
+            if (a.t < b.t || (a.t == b.t && (a.prim < b.prim || (a.prim == b.prim && a.sub <= b.sub))))
+                break;
+            all->h[j - 1] = b, all->h[j] = a;
+        }
+    return 0;
 }

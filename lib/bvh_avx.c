@@ -191,13 +191,13 @@ GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, const gg_tx *x, ui
 }
 
 GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
-                             double tmax, gg_hit *best)
+                             double tmax, gg_hit *best, gg_tcol *col)
 {
     const gg_tleaf *L;
     tri4_out o;
     unsigned m;
     if (!(ref & GG_TLEAF))
-        return gg_leaf_shadow(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax, best);
+        return gg_leaf_shadow(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax, best, col);
     L = &g->tleaves[GG_LEAF_I(ref)];
     /* best->t <= tmax: the test against tmax keeps every lane either
        bound accepts. */
@@ -212,7 +212,12 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, const gg_tx *x,
             if (tri4_lane(g, r, s, &o, i, tmax, &t, &b1, &b2)) return L->first + (uint32_t)i + 1;
             continue;
         }
-        if (tri4_lane(g, r, s, &o, i, best->t, &t, &b1, &b2)) gg_leaf_take(best, s, t, b1, b2);
+        if (col) {
+            if (!tri4_lane(g, r, s, &o, i, tmax, &t, &b1, &b2)) continue;
+            gg_tcol_add(col, s, t, b1, b2); /* a triangle: one root */
+            if (t <= best->t) gg_leaf_take(best, s, t, b1, b2);
+        } else if (tri4_lane(g, r, s, &o, i, best->t, &t, &b1, &b2))
+            gg_leaf_take(best, s, t, b1, b2);
     }
     return 0;
 }

@@ -344,7 +344,7 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
    kernels and the same tie rule (the answer of gg_leaf_closest does not
    depend on the visiting order). */
 GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
-                                          uint32_t *cache)
+                                          uint32_t *cache, gg_tcol *col)
 {
     gg_rpre r;
     trav tv;
@@ -369,7 +369,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg
         gg_leaf_any(g, &r, *cache - 1, 1, tmax))
         return 1;
     if (!trav_init(&tv, &r) || q->tmin < 0) {
-        if ((hit = gg_leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best))) goto blocked;
+        if ((hit = gg_leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best, col))) goto blocked;
         goto done;
     }
     tx_init(&tx, &r);
@@ -389,7 +389,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg
                 }
                 continue;
             }
-        } else if ((hit = tx_shadow(g, &r, &tx, cur, tmax, &best)))
+        } else if ((hit = tx_shadow(g, &r, &tx, cur, tmax, &best, col)))
             goto blocked;
         if (sp == 0) break;
         cur = stack[--sp];

@@ -132,6 +132,23 @@ int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *ha
 int gg_geom_shadow_query_cached(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
                                 uint32_t *cache);
 
+/* Every crossing of a transparent surface on a shadow segment, nearest
+   first (gg_geom_shadow_query_all). complete = 1 when h[0..n) is all of
+   them: not more than GG_TCOL_CAP, and no implicit surface among them
+   (whose roots beyond the first are not searched). Spheres and cone
+   slices report both of their roots. */
+#define GG_TCOL_CAP 8
+typedef struct gg_tcol {
+    int n, complete;
+    gg_hit h[GG_TCOL_CAP];
+} gg_tcol;
+
+/* gg_geom_shadow_query_cached that, when nothing opaque blocks (return
+   0), also lists every transparent crossing in (tmin, tmax) in *all,
+   sorted by (t, prim, sub); *tr and *has_tr as there. */
+int gg_geom_shadow_query_all(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
+                             uint32_t *cache, gg_tcol *all);
+
 /* Same answers by testing every primitive (for tests). */
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 

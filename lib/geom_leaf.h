@@ -82,11 +82,41 @@ GG_INLINE uint32_t gg_leaf_any(const gg_geom *g, const gg_rpre *r, uint32_t firs
     return 0;
 }
 
+static inline void gg_tcol_add(gg_tcol *col, const gg_slot *s, double t, double b1, double b2)
+{
+    gg_hit *h;
+    if (col->n == GG_TCOL_CAP) {
+        col->complete = 0;
+        return;
+    }
+    h = &col->h[col->n++];
+    h->t = t, h->prim = s->prim, h->sub = s->sub, h->b1 = b1, h->b2 = b2;
+}
+
+/* A transparent element hit at t (its first root in (r->tmin, tmax]): into
+   the list with the roots after it. Planar kinds have no other; spheres
+   and cone slices at most one more, found by asking again from t. */
+static inline void gg_tcol_elem(const gg_geom *g, const gg_rpre *r, const gg_slot *s, double t,
+                                double b1, double b2, double tmax, gg_tcol *col)
+{
+    unsigned kind = s->ki >> GG_EK_SHIFT;
+    gg_tcol_add(col, s, t, b1, b2);
+    if (kind == GG_EK_SPHERE || kind == GG_EK_CONE) {
+        gg_rpre r2 = *r;
+        double t2, c1 = 0, c2 = 0;
+        r2.tmin = t;
+        if (gg_elem_hit(g, s, &r2, tmax, &t2, &c1, &c2)) gg_tcol_add(col, s, t2, c1, c2);
+    } else if (kind == GG_EK_IMPLICIT) {
+        col->complete = 0;
+    }
+}
+
 /* The shadow query's test of slots [first, first + n) (bvh_trav.h): the
    slot index + 1 of the first opaque element hit (then it stops), else 0;
-   transparent ones update *best as gg_leaf_closest does. */
+   transparent ones update *best as gg_leaf_closest does, and go into col
+   (if not NULL) wherever they are on the segment. */
 GG_INLINE uint32_t gg_leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
-                                  double tmax, gg_hit *best)
+                                  double tmax, gg_hit *best, gg_tcol *col)
 {
     const gg_slot *s = g->slots + first, *end = s + n;
     for (; s < end; s++) {
@@ -96,7 +126,12 @@ GG_INLINE uint32_t gg_leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t f
             if (gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) return (uint32_t)(s - g->slots) + 1;
             continue;
         }
-        if (gg_elem_hit(g, s, r, best->t, &t, &b1, &b2)) gg_leaf_take(best, s, t, b1, b2);
+        if (col) {
+            if (!gg_elem_hit(g, s, r, tmax, &t, &b1, &b2)) continue;
+            gg_tcol_elem(g, r, s, t, b1, b2, tmax, col);
+            if (t <= best->t) gg_leaf_take(best, s, t, b1, b2);
+        } else if (gg_elem_hit(g, s, r, best->t, &t, &b1, &b2))
+            gg_leaf_take(best, s, t, b1, b2);
     }
     return 0;
 }

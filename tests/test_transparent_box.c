@@ -198,10 +198,123 @@ static void test_shadow_query(void **state)
     }
 }
 
+/* gg_geom_shadow_query_all against stepping along the segment with the
+   closest-hit query (same origin and direction, tmin moved up to each
+   hit): the same crossings, in order, bit for bit; complete unless there
+   are more than GG_TCOL_CAP; no list when something opaque blocks. Both
+   traversal copies (AVX where the CPU has it, and the plain one). */
+static void test_shadow_query_all(void **state)
+{
+    static const double scales[] = {1e-6, 1.0, 1e6};
+    int si, path;
+    (void)state;
+    for (path = 0; path < 2; path++)
+        for (si = 0; si < 3; si++) {
+            double sc = scales[si];
+            tu_rng r = {71 + (uint64_t)si};
+            gg_geom *g = make_scene(&r, sc);
+            long i, n = 20000, nlist = 0, nmulti = 0, nover = 0;
+            uint32_t cache = 0;
+            if (path == 1) g->trav_avx = 0;
+            for (i = 0; i < n; i++) {
+                ggVec3 o = rvec(&r, -sc, sc), e = (i & 1) ? rvec(&r, 0.15 * sc, 0.45 * sc)
+                                                           : rvec(&r, -sc, sc);
+                gg_rayq q;
+                gg_hit ht, ref[GG_TCOL_CAP + 1];
+                gg_tcol all;
+                int has = -1, blocked, k, nref = 0;
+                q.o = o, q.d = V3(e.x - o.x, e.y - o.y, e.z - o.z);
+                q.tmin = 0, q.tmax = 1;
+                q.ignore_prim = (i % 3 == 0) ? (uint32_t)(tu_next(&r) % gg_geom_prim_count(g))
+                                              : UINT32_MAX;
+                q.skip_flags = GG_PRIM_TRANSPARENT;
+                blocked = gg_geom_shadow_query_all(g, &q, &ht, &has, &cache, &all);
+                assert_int_equal(blocked, gg_geom_occluded(g, &q));
+                if (blocked) {
+                    assert_int_equal(all.n, 0);
+                    continue;
+                }
+                q.skip_flags = 0;
+                while (nref <= GG_TCOL_CAP && gg_geom_intersect(g, &q, &ref[nref])) {
+                    q.tmin = ref[nref++].t;
+                }
+                assert_int_equal(all.complete, nref <= GG_TCOL_CAP);
+                assert_int_equal(has, nref > 0);
+                if (nref > 0) {
+                    assert_int_equal(ht.prim, ref[0].prim);
+                    assert_int_equal(tu_ulps(ht.t, ref[0].t), 0);
+                }
+                if (!all.complete) {
+                    nover++;
+                    continue;
+                }
+                assert_int_equal(all.n, nref);
+                for (k = 0; k < nref; k++) {
+                    assert_int_equal(all.h[k].prim, ref[k].prim);
+                    assert_int_equal(all.h[k].sub, ref[k].sub);
+                    assert_int_equal(tu_ulps(all.h[k].t, ref[k].t), 0);
+                    assert_int_equal(tu_ulps(all.h[k].b1, ref[k].b1), 0);
+                    assert_int_equal(tu_ulps(all.h[k].b2, ref[k].b2), 0);
+                }
+                nlist += nref > 0;
+                nmulti += nref > 1;
+            }
+            print_message("scale %g, %s: %ld lists, %ld with several crossings, %ld over %d\n", sc,
+                          path ? "plain" : "default", nlist, nmulti, nover, GG_TCOL_CAP);
+            assert_true(nlist > n / 50 && nmulti > n / 200);
+            gg_geom_free(g);
+        }
+}
+
+/* More crossings than the list holds: a stack of parallel transparent
+   triangles. */
+static void test_shadow_query_all_overflow(void **state)
+{
+    gg_geom *g = gg_geom_create(NULL);
+    gg_rayq q;
+    gg_hit ht;
+    gg_tcol all;
+    int i, path, has = 0;
+    (void)state;
+    assert_non_null(g);
+    for (i = 0; i < GG_TCOL_CAP + 3; i++) {
+        ggVec3 t[3];
+        int p;
+        t[0] = V3(-1, -1, i), t[1] = V3(1, -1, i), t[2] = V3(0, 1, i);
+        p = gg_geom_add_triangle(g, t, NULL, 0);
+        assert_true(p >= 0);
+        gg_geom_set_flags(g, p, GG_PRIM_TRANSPARENT);
+    }
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    /* both traversal copies (the stack makes leaves of triangles, which
+       the AVX copy tests four at a time) */
+    for (path = 0; path < 2; path++) {
+        if (path == 1) g->trav_avx = 0;
+        q.o = V3(0.1, 0.1, -0.5), q.d = V3(0, 0, 100), q.tmin = 0, q.tmax = 1;
+        q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+        assert_int_equal(gg_geom_shadow_query_all(g, &q, &ht, &has, NULL, &all), 0);
+        assert_int_equal(all.complete, 0);
+        assert_int_equal(has, 1);
+        assert_int_equal(ht.prim, 0);
+        /* a segment crossing only three of them is complete */
+        q.d = V3(0, 0, 3);
+        assert_int_equal(gg_geom_shadow_query_all(g, &q, &ht, &has, NULL, &all), 0);
+        assert_int_equal(all.complete, 1);
+        assert_int_equal(all.n, 3);
+        for (i = 0; i < 3; i++) {
+            assert_int_equal(all.h[i].prim, (uint32_t)i);
+            assert_true(fabs(all.h[i].t - (i + 0.5) / 3) <= 1e-15);
+        }
+    }
+    gg_geom_free(g);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_shadow_query),
+        cmocka_unit_test(test_shadow_query_all),
+        cmocka_unit_test(test_shadow_query_all_overflow),
         cmocka_unit_test(test_never_misses),
         cmocka_unit_test(test_flags_after_build),
         cmocka_unit_test(test_no_transparent),
