@@ -10,6 +10,7 @@
 #include "trace_int.h"
 #include "vec.h"
 
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -207,6 +208,78 @@ static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *
     return cscale(acc, 1.0 / j->r.spp);
 }
 
+/* render_tile for one sample at each pixel centre: pixel_center,
+   sample_color, basis_dir, gg_shade_dir and gg_shade_ray_unit step by step,
+   the same operations in the same order, with what does not change along
+   a row or a column hoisted out. A column's right * sx is computed once a
+   tile, a row's up * sy once a row. A row's unit directions come first,
+   then its rays, so the divisions and square roots run in parallel rather
+   than each at the head of its ray's chain. The eye rays are cast here and
+   only hits call the shading; every miss is the same pixel value. */
+static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+{
+    const cam_basis *b = &j->cam;
+    const gg_geom *geom = j->ctx.s->geom;
+    const int n = gx1 - gx0;
+    const double scale = 1.0 / j->r.spp;
+    double cx[TILE], cy[TILE], cz[TILE]; /* right * sx of the tile's columns */
+    double ux[TILE], uy[TILE], uz[TILE]; /* a row's unit directions */
+    /* gg_shade_dir's test of the origin: no ray at all from a non-finite eye. */
+    const uint32_t eye_ok = v3finite(b->eye) ? ~0u : 0u;
+    ggColor miss = gg_shade_eye_miss(&j->ctx);
+    float missf[3];
+    uint64_t eye = 0, nonfinite = 0, miss_nonfinite;
+    gg_rayq q;
+    gg_hit h;
+    int i, gy;
+    miss_nonfinite = !isfinite(miss.r) || !isfinite(miss.g) || !isfinite(miss.b);
+    miss = cscale(cadd(rgb(0, 0, 0), miss), scale);
+    missf[0] = (float)miss.r, missf[1] = (float)miss.g, missf[2] = (float)miss.b;
+    q.o = b->eye, q.tmin = 0, q.tmax = INFINITY, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    for (i = 0; i < n; i++) {
+        double px = j->r.x0 + gx0 + i + 0.5;
+        double sx = (2.0 * px / b->w - 1.0) * b->tx;
+        cx[i] = b->right.x * sx, cy[i] = b->right.y * sx, cz[i] = b->right.z * sx;
+    }
+    for (gy = gy0; gy < gy1; gy++) {
+        const int y = j->r.y0 + gy;
+        const double py = y + 0.5;
+        const double sy = (1.0 - 2.0 * py / b->h) * b->ty;
+        const double vx = b->up.x * sy, vy = b->up.y * sy, vz = b->up.z * sy;
+        float *o = j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
+        uint32_t ok = 0;
+        for (i = 0; i < n; i++) {
+            double dx = b->fwd.x + (cx[i] + vx), dy = b->fwd.y + (cy[i] + vy);
+            double dz = b->fwd.z + (cz[i] + vz);
+            double len = sqrt(dx * dx + dy * dy + dz * dz), inv;
+            /* len > 0 and finite; NaN fails both */
+            ok |= (uint32_t)(len > 0 && len <= DBL_MAX) << i;
+            inv = 1.0 / len;
+            ux[i] = dx * inv, uy[i] = dy * inv, uz[i] = dz * inv;
+        }
+        ok &= eye_ok;
+        for (i = 0; i < n; i++, o += 3) {
+            ggColor c = rgb(0, 0, 0);
+            if ((ok >> i) & 1u) {
+                q.d.x = ux[i], q.d.y = uy[i], q.d.z = uz[i];
+                eye++;
+                if (!gg_geom_intersect(geom, &q, &h)) {
+                    o[0] = missf[0], o[1] = missf[1], o[2] = missf[2];
+                    nonfinite += miss_nonfinite;
+                    continue;
+                }
+                c = gg_shade_eye_hit(&j->ctx, &q, &h, th);
+            }
+            if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) nonfinite++;
+            c = cscale(cadd(rgb(0, 0, 0), c), scale);
+            o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
+        }
+    }
+    th->st.eye += eye;
+    th->st.nonfinite += nonfinite;
+    if (eye > 0 && th->st.max_depth < 1) th->st.max_depth = 1;
+}
+
 static void render_tile(job *j, int t, gg_shade_thread *th)
 {
     ggRayStats *st = &th->st;
@@ -214,29 +287,8 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
     int gx, gy;
-    if (!j->corner && !j->cost && j->r.spp == 1) {
-        /* One sample at the pixel centre (pixel_center and sample_color
-           below, step by step): the directions of a tile row first, then
-           the rays, so the row's divisions and square roots run in
-           parallel rather than each at the head of its ray's chain. */
-        ggVec3 u[TILE];
-        int ok[TILE];
-        for (gy = gy0; gy < gy1; gy++) {
-            int y = j->r.y0 + gy;
-            for (gx = gx0; gx < gx1; gx++) {
-                ggVec3 d = basis_dir(&j->cam, j->r.x0 + gx + 0.5, y + 0.5);
-                ok[gx - gx0] = gg_shade_dir(j->cam.eye, d, &u[gx - gx0]);
-            }
-            for (gx = gx0; gx < gx1; gx++) {
-                int x = j->r.x0 + gx;
-                ggColor acc = rgb(0, 0, 0), c = rgb(0, 0, 0);
-                float *o = j->px + 3 * ((size_t)y * j->r.w + x);
-                if (ok[gx - gx0]) c = gg_shade_ray_unit(&j->ctx, j->cam.eye, u[gx - gx0], 1, th);
-                if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) st->nonfinite++;
-                acc = cscale(cadd(acc, c), 1.0 / j->r.spp);
-                o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
-            }
-        }
+    if (!j->corner && !j->cost && j->r.spp == 1 && !j->ctx.rec) {
+        tile_centres(j, gx0, gy0, gx1, gy1, th);
         return;
     }
     for (gy = gy0; gy < gy1; gy++)

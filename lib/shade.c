@@ -55,19 +55,26 @@ typedef struct ray_state {
     int parent; /* parent node, recorded only */
 } ray_state;
 
-static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th);
-static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th);
+/* known: the ray's closest hit when the caller has already asked the
+   geometry (eye rays from the renderer's tile loop), else NULL. */
+static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                           const gg_hit *known);
+static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                          const gg_hit *known);
 
 /* The same path's recursion: FX is a compile-time constant everywhere.
    GG_NO_RECORDER builds the library without the recording path, only to
    measure what having it costs (make bench-trace). */
 #ifdef GG_NO_RECORDER
-#define TRACE_CHILD(FX, c, r, th) ((FX) == FX_BASIC ? trace_basic(c, r, th) : trace_full(c, r, th))
-#else
-static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th);
 #define TRACE_CHILD(FX, c, r, th)                                                               \
-    ((FX) == FX_BASIC ? trace_basic(c, r, th)                                                   \
-                      : (FX) == FX_FULL ? trace_full(c, r, th) : trace_rec(c, r, th))
+    ((FX) == FX_BASIC ? trace_basic(c, r, th, NULL) : trace_full(c, r, th, NULL))
+#else
+static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                         const gg_hit *known);
+#define TRACE_CHILD(FX, c, r, th)                                                               \
+    ((FX) == FX_BASIC   ? trace_basic(c, r, th, NULL)                                           \
+     : (FX) == FX_FULL ? trace_full(c, r, th, NULL)                                             \
+                       : trace_rec(c, r, th, NULL))
 #endif
 
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
@@ -584,11 +591,12 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
 }
 
 GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                           const unsigned FX)
+                           const gg_hit *known, const unsigned FX)
 {
     const ggScene *s = c->s;
     gg_rayq q = make_q(r->o, r->d, INFINITY, r->from_prim, 0);
     gg_hit h;
+    const gg_hit *hp = &h;
     ggColor col, att = rgb(1, 1, 1);
     int node = -1, hit;
     if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
@@ -605,19 +613,22 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
             N->weight = rgb(1, 1, 1);
         }
     }
-    hit = -1;
-    if (r->inside != UINT32_MAX)
-        hit = gg_geom_intersect_inside(s->geom, &q, r->inside, &h);
-    if (hit < 0) hit = gg_geom_intersect(s->geom, &q, &h);
+    if (known) {
+        hit = 1, hp = known;
+    } else {
+        hit = -1;
+        if (r->inside != UINT32_MAX) hit = gg_geom_intersect_inside(s->geom, &q, r->inside, &h);
+        if (hit < 0) hit = gg_geom_intersect(s->geom, &q, &h);
+    }
     if (!hit) {
         col = s->background;
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
             att = media_transmittance(s, &r->media, INFINITY);
     } else {
         if (r->depth == 1) th->st.eye_hit++;
-        col = shade_hit(c, r, &q, &h, th, node, FX);
+        col = shade_hit(c, r, &q, hp, th, node, FX);
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
-            att = media_transmittance(s, &r->media, h.t);
+            att = media_transmittance(s, &r->media, hp->t);
     }
     if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0) col = cmul(col, att);
     if ((FX & FX_RECORD) && node >= 0) {
@@ -629,20 +640,23 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     return col;
 }
 
-static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th)
+static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                           const gg_hit *known)
 {
-    return trace_fx(c, r, th, FX_BASIC);
+    return trace_fx(c, r, th, known, FX_BASIC);
 }
 
-static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th)
+static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                          const gg_hit *known)
 {
-    return trace_fx(c, r, th, FX_FULL);
+    return trace_fx(c, r, th, known, FX_FULL);
 }
 
 #ifndef GG_NO_RECORDER
-static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th)
+static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                         const gg_hit *known)
 {
-    return trace_fx(c, r, th, FX_REC);
+    return trace_fx(c, r, th, known, FX_REC);
 }
 #endif
 
@@ -661,26 +675,46 @@ ggColor gg_shade_ray(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, int depth, gg_sh
     return gg_shade_ray_unit(c, o, u, depth, th);
 }
 
+/* A ray from o along unit u in the outside medium, as the ray tree's root. */
+static void root_ray(ray_state *r, ggVec3 o, ggVec3 u, int depth)
+{
+    r->o = o;
+    r->d = u;
+    r->from_prim = UINT32_MAX;
+    r->inside = UINT32_MAX;
+    r->depth = depth;
+    r->channel = -1;
+    r->media.n = 0;
+    r->kind = GG_RAY_EYE;
+    r->parent = -1;
+    r->weight = 1;
+}
+
+/* The recording path computes exactly what the full path does, so a
+   recorded pixel equals the rendered one bit for bit. */
+static ggColor trace_root(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                          const gg_hit *known)
+{
+#ifndef GG_NO_RECORDER
+    if (c->rec) return trace_rec(c, r, th, known);
+#endif
+    if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, r, th, known);
+    return trace_full(c, r, th, known);
+}
+
 ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth,
                           gg_shade_thread *th)
 {
     ray_state r;
-    r.o = o;
-    r.d = u;
-    r.from_prim = UINT32_MAX;
-    r.inside = UINT32_MAX;
-    r.depth = depth;
-    r.channel = -1;
-    r.media.n = 0;
-    r.kind = GG_RAY_EYE;
-    r.parent = -1;
-    r.weight = 1;
+    root_ray(&r, o, u, depth);
     if (depth == 1) th->st.eye++;
-    /* The recording path computes exactly what the full path does, so a
-       recorded pixel equals the rendered one bit for bit. */
-#ifndef GG_NO_RECORDER
-    if (c->rec) return trace_rec(c, &r, th);
-#endif
-    if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, &r, th);
-    return trace_full(c, &r, th);
+    return trace_root(c, &r, th, NULL);
+}
+
+ggColor gg_shade_eye_hit(const gg_shade_ctx *c, const gg_rayq *q, const gg_hit *h,
+                         gg_shade_thread *th)
+{
+    ray_state r;
+    root_ray(&r, q->o, q->d, 1);
+    return trace_root(c, &r, th, h);
 }

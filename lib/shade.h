@@ -51,4 +51,17 @@ int gg_shade_dir(ggVec3 o, ggVec3 d, ggVec3 *u);
 ggColor gg_shade_ray_unit(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 u, int depth,
                           gg_shade_thread *th);
 
+/* gg_shade_ray_unit(ctx, o, u, 1, th) for a caller that casts its eye
+   rays itself, so that a miss costs it no call into the shading: q is
+   the eye ray's query (o, unit u, tmin 0, tmax INFINITY, ignore_prim
+   UINT32_MAX, skip_flags 0) and h what gg_geom_intersect returned for it.
+   A miss's colour is gg_shade_eye_miss(ctx). The caller counts its eye
+   rays in st.eye and raises st.max_depth to 1 (gg_shade_ray_unit does
+   both per ray; a batch of rays can do it once). */
+ggColor gg_shade_eye_hit(const gg_shade_ctx *ctx, const gg_rayq *q, const gg_hit *h,
+                         gg_shade_thread *th);
+/* An eye ray starts in the outside medium: a miss is the background,
+   with no absorption. */
+static inline ggColor gg_shade_eye_miss(const gg_shade_ctx *ctx) { return ctx->s->background; }
+
 #endif
