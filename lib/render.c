@@ -16,6 +16,10 @@
 #include <string.h>
 #include <unistd.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #define TILE 16
 
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt)
@@ -208,10 +212,67 @@ static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *
     return cscale(acc, 1.0 / j->r.spp);
 }
 
+#if defined(__GNUC__)
+#define GG_NOINLINE __attribute__((noinline))
+#else
+#define GG_NOINLINE
+#endif
+
+/* A pixel-centre pixel from its one sample's colour c, as pixel_center
+   and render_tile make it; returns 1 when c is not finite (counted). */
+static GG_NOINLINE int put_centre(float *o, const ggColor *c, double scale)
+{
+    ggColor a = cscale(cadd(rgb(0, 0, 0), *c), scale);
+    o[0] = (float)a.r, o[1] = (float)a.g, o[2] = (float)a.b;
+    return !isfinite(c->r) || !isfinite(c->g) || !isfinite(c->b);
+}
+
+/* A row's unit eye directions, as basis_dir and gg_shade_dir compute
+   them: d = fwd + (right * sx + up * sy) with right * sx of column i in
+   c[0..2][i] and v = up * sy, then d / |d|. Bit i of the result is set
+   where |d| is finite and > 0 (gg_shade_dir's test of d). All TILE
+   columns are computed; the caller uses its own. SSE2's add, multiply,
+   divide and square root round exactly as the scalar ones do. */
+static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3],
+                         double u[3][TILE])
+{
+    uint32_t ok = 0;
+    int i;
+#if defined(__SSE2__)
+    const __m128d fx = _mm_set1_pd(b->fwd.x), fy = _mm_set1_pd(b->fwd.y);
+    const __m128d fz = _mm_set1_pd(b->fwd.z), vx = _mm_set1_pd(v[0]);
+    const __m128d vy = _mm_set1_pd(v[1]), vz = _mm_set1_pd(v[2]);
+    const __m128d zero = _mm_setzero_pd(), big = _mm_set1_pd(DBL_MAX), one = _mm_set1_pd(1.0);
+    for (i = 0; i < TILE; i += 2) {
+        __m128d dx = _mm_add_pd(fx, _mm_add_pd(_mm_loadu_pd(&c[0][i]), vx));
+        __m128d dy = _mm_add_pd(fy, _mm_add_pd(_mm_loadu_pd(&c[1][i]), vy));
+        __m128d dz = _mm_add_pd(fz, _mm_add_pd(_mm_loadu_pd(&c[2][i]), vz));
+        __m128d len = _mm_sqrt_pd(
+            _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz)));
+        __m128d inv = _mm_div_pd(one, len);
+        /* len > 0 and finite; NaN fails both */
+        __m128d good = _mm_and_pd(_mm_cmpgt_pd(len, zero), _mm_cmple_pd(len, big));
+        ok |= (uint32_t)_mm_movemask_pd(good) << i;
+        _mm_storeu_pd(&u[0][i], _mm_mul_pd(dx, inv));
+        _mm_storeu_pd(&u[1][i], _mm_mul_pd(dy, inv));
+        _mm_storeu_pd(&u[2][i], _mm_mul_pd(dz, inv));
+    }
+#else
+    for (i = 0; i < TILE; i++) {
+        double dx = b->fwd.x + (c[0][i] + v[0]), dy = b->fwd.y + (c[1][i] + v[1]);
+        double dz = b->fwd.z + (c[2][i] + v[2]);
+        double len = sqrt(dx * dx + dy * dy + dz * dz), inv = 1.0 / len;
+        ok |= (uint32_t)(len > 0 && len <= DBL_MAX) << i;
+        u[0][i] = dx * inv, u[1][i] = dy * inv, u[2][i] = dz * inv;
+    }
+#endif
+    return ok;
+}
+
 /* render_tile for one sample at each pixel centre: pixel_center,
    sample_color, basis_dir, gg_shade_dir and gg_shade_ray_unit step by step,
    the same operations in the same order, with what does not change along
-   a row or a column hoisted out. A column's right * sx is computed once a
+   a row or a column hoisted out: a column's right * sx is computed once a
    tile, a row's up * sy once a row. A row's unit directions come first,
    then its rays, so the divisions and square roots run in parallel rather
    than each at the head of its ray's chain. The eye rays are cast here and
@@ -222,57 +283,44 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     const gg_geom *geom = j->ctx.s->geom;
     const int n = gx1 - gx0;
     const double scale = 1.0 / j->r.spp;
-    double cx[TILE], cy[TILE], cz[TILE]; /* right * sx of the tile's columns */
-    double ux[TILE], uy[TILE], uz[TILE]; /* a row's unit directions */
     /* gg_shade_dir's test of the origin: no ray at all from a non-finite eye. */
     const uint32_t eye_ok = v3finite(b->eye) ? ~0u : 0u;
-    ggColor miss = gg_shade_eye_miss(&j->ctx);
-    float missf[3];
-    uint64_t eye = 0, nonfinite = 0, miss_nonfinite;
+    double c[3][TILE]; /* right * sx of the tile's columns */
+    double u[3][TILE]; /* a row's unit directions */
+    const ggColor black = {0, 0, 0}, bg = gg_shade_eye_miss(&j->ctx);
+    float miss[3];
+    uint64_t eye = 0, nonfinite = 0, miss_bad;
     gg_rayq q;
     gg_hit h;
     int i, gy;
-    miss_nonfinite = !isfinite(miss.r) || !isfinite(miss.g) || !isfinite(miss.b);
-    miss = cscale(cadd(rgb(0, 0, 0), miss), scale);
-    missf[0] = (float)miss.r, missf[1] = (float)miss.g, missf[2] = (float)miss.b;
+    miss_bad = (uint64_t)put_centre(miss, &bg, scale);
     q.o = b->eye, q.tmin = 0, q.tmax = INFINITY, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
-    for (i = 0; i < n; i++) {
+    for (i = 0; i < TILE; i++) {
         double px = j->r.x0 + gx0 + i + 0.5;
         double sx = (2.0 * px / b->w - 1.0) * b->tx;
-        cx[i] = b->right.x * sx, cy[i] = b->right.y * sx, cz[i] = b->right.z * sx;
+        c[0][i] = b->right.x * sx, c[1][i] = b->right.y * sx, c[2][i] = b->right.z * sx;
     }
     for (gy = gy0; gy < gy1; gy++) {
         const int y = j->r.y0 + gy;
         const double py = y + 0.5;
         const double sy = (1.0 - 2.0 * py / b->h) * b->ty;
-        const double vx = b->up.x * sy, vy = b->up.y * sy, vz = b->up.z * sy;
+        const double v[3] = {b->up.x * sy, b->up.y * sy, b->up.z * sy};
         float *o = j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
-        uint32_t ok = 0;
-        for (i = 0; i < n; i++) {
-            double dx = b->fwd.x + (cx[i] + vx), dy = b->fwd.y + (cy[i] + vy);
-            double dz = b->fwd.z + (cz[i] + vz);
-            double len = sqrt(dx * dx + dy * dy + dz * dz), inv;
-            /* len > 0 and finite; NaN fails both */
-            ok |= (uint32_t)(len > 0 && len <= DBL_MAX) << i;
-            inv = 1.0 / len;
-            ux[i] = dx * inv, uy[i] = dy * inv, uz[i] = dz * inv;
-        }
-        ok &= eye_ok;
+        const uint32_t ok = row_dirs(b, c, v, u) & eye_ok;
         for (i = 0; i < n; i++, o += 3) {
-            ggColor c = rgb(0, 0, 0);
-            if ((ok >> i) & 1u) {
-                q.d.x = ux[i], q.d.y = uy[i], q.d.z = uz[i];
-                eye++;
-                if (!gg_geom_intersect(geom, &q, &h)) {
-                    o[0] = missf[0], o[1] = missf[1], o[2] = missf[2];
-                    nonfinite += miss_nonfinite;
-                    continue;
-                }
-                c = gg_shade_eye_hit(&j->ctx, &q, &h, th);
+            if (!((ok >> i) & 1u)) {
+                nonfinite += put_centre(o, &black, scale);
+                continue;
             }
-            if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) nonfinite++;
-            c = cscale(cadd(rgb(0, 0, 0), c), scale);
-            o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
+            q.d.x = u[0][i], q.d.y = u[1][i], q.d.z = u[2][i];
+            eye++;
+            if (gg_geom_intersect(geom, &q, &h)) {
+                ggColor col = gg_shade_eye_hit(&j->ctx, &q, &h, th);
+                nonfinite += put_centre(o, &col, scale);
+            } else {
+                o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
+                nonfinite += miss_bad;
+            }
         }
     }
     th->st.eye += eye;
