@@ -234,7 +234,7 @@ static GG_NOINLINE int put_centre(float *o, const ggColor *c, double scale)
    columns are computed; the caller uses its own. SSE2's add, multiply,
    divide and square root round exactly as the scalar ones do. */
 static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3],
-                         double u[3][TILE])
+                         gg_rayq q[TILE])
 {
     uint32_t ok = 0;
     int i;
@@ -253,9 +253,10 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
         /* len > 0 and finite; NaN fails both */
         __m128d good = _mm_and_pd(_mm_cmpgt_pd(len, zero), _mm_cmple_pd(len, big));
         ok |= (uint32_t)_mm_movemask_pd(good) << i;
-        _mm_storeu_pd(&u[0][i], _mm_mul_pd(dx, inv));
-        _mm_storeu_pd(&u[1][i], _mm_mul_pd(dy, inv));
-        _mm_storeu_pd(&u[2][i], _mm_mul_pd(dz, inv));
+        dx = _mm_mul_pd(dx, inv), dy = _mm_mul_pd(dy, inv), dz = _mm_mul_pd(dz, inv);
+        _mm_storel_pd(&q[i].d.x, dx), _mm_storeh_pd(&q[i + 1].d.x, dx);
+        _mm_storel_pd(&q[i].d.y, dy), _mm_storeh_pd(&q[i + 1].d.y, dy);
+        _mm_storel_pd(&q[i].d.z, dz), _mm_storeh_pd(&q[i + 1].d.z, dz);
     }
 #else
     for (i = 0; i < TILE; i++) {
@@ -263,7 +264,7 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
         double dz = b->fwd.z + (c[2][i] + v[2]);
         double len = sqrt(dx * dx + dy * dy + dz * dz), inv = 1.0 / len;
         ok |= (uint32_t)(len > 0 && len <= DBL_MAX) << i;
-        u[0][i] = dx * inv, u[1][i] = dy * inv, u[2][i] = dz * inv;
+        q[i].d.x = dx * inv, q[i].d.y = dy * inv, q[i].d.z = dz * inv;
     }
 #endif
     return ok;
@@ -286,15 +287,17 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     /* gg_shade_dir's test of the origin: no ray at all from a non-finite eye. */
     const uint32_t eye_ok = v3finite(b->eye) ? ~0u : 0u;
     double c[3][TILE]; /* right * sx of the tile's columns */
-    double u[3][TILE]; /* a row's unit directions */
+    gg_rayq q[TILE];   /* a row's eye rays */
     const ggColor black = {0, 0, 0}, bg = gg_shade_eye_miss(&j->ctx);
     float miss[3];
     uint64_t eye = 0, nonfinite = 0, miss_bad;
-    gg_rayq q;
     gg_hit h;
     int i, gy;
     miss_bad = (uint64_t)put_centre(miss, &bg, scale);
-    q.o = b->eye, q.tmin = 0, q.tmax = INFINITY, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    for (i = 0; i < TILE; i++) {
+        q[i].o = b->eye, q[i].tmin = 0, q[i].tmax = INFINITY;
+        q[i].ignore_prim = UINT32_MAX, q[i].skip_flags = 0;
+    }
     for (i = 0; i < TILE; i++) {
         double px = j->r.x0 + gx0 + i + 0.5;
         double sx = (2.0 * px / b->w - 1.0) * b->tx;
@@ -306,16 +309,16 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
         const double sy = (1.0 - 2.0 * py / b->h) * b->ty;
         const double v[3] = {b->up.x * sy, b->up.y * sy, b->up.z * sy};
         float *o = j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
-        const uint32_t ok = row_dirs(b, c, v, u) & eye_ok;
+        const uint32_t ok = row_dirs(b, c, v, q) & eye_ok;
+        eye += (uint64_t)n;
         for (i = 0; i < n; i++, o += 3) {
             if (!((ok >> i) & 1u)) {
                 nonfinite += put_centre(o, &black, scale);
+                eye--; /* no ray cast: take it back from the row's n */
                 continue;
             }
-            q.d.x = u[0][i], q.d.y = u[1][i], q.d.z = u[2][i];
-            eye++;
-            if (gg_geom_intersect(geom, &q, &h)) {
-                ggColor col = gg_shade_eye_hit(&j->ctx, &q, &h, th);
+            if (gg_geom_intersect(geom, &q[i], &h)) {
+                ggColor col = gg_shade_eye_hit(&j->ctx, &q[i], &h, th);
                 nonfinite += put_centre(o, &col, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
