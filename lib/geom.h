@@ -149,6 +149,12 @@ typedef struct gg_tcol {
 int gg_geom_shadow_query_all(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
                              uint32_t *cache, gg_tcol *all);
 
+/* 1 when no ray from eye into the pyramid spanned by the directions d[0..3]
+   (corners of a rectangle of the image plane, in order around it) can hit
+   any primitive: no BVH leaf box reaches into it (lib/frustum.c; the test
+   is conservative, see there). 0 when one may, or for degenerate input. */
+int gg_geom_frustum_empty(const gg_geom *g, ggVec3 eye, const ggVec3 d[4]);
+
 /* Same answers by testing every primitive (for tests). */
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 

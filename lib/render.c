@@ -331,6 +331,47 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     if (eye > 0 && th->st.max_depth < 1) th->st.max_depth = 1;
 }
 
+/* Whether no eye ray of tile [gx0, gx1) x [gy0, gy1) can hit anything:
+   its samples all lie in the image rectangle from (x0 + gx0, y0 + gy0)
+   to (x0 + gx1, y0 + gy1) (pixel centres, points inside pixels, and in
+   corner mode the grid points), so in the pyramid of its four corners. */
+static int tile_empty(const job *j, int gx0, int gy0, int gx1, int gy1)
+{
+    double xa = j->r.x0 + gx0, xb = j->r.x0 + gx1, ya = j->r.y0 + gy0, yb = j->r.y0 + gy1;
+    ggVec3 d[4];
+    d[0] = basis_dir(&j->cam, xa, ya), d[1] = basis_dir(&j->cam, xb, ya);
+    d[2] = basis_dir(&j->cam, xb, yb), d[3] = basis_dir(&j->cam, xa, yb);
+    return gg_geom_frustum_empty(j->ctx.s->geom, j->cam.eye, d);
+}
+
+/* An empty tile: every sample is a miss. The same values and counts as
+   tracing them (gg_shade_ray_unit and trace_fx on a miss: one eye ray,
+   depth 1, the background), without the rays. */
+static void fill_empty_tile(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+{
+    ggRayStats *st = &th->st;
+    const ggColor bg = j->ctx.s->background;
+    const int bad = !isfinite(bg.r) || !isfinite(bg.g) || !isfinite(bg.b);
+    int gx, gy, k, n = j->corner ? 1 : j->r.spp;
+    if (st->max_depth < 1) st->max_depth = 1;
+    for (gy = gy0; gy < gy1; gy++)
+        for (gx = gx0; gx < gx1; gx++) {
+            ggColor acc = rgb(0, 0, 0);
+            float *o;
+            for (k = 0; k < n; k++) acc = cadd(acc, bg);
+            st->eye += (uint64_t)n;
+            if (bad) st->nonfinite += (uint64_t)n;
+            if (j->corner) {
+                o = j->corner + 3 * ((size_t)gy * j->cw + gx);
+                o[0] = (float)bg.r, o[1] = (float)bg.g, o[2] = (float)bg.b;
+            } else {
+                acc = cscale(acc, 1.0 / j->r.spp);
+                o = j->px + 3 * ((size_t)(j->r.y0 + gy) * j->r.w + (j->r.x0 + gx));
+                o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
+            }
+        }
+}
+
 static void render_tile(job *j, int t, gg_shade_thread *th)
 {
     ggRayStats *st = &th->st;
@@ -338,6 +379,11 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
     int gx, gy;
+    /* Cost maps measure every pixel the slow way, on purpose. */
+    if (!j->cost && tile_empty(j, gx0, gy0, gx1, gy1)) {
+        fill_empty_tile(j, gx0, gy0, gx1, gy1, th);
+        return;
+    }
     if (!j->corner && !j->cost && j->r.spp == 1 && !j->ctx.rec) {
         tile_centres(j, gx0, gy0, gx1, gy1, th);
         return;
