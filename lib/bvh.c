@@ -528,7 +528,7 @@ int gg_geom_occluded(const gg_geom *g, const gg_rayq *q)
 int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
 {
     uint32_t hit = occluder(g, q, cache);
-    if (hit) *cache = hit;
+    *cache = hit;
     return hit != 0;
 }
 

@@ -395,6 +395,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg
         cur = stack[--sp];
     }
 done:
+    if (cache) *cache = 0;
     if (best.prim != UINT32_MAX) {
         *tr = best;
         *has_tr = 1;

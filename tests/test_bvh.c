@@ -450,6 +450,8 @@ static void test_occluded_cached(void **state)
         q.tmin = 0, q.tmax = 1, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
         if (i % 7 == 0) cache = (uint32_t)(tu_next(&r) % (g->nslots + 5)); /* junk is harmless */
         assert_int_equal(gg_geom_occluded_cached(g, &q, &cache), gg_geom_occluded(g, &q));
+        /* an occluder is remembered, a clear segment empties the cache */
+        assert_int_equal(cache != 0, gg_geom_occluded(g, &q));
         occl += gg_geom_occluded(g, &q);
     }
     print_message("%d of 20000 shadow rays occluded\n", occl);

@@ -166,6 +166,8 @@ static void test_shadow_query(void **state)
                         assert_true(cache > 0);
                         continue;
                     }
+                    /* a clear segment empties the cache */
+                    assert_int_equal(cache, 0);
                     assert_int_equal(hasc, has);
                     if (has) {
                         assert_int_equal(hc.prim, ht.prim);
