@@ -467,27 +467,28 @@ static inline void tx_init(gg_tx *x, const gg_rpre *r)
 {
     (void)x, (void)r;
 }
+#define tx_fill tx_init
 
 static inline uint32_t tx_first(const gg_geom *g, uint32_t ref)
 {
     return ref & GG_TLEAF ? g->tleaves[GG_LEAF_I(ref)].first : GG_LEAF_I(ref);
 }
 
-GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
+GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
                          gg_hit *best)
 {
     (void)x;
     return gg_leaf_closest(g, r, tx_first(g, ref), GG_LEAF_N(ref), best);
 }
 
-GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
+GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
                           double tmax)
 {
     (void)x;
     return gg_leaf_any(g, r, tx_first(g, ref), GG_LEAF_N(ref), tmax);
 }
 
-GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
+GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
                              double tmax, gg_hit *best, gg_tcol *col)
 {
     (void)x;

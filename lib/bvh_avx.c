@@ -26,10 +26,13 @@
 #include <immintrin.h>
 
 /* Per-ray state of the 4-wide test: the ray's origin and shear broadcast
-   to all lanes, and the byte offsets of the kx, ky, kz rows of a block. */
+   to all lanes, and the byte offsets of the kx, ky, kz rows of a block.
+   tx_fill fills it; tx_init leaves that to the first triangle block the
+   ray reaches (ready = 0), which many closest-hit rays never do. */
 typedef struct gg_tx {
     __m256d ox, oy, oz, sx, sy, sz, tmin;
     size_t rx, ry, rz;
+    int ready;
 } gg_tx;
 
 /* What the 4-wide test found: lanes that hit with t <= tmax (hit), lanes
@@ -42,6 +45,13 @@ typedef struct tri4_out {
 
 static inline void tx_init(gg_tx *x, const gg_rpre *r)
 {
+    (void)r;
+    x->ready = 0;
+}
+
+static inline void tx_fill(gg_tx *x, const gg_rpre *r)
+{
+    x->ready = 1;
     x->ox = _mm256_set1_pd(r->o[r->kx]);
     x->oy = _mm256_set1_pd(r->o[r->ky]);
     x->oz = _mm256_set1_pd(r->o[r->kz]);
@@ -117,7 +127,7 @@ unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, doubl
     gg_tx x;
     tri4_out o;
     unsigned m;
-    tx_init(&x, r);
+    tx_fill(&x, r);
     m = tri4_test(L, &x, tmax, &o);
     *zero = m ? o.zero : 0;
     if (m & ~*zero) {
@@ -145,7 +155,7 @@ GG_INLINE int tri4_lane(const gg_geom *g, const gg_rpre *r, const gg_slot *s, co
     return 1;
 }
 
-GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
+GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
                          gg_hit *best)
 {
     const gg_tleaf *L;
@@ -154,6 +164,7 @@ GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uin
     int found = 0;
     if (!(ref & GG_TLEAF)) return gg_leaf_closest(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), best);
     L = &g->tleaves[GG_LEAF_I(ref)];
+    if (!x->ready) tx_fill(x, r);
     m = tri4_test(L, x, best->t, &o);
     while (m) {
         int i = lowest_lane(m);
@@ -169,7 +180,7 @@ GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uin
     return found;
 }
 
-GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
+GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
                           double tmax)
 {
     const gg_tleaf *L;
@@ -177,6 +188,7 @@ GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, const gg_tx *x, ui
     unsigned m;
     if (!(ref & GG_TLEAF)) return gg_leaf_any(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax);
     L = &g->tleaves[GG_LEAF_I(ref)];
+    if (!x->ready) tx_fill(x, r);
     m = tri4_test(L, x, tmax, &o);
     while (m) {
         int i = lowest_lane(m);
@@ -190,7 +202,7 @@ GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, const gg_tx *x, ui
     return 0;
 }
 
-GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, const gg_tx *x, uint32_t ref,
+GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
                              double tmax, gg_hit *best, gg_tcol *col)
 {
     const gg_tleaf *L;
@@ -199,6 +211,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, const gg_tx *x,
     if (!(ref & GG_TLEAF))
         return gg_leaf_shadow(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax, best, col);
     L = &g->tleaves[GG_LEAF_I(ref)];
+    if (!x->ready) tx_fill(x, r);
     /* best->t <= tmax: the test against tmax keeps every lane either
        bound accepts. */
     m = tri4_test(L, x, tmax, &o);

@@ -325,6 +325,55 @@ static void test_grid_queries(void **state)
     gg_geom_free(g2);
 }
 
+/* A height field of triangles under a layer of small spheres: rays from
+   above pass sphere leaves before they reach a triangle block, so the
+   closest-hit traversal's deferred set-up of the 4-wide test (bvh_avx.c)
+   must be made on the first block it meets, whatever came before. */
+static gg_geom *mixed(int n, int avx, double (*h)[65], tu_rng *r)
+{
+    gg_geom *g = grid(n, avx, h);
+    int i, was = gg_bvh_set_avx(avx);
+    for (i = 0; i < n * n / 2; i++) {
+        ggVec3 c = V3(tu_range(r, 0, n), tu_range(r, 0, n), tu_range(r, 3, 5));
+        assert_true(gg_geom_add_sphere(g, c, tu_range(r, 0.05, 0.4), -1) >= 0);
+    }
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    gg_bvh_set_avx(was);
+    return g;
+}
+
+static void test_mixed_queries(void **state)
+{
+    static double h[65][65];
+    tu_rng r = {81}, r1 = {82}, r2 = {82};
+    gg_geom *g, *g2;
+    uint32_t cache[3] = {0, 0, 0};
+    long i, j, n = 0, nsph = 0, ntri = 0;
+    (void)state;
+    for (i = 0; i <= 32; i++)
+        for (j = 0; j <= 32; j++) h[i][j] = (double)(tu_next(&r) % 9) / 4;
+    g = mixed(32, 1, h, &r1), g2 = mixed(32, 0, h, &r2);
+    assert_true(g->trav_avx && g->ntleaves > 0);
+    for (i = 0; i < 100000; i++) {
+        gg_rayq q;
+        gg_hit hh;
+        q.o = V3(tu_range(&r, -2, 34), tu_range(&r, -2, 34), tu_range(&r, 6, 9));
+        q.d = V3(tu_range(&r, -0.3, 0.3), tu_range(&r, -0.3, 0.3), -1);
+        q.tmin = 0;
+        q.tmax = i % 5 == 0 ? tu_range(&r, 3, 9) : INFINITY;
+        q.ignore_prim = UINT32_MAX;
+        q.skip_flags = i % 11 == 0 ? GG_PRIM_TRANSPARENT : 0;
+        n += same_queries(g, g2, &q, cache);
+        if (gg_geom_intersect(g, &q, &hh))
+            gg_geom_prim_kind(g, hh.prim) == GG_SHAPE_SPHERE ? nsph++ : ntri++;
+    }
+    print_message("mixed: %ld of 100000 rays hit (%ld spheres, %ld triangles), same answers\n", n,
+                  nsph, ntri);
+    assert_true(nsph > 5000 && ntri > 20000);
+    gg_geom_free(g);
+    gg_geom_free(g2);
+}
+
 /* The SPD scenes that are mostly triangles, rays from the scene box. */
 static void test_spd_queries(void **state)
 {
@@ -378,6 +427,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lanes_random),
         cmocka_unit_test(test_lanes_edges),
+        cmocka_unit_test(test_mixed_queries),
         cmocka_unit_test(test_grid_queries),
         cmocka_unit_test(test_spd_queries),
     };
