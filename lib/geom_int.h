@@ -235,8 +235,10 @@ int gg_geom_occluded_brute(const gg_geom *g, const gg_rayq *q);
 GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
 {
     double ax = fabs(q->d.x), ay = fabs(q->d.y), az = fabs(q->d.z), dk;
-    /* x * 0 is NaN exactly when x is infinite or NaN: one test for all. */
-    double z = q->o.x * 0 + q->o.y * 0 + q->o.z * 0 + q->d.x * 0 + q->d.y * 0 + q->d.z * 0;
+    /* x * 0 is NaN exactly when x is infinite or NaN: one test for the
+       origin. A direction that is not finite needs none of its own: d . d
+       is then infinite or NaN, which the test of a below turns away. */
+    double z = q->o.x * 0 + q->o.y * 0 + q->o.z * 0;
     if (z != 0) return 0;
     r->o[0] = q->o.x, r->o[1] = q->o.y, r->o[2] = q->o.z;
     r->d[0] = q->d.x, r->d[1] = q->d.y, r->d[2] = q->d.z;

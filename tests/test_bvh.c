@@ -459,6 +459,45 @@ static void test_occluded_cached(void **state)
     gg_geom_free(g);
 }
 
+/* A ray with a component that is not finite (NaN, +-inf) in its origin or
+   direction hits nothing, in every query: the ray set-up tests the origin
+   itself and lets d . d (then infinite or NaN) turn the direction away.
+   The same ray with the component finite does hit, so the queries would
+   see the scene. */
+static void test_nonfinite_rays(void **state)
+{
+    gg_geom *g = gg_geom_create(NULL);
+    const double bad[] = {NAN, INFINITY, -INFINITY, 1e300};
+    uint32_t cache = 0;
+    int k, b, nhit = 0;
+    (void)state;
+    assert_true(gg_geom_add_sphere(g, V3(0, 0, 0), 1, 0) >= 0);
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    for (k = 0; k < 6; k++)
+        for (b = -1; b < 4; b++) {
+            double c[6] = {0.25, 0.25, 10, 0, 0, -1};
+            gg_rayq q;
+            gg_hit h, tr;
+            gg_tcol all;
+            int has = -1, expect;
+            /* 1e300 overflows d . d (as an origin it is only far away) */
+            if (b == 3 && k < 3) continue;
+            if (b >= 0) c[k] = bad[b];
+            expect = b < 0;
+            q.o = V3(c[0], c[1], c[2]), q.d = V3(c[3], c[4], c[5]);
+            q.tmin = 0, q.tmax = INFINITY, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+            assert_int_equal(gg_geom_intersect(g, &q, &h), expect);
+            assert_int_equal(gg_geom_occluded(g, &q), expect);
+            assert_int_equal(gg_geom_occluded_cached(g, &q, &cache), expect);
+            assert_int_equal(gg_geom_shadow_query(g, &q, &tr, &has), expect);
+            if (!expect) assert_int_equal(has, 0);
+            assert_int_equal(gg_geom_shadow_query_all(g, &q, &tr, &has, NULL, &all), expect);
+            nhit += expect;
+        }
+    assert_int_equal(nhit, 6);
+    gg_geom_free(g);
+}
+
 /* Adding after a build and building again; statistics; bounds. */
 static void test_rebuild_stats_bounds(void **state)
 {
@@ -637,6 +676,7 @@ int main(void)
         cmocka_unit_test(test_coincident),
         cmocka_unit_test(test_empty),
         cmocka_unit_test(test_occluded_cached),
+        cmocka_unit_test(test_nonfinite_rays),
         cmocka_unit_test(test_rebuild_stats_bounds),
         cmocka_unit_test(test_allocator),
         cmocka_unit_test(test_spd_scenes),
