@@ -118,6 +118,13 @@ GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
     return 1;
 }
 
+/* f_down of a query's tmin, whose usual value 0 skips the rounding's
+   branches (f_down(0) is the largest float below 0, -2^-149). */
+static inline float f_down_tmin(double tmin)
+{
+    return tmin == 0 ? -0x1p-149f : f_down(tmin);
+}
+
 /* A float >= t for 0 <= t (the running closest distance), without the
    exact directed rounding: fl(t) >= t (1 - 2^-24), and the product and sum
    round to nearest. */
@@ -219,7 +226,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
     tmaxf = f_above(best.t);
     tcull = tmaxf * GG_EXIT_SCALE;
-    tmin4 = GG_T4(f_down(q->tmin));
+    tmin4 = GG_T4(f_down_tmin(q->tmin));
     tmax4 = GG_T4(tmaxf);
     for (;;) {
         if (!(cur & GG_LEAF)) {
@@ -315,7 +322,7 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
         return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
     }
     tx_fill(&tx, &r);
-    tmin4 = GG_T4(f_down(q->tmin));
+    tmin4 = GG_T4(f_down_tmin(q->tmin));
     tmax4 = GG_T4(f_above(tmax));
     for (;;) {
         if (!(cur & GG_LEAF)) {
@@ -376,7 +383,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg
         goto done;
     }
     tx_fill(&tx, &r);
-    tmin4 = GG_T4(f_down(q->tmin));
+    tmin4 = GG_T4(f_down_tmin(q->tmin));
     tmax4 = GG_T4(f_above(tmax));
     for (;;) {
         if (!(cur & GG_LEAF)) {

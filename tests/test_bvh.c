@@ -5,6 +5,7 @@
 */
 #include "testutil.h"
 
+#include "bvh_int.h"
 #include "geom_leaf.h"
 #include "implicit_int.h"
 #include "scene_int.h"
@@ -498,6 +499,26 @@ static void test_nonfinite_rays(void **state)
     gg_geom_free(g);
 }
 
+/* The float rounding helpers of the traversal: f_down(x) < x and f_up(x)
+   > x, one float ulp past the nearest float on the safe side, and the
+   constant the traversal takes for f_down of a tmin of +-0 (bvh_trav.h,
+   f_down_tmin). */
+static void test_float_bounds(void **state)
+{
+    tu_rng r = {31};
+    int i;
+    (void)state;
+    assert_true(f_down(0.0) == -0x1p-149f && signbit(f_down(0.0)));
+    assert_true(f_down(-0.0) == -0x1p-149f);
+    assert_true(f_up(0.0) == 0x1p-149f);
+    for (i = 0; i < 100000; i++) {
+        double x = tu_range(&r, -1, 1) * pow(2, tu_range(&r, -140, 120));
+        float lo = f_down(x), hi = f_up(x);
+        assert_true((double)lo < x && (double)hi > x);
+        assert_true(f_next_up(lo) <= (float)x && f_next_down(hi) >= (float)x);
+    }
+}
+
 /* Adding after a build and building again; statistics; bounds. */
 static void test_rebuild_stats_bounds(void **state)
 {
@@ -677,6 +698,7 @@ int main(void)
         cmocka_unit_test(test_empty),
         cmocka_unit_test(test_occluded_cached),
         cmocka_unit_test(test_nonfinite_rays),
+        cmocka_unit_test(test_float_bounds),
         cmocka_unit_test(test_rebuild_stats_bounds),
         cmocka_unit_test(test_allocator),
         cmocka_unit_test(test_spd_scenes),
