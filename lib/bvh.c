@@ -396,6 +396,7 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
                 g->nlcone * sizeof(gg_kcone) + g->nrect * sizeof(gg_krect) +
                 g->ntleaves * sizeof(gg_tleaf);
     st->build_seconds = g->build_seconds;
+    st->blocks = g->trav_avx ? g->ntleaves : 0;
 }
 
 /* ---- triangle leaves for the AVX traversal ---- */

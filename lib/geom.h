@@ -225,6 +225,7 @@ ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps);
 /* BVH statistics for reports and benchmarks. */
 typedef struct gg_bvh_stats {
     size_t nodes, leaves, max_depth, bytes;
+    size_t blocks; /* AVX four-triangle leaf blocks (0: plain traversal) */
     double build_seconds;
 } gg_bvh_stats;
 void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);

@@ -457,6 +457,7 @@ GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
     gg_geom_bvh_stats(s->geom, &bs);
     info->primitives = gg_geom_prim_count(s->geom);
     info->bvh_nodes = bs.nodes, info->bvh_leaves = bs.leaves, info->bvh_depth = bs.max_depth;
+    info->bvh_blocks = bs.blocks;
     info->geometry_bytes = bs.bytes;
     info->bvh_seconds = bs.build_seconds;
     info->prepare_seconds = s->prepare_seconds;

@@ -4,6 +4,7 @@
 */
 #include "testutil.h"
 
+#include "geom_int.h"
 #include "scene_int.h"
 
 #include <stdio.h>
@@ -205,6 +206,33 @@ static void test_spd_scenes_load(void **state)
     }
 }
 
+/* ggSceneGetInfo: refused before the scene is prepared; then counts that
+   agree with the scene and with each other (tetra: 4096 triangles; AVX
+   blocks exactly when the traversal uses them). */
+static void test_scene_info(void **state)
+{
+    char path[512];
+    ggScene *s = ggSceneCreate(NULL);
+    ggSceneInfo in;
+    ggError e;
+    (void)state;
+    snprintf(path, sizeof path, "%s/tetra.nff", tu_spd_dir());
+    assert_int_equal(ggSceneLoadFile(s, path, &e), GG_OK);
+    assert_int_equal(ggSceneGetInfo(s, &in), GG_ERROR_INVALID);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_int_equal(ggSceneGetInfo(s, &in), GG_OK);
+    assert_int_equal(in.primitives, 4096);
+    assert_int_equal(in.objects_by_kind[GG_SHAPE_TRIANGLE] + in.objects_by_kind[GG_SHAPE_POLYGON],
+                     4096);
+    assert_true(in.bvh_nodes > 0 && in.bvh_leaves >= in.primitives / 4);
+    assert_true(in.bvh_blocks <= in.bvh_leaves);
+    assert_true(in.geometry_bytes > in.primitives * 9 * sizeof(double));
+    /* blocks are reported exactly when the traversal tests them */
+    assert_true((in.bvh_blocks > 0) == (s->geom->trav_avx && s->geom->ntleaves > 0));
+    assert_true(in.lo.x <= in.hi.x && in.lo.y <= in.hi.y && in.lo.z <= in.hi.z);
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -215,6 +243,7 @@ int main(void)
         cmocka_unit_test(test_rollback_keeps_earlier_load),
         cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_spd_scenes_load),
+        cmocka_unit_test(test_scene_info),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
 }

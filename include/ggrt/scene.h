@@ -155,6 +155,8 @@ typedef struct ggSceneInfo {
     int objects_by_kind[GG_SHAPE_COUNT];
     size_t primitives;      /* after splitting polygons into what the BVH holds */
     size_t bvh_nodes, bvh_leaves, bvh_depth;
+    size_t bvh_blocks;      /* leaves of 2-4 triangles tested four at a time with AVX;
+                               0 where the CPU lacks AVX (the plain traversal runs) */
     size_t geometry_bytes;  /* BVH nodes plus primitive data */
     double prepare_seconds; /* last ggScenePrepare, BVH build included */
     double bvh_seconds;     /* BVH build alone */
