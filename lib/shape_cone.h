@@ -19,11 +19,9 @@ GG_INLINE int gg_cone_kernel(const gg_kcone *cn, const gg_rpre *r, double tmax, 
     double wx = r->o[0] - cn->base[0], wy = r->o[1] - cn->base[1], wz = r->o[2] - cn->base[2];
     double fx = wx * cn->ex[0] + wy * cn->ex[1] + wz * cn->ex[2];
     double fy = wx * cn->ey[0] + wy * cn->ey[1] + wz * cn->ey[2];
-    double fz = wx * cn->ez[0] + wy * cn->ez[1] + wz * cn->ez[2];
     double dx = r->d[0] * cn->ex[0] + r->d[1] * cn->ex[1] + r->d[2] * cn->ex[2];
     double dy = r->d[0] * cn->ey[0] + r->d[1] * cn->ey[1] + r->d[2] * cn->ey[2];
-    double dz = r->d[0] * cn->ez[0] + r->d[1] * cn->ez[1] + r->d[2] * cn->ez[2];
-    double a, b, c, disc, q, ts[2];
+    double fz, dz, a, b, c, disc, q, ts[2];
     int i;
     if (cn->k == 0) {
         double lx, ly, kk;
@@ -36,8 +34,15 @@ GG_INLINE int gg_cone_kernel(const gg_kcone *cn, const gg_rpre *r, double tmax, 
         if (disc < 0) return 0;
         disc = a * disc;
         c = fx * fx + fy * fy - cn->rb * cn->rb;
+        /* the axial coordinates only now: most rays near a cylinder's box
+           miss its side, and the test above did not need them */
+        fz = wx * cn->ez[0] + wy * cn->ez[1] + wz * cn->ez[2];
+        dz = r->d[0] * cn->ez[0] + r->d[1] * cn->ez[1] + r->d[2] * cn->ez[2];
     } else {
-        double w = cn->rb + cn->k * fz, kd = cn->k * dz;
+        double w, kd;
+        fz = wx * cn->ez[0] + wy * cn->ez[1] + wz * cn->ez[2];
+        dz = r->d[0] * cn->ez[0] + r->d[1] * cn->ez[1] + r->d[2] * cn->ez[2];
+        w = cn->rb + cn->k * fz, kd = cn->k * dz;
         a = dx * dx + dy * dy - kd * kd;
         b = fx * dx + fy * dy - w * kd;
         c = fx * fx + fy * fy - w * w;
