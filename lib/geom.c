@@ -32,8 +32,7 @@ static void free_built(gg_geom *g)
     gg_mem_free(g->alloc, g->lrect);
     gg_mem_free(g->alloc, g->iso);
     gg_mem_free(g->alloc, g->iso_margin);
-    gg_mem_free(g->alloc, g->tslot);
-    g->iso = NULL, g->iso_margin = NULL, g->tslot = NULL, g->ntslot = SIZE_MAX;
+    g->iso = NULL, g->iso_margin = NULL;
     g->slots = NULL, g->lsph = NULL, g->ltri = NULL, g->lcone = NULL, g->lrect = NULL;
     g->nslots = 0;
     gg_bvh_free(g);
@@ -204,10 +203,7 @@ void gg_geom_set_flags(gg_geom *g, int prim, unsigned flags)
     if (prim >= 0 && (size_t)prim < g->nprim) g->pflags[prim] = (uint8_t)flags;
     /* Flags changed after the build: the transparent box no longer knows,
        so it covers everything until the next build. */
-    if (g->built) {
-        g->tlo = v3(-INFINITY, -INFINITY, -INFINITY), g->thi = v3(INFINITY, INFINITY, INFINITY);
-        g->ntslot = SIZE_MAX;
-    }
+    if (g->built) g->tlo = v3(-INFINITY, -INFINITY, -INFINITY), g->thi = v3(INFINITY, INFINITY, INFINITY);
 }
 
 size_t gg_geom_prim_count(const gg_geom *g)
@@ -407,21 +403,6 @@ int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, 
     return 1;
 }
 
-/* The transparent-element list behind gg_geom_intersect_transparent. */
-static int list_transparent(gg_geom *g)
-{
-    size_t i, k = 0;
-    for (i = 0; i < g->nslots; i++) k += (g->pflags[g->slots[i].prim] & GG_PRIM_TRANSPARENT) != 0;
-    g->ntslot = SIZE_MAX;
-    if (k > GG_TLIST_MAX) return 0;
-    g->tslot = gg_mem_calloc(g->alloc, k + 1, sizeof *g->tslot);
-    if (!g->tslot) return -1;
-    for (i = 0, k = 0; i < g->nslots; i++)
-        if (g->pflags[g->slots[i].prim] & GG_PRIM_TRANSPARENT) g->tslot[k++] = (uint32_t)i;
-    g->ntslot = k;
-    return 0;
-}
-
 int gg_geom_build(gg_geom *g, ggError *err)
 {
     double t0 = gg_time_now();
@@ -503,7 +484,6 @@ int gg_geom_build(gg_geom *g, ggError *err)
     }
     g->nslots = n;
     g->nlcone = nc;
-    if (list_transparent(g)) goto fail;
     if (gg_bvh_tri_leaves(g)) goto fail;
     g->built = 1;
     rc = GG_OK;
@@ -594,22 +574,6 @@ int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
     best.t = gg_next_down(q->tmax);
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
     if (!gg_leaf_closest(g, &r, 0, (uint32_t)g->nslots, &best)) return 0;
-    *hit = best;
-    return 1;
-}
-
-int gg_geom_intersect_transparent(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
-{
-    gg_rpre r;
-    gg_hit best;
-    size_t i;
-    int found = 0;
-    if (!g->built || g->ntslot == SIZE_MAX) return -1;
-    if (!g->ntslot || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
-    best.t = gg_next_down(q->tmax);
-    best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
-    for (i = 0; i < g->ntslot; i++) found |= gg_leaf_closest(g, &r, g->tslot[i], 1, &best);
-    if (!found) return 0;
     *hit = best;
     return 1;
 }

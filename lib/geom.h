@@ -162,17 +162,6 @@ int gg_geom_frustum_empty(const gg_geom *g, ggVec3 eye, const ggVec3 d[4]);
 /* Same answers by testing every primitive (for tests). */
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 
-/* gg_geom_intersect restricted to the primitives flagged
-   GG_PRIM_TRANSPARENT, when there are few of them (at most GG_TLIST_MAX
-   elements: they are tested one by one, with the same kernels and tie
-   rule, no traversal). Returns 1 / 0 as gg_geom_intersect, or -1 when the
-   scene has more transparent elements than that (or its flags changed
-   after the build): then ask gg_geom_intersect. For the steps of a
-   coloured shadow ray after gg_geom_shadow_query has ruled out every
-   opaque occluder on the segment. */
-#define GG_TLIST_MAX 16
-int gg_geom_intersect_transparent(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
-
 typedef struct gg_surf {
     ggVec3 p;    /* hit point */
     ggVec3 ng;   /* unit geometric normal as the shape defines it */

@@ -170,11 +170,6 @@ struct gg_geom {
     int built;
     ggVec3 lo, hi;
     ggVec3 tlo, thi; /* union of the boxes of GG_PRIM_TRANSPARENT elements */
-    /* Slot indices of the GG_PRIM_TRANSPARENT elements when there are at
-       most GG_TLIST_MAX of them (ntslot); ntslot = SIZE_MAX when there are
-       more, or the flags changed after the build. */
-    uint32_t *tslot;
-    size_t ntslot;
     /* Per primitive: a sphere whose ball (grown by iso_margin) meets no
        other element's box, see gg_geom_intersect_inside; else 0. */
     uint8_t *iso;

@@ -186,12 +186,12 @@ static uint32_t leave_prim(const ggScene *s, uint32_t prim)
    (d = light - o), through transparent occluders: kt per surface crossed
    and absorption inside. Returns black if an opaque surface blocks.
    *first_obj receives the first object crossed (-1 if none) and *t_first
-   where (parameter of the original ray). clear: the caller has found no
-   opaque surface on the segment, so only transparent ones remain. all (if
-   not NULL): every crossing of the segment, from gg_geom_shadow_query_all. */
+   where (parameter of the original ray). all (if not NULL): the caller
+   has found nothing opaque on the segment, and these are its transparent
+   crossings (gg_geom_shadow_query_all). */
 static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
                            const gg_media *start, int *first_obj, double *t_first, int pre,
-                           const gg_hit *pre_hit, int clear, const gg_tcol *all)
+                           const gg_hit *pre_hit, const gg_tcol *all)
 {
     const ggScene *s = c->s;
     const ggVec3 light = v3add(o, d);
@@ -210,16 +210,17 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         return media_transmittance(s, &m, len);
     /* Every crossing known, nothing opaque: no query, no hit point, no
        offset origin is needed, only kt and the media between crossings.
-       (The stepwise walk below asks again from just past each surface;
-       it stays for the fixed-epsilon knob, whose re-hits are part of
-       what the accuracy study shows.) */
-    if (all && all->complete && clear && c->acc.offset != GG_ACC_OFFSET_FIXED) {
+       The stepwise walk below asks again from just past each surface: for
+       lists that overflowed or met an implicit surface, for walks that
+       start inside a sphere, and for the fixed-epsilon knob, whose re-hits
+       are part of what the accuracy study shows. */
+    if (all && all->complete && c->acc.offset != GG_ACC_OFFSET_FIXED) {
         double prev = 0;
         int i;
         for (i = 0; i < all->n; i++) {
             const gg_hit *hi = &all->h[i];
-            int mat = s->objects[gg_geom_prim_object(s->geom, hi->prim)].material;
-            if (*first_obj < 0) *first_obj = gg_geom_prim_object(s->geom, hi->prim), *t_first = hi->t;
+            int obj = gg_geom_prim_object(s->geom, hi->prim), mat = s->objects[obj].material;
+            if (*first_obj < 0) *first_obj = obj, *t_first = hi->t;
             tr = cmul(tr, media_transmittance(s, &m, (hi->t - prev) * len));
             tr = cscale(tr, s->materials[mat].kt);
             if (!media_has(&m, mat)) media_enter(&m, mat);
@@ -241,10 +242,6 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
             found = -1;
             if (in_sphere != UINT32_MAX)
                 found = gg_geom_intersect_inside(s->geom, &q, in_sphere, &h);
-            /* With every opaque occluder of the segment ruled out (clear),
-               only transparent surfaces remain to be found: few of them
-               are tested one by one instead of traversing the BVH. */
-            if (found < 0 && clear) found = gg_geom_intersect_transparent(s->geom, &q, &h);
             if (found < 0) found = gg_geom_intersect(s->geom, &q, &h);
         }
         if (!found) return cmul(tr, media_transmittance(s, &m, len));
@@ -396,7 +393,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
                 }
                 if (verdict == GG_SHADOW_VISIBLE) {
                     ggColor through =
-                        shadow_walk(c, so, sd, leave, &r->media, &occ, &tb, pre, &fh, clear,
+                        shadow_walk(c, so, sd, leave, &r->media, &occ, &tb, pre, &fh,
                                     clear ? &all : NULL);
                     if (occ >= 0) verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
                     lc = cmul(lc, through);
