@@ -350,7 +350,7 @@ static int tile_empty(const job *j, int gx0, int gy0, int gx1, int gy1)
 static void fill_empty_tile(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
 {
     ggRayStats *st = &th->st;
-    const ggColor bg = j->ctx.s->background;
+    const ggColor bg = gg_shade_eye_miss(&j->ctx);
     const int bad = !isfinite(bg.r) || !isfinite(bg.g) || !isfinite(bg.b);
     int gx, gy, k, n = j->corner ? 1 : j->r.spp;
     if (st->max_depth < 1) st->max_depth = 1;
