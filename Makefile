@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # ggrt -- a Whitted-style ray tracer as a C99 library, and its CLI.
 #
 #   make                 build/libggrt.a, build/libggrt.so, build/ggrt
@@ -29,7 +30,10 @@ LDFLAGS ?=
 INSTALL ?= install
 
 # Flags for our code. Users' CFLAGS add to these; they cannot turn them off.
-GG_WARN   = -std=c99 -Wall -Wextra -pedantic -Werror -Wshadow -Wstrict-prototypes
+# -Werror only where the project builds itself (make check, CI): a user's
+# plain `make` on another compiler should not fail on a new warning.
+GG_WERROR ?=
+GG_WARN   = -std=c99 -Wall -Wextra -pedantic -Wshadow -Wstrict-prototypes $(GG_WERROR)
 GG_CPPFLAGS = -D_POSIX_C_SOURCE=200809L -Iinclude -MMD -MP
 
 # Image I/O is the only part that touches libpng and OpenEXR's C core. Their
@@ -42,8 +46,33 @@ EXR_LIBS   := -lOpenEXRCore
 IMG_LIBS    = $(PNG_LIBS) $(EXR_LIBS)
 SYS_LIBS    = -lm -lpthread
 
-LIB_SRC  := $(sort $(wildcard lib/*.c))
+# The library's layers, bottom to top (docs/internals.md). lib/L is compiled
+# with include paths for the layers in L_SEES only -- itself and layers below
+# it -- so an include of a higher layer does not compile (tests/layers.sh
+# checks it). imageio is the only layer built with libpng and OpenEXR flags.
+LAYERS        = core optics image implicit geom scene render load imageio
+core_SEES     = core
+optics_SEES   = core optics
+image_SEES    = core image
+implicit_SEES = core implicit
+geom_SEES     = core implicit geom
+scene_SEES    = core image implicit geom scene
+render_SEES   = core optics image implicit geom scene render
+load_SEES     = core image implicit geom scene load
+imageio_SEES  = core image load imageio
+imageio_CFLAGS = $(PNG_CFLAGS) $(EXR_CFLAGS)
+layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
+ALL_LAYER_INC = $(LAYERS:%=-Ilib/%)
+
+LIB_SRC  := $(sort $(wildcard $(LAYERS:%=lib/%/*.c)))
 LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o)
+# Two archives from one set of objects: libggrt (everything) and libggrt-core
+# (no image files: nothing of libpng or OpenEXR). Each has its own default
+# texture reader (lib/load/load.h explains the pair).
+IO_OBJ   := $(filter $(BUILD)/lib/imageio/%,$(LIB_OBJ))
+NOREADER_OBJ := $(BUILD)/lib/load/reader_none.o
+FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
+CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
 CLI_SRC  := $(sort $(wildcard cli/*.c))
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
@@ -56,30 +85,43 @@ BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
 EXAMPLE_SRC := $(sort $(wildcard examples/*.c))
 
 STATIC = $(BUILD)/libggrt.a
+CORE_STATIC = $(BUILD)/libggrt-core.a
 SONAME = libggrt.so.$(VERSION_MAJOR)
 SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test tests deps demo install uninstall installcheck \
-        clean fuzz bench examples format pc
+        clean fuzz bench examples format pc layers
 .DEFAULT_GOAL := all
 .SECONDARY:
 
 all: lib cli
-lib: $(STATIC) $(SHARED) $(BUILD)/libggrt.so
+lib: $(STATIC) $(CORE_STATIC) $(SHARED) $(BUILD)/libggrt.so
 cli: $(CLI)
 
-$(BUILD)/lib/%.o: lib/%.c
-	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) -DGG_BUILDING $(PNG_CFLAGS) $(EXR_CFLAGS) $(GG_WARN) $(CFLAGS) \
-	  -fPIC -fvisibility=hidden -c $< -o $@
+define layer_rule
+$$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
+	@mkdir -p $$(@D)
+	$$(CC) $$(GG_CPPFLAGS) -DGG_BUILDING $$(call layer_inc,$(1)) $$($(1)_CFLAGS) $$(GG_WARN) \
+	  $$(CFLAGS) -fPIC -fvisibility=hidden -c $$< -o $$@
+endef
+$(foreach l,$(LAYERS),$(eval $(call layer_rule,$(l))))
 
-$(STATIC): $(LIB_OBJ)
+# For tests/layers.sh: each layer's include flags, one line a layer.
+layers:
+	@$(foreach l,$(LAYERS),echo "$(l): $(call layer_inc,$(l))";)
+
+$(STATIC): $(FULL_OBJ)
 	@mkdir -p $(@D)
 	rm -f $@
 	$(AR) rcs $@ $^
 
-$(SHARED): $(LIB_OBJ)
+$(CORE_STATIC): $(CORE_OBJ)
+	@mkdir -p $(@D)
+	rm -f $@
+	$(AR) rcs $@ $^
+
+$(SHARED): $(FULL_OBJ)
 	$(CC) -shared -Wl,-soname,$(SONAME) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
 
 $(BUILD)/libggrt.so: $(SHARED)
@@ -94,10 +136,10 @@ $(BUILD)/cli/%.o: cli/%.c
 $(CLI): $(CLI_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
 
-# Tests may look inside (-Ilib) and link the static archive.
+# Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) -Ilib -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
@@ -105,14 +147,14 @@ $(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
 # Each fuzz harness also builds with the plain compiler as a corpus replayer.
 $(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) -Ilib -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/tests/replay_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/replay.o $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
 
 $(BUILD)/bench/%: bench/%.c $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) -Ilib $(GG_WARN) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
+	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) $(GG_WARN) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
 
 tests: $(TEST_BIN) $(REPLAY_BIN) $(CLI)
 
@@ -126,10 +168,11 @@ SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-o
 # then stage an install and build the examples against it. Recursive makes
 # re-read pkg-config once the packages are there.
 check: deps
-	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release
+	@sh tests/layers.sh
+	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
-	  LDFLAGS="-fsanitize=address,undefined"
-	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release
+	  LDFLAGS="-fsanitize=address,undefined" GG_WERROR=-Werror
+	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@echo "check: all suites passed (plain, sanitized, installcheck)"
 
 deps:
@@ -142,31 +185,32 @@ demo: deps
 
 # --- install -----------------------------------------------------------
 
-$(BUILD)/ggrt.pc: ggrt.pc.in Makefile
+$(BUILD)/%.pc: %.pc.in Makefile
 	@mkdir -p $(@D)
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
 	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
 # Regenerated every time: PREFIX may differ between calls.
 pc:
-	@rm -f $(BUILD)/ggrt.pc
-	@$(MAKE) --no-print-directory $(BUILD)/ggrt.pc
+	@rm -f $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc
+	@$(MAKE) --no-print-directory $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc
 
 install: all pc
 	$(INSTALL) -d $(DESTDIR)$(INCLUDEDIR)/ggrt $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PKGCONFIGDIR) \
 	  $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1
 	$(INSTALL) -m 644 include/ggrt.h $(DESTDIR)$(INCLUDEDIR)/
 	$(INSTALL) -m 644 include/ggrt/*.h $(DESTDIR)$(INCLUDEDIR)/ggrt/
-	$(INSTALL) -m 644 $(STATIC) $(DESTDIR)$(LIBDIR)/
+	$(INSTALL) -m 644 $(STATIC) $(CORE_STATIC) $(DESTDIR)$(LIBDIR)/
 	$(INSTALL) -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
 	ln -sf libggrt.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
 	ln -sf libggrt.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libggrt.so
-	$(INSTALL) -m 644 $(BUILD)/ggrt.pc $(DESTDIR)$(PKGCONFIGDIR)/
+	$(INSTALL) -m 644 $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc $(DESTDIR)$(PKGCONFIGDIR)/
 	$(INSTALL) -m 755 $(CLI) $(DESTDIR)$(BINDIR)/
 	$(INSTALL) -m 644 docs/ggrt.1 $(DESTDIR)$(MANDIR)/man1/
 
 uninstall:
 	rm -f $(DESTDIR)$(INCLUDEDIR)/ggrt.h $(DESTDIR)$(LIBDIR)/libggrt.a \
+	  $(DESTDIR)$(LIBDIR)/libggrt-core.a $(DESTDIR)$(PKGCONFIGDIR)/ggrt-core.pc \
 	  $(DESTDIR)$(LIBDIR)/libggrt.so $(DESTDIR)$(LIBDIR)/$(SONAME) \
 	  $(DESTDIR)$(LIBDIR)/libggrt.so.$(VERSION) $(DESTDIR)$(PKGCONFIGDIR)/ggrt.pc \
 	  $(DESTDIR)$(BINDIR)/ggrt $(DESTDIR)$(MANDIR)/man1/ggrt.1
@@ -189,6 +233,17 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	    || { echo "installcheck: example $$e failed:"; cat $(abspath $(BUILD))/examples/$$e.log; exit 1; }; \
 	  echo "installcheck: example $$e ran against the staged install"; \
 	done
+	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig; \
+	  export PKG_CONFIG_SYSROOT_DIR PKG_CONFIG_PATH; out=$(abspath $(BUILD))/examples; \
+	  $(CC) -std=c99 -O2 -static -o $$out/core_static_static examples/core_static.c \
+	    `pkg-config --static --cflags --libs ggrt-core` \
+	    || { echo "installcheck: static link against libggrt-core failed"; exit 1; }; \
+	  if readelf -d $$out/core_static_static | grep -q NEEDED; then \
+	    echo "installcheck: core_static_static needs shared libraries"; exit 1; fi; \
+	  (cd $$out && ./core_static_static $(CURDIR)/examples/scenes/default.nff core_static.ppm 64x48 >/dev/null) \
+	    || { echo "installcheck: the static core example failed"; exit 1; }; \
+	  echo "installcheck: examples/core_static.c linked with -static against libggrt-core" \
+	    "(`pkg-config --static --libs ggrt-core`) and rendered default.nff"
 
 # Examples build against an installed libggrt found by pkg-config.
 EXAMPLE_OUT ?= $(BUILD)/examples
@@ -207,7 +262,7 @@ FUZZ_CC ?= clang
 fuzz:
 	@mkdir -p $(BUILD)/fuzz
 	@for f in $(FUZZ_SRC:tests/fuzz/fuzz_%.c=%); do \
-	  $(FUZZ_CC) $(GG_CPPFLAGS) -Ilib -Itests -std=c99 -g -O1 \
+	  $(FUZZ_CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests -std=c99 -g -O1 \
 	    -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
 	    $(PNG_CFLAGS) $(EXR_CFLAGS) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c $(LIB_SRC) \
 	    $(IMG_LIBS) $(SYS_LIBS) || exit 1; \
@@ -231,10 +286,10 @@ bench-%: $(BUILD)/bench/bench_%
 	$<
 
 format:
-	clang-format -i include/*.h include/ggrt/*.h lib/*.c lib/*.h cli/*.c cli/*.h tests/*.c \
+	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h tests/*.c \
 	  tests/*.h tests/fuzz/*.c bench/*.c examples/*.c
 
 clean:
 	rm -rf $(BUILD)
 
--include $(wildcard $(BUILD)/lib/*.d $(BUILD)/cli/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)
+-include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench_geometry.c -- BVH build and ray throughput, single-threaded.
 **
@@ -14,7 +15,7 @@
 ** ggSceneLoadFile (build time = the BVH build inside ggScenePrepare).
 */
 #include "geom.h"
-#include "scene_int.h"
+#include "scene.h"
 #include "vec.h"
 
 #include <stdio.h>

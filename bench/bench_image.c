@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench_image.c -- speed of image output, input and texture sampling.
 **   make bench-image
@@ -5,7 +6,7 @@
 ** image as PNG and EXR, and nanoseconds per texture sample.
 */
 #include "ggrt.h"
-#include "internal.h"
+#include "core.h"
 
 #include <math.h>
 #include <stdio.h>

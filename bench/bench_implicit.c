@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench_implicit.c -- implicit surfaces: hit throughput on the eye rays of
 ** a 512 x 512 view of a torus and of a sphere, per way of giving f
@@ -5,7 +6,7 @@
 ** and the cost of a normal: exact dual numbers against central differences.
 ** Single-threaded.   make bench-implicit
 */
-#include "implicit_int.h"
+#include "implicit.h"
 #include "vec.h"
 
 #include <stdio.h>

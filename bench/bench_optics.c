@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench_optics.c -- `make bench-optics`: nanoseconds per call of the
 ** accurate refraction against the textbook formula, and of the Fresnel
@@ -8,7 +9,7 @@
 ** optimised away; the best of 5 such runs is reported (the least
 ** disturbed by other processes). Runs in about 3 s.
 */
-#include "internal.h"
+#include "core.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench_render.c -- render time of scenes, for comparing library builds
 ** (make bench-trace runs it against a library built without the ray-tree

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # Alternate two builds of bench_render (with and without the ray-tree
 # recorder compiled in) on the same scenes, five rounds, and print the
 # median times and their ratio.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench.h -- shared by the `ggrt bench` subcommands.
 */

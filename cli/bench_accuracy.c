@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench_accuracy.c -- `ggrt bench accuracy SCENE...`: what each accuracy
 ** knob costs in time and buys in error, one knob at a time from the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** bench_effects.c -- `ggrt bench effects`: what simulating only the
 ** effects a scene calls for saves, and proof that it changes nothing.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** cli.h -- the ggrt command line: subcommands and shared helpers.
 ** The CLI uses only the public API (<ggrt.h>).

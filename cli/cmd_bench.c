@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** cmd_bench.c -- `ggrt bench`: measured, side by side, in one run.
 **

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** cmd_info.c -- `ggrt info SCENE`: what a scene holds and what it costs.
 */

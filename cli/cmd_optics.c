@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** cmd_optics.c -- `ggrt optics`: one reflection, refraction, Fresnel or
 ** absorption evaluation, printed in full, for debugging one interaction.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** cmd_render.c -- `ggrt render SCENE -o out.png|out.exr`.
 */

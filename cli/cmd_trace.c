@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** cmd_trace.c -- `ggrt trace SCENE --pixel X,Y`: the full ray tree of one
 ** pixel, as an indented tree, JSON (docs/trace-json.md), SVG or OBJ.

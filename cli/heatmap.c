@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** heatmap.c -- turn a per-pixel cost map into a picture with a legend: a
 ** colour ramp from cheap (dark blue) to expensive (yellow), and below the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** heatmap.h -- per-pixel cost maps as pictures with a legend.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** main.c -- `ggrt`: dispatch to a subcommand.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** trace_out.h -- writing a recorded ray tree: text, JSON, SVG, OBJ.
 */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** trace_svg.c -- a recorded ray tree drawn over the scene (SVG: top view,
 ** side view, camera view with the pixel marked) and as OBJ lines.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** trace_text.c -- a recorded ray tree as an indented tree and as JSON.
 */

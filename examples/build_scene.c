@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** build_scene.c -- build a scene in code (no file), render it, write a PNG.
 **   cc build_scene.c $(pkg-config --cflags --libs ggrt) -o build_scene

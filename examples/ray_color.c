@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ray_color.c -- evaluate ggRayColor for one ray, and look at what it hit.
 **   cc ray_color.c $(pkg-config --cflags --libs ggrt) -o ray_color && ./ray_color

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** version.c -- the smallest program against an installed libggrt:
 **   cc version.c $(pkg-config --cflags --libs ggrt) && ./a.out

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt.h -- the one public header of ggrt, a Whitted-style ray tracer.
 **

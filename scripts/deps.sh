@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # Install the Debian packages ggrt needs that this machine lacks, and nothing
 # else. Safe to run again: with everything present it only checks.
 #   GG_NO_DEPS=1  skip (for machines managed some other way)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Build docs/spd-compare.png: ggrt (left) beside POV-Ray 3.7 (right) for the
 seven SPD scenes, from the thumbnails in docs/spd/ that scripts/spd-thumbs.sh
 renders. Pure Python (zlib), no imaging library needed."""

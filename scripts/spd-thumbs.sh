@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # Render the seven SPD scenes at 160x160 with ggrt and with POV-Ray 3.7 into
 # docs/spd/, then compose docs/spd-compare.png. ggrt writes with --no-srgb,
 # storing values as POV-Ray does, so tones compare directly.

@@ -1,7 +1,8 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** optics_ref.h -- a 128-bit reference for the optics tests and the fuzz
 ** harness: "long double-double", pairs of x86 80-bit long doubles (64-bit
-** significands) combined with the error-free transformations of lib/dd.h.
+** significands) combined with the error-free transformations of lib/core/dd.h.
 **
 ** ref_refract evaluates the TEXTBOOK formula
 **   t = eta v + (eta c - sqrt(1 - eta^2 (1 - c^2))) N

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # Run the cmocka suites, the fuzz-corpus replayers and the CLI tests built in
 # BUILD; print each runner's output and a closing summary. Exit non-zero on
 # any failure.

@@ -1,9 +1,10 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_base.c -- version, status strings, errors, allocation helpers.
 */
 #include "testutil.h"
 
-#include "internal.h"
+#include "core.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_bvh.c -- the BVH answers exactly what testing every primitive
 ** answers: same primitive, same t to the bit, same occlusion, on random
@@ -7,8 +8,8 @@
 
 #include "bvh_int.h"
 #include "geom_leaf.h"
-#include "implicit_int.h"
-#include "scene_int.h"
+#include "implicit.h"
+#include "scene.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_bvh_scalar.c -- the BVH suite again, on the portable C traversal
 ** (the one non-SSE2 targets compile). bvh.c is compiled into this test

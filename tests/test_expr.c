@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_expr.c -- the expression compiler (accepting, rejecting with line and
 ** column, limits, folding) and its evaluators: doubles and dual numbers

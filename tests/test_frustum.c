@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_frustum.c -- gg_geom_frustum_empty, the renderer's empty-tile test:
 ** whenever it calls a tile empty, no eye ray through that tile (pixel
@@ -8,7 +9,7 @@
 #include "testutil.h"
 
 #include "geom_int.h"
-#include "scene_int.h"
+#include "scene.h"
 
 #include <stdio.h>
 

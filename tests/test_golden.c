@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_golden.c -- low-resolution golden images: every SPD scene and every
 ** example scene rendered at 64 pixels across and compared with the PNG in

@@ -1,10 +1,11 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_image.c -- ggImage basics, sRGB, PNG input/output, atomic writes,
 ** reading broken files, crop/paste and ggImageCompare.
 */
 #include "testutil.h"
 
-#include "image_int.h"
+#include "image.h"
 
 #include <dirent.h>
 #include <errno.h>

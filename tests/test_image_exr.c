@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_image_exr.c -- OpenEXR input and output. Fixture files are written
 ** here with OpenEXR's C core directly (scanline and tiled, half, float and
@@ -6,7 +7,7 @@
 */
 #include "testutil.h"
 
-#include "image_int.h"
+#include "image.h"
 
 #include <OpenEXR/openexr.h>
 #include <dirent.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_implicit.c -- implicit surfaces: hits and normals against closed
 ** forms (sphere, torus, quartics), central-difference normals, thin parts,
@@ -6,7 +7,7 @@
 */
 #include "testutil.h"
 
-#include "implicit_int.h"
+#include "implicit.h"
 #include "vec.h"
 
 #include <float.h>

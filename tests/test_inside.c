@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_inside.c -- gg_geom_intersect_inside: for a ray starting inside an
 ** isolated sphere it answers exactly what the brute-force query answers

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_offset.c -- secondary rays never find the surface they leave, at
 ** any scale and far from the origin, with grazing directions; nested

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_optics.c -- properties of reflection, refraction, Fresnel and
 ** Beer-Lambert (issue 2, item 4). Each test asserts a physical or
@@ -5,7 +6,7 @@
 */
 #include "testutil.h"
 
-#include "internal.h"
+#include "core.h"
 
 #include <fenv.h>
 #include <math.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_optics_accuracy.c -- ggRefract, ggReflection and the Fresnel
 ** reflectance against a higher-precision evaluation, on the inputs where
@@ -16,7 +17,7 @@
 */
 #include "testutil.h"
 
-#include "internal.h"
+#include "core.h"
 
 #include <float.h>
 #include <math.h>

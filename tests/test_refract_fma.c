@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_refract_fma.c -- the fma build of the accurate refraction returns
 ** the same bits as the plain build (TwoProd is exact either way), on

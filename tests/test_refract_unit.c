@@ -1,5 +1,6 @@
+/* SPDX-License-Identifier: MIT */
 /*
-** test_refract_unit.c -- the renderer's refraction (lib/refract_unit.h)
+** test_refract_unit.c -- the renderer's refraction (lib/optics/refract_unit.h)
 ** against the exact ggRefract: the plain-double path it takes where the
 ** problem is well conditioned stays within its documented 2^-45, and
 ** every total-internal-reflection decision is ggRefract's.
@@ -12,7 +13,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#define BOUND 0x1p-45 /* lib/refract_unit.h */
+#define BOUND 0x1p-45 /* lib/optics/refract_unit.h */
 
 static ggVec3 V(double x, double y, double z)
 {

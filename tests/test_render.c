@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_render.c -- the renderer: thread-count and crop invariance, forced
 ** effects give the same image, ggRayColor equals the rendered pixel, the
@@ -5,7 +6,7 @@
 */
 #include "testutil.h"
 
-#include "scene_int.h"
+#include "scene.h"
 
 #include <math.h>
 #include <stdio.h>

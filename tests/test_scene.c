@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_scene.c -- NFF loading: the SPD scenes, extensions, and errors that
 ** name file, line and column and leave the scene unchanged.
@@ -5,7 +6,7 @@
 #include "testutil.h"
 
 #include "geom_int.h"
-#include "scene_int.h"
+#include "scene.h"
 
 #include <stdio.h>
 #include <string.h>

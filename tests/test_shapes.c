@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_shapes.c -- each shape's hits, normals and (u, v) against closed
 ** forms computed in long double; the sphere's hard cases (far, tiny,

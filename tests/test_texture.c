@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_texture.c -- ggTextureBilinear against the lecture notes, nearest
 ** texel, wrap modes, edge cases, and the procedural checker.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_transparent_box.c -- the coloured-shadow shortcuts:
 ** gg_geom_transparent_may_hit never says "no" for a segment that the exact

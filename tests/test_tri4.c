@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** test_tri4.c -- the 4-wide triangle test of the AVX traversal (bvh_avx.c)
 ** gives the scalar kernel's bits: lane by lane on random triangles and on
@@ -9,7 +10,7 @@
 #include "testutil.h"
 
 #include "bvh_int.h"
-#include "scene_int.h"
+#include "scene.h"
 
 #include <math.h>
 #include <stdio.h>

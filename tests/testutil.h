@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** testutil.h -- shared helpers for the cmocka suites.
 */

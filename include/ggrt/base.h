@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt/base.h -- version, export macro, status codes, errors, allocator and
 ** the plain math types every other ggrt header uses.

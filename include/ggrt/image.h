@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt/image.h -- float RGB images, PNG/EXR input and output, image
 ** comparison, texture sampling. Only the file functions need libpng and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt/implicit.h -- implicit surfaces f(x, y, z) = 0 inside a box, with
 ** gradient normals N = grad f.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt/optics.h -- reflection, refraction, Fresnel reflectance and
 ** Beer-Lambert absorption.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt/render.h -- the Whitted renderer: ggRayColor for one ray, ggRender
 ** for an image, the effect set a scene calls for, and ray statistics.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt/scene.h -- a scene: camera, lights, materials, objects, textures.
 ** Load one from NFF (the SPD format plus ggrt's extensions, see
@@ -84,6 +85,17 @@ GG_API void ggSceneFree(ggScene *scene);
 GG_API int ggSceneLoadFile(ggScene *scene, const char *path, ggError *err);
 GG_API int ggSceneLoadString(ggScene *scene, const char *text, size_t len, const char *name,
                              ggError *err);
+
+/* Reads an image file that a scene file names (a texture), with the
+   contract of ggImageRead (image.h); `ud` is the pointer given with it. */
+typedef int (*ggImageReader)(void *ud, const char *path, const ggAllocator *alloc,
+                             ggImage **out, ggError *err);
+/* How ggSceneLoadFile and ggSceneLoadString read textures from now on.
+   fn NULL (the initial state) means the library's default: ggImageRead in
+   libggrt; none in libggrt-core (the static core without PNG or OpenEXR,
+   pkg-config ggrt-core), where a scene that names a texture fails with
+   GG_ERROR_UNSUPPORTED unless a reader is given here. */
+GG_API void ggSceneSetImageReader(ggScene *scene, ggImageReader fn, void *ud);
 
 /* ---- building in code ----
    Functions that add something return its index (>= 0), or a negative

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** ggrt/trace.h -- recording the ray tree of one pixel: every eye,
 ** reflection, refraction, total-internal-reflection and shadow ray, what it

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Check a `ggrt trace --format json` document against docs/trace-json.md
 and against `ggrt render --pixel X,Y --crop ...` output for the same pixel:
 the colour must be equal as 32-bit floats and the ray counts per kind equal.

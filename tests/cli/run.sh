@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: MIT
 # End-to-end tests of the ggrt command line. Run from the repository root:
 #   sh tests/cli/run.sh build/ggrt
 # Prints one line per check and closes with "cli: N passed, M failed".

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // make_exr_fixtures.cpp -- writes the OpenEXR fixtures that OpenEXR 3.1's C
 // core cannot write itself (DWAA/DWAB compression, ripmaps), with the C++
 // library. Run once; the outputs are committed beside this file and checked

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** fuzz_expr.c -- libFuzzer harness for the expression compiler and its
 ** evaluators: arbitrary bytes are compiled; what compiles is evaluated on
@@ -15,7 +16,7 @@
 **     1 / [0, 1] = [1, inf].
 */
 #include "expr.h"
-#include "implicit_int.h"
+#include "implicit.h"
 
 #include <stdint.h>
 #include <stdlib.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** fuzz_image.c -- ggImageRead on arbitrary bytes (written to a temporary
 ** file, since the reader takes a path). Properties checked on every input:

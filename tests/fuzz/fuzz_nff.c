@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** fuzz_nff.c -- libFuzzer harness for the scene reader: arbitrary bytes as
 ** NFF text must load or fail with a file:line:col message, never crash or

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** fuzz_optics.c -- libFuzzer harness for reflection, refraction, Fresnel
 ** and Beer-Lambert. The input is read as up to 12 little-endian doubles

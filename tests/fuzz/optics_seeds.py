@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Write the seed corpus of tests/fuzz/fuzz_optics.c: hard cases for
 reflection, refraction, Fresnel and Beer-Lambert. Each seed is 12
 little-endian doubles (v, n, ni, nt, cos_i, k, lambda, distance) and an

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
 ** replay.c -- run a libFuzzer harness over corpus files without libFuzzer,
 ** so `make check` exercises the corpus with the plain compiler.

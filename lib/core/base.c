@@ -1,0 +1,115 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** base.c -- version, status strings, error reporting, allocation, clock.
+*/
+#include "core.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+GG_API const char *ggVersion(void) { return GG_VERSION_STRING; }
+
+GG_API const char *ggStatusString(int code)
+{
+    switch (code) {
+    case GG_OK: return "success";
+    case GG_ERROR_INVALID: return "invalid argument";
+    case GG_ERROR_NOMEM: return "out of memory";
+    case GG_ERROR_PARSE: return "malformed input";
+    case GG_ERROR_IO: return "input/output error";
+    case GG_ERROR_UNSUPPORTED: return "not supported";
+    case GG_ERROR_LIMIT: return "limit exceeded";
+    case GG_ERROR_CANCELLED: return "cancelled";
+    default: return "unknown status code";
+    }
+}
+
+int gg_error_setv(ggError *err, int code, const char *fmt, va_list ap)
+{
+    if (err) {
+        err->code = code;
+        if (fmt)
+            vsnprintf(err->message, sizeof err->message, fmt, ap);
+        else
+            snprintf(err->message, sizeof err->message, "%s", ggStatusString(code));
+    }
+    return code;
+}
+
+int gg_error_set(ggError *err, int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    gg_error_setv(err, code, fmt, ap);
+    va_end(ap);
+    return code;
+}
+
+void *gg_mem_alloc(const ggAllocator *a, size_t size)
+{
+    if (size == 0) size = 1;
+    return a ? a->malloc(a->ud, size) : malloc(size);
+}
+
+void *gg_mem_calloc(const ggAllocator *a, size_t n, size_t size)
+{
+    void *p;
+    if (size && n > (size_t)-1 / size) return NULL;
+    /* The C library's calloc gets large blocks from the OS already zero
+       (mmap): no pass over a 12 MB image before the render writes it. */
+    if (!a) return n && size ? calloc(n, size) : calloc(1, 1);
+    p = gg_mem_alloc(a, n * size);
+    if (p && n * size > 0) memset(p, 0, n * size);
+    return p;
+}
+
+void *gg_mem_realloc(const ggAllocator *a, void *p, size_t size)
+{
+    if (size == 0) size = 1;
+    return a ? a->realloc(a->ud, p, size) : realloc(p, size);
+}
+
+void gg_mem_free(const ggAllocator *a, void *p)
+{
+    if (!p) return;
+    if (a)
+        a->free(a->ud, p);
+    else
+        free(p);
+}
+
+int gg_mem_grow(const ggAllocator *a, void **arr, size_t *cap, size_t need, size_t elem)
+{
+    size_t ncap;
+    void *np;
+    if (need <= *cap) return 0;
+    ncap = *cap ? *cap : 8;
+    while (ncap < need) {
+        if (ncap > ((size_t)-1 / 2) / elem) return -1;
+        ncap *= 2;
+    }
+    if (ncap > (size_t)-1 / elem) return -1;
+    np = gg_mem_realloc(a, *arr, ncap * elem);
+    if (!np) return -1;
+    *arr = np;
+    *cap = ncap;
+    return 0;
+}
+
+char *gg_mem_strdup(const ggAllocator *a, const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = gg_mem_alloc(a, n);
+    if (d) memcpy(d, s, n);
+    return d;
+}
+
+double gg_time_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

@@ -1,0 +1,47 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** core.h -- helpers shared by the library's sources; never installed.
+** Internal names carry the gg_ prefix (module after it) so the static
+** archive cannot collide with a user's symbols.
+*/
+#ifndef GG_CORE_H
+#define GG_CORE_H
+
+#include "ggrt.h"
+
+#include <stdarg.h>
+
+#define GG_PI 3.14159265358979323846
+
+#if defined(__GNUC__)
+#define GG_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#define GG_LIKELY(x)    __builtin_expect(!!(x), 1)
+#define GG_UNLIKELY(x)  __builtin_expect(!!(x), 0)
+#else
+#define GG_PRINTF(a, b)
+#define GG_LIKELY(x)   (x)
+#define GG_UNLIKELY(x) (x)
+#endif
+
+/* Fill *err (if not NULL) and return code. */
+int gg_error_set(ggError *err, int code, const char *fmt, ...) GG_PRINTF(3, 4);
+int gg_error_setv(ggError *err, int code, const char *fmt, va_list ap);
+
+/* Allocation through an optional allocator (NULL = libc). */
+void *gg_mem_alloc(const ggAllocator *a, size_t size);
+void *gg_mem_calloc(const ggAllocator *a, size_t n, size_t size); /* zeroed, overflow-checked */
+void *gg_mem_realloc(const ggAllocator *a, void *p, size_t size);
+void gg_mem_free(const ggAllocator *a, void *p);
+
+/* Grow *arr (elements of size `elem`) so it holds at least `need` elements;
+   *cap is updated. Returns 0 on success, -1 on overflow or no memory (the
+   array is unchanged then). */
+int gg_mem_grow(const ggAllocator *a, void **arr, size_t *cap, size_t need, size_t elem);
+
+/* Duplicate a NUL-terminated string (NULL on failure). */
+char *gg_mem_strdup(const ggAllocator *a, const char *s);
+
+/* Monotonic clock in seconds. */
+double gg_time_now(void);
+
+#endif

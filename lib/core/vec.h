@@ -1,0 +1,76 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** vec.h -- inline vector arithmetic on ggVec3 and ggColor (internal).
+*/
+#ifndef GG_VEC_H
+#define GG_VEC_H
+
+#include "ggrt/base.h"
+
+#include <math.h>
+
+static inline ggVec3 v3(double x, double y, double z)
+{
+    ggVec3 r;
+    r.x = x, r.y = y, r.z = z;
+    return r;
+}
+static inline ggVec3 v3add(ggVec3 a, ggVec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline ggVec3 v3sub(ggVec3 a, ggVec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline ggVec3 v3mul(ggVec3 a, ggVec3 b) { return v3(a.x * b.x, a.y * b.y, a.z * b.z); }
+static inline ggVec3 v3scale(ggVec3 a, double s) { return v3(a.x * s, a.y * s, a.z * s); }
+static inline ggVec3 v3neg(ggVec3 a) { return v3(-a.x, -a.y, -a.z); }
+static inline double v3dot(ggVec3 a, ggVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline ggVec3 v3cross(ggVec3 a, ggVec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static inline double v3len(ggVec3 a) { return sqrt(v3dot(a, a)); }
+/* a + s*b */
+static inline ggVec3 v3madd(ggVec3 a, ggVec3 b, double s)
+{
+    return v3(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
+}
+/* Unit vector; the zero vector stays zero (callers check). */
+static inline ggVec3 v3norm(ggVec3 a)
+{
+    double l = v3len(a);
+    return l > 0 ? v3scale(a, 1.0 / l) : a;
+}
+static inline double v3maxabs(ggVec3 a)
+{
+    double x = fabs(a.x), y = fabs(a.y), z = fabs(a.z);
+    return x > y ? (x > z ? x : z) : (y > z ? y : z);
+}
+static inline ggVec3 v3min(ggVec3 a, ggVec3 b)
+{
+    return v3(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);
+}
+static inline ggVec3 v3max(ggVec3 a, ggVec3 b)
+{
+    return v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z);
+}
+static inline double v3get(ggVec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+static inline int v3finite(ggVec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+
+static inline ggColor rgb(double r, double g, double b)
+{
+    ggColor c;
+    c.r = r, c.g = g, c.b = b;
+    return c;
+}
+static inline ggColor cadd(ggColor a, ggColor b) { return rgb(a.r + b.r, a.g + b.g, a.b + b.b); }
+static inline ggColor cmul(ggColor a, ggColor b) { return rgb(a.r * b.r, a.g * b.g, a.b * b.b); }
+static inline ggColor cscale(ggColor a, double s) { return rgb(a.r * s, a.g * s, a.b * s); }
+/* a + b*c */
+static inline ggColor cmadd(ggColor a, ggColor b, ggColor c)
+{
+    return rgb(a.r + b.r * c.r, a.g + b.g * c.g, a.b + b.b * c.b);
+}
+static inline int cis0(ggColor a) { return a.r == 0 && a.g == 0 && a.b == 0; }
+static inline double cmaxc(ggColor a)
+{
+    return a.r > a.g ? (a.r > a.b ? a.r : a.b) : (a.g > a.b ? a.g : a.b);
+}
+
+#endif

@@ -1,0 +1,108 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** bvh_int.h -- the BVH's node and leaf layout and its float rounding
+** helpers, shared by the build and the traversal copies (bvh.c, bvh_avx.c,
+** bvh_trav.h; internal to the BVH).
+**
+** References. A child reference with the top bit set is a leaf:
+**   GG_LEAF | first << 3 | count - 1             a run of slots, or
+**   GG_LEAF | GG_TLEAF | block << 3 | count - 1  a leaf of triangles only,
+** whose vertices are also kept as one gg_tleaf block for the 4-wide test
+** (bvh_avx.c); the block knows the leaf's first slot. Otherwise the
+** reference is a node index.
+*/
+#ifndef GG_BVH_INT_H
+#define GG_BVH_INT_H
+
+#include "geom_leaf.h"
+
+#include <string.h>
+
+struct gg_bnode {
+    float b[6][4];
+    uint32_t child[4];
+    uint32_t pad[4];
+};
+
+#define GG_LEAF       0x80000000u
+#define GG_TLEAF      4u  /* flag of a reference to a gg_tleaf block */
+#define GG_LEAF_N(r)  (((r) & 3) + 1)
+#define GG_LEAF_I(r)  (((r) & ~GG_LEAF) >> 3) /* first slot, or block index */
+#define GG_MAX_LEAF   4   /* elements per leaf (at most 4: two bits of count) */
+#define GG_STACK      256 /* > 3 * maximum depth (see build2) */
+#define GG_EXIT_SCALE 1.00000059604644775390625f /* 1 + 5 * 2^-23 */
+
+/* A leaf of 2 to 4 triangles in SoA form: v[axis][vertex][lane] holds
+   coordinate `axis` of vertex `vertex` of the leaf's triangle `lane`, so
+   a ray's axis permutation (kx, ky, kz) only picks rows and one 4-wide
+   load fetches a coordinate of all four triangles. Unused lanes hold NaN:
+   every edge function and t is then NaN, which no test accepts. */
+struct gg_tleaf {
+    double v[3][3][4];
+    uint32_t first, n; /* the leaf's slots */
+    uint32_t pad[6];
+};
+
+/* GCC on x86-64 compiles a second copy of the traversal for AVX
+   (bvh_avx.c) while the rest of the library targets SSE2; which one runs
+   is decided at build time from the CPU (gg_bvh_avx_usable). Clang spells
+   the target pragma differently: it uses the plain copy only. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(GG_BVH_NO_SIMD) &&  \
+    !defined(GG_NO_AVX_CLONE)
+#define GG_HAVE_BVH_AVX 1
+int gg_bvh_intersect_avx(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+uint32_t gg_bvh_occluder_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
+int gg_bvh_shadow_avx(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
+                      uint32_t *cache, gg_tcol *col);
+/* For tests: the 4-wide triangle test of block L alone. Returns the mask
+   of lanes hit with t in (r->tmin, tmax] and fills t, b1, b2 for them;
+   *zero gets the lanes left to the scalar kernel (an edge function
+   exactly 0). Call only where gg_bvh_avx_usable(). */
+unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
+                         double b1[4], double b2[4], unsigned *zero);
+#else
+#define GG_HAVE_BVH_AVX 0
+#endif
+
+/* ---- float rounding helpers ---- */
+
+/* The next float toward +inf (nextafterf without the libm call). */
+static inline float f_next_up(float f)
+{
+    uint32_t u;
+    if (!(f < INFINITY)) return f;
+    if (f == 0) return 0x1p-149f;
+    memcpy(&u, &f, 4);
+    u = f > 0 ? u + 1 : u - 1;
+    memcpy(&f, &u, 4);
+    return f;
+}
+static inline float f_next_down(float f)
+{
+    return -f_next_up(-f);
+}
+
+/* Round to the nearest float, or toward +-inf when out of range. */
+static inline float f_near(double x)
+{
+    if (x > FLT_MAX) return INFINITY;
+    if (x < -FLT_MAX) return -INFINITY;
+    return (float)x;
+}
+
+/* A float <= x (> x is impossible), one float ulp below the largest. */
+static inline float f_down(double x)
+{
+    float f = f_near(x);
+    if ((double)f > x) f = f_next_down(f);
+    return f_next_down(f);
+}
+
+static inline float f_up(double x)
+{
+    float f = f_near(x);
+    if ((double)f < x) f = f_next_up(f);
+    return f_next_up(f);
+}
+
+#endif

@@ -1,0 +1,620 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** geom.c -- primitive storage, the build that turns primitives into BVH
+** elements, the brute-force reference query and the surface dispatch.
+*/
+#include "geom_leaf.h"
+
+#include <string.h>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+gg_geom *gg_geom_create(const ggAllocator *alloc)
+{
+    gg_geom *g = gg_mem_calloc(alloc, 1, sizeof *g);
+    if (!g) return NULL;
+    if (alloc) {
+        g->alloc_copy = *alloc;
+        g->alloc = &g->alloc_copy;
+    }
+    g->sphere_mode = GG_SPHERE_STABLE;
+    g->poly_mode = GG_POLY_TRIANGULATE;
+    return g;
+}
+
+static void free_built(gg_geom *g)
+{
+    gg_mem_free(g->alloc, g->slots);
+    gg_mem_free(g->alloc, g->lsph);
+    gg_mem_free(g->alloc, g->ltri);
+    gg_mem_free(g->alloc, g->lcone);
+    gg_mem_free(g->alloc, g->lrect);
+    gg_mem_free(g->alloc, g->iso);
+    gg_mem_free(g->alloc, g->iso_margin);
+    g->iso = NULL, g->iso_margin = NULL;
+    g->slots = NULL, g->lsph = NULL, g->ltri = NULL, g->lcone = NULL, g->lrect = NULL;
+    g->nslots = 0;
+    gg_bvh_free(g);
+    g->built = 0;
+}
+
+void gg_geom_free(gg_geom *g)
+{
+    if (!g) return;
+    free_built(g);
+    gg_mem_free(g->alloc, g->prims);
+    gg_mem_free(g->alloc, g->pflags);
+    gg_mem_free(g->alloc, g->sphs);
+    gg_mem_free(g->alloc, g->tris);
+    gg_mem_free(g->alloc, g->polys);
+    gg_mem_free(g->alloc, g->pverts);
+    gg_mem_free(g->alloc, g->pieces);
+    gg_mem_free(g->alloc, g->cones);
+    gg_mem_free(g->alloc, g->rects);
+    gg_mem_free(g->alloc, (void *)g->imps);
+    gg_mem_free(g->alloc, g);
+}
+
+void gg_geom_set_sphere_mode(gg_geom *g, int mode)
+{
+    g->sphere_mode = mode == GG_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK : GG_SPHERE_STABLE;
+}
+
+void gg_geom_set_poly_mode(gg_geom *g, int mode)
+{
+    g->poly_mode = mode == GG_POLY_CROSSING ? GG_POLY_CROSSING : GG_POLY_TRIANGULATE;
+}
+
+/* Append a primitive record once its shape data is stored at `data`. */
+static int add_prim(gg_geom *g, int kind, size_t data, int32_t obj)
+{
+    gg_prim *p;
+    if (g->nprim >= (size_t)INT32_MAX || g->nprim >= GG_MAX_ELEMS) return -1;
+    if (gg_mem_grow(g->alloc, (void **)&g->prims, &g->cap_prim, g->nprim + 1, sizeof *g->prims))
+        return -1;
+    if (gg_mem_grow(g->alloc, (void **)&g->pflags, &g->cap_flags, g->nprim + 1, 1)) return -1;
+    p = &g->prims[g->nprim];
+    p->kind = (uint8_t)kind;
+    p->data = (uint32_t)data;
+    p->obj = obj;
+    g->pflags[g->nprim] = 0;
+    g->built = 0;
+    return (int)g->nprim++;
+}
+
+static int grow(gg_geom *g, void **arr, size_t *cap, size_t need, size_t elem)
+{
+    return gg_mem_grow(g->alloc, arr, cap, need, elem);
+}
+
+static int finite3(const ggVec3 *p, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!v3finite(p[i])) return 0;
+    return 1;
+}
+
+int gg_geom_add_sphere(gg_geom *g, ggVec3 c, double r, int32_t obj)
+{
+    if (!v3finite(c) || !(r > 0) || !isfinite(r) || !isfinite(r * r)) return -1;
+    if (grow(g, (void **)&g->sphs, &g->cap_sph, g->nsph + 1, sizeof *g->sphs)) return -1;
+    g->sphs[g->nsph].c = c;
+    g->sphs[g->nsph].r = r;
+    if (add_prim(g, GG_SHAPE_SPHERE, g->nsph, obj) < 0) return -1;
+    g->nsph++;
+    return (int)g->nprim - 1;
+}
+
+static void set_ktri(gg_ktri *k, ggVec3 a, ggVec3 b, ggVec3 c)
+{
+    k->v[0][0] = a.x, k->v[0][1] = a.y, k->v[0][2] = a.z;
+    k->v[1][0] = b.x, k->v[1][1] = b.y, k->v[1][2] = b.z;
+    k->v[2][0] = c.x, k->v[2][1] = c.y, k->v[2][2] = c.z;
+}
+
+int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t obj)
+{
+    gg_tri *t;
+    ggVec3 ng;
+    if (!finite3(p, 3)) return -1;
+    ng = v3cross(v3sub(p[1], p[0]), v3sub(p[2], p[0]));
+    if (!(v3dot(ng, ng) > 0) || !v3finite(ng)) return -1;
+    if (grow(g, (void **)&g->tris, &g->cap_tri, g->ntri + 1, sizeof *g->tris)) return -1;
+    t = &g->tris[g->ntri];
+    memset(t, 0, sizeof *t);
+    set_ktri(&t->k, p[0], p[1], p[2]);
+    if (n && finite3(n, 3)) {
+        int i, ok = 1;
+        for (i = 0; i < 3; i++) {
+            t->n[i] = v3norm(n[i]);
+            if (!(v3dot(t->n[i], t->n[i]) > 0.5)) ok = 0;
+        }
+        /* Which side the normals call "out" is decided once per triangle,
+           from their sum, so ng never flips inside a triangle. */
+        if (ok) {
+            t->has_n = 1;
+            t->flip = v3dot(ng, v3add(v3add(t->n[0], t->n[1]), t->n[2])) < 0;
+        }
+    }
+    if (add_prim(g, GG_SHAPE_TRIANGLE, g->ntri, obj) < 0) return -1;
+    g->ntri++;
+    return (int)g->nprim - 1;
+}
+
+int gg_geom_add_polygon(gg_geom *g, const ggVec3 *p, int n, int32_t obj)
+{
+    gg_poly pl;
+    if (!p || n < 3 || !finite3(p, n)) return -1;
+    if (n == 3) {
+        int id = gg_geom_add_triangle(g, p, NULL, obj);
+        return id;
+    }
+    if (grow(g, (void **)&g->polys, &g->cap_poly, g->npoly + 1, sizeof *g->polys)) return -1;
+    if (gg_poly_prepare(g, p, n, &pl)) return -1;
+    g->polys[g->npoly] = pl;
+    if (add_prim(g, GG_SHAPE_POLYGON, g->npoly, obj) < 0) {
+        g->npverts = pl.vfirst;
+        g->npieces = pl.piece_first;
+        return -1;
+    }
+    g->npoly++;
+    return (int)g->nprim - 1;
+}
+
+int gg_geom_add_cone(gg_geom *g, ggVec3 base, double rb, ggVec3 apex, double ra, int32_t obj)
+{
+    gg_cone c;
+    if (gg_cone_prepare(base, rb, apex, ra, &c)) return -1;
+    if (grow(g, (void **)&g->cones, &g->cap_cone, g->ncone + 1, sizeof *g->cones)) return -1;
+    g->cones[g->ncone] = c;
+    if (add_prim(g, GG_SHAPE_CONE, g->ncone, obj) < 0) return -1;
+    g->ncone++;
+    return (int)g->nprim - 1;
+}
+
+int gg_geom_add_rect(gg_geom *g, ggVec3 corner, ggVec3 e1, ggVec3 e2, int32_t obj)
+{
+    gg_rect r;
+    if (gg_rect_prepare(corner, e1, e2, &r)) return -1;
+    if (grow(g, (void **)&g->rects, &g->cap_rect, g->nrect + 1, sizeof *g->rects)) return -1;
+    g->rects[g->nrect] = r;
+    if (add_prim(g, GG_SHAPE_RECT, g->nrect, obj) < 0) return -1;
+    g->nrect++;
+    return (int)g->nprim - 1;
+}
+
+int gg_geom_add_implicit(gg_geom *g, const ggImplicit *imp, int32_t obj)
+{
+    double lo[3], hi[3];
+    if (!imp) return -1;
+    gg_implicit_shape_bounds(imp, lo, hi);
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return -1;
+    if (grow(g, (void **)&g->imps, &g->cap_imp, g->nimp + 1, sizeof *g->imps)) return -1;
+    g->imps[g->nimp] = imp;
+    if (add_prim(g, GG_SHAPE_IMPLICIT, g->nimp, obj) < 0) return -1;
+    g->nimp++;
+    return (int)g->nprim - 1;
+}
+
+void gg_geom_set_flags(gg_geom *g, int prim, unsigned flags)
+{
+    if (prim >= 0 && (size_t)prim < g->nprim) g->pflags[prim] = (uint8_t)flags;
+    /* Flags changed after the build: the transparent box no longer knows,
+       so it covers everything until the next build. */
+    if (g->built) g->tlo = v3(-INFINITY, -INFINITY, -INFINITY), g->thi = v3(INFINITY, INFINITY, INFINITY);
+}
+
+size_t gg_geom_prim_count(const gg_geom *g)
+{
+    return g->nprim;
+}
+
+int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim)
+{
+    return prim < g->nprim ? g->prims[prim].obj : -1;
+}
+
+int gg_geom_prim_kind(const gg_geom *g, uint32_t prim)
+{
+    return prim < g->nprim ? g->prims[prim].kind : -1;
+}
+
+/* ---- build ---- */
+
+/* One BVH element per primitive, or one per triangle of a split polygon. */
+typedef struct elem {
+    uint32_t prim, kind, data, sub;
+} elem;
+
+static size_t count_elems(const gg_geom *g)
+{
+    size_t n = 0, i;
+    for (i = 0; i < g->nprim; i++) {
+        const gg_prim *p = &g->prims[i];
+        if (p->kind == GG_SHAPE_POLYGON && g->polys[p->data].npiece)
+            n += g->polys[p->data].npiece;
+        else if (p->kind == GG_SHAPE_CONE)
+            n += gg_cone_slices(&g->cones[p->data]);
+        else
+            n++;
+    }
+    return n;
+}
+
+static void elem_bounds(const gg_geom *g, const elem *e, double lo[3], double hi[3])
+{
+    switch (e->kind) {
+    case GG_EK_SPHERE:
+        gg_sphere_bounds(&g->sphs[e->data], lo, hi);
+        break;
+    case GG_EK_TRI:
+        gg_tri_bounds(g->prims[e->prim].kind == GG_SHAPE_POLYGON ? &g->pieces[e->data]
+                                                                 : &g->tris[e->data].k,
+                      lo, hi);
+        break;
+    case GG_EK_CONE: {
+        gg_kcone k;
+        const gg_cone *c = &g->cones[e->data];
+        gg_cone_slice(c, e->sub, gg_cone_slices(c), &k);
+        gg_cone_bounds(&k, lo, hi);
+        break;
+    }
+    case GG_EK_RECT:
+        gg_rect_bounds(&g->rects[e->data], lo, hi);
+        break;
+    case GG_EK_POLY:
+        gg_poly_bounds(g, &g->polys[e->data], lo, hi);
+        break;
+    default:
+        gg_implicit_shape_bounds(g->imps[e->data], lo, hi);
+        break;
+    }
+}
+
+static int fill_elems(const gg_geom *g, elem *el)
+{
+    size_t i, n = 0;
+    for (i = 0; i < g->nprim; i++) {
+        const gg_prim *p = &g->prims[i];
+        elem e;
+        e.prim = (uint32_t)i, e.data = p->data, e.sub = 0;
+        switch (p->kind) {
+        case GG_SHAPE_SPHERE:
+            e.kind = GG_EK_SPHERE;
+            break;
+        case GG_SHAPE_TRIANGLE:
+            e.kind = GG_EK_TRI;
+            break;
+        case GG_SHAPE_CONE: {
+            uint32_t k, ns = gg_cone_slices(&g->cones[p->data]);
+            for (k = 0; k < ns; k++) {
+                el[n].prim = (uint32_t)i, el[n].kind = GG_EK_CONE;
+                el[n].data = p->data, el[n].sub = k;
+                n++;
+            }
+            continue;
+        }
+        case GG_SHAPE_RECT:
+            e.kind = GG_EK_RECT;
+            break;
+        case GG_SHAPE_IMPLICIT:
+            e.kind = GG_EK_IMPLICIT;
+            break;
+        default: {
+            const gg_poly *pl = &g->polys[p->data];
+            uint32_t k;
+            if (!pl->npiece) {
+                e.kind = GG_EK_POLY;
+                break;
+            }
+            for (k = 0; k < pl->npiece; k++) {
+                el[n].prim = (uint32_t)i, el[n].kind = GG_EK_TRI;
+                el[n].data = pl->piece_first + k, el[n].sub = pl->piece_first + k;
+                n++;
+            }
+            continue;
+        }
+        }
+        el[n++] = e;
+    }
+    return (int)n;
+}
+
+/* Squared distance from point c to the box [lo, hi]. */
+static double box_dist2(const double c[3], const double lo[3], const double hi[3])
+{
+    double d2 = 0;
+    int k;
+    for (k = 0; k < 3; k++) {
+        double e = c[k] < lo[k] ? lo[k] - c[k] : c[k] > hi[k] ? c[k] - hi[k] : 0;
+        d2 += e * e;
+    }
+    return d2;
+}
+
+/* Mark the spheres nothing else comes near (gg_geom_intersect_inside).
+   The margin m = 2^-30 (|c| + r) is far above the rounding of a hit point
+   or of the tests below, and far below any gap worth keeping. Another
+   sphere counts by its ball (centre distance), everything else by its
+   conservative box. Quadratic: skipped for scenes with many spheres. */
+static void mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3],
+                          const double (*hi)[3], size_t n)
+{
+    size_t i, j;
+    if (!g->nsph || (double)g->nsph * (double)n > 4e6) return;
+    g->iso = gg_mem_calloc(g->alloc, g->nprim + 1, sizeof *g->iso);
+    g->iso_margin = gg_mem_calloc(g->alloc, g->nprim + 1, sizeof *g->iso_margin);
+    if (!g->iso || !g->iso_margin) {
+        gg_mem_free(g->alloc, g->iso);
+        gg_mem_free(g->alloc, g->iso_margin);
+        g->iso = NULL, g->iso_margin = NULL;
+        return;
+    }
+    for (i = 0; i < n; i++) {
+        const gg_sph *a;
+        double c[3], m, R;
+        int ok = 1;
+        if (el[i].kind != GG_EK_SPHERE) continue;
+        a = &g->sphs[el[i].data];
+        c[0] = a->c.x, c[1] = a->c.y, c[2] = a->c.z;
+        m = 0x1p-30 * (fabs(c[0]) + fabs(c[1]) + fabs(c[2]) + a->r);
+        R = a->r + m;
+        if (!(R < 1e150) || !(fabs(c[0]) + fabs(c[1]) + fabs(c[2]) < 1e150)) continue;
+        for (j = 0; j < n && ok; j++) {
+            if (j == i) continue;
+            if (el[j].kind == GG_EK_SPHERE) {
+                const gg_sph *b = &g->sphs[el[j].data];
+                ggVec3 dc = v3sub(b->c, a->c);
+                double s = R + b->r + m;
+                ok = v3dot(dc, dc) > s * s;
+            } else
+                ok = box_dist2(c, lo[j], hi[j]) > R * R * (1 + 0x1p-40);
+        }
+        if (ok) g->iso[el[i].prim] = 1, g->iso_margin[el[i].prim] = m;
+    }
+}
+
+int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, gg_hit *hit)
+{
+    const gg_sph *sp;
+    gg_ksph k;
+    gg_rpre r;
+    ggVec3 f;
+    double t, lim;
+    if (!g->iso || prim >= g->nprim || !g->iso[prim] || q->ignore_prim == prim ||
+        (q->skip_flags & g->pflags[prim]) || !(q->tmin >= 0) || !(q->tmax > q->tmin))
+        return -1;
+    sp = &g->sphs[g->prims[prim].data];
+    /* Origin in the ball grown by half the margin (the rounding of this
+       test is far below the other half). */
+    f = v3sub(q->o, sp->c);
+    lim = sp->r + 0.5 * g->iso_margin[prim];
+    if (!(v3dot(f, f) <= lim * lim)) return -1;
+    if (!gg_rpre_fill(&r, g, q)) return -1;
+    k.c[0] = sp->c.x, k.c[1] = sp->c.y, k.c[2] = sp->c.z;
+    k.r2 = sp->r * sp->r;
+    if (!gg_sphere_kernel(&k, &r, gg_next_down(q->tmax), &t)) return -1;
+    hit->t = t;
+    hit->prim = prim;
+    hit->sub = 0;
+    hit->b1 = hit->b2 = 0;
+    return 1;
+}
+
+int gg_geom_build(gg_geom *g, ggError *err)
+{
+    double t0 = gg_time_now();
+    size_t n = count_elems(g), i, ns = 0, nt = 0, nc = 0, nr = 0;
+    elem *el = NULL;
+    double(*lo)[3] = NULL, (*hi)[3] = NULL;
+    uint32_t *order = NULL;
+    uint8_t *tri = NULL;
+    int rc = GG_ERROR_NOMEM;
+
+    free_built(g);
+    if (n >= GG_MAX_ELEMS)
+        return gg_error_set(err, GG_ERROR_LIMIT, "geometry: %zu elements exceed the limit %u", n,
+                            (unsigned)GG_MAX_ELEMS);
+    el = gg_mem_calloc(g->alloc, n + 1, sizeof *el);
+    lo = gg_mem_calloc(g->alloc, n + 1, sizeof *lo);
+    hi = gg_mem_calloc(g->alloc, n + 1, sizeof *hi);
+    order = gg_mem_calloc(g->alloc, n + 1, sizeof *order);
+    tri = gg_mem_calloc(g->alloc, n + 1, sizeof *tri);
+    g->slots = gg_mem_calloc(g->alloc, n + 1, sizeof *g->slots);
+    g->lsph = gg_mem_calloc(g->alloc, g->nsph + 1, sizeof *g->lsph);
+    g->ltri = gg_mem_calloc(g->alloc, g->ntri + g->npieces + 1, sizeof *g->ltri);
+    g->lcone = gg_mem_calloc(g->alloc, g->ncone * 8 + 1, sizeof *g->lcone);
+    g->lrect = gg_mem_calloc(g->alloc, g->nrect + 1, sizeof *g->lrect);
+    if (!el || !lo || !hi || !order || !tri || !g->slots || !g->lsph || !g->ltri || !g->lcone ||
+        !g->lrect)
+        goto fail;
+    fill_elems(g, el);
+    g->lo = g->tlo = v3(INFINITY, INFINITY, INFINITY);
+    g->hi = g->thi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (i = 0; i < n; i++) {
+        elem_bounds(g, &el[i], lo[i], hi[i]);
+        tri[i] = el[i].kind == GG_EK_TRI;
+        g->lo = v3min(g->lo, v3(lo[i][0], lo[i][1], lo[i][2]));
+        g->hi = v3max(g->hi, v3(hi[i][0], hi[i][1], hi[i][2]));
+        if (g->pflags[el[i].prim] & GG_PRIM_TRANSPARENT) {
+            g->tlo = v3min(g->tlo, v3(lo[i][0], lo[i][1], lo[i][2]));
+            g->thi = v3max(g->thi, v3(hi[i][0], hi[i][1], hi[i][2]));
+        }
+    }
+    mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n);
+    if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, n, order)) goto fail;
+
+    /* Copy the intersection records in leaf order. */
+    for (i = 0; i < n; i++) {
+        const elem *e = &el[order[i]];
+        gg_slot *s = &g->slots[i];
+        uint32_t idx = 0;
+        s->prim = e->prim;
+        s->sub = e->sub;
+        switch (e->kind) {
+        case GG_EK_SPHERE:
+            g->lsph[ns].c[0] = g->sphs[e->data].c.x;
+            g->lsph[ns].c[1] = g->sphs[e->data].c.y;
+            g->lsph[ns].c[2] = g->sphs[e->data].c.z;
+            g->lsph[ns].r2 = g->sphs[e->data].r * g->sphs[e->data].r;
+            idx = (uint32_t)ns++;
+            break;
+        case GG_EK_TRI:
+            g->ltri[nt] = g->prims[e->prim].kind == GG_SHAPE_POLYGON ? g->pieces[e->data]
+                                                                     : g->tris[e->data].k;
+            idx = (uint32_t)nt++;
+            break;
+        case GG_EK_CONE: {
+            const gg_cone *c = &g->cones[e->data];
+            gg_cone_slice(c, e->sub, gg_cone_slices(c), &g->lcone[nc]);
+            idx = (uint32_t)nc++;
+            break;
+        }
+        case GG_EK_RECT:
+            g->lrect[nr] = g->rects[e->data].k;
+            idx = (uint32_t)nr++;
+            break;
+        default:
+            idx = e->data;
+            break;
+        }
+        s->ki = e->kind << GG_EK_SHIFT | idx;
+    }
+    g->nslots = n;
+    g->nlcone = nc;
+    if (gg_bvh_tri_leaves(g)) goto fail;
+    g->built = 1;
+    rc = GG_OK;
+fail:
+    gg_mem_free(g->alloc, el);
+    gg_mem_free(g->alloc, lo);
+    gg_mem_free(g->alloc, hi);
+    gg_mem_free(g->alloc, order);
+    gg_mem_free(g->alloc, tri);
+    if (rc != GG_OK) {
+        free_built(g);
+        return gg_error_set(err, rc, "geometry: out of memory building the BVH");
+    }
+    g->build_seconds = gg_time_now() - t0;
+    return GG_OK;
+}
+
+void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi)
+{
+    if (g->built && g->nslots) {
+        *lo = g->lo;
+        *hi = g->hi;
+    } else {
+        *lo = v3(0, 0, 0);
+        *hi = v3(0, 0, 0);
+    }
+}
+
+/* ---- queries ---- */
+
+/* Slab test of the segment against the transparent box grown by eps =
+   2^-20 M, M the largest magnitude involved. Every rounding below (the
+   grown planes, the numerators, the quotients) moves a slab distance by
+   less than 8 u M / |d_k|, while the growth widens each slab interval
+   by eps / |d_k| on both sides around any exact crossing: so a segment
+   that meets the box in exact arithmetic is never declared a miss. The
+   2^-20 also covers the float rounding the BVH allows its boxes. */
+int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d)
+{
+    const double lo[3] = {g->tlo.x, g->tlo.y, g->tlo.z}, hi[3] = {g->thi.x, g->thi.y, g->thi.z};
+    const double oc[3] = {o.x, o.y, o.z}, dc[3] = {d.x, d.y, d.z};
+    double tn = 0, tf = 1, m = 0, eps;
+    int k;
+    if (!g->built) return 1;
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0; /* none (or NaN) */
+    for (k = 0; k < 3; k++) {
+        double a = fabs(lo[k]), b = fabs(hi[k]), c = fabs(oc[k]);
+        m = a > m ? a : m;
+        m = b > m ? b : m;
+        m = c > m ? c : m;
+    }
+    if (!(m < 1e300) || !(fabs(dc[0]) + fabs(dc[1]) + fabs(dc[2]) < 1e300)) return 1;
+    eps = m * 0x1p-20 + 1e-300;
+    for (k = 0; k < 3; k++) {
+        double l = lo[k] - eps, h = hi[k] + eps;
+        if (dc[k] == 0) {
+            if (oc[k] < l || oc[k] > h) return 0;
+        } else {
+            double t0 = (l - oc[k]) / dc[k], t1 = (h - oc[k]) / dc[k];
+            if (t0 > t1) {
+                double x = t0;
+                t0 = t1, t1 = x;
+            }
+            if (t0 > tn) tn = t0;
+            if (t1 < tf) tf = t1;
+        }
+    }
+    return !(tn > tf);
+}
+
+/* The caller has usually just written *q field by field; a 16-byte load
+   spanning two of its 8-byte stores cannot be forwarded from the store
+   buffer and stalls for ~15 cycles. Read q one double at a time: GCC's
+   SLP vectoriser would otherwise pair them up. */
+#if defined(__GNUC__) && !defined(__clang__)
+__attribute__((optimize("no-tree-slp-vectorize")))
+#endif
+int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
+{
+    return gg_rpre_fill(r, g, q);
+}
+
+int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
+{
+    gg_rpre r;
+    gg_hit best;
+    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    best.t = gg_next_down(q->tmax);
+    best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
+    if (!gg_leaf_closest(g, &r, 0, (uint32_t)g->nslots, &best)) return 0;
+    *hit = best;
+    return 1;
+}
+
+/* Any-hit by testing everything: the fallback for rays the float BVH
+   traversal cannot represent (origins beyond float range). */
+int gg_geom_occluded_brute(const gg_geom *g, const gg_rayq *q)
+{
+    gg_rpre r;
+    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, gg_next_down(q->tmax)) != 0;
+}
+
+void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
+                        unsigned what)
+{
+    const gg_prim *p = &g->prims[hit->prim];
+    switch (p->kind) {
+    case GG_SHAPE_SPHERE:
+        gg_sphere_surface(&g->sphs[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_TRIANGLE:
+        gg_tri_surface(&g->tris[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_POLYGON:
+        gg_poly_surface(g, &g->polys[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_CONE:
+        gg_cone_surface(&g->cones[p->data], q, hit, s, what);
+        break;
+    case GG_SHAPE_RECT:
+        gg_rect_surface(&g->rects[p->data], q, hit, s);
+        break;
+    default:
+        gg_implicit_shape_surface(g->imps[p->data], q, hit, s);
+        break;
+    }
+}
+
+void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s)
+{
+    gg_geom_surface_ex(g, q, hit, s, GG_SURF_UV);
+}

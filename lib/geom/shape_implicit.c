@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** shape_implicit.c -- implicit surfaces as BVH elements: glue between the
+** geometry module and the root finder of lib/implicit/implicit.c.
+*/
+#include "implicit.h"
+
+#include "geom_int.h"
+
+void gg_implicit_shape_bounds(const ggImplicit *imp, double lo[3], double hi[3])
+{
+    ggVec3 l, h;
+    double pad;
+    gg_implicit_bounds(imp, &l, &h);
+    pad = (v3maxabs(l) + v3maxabs(h)) * 0x1p-48;
+    lo[0] = l.x - pad, lo[1] = l.y - pad, lo[2] = l.z - pad;
+    hi[0] = h.x + pad, hi[1] = h.y + pad, hi[2] = h.z + pad;
+}
+
+int gg_implicit_shape_hit(const ggImplicit *imp, const gg_rpre *r, double tmax, double *t)
+{
+    ggVec3 o = v3(r->o[0], r->o[1], r->o[2]), d = v3(r->d[0], r->d[1], r->d[2]);
+    /* The root finder takes an open interval; ours is (tmin, tmax]. */
+    return gg_implicit_intersect(imp, o, d, r->tmin, nextafter(tmax, INFINITY), t);
+}
+
+/* ng = normalised grad f (pointing to where f grows); (u, v) = (0, 0). */
+void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg_hit *h,
+                               gg_surf *out)
+{
+    ggVec3 lo, hi, n;
+    out->p = v3madd(q->o, q->d, h->t);
+    n = gg_implicit_normal(imp, out->p);
+    n = v3norm(n);
+    if (!(v3dot(n, n) > 0)) n = v3norm(v3neg(q->d)); /* a critical point of f */
+    out->ng = n;
+    out->ns = n;
+    out->u = 0;
+    out->v = 0;
+    /* The root finder's tolerance is not known here; bound it by a small
+       fraction of the box (the implicit module refines roots far below
+       that) plus the rounding of o + t d. */
+    gg_implicit_bounds(imp, &lo, &hi);
+    out->perr =
+        1e-9 * v3maxabs(v3sub(hi, lo)) + gg_gamma(4) * (v3maxabs(q->o) + h->t * v3maxabs(q->d));
+}

@@ -1,0 +1,430 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** image_exr.c -- OpenEXR input and output through OpenEXR's C core.
+**
+** The core reports errors through a callback that would print to stderr by
+** default; ours keeps the first message of the current call for ggError.
+** File access goes through our own pread/pwrite callbacks on a descriptor
+** we own, so the reader sees exactly the file ggImageRead opened and the
+** writer writes into the temporary file of the atomic write.
+*/
+#include "image.h"
+
+#include <errno.h>
+#include <openexr.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Channel counts beyond this are refused: every channel of a chunk is
+   decompressed even when we only want R, G and B. */
+#define EXR_MAX_CHANNELS 1024
+
+typedef struct exr_io {
+    int fd;
+    int64_t size;  /* file size, for the reader's sanity checks */
+    int io_errno;  /* errno of a failed pread/pwrite, 0 if none */
+    char msg[256]; /* first message the core reported */
+} exr_io;
+
+static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    void *ud = NULL;
+    exr_io *io;
+    (void)code;
+    if (!ctxt || exr_get_user_data(ctxt, &ud) != EXR_ERR_SUCCESS || !ud) return;
+    io = ud;
+    /* The first message names the cause; later ones are the callers
+       reporting that something below them failed. */
+    if (!io->msg[0]) snprintf(io->msg, sizeof io->msg, "%s", msg ? msg : "unknown error");
+}
+
+static int64_t read_cb(exr_const_context_t ctxt, void *ud, void *buf, uint64_t sz, uint64_t off,
+                       exr_stream_error_func_ptr_t error_cb)
+{
+    exr_io *io = ud;
+    uint64_t done = 0;
+    if (off > (uint64_t)INT64_MAX || sz > (uint64_t)INT64_MAX - off) {
+        error_cb(ctxt, EXR_ERR_READ_IO, "read past any possible file end");
+        return -1;
+    }
+    while (done < sz) {
+        size_t want = sz - done > ((size_t)1 << 30) ? ((size_t)1 << 30) : (size_t)(sz - done);
+        ssize_t r = pread(io->fd, (char *)buf + done, want, (off_t)(off + done));
+        if (r < 0) {
+            char ebuf[128];
+            if (errno == EINTR) continue;
+            io->io_errno = errno;
+            error_cb(ctxt, EXR_ERR_READ_IO, "read failed: %s",
+                     gg_image_strerror(errno, ebuf, sizeof ebuf));
+            return -1;
+        }
+        if (r == 0) break; /* end of file: the core checks the count */
+        done += (uint64_t)r;
+    }
+    return (int64_t)done;
+}
+
+static int64_t size_cb(exr_const_context_t ctxt, void *ud)
+{
+    (void)ctxt;
+    return ((exr_io *)ud)->size;
+}
+
+static int64_t write_cb(exr_const_context_t ctxt, void *ud, const void *buf, uint64_t sz,
+                        uint64_t off, exr_stream_error_func_ptr_t error_cb)
+{
+    exr_io *io = ud;
+    uint64_t done = 0;
+    while (done < sz) {
+        size_t want = sz - done > ((size_t)1 << 30) ? ((size_t)1 << 30) : (size_t)(sz - done);
+        ssize_t r = pwrite(io->fd, (const char *)buf + done, want, (off_t)(off + done));
+        if (r <= 0) {
+            char ebuf[128];
+            if (r < 0 && errno == EINTR) continue;
+            io->io_errno = r < 0 ? errno : EIO;
+            error_cb(ctxt, EXR_ERR_WRITE_IO, "write failed: %s",
+                     gg_image_strerror(io->io_errno, ebuf, sizeof ebuf));
+            return -1;
+        }
+        done += (uint64_t)r;
+    }
+    return (int64_t)done;
+}
+
+static void init_context(exr_context_initializer_t *init, exr_io *io)
+{
+    exr_context_initializer_t def = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    *init = def;
+    init->error_handler_fn = on_error;
+    init->user_data = io;
+}
+
+/* ggError from a failed core call: the core's own message if it gave one. */
+static int fail(const exr_io *io, exr_result_t rv, int code, const char *path, const char *what,
+                ggError *err)
+{
+    char ebuf[128];
+    const char *why = io->msg[0] ? io->msg : exr_get_default_error_message(rv);
+    if (rv == EXR_ERR_OUT_OF_MEMORY) code = GG_ERROR_NOMEM;
+    /* OpenEXR 3.1's C core cannot decompress DWAA/DWAB, for one. */
+    if (rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED) {
+        code = GG_ERROR_UNSUPPORTED;
+        what = "OpenEXR feature not supported";
+    }
+    if (io->io_errno) {
+        code = GG_ERROR_IO;
+        why = gg_image_strerror(io->io_errno, ebuf, sizeof ebuf);
+    }
+    return gg_error_set(err, code, "%s: %s: %s", path, what, why);
+}
+
+/* ---- reading ---------------------------------------------------------- */
+
+typedef struct exr_reader {
+    exr_context_t ctx;
+    exr_io *io;
+    const char *path;
+    ggImage *img;
+    int grey; /* reading a lone Y channel into R */
+    exr_decode_pipeline_t dec;
+    int dec_ready;
+    const ggAllocator *alloc;
+    void *scratch; /* where channels we do not want are decoded to */
+    size_t scratch_cap;
+} exr_reader;
+
+/* Where a channel goes within the RGB pixel, or -1 to skip it. */
+static int channel_slot(const char *name, int grey)
+{
+    if (!name) return -1;
+    if (grey) return strcmp(name, "Y") == 0 ? 0 : -1;
+    if (strcmp(name, "R") == 0) return 0;
+    if (strcmp(name, "G") == 0) return 1;
+    if (strcmp(name, "B") == 0) return 2;
+    return -1;
+}
+
+/* Decode chunk ci, whose top-left pixel is (x, y) of the image. */
+static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, int64_t x, int64_t y,
+                        ggError *err)
+{
+    ggImage *img = r->img;
+    exr_result_t rv;
+    int c;
+    /* The core derives chunk sizes from the header, but a hostile file
+       must not make us decode outside the image. */
+    if (ci->width <= 0 || ci->height <= 0 || x < 0 || y < 0 || x + ci->width > img->width ||
+        y + ci->height > img->height)
+        return gg_error_set(err, GG_ERROR_PARSE,
+                            "%s: invalid OpenEXR file: chunk %d (%d x %d at %d, %d) lies "
+                            "outside the data window",
+                            r->path, (int)ci->idx, (int)ci->width, (int)ci->height, (int)x, (int)y);
+    if (r->dec_ready)
+        rv = exr_decoding_update(r->ctx, 0, ci, &r->dec);
+    else
+        rv = exr_decoding_initialize(r->ctx, 0, ci, &r->dec);
+    if (rv != EXR_ERR_SUCCESS)
+        return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+    r->dec_ready = 1;
+    /* OpenEXR 3.1.5 can crash on channels left NULL ("skip it", as its
+       documentation allows) in some layouts, e.g. a tiled half file whose
+       last channel is unused (found by fuzzing). So unwanted channels are
+       decoded too, into a scratch buffer that is then ignored. */
+    if (gg_mem_grow(r->alloc, &r->scratch, &r->scratch_cap, (size_t)ci->width * (size_t)ci->height,
+                    sizeof(float)) != 0)
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", r->path);
+    for (c = 0; c < r->dec.channel_count; c++) {
+        exr_coding_channel_info_t *ch = &r->dec.channels[c];
+        int slot = channel_slot(ch->channel_name, r->grey);
+        if (slot < 0 || ch->height <= 0 || ch->width <= 0) {
+            ch->decode_to_ptr = (uint8_t *)r->scratch;
+            ch->user_pixel_stride = (int32_t)sizeof(float);
+            ch->user_line_stride = (int32_t)sizeof(float) * (ch->width > 0 ? ch->width : 1);
+            ch->user_data_type = EXR_PIXEL_FLOAT;
+            ch->user_bytes_per_element = (int16_t)sizeof(float);
+            continue;
+        }
+        /* Decode straight into the interleaved image, converting to float. */
+        ch->decode_to_ptr =
+            (uint8_t *)(img->px + 3 * ((size_t)y * (size_t)img->width + (size_t)x) + slot);
+        ch->user_pixel_stride = 3 * (int32_t)sizeof(float);
+        ch->user_line_stride = 3 * (int32_t)sizeof(float) * img->width;
+        ch->user_data_type = EXR_PIXEL_FLOAT;
+        ch->user_bytes_per_element = (int16_t)sizeof(float);
+    }
+    rv = exr_decoding_choose_default_routines(r->ctx, 0, &r->dec);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_decoding_run(r->ctx, 0, &r->dec);
+    if (rv != EXR_ERR_SUCCESS)
+        return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+    return GG_OK;
+}
+
+static int read_scanlines(exr_reader *r, const exr_attr_box2i_t *dw, ggError *err)
+{
+    int32_t lpc = 0;
+    int64_t y;
+    exr_result_t rv = exr_get_scanlines_per_chunk(r->ctx, 0, &lpc);
+    if (rv != EXR_ERR_SUCCESS || lpc < 1)
+        return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+    for (y = dw->min.y; y <= dw->max.y; y += lpc) {
+        exr_chunk_info_t ci;
+        int rc;
+        rv = exr_read_scanline_chunk_info(r->ctx, 0, (int)y, &ci);
+        if (rv != EXR_ERR_SUCCESS)
+            return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+        /* Scanline chunks carry their first line's absolute y. */
+        rc = decode_chunk(r, &ci, 0, (int64_t)ci.start_y - dw->min.y, err);
+        if (rc != GG_OK) return rc;
+    }
+    return GG_OK;
+}
+
+static int read_tiles(exr_reader *r, ggError *err)
+{
+    int32_t tw = 0, th = 0, lw = 0, lh = 0, nx, ny, tx, ty;
+    exr_result_t rv = exr_get_tile_sizes(r->ctx, 0, 0, 0, &tw, &th);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_get_level_sizes(r->ctx, 0, 0, 0, &lw, &lh);
+    if (rv != EXR_ERR_SUCCESS || tw < 1 || th < 1 || lw < 1 || lh < 1)
+        return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+    nx = (int32_t)(((int64_t)lw + tw - 1) / tw);
+    ny = (int32_t)(((int64_t)lh + th - 1) / th);
+    for (ty = 0; ty < ny; ty++) {
+        for (tx = 0; tx < nx; tx++) {
+            exr_chunk_info_t ci;
+            int rc;
+            rv = exr_read_tile_chunk_info(r->ctx, 0, tx, ty, 0, 0, &ci);
+            if (rv != EXR_ERR_SUCCESS)
+                return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+            /* Tile positions count from the data window's corner; 3.1
+               reports tile indices in start_x/start_y, so use ours. */
+            rc = decode_chunk(r, &ci, (int64_t)tx * tw, (int64_t)ty * th, err);
+            if (rc != GG_OK) return rc;
+        }
+    }
+    return GG_OK;
+}
+
+/* Header checks, then the pixels of part 0. */
+static int read_part(exr_reader *r, const ggAllocator *alloc, ggError *err)
+{
+    const exr_attr_chlist_t *chl = NULL;
+    exr_attr_box2i_t dw;
+    exr_storage_t storage;
+    int32_t chunks = 0;
+    int i, rc, rgb = 0, y = 0;
+    exr_result_t rv;
+    rv = exr_get_storage(r->ctx, 0, &storage);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_get_data_window(r->ctx, 0, &dw);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_get_channels(r->ctx, 0, &chl);
+    if (rv != EXR_ERR_SUCCESS || !chl)
+        return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+    if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED, "%s: deep OpenEXR data is not supported",
+                            r->path);
+    rc = gg_image_check_size(r->path, (int64_t)dw.max.x - dw.min.x + 1,
+                             (int64_t)dw.max.y - dw.min.y + 1, err);
+    if (rc != GG_OK) return rc;
+    if (chl->num_channels > EXR_MAX_CHANNELS)
+        return gg_error_set(err, GG_ERROR_LIMIT, "%s: %d channels exceed the limit of %d", r->path,
+                            (int)chl->num_channels, EXR_MAX_CHANNELS);
+    for (i = 0; i < chl->num_channels; i++) {
+        const exr_attr_chlist_entry_t *e = &chl->entries[i];
+        if (channel_slot(e->name.str, 0) >= 0) rgb = 1;
+        if (channel_slot(e->name.str, 1) >= 0) y = 1;
+    }
+    if (!rgb && !y)
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED, "%s: no R, G, B or Y channel", r->path);
+    r->grey = !rgb;
+    for (i = 0; i < chl->num_channels; i++) {
+        const exr_attr_chlist_entry_t *e = &chl->entries[i];
+        if (channel_slot(e->name.str, r->grey) >= 0 && (e->x_sampling != 1 || e->y_sampling != 1))
+            return gg_error_set(err, GG_ERROR_UNSUPPORTED,
+                                "%s: subsampled channel %s is not supported", r->path, e->name.str);
+    }
+    /* The chunk offset table alone takes 8 bytes per chunk: a header that
+       promises more chunks than the file could hold is truncated or
+       hostile, and would make the core allocate a huge table. */
+    rv = exr_get_chunk_count(r->ctx, 0, &chunks);
+    if (rv != EXR_ERR_SUCCESS || chunks < 1)
+        return fail(r->io, rv, GG_ERROR_PARSE, r->path, "invalid OpenEXR file", err);
+    if ((int64_t)chunks * 8 > r->io->size)
+        return gg_error_set(err, GG_ERROR_PARSE,
+                            "%s: invalid OpenEXR file: truncated (%d chunks in %lld bytes)",
+                            r->path, (int)chunks, (long long)r->io->size);
+    r->img = ggImageCreate((int)(dw.max.x - dw.min.x + 1), (int)(dw.max.y - dw.min.y + 1), alloc);
+    if (!r->img) return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", r->path);
+    if (storage == EXR_STORAGE_TILED)
+        rc = read_tiles(r, err);
+    else
+        rc = read_scanlines(r, &dw, err);
+    if (rc == GG_OK && r->grey) {
+        size_t n = (size_t)r->img->width * (size_t)r->img->height, k;
+        for (k = 0; k < n; k++) r->img->px[3 * k + 1] = r->img->px[3 * k + 2] = r->img->px[3 * k];
+    }
+    return rc;
+}
+
+int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc, ggImage **out,
+                      ggError *err)
+{
+    exr_context_initializer_t init;
+    exr_reader r;
+    exr_io io;
+    struct stat st;
+    exr_result_t rv;
+    int rc;
+    memset(&io, 0, sizeof io);
+    memset(&r, 0, sizeof r);
+    io.fd = fileno(fp);
+    if (fstat(io.fd, &st) != 0) {
+        char ebuf[128];
+        return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path,
+                            gg_image_strerror(errno, ebuf, sizeof ebuf));
+    }
+    io.size = (int64_t)st.st_size;
+    init_context(&init, &io);
+    init.read_fn = read_cb;
+    init.size_fn = size_cb;
+    /* A damaged chunk table is an error, not something to search around. */
+    init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    r.io = &io;
+    r.path = path;
+    r.alloc = alloc;
+    rv = exr_start_read(&r.ctx, path, &init);
+    if (rv != EXR_ERR_SUCCESS) {
+        rc = fail(&io, rv, GG_ERROR_PARSE, path, "invalid OpenEXR file", err);
+        exr_finish(&r.ctx);
+        return rc;
+    }
+    rc = read_part(&r, alloc, err);
+    if (r.dec_ready) exr_decoding_destroy(r.ctx, &r.dec);
+    gg_mem_free(alloc, r.scratch);
+    exr_finish(&r.ctx);
+    if (rc != GG_OK) {
+        ggImageFree(r.img);
+        return rc;
+    }
+    *out = r.img;
+    return GG_OK;
+}
+
+/* ---- writing ---------------------------------------------------------- */
+
+static int write_pixels(exr_context_t ctx, int part, const ggImage *img, exr_io *io,
+                        const char *path, ggError *err)
+{
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    int32_t lpc = 0;
+    int ready = 0, y, c;
+    exr_result_t rv = exr_get_scanlines_per_chunk(ctx, part, &lpc);
+    for (y = 0; rv == EXR_ERR_SUCCESS && y < img->height; y += lpc) {
+        exr_chunk_info_t ci;
+        rv = exr_write_scanline_chunk_info(ctx, part, y, &ci);
+        if (rv != EXR_ERR_SUCCESS) break;
+        rv = ready ? exr_encoding_update(ctx, part, &ci, &enc)
+                   : exr_encoding_initialize(ctx, part, &ci, &enc);
+        if (rv != EXR_ERR_SUCCESS) break;
+        for (c = 0; c < enc.channel_count; c++) {
+            exr_coding_channel_info_t *ch = &enc.channels[c];
+            int slot = channel_slot(ch->channel_name, 0);
+            ch->user_data_type = EXR_PIXEL_FLOAT;
+            ch->user_bytes_per_element = (int16_t)sizeof(float);
+            ch->user_pixel_stride = 3 * (int32_t)sizeof(float);
+            ch->user_line_stride = 3 * (int32_t)sizeof(float) * img->width;
+            ch->encode_from_ptr =
+                (const uint8_t *)(img->px + 3 * (size_t)y * (size_t)img->width + slot);
+        }
+        if (!ready) rv = exr_encoding_choose_default_routines(ctx, part, &enc);
+        ready = 1;
+        if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctx, part, &enc);
+    }
+    if (ready) exr_encoding_destroy(ctx, &enc);
+    if (rv != EXR_ERR_SUCCESS) return fail(io, rv, GG_ERROR_IO, path, "cannot write OpenEXR", err);
+    return GG_OK;
+}
+
+GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
+{
+    static const char *const names[3] = {"R", "G", "B"};
+    exr_context_initializer_t init;
+    exr_context_t ctx = NULL;
+    gg_image_tmp t;
+    exr_io io;
+    exr_result_t rv;
+    int part = 0, c, rc;
+    if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXR: NULL argument");
+    rc = gg_image_tmp_open(&t, path, err);
+    if (rc != GG_OK) return rc;
+    memset(&io, 0, sizeof io);
+    io.fd = t.fd;
+    init_context(&init, &io);
+    init.write_fn = write_cb;
+    /* zlib level 1: float pixels hardly compress better at higher levels.
+       Measured on bench_image's 1024^2 render-like image: level 1 writes
+       in 211 ms / 4.34 MB, the default (6) in 475 ms / 4.30 MB. */
+    init.zip_level = 1;
+    rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_initialize_required_attr_simple(ctx, part, img->width, img->height,
+                                                 EXR_COMPRESSION_ZIP);
+    for (c = 0; c < 3 && rv == EXR_ERR_SUCCESS; c++)
+        rv = exr_add_channel(ctx, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1,
+                             1);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctx);
+    if (rv != EXR_ERR_SUCCESS) {
+        rc = fail(&io, rv, GG_ERROR_IO, path, "cannot write OpenEXR", err);
+    } else {
+        rc = write_pixels(ctx, part, img, &io, path, err);
+    }
+    /* exr_finish writes the chunk offset table, so it can fail too. */
+    rv = exr_finish(&ctx);
+    if (rc == GG_OK && rv != EXR_ERR_SUCCESS)
+        rc = fail(&io, rv, GG_ERROR_IO, path, "cannot write OpenEXR", err);
+    if (rc != GG_OK) {
+        gg_image_tmp_abort(&t, NULL);
+        return rc;
+    }
+    return gg_image_tmp_commit(&t, NULL, err);
+}

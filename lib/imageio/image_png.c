@@ -1,0 +1,151 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** image_png.c -- PNG input and output through libpng's simplified API
+** (no setjmp here: the simplified API catches libpng's errors itself and
+** never prints).
+*/
+#include "image.h"
+
+#include <errno.h>
+#include <png.h>
+#include <string.h>
+
+/* libpng says "Read Error" both for a short file and a failing disk; the
+   stream's end-of-file flag tells them apart. */
+static int read_fail(FILE *fp, const char *path, const png_image *pi, ggError *err)
+{
+    if (feof(fp))
+        return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: truncated file (%s)", path,
+                            pi->message);
+    if (ferror(fp)) return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path, pi->message);
+    return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: %s", path, pi->message);
+}
+
+int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc, ggImage **out,
+                      ggError *err)
+{
+    png_image pi;
+    ggImage *img;
+    void *buf;
+    size_t n, i, bytes;
+    int linear, rc;
+    memset(&pi, 0, sizeof pi);
+    pi.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_stdio(&pi, fp)) {
+        rc = read_fail(fp, path, &pi, err);
+        png_image_free(&pi);
+        return rc;
+    }
+    rc = gg_image_check_size(path, pi.width, pi.height, err);
+    if (rc != GG_OK) {
+        png_image_free(&pi);
+        return rc;
+    }
+    /* 16-bit files only come out of the simplified API as 16-bit linear;
+       everything else as 8-bit sRGB, which we decode with our own table. */
+    linear = (pi.format & PNG_FORMAT_FLAG_LINEAR) != 0;
+    pi.format = linear ? PNG_FORMAT_LINEAR_RGB : PNG_FORMAT_RGB;
+    n = (size_t)pi.width * (size_t)pi.height * 3;
+    bytes = n * (linear ? 2 : 1);
+    img = ggImageCreate((int)pi.width, (int)pi.height, alloc);
+    /* Zeroed: libpng composites alpha onto what the buffer holds, so
+       transparent pixels come out over black in both paths. */
+    buf = img ? gg_mem_calloc(alloc, bytes, 1) : NULL;
+    if (!buf) {
+        ggImageFree(img);
+        png_image_free(&pi);
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory for %u x %u pixels", path,
+                            (unsigned)pi.width, (unsigned)pi.height);
+    }
+    if (!png_image_finish_read(&pi, NULL, buf, (png_int_32)(pi.width * 3), NULL)) {
+        rc = read_fail(fp, path, &pi, err);
+        png_image_free(&pi);
+        gg_mem_free(alloc, buf);
+        ggImageFree(img);
+        return rc;
+    }
+    if (linear) {
+        const png_uint_16 *s = buf;
+        for (i = 0; i < n; i++) img->px[i] = (float)(s[i] / 65535.0);
+    } else {
+        const png_byte *s = buf;
+        float lut[256];
+        for (i = 0; i < 256; i++) lut[i] = (float)ggSRGBToLinear((double)i / 255.0);
+        for (i = 0; i < n; i++) img->px[i] = lut[s[i]];
+    }
+    gg_mem_free(alloc, buf);
+    *out = img;
+    return GG_OK;
+}
+
+/* thr[k] (k = 1..255) is the linear value of the sRGB level midpoint
+   (k - 0.5) / 255: a linear c encodes to the largest k with thr[k] <= c,
+   which is round(255 * ggLinearToSRGB(c)) evaluated exactly, without a
+   pow per channel. thr[0] is unused. */
+static void make_thresholds(double thr[256])
+{
+    int k;
+    thr[0] = 0.0;
+    for (k = 1; k < 256; k++) thr[k] = ggSRGBToLinear((k - 0.5) / 255.0);
+}
+
+static png_byte encode8(const double thr[256], float v)
+{
+    double c = v;
+    int lo = 0, step;
+    if (!(c > 0.0)) return 0; /* also NaN */
+    if (c >= 1.0) return 255;
+    for (step = 128; step > 0; step >>= 1)
+        if (lo + step < 256 && thr[lo + step] <= c) lo += step;
+    return (png_byte)lo;
+}
+
+GG_API int ggImageWritePNG(const ggImage *img, const char *path, ggError *err)
+{
+    double thr[256];
+    gg_image_tmp t;
+    png_image pi;
+    png_byte *buf;
+    FILE *fp;
+    size_t n, i;
+    int rc;
+    if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWritePNG: NULL argument");
+    n = (size_t)img->width * (size_t)img->height * 3;
+    buf = gg_mem_alloc(GG_IMAGE_ALLOC(img), n);
+    if (!buf) return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+    make_thresholds(thr);
+    for (i = 0; i < n; i++) buf[i] = encode8(thr, img->px[i]);
+    rc = gg_image_tmp_open(&t, path, err);
+    if (rc != GG_OK) {
+        gg_mem_free(GG_IMAGE_ALLOC(img), buf);
+        return rc;
+    }
+    fp = fdopen(t.fd, "wb");
+    if (!fp) {
+        char ebuf[128];
+        rc = gg_error_set(err, GG_ERROR_IO, "%s: cannot write: %s", path,
+                          gg_image_strerror(errno, ebuf, sizeof ebuf));
+        gg_image_tmp_abort(&t, NULL);
+        gg_mem_free(GG_IMAGE_ALLOC(img), buf);
+        return rc;
+    }
+    memset(&pi, 0, sizeof pi);
+    pi.version = PNG_IMAGE_VERSION;
+    pi.width = (png_uint_32)img->width;
+    pi.height = (png_uint_32)img->height;
+    pi.format = PNG_FORMAT_RGB;
+    errno = 0;
+    if (!png_image_write_to_stdio(&pi, fp, 0, buf, 0, NULL)) {
+        char ebuf[128];
+        int e = errno;
+        rc = gg_error_set(err, GG_ERROR_IO, "%s: cannot write PNG: %s%s%s%s", path, pi.message,
+                          e ? " (" : "", e ? gg_image_strerror(e, ebuf, sizeof ebuf) : "",
+                          e ? ")" : "");
+        png_image_free(&pi);
+        gg_image_tmp_abort(&t, fp);
+        gg_mem_free(GG_IMAGE_ALLOC(img), buf);
+        return rc;
+    }
+    gg_mem_free(GG_IMAGE_ALLOC(img), buf);
+    return gg_image_tmp_commit(&t, fp, err);
+}

@@ -1,0 +1,27 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** load.h -- the scene-file readers (NFF) and how they reach image files
+** (internal).
+**
+** The loaders read textures through a ggImageReader: the scene's own (see
+** ggSceneSetImageReader) or else gg_load_default_reader(). That default is
+** the one link-time choice in the library: libggrt defines it in
+** imageio/reader.c (ggImageRead: PNG and OpenEXR), libggrt-core in
+** load/reader_none.c (no reader, so the core archive never refers to
+** libpng or OpenEXR). Each archive holds exactly one of the two.
+*/
+#ifndef GG_LIB_LOAD_H
+#define GG_LIB_LOAD_H
+
+#include "core.h"
+
+/* Parse NFF text into the scene (nff.c). `dir` is the folder relative
+   paths (textures) are resolved against. */
+int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, const char *dir,
+                 ggError *err);
+
+/* The image reader a scene without its own uses, or NULL (none: a texture
+   is then GG_ERROR_UNSUPPORTED). */
+ggImageReader gg_load_default_reader(void);
+
+#endif

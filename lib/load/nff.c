@@ -1,0 +1,733 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** nff.c -- the NFF scene reader: Eric Haines' Neutral File Format exactly
+** as the SPD writes it, plus ggrt's extension keywords in the same token
+** stream (docs/scene-format.md).
+**
+** NFF is token based: line breaks carry no meaning, so neither do they
+** here; every token remembers its line and column for error messages. A
+** failed load leaves the scene as it was (see rollback()).
+*/
+#include "load.h"
+#include "scene.h"
+
+#include "vec.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Hard limits: a scene file may be hostile. */
+#define NFF_MAX_POLY_VERTS 1000000
+#define NFF_MAX_TOKEN      4096
+
+typedef struct token {
+    const char *p; /* start in the text (for a string: after the quote) */
+    size_t n;      /* length */
+    int line, col;
+    int quoted;
+} token;
+
+typedef struct parser {
+    ggScene *s;
+    const char *text, *end, *cur;
+    int line, col;
+    const char *name, *dir;
+    ggError *err;
+    const char *keyword; /* the entity being read, for messages */
+    token kw_tok;
+    ggMaterial mat;      /* the current material state */
+    int mat_id;          /* its index, or -1 if it changed since last used */
+    bool has_peek;
+    token peek;
+    token last; /* the last number read, for messages about its value */
+} parser;
+
+static int fail(parser *ps, const token *t, int code, const char *fmt, ...) GG_PRINTF(4, 5);
+static int fail(parser *ps, const token *t, int code, const char *fmt, ...)
+{
+    char msg[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return gg_error_set(ps->err, code, "%s:%d:%d: %s", ps->name, t ? t->line : ps->line,
+                        t ? t->col : ps->col, msg);
+}
+
+/* Next token, or 0 at end of input. Comments run from '#' to the end of
+   the line wherever a token could start. */
+static int lex(parser *ps, token *t)
+{
+    const char *c = ps->cur;
+    for (;;) {
+        while (c < ps->end && (*c == ' ' || *c == '\t' || *c == '\r' || *c == '\n' ||
+                               *c == '\f' || *c == '\v')) {
+            if (*c == '\n') ps->line++, ps->col = 1;
+            else ps->col++;
+            c++;
+        }
+        if (c < ps->end && *c == '#') {
+            while (c < ps->end && *c != '\n') c++, ps->col++;
+            continue;
+        }
+        break;
+    }
+    ps->cur = c;
+    if (c >= ps->end) return 0;
+    t->line = ps->line, t->col = ps->col, t->quoted = 0;
+    if (*c == '"') {
+        const char *q = c + 1;
+        while (q < ps->end && *q != '"' && *q != '\n') q++;
+        if (q >= ps->end || *q != '"') {
+            t->p = c, t->n = 1;
+            return -1; /* unterminated string */
+        }
+        t->p = c + 1, t->n = (size_t)(q - c - 1), t->quoted = 1;
+        ps->col += (int)(q + 1 - c);
+        ps->cur = q + 1;
+        return 1;
+    }
+    t->p = c;
+    while (c < ps->end && !(*c == ' ' || *c == '\t' || *c == '\r' || *c == '\n' || *c == '\f' ||
+                            *c == '\v'))
+        c++;
+    t->n = (size_t)(c - t->p);
+    ps->col += (int)t->n;
+    ps->cur = c;
+    return 1;
+}
+
+static int next(parser *ps, token *t)
+{
+    if (ps->has_peek) {
+        *t = ps->peek;
+        ps->has_peek = false;
+        return 1;
+    }
+    return lex(ps, t);
+}
+
+/* Look at the next token without taking it; 0 at end of input. */
+static int peek(parser *ps, token *t)
+{
+    int r;
+    if (!ps->has_peek) {
+        r = lex(ps, &ps->peek);
+        if (r <= 0) return r;
+        ps->has_peek = true;
+    }
+    *t = ps->peek;
+    return 1;
+}
+
+static bool tok_is(const token *t, const char *w)
+{
+    return !t->quoted && t->n == strlen(w) && memcmp(t->p, w, t->n) == 0;
+}
+
+/* A printable copy of a token for messages (cut at 40 characters). */
+static const char *show(const token *t, char *buf, size_t n)
+{
+    size_t k = t->n < 40 ? t->n : 40;
+    if (k >= n) k = n - 1;
+    memcpy(buf, t->p, k);
+    buf[k] = '\0';
+    return buf;
+}
+
+static bool tok_number(const token *t, double *d)
+{
+    char buf[64], *e;
+    if (t->quoted || t->n == 0 || t->n >= sizeof buf) return false;
+    memcpy(buf, t->p, t->n);
+    buf[t->n] = '\0';
+    /* strtod accepts "nan", "inf" and hex: NFF numbers are decimal. */
+    if (!strchr("+-.0123456789", buf[0])) return false;
+    if (strpbrk(buf, "xXnNiI")) return false;
+    errno = 0;
+    *d = strtod(buf, &e);
+    return *e == '\0' && e != buf && isfinite(*d);
+}
+
+static int number(parser *ps, double *d, const char *what)
+{
+    token t;
+    char b[48];
+    int r = next(ps, &t);
+    *d = 0; /* defined on every path (gcc -O3 cannot see it otherwise) */
+    if (r <= 0)
+        return fail(ps, NULL, GG_ERROR_PARSE, "expected %s after '%s', got end of file", what,
+                    ps->keyword);
+    if (!tok_number(&t, d))
+        return fail(ps, &t, GG_ERROR_PARSE, "expected %s after '%s', got '%s'", what,
+                    ps->keyword, show(&t, b, sizeof b));
+    ps->last = t;
+    return GG_OK;
+}
+
+static int numbers(parser *ps, double *d, int n)
+{
+    int i, rc;
+    for (i = 0; i < n; i++)
+        if ((rc = number(ps, &d[i], "a number")) != GG_OK) return rc;
+    return GG_OK;
+}
+
+static int vec(parser *ps, ggVec3 *v)
+{
+    double d[3];
+    int rc = numbers(ps, d, 3);
+    if (rc == GG_OK) *v = v3(d[0], d[1], d[2]);
+    return rc;
+}
+
+static int color(parser *ps, ggColor *c)
+{
+    double d[3];
+    int rc = numbers(ps, d, 3);
+    if (rc == GG_OK) *c = rgb(d[0], d[1], d[2]);
+    return rc;
+}
+
+static int integer(parser *ps, long lo, long hi, long *out, const char *what)
+{
+    double d;
+    int rc = number(ps, &d, what);
+    if (rc != GG_OK) return rc;
+    if (d != floor(d) || d < (double)lo || d > (double)hi) {
+        char b[48];
+        return fail(ps, &ps->last, d > (double)hi ? GG_ERROR_LIMIT : GG_ERROR_PARSE,
+                    "%s after '%s' must be a whole number from %ld to %ld, got %s", what,
+                    ps->keyword, lo, hi, show(&ps->last, b, sizeof b));
+    }
+    *out = (long)d;
+    return GG_OK;
+}
+
+/* Does the next token look like a number (an optional argument)? */
+static bool next_is_number(parser *ps)
+{
+    token t;
+    double d;
+    return peek(ps, &t) > 0 && tok_number(&t, &d);
+}
+
+/* The current material's index, registering it if it changed. */
+static int material(parser *ps)
+{
+    if (ps->mat_id < 0) {
+        int id = ggSceneAddMaterial(ps->s, &ps->mat);
+        if (id < 0)
+            return fail(ps, &ps->kw_tok, -id, "material%s is invalid",
+                        id == -GG_ERROR_INVALID ? "" : " could not be stored");
+        ps->mat_id = id;
+    }
+    return GG_OK;
+}
+
+static int add_object(parser *ps, gg_object *o)
+{
+    int rc = material(ps), id;
+    if (rc != GG_OK) return rc;
+    o->material = ps->mat_id;
+    o->line = ps->kw_tok.line;
+    o->col = ps->kw_tok.col;
+    id = gg_scene_add_object(ps->s, o);
+    if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the object: %s", ggStatusString(-id));
+    return GG_OK;
+}
+
+static int kw_view(parser *ps)
+{
+    ggCamera *c = &ps->s->camera;
+    token t;
+    int rc = GG_OK;
+    double d;
+    long w, h;
+    while (peek(ps, &t) > 0) {
+        if (tok_is(&t, "from")) next(ps, &t), ps->keyword = "from", rc = vec(ps, &c->from);
+        else if (tok_is(&t, "at")) next(ps, &t), ps->keyword = "at", rc = vec(ps, &c->at);
+        else if (tok_is(&t, "up")) next(ps, &t), ps->keyword = "up", rc = vec(ps, &c->up);
+        else if (tok_is(&t, "angle")) {
+            next(ps, &t), ps->keyword = "angle";
+            if ((rc = number(ps, &d, "an angle in degrees")) == GG_OK) {
+                if (!(d > 0 && d < 180))
+                    return fail(ps, &t, GG_ERROR_PARSE, "angle must be in (0, 180), got %g", d);
+                c->fov_deg = d;
+            }
+        } else if (tok_is(&t, "hither")) {
+            next(ps, &t), ps->keyword = "hither", rc = number(ps, &d, "a distance");
+        } else if (tok_is(&t, "resolution")) {
+            next(ps, &t), ps->keyword = "resolution", ps->kw_tok = t;
+            if ((rc = integer(ps, 1, GG_IMAGE_MAX_DIM, &w, "a width")) != GG_OK) return rc;
+            if ((rc = integer(ps, 1, GG_IMAGE_MAX_DIM, &h, "a height")) != GG_OK) return rc;
+            if ((size_t)w * (size_t)h > GG_IMAGE_MAX_PIXELS)
+                return fail(ps, &t, GG_ERROR_LIMIT, "resolution %ldx%ld exceeds %zu pixels", w, h,
+                            (size_t)GG_IMAGE_MAX_PIXELS);
+            c->width = (int)w, c->height = (int)h;
+        } else
+            break;
+        if (rc != GG_OK) return rc;
+    }
+    if (v3len(v3sub(c->at, c->from)) == 0)
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "view: 'from' and 'at' are the same point");
+    if (v3len(v3cross(v3sub(c->at, c->from), c->up)) == 0)
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "view: 'up' is parallel to the view direction");
+    ps->s->has_camera = true;
+    return GG_OK;
+}
+
+static int kw_light(parser *ps)
+{
+    ggVec3 p;
+    ggColor c = rgb(-1, -1, -1);
+    int rc = vec(ps, &p), id;
+    if (rc != GG_OK) return rc;
+    if (next_is_number(ps) && (rc = color(ps, &c)) != GG_OK) return rc;
+    id = ggSceneAddLight(ps->s, p, c);
+    if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the light");
+    ps->s->lights[id].line = ps->kw_tok.line;
+    return GG_OK;
+}
+
+static int kw_fill(parser *ps)
+{
+    double d[8];
+    int rc = numbers(ps, d, 8);
+    if (rc != GG_OK) return rc;
+    ps->mat = ggMaterialDefault();
+    ps->mat.color = rgb(d[0], d[1], d[2]);
+    ps->mat.kd = d[3], ps->mat.ks = d[4], ps->mat.shine = d[5], ps->mat.kt = d[6];
+    /* Opaque SPD materials carry ior 0: a transmitter needs a real index. */
+    ps->mat.ior = d[7] > 0 ? d[7] : 1;
+    if (d[6] > 0 && !(d[7] > 0))
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE,
+                    "a transparent material (T = %g) needs an index of refraction > 0", d[6]);
+    ps->mat.line = ps->kw_tok.line;
+    ps->mat_id = -1;
+    return GG_OK;
+}
+
+static int kw_sphere(parser *ps)
+{
+    gg_object o;
+    double d[4];
+    int rc = numbers(ps, d, 4);
+    if (rc != GG_OK) return rc;
+    if (!(d[3] > 0))
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "sphere radius must be > 0, got %g", d[3]);
+    memset(&o, 0, sizeof o);
+    o.kind = GG_SHAPE_SPHERE, o.a = v3(d[0], d[1], d[2]), o.ra = d[3];
+    return add_object(ps, &o);
+}
+
+static int kw_cone(parser *ps)
+{
+    gg_object o;
+    double d[8];
+    int rc = numbers(ps, d, 8);
+    if (rc != GG_OK) return rc;
+    memset(&o, 0, sizeof o);
+    o.kind = GG_SHAPE_CONE;
+    o.a = v3(d[0], d[1], d[2]), o.ra = fabs(d[3]);
+    o.b = v3(d[4], d[5], d[6]), o.rb = fabs(d[7]);
+    if (v3len(v3sub(o.a, o.b)) == 0 || (o.ra == 0 && o.rb == 0))
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "degenerate cone (zero length or radii)");
+    return add_object(ps, &o);
+}
+
+static int kw_polygon(parser *ps, bool normals)
+{
+    gg_object o;
+    ggVec3 *v = NULL, *n = NULL;
+    size_t cap_v = 0, cap_n = 0;
+    long count, i;
+    int rc = integer(ps, 3, NFF_MAX_POLY_VERTS, &count, "a vertex count");
+    if (rc != GG_OK) return rc;
+    /* Grow as vertices arrive: a huge count in a short file must fail on
+       the missing numbers, not on a giant allocation. */
+    for (i = 0; i < count && rc == GG_OK; i++) {
+        if (gg_mem_grow(ps->s->alloc, (void **)&v, &cap_v, (size_t)i + 1, sizeof *v) ||
+            (normals && gg_mem_grow(ps->s->alloc, (void **)&n, &cap_n, (size_t)i + 1, sizeof *n))) {
+            rc = fail(ps, &ps->kw_tok, GG_ERROR_NOMEM, "out of memory reading a polygon");
+            break;
+        }
+        rc = vec(ps, &v[i]);
+        if (rc == GG_OK && normals) rc = vec(ps, &n[i]);
+    }
+    if (rc == GG_OK) {
+        memset(&o, 0, sizeof o);
+        o.kind = (count == 3 || normals) ? GG_SHAPE_TRIANGLE : GG_SHAPE_POLYGON;
+        o.nverts = (int)count;
+        o.has_normals = normals;
+        rc = gg_scene_push_vertices(ps->s, v, n, (int)count, &o.vfirst);
+        if (rc < 0) rc = fail(ps, &ps->kw_tok, GG_ERROR_NOMEM, "out of memory reading a polygon");
+        else rc = add_object(ps, &o);
+    }
+    gg_mem_free(ps->s->alloc, v);
+    gg_mem_free(ps->s->alloc, n);
+    return rc;
+}
+
+/* ---- ggrt extensions (docs/scene-format.md) ---- */
+
+static int kw_ambient(parser *ps) { return color(ps, &ps->s->ambient); }
+
+/* Extension keywords that change the current material. */
+static int mat_changed(parser *ps)
+{
+    ps->mat_id = -1;
+    return GG_OK;
+}
+
+static int nonneg_color(parser *ps, ggColor *c, const char *what)
+{
+    int rc = color(ps, c);
+    if (rc == GG_OK && (c->r < 0 || c->g < 0 || c->b < 0))
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "%s must not be negative", what);
+    return rc;
+}
+
+static int kw_emission(parser *ps)
+{
+    int rc = nonneg_color(ps, &ps->mat.ke, "emission");
+    return rc == GG_OK ? mat_changed(ps) : rc;
+}
+
+static int kw_fresnel(parser *ps)
+{
+    token t;
+    char b[48];
+    if (next(ps, &t) <= 0)
+        return fail(ps, NULL, GG_ERROR_PARSE, "expected none, schlick or exact after 'fresnel'");
+    if (tok_is(&t, "none")) ps->mat.fresnel = GG_FRESNEL_NONE;
+    else if (tok_is(&t, "schlick")) ps->mat.fresnel = GG_FRESNEL_SCHLICK;
+    else if (tok_is(&t, "exact")) ps->mat.fresnel = GG_FRESNEL_EXACT;
+    else
+        return fail(ps, &t, GG_ERROR_PARSE,
+                    "expected none, schlick or exact after 'fresnel', got '%s'",
+                    show(&t, b, sizeof b));
+    return mat_changed(ps);
+}
+
+static int kw_conductor(parser *ps)
+{
+    int rc = nonneg_color(ps, &ps->mat.eta_n, "conductor n");
+    if (rc == GG_OK) rc = nonneg_color(ps, &ps->mat.eta_k, "conductor k");
+    if (rc != GG_OK) return rc;
+    ps->mat.fresnel = GG_FRESNEL_CONDUCTOR;
+    return mat_changed(ps);
+}
+
+static int kw_absorb(parser *ps)
+{
+    double unit = 1;
+    int rc = nonneg_color(ps, &ps->mat.extinction, "extinction coefficient");
+    if (rc != GG_OK) return rc;
+    if (next_is_number(ps)) {
+        if ((rc = number(ps, &unit, "metres per scene unit")) != GG_OK) return rc;
+        if (!(unit > 0))
+            return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "metres per scene unit must be > 0");
+    }
+    ps->mat.unit_m = unit;
+    return mat_changed(ps);
+}
+
+static int kw_dispersion(parser *ps)
+{
+    int rc = number(ps, &ps->mat.abbe, "an Abbe number");
+    if (rc != GG_OK) return rc;
+    if (ps->mat.abbe < 0)
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "the Abbe number must be >= 0");
+    return mat_changed(ps);
+}
+
+/* Through the scene's image reader, else the library's default (load.h). */
+static int read_texture(const ggScene *s, const char *path, ggImage **img, ggError *err)
+{
+    ggImageReader fn = s->reader ? s->reader : gg_load_default_reader();
+    if (!fn)
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED,
+                            "%s: this libggrt reads no image files (libggrt-core); give the "
+                            "scene a reader with ggSceneSetImageReader",
+                            path);
+    return fn(s->reader ? s->reader_ud : NULL, path, s->alloc, img, err);
+}
+
+/* texture "file" [repeat|clamp] [nearest|bilinear]  |  texture none */
+static int kw_texture(parser *ps)
+{
+    token t, o;
+    gg_texture tx;
+    ggError e2;
+    char path[NFF_MAX_TOKEN + 1024];
+    int rc, id, r = next(ps, &t);
+    if (r < 0) return fail(ps, &t, GG_ERROR_PARSE, "unterminated string");
+    if (r == 0) return fail(ps, NULL, GG_ERROR_PARSE, "expected a file name after 'texture'");
+    if (tok_is(&t, "none")) {
+        ps->mat.texture = -1;
+        return mat_changed(ps);
+    }
+    if (t.n == 0 || t.n > NFF_MAX_TOKEN)
+        return fail(ps, &t, GG_ERROR_PARSE, "bad texture file name");
+    memset(&tx, 0, sizeof tx);
+    tx.wrap = GG_WRAP_REPEAT;
+    while (peek(ps, &o) > 0) {
+        if (tok_is(&o, "repeat")) tx.wrap = GG_WRAP_REPEAT;
+        else if (tok_is(&o, "clamp")) tx.wrap = GG_WRAP_CLAMP;
+        else if (tok_is(&o, "nearest")) tx.nearest = 1;
+        else if (tok_is(&o, "bilinear")) tx.nearest = 0;
+        else break;
+        next(ps, &o);
+    }
+    if (t.p[0] == '/' || !ps->dir[0])
+        snprintf(path, sizeof path, "%.*s", (int)t.n, t.p);
+    else
+        snprintf(path, sizeof path, "%s%.*s", ps->dir, (int)t.n, t.p);
+    rc = read_texture(ps->s, path, &tx.img, &e2);
+    if (rc != GG_OK)
+        return fail(ps, &t, rc, "cannot read texture: %s", e2.message);
+    id = gg_scene_add_texture_desc(ps->s, &tx);
+    if (id < 0) return fail(ps, &t, -id, "cannot add the texture");
+    ps->mat.texture = id;
+    return mat_changed(ps);
+}
+
+/* checker n r g b r g b: an n x n checkerboard over (u, v). */
+static int kw_checker(parser *ps)
+{
+    gg_texture tx;
+    double n;
+    int rc, id;
+    memset(&tx, 0, sizeof tx);
+    if ((rc = number(ps, &n, "a square count")) != GG_OK) return rc;
+    if (!(n > 0 && n <= 1e6))
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "checker square count must be in (0, 1e6]");
+    if ((rc = nonneg_color(ps, &tx.checker_a, "checker colour")) != GG_OK) return rc;
+    if ((rc = nonneg_color(ps, &tx.checker_b, "checker colour")) != GG_OK) return rc;
+    tx.checker_n = n;
+    id = gg_scene_add_texture_desc(ps->s, &tx);
+    if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the texture");
+    ps->mat.texture = id;
+    return mat_changed(ps);
+}
+
+static int kw_rect(parser *ps)
+{
+    gg_object o;
+    int rc;
+    memset(&o, 0, sizeof o);
+    o.kind = GG_SHAPE_RECT;
+    if ((rc = vec(ps, &o.a)) != GG_OK || (rc = vec(ps, &o.b)) != GG_OK ||
+        (rc = vec(ps, &o.c)) != GG_OK)
+        return rc;
+    if (v3len(v3cross(o.b, o.c)) == 0)
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "rect edges are parallel or zero");
+    return add_object(ps, &o);
+}
+
+/* implicit "expr" lox loy loz hix hiy hiz */
+static int kw_implicit(parser *ps)
+{
+    token t;
+    gg_object o;
+    ggVec3 lo, hi;
+    ggError e2;
+    char *expr;
+    int rc, line, col, r = next(ps, &t);
+    if (r < 0) return fail(ps, &t, GG_ERROR_PARSE, "unterminated string");
+    if (r == 0 || !t.quoted)
+        return fail(ps, r ? &t : NULL, GG_ERROR_PARSE,
+                    "expected a quoted expression after 'implicit'");
+    if ((rc = vec(ps, &lo)) != GG_OK || (rc = vec(ps, &hi)) != GG_OK) return rc;
+    if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "implicit: the box must have lo < hi");
+    expr = gg_mem_alloc(ps->s->alloc, t.n + 1);
+    if (!expr) return fail(ps, &t, GG_ERROR_NOMEM, "out of memory");
+    memcpy(expr, t.p, t.n);
+    expr[t.n] = '\0';
+    memset(&o, 0, sizeof o);
+    o.kind = GG_SHAPE_IMPLICIT;
+    rc = ggImplicitCreateExpr(expr, lo, hi, ps->s->alloc, &o.imp, &e2);
+    gg_mem_free(ps->s->alloc, expr);
+    if (rc != GG_OK) {
+        /* The expression's own "1:7: ..." becomes a position in the file. */
+        token at = t;
+        const char *msg = e2.message;
+        if (sscanf(e2.message, "%d:%d:", &line, &col) == 2 && line == 1) {
+            at.col = t.col + col; /* +1 for the quote, -1 for 1-based col */
+            msg = strchr(strchr(e2.message, ':') + 1, ':') + 1;
+            while (*msg == ' ') msg++;
+        }
+        return fail(ps, &at, rc, "in implicit expression: %s", msg);
+    }
+    rc = add_object(ps, &o);
+    if (rc != GG_OK) ggImplicitFree(o.imp);
+    return rc;
+}
+
+static int kw_depth(parser *ps)
+{
+    long d = 0;
+    int rc = integer(ps, 1, 64, &d, "a depth");
+    if (rc == GG_OK) ps->s->depth = (int)d;
+    return rc;
+}
+
+static int kw_samples(parser *ps)
+{
+    long n = 0;
+    int rc = integer(ps, 1, 4096, &n, "a sample count");
+    if (rc == GG_OK) ps->s->samples = (int)n;
+    return rc;
+}
+
+typedef struct keyword {
+    const char *name;
+    int (*read)(parser *ps);
+} keyword;
+
+static int kw_p(parser *ps) { return kw_polygon(ps, false); }
+static int kw_pp(parser *ps) { return kw_polygon(ps, true); }
+static int kw_bg(parser *ps)
+{
+    return color(ps, &ps->s->background);
+}
+
+static const keyword keywords[] = {
+    {"v", kw_view},           {"b", kw_bg},          {"l", kw_light},
+    {"f", kw_fill},           {"s", kw_sphere},      {"c", kw_cone},
+    {"p", kw_p},              {"pp", kw_pp},         {"ambient", kw_ambient},
+    {"emission", kw_emission}, {"fresnel", kw_fresnel}, {"conductor", kw_conductor},
+    {"absorb", kw_absorb},    {"dispersion", kw_dispersion}, {"texture", kw_texture},
+    {"checker", kw_checker},  {"rect", kw_rect},     {"implicit", kw_implicit},
+    {"depth", kw_depth},      {"samples", kw_samples},
+};
+
+/* Undo everything added since the snapshot: a failed load changes nothing. */
+typedef struct snapshot {
+    size_t nobjects, nmaterials, nlights, ntextures, nverts;
+    ggCamera camera;
+    bool has_camera;
+    ggColor background, ambient;
+    int depth, samples;
+} snapshot;
+
+static void take(const ggScene *s, snapshot *sn)
+{
+    sn->nobjects = s->nobjects, sn->nmaterials = s->nmaterials, sn->nlights = s->nlights;
+    sn->ntextures = s->ntextures, sn->nverts = s->nverts, sn->camera = s->camera;
+    sn->has_camera = s->has_camera, sn->background = s->background, sn->ambient = s->ambient;
+    sn->depth = s->depth, sn->samples = s->samples;
+}
+
+static void rollback(ggScene *s, const snapshot *sn)
+{
+    size_t i;
+    for (i = sn->nobjects; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
+    for (i = sn->ntextures; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    s->nobjects = sn->nobjects, s->nmaterials = sn->nmaterials, s->nlights = sn->nlights;
+    s->ntextures = sn->ntextures, s->nverts = sn->nverts, s->camera = sn->camera;
+    s->has_camera = sn->has_camera, s->background = sn->background, s->ambient = sn->ambient;
+    s->depth = sn->depth, s->samples = sn->samples;
+}
+
+int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, const char *dir,
+                 ggError *err)
+{
+    parser ps;
+    snapshot sn;
+    token t;
+    int r, rc = GG_OK;
+    size_t i;
+    char b[48];
+    memset(&ps, 0, sizeof ps);
+    ps.s = s, ps.text = ps.cur = text, ps.end = text + len;
+    ps.line = 1, ps.col = 1, ps.name = name, ps.dir = dir, ps.err = err;
+    ps.mat = ggMaterialDefault();
+    ps.mat_id = -1;
+    take(s, &sn);
+    while (rc == GG_OK && (r = next(&ps, &t)) != 0) {
+        const keyword *k = NULL;
+        if (r < 0) {
+            rc = fail(&ps, &t, GG_ERROR_PARSE, "unterminated string");
+            break;
+        }
+        for (i = 0; i < sizeof keywords / sizeof keywords[0]; i++)
+            if (tok_is(&t, keywords[i].name)) k = &keywords[i];
+        if (!k) {
+            rc = fail(&ps, &t, GG_ERROR_PARSE, "unknown keyword '%s'", show(&t, b, sizeof b));
+            break;
+        }
+        ps.keyword = k->name;
+        ps.kw_tok = t;
+        rc = k->read(&ps);
+    }
+    if (rc != GG_OK) rollback(s, &sn);
+    return rc;
+}
+
+static int read_file(const ggAllocator *a, const char *path, char **out, size_t *len, ggError *err)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    size_t n = 0, cap = 0, got;
+    if (!f) return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
+    for (;;) {
+        if (gg_mem_grow(a, (void **)&buf, &cap, n + 65536, 1)) {
+            fclose(f);
+            gg_mem_free(a, buf);
+            return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+        }
+        got = fread(buf + n, 1, cap - n, f);
+        n += got;
+        if (got == 0) break;
+    }
+    if (ferror(f)) {
+        fclose(f);
+        gg_mem_free(a, buf);
+        return gg_error_set(err, GG_ERROR_IO, "%s: read error", path);
+    }
+    fclose(f);
+    *out = buf, *len = n;
+    return GG_OK;
+}
+
+GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
+{
+    char *text = NULL, *dir, *slash;
+    size_t len = 0;
+    int rc;
+    if (!s || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadFile: NULL argument");
+    rc = read_file(s->alloc, path, &text, &len, err);
+    if (rc != GG_OK) return rc;
+    dir = gg_mem_strdup(s->alloc, path);
+    if (!dir) {
+        gg_mem_free(s->alloc, text);
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+    }
+    slash = strrchr(dir, '/');
+    if (slash) slash[1] = '\0';
+    else dir[0] = '\0';
+    rc = gg_nff_parse(s, text, len, path, dir, err);
+    gg_mem_free(s->alloc, text);
+    gg_mem_free(s->alloc, dir);
+    if (rc == GG_OK) {
+        char *name = gg_mem_strdup(s->alloc, path);
+        if (name) {
+            gg_mem_free(s->alloc, s->filename);
+            s->filename = name;
+        }
+    }
+    return rc;
+}
+
+GG_API int ggSceneLoadString(ggScene *s, const char *text, size_t len, const char *name,
+                             ggError *err)
+{
+    if (!s || !text) return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadString: NULL argument");
+    return gg_nff_parse(s, text, len, name ? name : "<string>", "", err);
+}

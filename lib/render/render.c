@@ -1,0 +1,600 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** render.c -- camera rays, tiles and threads: ggRender and ggRayColor.
+**
+** Every pixel's value is a function of its coordinates only (samples sit
+** at fixed positions, nothing random, no shared accumulation), so the
+** image is bit-identical for any thread count and any crop window.
+*/
+#include "shade.h"
+
+#include "trace_int.h"
+#include "vec.h"
+
+#include <float.h>
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+#include <unistd.h>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#define TILE 16
+
+GG_API void ggRenderOptionsDefault(ggRenderOptions *opt)
+{
+    memset(opt, 0, sizeof *opt);
+}
+
+typedef struct resolved {
+    int w, h, depth, spp, threads;
+    int x0, y0, x1, y1;
+    bool corners, spd;
+    unsigned force;
+    ggAccuracy acc;
+} resolved;
+
+typedef struct cam_basis {
+    ggVec3 eye, fwd, right, up;
+    double tx, ty;
+    int w, h;
+} cam_basis;
+
+static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggError *err)
+{
+    ggRenderOptions d;
+    long n;
+    if (!o) {
+        ggRenderOptionsDefault(&d);
+        o = &d;
+    }
+    r->w = o->width > 0 ? o->width : s->camera.width;
+    r->h = o->height > 0 ? o->height : s->camera.height;
+    if (o->width < 0 || o->height < 0 || r->w <= 0 || r->h <= 0 || r->w > GG_IMAGE_MAX_DIM ||
+        r->h > GG_IMAGE_MAX_DIM || (size_t)r->w * (size_t)r->h > GG_IMAGE_MAX_PIXELS)
+        return gg_error_set(err, GG_ERROR_LIMIT, "image size %dx%d is out of range", r->w, r->h);
+    r->depth = o->max_depth > 0 ? o->max_depth : s->depth > 0 ? s->depth : 5;
+    r->spp = o->samples > 0 ? o->samples : s->samples > 0 ? s->samples : 1;
+    if (o->max_depth < 0 || r->depth > 64 || o->samples < 0 || r->spp > 4096)
+        return gg_error_set(err, GG_ERROR_INVALID, "depth must be 1..64 and samples 1..4096");
+    n = o->threads > 0 ? o->threads : sysconf(_SC_NPROCESSORS_ONLN);
+    r->threads = (int)(n < 1 ? 1 : n > 256 ? 256 : n);
+    r->x0 = o->crop_x0, r->y0 = o->crop_y0, r->x1 = o->crop_x1, r->y1 = o->crop_y1;
+    if (r->x0 == 0 && r->y0 == 0 && r->x1 == 0 && r->y1 == 0) r->x1 = r->w, r->y1 = r->h;
+    if (r->x0 < 0 || r->y0 < 0 || r->x1 > r->w || r->y1 > r->h || r->x0 >= r->x1 ||
+        r->y0 >= r->y1)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "crop window [%d,%d)x[%d,%d) is not inside the %dx%d image", r->x0,
+                            r->x1, r->y0, r->y1, r->w, r->h);
+    r->corners = o->pixel_corners;
+    r->spd = o->spd_rules;
+    r->force = o->force_effects & GG_EFFECT_ALL;
+    r->acc = o->accuracy;
+    if (!(r->acc.offset_eps >= 0) || !(r->acc.cutoff >= 0) || !(r->acc.gradient_h >= 0) ||
+        !(r->acc.implicit_tol >= 0) || !isfinite(r->acc.offset_eps) || !isfinite(r->acc.cutoff) ||
+        !isfinite(r->acc.gradient_h) || !isfinite(r->acc.implicit_tol))
+        return gg_error_set(err, GG_ERROR_INVALID, "accuracy knobs must be finite and >= 0");
+    return GG_OK;
+}
+
+static void basis(const ggScene *s, int w, int h, cam_basis *b)
+{
+    const ggCamera *c = &s->camera;
+    b->eye = c->from;
+    b->fwd = v3norm(v3sub(c->at, c->from));
+    /* NFF's up need not be perpendicular to the view: orthogonalise. */
+    b->right = v3norm(v3cross(b->fwd, c->up));
+    b->up = v3cross(b->right, b->fwd);
+    b->tx = tan(c->fov_deg * GG_PI / 360.0);
+    b->ty = b->tx * (double)h / (double)w;
+    b->w = w, b->h = h;
+}
+
+/* Ray through image point (px, py), px in [0, w] from the left, py in
+   [0, h] from the top. */
+static ggVec3 basis_dir(const cam_basis *b, double px, double py)
+{
+    double sx = (2.0 * px / b->w - 1.0) * b->tx;
+    double sy = (1.0 - 2.0 * py / b->h) * b->ty;
+    return v3add(b->fwd, v3add(v3scale(b->right, sx), v3scale(b->up, sy)));
+}
+
+GG_API ggRay ggCameraRay(const ggScene *s, const ggRenderOptions *opt, double x, double y)
+{
+    resolved r;
+    cam_basis b;
+    ggRay ray;
+    if (resolve(s, opt, &r, NULL) != GG_OK) r.w = s->camera.width, r.h = s->camera.height;
+    basis(s, r.w > 0 ? r.w : 1, r.h > 0 ? r.h : 1, &b);
+    ray.o = b.eye;
+    ray.d = v3norm(basis_dir(&b, x, y));
+    return ray;
+}
+
+/* Position of sample k of n inside the pixel: an n = m*m grid when n is a
+   square, else a (k + 1/2)/n by radical-inverse pattern. Fixed, so the
+   render is reproducible. */
+static void sample_pos(int k, int n, double *sx, double *sy)
+{
+    int m;
+    if (n == 1) {
+        *sx = *sy = 0.5;
+        return;
+    }
+    m = (int)floor(sqrt((double)n) + 0.5);
+    if (m * m == n) {
+        *sx = ((k % m) + 0.5) / m;
+        *sy = ((k / m) + 0.5) / m;
+    } else {
+        unsigned b = (unsigned)k, rev = 0;
+        int i;
+        for (i = 0; i < 32; i++) rev = (rev << 1) | ((b >> i) & 1u);
+        *sx = (k + 0.5) / n;
+        *sy = (double)rev * 0x1p-32 + 0x1p-33;
+    }
+}
+
+/* The accuracy knobs that live in the geometry: set on every render (so
+   one render's choice does not leak into the next). Not thread-safe
+   against concurrent renders of the same scene, as ggRender never was. */
+static void apply_geometry_knobs(ggScene *s, const ggAccuracy *acc)
+{
+    size_t i;
+    gg_geom_set_sphere_mode(s->geom, acc->sphere == GG_ACC_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK
+                                                                           : GG_SPHERE_STABLE);
+    for (i = 0; i < s->nobjects; i++) {
+        ggImplicit *imp = s->objects[i].imp;
+        ggVec3 lo, hi;
+        if (!imp) continue;
+        ggImplicitBounds(imp, &lo, &hi);
+        /* 0 restores the surface's own default, 1e-12 of the box diagonal. */
+        ggImplicitSetTolerance(imp, acc->implicit_tol > 0 ? acc->implicit_tol
+                                                          : 1e-12 * v3len(v3sub(hi, lo)));
+        ggImplicitSetNormalStep(imp, acc->gradient_h);
+    }
+}
+
+typedef struct job {
+    gg_shade_ctx ctx;
+    resolved r;
+    cam_basis cam;
+    float *px;     /* output pixels (full image) */
+    float *corner; /* pixel-corner mode: (cw x ch) RGB */
+    int cw, ch;    /* the grid being tiled: pixels, or corners */
+    int tiles_x, ntiles;
+    pthread_mutex_t mu;
+    int next_tile;
+    long done, total, reported;
+    int cancelled;
+    ggProgressFn progress;
+    void *progress_ud;
+    float *cost;
+    int cost_kind;
+    ggRayStats stats;
+} job;
+
+static void add_stats(ggRayStats *a, const ggRayStats *b)
+{
+    a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
+    a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
+    a->nonfinite += b->nonfinite;
+    if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
+}
+
+static ggColor sample_color(job *j, double px, double py, gg_shade_thread *th)
+{
+    ggColor c = gg_shade_ray(&j->ctx, j->cam.eye, basis_dir(&j->cam, px, py), 1, th);
+    if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) th->st.nonfinite++;
+    return c;
+}
+
+/* Pixel (x, y) in pixel-centre mode: the mean of its samples. With rec,
+   sample `which` (or all, if -1) is recorded. */
+static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *rec, int which)
+{
+    ggColor acc = rgb(0, 0, 0);
+    int k;
+    for (k = 0; k < j->r.spp; k++) {
+        double sx, sy;
+        int recorded = rec && (which < 0 || which == k);
+        ggRayStats keep = th->st;
+        sample_pos(k, j->r.spp, &sx, &sy);
+        if (recorded) {
+            j->ctx.rec = rec;
+            rec->sample = k;
+        }
+        acc = cadd(acc, sample_color(j, x + sx, y + sy, th));
+        /* When tracing one sample, count only that sample's rays. */
+        if (rec && !recorded) th->st = keep;
+        j->ctx.rec = NULL;
+    }
+    return cscale(acc, 1.0 / j->r.spp);
+}
+
+#if defined(__GNUC__)
+#define GG_NOINLINE __attribute__((noinline))
+#else
+#define GG_NOINLINE
+#endif
+
+/* A pixel-centre pixel from its one sample's colour c, as pixel_center
+   and render_tile make it; returns 1 when c is not finite (counted). */
+static GG_NOINLINE int put_centre(float *o, const ggColor *c, double scale)
+{
+    ggColor a = cscale(cadd(rgb(0, 0, 0), *c), scale);
+    o[0] = (float)a.r, o[1] = (float)a.g, o[2] = (float)a.b;
+    return !isfinite(c->r) || !isfinite(c->g) || !isfinite(c->b);
+}
+
+/* A row's unit eye directions, as basis_dir and gg_shade_dir compute
+   them: d = fwd + (right * sx + up * sy) with right * sx of column i in
+   c[0..2][i] and v = up * sy, then d / |d|. Bit i of the result is set
+   where |d| is finite and > 0 (gg_shade_dir's test of d). All TILE
+   columns are computed; the caller uses its own. SSE2's add, multiply,
+   divide and square root round exactly as the scalar ones do. */
+static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3],
+                         gg_rayq q[TILE])
+{
+    uint32_t ok = 0;
+    int i;
+#if defined(__SSE2__)
+    const __m128d fx = _mm_set1_pd(b->fwd.x), fy = _mm_set1_pd(b->fwd.y);
+    const __m128d fz = _mm_set1_pd(b->fwd.z), vx = _mm_set1_pd(v[0]);
+    const __m128d vy = _mm_set1_pd(v[1]), vz = _mm_set1_pd(v[2]);
+    const __m128d zero = _mm_setzero_pd(), big = _mm_set1_pd(DBL_MAX), one = _mm_set1_pd(1.0);
+    for (i = 0; i < TILE; i += 2) {
+        __m128d dx = _mm_add_pd(fx, _mm_add_pd(_mm_loadu_pd(&c[0][i]), vx));
+        __m128d dy = _mm_add_pd(fy, _mm_add_pd(_mm_loadu_pd(&c[1][i]), vy));
+        __m128d dz = _mm_add_pd(fz, _mm_add_pd(_mm_loadu_pd(&c[2][i]), vz));
+        __m128d len = _mm_sqrt_pd(
+            _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz)));
+        __m128d inv = _mm_div_pd(one, len);
+        /* len > 0 and finite; NaN fails both */
+        __m128d good = _mm_and_pd(_mm_cmpgt_pd(len, zero), _mm_cmple_pd(len, big));
+        ok |= (uint32_t)_mm_movemask_pd(good) << i;
+        dx = _mm_mul_pd(dx, inv), dy = _mm_mul_pd(dy, inv), dz = _mm_mul_pd(dz, inv);
+        _mm_storel_pd(&q[i].d.x, dx), _mm_storeh_pd(&q[i + 1].d.x, dx);
+        _mm_storel_pd(&q[i].d.y, dy), _mm_storeh_pd(&q[i + 1].d.y, dy);
+        _mm_storel_pd(&q[i].d.z, dz), _mm_storeh_pd(&q[i + 1].d.z, dz);
+    }
+#else
+    for (i = 0; i < TILE; i++) {
+        double dx = b->fwd.x + (c[0][i] + v[0]), dy = b->fwd.y + (c[1][i] + v[1]);
+        double dz = b->fwd.z + (c[2][i] + v[2]);
+        double len = sqrt(dx * dx + dy * dy + dz * dz), inv = 1.0 / len;
+        ok |= (uint32_t)(len > 0 && len <= DBL_MAX) << i;
+        q[i].d.x = dx * inv, q[i].d.y = dy * inv, q[i].d.z = dz * inv;
+    }
+#endif
+    return ok;
+}
+
+/* render_tile for one sample at each pixel centre: pixel_center,
+   sample_color, basis_dir, gg_shade_dir and gg_shade_ray_unit step by step,
+   the same operations in the same order, with what does not change along
+   a row or a column hoisted out: a column's right * sx is computed once a
+   tile, a row's up * sy once a row. A row's unit directions come first,
+   then its rays, so the divisions and square roots run in parallel rather
+   than each at the head of its ray's chain. The eye rays are cast here and
+   only hits call the shading; every miss is the same pixel value. */
+static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+{
+    const cam_basis *b = &j->cam;
+    const gg_geom *geom = j->ctx.s->geom;
+    const int n = gx1 - gx0;
+    const double scale = 1.0 / j->r.spp;
+    /* gg_shade_dir's test of the origin: no ray at all from a non-finite eye. */
+    const uint32_t eye_ok = v3finite(b->eye) ? ~0u : 0u;
+    double c[3][TILE]; /* right * sx of the tile's columns */
+    gg_rayq q[TILE];   /* a row's eye rays */
+    const ggColor black = {0, 0, 0}, bg = gg_shade_eye_miss(&j->ctx);
+    float miss[3];
+    uint64_t eye = 0, nonfinite = 0, miss_bad;
+    gg_hit h;
+    int i, gy;
+    miss_bad = (uint64_t)put_centre(miss, &bg, scale);
+    for (i = 0; i < TILE; i++) {
+        q[i].o = b->eye, q[i].tmin = 0, q[i].tmax = INFINITY;
+        q[i].ignore_prim = UINT32_MAX, q[i].skip_flags = 0;
+    }
+    for (i = 0; i < TILE; i++) {
+        double px = j->r.x0 + gx0 + i + 0.5;
+        double sx = (2.0 * px / b->w - 1.0) * b->tx;
+        c[0][i] = b->right.x * sx, c[1][i] = b->right.y * sx, c[2][i] = b->right.z * sx;
+    }
+    for (gy = gy0; gy < gy1; gy++) {
+        const int y = j->r.y0 + gy;
+        const double py = y + 0.5;
+        const double sy = (1.0 - 2.0 * py / b->h) * b->ty;
+        const double v[3] = {b->up.x * sy, b->up.y * sy, b->up.z * sy};
+        float *o = j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
+        const uint32_t ok = row_dirs(b, c, v, q) & eye_ok;
+        eye += (uint64_t)n;
+        for (i = 0; i < n; i++, o += 3) {
+            if (!((ok >> i) & 1u)) {
+                nonfinite += put_centre(o, &black, scale);
+                eye--; /* no ray cast: take it back from the row's n */
+                continue;
+            }
+            if (gg_geom_intersect(geom, &q[i], &h)) {
+                ggColor col = gg_shade_eye_hit(&j->ctx, &q[i], &h, th);
+                nonfinite += put_centre(o, &col, scale);
+            } else {
+                o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
+                nonfinite += miss_bad;
+            }
+        }
+    }
+    th->st.eye += eye;
+    th->st.nonfinite += nonfinite;
+    if (eye > 0 && th->st.max_depth < 1) th->st.max_depth = 1;
+}
+
+/* Whether no eye ray of tile [gx0, gx1) x [gy0, gy1) can hit anything:
+   its samples all lie in the image rectangle from (x0 + gx0, y0 + gy0)
+   to (x0 + gx1, y0 + gy1) (pixel centres, points inside pixels, and in
+   corner mode the grid points), so in the pyramid of its four corners. */
+static int tile_empty(const job *j, int gx0, int gy0, int gx1, int gy1)
+{
+    double xa = j->r.x0 + gx0, xb = j->r.x0 + gx1, ya = j->r.y0 + gy0, yb = j->r.y0 + gy1;
+    ggVec3 d[4];
+    d[0] = basis_dir(&j->cam, xa, ya), d[1] = basis_dir(&j->cam, xb, ya);
+    d[2] = basis_dir(&j->cam, xb, yb), d[3] = basis_dir(&j->cam, xa, yb);
+    return gg_geom_frustum_empty(j->ctx.s->geom, j->cam.eye, d);
+}
+
+/* An empty tile: every sample is a miss. The same values and counts as
+   tracing them (gg_shade_ray_unit and trace_fx on a miss: one eye ray,
+   depth 1, the background), without the rays. */
+static void fill_empty_tile(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+{
+    ggRayStats *st = &th->st;
+    const ggColor bg = gg_shade_eye_miss(&j->ctx);
+    const int bad = !isfinite(bg.r) || !isfinite(bg.g) || !isfinite(bg.b);
+    int gx, gy, k, n = j->corner ? 1 : j->r.spp;
+    if (st->max_depth < 1) st->max_depth = 1;
+    for (gy = gy0; gy < gy1; gy++)
+        for (gx = gx0; gx < gx1; gx++) {
+            ggColor acc = rgb(0, 0, 0);
+            float *o;
+            for (k = 0; k < n; k++) acc = cadd(acc, bg);
+            st->eye += (uint64_t)n;
+            if (bad) st->nonfinite += (uint64_t)n;
+            if (j->corner) {
+                o = j->corner + 3 * ((size_t)gy * j->cw + gx);
+                o[0] = (float)bg.r, o[1] = (float)bg.g, o[2] = (float)bg.b;
+            } else {
+                acc = cscale(acc, 1.0 / j->r.spp);
+                o = j->px + 3 * ((size_t)(j->r.y0 + gy) * j->r.w + (j->r.x0 + gx));
+                o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
+            }
+        }
+}
+
+static void render_tile(job *j, int t, gg_shade_thread *th)
+{
+    ggRayStats *st = &th->st;
+    int gx0 = (t % j->tiles_x) * TILE, gy0 = (t / j->tiles_x) * TILE;
+    int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
+    int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
+    int gx, gy;
+    /* Cost maps measure every pixel the slow way, on purpose. */
+    if (!j->cost && tile_empty(j, gx0, gy0, gx1, gy1)) {
+        fill_empty_tile(j, gx0, gy0, gx1, gy1, th);
+        return;
+    }
+    if (!j->corner && !j->cost && j->r.spp == 1 && !j->ctx.rec) {
+        tile_centres(j, gx0, gy0, gx1, gy1, th);
+        return;
+    }
+    for (gy = gy0; gy < gy1; gy++)
+        for (gx = gx0; gx < gx1; gx++) {
+            ggRayStats before = *st;
+            double t0 = j->cost ? gg_time_now() : 0;
+            if (j->cost) st->max_depth = 0;
+            if (j->corner) {
+                /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
+                ggColor c = sample_color(j, j->r.x0 + gx, j->r.y0 + gy, th);
+                float *o = j->corner + 3 * ((size_t)gy * j->cw + gx);
+                o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
+            } else {
+                int x = j->r.x0 + gx, y = j->r.y0 + gy;
+                ggColor acc = pixel_center(j, x, y, th, NULL, -1);
+                float *o = j->px + 3 * ((size_t)y * j->r.w + x);
+                o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
+            }
+            if (j->cost) {
+                int x = j->r.x0 + gx, y = j->r.y0 + gy;
+                double v = j->cost_kind == GG_COST_TIME    ? gg_time_now() - t0
+                           : j->cost_kind == GG_COST_DEPTH ? (double)st->max_depth
+                                                           : (double)(st->eye + st->reflect +
+                                                                      st->refract + st->shadow -
+                                                                      before.eye - before.reflect -
+                                                                      before.refract - before.shadow);
+                if (x < j->r.w && y < j->r.h) j->cost[(size_t)y * j->r.w + x] = (float)v;
+                if (before.max_depth > st->max_depth) st->max_depth = before.max_depth;
+            }
+        }
+}
+
+static void *worker(void *arg)
+{
+    job *j = arg;
+    gg_shade_thread th;
+    memset(&th, 0, sizeof th);
+    for (;;) {
+        int t;
+        long tile_px;
+        pthread_mutex_lock(&j->mu);
+        t = j->cancelled ? j->ntiles : j->next_tile++;
+        pthread_mutex_unlock(&j->mu);
+        if (t >= j->ntiles) break;
+        render_tile(j, t, &th);
+        tile_px = (long)TILE * TILE;
+        pthread_mutex_lock(&j->mu);
+        j->done += tile_px;
+        if (j->done > j->total) j->done = j->total;
+        /* Report about every 1/200 of the work: enough for a smooth bar,
+           few enough not to matter. */
+        if (j->progress && (j->done - j->reported >= j->total / 200 || j->done == j->total)) {
+            j->reported = j->done;
+            if (j->progress(j->progress_ud, j->done, j->total)) j->cancelled = 1;
+        }
+        pthread_mutex_unlock(&j->mu);
+    }
+    pthread_mutex_lock(&j->mu);
+    add_stats(&j->stats, &th.st);
+    pthread_mutex_unlock(&j->mu);
+    return NULL;
+}
+
+static void run_tiles(job *j, int cw, int ch)
+{
+    pthread_t th[256];
+    int i, started = 0;
+    j->cw = cw, j->ch = ch;
+    j->tiles_x = (cw + TILE - 1) / TILE;
+    j->ntiles = j->tiles_x * ((ch + TILE - 1) / TILE);
+    j->next_tile = 0;
+    j->done = 0, j->reported = 0;
+    j->total = (long)j->ntiles * TILE * TILE;
+    for (i = 1; i < j->r.threads && i < j->ntiles; i++) {
+        if (pthread_create(&th[started], NULL, worker, j) != 0) break;
+        started++;
+    }
+    worker(j); /* the calling thread works too */
+    for (i = 0; i < started; i++) pthread_join(th[i], NULL);
+}
+
+GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRayStats *stats,
+                    ggError *err)
+{
+    job j;
+    ggImage *img;
+    int rc;
+    if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggRender: NULL argument");
+    *out = NULL;
+    memset(&j, 0, sizeof j);
+    if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    apply_geometry_knobs(s, &j.r.acc);
+    img = ggImageCreate(j.r.w, j.r.h, s->alloc);
+    if (!img) return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
+    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
+    basis(s, j.r.w, j.r.h, &j.cam);
+    j.px = ggImagePixels(img);
+    if (opt) {
+        j.progress = opt->progress, j.progress_ud = opt->progress_ud;
+        j.cost = opt->cost_map, j.cost_kind = opt->cost_kind;
+    }
+    if (pthread_mutex_init(&j.mu, NULL) != 0) {
+        ggImageFree(img);
+        return gg_error_set(err, GG_ERROR_NOMEM, "cannot create a mutex");
+    }
+    if (j.r.corners) {
+        /* SPD sampling: rays through the (w+1) x (h+1) pixel corners, each
+           pixel the mean of its four corners. Corners are shaded once. */
+        int cw = j.r.x1 - j.r.x0 + 1, ch = j.r.y1 - j.r.y0 + 1, x, y, k;
+        j.corner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * sizeof(float));
+        if (!j.corner) {
+            pthread_mutex_destroy(&j.mu);
+            ggImageFree(img);
+            return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for pixel corners");
+        }
+        run_tiles(&j, cw, ch);
+        for (y = j.r.y0; y < j.r.y1 && !j.cancelled; y++)
+            for (x = j.r.x0; x < j.r.x1; x++) {
+                const float *c00 = j.corner + 3 * ((size_t)(y - j.r.y0) * cw + (x - j.r.x0));
+                const float *c10 = c00 + 3, *c01 = c00 + 3 * (size_t)cw, *c11 = c01 + 3;
+                float *o = j.px + 3 * ((size_t)y * j.r.w + x);
+                for (k = 0; k < 3; k++)
+                    o[k] = (float)(((double)c00[k] + c10[k] + c01[k] + c11[k]) * 0.25);
+            }
+        gg_mem_free(s->alloc, j.corner);
+    } else {
+        run_tiles(&j, j.r.x1 - j.r.x0, j.r.y1 - j.r.y0);
+    }
+    pthread_mutex_destroy(&j.mu);
+    if (stats) *stats = j.stats;
+    if (j.cancelled) {
+        ggImageFree(img);
+        return gg_error_set(err, GG_ERROR_CANCELLED, "render cancelled by the progress callback");
+    }
+    *out = img;
+    return GG_OK;
+}
+
+GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ray, int depth,
+                          ggRayStats *stats)
+{
+    gg_shade_ctx ctx;
+    resolved r;
+    gg_shade_thread th;
+    if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
+    gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
+    memset(&th, 0, sizeof th);
+    {
+        ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &th);
+        if (stats) add_stats(stats, &th.st);
+        return c;
+    }
+}
+
+GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, int sample,
+                        ggTrace *rec, ggColor *pixel, ggRayStats *stats, ggError *err)
+{
+    job j;
+    gg_shade_thread local;
+    ggColor c;
+    int rc, k;
+    if (!s || !rec || !pixel) return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
+#ifdef GG_NO_RECORDER
+    return gg_error_set(err, GG_ERROR_UNSUPPORTED, "this libggrt was built without the recorder");
+#endif
+    memset(&j, 0, sizeof j);
+    memset(&local, 0, sizeof local);
+    if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if (x < 0 || y < 0 || x >= j.r.w || y >= j.r.h)
+        return gg_error_set(err, GG_ERROR_INVALID, "pixel %d,%d is outside the %dx%d image", x, y,
+                            j.r.w, j.r.h);
+    if (sample < -1 || sample >= (j.r.corners ? 4 : j.r.spp))
+        return gg_error_set(err, GG_ERROR_INVALID, "sample %d does not exist (the pixel has %d)",
+                            sample, j.r.corners ? 4 : j.r.spp);
+    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    apply_geometry_knobs(s, &j.r.acc);
+    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
+    basis(s, j.r.w, j.r.h, &j.cam);
+    gg_trace_clear(rec);
+    if (j.r.corners) {
+        /* The four corners, stored as floats and averaged as ggRender does. */
+        float cf[4][3];
+        for (k = 0; k < 4; k++) {
+            ggColor cc;
+            int recorded = sample < 0 || sample == k;
+            ggRayStats keep = local.st;
+            if (recorded) {
+                j.ctx.rec = rec;
+                rec->sample = k;
+            }
+            cc = sample_color(&j, x + (k & 1), y + (k >> 1), &local);
+            if (!recorded) local.st = keep;
+            j.ctx.rec = NULL;
+            cf[k][0] = (float)cc.r, cf[k][1] = (float)cc.g, cf[k][2] = (float)cc.b;
+        }
+        c.r = (float)(((double)cf[0][0] + cf[1][0] + cf[2][0] + cf[3][0]) * 0.25);
+        c.g = (float)(((double)cf[0][1] + cf[1][1] + cf[2][1] + cf[3][1]) * 0.25);
+        c.b = (float)(((double)cf[0][2] + cf[1][2] + cf[2][2] + cf[3][2]) * 0.25);
+    } else {
+        c = pixel_center(&j, x, y, &local, rec, sample);
+        c = rgb((float)c.r, (float)c.g, (float)c.b);
+    }
+    *pixel = c;
+    if (stats) add_stats(stats, &local.st);
+    if (rec->status != GG_OK)
+        return gg_error_set(err, rec->status, "out of memory recording the ray tree");
+    return GG_OK;
+}

@@ -1,0 +1,69 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** shade.h -- the recursive shading core behind ggRayColor and ggRender
+** (internal).
+*/
+#ifndef GG_SHADE_H
+#define GG_SHADE_H
+
+#include "scene.h"
+
+/* The media a ray is inside, innermost last (materials with kt > 0). The
+   space outside every object is a vacuum-like medium of index 1. */
+#define GG_MAX_MEDIA 8
+typedef struct gg_media {
+    int n;
+    int mat[GG_MAX_MEDIA];
+} gg_media;
+
+/* Everything a shading call needs that does not change per ray. */
+typedef struct gg_shade_ctx {
+    const ggScene *s;
+    int max_depth;
+    unsigned fx;     /* effects simulated: the scene's plus the forced ones */
+    bool spd_rules;
+    ggAccuracy acc;  /* numerical knobs (render.h) */
+    ggTrace *rec;    /* non-NULL: record the ray tree (single-threaded use) */
+} gg_shade_ctx;
+
+/* What one rendering thread keeps for itself: its ray counts and, per
+   light, the element that blocked its last shadow ray if one did (tested
+   first next time: neighbouring shadow rays are mostly blocked by the
+   same one; see gg_geom_occluded_cached). */
+#define GG_OCC_CACHES 16
+typedef struct gg_shade_thread {
+    ggRayStats st;
+    uint32_t occ[GG_OCC_CACHES];
+} gg_shade_thread;
+
+/* Fill ctx from a prepared scene and resolved options; acc may be NULL. */
+void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
+                   bool spd_rules, const ggAccuracy *acc);
+
+/* Colour along a ray starting in the outside medium (an eye ray, or any
+   ray of ggRayColor) at the given depth (eye ray = 1). */
+ggColor gg_shade_ray(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 d, int depth, gg_shade_thread *th);
+
+/* gg_shade_ray in two steps, so that a caller can compute many directions
+   first (their divisions and square roots then overlap instead of
+   delaying each ray): gg_shade_dir returns 0 where gg_shade_ray would
+   return black without casting anything, else 1 with the unit direction
+   it would trace; gg_shade_ray_unit traces it. Same result, same bits. */
+int gg_shade_dir(ggVec3 o, ggVec3 d, ggVec3 *u);
+ggColor gg_shade_ray_unit(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 u, int depth,
+                          gg_shade_thread *th);
+
+/* gg_shade_ray_unit(ctx, o, u, 1, th) for a caller that casts its eye
+   rays itself, so that a miss costs it no call into the shading: q is
+   the eye ray's query (o, unit u, tmin 0, tmax INFINITY, ignore_prim
+   UINT32_MAX, skip_flags 0) and h what gg_geom_intersect returned for it.
+   A miss's colour is gg_shade_eye_miss(ctx). The caller counts its eye
+   rays in st.eye and raises st.max_depth to 1 (gg_shade_ray_unit does
+   both per ray; a batch of rays can do it once). */
+ggColor gg_shade_eye_hit(const gg_shade_ctx *ctx, const gg_rayq *q, const gg_hit *h,
+                         gg_shade_thread *th);
+/* An eye ray starts in the outside medium: a miss is the background,
+   with no absorption. */
+static inline ggColor gg_shade_eye_miss(const gg_shade_ctx *ctx) { return ctx->s->background; }
+
+#endif

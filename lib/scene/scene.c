@@ -1,0 +1,492 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** scene.c -- the scene object: building it in code, inspecting it, and
+** preparing it for rendering (primitives, BVH, resolved materials).
+*/
+#include "scene.h"
+
+#include "implicit.h"
+#include "vec.h"
+
+#include <math.h>
+#include <string.h>
+
+GG_API const char *ggShapeKindName(int kind)
+{
+    static const char *const names[GG_SHAPE_COUNT] = {"sphere", "triangle", "polygon",
+                                                       "cone",   "rect",     "implicit"};
+    return kind >= 0 && kind < GG_SHAPE_COUNT ? names[kind] : "?";
+}
+
+GG_API ggMaterial ggMaterialDefault(void)
+{
+    ggMaterial m;
+    memset(&m, 0, sizeof m);
+    m.color = rgb(1, 1, 1);
+    m.kd = 1;
+    m.shine = 100000;
+    m.ior = 1;
+    m.fresnel = GG_FRESNEL_NONE;
+    m.eta_n = rgb(1, 1, 1);
+    m.texture = -1;
+    return m;
+}
+
+GG_API ggScene *ggSceneCreate(const ggAllocator *alloc)
+{
+    ggScene *s = gg_mem_calloc(alloc, 1, sizeof *s);
+    if (!s) return NULL;
+    if (alloc) {
+        s->alloc_copy = *alloc;
+        s->alloc = &s->alloc_copy;
+    }
+    s->camera.from = v3(0, 0, 1);
+    s->camera.at = v3(0, 0, 0);
+    s->camera.up = v3(0, 1, 0);
+    s->camera.fov_deg = 45;
+    s->camera.width = 512;
+    s->camera.height = 512;
+    s->background = rgb(0, 0, 0);
+    s->ambient = rgb(0.1, 0.1, 0.1);
+    return s;
+}
+
+static void unprepare(ggScene *s)
+{
+    gg_geom_free(s->geom);
+    s->geom = NULL;
+    gg_mem_free(s->alloc, s->mfast);
+    s->mfast = NULL;
+    gg_mem_free(s->alloc, s->light_colors);
+    s->light_colors = NULL;
+    gg_effects_clear(s);
+    s->prepared = false;
+}
+
+GG_API void ggSceneFree(ggScene *s)
+{
+    size_t i;
+    if (!s) return;
+    unprepare(s);
+    for (i = 0; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
+    for (i = 0; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_mem_free(s->alloc, s->objects);
+    gg_mem_free(s->alloc, s->materials);
+    gg_mem_free(s->alloc, s->lights);
+    gg_mem_free(s->alloc, s->textures);
+    gg_mem_free(s->alloc, s->verts);
+    gg_mem_free(s->alloc, s->norms);
+    gg_mem_free(s->alloc, s->filename);
+    gg_mem_free(s->alloc, s);
+}
+
+GG_API void ggSceneSetCamera(ggScene *s, const ggCamera *cam)
+{
+    s->camera = *cam;
+    s->has_camera = true;
+}
+GG_API ggCamera ggSceneCamera(const ggScene *s) { return s->camera; }
+GG_API void ggSceneSetBackground(ggScene *s, ggColor c) { s->background = c; }
+GG_API void ggSceneSetAmbient(ggScene *s, ggColor c) { s->ambient = c; }
+GG_API void ggSceneSetImageReader(ggScene *s, ggImageReader fn, void *ud)
+{
+    s->reader = fn;
+    s->reader_ud = fn ? ud : NULL;
+}
+GG_API void ggSceneSetDepth(ggScene *s, int d) { s->depth = d > 0 ? d : 0; }
+GG_API void ggSceneSetSamples(ggScene *s, int n) { s->samples = n > 0 ? n : 0; }
+
+GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
+{
+    gg_light *l;
+    if (!v3finite(pos) || !isfinite(color.g) || !isfinite(color.b) || !isfinite(color.r))
+        return -GG_ERROR_INVALID;
+    if (gg_mem_grow(s->alloc, (void **)&s->lights, &s->cap_lights, s->nlights + 1, sizeof *l))
+        return -GG_ERROR_NOMEM;
+    unprepare(s);
+    l = &s->lights[s->nlights];
+    l->pos = pos;
+    l->color = color;
+    l->line = 0;
+    return (int)s->nlights++;
+}
+
+static bool color_ok(ggColor c, double lo)
+{
+    return isfinite(c.r) && isfinite(c.g) && isfinite(c.b) && c.r >= lo && c.g >= lo && c.b >= lo;
+}
+
+GG_API int ggSceneAddMaterial(ggScene *s, const ggMaterial *m)
+{
+    if (!color_ok(m->color, 0) || !color_ok(m->ke, 0) || !color_ok(m->extinction, 0) ||
+        !isfinite(m->kd) || !isfinite(m->ks) || !isfinite(m->kt) || !isfinite(m->shine) ||
+        !isfinite(m->ior) || !isfinite(m->abbe) || !isfinite(m->unit_m) || m->unit_m < 0 ||
+        m->fresnel < GG_FRESNEL_NONE || m->fresnel > GG_FRESNEL_CONDUCTOR ||
+        !color_ok(m->eta_n, -1e300) || !color_ok(m->eta_k, 0) || m->abbe < 0 ||
+        (m->texture >= 0 && (size_t)m->texture >= s->ntextures) || m->texture < -1)
+        return -GG_ERROR_INVALID;
+    if (gg_mem_grow(s->alloc, (void **)&s->materials, &s->cap_materials, s->nmaterials + 1,
+                    sizeof *m))
+        return -GG_ERROR_NOMEM;
+    unprepare(s);
+    s->materials[s->nmaterials] = *m;
+    return (int)s->nmaterials++;
+}
+
+int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t)
+{
+    if (gg_mem_grow(s->alloc, (void **)&s->textures, &s->cap_textures, s->ntextures + 1,
+                    sizeof *t)) {
+        ggImageFree(t->img);
+        return -GG_ERROR_NOMEM;
+    }
+    unprepare(s);
+    s->textures[s->ntextures] = *t;
+    return (int)s->ntextures++;
+}
+
+GG_API int ggSceneAddTexture(ggScene *s, ggImage *img)
+{
+    gg_texture t;
+    if (!img) return -GG_ERROR_INVALID;
+    memset(&t, 0, sizeof t);
+    t.img = img;
+    t.wrap = GG_WRAP_REPEAT;
+    return gg_scene_add_texture_desc(s, &t);
+}
+
+int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int count, size_t *first)
+{
+    int i;
+    size_t need = s->nverts + (size_t)count;
+    if (gg_mem_grow(s->alloc, (void **)&s->verts, &s->cap_verts, need, sizeof *v) ||
+        gg_mem_grow(s->alloc, (void **)&s->norms, &s->cap_norms, need, sizeof *v))
+        return -GG_ERROR_NOMEM;
+    *first = s->nverts;
+    for (i = 0; i < count; i++) {
+        s->verts[s->nverts + (size_t)i] = v[i];
+        s->norms[s->nverts + (size_t)i] = n ? n[i] : v3(0, 0, 0);
+    }
+    s->nverts = need;
+    return 0;
+}
+
+int gg_scene_add_object(ggScene *s, const gg_object *o)
+{
+    if (o->material < 0 || (size_t)o->material >= s->nmaterials) return -GG_ERROR_INVALID;
+    if (s->nobjects >= (size_t)INT32_MAX) return -GG_ERROR_LIMIT;
+    if (gg_mem_grow(s->alloc, (void **)&s->objects, &s->cap_objects, s->nobjects + 1,
+                    sizeof *o))
+        return -GG_ERROR_NOMEM;
+    unprepare(s);
+    s->objects[s->nobjects] = *o;
+    return (int)s->nobjects++;
+}
+
+static gg_object object_init(int kind, int material)
+{
+    gg_object o;
+    memset(&o, 0, sizeof o);
+    o.kind = kind;
+    o.material = material;
+    return o;
+}
+
+GG_API int ggSceneAddSphere(ggScene *s, int material, ggVec3 c, double r)
+{
+    gg_object o = object_init(GG_SHAPE_SPHERE, material);
+    if (!v3finite(c) || !isfinite(r) || !(r > 0)) return -GG_ERROR_INVALID;
+    o.a = c;
+    o.ra = r;
+    return gg_scene_add_object(s, &o);
+}
+
+static int add_vertex_object(ggScene *s, int kind, int material, const ggVec3 *v,
+                             const ggVec3 *n, int count)
+{
+    gg_object o = object_init(kind, material);
+    int i, rc;
+    if (!v || count < 3) return -GG_ERROR_INVALID;
+    for (i = 0; i < count; i++)
+        if (!v3finite(v[i]) || (n && !v3finite(n[i]))) return -GG_ERROR_INVALID;
+    if (material < 0 || (size_t)material >= s->nmaterials) return -GG_ERROR_INVALID;
+    rc = gg_scene_push_vertices(s, v, n, count, &o.vfirst);
+    if (rc < 0) return rc;
+    o.nverts = count;
+    o.has_normals = n != NULL;
+    rc = gg_scene_add_object(s, &o);
+    if (rc < 0) s->nverts = o.vfirst;
+    return rc;
+}
+
+GG_API int ggSceneAddPolygon(ggScene *s, int material, const ggVec3 *v, int n)
+{
+    return add_vertex_object(s, n == 3 ? GG_SHAPE_TRIANGLE : GG_SHAPE_POLYGON, material, v, NULL,
+                             n);
+}
+
+GG_API int ggSceneAddTriangle(ggScene *s, int material, const ggVec3 v[3], const ggVec3 *normals)
+{
+    return add_vertex_object(s, GG_SHAPE_TRIANGLE, material, v, normals, 3);
+}
+
+GG_API int ggSceneAddCone(ggScene *s, int material, ggVec3 base, double rb, ggVec3 apex,
+                          double ra)
+{
+    gg_object o = object_init(GG_SHAPE_CONE, material);
+    if (!v3finite(base) || !v3finite(apex) || !isfinite(rb) || !isfinite(ra) || rb < 0 ||
+        ra < 0 || (rb == 0 && ra == 0) || v3len(v3sub(apex, base)) == 0)
+        return -GG_ERROR_INVALID;
+    o.a = base, o.b = apex, o.ra = rb, o.rb = ra;
+    return gg_scene_add_object(s, &o);
+}
+
+GG_API int ggSceneAddRect(ggScene *s, int material, ggVec3 corner, ggVec3 e1, ggVec3 e2)
+{
+    gg_object o = object_init(GG_SHAPE_RECT, material);
+    if (!v3finite(corner) || !v3finite(e1) || !v3finite(e2) || v3len(v3cross(e1, e2)) == 0)
+        return -GG_ERROR_INVALID;
+    o.a = corner, o.b = e1, o.c = e2;
+    return gg_scene_add_object(s, &o);
+}
+
+GG_API int ggSceneAddImplicit(ggScene *s, int material, ggImplicit *imp)
+{
+    gg_object o = object_init(GG_SHAPE_IMPLICIT, material);
+    int rc;
+    if (!imp) return -GG_ERROR_INVALID;
+    o.imp = imp;
+    rc = gg_scene_add_object(s, &o);
+    if (rc < 0) ggImplicitFree(imp);
+    return rc;
+}
+
+GG_API int ggSceneObjectCount(const ggScene *s) { return (int)s->nobjects; }
+GG_API int ggSceneLightCount(const ggScene *s) { return (int)s->nlights; }
+GG_API int ggSceneMaterialCount(const ggScene *s) { return (int)s->nmaterials; }
+GG_API ggMaterial ggSceneMaterial(const ggScene *s, int i)
+{
+    return i >= 0 && (size_t)i < s->nmaterials ? s->materials[i] : ggMaterialDefault();
+}
+GG_API int ggSceneObjectKind(const ggScene *s, int i)
+{
+    return i >= 0 && (size_t)i < s->nobjects ? s->objects[i].kind : -1;
+}
+GG_API int ggSceneObjectMaterial(const ggScene *s, int i)
+{
+    return i >= 0 && (size_t)i < s->nobjects ? s->objects[i].material : -1;
+}
+GG_API int ggSceneObjectLine(const ggScene *s, int i)
+{
+    return i >= 0 && (size_t)i < s->nobjects ? s->objects[i].line : 0;
+}
+GG_API const char *ggSceneFileName(const ggScene *s) { return s->filename ? s->filename : ""; }
+
+/* ---- prepare ---- */
+
+/* Index of refraction at wavelength lambda (nm) from n_d and the Abbe
+   number by Cauchy's two-term law n = A + B / lambda^2 fitted so that
+   n(587.6) = n_d and n(486.1) - n(656.3) = (n_d - 1) / V_d. */
+static double cauchy(double nd, double abbe, double lambda)
+{
+    const double lf = 486.1, lc = 656.3, ld = 587.6;
+    double b, a;
+    if (abbe <= 0) return nd;
+    b = (nd - 1) / abbe / (1 / (lf * lf) - 1 / (lc * lc));
+    a = nd - b / (ld * ld);
+    return a + b / (lambda * lambda);
+}
+
+static void resolve_materials(ggScene *s)
+{
+    size_t i;
+    for (i = 0; i < s->nmaterials; i++) {
+        const ggMaterial *m = &s->materials[i];
+        gg_mat_fast *f = &s->mfast[i];
+        double unit = m->unit_m > 0 ? m->unit_m : 1;
+        f->kd_color = cscale(m->color, m->kd);
+        f->n_r = cauchy(m->ior, m->abbe, GG_LAMBDA_R);
+        f->n_g = cauchy(m->ior, m->abbe, GG_LAMBDA_G);
+        f->n_b = cauchy(m->ior, m->abbe, GG_LAMBDA_B);
+        /* alpha = 4 pi k / lambda per metre, times metres per scene unit. */
+        f->alpha = rgb(4 * GG_PI * m->extinction.r / (GG_LAMBDA_R * 1e-9) * unit,
+                       4 * GG_PI * m->extinction.g / (GG_LAMBDA_G * 1e-9) * unit,
+                       4 * GG_PI * m->extinction.b / (GG_LAMBDA_B * 1e-9) * unit);
+        f->flags = 0;
+        if (m->ks > 0 || m->fresnel == GG_FRESNEL_CONDUCTOR) f->flags |= GG_MF_REFLECT;
+        if (m->kt > 0) f->flags |= GG_MF_TRANSMIT;
+        /* Shine 100000 is the SPD's "no highlight"; below 1e4 a highlight
+           is visible at 8-bit precision only near its centre anyway. */
+        if (m->ks > 0 && m->shine < 10000) f->flags |= GG_MF_PHONG;
+        if (m->kt > 0 && !cis0(m->extinction)) f->flags |= GG_MF_ABSORB;
+        if (m->kt > 0 && m->abbe > 0) f->flags |= GG_MF_DISPERSE;
+        if (m->texture >= 0) f->flags |= GG_MF_TEXTURE;
+        if (!cis0(m->ke)) f->flags |= GG_MF_EMIT;
+    }
+}
+
+static int add_prims(ggScene *s, size_t i)
+{
+    const gg_object *o = &s->objects[i];
+    int32_t id = (int32_t)i;
+    int p = -1, k;
+    switch (o->kind) {
+    case GG_SHAPE_SPHERE: p = gg_geom_add_sphere(s->geom, o->a, o->ra, id); break;
+    case GG_SHAPE_CONE: p = gg_geom_add_cone(s->geom, o->a, o->ra, o->b, o->rb, id); break;
+    case GG_SHAPE_RECT: p = gg_geom_add_rect(s->geom, o->a, o->b, o->c, id); break;
+    case GG_SHAPE_IMPLICIT: p = gg_geom_add_implicit(s->geom, o->imp, id); break;
+    case GG_SHAPE_POLYGON: p = gg_geom_add_polygon(s->geom, s->verts + o->vfirst, o->nverts, id); break;
+    case GG_SHAPE_TRIANGLE:
+        if (o->nverts == 3) {
+            p = gg_geom_add_triangle(s->geom, s->verts + o->vfirst,
+                                     o->has_normals ? s->norms + o->vfirst : NULL, id);
+            break;
+        }
+        /* A pp polygon of more than 3 vertices: a fan of smooth triangles
+           (NFF pp polygons are convex in practice). */
+        for (k = 1; k + 1 < o->nverts; k++) {
+            ggVec3 v[3], n[3];
+            v[0] = s->verts[o->vfirst], v[1] = s->verts[o->vfirst + k],
+            v[2] = s->verts[o->vfirst + k + 1];
+            n[0] = s->norms[o->vfirst], n[1] = s->norms[o->vfirst + k],
+            n[2] = s->norms[o->vfirst + k + 1];
+            p = gg_geom_add_triangle(s->geom, v, o->has_normals ? n : NULL, id);
+            if (p >= 0 && s->materials[o->material].kt > 0)
+                gg_geom_set_flags(s->geom, p, GG_PRIM_TRANSPARENT);
+        }
+        return 0;
+    }
+    if (p >= 0 && s->materials[o->material].kt > 0)
+        gg_geom_set_flags(s->geom, p, GG_PRIM_TRANSPARENT);
+    /* -1 is also "degenerate" (a zero-area polygon): such an object simply
+       cannot be hit, which is what the user's data says. */
+    return 0;
+}
+
+GG_API int ggScenePrepare(ggScene *s, ggError *err)
+{
+    size_t i;
+    int rc;
+    double t0 = gg_time_now();
+    if (s->prepared) return GG_OK;
+    unprepare(s);
+    s->geom = gg_geom_create(s->alloc);
+    s->mfast = gg_mem_calloc(s->alloc, s->nmaterials ? s->nmaterials : 1, sizeof *s->mfast);
+    s->light_colors = gg_mem_calloc(s->alloc, s->nlights ? s->nlights : 1, sizeof(ggColor));
+    if (!s->geom || !s->mfast || !s->light_colors) goto nomem;
+    for (i = 0; i < s->nobjects; i++)
+        if (add_prims(s, i) < 0) goto nomem;
+    rc = gg_geom_build(s->geom, err);
+    if (rc != GG_OK) {
+        unprepare(s);
+        return rc;
+    }
+    resolve_materials(s);
+    for (i = 0; i < s->nlights; i++) {
+        ggColor c = s->lights[i].color;
+        if (c.r < 0) {
+            double w = 1 / sqrt((double)s->nlights);
+            c = rgb(w, w, w);
+        }
+        s->light_colors[i] = c;
+    }
+    if (gg_effects_compute(s) != GG_OK) goto nomem;
+    s->prepared = true;
+    s->prepare_seconds = gg_time_now() - t0;
+    return GG_OK;
+nomem:
+    unprepare(s);
+    return gg_error_set(err, GG_ERROR_NOMEM, "preparing the scene: out of memory");
+}
+
+ggColor gg_scene_surface_color(const ggScene *s, int material, double u, double v, int filter)
+{
+    const ggMaterial *m = &s->materials[material];
+    const gg_texture *t;
+    ggColor c;
+    if (m->texture < 0) return m->color;
+    t = &s->textures[m->texture];
+    if (!t->img)
+        c = ggTextureChecker(u, v, t->checker_n, t->checker_a, t->checker_b);
+    else if (filter == GG_ACC_TEXTURE_NEAREST || (filter == 0 && t->nearest))
+        c = ggTextureNearest(t->img, u, v, t->wrap);
+    else
+        c = ggTextureBilinear(t->img, u, v, t->wrap);
+    return cmul(c, m->color);
+}
+
+static void fill_hit(const ggScene *s, const gg_rayq *q, const gg_hit *h, ggHit *out)
+{
+    gg_surf sf;
+    int32_t obj = gg_geom_prim_object(s->geom, h->prim);
+    gg_geom_surface(s->geom, q, h, &sf);
+    out->t = h->t;
+    out->p = sf.p;
+    out->ng = sf.ng;
+    out->ns = sf.ns;
+    out->u = sf.u;
+    out->v = sf.v;
+    out->front = v3dot(q->d, sf.ng) < 0;
+    out->object = obj;
+    out->kind = s->objects[obj].kind;
+    out->material = s->objects[obj].material;
+}
+
+GG_API bool ggSceneIntersect(const ggScene *s, ggRay ray, double tmin, double tmax, ggHit *hit)
+{
+    gg_rayq q;
+    gg_hit h;
+    if (!s->prepared) return false;
+    q.o = ray.o, q.d = ray.d, q.tmin = tmin, q.tmax = tmax;
+    q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    if (!gg_geom_intersect(s->geom, &q, &h)) return false;
+    if (hit) fill_hit(s, &q, &h, hit);
+    return true;
+}
+
+GG_API bool ggSceneOccluded(const ggScene *s, ggRay ray, double tmin, double tmax)
+{
+    gg_rayq q;
+    if (!s->prepared) return false;
+    q.o = ray.o, q.d = ray.d, q.tmin = tmin, q.tmax = tmax;
+    q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    return gg_geom_occluded(s->geom, &q) != 0;
+}
+
+GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
+{
+    gg_bvh_stats bs;
+    size_t i;
+    memset(info, 0, sizeof *info);
+    if (!s->prepared) return GG_ERROR_INVALID;
+    for (i = 0; i < s->nobjects; i++) info->objects_by_kind[s->objects[i].kind]++;
+    gg_geom_bvh_stats(s->geom, &bs);
+    info->primitives = gg_geom_prim_count(s->geom);
+    info->bvh_nodes = bs.nodes, info->bvh_leaves = bs.leaves, info->bvh_depth = bs.max_depth;
+    info->bvh_blocks = bs.blocks;
+    info->geometry_bytes = bs.bytes;
+    info->bvh_seconds = bs.build_seconds;
+    info->prepare_seconds = s->prepare_seconds;
+    gg_geom_bounds(s->geom, &info->lo, &info->hi);
+    return GG_OK;
+}
+
+GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
+{
+    const gg_object *o;
+    memset(d, 0, sizeof *d);
+    if (i < 0 || (size_t)i >= s->nobjects) return GG_ERROR_INVALID;
+    o = &s->objects[i];
+    d->kind = o->kind, d->material = o->material, d->line = o->line;
+    switch (o->kind) {
+    case GG_SHAPE_SPHERE: d->base = o->a, d->radius = o->ra; break;
+    case GG_SHAPE_CONE: d->base = o->a, d->apex = o->b, d->radius = o->ra, d->radius2 = o->rb; break;
+    case GG_SHAPE_RECT: d->base = o->a, d->e1 = o->b, d->e2 = o->c; break;
+    case GG_SHAPE_IMPLICIT: gg_implicit_bounds(o->imp, &d->base, &d->apex); break;
+    default:
+        d->nverts = o->nverts;
+        d->verts = s->verts + o->vfirst;
+        d->normals = o->has_normals ? s->norms + o->vfirst : NULL;
+    }
+    return GG_OK;
+}

@@ -1,0 +1,104 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** scene.h -- the scene's insides, shared by the loader, the effect
+** analysis and the renderer (internal).
+**
+** Objects are kept as the user described them (shape parameters, material,
+** defining line); ggScenePrepare turns them into primitives in a gg_geom
+** and works out the effect set. Keeping the description lets the scene be
+** reported (`ggrt info`, the ray tree) in the user's own terms.
+*/
+#ifndef GG_LIB_SCENE_H
+#define GG_LIB_SCENE_H
+
+#include "geom.h"
+
+typedef struct gg_object {
+    int kind;     /* ggShapeKind */
+    int material;
+    int line, col; /* where the scene file defined it (0 from code) */
+    /* Shape parameters; which ones are used depends on kind. */
+    ggVec3 a, b, c;   /* sphere: a = centre; cone: a = base, b = apex; rect: a, b, c */
+    double ra, rb;    /* sphere: ra = radius; cone: ra = base radius, rb = apex radius */
+    size_t vfirst;    /* polygon/triangle: first vertex in the scene's vertex pool */
+    int nverts;
+    bool has_normals; /* triangle from pp: normals pool parallel to vertices */
+    ggImplicit *imp;  /* implicit: owned */
+} gg_object;
+
+typedef struct gg_light {
+    ggVec3 pos;
+    ggColor color; /* r < 0: the SPD default, 1/sqrt(number of lights) */
+    int line;
+} gg_light;
+
+typedef struct gg_texture {
+    ggImage *img;   /* NULL for a procedural checker */
+    double checker_n;
+    ggColor checker_a, checker_b;
+    int wrap;       /* GG_WRAP_* */
+    int nearest;    /* nearest-texel sampling instead of bilinear */
+} gg_texture;
+
+/* Resolved per-material data used while shading. */
+typedef struct gg_mat_fast {
+    ggColor kd_color;  /* kd * color */
+    double n_r, n_g, n_b; /* index per wavelength (dispersion), else all ior */
+    ggColor alpha;     /* absorption per unit of scene length */
+    unsigned flags;    /* GG_MF_* */
+} gg_mat_fast;
+
+#define GG_MF_REFLECT   1u  /* ks > 0 */
+#define GG_MF_TRANSMIT  2u  /* kt > 0 */
+#define GG_MF_PHONG     4u  /* ks > 0 with a visible highlight */
+#define GG_MF_ABSORB    8u
+#define GG_MF_DISPERSE  16u
+#define GG_MF_TEXTURE   32u
+#define GG_MF_EMIT      64u
+
+struct ggScene {
+    const ggAllocator *alloc;
+    ggAllocator alloc_copy;
+    char *filename;
+    ggCamera camera;
+    bool has_camera;
+    ggColor background, ambient;
+    int depth, samples;
+    ggImageReader reader; /* NULL: gg_load_default_reader() */
+    void *reader_ud;
+
+    gg_object *objects;
+    size_t nobjects, cap_objects;
+    ggMaterial *materials;
+    size_t nmaterials, cap_materials;
+    gg_light *lights;
+    size_t nlights, cap_lights;
+    gg_texture *textures;
+    size_t ntextures, cap_textures;
+    ggVec3 *verts, *norms; /* polygon vertex pool; norms parallel (zero when absent) */
+    size_t nverts, cap_verts, cap_norms;
+
+    /* Valid after prepare. */
+    bool prepared;
+    gg_geom *geom;
+    gg_mat_fast *mfast;
+    ggColor *light_colors; /* resolved */
+    unsigned effects;
+    char *reasons[GG_EFFECT_COUNT];
+    double prepare_seconds;
+};
+
+/* Append helpers (return index or -GG_ERROR_NOMEM). */
+int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int count, size_t *first);
+int gg_scene_add_object(ggScene *s, const gg_object *o);
+int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t);
+
+/* Work out the effect set and reasons (effects.c). */
+int gg_effects_compute(ggScene *s);
+void gg_effects_clear(ggScene *s);
+
+/* Shared by shading: the material's colour at a surface point. filter:
+   0 as the texture says, GG_ACC_TEXTURE_BILINEAR or _NEAREST. */
+ggColor gg_scene_surface_color(const ggScene *s, int material, double u, double v, int filter);
+
+#endif
