@@ -55,5 +55,5 @@ void tu_assert_close(double a, double b, double tol, const char *sa, const char 
 const char *tu_spd_dir(void)
 {
     const char *d = getenv("GG_SPD_DIR");
-    return d && *d ? d : "../shared/scenes/spd";
+    return d && *d ? d : "examples/scenes/spd";
 }

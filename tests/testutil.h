@@ -39,7 +39,7 @@ void tu_assert_close(double a, double b, double tol, const char *sa, const char 
         tu_assert_close(a_.z, b_.z, (tol), #a ".z", #b ".z", __FILE__, __LINE__);                \
     } while (0)
 
-/* Path of the shared SPD scenes (GG_SPD_DIR or ../shared/scenes/spd). */
+/* Path of the SPD scenes (GG_SPD_DIR or the repository's examples/scenes/spd). */
 const char *tu_spd_dir(void);
 
 #endif
