@@ -458,9 +458,9 @@ GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, co
    where (parameter of the original ray). all (if not NULL): the caller
    has found nothing opaque on the segment, and these are its transparent
    crossings (gg_geom_shadow_query_all). */
-static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
-                           const gg_media *start, int *first_obj, double *t_first, int pre,
-                           const gg_hit *pre_hit, const gg_tcol *all)
+GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
+                              const gg_media *start, int *first_obj, double *t_first, int pre,
+                              const gg_hit *pre_hit, const gg_tcol *all)
 {
     const ggScene *s = c->s;
     const ggVec3 light = v3add(o, d);
@@ -683,8 +683,8 @@ GG_INLINE void mirror_weight(const gg_shade_ctx *c, const ray_state *r, const hi
 
 /* Direction t of the ray v refracted at the hit from index ni into nt, as
    the refraction knob says; 0 on total internal reflection. */
-static int refract_dir(const gg_shade_ctx *c, ggVec3 v, const hit_info *hi, double ni, double nt,
-                       ggVec3 *t)
+GG_INLINE int refract_dir(const gg_shade_ctx *c, ggVec3 v, const hit_info *hi, double ni, double nt,
+                          ggVec3 *t)
 {
     int ok;
     /* gg_refract_unit: plain double where refraction is well conditioned,
