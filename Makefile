@@ -3,7 +3,8 @@
 #
 #   make                 build/libggrt.a, build/libggrt.so, build/ggrt
 #   make check           install missing Debian packages, then run every test
-#                        twice: -O2 and ASan+UBSan (see tests/run-tests.sh)
+#                        twice, -O2 and ASan+UBSan, and the concurrency tests
+#                        under ThreadSanitizer (see tests/run-tests.sh)
 #   make demo            install missing packages, render the default scene
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man page)
 #   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each
@@ -90,7 +91,7 @@ SONAME = libggrt.so.$(VERSION_MAJOR)
 SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
-.PHONY: all lib cli check test tests deps demo install uninstall installcheck \
+.PHONY: all lib cli check test test-tsan tests deps demo install uninstall installcheck \
         clean fuzz bench examples format pc layers
 .DEFAULT_GOAL := all
 .SECONDARY:
@@ -164,6 +165,14 @@ test: tests
 
 SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 
+# The suites that run the library from several threads at once, run a
+# third time under ThreadSanitizer (GCC's; TSan reports make the run fail).
+TSAN_TESTS = $(BUILD)/tests/test_concurrent $(BUILD)/tests/test_render
+TSAN_CC    ?= gcc
+TSAN_FLAGS  = -O1 -g -fsanitize=thread -fno-omit-frame-pointer
+test-tsan: $(TSAN_TESTS)
+	@TSAN_OPTIONS="halt_on_error=1 $(TSAN_OPTIONS)" sh tests/run-tests.sh "$(BUILD)" $(TSAN_TESTS) --
+
 # check: install missing packages, then the plain and the sanitized runs,
 # then stage an install and build the examples against it. Recursive makes
 # re-read pkg-config once the packages are there.
@@ -172,8 +181,10 @@ check: deps
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
 	  LDFLAGS="-fsanitize=address,undefined" GG_WERROR=-Werror
+	@$(MAKE) --no-print-directory test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" \
+	  LDFLAGS="-fsanitize=thread" GG_WERROR=-Werror
 	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release GG_WERROR=-Werror
-	@echo "check: all suites passed (plain, sanitized, installcheck)"
+	@echo "check: all suites passed (plain, sanitized, thread-sanitized, installcheck)"
 
 deps:
 	@sh scripts/deps.sh

@@ -54,6 +54,13 @@ static int load_nff(bscene *s, const char *path, ggScene **owner)
 
 /* ---- generated scenes ---- */
 
+/* The plain any-hit query, without an occluder cache. */
+static int occluded(const gg_geom *g, const gg_rayq *q)
+{
+    uint32_t none = 0;
+    return gg_geom_occluded(g, q, &none, NULL);
+}
+
 static uint64_t rng = 88172645463325252ull;
 static double urand(void)
 {
@@ -123,6 +130,7 @@ static void camera_ray(const bscene *s, int res, int i, int j, gg_rayq *q)
     q->d = v3norm(v3add(w, v3add(v3scale(u, x), v3scale(v, y))));
     q->tmin = 0, q->tmax = INFINITY;
     q->ignore_prim = UINT32_MAX, q->skip_flags = 0;
+    q->inside = UINT32_MAX, q->opt = &gg_qopt_default;
 }
 
 static void random_rays(const gg_geom *g, gg_rayq *qs, int n)
@@ -137,6 +145,7 @@ static void random_rays(const gg_geom *g, gg_rayq *qs, int n)
         qs[i].d = v3(sr * cos(ph), sr * sin(ph), z);
         qs[i].tmin = 0, qs[i].tmax = INFINITY;
         qs[i].ignore_prim = UINT32_MAX, qs[i].skip_flags = 0;
+        qs[i].inside = UINT32_MAX, qs[i].opt = &gg_qopt_default;
     }
 }
 
@@ -155,7 +164,7 @@ static double rate(const gg_geom *g, const gg_rayq *qs, int n, int any)
         int i;
         gg_hit h;
         for (i = 0; i < n; i++)
-            hits += any ? gg_geom_occluded(g, &qs[i]) : gg_geom_intersect(g, &qs[i], &h);
+            hits += any ? occluded(g, &qs[i]) : gg_geom_intersect(g, &qs[i], &h);
         t = gg_time_now() - t0;
         sink += hits;
         if (n / t * 1e-6 > best) best = n / t * 1e-6;
@@ -174,7 +183,7 @@ static double rate_cached(const gg_geom *g, const gg_rayq *qs, const int *light,
         double t0 = gg_time_now(), t;
         long hits = 0;
         int i;
-        for (i = 0; i < n; i++) hits += gg_geom_occluded_cached(g, &qs[i], &cache[light[i]]);
+        for (i = 0; i < n; i++) hits += gg_geom_occluded(g, &qs[i], &cache[light[i]], NULL);
         t = gg_time_now() - t0;
         sink += hits;
         if (n / t * 1e-6 > best) best = n / t * 1e-6;
@@ -204,15 +213,16 @@ static void run(bscene *s, int res, int nrand)
         gg_hit h;
         gg_surf sf;
         if (!gg_geom_intersect(s->g, &cq[i], &h)) continue;
-        gg_geom_surface(s->g, &cq[i], &h, &sf);
+        gg_geom_surface(s->g, &cq[i], &h, &sf, GG_SURF_UV);
         for (k = 0; k < s->nlights; k++) {
             gg_rayq *q = &sq[ns];
             q->d = v3sub(s->lights[k], sf.p);
             if (v3dot(q->d, sf.ng) * v3dot(cq[i].d, sf.ng) >= 0) continue; /* faces away */
-            q->o = gg_offset_origin(&sf, q->d, GG_OFFSET_SCALED);
+            q->o = gg_offset_origin(&sf, q->d);
             q->d = v3sub(s->lights[k], q->o);
             q->tmin = 0, q->tmax = 1;
             q->ignore_prim = h.prim, q->skip_flags = 0;
+            q->inside = UINT32_MAX, q->opt = &gg_qopt_default;
             sl[ns] = k;
             ns++;
         }

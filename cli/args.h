@@ -208,7 +208,7 @@ int cli_parse_num(const char *s, double lo, double hi, double *out, char *why, s
 
 /* Which parts of the group a command takes. */
 #define CLI_RENDER_SIZE     0x01u /* -s WxH */
-#define CLI_RENDER_DEPTH    0x02u /* -d N */
+#define CLI_RENDER_DEPTH    0x02u /* -d N, --ray-budget N */
 #define CLI_RENDER_SAMPLES  0x04u /* -n N */
 #define CLI_RENDER_THREADS  0x08u /* -j N */
 #define CLI_RENDER_CROP     0x10u /* --crop X0,Y0,X1,Y1 */
@@ -225,7 +225,7 @@ int cli_parse_num(const char *s, double lo, double hi, double *out, char *why, s
 typedef struct cli_render {
     ggRenderOptions opt; /* the result, after cli_render_finish */
     unsigned parts;
-    int size[2], depth, samples, threads, crop[4];
+    int size[2], depth, budget, samples, threads, crop[4];
     int spd, corners, force;
     cli_opt table[CLI_RENDER_MAX_OPTS]; /* put it in cli_cmd.opts */
 } cli_render;

@@ -166,6 +166,11 @@ static void summary(const render_args *a, ggScene *scene, const ggImage *img, co
            t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0);
     if (st->nonfinite)
         printf("warning: %llu samples were NaN or infinite\n", (unsigned long long)st->nonfinite);
+    if (st->budget_cut)
+        printf("warning: the ray budget (%d rays per eye ray) left %llu rays uncast; "
+               "--ray-budget raises it\n",
+               a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
+               (unsigned long long)st->budget_cut);
 }
 
 /* Render, print what was asked, write. The image is written with the

@@ -175,6 +175,10 @@ void cli_render_init(cli_render *r, unsigned parts)
         r->table[n++] = (cli_opt)CLI_OPT_INT('d', "depth", &r->depth, 1, 64, "N",
                                              "ray-tree depth counting the eye ray (default: the\n"
                                              "scene's, else 5)");
+    if (parts & CLI_RENDER_DEPTH)
+        r->table[n++] = (cli_opt)CLI_OPT_INT(0, "ray-budget", &r->budget, 1, GG_RAY_BUDGET_MAX, "N",
+                                             "at most N reflected and refracted rays per eye ray\n"
+                                             "(default 1024): bounds the time of deep glass");
     if (parts & CLI_RENDER_SAMPLES)
         r->table[n++] = (cli_opt)CLI_OPT_INT('n', "samples", &r->samples, 1, 4096, "N",
                                              "samples per pixel (default: the scene's, else 1)");
@@ -225,6 +229,7 @@ void cli_render_finish(cli_render *r)
 {
     if (given(r, "size")) r->opt.width = r->size[0], r->opt.height = r->size[1];
     if (given(r, "depth")) r->opt.max_depth = r->depth;
+    if (given(r, "ray-budget")) r->opt.ray_budget = r->budget;
     if (given(r, "samples")) r->opt.samples = r->samples;
     if (given(r, "threads")) r->opt.threads = r->threads;
     if (given(r, "crop")) {
@@ -245,6 +250,8 @@ void cli_render_print(FILE *f, const cli_render *r, unsigned parts)
     parts &= r->parts;
     if ((parts & CLI_RENDER_SIZE) && given(r, "size")) fprintf(f, " -s %dx%d", o->width, o->height);
     if ((parts & CLI_RENDER_DEPTH) && given(r, "depth")) fprintf(f, " -d %d", o->max_depth);
+    if ((parts & CLI_RENDER_DEPTH) && given(r, "ray-budget"))
+        fprintf(f, " --ray-budget %d", o->ray_budget);
     if ((parts & CLI_RENDER_SAMPLES) && given(r, "samples")) fprintf(f, " -n %d", o->samples);
     if ((parts & CLI_RENDER_THREADS) && given(r, "threads")) fprintf(f, " -j %d", o->threads);
     if ((parts & CLI_RENDER_CROP) && given(r, "crop"))

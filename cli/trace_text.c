@@ -117,9 +117,10 @@ static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, 
                     1 - n->fresnel, n->n_medium, n->n_other);
         if (n->stop != GG_STOP_NONE)
             fprintf(f, "%s    stops: %s\n", body,
-                    n->stop == GG_STOP_DEPTH   ? "depth limit reached"
-                    : n->stop == GG_STOP_MATTE ? "no ks or kt: no secondary rays"
-                                               : ggStopName(n->stop));
+                    n->stop == GG_STOP_DEPTH    ? "depth limit reached"
+                    : n->stop == GG_STOP_MATTE  ? "no ks or kt: no secondary rays"
+                    : n->stop == GG_STOP_BUDGET ? "the eye ray's ray budget is used up"
+                                                : ggStopName(n->stop));
     }
     if (n->absorption.r != 1 || n->absorption.g != 1 || n->absorption.b != 1) {
         fprintf(f, "%sabsorption over the segment ", body);
@@ -150,6 +151,9 @@ void trace_print_text(FILE *f, const trace_view *v, int utf8)
             (unsigned long long)v->stats.eye, (unsigned long long)v->stats.reflect,
             (unsigned long long)v->stats.refract, (unsigned long long)v->stats.shadow,
             (unsigned long long)v->stats.tir);
+    if (v->stats.budget_cut)
+        fprintf(f, "ray budget used up: %llu rays not cast (--ray-budget raises it)\n\n",
+                (unsigned long long)v->stats.budget_cut);
     for (i = 0; i < n; i++)
         if (ggTraceGetNode(v->trace, i)->parent < 0) {
             const ggTraceNode *r = ggTraceGetNode(v->trace, i);

@@ -123,6 +123,7 @@ static void random_ray(tu_rng *r, gg_rayq *q)
     q->tmax = tu_uniform(r) < 0.2 ? tu_range(r, 0, 10) : INFINITY;
     q->ignore_prim = UINT32_MAX;
     q->skip_flags = 0;
+    q->inside = UINT32_MAX, q->opt = &gg_qopt_default;
 }
 
 /* ---- the reference: every element, with a chunk filter ----
@@ -277,7 +278,7 @@ static int ref_closest(const ref *rf, const gg_rayq *q, gg_hit *hit)
     gg_hit best;
     size_t si, ci;
     double dl;
-    if (!g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->nslots || !gg_rpre_init(&r, q) || !(q->tmax > q->tmin)) return 0;
     dl = sqrt(r.a);
     best.t = gg_next_down(q->tmax);
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
@@ -295,6 +296,22 @@ static int ref_closest(const ref *rf, const gg_rayq *q, gg_hit *hit)
     return 1;
 }
 
+/* The plain any-hit query, without an occluder cache. */
+static int occluded(const gg_geom *g, const gg_rayq *q)
+{
+    uint32_t none = 0;
+    return gg_geom_occluded(g, q, &none, NULL);
+}
+
+/* Any-hit by testing every element, as gg_geom_intersect_brute does for
+   the closest hit. */
+static int occluded_brute(const gg_geom *g, const gg_rayq *q)
+{
+    gg_rpre r;
+    if (!g->built || !g->nslots || !gg_rpre_init(&r, q) || !(q->tmax > q->tmin)) return 0;
+    return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, gg_next_down(q->tmax)) != 0;
+}
+
 static void compare_ref(const gg_geom *g, const ref *rf, const gg_rayq *q, long *nhit)
 {
     gg_hit a, b;
@@ -304,7 +321,7 @@ static void compare_ref(const gg_geom *g, const ref *rf, const gg_rayq *q, long 
                     fa ? a.t : 0, fb, fb ? b.prim : 0, fb ? b.t : 0);
         fail();
     }
-    assert_int_equal(gg_geom_occluded(g, q), fb);
+    assert_int_equal(occluded(g, q), fb);
     if (fa) (*nhit)++;
 }
 
@@ -313,8 +330,8 @@ static void compare(const gg_geom *g, const gg_rayq *q, long *nhit)
     gg_hit a, b;
     int fa = gg_geom_intersect(g, q, &a), fb = gg_geom_intersect_brute(g, q, &b);
     assert_int_equal(fa, fb);
-    assert_int_equal(gg_geom_occluded(g, q), fb);
-    assert_int_equal(gg_geom_occluded_brute(g, q), fb);
+    assert_int_equal(occluded(g, q), fb);
+    assert_int_equal(occluded_brute(g, q), fb);
     if (fa) {
         if (a.prim != b.prim || a.t != b.t || a.sub != b.sub || a.b1 != b.b1) {
             print_error("bvh prim %u t %.17g, brute prim %u t %.17g\n", a.prim, a.t, b.prim, b.t);
@@ -389,7 +406,7 @@ static void test_ignore_and_skip(void **state)
         fa = gg_geom_intersect(g, &q, &a);
         fb = i % 50 ? ref_closest(&rf, &q, &b) : gg_geom_intersect_brute(g, &q, &b);
         assert_int_equal(fa, fb);
-        assert_int_equal(gg_geom_occluded(g, &q), fb);
+        assert_int_equal(occluded(g, &q), fb);
         if (fa) {
             assert_int_equal(a.prim, b.prim);
             assert_true(a.t == b.t);
@@ -432,12 +449,12 @@ static void test_coincident(void **state)
 static void test_empty(void **state)
 {
     gg_geom *g = gg_geom_create(NULL);
-    gg_rayq q = {{0, 0, 0}, {1, 0, 0}, 0, INFINITY, UINT32_MAX, 0};
+    gg_rayq q = {{0, 0, 0}, {1, 0, 0}, 0, INFINITY, UINT32_MAX, 0, UINT32_MAX, &gg_qopt_default};
     gg_hit h;
     (void)state;
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
     assert_int_equal(gg_geom_intersect(g, &q, &h), 0);
-    assert_int_equal(gg_geom_occluded(g, &q), 0);
+    assert_int_equal(occluded(g, &q), 0);
     gg_geom_free(g);
     gg_geom_free(NULL);
 }
@@ -458,11 +475,12 @@ static void test_occluded_cached(void **state)
         q.o = V3(-10 + 20 * (i % 200) / 200.0, -10 + 20 * (i / 200) / 100.0, tu_range(&r, -2, 2));
         q.d = V3(light.x - q.o.x, light.y - q.o.y, light.z - q.o.z);
         q.tmin = 0, q.tmax = 1, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+        q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
         if (i % 7 == 0) cache = (uint32_t)(tu_next(&r) % (g->nslots + 5)); /* junk is harmless */
-        assert_int_equal(gg_geom_occluded_cached(g, &q, &cache), gg_geom_occluded(g, &q));
+        assert_int_equal(gg_geom_occluded(g, &q, &cache, NULL), occluded(g, &q));
         /* an occluder is remembered, a clear segment empties the cache */
-        assert_int_equal(cache != 0, gg_geom_occluded(g, &q));
-        occl += gg_geom_occluded(g, &q);
+        assert_int_equal(cache != 0, occluded(g, &q));
+        occl += occluded(g, &q);
     }
     print_message("%d of 20000 shadow rays occluded\n", occl);
     assert_true(occl > 1000 && occl < 19000);
@@ -487,21 +505,25 @@ static void test_nonfinite_rays(void **state)
         for (b = -1; b < 4; b++) {
             double c[6] = {0.25, 0.25, 10, 0, 0, -1};
             gg_rayq q;
-            gg_hit h, tr;
+            gg_hit h;
             gg_tcol all;
-            int has = -1, expect;
+            int expect;
             /* 1e300 overflows d . d (as an origin it is only far away) */
             if (b == 3 && k < 3) continue;
             if (b >= 0) c[k] = bad[b];
             expect = b < 0;
             q.o = V3(c[0], c[1], c[2]), q.d = V3(c[3], c[4], c[5]);
             q.tmin = 0, q.tmax = INFINITY, q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+            q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
             assert_int_equal(gg_geom_intersect(g, &q, &h), expect);
-            assert_int_equal(gg_geom_occluded(g, &q), expect);
-            assert_int_equal(gg_geom_occluded_cached(g, &q, &cache), expect);
-            assert_int_equal(gg_geom_shadow_query(g, &q, &tr, &has), expect);
-            if (!expect) assert_int_equal(has, 0);
-            assert_int_equal(gg_geom_shadow_query_all(g, &q, &tr, &has, NULL, &all), expect);
+            assert_int_equal(occluded(g, &q), expect);
+            assert_int_equal(gg_geom_occluded(g, &q, &cache, NULL), expect);
+            /* the sphere is opaque: it blocks a coloured shadow ray too */
+            assert_int_equal(gg_geom_occluded(g, &q, &cache, &all), expect);
+            if (!expect) assert_true(all.complete && all.n == 0 && !all.has_near);
+            q.inside = 0; /* a hint changes no answer */
+            assert_int_equal(gg_geom_intersect(g, &q, &h), expect);
+            assert_int_equal(gg_geom_occluded(g, &q, &cache, &all), expect);
             nhit += expect;
         }
     assert_int_equal(nhit, 6);
@@ -543,6 +565,7 @@ static void test_rebuild_stats_bounds(void **state)
     assert_true(lo.x <= -1 && lo.x > -1 - 1e-12 && hi.z >= 1 && hi.z < 1 + 1e-12);
     q.o = V3(0.25, 0.25, 10), q.d = V3(0, 0, -1), q.tmin = 0, q.tmax = INFINITY;
     q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
     assert_true(gg_geom_intersect(g, &q, &h));
     assert_close(h.t, 10 - sqrt(1 - 0.125), 1e-15);
     /* a new primitive in front: unbuilt queries find nothing, rebuilt ones find it */
@@ -619,6 +642,7 @@ static void test_allocator(void **state)
             ok_builds++;
             q.o = V3(0, 0, 20), q.d = V3(0.01, 0.02, -1), q.tmin = 0, q.tmax = INFINITY;
             q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+            q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
             assert_int_equal(gg_geom_intersect(g, &q, &h), gg_geom_intersect_brute(g, &q, &h));
         } else {
             assert_int_equal(err.code, GG_ERROR_NOMEM);
@@ -683,6 +707,7 @@ static void test_spd_scenes(void **state)
             q.tmin = 0;
             q.tmax = i % 4 == 0 ? tu_range(&r, 0, hi.x - lo.x) : INFINITY;
             q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+            q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
             if (i % 500 == 0)
                 compare(g, &q, &nhit);
             else

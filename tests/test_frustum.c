@@ -20,6 +20,7 @@ static int ray_hits(const ggScene *s, const ggRenderOptions *o, double x, double
     gg_hit h;
     q.o = r.o, q.d = r.d, q.tmin = 0, q.tmax = INFINITY;
     q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
     return gg_geom_intersect(s->geom, &q, &h);
 }
 
@@ -98,14 +99,18 @@ static void test_frustum_tight(void **state)
         assert_int_equal(gg_geom_build(g, NULL), GG_OK);
         /* the box spans x in [-sc, sc] at z in [-sc, sc]: from the eye,
            x/z slopes up to 1/9 */
-        d[0] = v3(0.2, 0.2, 1), d[1] = v3(0.3, 0.2, 1), d[2] = v3(0.3, 0.3, 1), d[3] = v3(0.2, 0.3, 1);
+        d[0] = v3(0.2, 0.2, 1), d[1] = v3(0.3, 0.2, 1), d[2] = v3(0.3, 0.3, 1),
+        d[3] = v3(0.2, 0.3, 1);
         assert_int_equal(gg_geom_frustum_empty(g, eye, d), 1);
-        d[0] = v3(1.0 / 9, 0, 1), d[1] = v3(0.3, 0, 1), d[2] = v3(0.3, 0.1, 1), d[3] = v3(1.0 / 9, 0.1, 1);
+        d[0] = v3(1.0 / 9, 0, 1), d[1] = v3(0.3, 0, 1), d[2] = v3(0.3, 0.1, 1),
+        d[3] = v3(1.0 / 9, 0.1, 1);
         assert_int_equal(gg_geom_frustum_empty(g, eye, d), 0);
-        d[0] = v3(-0.05, -0.05, 1), d[1] = v3(0.05, -0.05, 1), d[2] = v3(0.05, 0.05, 1), d[3] = v3(-0.05, 0.05, 1);
+        d[0] = v3(-0.05, -0.05, 1), d[1] = v3(0.05, -0.05, 1), d[2] = v3(0.05, 0.05, 1),
+        d[3] = v3(-0.05, 0.05, 1);
         assert_int_equal(gg_geom_frustum_empty(g, eye, d), 0);
         /* looking away */
-        d[0] = v3(-0.05, -0.05, -1), d[1] = v3(0.05, -0.05, -1), d[2] = v3(0.05, 0.05, -1), d[3] = v3(-0.05, 0.05, -1);
+        d[0] = v3(-0.05, -0.05, -1), d[1] = v3(0.05, -0.05, -1), d[2] = v3(0.05, 0.05, -1),
+        d[3] = v3(-0.05, 0.05, -1);
         assert_int_equal(gg_geom_frustum_empty(g, eye, d), 1);
         /* degenerate (NaN) directions: no claim */
         d[0].x = NAN;

@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** test_inside.c -- gg_geom_intersect_inside: for a ray starting inside an
-** isolated sphere it answers exactly what the brute-force query answers
-** (same primitive, same t to the bit), and it declines (-1) whenever the
-** sphere has a neighbour inside or touching it, or the origin is outside.
+** test_inside.c -- the gg_rayq.inside hint (gg_geom_inside_hit): for a
+** ray starting inside an isolated sphere it answers exactly what the
+** brute-force query answers (same primitive, same t to the bit), and it
+** declines (-1) whenever the sphere has a neighbour inside or touching it,
+** or the origin is outside; gg_geom_intersect with the hint answers what it
+** answers without.
 */
 #include "testutil.h"
 
@@ -61,8 +63,12 @@ static void check_rays(const gg_geom *g, int prim, ggVec3 c, double rad, int exp
         q.d = tu_unit(&r);
         q.tmin = 0, q.tmax = k % 8 == 1 ? 0.1 * rad : INFINITY;
         q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
-        got = gg_geom_intersect_inside(g, &q, (uint32_t)prim, &h1);
+        q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
         ref = gg_geom_intersect_brute(g, &q, &h2);
+        q.inside = (uint32_t)prim;
+        assert_int_equal(gg_geom_intersect(g, &q, &h1), ref);
+        if (ref) assert_true(h1.prim == h2.prim && h1.t == h2.t && h1.sub == h2.sub);
+        got = gg_geom_inside_hit(g, &q, 0, &h1);
         if (got < 0) continue;
         fast++;
         assert_int_equal(got, 1);
@@ -71,8 +77,10 @@ static void check_rays(const gg_geom *g, int prim, ggVec3 c, double rad, int exp
         assert_true(h1.t == h2.t);
         assert_int_equal(h1.sub, h2.sub);
     }
-    if (expect_fast) assert_true(fast > 10000);
-    else assert_int_equal(fast, 0);
+    if (expect_fast)
+        assert_true(fast > 10000);
+    else
+        assert_int_equal(fast, 0);
 }
 
 static void test_isolated_exact(void **state)
@@ -98,13 +106,19 @@ static void test_declines(void **state)
     /* Origin outside A. */
     q.o = V3(0, 0, 1.3), q.d = V3(0, 0, -1), q.tmin = 0, q.tmax = INFINITY;
     q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
-    assert_int_equal(gg_geom_intersect_inside(g, &q, (uint32_t)a, &h), -1);
+    q.inside = (uint32_t)a, q.opt = &gg_qopt_default;
+    assert_int_equal(gg_geom_inside_hit(g, &q, 0, &h), -1);
     /* Not a sphere. */
     q.o = V3(0, 0, 1);
-    assert_int_equal(gg_geom_intersect_inside(g, &q, 0, &h), -1);
-    /* A ignored. */
+    q.inside = 0;
+    assert_int_equal(gg_geom_inside_hit(g, &q, 0, &h), -1);
+    /* A ignored, or skipped by its flags. */
+    q.inside = (uint32_t)a;
+    assert_int_equal(gg_geom_inside_hit(g, &q, 0, &h), 1);
+    gg_geom_set_flags(g, a, GG_PRIM_TRANSPARENT);
+    assert_int_equal(gg_geom_inside_hit(g, &q, GG_PRIM_TRANSPARENT, &h), -1);
     q.ignore_prim = (uint32_t)a;
-    assert_int_equal(gg_geom_intersect_inside(g, &q, (uint32_t)a, &h), -1);
+    assert_int_equal(gg_geom_inside_hit(g, &q, 0, &h), -1);
     gg_geom_free(g);
     /* A triangle added inside A: A no longer isolated after the rebuild. */
     g = make_scene(&a, &b, &c);

@@ -49,6 +49,7 @@ static gg_rayq ray(ggVec3 o, ggVec3 d)
     gg_rayq q;
     q.o = o, q.d = d, q.tmin = 0, q.tmax = INFINITY;
     q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
     return q;
 }
 
@@ -157,7 +158,7 @@ static int primary(const gg_geom *g, const shape *s, double scale, tu_rng *r, gg
     if (s->kind == S_CYL || s->kind == S_CONE) tgt = add(tgt, mul(s->axis, tu_range(r, 0, s->h)));
     *q = ray(o, sub(tgt, o));
     if (!gg_geom_intersect(g, q, &h)) return 0;
-    gg_geom_surface(g, q, &h, sf);
+    gg_geom_surface(g, q, &h, sf, GG_SURF_UV);
     return 1;
 }
 
@@ -189,7 +190,7 @@ static void leave(int kind, double scale, ggVec3 t, int n, tu_rng *r, counts *ct
             d = add(mul(tg, sqrt(1 - e * e)), mul(sf.ng, side * e));
             ct->grazing++;
         }
-        q2 = ray(gg_offset_origin(&sf, d, GG_OFFSET_SCALED), d);
+        q2 = ray(gg_offset_origin(&sf, d), d);
         hit = gg_geom_intersect(g, &q2, &h2);
         tref = first_root(&s, q2.o, d);
         if (dot(d, sf.ng) >= 0 && tref > 0) {
@@ -287,8 +288,8 @@ static void test_fixed_epsilon_fails(void **state)
         gg_surf sf;
         assert_true(gg_geom_intersect(g, &q, &h));
         assert_int_equal(h.prim, 0);
-        gg_geom_surface(g, &q, &h, &sf);
-        q.o = gg_offset_origin(&sf, q.d, GG_OFFSET_FIXED);
+        gg_geom_surface(g, &q, &h, &sf, GG_SURF_UV);
+        q.o = gg_offset_origin_fixed(&sf, q.d, 1e-6);
         /* the inner sphere's entry, right behind the outer one */
         skipped += !gg_geom_intersect(g, &q, &h) || h.prim != 1 || h.t * sqrt(dot(q.d, q.d)) > 1e-8;
     }
@@ -340,12 +341,11 @@ static void test_nested_spheres(void **state)
                                     gg_geom_intersect(g, &q, &h) ? (int)h.prim : -1, order[k]);
                         fail();
                     }
-                    gg_geom_surface(g, &q, &h, &sf);
-                    q.o = gg_offset_origin(&sf, q.d, GG_OFFSET_SCALED);
+                    gg_geom_surface(g, &q, &h, &sf, GG_SURF_UV);
+                    q.o = gg_offset_origin(&sf, q.d);
                     if (k == 1) {
                         /* from the inner sphere back out: the outer one */
-                        gg_rayq back = ray(gg_offset_origin(&sf, mul(q.d, -1), GG_OFFSET_SCALED),
-                                           mul(q.d, -1));
+                        gg_rayq back = ray(gg_offset_origin(&sf, mul(q.d, -1)), mul(q.d, -1));
                         gg_hit hb;
                         assert_true(gg_geom_intersect(g, &back, &hb));
                         assert_int_equal(hb.prim, 0);
@@ -364,19 +364,19 @@ static void test_offset_basics(void **state)
     ggVec3 p;
     (void)state;
     s.p = V(1, 2, 3), s.ng = V(0, 0, 1), s.ns = s.ng, s.u = s.v = 0, s.perr = 1e-10;
-    p = gg_offset_origin(&s, V(0, 1, 1), GG_OFFSET_SCALED);
+    p = gg_offset_origin(&s, V(0, 1, 1));
     assert_true(p.z > 3 + GG_OFFSET_K * 1e-10 * 0.999 && p.x == 1 && p.y == 2);
-    p = gg_offset_origin(&s, V(0, 1, -1), GG_OFFSET_SCALED);
+    p = gg_offset_origin(&s, V(0, 1, -1));
     assert_true(p.z < 3 - GG_OFFSET_K * 1e-10 * 0.999);
-    p = gg_offset_origin(&s, V(1, 0, 0), GG_OFFSET_SCALED); /* tangent: the ng side */
+    p = gg_offset_origin(&s, V(1, 0, 0)); /* tangent: the ng side */
     assert_true(p.z > 3);
-    p = gg_offset_origin(&s, V(0, 0, -1), GG_OFFSET_FIXED);
+    p = gg_offset_origin_fixed(&s, V(0, 0, -1), 1e-6);
     assert_close(p.z, 3 - 1e-6, 1e-15);
     p = gg_offset_origin_fixed(&s, V(0, 0, 1), 0.25);
     assert_true(p.z == 3.25);
     /* the scaled offset follows the error bound, not a constant */
     s.perr = 0;
-    p = gg_offset_origin(&s, V(0, 0, 1), GG_OFFSET_SCALED);
+    p = gg_offset_origin(&s, V(0, 0, 1));
     assert_true(p.z == nextafter(3, 4)); /* still at least one ulp off */
 }
 
@@ -392,8 +392,9 @@ static double ref_step(double x, double n)
 
 static void test_offset_ulp_step(void **state)
 {
-    static const double special[] = {0.0, -0.0, 0x1p-1074, -0x1p-1074, 0x1p-1022, -0x1p-1022,
-                                     DBL_MAX, -DBL_MAX, 1.0, -1.0, 0x1.fffffffffffffp-1};
+    static const double special[] = {
+        0.0,     -0.0,     0x1p-1074, -0x1p-1074, 0x1p-1022,           -0x1p-1022,
+        DBL_MAX, -DBL_MAX, 1.0,       -1.0,       0x1.fffffffffffffp-1};
     tu_rng r = {77};
     int i, k;
     (void)state;
@@ -413,7 +414,7 @@ static void test_offset_ulp_step(void **state)
         s.ns = s.ng, s.u = s.v = 0;
         s.perr = tu_next(&r) % 3 == 0 ? 0.0 : ldexp(1, -(int)(tu_next(&r) % 60));
         d = tu_unit(&r);
-        p = gg_offset_origin(&s, d, GG_OFFSET_SCALED);
+        p = gg_offset_origin(&s, d);
         n = d.x * m[0] + d.y * m[1] + d.z * m[2] < 0 ? V(-m[0], -m[1], -m[2]) : s.ng;
         q = V(c[0] + n.x * (GG_OFFSET_K * s.perr), c[1] + n.y * (GG_OFFSET_K * s.perr),
               c[2] + n.z * (GG_OFFSET_K * s.perr));
@@ -425,10 +426,8 @@ static void test_offset_ulp_step(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_offset_basics),
-        cmocka_unit_test(test_offset_ulp_step),
-        cmocka_unit_test(test_no_rehits),
-        cmocka_unit_test(test_fixed_epsilon_fails),
+        cmocka_unit_test(test_offset_basics),  cmocka_unit_test(test_offset_ulp_step),
+        cmocka_unit_test(test_no_rehits),      cmocka_unit_test(test_fixed_epsilon_fails),
         cmocka_unit_test(test_nested_spheres),
     };
     return cmocka_run_group_tests_name("offset", tests, NULL, NULL);

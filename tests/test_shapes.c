@@ -25,7 +25,15 @@ static gg_rayq ray(ggVec3 o, ggVec3 d)
     gg_rayq q;
     q.o = o, q.d = d, q.tmin = 0, q.tmax = INFINITY;
     q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
     return q;
+}
+
+/* The plain any-hit query, without an occluder cache. */
+static int occluded(const gg_geom *g, const gg_rayq *q)
+{
+    uint32_t none = 0;
+    return gg_geom_occluded(g, q, &none, NULL);
 }
 
 /* One double ulp of |x|. */
@@ -60,9 +68,10 @@ static sph_stats sphere_case(const sph_case *sc, int mode, int n, unsigned seed)
     gg_geom *g = gg_geom_create(NULL);
     tu_rng r = {seed};
     sph_stats st = {0, 0, 0, 0};
+    gg_qopt opt = gg_qopt_default;
     int i;
     assert_true(gg_geom_add_sphere(g, sc->c, sc->r, 0) == 0);
-    gg_geom_set_sphere_mode(g, mode);
+    opt.sphere = mode; /* travels with each query */
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
     for (i = 0; i < n; i++) {
         ggVec3 u = tu_unit(&r), w, o, tgt, d;
@@ -83,6 +92,7 @@ static sph_stats sphere_case(const sph_case *sc, int mode, int n, unsigned seed)
         tgt = V(sc->c.x + w.x * rad, sc->c.y + w.y * rad, sc->c.z + w.z * rad);
         d = V(tgt.x - o.x, tgt.y - o.y, tgt.z - o.z);
         q = ray(o, d);
+        q.opt = &opt;
         hit = gg_geom_intersect(g, &q, &h);
 
         fx = (long double)o.x - sc->c.x, fy = (long double)o.y - sc->c.y;
@@ -160,7 +170,7 @@ static void test_sphere_surface(void **state)
         gg_surf s;
         double rr, back;
         assert_true(gg_geom_intersect(g, &q, &h));
-        gg_geom_surface(g, &q, &h, &s);
+        gg_geom_surface(g, &q, &h, &s, GG_SURF_UV);
         rr = sqrt((s.p.x - c.x) * (s.p.x - c.x) + (s.p.y - c.y) * (s.p.y - c.y) +
                   (s.p.z - c.z) * (s.p.z - c.z));
         assert_true(fabs(rr - 2) <= 8 * ulp(10));
@@ -178,7 +188,7 @@ static void test_sphere_surface(void **state)
         {
             /* without (u, v): the same point and normals */
             gg_surf s2;
-            gg_geom_surface_ex(g, &q, &h, &s2, 0);
+            gg_geom_surface(g, &q, &h, &s2, 0);
             assert_true(s2.p.x == s.p.x && s2.p.y == s.p.y && s2.p.z == s.p.z);
             assert_true(s2.ng.x == s.ng.x && s2.ns.z == s.ns.z && s2.perr == s.perr);
             assert_true(s2.u == 0 && s2.v == 0);
@@ -212,7 +222,7 @@ static void test_triangle_basics(void **state)
     assert_true(h.t == 3);
     assert_close(h.b1, 0.25, 1e-15);
     assert_close(h.b2, 0.125, 1e-15);
-    gg_geom_surface(g, &q, &h, &s);
+    gg_geom_surface(g, &q, &h, &s, GG_SURF_UV);
     assert_vec_close(s.p, V(0.5, 0.25, 0), 1e-15);
     assert_vec_close(s.ng, V(0, 0, 1), 1e-15);
     /* ns = normalize(0.625 (0,0,1) + 0.25 (1,0,1) + 0.125 (0,1,1)), normals unit first */
@@ -228,7 +238,7 @@ static void test_triangle_basics(void **state)
     q.ignore_prim = 0;
     assert_true(gg_geom_intersect(g, &q, &h));
     assert_int_equal(h.prim, 1);
-    gg_geom_surface(g, &q, &h, &s);
+    gg_geom_surface(g, &q, &h, &s, GG_SURF_UV);
     assert_vec_close(s.ng, V(0, 0, -1), 1e-15);
     assert_vec_close(s.ns, V(0, 0, -1), 1e-15);
     /* tmax is exclusive, tmin too */
@@ -334,7 +344,7 @@ static void watertight_run(const mesh *m, ggVec3 shift, double scale, unsigned s
         o = V(tgt.x + 3 * scale * u.x, tgt.y + 3 * scale * u.y, tgt.z + 3 * scale * u.z);
         d = V(tgt.x - o.x, tgt.y - o.y, tgt.z - o.z);
         q = ray(o, d);
-        assert_true(gg_rpre_init(&rp, g, &q));
+        assert_true(gg_rpre_init(&rp, &q));
         for (j = 0; j < (int)g->nslots; j++) {
             double t, b1, b2;
             if (gg_tri_kernel(&g->ltri[j], &rp, INFINITY, &t, &b1, &b2)) {
@@ -443,7 +453,7 @@ static void test_cone(void **state)
                     gg_surf sf;
                     double z, rr, rad;
                     ggVec3 w, n = V((a.x - b.x) / h, (a.y - b.y) / h, (a.z - b.z) / h);
-                    gg_geom_surface(g, &q, &hh, &sf);
+                    gg_geom_surface(g, &q, &hh, &sf, GG_SURF_UV);
                     w = V(sf.p.x - b.x, sf.p.y - b.y, sf.p.z - b.z);
                     z = w.x * n.x + w.y * n.y + w.z * n.z;
                     rr = sqrt(w.x * w.x + w.y * w.y + w.z * w.z - z * z);
@@ -493,7 +503,8 @@ static void test_cone_slices(void **state)
             double z = h * k / 8, ang = 2 * GG_PI * i / 16;
             /* the point at height z, angle ang; the ray comes in radially */
             ggVec3 n = V(-ax.z * cos(ang), sin(ang), ax.x * cos(ang));
-            ggVec3 p = V(b.x + z * ax.x + r * n.x, b.y + z * ax.y + r * n.y, b.z + z * ax.z + r * n.z);
+            ggVec3 p =
+                V(b.x + z * ax.x + r * n.x, b.y + z * ax.y + r * n.y, b.z + z * ax.z + r * n.z);
             gg_rayq q = ray(V(p.x + 5 * n.x, p.y + 5 * n.y, p.z + 5 * n.z), V(-n.x, -n.y, -n.z));
             gg_hit h1, h2;
             int f1 = gg_geom_intersect(g, &q, &h1), f2 = gg_geom_intersect_brute(g, &q, &h2);
@@ -532,7 +543,7 @@ static void test_rect(void **state)
         if (fabs(s) < 1e-9 || fabs(s - 1) < 1e-9 || fabs(t) < 1e-9 || fabs(t - 1) < 1e-9) continue;
         assert_int_equal(hit, in);
         if (!hit) continue;
-        gg_geom_surface(g, &q, &h, &sf);
+        gg_geom_surface(g, &q, &h, &sf, GG_SURF_UV);
         assert_close(sf.u, s, 1e-12);
         assert_close(sf.v, t, 1e-12);
         assert_vec_close(sf.p, p, 1e-13);
@@ -588,7 +599,7 @@ static void polygon_run(int mode, int expect_pieces)
     ggVec3 p[144];
     tu_rng r = {51};
     int n = gear(p, 36, 0.234, 0.258, 1), i, hits = 0;
-    gg_geom_set_poly_mode(g, mode);
+    g->poly_mode = mode;
     assert_int_equal(gg_geom_add_polygon(g, p, n, 3), 0);
     assert_int_equal(gg_geom_prim_kind(g, 0), GG_SHAPE_POLYGON);
     assert_int_equal(g->polys[0].npiece, (uint32_t)expect_pieces);
@@ -616,7 +627,7 @@ static void polygon_run(int mode, int expect_pieces)
         if (!hit) continue;
         hits++;
         assert_close(h.t, 1, 1e-15);
-        gg_geom_surface(g, &q, &h, &sf);
+        gg_geom_surface(g, &q, &h, &sf, GG_SURF_UV);
         assert_vec_close(sf.p, V(x, y, 1), 1e-15);
         assert_vec_close(sf.ng, V(0, 0, 1), 1e-15); /* counter-clockwise seen from +z */
         assert_true(sf.u >= 0 && sf.u <= 1 && sf.v >= 0 && sf.v <= 1);
@@ -678,7 +689,7 @@ static void test_polygon_pieces_watertight(void **state)
         assert_true(ia >= 0 && ib >= 0);
         if ((ia + 1) % n == ib || (ib + 1) % n == ia) continue;
         tested++;
-        assert_true(gg_rpre_init(&rp, g, &q));
+        assert_true(gg_rpre_init(&rp, &q));
         for (i = 0; i < (int)g->nslots; i++) {
             double t, b1, b2;
             c += gg_tri_kernel(&g->ltri[i], &rp, INFINITY, &t, &b1, &b2);
@@ -747,13 +758,13 @@ static void test_degenerate(void **state)
         assert_false(gg_geom_intersect(g, &q, &h));
         q.d = V(0, 0, -1), q.tmin = NAN;
         assert_false(gg_geom_intersect(g, &q, &h));
-        assert_false(gg_geom_occluded(g, &q));
+        assert_false(occluded(g, &q));
         q.tmin = 0;
         assert_true(gg_geom_intersect(g, &q, &h));
         /* an origin beyond float range still works (brute-force fallback) */
         q.o = V(0, 0, 1e200), q.d = V(0, 0, -1);
         assert_true(gg_geom_intersect(g, &q, &h));
-        assert_true(gg_geom_occluded(g, &q));
+        assert_true(occluded(g, &q));
         /* negative tmin too */
         q.o = V(0, 0, 5), q.tmin = -10;
         assert_true(gg_geom_intersect(g, &q, &h));
@@ -765,18 +776,12 @@ static void test_degenerate(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sphere_hard_cases),
-        cmocka_unit_test(test_sphere_textbook_fails),
-        cmocka_unit_test(test_sphere_surface),
-        cmocka_unit_test(test_triangle_basics),
-        cmocka_unit_test(test_watertight_mesh),
-        cmocka_unit_test(test_cone),
-        cmocka_unit_test(test_cone_slices),
-        cmocka_unit_test(test_rect),
-        cmocka_unit_test(test_polygon_gear),
-        cmocka_unit_test(test_polygon_pieces_watertight),
-        cmocka_unit_test(test_polygon_pentagram),
-        cmocka_unit_test(test_degenerate),
+        cmocka_unit_test(test_sphere_hard_cases), cmocka_unit_test(test_sphere_textbook_fails),
+        cmocka_unit_test(test_sphere_surface),    cmocka_unit_test(test_triangle_basics),
+        cmocka_unit_test(test_watertight_mesh),   cmocka_unit_test(test_cone),
+        cmocka_unit_test(test_cone_slices),       cmocka_unit_test(test_rect),
+        cmocka_unit_test(test_polygon_gear),      cmocka_unit_test(test_polygon_pieces_watertight),
+        cmocka_unit_test(test_polygon_pentagram), cmocka_unit_test(test_degenerate),
     };
     return cmocka_run_group_tests_name("shapes", tests, NULL, NULL);
 }

@@ -75,14 +75,13 @@ static ggVec3 vert(const gg_ktri *t, int v)
 static long nlane, nhit, nzero, nzero_hit;
 
 /* Every lane of the block against the scalar kernel for ray q. */
-static void same_lanes(const gg_geom *g, const gg_tleaf *L, const gg_ktri *t, int n,
-                       const gg_rayq *q)
+static void same_lanes(const gg_tleaf *L, const gg_ktri *t, int n, const gg_rayq *q)
 {
     gg_rpre r;
     double tt[4], b1[4], b2[4], tmax = q->tmax;
     unsigned zero, hit;
     int k;
-    if (!gg_rpre_init(&r, g, q)) return;
+    if (!gg_rpre_init(&r, q)) return;
     hit = gg_bvh_tri4_avx(L, &r, tmax, tt, b1, b2, &zero);
     assert_int_equal((hit | zero) >> n, 0); /* padding lanes never report */
     assert_int_equal(hit & zero, 0);
@@ -151,7 +150,8 @@ static void test_lanes_random(void **state)
             q.tmin = j == 7 ? tu_range(&r, 0, 1) : 0;
             q.tmax = j == 5 ? tu_range(&r, 0, 2) : DBL_MAX;
             q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
-            same_lanes(g, L, t, n, &q);
+            q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
+            same_lanes(L, t, n, &q);
         }
     }
     print_message("random: %ld lanes, %ld hit\n", nlane, nhit);
@@ -200,7 +200,8 @@ static void test_lanes_edges(void **state)
             q.tmin = 0;
             q.tmax = DBL_MAX;
             q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
-            same_lanes(g, L, t, n, &q);
+            q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
+            same_lanes(L, t, n, &q);
         }
     }
     print_message("edges: %ld lanes, %ld hit, %ld to the scalar kernel (%ld of them hit)\n", nlane,
@@ -231,8 +232,9 @@ static void same_hit(int ha, const gg_hit *a, int hb, const gg_hit *b)
    whether q hit anything. */
 static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_t cache[3])
 {
-    gg_hit h[3], tr[3];
-    int r[3], s[3], sh[3], has[3], k;
+    gg_hit h[3];
+    gg_tcol tr[3];
+    int r[3], s[3], sh[3], k, i;
     uint32_t oc[3];
     gg_rayq qs = *q;
     qs.skip_flags = GG_PRIM_TRANSPARENT;
@@ -241,16 +243,22 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
         g->trav_avx = k == 0;
         oc[k] = cache[k];
         r[k] = gg_geom_intersect(gk, q, &h[k]);
-        s[k] = gg_geom_occluded_cached(gk, q, &oc[k]);
-        sh[k] = gg_geom_shadow_query_cached(gk, &qs, &tr[k], &has[k], &cache[k]);
+        s[k] = gg_geom_occluded(gk, q, &oc[k], NULL);
+        sh[k] = gg_geom_occluded(gk, &qs, &cache[k], &tr[k]);
     }
     g->trav_avx = 1;
     for (k = 1; k < 3; k++) {
         same_hit(r[0], &h[0], r[k], &h[k]);
         assert_int_equal(s[0], s[k]);
         assert_int_equal(sh[0], sh[k]);
-        assert_int_equal(has[0], has[k]);
-        if (!sh[0]) same_hit(has[0], &tr[0], has[k], &tr[k]);
+        assert_int_equal(tr[0].has_near, tr[k].has_near);
+        if (!sh[0]) {
+            same_hit(tr[0].has_near, &tr[0].near, tr[k].has_near, &tr[k].near);
+            assert_int_equal(tr[0].complete, tr[k].complete);
+            assert_int_equal(tr[0].n, tr[k].n);
+            for (i = 0; i < tr[0].n && tr[0].complete; i++)
+                same_hit(1, &tr[0].h[i], 1, &tr[k].h[i]);
+        }
         if (k == 1) {
             /* the same occluder, the first in slot order (g2's build, made
                without blocks, may order the slots differently) */
@@ -318,6 +326,7 @@ static void test_grid_queries(void **state)
         q.tmax = i % 5 == 0 ? back : INFINITY;
         q.ignore_prim = i % 7 == 0 ? (uint32_t)(tu_next(&r) % 8192) : UINT32_MAX;
         q.skip_flags = i % 11 == 0 ? GG_PRIM_TRANSPARENT : 0;
+        q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
         n += same_queries(g, g2, &q, cache);
     }
     print_message("grid: %ld of 200000 rays hit, same answers\n", n);
@@ -364,6 +373,7 @@ static void test_mixed_queries(void **state)
         q.tmax = i % 5 == 0 ? tu_range(&r, 3, 9) : INFINITY;
         q.ignore_prim = UINT32_MAX;
         q.skip_flags = i % 11 == 0 ? GG_PRIM_TRANSPARENT : 0;
+        q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
         n += same_queries(g, g2, &q, cache);
         if (gg_geom_intersect(g, &q, &hh))
             gg_geom_prim_kind(g, hh.prim) == GG_SHAPE_SPHERE ? nsph++ : ntri++;
@@ -410,13 +420,13 @@ static void test_spd_queries(void **state)
             q.d = tu_unit(&r);
             q.tmin = 0;
             q.tmax = i % 4 == 0 ? tu_range(&r, 0, hi.x - lo.x) : INFINITY;
-            q.ignore_prim = i % 3 == 0 ? (uint32_t)(tu_next(&r) % gg_geom_prim_count(g))
-                                       : UINT32_MAX;
-            q.skip_flags = 0;
+            q.ignore_prim =
+                i % 3 == 0 ? (uint32_t)(tu_next(&r) % gg_geom_prim_count(g)) : UINT32_MAX;
+            q.skip_flags = 0, q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
             n += same_queries(g, sc2->geom, &q, cache);
         }
-        print_message("%-10s %zu triangle blocks: %ld of 30000 rays hit, same answers\n",
-                      names[k], g->ntleaves, n);
+        print_message("%-10s %zu triangle blocks: %ld of 30000 rays hit, same answers\n", names[k],
+                      g->ntleaves, n);
         assert_true(n > 1000);
         ggSceneFree(sc);
         ggSceneFree(sc2);
@@ -426,10 +436,8 @@ static void test_spd_queries(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_lanes_random),
-        cmocka_unit_test(test_lanes_edges),
-        cmocka_unit_test(test_mixed_queries),
-        cmocka_unit_test(test_grid_queries),
+        cmocka_unit_test(test_lanes_random),  cmocka_unit_test(test_lanes_edges),
+        cmocka_unit_test(test_mixed_queries), cmocka_unit_test(test_grid_queries),
         cmocka_unit_test(test_spd_queries),
     };
     if (!gg_bvh_avx_usable()) {

@@ -98,6 +98,17 @@ typedef struct ggRenderOptions {
     bool spd_rules;     /* SPD rule: transmitters also spawn reflection rays */
     unsigned force_effects; /* effects to simulate even if the scene does not call for them */
     ggAccuracy accuracy;    /* numerical choices; zero = accurate */
+    /* The ray budget: at most this many reflected, refracted and totally
+       internally reflected rays in the ray tree of one eye ray; the rays
+       its tree would cast beyond it are not cast (ggRayStats.budget_cut
+       counts them, ggTraceNode.stop says GG_STOP_BUDGET). So a pixel
+       costs at most samples x (1 + budget) eye and secondary rays, plus a
+       shadow ray per light at each hit, whatever the depth limit: nested
+       glass at depth 64 would otherwise cast up to 2^63. The tree is grown
+       depth first, mirror and refracted children in a fixed order, so the
+       image stays a function of the options. 0: GG_RAY_BUDGET;
+       1..GG_RAY_BUDGET_MAX. */
+    int ray_budget;
     ggProgressFn progress;
     void *progress_ud;
     /* Optional per-pixel cost map (ggrt render --heatmap): width * height
@@ -107,6 +118,9 @@ typedef struct ggRenderOptions {
     float *cost_map;
     int cost_kind; /* GG_COST_* */
 } ggRenderOptions;
+
+#define GG_RAY_BUDGET     1024      /* the default ray budget per eye ray */
+#define GG_RAY_BUDGET_MAX (1 << 24)
 
 #define GG_COST_RAYS  0 /* rays cast for the pixel, every kind */
 #define GG_COST_DEPTH 1 /* depth of the deepest ray in the pixel's trees */
@@ -125,12 +139,19 @@ typedef struct ggRayStats {
     uint64_t tir;        /* total internal reflections (also counted in reflect) */
     uint64_t nonfinite;  /* samples that produced NaN or infinity */
     uint64_t max_depth;  /* depth of the deepest ray cast */
+    uint64_t budget_cut; /* secondary rays not cast: the ray budget was used up */
 } ggRayStats;
 
 /* ---- rendering ---- */
 
 /* Render the scene into *out (a new image of the options' size). Prepares
-   the scene if needed. stats may be NULL. */
+   the scene if needed. stats may be NULL.
+   Threads: a render reads the scene and writes only its own image, stats
+   and cost map; several renders (and traces) of one prepared scene may
+   run at once with different options, and each gives the image it gives
+   alone. On an unprepared scene see ggScenePrepare and the threading note
+   of scene.h. opt->threads workers are started and joined inside the
+   call; the progress callback runs on them, one at a time. */
 GG_API int ggRender(ggScene *scene, const ggRenderOptions *opt, ggImage **out,
                     ggRayStats *stats, ggError *err);
 
@@ -139,7 +160,8 @@ GG_API int ggRender(ggScene *scene, const ggRenderOptions *opt, ggImage **out,
    samples with one sample per pixel. d is unit length. */
 GG_API ggRay ggCameraRay(const ggScene *scene, const ggRenderOptions *opt, double x, double y);
 
-/* Colour seen along one ray of a prepared scene: emission + kd * ambient +
+/* Colour seen along one ray of a prepared scene (never prepares it; any
+   number of threads at once): emission + kd * ambient +
    direct light (shadow rays) + ks * reflection + kt * refraction, recursing
    until depth reaches opt->max_depth (the eye ray has depth 1). stats may be
    NULL. */

@@ -3,6 +3,18 @@
 ** ggrt/scene.h -- a scene: camera, lights, materials, objects, textures.
 ** Load one from NFF (the SPD format plus ggrt's extensions, see
 ** docs/scene-format.md) or build it in code; then render it (render.h).
+**
+** Threads. A scene is written by the functions that load, add, set and
+** prepare, and only read by everything else. Once prepared, any number
+** of threads may render, trace and query it at once (ggRender,
+** ggTracePixel, ggRayColor, ggCameraRay, ggSceneIntersect,
+** ggSceneOccluded, the getters), each with options of its own: rendering
+** keeps every choice of its options to itself and writes nothing into the
+** scene. Writing functions need the scene to themselves: no other call on
+** it may overlap them. ggRender and ggTracePixel prepare an unprepared
+** scene first; several of them may do so at once (one prepares, the others
+** wait for it), but nothing else may overlap that first preparation, so a
+** scene shared between threads is best prepared before it is shared.
 */
 #ifndef GGRT_SCENE_H
 #define GGRT_SCENE_H
@@ -158,8 +170,10 @@ GG_API int ggSceneObjectShape(const ggScene *scene, int index, ggShapeDesc *d);
 GG_API const char *ggSceneFileName(const ggScene *scene);
 
 /* Build the acceleration structure and the effect set. Called by the
-   renderer when needed; call it yourself to time it or to catch errors
-   early. Adding to a prepared scene makes it unprepared again. */
+   renderer when needed; call it yourself to time it, to catch errors
+   early, or before sharing the scene between threads. Adding to a
+   prepared scene makes it unprepared again. Preparing writes the scene;
+   a prepared scene returns GG_OK at once without writing. */
 GG_API int ggScenePrepare(ggScene *scene, ggError *err);
 
 /* What a prepared scene holds, for reports (`ggrt info`) and benchmarks. */

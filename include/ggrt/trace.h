@@ -29,6 +29,7 @@ extern "C" {
 #define GG_STOP_MISS     1 /* it left the scene: the background */
 #define GG_STOP_DEPTH    2 /* the depth limit forbids children */
 #define GG_STOP_MATTE    3 /* the surface has neither ks nor kt */
+#define GG_STOP_BUDGET   4 /* the eye ray's tree had used its ray budget (render.h) */
 
 /* The fate of one light at a hit. */
 #define GG_SHADOW_VISIBLE     0 /* the shadow ray reached the light */
@@ -97,12 +98,13 @@ GG_API const ggTraceLight *ggTraceGetLight(const ggTrace *trace, size_t i);
    sample) into trace, which is cleared first. *pixel receives the value
    ggRender writes for that pixel, bit for bit; stats, if not NULL, counts
    the rays of the recorded samples. In pixel-corner mode the pixel's four
-   corner rays are its samples 0..3. */
+   corner rays are its samples 0..3. Threads: as ggRender, with a trace of
+   its own per thread (a ggTrace is written by the call). */
 GG_API int ggTracePixel(ggScene *scene, const ggRenderOptions *opt, int x, int y, int sample,
                         ggTrace *trace, ggColor *pixel, ggRayStats *stats, ggError *err);
 
 /* Short names: "eye", "reflect", "refract", "tir"; "miss", "depth",
-   "matte"; "visible", "blocked", "attenuated", "facing-away". */
+   "matte", "budget"; "visible", "blocked", "attenuated", "facing-away". */
 GG_API const char *ggRayKindName(int kind);
 GG_API const char *ggStopName(int stop);
 GG_API const char *ggShadowName(int verdict);

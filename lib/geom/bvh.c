@@ -39,7 +39,7 @@
 #define GG_SAH_TRAV  1.0 /* cost of a node visit, in element tests */
 #define GG_SAH_ISECT 1.0
 #define GG_SAH_TLEAF 2.0 /* a block of triangles, in single tests */
-#define GG_MEDIAN_AT 40 /* from this depth on, median splits only */
+#define GG_MEDIAN_AT 40  /* from this depth on, median splits only */
 
 /* ---- run-time choice of the AVX traversal ---- */
 
@@ -93,7 +93,6 @@ static int avx_wanted(void)
     return 0;
 }
 #endif
-
 
 /* ---- build ---- */
 
@@ -476,15 +475,13 @@ static inline uint32_t tx_first(const gg_geom *g, uint32_t ref)
     return ref & GG_TLEAF ? g->tleaves[GG_LEAF_I(ref)].first : GG_LEAF_I(ref);
 }
 
-GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
-                         gg_hit *best)
+GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, gg_hit *best)
 {
     (void)x;
     return gg_leaf_closest(g, r, tx_first(g, ref), GG_LEAF_N(ref), best);
 }
 
-GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
-                          double tmax)
+GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, double tmax)
 {
     (void)x;
     return gg_leaf_any(g, r, tx_first(g, ref), GG_LEAF_N(ref), tmax);
@@ -507,64 +504,70 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #if GG_HAVE_BVH_AVX
 #define GG_USE_AVX(g) ((g)->trav_avx)
 #else
-#define GG_USE_AVX(g) 0
+#define GG_USE_AVX(g)        0
 #define gg_bvh_intersect_avx intersect_plain
 #define gg_bvh_occluder_avx  occluder_plain
 #define gg_bvh_shadow_avx    shadow_plain
 #endif
 
-int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
+static int intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
     return GG_USE_AVX(g) ? gg_bvh_intersect_avx(g, q, hit) : intersect_plain(g, q, hit);
 }
 
-static uint32_t occluder(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
+static GG_NOINLINE int intersect_hinted(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
-    return GG_USE_AVX(g) ? gg_bvh_occluder_avx(g, q, cache) : occluder_plain(g, q, cache);
+    if (gg_geom_inside_hit(g, q, q->skip_flags, hit) > 0) return 1;
+    return intersect(g, q, hit);
 }
 
-int gg_geom_occluded(const gg_geom *g, const gg_rayq *q)
+int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
-    return occluder(g, q, NULL) != 0;
+    if (GG_UNLIKELY(q->inside != UINT32_MAX)) return intersect_hinted(g, q, hit);
+    return intersect(g, q, hit);
 }
 
-int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
+/* Sort a crossing list nearest first, ties by (prim, sub) as gg_leaf_take
+   settles them (insertion sort: at most GG_TCOL_CAP entries). */
+static void sort_crossings(gg_tcol *tr)
 {
-    uint32_t hit = occluder(g, q, cache);
-    *cache = hit;
-    return hit != 0;
+    int i, j;
+    for (i = 1; i < tr->n; i++)
+        for (j = i; j > 0; j--) {
+            gg_hit a = tr->h[j - 1], b = tr->h[j];
+            if (a.t < b.t ||
+                (a.t == b.t && (a.prim < b.prim || (a.prim == b.prim && a.sub <= b.sub))))
+                break;
+            tr->h[j - 1] = b, tr->h[j] = a;
+        }
 }
 
-int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr)
+/* gg_geom_occluded with a crossing list (coloured shadows). */
+static GG_NOINLINE int occluded_list(const gg_geom *g, const gg_rayq *q, uint32_t *cache,
+                                     gg_tcol *tr)
 {
-    return gg_geom_shadow_query_cached(g, q, tr, has_tr, NULL);
-}
-
-int gg_geom_shadow_query_cached(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
-                                uint32_t *cache)
-{
-    return GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, tr, has_tr, cache, NULL)
-                         : shadow_plain(g, q, tr, has_tr, cache, NULL);
-}
-
-int gg_geom_shadow_query_all(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
-                             uint32_t *cache, gg_tcol *all)
-{
-    int blocked, i, j;
-    all->n = 0, all->complete = 1;
-    blocked = GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, tr, has_tr, cache, all)
-                            : shadow_plain(g, q, tr, has_tr, cache, all);
+    int blocked;
+    tr->n = 0, tr->complete = 1, tr->has_near = 0;
+    /* From inside an isolated sphere its far side comes first, whatever it
+       is made of; the caller walks on from there. */
+    if (q->inside != UINT32_MAX && gg_geom_inside_hit(g, q, 0, &tr->near) > 0) {
+        tr->complete = 0, tr->has_near = 1;
+        return 0;
+    }
+    blocked = GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, cache, tr) : shadow_plain(g, q, cache, tr);
     if (blocked) {
-        all->n = 0, all->complete = 0;
+        tr->n = 0, tr->complete = 0, tr->has_near = 0;
         return 1;
     }
-    /* Nearest first, ties by (prim, sub) as gg_leaf_take settles them. */
-    for (i = 1; i < all->n; i++)
-        for (j = i; j > 0; j--) {
-            gg_hit a = all->h[j - 1], b = all->h[j];
-            if (a.t < b.t || (a.t == b.t && (a.prim < b.prim || (a.prim == b.prim && a.sub <= b.sub))))
-                break;
-            all->h[j - 1] = b, all->h[j] = a;
-        }
+    sort_crossings(tr);
     return 0;
+}
+
+int gg_geom_occluded(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *tr)
+{
+    uint32_t hit;
+    if (tr) return occluded_list(g, q, cache, tr);
+    hit = GG_USE_AVX(g) ? gg_bvh_occluder_avx(g, q, cache) : occluder_plain(g, q, cache);
+    *cache = hit;
+    return hit != 0;
 }

@@ -89,24 +89,25 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
     __m256d U = _mm256_sub_pd(_mm256_mul_pd(cx, by), _mm256_mul_pd(cy, bx));
     __m256d V = _mm256_sub_pd(_mm256_mul_pd(ax, cy), _mm256_mul_pd(ay, cx));
     __m256d W = _mm256_sub_pd(_mm256_mul_pd(bx, ay), _mm256_mul_pd(by, ax));
-    __m256d neg = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_LT_OQ),
-                                            _mm256_cmp_pd(V, zero, _CMP_LT_OQ)),
-                               _mm256_cmp_pd(W, zero, _CMP_LT_OQ));
-    __m256d pos = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_GT_OQ),
-                                            _mm256_cmp_pd(V, zero, _CMP_GT_OQ)),
-                               _mm256_cmp_pd(W, zero, _CMP_GT_OQ));
+    __m256d neg = _mm256_or_pd(
+        _mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_LT_OQ), _mm256_cmp_pd(V, zero, _CMP_LT_OQ)),
+        _mm256_cmp_pd(W, zero, _CMP_LT_OQ));
+    __m256d pos = _mm256_or_pd(
+        _mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_GT_OQ), _mm256_cmp_pd(V, zero, _CMP_GT_OQ)),
+        _mm256_cmp_pd(W, zero, _CMP_GT_OQ));
     __m256d det = _mm256_add_pd(_mm256_add_pd(U, V), W);
     /* lanes the scalar kernel would get past its sign and det tests with */
     __m256d live = _mm256_andnot_pd(_mm256_and_pd(neg, pos), _mm256_cmp_pd(det, zero, _CMP_NEQ_UQ));
     __m256d z, T, rcp, tt, in;
     unsigned lm = (unsigned)_mm256_movemask_pd(live), zm, hm;
     if (!lm) return 0;
-    z = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_EQ_OQ),
-                                  _mm256_cmp_pd(V, zero, _CMP_EQ_OQ)),
-                     _mm256_cmp_pd(W, zero, _CMP_EQ_OQ));
+    z = _mm256_or_pd(
+        _mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_EQ_OQ), _mm256_cmp_pd(V, zero, _CMP_EQ_OQ)),
+        _mm256_cmp_pd(W, zero, _CMP_EQ_OQ));
     zm = (unsigned)_mm256_movemask_pd(z) & lm;
-    T = _mm256_mul_pd(x->sz, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(U, Az), _mm256_mul_pd(V, Bz)),
-                                           _mm256_mul_pd(W, Cz)));
+    T = _mm256_mul_pd(x->sz,
+                      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(U, Az), _mm256_mul_pd(V, Bz)),
+                                    _mm256_mul_pd(W, Cz)));
     rcp = _mm256_div_pd(_mm256_set1_pd(1.0), det);
     tt = _mm256_mul_pd(T, rcp);
     in = _mm256_and_pd(_mm256_cmp_pd(tt, x->tmin, _CMP_GT_OQ),
@@ -149,15 +150,13 @@ static inline int lowest_lane(unsigned m)
 GG_INLINE int tri4_lane(const gg_geom *g, const gg_rpre *r, const gg_slot *s, const tri4_out *o,
                         int i, double tmax, double *t, double *b1, double *b2)
 {
-    if (o->zero >> i & 1)
-        return gg_tri_kernel(&g->ltri[s->ki & GG_EK_INDEX], r, tmax, t, b1, b2);
+    if (o->zero >> i & 1) return gg_tri_kernel(&g->ltri[s->ki & GG_EK_INDEX], r, tmax, t, b1, b2);
     if (!(o->t[i] <= tmax)) return 0;
     *t = o->t[i], *b1 = o->b1[i], *b2 = o->b2[i];
     return 1;
 }
 
-GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
-                         gg_hit *best)
+GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, gg_hit *best)
 {
     const gg_tleaf *L;
     tri4_out o;
@@ -181,8 +180,7 @@ GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t 
     return found;
 }
 
-GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
-                          double tmax)
+GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, double tmax)
 {
     const gg_tleaf *L;
     tri4_out o;

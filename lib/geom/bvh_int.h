@@ -25,11 +25,11 @@ struct gg_bnode {
 };
 
 #define GG_LEAF       0x80000000u
-#define GG_TLEAF      4u  /* flag of a reference to a gg_tleaf block */
-#define GG_LEAF_N(r)  (((r) & 3) + 1)
+#define GG_TLEAF      4u /* flag of a reference to a gg_tleaf block */
+#define GG_LEAF_N(r)  (((r)&3) + 1)
 #define GG_LEAF_I(r)  (((r) & ~GG_LEAF) >> 3) /* first slot, or block index */
-#define GG_MAX_LEAF   4   /* elements per leaf (at most 4: two bits of count) */
-#define GG_STACK      256 /* > 3 * maximum depth (see build2) */
+#define GG_MAX_LEAF   4                       /* elements per leaf (at most 4: two bits of count) */
+#define GG_STACK      256                     /* > 3 * maximum depth (see build2) */
 #define GG_EXIT_SCALE 1.00000059604644775390625f /* 1 + 5 * 2^-23 */
 
 /* A leaf of 2 to 4 triangles in SoA form: v[axis][vertex][lane] holds
@@ -47,13 +47,12 @@ struct gg_tleaf {
    (bvh_avx.c) while the rest of the library targets SSE2; which one runs
    is decided at build time from the CPU (gg_bvh_avx_usable). Clang spells
    the target pragma differently: it uses the plain copy only. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(GG_BVH_NO_SIMD) &&  \
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(GG_BVH_NO_SIMD) && \
     !defined(GG_NO_AVX_CLONE)
 #define GG_HAVE_BVH_AVX 1
 int gg_bvh_intersect_avx(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 uint32_t gg_bvh_occluder_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
-int gg_bvh_shadow_avx(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
-                      uint32_t *cache, gg_tcol *col);
+int gg_bvh_shadow_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
 /* For tests: the 4-wide triangle test of block L alone. Returns the mask
    of lanes hit with t in (r->tmin, tmax] and fills t, b1, b2 for them;
    *zero gets the lanes left to the scalar kernel (an edge function

@@ -36,17 +36,16 @@ typedef struct trav {
 /* Byte offsets of the entry (lo if the axis' 1/d >= 0, else hi) and exit
    rows of each axis, by the sign mask of 1/d (bit k: axis k negative). */
 #define GG_ROWS(ng, k) ((k) + 3 * (ng)) * sizeof(float[4])
-#define GG_ROWSET(m)                                                                             \
-    {                                                                                            \
-        {GG_ROWS((m) & 1, 0), GG_ROWS(((m) >> 1) & 1, 1), GG_ROWS(((m) >> 2) & 1, 2)},           \
-        {                                                                                        \
-            GG_ROWS(1 - ((m) & 1), 0), GG_ROWS(1 - (((m) >> 1) & 1), 1),                         \
-                GG_ROWS(1 - (((m) >> 2) & 1), 2)                                                 \
-        }                                                                                        \
+#define GG_ROWSET(m)                                                                               \
+    {                                                                                              \
+        {GG_ROWS((m)&1, 0), GG_ROWS(((m) >> 1) & 1, 1), GG_ROWS(((m) >> 2) & 1, 2)},               \
+        {                                                                                          \
+            GG_ROWS(1 - ((m)&1), 0), GG_ROWS(1 - (((m) >> 1) & 1), 1),                             \
+                GG_ROWS(1 - (((m) >> 2) & 1), 2)                                                   \
+        }                                                                                          \
     }
-static const size_t row_offsets[8][2][3] = {GG_ROWSET(0), GG_ROWSET(1), GG_ROWSET(2),
-                                            GG_ROWSET(3), GG_ROWSET(4), GG_ROWSET(5),
-                                            GG_ROWSET(6), GG_ROWSET(7)};
+static const size_t row_offsets[8][2][3] = {GG_ROWSET(0), GG_ROWSET(1), GG_ROWSET(2), GG_ROWSET(3),
+                                            GG_ROWSET(4), GG_ROWSET(5), GG_ROWSET(6), GG_ROWSET(7)};
 #undef GG_ROWSET
 #undef GG_ROWS
 
@@ -215,7 +214,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
     float tmaxf, tcull;
     gg_t4 tmin4, tmax4;
 
-    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
     /* The conservative box test assumes tmin >= 0 (a box wholly behind the
        origin could otherwise be lost to the exit scaling). */
     if (!trav_init(&tv, &r) || q->tmin < 0) return gg_geom_intersect_brute(g, q, hit);
@@ -319,8 +318,11 @@ GG_INLINE uint32_t any_descend(const gg_bnode *nd, unsigned mask, uint32_t *stac
 }
 #endif
 
-/* Any-hit traversal; returns the slot index + 1 of an occluder, or 0. */
-GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq *q, uint32_t *cache)
+/* Any-hit traversal; returns the slot index + 1 of an occluder, or 0.
+   The occluder at slot index *cache - 1 (if *cache is not 0) is tried
+   first. */
+GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq *q,
+                                                 uint32_t *cache)
 {
     gg_rpre r;
     trav tv;
@@ -330,9 +332,9 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
     double tmax;
     gg_t4 tmin4, tmax4;
 
-    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
     tmax = gg_next_down(q->tmax);
-    if (cache && *cache && *cache <= g->nslots) {
+    if (*cache && *cache <= g->nslots) {
         hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
         if (hit) return hit;
     }
@@ -366,8 +368,8 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
    every element whose box the segment enters is tested, with the same
    kernels and the same tie rule (the answer of gg_leaf_closest does not
    depend on the visiting order). */
-GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
-                                          uint32_t *cache, gg_tcol *col)
+GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, uint32_t *cache,
+                                          gg_tcol *col)
 {
     gg_rpre r;
     trav tv;
@@ -378,8 +380,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg
     double tmax;
     gg_t4 tmin4, tmax4;
 
-    *has_tr = 0;
-    if (!g->built || !g->nslots || !gg_rpre_fill(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
     r.skip = 0;
     tmax = gg_next_down(q->tmax);
     best.t = tmax;
@@ -387,7 +388,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg
     /* The opaque element that blocked this light's previous shadow ray
        first: if it blocks this one too, the answer (1) is the same as the
        traversal's, whichever opaque element that would have found. */
-    if (cache && *cache && *cache <= g->nslots &&
+    if (*cache && *cache <= g->nslots &&
         !(g->pflags[g->slots[*cache - 1].prim] & GG_PRIM_TRANSPARENT) &&
         gg_leaf_any(g, &r, *cache - 1, 1, tmax))
         return 1;
@@ -413,14 +414,14 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, gg
         cur = stack[--sp];
     }
 done:
-    if (cache) *cache = 0;
+    *cache = 0;
     if (best.prim != UINT32_MAX) {
-        *tr = best;
-        *has_tr = 1;
+        col->near = best;
+        col->has_near = 1;
     }
     return 0;
 blocked:
-    if (cache) *cache = hit;
+    *cache = hit;
     return 1;
 }
 

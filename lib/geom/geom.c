@@ -19,10 +19,11 @@ gg_geom *gg_geom_create(const ggAllocator *alloc)
         g->alloc_copy = *alloc;
         g->alloc = &g->alloc_copy;
     }
-    g->sphere_mode = GG_SPHERE_STABLE;
     g->poly_mode = GG_POLY_TRIANGULATE;
     return g;
 }
+
+const gg_qopt gg_qopt_default = {GG_SPHERE_STABLE, 0, 0};
 
 static void free_built(gg_geom *g)
 {
@@ -55,16 +56,6 @@ void gg_geom_free(gg_geom *g)
     gg_mem_free(g->alloc, g->rects);
     gg_mem_free(g->alloc, (void *)g->imps);
     gg_mem_free(g->alloc, g);
-}
-
-void gg_geom_set_sphere_mode(gg_geom *g, int mode)
-{
-    g->sphere_mode = mode == GG_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK : GG_SPHERE_STABLE;
-}
-
-void gg_geom_set_poly_mode(gg_geom *g, int mode)
-{
-    g->poly_mode = mode == GG_POLY_CROSSING ? GG_POLY_CROSSING : GG_POLY_TRIANGULATE;
 }
 
 /* Append a primitive record once its shape data is stored at `data`. */
@@ -202,9 +193,6 @@ int gg_geom_add_implicit(gg_geom *g, const ggImplicit *imp, int32_t obj)
 void gg_geom_set_flags(gg_geom *g, int prim, unsigned flags)
 {
     if (prim >= 0 && (size_t)prim < g->nprim) g->pflags[prim] = (uint8_t)flags;
-    /* Flags changed after the build: the transparent box no longer knows,
-       so it covers everything until the next build. */
-    if (g->built) g->tlo = v3(-INFINITY, -INFINITY, -INFINITY), g->thi = v3(INFINITY, INFINITY, INFINITY);
 }
 
 size_t gg_geom_prim_count(const gg_geom *g)
@@ -335,13 +323,13 @@ static double box_dist2(const double c[3], const double lo[3], const double hi[3
     return d2;
 }
 
-/* Mark the spheres nothing else comes near (gg_geom_intersect_inside).
+/* Mark the spheres nothing else comes near (gg_geom_inside_hit).
    The margin m = 2^-30 (|c| + r) is far above the rounding of a hit point
    or of the tests below, and far below any gap worth keeping. Another
    sphere counts by its ball (centre distance), everything else by its
    conservative box. Quadratic: skipped for scenes with many spheres. */
-static void mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3],
-                          const double (*hi)[3], size_t n)
+static void mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3], const double (*hi)[3],
+                          size_t n)
 {
     size_t i, j;
     if (!g->nsph || (double)g->nsph * (double)n > 4e6) return;
@@ -377,15 +365,16 @@ static void mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3],
     }
 }
 
-int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, gg_hit *hit)
+int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit *hit)
 {
+    const uint32_t prim = q->inside;
     const gg_sph *sp;
     gg_ksph k;
     gg_rpre r;
     ggVec3 f;
     double t, lim;
     if (!g->iso || prim >= g->nprim || !g->iso[prim] || q->ignore_prim == prim ||
-        (q->skip_flags & g->pflags[prim]) || !(q->tmin >= 0) || !(q->tmax > q->tmin))
+        (skip & g->pflags[prim]) || !(q->tmin >= 0) || !(q->tmax > q->tmin))
         return -1;
     sp = &g->sphs[g->prims[prim].data];
     /* Origin in the ball grown by half the margin (the rounding of this
@@ -393,7 +382,7 @@ int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, 
     f = v3sub(q->o, sp->c);
     lim = sp->r + 0.5 * g->iso_margin[prim];
     if (!(v3dot(f, f) <= lim * lim)) return -1;
-    if (!gg_rpre_fill(&r, g, q)) return -1;
+    if (!gg_rpre_fill(&r, q)) return -1;
     k.c[0] = sp->c.x, k.c[1] = sp->c.y, k.c[2] = sp->c.z;
     k.r2 = sp->r * sp->r;
     if (!gg_sphere_kernel(&k, &r, gg_next_down(q->tmax), &t)) return -1;
@@ -432,17 +421,13 @@ int gg_geom_build(gg_geom *g, ggError *err)
         !g->lrect)
         goto fail;
     fill_elems(g, el);
-    g->lo = g->tlo = v3(INFINITY, INFINITY, INFINITY);
-    g->hi = g->thi = v3(-INFINITY, -INFINITY, -INFINITY);
+    g->lo = v3(INFINITY, INFINITY, INFINITY);
+    g->hi = v3(-INFINITY, -INFINITY, -INFINITY);
     for (i = 0; i < n; i++) {
         elem_bounds(g, &el[i], lo[i], hi[i]);
         tri[i] = el[i].kind == GG_EK_TRI;
         g->lo = v3min(g->lo, v3(lo[i][0], lo[i][1], lo[i][2]));
         g->hi = v3max(g->hi, v3(hi[i][0], hi[i][1], hi[i][2]));
-        if (g->pflags[el[i].prim] & GG_PRIM_TRANSPARENT) {
-            g->tlo = v3min(g->tlo, v3(lo[i][0], lo[i][1], lo[i][2]));
-            g->thi = v3max(g->thi, v3(hi[i][0], hi[i][1], hi[i][2]));
-        }
     }
     mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n);
     if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, n, order)) goto fail;
@@ -515,63 +500,18 @@ void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi)
 
 /* ---- queries ---- */
 
-/* Slab test of the segment against the transparent box grown by eps =
-   2^-20 M, M the largest magnitude involved. Every rounding below (the
-   grown planes, the numerators, the quotients) moves a slab distance by
-   less than 8 u M / |d_k|, while the growth widens each slab interval
-   by eps / |d_k| on both sides around any exact crossing: so a segment
-   that meets the box in exact arithmetic is never declared a miss. The
-   2^-20 also covers the float rounding the BVH allows its boxes. */
-int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d)
+/* The caller has usually just written *q field by field: read it one
+   double at a time (GG_NO_SLP, compiler.h). */
+GG_NO_SLP int gg_rpre_init(gg_rpre *r, const gg_rayq *q)
 {
-    const double lo[3] = {g->tlo.x, g->tlo.y, g->tlo.z}, hi[3] = {g->thi.x, g->thi.y, g->thi.z};
-    const double oc[3] = {o.x, o.y, o.z}, dc[3] = {d.x, d.y, d.z};
-    double tn = 0, tf = 1, m = 0, eps;
-    int k;
-    if (!g->built) return 1;
-    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return 0; /* none (or NaN) */
-    for (k = 0; k < 3; k++) {
-        double a = fabs(lo[k]), b = fabs(hi[k]), c = fabs(oc[k]);
-        m = a > m ? a : m;
-        m = b > m ? b : m;
-        m = c > m ? c : m;
-    }
-    if (!(m < 1e300) || !(fabs(dc[0]) + fabs(dc[1]) + fabs(dc[2]) < 1e300)) return 1;
-    eps = m * 0x1p-20 + 1e-300;
-    for (k = 0; k < 3; k++) {
-        double l = lo[k] - eps, h = hi[k] + eps;
-        if (dc[k] == 0) {
-            if (oc[k] < l || oc[k] > h) return 0;
-        } else {
-            double t0 = (l - oc[k]) / dc[k], t1 = (h - oc[k]) / dc[k];
-            if (t0 > t1) {
-                double x = t0;
-                t0 = t1, t1 = x;
-            }
-            if (t0 > tn) tn = t0;
-            if (t1 < tf) tf = t1;
-        }
-    }
-    return !(tn > tf);
-}
-
-/* The caller has usually just written *q field by field; a 16-byte load
-   spanning two of its 8-byte stores cannot be forwarded from the store
-   buffer and stalls for ~15 cycles. Read q one double at a time: GCC's
-   SLP vectoriser would otherwise pair them up. */
-#if defined(__GNUC__) && !defined(__clang__)
-__attribute__((optimize("no-tree-slp-vectorize")))
-#endif
-int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
-{
-    return gg_rpre_fill(r, g, q);
+    return gg_rpre_fill(r, q);
 }
 
 int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
     gg_rpre r;
     gg_hit best;
-    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
+    if (!g->built || !g->nslots || !gg_rpre_init(&r, q) || !(q->tmax > q->tmin)) return 0;
     best.t = gg_next_down(q->tmax);
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
     if (!gg_leaf_closest(g, &r, 0, (uint32_t)g->nslots, &best)) return 0;
@@ -579,17 +519,8 @@ int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
     return 1;
 }
 
-/* Any-hit by testing everything: the fallback for rays the float BVH
-   traversal cannot represent (origins beyond float range). */
-int gg_geom_occluded_brute(const gg_geom *g, const gg_rayq *q)
-{
-    gg_rpre r;
-    if (!g->built || !g->nslots || !gg_rpre_init(&r, g, q) || !(q->tmax > q->tmin)) return 0;
-    return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, gg_next_down(q->tmax)) != 0;
-}
-
-void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
-                        unsigned what)
+void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
+                     unsigned what)
 {
     const gg_prim *p = &g->prims[hit->prim];
     switch (p->kind) {
@@ -612,9 +543,4 @@ void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, g
         gg_implicit_shape_surface(g->imps[p->data], q, hit, s);
         break;
     }
-}
-
-void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s)
-{
-    gg_geom_surface_ex(g, q, hit, s, GG_SURF_UV);
 }

@@ -4,9 +4,11 @@
 ** (internal). The scene owns one gg_geom; every primitive remembers the
 ** scene object it belongs to.
 **
-** Hits come in two steps: traversal finds (t, prim, b1, b2) as cheaply as
+** Hits come in two steps: a query finds (t, prim, b1, b2) as cheaply as
 ** possible; gg_geom_surface then works out the point, normals and (u, v)
-** for the one hit that is shaded.
+** for the one hit that is shaded. There are two queries: the closest hit
+** (gg_geom_intersect) and occlusion (gg_geom_occluded), each with its
+** options in the query.
 **
 ** Exactness: gg_geom_intersect returns exactly what testing every
 ** primitive returns (same prim, same t to the bit; equal t is settled by
@@ -14,21 +16,23 @@
 ** boxes are conservative (see bvh.c), triangles are watertight (a ray
 ** through a shared edge or vertex hits exactly one of the triangles).
 **
-** Thread safety: after gg_geom_build, all queries are const and may run
-** concurrently; adds, gg_geom_set_* and builds may not overlap queries.
+** Threads: adds, gg_geom_set_flags and gg_geom_build write; everything
+** else only reads, so after gg_geom_build any number of threads may run
+** queries and surface calls at once. Nothing a query is given (its
+** gg_qopt included) is stored in the geometry: two renders with different
+** options may share one built gg_geom.
 **
-** Spawning a secondary ray from a hit (what the renderer should do):
-**     gg_geom_surface(g, &q, &hit, &s);
-**     q2.o = gg_offset_origin(&s, dir, GG_OFFSET_SCALED);
-**     q2.d = dir; q2.tmin = 0; q2.tmax = INFINITY (or 1 for a shadow ray
-**     with dir = light - q2.o);
+** Spawning a secondary ray from a hit (what the renderer does):
+**     gg_geom_surface(g, &q, &hit, &s, 0);
+**     q2 = gg_rayq_make(gg_offset_origin(&s, dir), dir, 0, INFINITY, q.opt)
+**         (tmax 1 for a shadow ray with dir = light - origin);
 **     q2.ignore_prim = hit.prim for planar kinds (TRIANGLE, POLYGON, RECT;
 **         a flat surface cannot be met again), UINT32_MAX for curved ones
 **         (SPHERE, CONE, IMPLICIT: the far side is the same primitive);
-**     q2.skip_flags = GG_PRIM_TRANSPARENT for shadow rays that let
-**         transparent occluders through (they are then handled apart).
-** The offset alone is enough to never find the surface just left (tested
-** on 1e6 rays at scales 1e-6..1e6); ignore_prim merely saves the test.
+**     q2.inside = hit.prim when the ray enters a sphere (refracted in).
+** The offset alone is enough to never find the surface just left
+** (tests/test_offset.c: 1e6 rays at scales 1e-6..1e6); ignore_prim merely
+** saves the test.
 */
 #ifndef GG_GEOM_H
 #define GG_GEOM_H
@@ -38,11 +42,7 @@
 /* Per-primitive flags, tested by gg_rayq.skip_flags. */
 #define GG_PRIM_TRANSPARENT 1u
 
-/* Numerical variants, selectable for the accuracy study (issue 6). */
-#define GG_SPHERE_STABLE   0 /* Haines et al., Ray Tracing Gems ch. 7 */
-#define GG_SPHERE_TEXTBOOK 1 /* b^2 - 4ac */
-#define GG_OFFSET_SCALED   0 /* offset scaled to the hit point's magnitude */
-#define GG_OFFSET_FIXED    1 /* one fixed epsilon (1e-6 unless set) */
+/* ---- building ---- */
 
 typedef struct gg_geom gg_geom;
 
@@ -56,9 +56,9 @@ void gg_geom_free(gg_geom *g);
    radius, both radii 0 or zero height, rectangle with parallel edges.
    A polygon of 3 vertices becomes a triangle (kind GG_SHAPE_TRIANGLE).
    Larger polygons are split into triangles by ear clipping when they are
-   simple (GG_POLY_TRIANGULATE); self-intersecting ones and those beyond
-   4096 vertices stay whole and use the even-odd crossing test. Triangle
-   normals that are zero or NaN make the triangle flat-shaded. */
+   simple; self-intersecting ones and those beyond 4096 vertices stay
+   whole and use the even-odd crossing test. Triangle normals that are
+   zero or NaN make the triangle flat-shaded. */
 int gg_geom_add_sphere(gg_geom *g, ggVec3 c, double r, int32_t obj);
 int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n /* 3 or NULL */,
                          int32_t obj);
@@ -74,28 +74,64 @@ int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim);
 int gg_geom_prim_kind(const gg_geom *g, uint32_t prim); /* ggShapeKind */
 
 /* Build the BVH (SAH). Must be called after the last add and before any
-   query. Returns GG_OK or GG_ERROR_NOMEM. */
+   query. Returns GG_OK, GG_ERROR_LIMIT or GG_ERROR_NOMEM. */
 int gg_geom_build(gg_geom *g, ggError *err);
 
-/* Select numerical variants (defaults: stable sphere, scaled offset). */
-void gg_geom_set_sphere_mode(gg_geom *g, int mode);
+/* Scene bounds (valid after build). */
+void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi);
 
-/* How polygons with more than 3 vertices are intersected. Takes effect for
-   polygons added after the call. */
-#define GG_POLY_TRIANGULATE 0 /* ear-clipped into watertight triangles (default) */
-#define GG_POLY_CROSSING    1 /* one primitive, crossing test (also the fallback) */
-void gg_geom_set_poly_mode(gg_geom *g, int mode);
+/* BVH statistics for reports and benchmarks. */
+typedef struct gg_bvh_stats {
+    size_t nodes, leaves, max_depth, bytes;
+    size_t blocks; /* AVX four-triangle leaf blocks (0: plain traversal) */
+    double build_seconds;
+} gg_bvh_stats;
+void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
+
+/* ---- queries ---- */
+
+/* The choices of a render that change what the geometry answers (its
+   accuracy knobs). A query carries them (gg_rayq.opt); they are never
+   stored in the geometry. All zero is the default. */
+#define GG_SPHERE_STABLE   0 /* Haines et al., Ray Tracing Gems ch. 7 (default) */
+#define GG_SPHERE_TEXTBOOK 1 /* b^2 - 4ac, for the accuracy study */
+typedef struct gg_qopt {
+    int sphere;          /* GG_SPHERE_* */
+    double implicit_tol; /* > 0: root tolerance of every implicit surface, in scene
+                            units; 0: each surface's own (ggImplicitSetTolerance) */
+    double gradient_h;   /* > 0: implicit normals by central differences with this
+                            step; 0: each surface's own (ggImplicitSetNormalStep) */
+} gg_qopt;
 
 /* A ray query. d need not be unit length; t is in units of |d|. The
    interval (tmin, tmax) is open at both ends; tmin >= 0 is the fast path
    (a negative tmin works, by testing every primitive). NaN or infinite
-   o or d, d = 0, or tmax <= tmin: no hit. */
+   o or d, d = 0, or tmax <= tmin: no hit. gg_rayq_make fills the fields
+   that are not the ray with their neutral values. */
 typedef struct gg_rayq {
     ggVec3 o, d;
     double tmin, tmax;
     uint32_t ignore_prim; /* a primitive to skip (the one the ray leaves), or UINT32_MAX */
     unsigned skip_flags;  /* skip primitives with any of these flags */
+    /* A sphere the ray starts inside of (refracted into it), or
+       UINT32_MAX: a hint that may save the traversal (gg_geom_intersect,
+       gg_geom_occluded), never changes an answer. */
+    uint32_t inside;
+    const gg_qopt *opt; /* never NULL (gg_rayq_make puts in the defaults) */
 } gg_rayq;
+
+/* The default options: all zero. */
+extern const gg_qopt gg_qopt_default;
+
+static inline gg_rayq gg_rayq_make(ggVec3 o, ggVec3 d, double tmin, double tmax,
+                                   const gg_qopt *opt /* NULL: the defaults */)
+{
+    gg_rayq q;
+    q.o = o, q.d = d, q.tmin = tmin, q.tmax = tmax;
+    q.ignore_prim = UINT32_MAX, q.skip_flags = 0, q.inside = UINT32_MAX;
+    q.opt = opt ? opt : &gg_qopt_default;
+    return q;
+}
 
 typedef struct gg_hit {
     double t;
@@ -107,73 +143,67 @@ typedef struct gg_hit {
 /* Closest hit in (tmin, tmax): fills *hit, returns 1; 0 if none (then
    *hit is untouched). hit->b1, b2: triangles the barycentric weights of
    vertices 1 and 2; polygons the same for the triangle hit->sub of the
-   polygon's split; rectangles (s, t); other kinds 0. */
+   polygon's split; rectangles (s, t); other kinds 0.
+   With q->inside, when that sphere is isolated (at build time no other
+   element's box came within a margin of its ball) and the origin lies in
+   the grown ball, the sphere alone is tested: nothing else can be nearer.
+   The answer is the same as without the hint. */
 int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
-/* Any hit in (tmin, tmax): 1 if occluded. */
-int gg_geom_occluded(const gg_geom *g, const gg_rayq *q);
 
-/* gg_geom_occluded with an occluder cache (the SPD-era "shadow cache"):
-   *cache is an opaque value the caller keeps per thread and per light
-   (start with 0). The element that occluded the previous ray is tested
-   first; whatever occludes this ray is remembered, and a ray that nothing
-   occludes empties the cache (*cache = 0). Neighbouring shadow rays are
-   mostly blocked by the same object, so a full traversal is often
-   skipped; after a clear ray the next one mostly is clear too, and
-   testing a stale occluder first would be wasted (on the SPD tree, 97%
-   of those tests failed). Same answer as gg_geom_occluded. */
-int gg_geom_occluded_cached(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
-
-/* The two questions of a coloured shadow ray in one traversal: returns 1
-   if a primitive not flagged GG_PRIM_TRANSPARENT is hit in (tmin, tmax)
-   (what gg_geom_occluded answers with skip_flags = GG_PRIM_TRANSPARENT);
-   else 0, with *has_tr = 1 and *tr the nearest hit when there is one
-   (then exactly what gg_geom_intersect returns for q), *has_tr = 0 if
-   nothing is hit. q->skip_flags is ignored. */
-int gg_geom_shadow_query(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr);
-/* The same with an occluder cache as gg_geom_occluded_cached's (it may
-   share that cache): the opaque element that blocked last is tried first,
-   the one that blocks is remembered, and a segment that nothing opaque
-   blocks empties it. Same answers. */
-int gg_geom_shadow_query_cached(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
-                                uint32_t *cache);
-
-/* Every crossing of a transparent surface on a shadow segment, nearest
-   first (gg_geom_shadow_query_all). complete = 1 when h[0..n) is all of
-   them: not more than GG_TCOL_CAP, and no implicit surface among them
-   (whose roots beyond the first are not searched). Spheres and cone
-   slices report both of their roots. */
+/* The transparent surfaces a shadow segment crosses (gg_geom_occluded).
+   complete = 1: h[0..n) is every crossing, nearest first (by t, prim,
+   sub), and nothing opaque is on the segment; spheres and cone slices
+   report both of their roots. complete = 0: the list overflowed
+   (GG_TCOL_CAP), met an implicit surface (whose roots beyond the first
+   are not searched), or was not made (the q->inside shortcut); then
+   has_near tells whether near is the nearest crossing, and only that
+   much is known. */
 #define GG_TCOL_CAP 8
 typedef struct gg_tcol {
     int n, complete;
     gg_hit h[GG_TCOL_CAP];
+    int has_near;
+    gg_hit near; /* exactly what gg_geom_intersect returns for the segment */
 } gg_tcol;
 
-/* gg_geom_shadow_query_cached that, when nothing opaque blocks (return
-   0), also lists every transparent crossing in (tmin, tmax) in *all,
-   sorted by (t, prim, sub); *tr and *has_tr as there. */
-int gg_geom_shadow_query_all(const gg_geom *g, const gg_rayq *q, gg_hit *tr, int *has_tr,
-                             uint32_t *cache, gg_tcol *all);
+/* Whether the segment (tmin, tmax) is blocked: 1 if it is, 0 if not.
+   *cache is an occluder cache the caller keeps per thread and per light
+   (start with 0; a caller without one passes a fresh 0): the element
+   that blocked that light's previous shadow ray is tested first, and
+   whatever blocks is remembered; a segment that nothing blocks empties
+   it. Neighbouring shadow rays are mostly blocked by the same element
+   (docs/performance.md). The cache changes no answer.
+   tr NULL: every primitive blocks but those q->skip_flags skips.
+   tr not NULL (coloured shadows): primitives flagged GG_PRIM_TRANSPARENT
+   do not block, and when 0 is returned *tr lists what they cross
+   (q->skip_flags is then ignored). With q->inside and tr, when the
+   sphere's far side is provably the first thing the segment meets (as
+   in gg_geom_intersect), 0 is returned with tr->near that hit and
+   tr->complete = 0, without looking further: the caller walks on. */
+int gg_geom_occluded(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *tr);
 
 /* 1 when no ray from eye into the pyramid spanned by the directions d[0..3]
    (corners of a rectangle of the image plane, in order around it) can hit
-   any primitive: no BVH leaf box reaches into it (lib/geom/frustum.c; the test
-   is conservative, see there). 0 when one may, or for degenerate input. */
+   any primitive: no BVH leaf box reaches into it (lib/geom/frustum.c; the
+   test is conservative, see there). 0 when one may, or for degenerate
+   input. */
 int gg_geom_frustum_empty(const gg_geom *g, ggVec3 eye, const ggVec3 d[4]);
 
-/* Same answers by testing every primitive (for tests). */
-int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+/* ---- surfaces and secondary rays ---- */
 
 typedef struct gg_surf {
     ggVec3 p;    /* hit point */
     ggVec3 ng;   /* unit geometric normal as the shape defines it */
     ggVec3 ns;   /* unit shading normal, on ng's side */
-    double u, v; /* surface coordinates */
+    double u, v; /* surface coordinates (0, 0 unless asked for) */
     double perr; /* bound on the absolute error of p (for offsets) */
 } gg_surf;
 
-/* Point, normals and (u, v) of a hit returned by gg_geom_intersect for
-   the same query q. Per kind (ng never depends on the ray: the renderer
-   decides front/back by the sign of d . ng):
+/* Point, normals and, when `what` has GG_SURF_UV, (u, v) of a hit that
+   gg_geom_intersect returned for the same query q (whose opt it uses).
+   Spheres and cones spend an atan2 on (u, v): untextured materials pass 0.
+   Per kind (ng never depends on the ray: the renderer decides front/back
+   by the sign of d . ng):
      sphere    ng outward; p re-projected onto the sphere;
                u = azimuth about +z / 2pi in [0,1), v = polar angle from +z / pi
      triangle  ng = unit (v1-v0) x (v2-v0), flipped to agree with the vertex
@@ -190,52 +220,21 @@ typedef struct gg_surf {
      rect      ng = unit e1 x e2; (u, v) = (s, t) in [0,1]^2
      implicit  ng = unit grad f (toward growing f); (u, v) = (0, 0)
    perr bounds each coordinate's absolute error of p: gamma(n) times the
-   magnitudes p was computed from (pbrt's analysis), e.g. gamma(7) * (|b0 v0|
-   + |b1 v1| + |b2 v2|) for triangles; see the shape files. */
-void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s);
-
-/* The same, computing (u, v) only when `what` has GG_SURF_UV (spheres and
-   cones spend an atan2 on them): untextured materials can pass 0, and
-   then s->u = s->v = 0. gg_geom_surface is what = GG_SURF_UV. */
+   magnitudes p was computed from (Pharr, Jakob, Humphreys, Physically Based
+   Rendering 3rd ed., 3.9), e.g. gamma(7) * (|b0 v0| + |b1 v1| + |b2 v2|) for
+   triangles; see the shape files. */
 #define GG_SURF_UV 1u
-void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
-                        unsigned what);
+void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
+                     unsigned what);
 
 /* Origin for a ray leaving surface point s->p in direction d: pushed off
    the surface along ng, to the side d goes to, far enough that the new ray
-   cannot find the same surface again and no farther than needed.
-   GG_OFFSET_SCALED pushes by GG_OFFSET_K * s->perr (and rounds away from
-   the surface); GG_OFFSET_FIXED by 1e-6 in scene units. d . ng == 0 counts
-   as the ng side. */
-ggVec3 gg_offset_origin(const gg_surf *s, ggVec3 d, int mode);
-/* The fixed-epsilon variant with any epsilon (accuracy study). */
-ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps);
+   cannot find the same surface again and no farther than needed: by
+   GG_OFFSET_K * s->perr, rounded away from the surface. d . ng == 0 counts
+   as the ng side. gg_offset_origin_fixed pushes by eps instead (the
+   textbook epsilon, for the accuracy study). */
 #define GG_OFFSET_K 8.0
-
-/* BVH statistics for reports and benchmarks. */
-typedef struct gg_bvh_stats {
-    size_t nodes, leaves, max_depth, bytes;
-    size_t blocks; /* AVX four-triangle leaf blocks (0: plain traversal) */
-    double build_seconds;
-} gg_bvh_stats;
-void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
-
-/* 0 when the segment o + t d, t in [0, 1], certainly meets no primitive
-   flagged GG_PRIM_TRANSPARENT (tested against the union of their boxes,
-   conservatively); 1 when it may. Cheap: for skipping a transparent walk. */
-int gg_geom_transparent_may_hit(const gg_geom *g, ggVec3 o, ggVec3 d);
-
-/* gg_geom_intersect for a ray that starts inside the sphere `prim`
-   (a hint: e.g. refracted into it). When that sphere is isolated (at
-   build time no other element's box came within a margin of its ball),
-   the origin lies in the grown ball and the sphere is hit, nothing else
-   can be nearer: the sphere alone is tested, and the answer (1 with *hit
-   filled) is exactly gg_geom_intersect's. Returns -1 when it cannot say
-   (not an isolated sphere, origin outside, ignored, no hit): the caller
-   then asks gg_geom_intersect. */
-int gg_geom_intersect_inside(const gg_geom *g, const gg_rayq *q, uint32_t prim, gg_hit *hit);
-
-/* Scene bounds (valid after build). */
-void gg_geom_bounds(const gg_geom *g, ggVec3 *lo, ggVec3 *hi);
+ggVec3 gg_offset_origin(const gg_surf *s, ggVec3 d);
+ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps);
 
 #endif

@@ -72,7 +72,7 @@ typedef struct gg_rpre {
     /* Woop-Benthin-Wald shear: kz is the dominant axis of d. */
     double sx, sy, sz;
     int kx, ky, kz;
-    int sphere_mode;
+    const gg_qopt *opt; /* the query's options, never NULL */
     uint32_t ignore;
     unsigned skip;
 } gg_rpre;
@@ -135,10 +135,15 @@ typedef struct gg_rect {
 typedef struct gg_bnode gg_bnode; /* defined in bvh_int.h */
 typedef struct gg_tleaf gg_tleaf; /* defined in bvh_int.h */
 
+/* How polygons with more than 3 vertices are intersected (poly_mode; the
+   tests set GG_POLY_CROSSING to check that kernel on every polygon). */
+#define GG_POLY_TRIANGULATE 0 /* ear-clipped into watertight triangles (default) */
+#define GG_POLY_CROSSING    1 /* one primitive, crossing test (also the fallback) */
+
 struct gg_geom {
     ggAllocator alloc_copy;
     const ggAllocator *alloc;
-    int sphere_mode, poly_mode;
+    int poly_mode; /* for polygons added from then on */
 
     gg_prim *prims;
     uint8_t *pflags;
@@ -164,9 +169,8 @@ struct gg_geom {
     /* built */
     int built;
     ggVec3 lo, hi;
-    ggVec3 tlo, thi; /* union of the boxes of GG_PRIM_TRANSPARENT elements */
     /* Per primitive: a sphere whose ball (grown by iso_margin) meets no
-       other element's box, see gg_geom_intersect_inside; else 0. */
+       other element's box, see gg_geom_inside_hit; else 0. */
     uint8_t *iso;
     double *iso_margin;
     gg_slot *slots;
@@ -217,12 +221,19 @@ int gg_implicit_shape_hit(const ggImplicit *imp, const gg_rpre *r, double tmax, 
 void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg_hit *h,
                                gg_surf *out);
 
-/* Any-hit by testing every element (geom.c). */
-int gg_geom_occluded_brute(const gg_geom *g, const gg_rayq *q);
+/* Closest hit by testing every element (geom.c): the traversal's fallback
+   for rays its float boxes cannot represent, and the tests' reference. */
+int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+
+/* The q->inside shortcut (geom.c): when sphere q->inside is isolated and
+   the origin lies in its grown ball, its hit (tested with the skip flags
+   `skip` instead of q's) is the closest of anything: 1 with *hit filled.
+   -1 when it cannot say (no such sphere, origin outside, no hit). */
+int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit *hit);
 
 /* The body of gg_rpre_init, inlined where the traversal sets up its own
    per-ray state right after it (bvh.c): o and d then stay in registers. */
-GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
+GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
 {
     double ax = fabs(q->d.x), ay = fabs(q->d.y), az = fabs(q->d.z), dk;
     /* x * 0 is NaN exactly when x is infinite or NaN: one test for the
@@ -259,14 +270,14 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_geom *g, const gg_rayq *q)
 #endif
     r->sx = r->d[r->kx] * r->sz;
     r->sy = r->d[r->ky] * r->sz;
-    r->sphere_mode = g->sphere_mode;
+    r->opt = q->opt;
     r->ignore = q->ignore_prim;
     r->skip = q->skip_flags;
     return 1;
 }
 
 /* Ray precomputation; returns 0 if the ray can hit nothing (NaN, d = 0). */
-int gg_rpre_init(gg_rpre *r, const gg_geom *g, const gg_rayq *q);
+int gg_rpre_init(gg_rpre *r, const gg_rayq *q);
 
 /* BVH (bvh.c): build over element boxes; writes the leaf order of the
    elements to order[]. tri[i] (or NULL) tells whether element i is a

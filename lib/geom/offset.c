@@ -46,9 +46,8 @@ static ggVec3 push(const gg_surf *s, ggVec3 d, double eps, int round_away)
     return p;
 }
 
-ggVec3 gg_offset_origin(const gg_surf *s, ggVec3 d, int mode)
+ggVec3 gg_offset_origin(const gg_surf *s, ggVec3 d)
 {
-    if (mode == GG_OFFSET_FIXED) return push(s, d, 1e-6, 0);
     return push(s, d, GG_OFFSET_K * s->perr, 1);
 }
 

@@ -21,7 +21,8 @@ int gg_implicit_shape_hit(const ggImplicit *imp, const gg_rpre *r, double tmax, 
 {
     ggVec3 o = v3(r->o[0], r->o[1], r->o[2]), d = v3(r->d[0], r->d[1], r->d[2]);
     /* The root finder takes an open interval; ours is (tmin, tmax]. */
-    return gg_implicit_intersect(imp, o, d, r->tmin, nextafter(tmax, INFINITY), t);
+    return gg_implicit_intersect_tol(imp, o, d, r->tmin, nextafter(tmax, INFINITY),
+                                     r->opt->implicit_tol, t);
 }
 
 /* ng = normalised grad f (pointing to where f grows); (u, v) = (0, 0). */
@@ -30,7 +31,7 @@ void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg
 {
     ggVec3 lo, hi, n;
     out->p = v3madd(q->o, q->d, h->t);
-    n = gg_implicit_normal(imp, out->p);
+    n = gg_implicit_normal_step(imp, out->p, q->opt->gradient_h);
     n = v3norm(n);
     if (!(v3dot(n, n) > 0)) n = v3norm(v3neg(q->d)); /* a critical point of f */
     out->ng = n;

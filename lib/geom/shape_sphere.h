@@ -22,7 +22,7 @@ GG_INLINE int gg_sphere_kernel(const gg_ksph *s, const gg_rpre *r, double tmax, 
     double dx = r->d[0], dy = r->d[1], dz = r->d[2];
     double b = fx * dx + fy * dy + fz * dz;
     double c, disc, q, t0, t1;
-    if (GG_LIKELY(r->sphere_mode == GG_SPHERE_STABLE)) {
+    if (GG_LIKELY(r->opt->sphere == GG_SPHERE_STABLE)) {
         double k = b * r->inv_a;
         double lx = fx - k * dx, ly = fy - k * dy, lz = fz - k * dz;
         disc = s->r2 - (lx * lx + ly * ly + lz * lz);

@@ -310,9 +310,10 @@ GG_API int ggImplicitSetNormalStep(ggImplicit *imp, double h)
     return GG_OK;
 }
 
-ggVec3 gg_implicit_normal(const ggImplicit *imp, ggVec3 p)
+ggVec3 gg_implicit_normal_step(const ggImplicit *imp, ggVec3 p, double h)
 {
-    return imp->normal_h > 0 ? ggGradientCentral(imp, p, imp->normal_h) : ggGradientNormal(imp, p);
+    if (!(h > 0)) h = imp->normal_h;
+    return h > 0 ? ggGradientCentral(imp, p, h) : ggGradientNormal(imp, p);
 }
 
 void gg_implicit_bounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi)
@@ -612,8 +613,10 @@ static int clip(const ggImplicit *imp, ggVec3 o, ggVec3 d, double *t0, double *t
     return *t0 <= *t1;
 }
 
-int gg_implicit_intersect_status(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin,
-                                 double tmax, double *t, gg_implicit_status *st)
+/* gg_implicit_intersect_status with the tolerance in scene units (> 0),
+   or the surface's own. */
+static int intersect_status(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,
+                            double tol_scene, double *t, gg_implicit_status *st)
 {
     double t0 = tmin, t1 = tmax, dl = v3len(d), tol;
     int from_origin;
@@ -622,19 +625,31 @@ int gg_implicit_intersect_status(const ggImplicit *imp, ggVec3 o, ggVec3 d, doub
     if (!clip(imp, o, d, &t0, &t1)) return 0;
     /* The search starts at the ray origin rather than at a face of the box. */
     from_origin = t0 == tmin;
-    tol = imp->tol / dl;
+    tol = (tol_scene > 0 ? tol_scene : imp->tol) / dl;
     if (imp->method == GG_IMPLICIT_INTERVAL && imp->expr)
         return search_interval(imp, o, d, t0, t1, from_origin, tmin, tmax, tol, t, st);
     return search_lipschitz(imp, o, d, t0, t1, from_origin, tmin, tmax, tol, t, st);
 }
 
+int gg_implicit_intersect_status(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin,
+                                 double tmax, double *t, gg_implicit_status *st)
+{
+    return intersect_status(imp, o, d, tmin, tmax, 0, t, st);
+}
+
+int gg_implicit_intersect_tol(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,
+                              double tol, double *t)
+{
+    gg_implicit_status st;
+    int hit = intersect_status(imp, o, d, tmin, tmax, tol, t, &st);
+    if (imp && (st.warn || st.max_slope > 0)) gg_implicit_note(imp, &st);
+    return hit;
+}
+
 int gg_implicit_intersect(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,
                           double *t)
 {
-    gg_implicit_status st;
-    int hit = gg_implicit_intersect_status(imp, o, d, tmin, tmax, t, &st);
-    if (imp && (st.warn || st.max_slope > 0)) gg_implicit_note(imp, &st);
-    return hit;
+    return gg_implicit_intersect_tol(imp, o, d, tmin, tmax, 0, t);
 }
 
 GG_API int ggImplicitIntersect(const ggImplicit *imp, ggRay ray, double tmin, double tmax,

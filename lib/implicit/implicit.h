@@ -8,10 +8,11 @@
 
 #include "core.h"
 
-/* The surface normal (unnormalised) as the renderer uses it: the exact
-   gradient, or central differences when ggImplicitSetNormalStep chose a
-   step. */
-ggVec3 gg_implicit_normal(const ggImplicit *imp, ggVec3 p);
+/* The surface normal (unnormalised) as the renderer uses it: central
+   differences with step h when h > 0, else the surface's own choice (the
+   exact gradient, or central differences when ggImplicitSetNormalStep
+   chose a step). Reads imp only. */
+ggVec3 gg_implicit_normal_step(const ggImplicit *imp, ggVec3 p, double h);
 
 /* The box the surface lives in. */
 void gg_implicit_bounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi);
@@ -22,6 +23,11 @@ void gg_implicit_bounds(const ggImplicit *imp, ggVec3 *lo, ggVec3 *hi);
    Same as gg_implicit_intersect_status followed by gg_implicit_note. */
 int gg_implicit_intersect(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,
                           double *t);
+/* The same with root tolerance tol (scene units) when tol > 0, else the
+   surface's own (ggImplicitSetTolerance): a render's choice that is never
+   stored in imp. */
+int gg_implicit_intersect_tol(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,
+                              double tol, double *t);
 
 /* What one intersection saw. */
 typedef struct gg_implicit_status {

@@ -23,13 +23,28 @@
 
 #define TILE 16
 
+/* ggRender and ggTracePixel prepare an unprepared scene. Two threads may
+   do that at once on one scene (scene.h): the lock makes the second wait
+   for the first's preparation and then find the scene prepared. Taken
+   once per call; a prepared scene returns from ggScenePrepare at once. */
+static pthread_mutex_t prepare_mu = PTHREAD_MUTEX_INITIALIZER;
+
+static int prepare(ggScene *s, ggError *err)
+{
+    int rc;
+    pthread_mutex_lock(&prepare_mu);
+    rc = ggScenePrepare(s, err);
+    pthread_mutex_unlock(&prepare_mu);
+    return rc;
+}
+
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt)
 {
     memset(opt, 0, sizeof *opt);
 }
 
 typedef struct resolved {
-    int w, h, depth, spp, threads;
+    int w, h, depth, spp, threads, budget;
     int x0, y0, x1, y1;
     bool corners, spd;
     unsigned force;
@@ -59,12 +74,15 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
     r->spp = o->samples > 0 ? o->samples : s->samples > 0 ? s->samples : 1;
     if (o->max_depth < 0 || r->depth > 64 || o->samples < 0 || r->spp > 4096)
         return gg_error_set(err, GG_ERROR_INVALID, "depth must be 1..64 and samples 1..4096");
+    r->budget = o->ray_budget > 0 ? o->ray_budget : GG_RAY_BUDGET;
+    if (o->ray_budget < 0 || o->ray_budget > GG_RAY_BUDGET_MAX)
+        return gg_error_set(err, GG_ERROR_INVALID, "ray budget %d is out of range 1..%d",
+                            o->ray_budget, GG_RAY_BUDGET_MAX);
     n = o->threads > 0 ? o->threads : sysconf(_SC_NPROCESSORS_ONLN);
     r->threads = (int)(n < 1 ? 1 : n > 256 ? 256 : n);
     r->x0 = o->crop_x0, r->y0 = o->crop_y0, r->x1 = o->crop_x1, r->y1 = o->crop_y1;
     if (r->x0 == 0 && r->y0 == 0 && r->x1 == 0 && r->y1 == 0) r->x1 = r->w, r->y1 = r->h;
-    if (r->x0 < 0 || r->y0 < 0 || r->x1 > r->w || r->y1 > r->h || r->x0 >= r->x1 ||
-        r->y0 >= r->y1)
+    if (r->x0 < 0 || r->y0 < 0 || r->x1 > r->w || r->y1 > r->h || r->x0 >= r->x1 || r->y0 >= r->y1)
         return gg_error_set(err, GG_ERROR_INVALID,
                             "crop window [%d,%d)x[%d,%d) is not inside the %dx%d image", r->x0,
                             r->x1, r->y0, r->y1, r->w, r->h);
@@ -136,26 +154,6 @@ static void sample_pos(int k, int n, double *sx, double *sy)
     }
 }
 
-/* The accuracy knobs that live in the geometry: set on every render (so
-   one render's choice does not leak into the next). Not thread-safe
-   against concurrent renders of the same scene, as ggRender never was. */
-static void apply_geometry_knobs(ggScene *s, const ggAccuracy *acc)
-{
-    size_t i;
-    gg_geom_set_sphere_mode(s->geom, acc->sphere == GG_ACC_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK
-                                                                           : GG_SPHERE_STABLE);
-    for (i = 0; i < s->nobjects; i++) {
-        ggImplicit *imp = s->objects[i].imp;
-        ggVec3 lo, hi;
-        if (!imp) continue;
-        ggImplicitBounds(imp, &lo, &hi);
-        /* 0 restores the surface's own default, 1e-12 of the box diagonal. */
-        ggImplicitSetTolerance(imp, acc->implicit_tol > 0 ? acc->implicit_tol
-                                                          : 1e-12 * v3len(v3sub(hi, lo)));
-        ggImplicitSetNormalStep(imp, acc->gradient_h);
-    }
-}
-
 typedef struct job {
     gg_shade_ctx ctx;
     resolved r;
@@ -179,7 +177,7 @@ static void add_stats(ggRayStats *a, const ggRayStats *b)
 {
     a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
     a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
-    a->nonfinite += b->nonfinite;
+    a->nonfinite += b->nonfinite, a->budget_cut += b->budget_cut;
     if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
 }
 
@@ -208,16 +206,12 @@ static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *
         acc = cadd(acc, sample_color(j, x + sx, y + sy, th));
         /* When tracing one sample, count only that sample's rays. */
         if (rec && !recorded) th->st = keep;
-        j->ctx.rec = NULL;
+        /* (only ggTracePixel's job, which no other thread sees, records:
+           ggRender's workers share theirs and must not write it) */
+        if (recorded) j->ctx.rec = NULL;
     }
     return cscale(acc, 1.0 / j->r.spp);
 }
-
-#if defined(__GNUC__)
-#define GG_NOINLINE __attribute__((noinline))
-#else
-#define GG_NOINLINE
-#endif
 
 /* A pixel-centre pixel from its one sample's colour c, as pixel_center
    and render_tile make it; returns 1 when c is not finite (counted). */
@@ -234,8 +228,7 @@ static GG_NOINLINE int put_centre(float *o, const ggColor *c, double scale)
    where |d| is finite and > 0 (gg_shade_dir's test of d). All TILE
    columns are computed; the caller uses its own. SSE2's add, multiply,
    divide and square root round exactly as the scalar ones do. */
-static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3],
-                         gg_rayq q[TILE])
+static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3], gg_rayq q[TILE])
 {
     uint32_t ok = 0;
     int i;
@@ -295,10 +288,7 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     gg_hit h;
     int i, gy;
     miss_bad = (uint64_t)put_centre(miss, &bg, scale);
-    for (i = 0; i < TILE; i++) {
-        q[i].o = b->eye, q[i].tmin = 0, q[i].tmax = INFINITY;
-        q[i].ignore_prim = UINT32_MAX, q[i].skip_flags = 0;
-    }
+    for (i = 0; i < TILE; i++) q[i] = gg_rayq_make(b->eye, b->eye, 0, INFINITY, &j->ctx.qopt);
     for (i = 0; i < TILE; i++) {
         double px = j->r.x0 + gx0 + i + 0.5;
         double sx = (2.0 * px / b->w - 1.0) * b->tx;
@@ -407,12 +397,12 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
             }
             if (j->cost) {
                 int x = j->r.x0 + gx, y = j->r.y0 + gy;
-                double v = j->cost_kind == GG_COST_TIME    ? gg_time_now() - t0
-                           : j->cost_kind == GG_COST_DEPTH ? (double)st->max_depth
-                                                           : (double)(st->eye + st->reflect +
-                                                                      st->refract + st->shadow -
-                                                                      before.eye - before.reflect -
-                                                                      before.refract - before.shadow);
+                double v =
+                    j->cost_kind == GG_COST_TIME ? gg_time_now() - t0
+                    : j->cost_kind == GG_COST_DEPTH
+                        ? (double)st->max_depth
+                        : (double)(st->eye + st->reflect + st->refract + st->shadow - before.eye -
+                                   before.reflect - before.refract - before.shadow);
                 if (x < j->r.w && y < j->r.h) j->cost[(size_t)y * j->r.w + x] = (float)v;
                 if (before.max_depth > st->max_depth) st->max_depth = before.max_depth;
             }
@@ -478,11 +468,12 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     *out = NULL;
     memset(&j, 0, sizeof j);
     if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
-    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
-    apply_geometry_knobs(s, &j.r.acc);
+    if ((rc = prepare(s, err)) != GG_OK) return rc;
     img = ggImageCreate(j.r.w, j.r.h, s->alloc);
-    if (!img) return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
+    if (!img)
+        return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    j.ctx.budget = (uint32_t)j.r.budget;
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
     j.px = ggImagePixels(img);
@@ -535,6 +526,7 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
     gg_shade_thread th;
     if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
     gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
+    ctx.budget = (uint32_t)r.budget;
     memset(&th, 0, sizeof th);
     {
         ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &th);
@@ -550,7 +542,8 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     gg_shade_thread local;
     ggColor c;
     int rc, k;
-    if (!s || !rec || !pixel) return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
+    if (!s || !rec || !pixel)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
 #ifdef GG_NO_RECORDER
     return gg_error_set(err, GG_ERROR_UNSUPPORTED, "this libggrt was built without the recorder");
 #endif
@@ -563,9 +556,9 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     if (sample < -1 || sample >= (j.r.corners ? 4 : j.r.spp))
         return gg_error_set(err, GG_ERROR_INVALID, "sample %d does not exist (the pixel has %d)",
                             sample, j.r.corners ? 4 : j.r.spp);
-    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
-    apply_geometry_knobs(s, &j.r.acc);
+    if ((rc = prepare(s, err)) != GG_OK) return rc;
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    j.ctx.budget = (uint32_t)j.r.budget;
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
     gg_trace_clear(rec);

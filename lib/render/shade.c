@@ -142,9 +142,15 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
         ctx->acc = *acc;
     else
         memset(&ctx->acc, 0, sizeof ctx->acc);
+    /* The knobs the geometry answers by travel with every query. */
+    ctx->qopt.sphere =
+        ctx->acc.sphere == GG_ACC_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK : GG_SPHERE_STABLE;
+    ctx->qopt.implicit_tol = ctx->acc.implicit_tol;
+    ctx->qopt.gradient_h = ctx->acc.gradient_h;
     /* A Fresnel override on a transmitter needs the Fresnel code. */
     if (ctx->acc.fresnel >= GG_ACC_FRESNEL_SCHLICK && (s->effects & GG_EFFECT_REFRACTION))
         ctx->fx |= GG_EFFECT_FRESNEL;
+    ctx->budget = GG_RAY_BUDGET;
     ctx->rec = NULL;
 }
 
@@ -157,7 +163,7 @@ static ggVec3 spawn(const gg_shade_ctx *c, const gg_surf *sf, ggVec3 d)
 {
     if (c->acc.offset == GG_ACC_OFFSET_FIXED)
         return gg_offset_origin_fixed(sf, d, c->acc.offset_eps > 0 ? c->acc.offset_eps : 1e-6);
-    return gg_offset_origin(sf, d, GG_OFFSET_SCALED);
+    return gg_offset_origin(sf, d);
 }
 
 /* The Fresnel mode in force for a material (the knob overrides dielectrics). */
@@ -232,10 +238,13 @@ static ggColor media_transmittance(const ggScene *s, const gg_media *m, double d
                a.b > 0 ? exp(-a.b * dist) : 1);
 }
 
-static gg_rayq make_q(ggVec3 o, ggVec3 d, double tmax, uint32_t ignore, unsigned skip)
+/* A query of this render from o along d, t in (0, tmax), skipping prim
+   `ignore` and the primitives flagged `skip`. */
+static gg_rayq make_q(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, double tmax, uint32_t ignore,
+                      unsigned skip)
 {
-    gg_rayq q;
-    q.o = o, q.d = d, q.tmin = 0, q.tmax = tmax, q.ignore_prim = ignore, q.skip_flags = skip;
+    gg_rayq q = gg_rayq_make(o, d, 0, tmax, &c->qopt);
+    q.ignore_prim = ignore, q.skip_flags = skip;
     return q;
 }
 
@@ -413,6 +422,22 @@ GG_INLINE void rec_ray_end(const gg_shade_ctx *c, int node, int hit, ggColor att
     N->color = col;
 }
 
+/* ---- the ray budget ---- */
+
+/* Whether the eye ray's tree may cast one more secondary ray (and count
+   it against the budget); if not, the ray is counted as cut and node says
+   why it stopped. */
+GG_INLINE int budget_take(const gg_shade_ctx *c, gg_shade_thread *th, int node, const unsigned FX)
+{
+    if (GG_LIKELY(th->left > 0)) {
+        th->left--;
+        return 1;
+    }
+    th->st.budget_cut++;
+    rec_stop(c, node, GG_STOP_BUDGET, FX);
+    return 0;
+}
+
 /* ---- the hit ---- */
 
 GG_INLINE void hit_setup(const gg_shade_ctx *c, const ray_state *r, const gg_rayq *q,
@@ -427,8 +452,8 @@ GG_INLINE void hit_setup(const gg_shade_ctx *c, const ray_state *r, const gg_ray
     hi->leave = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h->prim);
     /* (u, v) costs an atan2 on curved shapes: only for textures and the
        recorder. */
-    gg_geom_surface_ex(s->geom, q, h, &hi->sf,
-                       ((FX & FX_RECORD) || (hi->mf->flags & GG_MF_TEXTURE)) ? GG_SURF_UV : 0u);
+    gg_geom_surface(s->geom, q, h, &hi->sf,
+                    ((FX & FX_RECORD) || (hi->mf->flags & GG_MF_TEXTURE)) ? GG_SURF_UV : 0u);
     /* Normals facing the incoming ray: surfaces are two-sided. */
     hi->front = v3dot(r->d, hi->sf.ng) < 0;
     hi->ng = hi->front ? hi->sf.ng : v3neg(hi->sf.ng);
@@ -451,39 +476,33 @@ GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, co
 
 /* ---- direct light ---- */
 
-/* Light arriving at the shadow origin from a light at parameter 1 along d
-   (d = light - o), through transparent occluders: kt per surface crossed
-   and absorption inside. Returns black if an opaque surface blocks.
-   *first_obj receives the first object crossed (-1 if none) and *t_first
-   where (parameter of the original ray). all (if not NULL): the caller
-   has found nothing opaque on the segment, and these are its transparent
-   crossings (gg_geom_shadow_query_all). */
+/* Light arriving at the shadow origin o from a light at parameter 1
+   along d (d = light - o), through transparent occluders: kt per surface
+   crossed and absorption inside. Returns black if an opaque surface
+   blocks. *first_obj receives the first object crossed (-1 if none) and
+   *t_first where (parameter of the original ray). `all` is what
+   gg_geom_occluded found on the segment, which it did not find blocked. */
 GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
-                              const gg_media *start, int *first_obj, double *t_first, int pre,
-                              const gg_hit *pre_hit, const gg_tcol *all)
+                              const gg_media *start, int *first_obj, double *t_first,
+                              const gg_tcol *all)
 {
     const ggScene *s = c->s;
     const ggVec3 light = v3add(o, d);
     gg_media m = *start;
     ggColor tr = rgb(1, 1, 1);
     double len = v3len(d);
-    gg_rayq q = make_q(o, d, 1.0, from, 0);
+    gg_rayq q = make_q(c, o, d, 1.0, from, 0);
     gg_hit h;
-    uint32_t in_sphere = UINT32_MAX; /* a sphere the current segment starts inside of */
     int step;
     *first_obj = -1;
     *t_first = 1;
-    /* Nothing transparent near the segment: the walk's first query would
-       miss (what blocks opaquely was ruled out by the caller). */
-    if (pre < 0 && !gg_geom_transparent_may_hit(s->geom, o, d))
-        return media_transmittance(s, &m, len);
     /* Every crossing known, nothing opaque: no query, no hit point, no
        offset origin is needed, only kt and the media between crossings.
        The stepwise walk below asks again from just past each surface: for
        lists that overflowed or met an implicit surface, for walks that
        start inside a sphere, and for the fixed-epsilon knob, whose re-hits
        are part of what the accuracy study shows. */
-    if (all && all->complete && c->acc.offset != GG_ACC_OFFSET_FIXED) {
+    if (all->complete && c->acc.offset != GG_ACC_OFFSET_FIXED) {
         double prev = 0;
         int i;
         for (i = 0; i < all->n; i++) {
@@ -501,17 +520,12 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_
     for (step = 0; step < GG_MAX_SHADOW_STEPS; step++) {
         int obj, mat, found;
         gg_surf sf;
-        /* The first query may come answered (pre >= 0: gg_geom_shadow_query
-           found the nearest hit, pre = 1, or none, pre = 0). */
-        if (step == 0 && pre >= 0) {
-            found = pre;
-            if (found) h = *pre_hit;
-        } else {
-            found = -1;
-            if (in_sphere != UINT32_MAX)
-                found = gg_geom_intersect_inside(s->geom, &q, in_sphere, &h);
-            if (found < 0) found = gg_geom_intersect(s->geom, &q, &h);
-        }
+        /* The first query came answered: its nearest crossing. */
+        if (step == 0) {
+            found = all->has_near;
+            if (found) h = all->near;
+        } else
+            found = gg_geom_intersect(s->geom, &q, &h);
         if (!found) return cmul(tr, media_transmittance(s, &m, len));
         obj = gg_geom_prim_object(s->geom, h.prim);
         mat = s->objects[obj].material;
@@ -522,7 +536,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_
         }
         tr = cmul(tr, media_transmittance(s, &m, h.t * len));
         tr = cscale(tr, s->materials[mat].kt);
-        gg_geom_surface_ex(s->geom, &q, &h, &sf, 0u);
+        gg_geom_surface(s->geom, &q, &h, &sf, 0u);
         media_cross(&m, mat);
         if (cmaxc(tr) <= 0) return tr;
         /* Go on from just past this surface towards the light. */
@@ -530,9 +544,8 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_
         q.d = v3sub(light, q.o);
         len = v3len(q.d);
         q.ignore_prim = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h.prim);
-        /* Crossed into a sphere: the next surface may well be its far side
-           (gg_geom_intersect_inside checks that nothing else can be). */
-        in_sphere = q.ignore_prim == UINT32_MAX && v3dot(q.d, sf.ng) < 0 ? h.prim : UINT32_MAX;
+        /* Crossed into a sphere: the next surface may well be its far side. */
+        q.inside = q.ignore_prim == UINT32_MAX && v3dot(q.d, sf.ng) < 0 ? h.prim : UINT32_MAX;
     }
     return rgb(0, 0, 0);
 }
@@ -555,10 +568,10 @@ GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hi
                              size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const gg_rayq sq = make_q(sh->o, sh->d, 1.0, hi->leave, 0);
+    const gg_rayq sq = make_q(c, sh->o, sh->d, 1.0, hi->leave, 0);
     if (FX & FX_RECORD) {
         if (nearest_blocker(c, &sq, sh)) return;
-    } else if (gg_geom_occluded_cached(s->geom, &sq, &th->occ[li % GG_OCC_CACHES])) {
+    } else if (gg_geom_occluded(s->geom, &sq, &th->occ[li % GG_OCC_CACHES], NULL)) {
         sh->verdict = GG_SHADOW_BLOCKED;
         return;
     }
@@ -570,41 +583,31 @@ GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hi
 }
 
 /* A shadow ray that transparent occluders let through (shadow_walk). One
-   traversal answers whether anything opaque blocks it and, if not, lists
-   its transparent crossings for the walk. */
+   query answers whether anything opaque blocks it and, if not, what
+   transparent surfaces it crosses, for the walk. */
 GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
                               size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const gg_rayq sq = make_q(sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
-    int pre = -1, clear = 0;
-    gg_hit fh = {0};
+    gg_rayq sq = make_q(c, sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
     gg_tcol all;
     ggColor through;
     if (FX & FX_RECORD) {
+        uint32_t none = 0;
         if (nearest_blocker(c, &sq, sh)) return;
         /* the renderer's crossings, to walk them the same way */
-        clear = 1;
-        gg_geom_shadow_query_all(s->geom, &sq, &fh, &pre, NULL, &all);
+        gg_geom_occluded(s->geom, &sq, &none, &all);
     } else {
         /* Leaving a sphere's inner side inwards: when nothing else is
            inside it, its far side is the walk's first hit and anything
            opaque lies beyond, for the walk to meet. */
-        if (!hi->front && hi->leave == UINT32_MAX) {
-            gg_rayq iq = make_q(sh->o, sh->d, 1.0, hi->leave, 0);
-            if (gg_geom_intersect_inside(s->geom, &iq, hi->h->prim, &fh) > 0) pre = 1;
-        }
-        if (pre < 0) {
-            if (gg_geom_shadow_query_all(s->geom, &sq, &fh, &pre, &th->occ[li % GG_OCC_CACHES],
-                                         &all)) {
-                sh->verdict = GG_SHADOW_BLOCKED;
-                return;
-            }
-            clear = 1;
+        if (!hi->front && hi->leave == UINT32_MAX) sq.inside = hi->h->prim;
+        if (gg_geom_occluded(s->geom, &sq, &th->occ[li % GG_OCC_CACHES], &all)) {
+            sh->verdict = GG_SHADOW_BLOCKED;
+            return;
         }
     }
-    through = shadow_walk(c, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, pre, &fh,
-                          clear ? &all : NULL);
+    through = shadow_walk(c, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all);
     if (sh->occ >= 0) sh->verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
     sh->lc = cmul(sh->lc, through);
 }
@@ -748,7 +751,7 @@ GG_INLINE void transmit(const gg_shade_ctx *c, const ray_state *r, const hit_inf
     }
     /* Adaptive depth (POV-Ray's adc_bailout): skip rays that cannot
        matter. Off (0) by default. */
-    if (r->weight * w < c->acc.cutoff) return;
+    if (r->weight * w < c->acc.cutoff || !budget_take(c, th, node, FX)) return;
     child_ray(&child, r, node, spawn(c, &hi->sf, t), t, GG_RAY_REFRACT, r->weight * w);
     child.from_prim = hi->leave;
     /* Refracted in through a sphere's outer side: inside it. */
@@ -799,6 +802,7 @@ GG_INLINE void mirror(const gg_shade_ctx *c, const ray_state *r, const hit_info 
         if (!(hi->mf->flags & GG_MF_TRANSMIT)) rec_stop(c, node, GG_STOP_MATTE, FX);
         return;
     }
+    if (!budget_take(c, th, node, FX)) return;
     rd = reflect(r->d, hi->ns);
     /* A shading normal can send the mirror ray into the surface. */
     if (v3dot(rd, hi->ng) <= 0) rd = reflect(r->d, hi->ng);
@@ -848,18 +852,15 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
                            const gg_hit *known, const unsigned FX)
 {
     const ggScene *s = c->s;
-    gg_rayq q = make_q(r->o, r->d, INFINITY, r->from_prim, 0);
+    gg_rayq q = make_q(c, r->o, r->d, INFINITY, r->from_prim, 0);
     gg_hit h;
     const gg_hit *hp = known ? known : &h;
     ggColor col, att = rgb(1, 1, 1);
     int node, hit = 1;
     if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
     node = rec_ray(c, r, FX);
-    if (!known) {
-        hit = -1;
-        if (r->inside != UINT32_MAX) hit = gg_geom_intersect_inside(s->geom, &q, r->inside, &h);
-        if (hit < 0) hit = gg_geom_intersect(s->geom, &q, &h);
-    }
+    q.inside = r->inside;
+    if (!known) hit = gg_geom_intersect(s->geom, &q, &h);
     if (!hit) {
         col = s->background;
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
@@ -930,6 +931,7 @@ static void root_ray(ray_state *r, ggVec3 o, ggVec3 u, int depth)
 static ggColor trace_root(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                           const gg_hit *known)
 {
+    th->left = c->budget;
 #ifndef GG_NO_RECORDER
     if (c->rec) return trace_rec(c, r, th, known);
 #endif

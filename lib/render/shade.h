@@ -20,9 +20,11 @@ typedef struct gg_media {
 typedef struct gg_shade_ctx {
     const ggScene *s;
     int max_depth;
-    unsigned fx;     /* effects simulated: the scene's plus the forced ones */
+    unsigned fx; /* effects simulated: the scene's plus the forced ones */
     bool spd_rules;
     ggAccuracy acc;  /* numerical knobs (render.h) */
+    gg_qopt qopt;    /* those the geometry answers by, for every query */
+    uint32_t budget; /* secondary rays per eye ray's tree (ggRenderOptions.ray_budget) */
     ggTrace *rec;    /* non-NULL: record the ray tree (single-threaded use) */
 } gg_shade_ctx;
 
@@ -34,9 +36,11 @@ typedef struct gg_shade_ctx {
 typedef struct gg_shade_thread {
     ggRayStats st;
     uint32_t occ[GG_OCC_CACHES];
+    uint32_t left; /* secondary rays the current eye ray's tree may still cast */
 } gg_shade_thread;
 
-/* Fill ctx from a prepared scene and resolved options; acc may be NULL. */
+/* Fill ctx from a prepared scene and resolved options; acc may be NULL.
+   The ray budget is GG_RAY_BUDGET until the caller sets ctx->budget. */
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc);
 
@@ -55,8 +59,8 @@ ggColor gg_shade_ray_unit(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 u, int depth
 
 /* gg_shade_ray_unit(ctx, o, u, 1, th) for a caller that casts its eye
    rays itself, so that a miss costs it no call into the shading: q is
-   the eye ray's query (o, unit u, tmin 0, tmax INFINITY, ignore_prim
-   UINT32_MAX, skip_flags 0) and h what gg_geom_intersect returned for it.
+   the eye ray's query (gg_rayq_make(o, u, 0, INFINITY, &ctx->qopt)) and h
+   what gg_geom_intersect returned for it.
    A miss's colour is gg_shade_eye_miss(ctx). The caller counts its eye
    rays in st.eye and raises st.max_depth to 1 (gg_shade_ray_unit does
    both per ray; a batch of rays can do it once). */
@@ -64,6 +68,9 @@ ggColor gg_shade_eye_hit(const gg_shade_ctx *ctx, const gg_rayq *q, const gg_hit
                          gg_shade_thread *th);
 /* An eye ray starts in the outside medium: a miss is the background,
    with no absorption. */
-static inline ggColor gg_shade_eye_miss(const gg_shade_ctx *ctx) { return ctx->s->background; }
+static inline ggColor gg_shade_eye_miss(const gg_shade_ctx *ctx)
+{
+    return ctx->s->background;
+}
 
 #endif

@@ -53,12 +53,18 @@ int gg_trace_add_light(ggTrace *t)
     return (int)t->nlights++;
 }
 
-GG_API size_t ggTraceNodeCount(const ggTrace *t) { return t ? t->nnodes : 0; }
+GG_API size_t ggTraceNodeCount(const ggTrace *t)
+{
+    return t ? t->nnodes : 0;
+}
 GG_API const ggTraceNode *ggTraceGetNode(const ggTrace *t, size_t i)
 {
     return t && i < t->nnodes ? &t->nodes[i] : NULL;
 }
-GG_API size_t ggTraceLightCount(const ggTrace *t) { return t ? t->nlights : 0; }
+GG_API size_t ggTraceLightCount(const ggTrace *t)
+{
+    return t ? t->nlights : 0;
+}
 GG_API const ggTraceLight *ggTraceGetLight(const ggTrace *t, size_t i)
 {
     return t && i < t->nlights ? &t->lights[i] : NULL;
@@ -72,8 +78,8 @@ GG_API const char *ggRayKindName(int kind)
 
 GG_API const char *ggStopName(int stop)
 {
-    static const char *const n[] = {"none", "miss", "depth", "matte"};
-    return stop >= 0 && stop < 4 ? n[stop] : "?";
+    static const char *const n[] = {"none", "miss", "depth", "matte", "budget"};
+    return stop >= 0 && stop < 5 ? n[stop] : "?";
 }
 
 GG_API const char *ggShadowName(int verdict)

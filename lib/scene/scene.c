@@ -419,7 +419,7 @@ static void fill_hit(const ggScene *s, const gg_rayq *q, const gg_hit *h, ggHit 
 {
     gg_surf sf;
     int32_t obj = gg_geom_prim_object(s->geom, h->prim);
-    gg_geom_surface(s->geom, q, h, &sf);
+    gg_geom_surface(s->geom, q, h, &sf, GG_SURF_UV);
     out->t = h->t;
     out->p = sf.p;
     out->ng = sf.ng;
@@ -437,8 +437,7 @@ GG_API bool ggSceneIntersect(const ggScene *s, ggRay ray, double tmin, double tm
     gg_rayq q;
     gg_hit h;
     if (!s->prepared) return false;
-    q.o = ray.o, q.d = ray.d, q.tmin = tmin, q.tmax = tmax;
-    q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
+    q = gg_rayq_make(ray.o, ray.d, tmin, tmax, NULL);
     if (!gg_geom_intersect(s->geom, &q, &h)) return false;
     if (hit) fill_hit(s, &q, &h, hit);
     return true;
@@ -447,10 +446,10 @@ GG_API bool ggSceneIntersect(const ggScene *s, ggRay ray, double tmin, double tm
 GG_API bool ggSceneOccluded(const ggScene *s, ggRay ray, double tmin, double tmax)
 {
     gg_rayq q;
+    uint32_t cache = 0;
     if (!s->prepared) return false;
-    q.o = ray.o, q.d = ray.d, q.tmin = tmin, q.tmax = tmax;
-    q.ignore_prim = UINT32_MAX, q.skip_flags = 0;
-    return gg_geom_occluded(s->geom, &q) != 0;
+    q = gg_rayq_make(ray.o, ray.d, tmin, tmax, NULL);
+    return gg_geom_occluded(s->geom, &q, &cache, NULL) != 0;
 }
 
 GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
