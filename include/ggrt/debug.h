@@ -52,10 +52,11 @@ extern "C" {
      spd (the SPD's rules: pixel corners, depth 5 unless set, transmitters
      also reflect)  spd-rules (only the last)  corners  force-effects
    and the accuracy knobs of render.h:
-     offset=scaled|fixed|EPS (a number: fixed with that epsilon)
+     offset=scaled|fixed|EPS (a number > 0: fixed with that epsilon)
      sphere=stable|textbook  refract=accurate|textbook|exact
      fresnel=scene|none|schlick|exact  texture=scene|bilinear|nearest
-     wavelengths=rgb|one  cutoff=X  implicit-tol=X  gradient=exact|H
+     wavelengths=rgb|one  cutoff=W (0 to 1)  implicit-tol=own|T
+     gradient=exact|H (T, H > 0)
    Numbers are read with '.' as the radix point whatever the locale. An
    empty text changes nothing. On a bad setting *opt is unchanged and err
    says where, "line:column: message" counting from 1 (as

@@ -5,6 +5,7 @@
 */
 #include "debug_int.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -115,19 +116,25 @@ static void ray_fails(pix_fail *f, ggCheckItem *it, double m, int node, int ligh
     note(f, m, node, light, n);
 }
 
+/* A colour the float image cannot hold (NaN, infinite, or beyond
+   FLT_MAX, which rounds to infinity), or a negative one (neg). */
+static int bad_color(ggColor c, int neg)
+{
+    if (neg) return cmin(c) < 0;
+    return !(fabs(c.r) <= FLT_MAX && fabs(c.g) <= FLT_MAX && fabs(c.b) <= FLT_MAX);
+}
+
 /* The ray where a non-finite (neg = 0) or negative (neg = 1) colour
    starts: the first whose children's colours are all fine. */
 static int source_ray(const ggTrace *t, int neg)
 {
     size_t i, j, n = ggTraceNodeCount(t);
     for (i = 0; i < n; i++) {
-        const ggTraceNode *a = ggTraceGetNode(t, i);
-        int bad = neg ? cmin(a->color) < 0 : gg_dbg_nonfinite(a->color), kids_bad = 0;
-        if (!bad) continue;
+        int kids_bad = 0;
+        if (!bad_color(ggTraceGetNode(t, i)->color, neg)) continue;
         for (j = i + 1; j < n && !kids_bad; j++) {
             const ggTraceNode *c = ggTraceGetNode(t, j);
-            if (c->parent == (int)i)
-                kids_bad = neg ? cmin(c->color) < 0 : gg_dbg_nonfinite(c->color);
+            if (c->parent == (int)i) kids_bad = bad_color(c->color, neg);
         }
         if (!kids_bad) return (int)i;
     }
@@ -249,26 +256,32 @@ static double texture_max(const ggScene *s, const ggMaterial *m)
     return v * cmax(m->color);
 }
 
-/* Any ray's colour is at most L: background, or a surface's own terms
-   (emission, ambient, every light's diffuse and highlight at most its
-   colour) plus g L for the weight g of its children. With g < 1 over all
-   materials that gives L <= max(background, D / (1 - g)). */
+/* Any ray's colour is at most L, by induction on the depth left: a miss
+   is the background; a hit returns at most its own terms D (emission,
+   ambient, and per light a diffuse term and a highlight of at most the
+   light's colour) plus g L, g the weight its children get (absorption and
+   shadow transmittance only lower that). So L = max(background, D / (1 -
+   g)) over the materials with g < 1 holds for all of them when every
+   other material passes light on without adding any (g = 1, D = 0:
+   clear glass, perfect mirrors); else there is no finite bound. */
 static double radiance_bound(const check_job *cj)
 {
     const ggScene *s = cj->s;
-    double lights = 0, d = 0, g = 0, bg = cmax(s->background), amb = cmax(s->ambient);
+    double lights = 0, L = cmax(s->background), amb = cmax(s->ambient);
     size_t i;
     for (i = 0; i < s->nlights; i++) lights += cmax(s->light_colors[i]);
     for (i = 0; i < s->nmaterials; i++) {
         const ggMaterial *m = &s->materials[i];
-        double di = cmax(m->ke) + m->kd * texture_max(s, m) * (amb + lights) + m->ks * lights;
-        if (m->kt > 1) return INFINITY; /* coloured shadows could then amplify */
-        if (di > d) d = di;
-        if (cj->children[i] > g) g = cj->children[i];
+        double d = cmax(m->ke) + m->kd * texture_max(s, m) * (amb + lights) + m->ks * lights;
+        double g = cj->children[i];
+        if (m->kt > 1 || !isfinite(d)) return INFINITY; /* shadows could amplify */
+        if (g < 1) {
+            if (d / (1 - g) > L) L = d / (1 - g);
+        } else if (g > 1 + 1e-12 || d > 0) {
+            return INFINITY;
+        }
     }
-    if (!(g < 1) || !isfinite(d)) return INFINITY;
-    d /= 1 - g;
-    return bg > d ? bg : d;
+    return L;
 }
 
 /* ---- ggCheck ---- */

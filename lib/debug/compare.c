@@ -112,10 +112,11 @@ static int compare_node(const ggTrace *a, int ia, const ggTrace *b, int ib, ggDi
     kids ka, kb;
     int c;
     if (compare_hit(x, y, ia, ib, a, b, d)) return 1;
+    /* A different stop explains the children that follow from it. */
+    if (x->stop != y->stop) return set(d, GG_DIFF_STOP, ia, ib, x->stop, y->stop);
     children(a, ia, &ka);
     children(b, ib, &kb);
     if (compare_kids(a, b, &ka, &kb, ia, ib, d)) return 1;
-    if (x->stop != y->stop) return set(d, GG_DIFF_STOP, ia, ib, x->stop, y->stop);
     /* In a's cast order: the refracted rays (by index), then the mirror. */
     for (c = 0; c < 3; c++)
         if (ka.refr[c] >= 0 && (ka.mirror < 0 || ka.refr[c] < ka.mirror) &&

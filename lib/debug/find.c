@@ -17,6 +17,7 @@ typedef struct find_res {
 typedef struct find_thread {
     ggFindMatch *m;
     int n;
+    size_t cap;
     long matched;
     gg_dbg_buf buf;
 } find_thread;
@@ -29,16 +30,20 @@ typedef struct find_job {
     const ggAllocator *alloc;
 } find_job;
 
-/* Record a match of worker th; the mask and image are the result's. */
-static void matched(find_job *fj, find_thread *th, int x, int y, ggColor px)
+/* Record a match of worker th; the mask and image are the result's. The
+   list grows as matches come (a limit can be far above the pixel count). */
+static int matched(find_job *fj, find_thread *th, int x, int y, ggColor px)
 {
     ggFindResult *r = fj->res;
     r->mask[(size_t)y * r->width + x] = 1;
     th->matched++;
     if (th->n < fj->limit) {
+        if (gg_mem_grow(fj->alloc, (void **)&th->m, &th->cap, (size_t)th->n + 1, sizeof *th->m))
+            return GG_ERROR_NOMEM;
         th->m[th->n].x = x, th->m[th->n].y = y, th->m[th->n].pixel = px;
         th->n++;
     }
+    return 0;
 }
 
 static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px)
@@ -53,8 +58,7 @@ static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, 
         p.w = th->buf.w;
     }
     gg_dbg_put(fj->res->image, x, y, px[0]);
-    if (gg_pred_eval(fj->pred, &p)) matched(fj, th, x, y, px[0]);
-    return 0;
+    return gg_pred_eval(fj->pred, &p) ? matched(fj, th, x, y, px[0]) : 0;
 }
 
 static int by_row(const void *a, const void *b)
@@ -96,7 +100,8 @@ static int find_by_render(ggScene *s, const ggRenderOptions *opt, find_job *fj, 
             gg_dbg_pixel p;
             memset(&p, 0, sizeof p);
             p.x = x, p.y = y, p.px = ggImageGet(img, x, y);
-            if (gg_pred_eval(fj->pred, &p)) matched(fj, th, x, y, p.px);
+            if (gg_pred_eval(fj->pred, &p) && matched(fj, th, x, y, p.px) != 0)
+                return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
         }
     return GG_OK;
 }
@@ -117,7 +122,6 @@ static int find_alloc(ggScene *s, const gg_scan *sc, find_job *fj, ggFindResult 
 {
     find_res *fr = gg_mem_calloc(s->alloc, 1, sizeof *fr);
     ggFindResult *r;
-    int i;
     if (!fr) return GG_ERROR_NOMEM;
     gg_dbg_alloc_init(&fr->al, s->alloc);
     r = *out = &fr->pub;
@@ -128,9 +132,6 @@ static int find_alloc(ggScene *s, const gg_scan *sc, find_job *fj, ggFindResult 
     r->image = ggImageCreate(r->width, r->height, fj->alloc);
     fj->t = gg_mem_calloc(fj->alloc, (size_t)sc->threads, sizeof *fj->t);
     if (!r->mask || !r->image || !fj->t) return GG_ERROR_NOMEM;
-    for (i = 0; i < sc->threads && fj->limit > 0; i++)
-        if (!(fj->t[i].m = gg_mem_calloc(fj->alloc, (size_t)fj->limit, sizeof *fj->t[i].m)))
-            return GG_ERROR_NOMEM;
     return GG_OK;
 }
 

@@ -122,7 +122,6 @@ static const char *const refract_names[] = {"accurate", "textbook", "exact", NUL
 static const char *const fresnel_names[] = {"scene", "none", "schlick", "exact", NULL};
 static const char *const texture_names[] = {"scene", "bilinear", "nearest", NULL};
 static const char *const wave_names[] = {"rgb", "one", NULL};
-static const char *const offset_names[] = {"scaled", "fixed", NULL};
 
 static int flag(const word *w, ggRenderOptions *o, ggError *err)
 {
@@ -141,33 +140,39 @@ static int flag(const word *w, ggRenderOptions *o, ggError *err)
     return GG_OK;
 }
 
-/* offset=scaled|fixed|EPS and gradient=exact|H. */
-static int offset_or_gradient(const word *w, ggRenderOptions *o, ggError *err)
+/* offset=scaled|fixed|EPS, implicit-tol=own|T and gradient=exact|H: a
+   word, or a number > 0. */
+static int word_or_number(const word *w, ggRenderOptions *o, ggError *err)
 {
-    int k, off = key_is(w, "offset");
+    const char *v = w->s + w->at + w->eq + 1;
+    size_t n = w->eq < w->len ? w->len - w->eq - 1 : 0;
+    int off = key_is(w, "offset"), tol = key_is(w, "implicit-tol");
+    const char *word0 = off ? "scaled" : tol ? "own" : "exact";
     double d;
-    if (val_is(w, off ? "scaled" : "exact")) {
+    if (val_is(w, word0)) {
         if (off)
             o->accuracy.offset = GG_ACC_OFFSET_SCALED, o->accuracy.offset_eps = 0;
+        else if (tol)
+            o->accuracy.implicit_tol = 0;
         else
             o->accuracy.gradient_h = 0;
         return GG_OK;
     }
     if (off && val_is(w, "fixed")) {
-        o->accuracy.offset = GG_ACC_OFFSET_FIXED;
+        o->accuracy.offset = GG_ACC_OFFSET_FIXED, o->accuracy.offset_eps = 0;
         return GG_OK;
     }
-    if (w->eq + 1 < w->len &&
-        gg_dbg_number(w->s + w->at + w->eq + 1, w->len - w->eq - 1, &d) == w->len - w->eq - 1) {
-        if (number(w, 0, &d, err) != GG_OK) return GG_ERROR_PARSE;
-        if (off)
-            o->accuracy.offset = GG_ACC_OFFSET_FIXED, o->accuracy.offset_eps = d;
-        else
-            o->accuracy.gradient_h = d;
-        return GG_OK;
-    }
-    if (!off) return fail(w, w->at + w->eq + 1, err, "gradient must be exact or a step h > 0");
-    return choice(w, offset_names, &k, err);
+    if (n == 0 || gg_dbg_number(v, n, &d) != n || !isfinite(d) || !(d > 0))
+        return fail(w, w->at + w->eq + (n ? 1 : 0), err,
+                    "%.*s must be %s%s or a number > 0, got '%.*s'", (int)w->eq, w->s + w->at,
+                    word0, off ? ", fixed" : "", (int)n, v);
+    if (off)
+        o->accuracy.offset = GG_ACC_OFFSET_FIXED, o->accuracy.offset_eps = d;
+    else if (tol)
+        o->accuracy.implicit_tol = d;
+    else
+        o->accuracy.gradient_h = d;
+    return GG_OK;
 }
 
 static int setting(const word *w, ggRenderOptions *o, ggError *err)
@@ -201,12 +206,12 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
         rc = choice(w, texture_names, &a->texture, err);
     else if (key_is(w, "wavelengths"))
         rc = choice(w, wave_names, &a->wavelengths, err);
-    else if (key_is(w, "offset") || key_is(w, "gradient"))
-        rc = offset_or_gradient(w, o, err);
+    else if (key_is(w, "offset") || key_is(w, "gradient") || key_is(w, "implicit-tol"))
+        rc = word_or_number(w, o, err);
     else if (key_is(w, "cutoff")) {
-        if ((rc = number(w, 0, &d, err)) == GG_OK) a->cutoff = d;
-    } else if (key_is(w, "implicit-tol")) {
-        if ((rc = number(w, 0, &d, err)) == GG_OK) a->implicit_tol = d;
+        if ((rc = number(w, 0, &d, err)) == GG_OK && d > 1)
+            rc = fail(w, w->at + w->eq + 1, err, "cutoff must be a weight from 0 (off) to 1");
+        if (rc == GG_OK) a->cutoff = d;
     } else
         return fail(w, w->at, err, "unknown setting '%.*s'", (int)w->eq, w->s + w->at);
     return rc;
