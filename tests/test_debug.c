@@ -11,6 +11,7 @@
 #include "testutil.h"
 
 #include "scene.h"
+#include "trace_int.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -307,11 +308,12 @@ static const char *const example_scenes[] = {
     "examples/scenes/texture.nff",     "examples/scenes/acc-corridor.nff",
     "examples/scenes/acc-distant.nff", "examples/scenes/acc-far.nff",
     "examples/scenes/acc-grazing.nff", "examples/scenes/acc-texture.nff",
-    "examples/scenes/acc-thin.nff",
+    "examples/scenes/acc-thin.nff",     "tests/data/debug/absorb.nff",
 };
 
-/* Every pixel of every example scene (and four samples, and the SPD's
-   corner rule): the terms add up to the traced pixel within the bound. */
+/* Every pixel of every example scene and of a ball of absorbing glass
+   (and four samples, and the SPD's corner rule): the terms add up to the
+   traced pixel within the bound. */
 static void test_ledger_sums_to_pixel(void **state)
 {
     size_t k;
@@ -425,6 +427,19 @@ static void test_check_planted_defects(void **state)
     assert_int_equal(r->failed, 1);
     ggCheckResultFree(r);
     ggSceneFree(s);
+    /* an SPD scene's glass: kd 0.1 + ks 0.1 + kt 0.9, line 10 of mount.nff */
+    {
+        char path[512];
+        snprintf(path, sizeof path, "%s/mount.nff", tu_spd_dir());
+        s = load(path);
+        r = check(s, 48, 48, 0);
+        it = &r->items[GG_CHECK_ENERGY];
+        assert_true(it->pixels > 0);
+        assert_true(fabs(it->worst - 1.1) < 1e-9);
+        assert_int_equal(it->pixels_worst[0].line, 10);
+        ggCheckResultFree(r);
+        ggSceneFree(s);
+    }
     /* NaN, and where it starts */
     s = nan_scene();
     r = check(s, 32, 24, 0);
@@ -630,6 +645,80 @@ static void test_compare_depth(void **state)
     ggSceneFree(s);
 }
 
+/* Each kind of difference, planted in a copy of a real tree. */
+static void copy_trace(ggTrace *dst, const ggTrace *src)
+{
+    size_t i;
+    int k;
+    gg_trace_clear(dst);
+    for (i = 0; i < src->nnodes; i++) {
+        assert_true((k = gg_trace_add_node(dst)) >= 0); /* may move dst->nodes */
+        dst->nodes[k] = src->nodes[i];
+    }
+    for (i = 0; i < src->nlights; i++) {
+        assert_true((k = gg_trace_add_light(dst)) >= 0);
+        dst->lights[k] = src->lights[i];
+    }
+}
+
+static void expect_divergence(const ggTrace *a, const ggTrace *b, int what, int node_a)
+{
+    ggDivergence d;
+    assert_int_equal(ggTraceCompare(a, b, &d), 1);
+    if (d.what != what || d.node_a != node_a)
+        print_error("want %s at #%d, got %s at #%d\n", ggDiffName(what), node_a, ggDiffName(d.what),
+                    d.node_a);
+    assert_int_equal(d.what, what);
+    assert_int_equal(d.node_a, node_a);
+}
+
+static void test_compare_kinds(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggTrace *a = ggTraceCreate(NULL), *b = ggTraceCreate(NULL);
+    ggColor px;
+    int l1;
+    (void)state;
+    /* 0 eye, 1 refract, 2 tir, 3 refract (miss), 4 reflect, 5 tir (depth), 6 reflect (miss) */
+    assert_int_equal(ggTracePixel(s, NULL, 110, 100, -1, a, &px, NULL, NULL), GG_OK);
+    assert_int_equal(a->nnodes, 7);
+    assert_int_equal(a->nodes[5].stop, GG_STOP_DEPTH);
+    l1 = a->nodes[1].first_light;
+    copy_trace(b, a);
+    assert_int_equal(ggTraceCompare(a, b, NULL), 0);
+    b->nodes[6].hit = true, b->nodes[6].object = 0;
+    expect_divergence(a, b, GG_DIFF_HIT, 6);
+    copy_trace(b, a);
+    b->nodes[1].object = 1;
+    expect_divergence(a, b, GG_DIFF_OBJECT, 1);
+    copy_trace(b, a);
+    b->nodes[2].front = !b->nodes[2].front;
+    expect_divergence(a, b, GG_DIFF_FACE, 2);
+    copy_trace(b, a);
+    b->lights[l1 + 1].verdict = GG_SHADOW_BLOCKED;
+    expect_divergence(a, b, GG_DIFF_SHADOW, 1);
+    copy_trace(b, a);
+    b->lights[l1].occluder = 0;
+    expect_divergence(a, b, GG_DIFF_OCCLUDER, 1);
+    copy_trace(b, a);
+    b->nodes[5].stop = GG_STOP_MATTE;
+    expect_divergence(a, b, GG_DIFF_STOP, 5);
+    copy_trace(b, a);
+    b->nodes[4].kind = GG_RAY_TIR;
+    expect_divergence(a, b, GG_DIFF_TIR, 4);
+    copy_trace(b, a);
+    b->nodes[2].kind = GG_RAY_REFRACT; /* ray 1 refracts in b instead of reflecting totally */
+    expect_divergence(a, b, GG_DIFF_TIR, 2);
+    copy_trace(b, a);
+    b->nodes[3].parent = 99; /* ray 2 has no refracted child in b */
+    expect_divergence(a, b, GG_DIFF_CHILD, 3);
+    copy_trace(b, a);
+    b->nodes[3].parent = -1; /* a second tree */
+    expect_divergence(a, b, GG_DIFF_SAMPLES, -1);
+    ggTraceFree(a), ggTraceFree(b);
+    ggSceneFree(s);
+}
+
 /* ---- render options as text ---- */
 
 static void test_options_text(void **state)
@@ -685,7 +774,8 @@ int main(void)
         cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_check_planted_defects),
         cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
         cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
-        cmocka_unit_test(test_compare_depth),       cmocka_unit_test(test_options_text),
+        cmocka_unit_test(test_compare_depth),
+        cmocka_unit_test(test_compare_kinds),       cmocka_unit_test(test_options_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
