@@ -46,6 +46,20 @@ EXR_LIBS   := -lOpenEXRCore
 IMG_LIBS    = $(PNG_LIBS) $(EXR_LIBS)
 SYS_LIBS    = -lm -lpthread
 
+# ggrt serve (cli/serve*.c) is built with libmicrohttpd when pkg-config finds
+# it (-DGG_HAVE_MHD); without it the rest of the CLI builds the same and
+# `ggrt serve` says what to install. scripts/deps.sh: group serve.
+MHD_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libmicrohttpd 2>/dev/null))
+MHD_LIBS   := $(shell pkg-config --libs libmicrohttpd 2>/dev/null)
+CLI_DEFS   =
+CLI_LIBS   =
+ifneq ($(MHD_LIBS),)
+ifneq ($(wildcard cli/serve*.c),)
+CLI_DEFS   = -DGG_HAVE_MHD $(MHD_CFLAGS)
+CLI_LIBS   = $(MHD_LIBS)
+endif
+endif
+
 # The library's layers, bottom to top (docs/internals.md). lib/L is compiled
 # with include paths for the layers in L_SEES only -- itself and layers below
 # it -- so an include of a higher layer does not compile (tests/layers.sh
@@ -131,10 +145,10 @@ $(BUILD)/libggrt.so: $(SHARED)
 # The CLI sees only the public header (no -Ilib): it is a client of the API.
 $(BUILD)/cli/%.o: cli/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(CLI): $(CLI_OBJ) $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS)
 
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
@@ -167,7 +181,7 @@ SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-o
 # check: install missing packages, then the plain and the sanitized runs,
 # then stage an install and build the examples against it. Recursive makes
 # re-read pkg-config once the packages are there.
-check: deps
+check: deps-check
 	@sh tests/layers.sh
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
@@ -175,10 +189,12 @@ check: deps
 	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@echo "check: all suites passed (plain, sanitized, installcheck)"
 
-deps:
-	@sh scripts/deps.sh
+# scripts/deps.sh GROUP: the packages a target needs (deps = check's).
+deps: deps-check
+deps-%:
+	@sh scripts/deps.sh $*
 
-demo: deps
+demo: deps-demo
 	@$(MAKE) --no-print-directory all
 	$(CLI) render examples/scenes/default.nff -o demo.png
 	@echo "demo: wrote demo.png"
