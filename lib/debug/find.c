@@ -77,6 +77,7 @@ static int merge(find_job *fj, int threads)
     r->matches = gg_mem_calloc(fj->alloc, (size_t)total, sizeof *r->matches);
     if (!r->matches) return GG_ERROR_NOMEM;
     for (i = 0, k = 0; i < threads; i++) {
+        if (fj->t[i].n == 0) continue; /* its list may be NULL */
         memcpy(r->matches + k, fj->t[i].m, (size_t)fj->t[i].n * sizeof *r->matches);
         k += fj->t[i].n;
     }

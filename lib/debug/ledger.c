@@ -127,7 +127,7 @@ static void totals(ggLedger *l, const ggTrace *tr, ggColor px)
     l->pixel = px;
     l->holds = fabs(l->sum.r - px.r) <= l->bound.r && fabs(l->sum.g - px.g) <= l->bound.g &&
                fabs(l->sum.b - px.b) <= l->bound.b;
-    qsort(l->terms, l->count, sizeof *l->terms, by_share);
+    if (l->count) qsort(l->terms, l->count, sizeof *l->terms, by_share);
 }
 
 GG_API void ggLedgerFree(ggLedger *l)
