@@ -19,8 +19,9 @@ typedef struct trace_view {
 
 void trace_print_text(FILE *f, const trace_view *v, int utf8);
 void trace_print_json(FILE *f, const trace_view *v);
-int trace_write_svg(const char *path, const trace_view *v, ggError *err);
-int trace_write_obj(const char *path, const trace_view *v, ggError *err);
+/* Write to f; the caller checks f for errors (cli_out_close). */
+void trace_write_svg(FILE *f, const trace_view *v);
+void trace_write_obj(FILE *f, const trace_view *v);
 
 /* Children of node i, in order: fills kids (up to max), returns count. */
 int trace_children(const ggTrace *t, int i, int *kids, int max);
