@@ -42,6 +42,7 @@ typedef struct objp {
     char *oname, *gname;
     uint32_t group, mtl, smooth;
     gg_mtl_lib lib;
+    int libs; /* MTL files read */
     size_t ignored;
 } objp;
 
@@ -313,6 +314,7 @@ static int read_mtl(objp *op, const char *name, size_t n, bool *found)
     path[dl + n] = '\0';
     rc = gg_load_read_file(a, path, 64u << 20, &text, &len, &e2);
     *found = rc == GG_OK;
+    op->libs += *found;
     if (rc == GG_ERROR_NOMEM)
         rc = nomem(op);
     else if (rc != GG_OK)
@@ -436,12 +438,12 @@ static int resolve_materials(objp *op)
         map[i] = -1;
         if (gg_names_add(mb->a, &libnames, nm, strlen(nm), &id))
             rc = nomem(op);
-        else if (libnames.n > before)
+        else if (libnames.n > before && op->libs)
             gg_mb_warn(mb,
                        "%s: usemtl '%s' names no material of the MTL files; its faces get the "
                        "default material",
                        op->c.name, nm);
-        else if ((rc = add_material(op, &op->lib.e[last[id]])) == GG_OK)
+        else if (libnames.n == before && (rc = add_material(op, &op->lib.e[last[id]])) == GG_OK)
             map[i] = op->lib.e[last[id]].material;
     }
     for (i = 0; rc == GG_OK && i < mb->b.m.ntri; i++)

@@ -11,6 +11,8 @@
 
 #include "vec.h"
 
+#include <math.h>
+
 #include <stdio.h>
 #include <string.h>
 
@@ -85,11 +87,12 @@ static int hfail(plyp *pp, const char *at, const char *fmt, const char *w, size_
 /* property TYPE NAME | property list CTYPE TYPE NAME */
 static int property(plyp *pp)
 {
-    pelem *e = &pp->el[pp->nel - 1];
+    pelem *e;
     pprop *p;
     const char *w, *at;
     size_t n;
     if (!pp->nel) return gg_lc_fail(&pp->c, NULL, GG_ERROR_PARSE, "a property before any element");
+    e = &pp->el[pp->nel - 1];
     if (e->np >= PLY_MAX_PROPS)
         return gg_lc_fail(&pp->c, NULL, GG_ERROR_LIMIT, "more than %d properties", PLY_MAX_PROPS);
     p = &e->p[e->np];
@@ -125,7 +128,7 @@ static int element(plyp *pp)
         return gg_lc_fail(&pp->c, NULL, GG_ERROR_PARSE, "an element needs a name");
     gg_lc_blank(&pp->c), at = pp->c.p;
     if ((rc = gg_lc_number(&pp->c, &d, "an element count")) != GG_OK) return rc;
-    if (d < 0 || d != (double)(unsigned long long)d || d > 4294967295.0)
+    if (!(d >= 0 && d <= 4294967295.0) || d != floor(d))
         return gg_lc_fail(&pp->c, at, GG_ERROR_PARSE, "bad element count");
     e->count = (unsigned long long)d;
     pp->nel++;
@@ -270,7 +273,7 @@ static int value(plyp *pp, int type, double *out)
         const char *q = gg_parse_number(pp->c.p, pp->c.end, out);
         if (!q || (q < pp->c.end && *q != ' ' && *q != '\t' && *q != '\r' && *q != '\n'))
             return bfail(pp, GG_ERROR_PARSE, "expected a number");
-        if (type != T_F32 && type != T_F64 && *out != (double)(long long)*out)
+        if (type != T_F32 && type != T_F64 && *out != floor(*out))
             return bfail(pp, GG_ERROR_PARSE, "expected a whole number");
         pp->c.p = q;
     }
