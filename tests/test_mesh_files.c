@@ -241,17 +241,18 @@ static void test_ply_errors(void **state)
     snprintf(msg, sizeof msg,
              "t.ply: byte %zu (vertex 3): a coordinate, normal or texture "
              "coordinate is not finite",
-             hdr + 4 * 15);
+             hdr + 3 * 15 /* where vertex 3 starts */);
     expect_error(t, len, "t.ply", GG_ERROR_PARSE, msg);
     memcpy(t, le, len);
     memcpy(t + hdr + 8 * 15 + 2 * 18 + 1 + 8, &big, 4);
     snprintf(msg, sizeof msg,
              "t.ply: byte %zu (face 2): vertex index 99 is out of range (8 vertices)",
-             hdr + 8 * 15 + 2 * 18 + 1 + 12);
+             hdr + 8 * 15 + 2 * 18 + 1 + 8 /* the index */);
     expect_error(t, len, "t.ply", GG_ERROR_PARSE, msg);
     /* cut inside face 4 */
-    snprintf(msg, sizeof msg, "t.ply: byte %zu (face 4): the file ends here (truncated)",
-             hdr + 8 * 15 + 4 * 18 + 1 + 8);
+    snprintf(msg, sizeof msg,
+             "t.ply: byte %zu (face 4): the file ends inside this list of 4 indices (truncated)",
+             hdr + 8 * 15 + 4 * 18 + 1);
     expect_error(le, hdr + 8 * 15 + 4 * 18 + 10, "t.ply", GG_ERROR_PARSE, msg);
     /* cut inside the vertices: said before reading them */
     snprintf(msg, sizeof msg,
@@ -285,7 +286,7 @@ static void test_ply_errors(void **state)
             "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
             "element vertex 1\nproperty float x\nend_header\n3 0 0 0\n0\n";
         expect_error(a, strlen(a), "t.ply", GG_ERROR_PARSE,
-                     "t.ply:13:8: face 0: vertex index 3 is out of range (3 vertices)");
+                     "t.ply:13:7: face 0: vertex index 3 is out of range (3 vertices)");
         expect_error(b, strlen(b), "t.ply", GG_ERROR_PARSE,
                      "t.ply:8:5: vertex 0: expected a number");
         expect_error(c, strlen(c), "t.ply", GG_ERROR_UNSUPPORTED,

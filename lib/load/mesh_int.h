@@ -48,6 +48,10 @@ void gg_mb_free(gg_mb *mb);
 /* Append a vertex (position, and optional normal / uv: NULL for none).
    Returns 0, or -1 when out of memory. */
 int gg_mb_vertex(gg_mb *mb, ggVec3 p, const ggVec3 *n, const double *uv);
+/* Make room for nverts more vertices (with normals, uv) and ntri more
+   triangles, so that appending them does not reallocate: for counts a
+   file has declared and shown it can hold. -1 when out of memory. */
+int gg_mb_reserve(gg_mb *mb, size_t nverts, bool nrm, bool uv, size_t ntri);
 /* Append face number mb->b.m.nfaces (then counted) with n corners v[],
    split into triangles; repeated neighbouring corners are merged first,
    and a face left with fewer than 3 is counted as skipped. mat: scene

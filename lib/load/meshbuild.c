@@ -92,14 +92,29 @@ int gg_mb_vertex(gg_mb *mb, ggVec3 p, const ggVec3 *n, const double *uv)
     return 0;
 }
 
+int gg_mb_reserve(gg_mb *mb, size_t nverts, bool nrm, bool uv, size_t ntri)
+{
+    gg_mesh *m = &mb->b.m;
+    size_t v = m->nverts + nverts, t = m->ntri + ntri;
+    return (nverts && grow(mb, &m->pos, &mb->cap_pos, v, sizeof *m->pos)) ||
+                   (nverts && nrm && grow(mb, &m->nrm, &mb->cap_nrm, v, sizeof *m->nrm)) ||
+                   (nverts && uv && grow(mb, &m->uv, &mb->cap_uv, 2 * v, sizeof *m->uv)) ||
+                   (ntri && grow(mb, &m->idx, &mb->cap_idx, 3 * t, sizeof *m->idx)) ||
+                   (ntri && grow(mb, &m->tface, &mb->cap_tface, t, sizeof *m->tface))
+               ? -1
+               : 0;
+}
+
 static int emit(gg_mb *mb, uint32_t a, uint32_t b, uint32_t c, int mat, uint32_t smooth)
 {
     gg_mesh *m = &mb->b.m;
     size_t t = m->ntri;
-    if (grow(mb, &m->idx, &mb->cap_idx, 3 * (t + 1), sizeof *m->idx) ||
-        grow(mb, &m->tface, &mb->cap_tface, t + 1, sizeof *m->tface) ||
-        column(mb, (uint32_t **)&mb->b.tmat, &mb->cap_tmat, t, (uint32_t)mat, UINT32_MAX) ||
-        column(mb, &mb->b.tsmooth, &mb->cap_tsm, t, smooth, 1))
+    if ((3 * (t + 1) > mb->cap_idx &&
+         grow(mb, &m->idx, &mb->cap_idx, 3 * (t + 1), sizeof *m->idx)) ||
+        (t + 1 > mb->cap_tface && grow(mb, &m->tface, &mb->cap_tface, t + 1, sizeof *m->tface)) ||
+        ((mat != -1 || mb->b.tmat) &&
+         column(mb, (uint32_t **)&mb->b.tmat, &mb->cap_tmat, t, (uint32_t)mat, UINT32_MAX)) ||
+        ((smooth != 1 || mb->b.tsmooth) && column(mb, &mb->b.tsmooth, &mb->cap_tsm, t, smooth, 1)))
         return -1;
     m->idx[3 * t] = a, m->idx[3 * t + 1] = b, m->idx[3 * t + 2] = c;
     m->tface[t] = (uint32_t)m->nfaces;
@@ -217,6 +232,12 @@ int gg_mb_face(gg_mb *mb, const uint32_t *v, size_t n, int mat, uint32_t smooth)
 {
     size_t i, k = 0;
     int rc = 0;
+    /* the common case: a triangle with three different corners */
+    if (n == 3 && v[0] != v[1] && v[1] != v[2] && v[2] != v[0]) {
+        rc = emit(mb, v[0], v[1], v[2], mat, smooth);
+        mb->b.m.nfaces++;
+        return rc;
+    }
     if (n > mb->cap_ring) {
         size_t c = n;
         gg_mem_free(mb->a, mb->ring), gg_mem_free(mb->a, mb->q);

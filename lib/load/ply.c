@@ -54,7 +54,8 @@ typedef struct plyp {
     gg_mb *mb;
     const char *name;
     ggError *err;
-    int fmt; /* 0 ascii, 1 little, 2 big endian */
+    int fmt;   /* 0 ascii, 1 little, 2 big endian */
+    bool swap; /* binary values in the other byte order than this machine's */
     pelem el[PLY_MAX_ELEMS];
     int nel;
     const unsigned char *data, *p, *end;
@@ -201,10 +202,15 @@ static bool host_little(void)
 }
 
 /* Decode one binary value of `type` at p (bounds already checked). */
-static double decode(const unsigned char *p, int type, bool swap)
+static inline double decode(const unsigned char *p, int type, bool swap)
 {
     unsigned char b[8];
     int n = type_size(type), i;
+    if (!swap && type == T_F32) {
+        float v;
+        memcpy(&v, p, 4);
+        return v;
+    }
     if (swap)
         for (i = 0; i < n; i++) b[i] = p[n - 1 - i];
     else
@@ -255,7 +261,7 @@ static int value(plyp *pp, int type, double *out)
         int n = type_size(type);
         if ((size_t)(pp->end - pp->p) < (size_t)n)
             return bfail(pp, GG_ERROR_PARSE, "the file ends here (truncated)");
-        *out = decode(pp->p, type, (pp->fmt == 1) != host_little());
+        *out = decode(pp->p, type, pp->swap);
         pp->p += n;
         return GG_OK;
     }
@@ -299,7 +305,12 @@ static int skip(plyp *pp, int type, double n)
 /* A list's length: a whole number in [0, GG_MB_MAX_POLY]. */
 static int list_count(plyp *pp, const pprop *p, double *n)
 {
-    int rc = value(pp, p->ctype, n);
+    int rc;
+    if (pp->fmt && p->ctype == T_U8 && pp->p < pp->end) { /* the common case */
+        *n = *pp->p++;
+        return GG_OK;
+    }
+    rc = value(pp, p->ctype, n);
     if (rc == GG_OK && !(*n >= 0 && *n <= GG_MB_MAX_POLY))
         return bfail(pp, GG_ERROR_LIMIT, "a list of %.0f items (the limit is %u)", *n,
                      GG_MB_MAX_POLY);
@@ -350,6 +361,35 @@ static int plausible(plyp *pp, const pelem *e)
                  e->count, (int)e->nn, e->nm, need, left);
 }
 
+/* Binary vertices of fixed size (no list property): each property at its
+   offset, straight from the bytes. */
+static int fixed_vertices(plyp *pp, const pelem *e, const int w[W_N], bool has_n, bool has_uv)
+{
+    gg_mb *mb = pp->mb;
+    size_t off[PLY_MAX_PROPS], stride = 0;
+    int k;
+    for (k = 0; k < e->np; k++) off[k] = stride, stride += (size_t)type_size(e->p[k].type);
+    if (gg_mb_reserve(mb, (size_t)e->count, has_n, has_uv, 0))
+        return bfail(pp, GG_ERROR_NOMEM, "out of memory");
+    for (pp->index = 0; pp->index < e->count; pp->index++, pp->p += stride) {
+        const unsigned char *b = pp->p;
+        ggVec3 p, nv;
+        double uv[2];
+#define GET(i) decode(b + off[w[i]], e->p[w[i]].type, pp->swap)
+        p = v3(GET(W_X), GET(W_Y), GET(W_Z));
+        if (has_n) nv = v3(GET(W_NX), GET(W_NY), GET(W_NZ));
+        if (has_uv) uv[0] = GET(W_U), uv[1] = 1 - GET(W_V);
+#undef GET
+        if (!v3finite(p) || (has_n && !v3finite(nv)) ||
+            (has_uv && !(isfinite(uv[0]) && isfinite(uv[1]))))
+            return bfail(pp, GG_ERROR_PARSE,
+                         "a coordinate, normal or texture coordinate is not finite");
+        if (gg_mb_vertex(mb, p, has_n ? &nv : NULL, has_uv ? uv : NULL))
+            return bfail(pp, GG_ERROR_NOMEM, "out of memory");
+    }
+    return GG_OK;
+}
+
 static int vertices(plyp *pp, const pelem *e)
 {
     gg_mb *mb = pp->mb;
@@ -363,6 +403,13 @@ static int vertices(plyp *pp, const pelem *e)
     if ((rc = plausible(pp, e)) != GG_OK) return rc;
     has_n = w[W_NX] >= 0 && w[W_NY] >= 0 && w[W_NZ] >= 0;
     has_uv = w[W_U] >= 0 && w[W_V] >= 0;
+    for (k = 0; k < e->np && !e->p[k].ctype; k++)
+        ;
+    if (pp->fmt && k == e->np) {
+        if ((rc = fixed_vertices(pp, e, w, has_n, has_uv)) == GG_OK)
+            mb->b.m.file_vertices = e->count;
+        return rc;
+    }
     for (pp->index = 0; pp->index < e->count; pp->index++) {
         ggVec3 p, nv;
         double uv[2];
@@ -393,14 +440,39 @@ static int face_indices(plyp *pp, const pprop *p, size_t *n)
     size_t j;
     int rc = list_count(pp, p, &c);
     if (rc != GG_OK) return rc;
-    if (gg_mem_grow(pp->mb->a, (void **)&pp->corner, &pp->cap_corner, (size_t)c + 1,
+    if ((size_t)c + 1 > pp->cap_corner &&
+        gg_mem_grow(pp->mb->a, (void **)&pp->corner, &pp->cap_corner, (size_t)c + 1,
                     sizeof *pp->corner))
         return bfail(pp, GG_ERROR_NOMEM, "out of memory");
+    if (pp->fmt && (p->type == T_I32 || p->type == T_U32) && !pp->swap) {
+        /* the common case, decoded without going through double */
+        if ((size_t)(pp->end - pp->p) < 4 * (size_t)c)
+            return bfail(pp, GG_ERROR_PARSE,
+                         "the file ends inside this list of %.0f indices (truncated)", c);
+        for (j = 0; j < (size_t)c; j++, pp->p += 4) {
+            uint32_t u;
+            memcpy(&u, pp->p, 4);
+            if ((p->type == T_I32 && (int32_t)u < 0) || u >= nv)
+                return bfail(pp, GG_ERROR_PARSE,
+                             "vertex index %.17g is out of range (%zu vertices)",
+                             p->type == T_I32 ? (double)(int32_t)u : (double)u, nv);
+            pp->corner[j] = u;
+        }
+        *n = (size_t)c;
+        return GG_OK;
+    }
     for (j = 0; j < (size_t)c; j++) {
+        const unsigned char *at = pp->p;
+        const char *cat;
         if ((rc = value(pp, p->type, &d)) != GG_OK) return rc;
-        if (!(d >= 0 && d < (double)nv) || d != (double)(size_t)d)
+        if (!(d >= 0 && d < (double)nv) || d != (double)(size_t)d) {
+            /* the message points at the index itself */
+            cat = pp->c.p;
+            while (!pp->fmt && cat > pp->c.ls && cat[-1] != ' ' && cat[-1] != '\t') cat--;
+            pp->p = at, pp->c.p = cat;
             return bfail(pp, GG_ERROR_PARSE, "vertex index %.17g is out of range (%zu vertices)", d,
                          nv);
+        }
         pp->corner[j] = (uint32_t)d;
     }
     *n = (size_t)c;
@@ -421,6 +493,8 @@ static int faces(plyp *pp, const pelem *e, bool have_vertices)
         return bfail(pp, GG_ERROR_UNSUPPORTED, "faces before the vertex element are not supported");
     if (e->count >= GG_MESH_MAX) return bfail(pp, GG_ERROR_LIMIT, "more than 2^28 faces");
     if ((rc = plausible(pp, e)) != GG_OK) return rc;
+    if (gg_mb_reserve(mb, 0, false, false, (size_t)e->count))
+        return bfail(pp, GG_ERROR_NOMEM, "out of memory");
     for (pp->index = 0; pp->index < e->count; pp->index++) {
         size_t n = 0;
         for (k = 0, rc = GG_OK; k < e->np && rc == GG_OK; k++)
@@ -462,6 +536,7 @@ int gg_ply_read(gg_mb *mb, const unsigned char *data, size_t len, const char *na
     pp->mb = mb, pp->name = name, pp->err = err, pp->data = data, pp->end = data + len;
     gg_lc_init(&pp->c, (const char *)data, len, name, err);
     rc = header(pp);
+    pp->swap = (pp->fmt == 1) != host_little();
     if (rc == GG_OK) {
         gg_lc_next_line(&pp->c);
         pp->p = (const unsigned char *)pp->c.p;

@@ -29,6 +29,7 @@ typedef struct nctx {
     uint8_t *done;       /* vertex already holds its computed normal */
     size_t ncls, cap_v;
     double cos_crease;
+    double cos_half; /* a little under half the crease angle (all_smooth) */
 } nctx;
 
 static ggVec3 unit(ggVec3 n)
@@ -119,6 +120,28 @@ static bool smooth_with(const nctx *c, size_t ti, size_t tj)
     return v3dot(c->fn[ti], c->fn[tj]) >= c->cos_crease;
 }
 
+/* Does every corner of the class smooth with every other? Then one sum
+   serves them all -- the same sum, bit for bit, that each would add up
+   (same terms, same order). Sufficient, and cheap: all in one smoothing
+   group, and every face normal within a little less than half the crease
+   angle of their mean (so any two are within the crease angle, rounding
+   included). */
+static bool all_smooth(const nctx *c, const uint32_t *L, size_t d)
+{
+    const uint32_t *sg = c->b->tsmooth;
+    ggVec3 mean = v3(0, 0, 0);
+    size_t j;
+    if (sg)
+        for (j = 0; j < d; j++)
+            if (sg[L[j] / 3] == 0 || sg[L[j] / 3] != sg[L[0] / 3]) return false;
+    if (c->cos_crease < -1) return true;
+    for (j = 0; j < d; j++) mean = v3add(mean, c->fn[L[j] / 3]);
+    mean = unit(mean);
+    for (j = 0; j < d; j++)
+        if (!(v3dot(mean, c->fn[L[j] / 3]) >= c->cos_half)) return false;
+    return true;
+}
+
 /* A new vertex: a copy of v0 with normal n. */
 static int split(nctx *c, uint32_t v0, ggVec3 n, uint32_t *out)
 {
@@ -162,18 +185,25 @@ static int do_class(nctx *c, const uint32_t *L, size_t d)
     ggVec3 nb[GG_MESH_MAX_SMOOTH];
     uint32_t orig[GG_MESH_MAX_SMOOTH], out[GG_MESH_MAX_SMOOTH];
     size_t i, j;
-    int rc;
+    int rc, shared = d <= GG_MESH_MAX_SMOOTH && all_smooth(c, L, d);
+    ggVec3 all = v3(0, 0, 0);
+    if (shared) {
+        for (j = 0; j < d; j++) all = v3madd(all, c->fn[L[j] / 3], c->ang[L[j]]);
+        all = unit(all);
+    }
     for (i = 0; i < d; i++) {
         uint32_t ci = L[i], v0 = m->idx[ci], w = UINT32_MAX;
         ggVec3 n = c->fn[ci / 3];
         if (d <= GG_MESH_MAX_SMOOTH) orig[i] = out[i] = UINT32_MAX;
         if (c->b->vnrm && c->b->vnrm[v0]) continue; /* the file's normal */
         if (d <= GG_MESH_MAX_SMOOTH) {
-            ggVec3 sum = v3(0, 0, 0);
-            for (j = 0; j < d; j++)
-                if (smooth_with(c, ci / 3, L[j] / 3))
-                    sum = v3madd(sum, c->fn[L[j] / 3], c->ang[L[j]]);
-            sum = unit(sum);
+            ggVec3 sum = all;
+            if (!shared) {
+                for (j = 0; j < d; j++)
+                    if (smooth_with(c, ci / 3, L[j] / 3))
+                        sum = v3madd(sum, c->fn[L[j] / 3], c->ang[L[j]]);
+                sum = unit(sum);
+            }
             if (v3dot(sum, sum) > 0.5) n = sum; /* else opposite faces cancelled */
             nb[i] = n, orig[i] = v0;
             for (j = 0; j < i && w == UINT32_MAX; j++)
@@ -198,6 +228,7 @@ int gg_mesh_compute_normals(const ggAllocator *a, gg_mesh_build *b, double creas
     memset(&c, 0, sizeof c);
     c.a = a, c.b = b, c.cap_v = m->nverts;
     c.cos_crease = crease_deg >= 180 ? -2 : cos(crease_deg * GG_PI / 180);
+    c.cos_half = cos(crease_deg * GG_PI / 360 * (1 - 1e-6));
     if (!m->nrm) {
         gg_mem_free(a, b->vnrm);
         b->vnrm = NULL;
