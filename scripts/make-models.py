@@ -51,7 +51,7 @@ def knot(path, n=240, m=16, p=2, q=3, tube=0.42):
             b_ = i * m + (j + 1) % m + 1
             c_ = ((i + 1) % n) * m + (j + 1) % m + 1
             d = ((i + 1) % n) * m + j + 1
-            out.append("f %d %d %d %d" % (a, d, c_, b_))
+            out.append("f %d %d %d %d" % (a, b_, c_, d))  # counter-clockwise seen from outside
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
 
