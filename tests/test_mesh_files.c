@@ -94,6 +94,16 @@ static void test_obj_cube(void **state)
     assert_true(red.ks == 0 && red.kt == 0 && red.texture == 0); /* illum 2: no mirror */
     assert_true(glass.kt == 1 - 0.1 && glass.kd == 1 - glass.kt && glass.ior == 1.5);
     assert_true(glass.ks == 0.1 && glass.shine == 200 && glass.fresnel == GG_FRESNEL_EXACT);
+    /* texture coordinates: the top face's vt run with x and y; OBJ's v is
+       flipped into ggrt's (v = 0 the image's top row) */
+    {
+        ggHit h;
+        ggRay r = {{0.25, 0.75, 3}, {0, 0, -1}};
+        assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+        assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h));
+        assert_close(h.u, 0.25, 1e-12);
+        assert_close(h.v, 1 - 0.75, 1e-12);
+    }
     ggSceneFree(s);
 }
 
@@ -177,6 +187,38 @@ static void test_obj_forms(void **state)
     assert_int_equal(ggSceneGetFaceInfo(s, 0, 3, &fi), GG_OK);
     assert_int_equal(fi.face, 1);
     assert_int_equal(fi.line, 9);
+    ggSceneFree(s);
+}
+
+/* A load that fails after its materials and textures were added keeps
+   none of them. */
+static void test_obj_rollback(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    (void)state;
+    assert_int_equal(ggSceneLoadMesh(s, DATA "flat.obj", NULL, &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, DATA "flat.obj: no face has an area");
+    assert_int_equal(ggSceneMaterialCount(s), 0);
+    assert_int_equal(s->ntextures, 0);
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    ggSceneFree(s);
+}
+
+/* A concave quad is split along the diagonal inside it: the notch at
+   (0.5, 1) stays empty. */
+static void test_obj_concave_quad(void **state)
+{
+    const char *text = "v 0 0 0\nv 2 1 0\nv 0 2 0\nv 0.5 1 0\nf 1 2 3 4\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    ggHit h;
+    ggRay in = {{1, 1, 1}, {0, 0, -1}}, notch = {{0.2, 1, 1}, {0, 0, -1}};
+    (void)state;
+    assert_int_equal(ggSceneLoadMeshMemory(s, text, strlen(text), "t.obj", NULL, &e), GG_OK);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_true(ggSceneIntersect(s, in, 0, INFINITY, &h));
+    assert_false(ggSceneIntersect(s, notch, 0, INFINITY, &h));
     ggSceneFree(s);
 }
 
@@ -369,7 +411,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_obj_cube),       cmocka_unit_test(test_obj_memory),
         cmocka_unit_test(test_obj_errors),     cmocka_unit_test(test_obj_forms),
-        cmocka_unit_test(test_obj_concave),    cmocka_unit_test(test_ply_encodings),
+        cmocka_unit_test(test_obj_concave),   cmocka_unit_test(test_obj_concave_quad),
+        cmocka_unit_test(test_obj_rollback),    cmocka_unit_test(test_ply_encodings),
         cmocka_unit_test(test_ply_errors),     cmocka_unit_test(test_nff_mesh),
         cmocka_unit_test(test_model_as_scene),
     };
