@@ -29,7 +29,7 @@ void cli_print_meshes(FILE *f, const ggScene *s)
         fprintf(f, "\n           %zu triangles, %zu vertices, normals %s%s; objects #%d..#%d",
                 mi.triangles, mi.vertices, mi.file_normals ? "from the file" : "computed",
                 mi.has_uv ? ", uv" : "", mi.first_object, mi.first_object + mi.objects - 1);
-        if (mi.groups) fprintf(f, ", %d groups", mi.groups);
+        if (mi.groups) fprintf(f, ", %d group%s", mi.groups, mi.groups == 1 ? "" : "s");
         fprintf(f, "\n           %.2f MB (%.1f bytes per triangle), bounds %g %g %g .. %g %g %g\n",
                 mi.bytes / 1e6, mi.triangles ? (double)mi.bytes / (double)mi.triangles : 0.0,
                 mi.lo.x, mi.lo.y, mi.lo.z, mi.hi.x, mi.hi.y, mi.hi.z);
