@@ -546,16 +546,8 @@ static void sort_crossings(gg_tcol *tr)
 static GG_NOINLINE int occluded_list(const gg_geom *g, const gg_rayq *q, uint32_t *cache,
                                      gg_tcol *tr)
 {
-    int blocked;
     tr->n = 0, tr->complete = 1, tr->has_near = 0;
-    /* From inside an isolated sphere its far side comes first, whatever it
-       is made of; the caller walks on from there. */
-    if (q->inside != UINT32_MAX && gg_geom_inside_hit(g, q, 0, &tr->near) > 0) {
-        tr->complete = 0, tr->has_near = 1;
-        return 0;
-    }
-    blocked = GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, cache, tr) : shadow_plain(g, q, cache, tr);
-    if (blocked) {
+    if (GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, cache, tr) : shadow_plain(g, q, cache, tr)) {
         tr->n = 0, tr->complete = 0, tr->has_near = 0;
         return 1;
     }
@@ -563,10 +555,22 @@ static GG_NOINLINE int occluded_list(const gg_geom *g, const gg_rayq *q, uint32_
     return 0;
 }
 
+/* The same from inside an isolated sphere: its far side comes first,
+   whatever it is made of; the caller walks on from there. */
+static GG_NOINLINE int occluded_inside(const gg_geom *g, const gg_rayq *q, uint32_t *cache,
+                                       gg_tcol *tr)
+{
+    if (gg_geom_inside_hit(g, q, 0, &tr->near) < 0) return occluded_list(g, q, cache, tr);
+    tr->n = 0, tr->complete = 0, tr->has_near = 1;
+    return 0;
+}
+
 int gg_geom_occluded(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *tr)
 {
     uint32_t hit;
-    if (tr) return occluded_list(g, q, cache, tr);
+    if (tr)
+        return q->inside == UINT32_MAX ? occluded_list(g, q, cache, tr)
+                                       : occluded_inside(g, q, cache, tr);
     hit = GG_USE_AVX(g) ? gg_bvh_occluder_avx(g, q, cache) : occluder_plain(g, q, cache);
     *cache = hit;
     return hit != 0;
