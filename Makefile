@@ -46,6 +46,23 @@ EXR_LIBS   := -lOpenEXRCore
 IMG_LIBS    = $(PNG_LIBS) $(EXR_LIBS)
 SYS_LIBS    = -lm -lpthread
 
+# `ggrt serve` (cli/serve*.c, the page in cli/web/) is built on GNU
+# libmicrohttpd, in the CLI only: the library never links it. SERVE=auto
+# (default) builds it when pkg-config finds libmicrohttpd, SERVE=1 insists,
+# SERVE=0 leaves it out; without it `ggrt serve` says it is not built in.
+SERVE ?= auto
+ifeq ($(SERVE),auto)
+SERVE_ON := $(shell pkg-config --exists libmicrohttpd 2>/dev/null && echo 1)
+else ifeq ($(SERVE),1)
+SERVE_ON := 1
+endif
+ifeq ($(SERVE_ON),1)
+SERVE_CPPFLAGS := -DGG_SERVE \
+  $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libmicrohttpd 2>/dev/null))
+SERVE_LIBS := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
+endif
+WEB_SRC := $(sort $(wildcard cli/web/*.html cli/web/*.css cli/web/*.js))
+
 # The library's layers, bottom to top (docs/internals.md). lib/L is compiled
 # with include paths for the layers in L_SEES only -- itself and layers below
 # it -- so an include of a higher layer does not compile (tests/layers.sh
@@ -74,7 +91,7 @@ NOREADER_OBJ := $(BUILD)/lib/load/reader_none.o
 FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
 CLI_SRC  := $(sort $(wildcard cli/*.c))
-CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(SERVE_ON),$(BUILD)/cli/web_assets.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TESTUTIL_OBJ := $(BUILD)/tests/testutil.o
@@ -91,7 +108,7 @@ SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test tests deps demo install uninstall installcheck \
-        clean fuzz bench examples format pc layers
+        clean fuzz bench examples format pc layers FORCE
 .DEFAULT_GOAL := all
 .SECONDARY:
 
@@ -131,10 +148,26 @@ $(BUILD)/libggrt.so: $(SHARED)
 # The CLI sees only the public header (no -Ilib): it is a client of the API.
 $(BUILD)/cli/%.o: cli/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(SERVE_CPPFLAGS) $(GG_WARN) $(CFLAGS) -c $< -o $@
+
+# Whether serve is built in: a file that changes only when that does, so
+# that switching SERVE rebuilds the objects that depend on it.
+$(BUILD)/cli/serve.flag: FORCE
+	@mkdir -p $(@D)
+	@[ "`cat $@ 2>/dev/null`" = "serve=$(SERVE_ON)" ] || echo "serve=$(SERVE_ON)" > $@
+$(BUILD)/cli/cmd_serve.o $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(wildcard cli/serve_*.c)): \
+  $(BUILD)/cli/serve.flag
+FORCE:
+
+# The page, compiled into the binary (no files read at run time).
+$(BUILD)/cli/web_assets.c: $(WEB_SRC) cli/web/embed.sh
+	@mkdir -p $(@D)
+	sh cli/web/embed.sh $(WEB_SRC) > $@.tmp && mv $@.tmp $@
+$(BUILD)/cli/web_assets.o: $(BUILD)/cli/web_assets.c
+	$(CC) $(GG_CPPFLAGS) $(SERVE_CPPFLAGS) -Icli $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(CLI): $(CLI_OBJ) $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(IMG_LIBS) $(SERVE_LIBS) $(SYS_LIBS)
 
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c

@@ -22,6 +22,7 @@ int cmd_render(int argc, char **argv);
 int cmd_trace(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_serve(int argc, char **argv);
 
 /* Map a library status to an exit code (INPUT for bad data, IO for files). */
 int cli_exit_code(int status);

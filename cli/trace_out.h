@@ -20,6 +20,10 @@ typedef struct trace_view {
 void trace_print_text(FILE *f, const trace_view *v, int utf8);
 void trace_print_json(FILE *f, const trace_view *v);
 int trace_write_svg(const char *path, const trace_view *v, ggError *err);
+/* The SVG to a stream; camera: also the camera view (renders the scene
+   small, through a temporary PNG file). GG_ERROR_INVALID if the scene is
+   not prepared. */
+int trace_print_svg(FILE *f, const trace_view *v, int camera);
 int trace_write_obj(const char *path, const trace_view *v, ggError *err);
 
 /* Children of node i, in order: fills kids (up to max), returns count. */

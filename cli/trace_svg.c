@@ -10,7 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#define PANEL 420.0 /* size of a view panel in SVG units */
+#define PANEL        420.0 /* size of a view panel in SVG units */
 #define MAX_OUTLINED 20000
 
 typedef struct proj {
@@ -18,15 +18,24 @@ typedef struct proj {
     double cx, cy, scale, ox, oy;
 } proj;
 
-static double dot3(ggVec3 a, ggVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static double dot3(ggVec3 a, ggVec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 static ggVec3 v3s(double x, double y, double z)
 {
     ggVec3 v;
     v.x = x, v.y = y, v.z = z;
     return v;
 }
-static ggVec3 axis_vec(int a) { return v3s(a == 0, a == 1, a == 2); }
-static ggVec3 add_s(ggVec3 a, ggVec3 b, double s) { return v3s(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s); }
+static ggVec3 axis_vec(int a)
+{
+    return v3s(a == 0, a == 1, a == 2);
+}
+static ggVec3 add_s(ggVec3 a, ggVec3 b, double s)
+{
+    return v3s(a.x + b.x * s, a.y + b.y * s, a.z + b.z * s);
+}
 
 static void to2d(const proj *p, ggVec3 w, double *x, double *y)
 {
@@ -59,9 +68,12 @@ static void frame(proj *p, const trace_view *v, ggVec3 lo, ggVec3 hi, double rea
             for (k = 0; k < 6; k++) {
                 ggVec3 e = d.base;
                 double r = k & 1 ? d.radius : -d.radius;
-                if (k < 2) e.x += r;
-                else if (k < 4) e.y += r;
-                else e.z += r;
+                if (k < 2)
+                    e.x += r;
+                else if (k < 4)
+                    e.y += r;
+                else
+                    e.z += r;
                 grow(&x0, &x1, &y0, &y1, p, e);
             }
         }
@@ -127,10 +139,14 @@ static void outline(FILE *f, const proj *p, const ggShapeDesc *d)
 static const char *kind_color(int kind)
 {
     switch (kind) {
-    case GG_RAY_EYE: return "#111";
-    case GG_RAY_REFLECT: return "#1f5fd0";
-    case GG_RAY_REFRACT: return "#17a34a";
-    default: return "#c026d3"; /* TIR */
+    case GG_RAY_EYE:
+        return "#111";
+    case GG_RAY_REFLECT:
+        return "#1f5fd0";
+    case GG_RAY_REFRACT:
+        return "#17a34a";
+    default:
+        return "#c026d3"; /* TIR */
     }
 }
 
@@ -138,12 +154,15 @@ static void panel(FILE *f, const trace_view *v, proj *p, const char *title, doub
 {
     size_t i, n = ggTraceNodeCount(v->trace);
     int o, nobj = ggSceneObjectCount(v->scene), l;
-    static int clip_id = 0;
-    clip_id++;
-    fprintf(f, "<clipPath id='c%d'><rect x='%.0f' y='%.0f' width='%.0f' height='%.0f'/></clipPath>\n",
+    /* The panels of one document sit at different x: a unique id without
+       state shared between threads (ggrt serve draws from several). */
+    int clip_id = (int)p->ox;
+    fprintf(f,
+            "<clipPath id='c%d'><rect x='%.0f' y='%.0f' width='%.0f' height='%.0f'/></clipPath>\n",
             clip_id, p->ox, p->oy, PANEL, PANEL);
-    fprintf(f, "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='#fbfbf8' "
-               "stroke='#bbb'/>\n<g clip-path='url(#c%d)'>\n",
+    fprintf(f,
+            "<rect x='%.0f' y='%.0f' width='%.0f' height='%.0f' fill='#fbfbf8' "
+            "stroke='#bbb'/>\n<g clip-path='url(#c%d)'>\n",
             p->ox, p->oy, PANEL, PANEL, clip_id);
     fprintf(f, "<text x='%.0f' y='%.0f' font-size='13' fill='#333'>%s</text>\n", p->ox + 6,
             p->oy + 16, title);
@@ -159,8 +178,9 @@ static void panel(FILE *f, const trace_view *v, proj *p, const char *title, doub
         ggVec3 e = nd->hit ? nd->p : add_s(nd->o, nd->d, reach);
         to2d(p, nd->o, &x0, &y0);
         to2d(p, e, &x1, &y1);
-        fprintf(f, "<line x1='%.2f' y1='%.2f' x2='%.2f' y2='%.2f' stroke='%s' stroke-width='1.6'%s/>\n",
-                x0, y0, x1, y1, kind_color(nd->kind), nd->hit ? "" : " stroke-opacity='0.5'");
+        fprintf(
+            f, "<line x1='%.2f' y1='%.2f' x2='%.2f' y2='%.2f' stroke='%s' stroke-width='1.6'%s/>\n",
+            x0, y0, x1, y1, kind_color(nd->kind), nd->hit ? "" : " stroke-opacity='0.5'");
         if (!nd->hit) continue;
         fprintf(f, "<circle cx='%.2f' cy='%.2f' r='2.6' fill='%s'/>\n", x1, y1,
                 kind_color(nd->kind));
@@ -170,12 +190,14 @@ static void panel(FILE *f, const trace_view *v, proj *p, const char *title, doub
             if (L->verdict == GG_SHADOW_FACING_AWAY) continue;
             to2d(p, L->origin, &x0, &y0);
             to2d(p, add_s(L->origin, L->dir, t), &x1, &y1);
-            fprintf(f, "<line x1='%.2f' y1='%.2f' x2='%.2f' y2='%.2f' stroke='%s' "
-                       "stroke-width='1.1' stroke-dasharray='5 3'/>\n",
+            fprintf(f,
+                    "<line x1='%.2f' y1='%.2f' x2='%.2f' y2='%.2f' stroke='%s' "
+                    "stroke-width='1.1' stroke-dasharray='5 3'/>\n",
                     x0, y0, x1, y1, L->verdict == GG_SHADOW_BLOCKED ? "#dc2626" : "#f59e0b");
             if (L->verdict == GG_SHADOW_BLOCKED)
-                fprintf(f, "<path d='M%.2f %.2f l4 4 m0 -4 l-4 4' transform='translate(-2 -2)' "
-                           "stroke='#dc2626' stroke-width='1.5'/>\n",
+                fprintf(f,
+                        "<path d='M%.2f %.2f l4 4 m0 -4 l-4 4' transform='translate(-2 -2)' "
+                        "stroke='#dc2626' stroke-width='1.5'/>\n",
                         x1, y1);
         }
     }
@@ -208,8 +230,10 @@ static void camera_panel(FILE *f, const trace_view *v, double ox, double oy)
     ggImage *img = NULL;
     char tmp[] = "/tmp/ggrt-trace-XXXXXX";
     int fd;
-    fprintf(f, "<g>\n<text x='%.0f' y='%.0f' font-size='13' fill='#333'>camera view, pixel %d,%d</text>\n",
-            ox + 6, oy + 16, v->x, v->y);
+    fprintf(
+        f,
+        "<g>\n<text x='%.0f' y='%.0f' font-size='13' fill='#333'>camera view, pixel %d,%d</text>\n",
+        ox + 6, oy + 16, v->x, v->y);
     o.width = tw > 0 ? tw : 1, o.height = th > 0 ? th : 1;
     o.crop_x0 = o.crop_y0 = o.crop_x1 = o.crop_y1 = 0;
     o.samples = 1, o.progress = NULL, o.pixel_corners = false;
@@ -218,7 +242,8 @@ static void camera_panel(FILE *f, const trace_view *v, double ox, double oy)
         close(fd);
         if (ggRender(v->scene, &o, &img, NULL, NULL) == GG_OK &&
             ggImageWritePNG(img, tmp, NULL) == GG_OK) {
-            fprintf(f, "<image x='%.0f' y='%.0f' width='%d' height='%d' href='data:image/png;base64,",
+            fprintf(f,
+                    "<image x='%.0f' y='%.0f' width='%d' height='%d' href='data:image/png;base64,",
                     ox, oy + 24, tw, th);
             base64_file(f, tmp);
             fprintf(f, "'/>\n");
@@ -228,30 +253,32 @@ static void camera_panel(FILE *f, const trace_view *v, double ox, double oy)
     }
     fprintf(f, "<rect x='%.0f' y='%.0f' width='%d' height='%d' fill='none' stroke='#bbb'/>\n", ox,
             oy + 24, tw, th);
-    fprintf(f, "<circle cx='%.2f' cy='%.2f' r='7' fill='none' stroke='#dc2626' stroke-width='2'/>\n",
+    fprintf(f,
+            "<circle cx='%.2f' cy='%.2f' r='7' fill='none' stroke='#dc2626' stroke-width='2'/>\n",
             ox + (v->x + 0.5) * sc, oy + 24 + (v->y + 0.5) * sc);
     fprintf(f, "</g>\n");
 }
 
-int trace_write_svg(const char *path, const trace_view *v, ggError *err)
+/* The SVG document: top and side views, and the camera view (a small
+   render embedded as a PNG) when camera is set. Returns GG_ERROR_INVALID
+   if the scene is not prepared. */
+int trace_print_svg(FILE *f, const trace_view *v, int camera)
 {
     ggSceneInfo in;
     ggCamera cam = ggSceneCamera(v->scene);
     proj top, side;
-    FILE *f;
     int up = 2, horiz;
     double ux = fabs(cam.up.x), uy = fabs(cam.up.y), uz = fabs(cam.up.z), reach;
     ggVec3 fwd = v3s(cam.at.x - cam.from.x, cam.at.y - cam.from.y, cam.at.z - cam.from.z);
-    if (ggSceneGetInfo(v->scene, &in) != GG_OK) {
-        if (err) snprintf(err->message, sizeof err->message, "%s: scene not prepared", path);
-        return GG_ERROR_INVALID;
-    }
+    if (ggSceneGetInfo(v->scene, &in) != GG_OK) return GG_ERROR_INVALID;
     reach = sqrt(pow(in.hi.x - in.lo.x, 2) + pow(in.hi.y - in.lo.y, 2) + pow(in.hi.z - in.lo.z, 2));
     if (!isfinite(reach) || reach <= 0) reach = 1;
     /* Top view looks down the world axis closest to the camera's up; the
        side view keeps up vertical and looks across the view direction. */
-    if (ux >= uy && ux >= uz) up = 0;
-    else if (uy >= uz) up = 1;
+    if (ux >= uy && ux >= uz)
+        up = 0;
+    else if (uy >= uz)
+        up = 1;
     {
         int a = (up + 1) % 3, b = (up + 2) % 3;
         double fa = fabs(a == 0 ? fwd.x : a == 1 ? fwd.y : fwd.z);
@@ -264,42 +291,60 @@ int trace_write_svg(const char *path, const trace_view *v, ggError *err)
     top.ox = 10, top.oy = 40, side.ox = 20 + PANEL, side.oy = 40;
     frame(&top, v, in.lo, in.hi, reach);
     frame(&side, v, in.lo, in.hi, reach);
-    f = fopen(path, "w");
-    if (!f) {
-        if (err) snprintf(err->message, sizeof err->message, "%s: cannot create the SVG", path);
-        return GG_ERROR_IO;
-    }
-    fprintf(f, "<?xml version='1.0' encoding='UTF-8'?>\n"
-               "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' "
-               "font-family='sans-serif'>\n",
-            3 * PANEL + 40, PANEL + 90);
+    fprintf(f,
+            "<?xml version='1.0' encoding='UTF-8'?>\n"
+            "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' "
+            "font-family='sans-serif'>\n",
+            (camera ? 3 : 2) * PANEL + (camera ? 40 : 30), PANEL + 90);
     fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
-    fprintf(f, "<text x='10' y='24' font-size='15' fill='#111'>ggrt trace %s --pixel %d,%d: "
-               "colour %.4f %.4f %.4f, %zu rays</text>\n",
+    fprintf(f,
+            "<text x='10' y='24' font-size='15' fill='#111'>ggrt trace %s --pixel %d,%d: "
+            "colour %.4f %.4f %.4f, %zu rays</text>\n",
             v->path, v->x, v->y, v->pixel.r, v->pixel.g, v->pixel.b, ggTraceNodeCount(v->trace));
     panel(f, v, &top, "top view", reach);
     panel(f, v, &side, "side view", reach);
-    camera_panel(f, v, 30 + 2 * PANEL, 40);
+    if (camera) camera_panel(f, v, 30 + 2 * PANEL, 40);
     {
         static const char *const names[] = {"eye", "reflect", "refract", "TIR"};
         int k;
         double y = PANEL + 66;
         for (k = 0; k < 4; k++) {
-            fprintf(f, "<line x1='%d' y1='%.0f' x2='%d' y2='%.0f' stroke='%s' stroke-width='2'/>"
-                       "<text x='%d' y='%.0f' font-size='12'>%s</text>\n",
+            fprintf(f,
+                    "<line x1='%d' y1='%.0f' x2='%d' y2='%.0f' stroke='%s' stroke-width='2'/>"
+                    "<text x='%d' y='%.0f' font-size='12'>%s</text>\n",
                     10 + 110 * k, y, 40 + 110 * k, y, kind_color(k), 46 + 110 * k, y + 4, names[k]);
         }
-        fprintf(f, "<line x1='450' y1='%.0f' x2='480' y2='%.0f' stroke='#f59e0b' "
-                   "stroke-dasharray='5 3' stroke-width='1.5'/><text x='486' y='%.0f' "
-                   "font-size='12'>shadow ray, light reached</text>\n",
+        fprintf(f,
+                "<line x1='450' y1='%.0f' x2='480' y2='%.0f' stroke='#f59e0b' "
+                "stroke-dasharray='5 3' stroke-width='1.5'/><text x='486' y='%.0f' "
+                "font-size='12'>shadow ray, light reached</text>\n",
                 y, y, y + 4);
-        fprintf(f, "<line x1='660' y1='%.0f' x2='690' y2='%.0f' stroke='#dc2626' "
-                   "stroke-dasharray='5 3' stroke-width='1.5'/><text x='696' y='%.0f' "
-                   "font-size='12'>shadow ray, stopped at its occluder</text>\n",
+        fprintf(f,
+                "<line x1='660' y1='%.0f' x2='690' y2='%.0f' stroke='#dc2626' "
+                "stroke-dasharray='5 3' stroke-width='1.5'/><text x='696' y='%.0f' "
+                "font-size='12'>shadow ray, stopped at its occluder</text>\n",
                 y, y, y + 4);
     }
     fprintf(f, "</svg>\n");
-    if (fclose(f) != 0) {
+    return GG_OK;
+}
+
+int trace_write_svg(const char *path, const trace_view *v, ggError *err)
+{
+    ggSceneInfo in;
+    FILE *f;
+    int rc;
+    if (ggSceneGetInfo(v->scene, &in) != GG_OK) {
+        if (err) snprintf(err->message, sizeof err->message, "%s: scene not prepared", path);
+        return GG_ERROR_INVALID;
+    }
+    f = fopen(path, "w");
+    if (!f) {
+        if (err) snprintf(err->message, sizeof err->message, "%s: cannot create the SVG", path);
+        return GG_ERROR_IO;
+    }
+    rc = trace_print_svg(f, v, 1);
+    if (fclose(f) != 0 || rc != GG_OK) {
         if (err) snprintf(err->message, sizeof err->message, "%s: write error", path);
         return GG_ERROR_IO;
     }
@@ -312,7 +357,8 @@ int trace_write_obj(const char *path, const trace_view *v, ggError *err)
     size_t i, n = ggTraceNodeCount(v->trace);
     int vert = 0, l;
     if (!f) {
-        if (err) snprintf(err->message, sizeof err->message, "%s: cannot create the OBJ file", path);
+        if (err)
+            snprintf(err->message, sizeof err->message, "%s: cannot create the OBJ file", path);
         return GG_ERROR_IO;
     }
     fprintf(f, "# ggrt trace %s --pixel %d,%d: one line object per ray\n", v->path, v->x, v->y);
@@ -329,8 +375,8 @@ int trace_write_obj(const char *path, const trace_view *v, ggError *err)
             ggVec3 se = add_s(L->origin, L->dir, t);
             if (L->verdict == GG_SHADOW_FACING_AWAY) continue;
             fprintf(f, "o shadow%zu_light%d_%s\nv %.9g %.9g %.9g\nv %.9g %.9g %.9g\nl %d %d\n", i,
-                    L->light, ggShadowName(L->verdict), L->origin.x, L->origin.y, L->origin.z,
-                    se.x, se.y, se.z, vert + 1, vert + 2);
+                    L->light, ggShadowName(L->verdict), L->origin.x, L->origin.y, L->origin.z, se.x,
+                    se.y, se.z, vert + 1, vert + 2);
             vert += 2;
         }
     }
