@@ -2,11 +2,16 @@
 # ggrt -- a Whitted-style ray tracer as a C99 library, and its CLI.
 #
 #   make                 build/libggrt.a, build/libggrt.so, build/ggrt
-#   make check           install missing Debian packages, then run every test
-#                        twice: -O2 and ASan+UBSan (see tests/run-tests.sh)
-#   make demo            install missing packages, render the default scene
-#   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man page)
-#   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each
+#   make check           install the missing Debian packages the tests need, then
+#                        run every test twice: -O2 and ASan+UBSan (see
+#                        tests/run-tests.sh), then against an installed copy
+#   make demo            install the missing packages the build needs, render the
+#                        default scene
+#   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
+#                        page); a live install (no DESTDIR) refreshes ldconfig's cache
+#   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each; every
+#                        harness runs, a summary at the end (exit 1 if any found something)
+#   scripts/deps.sh      the package groups each of these installs
 #   make bench-optics    ns per call of the refraction variants
 #
 # Objects go to $(BUILD) (default build/); BUILD=dir keeps separate trees.
@@ -22,6 +27,8 @@ BINDIR     ?= $(EXEC_PREFIX)/bin
 MANDIR     ?= $(PREFIX)/share/man
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 DESTDIR    ?=
+# Run after a live install (no DESTDIR) as root; LDCONFIG= skips it.
+LDCONFIG   ?= ldconfig
 
 BUILD   ?= build
 CC      ?= cc
@@ -46,21 +53,20 @@ EXR_LIBS   := -lOpenEXRCore
 IMG_LIBS    = $(PNG_LIBS) $(EXR_LIBS)
 SYS_LIBS    = -lm -lpthread
 
-# `ggrt serve` (cli/serve*.c, the page in cli/web/) is built on GNU
-# libmicrohttpd, in the CLI only: the library never links it. SERVE=auto
-# (default) builds it when pkg-config finds libmicrohttpd, SERVE=1 insists,
-# SERVE=0 leaves it out; without it `ggrt serve` says it is not built in.
-SERVE ?= auto
-ifeq ($(SERVE),auto)
-SERVE_ON := $(shell pkg-config --exists libmicrohttpd 2>/dev/null && echo 1)
-else ifeq ($(SERVE),1)
-SERVE_ON := 1
+# ggrt serve (cli/serve*.c) is built with libmicrohttpd when pkg-config finds
+# it (-DGG_HAVE_MHD); without it the rest of the CLI builds the same and
+# `ggrt serve` says what to install. scripts/deps.sh: group serve.
+MHD_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libmicrohttpd 2>/dev/null))
+MHD_LIBS   := $(shell pkg-config --libs libmicrohttpd 2>/dev/null)
+CLI_DEFS   =
+CLI_LIBS   =
+ifneq ($(MHD_LIBS),)
+ifneq ($(wildcard cli/serve*.c),)
+CLI_DEFS   = -DGG_HAVE_MHD $(MHD_CFLAGS)
+CLI_LIBS   = $(MHD_LIBS)
 endif
-ifeq ($(SERVE_ON),1)
-SERVE_CPPFLAGS := -DGG_SERVE \
-  $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libmicrohttpd 2>/dev/null))
-SERVE_LIBS := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
 endif
+# The page served by ggrt serve (cli/web/), compiled into the binary.
 WEB_SRC := $(sort $(wildcard cli/web/*.html cli/web/*.css cli/web/*.js))
 
 # The library's layers, bottom to top (docs/internals.md). lib/L is compiled
@@ -90,8 +96,8 @@ IO_OBJ   := $(filter $(BUILD)/lib/imageio/%,$(LIB_OBJ))
 NOREADER_OBJ := $(BUILD)/lib/load/reader_none.o
 FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
-CLI_SRC  := $(sort $(wildcard cli/*.c))
-CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(SERVE_ON),$(BUILD)/cli/web_assets.o)
+CLI_SRC  := $(sort $(wildcard cli/*.c cli/bench/*.c))
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/web_assets.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TESTUTIL_OBJ := $(BUILD)/tests/testutil.o
@@ -148,26 +154,27 @@ $(BUILD)/libggrt.so: $(SHARED)
 # The CLI sees only the public header (no -Ilib): it is a client of the API.
 $(BUILD)/cli/%.o: cli/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(SERVE_CPPFLAGS) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 # Whether serve is built in: a file that changes only when that does, so
-# that switching SERVE rebuilds the objects that depend on it.
+# that installing libmicrohttpd (or `make MHD_LIBS=` to leave it out)
+# rebuilds the objects that depend on it.
 $(BUILD)/cli/serve.flag: FORCE
 	@mkdir -p $(@D)
-	@[ "`cat $@ 2>/dev/null`" = "serve=$(SERVE_ON)" ] || echo "serve=$(SERVE_ON)" > $@
+	@[ "`cat $@ 2>/dev/null`" = "mhd=$(CLI_LIBS)" ] || echo "mhd=$(CLI_LIBS)" > $@
 $(BUILD)/cli/cmd_serve.o $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(wildcard cli/serve_*.c)): \
   $(BUILD)/cli/serve.flag
 FORCE:
 
-# The page, compiled into the binary (no files read at run time).
+# The page, compiled into the binary (nothing is read from disk at run time).
 $(BUILD)/cli/web_assets.c: $(WEB_SRC) cli/web/embed.sh
 	@mkdir -p $(@D)
 	sh cli/web/embed.sh $(WEB_SRC) > $@.tmp && mv $@.tmp $@
 $(BUILD)/cli/web_assets.o: $(BUILD)/cli/web_assets.c
-	$(CC) $(GG_CPPFLAGS) $(SERVE_CPPFLAGS) -Icli $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) -Icli $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(CLI): $(CLI_OBJ) $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(IMG_LIBS) $(SERVE_LIBS) $(SYS_LIBS)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS)
 
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
@@ -200,7 +207,7 @@ SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-o
 # check: install missing packages, then the plain and the sanitized runs,
 # then stage an install and build the examples against it. Recursive makes
 # re-read pkg-config once the packages are there.
-check: deps
+check: deps-check
 	@sh tests/layers.sh
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
@@ -208,10 +215,12 @@ check: deps
 	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@echo "check: all suites passed (plain, sanitized, installcheck)"
 
-deps:
-	@sh scripts/deps.sh
+# scripts/deps.sh GROUP: the packages a target needs (deps = check's).
+deps: deps-check
+deps-%:
+	@sh scripts/deps.sh $*
 
-demo: deps
+demo: deps-demo
 	@$(MAKE) --no-print-directory all
 	$(CLI) render examples/scenes/default.nff -o demo.png
 	@echo "demo: wrote demo.png"
@@ -240,6 +249,7 @@ install: all pc
 	$(INSTALL) -m 644 $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc $(DESTDIR)$(PKGCONFIGDIR)/
 	$(INSTALL) -m 755 $(CLI) $(DESTDIR)$(BINDIR)/
 	$(INSTALL) -m 644 docs/ggrt.1 $(DESTDIR)$(MANDIR)/man1/
+	@[ -n "$(DESTDIR)" ] || sh scripts/ldcache.sh install "$(LIBDIR)" $(SONAME) "$(LDCONFIG)"
 
 uninstall:
 	rm -f $(DESTDIR)$(INCLUDEDIR)/ggrt.h $(DESTDIR)$(LIBDIR)/libggrt.a \
@@ -248,9 +258,13 @@ uninstall:
 	  $(DESTDIR)$(LIBDIR)/libggrt.so.$(VERSION) $(DESTDIR)$(PKGCONFIGDIR)/ggrt.pc \
 	  $(DESTDIR)$(BINDIR)/ggrt $(DESTDIR)$(MANDIR)/man1/ggrt.1
 	rm -rf $(DESTDIR)$(INCLUDEDIR)/ggrt
+	@[ -n "$(DESTDIR)" ] || sh scripts/ldcache.sh uninstall "$(LIBDIR)" $(SONAME) "$(LDCONFIG)"
 
 # Stage an install under $(BUILD)/stage with PREFIX=/usr and build and run
-# every example against it through pkg-config, as a user would.
+# every example against it through pkg-config (LD_LIBRARY_PATH pointing into
+# the stage); link the core example with -static; then tests/install.sh: a
+# real install into a temporary prefix, registered with the dynamic linker,
+# and README.md's compile lines run as written, without LD_LIBRARY_PATH.
 STAGE = $(abspath $(BUILD))/stage
 installcheck: $(SHARED) $(BUILD)/libggrt.so
 	@nm -D --defined-only $(SHARED) >/dev/null || { echo "installcheck: cannot read $(SHARED)"; exit 1; }
@@ -277,33 +291,40 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	    || { echo "installcheck: the static core example failed"; exit 1; }; \
 	  echo "installcheck: examples/core_static.c linked with -static against libggrt-core" \
 	    "(`pkg-config --static --libs ggrt-core`) and rendered default.nff"
+	@MAKE="$(MAKE)" sh tests/install.sh $(BUILD)
 
 # Examples build against an installed libggrt found by pkg-config.
 EXAMPLE_OUT ?= $(BUILD)/examples
 examples:
 	@mkdir -p $(EXAMPLE_OUT)
 	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
-	  echo "$(CC) examples/$$e.c \`pkg-config --cflags --libs ggrt\`"; \
+	  echo "$(CC) examples/$$e.c \`pkg-config --cflags --libs ggrt\` -lm"; \
 	  $(CC) -std=c99 -Wall -Wextra -pedantic -Werror -O2 -o $(EXAMPLE_OUT)/$$e examples/$$e.c \
-	    `pkg-config --cflags --libs ggrt` || exit 1; \
+	    `pkg-config --cflags --libs ggrt` -lm || exit 1; \
 	done
 
 # --- fuzzing and benchmarks ---------------------------------------------
 
 FUZZ_SECONDS ?= 60
 FUZZ_CC ?= clang
-fuzz:
+FUZZ_BIN = $(FUZZ_SRC:tests/fuzz/fuzz_%.c=$(BUILD)/fuzz/fuzz_%)
+FUZZ_SAN = -fsanitize=address,undefined -fno-sanitize-recover=all
+# The library is built once with coverage instrumentation (its own tree,
+# $(BUILD)/fuzzlib, layer rules as usual); each harness links it (a build
+# failure is reported, not fatal); then tests/fuzz/run.sh runs every one for
+# FUZZ_SECONDS whatever the others found and ends with a summary; it exits
+# 1 if any harness found something.
+fuzz: deps-fuzz
+	@$(MAKE) --no-print-directory BUILD=$(BUILD)/fuzzlib CC=$(FUZZ_CC) GG_WERROR= \
+	  CFLAGS="-g -O1 -fsanitize=fuzzer-no-link $(FUZZ_SAN)" $(BUILD)/fuzzlib/libggrt.a >/dev/null
 	@mkdir -p $(BUILD)/fuzz
 	@for f in $(FUZZ_SRC:tests/fuzz/fuzz_%.c=%); do \
-	  $(FUZZ_CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests -std=c99 -g -O1 \
-	    -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-	    $(PNG_CFLAGS) $(EXR_CFLAGS) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c $(LIB_SRC) \
-	    $(IMG_LIBS) $(SYS_LIBS) || exit 1; \
-	  mkdir -p $(BUILD)/fuzz/corpus_$$f; \
-	  $(BUILD)/fuzz/fuzz_$$f -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
-	    -artifact_prefix=$(BUILD)/fuzz/ \
-	    $(BUILD)/fuzz/corpus_$$f tests/fuzz/corpus/$$f || exit 1; \
+	  rm -f $(BUILD)/fuzz/fuzz_$$f; \
+	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(ALL_LAYER_INC) -Itests -std=c99 -g -O1 \
+	    -fsanitize=fuzzer $(FUZZ_SAN) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c \
+	    $(BUILD)/fuzzlib/libggrt.a $(IMG_LIBS) $(SYS_LIBS) || echo "fuzz: fuzz_$$f did not build"; \
 	done
+	@sh tests/fuzz/run.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $(FUZZ_BIN)
 
 bench: $(BENCH_BIN)
 	@for b in $(BENCH_BIN); do $$b || exit 1; done
@@ -319,10 +340,10 @@ bench-%: $(BUILD)/bench/bench_%
 	$<
 
 format:
-	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h tests/*.c \
+	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h cli/bench/*.c cli/bench/*.h tests/*.c \
 	  tests/*.h tests/fuzz/*.c bench/*.c examples/*.c
 
 clean:
 	rm -rf $(BUILD)
 
--include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)
+-include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)

@@ -1,16 +1,19 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** cli.h -- the ggrt command line: subcommands and shared helpers.
-** The CLI uses only the public API (<ggrt.h>).
+** cli.h -- the ggrt command line: subcommands and the helpers they share.
+** The CLI uses only the public API (<ggrt.h>); option parsing is args.h.
 */
 #ifndef GG_CLI_H
 #define GG_CLI_H
 
 #include "ggrt.h"
+#include "args.h"
 
 #include <stdio.h>
 
-/* Exit codes (documented in ggrt(1)). */
+/* Exit codes (documented in ggrt(1)). A command cancelled by SIGINT,
+   SIGTERM or SIGHUP dies of that signal after cleaning up (a shell shows
+   128 + the signal number, e.g. 130). */
 #define EXIT_OK    0
 #define EXIT_USAGE 1
 #define EXIT_INPUT 2
@@ -24,14 +27,54 @@ int cmd_info(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_serve(int argc, char **argv);
 
-/* Map a library status to an exit code (INPUT for bad data, IO for files). */
-int cli_exit_code(int status);
-/* Parse "x,y,z"; returns 0 on success. */
-int cli_parse_vec3(const char *s, ggVec3 *v);
-/* Parse a finite double / an int in [lo, hi]; returns 0 on success. */
-int cli_parse_double(const char *s, double *d);
-int cli_parse_int(const char *s, long lo, long hi, int *out);
-/* True if argument a is "-h" or "--help". */
-int cli_is_help(const char *a);
+/* The one map from a library status to an exit code: GG_ERROR_IO is 3,
+   everything else bad input (2) -- except GG_ERROR_INVALID from a call
+   whose only caller-chosen inputs are command-line values (from_args: the
+   options and pixel given to ggRender or ggTracePixel), which is a usage
+   error (1). */
+int cli_exit_code(int status, int from_args);
+/* Print "ggrt: <err->message>" and return cli_exit_code(status, from_args). */
+int cli_fail(int status, const ggError *err, int from_args);
+
+/* Seconds on the monotonic clock (for durations only). */
+double cli_now(void);
+
+/* Before a command spends time producing `path`: refuse a path that is a
+   symbolic link, a directory or another non-regular file, or a read-only
+   file, saying why on stderr ("ggrt CMD: ..."). Returns 0 or EXIT_IO. */
+int cli_check_output(const char *cmd, const char *path);
+
+/* A text output file written whole or not at all: cli_out_open creates
+   "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it
+   over path, or removes it on any error. Both print the reason ("ggrt CMD:
+   x.svg: No space left on device") and return 0 / EXIT_IO. */
+typedef struct cli_out {
+    FILE *f;
+    char path[1024], tmp[1100];
+} cli_out;
+int cli_out_open(cli_out *o, const char *cmd, const char *path);
+int cli_out_close(cli_out *o, const char *cmd);
+
+/* Print " ARG", quoted for a POSIX shell when it needs quoting, so that a
+   printed command line works when pasted. */
+void cli_print_arg(FILE *f, const char *arg);
+
+/* Cancellation by SIGINT, SIGTERM and SIGHUP (signals ignored when ggrt
+   started stay ignored). cli_cancel_begin installs the handlers: from
+   then on a signal only sets a flag, which cli_cancelled returns (the
+   signal number, or 0); a progress callback returns it to stop the
+   render. cli_cancel_hold blocks the signals (around a write that must
+   finish or fail whole) and cli_cancel_release unblocks them.
+   cli_cancel_exit restores the default action and re-raises the signal:
+   the process dies of it, as a shell expects. */
+void cli_cancel_begin(void);
+int cli_cancelled(void);
+void cli_cancel_hold(void);
+void cli_cancel_release(void);
+void cli_cancel_exit(int signo);
+
+/* Flush and close stdout; on failure print the reason and return EXIT_IO,
+   else 0. */
+int cli_close_stdout(void);
 
 #endif

@@ -6,15 +6,9 @@
 
 #include <string.h>
 
-static void help(FILE *f)
-{
-    fprintf(f, "usage: ggrt info SCENE\n"
-               "\n"
-               "Describe a scene: objects by kind, lights, materials, the BVH (nodes, depth,\n"
-               "memory, build time) and the effects the scene calls for, each with its reason.\n"
-               "\n"
-               "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error\n");
-}
+static const char about[] =
+    "Describe a scene: objects by kind, lights, materials, the BVH (nodes, depth,\n"
+    "memory, build time) and the effects the scene calls for, each with its reason.";
 
 int cmd_info(int argc, char **argv)
 {
@@ -25,31 +19,24 @@ int cmd_info(int argc, char **argv)
     ggCamera cam;
     int i, rc;
     unsigned fx;
-    for (i = 1; i < argc; i++) {
-        if (cli_is_help(argv[i])) {
-            help(stdout);
-            return EXIT_OK;
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            fprintf(stderr, "ggrt info: unknown option '%s'\n", argv[i]);
-            return EXIT_USAGE;
-        } else if (path) {
-            fprintf(stderr, "ggrt info: more than one scene given\n");
-            return EXIT_USAGE;
-        }
-        path = argv[i];
-    }
-    if (!path) {
-        help(stderr);
-        return EXIT_USAGE;
-    }
+    cli_opt none[] = {CLI_OPT_END};
+    cli_cmd cmd = {.name = "info",
+                   .usage = "SCENE",
+                   .about = about,
+                   .tail = "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error",
+                   .opts = {none},
+                   .args = &path,
+                   .min_args = 1,
+                   .max_args = 1,
+                   .args_name = "scene"};
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     s = ggSceneCreate(NULL);
     if (!s) return EXIT_INPUT;
     rc = ggSceneLoadFile(s, path, &err);
     if (rc == GG_OK) rc = ggScenePrepare(s, &err);
     if (rc != GG_OK) {
-        fprintf(stderr, "ggrt: %s\n", err.message);
         ggSceneFree(s);
-        return cli_exit_code(rc);
+        return cli_fail(rc, &err, 0);
     }
     ggSceneGetInfo(s, &in);
     cam = ggSceneCamera(s);

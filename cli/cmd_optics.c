@@ -14,7 +14,7 @@
 #include <math.h>
 #include <string.h>
 
-#define PI 3.14159265358979323846
+#define PI     3.14159265358979323846
 #define DEG(x) ((x) * (180.0 / PI))
 
 /* Option flags: which options a form accepts. */
@@ -35,143 +35,109 @@ typedef struct opts {
     double ni, nt, k, cos_i, angle, lambda, distance;
 } opts;
 
-static const struct {
-    const char *name;
-    unsigned flag;
-    int vec; /* 1 vector, 0 number, -1 no value */
-} optdefs[] = {
-    {"--v", O_V, 1},           {"--n", O_N, 1},           {"--ni", O_NI, 0},
-    {"--nt", O_NT, 0},         {"--k", O_K, 0},           {"--cos", O_COS, 0},
-    {"--angle", O_ANGLE, 0},   {"--lambda", O_LAMBDA, 0}, {"--distance", O_DISTANCE, 0},
-    {"--textbook", O_TEXTBOOK, -1},
-};
-
-static const char usage_all[] =
-    "usage: ggrt optics <form> [options]   (ggrt optics <form> --help for each)\n"
-    "\n"
+static const char about_all[] =
     "forms:\n"
     "  refract  transmitted direction, angles, TIR, critical angle, Fresnel terms\n"
     "  reflect  mirror direction\n"
     "  fresnel  reflectance of a dielectric or (with --k) a conductor\n"
-    "  absorb   Beer-Lambert transmittance of a path through an absorbing medium\n"
-    "\n"
-    "Directions are X,Y,Z (no spaces); they need not be unit length. v is the\n"
-    "incoming direction (towards the surface); n the normal, either way.\n"
-    "Exit codes: 0 success (total internal reflection included), 1 usage error\n"
-    "(unknown or missing option, malformed number), 2 invalid value (zero\n"
-    "vector or index, |cos| > 1, negative k, ...).\n";
+    "  absorb   Beer-Lambert transmittance of a path through an absorbing medium";
 
-static const char usage_refract[] =
-    "usage: ggrt optics refract --v X,Y,Z --n X,Y,Z [--ni N] [--nt N] [--textbook]\n"
-    "\n"
+/* Each form's --help: the usage line after "ggrt optics FORM ", then
+   what it computes; the options come from the table in parse. */
+static const char use_refract[] = "--v X,Y,Z --n X,Y,Z [--ni N] [--nt N] [--textbook]";
+static const char about_refract[] =
     "Refracts v through a surface with normal n from index ni (v's side,\n"
     "default 1) into nt (default 1.5). A negative index is a metamaterial:\n"
     "the ray bends to the same side of the normal. Prints the transmitted\n"
     "direction (or, under total internal reflection, the mirror direction),\n"
     "the incidence and refraction angles, whether TIR occurred, the critical\n"
     "angle and the Fresnel terms Rs, Rp, R, T = 1 - R. --textbook also shows\n"
-    "the textbook formula's result and how far it is from the accurate one.\n"
-    "Example: ggrt optics refract --v 0.5,-0.866,0 --n 0,1,0 --ni 1 --nt 1.33\n";
+    "the textbook formula's result and how far it is from the accurate one.";
+static const char tail_refract[] =
+    "Example: ggrt optics refract --v 0.5,-0.866,0 --n 0,1,0 --ni 1 --nt 1.33";
 
-static const char usage_reflect[] =
-    "usage: ggrt optics reflect --v X,Y,Z --n X,Y,Z\n"
-    "\n"
+static const char use_reflect[] = "--v X,Y,Z --n X,Y,Z";
+static const char about_reflect[] =
     "Prints r = v - 2 n (v.n)/(n.n), the mirror image of v (same length), and\n"
-    "the angle of incidence (= angle of reflection).\n";
+    "the angle of incidence (= angle of reflection).";
 
-static const char usage_fresnel[] =
-    "usage: ggrt optics fresnel (--angle DEG | --cos C | --v X,Y,Z --n X,Y,Z)\n"
-    "                           [--ni N] [--nt N] [--k K]\n"
-    "\n"
+static const char use_fresnel[] = "(--angle DEG | --cos C | --v X,Y,Z --n X,Y,Z)\n"
+                                  "                           [--ni N] [--nt N] [--k K]";
+static const char about_fresnel[] =
     "Fresnel reflectance for light arriving from index ni (default 1) on a\n"
     "medium of index nt (default 1.5) at the given angle of incidence. With\n"
     "--k the medium is a conductor of complex index nt + i k (nt >= 0, k >= 0;\n"
     "e.g. gold at 650 nm: --nt 0.14 --k 3.70). Prints Rs, Rp, R = (Rs+Rp)/2,\n"
-    "T = 1 - R, Schlick's approximation, the critical and Brewster angles.\n";
+    "T = 1 - R, Schlick's approximation, the critical and Brewster angles.";
 
-static const char usage_absorb[] =
-    "usage: ggrt optics absorb --k K --lambda L --distance D\n"
-    "\n"
+static const char use_absorb[] = "--k K --lambda L --distance D";
+static const char about_absorb[] =
     "Beer-Lambert: the fraction T = exp(-alpha D), alpha = 4 pi K / L, of light\n"
     "of vacuum wavelength L that survives a path of length D (same unit as L)\n"
     "in a medium with extinction coefficient K (the imaginary part of its\n"
-    "index). Example, red light through a metre of water:\n"
-    "  ggrt optics absorb --k 1.76e-8 --lambda 650e-9 --distance 1\n";
+    "index).";
+static const char tail_absorb[] = "Example, red light through a metre of water:\n"
+                                  "  ggrt optics absorb --k 1.76e-8 --lambda 650e-9 --distance 1";
 
-/* Parse argv[1..] into o; returns 0, or prints why and returns EXIT_USAGE.
-   *help is set for -h/--help. */
-static int parse(int argc, char **argv, unsigned allowed, opts *o, int *help)
+static const char tail_all[] =
+    "Directions are X,Y,Z (no spaces); they need not be unit length.\n"
+    "exit: 0 ok (total internal reflection included), 1 usage (unknown or missing\n"
+    "option, malformed number), 2 invalid value (zero vector or index, |cos| > 1,\n"
+    "negative k, ...)";
+
+/* Parse argv[1..] (argv[0] is the form) into o with the options the form
+   allows. Returns CLI_GO or the exit code. */
+static int parse(const char *form, unsigned allowed, const char *usage, const char *about,
+                 const char *tail, int argc, char **argv, opts *o)
 {
-    int i;
-    size_t j;
-    *help = 0;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i], *val = NULL, *eq;
-        size_t len;
-        if (cli_is_help(a)) {
-            *help = 1;
-            return 0;
-        }
-        eq = strchr(a, '=');
-        len = eq ? (size_t)(eq - a) : strlen(a);
-        for (j = 0; j < sizeof optdefs / sizeof optdefs[0]; j++)
-            if (strlen(optdefs[j].name) == len && strncmp(a, optdefs[j].name, len) == 0) break;
-        if (j == sizeof optdefs / sizeof optdefs[0] || !(optdefs[j].flag & allowed)) {
-            fprintf(stderr, "ggrt optics %s: unknown option '%s'\n", argv[0], a);
-            return EXIT_USAGE;
-        }
-        if (optdefs[j].vec >= 0) {
-            if (eq)
-                val = eq + 1;
-            else if (i + 1 < argc)
-                val = argv[++i];
-            else {
-                fprintf(stderr, "ggrt optics %s: %s needs a value\n", argv[0], optdefs[j].name);
-                return EXIT_USAGE;
-            }
-        } else if (eq) {
-            fprintf(stderr, "ggrt optics %s: %s takes no value\n", argv[0], optdefs[j].name);
-            return EXIT_USAGE;
-        }
-        if (optdefs[j].vec == 1) {
-            ggVec3 *dst = optdefs[j].flag == O_V ? &o->v : &o->n;
-            if (cli_parse_vec3(val, dst) != 0) {
-                fprintf(stderr, "ggrt optics %s: %s wants X,Y,Z (three finite numbers), not '%s'\n",
-                        argv[0], optdefs[j].name, val);
-                return EXIT_USAGE;
-            }
-        } else if (optdefs[j].vec == 0) {
-            double *dst;
-            switch (optdefs[j].flag) {
-            case O_NI: dst = &o->ni; break;
-            case O_NT: dst = &o->nt; break;
-            case O_K: dst = &o->k; break;
-            case O_COS: dst = &o->cos_i; break;
-            case O_ANGLE: dst = &o->angle; break;
-            case O_LAMBDA: dst = &o->lambda; break;
-            default: dst = &o->distance; break;
-            }
-            if (cli_parse_double(val, dst) != 0) {
-                fprintf(stderr, "ggrt optics %s: %s wants a finite number, not '%s'\n", argv[0],
-                        optdefs[j].name, val);
-                return EXIT_USAGE;
-            }
-        }
-        o->seen |= optdefs[j].flag;
-    }
-    return 0;
+    static const unsigned flags[] = {O_V,   O_N,     O_NI,     O_NT,       O_K,
+                                     O_COS, O_ANGLE, O_LAMBDA, O_DISTANCE, O_TEXTBOOK};
+    const double inf = HUGE_VAL;
+    int textbook = 0, rc, i, n = 0;
+    char name[32];
+    cli_opt all[] = {
+        CLI_OPT_VEC3(0, "v", &o->v, "X,Y,Z", "incoming direction (towards the surface)"),
+        CLI_OPT_VEC3(0, "n", &o->n, "X,Y,Z", "surface normal, either way"),
+        CLI_OPT_DOUBLE(0, "ni", &o->ni, -inf, inf, "N", "index on the incoming side (default 1)"),
+        CLI_OPT_DOUBLE(0, "nt", &o->nt, -inf, inf, "N", "index on the far side (default 1.5)"),
+        CLI_OPT_DOUBLE(0, "k", &o->k, -inf, inf, "K",
+                       "extinction coefficient: the imaginary part of the index"),
+        CLI_OPT_DOUBLE(0, "cos", &o->cos_i, -inf, inf, "C", "cosine of the angle of incidence"),
+        CLI_OPT_DOUBLE(0, "angle", &o->angle, -inf, inf, "DEG", "angle of incidence, degrees"),
+        CLI_OPT_DOUBLE(0, "lambda", &o->lambda, -inf, inf, "L", "vacuum wavelength"),
+        CLI_OPT_DOUBLE(0, "distance", &o->distance, -inf, inf, "D",
+                       "path length, in the unit of L"),
+        CLI_OPT_FLAG(0, "textbook", &textbook,
+                     "also the textbook formula and its distance from\n"
+                     "ggRefract's result"),
+    };
+    cli_opt mine[sizeof all / sizeof all[0] + 1];
+    cli_cmd cmd = {.name = name, .usage = usage, .about = about, .tail = tail, .opts = {mine}};
+    snprintf(name, sizeof name, "optics %s", form);
+    for (i = 0; i < (int)(sizeof all / sizeof all[0]); i++)
+        if (flags[i] & allowed) mine[n++] = all[i];
+    mine[n] = (cli_opt)CLI_OPT_END;
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    for (i = 0; i < (int)(sizeof all / sizeof all[0]); i++)
+        if ((flags[i] & allowed) && cli_given(&cmd, all[i].name)) o->seen |= flags[i];
+    return CLI_GO;
 }
 
 static int need(const opts *o, unsigned flags, const char *form, const char *names)
 {
     if ((o->seen & flags) == flags) return 0;
-    fprintf(stderr, "ggrt optics %s: %s required (see ggrt optics %s --help)\n", form, names,
-            form);
+    fprintf(stderr, "ggrt optics %s: %s required (see ggrt optics %s --help)\n", form, names, form);
     return EXIT_USAGE;
 }
 
-static int is_zero(ggVec3 a) { return a.x == 0 && a.y == 0 && a.z == 0; }
-static double dot(ggVec3 a, ggVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static int is_zero(ggVec3 a)
+{
+    return a.x == 0 && a.y == 0 && a.z == 0;
+}
+static double dot(ggVec3 a, ggVec3 b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 
 /* Angle between the line of a and the normal n, in [0, 90] degrees:
    atan2(|a x n|, |a.n|) is accurate at 0 and 90 degrees alike. Scaled
@@ -261,9 +227,10 @@ static int run_refract(const opts *o)
     th_i = angle_deg(o->v, o->n, &ci);
     print_vec("incident v:", o->v);
     print_vec("normal n:", o->n);
-    printf("%-18s %s\n", "", vn < 0 ? "(n faces the incoming ray)"
-                              : vn > 0 ? "(n faces away from the incoming ray; same result)"
-                                       : "(v lies in the surface)");
+    printf("%-18s %s\n", "",
+           vn < 0   ? "(n faces the incoming ray)"
+           : vn > 0 ? "(n faces away from the incoming ray; same result)"
+                    : "(v lies in the surface)");
     printf("%-18s ni = %.17g, nt = %.17g, eta = ni/nt = %.17g\n", "indices:", o->ni, o->nt,
            o->ni / o->nt);
     if ((o->ni < 0) != (o->nt < 0))
@@ -360,8 +327,8 @@ static int run_fresnel(const opts *o)
         printf("%-18s outside ni = %.17g, conductor n + ik = %.17g + %.17gi\n", "indices:", o->ni,
                o->nt, o->k);
         printf("%-18s Rs = %.17g, Rp = %.17g\n", "Fresnel:", rs, rp);
-        printf("%-18s R = %.17g, absorbed 1 - R = %.17g\n", "", ggFresnelConductor(c, o->ni,
-                                                                                     o->nt, o->k),
+        printf("%-18s R = %.17g, absorbed 1 - R = %.17g\n", "",
+               ggFresnelConductor(c, o->ni, o->nt, o->k),
                1 - ggFresnelConductor(c, o->ni, o->nt, o->k));
         printf("%-18s %.17g\n", "normal incidence:", ggFresnelConductor(1, o->ni, o->nt, o->k));
         return EXIT_OK;
@@ -386,8 +353,8 @@ static int run_absorb(const opts *o)
     }
     printf("%-18s k = %.17g, lambda = %.17g, distance = %.17g\n", "medium:", o->k, o->lambda,
            o->distance);
-    printf("%-18s %.17g per unit of length\n", "alpha = 4 pi k/L:",
-           ggAbsorptionCoefficient(o->k, o->lambda));
+    printf("%-18s %.17g per unit of length\n",
+           "alpha = 4 pi k/L:", ggAbsorptionCoefficient(o->k, o->lambda));
     printf("%-18s %.17g\n", "transmittance T:", ggBeerLambert(o->k, o->lambda, o->distance));
     return EXIT_OK;
 }
@@ -397,41 +364,42 @@ int cmd_optics(int argc, char **argv)
     static const struct {
         const char *name;
         unsigned allowed;
-        const char *usage;
+        const char *usage, *about, *tail;
         int (*run)(const opts *o);
     } forms[] = {
-        {"refract", O_V | O_N | O_NI | O_NT | O_TEXTBOOK, usage_refract, run_refract},
-        {"reflect", O_V | O_N, usage_reflect, run_reflect},
-        {"fresnel", O_V | O_N | O_NI | O_NT | O_K | O_COS | O_ANGLE, usage_fresnel, run_fresnel},
-        {"absorb", O_K | O_LAMBDA | O_DISTANCE, usage_absorb, run_absorb},
+        {"refract", O_V | O_N | O_NI | O_NT | O_TEXTBOOK, use_refract, about_refract, tail_refract,
+         run_refract},
+        {"reflect", O_V | O_N, use_reflect, about_reflect, NULL, run_reflect},
+        {"fresnel", O_V | O_N | O_NI | O_NT | O_K | O_COS | O_ANGLE, use_fresnel, about_fresnel,
+         NULL, run_fresnel},
+        {"absorb", O_K | O_LAMBDA | O_DISTANCE, use_absorb, about_absorb, tail_absorb, run_absorb},
     };
     size_t i;
     opts o;
-    int help, rc;
-    if (argc < 2) {
-        fputs(usage_all, stderr);
-        return EXIT_USAGE;
-    }
-    if (cli_is_help(argv[1])) {
-        fputs(usage_all, stdout);
-        return EXIT_OK;
-    }
-    for (i = 0; i < sizeof forms / sizeof forms[0]; i++) {
-        if (strcmp(argv[1], forms[i].name) != 0) continue;
-        memset(&o, 0, sizeof o);
-        o.ni = 1.0, o.nt = 1.5;
-        rc = parse(argc - 1, argv + 1, forms[i].allowed, &o, &help);
-        if (rc != 0) {
-            fprintf(stderr, "(ggrt optics %s --help lists the options)\n", forms[i].name);
-            return rc;
+    int rc;
+    if (argc >= 2 && argv[1][0] != '-') {
+        for (i = 0; i < sizeof forms / sizeof forms[0]; i++) {
+            if (strcmp(argv[1], forms[i].name) != 0) continue;
+            memset(&o, 0, sizeof o);
+            o.ni = 1.0, o.nt = 1.5;
+            rc = parse(forms[i].name, forms[i].allowed, forms[i].usage, forms[i].about,
+                       forms[i].tail, argc - 1, argv + 1, &o);
+            return rc != CLI_GO ? rc : forms[i].run(&o);
         }
-        if (help) {
-            fputs(forms[i].usage, stdout);
-            return EXIT_OK;
-        }
-        return forms[i].run(&o);
     }
-    fprintf(stderr, "ggrt optics: unknown form '%s'\n\n", argv[1]);
-    fputs(usage_all, stderr);
-    return EXIT_USAGE;
+    {
+        const char *form = NULL;
+        cli_opt none[] = {CLI_OPT_END};
+        cli_cmd cmd = {.name = "optics",
+                       .usage = "FORM [options]   (ggrt optics FORM --help for each)",
+                       .about = about_all,
+                       .tail = tail_all,
+                       .opts = {none},
+                       .args = &form,
+                       .min_args = 1,
+                       .max_args = 1,
+                       .args_name = "form (refract, reflect, fresnel or absorb)"};
+        if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+        return cli_usage_error(&cmd, "unknown form '%s' (refract, reflect, fresnel, absorb)", form);
+    }
 }

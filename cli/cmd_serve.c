@@ -7,47 +7,82 @@
 */
 #include "cli.h"
 
+#include <arpa/inet.h>
 #include <stdlib.h>
 #include <string.h>
 
-static void help(FILE *f)
+static const char about[] =
+    "Serve the ray debugger on http://127.0.0.1:PORT/: the rendered image, and for\n"
+    "any pixel you click its ray tree (as ggrt trace prints it), its rays drawn in the\n"
+    "scene, heatmaps of rays, depth and time, a second set of options to compare\n"
+    "against, and a JSON API for scripts (docs/serve.md). Prints the URL to open,\n"
+    "with a random token that every request must carry, and serves until Ctrl-C.";
+
+static const char tail[] =
+    "The render options are the starting point; the page changes depth, samples and\n"
+    "the accuracy knobs per view (depth at most 16, samples at most 64, images at\n"
+    "most 4096 a side and 16777216 pixels). Only SCENE and its textures are read.\n"
+    "exit: 0 stopped by Ctrl-C or SIGTERM, 1 usage, 2 bad scene, 3 cannot listen";
+
+typedef struct serve_args {
+    const char *scene, *host;
+    int port;
+    cli_render ro;
+} serve_args;
+
+static int numeric_host(const char *h)
 {
-    fprintf(f, "usage: ggrt serve SCENE [--port N] [--host ADDR] [-s WxH] [render options]\n"
-               "\n"
-               "Serve the ray debugger on http://127.0.0.1:PORT/: the rendered image, and for\n"
-               "any pixel you click its ray tree (as ggrt trace prints it), its rays drawn in the\n"
-               "scene, heatmaps of rays, depth and time, a second set of options to compare\n"
-               "against, and a JSON API for scripts (docs/serve.md). Prints the URL to open,\n"
-               "with a random token that every request must carry; serves until Ctrl-C.\n"
-               "\n"
-               "options:\n"
-               "      --port N          port to listen on (default 8080; 0: any free port)\n"
-               "      --host ADDR       numeric address to listen on (default 127.0.0.1); any\n"
-               "                        other than loopback is reachable from other machines\n"
-               "  -s, --size WxH        image size (default: the scene's resolution; at most\n"
-               "                        4096 a side and 16777216 pixels)\n"
-               "  -d, --depth N         ray-tree depth, 1..16 (default: scene, else 5)\n"
-               "  -n, --samples N       samples per pixel, 1..64 (default: scene, else 1)\n"
-               "  -j, --threads N       render threads (default: all processors)\n"
-               "      --spd, --corners, --force-effects   as for ggrt render\n"
-               "  -h, --help            this text\n"
-               "\n"
-               "The page can change depth, samples and the accuracy knobs per view; every\n"
-               "option above is the starting point. Only SCENE and its textures are read.\n"
-               "exit: 0 stopped by Ctrl-C or SIGTERM, 1 usage, 2 bad scene, 3 cannot listen\n");
+    unsigned char bin[16];
+    return inet_pton(AF_INET, h, bin) == 1 || inet_pton(AF_INET6, h, bin) == 1;
 }
 
-#if !defined(GG_SERVE)
+/* Parse the command line (also where serve is not built in: --help
+   works the same). Returns CLI_GO or an exit code. */
+static int parse(serve_args *a, int argc, char **argv)
+{
+    cli_opt mine[] = {
+        CLI_OPT_INT(0, "port", &a->port, 0, 65535, "N",
+                    "port to listen on (default 8080; 0: any free port)"),
+        CLI_OPT_STRING(0, "host", &a->host, "ADDR",
+                       "numeric address to listen on (default 127.0.0.1); any other\n"
+                       "than loopback is reachable from other machines"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "serve",
+                   .usage = "SCENE [--port N] [--host ADDR] [options]",
+                   .about = about,
+                   .tail = tail,
+                   .opts = {mine, a->ro.table},
+                   .args = &a->scene,
+                   .min_args = 1,
+                   .max_args = 1,
+                   .args_name = "scene"};
+    int rc;
+    a->port = 8080, a->host = "127.0.0.1";
+    cli_render_init(&a->ro, CLI_RENDER_PIXEL | CLI_RENDER_THREADS);
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    cli_render_finish(&a->ro);
+    if (a->ro.opt.max_depth > 16)
+        return cli_usage_error(&cmd, "--depth %d: ggrt serve takes at most 16",
+                               a->ro.opt.max_depth);
+    if (a->ro.opt.samples > 64)
+        return cli_usage_error(&cmd, "--samples %d: ggrt serve takes at most 64",
+                               a->ro.opt.samples);
+    if (!strcmp(a->host, "localhost")) a->host = "127.0.0.1";
+    if (!numeric_host(a->host))
+        return cli_usage_error(&cmd, "--host needs a numeric IPv4 or IPv6 address, got '%s'",
+                               a->host);
+    return CLI_GO;
+}
+
+#if !defined(GG_HAVE_MHD)
 
 int cmd_serve(int argc, char **argv)
 {
-    int i;
-    for (i = 1; i < argc; i++)
-        if (cli_is_help(argv[i])) {
-            help(stdout);
-            printf("\nThis ggrt was built without GNU libmicrohttpd: serve is not available.\n");
-            return EXIT_OK;
-        }
+    serve_args a;
+    int rc;
+    memset(&a, 0, sizeof a);
+    if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     fprintf(stderr, "ggrt serve: not available: this ggrt was built without GNU libmicrohttpd "
                     "(install libmicrohttpd-dev, then rebuild)\n");
     return EXIT_USAGE;
@@ -56,7 +91,6 @@ int cmd_serve(int argc, char **argv)
 #else
 #include "serve.h"
 
-#include <arpa/inet.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -69,75 +103,6 @@ void srv_lib_lock(srv_server *s)
 void srv_lib_unlock(srv_server *s)
 {
     pthread_mutex_unlock(&s->lib);
-}
-
-static int parse_args(int argc, char **argv, srv_config *c)
-{
-    int i;
-    ggRenderOptionsDefault(&c->opt);
-    c->host = "127.0.0.1", c->port = 8080, c->scene_path = NULL;
-    for (i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "--spd")) {
-            c->opt.spd_rules = true, c->opt.pixel_corners = true;
-            continue;
-        } else if (!strcmp(a, "--corners")) {
-            c->opt.pixel_corners = true;
-            continue;
-        } else if (!strcmp(a, "--force-effects")) {
-            c->opt.force_effects = GG_EFFECT_ALL;
-            continue;
-        } else if (a[0] != '-' || !a[1]) {
-            if (c->scene_path) {
-                fprintf(stderr, "ggrt serve: more than one scene given ('%s')\n", a);
-                return EXIT_USAGE;
-            }
-            c->scene_path = a;
-            continue;
-        }
-        if (!v) {
-            fprintf(stderr, "ggrt serve: %s needs a value (see ggrt serve --help)\n", a);
-            return EXIT_USAGE;
-        }
-        i++;
-        if (!strcmp(a, "--port")) {
-            if (cli_parse_int(v, 0, 65535, &c->port)) goto bad;
-        } else if (!strcmp(a, "--host")) {
-            unsigned char bin[16];
-            c->host = !strcmp(v, "localhost") ? "127.0.0.1" : v;
-            if (inet_pton(AF_INET, c->host, bin) != 1 && inet_pton(AF_INET6, c->host, bin) != 1) {
-                fprintf(stderr,
-                        "ggrt serve: --host needs a numeric IPv4 or IPv6 address, got '%s'\n", v);
-                return EXIT_USAGE;
-            }
-        } else if (!strcmp(a, "-s") || !strcmp(a, "--size")) {
-            char w[16], *x = strchr(v, 'x');
-            if (!x || (size_t)(x - v) >= sizeof w) goto bad;
-            memcpy(w, v, (size_t)(x - v)), w[x - v] = '\0';
-            if (cli_parse_int(w, 1, SRV_MAX_SIDE, &c->opt.width) ||
-                cli_parse_int(x + 1, 1, SRV_MAX_SIDE, &c->opt.height))
-                goto bad;
-        } else if (!strcmp(a, "-d") || !strcmp(a, "--depth")) {
-            if (cli_parse_int(v, 1, SRV_MAX_DEPTH, &c->opt.max_depth)) goto bad;
-        } else if (!strcmp(a, "-n") || !strcmp(a, "--samples")) {
-            if (cli_parse_int(v, 1, SRV_MAX_SAMPLES, &c->opt.samples)) goto bad;
-        } else if (!strcmp(a, "-j") || !strcmp(a, "--threads")) {
-            if (cli_parse_int(v, 1, 256, &c->opt.threads)) goto bad;
-        } else {
-            fprintf(stderr, "ggrt serve: unknown option '%s' (see ggrt serve --help)\n", a);
-            return EXIT_USAGE;
-        }
-        continue;
-    bad:
-        fprintf(stderr, "ggrt serve: bad value '%s' for %s\n", v, a);
-        return EXIT_USAGE;
-    }
-    if (c->opt.spd_rules && !c->opt.max_depth) c->opt.max_depth = 5;
-    if (!c->scene_path) {
-        fprintf(stderr, "ggrt serve: need a scene (see ggrt serve --help)\n");
-        return EXIT_USAGE;
-    }
-    return EXIT_OK;
 }
 
 /* 128 random bits from the kernel, as 32 hex digits. */
@@ -171,12 +136,11 @@ static int load(srv_server *s)
     rc = ggSceneLoadFile(s->scene, s->cfg.scene_path, &err);
     if (rc == GG_OK) rc = ggScenePrepare(s->scene, &err);
     if (rc != GG_OK) {
-        fprintf(stderr, "ggrt: %s\n", err.message);
-        return cli_exit_code(rc);
+        return cli_fail(rc, &err, 0);
     }
     cam = ggSceneCamera(s->scene);
-    s->cfg.width = s->cfg.opt.width ? s->cfg.opt.width : cam.width;
-    s->cfg.height = s->cfg.opt.height ? s->cfg.opt.height : cam.height;
+    s->cfg.width = s->cfg.opt.width > 0 ? s->cfg.opt.width : cam.width;
+    s->cfg.height = s->cfg.opt.height > 0 ? s->cfg.opt.height : cam.height;
     if (s->cfg.width < 1 || s->cfg.height < 1 || s->cfg.width > SRV_MAX_SIDE ||
         s->cfg.height > SRV_MAX_SIDE || (long)s->cfg.width * s->cfg.height > SRV_MAX_PIXELS) {
         fprintf(stderr,
@@ -257,15 +221,14 @@ static int serve(srv_server *s)
 
 int cmd_serve(int argc, char **argv)
 {
+    serve_args a;
     srv_server s;
-    int i, rc;
-    for (i = 1; i < argc; i++)
-        if (cli_is_help(argv[i])) {
-            help(stdout);
-            return EXIT_OK;
-        }
+    int rc;
+    memset(&a, 0, sizeof a);
+    if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     memset(&s, 0, sizeof s);
-    if ((rc = parse_args(argc, argv, &s.cfg)) != EXIT_OK) return rc;
+    s.cfg.scene_path = a.scene, s.cfg.host = a.host, s.cfg.port = a.port;
+    s.cfg.opt = a.ro.opt;
     if (make_token(s.token)) {
         fprintf(stderr, "ggrt serve: cannot read /dev/urandom for the token\n");
         return EXIT_IO;

@@ -24,31 +24,44 @@ static const command commands[] = {
 static void usage(FILE *f)
 {
     size_t i;
-    fprintf(f, "usage: ggrt <command> [options]\n\ncommands:\n");
+    fprintf(f, "usage: ggrt <command> [options]\n"
+               "       ggrt --version\n\ncommands:\n");
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(f, "  %-8s %s\n", commands[i].name, commands[i].summary);
-    fprintf(f, "\n'ggrt <command> --help' describes one command; 'man ggrt' all of them.\n"
+    fprintf(f, "\noptions:\n"
+               "  -h, --help     this text\n"
+               "      --version  print ggrt's version and exit\n"
+               "\n'ggrt <command> --help' describes one command; 'man ggrt' all of them.\n"
                "Exit codes: 0 success, 1 usage, 2 bad input, 3 I/O error.\n");
 }
 
-int main(int argc, char **argv)
+static int dispatch(int argc, char **argv)
 {
     size_t i;
     if (argc < 2) {
         usage(stderr);
         return EXIT_USAGE;
     }
-    if (cli_is_help(argv[1]) || strcmp(argv[1], "help") == 0) {
+    if (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "help")) {
         usage(stdout);
         return EXIT_OK;
     }
-    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
         printf("ggrt %s\n", ggVersion());
         return EXIT_OK;
     }
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++)
-        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+        if (!strcmp(argv[1], commands[i].name)) return commands[i].run(argc - 1, argv + 1);
     fprintf(stderr, "ggrt: unknown command '%s'\n\n", argv[1]);
     usage(stderr);
     return EXIT_USAGE;
+}
+
+int main(int argc, char **argv)
+{
+    int rc = dispatch(argc, argv);
+    /* Output that did not reach stdout (a full disk, /dev/full, a closed
+       pipe's EIO) is an I/O error even when the command itself succeeded. */
+    int out = cli_close_stdout();
+    return rc == EXIT_OK ? out : rc;
 }

@@ -57,6 +57,9 @@ typedef struct srv_resp {
     char extra2_name[32], extra2_value[128];
 } srv_resp;
 
+/* A whole number in [lo, hi] (the whole string): 0, else -1. */
+int srv_parse_int(const char *s, long lo, long hi, int *out);
+
 /* The value of parameter key, or NULL. */
 const char *srv_param_get(const srv_req *r, const char *key);
 

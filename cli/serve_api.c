@@ -3,7 +3,7 @@
 ** serve_api.c -- `ggrt serve`'s routes: the page, and the JSON API that
 ** the page and scripts use (docs/serve.md).
 */
-#if defined(GG_SERVE)
+#if defined(GG_HAVE_MHD)
 #include "serve.h"
 #include "heatmap.h"
 #include "trace_out.h"
@@ -272,7 +272,7 @@ static int pixel_arg(const srv_server *s, const srv_req *r, const char *name, in
         srv_error(resp, 400, "missing parameter %s", name);
         return -1;
     }
-    if (cli_parse_int(v, -(1L << 30), 1L << 30, out)) {
+    if (srv_parse_int(v, -(1L << 30), 1L << 30, out)) {
         srv_error(resp, 400, "%s must be a whole number, got '%s'", name, v);
         return -1;
     }
@@ -304,7 +304,7 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
     if (pixel_arg(s, r, "x", s->cfg.width, &x, resp) ||
         pixel_arg(s, r, "y", s->cfg.height, &y, resp))
         return;
-    if (sv && cli_parse_int(sv, -1, 4095, &sample)) {
+    if (sv && srv_parse_int(sv, -1, 4095, &sample)) {
         srv_error(resp, 400, "sample must be -1 (all) or a sample index, got '%s'", sv);
         return;
     }
@@ -332,7 +332,7 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
             else if (!strcmp(fmt, "text"))
                 trace_print_text(f, &view, 1);
             else
-                trace_print_svg(f, &view, 0);
+                trace_write_svg_views(f, &view, 0);
         }
         srv_body_close(resp, f);
     }
@@ -410,8 +410,18 @@ static void api_render(srv_server *s, const srv_req *r, srv_resp *resp)
     job_ready(s, key, &o, kind, resp, 1);
 }
 
+/* Raw floats, little-endian whatever the host (docs/serve.md). */
 static void send_floats(srv_server *s, float *v, size_t n, srv_resp *resp)
 {
+    const uint16_t one = 1;
+    if (*(const unsigned char *)&one != 1) {
+        unsigned char *b = (unsigned char *)v, t;
+        size_t i;
+        for (i = 0; i < n * 4; i += 4) {
+            t = b[i], b[i] = b[i + 3], b[i + 3] = t;
+            t = b[i + 1], b[i + 1] = b[i + 2], b[i + 2] = t;
+        }
+    }
     resp->status = 200, resp->type = "application/octet-stream";
     resp->body = (char *)v, resp->len = n * sizeof *v;
     snprintf(resp->extra_name, sizeof resp->extra_name, "X-GGRT-Size");

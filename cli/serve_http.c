@@ -12,7 +12,7 @@
 **   a parameter the route does not take          400
 ** Every refusal is a JSON body {"status": N, "error": "..."}.
 */
-#if defined(GG_SERVE)
+#if defined(GG_HAVE_MHD)
 #include "serve.h"
 
 #include <arpa/inet.h>

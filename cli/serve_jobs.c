@@ -9,7 +9,7 @@
 ** while a long render runs, and the bands give the progress and the points
 ** where a render can be cancelled (shutdown, time limit).
 */
-#if defined(GG_SERVE)
+#if defined(GG_HAVE_MHD)
 #include "serve.h"
 
 #include <stdlib.h>

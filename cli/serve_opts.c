@@ -3,7 +3,7 @@
 ** serve_opts.c -- `ggrt serve`: render options carried in a request's
 ** query, responses built with stdio, and JSON helpers.
 */
-#if defined(GG_SERVE)
+#if defined(GG_HAVE_MHD)
 #include "serve.h"
 
 #include <errno.h>
@@ -18,6 +18,15 @@ const char *srv_param_get(const srv_req *r, const char *key)
     for (i = 0; i < r->nparams; i++)
         if (!strcmp(r->params[i].key, key)) return r->params[i].value;
     return NULL;
+}
+
+int srv_parse_int(const char *s, long lo, long hi, int *out)
+{
+    char why[96];
+    long v;
+    if (cli_parse_long(s, lo, hi, &v, why, sizeof why)) return -1;
+    *out = (int)v;
+    return 0;
 }
 
 /* ---- responses ---- */
@@ -202,7 +211,7 @@ static void opt_int(popt *p, const char *name, int lo, int hi, int *out)
     char full[64];
     const char *v = get(p, name, full, sizeof full);
     if (!v || p->bad) return;
-    if (cli_parse_int(v, lo, hi, out)) {
+    if (srv_parse_int(v, lo, hi, out)) {
         srv_error(p->resp, 400, "%s must be a whole number from %d to %d, got '%s'", full, lo, hi,
                   v);
         p->bad = 1;
@@ -211,10 +220,10 @@ static void opt_int(popt *p, const char *name, int lo, int hi, int *out)
 
 static void opt_num(popt *p, const char *name, double *out)
 {
-    char full[64];
+    char full[64], why[96];
     const char *v = get(p, name, full, sizeof full);
     if (!v || p->bad) return;
-    if (cli_parse_double(v, out) || *out < 0 || *out > 1e6) {
+    if (cli_parse_num(v, 0, 1e6, out, why, sizeof why)) {
         srv_error(p->resp, 400, "%s must be a number from 0 to 1e6, got '%s'", full, v);
         p->bad = 1;
     }

@@ -6,7 +6,7 @@
 ** decodes (PNG specification, ISO/IEC 15948, sections 5 and 10). On a
 ** local connection the bytes cost less than compressing them would.
 */
-#if defined(GG_SERVE)
+#if defined(GG_HAVE_MHD)
 #include "serve.h"
 
 #include <math.h>

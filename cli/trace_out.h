@@ -19,12 +19,12 @@ typedef struct trace_view {
 
 void trace_print_text(FILE *f, const trace_view *v, int utf8);
 void trace_print_json(FILE *f, const trace_view *v);
-int trace_write_svg(const char *path, const trace_view *v, ggError *err);
-/* The SVG to a stream; camera: also the camera view (renders the scene
-   small, through a temporary PNG file). GG_ERROR_INVALID if the scene is
-   not prepared. */
-int trace_print_svg(FILE *f, const trace_view *v, int camera);
-int trace_write_obj(const char *path, const trace_view *v, ggError *err);
+/* Write to f; the caller checks f for errors (cli_out_close). */
+void trace_write_svg(FILE *f, const trace_view *v);
+/* The same; camera 0 leaves out the camera view (a small render of the
+   whole scene, through a temporary PNG file): ggrt serve's views. */
+void trace_write_svg_views(FILE *f, const trace_view *v, int camera);
+void trace_write_obj(FILE *f, const trace_view *v);
 
 /* Children of node i, in order: fills kids (up to max), returns count. */
 int trace_children(const ggTrace *t, int i, int *kids, int max);

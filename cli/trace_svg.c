@@ -204,6 +204,20 @@ static void panel(FILE *f, const trace_view *v, proj *p, const char *title, doub
     fprintf(f, "</g>\n");
 }
 
+/* s as XML character data. */
+static void xml_text(FILE *f, const char *s)
+{
+    for (; *s; s++)
+        if (*s == '<')
+            fputs("&lt;", f);
+        else if (*s == '>')
+            fputs("&gt;", f);
+        else if (*s == '&')
+            fputs("&amp;", f);
+        else
+            fputc(*s, f);
+}
+
 /* Base64 of a file's bytes, for embedding the camera view as a PNG. */
 static void base64_file(FILE *out, const char *path)
 {
@@ -259,10 +273,7 @@ static void camera_panel(FILE *f, const trace_view *v, double ox, double oy)
     fprintf(f, "</g>\n");
 }
 
-/* The SVG document: top and side views, and the camera view (a small
-   render embedded as a PNG) when camera is set. Returns GG_ERROR_INVALID
-   if the scene is not prepared. */
-int trace_print_svg(FILE *f, const trace_view *v, int camera)
+void trace_write_svg_views(FILE *f, const trace_view *v, int camera)
 {
     ggSceneInfo in;
     ggCamera cam = ggSceneCamera(v->scene);
@@ -270,7 +281,8 @@ int trace_print_svg(FILE *f, const trace_view *v, int camera)
     int up = 2, horiz;
     double ux = fabs(cam.up.x), uy = fabs(cam.up.y), uz = fabs(cam.up.z), reach;
     ggVec3 fwd = v3s(cam.at.x - cam.from.x, cam.at.y - cam.from.y, cam.at.z - cam.from.z);
-    if (ggSceneGetInfo(v->scene, &in) != GG_OK) return GG_ERROR_INVALID;
+    /* The scene is prepared (ggTracePixel did it), so this cannot fail. */
+    ggSceneGetInfo(v->scene, &in);
     reach = sqrt(pow(in.hi.x - in.lo.x, 2) + pow(in.hi.y - in.lo.y, 2) + pow(in.hi.z - in.lo.z, 2));
     if (!isfinite(reach) || reach <= 0) reach = 1;
     /* Top view looks down the world axis closest to the camera's up; the
@@ -297,10 +309,10 @@ int trace_print_svg(FILE *f, const trace_view *v, int camera)
             "font-family='sans-serif'>\n",
             (camera ? 3 : 2) * PANEL + (camera ? 40 : 30), PANEL + 90);
     fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
-    fprintf(f,
-            "<text x='10' y='24' font-size='15' fill='#111'>ggrt trace %s --pixel %d,%d: "
-            "colour %.4f %.4f %.4f, %zu rays</text>\n",
-            v->path, v->x, v->y, v->pixel.r, v->pixel.g, v->pixel.b, ggTraceNodeCount(v->trace));
+    fprintf(f, "<text x='10' y='24' font-size='15' fill='#111'>ggrt trace ");
+    xml_text(f, v->path);
+    fprintf(f, " --pixel %d,%d: colour %.4f %.4f %.4f, %zu rays</text>\n", v->x, v->y, v->pixel.r,
+            v->pixel.g, v->pixel.b, ggTraceNodeCount(v->trace));
     panel(f, v, &top, "top view", reach);
     panel(f, v, &side, "side view", reach);
     if (camera) camera_panel(f, v, 30 + 2 * PANEL, 40);
@@ -326,41 +338,14 @@ int trace_print_svg(FILE *f, const trace_view *v, int camera)
                 y, y, y + 4);
     }
     fprintf(f, "</svg>\n");
-    return GG_OK;
 }
 
-int trace_write_svg(const char *path, const trace_view *v, ggError *err)
-{
-    ggSceneInfo in;
-    FILE *f;
-    int rc;
-    if (ggSceneGetInfo(v->scene, &in) != GG_OK) {
-        if (err) snprintf(err->message, sizeof err->message, "%s: scene not prepared", path);
-        return GG_ERROR_INVALID;
-    }
-    f = fopen(path, "w");
-    if (!f) {
-        if (err) snprintf(err->message, sizeof err->message, "%s: cannot create the SVG", path);
-        return GG_ERROR_IO;
-    }
-    rc = trace_print_svg(f, v, 1);
-    if (fclose(f) != 0 || rc != GG_OK) {
-        if (err) snprintf(err->message, sizeof err->message, "%s: write error", path);
-        return GG_ERROR_IO;
-    }
-    return GG_OK;
-}
+void trace_write_svg(FILE *f, const trace_view *v) { trace_write_svg_views(f, v, 1); }
 
-int trace_write_obj(const char *path, const trace_view *v, ggError *err)
+void trace_write_obj(FILE *f, const trace_view *v)
 {
-    FILE *f = fopen(path, "w");
     size_t i, n = ggTraceNodeCount(v->trace);
     int vert = 0, l;
-    if (!f) {
-        if (err)
-            snprintf(err->message, sizeof err->message, "%s: cannot create the OBJ file", path);
-        return GG_ERROR_IO;
-    }
     fprintf(f, "# ggrt trace %s --pixel %d,%d: one line object per ray\n", v->path, v->x, v->y);
     for (i = 0; i < n; i++) {
         const ggTraceNode *nd = ggTraceGetNode(v->trace, i);
@@ -380,9 +365,4 @@ int trace_write_obj(const char *path, const trace_view *v, ggError *err)
             vert += 2;
         }
     }
-    if (fclose(f) != 0) {
-        if (err) snprintf(err->message, sizeof err->message, "%s: write error", path);
-        return GG_ERROR_IO;
-    }
-    return GG_OK;
 }

@@ -1,61 +1,197 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** util.c -- helpers shared by the subcommands.
+** util.c -- helpers shared by the subcommands: exit codes, the clock,
+** output files, shell quoting, cancellation by signals, stdout.
 */
 #include "cli.h"
 
 #include <errno.h>
-#include <math.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
-int cli_exit_code(int status)
+int cli_exit_code(int status, int from_args)
 {
     switch (status) {
-    case GG_OK: return EXIT_OK;
-    case GG_ERROR_IO: return EXIT_IO;
-    case GG_ERROR_INVALID: return EXIT_USAGE;
-    default: return EXIT_INPUT;
+    case GG_OK:
+        return EXIT_OK;
+    case GG_ERROR_IO:
+        return EXIT_IO;
+    case GG_ERROR_INVALID:
+        return from_args ? EXIT_USAGE : EXIT_INPUT;
+    default:
+        return EXIT_INPUT;
     }
 }
 
-int cli_parse_double(const char *s, double *d)
+int cli_fail(int status, const ggError *err, int from_args)
 {
-    char *end;
-    errno = 0;
-    *d = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !isfinite(*d)) return -1;
+    fprintf(stderr, "ggrt: %s\n", err && err->message[0] ? err->message : ggStatusString(status));
+    return cli_exit_code(status, from_args);
+}
+
+double cli_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- output files ---- */
+
+int cli_check_output(const char *cmd, const char *path)
+{
+    struct stat st;
+    const char *why = NULL;
+    if (lstat(path, &st) != 0) {
+        if (errno == ENOENT) return 0; /* a new file: the writer reports a missing folder */
+        fprintf(stderr, "ggrt %s: cannot write '%s': %s\n", cmd, path, strerror(errno));
+        return EXIT_IO;
+    }
+    /* The writers replace the file whole (a new file renamed over it), so
+       a link would be replaced by a file and a device by an image. */
+    if (S_ISLNK(st.st_mode))
+        why = "it is a symbolic link, which ggrt would replace by a file (give the path of the "
+              "file it points to)";
+    else if (S_ISDIR(st.st_mode))
+        why = "it is a directory (give a file name)";
+    else if (!S_ISREG(st.st_mode))
+        why = "it is not a regular file (a device, FIFO or socket)";
+    else if (!(st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)))
+        why = "the file is read-only (make it writable or remove it first)";
+    else if (access(path, W_OK) != 0)
+        why = strerror(errno);
+    if (!why) return 0;
+    fprintf(stderr, "ggrt %s: refusing to write '%s': %s\n", cmd, path, why);
+    return EXIT_IO;
+}
+
+int cli_out_open(cli_out *o, const char *cmd, const char *path)
+{
+    int fd, rc;
+    memset(o, 0, sizeof *o);
+    if ((rc = cli_check_output(cmd, path)) != 0) return rc;
+    if (strlen(path) >= sizeof o->path) {
+        fprintf(stderr, "ggrt %s: '%s': file name too long\n", cmd, path);
+        return EXIT_IO;
+    }
+    strcpy(o->path, path);
+    snprintf(o->tmp, sizeof o->tmp, "%s.tmp%ld", path, (long)getpid());
+    fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
+    if (fd < 0 || !(o->f = fdopen(fd, "w"))) {
+        fprintf(stderr, "ggrt %s: %s: cannot create a temporary file beside it: %s\n", cmd, path,
+                strerror(errno));
+        if (fd >= 0) close(fd), unlink(o->tmp);
+        return EXIT_IO;
+    }
     return 0;
 }
 
-int cli_parse_int(const char *s, long lo, long hi, int *out)
+int cli_out_close(cli_out *o, const char *cmd)
 {
-    char *end;
-    long v;
-    errno = 0;
-    v = strtol(s, &end, 10);
-    if (end == s || *end != '\0' || errno == ERANGE || v < lo || v > hi) return -1;
-    *out = (int)v;
-    return 0;
+    int bad = fflush(o->f) != 0 || ferror(o->f), e = errno;
+    if (!bad && fsync(fileno(o->f)) != 0) bad = 1, e = errno;
+    if (fclose(o->f) != 0 && !bad) bad = 1, e = errno;
+    o->f = NULL;
+    if (!bad && rename(o->tmp, o->path) != 0) bad = 1, e = errno;
+    if (!bad) return 0;
+    unlink(o->tmp);
+    fprintf(stderr, "ggrt %s: %s: %s\n", cmd, o->path, e ? strerror(e) : "write error");
+    return EXIT_IO;
 }
 
-int cli_parse_vec3(const char *s, ggVec3 *v)
+/* ---- shell quoting ---- */
+
+void cli_print_arg(FILE *f, const char *a)
 {
-    char *end;
-    double c[3];
+    const char *p;
+    int plain = *a != '\0';
+    for (p = a; *p && plain; p++)
+        plain = strchr("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_-+./,:=@%",
+                       *p) != NULL;
+    if (plain) {
+        fprintf(f, " %s", a);
+        return;
+    }
+    fputs(" '", f);
+    for (p = a; *p; p++)
+        if (*p == '\'')
+            fputs("'\\''", f);
+        else
+            fputc(*p, f);
+    fputc('\'', f);
+}
+
+/* ---- cancellation ---- */
+
+static volatile sig_atomic_t got_signal;
+static const int cancel_signals[] = {SIGINT, SIGTERM, SIGHUP};
+#define NCANCEL (int)(sizeof cancel_signals / sizeof cancel_signals[0])
+
+static void on_signal(int signo)
+{
+    got_signal = signo;
+}
+
+void cli_cancel_begin(void)
+{
     int i;
-    for (i = 0; i < 3; i++) {
-        errno = 0;
-        c[i] = strtod(s, &end);
-        if (end == s || errno == ERANGE || !isfinite(c[i])) return -1;
-        if (i < 2) {
-            if (*end != ',') return -1;
-            s = end + 1;
-        }
+    for (i = 0; i < NCANCEL; i++) {
+        struct sigaction sa, old;
+        /* A signal ignored at start (nohup, a background job of a
+           non-interactive shell) stays ignored. */
+        if (sigaction(cancel_signals[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_signal;
+        sigemptyset(&sa.sa_mask);
+        sigaction(cancel_signals[i], &sa, NULL);
     }
-    if (*end != '\0') return -1;
-    v->x = c[0], v->y = c[1], v->z = c[2];
-    return 0;
 }
 
-int cli_is_help(const char *a) { return strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0; }
+int cli_cancelled(void)
+{
+    return (int)got_signal;
+}
+
+static void mask(int how)
+{
+    sigset_t set;
+    int i;
+    sigemptyset(&set);
+    for (i = 0; i < NCANCEL; i++) sigaddset(&set, cancel_signals[i]);
+    sigprocmask(how, &set, NULL);
+}
+
+void cli_cancel_hold(void)
+{
+    mask(SIG_BLOCK);
+}
+void cli_cancel_release(void)
+{
+    mask(SIG_UNBLOCK);
+}
+
+void cli_cancel_exit(int signo)
+{
+    signal(signo, SIG_DFL);
+    cli_cancel_release();
+    raise(signo);
+    exit(128 + signo); /* not reached unless the signal is blocked elsewhere */
+}
+
+/* ---- stdout ---- */
+
+int cli_close_stdout(void)
+{
+    int bad = ferror(stdout), e = 0;
+    if (fflush(stdout) != 0) bad = 1, e = errno;
+    if (fclose(stdout) != 0 && !bad) bad = 1, e = errno;
+    if (!bad) return 0;
+    fprintf(stderr, "ggrt: error writing standard output%s%s\n", e ? ": " : "",
+            e ? strerror(e) : "");
+    return EXIT_IO;
+}

@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** ray_color.c -- evaluate ggRayColor for one ray, and look at what it hit.
-**   cc ray_color.c $(pkg-config --cflags --libs ggrt) -o ray_color && ./ray_color
+**   cc -o ray_color ray_color.c $(pkg-config --cflags --libs ggrt) -lm && ./ray_color
+** (-lm for the program's own acos: libggrt's libm is not the program's.)
 */
 #include <ggrt.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -21,6 +23,7 @@ int main(void)
     ggHit hit;
     ggColor c;
     ggRayStats st;
+    double cosine;
 
     if (!scene) return 1;
     if (ggSceneLoadString(scene, nff, strlen(nff), "inline.nff", &err) != GG_OK ||
@@ -41,10 +44,16 @@ int main(void)
     printf("hit %s %d at t = %g, point (%g, %g, %g), normal (%g, %g, %g)\n",
            ggShapeKindName(hit.kind), hit.object, hit.t, hit.p.x, hit.p.y, hit.p.z, hit.ng.x,
            hit.ng.y, hit.ng.z);
+    /* The angle between the ray and the normal, by the program's own libm. */
+    cosine = -(ray.d.x * hit.ng.x + ray.d.y * hit.ng.y + ray.d.z * hit.ng.z) /
+             sqrt(hit.ng.x * hit.ng.x + hit.ng.y * hit.ng.y + hit.ng.z * hit.ng.z);
+    printf("angle of incidence %.3f degrees\n", acos(cosine) * 180 / 3.14159265358979323846);
     printf("colour %.4f %.4f %.4f from %llu eye, %llu reflect and %llu shadow rays\n", c.r, c.g,
            c.b, (unsigned long long)st.eye, (unsigned long long)st.reflect,
            (unsigned long long)st.shadow);
     ggSceneFree(scene);
     /* The lit top of the orange sphere: red above green above blue. */
-    return hit.t > 3.999 && hit.t < 4.001 && c.r > c.g && c.g > c.b ? 0 : 1;
+    if (!(hit.t > 3.999 && hit.t < 4.001 && c.r > c.g && c.g > c.b)) return 1;
+    /* Straight down onto the top: normal incidence. */
+    return fabs(cosine - 1) < 1e-12 ? 0 : 1;
 }

@@ -1,22 +1,69 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# Install the Debian packages ggrt needs that this machine lacks, and nothing
-# else. Safe to run again: with everything present it only checks.
-#   GG_NO_DEPS=1  skip (for machines managed some other way)
+# Install the Debian packages that a make target needs and this machine
+# lacks, and nothing else. Safe to run again: with everything present it only
+# checks.
+#   sh scripts/deps.sh GROUP...     (make demo: demo; make check: check; ...)
+#   sh scripts/deps.sh --list GROUP print the group's packages and exit
+#   GG_NO_DEPS=1                    skip (for machines managed some other way)
 set -e
+
+# The groups: a name, a colon and its packages; "@name" includes another
+# group. To add a package, put it in the group of the target that needs it
+# (a package only one test needs goes in check, not in build). The compiler
+# and make are assumed (build-essential).
+groups() {
+  cat <<'GROUPS'
+build:   pkg-config libpng-dev libopenexr-dev
+demo:    @build
+check:   @build libcmocka-dev python3
+fuzz:    @build clang
+serve:   libmicrohttpd-dev
+browser: chromium chromium-driver python3-selenium
+GROUPS
+}
+# serve: ggrt serve (cli/serve*.c) links libmicrohttpd when pkg-config finds
+#   it; without it the rest of ggrt builds and `ggrt serve` says what to
+#   install. browser: tests/browser* drive Chromium through Selenium.
+
+# expand GROUP: its packages, includes resolved (at most 8 levels deep).
+expand() {
+  depth=${2:-0}
+  [ "$depth" -lt 8 ] || { echo "deps: group '$1' includes itself" >&2; exit 1; }
+  line=$(groups | sed -n "s/^$1:[[:space:]]*//p")
+  [ -n "$line" ] || { echo "deps: no group '$1' (groups: $(groups | cut -d: -f1 | tr '\n' ' '))" >&2; exit 1; }
+  for w in $line; do
+    case $w in
+      @*) expand "${w#@}" $((depth + 1)) ;;
+      *) echo "$w" ;;
+    esac
+  done
+}
+
+list=0
+[ "${1:-}" = --list ] && { list=1; shift; }
+[ $# -gt 0 ] || set -- check
+for g in "$@"; do
+  groups | grep -q "^$g:" ||
+    { echo "deps: no group '$g' (groups: $(groups | cut -d: -f1 | tr '\n' ' '))" >&2; exit 1; }
+done
+pkgs=$(for g in "$@"; do expand "$g"; done | awk '!seen[$0]++' | tr '\n' ' ')
+if [ $list = 1 ]; then echo "$pkgs"; exit 0; fi
 [ "${GG_NO_DEPS:-0}" = 1 ] && exit 0
 
-PKGS="libpng-dev libopenexr-dev libcmocka-dev pkg-config clang python3"
-
+if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
+  echo "deps: not a Debian-like system; make sure these (Debian names) are installed: $pkgs" >&2
+  exit 0
+fi
 missing=""
-for p in $PKGS; do
+for p in $pkgs; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed"; then
     missing="$missing $p"
   fi
 done
 [ -z "$missing" ] && exit 0
 
-echo "deps: installing$missing"
+echo "deps ($*): installing$missing"
 if [ "$(id -u)" = 0 ]; then
   SUDO=""
 elif command -v sudo >/dev/null 2>&1; then

@@ -3,9 +3,9 @@
 # Render the seven SPD scenes at 160x160 with ggrt and with POV-Ray 3.7 into
 # docs/spd/, then compose docs/spd-compare.png. ggrt writes with --no-srgb,
 # storing values as POV-Ray does, so tones compare directly.
-#   sh scripts/spd-thumbs.sh [build/ggrt] [../shared/scenes/spd-pov]
+#   sh scripts/spd-thumbs.sh [build/ggrt] [examples/scenes/spd-pov]
 set -e
-ggrt=${1:-build/ggrt}; pov=${2:-../shared/scenes/spd-pov}
+ggrt=${1:-build/ggrt}; pov=${2:-examples/scenes/spd-pov}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 mkdir -p docs/spd
 cp "$pov/spd_globals.inc" "$tmp/"

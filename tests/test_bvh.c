@@ -84,13 +84,20 @@ static gg_geom *random_scene(tu_rng *r, int n, int kinds)
             p[2] = vadd(c, rvec(r, -s, s));
             id = gg_geom_add_triangle(g, p, NULL, i);
             break;
-        case 2:
-            id = gg_geom_add_cone(g, c, s * tu_range(r, 0, 0.5), vadd(c, rvec(r, -s, s)),
-                                  tu_uniform(r) < 0.3 ? 0.2 * s : s * tu_range(r, 0, 0.5), i);
+        case 2: {
+            /* One draw per statement: the order in which a call's
+               arguments are evaluated is unspecified, and the scene must
+               not depend on the compiler (this is the order GCC took). */
+            double ra = tu_uniform(r) < 0.3 ? 0.2 * s : s * tu_range(r, 0, 0.5);
+            ggVec3 apex = vadd(c, rvec(r, -s, s));
+            id = gg_geom_add_cone(g, c, s * tu_range(r, 0, 0.5), apex, ra, i);
             break;
-        case 3:
-            id = gg_geom_add_rect(g, c, rvec(r, -s, s), rvec(r, -s, s), i);
+        }
+        case 3: {
+            ggVec3 e2 = rvec(r, -s, s), e1 = rvec(r, -s, s);
+            id = gg_geom_add_rect(g, c, e1, e2, i);
             break;
+        }
         default:
             id = add_star(g, r, c, s, 3 + (int)(tu_next(r) % 8));
             break;
@@ -105,9 +112,10 @@ static gg_geom *random_scene(tu_rng *r, int n, int kinds)
    direction components), some starting exactly on a box plane. */
 static void random_ray(tu_rng *r, gg_rayq *q)
 {
-    double u = tu_uniform(r);
+    double u = tu_uniform(r), len;
     q->o = rvec(r, -14, 14);
-    q->d = vscale(tu_unit(r), tu_range(r, 0.1, 3));
+    len = tu_range(r, 0.1, 3); /* before the direction, as above */
+    q->d = vscale(tu_unit(r), len);
     if (u < 0.1) q->d.x = 0;
     if (u < 0.05) q->d.y = 0;
     if (u > 0.95) q->o.x = 10; /* on a plane of the scene box */
@@ -513,7 +521,7 @@ static void test_float_bounds(void **state)
     assert_true(f_down(-0.0) == -0x1p-149f);
     assert_true(f_up(0.0) == 0x1p-149f);
     for (i = 0; i < 100000; i++) {
-        double x = tu_range(&r, -1, 1) * pow(2, tu_range(&r, -140, 120));
+        double e = tu_range(&r, -140, 120), x = tu_range(&r, -1, 1) * pow(2, e);
         float lo = f_down(x), hi = f_up(x);
         assert_true((double)lo < x && (double)hi > x);
         assert_true(f_next_up(lo) <= (float)x && f_next_down(hi) >= (float)x);
@@ -666,10 +674,11 @@ static void test_spd_scenes(void **state)
         c = vscale(vadd(lo, hi), 0.5);
         for (i = 0; i < RAYS(100000); i++) {
             gg_rayq q;
-            /* origins in the scene box grown by half, random directions */
-            q.o = V3(c.x + (hi.x - lo.x) * tu_range(&r, -0.75, 0.75),
-                     c.y + (hi.y - lo.y) * tu_range(&r, -0.75, 0.75),
-                     c.z + (hi.z - lo.z) * tu_range(&r, -0.75, 0.75));
+            /* origins in the scene box grown by half, random directions
+               (drawn z, y, x: one order for every compiler) */
+            double fz = tu_range(&r, -0.75, 0.75), fy = tu_range(&r, -0.75, 0.75);
+            double fx = tu_range(&r, -0.75, 0.75);
+            q.o = V3(c.x + (hi.x - lo.x) * fx, c.y + (hi.y - lo.y) * fy, c.z + (hi.z - lo.z) * fz);
             q.d = tu_unit(&r);
             q.tmin = 0;
             q.tmax = i % 4 == 0 ? tu_range(&r, 0, hi.x - lo.x) : INFINITY;

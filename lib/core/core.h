@@ -7,21 +7,12 @@
 #ifndef GG_CORE_H
 #define GG_CORE_H
 
+#include "compiler.h"
 #include "ggrt.h"
 
 #include <stdarg.h>
 
 #define GG_PI 3.14159265358979323846
-
-#if defined(__GNUC__)
-#define GG_PRINTF(a, b) __attribute__((format(printf, a, b)))
-#define GG_LIKELY(x)    __builtin_expect(!!(x), 1)
-#define GG_UNLIKELY(x)  __builtin_expect(!!(x), 0)
-#else
-#define GG_PRINTF(a, b)
-#define GG_LIKELY(x)   (x)
-#define GG_UNLIKELY(x) (x)
-#endif
 
 /* Fill *err (if not NULL) and return code. */
 int gg_error_set(ggError *err, int code, const char *fmt, ...) GG_PRINTF(3, 4);

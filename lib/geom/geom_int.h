@@ -31,12 +31,6 @@ static inline double gg_gamma(int n)
     return n * GG_U / (1 - n * GG_U);
 }
 
-#if defined(__GNUC__)
-#define GG_INLINE static inline __attribute__((always_inline))
-#else
-#define GG_INLINE static inline
-#endif
-
 /* The next double toward -inf / +inf (nextafter without the libm call;
    NaN and infinities pass through). */
 static inline double gg_next_down(double x)

@@ -1,19 +1,45 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** shade.c -- rayColor: the lecture notes' pseudocode made right.
+** shade.c -- the colour of a ray: Whitted's illumination model (T. Whitted,
+** "An Improved Illumination Model for Shaded Display", CACM 23(6), 1980),
+** with Phong highlights, Fresnel weights and absorption:
 **
 **   colour = ke + kd C ambient + sum over lights of (kd C (N.L) + ks (R.V)^shine) light
 **            + ks' reflection + kt' refraction
 **
-** where ks' and kt' are ks and kt, or Fresnel-weighted, and the direct term
-** is ADDED (the notes' draft assigned it). Recursion stops at the depth
-** limit; on total internal reflection the transmitted share reflects.
+** where ks' and kt' are ks and kt, or Fresnel-weighted. shade_hit is that
+** sum, one helper per term: emission_ambient, direct_light (a shadow ray
+** per light), then the secondary rays, transmission before the mirror ray
+** because total internal reflection and the Fresnel split add to the
+** mirror ray's weight. Recursion stops at the depth limit or when the
+** eye ray's tree has used its ray budget.
 **
-** The body is written once (shade_hit) and compiled twice with the effect
-** set as a compile-time constant: the basic path for opaque scenes, where
-** every refraction/absorption/dispersion branch is dead code, and the
-** full path. Which one runs is decided per render from the scene's effect
-** set, so an opaque diffuse scene never pays for refraction.
+** Specialisation. trace_fx and everything it inlines take the effect set
+** FX as a compile-time constant and are compiled three times: FX_BASIC
+** for scenes that need none of refraction, absorption, dispersion,
+** Fresnel or coloured shadows (their branches are then dead code),
+** FX_FULL, and FX_REC, the full path that also records the ray tree. Which
+** one runs is decided per ray tree (trace_root) from the scene's effects.
+** docs/performance.md has what the basic path saves.
+**
+** Recorder hooks. Everything the recorder stores goes through the rec_*
+** functions below. Each takes FX and starts with `if (!(FX & FX_RECORD))
+** return`, so in the basic and full paths it compiles to nothing; in the
+** recording path it sees all that the shading computed at that point:
+**   rec_ray        a ray is about to be cast: its ray_state
+**   rec_hit        its closest hit: hit_info (the query, gg_hit with the
+**                  barycentrics b1, b2, gg_surf with p, normals and the
+**                  error bound perr, the origin o_out of rays leaving it)
+**   rec_light      one light is considered at the hit
+**   rec_shadow     its shadow ray and verdict: shadow_ray
+**   rec_light_terms  the diffuse and Phong terms it gave
+**   rec_refract    one transmitted channel: indices ni -> nt, |cos| of
+**                  incidence, whether it refracted (else TIR), Fresnel F
+**   rec_child      a child ray has returned: the child's ray_state, weight
+**   rec_stop       why a ray spawned no (more) children
+**   rec_ray_end    the ray's colour and absorption
+** Per-hit diagnostics (docs/internals.md, "Recorder hooks") belong in these
+** functions and nowhere else in the shading.
 */
 #include "shade.h"
 #include "refract_unit.h"
@@ -24,8 +50,8 @@
 #include <math.h>
 #include <string.h>
 
-#define FX_BASIC                                                                                 \
-    (GG_EFFECT_SHADOWS | GG_EFFECT_REFLECTION | GG_EFFECT_PHONG | GG_EFFECT_EMISSION |           \
+#define FX_BASIC                                                                                   \
+    (GG_EFFECT_SHADOWS | GG_EFFECT_REFLECTION | GG_EFFECT_PHONG | GG_EFFECT_EMISSION |             \
      GG_EFFECT_TEXTURES | GG_EFFECT_IMPLICIT | GG_EFFECT_SUPERSAMPLING)
 #define FX_FULL GG_EFFECT_ALL
 /* Not an effect: the path that also records the ray tree (trace.h). */
@@ -35,12 +61,6 @@
 /* Shadow rays through transparent occluders give up after this many
    surfaces (the light is then taken as blocked). */
 #define GG_MAX_SHADOW_STEPS 64
-
-#if defined(__GNUC__)
-#define GG_INLINE static inline __attribute__((always_inline))
-#else
-#define GG_INLINE static inline
-#endif
 
 /* A ray in flight. channel < 0 carries all of R, G, B; 0..2 carries one
    wavelength after a dispersive surface split the ray. */
@@ -52,9 +72,42 @@ typedef struct ray_state {
     int channel;
     gg_media media;
     double weight; /* this ray's weight in the pixel (largest channel) */
-    int kind;   /* GG_RAY_*, recorded only */
-    int parent; /* parent node, recorded only */
+    int kind;      /* GG_RAY_*, recorded only */
+    int parent;    /* parent node, recorded only */
 } ray_state;
+
+/* What shading knows about one hit (hit_setup fills it). */
+typedef struct hit_info {
+    const gg_rayq *q; /* the query that found it */
+    const gg_hit *h;
+    int32_t obj;
+    int mi; /* material index */
+    const ggMaterial *m;
+    const gg_mat_fast *mf;
+    uint32_t leave; /* the primitive that rays leaving the hit skip (leave_prim) */
+    gg_surf sf;     /* point, normals as the shape defines them, (u, v), perr */
+    ggVec3 ng, ns;  /* geometric and shading normal, facing the incoming ray */
+    int front;      /* the ray arrived against sf.ng */
+    ggVec3 o_out;   /* origin of every ray that leaves to the incoming side */
+    ggColor kdc;    /* kd times the surface colour (texture included) */
+} hit_info;
+
+/* One shadow ray and what it found. */
+typedef struct shadow_ray {
+    ggVec3 o, d; /* origin and d = light - o: the light is at t = 1 */
+    ggColor lc;  /* the light's colour times what got through */
+    int verdict; /* GG_SHADOW_* */
+    int occ;     /* the blocking (or first attenuating) object, or -1 */
+    double tb;   /* where it was met (ray parameter), else 1 */
+} shadow_ray;
+
+/* A hit's secondary rays, as the terms decide them. */
+typedef struct secondary {
+    ggColor wr;   /* weight of the mirror ray */
+    int reflect;  /* whether it is cast */
+    int tir;      /* it carries a totally internally reflected share */
+    double cos_i; /* |cos| of the angle of incidence on ns */
+} secondary;
 
 /* known: the ray's closest hit when the caller has already asked the
    geometry (eye rays from the renderer's tile loop), else NULL. */
@@ -67,14 +120,14 @@ static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_th
    GG_NO_RECORDER builds the library without the recording path, only to
    measure what having it costs (make bench-trace). */
 #ifdef GG_NO_RECORDER
-#define TRACE_CHILD(FX, c, r, th)                                                               \
+#define TRACE_CHILD(FX, c, r, th)                                                                  \
     ((FX) == FX_BASIC ? trace_basic(c, r, th, NULL) : trace_full(c, r, th, NULL))
 #else
 static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                          const gg_hit *known);
-#define TRACE_CHILD(FX, c, r, th)                                                               \
-    ((FX) == FX_BASIC   ? trace_basic(c, r, th, NULL)                                           \
-     : (FX) == FX_FULL ? trace_full(c, r, th, NULL)                                             \
+#define TRACE_CHILD(FX, c, r, th)                                                                  \
+    ((FX) == FX_BASIC  ? trace_basic(c, r, th, NULL)                                               \
+     : (FX) == FX_FULL ? trace_full(c, r, th, NULL)                                                \
                        : trace_rec(c, r, th, NULL))
 #endif
 
@@ -85,13 +138,17 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
     ctx->max_depth = max_depth;
     ctx->fx = s->effects | force;
     ctx->spd_rules = spd_rules;
-    if (acc) ctx->acc = *acc;
-    else memset(&ctx->acc, 0, sizeof ctx->acc);
+    if (acc)
+        ctx->acc = *acc;
+    else
+        memset(&ctx->acc, 0, sizeof ctx->acc);
     /* A Fresnel override on a transmitter needs the Fresnel code. */
     if (ctx->acc.fresnel >= GG_ACC_FRESNEL_SCHLICK && (s->effects & GG_EFFECT_REFRACTION))
         ctx->fx |= GG_EFFECT_FRESNEL;
     ctx->rec = NULL;
 }
+
+/* ---- small pieces ---- */
 
 /* Origin of a ray leaving sf in direction d, as the offset knob says. The
    fixed variant is the textbook one: one epsilon and nothing else (it also
@@ -123,8 +180,10 @@ static double media_index(const ggScene *s, const gg_media *m, int channel)
 static double mat_index(const ggScene *s, int mat, int channel)
 {
     const gg_mat_fast *f = &s->mfast[mat];
-    return channel == 0 ? f->n_r : channel == 2 ? f->n_b : channel == 1 ? f->n_g
-                                                                         : s->materials[mat].ior;
+    return channel == 0   ? f->n_r
+           : channel == 2 ? f->n_b
+           : channel == 1 ? f->n_g
+                          : s->materials[mat].ior;
 }
 
 /* Remove material mat from the stack (the innermost occurrence). */
@@ -152,6 +211,15 @@ static void media_enter(gg_media *m, int mat)
     if (m->n < GG_MAX_MEDIA) m->mat[m->n++] = mat;
 }
 
+/* Crossing the surface of material mat: into it, or out of it. */
+static void media_cross(gg_media *m, int mat)
+{
+    if (!media_has(m, mat))
+        media_enter(m, mat);
+    else
+        media_exit(m, mat);
+}
+
 /* Beer-Lambert over `dist` in the innermost medium. */
 static ggColor media_transmittance(const ggScene *s, const gg_media *m, double dist)
 {
@@ -174,14 +242,214 @@ static gg_rayq make_q(ggVec3 o, ggVec3 d, double tmax, uint32_t ignore, unsigned
 /* r = v - 2 n (v.n) for unit n, in plain double: the hot-path twin of
    ggReflection, which spends double-double arithmetic to be exact for any
    input. With unit vectors the plain formula is within a few ulp. */
-static inline ggVec3 reflect(ggVec3 v, ggVec3 n) { return v3madd(v, n, -2 * v3dot(v, n)); }
+static inline ggVec3 reflect(ggVec3 v, ggVec3 n)
+{
+    return v3madd(v, n, -2 * v3dot(v, n));
+}
 
+/* Rays leaving a planar primitive cannot meet it again: they skip it
+   outright. Curved ones (a sphere's far side, a torus shadowing itself)
+   must stay in; the origin offset keeps them robust. */
 static uint32_t leave_prim(const ggScene *s, uint32_t prim)
 {
     int k = gg_geom_prim_kind(s->geom, prim);
     return k == GG_SHAPE_TRIANGLE || k == GG_SHAPE_POLYGON || k == GG_SHAPE_RECT ? prim
                                                                                  : UINT32_MAX;
 }
+
+/* Add w to channel ch of a colour (split: a dispersed ray), or to all three. */
+static void add_share(ggColor *col, int split, int ch, double w)
+{
+    if (!split)
+        *col = cadd(*col, rgb(w, w, w));
+    else if (ch == 0)
+        col->r += w;
+    else if (ch == 1)
+        col->g += w;
+    else
+        col->b += w;
+}
+
+/* Weight of a child in one channel only (a dispersed ray). */
+static ggColor channel_weight(int ch, double w)
+{
+    return rgb(ch == 0 ? w : 0, ch == 1 ? w : 0, ch == 2 ? w : 0);
+}
+
+/* A secondary ray of r leaving hit hi from o along d. */
+static void child_ray(ray_state *child, const ray_state *r, int node, ggVec3 o, ggVec3 d, int kind,
+                      double weight)
+{
+    child->o = o;
+    child->d = d;
+    child->depth = r->depth + 1;
+    child->kind = kind;
+    child->weight = weight;
+    child->parent = node;
+}
+
+/* ---- recorder hooks (see the top of the file) ---- */
+
+GG_INLINE int rec_ray(const gg_shade_ctx *c, const ray_state *r, const unsigned FX)
+{
+    ggTraceNode *N;
+    int node;
+    if (!(FX & FX_RECORD) || (node = gg_trace_add_node(c->rec)) < 0) return -1;
+    N = &c->rec->nodes[node];
+    N->parent = r->parent, N->kind = r->kind, N->depth = r->depth;
+    N->channel = r->channel, N->sample = c->rec->sample, N->o = r->o, N->d = r->d;
+    N->medium = r->media.n ? r->media.mat[r->media.n - 1] : -1;
+    N->n_medium = media_index(c->s, &r->media, r->channel);
+    N->object = N->shape = N->material = -1;
+    N->fresnel = -1;
+    N->weight = rgb(1, 1, 1);
+    return node;
+}
+
+GG_INLINE void rec_hit(const gg_shade_ctx *c, int node, const hit_info *hi, const unsigned FX)
+{
+    const ggScene *s = c->s;
+    ggTraceNode *N;
+    if (!(FX & FX_RECORD) || node < 0) return;
+    N = &c->rec->nodes[node];
+    N->hit = true;
+    N->object = hi->obj, N->shape = s->objects[hi->obj].kind, N->material = hi->mi;
+    N->line = s->objects[hi->obj].line;
+    N->t = hi->h->t, N->p = hi->sf.p, N->ng = hi->sf.ng, N->ns = hi->sf.ns, N->front = hi->front;
+    N->u = hi->sf.u, N->v = hi->sf.v;
+    N->surface = gg_scene_surface_color(s, hi->mi, hi->sf.u, hi->sf.v, c->acc.texture);
+    N->ambient = cmul(hi->kdc, s->ambient);
+    N->emission = (hi->mf->flags & GG_MF_EMIT) ? hi->m->ke : rgb(0, 0, 0);
+    N->first_light = (int)c->rec->nlights;
+    N->n_other = N->n_medium;
+}
+
+/* A light record for light li at node's hit, facing away until the
+   shadow ray says otherwise; its index, or -1. */
+GG_INLINE int rec_light(const gg_shade_ctx *c, int node, size_t li, const unsigned FX)
+{
+    ggTraceLight *R;
+    int lr;
+    if (!(FX & FX_RECORD) || node < 0 || (lr = gg_trace_add_light(c->rec)) < 0) return -1;
+    c->rec->nodes[node].nlights++;
+    R = &c->rec->lights[lr];
+    R->light = (int)li;
+    R->verdict = GG_SHADOW_FACING_AWAY;
+    R->occluder = -1;
+    R->t_block = 1;
+    return lr;
+}
+
+GG_INLINE void rec_shadow(const gg_shade_ctx *c, int lr, size_t li, const shadow_ray *sh,
+                          const unsigned FX)
+{
+    ggTraceLight *R;
+    ggColor l0;
+    if (!(FX & FX_RECORD) || lr < 0) return;
+    R = &c->rec->lights[lr];
+    l0 = c->s->light_colors[li];
+    R->verdict = sh->verdict, R->occluder = sh->occ, R->origin = sh->o, R->dir = sh->d;
+    R->t_block = sh->tb;
+    /* What got through, relative to the light's own colour. */
+    R->transmittance = sh->verdict == GG_SHADOW_BLOCKED
+                           ? rgb(0, 0, 0)
+                           : rgb(l0.r > 0 ? sh->lc.r / l0.r : 0, l0.g > 0 ? sh->lc.g / l0.g : 0,
+                                 l0.b > 0 ? sh->lc.b / l0.b : 0);
+}
+
+GG_INLINE void rec_light_terms(const gg_shade_ctx *c, int lr, ggColor diff, ggColor ph,
+                               const unsigned FX)
+{
+    if (!(FX & FX_RECORD) || lr < 0) return;
+    c->rec->lights[lr].diffuse = diff, c->rec->lights[lr].phong = ph;
+}
+
+/* One transmitted channel: from index ni into nt at |cos| cos_i; ok = 0
+   is total internal reflection; F is the dielectric Fresnel reflectance
+   when `fresnel` says one was computed. */
+GG_INLINE void rec_refract(const gg_shade_ctx *c, int node, double ni, double nt, double cos_i,
+                           int ok, int fresnel, double F, const unsigned FX)
+{
+    (void)ni, (void)cos_i, (void)ok;
+    if (!(FX & FX_RECORD) || node < 0) return;
+    c->rec->nodes[node].n_other = nt;
+    if (fresnel) c->rec->nodes[node].fresnel = F;
+}
+
+/* The index the next ray's record will get (before tracing a child). */
+GG_INLINE int rec_next(const gg_shade_ctx *c, const unsigned FX)
+{
+    return (FX & FX_RECORD) ? (int)c->rec->nnodes : -1;
+}
+
+/* Child ray `child` (record ci) has returned, with weight w in node's colour. */
+GG_INLINE void rec_child(const gg_shade_ctx *c, int node, int ci, const ray_state *child, ggColor w,
+                         const unsigned FX)
+{
+    ggTraceNode *N;
+    if (!(FX & FX_RECORD) || node < 0) return;
+    N = &c->rec->nodes[node];
+    if (ci >= 0 && (size_t)ci < c->rec->nnodes) c->rec->nodes[ci].weight = w;
+    if (child->kind == GG_RAY_REFRACT)
+        N->refract_weight = cadd(N->refract_weight, w);
+    else
+        N->reflect_weight = w;
+}
+
+GG_INLINE void rec_stop(const gg_shade_ctx *c, int node, int stop, const unsigned FX)
+{
+    if (!(FX & FX_RECORD) || node < 0) return;
+    c->rec->nodes[node].stop = stop;
+}
+
+GG_INLINE void rec_ray_end(const gg_shade_ctx *c, int node, int hit, ggColor att, ggColor col,
+                           const unsigned FX)
+{
+    ggTraceNode *N;
+    if (!(FX & FX_RECORD) || node < 0) return;
+    N = &c->rec->nodes[node];
+    if (!hit) N->stop = GG_STOP_MISS;
+    N->absorption = att;
+    N->color = col;
+}
+
+/* ---- the hit ---- */
+
+GG_INLINE void hit_setup(const gg_shade_ctx *c, const ray_state *r, const gg_rayq *q,
+                         const gg_hit *h, hit_info *hi, const unsigned FX)
+{
+    const ggScene *s = c->s;
+    hi->q = q, hi->h = h;
+    hi->obj = gg_geom_prim_object(s->geom, h->prim);
+    hi->mi = s->objects[hi->obj].material;
+    hi->m = &s->materials[hi->mi];
+    hi->mf = &s->mfast[hi->mi];
+    hi->leave = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h->prim);
+    /* (u, v) costs an atan2 on curved shapes: only for textures and the
+       recorder. */
+    gg_geom_surface_ex(s->geom, q, h, &hi->sf,
+                       ((FX & FX_RECORD) || (hi->mf->flags & GG_MF_TEXTURE)) ? GG_SURF_UV : 0u);
+    /* Normals facing the incoming ray: surfaces are two-sided. */
+    hi->front = v3dot(r->d, hi->sf.ng) < 0;
+    hi->ng = hi->front ? hi->sf.ng : v3neg(hi->sf.ng);
+    hi->ns = hi->front ? hi->sf.ns : v3neg(hi->sf.ns);
+    /* The offset depends only on the side a new ray leaves to: shadow and
+       mirror rays all leave on the incoming side, so share one origin. */
+    hi->o_out = spawn(c, &hi->sf, hi->ng);
+    hi->kdc = hi->mf->kd_color;
+    if ((FX & GG_EFFECT_TEXTURES) && (hi->mf->flags & GG_MF_TEXTURE))
+        hi->kdc = cscale(gg_scene_surface_color(s, hi->mi, hi->sf.u, hi->sf.v, c->acc.texture),
+                         hi->m->kd);
+}
+
+GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, const unsigned FX)
+{
+    ggColor col = cmul(hi->kdc, c->s->ambient);
+    if ((FX & GG_EFFECT_EMISSION) && (hi->mf->flags & GG_MF_EMIT)) col = cadd(col, hi->m->ke);
+    return col;
+}
+
+/* ---- direct light ---- */
 
 /* Light arriving at the shadow origin from a light at parameter 1 along d
    (d = light - o), through transparent occluders: kt per surface crossed
@@ -190,9 +458,9 @@ static uint32_t leave_prim(const ggScene *s, uint32_t prim)
    where (parameter of the original ray). all (if not NULL): the caller
    has found nothing opaque on the segment, and these are its transparent
    crossings (gg_geom_shadow_query_all). */
-static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
-                           const gg_media *start, int *first_obj, double *t_first, int pre,
-                           const gg_hit *pre_hit, const gg_tcol *all)
+GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
+                              const gg_media *start, int *first_obj, double *t_first, int pre,
+                              const gg_hit *pre_hit, const gg_tcol *all)
 {
     const ggScene *s = c->s;
     const ggVec3 light = v3add(o, d);
@@ -224,8 +492,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
             if (*first_obj < 0) *first_obj = obj, *t_first = hi->t;
             tr = cmul(tr, media_transmittance(s, &m, (hi->t - prev) * len));
             tr = cscale(tr, s->materials[mat].kt);
-            if (!media_has(&m, mat)) media_enter(&m, mat);
-            else media_exit(&m, mat);
+            media_cross(&m, mat);
             if (cmaxc(tr) <= 0) return tr;
             prev = hi->t;
         }
@@ -256,8 +523,7 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
         tr = cmul(tr, media_transmittance(s, &m, h.t * len));
         tr = cscale(tr, s->materials[mat].kt);
         gg_geom_surface_ex(s->geom, &q, &h, &sf, 0u);
-        if (!media_has(&m, mat)) media_enter(&m, mat);
-        else media_exit(&m, mat);
+        media_cross(&m, mat);
         if (cmaxc(tr) <= 0) return tr;
         /* Go on from just past this surface towards the light. */
         q.o = spawn(c, &sf, q.d);
@@ -271,322 +537,312 @@ static ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t f
     return rgb(0, 0, 0);
 }
 
-#define CH_ADD(col, ch, x)                                                                       \
-    do {                                                                                         \
-        if ((ch) == 0) (col).r += (x);                                                           \
-        else if ((ch) == 1) (col).g += (x);                                                      \
-        else (col).b += (x);                                                                     \
-    } while (0)
-
-/* Weight of a child in one channel only (a dispersed ray). */
-static ggColor channel_weight(int ch, double w)
+/* The recorder names what blocks a shadow ray, so it asks for the nearest
+   opaque element where the renderer asks whether there is any (the same
+   verdict). Returns 1 when blocked. */
+static int nearest_blocker(const gg_shade_ctx *c, const gg_rayq *sq, shadow_ray *sh)
 {
-    return rgb(ch == 0 ? w : 0, ch == 1 ? w : 0, ch == 2 ? w : 0);
+    gg_hit bh;
+    if (!gg_geom_intersect(c->s->geom, sq, &bh)) return 0;
+    sh->verdict = GG_SHADOW_BLOCKED;
+    sh->occ = gg_geom_prim_object(c->s->geom, bh.prim), sh->tb = bh.t;
+    return 1;
 }
 
-/* The body of rayColor at a hit, specialised by FX at compile time. node
-   is this ray's record (FX_RECORD only). */
+/* A shadow ray in a scene without coloured shadows: anything blocks it,
+   and the medium the hit is in absorbs. */
+GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                             size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
+{
+    const ggScene *s = c->s;
+    const gg_rayq sq = make_q(sh->o, sh->d, 1.0, hi->leave, 0);
+    if (FX & FX_RECORD) {
+        if (nearest_blocker(c, &sq, sh)) return;
+    } else if (gg_geom_occluded_cached(s->geom, &sq, &th->occ[li % GG_OCC_CACHES])) {
+        sh->verdict = GG_SHADOW_BLOCKED;
+        return;
+    }
+    if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0) {
+        ggColor a = media_transmittance(s, &r->media, v3len(sh->d));
+        if (a.r != 1 || a.g != 1 || a.b != 1) sh->verdict = GG_SHADOW_ATTENUATED;
+        sh->lc = cmul(sh->lc, a);
+    }
+}
+
+/* A shadow ray that transparent occluders let through (shadow_walk). One
+   traversal answers whether anything opaque blocks it and, if not, lists
+   its transparent crossings for the walk. */
+GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                              size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
+{
+    const ggScene *s = c->s;
+    const gg_rayq sq = make_q(sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
+    int pre = -1, clear = 0;
+    gg_hit fh = {0};
+    gg_tcol all;
+    ggColor through;
+    if (FX & FX_RECORD) {
+        if (nearest_blocker(c, &sq, sh)) return;
+        /* the renderer's crossings, to walk them the same way */
+        clear = 1;
+        gg_geom_shadow_query_all(s->geom, &sq, &fh, &pre, NULL, &all);
+    } else {
+        /* Leaving a sphere's inner side inwards: when nothing else is
+           inside it, its far side is the walk's first hit and anything
+           opaque lies beyond, for the walk to meet. */
+        if (!hi->front && hi->leave == UINT32_MAX) {
+            gg_rayq iq = make_q(sh->o, sh->d, 1.0, hi->leave, 0);
+            if (gg_geom_intersect_inside(s->geom, &iq, hi->h->prim, &fh) > 0) pre = 1;
+        }
+        if (pre < 0) {
+            if (gg_geom_shadow_query_all(s->geom, &sq, &fh, &pre, &th->occ[li % GG_OCC_CACHES],
+                                         &all)) {
+                sh->verdict = GG_SHADOW_BLOCKED;
+                return;
+            }
+            clear = 1;
+        }
+    }
+    through = shadow_walk(c, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, pre, &fh,
+                          clear ? &all : NULL);
+    if (sh->occ >= 0) sh->verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
+    sh->lc = cmul(sh->lc, through);
+}
+
+/* Diffuse and Phong terms of one light, whose colour lc arrives along unit Lu. */
+GG_INLINE void light_terms(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                           ggColor lc, double nl, ggVec3 Lu, int lr, ggColor *col,
+                           const unsigned FX)
+{
+    ggColor diff = cmul(hi->kdc, cscale(lc, nl)), ph = rgb(0, 0, 0);
+    *col = cadd(*col, diff);
+    if ((FX & GG_EFFECT_PHONG) && (hi->mf->flags & GG_MF_PHONG)) {
+        /* Phong: (R.V)^shine with R the light's mirror direction. */
+        ggVec3 R = reflect(v3neg(Lu), hi->ns);
+        double rv = -v3dot(R, r->d);
+        if (rv > 0) {
+            ph = cscale(lc, hi->m->ks * pow(rv, hi->m->shine));
+            *col = cadd(*col, ph);
+        }
+    }
+    rec_light_terms(c, lr, diff, ph, FX);
+}
+
+/* Direct light: one shadow ray per light the surface faces. */
+GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                            gg_shade_thread *th, int node, ggColor *col, const unsigned FX)
+{
+    const ggScene *s = c->s;
+    size_t li;
+    for (li = 0; li < s->nlights; li++) {
+        const ggVec3 L = v3sub(s->lights[li].pos, hi->sf.p);
+        const int lr = rec_light(c, node, li, FX);
+        shadow_ray sh;
+        ggVec3 Lu;
+        double nl, len;
+        if (v3dot(hi->ng, L) <= 0 || (nl = v3dot(hi->ns, L)) <= 0) continue;
+        len = v3len(L);
+        Lu = v3scale(L, 1.0 / len);
+        nl /= len;
+        th->st.shadow++;
+        sh.o = hi->o_out;
+        sh.d = v3sub(s->lights[li].pos, sh.o);
+        sh.lc = s->light_colors[li];
+        sh.verdict = GG_SHADOW_VISIBLE, sh.occ = -1, sh.tb = 1;
+        if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS))
+            shadow_colored(c, r, hi, li, th, &sh, FX);
+        else
+            shadow_opaque(c, r, hi, li, th, &sh, FX);
+        rec_shadow(c, lr, li, &sh, FX);
+        if (sh.verdict == GG_SHADOW_BLOCKED || cis0(sh.lc)) continue;
+        light_terms(c, r, hi, sh.lc, nl, Lu, lr, col, FX);
+    }
+}
+
+/* ---- secondary rays ---- */
+
+/* The mirror ray's weight before transmission adds to it: ks, or the
+   conductor's Fresnel reflectance. */
+GG_INLINE void mirror_weight(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                             secondary *sc, const unsigned FX)
+{
+    const ggMaterial *m = hi->m;
+    sc->wr = rgb(m->ks, m->ks, m->ks);
+    sc->reflect = (hi->mf->flags & GG_MF_REFLECT) != 0;
+    sc->tir = 0;
+    sc->cos_i = -v3dot(r->d, hi->ns);
+    if (sc->cos_i < 0) sc->cos_i = -sc->cos_i;
+    if ((FX & GG_EFFECT_FRESNEL) && m->fresnel == GG_FRESNEL_CONDUCTOR) {
+        double ni = media_index(c->s, &r->media, r->channel);
+        sc->wr = rgb(ggFresnelConductor(sc->cos_i, ni, m->eta_n.r, m->eta_k.r),
+                     ggFresnelConductor(sc->cos_i, ni, m->eta_n.g, m->eta_k.g),
+                     ggFresnelConductor(sc->cos_i, ni, m->eta_n.b, m->eta_k.b));
+        sc->reflect = 1;
+    }
+}
+
+/* Direction t of the ray v refracted at the hit from index ni into nt, as
+   the refraction knob says; 0 on total internal reflection. */
+GG_INLINE int refract_dir(const gg_shade_ctx *c, ggVec3 v, const hit_info *hi, double ni, double nt,
+                          ggVec3 *t)
+{
+    int ok;
+    /* gg_refract_unit: plain double where refraction is well conditioned,
+       ggRefract elsewhere (lib/optics/refract_unit.h). */
+    if (c->acc.refract == GG_ACC_REFRACT_TEXTBOOK)
+        ok = ggRefractTextbook(v, hi->ns, ni, nt, t);
+    else if (c->acc.refract == GG_ACC_REFRACT_EXACT)
+        ok = ggRefract(v, hi->ns, ni, nt, t);
+    else
+        ok = gg_refract_unit(v, hi->ns, ni, nt, t);
+    /* A shading normal can bend t back to the incoming side: refract
+       about the true surface instead. */
+    if (ok && v3dot(*t, hi->ng) >= 0) ok = ggRefract(v, hi->ng, ni, nt, t);
+    return ok;
+}
+
+/* Where a transmitted channel goes (transmission fills it). */
+typedef struct crossing {
+    gg_media inside; /* the media on the far side */
+    int entering;    /* into the hit's material (else out of it) */
+    int split;       /* a dispersive surface splits the ray into R, G, B */
+    int fmode;       /* fresnel_mode */
+} crossing;
+
+/* One transmitted channel ch (all of R, G, B unless x->split): the
+   refracted ray, or on total internal reflection its share to the
+   mirror ray; the Fresnel reflectance also goes to the mirror ray. */
+GG_INLINE void transmit(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                        gg_shade_thread *th, int node, const crossing *x, int ch, secondary *sc,
+                        ggColor *col, const unsigned FX)
+{
+    const ggScene *s = c->s;
+    const int chan = x->split ? ch : r->channel;
+    double ni, nt, F = 0, w = hi->m->kt;
+    ray_state child;
+    ggVec3 t;
+    ggColor tc;
+    int ok, fresnel, ci;
+    ni = x->entering ? media_index(s, &r->media, chan) : mat_index(s, hi->mi, chan);
+    nt = x->entering ? mat_index(s, hi->mi, chan) : media_index(s, &x->inside, chan);
+    ok = refract_dir(c, r->d, hi, ni, nt, &t);
+    fresnel = ok && (FX & GG_EFFECT_FRESNEL) && x->fmode != GG_FRESNEL_NONE &&
+              x->fmode != GG_FRESNEL_CONDUCTOR;
+    if (fresnel)
+        F = x->fmode == GG_FRESNEL_SCHLICK ? ggFresnelSchlick(sc->cos_i, ni, nt)
+                                           : ggFresnelDielectric(sc->cos_i, ni, nt);
+    rec_refract(c, node, ni, nt, sc->cos_i, ok, fresnel, F, FX);
+    if (!ok) {
+        /* Total internal reflection: the transmitted share joins the
+           mirror ray. */
+        th->st.tir++;
+        sc->tir = 1;
+        add_share(&sc->wr, x->split, ch, w);
+        sc->reflect = 1;
+        return;
+    }
+    if (fresnel) {
+        add_share(&sc->wr, x->split, ch, w * F);
+        sc->reflect = 1;
+        w *= 1 - F;
+    }
+    /* Adaptive depth (POV-Ray's adc_bailout): skip rays that cannot
+       matter. Off (0) by default. */
+    if (r->weight * w < c->acc.cutoff) return;
+    child_ray(&child, r, node, spawn(c, &hi->sf, t), t, GG_RAY_REFRACT, r->weight * w);
+    child.from_prim = hi->leave;
+    /* Refracted in through a sphere's outer side: inside it. */
+    child.inside = hi->front && hi->leave == UINT32_MAX ? hi->h->prim : UINT32_MAX;
+    child.channel = chan;
+    child.media = x->inside;
+    th->st.refract++;
+    ci = rec_next(c, FX);
+    tc = TRACE_CHILD(FX, c, &child, th);
+    if (x->split)
+        add_share(col, 1, ch, w * (ch == 0 ? tc.r : ch == 1 ? tc.g : tc.b));
+    else
+        *col = cadd(*col, cscale(tc, w));
+    rec_child(c, node, ci, &child, x->split ? channel_weight(ch, w) : rgb(w, w, w), FX);
+}
+
+/* Transmission: a refracted ray per channel (three after a dispersive
+   surface). Entering or leaving is decided by whether the ray is inside
+   the material already, not by the face's orientation: a polygon mesh
+   wound the wrong way still works. */
+GG_INLINE void transmission(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                            gg_shade_thread *th, int node, secondary *sc, ggColor *col,
+                            const unsigned FX)
+{
+    crossing x;
+    int ch;
+    x.inside = r->media;
+    x.entering = !media_has(&r->media, hi->mi);
+    media_cross(&x.inside, hi->mi);
+    x.split = (FX & GG_EFFECT_DISPERSION) && (hi->mf->flags & GG_MF_DISPERSE) && r->channel < 0 &&
+              c->acc.wavelengths != 1;
+    x.fmode = fresnel_mode(c, hi->m);
+    if (c->spd_rules) sc->reflect = 1;
+    for (ch = 0; ch < (x.split ? 3 : 1); ch++) transmit(c, r, hi, th, node, &x, ch, sc, col, FX);
+}
+
+/* The mirror ray, with the weight the other terms left it. */
+GG_INLINE void mirror(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                      gg_shade_thread *th, int node, secondary *sc, ggColor *col, const unsigned FX)
+{
+    ray_state child;
+    ggVec3 rd;
+    ggColor rc;
+    int ci;
+    if (sc->reflect && c->acc.cutoff > 0 && r->weight * cmaxc(sc->wr) < c->acc.cutoff)
+        sc->reflect = 0;
+    if (!sc->reflect) {
+        if (!(hi->mf->flags & GG_MF_TRANSMIT)) rec_stop(c, node, GG_STOP_MATTE, FX);
+        return;
+    }
+    rd = reflect(r->d, hi->ns);
+    /* A shading normal can send the mirror ray into the surface. */
+    if (v3dot(rd, hi->ng) <= 0) rd = reflect(r->d, hi->ng);
+    child_ray(&child, r, node, hi->o_out, rd, sc->tir ? GG_RAY_TIR : GG_RAY_REFLECT,
+              r->weight * cmaxc(sc->wr));
+    child.from_prim = hi->leave;
+    /* Mirrored off a sphere's inner side: still inside it. */
+    child.inside = !hi->front && hi->leave == UINT32_MAX ? hi->h->prim : UINT32_MAX;
+    child.channel = r->channel;
+    child.media = r->media;
+    th->st.reflect++;
+    ci = rec_next(c, FX);
+    /* Under the SPD rule a transmitter spawns (and counts) a mirror ray
+       even when its weight is zero. */
+    rc = TRACE_CHILD(FX, c, &child, th);
+    if (!cis0(sc->wr)) *col = cmadd(*col, sc->wr, rc);
+    rec_child(c, node, ci, &child, sc->wr, FX);
+}
+
+/* The colour leaving hit h of ray r (whose record is node). */
 GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_rayq *q,
                             const gg_hit *h, gg_shade_thread *th, int node, const unsigned FX)
 {
-    const ggScene *s = c->s;
-    const int32_t obj = gg_geom_prim_object(s->geom, h->prim);
-    const int mi = s->objects[obj].material;
-    const ggMaterial *m = &s->materials[mi];
-    const gg_mat_fast *mf = &s->mfast[mi];
-    /* Rays leaving a planar primitive cannot meet it again: skip it
-       outright. Curved ones (a sphere's far side, a torus shadowing
-       itself) must stay in; the origin offset keeps them robust. */
-    const uint32_t leave = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h->prim);
-    ggTrace *rec = c->rec;
-    gg_surf sf;
-    ggVec3 ng, ns, v = r->d, o_out;
-    ggColor col, kdc;
-    int front;
-    size_t li;
-
-    /* (u, v) costs an atan2 on curved shapes: only for textures and the
-       recorder. */
-    gg_geom_surface_ex(s->geom, q, h, &sf,
-                       ((FX & FX_RECORD) || (mf->flags & GG_MF_TEXTURE)) ? GG_SURF_UV : 0u);
-    /* Normals facing the incoming ray: surfaces are two-sided. */
-    front = v3dot(v, sf.ng) < 0;
-    ng = front ? sf.ng : v3neg(sf.ng);
-    ns = front ? sf.ns : v3neg(sf.ns);
-    /* The offset depends only on the side a new ray leaves to: shadow and
-       mirror rays all leave on the incoming side, so share one origin. */
-    o_out = spawn(c, &sf, ng);
-
-    kdc = mf->kd_color;
-    if ((FX & GG_EFFECT_TEXTURES) && (mf->flags & GG_MF_TEXTURE))
-        kdc = cscale(gg_scene_surface_color(s, mi, sf.u, sf.v, c->acc.texture), m->kd);
-
-    /* Emission and ambient. */
-    col = cmul(kdc, s->ambient);
-    if ((FX & GG_EFFECT_EMISSION) && (mf->flags & GG_MF_EMIT)) col = cadd(col, m->ke);
-
-    if ((FX & FX_RECORD) && node >= 0) {
-        ggTraceNode *N = &rec->nodes[node];
-        N->hit = true;
-        N->object = obj, N->shape = s->objects[obj].kind, N->material = mi;
-        N->line = s->objects[obj].line;
-        N->t = h->t, N->p = sf.p, N->ng = sf.ng, N->ns = sf.ns, N->front = front;
-        N->u = sf.u, N->v = sf.v;
-        N->surface = gg_scene_surface_color(s, mi, sf.u, sf.v, c->acc.texture);
-        N->ambient = cmul(kdc, s->ambient);
-        N->emission = (mf->flags & GG_MF_EMIT) ? m->ke : rgb(0, 0, 0);
-        N->first_light = (int)rec->nlights;
-        N->n_other = N->n_medium;
-    }
-
-    /* Direct light: one shadow ray per light the surface faces. */
-    if (FX & GG_EFFECT_SHADOWS) {
-        for (li = 0; li < s->nlights; li++) {
-            ggVec3 L = v3sub(s->lights[li].pos, sf.p), Lu, so, sd;
-            ggColor lc = s->light_colors[li], diff, ph = rgb(0, 0, 0);
-            double nl, len, tb = 1;
-            int verdict = GG_SHADOW_VISIBLE, occ = -1, lr = -1;
-            gg_rayq sq;
-            if ((FX & FX_RECORD) && node >= 0 && (lr = gg_trace_add_light(rec)) >= 0) {
-                rec->nodes[node].nlights++;
-                rec->lights[lr].light = (int)li;
-                rec->lights[lr].verdict = GG_SHADOW_FACING_AWAY;
-                rec->lights[lr].occluder = -1;
-                rec->lights[lr].t_block = 1;
-            }
-            if (v3dot(ng, L) <= 0 || (nl = v3dot(ns, L)) <= 0) continue;
-            len = v3len(L);
-            Lu = v3scale(L, 1.0 / len);
-            nl /= len;
-            so = o_out;
-            sd = v3sub(s->lights[li].pos, so);
-            th->st.shadow++;
-            if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS)) {
-                int pre = -1, clear = 0;
-                gg_hit fh = {0};
-                gg_tcol all;
-                sq = make_q(so, sd, 1.0, leave, GG_PRIM_TRANSPARENT);
-                /* Leaving a sphere's inner side inwards: when nothing else is
-                   inside it, its far side is the walk's first hit and
-                   anything opaque lies beyond, for the walk to meet. */
-                if (!(FX & FX_RECORD) && !front && leave == UINT32_MAX) {
-                    gg_rayq iq = make_q(so, sd, 1.0, leave, 0);
-                    if (gg_geom_intersect_inside(s->geom, &iq, h->prim, &fh) > 0) pre = 1;
-                }
-                /* Opaque blocker, or else the walk's first hit: one traversal. */
-                if (!(FX & FX_RECORD) && pre < 0) {
-                    if (gg_geom_shadow_query_all(s->geom, &sq, &fh, &pre,
-                                                 &th->occ[li % GG_OCC_CACHES], &all))
-                        continue;
-                    clear = 1;
-                }
-                if (FX & FX_RECORD) {
-                    gg_hit bh;
-                    /* Recording names the occluder: find the nearest. */
-                    if (gg_geom_intersect(s->geom, &sq, &bh)) {
-                        verdict = GG_SHADOW_BLOCKED;
-                        occ = gg_geom_prim_object(s->geom, bh.prim), tb = bh.t;
-                    } else {
-                        /* the renderer's crossings, to walk them the same way */
-                        clear = 1;
-                        gg_geom_shadow_query_all(s->geom, &sq, &fh, &pre, NULL, &all);
-                    }
-                }
-                if (verdict == GG_SHADOW_VISIBLE) {
-                    ggColor through =
-                        shadow_walk(c, so, sd, leave, &r->media, &occ, &tb, pre, &fh,
-                                    clear ? &all : NULL);
-                    if (occ >= 0) verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
-                    lc = cmul(lc, through);
-                }
-            } else {
-                sq = make_q(so, sd, 1.0, leave, 0);
-                if (FX & FX_RECORD) {
-                    gg_hit bh;
-                    if (gg_geom_intersect(s->geom, &sq, &bh)) {
-                        verdict = GG_SHADOW_BLOCKED;
-                        occ = gg_geom_prim_object(s->geom, bh.prim), tb = bh.t;
-                    }
-                } else if (gg_geom_occluded_cached(s->geom, &sq, &th->occ[li % GG_OCC_CACHES]))
-                    continue;
-                if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0 && verdict == GG_SHADOW_VISIBLE) {
-                    ggColor a = media_transmittance(s, &r->media, v3len(sd));
-                    if (a.r != 1 || a.g != 1 || a.b != 1) verdict = GG_SHADOW_ATTENUATED;
-                    lc = cmul(lc, a);
-                }
-            }
-            if ((FX & FX_RECORD) && lr >= 0) {
-                ggTraceLight *R = &rec->lights[lr];
-                const ggColor l0 = s->light_colors[li];
-                R->verdict = verdict, R->occluder = occ, R->origin = so, R->dir = sd;
-                R->t_block = tb;
-                /* What got through, relative to the light's own colour. */
-                R->transmittance = verdict == GG_SHADOW_BLOCKED
-                                       ? rgb(0, 0, 0)
-                                       : rgb(l0.r > 0 ? lc.r / l0.r : 0, l0.g > 0 ? lc.g / l0.g : 0,
-                                             l0.b > 0 ? lc.b / l0.b : 0);
-            }
-            if (verdict == GG_SHADOW_BLOCKED || cis0(lc)) continue;
-            diff = cmul(kdc, cscale(lc, nl));
-            col = cadd(col, diff);
-            if ((FX & GG_EFFECT_PHONG) && (mf->flags & GG_MF_PHONG)) {
-                /* Phong: (R.V)^shine with R the light's mirror direction. */
-                ggVec3 R = reflect(v3neg(Lu), ns);
-                double rv = -v3dot(R, v);
-                if (rv > 0) {
-                    ph = cscale(lc, m->ks * pow(rv, m->shine));
-                    col = cadd(col, ph);
-                }
-            }
-            if ((FX & FX_RECORD) && lr >= 0) rec->lights[lr].diffuse = diff, rec->lights[lr].phong = ph;
-        }
-    }
-
+    hit_info hi;
+    secondary sc;
+    ggColor col;
+    hit_setup(c, r, q, h, &hi, FX);
+    col = emission_ambient(c, &hi, FX);
+    rec_hit(c, node, &hi, FX);
+    if (FX & GG_EFFECT_SHADOWS) direct_light(c, r, &hi, th, node, &col, FX);
     if (r->depth >= c->max_depth) {
-        if ((FX & FX_RECORD) && node >= 0)
-            rec->nodes[node].stop =
-                (mf->flags & (GG_MF_REFLECT | GG_MF_TRANSMIT)) ? GG_STOP_DEPTH : GG_STOP_MATTE;
+        rec_stop(c, node,
+                 (hi.mf->flags & (GG_MF_REFLECT | GG_MF_TRANSMIT)) ? GG_STOP_DEPTH : GG_STOP_MATTE,
+                 FX);
         return col;
     }
-
-    {
-        ggColor wr = rgb(m->ks, m->ks, m->ks); /* weight of the mirror ray */
-        int spawn_reflect = (mf->flags & GG_MF_REFLECT) != 0, any_tir = 0;
-        double cos_i = -v3dot(v, ns);
-        if (cos_i < 0) cos_i = -cos_i;
-
-        if ((FX & GG_EFFECT_FRESNEL) && m->fresnel == GG_FRESNEL_CONDUCTOR) {
-            double ni = media_index(s, &r->media, r->channel);
-            wr = rgb(ggFresnelConductor(cos_i, ni, m->eta_n.r, m->eta_k.r),
-                     ggFresnelConductor(cos_i, ni, m->eta_n.g, m->eta_k.g),
-                     ggFresnelConductor(cos_i, ni, m->eta_n.b, m->eta_k.b));
-            spawn_reflect = 1;
-        }
-
-        if ((FX & GG_EFFECT_REFRACTION) && (mf->flags & GG_MF_TRANSMIT)) {
-            /* Which indices: entering this material from the current
-               medium, or leaving it into the medium around it. */
-            gg_media inside = r->media;
-            int split = (FX & GG_EFFECT_DISPERSION) && (mf->flags & GG_MF_DISPERSE) &&
-                        r->channel < 0 && c->acc.wavelengths != 1;
-            const int fmode = fresnel_mode(c, m);
-            int ch, nch = split ? 3 : 1;
-            /* Entering or leaving is decided by whether the ray is inside
-               this material already, not by the face's orientation: a
-               polygon mesh wound the wrong way still works. */
-            const int entering = !media_has(&r->media, mi);
-            if (entering) media_enter(&inside, mi);
-            else media_exit(&inside, mi);
-            if (c->spd_rules) spawn_reflect = 1;
-            for (ch = 0; ch < nch; ch++) {
-                int chan = split ? ch : r->channel, ci = -1;
-                double ni, nt, F = 0, w;
-                ggVec3 t;
-                bool ok;
-                ray_state child;
-                ggColor tc;
-                if (entering) {
-                    ni = media_index(s, &r->media, chan);
-                    nt = mat_index(s, mi, chan);
-                } else {
-                    ni = mat_index(s, mi, chan);
-                    nt = media_index(s, &inside, chan);
-                }
-                if ((FX & FX_RECORD) && node >= 0) rec->nodes[node].n_other = nt;
-                /* gg_refract_unit: plain double where refraction is well
-                   conditioned, ggRefract elsewhere (lib/optics/refract_unit.h). */
-                if (c->acc.refract == GG_ACC_REFRACT_TEXTBOOK)
-                    ok = ggRefractTextbook(v, ns, ni, nt, &t);
-                else if (c->acc.refract == GG_ACC_REFRACT_EXACT)
-                    ok = ggRefract(v, ns, ni, nt, &t);
-                else
-                    ok = gg_refract_unit(v, ns, ni, nt, &t);
-                /* A shading normal can bend t back to the incoming side:
-                   refract about the true surface instead. */
-                if (ok && v3dot(t, ng) >= 0) ok = ggRefract(v, ng, ni, nt, &t);
-                w = m->kt;
-                if (!ok) {
-                    /* Total internal reflection: the transmitted share
-                       joins the mirror ray. */
-                    th->st.tir++;
-                    any_tir = 1;
-                    if (split) CH_ADD(wr, ch, w);
-                    else wr = cadd(wr, rgb(w, w, w));
-                    spawn_reflect = 1;
-                    continue;
-                }
-                if ((FX & GG_EFFECT_FRESNEL) && fmode != GG_FRESNEL_NONE &&
-                    fmode != GG_FRESNEL_CONDUCTOR) {
-                    F = fmode == GG_FRESNEL_SCHLICK ? ggFresnelSchlick(cos_i, ni, nt)
-                                                    : ggFresnelDielectric(cos_i, ni, nt);
-                    if (split) CH_ADD(wr, ch, w * F);
-                    else wr = cadd(wr, rgb(w * F, w * F, w * F));
-                    spawn_reflect = 1;
-                    w *= 1 - F;
-                    if ((FX & FX_RECORD) && node >= 0) rec->nodes[node].fresnel = F;
-                }
-                child.weight = r->weight * w;
-                /* Adaptive depth (POV-Ray's adc_bailout): skip rays that
-                   cannot matter. Off (0) by default. */
-                if (child.weight < c->acc.cutoff) continue;
-                child.o = spawn(c, &sf, t);
-                child.d = t;
-                child.from_prim = leave;
-                /* Refracted in through a sphere's outer side: inside it. */
-                child.inside = front && leave == UINT32_MAX ? h->prim : UINT32_MAX;
-                child.depth = r->depth + 1;
-                child.channel = chan;
-                child.media = inside;
-                child.kind = GG_RAY_REFRACT;
-                child.parent = node;
-                th->st.refract++;
-                if (FX & FX_RECORD) ci = (int)rec->nnodes;
-                tc = TRACE_CHILD(FX, c, &child, th);
-                if (split) CH_ADD(col, ch, w * (ch == 0 ? tc.r : ch == 1 ? tc.g : tc.b));
-                else col = cadd(col, cscale(tc, w));
-                if ((FX & FX_RECORD) && node >= 0) {
-                    ggColor cw = split ? channel_weight(ch, w) : rgb(w, w, w);
-                    if (ci >= 0 && (size_t)ci < rec->nnodes) rec->nodes[ci].weight = cw;
-                    rec->nodes[node].refract_weight = cadd(rec->nodes[node].refract_weight, cw);
-                }
-            }
-        }
-
-        if (spawn_reflect && c->acc.cutoff > 0 && r->weight * cmaxc(wr) < c->acc.cutoff)
-            spawn_reflect = 0;
-        if (spawn_reflect) {
-            ray_state child;
-            ggVec3 rd = reflect(v, ns);
-            ggColor rc;
-            int ci = -1;
-            /* A shading normal can send the mirror ray into the surface. */
-            if (v3dot(rd, ng) <= 0) rd = reflect(v, ng);
-            child.o = o_out;
-            child.d = rd;
-            child.from_prim = leave;
-            /* Mirrored off a sphere's inner side: still inside it. */
-            child.inside = !front && leave == UINT32_MAX ? h->prim : UINT32_MAX;
-            child.depth = r->depth + 1;
-            child.channel = r->channel;
-            child.media = r->media;
-            child.kind = any_tir ? GG_RAY_TIR : GG_RAY_REFLECT;
-            child.weight = r->weight * cmaxc(wr);
-            child.parent = node;
-            th->st.reflect++;
-            if (FX & FX_RECORD) ci = (int)rec->nnodes;
-            /* Under the SPD rule a transmitter spawns (and counts) a mirror
-               ray even when its weight is zero. */
-            rc = TRACE_CHILD(FX, c, &child, th);
-            if (!cis0(wr)) col = cmadd(col, wr, rc);
-            if ((FX & FX_RECORD) && node >= 0) {
-                if (ci >= 0 && (size_t)ci < rec->nnodes) rec->nodes[ci].weight = wr;
-                rec->nodes[node].reflect_weight = wr;
-            }
-        } else if ((FX & FX_RECORD) && node >= 0 && !(mf->flags & GG_MF_TRANSMIT))
-            rec->nodes[node].stop = GG_STOP_MATTE;
-    }
+    mirror_weight(c, r, &hi, &sc, FX);
+    if ((FX & GG_EFFECT_REFRACTION) && (hi.mf->flags & GG_MF_TRANSMIT))
+        transmission(c, r, &hi, th, node, &sc, &col, FX);
+    mirror(c, r, &hi, th, node, &sc, &col, FX);
     return col;
 }
+
+/* ---- rays ---- */
 
 GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                            const gg_hit *known, const unsigned FX)
@@ -594,26 +850,12 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     const ggScene *s = c->s;
     gg_rayq q = make_q(r->o, r->d, INFINITY, r->from_prim, 0);
     gg_hit h;
-    const gg_hit *hp = &h;
+    const gg_hit *hp = known ? known : &h;
     ggColor col, att = rgb(1, 1, 1);
-    int node = -1, hit;
+    int node, hit = 1;
     if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
-    if (FX & FX_RECORD) {
-        node = gg_trace_add_node(c->rec);
-        if (node >= 0) {
-            ggTraceNode *N = &c->rec->nodes[node];
-            N->parent = r->parent, N->kind = r->kind, N->depth = r->depth;
-            N->channel = r->channel, N->sample = c->rec->sample, N->o = r->o, N->d = r->d;
-            N->medium = r->media.n ? r->media.mat[r->media.n - 1] : -1;
-            N->n_medium = media_index(s, &r->media, r->channel);
-            N->object = N->shape = N->material = -1;
-            N->fresnel = -1;
-            N->weight = rgb(1, 1, 1);
-        }
-    }
-    if (known) {
-        hit = 1, hp = known;
-    } else {
+    node = rec_ray(c, r, FX);
+    if (!known) {
         hit = -1;
         if (r->inside != UINT32_MAX) hit = gg_geom_intersect_inside(s->geom, &q, r->inside, &h);
         if (hit < 0) hit = gg_geom_intersect(s->geom, &q, &h);
@@ -629,12 +871,7 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
             att = media_transmittance(s, &r->media, hp->t);
     }
     if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0) col = cmul(col, att);
-    if ((FX & FX_RECORD) && node >= 0) {
-        ggTraceNode *N = &c->rec->nodes[node];
-        if (!hit) N->stop = GG_STOP_MISS;
-        N->absorption = att;
-        N->color = col;
-    }
+    rec_ray_end(c, node, hit, att, col, FX);
     return col;
 }
 
@@ -700,8 +937,7 @@ static ggColor trace_root(const gg_shade_ctx *c, const ray_state *r, gg_shade_th
     return trace_full(c, r, th, known);
 }
 
-ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth,
-                          gg_shade_thread *th)
+ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth, gg_shade_thread *th)
 {
     ray_state r;
     root_ray(&r, o, u, depth);

@@ -123,5 +123,11 @@ if python3 -c "import sys, xml.dom.minidom; xml.dom.minidom.parse(sys.argv[1])" 
    grep -q "^l 1 2" "$tmp/t.obj"; then ok "SVG parses as XML, OBJ has lines"; else bad "SVG parses as XML, OBJ has lines"; fi
 expect_exit 1 "trace pixel outside the image" "$ggrt" trace examples/scenes/glass.nff --pixel 9999,1
 
+# The other parts: each tests/cli/t_*.sh, sourced here (they share the
+# counters and helpers above).
+for part in tests/cli/t_*.sh; do
+  [ -f "$part" ] && . "./$part"
+done
+
 echo "cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]

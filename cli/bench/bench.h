@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bench.h -- shared by the `ggrt bench` subcommands.
+** bench.h -- the benchmark harness behind `ggrt bench` (cli/bench/), kept
+** apart from the user commands in cli/.
 */
 #ifndef GG_BENCH_H
 #define GG_BENCH_H
 
-#include "cli.h"
+#include "../cli.h"
 
 #define BENCH_MAX_ARGS 64
 
@@ -16,7 +17,6 @@ typedef struct bench_opts {
     int nargs;
 } bench_opts;
 
-double bench_now(void);
 /* Median of v[0..n) (sorts v). */
 double bench_median(double *v, int n);
 
@@ -26,10 +26,14 @@ double bench_median(double *v, int n);
 typedef int (*bench_fn)(void *arg, void *out);
 int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *peak_mb);
 
+/* Is name in the comma-separated list (NULL list: everything)? */
+int bench_selected(const char *list, const char *name);
+
+/* The benchmarks; each returns an exit code. */
+int bench_spd(const bench_opts *bo);
+int bench_counts(const bench_opts *bo);
 int bench_effects(const bench_opts *bo);
 int bench_accuracy(const bench_opts *bo);
 int bench_scaling(const bench_opts *bo);
-/* Is name in the comma-separated list (NULL list: everything)? */
-int bench_selected(const char *list, const char *name);
 
 #endif

@@ -18,11 +18,13 @@ static int render_timed(ggScene *s, ggRenderOptions *o, int runs, ggImage **keep
     int k;
     for (k = 0; k < runs && k < 64; k++) {
         ggImage *img = NULL;
-        double t0 = bench_now();
+        double t0 = cli_now();
         if (ggRender(s, o, &img, NULL, NULL) != GG_OK) return -1;
-        t[k] = bench_now() - t0;
-        if (k == 0) *keep = img;
-        else ggImageFree(img);
+        t[k] = cli_now() - t0;
+        if (k == 0)
+            *keep = img;
+        else
+            ggImageFree(img);
     }
     *med = bench_median(t, k);
     return 0;

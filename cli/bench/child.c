@@ -1,0 +1,67 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** child.c -- what every benchmark shares: medians, and one measurement in
+** a child process so that its peak memory (ru_maxrss) is its own.
+*/
+/* wait4 (per-child peak memory) is a BSD interface. */
+#define _DEFAULT_SOURCE
+#include "bench.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+double bench_median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *peak_mb)
+{
+    int fd[2], status;
+    pid_t pid;
+    struct rusage ru;
+    ssize_t got = 0;
+    if (pipe(fd) != 0) return -1;
+    fflush(stdout);
+    fflush(stderr);
+    pid = fork();
+    if (pid < 0) return -1;
+    if (pid == 0) {
+        int rc;
+        close(fd[0]);
+        memset(out, 0, outsize);
+        rc = fn(arg, out);
+        if (write(fd[1], out, outsize) != (ssize_t)outsize) rc = 1;
+        _exit(rc ? 1 : 0);
+    }
+    close(fd[1]);
+    while ((size_t)got < outsize) {
+        ssize_t n = read(fd[0], (char *)out + got, outsize - (size_t)got);
+        if (n <= 0) break;
+        got += n;
+    }
+    close(fd[0]);
+    if (wait4(pid, &status, 0, &ru) < 0) return -1;
+    if (peak_mb) *peak_mb = ru.ru_maxrss / 1024.0;
+    return (size_t)got == outsize && WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+int bench_selected(const char *list, const char *name)
+{
+    const char *p;
+    size_t n = strlen(name);
+    if (!list) return 1;
+    for (p = list; (p = strstr(p, name)); p += n)
+        if ((p == list || p[-1] == ',') && (p[n] == '\0' || p[n] == ',')) return 1;
+    return 0;
+}

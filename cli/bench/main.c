@@ -1,0 +1,88 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** main.c -- `ggrt bench NAME [options]`: which benchmark, with which
+** options. Every figure is measured in the same run it is printed in.
+*/
+#include "bench.h"
+
+#include <string.h>
+
+static const char about[] =
+    "  spd       the 7 SPD scenes (depth 5, pixel centres, no antialiasing) and,\n"
+    "            if povray is installed, the same scenes with POV-Ray 3.7: trace\n"
+    "            times, ratios, rays per second, peak memory, bytes per primitive\n"
+    "  counts    SPD rules (pixel corners, depth 5, transmitters reflect) at\n"
+    "            512x512: eye-hit, reflect, refract and shadow rays against the\n"
+    "            SPD's table\n"
+    "  effects   each example scene rendered with its own effect set and with\n"
+    "            every effect forced on: times, ratio, whether the images match\n"
+    "  accuracy  sweep each accuracy knob from the accurate default: median time,\n"
+    "            rays, RMSE, max error, PSNR, share of pixels off by > 1/255 and\n"
+    "            pixels whose ray tree changed, against an all-accurate\n"
+    "            reference; writes DIR/accuracy.csv and DIR/accuracy.svg\n"
+    "            (docs/accuracy.md), then the scaling tables\n"
+    "  scaling   render time against primitives (balls-s1..s4, fitted against\n"
+    "            ln n), image size and threads\n"
+    "\n"
+    "Scene folders are relative to the current directory: run from the source tree\n"
+    "or name them with --spd and --pov.";
+
+static const struct {
+    const char *name;
+    int (*run)(const bench_opts *bo);
+    int size; /* default --size; 0: the benchmark's own */
+} benches[] = {
+    {"spd", bench_spd, 1024},        {"counts", bench_counts, 0},   {"effects", bench_effects, 320},
+    {"accuracy", bench_accuracy, 0}, {"scaling", bench_scaling, 0},
+};
+
+int cmd_bench(int argc, char **argv)
+{
+    bench_opts bo;
+    const char *args[BENCH_MAX_ARGS + 1];
+    int no_pov = 0, nargs = 0, rc, i;
+    cli_opt opts[] = {
+        CLI_OPT_INT(0, "size", &bo.size, 1, 16384, "N",
+                    "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
+                    "wide, 4:3; scaling: 256)"),
+        CLI_OPT_INT(0, "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),
+        CLI_OPT_INT(0, "runs", &bo.runs, 1, 64, "N",
+                    "runs per measurement, median reported (default 3)"),
+        CLI_OPT_STRING(0, "spd", &bo.spd_dir, "DIR", "NFF scenes (default examples/scenes/spd)"),
+        CLI_OPT_STRING(0, "pov", &bo.pov_dir, "DIR",
+                       "POV-Ray scenes, .pov.gz (default\n"
+                       "examples/scenes/spd-pov)"),
+        CLI_OPT_FLAG(0, "no-pov", &no_pov, "do not run POV-Ray"),
+        CLI_OPT_STRING(0, "scenes", &bo.scenes, "LIST", "comma-separated subset of scene names"),
+        CLI_OPT_STRING(0, "out", &bo.out_dir, "DIR",
+                       "where accuracy writes its CSV and SVG (default .)"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "bench",
+                   .usage = "spd|counts|effects|scaling [options]\n"
+                            "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]",
+                   .about = about,
+                   .opts = {opts},
+                   .args = args,
+                   .min_args = 1,
+                   .max_args = BENCH_MAX_ARGS + 1,
+                   .nargs = &nargs,
+                   .args_name = "benchmark name"};
+    memset(&bo, 0, sizeof bo);
+    bo.threads = 2, bo.runs = 3;
+    bo.spd_dir = "examples/scenes/spd";
+    bo.pov_dir = "examples/scenes/spd-pov";
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    bo.pov = !no_pov;
+    for (i = 1; i < nargs; i++) bo.args[bo.nargs++] = args[i];
+    for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) {
+        if (strcmp(args[0], benches[i].name)) continue;
+        if (bo.nargs && benches[i].run != bench_accuracy)
+            return cli_usage_error(&cmd, "bench %s takes no scene files ('%s')", args[0],
+                                   bo.args[0]);
+        if (!opts[0].given) bo.size = benches[i].size;
+        return benches[i].run(&bo);
+    }
+    return cli_usage_error(&cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling)",
+                           args[0]);
+}

@@ -1,0 +1,47 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** compiler.h -- the library's compiler-specific spellings, in one place
+** (internal). Everything here degrades to plain C99 on a compiler that
+** is neither GCC nor clang: the code stays correct, only slower.
+*/
+#ifndef GG_COMPILER_H
+#define GG_COMPILER_H
+
+#if defined(__GNUC__) /* GCC and clang */
+/* A static function the compiler must inline: the hot paths are written
+   as small functions over a struct and rely on it to keep their fields
+   in registers (and, in shade.c, to fold the constant effect set). */
+#define GG_INLINE      static inline __attribute__((always_inline))
+#define GG_NOINLINE    __attribute__((noinline))
+#define GG_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#define GG_LIKELY(x)   __builtin_expect(!!(x), 1)
+#define GG_UNLIKELY(x) __builtin_expect(!!(x), 0)
+#define GG_CTZ(m)      __builtin_ctz(m)
+#else
+#define GG_INLINE      static inline
+#define GG_NOINLINE
+#define GG_PRINTF(a, b)
+#define GG_LIKELY(x)   (x)
+#define GG_UNLIKELY(x) (x)
+static inline int gg_ctz_portable(unsigned m)
+{
+    int i = 0;
+    while (!(m & 1u)) m >>= 1, i++;
+    return i;
+}
+#define GG_CTZ(m) gg_ctz_portable(m)
+#endif
+
+/* GCC's SLP vectoriser pairs neighbouring 8-byte loads into one 16-byte
+   load; where the caller has just written the struct field by field, that
+   load cannot be forwarded from the store buffer and waits for the stores
+   to retire (Intel 64 and IA-32 Architectures Optimization Reference
+   Manual, "Store Forwarding"). GG_NO_SLP turns the pass off for one
+   function. Clang has no per-function switch and does not pair these. */
+#if defined(__GNUC__) && !defined(__clang__)
+#define GG_NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
+#else
+#define GG_NO_SLP
+#endif
+
+#endif

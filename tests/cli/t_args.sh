@@ -1,0 +1,91 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: the shared argument parser (cli/args.c) and
+# the replay commands ggrt prints. Uses run.sh's ggrt, tmp, ok, bad.
+
+# expect_msg CODE TEXT NAME CMD...: exit code, and TEXT somewhere on stderr.
+expect_msg() {
+  want=$1; text=$2; name=$3; shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
+  if [ "$got" = "$want" ] && grep -qF -- "$text" "$tmp/err"; then ok "$name"
+  else bad "$name (exit $got, want $want)" "want: $text
+got:  $(cat "$tmp/err")"; fi
+}
+
+g=examples/scenes/glass.nff
+pix="expected X,Y, two whole numbers from 0 to 65535"
+size="expected WxH, two whole numbers from 1 to 65536"
+crop="expected X0,Y0,X1,Y1, four whole numbers from 0 to 65536"
+for c in render trace; do
+  o="-o $tmp/x.png"; [ $c = trace ] && o="--pixel 1,1"
+  expect_msg 1 "bad value '1,2junk' for --pixel: $pix ('junk' after Y)" \
+    "$c: trailing junk in --pixel" "$ggrt" $c $g $o --pixel 1,2junk
+  expect_msg 1 "bad value '1,2,3' for --pixel: $pix (more than 2 numbers)" \
+    "$c: extra field in --pixel" "$ggrt" $c $g $o --pixel 1,2,3
+  expect_msg 1 "bad value '4294967297,1' for --pixel: $pix (X is out of range)" \
+    "$c: --pixel overflow is reported as given, not wrapped" "$ggrt" $c $g $o --pixel 4294967297,1
+  expect_msg 1 "bad value '99999999999999999999,1' for --pixel: $pix (X is out of range)" \
+    "$c: --pixel beyond long" "$ggrt" $c $g $o --pixel 99999999999999999999,1
+  expect_msg 1 "bad value '16x12junk' for --size: $size ('junk' after H)" \
+    "$c: trailing junk in -s" "$ggrt" $c $g $o -s 16x12junk
+  expect_msg 1 "bad value '8x6x4' for --size: $size (more than 2 numbers)" \
+    "$c: extra field in -s" "$ggrt" $c $g $o -s 8x6x4
+  expect_msg 1 "bad value '8' for --size: $size (only 1 number)" \
+    "$c: -s W alone" "$ggrt" $c $g $o -s 8
+  expect_msg 1 "bad value '0' for --depth: expected a whole number from 1 to 64 (out of range)" \
+    "$c: depth range named" "$ggrt" $c $g $o -d 0
+  expect_msg 1 "bad value ' 4' for --samples: expected a whole number from 1 to 4096" \
+    "$c: space before a number" "$ggrt" $c $g $o -n " 4"
+  expect_msg 1 "unknown option '--depht' (did you mean --depth?)" \
+    "$c: unknown option with a suggestion" "$ggrt" $c $g $o --depht 3
+  expect_msg 1 "refract wants one of accurate, textbook, exact, not 'fast'" \
+    "$c: --accuracy names the allowed values" "$ggrt" $c $g $o --accuracy refract=fast
+done
+expect_msg 1 "bad value '0,0,4,4junk' for --crop: $crop ('junk' after Y1)" \
+  "trailing junk in --crop" "$ggrt" render $g -o "$tmp/x.png" --crop 0,0,4,4junk
+expect_msg 1 "bad value '0,0,4' for --crop: $crop (only 3 numbers)" \
+  "missing field in --crop" "$ggrt" render $g -o "$tmp/x.png" --crop 0,0,4
+expect_msg 1 "--quiet takes no value" "a flag with a value" \
+  "$ggrt" render $g -o "$tmp/x.png" --quiet=yes
+expect_msg 1 "bad value '0.5,1' for --v: expected X,Y,Z, three finite numbers (only 2 numbers)" \
+  "optics: a short vector" "$ggrt" optics refract --v 0.5,1 --n 0,1,0
+expect_msg 1 "bad value '1.5x' for --nt: expected a finite number ('x' after the number)" \
+  "optics: junk after a number" "$ggrt" optics refract --v 0,-1,0 --n 0,1,0 --nt 1.5x
+expect_msg 1 "bad value '1e999' for --ni: expected a finite number (not finite)" \
+  "optics: overflow" "$ggrt" optics refract --v 0,-1,0 --n 0,1,0 --ni 1e999
+expect_msg 1 "bad value '0' for --runs: expected a whole number from 1 to 64 (out of range)" \
+  "bench: range named" "$ggrt" bench spd --runs 0
+expect_exit 0 "-s8x6, --size=8x6 and grouped short flags" \
+  "$ggrt" render $g -qs8x6 --size=8x6 -o "$tmp/x.png"
+expect_exit 0 "a value that starts with '-' (optics --v -1,...)" \
+  "$ggrt" optics reflect --v -1,-1,0 --n 0,1,0
+expect_exit 0 "--help wins over errors" "$ggrt" render --bogus --help
+
+# A replay command, pasted: two lights of 1e308 overflow to infinite pixels,
+# so render prints the ggrt trace command for the worst one. The scene's
+# name needs quoting; -s must come back whole (the old parser cut argv at
+# the 'x' and printed "-s 32").
+mkdir -p "$tmp/re play"
+printf 'v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 40 30\nb 0 0 0\nl 0 0 10 1e308 1e308 1e308\nl 0 1 10 1e308 1e308 1e308\nf 1 1 1 1 0 0 0 0\ns 0 0 0 1\n' \
+  > "$tmp/re play/it's hot.nff"
+"$ggrt" render "$tmp/re play/it's hot.nff" -o "$tmp/hot.exr" -q -s 32x24 -n 4 --spd -j 2 \
+  --crop 0,0,20,20 --accuracy cutoff=1e-3,sphere=textbook >"$tmp/out" 2>"$tmp/err"
+replay=$(sed -n 's/^  ggrt trace /trace /p' "$tmp/err")
+if [ -z "$replay" ]; then
+  bad "render prints a replay command for a bad pixel" "$(cat "$tmp/err")
+(this scene no longer makes a bad pixel: the test needs another that does)"
+else
+  ok "render prints a replay command for a bad pixel"
+  case "$replay" in *" -s 32x24 "*) ok "the replay keeps -s WxH whole" ;;
+    *) bad "the replay keeps -s WxH whole" "$replay" ;; esac
+  xy=$(printf '%s\n' "$replay" | sed 's/.*--pixel //')
+  eval "set -- $replay"
+  if "$ggrt" "$@" >"$tmp/tr" 2>"$tmp/err2"; then ok "the pasted replay command runs"
+  else bad "the pasted replay command runs" "$replay
+$(cat "$tmp/err2")"; fi
+  "$ggrt" render "$tmp/re play/it's hot.nff" -o "$tmp/hot.exr" -q -s 32x24 -n 4 --spd \
+    --accuracy cutoff=1e-3,sphere=textbook --pixel "$xy" >"$tmp/px" 2>/dev/null
+  want=$(sed -n "s/^pixel $xy //p" "$tmp/px"); got=$(sed -n 's/^colour //p' "$tmp/tr")
+  if [ -n "$want" ] && [ "$want" = "$got" ]; then ok "the replay traces the same pixel value ($got)"
+  else bad "the replay traces the same pixel value" "render: $want, trace: $got"; fi
+  set --
+fi

@@ -1,0 +1,74 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: outputs (-o, --svg, stdout), cancellation by
+# signals and exit codes. Uses run.sh's ggrt, tmp, ok, bad and t_args.sh's
+# expect_msg.
+
+g=examples/scenes/glass.nff
+mkdir -p "$tmp/o"
+printf 'old\n' > "$tmp/o/target.png"
+ln -s target.png "$tmp/o/link.png"
+expect_msg 3 "refusing to write '$tmp/o/link.png': it is a symbolic link" \
+  "-o onto a symbolic link is refused" "$ggrt" render $g -s 8x6 -q -o "$tmp/o/link.png"
+[ -L "$tmp/o/link.png" ] && [ "$(cat "$tmp/o/target.png")" = old ] &&
+  ok "the link and its target are untouched" || bad "the link and its target are untouched"
+printf 'old\n' > "$tmp/o/ro.png"; chmod 444 "$tmp/o/ro.png"
+expect_msg 3 "refusing to write '$tmp/o/ro.png': the file is read-only" \
+  "-o onto a read-only file is refused (also as root)" "$ggrt" render $g -s 8x6 -q -o "$tmp/o/ro.png"
+[ "$(cat "$tmp/o/ro.png")" = old ] && ok "the read-only file is untouched" ||
+  bad "the read-only file is untouched"
+mkdir "$tmp/o/dir.png"
+expect_msg 3 "refusing to write '$tmp/o/dir.png': it is a directory" \
+  "-o onto a directory is refused" "$ggrt" render $g -s 8x6 -q -o "$tmp/o/dir.png"
+mkfifo "$tmp/o/fifo.svg"
+expect_msg 3 "refusing to write '$tmp/o/fifo.svg': it is not a regular file" \
+  "--svg onto a FIFO is refused" "$ggrt" trace $g --pixel 1,1 --svg "$tmp/o/fifo.svg"
+expect_msg 3 "refusing to write '$tmp/o/link.png': it is a symbolic link" \
+  "--obj onto a symbolic link is refused" "$ggrt" trace $g --pixel 1,1 --obj "$tmp/o/link.png"
+ls "$tmp/o" | grep -q tmp && bad "refusals leave no temporary file" "$(ls "$tmp/o")" ||
+  ok "refusals leave no temporary file"
+
+# A failed write to stdout or to a file is exit 3 with the reason.
+for c in "trace $g --pixel 1,1" "trace $g --pixel 1,1 --format json" "info $g" "render --help" \
+         "--version" "optics reflect --v 1,-1,0 --n 0,1,0"; do
+  # shellcheck disable=SC2086
+  "$ggrt" $c >/dev/full 2>"$tmp/err"; got=$?
+  if [ $got = 3 ] && grep -qxF "ggrt: error writing standard output: No space left on device" "$tmp/err"
+  then ok "ggrt $c > /dev/full: exit 3"; else bad "ggrt $c > /dev/full: exit 3 (got $got)" "$(cat "$tmp/err")"; fi
+done
+# A file that cannot grow (RLIMIT_FSIZE; SIGXFSZ ignored so write fails with
+# EFBIG): the image and the SVG are not written, the old files stay.
+printf 'old\n' > "$tmp/o/big.exr"; printf 'old\n' > "$tmp/o/big.svg"
+( trap '' XFSZ; ulimit -f 8; "$ggrt" render $g -s 200x150 -q -o "$tmp/o/big.exr" ) 2>"$tmp/err"; got=$?
+if [ $got = 3 ] && grep -q "File too large" "$tmp/err" && [ "$(cat "$tmp/o/big.exr")" = old ]; then
+  ok "a failed image write: exit 3 with the reason, old file kept"
+else bad "a failed image write: exit 3 with the reason, old file kept (exit $got)" "$(cat "$tmp/err")"; fi
+( trap '' XFSZ; ulimit -f 8; "$ggrt" trace $g --pixel 110,100 --svg "$tmp/o/big.svg" >/dev/null ) 2>"$tmp/err"; got=$?
+if [ $got = 3 ] && grep -qxF "ggrt trace: $tmp/o/big.svg: File too large" "$tmp/err" &&
+   [ "$(cat "$tmp/o/big.svg")" = old ]; then
+  ok "a failed --svg write: exit 3 with the reason, old file kept"
+else bad "a failed --svg write: exit 3 with the reason, old file kept (exit $got)" "$(cat "$tmp/err")"; fi
+ls "$tmp/o" | grep -q tmp && bad "failed writes leave no temporary file" "$(ls "$tmp/o")" ||
+  ok "failed writes leave no temporary file"
+
+# Exit codes come from one map (cli_exit_code): a scene error is 2, also
+# when the library calls it invalid (a material), and a usage error 1.
+printf 'f -1 1 1 1 0 1 0 0\ns 0 0 0 1\n' > "$tmp/badmat.nff"
+for c in render trace info; do
+  o="-o $tmp/x.png"; [ $c = trace ] && o="--pixel 1,1"; [ $c = info ] && o=""
+  # shellcheck disable=SC2086
+  expect_msg 2 "material is invalid" "$c: a material error is exit 2" "$ggrt" $c "$tmp/badmat.nff" $o
+done
+expect_msg 1 "pixel 9999,1 is outside the" "trace: a pixel outside the image is exit 1" \
+  "$ggrt" trace $g --pixel 9999,1
+expect_msg 1 "--pixel 999,1 is outside the 400x300 image" "render: --pixel outside is exit 1" \
+  "$ggrt" render $g -o "$tmp/x.png" -s 400x300 --pixel 999,1
+
+# SIGINT and SIGTERM during a render (cancel.py says how).
+python3 tests/cli/cancel.py "$ggrt" "$tmp" >"$tmp/cancel" 2>&1
+while IFS= read -r line; do
+  case "$line" in
+    "ok   "*) ok "${line#ok   }" ;;
+    *) bad "${line#FAIL }" ;;
+  esac
+done < "$tmp/cancel"
+grep -q . "$tmp/cancel" || bad "cancel.py ran" "no output"

@@ -1,0 +1,79 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# A real install, as a user makes one: `make install PREFIX=<temporary
+# folder>` (no DESTDIR), the folder registered with the dynamic linker the
+# way its README section says (root: an /etc/ld.so.conf.d entry and
+# ldconfig, removed again on exit; otherwise an rpath), then every compile
+# line of README.md that builds prog.c, run as written on an example
+# (ray_color.c, which uses libm; core_static.c for ggrt-core), and each
+# program run without LD_LIBRARY_PATH.
+#   sh tests/install.sh BUILD          (make installcheck runs it)
+build=$1
+make=${MAKE:-make}
+here=$(pwd)
+prefix=$(mktemp -d /tmp/ggrt-prefix-XXXXXX)
+conf=""
+cleanup() {
+  if [ -n "$conf" ]; then
+    rm -f "$conf"
+    flock /tmp/.ggrt-ldconfig.lock ldconfig 2>/dev/null || ldconfig
+  fi
+  rm -rf "$prefix"
+}
+trap cleanup EXIT
+trap 'exit 129' HUP
+trap 'exit 130' INT
+trap 'exit 143' TERM
+fail() { echo "installcheck: $*"; exit 1; }
+
+$make --no-print-directory install BUILD="$build" PREFIX="$prefix" >"$prefix.log" 2>&1 ||
+  { cat "$prefix.log"; rm -f "$prefix.log"; fail "make install PREFIX=$prefix failed"; }
+sed -n 's/^install: /installcheck: make install said: /p' "$prefix.log"
+rm -f "$prefix.log"
+
+rpath=""
+if [ "$(id -u)" = 0 ] && [ -w /etc/ld.so.conf.d ] && command -v ldconfig >/dev/null 2>&1; then
+  conf=/etc/ld.so.conf.d/zz-ggrt-installcheck-$$.conf
+  echo "$prefix/lib" > "$conf"
+  flock /tmp/.ggrt-ldconfig.lock ldconfig 2>/dev/null || ldconfig
+  ldconfig -p | grep -qF "=> $prefix/lib/libggrt.so.0" || fail "ldconfig did not pick up $conf"
+  way="registered with the dynamic linker ($conf + ldconfig)"
+else
+  rpath="-Wl,-rpath,$prefix/lib"
+  way="not registered (needs root): programs linked with $rpath"
+fi
+echo "installcheck: real install into $prefix, $way"
+
+out=$prefix/progs
+mkdir -p "$out"
+PKG_CONFIG_PATH=$prefix/lib/pkgconfig
+export PKG_CONFIG_PATH
+unset LD_LIBRARY_PATH
+grep '^    cc .* prog\.c' README.md > "$out/lines"
+[ -s "$out/lines" ] || fail "README.md has no compile line for prog.c"
+n=0
+while IFS= read -r line; do
+  n=$((n + 1))
+  cmd=${line#    }; cmd=${cmd%%#*}; cmd=$(printf '%s' "$cmd" | sed 's/ *$//')
+  case "$cmd" in *ggrt-core*) ex=core_static ;; *) ex=ray_color ;; esac
+  shared=1
+  case "$cmd" in *-static*|*libggrt.a*) shared=0 ;; esac
+  run=$(printf '%s' "$cmd" | sed "s#prog\\.c#$here/examples/$ex.c#")
+  [ $shared = 1 ] && run="$run $rpath"
+  (cd "$out" && sh -c "$run") || fail "README line failed: $cmd"
+  (cd "$out" && ./prog >"$out/run.log" 2>&1) ||
+    { cat "$out/run.log"; fail "the program of '$cmd' ($ex.c) failed"; }
+  if [ $shared = 1 ]; then
+    ldd "$out/prog" | grep -qF "libggrt.so.0 => $prefix/lib/libggrt.so.0" ||
+      fail "'$cmd': libggrt.so.0 not found in $prefix/lib: $(ldd "$out/prog")"
+    how="found libggrt.so.0 in $prefix/lib"
+  elif readelf -d "$out/prog" | grep -q 'NEEDED.*libggrt'; then
+    fail "'$cmd' needs libggrt.so"
+  else
+    how="libggrt linked in"
+    readelf -d "$out/prog" | grep -q NEEDED || how="fully static"
+  fi
+  echo "installcheck: README: $cmd -> $ex.c ran without LD_LIBRARY_PATH ($how)"
+  rm -f "$out/prog"
+done < "$out/lines"
+echo "installcheck: $n README compile lines built and ran against the real install"
