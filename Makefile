@@ -11,6 +11,8 @@
 #                        page); a live install (no DESTDIR) refreshes ldconfig's cache
 #   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each; every
 #                        harness runs, a summary at the end (exit 1 if any found something)
+#   make check-browser   ggrt serve's page in headless Chromium (CI runs it after check)
+#   make bench-serve     requests/s and latency of ggrt serve under N clients
 #   scripts/deps.sh      the package groups each of these installs
 #   make bench-optics    ns per call of the refraction variants
 #
@@ -114,7 +116,7 @@ SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test tests deps demo install uninstall installcheck \
-        clean fuzz bench examples format pc layers FORCE
+        clean fuzz bench examples format pc layers FORCE check-browser bench-serve
 .DEFAULT_GOAL := all
 .SECONDARY:
 
@@ -216,6 +218,21 @@ check: deps-check
 	@echo "check: all suites passed (plain, sanitized, installcheck)"
 
 # scripts/deps.sh GROUP: the packages a target needs (deps = check's).
+# check-browser: ggrt serve's page in headless Chromium through Selenium
+# (tests/browser_test.py, about 15 s); CI runs it after check. Selenium is
+# Debian's python3-selenium, importable by /usr/bin/python3.
+BROWSER_PYTHON ?= /usr/bin/python3
+check-browser: deps-check deps-browser
+	@$(MAKE) --no-print-directory $(BUILD)/release/ggrt BUILD=$(BUILD)/release GG_WERROR=-Werror
+	@$(BROWSER_PYTHON) tests/browser_test.py $(BUILD)/release/ggrt --screenshot $(BUILD)/browser/serve.png
+
+# The load benchmark of ggrt serve (prints figures; not a test).
+BENCH_CLIENTS ?= 8
+BENCH_SECONDS ?= 10
+bench-serve: $(CLI)
+	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
+	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
+
 deps: deps-check
 deps-%:
 	@sh scripts/deps.sh $*

@@ -98,10 +98,18 @@ int cmd_serve(int argc, char **argv)
 
 void srv_lib_lock(srv_server *s)
 {
+    unsigned long me;
     pthread_mutex_lock(&s->lib);
+    me = s->lib_next++;
+    while (me != s->lib_serving) pthread_cond_wait(&s->lib_turn, &s->lib);
+    pthread_mutex_unlock(&s->lib);
 }
+
 void srv_lib_unlock(srv_server *s)
 {
+    pthread_mutex_lock(&s->lib);
+    s->lib_serving++;
+    pthread_cond_broadcast(&s->lib_turn);
     pthread_mutex_unlock(&s->lib);
 }
 
@@ -237,8 +245,13 @@ int cmd_serve(int argc, char **argv)
         if (pthread_mutex_init(&s.lib, NULL) != 0) {
             fprintf(stderr, "ggrt serve: cannot create a mutex\n");
             rc = EXIT_IO;
+        } else if (pthread_cond_init(&s.lib_turn, NULL) != 0) {
+            fprintf(stderr, "ggrt serve: cannot create a condition variable\n");
+            pthread_mutex_destroy(&s.lib);
+            rc = EXIT_IO;
         } else {
             rc = serve(&s);
+            pthread_cond_destroy(&s.lib_turn);
             pthread_mutex_destroy(&s.lib);
         }
     }

@@ -108,8 +108,13 @@ struct srv_server {
     char token[33];
     /* Library calls on the scene are serialised: a render of one scene
        with different options is not safe against another (the geometry's
-       accuracy knobs are set per call, render.c apply_geometry_knobs). */
+       accuracy knobs are set per call, lib/render/render.c
+       apply_geometry_knobs). A ticket lock, first come first served: a
+       trace that arrives during a render band runs before the next band
+       (a plain mutex let the render thread take it back at once). */
     pthread_mutex_t lib;
+    pthread_cond_t lib_turn;
+    unsigned long lib_next, lib_serving;
     struct srv_jobs *jobs;
 };
 

@@ -17,7 +17,8 @@
 #include <time.h>
 
 #define KEYLEN       512
-#define BAND_SECONDS 0.08 /* aim of one band: short enough for a trace to wait for */
+#define BAND_SECONDS 0.05     /* aim of one band: short enough for a trace to wait for */
+#define BAND_PIXELS  (1 << 16) /* and at most this many pixels */
 
 typedef struct job {
     int used;
@@ -110,10 +111,14 @@ static int render_bands(srv_server *s, job *j, ggError *err)
         ggImageFree(img);
         y += rows;
         b.before += (long)rows * w;
-        /* Next band: about BAND_SECONDS of work, whole tiles of 16 rows. */
-        if (t > 0) {
-            double want = rows * BAND_SECONDS / t;
-            rows = want > 4096 ? 4096 : want < 16 ? 16 : (int)want / 16 * 16;
+        /* Next band: about BAND_SECONDS of work in whole tiles of 16 rows,
+           growing at most twice (the sky above a scene is cheap, what
+           follows may not be) and at most BAND_PIXELS. */
+        {
+            double want = t > 0 ? rows * BAND_SECONDS / t : 2.0 * rows;
+            if (want > 2.0 * rows) want = 2.0 * rows;
+            if (want * w > BAND_PIXELS) want = (double)BAND_PIXELS / w;
+            rows = want < 16 ? 16 : (int)want / 16 * 16;
         }
     }
     if (rc == GG_ERROR_CANCELLED && now() - j->t0 > SRV_RENDER_SECONDS)

@@ -286,6 +286,7 @@
     if (!img) return;
     sizeCanvases();
     $('image').getContext('2d').drawImage(img.bmp, 0, 0);
+    $('viewport').dataset.image = img.q || 'default';
     drawMarker();
   }
 
@@ -309,8 +310,11 @@
     const ctx = $('overlay').getContext('2d');
     if (kind === 'none' || (kind === 'find' && !state.find) || (kind === 'diff' && !state.diff)) {
       ctx.clearRect(0, 0, W, H);
+      $('overlay').dataset.kind = 'none';
       $('legend-text').textContent = kind === 'diff' ? 'tick "compare A with B" to see the diff map' : '';
       $('legend').width = 0;
+      $('legend').height = 0;
+      $('legend').style.height = '0';
       return;
     }
     let ov;
@@ -320,6 +324,7 @@
     if (!ov || gen !== generation) return;
     ctx.clearRect(0, 0, W, H);
     ctx.drawImage(ov.bmp, 0, 0, W, H, 0, 0, W, H);
+    $('overlay').dataset.kind = kind;
     $('overlay').style.opacity = String(state.opacity);
     const lg = $('legend');
     if (ov.bmp.height > H) {
@@ -328,7 +333,7 @@
       lg.style.width = $('image').style.width;
       lg.style.height = (lg.height * parseInt($('image').style.width, 10) / W) + 'px';
     } else {
-      lg.width = 0;
+      lg.width = 0; lg.height = 0; lg.style.height = '0';
     }
     $('legend-text').textContent = ov.legend;
   }
@@ -485,8 +490,11 @@
     const a = traces.a.json;
     $('pixel-title').textContent = 'pixel ' + a.pixel.join(',');
     $('pixel-swatch').style.background = srgb(a.color);
-    const v = $('pixel-value');
-    v.textContent = a.color.map((c) => fmtG(c, 9)).join(' ');
+    // The value is the rendered image's (what ggrt render writes and
+    // --pixel prints); the tree's header shows the trace's own colour.
+    const v = $('pixel-value'), img = images.a, i = 3 * (a.pixel[1] * W + a.pixel[0]);
+    const rgb = img ? [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]] : a.color;
+    v.textContent = rgb.map((c) => fmtG(c, 9)).join(' ');
     v.dataset.rgb = v.textContent;
     const s = a.stats;
     v.title = 'linear RGB, as ggrt render --pixel prints it';
@@ -495,6 +503,7 @@
     fillTree($('tree-a'), traces.a, state.diff ? 'A' : '');
     $('tree-b').hidden = !traces.b;
     if (traces.b) fillTree($('tree-b'), traces.b, 'B');
+    $('pixel-head').dataset.pixel = a.pixel.join(',');
   }
 
   function objName(i) {
