@@ -18,6 +18,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import traceback
 
 from selenium import webdriver
 from selenium.common.exceptions import TimeoutException
@@ -212,6 +213,8 @@ def main():
               "diff mode: the divergence map and both trees (%s)" % res[:40], res)
         errors = [e for e in d.get_log("browser") if e["level"] in ("SEVERE", "ERROR")]
         check(not errors, "no console errors", "\n".join(e["message"] for e in errors))
+    except Exception:  # noqa: BLE001 -- a step that cannot go on fails the test, which still cleans up
+        check(False, "the browser steps ran to the end", traceback.format_exc())
     finally:
         if d:
             d.quit()
