@@ -10,7 +10,8 @@
 static const char about[] =
     "  spd       the 7 SPD scenes (depth 5, pixel centres, no antialiasing) and,\n"
     "            if povray is installed, the same scenes with POV-Ray 3.7: trace\n"
-    "            times, ratios, rays per second, peak memory, bytes per primitive\n"
+    "            times, ratios, rays per second, peak memory, bytes per primitive;\n"
+    "            with --embree, also the Embree anchor, all three interleaved\n"
     "  counts    SPD rules (pixel corners, depth 5, transmitters reflect) at\n"
     "            512x512: eye-hit, reflect, refract and shadow rays against the\n"
     "            SPD's table\n"
@@ -53,6 +54,9 @@ int cmd_bench(int argc, char **argv)
                        "POV-Ray scenes, .pov.gz (default\n"
                        "examples/scenes/spd-pov)"),
         CLI_OPT_FLAG(0, "no-pov", &no_pov, "do not run POV-Ray"),
+        CLI_OPT_STRING(0, "embree", &bo.embree, "BIN",
+                       "spd: also time the Embree Whitted anchor BIN\n"
+                       "(-p 1 and -p 16), rounds interleaved"),
         CLI_OPT_STRING(0, "scenes", &bo.scenes, "LIST", "comma-separated subset of scene names"),
         CLI_OPT_STRING(0, "out", &bo.out_dir, "DIR",
                        "where accuracy writes its CSV and SVG (default .)"),
@@ -80,6 +84,8 @@ int cmd_bench(int argc, char **argv)
         if (bo.nargs && benches[i].run != bench_accuracy)
             return cli_usage_error(&cmd, "bench %s takes no scene files ('%s')", args[0],
                                    bo.args[0]);
+        if (bo.embree && benches[i].run != bench_spd)
+            return cli_usage_error(&cmd, "--embree is an option of bench spd only");
         if (!opts[0].given) bo.size = benches[i].size;
         return benches[i].run(&bo);
     }

@@ -4,6 +4,11 @@
 ** trace time and peak memory) and `ggrt bench counts` (SPD-rule ray counts
 ** against the SPD's reference table). Every ggrt measurement runs in a
 ** child process (child.c) so that its peak memory is that scene's alone.
+** With --embree BIN, `bench spd` also times the embree-whitted anchor (a
+** Whitted tracer on Intel Embree 3 that prints one "RESULT key=value ..."
+** line per render) with single eye rays (-p 1) and 16-ray eye packets
+** (-p 16), round by round interleaved with ggrt and POV-Ray, so that all
+** of them see the same machine load.
 */
 /* wait4 (POV-Ray's peak memory) is a BSD interface. */
 #define _DEFAULT_SOURCE
@@ -82,7 +87,8 @@ typedef struct pov_result {
     int ok;
 } pov_result;
 
-static pov_result run_pov(const char *povdir, const char *name, int size, int threads, int runs)
+static pov_result run_pov(const char *povdir, const char *name, int size, int threads, int runs,
+                          int peak)
 {
     pov_result pr;
     char cmd[4096], tmpdir[] = "/tmp/ggrt-pov-XXXXXX", line[1024];
@@ -113,6 +119,7 @@ static pov_result run_pov(const char *povdir, const char *name, int size, int th
         times[n++] = t;
     }
     /* Peak memory of one more run, measured the same way as ggrt's. */
+    if (!peak) goto timed;
     snprintf(cmd, sizeof cmd,
              "cd %s && povray +Iscene.pov +HIspd_globals.inc -F +W%d +H%d -A +WT%d -D "
              ">/dev/null 2>&1",
@@ -129,6 +136,7 @@ static pov_result run_pov(const char *povdir, const char *name, int size, int th
         }
         if (pid > 0 && wait4(pid, &status, 0, &ru) > 0) pr.peak_mb = ru.ru_maxrss / 1024.0;
     }
+timed:
     pr.trace = bench_median(times, n);
     pr.ok = n > 0;
 done:
@@ -142,11 +150,135 @@ static int have_povray(void)
     return system("command -v povray >/dev/null 2>&1") == 0;
 }
 
+/* ---- the Embree anchor ---- */
+
+typedef struct emb_result {
+    double trace, rays;
+    int ok;
+} emb_result;
+
+/* The value of key=... in a RESULT line, or -1. */
+static double result_field(const char *line, const char *key)
+{
+    size_t n = strlen(key);
+    const char *p = line;
+    while ((p = strstr(p, key)) != NULL) {
+        if ((p == line || p[-1] == ' ') && p[n] == '=') return atof(p + n + 1);
+        p += n;
+    }
+    return -1;
+}
+
+/* One render of the anchor: -t threads, -r size, -p packet, no image. */
+static emb_result run_embree(const char *bin, const char *scene, int size, int threads, int packet)
+{
+    emb_result er;
+    char cmd[4096], line[2048];
+    FILE *p;
+    memset(&er, 0, sizeof er);
+    snprintf(cmd, sizeof cmd, "'%s' -t %d -r %d -p %d -o - '%s' 2>/dev/null", bin, threads, size,
+             packet, scene);
+    fflush(stdout);
+    if (!(p = popen(cmd, "r"))) return er;
+    while (fgets(line, sizeof line, p))
+        if (!strncmp(line, "RESULT ", 7)) {
+            er.trace = result_field(line, "trace_s");
+            er.rays = result_field(line, "total");
+            er.ok = er.trace > 0;
+        }
+    if (pclose(p) != 0) er.ok = 0;
+    return er;
+}
+
+/* Median of the first `runs` values of v (v is left as it is). */
+static double med_of(const double *v, int runs)
+{
+    double t[64];
+    int k;
+    for (k = 0; k < runs && k < 64; k++) t[k] = v[k];
+    return bench_median(t, k);
+}
+
+/* bench spd --embree: per scene, `runs` rounds of ggrt, anchor -p 1,
+   anchor -p 16 and (if enabled) POV-Ray, one render each; medians. */
+static int bench_spd_embree(const bench_opts *bo, int pov)
+{
+    double lg[3] = {0, 0, 0}, worst16 = 1e300;
+    int i, n = 0, npov = 0, runs = bo->runs < 64 ? bo->runs : 64;
+    printf("ggrt bench spd --embree: %dx%d, %d threads, depth 5, pixel centres, %d rounds "
+           "interleaved, medians\n",
+           bo->size, bo->size, bo->threads, runs);
+    if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
+    printf("\n%-11s %7s %8s %7s | %7s %7s %8s | %7s | %9s %9s %8s\n", "scene", "ggrt", "Mrays/s",
+           "peakMB", "emb-p1", "emb-p16", "Mrays/s", "pov", "emb1/ggrt", "emb16/ggrt", "pov/ggrt");
+    for (i = 0; i < NSPD; i++) {
+        double tg[64], t1[64], t16[64], tp[64], peak = 0, rays = 0, erays = 0, g, e1, e16, pv = 0;
+        int k, povok = pov;
+        spd_job j;
+        if (!bench_selected(bo->scenes, spd_scenes[i])) continue;
+        memset(&j, 0, sizeof j);
+        snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, spd_scenes[i]);
+        j.size = bo->size, j.threads = bo->threads, j.runs = 1;
+        for (k = 0; k < runs; k++) {
+            spd_result r;
+            emb_result a, b;
+            double pk = 0;
+            if (bench_in_child(spd_child, &j, &r, sizeof r, &pk) != 0 || r.error[0]) {
+                printf("%-11s failed: %s\n", spd_scenes[i], r.error[0] ? r.error : "child failed");
+                return EXIT_INPUT;
+            }
+            tg[k] = r.render, peak = pk > peak ? pk : peak;
+            rays = (double)(r.st.eye + r.st.reflect + r.st.refract + r.st.shadow);
+            a = run_embree(bo->embree, j.path, bo->size, bo->threads, 1);
+            b = run_embree(bo->embree, j.path, bo->size, bo->threads, 16);
+            if (!a.ok || !b.ok) {
+                printf("%-11s the anchor failed (%s -t %d -r %d -p 1|16 -o - %s)\n", spd_scenes[i],
+                       bo->embree, bo->threads, bo->size, j.path);
+                return EXIT_INPUT;
+            }
+            t1[k] = a.trace, t16[k] = b.trace, erays = b.rays;
+            if (povok) {
+                pov_result pr = run_pov(bo->pov_dir, spd_scenes[i], bo->size, bo->threads, 1, 0);
+                povok = pr.ok;
+                tp[k] = pr.trace;
+            }
+        }
+        g = med_of(tg, runs), e1 = med_of(t1, runs), e16 = med_of(t16, runs);
+        if (povok) pv = med_of(tp, runs);
+        printf("%-11s %6.3fs %8.2f %7.1f | %6.3fs %6.3fs %8.2f |", spd_scenes[i], g, rays / g / 1e6,
+               peak, e1, e16, erays / e16 / 1e6);
+        if (povok)
+            printf(" %6.3fs |", pv);
+        else
+            printf(" %7s |", "-");
+        printf(" %8.2fx %9.2fx", e1 / g, e16 / g);
+        if (povok)
+            printf(" %7.2fx\n", pv / g);
+        else
+            printf(" %8s\n", "-");
+        fflush(stdout);
+        lg[0] += log(e1 / g), lg[1] += log(e16 / g), n++;
+        if (povok) lg[2] += log(pv / g), npov++;
+        if (e16 / g < worst16) worst16 = e16 / g;
+    }
+    if (n) {
+        printf("\ngeometric mean over %d scenes: emb1/ggrt %.2fx, emb16/ggrt %.2fx", n,
+               exp(lg[0] / n), exp(lg[1] / n));
+        if (npov) printf(", pov/ggrt %.2fx (%d scenes)", exp(lg[2] / npov), npov);
+        printf("; lowest emb16/ggrt %.2fx\n", worst16);
+    }
+    printf("ggrt = ggRender wall time; emb-p1, emb-p16 = the anchor's trace_s (single eye rays, "
+           "16-ray eye packets; its Mrays/s from its own ray count); pov = POV-Ray's \"Trace "
+           "Time\"; above 1x ggrt is faster\n");
+    return EXIT_OK;
+}
+
 int bench_spd(const bench_opts *bo)
 {
     int i, npov = 0, pov = bo->pov && have_povray();
     double logsum = 0, worst = 1e300;
     int avx = 0;
+    if (bo->embree) return bench_spd_embree(bo, pov);
     printf("ggrt bench spd: %dx%d, %d threads, depth 5, pixel centres, no antialiasing, "
            "median of %d runs\n",
            bo->size, bo->size, bo->threads, bo->runs);
@@ -172,7 +304,7 @@ int bench_spd(const bench_opts *bo)
                r.info.primitives, r.parse, r.prepare, r.render, rays / 1e6, rays / r.render / 1e6,
                peak, r.info.primitives ? (double)r.info.geometry_bytes / r.info.primitives : 0.0);
         if (pov) {
-            pr = run_pov(bo->pov_dir, spd_scenes[i], bo->size, bo->threads, bo->runs);
+            pr = run_pov(bo->pov_dir, spd_scenes[i], bo->size, bo->threads, bo->runs, 1);
             if (pr.ok) {
                 double ratio = pr.trace / r.render;
                 printf(" %7.3fs %7.1f %6.2fx\n", pr.trace, pr.peak_mb, ratio);

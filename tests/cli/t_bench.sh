@@ -1,0 +1,36 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: `bench spd --embree BIN` with a stand-in for
+# the Embree anchor (a script printing the anchor's RESULT line: trace_s
+# 0.25 s for -p 1, 0.5 s for -p 16, and what it was asked to render).
+# Uses run.sh's ggrt, tmp, ok, bad.
+
+cat > "$tmp/fake-embree" <<'EOS'
+#!/bin/sh
+p=; t=; r=; o=; f=
+while [ $# -gt 0 ]; do
+  case $1 in -p) p=$2; shift 2 ;; -t) t=$2; shift 2 ;; -r) r=$2; shift 2 ;; -o) o=$2; shift 2 ;; *) f=$1; shift ;; esac
+done
+[ "$p" = 1 ] && s=0.2500 || s=0.5000
+echo "$f: a scene"
+echo "RESULT scene=$(basename "$f") res=$r threads=$t mode=$p trace_s=$s total=1000000 mrays=2 out=$o"
+EOS
+chmod +x "$tmp/fake-embree"
+"$ggrt" bench spd --embree "$tmp/fake-embree" --size 16 --runs 1 --scenes tetra --no-pov \
+  >"$tmp/bench" 2>&1; got=$?
+if [ $got = 0 ] && grep -Eq '^tetra .*\| +0\.250s +0\.500s +2\.00 \|' "$tmp/bench" &&
+   grep -q 'emb1/ggrt' "$tmp/bench" && grep -q '^geometric mean over 1 scenes' "$tmp/bench"
+then ok "bench spd --embree: the anchor's times, rays/s and ratios"
+else bad "bench spd --embree: the anchor's times, rays/s and ratios (exit $got)" "$(cat "$tmp/bench")"; fi
+# the ratio columns are the anchor's times over the same ggrt time: -p 16's
+# (0.5 s) is twice -p 1's (0.25 s)
+awk '/^tetra /{for(i=1;i<=NF;i++) if($i ~ /x$/) r[++n]=$i} END{
+  sub("x","",r[1]); sub("x","",r[2]); exit !(r[1] > 0 && r[2]/r[1] > 1.98 && r[2]/r[1] < 2.02)}' \
+  "$tmp/bench" && ok "bench spd --embree: ratio = anchor time / ggrt time" ||
+  bad "bench spd --embree: ratio = anchor time / ggrt time" "$(cat "$tmp/bench")"
+printf '#!/bin/sh\necho no result\n' > "$tmp/mute-embree"; chmod +x "$tmp/mute-embree"
+"$ggrt" bench spd --embree "$tmp/mute-embree" --size 16 --runs 1 --scenes tetra --no-pov \
+  >"$tmp/bench" 2>&1; got=$?
+[ $got = 2 ] && grep -q 'the anchor failed' "$tmp/bench" &&
+  ok "bench spd --embree: an anchor without a RESULT line fails (exit 2)" ||
+  bad "bench spd --embree: an anchor without a RESULT line fails (exit 2, got $got)" "$(cat "$tmp/bench")"
+expect_exit 1 "bench counts --embree is a usage error" "$ggrt" bench counts --embree "$tmp/fake-embree"
