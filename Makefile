@@ -75,7 +75,7 @@ WEB_SRC := $(sort $(wildcard cli/web/*.html cli/web/*.css cli/web/*.js))
 # with include paths for the layers in L_SEES only -- itself and layers below
 # it -- so an include of a higher layer does not compile (tests/layers.sh
 # checks it). imageio is the only layer built with libpng and OpenEXR flags.
-LAYERS        = core optics image implicit geom scene render load imageio
+LAYERS        = core optics image implicit geom scene render debug load imageio
 core_SEES     = core
 optics_SEES   = core optics
 image_SEES    = core image
@@ -83,6 +83,7 @@ implicit_SEES = core implicit
 geom_SEES     = core implicit geom
 scene_SEES    = core image implicit geom scene
 render_SEES   = core optics image implicit geom scene render
+debug_SEES    = core optics image implicit geom scene render debug
 load_SEES     = core image implicit geom scene load
 imageio_SEES  = core image load imageio
 imageio_CFLAGS = $(PNG_CFLAGS) $(EXR_CFLAGS)

@@ -3,6 +3,7 @@
 ** trace_text.c -- a recorded ray tree as an indented tree and as JSON.
 */
 #include "trace_out.h"
+#include "debug_out.h"
 
 #include <math.h>
 #include <string.h>
@@ -278,5 +279,10 @@ void trace_print_json(FILE *f, const trace_view *v)
             first = 0;
             json_node(f, v, (int)i);
         }
-    fprintf(f, "]}\n");
+    fprintf(f, "]");
+    if (v->ledger) {
+        fprintf(f, ",\"ledger\":");
+        json_ledger(f, v->trace, v->ledger);
+    }
+    fprintf(f, "}\n");
 }
