@@ -157,7 +157,6 @@ static int load(srv_server *s)
                 s->cfg.width, s->cfg.height);
         return EXIT_USAGE;
     }
-    s->cfg.opt.width = s->cfg.width, s->cfg.opt.height = s->cfg.height;
     return EXIT_OK;
 }
 
@@ -174,19 +173,17 @@ static void block_signals(sigset_t *set)
     signal(SIGPIPE, SIG_IGN);
 }
 
+/* The server's own render starts at once: the page shows it first. */
 static void queue_first_render(srv_server *s)
 {
-    srv_req r;
-    srv_resp resp;
+    srv_job_spec sp;
     srv_job_view v;
-    ggRenderOptions o;
-    char key[512];
-    memset(&r, 0, sizeof r);
-    memset(&resp, 0, sizeof resp);
-    r.srv = s, r.path = "/api/render";
-    if (srv_opts_parse(s, &r, "", &o, key, sizeof key, &resp) == 0)
-        srv_jobs_request(s, key, &o, SRV_KIND_IMAGE, &v);
-    if (!resp.body_static) free(resp.body);
+    char text[1024], key[2048];
+    memset(&sp, 0, sizeof sp);
+    sp.type = SRV_JOB_RENDER, sp.kind = SRV_KIND_IMAGE, sp.opt = s->cfg.opt;
+    ggRenderOptionsFormat(&sp.opt, text, sizeof text);
+    snprintf(key, sizeof key, "render %d|%s", SRV_KIND_IMAGE, text);
+    srv_jobs_request(s, key, &sp, &v);
 }
 
 static int serve(srv_server *s)
@@ -256,6 +253,7 @@ int cmd_serve(int argc, char **argv)
         }
     }
     ggSceneFree(s.scene);
+    ggSceneFree(s.scene_b);
     return rc;
 }
 

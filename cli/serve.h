@@ -75,22 +75,24 @@ void srv_error(srv_resp *resp, int status, const char *fmt, ...)
 FILE *srv_body_open(srv_resp *resp, int status, const char *type);
 void srv_body_close(srv_resp *resp, FILE *f);
 
+/* Is s valid UTF-8 (RFC 3629)? */
+int srv_utf8_valid(const char *s);
+
 /* JSON helpers. */
 void srv_json_str(FILE *f, const char *s);
 void srv_json_num(FILE *f, double d);
 
 /* ---- render options carried by a request ---- */
 
-/* Parse the render options of a request over the server's own (prefix ""
-   for the main set, "b." for the second set of diff mode). key receives a
-   canonical text of the result that names a render job. Returns 0, or -1
-   with resp filled (400). */
-int srv_opts_parse(const srv_server *s, const srv_req *r, const char *prefix, ggRenderOptions *o,
-                   char *key, size_t keylen, srv_resp *resp);
-/* Is key one of the option parameter names (with prefix "" or "b.")? */
-int srv_opts_known(const char *key);
-/* The options as a JSON object. */
-void srv_opts_json(FILE *f, const ggRenderOptions *o);
+/* The render options of parameter `name` ("opts", or "b" for the second
+   set of a diff): its text (ggRenderOptionsParse's grammar, as ggrt
+   diff's --a and --b) applied over the server's options. The size,
+   threads and crop stay the server's; depth and samples are at most
+   SRV_MAX_DEPTH and SRV_MAX_SAMPLES. text (may be NULL) receives the
+   canonical form (ggRenderOptionsFormat), which names the job. Returns 0,
+   or -1 with resp filled (400). */
+int srv_opts_parse(const srv_server *s, const srv_req *r, const char *name, ggRenderOptions *o,
+                   char *text, size_t textlen, srv_resp *resp);
 
 /* ---- the server ---- */
 
@@ -105,6 +107,7 @@ typedef struct srv_config {
 struct srv_server {
     srv_config cfg;
     ggScene *scene;
+    ggScene *scene_b; /* a second copy, for diffs of the geometry's knobs (srv_scene_b) */
     char token[33];
     /* Library calls on the scene are serialised: a render of one scene
        with different options is not safe against another (the geometry's
@@ -122,12 +125,56 @@ struct srv_server {
 void srv_lib_lock(srv_server *s);
 void srv_lib_unlock(srv_server *s);
 
+/* Pixel coordinate parameter `name` (required), in [0, limit): 0, or -1
+   with resp filled (400). */
+int srv_pixel_arg(const srv_server *s, const srv_req *r, const char *name, int limit, int *out,
+                  srv_resp *resp);
+
+/* The routes of the jobs (serve_jobapi.c). */
+void srv_api_render(srv_server *s, const srv_req *r, srv_resp *resp);
+void srv_api_image(srv_server *s, const srv_req *r, srv_resp *resp);
+void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp);
+void srv_api_check(srv_server *s, const srv_req *r, srv_resp *resp);
+void srv_api_diff(srv_server *s, const srv_req *r, srv_resp *resp);
+
 /* Route a checked request. */
 void srv_route(srv_server *s, const srv_req *r, srv_resp *resp);
 /* Is key a parameter that route path accepts (besides token)? */
 int srv_param_allowed(const char *path, const char *key);
 
-/* ---- render jobs (serve_jobs.c) ---- */
+/* ---- jobs: renders, find, check, diff (serve_jobs.c, serve_debug.c) ---- */
+
+/* What a job computes. */
+#define SRV_JOB_RENDER 0 /* the image, or a cost map (kind) */
+#define SRV_JOB_FIND   1 /* ggFind */
+#define SRV_JOB_CHECK  2 /* ggCheck */
+#define SRV_JOB_DIFF   3 /* ggDiff of options A and B */
+
+typedef struct srv_job_spec {
+    int type;              /* SRV_JOB_* */
+    int kind;              /* render: SRV_KIND_IMAGE or GG_COST_* */
+    ggRenderOptions opt;   /* the options (A) */
+    ggRenderOptions opt_b; /* diff: B */
+    const char *where;     /* find: the predicate (copied) */
+    int limit;             /* find: matches listed; diff: worst pixels listed */
+} srv_job_spec;
+
+/* A job's results, merged over its bands; read-only once done. The
+   find, check and diff results are the library's structs with the
+   window of the whole image, as one call over the whole image would fill
+   them (their image members are NULL: px, px_b hold the pictures). */
+typedef struct srv_result {
+    srv_job_spec spec;
+    char *where; /* the spec's copy */
+    int width, height;
+    float *px, *px_b; /* render, find: the image; diff: both images */
+    float *cost;      /* render with a kind: the cost map */
+    ggRayStats stats;
+    ggFindResult find; /* matches and mask owned here */
+    ggCheckResult check;
+    ggDiffResult diff; /* worst and map owned here */
+    ggPredicate *pred; /* find, while it runs */
+} srv_result;
 
 typedef struct srv_job_view {
     int state; /* SRV_JOB_* */
@@ -143,20 +190,36 @@ typedef struct srv_job_view {
 #define SRV_JOB_FAILED  3
 
 int srv_jobs_start(srv_server *s, ggError *err);
-/* Cancel the running render and stop taking jobs (shutdown, first step). */
+/* Cancel the running job and stop taking jobs (shutdown, first step). */
 void srv_jobs_cancel(srv_server *s);
 /* Join the worker and free every job. */
 void srv_jobs_stop(srv_server *s);
-/* Find or queue the render of (key, opt) with a cost map of cost_kind
-   (GG_COST_*). Fills *view. Returns 0, or -1 when the queue is full of
-   running work (view->error says so). */
-int srv_jobs_request(srv_server *s, const char *key, const ggRenderOptions *opt, int cost_kind,
-                     srv_job_view *view);
-/* Copy a finished job's pixels (3 floats each) or cost map (1 float each)
-   into a new malloc'ed array; NULL if not finished or out of memory. */
-float *srv_jobs_copy(srv_server *s, const char *key, int cost_kind, int want_cost);
+/* Find the job named key, or queue one for spec. Fills *view. Returns 0,
+   or -1 when every slot is queued, running or being read (view->error
+   says so). */
+int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, srv_job_view *view);
+/* A finished job's results, kept from eviction until srv_jobs_release;
+   NULL if the job is not done. */
+const srv_result *srv_jobs_acquire(srv_server *s, const char *key);
+void srv_jobs_release(srv_server *s, const srv_result *r);
 /* The state of a job as JSON ({"state": ..., "done": ...}). */
 void srv_job_json(FILE *f, const srv_job_view *v);
+
+/* One band of rows [y0, y1) of a find, check or diff job (serve_debug.c):
+   run the library's call on that crop window (o and ob carry it and the
+   progress callback) and merge its result into r. */
+int srv_band_debug(srv_server *s, srv_result *r, const ggRenderOptions *o,
+                   const ggRenderOptions *ob, int y0, int y1, ggError *err);
+/* The scene for side B of a diff or a comparison (under the library
+   lock): the served one, or when oa and ob differ in the knobs ggRender
+   keeps in the geometry, a second copy read once from the same file. NULL
+   with err filled if that fails. */
+ggScene *srv_scene_b(srv_server *s, const ggRenderOptions *oa, const ggRenderOptions *ob,
+                     ggError *err);
+/* After the last band: the totals one call would give. */
+void srv_debug_finish(srv_result *r);
+/* Free what a result owns (not r). */
+void srv_result_free(srv_result *r);
 
 /* ---- pictures ---- */
 

@@ -5,7 +5,7 @@
 */
 #if defined(GG_HAVE_MHD)
 #include "serve.h"
-#include "heatmap.h"
+#include "debug_out.h"
 #include "trace_out.h"
 
 #include <math.h>
@@ -17,8 +17,7 @@
 typedef struct route {
     const char *path;
     void (*run)(srv_server *s, const srv_req *r, srv_resp *resp);
-    const char *params; /* accepted parameters besides token and (opts) the render options */
-    int opts;           /* 1: the render options; 2: also the second set (b.*) */
+    const char *params; /* the parameters it takes besides token, space-separated */
 } route;
 
 static const route *find_route(const char *path);
@@ -29,7 +28,6 @@ int srv_param_allowed(const char *path, const char *key)
     const char *p;
     size_t n = strlen(key);
     if (!rt) return 1; /* answered 404 anyway */
-    if (rt->opts && srv_opts_known(key) && (rt->opts == 2 || strncmp(key, "b.", 2))) return 1;
     for (p = rt->params; *p;) {
         const char *e = strchr(p, ' ');
         size_t l = e ? (size_t)(e - p) : strlen(p);
@@ -125,17 +123,17 @@ static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
         first = 0;
     }
     srv_lib_unlock(s);
-    fprintf(f, "],\"options\":");
-    srv_opts_json(f, &s->cfg.opt);
+    fprintf(f, "],");
+    json_options(f, "options", &s->cfg.opt);
     fprintf(f,
             ",\"limits\":{\"max_depth\":%d,\"max_samples\":%d,\"trace_bytes\":%d,"
-            "\"render_jobs\":%d,\"render_seconds\":%d,\"uri_bytes\":%d,\"params\":%d,"
+            "\"jobs\":%d,\"job_seconds\":%d,\"uri_bytes\":%d,\"params\":%d,"
             "\"value_bytes\":%d,\"connections\":%d,\"threads\":%d,\"timeout_seconds\":%d,"
             "\"head_bytes\":%d,\"expr_bytes\":%d}",
             SRV_MAX_DEPTH, SRV_MAX_SAMPLES, SRV_TRACE_BYTES, SRV_MAX_JOBS, SRV_RENDER_SECONDS,
             SRV_MAX_URI, SRV_MAX_PARAMS, SRV_MAX_VALUE, SRV_MAX_CONNECTIONS, SRV_THREADS,
             SRV_CONN_TIMEOUT, SRV_MEMORY_LIMIT, SRV_MAX_EXPR);
-    fprintf(f, ",\"features\":{\"find\":false,\"check\":false,\"ledger\":false}}\n");
+    fprintf(f, "}\n");
     srv_body_close(resp, f);
 }
 
@@ -264,8 +262,8 @@ static void *b_realloc(void *ud, void *ptr, size_t n)
     return p + 2;
 }
 
-static int pixel_arg(const srv_server *s, const srv_req *r, const char *name, int limit, int *out,
-                     srv_resp *resp)
+int srv_pixel_arg(const srv_server *s, const srv_req *r, const char *name, int limit, int *out,
+                  srv_resp *resp)
 {
     const char *v = srv_param_get(r, name);
     if (!v) {
@@ -284,10 +282,37 @@ static int pixel_arg(const srv_server *s, const srv_req *r, const char *name, in
     return 0;
 }
 
+/* The tree (and, with every sample recorded, its ledger, as ggrt trace
+   prints it) in the format asked for. */
+static void trace_body(srv_resp *resp, const char *fmt, trace_view *v, const ggAllocator *al)
+{
+    ggLedger *ledger = NULL;
+    ggError err;
+    FILE *f;
+    if (v->sample < 0 && ggLedgerCreate(v->trace, v->pixel, al, &ledger, &err) != GG_OK) {
+        srv_error(resp, 500, "%s", err.message);
+        return;
+    }
+    v->ledger = ledger;
+    f = srv_body_open(resp, 200,
+                      !strcmp(fmt, "json")   ? "application/json"
+                      : !strcmp(fmt, "text") ? "text/plain; charset=utf-8"
+                                             : "image/svg+xml");
+    if (f) {
+        if (!strcmp(fmt, "json"))
+            trace_print_json(f, v);
+        else if (!strcmp(fmt, "text"))
+            trace_print_text(f, v, 1);
+        else
+            trace_write_svg_views(f, v, 0);
+    }
+    srv_body_close(resp, f);
+    ggLedgerFree(ledger);
+}
+
 static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     const char *fmt = srv_param_get(r, "format"), *sv = srv_param_get(r, "sample");
-    char key[512];
     ggRenderOptions o;
     ggAllocator al;
     budget b;
@@ -295,49 +320,36 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
     ggError err;
     trace_view view;
     int x, y, sample = -1, rc;
-    FILE *f;
     if (!fmt) fmt = "json";
     if (strcmp(fmt, "json") && strcmp(fmt, "text") && strcmp(fmt, "svg")) {
         srv_error(resp, 400, "format must be json, text or svg, got '%s'", fmt);
         return;
     }
-    if (pixel_arg(s, r, "x", s->cfg.width, &x, resp) ||
-        pixel_arg(s, r, "y", s->cfg.height, &y, resp))
+    if (srv_pixel_arg(s, r, "x", s->cfg.width, &x, resp) ||
+        srv_pixel_arg(s, r, "y", s->cfg.height, &y, resp))
         return;
     if (sv && srv_parse_int(sv, -1, 4095, &sample)) {
         srv_error(resp, 400, "sample must be -1 (all) or a sample index, got '%s'", sv);
         return;
     }
-    if (srv_opts_parse(s, r, "", &o, key, sizeof key, resp)) return;
+    if (srv_opts_parse(s, r, "opts", &o, NULL, 0, resp)) return;
     b.used = 0, b.limit = SRV_TRACE_BYTES, b.refused = 0;
     al.malloc = b_malloc, al.realloc = b_realloc, al.free = b_free, al.ud = &b;
     if (!(tr = ggTraceCreate(&al))) {
         srv_error(resp, 500, "out of memory");
         return;
     }
-    memset(&view.stats, 0, sizeof view.stats);
+    memset(&view, 0, sizeof view);
     err.message[0] = '\0';
     srv_lib_lock(s);
     rc = ggTracePixel(s->scene, &o, x, y, sample, tr, &view.pixel, &view.stats, &err);
     if (rc == GG_OK) {
         view.scene = s->scene, view.trace = tr, view.opt = &o, view.path = s->cfg.scene_path;
         view.x = x, view.y = y, view.sample = sample;
-        f = srv_body_open(resp, 200,
-                          !strcmp(fmt, "json")   ? "application/json"
-                          : !strcmp(fmt, "text") ? "text/plain; charset=utf-8"
-                                                 : "image/svg+xml");
-        if (f) {
-            if (!strcmp(fmt, "json"))
-                trace_print_json(f, &view);
-            else if (!strcmp(fmt, "text"))
-                trace_print_text(f, &view, 1);
-            else
-                trace_write_svg_views(f, &view, 0);
-        }
-        srv_body_close(resp, f);
+        trace_body(resp, fmt, &view, &al);
     }
     srv_lib_unlock(s);
-    if (rc == GG_ERROR_NOMEM && b.refused)
+    if ((rc == GG_ERROR_NOMEM || resp->status == 500) && b.refused)
         srv_error(resp, 413,
                   "the ray tree of pixel %d,%d needs more than %d MiB (%zu rays recorded): ask "
                   "for one sample (sample=K) or a smaller depth",
@@ -347,274 +359,166 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
     ggTraceFree(tr);
 }
 
-/* ---- /api/render and /api/image ---- */
+/* ---- /api/compare: one pixel's trees under options A and B ---- */
 
-static int kind_arg(const srv_req *r, int *kind, srv_resp *resp)
+typedef struct side {
+    budget b;
+    ggAllocator al;
+    ggTrace *tr;
+    trace_view v;
+} side;
+
+static int trace_side(srv_server *s, ggScene *sc, const ggRenderOptions *o, int x, int y, side *d,
+                      ggError *err)
 {
-    const char *k = srv_param_get(r, "kind");
-    if (!k || !strcmp(k, "image"))
-        *kind = SRV_KIND_IMAGE;
-    else if (!strcmp(k, "rays"))
-        *kind = GG_COST_RAYS;
-    else if (!strcmp(k, "depth"))
-        *kind = GG_COST_DEPTH;
-    else if (!strcmp(k, "time"))
-        *kind = GG_COST_TIME;
-    else {
-        srv_error(resp, 400, "kind must be image, rays, depth or time, got '%s'", k);
-        return -1;
+    int rc;
+    d->b.used = 0, d->b.limit = SRV_TRACE_BYTES, d->b.refused = 0;
+    d->al.malloc = b_malloc, d->al.realloc = b_realloc, d->al.free = b_free, d->al.ud = &d->b;
+    memset(&d->v, 0, sizeof d->v);
+    if (!(d->tr = ggTraceCreate(&d->al))) {
+        snprintf(err->message, sizeof err->message, "out of memory");
+        return GG_ERROR_NOMEM;
     }
-    return 0;
+    rc = ggTracePixel(sc, o, x, y, -1, d->tr, &d->v.pixel, &d->v.stats, err);
+    d->v.scene = sc, d->v.trace = d->tr, d->v.opt = o, d->v.path = s->cfg.scene_path;
+    d->v.x = x, d->v.y = y, d->v.sample = -1;
+    return rc;
 }
 
-/* Find or start the job; fill resp with its state unless it is done.
-   Returns 1 when done (resp untouched), 0 otherwise. */
-static int job_ready(srv_server *s, const char *key, const ggRenderOptions *o, int kind,
-                     srv_resp *resp, int always_report)
+static void compare_body(srv_resp *resp, const char *fmt, side *a, side *b, const char *ta,
+                         const char *tb)
 {
-    srv_job_view v;
-    FILE *f;
-    if (srv_jobs_request(s, key, o, kind, &v)) {
-        srv_error(resp, 503, "%s", v.error);
-        snprintf(resp->extra_name, sizeof resp->extra_name, "Retry-After");
-        snprintf(resp->extra_value, sizeof resp->extra_value, "2");
-        return 0;
-    }
-    if (v.state == SRV_JOB_DONE && !always_report) return 1;
-    if (v.state == SRV_JOB_FAILED) {
-        srv_error(resp, 500, "render failed: %s", v.error);
-        return 0;
-    }
-    f = srv_body_open(resp, v.state == SRV_JOB_DONE ? 200 : 202, "application/json");
-    if (f) {
-        fprintf(f, "{\"render\":");
-        srv_job_json(f, &v);
-        fprintf(f, ",\"options\":");
-        srv_opts_json(f, o);
+    ggDivergence d;
+    char text[800], na[600], nb[600];
+    int differ = ggTraceCompare(a->tr, b->tr, &d);
+    FILE *f = srv_body_open(
+        resp, 200, !strcmp(fmt, "json") ? "application/json" : "text/plain; charset=utf-8");
+    if (f && !strcmp(fmt, "text")) {
+        snprintf(na, sizeof na, "%s '%s'", a->v.path, ta);
+        snprintf(nb, sizeof nb, "%s '%s'", b->v.path, tb);
+        trace_print_diff(f, &a->v, &b->v, na, nb);
+    } else if (f) {
+        dbg_divergence_text(text, sizeof text, a->tr, b->tr, &d);
+        fprintf(f, "{\"pixel\":[%d,%d],", a->v.x, a->v.y);
+        json_options(f, "options_a", a->v.opt), fputc(',', f);
+        json_options(f, "options_b", b->v.opt);
+        fprintf(f, ",\"differ\":%s,\"first\":", differ ? "true" : "false");
+        json_divergence(f, &d);
+        fprintf(f, ",\"text\":");
+        srv_json_str(f, text);
         fprintf(f, "}\n");
     }
     srv_body_close(resp, f);
-    if (v.state != SRV_JOB_DONE) {
-        snprintf(resp->extra_name, sizeof resp->extra_name, "Retry-After");
-        snprintf(resp->extra_value, sizeof resp->extra_value, "1");
-    }
-    return v.state == SRV_JOB_DONE;
 }
 
-static void api_render(srv_server *s, const srv_req *r, srv_resp *resp)
-{
-    char key[512];
-    ggRenderOptions o;
-    int kind;
-    if (kind_arg(r, &kind, resp) || srv_opts_parse(s, r, "", &o, key, sizeof key, resp)) return;
-    job_ready(s, key, &o, kind, resp, 1);
-}
-
-/* Raw floats, little-endian whatever the host (docs/serve.md). */
-static void send_floats(srv_server *s, float *v, size_t n, srv_resp *resp)
-{
-    const uint16_t one = 1;
-    if (*(const unsigned char *)&one != 1) {
-        unsigned char *b = (unsigned char *)v, t;
-        size_t i;
-        for (i = 0; i < n * 4; i += 4) {
-            t = b[i], b[i] = b[i + 3], b[i + 3] = t;
-            t = b[i + 1], b[i + 1] = b[i + 2], b[i + 2] = t;
-        }
-    }
-    resp->status = 200, resp->type = "application/octet-stream";
-    resp->body = (char *)v, resp->len = n * sizeof *v;
-    snprintf(resp->extra_name, sizeof resp->extra_name, "X-GGRT-Size");
-    snprintf(resp->extra_value, sizeof resp->extra_value, "%dx%d", s->cfg.width, s->cfg.height);
-}
-
-static void api_image(srv_server *s, const srv_req *r, srv_resp *resp)
-{
-    static const char *const label[] = {"rays", "depth", "time s"};
-    const char *fmt = srv_param_get(r, "format");
-    char key[512];
-    ggRenderOptions o;
-    int kind, w = s->cfg.width, h = s->cfg.height;
-    float *v;
-    unsigned char *png;
-    if (!fmt) fmt = "png";
-    if (strcmp(fmt, "png") && strcmp(fmt, "f32")) {
-        srv_error(resp, 400, "format must be png or f32, got '%s'", fmt);
-        return;
-    }
-    if (kind_arg(r, &kind, resp) || srv_opts_parse(s, r, "", &o, key, sizeof key, resp)) return;
-    if (!job_ready(s, key, &o, kind, resp, 0)) return;
-    v = srv_jobs_copy(s, key, kind, kind >= 0);
-    if (!v) {
-        srv_error(resp, 503, "the render was evicted; ask again");
-        return;
-    }
-    if (!strcmp(fmt, "f32")) {
-        send_floats(s, v, (size_t)w * h * (kind >= 0 ? 1 : 3), resp);
-        return;
-    }
-    if (kind >= 0) {
-        double vmax = 0;
-        ggImage *map = heatmap_image(v, w, h, label[kind], &vmax);
-        free(v);
-        if (!map) {
-            srv_error(resp, 500, "out of memory");
-            return;
-        }
-        png = srv_png(ggImagePixelsConst(map), ggImageWidth(map), ggImageHeight(map), &resp->len);
-        ggImageFree(map);
-        snprintf(resp->extra_name, sizeof resp->extra_name, "X-GGRT-Max");
-        snprintf(resp->extra_value, sizeof resp->extra_value, "%.9g", vmax);
-    } else {
-        png = srv_png(v, w, h, &resp->len);
-        free(v);
-    }
-    if (!png) {
-        srv_error(resp, 500, "out of memory");
-        return;
-    }
-    resp->status = 200, resp->type = "image/png", resp->body = (char *)png;
-}
-
-/* ---- /api/diff: one set of options against another ---- */
-
-/* Per-pixel divergence: the largest channel difference |a - b|; a NaN on
-   one side only counts as infinite. */
-static float *divergence(const float *a, const float *b, size_t n, size_t *differ, size_t *worst)
-{
-    float *d = malloc(n * sizeof *d), top = -1;
-    size_t i;
-    int k;
-    if (!d) return NULL;
-    *differ = 0, *worst = 0;
-    for (i = 0; i < n; i++) {
-        float m = 0;
-        for (k = 0; k < 3; k++) {
-            float x = a[3 * i + k], y = b[3 * i + k], e;
-            if (isnan(x) != isnan(y))
-                e = INFINITY;
-            else
-                e = isnan(x) ? 0 : fabsf(x - y);
-            if (e > m) m = e;
-        }
-        d[i] = m;
-        if (m > 0) ++*differ;
-        if (m > top) top = m, *worst = i;
-    }
-    return d;
-}
-
-static void diff_json(srv_server *s, FILE *f, const float *pa, const float *pb, size_t differ,
-                      size_t worst, const ggRenderOptions *oa, const ggRenderOptions *ob)
-{
-    int w = s->cfg.width, h = s->cfg.height;
-    ggImage *ia = ggImageCreate(w, h, NULL), *ib = ggImageCreate(w, h, NULL);
-    ggImageDiff d;
-    size_t n = (size_t)w * h * 3;
-    memset(&d, 0, sizeof d);
-    if (ia && ib) {
-        memcpy(ggImagePixels(ia), pa, n * sizeof *pa);
-        memcpy(ggImagePixels(ib), pb, n * sizeof *pb);
-        ggImageCompare(ia, ib, GG_COMPARE_LINEAR, &d);
-    }
-    ggImageFree(ia), ggImageFree(ib);
-    fprintf(f, "{\"state\":\"done\",\"a\":");
-    srv_opts_json(f, oa);
-    fprintf(f, ",\"b\":");
-    srv_opts_json(f, ob);
-    fprintf(f, ",\"pixels\":%zu,\"pixels_differ\":%zu,\"worst\":[%d,%d],\"rmse\":", n / 3, differ,
-            (int)(worst % (size_t)w), (int)(worst / (size_t)w));
-    srv_json_num(f, d.rmse);
-    fprintf(f, ",\"max_abs\":");
-    srv_json_num(f, d.max_abs);
-    fprintf(f, ",\"psnr\":");
-    srv_json_num(f, d.psnr);
-    fprintf(f, ",\"pixels_over\":%zu,\"nan_channels\":%zu}\n", d.pixels_over, d.nan_channels);
-}
-
-static void api_diff(srv_server *s, const srv_req *r, srv_resp *resp)
+static void api_compare(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     const char *fmt = srv_param_get(r, "format");
-    char ka[512], kb[512];
+    char ta[512], tb[512];
     ggRenderOptions oa, ob;
-    srv_job_view va, vb;
-    float *pa = NULL, *pb = NULL, *d = NULL;
-    size_t n = (size_t)s->cfg.width * s->cfg.height, differ, worst;
-    FILE *f;
+    side a, b;
+    ggError err;
+    int x, y, rc;
     if (!fmt) fmt = "json";
-    if (strcmp(fmt, "json") && strcmp(fmt, "png") && strcmp(fmt, "f32")) {
-        srv_error(resp, 400, "format must be json, png or f32, got '%s'", fmt);
+    if (strcmp(fmt, "json") && strcmp(fmt, "text")) {
+        srv_error(resp, 400, "format must be json or text, got '%s'", fmt);
         return;
     }
-    if (srv_opts_parse(s, r, "", &oa, ka, sizeof ka, resp) ||
-        srv_opts_parse(s, r, "b.", &ob, kb, sizeof kb, resp))
+    if (srv_pixel_arg(s, r, "x", s->cfg.width, &x, resp) ||
+        srv_pixel_arg(s, r, "y", s->cfg.height, &y, resp) ||
+        srv_opts_parse(s, r, "opts", &oa, ta, sizeof ta, resp) ||
+        srv_opts_parse(s, r, "b", &ob, tb, sizeof tb, resp))
         return;
-    if (srv_jobs_request(s, ka, &oa, SRV_KIND_IMAGE, &va) ||
-        srv_jobs_request(s, kb, &ob, SRV_KIND_IMAGE, &vb)) {
-        srv_error(resp, 503, "%s", va.error[0] ? va.error : vb.error);
-        return;
+    a.tr = b.tr = NULL;
+    err.message[0] = '\0';
+    srv_lib_lock(s);
+    rc = trace_side(s, s->scene, &oa, x, y, &a, &err);
+    /* Side b traces after a, under the same lock: one scene serves both
+       (each call sets the geometry's knobs it needs). */
+    if (rc == GG_OK) rc = trace_side(s, s->scene, &ob, x, y, &b, &err);
+    /* The names as ggrt trace --diff prints them: the texts as given. */
+    if (rc == GG_OK)
+        compare_body(resp, fmt, &a, &b, srv_param_get(r, "opts") ? srv_param_get(r, "opts") : "",
+                     srv_param_get(r, "b") ? srv_param_get(r, "b") : "");
+    srv_lib_unlock(s);
+    if (rc != GG_OK)
+        srv_error(resp, a.b.refused || (b.tr && b.b.refused) ? 413 : 500, "%s", err.message);
+    ggTraceFree(a.tr), ggTraceFree(b.tr);
+}
+
+/* ---- /api/parse: is a predicate or an option text well formed? ---- */
+
+/* "L:C: message" -> line and column. */
+static void where_of(const char *msg, int *line, int *col)
+{
+    if (sscanf(msg, "%d:%d:", line, col) != 2) *line = *col = 0;
+}
+
+static void parse_answer(FILE *f, const char *what, int ok, const char *msg)
+{
+    int line = 0, col = 0;
+    fprintf(f, "\"%s\":{\"valid\":%s", what, ok ? "true" : "false");
+    if (!ok) {
+        where_of(msg, &line, &col);
+        fprintf(f, ",\"error\":");
+        srv_json_str(f, msg);
+        fprintf(f, ",\"line\":%d,\"column\":%d", line, col);
     }
-    if (va.state == SRV_JOB_FAILED || vb.state == SRV_JOB_FAILED) {
-        srv_error(resp, 500, "render failed: %s", va.error[0] ? va.error : vb.error);
-        return;
-    }
-    if (va.state != SRV_JOB_DONE || vb.state != SRV_JOB_DONE) {
-        f = srv_body_open(resp, 202, "application/json");
-        if (f) {
-            fprintf(f, "{\"state\":\"rendering\",\"a\":");
-            srv_job_json(f, &va);
-            fprintf(f, ",\"b\":");
-            srv_job_json(f, &vb);
-            fprintf(f, "}\n");
-        }
+    fputc('}', f);
+}
+
+/* 200 whether the texts parse or not (a page checks them as they are
+   typed); each one given gets {"valid": ..., "error", "line", "column"}. */
+static void api_parse(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const char *where = srv_param_get(r, "where"), *names[] = {"opts", "b"};
+    FILE *f = srv_body_open(resp, 200, "application/json");
+    ggError err;
+    int i, first = 1;
+    if (!f) {
         srv_body_close(resp, f);
-        snprintf(resp->extra_name, sizeof resp->extra_name, "Retry-After");
-        snprintf(resp->extra_value, sizeof resp->extra_value, "1");
         return;
     }
-    pa = srv_jobs_copy(s, ka, SRV_KIND_IMAGE, 0);
-    pb = srv_jobs_copy(s, kb, SRV_KIND_IMAGE, 0);
-    if (pa && pb) d = divergence(pa, pb, n, &differ, &worst);
-    if (!d) {
-        srv_error(resp, pa && pb ? 500 : 503,
-                  pa && pb ? "out of memory" : "a render was evicted; ask again");
-    } else if (!strcmp(fmt, "f32")) {
-        send_floats(s, d, n, resp);
-        d = NULL;
-    } else if (!strcmp(fmt, "png")) {
-        double vmax = 0;
-        ggImage *map = heatmap_image(d, s->cfg.width, s->cfg.height, "", &vmax);
-        unsigned char *png = map ? srv_png(ggImagePixelsConst(map), ggImageWidth(map),
-                                           ggImageHeight(map), &resp->len)
-                                 : NULL;
-        ggImageFree(map);
-        if (!png) {
-            srv_error(resp, 500, "out of memory");
-        } else {
-            resp->status = 200, resp->type = "image/png", resp->body = (char *)png;
-            snprintf(resp->extra_name, sizeof resp->extra_name, "X-GGRT-Max");
-            snprintf(resp->extra_value, sizeof resp->extra_value, "%.9g", vmax);
-        }
-    } else {
-        f = srv_body_open(resp, 200, "application/json");
-        if (f) diff_json(s, f, pa, pb, differ, worst, &oa, &ob);
-        srv_body_close(resp, f);
+    fputc('{', f);
+    if (where) {
+        ggPredicate *p = NULL;
+        int ok = strlen(where) <= SRV_MAX_EXPR && srv_utf8_valid(where) &&
+                 ggPredicateParse(where, NULL, &p, &err) == GG_OK;
+        if (!ok && (strlen(where) > SRV_MAX_EXPR || !srv_utf8_valid(where)))
+            snprintf(err.message, sizeof err.message, "1:1: at most %d bytes of UTF-8",
+                     SRV_MAX_EXPR);
+        ggPredicateFree(p);
+        parse_answer(f, "where", ok, err.message);
+        first = 0;
     }
-    free(pa), free(pb), free(d);
+    for (i = 0; i < 2; i++) {
+        const char *v = srv_param_get(r, names[i]);
+        ggRenderOptions o = s->cfg.opt;
+        if (!v) continue;
+        if (!first) fputc(',', f);
+        parse_answer(f, names[i], ggRenderOptionsParse(&o, v, &err) == GG_OK, err.message);
+        first = 0;
+    }
+    fprintf(f, "}\n");
+    srv_body_close(resp, f);
 }
 
 /* ---- the table ---- */
 
 static const route routes[] = {
-    {"/", page, "", 0},
-    {"/app.js", page, "", 0},
-    {"/app.css", page, "", 0},
-    {"/api/info", api_info, "", 0},
-    {"/api/scene", api_scene, "", 0},
-    {"/api/render", api_render, "kind", 1},
-    {"/api/image", api_image, "kind format", 1},
-    {"/api/trace", api_trace, "x y sample format", 1},
-    {"/api/diff", api_diff, "format", 2},
+    {"/", page, ""},
+    {"/app.js", page, ""},
+    {"/app.css", page, ""},
+    {"/api/info", api_info, ""},
+    {"/api/scene", api_scene, ""},
+    {"/api/trace", api_trace, "opts x y sample format"},
+    {"/api/compare", api_compare, "opts b x y format"},
+    {"/api/parse", api_parse, "where opts b"},
+    {"/api/render", srv_api_render, "opts kind"},
+    {"/api/image", srv_api_image, "opts kind format"},
+    {"/api/find", srv_api_find, "opts where limit format"},
+    {"/api/check", srv_api_check, "opts x y format"},
+    {"/api/diff", srv_api_diff, "opts b limit format"},
 };
 
 static const route *find_route(const char *path)

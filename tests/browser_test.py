@@ -130,6 +130,8 @@ def main():
               tir[0].is_displayed(), "the TIR node is visible and labelled tir")
         got = d.find_element(By.ID, "pixel-value").get_attribute("data-rgb")
         check(got == want, "the pixel value equals ggrt render --pixel's: %s" % got, "page %r, CLI %r" % (got, want))
+        head = d.find_element(By.CSS_SELECTOR, "#tree-a h3").get_attribute("textContent")
+        check(head.endswith("colour " + want), "the traced colour in the tree equals it too", head)
         # Collapsing a node hides its children.
         root = d.find_element(By.CSS_SELECTOR, "#tree-a > details.node")
         root.find_element(By.TAG_NAME, "summary").click()
@@ -159,25 +161,21 @@ def main():
         check("ov=rays" in d.current_url, "the URL keeps the overlay", d.current_url)
         # A find predicate typed into the box.
         box = d.find_element(By.ID, "find-input")
-        if box.is_displayed():
-            box.clear()
-            box.send_keys("some(kind == tir)", Keys.ENTER)
-            ok = wait(d, "find", lambda: d.find_element(By.ID, "overlay").get_attribute("data-kind") == "find")
-            res = d.find_element(By.ID, "find-result").text
-            m = re.match(r"(\d+) pixels? match", res)
-            check(ok and m and int(m.group(1)) > 0, "find some(kind == tir): matches appear (%s)" % res, res)
-            check(overlay_alpha(d, *PIXEL)[3] == 255, "pixel %d,%d is in the find mask" % PIXEL)
-            box.clear()
-            box.send_keys("some(kind ==", Keys.ENTER)
-            ok = wait(d, "bad", lambda: "bad" in box.get_attribute("class"))
-            check(ok and re.search(r"1:\d+", d.find_element(By.ID, "find-result").text),
-                  "a predicate with a syntax error says where", d.find_element(By.ID, "find-result").text)
-        elif d.execute_script("return document.getElementById('find-form').hidden;"):
-            # /api/info says the server has no find (the debug library of
-            # include/ggrt/debug.h is not in this ggrt yet).
-            print("skip find: this ggrt serve has no /api/find")
-        else:
-            check(False, "the find box is usable", "shown but not displayed")
+        box.clear()
+        box.send_keys("some(kind ==", Keys.ENTER)
+        ok = wait(d, "bad", lambda: "bad" in box.get_attribute("class"))
+        res = d.find_element(By.ID, "find-result").text
+        check(ok and re.match(r"1:\d+: ", res) and "ov=find" not in d.current_url,
+              "a predicate with a syntax error is refused, saying where (%s)" % res, res)
+        box.clear()
+        box.send_keys("some(kind == tir)", Keys.ENTER)
+        ok = wait(d, "find", lambda: d.find_element(By.ID, "overlay").get_attribute("data-kind") == "find")
+        res = d.find_element(By.ID, "find-result").text
+        m = re.match(r"(\d+) pixels? match", res)
+        check(ok and m and int(m.group(1)) > 0 and "bad" not in box.get_attribute("class"),
+              "find some(kind == tir): matches appear (%s)" % res, res)
+        check(overlay_alpha(d, *PIXEL)[3] == 255, "pixel %d,%d is in the find mask" % PIXEL)
+        check(overlay_alpha(d, 5, 5)[3] == 0, "a pixel of the sky is not")
         # The 3D view of the rays draws something.
         d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=rays3d]").click()
         drawn = d.execute_script("const c = document.getElementById('view3d'), g = c.getContext('2d');"
@@ -188,6 +186,18 @@ def main():
         ok = wait(d, "svg", lambda: d.execute_script("const i = document.getElementById('svg-view');"
                                                      "return i.complete && i.naturalWidth > 0;"))
         check(ok, "the top and side views load")
+        # The ledger: the pixel's colour term by term, adding up to it.
+        d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=ledger]").click()
+        ok = wait(d, "ledger", lambda: d.find_elements(By.CSS_SELECTOR, "#ledger p[data-holds]"))
+        rows = d.find_elements(By.CSS_SELECTOR, "#ledger tr")
+        check(ok and len(rows) > 1 and ok[0].get_attribute("data-holds") == "1",
+              "the ledger lists %d terms that add up to the pixel" % (len(rows) - 1),
+              ok[0].text if ok else "no ledger")
+        # The diagnostics: every invariant of ggrt check at this pixel.
+        d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=diag]").click()
+        ok = wait(d, "diag", lambda: len(d.find_elements(By.CSS_SELECTOR, "#diag tr")) == 8)
+        check(ok and "invariant" in d.find_element(By.ID, "diag").text,
+              "the diagnostics list the 7 invariants at the pixel", d.find_element(By.ID, "diag").text[:200])
         d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=tree]").click()
         # The URL restores the view after a reload.
         d.get(d.current_url)
@@ -209,8 +219,13 @@ def main():
                   and d.find_element(By.ID, "pixel-head").get_attribute("data-pixel") == "%d,%d" % PIXEL)
         res = d.find_element(By.ID, "diff-result").text
         trees = d.find_elements(By.CSS_SELECTOR, "#tree-b .node")
-        check(ok and re.match(r"\d+ of 120000 pixels differ", res) and trees,
-              "diff mode: the divergence map and both trees (%s)" % res[:40], res)
+        check(ok and re.match(r"\d+ of 120000 pixels differ in value, \d+ in their ray trees", res) and trees,
+              "diff mode: the divergence map and both trees (%s)" % res[:60], res)
+        ok = wait(d, "divergence", lambda: d.find_element(By.ID, "divergence").is_displayed())
+        div = d.find_element(By.ID, "divergence").text
+        marked = d.find_elements(By.CSS_SELECTOR, "#tree-a .node.diverge, #tree-b .node.diverge")
+        check(ok and div.startswith("first divergence: ray #") and marked,
+              "diff mode: the first divergent ray is named and marked (%s)" % div, div)
         errors = [e for e in d.get_log("browser") if e["level"] in ("SEVERE", "ERROR")]
         check(not errors, "no console errors", "\n".join(e["message"] for e in errors))
     except Exception:  # noqa: BLE001 -- a step that cannot go on fails the test, which still cleans up

@@ -18,6 +18,7 @@ import sys
 import tempfile
 import threading
 import time
+import urllib.parse
 import xml.dom.minidom
 import zlib
 
@@ -145,9 +146,10 @@ def png_pixels(data):
     return w, h, bytes(out)
 
 
-def cli(*args):
+def cli(*args, ok=(0,)):
+    """ggrt's standard output; exit codes other than ok raise."""
     r = subprocess.run([GGRT] + list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    if r.returncode != 0:
+    if r.returncode not in ok:
         raise RuntimeError("ggrt %s: %s" % (" ".join(args), r.stderr.decode()))
     return r.stdout
 
@@ -179,8 +181,8 @@ def check_pages(s):
 def check_info(s):
     st, j = s.json("/api/info")
     check(st == 200 and j["width"] == SIZE[0] and j["height"] == SIZE[1] and j["scene"] == SCENE and
-          any(e["name"] == "refraction" for e in j["effects"]) and j["limits"]["max_depth"] == 16,
-          "/api/info: size, scene, effects, limits", j)
+          any(e["name"] == "refraction" for e in j["effects"]) and j["limits"]["max_depth"] == 16 and
+          j["options"] == "size=%dx%d" % SIZE, "/api/info: size, scene, effects, options, limits", j)
     st, j = s.json("/api/scene")
     check(st == 200 and len(j["shapes"]) == 3 and j["shapes"][1]["kind"] == "sphere" and
           len(j["materials"]) == 3, "/api/scene: shapes and materials", j)
@@ -189,7 +191,7 @@ def check_info(s):
 def check_render(s):
     st, h, b = s.wait("/api/render")
     j = json.loads(b)
-    check(st == 200 and j["render"]["state"] == "done" and j["render"]["total"] == SIZE[0] * SIZE[1],
+    check(st == 200 and j["job"]["state"] == "done" and j["job"]["total"] == SIZE[0] * SIZE[1],
           "/api/render reaches done", j)
     st, h, png = s.wait("/api/image")
     with tempfile.TemporaryDirectory() as d:
@@ -202,7 +204,7 @@ def check_render(s):
     st, h, f32 = s.wait("/api/image?format=f32")
     check(st == 200 and len(f32) == SIZE[0] * SIZE[1] * 12 and h.get("x-ggrt-size") == "%dx%d" % SIZE,
           "/api/image?format=f32: 3 little-endian floats a pixel")
-    return struct.unpack("<%df" % (SIZE[0] * SIZE[1] * 3), f32), j["render"]["stats"]
+    return struct.unpack("<%df" % (SIZE[0] * SIZE[1] * 3), f32), j["job"]["stats"]
 
 
 def check_trace(s, rgb):
@@ -216,8 +218,11 @@ def check_trace(s, rgb):
         i = 3 * (y * SIZE[0] + x)
         check(tuple(struct.unpack("<3f", struct.pack("<3f", *c))) == rgb[i:i + 3],
               "/api/trace %d,%d colour equals the image's pixel" % (x, y))
-    for q, args in (("depth=3", ["-d", "3"]), ("samples=4&sample=2", ["-n", "4", "--sample", "2"]),
-                    ("samples=4", ["-n", "4"]), ("spd=1", ["--spd"]), ("force=1", ["--force-effects"])):
+    for q, args in (("opts=depth%3D3", ["-d", "3"]), ("opts=samples%3D4&sample=2", ["-n", "4", "--sample", "2"]),
+                    ("opts=samples%3D4", ["-n", "4"]), ("opts=spd", ["--spd"]),
+                    ("opts=force-effects", ["--force-effects"]),
+                    ("opts=refract%3Dtextbook+fresnel%3Dschlick", ["-a", "refract=textbook,fresnel=schlick"]),
+                    ("opts=depth%3D2,sphere%3Dtextbook,cutoff%3D0.01", ["-d", "2", "-a", "sphere=textbook,cutoff=0.01"])):
         ref = cli("trace", SCENE, "--pixel", "44,40", "--format", "json", *size_args(), *args)
         st, h, b = s.get("/api/trace?x=44&y=40&" + q)
         check(st == 200 and b == ref, "/api/trace ?%s equals ggrt trace %s" % (q, " ".join(args)))
@@ -233,8 +238,9 @@ def check_trace(s, rgb):
     except Exception as e:  # noqa: BLE001 -- any parse failure fails the check
         good = False
     check(good, "/api/trace?format=svg parses as XML with the top view")
-    st, j = s.json("/api/trace?x=44&y=40&refract=textbook&fresnel=schlick")
-    check(st == 200 and j["ggrt_trace"] == 1, "/api/trace with accuracy knobs")
+    st, j = s.json("/api/trace?x=44&y=40")
+    led = j.get("ledger", {})
+    check(st == 200 and led.get("holds") is True and led.get("terms"), "/api/trace carries the ledger, which holds")
 
 
 def check_heatmaps(s, stats):
@@ -258,18 +264,64 @@ def check_heatmaps(s, stats):
           "%s..%s" % (min(depth), max(depth)))
 
 
-def check_diff(s, rgb):
-    st, h, b = s.wait("/api/diff?b.depth=2")
+def check_debug(s):
+    """find, check, diff and compare against the command line's JSON."""
+    where = "some(kind == tir)"
+    q = "where=" + urllib.parse.quote(where)
+    st, h, b = s.wait("/api/find?" + q)
+    ref = cli("find", SCENE, *size_args(), "--where", where, "--format", "json", "-q")
+    check(st == 200 and b == ref, "/api/find equals ggrt find --format json", "%d: %s" % (st, b[:300]))
     j = json.loads(b)
-    check(st == 200 and j["state"] == "done" and 0 < j["pixels_differ"] < j["pixels"] and j["max_abs"] > 0
-          and j["b"]["depth"] == 2, "/api/diff A against depth 2: some pixels differ", j)
-    st, h, b = s.wait("/api/diff?b.depth=2&format=f32")
+    st, h, mask = s.wait("/api/find?%s&format=mask" % q)
+    check(st == 200 and len(mask) == SIZE[0] * SIZE[1] and sum(mask) == j["matched"] > 0,
+          "/api/find?format=mask: one byte a pixel, as many set as matched (%d)" % j["matched"])
+    st, h, b = s.wait("/api/find?%s&limit=3&opts=depth%%3D2" % q)
+    ref = cli("find", SCENE, *size_args(), "--where", where, "--format", "json", "-q", "--limit", "3", "-d", "2")
+    check(st == 200 and b == ref, "/api/find with a limit and options equals ggrt find's")
+    st, h, b = s.get("/api/find?where=" + urllib.parse.quote("some(kind == tri)"))
+    json_error(st, h, b, 400, "a predicate with a syntax error: 400")
+    check(b"1:14:" in b, "the predicate's error says where (1:14)", b)
+    for bad, name in (("", "an empty predicate"), ("some(", "an unclosed one"), ("x" * 600, "a 600-byte one"),
+                      ("some(kind == tir) &&", "a dangling &&")):
+        st, h, b = s.get("/api/find?where=" + urllib.parse.quote(bad))
+        json_error(st, h, b, 400, "find: %s is 400" % name)
+    st, h, b = s.get("/api/find")
+    json_error(st, h, b, 400, "find without where: 400")
+    st, j = s.json("/api/parse?where=" + urllib.parse.quote("some(kind == tri)") + "&opts=depth%3D99")
+    check(st == 200 and j["where"]["valid"] is False and j["where"]["line"] == 1 and j["where"]["column"] == 14
+          and j["opts"]["valid"] is False, "/api/parse: 200 with where and why for bad texts", j)
+    st, j = s.json("/api/parse?where=" + urllib.parse.quote(where))
+    check(st == 200 and j == {"where": {"valid": True}}, "/api/parse of a good predicate", j)
+    st, h, b = s.wait("/api/check")
+    ref = cli("check", SCENE, *size_args(), "--format", "json", "-q", ok=(0, 4))  # 4: an invariant fails
+    check(st in (200,) and b == ref, "/api/check equals ggrt check --format json", b[:200])
+    st, h, b = s.get("/api/check?x=44&y=40")
+    ref = cli("check", SCENE, *size_args(), "--crop", "44,40,45,41", "--format", "json", "-q", ok=(0, 4))
+    check(st == 200 and b == ref, "/api/check?x=44&y=40 equals ggrt check --crop 44,40,45,41")
+    st, h, b = s.wait("/api/diff?b=depth%3D2")
+    ref = cli("diff", SCENE, *size_args(), "--b", "depth=2", "--format", "json", "-q")
+    check(st == 200 and b == ref, "/api/diff?b=depth=2 equals ggrt diff --b depth=2 --format json", b[:300])
+    j = json.loads(b)
+    check(0 < j["value_differ"] < j["scanned"], "the diff finds pixels that differ (%d)" % j["value_differ"])
+    st, h, b = s.wait("/api/diff?b=depth%3D2&format=map")
+    check(st == 200 and sum(1 for v in b if v) == max(j["value_differ"], j["tree_differ"]),
+          "/api/diff?format=map: as many pixels marked as differ")
+    st, h, b = s.wait("/api/diff?b=depth%3D2&format=f32")
     d = struct.unpack("<%df" % (SIZE[0] * SIZE[1]), b)
-    check(st == 200 and sum(1 for v in d if v > 0) == j["pixels_differ"], "diff map: as many pixels differ")
-    st, h, b = s.wait("/api/diff?b.depth=2&format=png")
-    check(st == 200 and png_pixels(b)[0] == SIZE[0], "diff map as a PNG")
-    st, j = s.json("/api/diff")
-    check(st == 200 and j["pixels_differ"] == 0, "/api/diff of equal options: nothing differs", j)
+    check(st == 200 and max(d) == struct.unpack("<f", struct.pack("<f", j["max_delta"]))[0],
+          "/api/diff?format=f32: the largest difference is max_delta (as a float)",
+          "%s vs %s" % (max(d), j["max_delta"]))
+    st, h, b = s.wait("/api/diff?b=depth%3D2&format=png")
+    check(st == 200 and png_pixels(b)[0] == SIZE[0], "/api/diff?format=png: the difference as a heatmap")
+    st, h, b = s.wait("/api/diff?b=sphere%3Dtextbook&limit=2")
+    ref = cli("diff", SCENE, *size_args(), "--b", "sphere=textbook", "--format", "json", "-q", "--worst", "2")
+    check(st == 200 and b == ref, "/api/diff of a geometry knob (a second copy of the scene) equals ggrt diff's")
+    st, j = s.json("/api/compare?x=44&y=40&b=depth%3D2")
+    check(st == 200 and j["differ"] is True and j["first"]["what"] == "stop" and j["text"].startswith("ray #"),
+          "/api/compare names the first divergent ray", j)
+    st, h, b = s.get("/api/compare?x=44&y=40&b=depth%3D2&format=text")
+    ref = cli("trace", SCENE, *size_args(), "--pixel", "44,40", "--diff", "--b", "depth=2")
+    check(st == 200 and b == ref, "/api/compare?format=text equals ggrt trace --diff", b[:300])
 
 
 def check_security(s):
@@ -314,6 +366,8 @@ def check_security(s):
     c.close()
     # No request parameter names a file.
     for path, want in (("/api/trace?x=1&y=1&scene=/etc/passwd", 400), ("/api/image?file=/etc/passwd", 400),
+                       ("/api/trace?x=1&y=1&opts=texture%3D/etc/passwd", 400),
+                       ("/api/trace?x=1&y=1&opts=scene%3D/etc/passwd", 400),
                        ("/api/info?path=/etc/passwd", 400), ("/../../../etc/passwd", 404),
                        ("/%2e%2e/%2e%2e/etc/passwd", 404), ("/app.js/../../etc/passwd", 404),
                        ("//etc/passwd", 404), ("/api/trace?x=1&y=1&texture=/etc/passwd", 400)):
@@ -334,18 +388,28 @@ def check_bad_queries(s):
         ("/api/trace?x=1&y=1&x=2", 400, "x given twice"),
         ("/api/trace?x=1&y=1&sample=7", 400, "a sample the pixel does not have"),
         ("/api/trace?x=1&y=1&format=xml", 400, "unknown format"),
-        ("/api/trace?x=1&y=1&depth=17", 400, "depth over the limit"),
-        ("/api/trace?x=1&y=1&depth=0x3", 400, "depth in hex"),
-        ("/api/trace?x=1&y=1&samples=65", 400, "samples over the limit"),
-        ("/api/trace?x=1&y=1&refract=bogus", 400, "unknown knob value"),
-        ("/api/trace?x=1&y=1&cutoff=nan", 400, "NaN knob"),
-        ("/api/trace?x=1&y=1&cutoff=-1", 400, "negative knob"),
-        ("/api/trace?x=1&y=1&spd=maybe", 400, "not a boolean"),
-        ("/api/trace?x=1&y=1&b.depth=2", 400, "b.* outside diff"),
+        ("/api/trace?x=1&y=1&opts=depth%3D17", 400, "depth over the limit"),
+        ("/api/trace?x=1&y=1&opts=depth%3D0x3", 400, "depth in hex"),
+        ("/api/trace?x=1&y=1&opts=samples%3D65", 400, "samples over the limit"),
+        ("/api/trace?x=1&y=1&opts=refract%3Dbogus", 400, "unknown knob value"),
+        ("/api/trace?x=1&y=1&opts=cutoff%3Dnan", 400, "NaN knob"),
+        ("/api/trace?x=1&y=1&opts=cutoff%3D-1", 400, "negative knob"),
+        ("/api/trace?x=1&y=1&opts=spd%3Dmaybe", 400, "a flag with a value"),
+        ("/api/trace?x=1&y=1&opts=bogus%3D1", 400, "an unknown setting"),
+        ("/api/trace?x=1&y=1&opts=size%3D8x8", 400, "a request may not change the size"),
+        ("/api/trace?x=1&y=1&opts=threads%3D1", 400, "nor the threads"),
+        ("/api/trace?x=1&y=1&opts=crop%3D0,0,1,1", 400, "nor the crop"),
+        ("/api/trace?x=1&y=1&depth=2", 400, "a setting as its own parameter"),
+        ("/api/trace?x=1&y=1&b=depth%3D2", 400, "b outside diff and compare"),
+        ("/api/diff?b=depth%3D99", 400, "a bad b"),
+        ("/api/diff?limit=1001", 400, "diff's limit over 1000"),
+        ("/api/find?where=x&limit=-1", 400, "a negative find limit"),
+        ("/api/compare?x=1&y=999", 400, "compare outside the image"),
         ("/api/image?kind=heat", 400, "unknown heatmap kind"),
         ("/api/image?format=jpeg", 400, "unknown image format"),
         ("/api/diff?format=gif", 400, "unknown diff format"),
-        ("/api/diff?b.depth=x", 400, "bad b option"),
+        ("/api/check?x=1", 400, "check with x but no y"),
+        ("/api/check?format=text", 400, "check in another format"),
         ("/api/nothing", 404, "unknown route"),
         ("/api/trace?x=1&y=1&" + "&".join("p%d=1" % i for i in range(50)), 400, "too many parameters"),
         ("/api/trace?x=1&y=%s" % ("1" * 1100), 414, "a value over 1024 bytes"),
@@ -371,7 +435,7 @@ def check_concurrent(s):
     equal to the answers given one at a time."""
     pix = [(x, y) for x in range(30, 130, 20) for y in range(20, 110, 30)]
     want = {p: s.get("/api/trace?x=%d&y=%d" % p)[2] for p in pix}
-    s.get("/api/render?samples=16")  # a slower render in the background
+    s.get("/api/render?opts=samples%3D16")  # a slower render in the background
     errors, done = [], []
 
     def client(k):
@@ -460,7 +524,7 @@ def main():
         rgb, stats = check_render(s)
         check_trace(s, rgb)
         check_heatmaps(s, stats)
-        check_diff(s, rgb)
+        check_debug(s)
         check_concurrent(s)
     finally:
         rc, err = s.stop()
@@ -469,7 +533,7 @@ def main():
           file_list(work) + file_list(tmp))
     # SIGTERM in the middle of a long render stops it promptly.
     s = Server([SCENE, "--port", "0", "-s", "400x300"], work, env)
-    s.get("/api/render?samples=64&depth=16")
+    s.get("/api/render?opts=samples%3D64,depth%3D16")
     time.sleep(0.3)
     t1 = time.time()
     rc, err = s.stop(signal.SIGTERM)

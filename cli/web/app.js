@@ -7,30 +7,31 @@
   const TOKEN = new URLSearchParams(location.search).get('token') || '';
   const $ = (id) => document.getElementById(id);
 
-  // ---- the render options a view can change (names as in the API) ----
+  // ---- the render options a view can change: the settings of
+  // ggRenderOptionsParse (the text of ggrt diff's --a/--b), applied over the
+  // server's own options ----
   const OPTS = [
-    ['depth', 'depth', 'int', 0, 16],
-    ['samples', 'samples', 'int', 0, 64],
+    ['depth', 'depth', 'int', 1, 16],
+    ['samples', 'samples', 'int', 1, 64],
     ['refract', 'refract', ['accurate', 'textbook', 'exact']],
-    ['fresnel', 'fresnel', ['material', 'none', 'schlick', 'exact']],
+    ['fresnel', 'fresnel', ['scene', 'none', 'schlick', 'exact']],
     ['sphere', 'sphere', ['stable', 'textbook']],
-    ['offset', 'offset', ['scaled', 'fixed']],
-    ['offset_eps', 'offset eps', 'num'],
-    ['texture', 'texture', ['material', 'bilinear', 'nearest']],
+    ['offset', 'offset (scaled, fixed or eps)', 'text', 'scaled'],
+    ['texture', 'texture', ['scene', 'bilinear', 'nearest']],
     ['wavelengths', 'wavelengths', ['rgb', 'one']],
-    ['cutoff', 'cutoff', 'num'],
-    ['implicit_tol', 'implicit tol', 'num'],
-    ['gradient_h', 'gradient h', 'num'],
-    ['spd', 'SPD rules', 'bool'],
-    ['corners', 'pixel corners', 'bool'],
-    ['force', 'force effects', 'bool'],
+    ['cutoff', 'cutoff (0 = off)', 'text', '0'],
+    ['implicit-tol', 'implicit tol (own or T)', 'text', 'own'],
+    ['gradient', 'gradient (exact or h)', 'text', 'exact'],
+    ['spd', 'SPD rules', 'flag'],
+    ['corners', 'pixel corners', 'flag'],
+    ['force-effects', 'force effects', 'flag'],
   ];
   const OVERLAYS = ['none', 'rays', 'depth', 'time', 'find', 'diff'];
   const TABS = ['tree', 'rays3d', 'views', 'ledger', 'diag', 'text'];
   const KIND_COLOR = { eye: '#111', reflect: '#1f5fd0', refract: '#17a34a', tir: '#c026d3' };
 
   const state = {
-    a: {}, b: {}, // options that differ from the server's, name -> text
+    a: '', b: '', // option text over the server's options (ggRenderOptionsParse)
     diff: false, px: null, overlay: 'none', opacity: 0.75, zoom: 0, tab: 'tree', find: '',
   };
   let info = null, scene = null, W = 0, H = 0;
@@ -120,30 +121,46 @@
   // ---- options ----
 
   function optParams(side) {
-    const o = side === 'b' ? state.b : state.a, p = {};
-    for (const k in o) p[k] = o[k];
-    return p;
+    const t = side === 'b' ? state.b : state.a;
+    return t ? { opts: t } : {};
   }
   function diffParams() {
     const p = optParams('a');
-    for (const k in state.b) p['b.' + k] = state.b[k];
+    if (state.b) p.b = state.b;
     return p;
   }
   const keyOf = (p) => new URLSearchParams(p).toString();
 
+  // "depth=3 refract=textbook spd" -> {depth: '3', refract: 'textbook', spd: '1'}
+  function parseText(t) {
+    const o = {};
+    for (const w of (t || '').split(/[\s,]+/)) {
+      if (!w) continue;
+      const i = w.indexOf('=');
+      if (i < 0) o[w] = '1';
+      else o[w.slice(0, i)] = w.slice(i + 1);
+    }
+    if (o.spd) o.corners = '1';
+    return o;
+  }
+  let serverOpts = {};
   function serverValue(name) {
-    const v = info.options[name];
-    if (typeof v === 'boolean') return v ? '1' : '0';
-    return String(v);
+    const spec = OPTS.find((o) => o[0] === name);
+    if (name in serverOpts) return serverOpts[name];
+    if (spec[2] === 'flag') return '0';
+    if (spec[2] === 'int') return '0';
+    if (spec[2] === 'text') return spec[3];
+    if (name === 'offset' && serverOpts.offset) return serverOpts.offset;
+    return spec[2][0];
   }
 
   function buildPanel(side) {
     const box = $('opts-' + side);
     box.textContent = '';
     for (const [name, label, type, lo, hi] of OPTS) {
-      const l = el('label', type === 'bool' ? 'flag' : '');
+      const l = el('label', type === 'flag' ? 'flag' : '');
       let input;
-      if (type === 'bool') {
+      if (type === 'flag') {
         input = el('input');
         input.type = 'checkbox';
       } else if (Array.isArray(type)) {
@@ -151,45 +168,54 @@
         for (const c of type) input.appendChild(el('option', '', c)).value = c;
       } else if (type === 'int') {
         input = el('select');
+        input.appendChild(el('option', '', 'scene')).value = '0';
         for (let i = lo; i <= hi; i++) {
-          if (name === 'samples' && i > 1 && [4, 9, 16, 25, 36, 49, 64].indexOf(i) < 0 && i !== 2) continue;
-          input.appendChild(el('option', '', i === 0 ? 'scene' : String(i))).value = String(i);
+          if (name === 'samples' && i > 2 && [4, 9, 16, 25, 36, 49, 64].indexOf(i) < 0) continue;
+          input.appendChild(el('option', '', String(i))).value = String(i);
         }
       } else {
         input = el('input');
         input.type = 'text';
-        input.size = 7;
+        input.size = 8;
       }
       input.dataset.opt = name;
       input.id = 'opt-' + side + '-' + name;
       const span = el('span', '', label);
-      if (type === 'bool') { l.appendChild(input); l.appendChild(span); } else { l.appendChild(span); l.appendChild(input); }
+      if (type === 'flag') { l.appendChild(input); l.appendChild(span); } else { l.appendChild(span); l.appendChild(input); }
       box.appendChild(l);
     }
     fillPanel(side);
   }
 
   function fillPanel(side) {
-    const o = side === 'b' ? state.b : state.a;
+    const o = parseText(side === 'b' ? state.b : state.a);
     for (const input of $('opts-' + side).querySelectorAll('[data-opt]')) {
       const name = input.dataset.opt, v = name in o ? o[name] : serverValue(name);
-      if (input.type === 'checkbox') input.checked = v === '1' || v === 'true';
-      else input.value = v;
-      input.parentNode.classList.toggle('changed', name in o);
+      if (input.type === 'checkbox') {
+        input.checked = v === '1';
+        // A setting's text only adds: what the server has on stays on.
+        input.disabled = serverValue(name) === '1';
+      } else {
+        input.value = v;
+        if (input.tagName === 'SELECT' && input.value !== v) input.value = input.options[0].value;
+      }
+      input.parentNode.classList.toggle('changed', name in o && o[name] !== serverValue(name));
     }
   }
 
+  // The panel as option text: the settings that differ from the server's.
   function readPanel(side) {
-    const o = {};
+    const words = [];
     for (const input of $('opts-' + side).querySelectorAll('[data-opt]')) {
       const name = input.dataset.opt;
       const v = input.type === 'checkbox' ? (input.checked ? '1' : '0') : input.value.trim();
-      if (v !== serverValue(name)) o[name] = v;
+      if (v === serverValue(name) || v === '') continue;
+      if (input.type === 'checkbox') { if (v === '1') words.push(name); } else if (v !== '0' || name === 'cutoff') words.push(name + '=' + v);
     }
-    return o;
+    return words.join(' ');
   }
 
-  // ---- URL state: #px=X,Y&ov=...&tab=...&zoom=...&find=...&depth=..&b.depth=..&diff=1 ----
+  // ---- URL state: #px=X,Y&ov=...&tab=...&zoom=...&find=...&a=OPTIONS&b=OPTIONS&diff=1 ----
 
   function writeHash() {
     const p = new URLSearchParams();
@@ -200,20 +226,16 @@
     if (state.opacity !== 0.75) p.set('alpha', String(state.opacity));
     if (state.find) p.set('find', state.find);
     if (state.diff) p.set('diff', '1');
-    for (const k in state.a) p.set(k, state.a[k]);
-    for (const k in state.b) p.set('b.' + k, state.b[k]);
+    if (state.a) p.set('a', state.a);
+    if (state.b) p.set('b', state.b);
     const h = p.toString();
     history.replaceState(null, '', location.pathname + location.search + (h ? '#' + h : ''));
   }
 
   function readHash() {
     const p = new URLSearchParams(location.hash.slice(1));
-    const names = OPTS.map((o) => o[0]);
-    state.a = {}; state.b = {};
-    for (const [k, v] of p) {
-      if (names.indexOf(k) >= 0) state.a[k] = v;
-      else if (k.startsWith('b.') && names.indexOf(k.slice(2)) >= 0) state.b[k.slice(2)] = v;
-    }
+    state.a = p.get('a') || '';
+    state.b = p.get('b') || '';
     const px = (p.get('px') || '').split(',').map((s) => parseInt(s, 10));
     state.px = px.length === 2 && px.every((v) => v >= 0) && px[0] < W && px[1] < H ? px : null;
     state.overlay = OVERLAYS.indexOf(p.get('ov')) >= 0 ? p.get('ov') : 'none';
@@ -233,7 +255,7 @@
     if (kind !== 'image') p.kind = kind;
     for (;;) {
       const r = await api('/api/render', p);
-      const j = r.body.render;
+      const j = r.body.job;
       if (gen !== generation && gen !== undefined) return false;
       if (j.state === 'done') return true;
       if (j.state === 'failed') throw new ApiError(500, j.error);
@@ -254,8 +276,8 @@
     const bmp = await createImageBitmap(png.body);
     images[side] = { q: q, bmp: bmp, rgb: new Float32Array(f32.body) };
     const r = await api('/api/render', params);
-    const st = r.body.render.stats;
-    status('rendered ' + side.toUpperCase() + ' in ' + r.body.render.seconds.toFixed(2) + ' s' +
+    const st = r.body.job.stats;
+    status('rendered ' + side.toUpperCase() + ' in ' + r.body.job.seconds.toFixed(2) + ' s' +
       ' (' + ((performance.now() - t0) / 1000).toFixed(1) + ' s here): ' +
       (st.eye + st.reflect + st.refract + st.shadow).toLocaleString() + ' rays');
     return images[side];
@@ -356,33 +378,73 @@
     return overlays[key];
   }
 
+  // Poll a job route until it answers 200; 202 bodies carry the job.
+  async function waitJob(path, params, label, gen) {
+    for (;;) {
+      const r = await api(path, params);
+      if (gen !== generation) return null;
+      if (r.status === 200) return r;
+      const j = r.body.job;
+      status(label + ': ' + j.state + ' ' + Math.round(100 * j.done / Math.max(1, j.total)) + '%',
+        j.done / Math.max(1, j.total));
+      await sleep(150);
+    }
+  }
+
+  // A w x h byte map as an RGBA canvas, colour[v] for value v.
+  function maskCanvas(bytes, colours) {
+    const c = document.createElement('canvas');
+    c.width = W; c.height = H;
+    const g = c.getContext('2d'), id = g.createImageData(W, H);
+    for (let i = 0; i < W * H; i++) {
+      const k = colours[bytes[i]];
+      if (!k) continue;
+      id.data[4 * i] = k[0]; id.data[4 * i + 1] = k[1]; id.data[4 * i + 2] = k[2]; id.data[4 * i + 3] = 255;
+    }
+    g.putImageData(id, 0, 0);
+    return c;
+  }
+
+  // The diff (ggDiff, as ggrt diff): map 1 = the value differs, 2 = the ray tree does.
   async function loadDiff(gen) {
     const params = diffParams(), key = 'diff|' + keyOf(params);
     if (overlays[key]) return overlays[key];
-    let sum;
-    for (;;) {
-      const r = await api('/api/diff', params);
-      if (gen !== generation) return null;
-      if (r.status === 200) { sum = r.body; break; }
-      const a = r.body.a, b = r.body.b;
-      const done = a.done + b.done, total = a.total + b.total;
-      status('rendering A and B for the diff: ' + Math.round(100 * done / total) + '%', done / total);
-      await sleep(150);
-    }
-    const [png, f32] = await Promise.all([
-      api('/api/diff', Object.assign({ format: 'png' }, params), 'blob'),
+    const r = await waitJob('/api/diff', params, 'diff of A and B', gen);
+    if (!r) return null;
+    const sum = r.body;
+    const [map, f32] = await Promise.all([
+      api('/api/diff', Object.assign({ format: 'map' }, params), 'buf'),
       api('/api/diff', Object.assign({ format: 'f32' }, params), 'buf')]);
-    const text = sum.pixels_differ + ' of ' + sum.pixels + ' pixels differ; largest channel difference ' +
-      fmtG(sum.max_abs, 4) + ' at ' + sum.worst.join(',') + ', rmse ' + fmtG(sum.rmse, 4) +
-      ', PSNR ' + (sum.psnr === null ? 'inf' : fmtG(sum.psnr, 4) + ' dB');
+    const kinds = Object.entries(sum.first_divergence).filter(([, n]) => n > 0)
+      .map(([k, n]) => k + ' ' + n).join(', ');
+    const text = sum.value_differ + ' of ' + sum.scanned + ' pixels differ in value, ' + sum.tree_differ +
+      ' in their ray trees' + (kinds ? ' (first divergence: ' + kinds + ')' : '') +
+      '; largest difference ' + fmtG(sum.max_delta, 4);
     $('diff-result').textContent = text;
+    const bytes = new Uint8Array(map.body);
     overlays[key] = {
-      bmp: await createImageBitmap(png.body), values: new Float32Array(f32.body),
-      max: parseFloat(png.headers.get('X-GGRT-Max')), legend: 'diff |A - B| per pixel, ' + text,
+      bmp: await createImageBitmap(maskCanvas(bytes, [null, [245, 158, 11], [192, 38, 211]])),
+      values: new Float32Array(f32.body), kinds: bytes,
+      legend: 'diff A/B: orange the value differs, magenta the ray tree differs. ' + text,
       unit: '|A-B|', worst: sum.worst,
     };
     status('diff ready');
     return overlays[key];
+  }
+
+  async function checkPredicate(text) {
+    const box = $('find-input');
+    if (!text) { box.classList.remove('bad'); $('find-result').textContent = ''; return false; }
+    const r = (await api('/api/parse', { where: text })).body.where;
+    box.classList.toggle('bad', !r.valid);
+    box.title = r.valid ? '' : r.error;
+    if (!r.valid) {
+      $('find-result').textContent = r.error;
+      if (r.column > 0) box.setSelectionRange(r.column - 1, Math.min(text.length, r.column));
+    } else if ($('find-result').textContent.match(/^\d+:\d+:/)) {
+      $('find-result').textContent = '';
+    }
+    return r.valid;
   }
 
   async function loadFind(gen) {
@@ -390,38 +452,25 @@
     const key = 'find|' + keyOf(params);
     if (overlays[key]) return overlays[key];
     let r;
-    for (;;) {
-      try {
-        r = await api('/api/find', params);
-      } catch (e) {
-        $('find-input').classList.add('bad');
-        $('find-result').textContent = e.message;
-        return null;
-      }
-      if (gen !== generation) return null;
-      if (r.status === 200) break;
-      status('find: rendering ' + Math.round(100 * (r.body.render ? r.body.render.done / r.body.render.total : 0)) + '%');
-      await sleep(150);
+    try {
+      r = await waitJob('/api/find', params, 'find', gen);
+    } catch (e) {
+      $('find-input').classList.add('bad');
+      $('find-result').textContent = e.message;
+      $('overlay').dataset.kind = 'find-error';
+      return null;
     }
+    if (!r) return null;
     $('find-input').classList.remove('bad');
-    const f = r.body, mask = new Uint8Array(W * H);
-    const c = document.createElement('canvas');
-    c.width = W; c.height = H;
-    const g = c.getContext('2d'), id = g.createImageData(W, H);
-    for (const [x, y] of f.matches) {
-      mask[y * W + x] = 1;
-      const i = 4 * (y * W + x);
-      id.data[i] = 255; id.data[i + 1] = 45; id.data[i + 2] = 85; id.data[i + 3] = 255;
-    }
-    g.putImageData(id, 0, 0);
-    const text = f.count + ' pixel' + (f.count === 1 ? '' : 's') + ' match' +
-      (f.count > f.matches.length ? ' (first ' + f.matches.length + ' shown)' : '');
+    const f = r.body;
+    const mask = new Uint8Array((await api('/api/find', Object.assign({ format: 'mask' }, params), 'buf')).body);
+    const text = f.matched + ' pixel' + (f.matched === 1 ? '' : 's') + ' match';
     $('find-result').textContent = text;
     overlays[key] = {
-      bmp: await createImageBitmap(c), values: mask, legend: 'find ' + state.find + ': ' + text,
-      unit: 'match', count: f.count, matches: f.matches,
+      bmp: await createImageBitmap(maskCanvas(mask, [null, [255, 45, 85]])), values: mask,
+      legend: 'find ' + state.find + ': ' + text, unit: 'match', count: f.matched, matches: f.matches,
     };
-    status('find done');
+    status('find done: ' + text);
     return overlays[key];
   }
 
@@ -451,6 +500,7 @@
       const v = ov.values[p[1] * W + p[0]];
       t += '\n' + (state.overlay === 'find' ? (v ? 'matches ' : 'does not match ') + state.find
         : ov.unit + ' ' + fmtG(v, 6));
+      if (ov.kinds) t += ['  same', '  the value differs', '  the ray tree differs'][ov.kinds[p[1] * W + p[0]]];
     }
     if (images.b && state.diff) {
       t += '\nB ' + [images.b.rgb[i], images.b.rgb[i + 1], images.b.rgb[i + 2]].map((v) => fmtG(v, 9)).join(' ');
@@ -479,8 +529,10 @@
       $('pixel-title').textContent = 'pixel ' + state.px.join(',') + ': tracing';
       const a = await trace('a');
       const b = state.diff ? await trace('b') : null;
+      const cmp = state.diff ? (await api('/api/compare', Object.assign({ x: state.px[0], y: state.px[1] },
+        diffParams()))).body : null;
       if (gen !== pixelGen) return;
-      traces = { key: key, a: a, b: b };
+      traces = { key: key, a: a, b: b, cmp: cmp };
     }
     showPixel();
     await showTab(gen);
@@ -503,6 +555,15 @@
     fillTree($('tree-a'), traces.a, state.diff ? 'A' : '');
     $('tree-b').hidden = !traces.b;
     if (traces.b) fillTree($('tree-b'), traces.b, 'B');
+    const c = traces.cmp;
+    $('divergence').hidden = !c;
+    if (c) {
+      $('divergence').textContent = (c.differ ? 'first divergence: ' : '') + c.text;
+      for (const [box, id] of [['tree-a', c.first.node_a], ['tree-b', c.first.node_b]]) {
+        const n = id >= 0 && $(box).querySelector('details.node[data-id="' + id + '"]');
+        if (n) n.classList.add('diverge');
+      }
+    }
     $('pixel-head').dataset.pixel = a.pixel.join(',');
   }
 
@@ -605,6 +666,13 @@
     const p = Object.assign({ x: state.px[0], y: state.px[1] }, optParams('a'));
     if (traces.a.json.sample !== null) p.sample = traces.a.json.sample;
     if (state.tab === 'rays3d') draw3d();
+    if (state.tab === 'ledger') showLedger();
+    if (state.tab === 'diag' && traces.diagKey !== traces.key) {
+      const r = await api('/api/check', Object.assign({ x: state.px[0], y: state.px[1] }, optParams('a')));
+      if (gen !== pixelGen) return;
+      showDiagnostics(r.body);
+      traces.diagKey = traces.key;
+    }
     if (state.tab === 'views' && traces.svgKey !== traces.key) {
       const r = await api('/api/trace', Object.assign({ format: 'svg' }, p), 'blob');
       if (gen !== pixelGen) return;
@@ -619,6 +687,65 @@
       $('trace-text').textContent = r.body;
       traces.textKey = traces.key;
     }
+  }
+
+  // The ledger: the pixel's colour term by term (ggLedgerCreate, as ggrt trace --ledger).
+  function showLedger() {
+    const box = $('ledger'), L = traces.a && traces.a.json.ledger;
+    box.textContent = '';
+    if (!L) {
+      box.appendChild(el('p', 'stop', 'The ledger covers the whole pixel: it needs every sample traced.'));
+      return;
+    }
+    const t = el('table', 'kv'), head = el('tr');
+    for (const h of ['share', 'term', 'light', 'carried by', 'value']) head.appendChild(el('th', '', h));
+    t.appendChild(head);
+    for (const term of L.terms) {
+      const tr = el('tr');
+      tr.appendChild(el('td', '', (100 * term.share).toFixed(2) + '%'));
+      tr.appendChild(el('td', '', term.kind + (term.object >= 0 ? ' at ' + objName(term.object) : '')));
+      tr.appendChild(el('td', '', term.light >= 0 ? String(term.light) : ''));
+      tr.appendChild(el('td', '', '#' + term.node + ' ' + term.path));
+      const v = el('td');
+      v.appendChild(swatch(term.value));
+      v.appendChild(document.createTextNode(col(term.value)));
+      tr.appendChild(v);
+      t.appendChild(tr);
+    }
+    box.appendChild(t);
+    const sum = el('p', 'f');
+    sum.textContent = L.terms.length + ' terms; sum ' + L.sum.map((c) => fmtG(c, 9)).join(' ') + ', pixel ' +
+      L.pixel.map((c) => fmtG(c, 9)).join(' ') + ', rounding bound ' + L.bound.map((c) => fmtG(c, 3)).join(' ') +
+      (L.holds ? ': they add up to the pixel' : ': they do NOT add up to the pixel');
+    sum.dataset.holds = L.holds ? '1' : '0';
+    box.appendChild(sum);
+  }
+
+  // The invariants at this pixel (ggCheck of the pixel, as ggrt check --crop).
+  function showDiagnostics(c) {
+    const box = $('diag');
+    box.textContent = '';
+    const t = el('table', 'kv'), head = el('tr');
+    for (const h of ['invariant', 'severity', 'rays', 'worst', 'where']) head.appendChild(el('th', '', h));
+    t.appendChild(head);
+    let bad = 0;
+    for (const it of c.invariants) {
+      const tr = el('tr', it.pixels ? 'sev-' + it.severity : 'ok');
+      const w = it.worst_pixels[0];
+      tr.appendChild(el('td', '', it.name));
+      tr.appendChild(el('td', '', it.severity));
+      tr.appendChild(el('td', '', it.pixels ? String(it.rays) : 'holds'));
+      tr.appendChild(el('td', '', it.pixels ? fmtG(it.worst, 4) : ''));
+      tr.appendChild(el('td', '', w ? (w.node >= 0 ? 'ray #' + w.node : 'the pixel') +
+        (w.object >= 0 ? ', ' + objName(w.object) : '') + (w.line > 0 ? ', line ' + w.line : '') : ''));
+      if (it.pixels) bad++;
+      t.appendChild(tr);
+    }
+    box.appendChild(el('p', 'f', bad ? bad + ' invariant' + (bad === 1 ? '' : 's') + ' fail here' :
+      'every invariant holds at this pixel'));
+    box.appendChild(t);
+    box.appendChild(el('p', 'hint', 'radiance bound of the scene: ' + fmtG(c.radiance_bound, 4) +
+      '. The whole image: /api/check (ggrt check).'));
   }
 
   // ---- the rays in 3D: an orbit camera over a wireframe of the scene ----
@@ -853,8 +980,7 @@
       e.preventDefault();
       select(p[0] + moves[e.key][0], p[1] + moves[e.key][1]);
     } else if (e.key === 'o') {
-      const avail = OVERLAYS.filter((o) => !$('overlay-select').querySelector('option[value="' + o + '"]').disabled);
-      state.overlay = avail[(avail.indexOf(state.overlay) + 1) % avail.length];
+      state.overlay = OVERLAYS[(OVERLAYS.indexOf(state.overlay) + 1) % OVERLAYS.length];
       refresh();
     } else if (e.key === '+' || e.key === '=' || e.key === '-') {
       const z = parseInt($('zoom').value, 10);
@@ -894,14 +1020,28 @@
       writeHash();
     });
     $('zoom').addEventListener('change', (e) => { state.zoom = parseInt(e.target.value, 10); drawImage(); writeHash(); });
-    $('find-form').addEventListener('submit', (e) => {
+    // The predicate is checked as it is typed (/api/parse answers 200
+    // either way), and only a valid one is searched for.
+    let typing = null;
+    $('find-input').addEventListener('input', () => {
+      clearTimeout(typing);
+      typing = setTimeout(() => checkPredicate($('find-input').value.trim()).catch(fail), 250);
+    });
+    $('find-form').addEventListener('submit', async (e) => {
       e.preventDefault();
-      state.find = $('find-input').value.trim();
+      const text = $('find-input').value.trim();
+      try {
+        if (!(await checkPredicate(text))) return;
+      } catch (err) {
+        fail(err);
+        return;
+      }
+      state.find = text;
       state.overlay = 'find';
       refresh();
     });
     $('render-a').addEventListener('click', () => { state.a = readPanel('a'); refresh(); });
-    $('reset-a').addEventListener('click', () => { state.a = {}; refresh(); });
+    $('reset-a').addEventListener('click', () => { state.a = ''; refresh(); });
     $('render-b').addEventListener('click', () => {
       state.b = readPanel('b');
       state.diff = true;
@@ -933,18 +1073,10 @@
     W = info.width; H = info.height;
     document.title = 'ggrt serve: ' + info.scene;
     $('scene-name').textContent = info.scene + ', ' + W + 'x' + H + ', ' + info.objects + ' objects';
-    const f = info.features || {};
-    if (!f.find) {
-      $('find-form').hidden = true;
-      $('overlay-select').querySelector('option[value="find"]').disabled = true;
-    }
-    $('tabs').querySelector('[data-tab="ledger"]').hidden = !f.ledger;
-    $('tabs').querySelector('[data-tab="diag"]').hidden = !f.diagnostics;
+    serverOpts = parseText(info.options);
     buildPanel('a');
     buildPanel('b');
     readHash();
-    if ((state.tab === 'ledger' && !f.ledger) || (state.tab === 'diag' && !f.diagnostics)) state.tab = 'tree';
-    if (state.overlay === 'find' && !f.find) state.overlay = 'none';
     wire();
     for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === state.tab);
     for (const t of TABS) $('tab-' + t).hidden = t !== state.tab;
