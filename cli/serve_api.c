@@ -162,6 +162,7 @@ static void shape_json(FILE *f, const ggShapeDesc *d)
         vec(f, "e2", d->e2);
         break;
     case GG_SHAPE_IMPLICIT:
+    case GG_SHAPE_MESH: /* the box of the mesh's part */
         vec(f, "lo", d->base), fputc(',', f), vec(f, "hi", d->apex);
         break;
     default:

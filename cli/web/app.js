@@ -862,7 +862,7 @@
           const dir = k < 2 ? v3.mul(p, k ? 1 : -1) : v3.mul(q, k === 3 ? 1 : -1);
           line(v3.add(s.base, v3.mul(dir, s.radius)), v3.add(s.apex, v3.mul(dir, s.radius2)));
         }
-      } else if (s.kind === 'implicit') {
+      } else if (s.kind === 'implicit' || s.kind === 'mesh') {
         const lo = s.lo, hi = s.hi, P = (i) => [i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]];
         for (const [i, j] of [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]]) line(P(i), P(j));
       } else if (s.verts) {
