@@ -49,7 +49,7 @@ def main():
     while True:
         c.request("GET", "/api/render", headers=hdr)
         r = c.getresponse()
-        if json.loads(r.read())["render"]["state"] == "done":
+        if json.loads(r.read())["job"]["state"] == "done":
             break
         time.sleep(0.05)
     c.close()
@@ -87,8 +87,8 @@ def main():
         conn = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
         n = 0
         while time.time() < stop:
-            conn.request("GET", "/api/render?cutoff=%g" % (1e-6 * (n + 1)), headers=hdr)
-            st = json.loads(conn.getresponse().read())["render"]["state"]
+            conn.request("GET", "/api/render?opts=cutoff%%3D%g" % (1e-6 * (n + 1)), headers=hdr)
+            st = json.loads(conn.getresponse().read())["job"]["state"]
             if st in ("done", "failed"):
                 n += 1
             time.sleep(0.05)
