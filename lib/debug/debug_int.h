@@ -86,6 +86,10 @@ enum {
     PF_DIFFUSE,
     PF_PHONG,
     PF_MEDIUM,
+    PF_PERR,
+    PF_OFFSET,
+    PF_TIR_MARGIN,
+    PF_EDGE,
     PF_X, /* pixel fields from here on */
     PF_Y,
     PF_PIXEL,
