@@ -322,7 +322,7 @@ static const char *const example_scenes[] = {
     "examples/scenes/texture.nff",     "examples/scenes/acc-corridor.nff",
     "examples/scenes/acc-distant.nff", "examples/scenes/acc-far.nff",
     "examples/scenes/acc-grazing.nff", "examples/scenes/acc-texture.nff",
-    "examples/scenes/acc-thin.nff",     "tests/data/debug/absorb.nff",
+    "examples/scenes/acc-thin.nff",    "tests/data/debug/absorb.nff",
 };
 
 /* Every pixel of every example scene and of a ball of absorbing glass
@@ -800,6 +800,33 @@ static void test_numeric_state(void **state)
         assert_true(n0.hit && n0.shape == GG_SHAPE_TRIANGLE);
         assert_true(n0.edge >= 0 && n0.edge <= 1.0 / 3);
         assert_true(fabs(n0.offset - 1e-6) < 1e-12);
+        /* the edge distance is the smallest barycentric coordinate of p,
+           here from the triangle's own vertices */
+        for (y = 8; y < 64; y += 8)
+            for (x = 4; x < 64; x += 6) {
+                ggShapeDesc d;
+                ggVec3 a, b, c, q;
+                double ab, bc, ca, all, m;
+                const ggTraceNode *n;
+                assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+                n = ggTraceGetNode(t, 0);
+                if (!n->hit) continue;
+                assert_int_equal(ggSceneObjectShape(s, n->object, &d), GG_OK);
+                a = d.verts[0], b = d.verts[1], c = d.verts[2], q = n->p;
+#define TRI_AREA(p1, p2, p3)                                                                       \
+    sqrt(pow((p2.y - p1.y) * (p3.z - p1.z) - (p2.z - p1.z) * (p3.y - p1.y), 2) +                   \
+         pow((p2.z - p1.z) * (p3.x - p1.x) - (p2.x - p1.x) * (p3.z - p1.z), 2) +                   \
+         pow((p2.x - p1.x) * (p3.y - p1.y) - (p2.y - p1.y) * (p3.x - p1.x), 2))
+                all = TRI_AREA(a, b, c);
+                ab = TRI_AREA(q, a, b) / all, bc = TRI_AREA(q, b, c) / all,
+                ca = TRI_AREA(q, c, a) / all;
+#undef TRI_AREA
+                m = ab < bc ? ab : bc;
+                m = m < ca ? m : ca;
+                if (fabs(m - n->edge) > 1e-6)
+                    print_error("%d,%d: edge %g, barycentric %g\n", x, y, n->edge, m);
+                assert_true(fabs(m - n->edge) <= 1e-6);
+            }
         ggSceneFree(s);
     }
     ggTraceFree(t);
@@ -910,10 +937,9 @@ int main(void)
         cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_check_planted_defects),
         cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
         cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
-        cmocka_unit_test(test_compare_depth),
-        cmocka_unit_test(test_compare_kinds),
-        cmocka_unit_test(test_numeric_state),
-        cmocka_unit_test(test_check_numeric),       cmocka_unit_test(test_options_text),
+        cmocka_unit_test(test_compare_depth),       cmocka_unit_test(test_compare_kinds),
+        cmocka_unit_test(test_numeric_state),       cmocka_unit_test(test_check_numeric),
+        cmocka_unit_test(test_options_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
