@@ -124,8 +124,8 @@ static val surface_field(int f, const ggTraceNode *n)
    NaN, where a field does not apply, is unknown. */
 static val numeric_field(int f, const ggTraceNode *n)
 {
-    double v = f == PF_PERR     ? n->perr
-               : f == PF_OFFSET ? n->offset
+    double v = f == PF_PERR         ? n->perr
+               : f == PF_OFFSET     ? n->offset
                : f == PF_TIR_MARGIN ? n->tir_margin
                                     : n->edge;
     return n->hit && v == v ? known(v) : unknown;
@@ -391,6 +391,7 @@ static unsigned needs_of(const ggPredicate *p, int i)
     case PN_BOOL:
         if (pn->field == PF_WEIGHT) m |= GG_NEED_WEIGHT;
         if (pn->field == PF_RAYS) m |= GG_NEED_TREE | GG_NEED_LIGHTS;
+        if (pn->field == PF_X || pn->field == PF_Y) m |= GG_NEED_XY;
         break;
     default:
         break;
