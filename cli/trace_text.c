@@ -83,6 +83,8 @@ static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, 
         ggMaterial m = ggSceneMaterial(v->scene, n->material);
         object_name(v, n->object, name, sizeof name);
         fprintf(f, "%shit %s at t %.6g, %s face\n", body, name, n->t, n->front ? "front" : "back");
+        if (cli_face_text(v->scene, n->object, n->triangle, name, sizeof name))
+            fprintf(f, "%s    %s\n", body, name);
         fprintf(f, "%s    p ", body);
         pvec(f, n->p);
         fprintf(f, "  uv (%.4g, %.4g)\n%s    ng ", n->u, n->v, body);
@@ -202,6 +204,26 @@ static void jstr(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* Mesh hits: "face": {"triangle", "index", "line", "mesh", "group",
+   "material_name"}; null for other shapes. */
+static void json_face(FILE *f, const ggScene *s, const ggTraceNode *n)
+{
+    ggFaceInfo fi;
+    fprintf(f, ",\"face\":");
+    if (n->triangle < 0 || ggSceneGetFaceInfo(s, n->object, n->triangle, &fi) != GG_OK) {
+        fprintf(f, "null");
+        return;
+    }
+    fprintf(f, "{\"triangle\":%ld,\"index\":%ld,\"line\":%d,\"mesh\":", n->triangle, fi.face,
+            fi.line);
+    jstr(f, fi.mesh_name);
+    fprintf(f, ",\"group\":");
+    jstr(f, fi.group);
+    fprintf(f, ",\"material_name\":");
+    jstr(f, fi.material_name);
+    fputc('}', f);
+}
+
 static void json_node(FILE *f, const trace_view *v, int i)
 {
     const ggTraceNode *n = ggTraceGetNode(v->trace, (size_t)i);
@@ -224,6 +246,7 @@ static void json_node(FILE *f, const trace_view *v, int i)
         fprintf(f, "{\"object\":%d,\"shape\":\"%s\",\"line\":%d,\"material\":%d,\"t\":", n->object,
                 ggShapeKindName(n->shape), n->line, n->material);
         jnum(f, n->t);
+        json_face(f, v->scene, n);
         fputc(',', f), jvec(f, "point", n->p), fputc(',', f), jvec(f, "ng", n->ng);
         fputc(',', f), jvec(f, "ns", n->ns);
         fprintf(f, ",\"numeric\":{\"perr\":");
