@@ -91,7 +91,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
                whose hit cast it
      object material line shape front back
                the surface hit (for a shadow ray: the surface it leaves);
-               shape is sphere triangle polygon cone rect implicit
+               shape is sphere triangle polygon cone rect implicit mesh
      hit miss  the ray met a surface / left the scene (not shadow rays)
      t         ray parameter of the hit (shadow ray: of the occluder)
      stop      none miss depth matte budget: why it spawned no children
@@ -108,6 +108,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
                the hit's numeric state (trace.h's ggTraceNode; a shadow
                ray: of the hit it leaves)
      medium    the material the ray travels in, -1 outside
+     triangle  mesh objects: the triangle hit (ggSceneGetFaceInfo)
    Fields of the pixel, usable anywhere: x, y, pixel (its value), rays
    (rays in its trees, shadow rays included). Colour fields take a
    component .r .g .b .min .max; alone they mean .max. Names after == or

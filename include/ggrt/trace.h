@@ -80,8 +80,9 @@ typedef struct ggTraceNode {
                           2^-53; below 0 means total internal reflection, within a few
                           units of 0 the decision was a close call. With dispersion, the
                           channel nearest to 0 */
-    double edge;       /* triangles: the smallest barycentric coordinate of the hit (0 on
-                          an edge); rectangles: the distance in (u, v) to the nearest side */
+    double edge;       /* triangles and mesh triangles: the smallest barycentric coordinate
+                          of the hit (0 on an edge); rectangles: the distance in (u, v) to
+                          the nearest side */
     /* Always. */
     ggColor absorption; /* Beer-Lambert transmittance over this ray's segment */
     ggColor weight;     /* this ray's weight in its parent's colour */

@@ -91,6 +91,7 @@ enum {
     PF_OFFSET,
     PF_TIR_MARGIN,
     PF_EDGE,
+    PF_TRIANGLE,
     PF_X, /* pixel fields from here on */
     PF_Y,
     PF_PIXEL,

@@ -79,6 +79,7 @@ static const field_def fields[PF_COUNT] = {
     {"offset", PT_NUM, NULL},
     {"tir_margin", PT_NUM, NULL},
     {"edge", PT_NUM, NULL},
+    {"triangle", PT_NUM, NULL},
     {"x", PT_NUM, NULL},
     {"y", PT_NUM, NULL},
     {"pixel", PT_COLOR, NULL},

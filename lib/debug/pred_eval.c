@@ -198,6 +198,8 @@ static val ray_field(const ctx *c, const gg_pnode *pn, const ray_ref *r)
     case PF_TIR_MARGIN:
     case PF_EDGE:
         return numeric_field(f, n);
+    case PF_TRIANGLE:
+        return n->hit && n->triangle >= 0 ? known((double)n->triangle) : unknown;
     default:
         return shadow_field(f, L, k);
     }

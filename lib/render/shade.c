@@ -308,12 +308,13 @@ GG_INLINE int rec_ray(const gg_shade_ctx *c, const ray_state *r, const unsigned 
     return node;
 }
 
-/* How close a hit lies to the nearest edge of its triangle (the smallest
-   barycentric coordinate) or rectangle (in (u, v)); NaN for other shapes. */
+/* How close a hit lies to the nearest edge of its triangle or mesh
+   triangle (the smallest barycentric coordinate) or rectangle (in (u,
+   v)); NaN for other shapes. */
 static double edge_distance(int kind, const gg_hit *h)
 {
     double m;
-    if (kind == GG_SHAPE_TRIANGLE) {
+    if (kind == GG_SHAPE_TRIANGLE || kind == GG_SHAPE_MESH) {
         m = 1 - h->b1 - h->b2;
         if (h->b1 < m) m = h->b1;
         return h->b2 < m ? h->b2 : m;

@@ -59,7 +59,7 @@ def check_node(n, counts, parent_depth):
     else:
         for k in ("object", "line", "material"):
             need(hit, k, int, w + " hit")
-        need(hit, "shape", ("sphere", "triangle", "polygon", "cone", "rect", "implicit"), w)
+        need(hit, "shape", ("sphere", "triangle", "polygon", "cone", "rect", "implicit", "mesh"), w)
         need(hit, "t", NUM, w)
         for k in ("point", "ng", "ns", "surface", "emission", "ambient", "reflect_weight",
                   "refract_weight"):
@@ -77,7 +77,7 @@ def check_node(n, counts, parent_depth):
         for k in ("tir_margin", "edge"):
             if num.get(k, "absent") is not None and not isinstance(num.get(k), NUM):
                 fail("%s: numeric %s = %r" % (w, k, num.get(k)))
-        if (num["edge"] is None) != (hit["shape"] not in ("triangle", "rect")):
+        if (num["edge"] is None) != (hit["shape"] not in ("triangle", "rect", "mesh")):
             fail("%s: an edge distance belongs to triangles and rectangles" % w)
         for L in need(hit, "lights", list, w):
             need(L, "light", int, w + " light")
