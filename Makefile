@@ -10,9 +10,11 @@
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
 #                        page); a live install (no DESTDIR) refreshes ldconfig's cache
 #   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each; every
-#                        harness runs, a summary at the end (exit 1 if any found something)
+#                        harness runs, a summary at the end (exit 1 if any found something);
+#                        FUZZ="obj ply" runs only those
 #   scripts/deps.sh      the package groups each of these installs
 #   make bench-optics    ns per call of the refraction variants
+#   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c)
 #
 # Objects go to $(BUILD) (default build/); BUILD=dir keeps separate trees.
 
@@ -71,7 +73,7 @@ endif
 # with include paths for the layers in L_SEES only -- itself and layers below
 # it -- so an include of a higher layer does not compile (tests/layers.sh
 # checks it). imageio is the only layer built with libpng and OpenEXR flags.
-LAYERS        = core optics image implicit geom scene render load imageio
+LAYERS        = core optics image implicit geom scene render debug load imageio
 core_SEES     = core
 optics_SEES   = core optics
 image_SEES    = core image
@@ -79,6 +81,7 @@ implicit_SEES = core implicit
 geom_SEES     = core implicit geom
 scene_SEES    = core image implicit geom scene
 render_SEES   = core optics image implicit geom scene render
+debug_SEES    = core optics image implicit geom scene render debug
 load_SEES     = core image implicit geom scene load
 imageio_SEES  = core image load imageio
 imageio_CFLAGS = $(PNG_CFLAGS) $(EXR_CFLAGS)
@@ -288,7 +291,9 @@ examples:
 
 FUZZ_SECONDS ?= 60
 FUZZ_CC ?= clang
-FUZZ_BIN = $(FUZZ_SRC:tests/fuzz/fuzz_%.c=$(BUILD)/fuzz/fuzz_%)
+# FUZZ="obj ply" runs only those harnesses (default: all of tests/fuzz).
+FUZZ ?= $(FUZZ_SRC:tests/fuzz/fuzz_%.c=%)
+FUZZ_BIN = $(FUZZ:%=$(BUILD)/fuzz/fuzz_%)
 FUZZ_SAN = -fsanitize=address,undefined -fno-sanitize-recover=all
 # The library is built once with coverage instrumentation (its own tree,
 # $(BUILD)/fuzzlib, layer rules as usual); each harness links it (a build
@@ -299,7 +304,7 @@ fuzz: deps-fuzz
 	@$(MAKE) --no-print-directory BUILD=$(BUILD)/fuzzlib CC=$(FUZZ_CC) GG_WERROR= \
 	  CFLAGS="-g -O1 -fsanitize=fuzzer-no-link $(FUZZ_SAN)" $(BUILD)/fuzzlib/libggrt.a >/dev/null
 	@mkdir -p $(BUILD)/fuzz
-	@for f in $(FUZZ_SRC:tests/fuzz/fuzz_%.c=%); do \
+	@for f in $(FUZZ); do \
 	  rm -f $(BUILD)/fuzz/fuzz_$$f; \
 	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(ALL_LAYER_INC) -Itests -std=c99 -g -O1 \
 	    -fsanitize=fuzzer $(FUZZ_SAN) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c \

@@ -24,6 +24,9 @@ int cmd_optics(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_trace(int argc, char **argv);
 int cmd_info(int argc, char **argv);
+int cmd_find(int argc, char **argv);
+int cmd_check(int argc, char **argv);
+int cmd_diff(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 
 /* The one map from a library status to an exit code: GG_ERROR_IO is 3,
@@ -71,6 +74,17 @@ int cli_cancelled(void);
 void cli_cancel_hold(void);
 void cli_cancel_release(void);
 void cli_cancel_exit(int signo);
+
+/* Meshes (mesh_out.c): does the path name a model (.obj, .ply) that
+   ggSceneLoadFile frames; each mesh's description (ggrt info); one line
+   per mesh with warnings; a framed model's camera and lights as NFF; and
+   "triangle T: face F of FILE (line L), group 'G', usemtl 'M'" for a hit
+   (returns 0 when the object is not a mesh). */
+int cli_is_model(const char *path);
+void cli_print_meshes(FILE *f, const ggScene *s);
+void cli_print_mesh_warnings(FILE *f, const ggScene *s);
+void cli_print_model_view(FILE *f, const ggScene *s, const char *path);
+int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t n);
 
 /* Flush and close stdout; on failure print the reason and return EXIT_IO,
    else 0. */

@@ -7,8 +7,9 @@
 #include <string.h>
 
 static const char about[] =
-    "Describe a scene: objects by kind, lights, materials, the BVH (nodes, depth,\n"
-    "memory, build time) and the effects the scene calls for, each with its reason.";
+    "Describe a scene: objects by kind, lights, materials, meshes (what the file held and\n"
+    "what is stored), the BVH (nodes, depth, memory, build time) and the effects the\n"
+    "scene calls for, each with its reason. SCENE may be an OBJ or PLY model.";
 
 int cmd_info(int argc, char **argv)
 {
@@ -49,6 +50,7 @@ int cmd_info(int argc, char **argv)
     printf("\n");
     printf("lights     %d\n", ggSceneLightCount(s));
     printf("materials  %d\n", ggSceneMaterialCount(s));
+    cli_print_meshes(stdout, s);
     printf("bounds     %g %g %g .. %g %g %g\n", in.lo.x, in.lo.y, in.lo.z, in.hi.x, in.hi.y,
            in.hi.z);
     printf("bvh        %zu primitives, %zu nodes (%zu leaves), depth %zu\n", in.primitives,

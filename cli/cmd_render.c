@@ -12,8 +12,10 @@
 
 static const char about[] =
     "Render an NFF scene (SPD NFF plus ggrt's extensions) to an 8-bit sRGB PNG or a\n"
-    "float linear OpenEXR, chosen by the extension of OUT. SIGINT or SIGTERM cancels\n"
-    "the render: nothing is written and an existing OUT is left as it was.";
+    "float linear OpenEXR, chosen by the extension of OUT. SCENE may also be an OBJ or\n"
+    "PLY model: it is framed by a default camera and two lights, printed (as NFF, to\n"
+    "paste into a scene) on stderr. SIGINT or SIGTERM cancels the render: nothing is\n"
+    "written and an existing OUT is left as it was.";
 
 static const char tail[] = "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
 
@@ -245,6 +247,10 @@ int cmd_render(int argc, char **argv)
     t[0] = cli_now();
     rc = ggSceneLoadFile(scene, a.scene, &err);
     t[1] = cli_now();
+    if (rc == GG_OK && !a.quiet) {
+        if (cli_is_model(a.scene)) cli_print_model_view(stderr, scene, a.scene);
+        cli_print_mesh_warnings(stderr, scene);
+    }
     if (rc == GG_OK) rc = ggScenePrepare(scene, &err);
     t[2] = cli_now();
     rc = rc == GG_OK ? run(&a, scene, t) : cli_fail(rc, &err, 0);

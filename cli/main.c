@@ -15,6 +15,9 @@ typedef struct command {
 static const command commands[] = {
     {"render", cmd_render, "render a scene to PNG or EXR"},
     {"trace", cmd_trace, "print the ray tree of one pixel"},
+    {"find", cmd_find, "the pixels whose rays satisfy a predicate"},
+    {"check", cmd_check, "scan every pixel for invariants (NaN, energy, truncation...)"},
+    {"diff", cmd_diff, "compare two renders ray by ray"},
     {"info", cmd_info, "describe a scene: objects, lights, BVH, effects"},
     {"optics", cmd_optics, "one reflection, refraction or Fresnel evaluation"},
     {"bench", cmd_bench, "benchmarks: SPD scenes, accuracy versus time"},

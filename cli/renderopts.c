@@ -10,153 +10,47 @@
 #include <math.h>
 #include <string.h>
 
-/* ---- --accuracy KNOB=VALUE[,KNOB=VALUE...] ---- */
-
-/* Words of the knobs that take one, in the order of their GG_ACC_* values. */
-static const char *const w_offset[] = {"scaled", NULL};
-static const char *const w_sphere[] = {"stable", "textbook", NULL};
-static const char *const w_refract[] = {"accurate", "textbook", "exact", NULL};
-static const char *const w_fresnel[] = {"scene", "none", "schlick", "exact", NULL};
-static const char *const w_texture[] = {"scene", "bilinear", "nearest", NULL};
-static const char *const w_waves[] = {"rgb", "one", NULL};
-static const char *const w_own[] = {"own", NULL};
-static const char *const w_exact[] = {"exact", NULL};
-
-enum { K_OFFSET, K_SPHERE, K_REFRACT, K_FRESNEL, K_TEXTURE, K_WAVES, K_CUTOFF, K_TOL, K_GRAD };
-
-static const struct knob {
-    const char *name;
-    const char *const *words; /* NULL: a number only */
-    const char *number;       /* what a number means, or NULL: words only */
-    double lo, hi;            /* allowed numbers; lo excluded when lo_open */
-    int lo_open;
-} knobs[] = {
-    {"offset", w_offset, "a fixed epsilon > 0", 0, 1, 1},
-    {"sphere", w_sphere, NULL, 0, 0, 0},
-    {"refract", w_refract, NULL, 0, 0, 0},
-    {"fresnel", w_fresnel, NULL, 0, 0, 0},
-    {"texture", w_texture, NULL, 0, 0, 0},
-    {"wavelengths", w_waves, NULL, 0, 0, 0},
-    {"cutoff", NULL, "a weight from 0 (off) to 1", 0, 1, 0},
-    {"implicit-tol", w_own, "a root tolerance > 0", 0, 1, 1},
-    {"gradient", w_exact, "a difference step > 0", 0, 1, 1},
-};
-#define NKNOBS (int)(sizeof knobs / sizeof knobs[0])
-
-static void set_knob(ggAccuracy *a, int k, int word, double num)
-{
-    switch (k) {
-    case K_OFFSET:
-        a->offset = word >= 0 ? GG_ACC_OFFSET_SCALED : GG_ACC_OFFSET_FIXED;
-        a->offset_eps = word >= 0 ? 0 : num;
-        break;
-    case K_SPHERE:
-        a->sphere = word;
-        break;
-    case K_REFRACT:
-        a->refract = word;
-        break;
-    case K_FRESNEL:
-        a->fresnel = word;
-        break;
-    case K_TEXTURE:
-        a->texture = word;
-        break;
-    case K_WAVES:
-        a->wavelengths = word;
-        break;
-    case K_CUTOFF:
-        a->cutoff = num;
-        break;
-    case K_TOL:
-        a->implicit_tol = word >= 0 ? 0 : num;
-        break;
-    default:
-        a->gradient_h = word >= 0 ? 0 : num;
-        break;
-    }
-}
-
-/* "one of a, b, c" or "a number from 0 to 1" for the knob's message. */
-static void knob_allowed(const struct knob *kb, char *buf, size_t len)
-{
-    size_t at = 0, i;
-    if (kb->words) {
-        at += (size_t)snprintf(buf, len, "%s", kb->words[1] ? "one of " : "");
-        for (i = 0; kb->words[i] && at < len; i++)
-            at += (size_t)snprintf(buf + at, len - at, "%s%s", i ? ", " : "", kb->words[i]);
-    }
-    if (kb->number && at < len) snprintf(buf + at, len - at, "%s%s", at ? " or " : "", kb->number);
-}
-
-/* One KNOB=VALUE (len bytes at s). */
-static int one_knob(ggAccuracy *a, const char *s, size_t len, char *why, size_t whylen)
-{
-    char item[128], allowed[160], sub[96];
-    const char *eq;
-    int k, w;
-    double num = 0;
-    if (len >= sizeof item) {
-        snprintf(why, whylen, "'%.40s...' is too long", s);
-        return -1;
-    }
-    memcpy(item, s, len);
-    item[len] = '\0';
-    eq = strchr(item, '=');
-    for (k = 0; eq && k < NKNOBS; k++)
-        if (strlen(knobs[k].name) == (size_t)(eq - item) &&
-            !strncmp(item, knobs[k].name, (size_t)(eq - item)))
-            break;
-    if (!eq || k == NKNOBS) {
-        snprintf(why, whylen,
-                 "'%s' is not KNOB=VALUE with a knob of offset, sphere, refract, "
-                 "fresnel, texture, wavelengths, cutoff, implicit-tol, gradient",
-                 item);
-        return -1;
-    }
-    for (w = 0; knobs[k].words && knobs[k].words[w]; w++)
-        if (!strcmp(eq + 1, knobs[k].words[w])) {
-            set_knob(a, k, w, 0);
-            return 0;
-        }
-    if (knobs[k].number &&
-        cli_parse_num(eq + 1, knobs[k].lo, knobs[k].hi, &num, sub, sizeof sub) == 0 &&
-        !(knobs[k].lo_open && num == knobs[k].lo)) {
-        set_knob(a, k, -1, num);
-        return 0;
-    }
-    knob_allowed(&knobs[k], allowed, sizeof allowed);
-    snprintf(why, whylen, "%s wants %s, not '%s'", knobs[k].name, allowed, eq + 1);
-    return -1;
-}
+/* ---- --accuracy KNOB=VALUE[,KNOB=VALUE...] ----
+   The knobs in the one grammar of render options as text
+   (ggRenderOptionsParse, include/ggrt/debug.h), limited to the accuracy
+   knobs: the rest of a render's options have flags of their own here. */
 
 static int parse_accuracy(void *ud, const char *v, char *why, size_t whylen)
 {
-    ggAccuracy a = *(ggAccuracy *)ud;
-    const char *p = v;
-    for (;;) {
-        size_t len = strcspn(p, ",");
-        if (one_knob(&a, p, len, why, whylen) != 0) return -1;
-        if (!p[len]) break;
-        p += len + 1;
+    ggRenderOptions o, d;
+    ggError err;
+    const char *msg;
+    ggRenderOptionsDefault(&o);
+    o.accuracy = *(ggAccuracy *)ud;
+    if (ggRenderOptionsParse(&o, v, &err) != GG_OK) {
+        /* "1:9: refract must be ..." -> "refract must be ..." */
+        msg = strstr(err.message, ": ");
+        snprintf(why, whylen, "%s", msg ? msg + 2 : err.message);
+        return -1;
     }
-    *(ggAccuracy *)ud = a; /* all or nothing */
+    ggRenderOptionsDefault(&d);
+    d.accuracy = o.accuracy;
+    if (memcmp(&o, &d, sizeof o) != 0) {
+        snprintf(why, whylen,
+                 "only the knobs offset, sphere, refract, fresnel, texture, wavelengths, cutoff, "
+                 "implicit-tol, gradient go here; the other render options have their own flags");
+        return -1;
+    }
+    *(ggAccuracy *)ud = o.accuracy; /* all or nothing */
     return 0;
 }
 
 static void print_accuracy(FILE *f, const ggAccuracy *a)
 {
-    const char *sep = " --accuracy ";
-    if (a->offset == GG_ACC_OFFSET_FIXED)
-        fprintf(f, "%soffset=%.17g", sep, a->offset_eps > 0 ? a->offset_eps : 1e-6), sep = ",";
-    if (a->sphere) fprintf(f, "%ssphere=%s", sep, w_sphere[a->sphere]), sep = ",";
-    if (a->refract) fprintf(f, "%srefract=%s", sep, w_refract[a->refract]), sep = ",";
-    if (a->fresnel) fprintf(f, "%sfresnel=%s", sep, w_fresnel[a->fresnel]), sep = ",";
-    if (a->texture) fprintf(f, "%stexture=%s", sep, w_texture[a->texture]), sep = ",";
-    if (a->wavelengths) fprintf(f, "%swavelengths=%s", sep, w_waves[a->wavelengths]), sep = ",";
-    if (a->cutoff > 0) fprintf(f, "%scutoff=%.17g", sep, a->cutoff), sep = ",";
-    if (a->implicit_tol > 0) fprintf(f, "%simplicit-tol=%.17g", sep, a->implicit_tol), sep = ",";
-    if (a->gradient_h > 0) fprintf(f, "%sgradient=%.17g", sep, a->gradient_h);
+    ggRenderOptions o;
+    char buf[600], *c;
+    ggRenderOptionsDefault(&o);
+    o.accuracy = *a;
+    ggRenderOptionsFormat(&o, buf, sizeof buf);
+    if (!buf[0]) return;
+    for (c = buf; *c; c++)
+        if (*c == ' ') *c = ',';
+    fprintf(f, " --accuracy %s", buf);
 }
 
 /* ---- the group ---- */

@@ -15,6 +15,7 @@ typedef struct trace_view {
     int x, y, sample;
     ggColor pixel;
     ggRayStats stats;
+    const ggLedger *ledger; /* when every sample is recorded, else NULL */
 } trace_view;
 
 void trace_print_text(FILE *f, const trace_view *v, int utf8);
@@ -22,6 +23,14 @@ void trace_print_json(FILE *f, const trace_view *v);
 /* Write to f; the caller checks f for errors (cli_out_close). */
 void trace_write_svg(FILE *f, const trace_view *v);
 void trace_write_obj(FILE *f, const trace_view *v);
+
+/* The ledger (trace_debug.c): terms by share, with the rays that carried
+   them; at most `max` terms listed (0: all), the rest summed. */
+void trace_print_ledger(FILE *f, const trace_view *v, size_t max);
+/* Two trees of one pixel side by side, aligned ray by ray, the first
+   divergence marked (trace_debug.c). */
+void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const char *name_a,
+                      const char *name_b);
 
 /* Children of node i, in order: fills kids (up to max), returns count. */
 int trace_children(const ggTrace *t, int i, int *kids, int max);

@@ -121,6 +121,7 @@ static void outline(FILE *f, const proj *p, const ggShapeDesc *d)
         fprintf(f, "'/>\n");
         break;
     case GG_SHAPE_IMPLICIT:
+    case GG_SHAPE_MESH: /* the box around it (a mesh's part) */
         to2d(p, d->base, &x, &y);
         to2d(p, d->apex, &x2, &y2);
         fprintf(f, "<rect x='%.2f' y='%.2f' width='%.2f' height='%.2f' stroke-dasharray='4 3'/>\n",

@@ -3,6 +3,7 @@
 ** trace_text.c -- a recorded ray tree as an indented tree and as JSON.
 */
 #include "trace_out.h"
+#include "debug_out.h"
 
 #include <math.h>
 #include <string.h>
@@ -73,6 +74,8 @@ static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, 
         ggMaterial m = ggSceneMaterial(v->scene, n->material);
         object_name(v, n->object, name, sizeof name);
         fprintf(f, "%shit %s at t %.6g, %s face\n", body, name, n->t, n->front ? "front" : "back");
+        if (cli_face_text(v->scene, n->object, n->triangle, name, sizeof name))
+            fprintf(f, "%s    %s\n", body, name);
         fprintf(f, "%s    p ", body);
         pvec(f, n->p);
         fprintf(f, "  uv (%.4g, %.4g)\n%s    ng ", n->u, n->v, body);
@@ -191,6 +194,26 @@ static void jstr(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* Mesh hits: "face": {"triangle", "index", "line", "mesh", "group",
+   "material_name"}; null for other shapes. */
+static void json_face(FILE *f, const ggScene *s, const ggTraceNode *n)
+{
+    ggFaceInfo fi;
+    fprintf(f, ",\"face\":");
+    if (n->triangle < 0 || ggSceneGetFaceInfo(s, n->object, n->triangle, &fi) != GG_OK) {
+        fprintf(f, "null");
+        return;
+    }
+    fprintf(f, "{\"triangle\":%ld,\"index\":%ld,\"line\":%d,\"mesh\":", n->triangle, fi.face,
+            fi.line);
+    jstr(f, fi.mesh_name);
+    fprintf(f, ",\"group\":");
+    jstr(f, fi.group);
+    fprintf(f, ",\"material_name\":");
+    jstr(f, fi.material_name);
+    fputc('}', f);
+}
+
 static void json_node(FILE *f, const trace_view *v, int i)
 {
     const ggTraceNode *n = ggTraceGetNode(v->trace, (size_t)i);
@@ -213,6 +236,7 @@ static void json_node(FILE *f, const trace_view *v, int i)
         fprintf(f, "{\"object\":%d,\"shape\":\"%s\",\"line\":%d,\"material\":%d,\"t\":", n->object,
                 ggShapeKindName(n->shape), n->line, n->material);
         jnum(f, n->t);
+        json_face(f, v->scene, n);
         fputc(',', f), jvec(f, "point", n->p), fputc(',', f), jvec(f, "ng", n->ng);
         fputc(',', f), jvec(f, "ns", n->ns);
         fprintf(f, ",\"front\":%s,\"uv\":[", n->front ? "true" : "false");
@@ -278,5 +302,10 @@ void trace_print_json(FILE *f, const trace_view *v)
             first = 0;
             json_node(f, v, (int)i);
         }
-    fprintf(f, "]}\n");
+    fprintf(f, "]");
+    if (v->ledger) {
+        fprintf(f, ",\"ledger\":");
+        json_ledger(f, v->trace, v->ledger);
+    }
+    fprintf(f, "}\n");
 }

@@ -12,6 +12,7 @@
 **   ggrt/scene.h     ggScene: load NFF or build in code; materials, lights
 **   ggrt/render.h    ggRender, ggRayColor, ray statistics, the effect set
 **   ggrt/trace.h     the ray tree of one pixel, recorded
+**   ggrt/debug.h     find, check, explain (ledger) and diff at image level
 */
 #ifndef GGRT_H
 #define GGRT_H
@@ -23,5 +24,6 @@
 #include "ggrt/scene.h"
 #include "ggrt/render.h"
 #include "ggrt/trace.h"
+#include "ggrt/debug.h"
 
 #endif

@@ -25,6 +25,7 @@ typedef enum ggShapeKind {
     GG_SHAPE_CONE,     /* open cone or cylinder, no caps (NFF c) */
     GG_SHAPE_RECT,     /* corner + two edges, (u,v) over [0,1]^2 */
     GG_SHAPE_IMPLICIT, /* f(x,y,z) = 0 inside a box */
+    GG_SHAPE_MESH,     /* the triangles of a mesh that share one material */
     GG_SHAPE_COUNT
 } ggShapeKind;
 
@@ -79,9 +80,13 @@ GG_API ggScene *ggSceneCreate(const ggAllocator *alloc);
 GG_API void ggSceneFree(ggScene *scene);
 
 /* Add what an NFF file (or text) says to the scene. Errors name the place:
-   "scene.nff:12:5: expected a number after 's'". Textures named in the file
-   are read relative to the file's folder. On error the scene is left as it
-   was before the call. */
+   "scene.nff:12:5: expected a number after 's'". Textures and meshes named
+   in the file are read relative to the file's folder. On error the scene is
+   left as it was before the call.
+   ggSceneLoadFile also takes a model on its own: a path ending in .obj or
+   .ply (any case) is loaded with ggSceneLoadMesh and default options, then
+   framed with ggSceneFrame (camera if the scene has none, lights if it has
+   none). ggSceneLoadString reads NFF only. */
 GG_API int ggSceneLoadFile(ggScene *scene, const char *path, ggError *err);
 GG_API int ggSceneLoadString(ggScene *scene, const char *text, size_t len, const char *name,
                              ggError *err);
@@ -124,6 +129,91 @@ GG_API int ggSceneAddRect(ggScene *scene, int material, ggVec3 corner, ggVec3 e1
 /* Takes ownership of imp. */
 GG_API int ggSceneAddImplicit(ggScene *scene, int material, ggImplicit *imp);
 
+/* ---- meshes (docs/scene-format.md, "Meshes") ----
+   A triangle mesh is stored once (positions, normals, texture coordinates,
+   triangles) and appears as one object of kind GG_SHAPE_MESH per material
+   it uses; ggSceneGetMeshInfo lists them. Hits on a mesh name the triangle
+   (ggHit.triangle), which ggSceneGetFaceInfo turns into the file's terms:
+   face index, source line, group and material names. */
+
+/* Where vertex normals come from (ggMeshOptions.normals). */
+#define GG_NORMALS_AUTO    0 /* the file's where it has them, else computed */
+#define GG_NORMALS_COMPUTE 1 /* computed, ignoring any in the file */
+#define GG_NORMALS_FLAT    2 /* none: every triangle is shaded flat */
+
+/* Mesh formats (ggMeshOptions.format). */
+#define GG_MESH_FORMAT_AUTO 0 /* from the file name: .obj or .ply, any case */
+#define GG_MESH_FORMAT_OBJ  1 /* Wavefront OBJ, materials from its MTL files */
+#define GG_MESH_FORMAT_PLY  2 /* Stanford PLY: ascii, binary little or big endian */
+
+typedef struct ggMeshOptions {
+    /* Placement p' = M p + t, row-major: M's rows are transform[0..2],
+       [4..6], [8..10] and t = (transform[3], [7], [11]). Normals go
+       through the inverse transpose of M. M must be invertible. */
+    double transform[12];
+    int normals; /* GG_NORMALS_* */
+    /* Computed normals are angle-weighted averages (Thurmer and Wuthrich
+       1998) over the faces at a vertex whose normals are within this angle
+       of the face's own (degrees, 0..180): larger angles stay creases. */
+    double crease_deg;
+    /* Scene material for faces the file gives none (every PLY face, OBJ
+       faces before any usemtl or naming an unknown material); -1: add
+       ggMaterialDefault() when a face needs it. */
+    int material;
+    bool override_materials; /* every face gets `material`: MTL files are not read */
+    int format;              /* GG_MESH_FORMAT_* */
+} ggMeshOptions;
+
+/* Identity transform, GG_NORMALS_AUTO, crease 60 degrees, material -1,
+   MTL materials used, format from the file name. */
+GG_API void ggMeshOptionsDefault(ggMeshOptions *opt);
+
+/* Read a mesh file into the scene (opt NULL: defaults). OBJ materials come
+   from the MTL files it names (read relative to the OBJ's folder, and
+   their map_Kd textures through the scene's image reader). Errors name the
+   place: "model.obj:12:5: face index 9 is out of range (8 vertices)" for
+   OBJ and MTL, the byte offset and element index for binary PLY. Truncated
+   files, bad indices, counts beyond the documented limits and NaN or
+   infinite numbers are errors. On error the scene is left as it was. */
+GG_API int ggSceneLoadMesh(ggScene *scene, const char *path, const ggMeshOptions *opt,
+                           ggError *err);
+/* The same from memory: `name` (NULL: "<memory>") is used in messages and
+   for the format when opt->format is AUTO. Reads no other file: an OBJ's
+   mtllib lines are counted as ignored. */
+GG_API int ggSceneLoadMeshMemory(ggScene *scene, const void *data, size_t len, const char *name,
+                                 const ggMeshOptions *opt, ggError *err);
+
+/* A mesh built in code. Arrays are copied; the caller keeps them. */
+typedef struct ggMeshData {
+    const char *name;        /* reported by ggSceneGetMeshInfo; NULL: "" */
+    const ggVec3 *positions; /* npositions of them, finite */
+    size_t npositions;
+    const ggVec3 *normals;   /* one per position (need not be unit), or NULL */
+    const double *uv;        /* two per position, or NULL; v = 0 is an image's top row */
+    const uint32_t *indices; /* three per triangle, counter-clockwise seen from the front */
+    size_t ntriangles;
+    const int *materials;    /* one scene material per triangle, or NULL: opt->material */
+} ggMeshData;
+
+/* Add a mesh (opt NULL: defaults; its format is ignored). Triangles of zero
+   area are dropped (counted in ggMeshInfo.skipped_faces). Returns the mesh
+   index (>= 0) or a negative status: -GG_ERROR_INVALID for an index out of
+   range, a non-finite number, an unknown material or a singular transform
+   (err says which), -GG_ERROR_LIMIT beyond 2^28 triangles or vertices,
+   -GG_ERROR_NOMEM. On failure the scene is unchanged. */
+GG_API int ggSceneAddMesh(ggScene *scene, const ggMeshData *data, const ggMeshOptions *opt,
+                          ggError *err);
+
+/* Frame what the scene holds: with GG_FRAME_CAMERA, point the camera at the
+   bounds of every object from above the front right (+y up, looking toward
+   -z), close enough that the bounding sphere fills the view; with
+   GG_FRAME_LIGHTS, add a key and a fill light. The result is an ordinary
+   camera and lights (ggSceneCamera, ggSceneGetLight), which a program may
+   print as NFF. GG_ERROR_INVALID if the scene has no objects. */
+#define GG_FRAME_CAMERA 1u
+#define GG_FRAME_LIGHTS 2u
+GG_API int ggSceneFrame(ggScene *scene, unsigned what, ggError *err);
+
 /* Render settings that a scene file may carry (0 = renderer default). */
 GG_API void ggSceneSetDepth(ggScene *scene, int max_depth);
 GG_API void ggSceneSetSamples(ggScene *scene, int samples_per_pixel);
@@ -141,8 +231,9 @@ GG_API int ggSceneObjectLine(const ggScene *scene, int index);
    something depends on kind: sphere (center, radius), cone (base, radius
    = base radius, apex, radius2 = apex radius), rect (corner = base, e1, e2),
    polygon and triangle (nverts vertices at verts, normals or NULL),
-   implicit (its box lo = base, hi = apex). Pointers stay valid until the
-   scene changes. */
+   implicit (its box lo = base, hi = apex), mesh (its part's bounds lo =
+   base, hi = apex; nverts 0: ggSceneGetMeshInfo describes the mesh).
+   Pointers stay valid until the scene changes. */
 typedef struct ggShapeDesc {
     int kind, material, line;
     ggVec3 base, apex, e1, e2;
@@ -153,6 +244,58 @@ typedef struct ggShapeDesc {
 
 /* Fill *d for object index; GG_ERROR_INVALID if out of range. */
 GG_API int ggSceneObjectShape(const ggScene *scene, int index, ggShapeDesc *d);
+
+/* Light `index`: position and colour (negative r: the SPD default colour,
+   see ggSceneAddLight). GG_ERROR_INVALID if out of range. */
+GG_API int ggSceneGetLight(const ggScene *scene, int index, ggVec3 *pos, ggColor *color);
+
+GG_API int ggSceneMeshCount(const ggScene *scene);
+/* Mesh index of a GG_SHAPE_MESH object, else -1. */
+GG_API int ggSceneObjectMesh(const ggScene *scene, int object);
+
+typedef struct ggMeshInfo {
+    const char *name;     /* the file as given, or ggMeshData.name */
+    const char *format;   /* "obj", "ply", or "" for a mesh built in code */
+    size_t file_vertices; /* as the file counts them: v statements, PLY vertex elements */
+    size_t file_faces;    /* f statements, PLY face elements */
+    size_t vertices;      /* stored: one per distinct position/normal/uv corner */
+    size_t triangles;     /* stored, after triangulating faces and dropping zero areas */
+    size_t skipped_faces; /* faces (or triangles of a split face) of zero area, dropped */
+    size_t ignored;       /* statements or elements read and not used: points, lines,
+                             curves, unknown OBJ statements, mtllib from memory */
+    int first_object, objects; /* its objects: first_object .. first_object + objects - 1 */
+    int groups;                /* distinct OBJ group names (o, g) */
+    bool file_normals;         /* normals came from the file */
+    bool has_uv;               /* texture coordinates are stored */
+    size_t bytes;              /* memory the scene keeps for the mesh */
+    ggVec3 lo, hi;             /* bounds, after the transform */
+    /* What the file asked for that is not done, e.g. a texture that could
+       not be read (the material then uses its colour alone): how many, and
+       the first with its place ("m.mtl:10:1: ..."), else "". */
+    int warnings;
+    const char *warning;
+} ggMeshInfo;
+
+/* Fill *info for mesh `index`; GG_ERROR_INVALID if out of range. Strings
+   stay valid until the scene is freed. */
+GG_API int ggSceneGetMeshInfo(const ggScene *scene, int index, ggMeshInfo *info);
+
+/* A mesh triangle in the file's terms. */
+typedef struct ggFaceInfo {
+    int mesh;             /* mesh index */
+    const char *mesh_name;
+    long face;            /* 0-based index of the face it comes from: the f statement
+                             among all f statements, or the PLY face element */
+    int line;             /* OBJ: the line of the f statement; PLY and code: 0 */
+    const char *group;    /* OBJ: the o/g names in effect ("" if none) */
+    const char *material_name; /* OBJ: the usemtl name in effect ("" if none) */
+    int material;         /* scene material */
+} ggFaceInfo;
+
+/* Fill *fi for triangle `triangle` (as in ggHit.triangle) of mesh object
+   `object`; GG_ERROR_INVALID if object is not a mesh or triangle is out of
+   range. Strings stay valid until the scene is freed. */
+GG_API int ggSceneGetFaceInfo(const ggScene *scene, int object, long triangle, ggFaceInfo *fi);
 
 /* Name of the file the scene was loaded from ("" if built in code). */
 GG_API const char *ggSceneFileName(const ggScene *scene);
@@ -189,6 +332,7 @@ typedef struct ggHit {
     int object;     /* object index */
     int kind;       /* ggShapeKind */
     int material;   /* material index */
+    long triangle;  /* mesh objects: the triangle hit (ggSceneGetFaceInfo), else -1 */
 } ggHit;
 
 /* Closest hit with t in (tmin, tmax); false if none. */

@@ -60,6 +60,7 @@ typedef struct ggTraceNode {
     bool hit;
     /* The hit (when hit). */
     int object, shape, material, line; /* object, ggShapeKind, material, scene-file line */
+    long triangle; /* mesh objects: the triangle hit (ggSceneGetFaceInfo), else -1 */
     double t;
     ggVec3 p, ng, ns; /* point, geometric and shading normal (as the shape defines them) */
     bool front;       /* the ray arrived against ng */

@@ -393,7 +393,7 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
     st->leaves = g->nleaves;
     st->max_depth = g->max_depth;
     st->bytes = g->nnodes * sizeof(gg_bnode) + g->nslots * sizeof(gg_slot) +
-                g->nsph * sizeof(gg_ksph) + (g->ntri + g->npieces) * sizeof(gg_ktri) +
+                g->nsph * sizeof(gg_ksph) + (g->ntri + g->npieces + g->nmtri) * sizeof(gg_ktri) +
                 g->nlcone * sizeof(gg_kcone) + g->nrect * sizeof(gg_krect) +
                 g->ntleaves * sizeof(gg_tleaf);
     st->build_seconds = g->build_seconds;

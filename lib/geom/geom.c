@@ -54,6 +54,7 @@ void gg_geom_free(gg_geom *g)
     gg_mem_free(g->alloc, g->cones);
     gg_mem_free(g->alloc, g->rects);
     gg_mem_free(g->alloc, (void *)g->imps);
+    gg_mem_free(g->alloc, g->gmeshes);
     gg_mem_free(g->alloc, g);
 }
 
@@ -219,7 +220,8 @@ int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim)
 
 int gg_geom_prim_kind(const gg_geom *g, uint32_t prim)
 {
-    return prim < g->nprim ? g->prims[prim].kind : -1;
+    if (prim >= g->nprim) return -1;
+    return g->prims[prim].kind == GG_SHAPE_MESH ? GG_SHAPE_TRIANGLE : g->prims[prim].kind;
 }
 
 /* ---- build ---- */
@@ -251,9 +253,14 @@ static void elem_bounds(const gg_geom *g, const elem *e, double lo[3], double hi
         gg_sphere_bounds(&g->sphs[e->data], lo, hi);
         break;
     case GG_EK_TRI:
-        gg_tri_bounds(g->prims[e->prim].kind == GG_SHAPE_POLYGON ? &g->pieces[e->data]
-                                                                 : &g->tris[e->data].k,
-                      lo, hi);
+        if (g->prims[e->prim].kind == GG_SHAPE_MESH) {
+            gg_ktri k;
+            gg_mesh_ktri(g, e->prim, &k);
+            gg_tri_bounds(&k, lo, hi);
+        } else
+            gg_tri_bounds(g->prims[e->prim].kind == GG_SHAPE_POLYGON ? &g->pieces[e->data]
+                                                                     : &g->tris[e->data].k,
+                          lo, hi);
         break;
     case GG_EK_CONE: {
         gg_kcone k;
@@ -286,6 +293,7 @@ static int fill_elems(const gg_geom *g, elem *el)
             e.kind = GG_EK_SPHERE;
             break;
         case GG_SHAPE_TRIANGLE:
+        case GG_SHAPE_MESH:
             e.kind = GG_EK_TRI;
             break;
         case GG_SHAPE_CONE: {
@@ -425,7 +433,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
     tri = gg_mem_calloc(g->alloc, n + 1, sizeof *tri);
     g->slots = gg_mem_calloc(g->alloc, n + 1, sizeof *g->slots);
     g->lsph = gg_mem_calloc(g->alloc, g->nsph + 1, sizeof *g->lsph);
-    g->ltri = gg_mem_calloc(g->alloc, g->ntri + g->npieces + 1, sizeof *g->ltri);
+    g->ltri = gg_mem_calloc(g->alloc, g->ntri + g->npieces + g->nmtri + 1, sizeof *g->ltri);
     g->lcone = gg_mem_calloc(g->alloc, g->ncone * 8 + 1, sizeof *g->lcone);
     g->lrect = gg_mem_calloc(g->alloc, g->nrect + 1, sizeof *g->lrect);
     if (!el || !lo || !hi || !order || !tri || !g->slots || !g->lsph || !g->ltri || !g->lcone ||
@@ -463,8 +471,11 @@ int gg_geom_build(gg_geom *g, ggError *err)
             idx = (uint32_t)ns++;
             break;
         case GG_EK_TRI:
-            g->ltri[nt] = g->prims[e->prim].kind == GG_SHAPE_POLYGON ? g->pieces[e->data]
-                                                                     : g->tris[e->data].k;
+            if (g->prims[e->prim].kind == GG_SHAPE_MESH)
+                gg_mesh_ktri(g, e->prim, &g->ltri[nt]);
+            else
+                g->ltri[nt] = g->prims[e->prim].kind == GG_SHAPE_POLYGON ? g->pieces[e->data]
+                                                                         : g->tris[e->data].k;
             idx = (uint32_t)nt++;
             break;
         case GG_EK_CONE: {
@@ -607,6 +618,9 @@ void gg_geom_surface_ex(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, g
         break;
     case GG_SHAPE_RECT:
         gg_rect_surface(&g->rects[p->data], q, hit, s);
+        break;
+    case GG_SHAPE_MESH:
+        gg_mesh_surface(g, hit->prim, q, hit, s, what);
         break;
     default:
         gg_implicit_shape_surface(g->imps[p->data], q, hit, s);

@@ -68,6 +68,23 @@ int gg_geom_add_rect(gg_geom *g, ggVec3 corner, ggVec3 e1, ggVec3 e2, int32_t ob
 /* The implicit surface stays owned by the caller and must outlive g. */
 int gg_geom_add_implicit(gg_geom *g, const ggImplicit *imp, int32_t obj);
 
+/* A triangle mesh: vertices pos[0..), unit normals nrm (or NULL: flat;
+   a zero normal at a corner makes that triangle flat), texture
+   coordinates uv (2 per vertex, or NULL: (u, v) are the barycentrics as
+   for triangles) and idx[3 ntri] into them. The arrays stay owned by the
+   caller and must not change or move while g uses them. Adds ntri
+   consecutive primitives of object obj, reported as GG_SHAPE_TRIANGLE,
+   and returns the first's index, or -1 when out of memory or beyond the
+   element limit. Every triangle must have finite vertices and a nonzero
+   finite edge cross product (the caller checks; a triangle with none is
+   never hit). Surfaces follow gg_geom_add_triangle's rules (the vertex
+   normals decide which side ng faces), with (u, v) interpolated from uv. */
+int gg_geom_add_mesh(gg_geom *g, const ggVec3 *pos, const ggVec3 *nrm, const double *uv,
+                     const uint32_t *idx, size_t ntri, int32_t obj);
+/* For a primitive of a mesh: the index of its triangle in that call's idx
+   (0 .. ntri - 1); -1 for other primitives. */
+long gg_geom_prim_mesh_triangle(const gg_geom *g, uint32_t prim);
+
 void gg_geom_set_flags(gg_geom *g, int prim, unsigned flags);
 size_t gg_geom_prim_count(const gg_geom *g);
 int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim);

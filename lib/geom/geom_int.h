@@ -131,6 +131,17 @@ typedef struct gg_rect {
     ggVec3 e1, e2;
 } gg_rect;
 
+/* A triangle mesh of gg_geom_add_mesh; the arrays belong to the caller.
+   Its triangles are the primitives pfirst .. pfirst + ntri - 1, of kind
+   GG_SHAPE_MESH in gg_prim (data = the mesh's index); queries report them
+   as triangles (gg_geom_prim_kind). */
+typedef struct gg_gmesh {
+    const ggVec3 *pos, *nrm; /* nrm: unit (or zero) per vertex, or NULL */
+    const double *uv;        /* 2 per vertex, or NULL */
+    const uint32_t *idx;     /* 3 per triangle */
+    uint32_t pfirst, ntri;
+} gg_gmesh;
+
 /* ---- the BVH ---- */
 typedef struct gg_bnode gg_bnode; /* defined in bvh_int.h */
 typedef struct gg_tleaf gg_tleaf; /* defined in bvh_int.h */
@@ -160,6 +171,8 @@ struct gg_geom {
     size_t nrect, cap_rect;
     const ggImplicit **imps;
     size_t nimp, cap_imp;
+    gg_gmesh *gmeshes;
+    size_t ngmesh, cap_gmesh, nmtri; /* nmtri: triangles of all meshes */
 
     /* built */
     int built;
@@ -213,6 +226,11 @@ int gg_rect_prepare(ggVec3 corner, ggVec3 e1, ggVec3 e2, gg_rect *out);
 void gg_rect_bounds(const gg_rect *r, double lo[3], double hi[3]);
 void gg_rect_surface(const gg_rect *r, const gg_rayq *q, const gg_hit *h, gg_surf *out);
 void gg_implicit_shape_bounds(const ggImplicit *imp, double lo[3], double hi[3]);
+/* Mesh triangles (shape_mesh.c): the vertices of primitive `prim` (of kind
+   GG_SHAPE_MESH) as an intersection record, and its surface. */
+void gg_mesh_ktri(const gg_geom *g, uint32_t prim, gg_ktri *k);
+void gg_mesh_surface(const gg_geom *g, uint32_t prim, const gg_rayq *q, const gg_hit *h,
+                     gg_surf *out, unsigned what);
 int gg_implicit_shape_hit(const ggImplicit *imp, const gg_rpre *r, double tmax, double *t);
 void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg_hit *h,
                                gg_surf *out);

@@ -20,6 +20,16 @@
 int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, const char *dir,
                  ggError *err);
 
+/* Meshes (mesh_load.c). gg_load_mesh_file reads a mesh file into the
+   scene, its objects tagged with scene-file line `line`; the scene is
+   unchanged on error. gg_load_model loads a model as a scene of its own:
+   the mesh, then ggSceneFrame for what the scene lacks (camera, lights).
+   gg_load_mesh_format: GG_MESH_FORMAT_* from a file name's extension. */
+int gg_load_mesh_file(ggScene *s, const char *path, const ggMeshOptions *o, int line,
+                      ggError *err);
+int gg_load_model(ggScene *s, const char *path, ggError *err);
+int gg_load_mesh_format(const char *name);
+
 /* The image reader a scene without its own uses, or NULL (none: a texture
    is then GG_ERROR_UNSUPPORTED). */
 ggImageReader gg_load_default_reader(void);

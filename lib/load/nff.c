@@ -569,6 +569,119 @@ static int kw_implicit(parser *ps)
     return rc;
 }
 
+/* ---- mesh "file" [transform and options] (docs/scene-format.md) ---- */
+
+/* m = op * m for 3x4 affine matrices (op applied after m). */
+static void compose(double m[12], const double op[12])
+{
+    double r[12];
+    int i, j;
+    for (i = 0; i < 3; i++) {
+        for (j = 0; j < 4; j++)
+            r[4 * i + j] = op[4 * i] * m[j] + op[4 * i + 1] * m[4 + j] + op[4 * i + 2] * m[8 + j];
+        r[4 * i + 3] += op[4 * i + 3];
+    }
+    memcpy(m, r, sizeof r);
+}
+
+/* Rotation by deg degrees about axis a (right-handed; Rodrigues). */
+static int rotation(parser *ps, ggVec3 a, double deg, double op[12])
+{
+    double l = v3len(a), c, s, t, x, y, z;
+    if (!(l > 0) || !isfinite(l))
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "mesh: the rotation axis is zero");
+    x = a.x / l, y = a.y / l, z = a.z / l;
+    c = cos(deg * GG_PI / 180), s = sin(deg * GG_PI / 180), t = 1 - c;
+    op[0] = t * x * x + c, op[1] = t * x * y - s * z, op[2] = t * x * z + s * y, op[3] = 0;
+    op[4] = t * x * y + s * z, op[5] = t * y * y + c, op[6] = t * y * z - s * x, op[7] = 0;
+    op[8] = t * x * z - s * y, op[9] = t * y * z + s * x, op[10] = t * z * z + c, op[11] = 0;
+    return GG_OK;
+}
+
+/* One placement option into op: scale s | scale x y z | rotate x|y|z deg
+   | rotate ax ay az deg | translate x y z. */
+static int transform_op(parser *ps, const token *o, double op[12])
+{
+    double d[4];
+    token t;
+    int rc;
+    memset(op, 0, 12 * sizeof *op);
+    op[0] = op[5] = op[10] = 1;
+    if (tok_is(o, "translate")) {
+        if ((rc = numbers(ps, d, 3)) != GG_OK) return rc;
+        op[3] = d[0], op[7] = d[1], op[11] = d[2];
+    } else if (tok_is(o, "scale")) {
+        if ((rc = number(ps, &d[0], "a scale factor")) != GG_OK) return rc;
+        d[1] = d[2] = d[0];
+        if (next_is_number(ps) && (rc = numbers(ps, d + 1, 2)) != GG_OK) return rc;
+        op[0] = d[0], op[5] = d[1], op[10] = d[2];
+    } else if (peek(ps, &t) > 0 && (tok_is(&t, "x") || tok_is(&t, "y") || tok_is(&t, "z"))) {
+        next(ps, &t);
+        if ((rc = number(ps, &d[3], "an angle in degrees")) != GG_OK) return rc;
+        return rotation(ps, v3(t.p[0] == 'x', t.p[0] == 'y', t.p[0] == 'z'), d[3], op);
+    } else {
+        if ((rc = numbers(ps, d, 4)) != GG_OK) return rc;
+        return rotation(ps, v3(d[0], d[1], d[2]), d[3], op);
+    }
+    return GG_OK;
+}
+
+/* The options after the file name, until a token that is none of them. */
+static int mesh_options(parser *ps, ggMeshOptions *mo)
+{
+    token o, v;
+    double op[12];
+    int rc = GG_OK;
+    char b[48];
+    while (rc == GG_OK && peek(ps, &o) > 0) {
+        if (tok_is(&o, "translate") || tok_is(&o, "scale") || tok_is(&o, "rotate")) {
+            next(ps, &o);
+            if ((rc = transform_op(ps, &o, op)) == GG_OK) compose(mo->transform, op);
+        } else if (tok_is(&o, "crease")) {
+            next(ps, &o);
+            if ((rc = number(ps, &mo->crease_deg, "a crease angle in degrees")) == GG_OK &&
+                !(mo->crease_deg >= 0 && mo->crease_deg <= 180))
+                rc = fail(ps, &o, GG_ERROR_PARSE, "mesh: the crease angle must be in [0, 180]");
+            if (mo->normals == GG_NORMALS_FLAT) mo->normals = GG_NORMALS_AUTO;
+        } else if (tok_is(&o, "flat")) {
+            next(ps, &o), mo->normals = GG_NORMALS_FLAT;
+        } else if (tok_is(&o, "smooth")) {
+            next(ps, &o), mo->normals = GG_NORMALS_COMPUTE;
+        } else if (tok_is(&o, "material")) {
+            next(ps, &o);
+            if (next(ps, &v) > 0 && tok_is(&v, "current")) mo->override_materials = true;
+            else if (tok_is(&v, "file")) mo->override_materials = false;
+            else
+                rc = fail(ps, &v, GG_ERROR_PARSE, "expected current or file after 'material', got '%s'",
+                          show(&v, b, sizeof b));
+        } else
+            break;
+    }
+    return rc;
+}
+
+static int kw_mesh(parser *ps)
+{
+    token t;
+    ggMeshOptions mo;
+    ggError e2;
+    char path[NFF_MAX_TOKEN + 1024];
+    int rc, r = next(ps, &t);
+    if (r < 0) return fail(ps, &t, GG_ERROR_PARSE, "unterminated string");
+    if (r == 0 || t.n == 0 || t.n > NFF_MAX_TOKEN)
+        return fail(ps, r ? &t : NULL, GG_ERROR_PARSE, "expected a file name after 'mesh'");
+    ggMeshOptionsDefault(&mo);
+    if ((rc = mesh_options(ps, &mo)) != GG_OK) return rc;
+    /* Faces the file gives no material get the current one. */
+    if ((rc = material(ps)) != GG_OK) return rc;
+    mo.material = ps->mat_id;
+    if (t.p[0] == '/' || !ps->dir[0]) snprintf(path, sizeof path, "%.*s", (int)t.n, t.p);
+    else snprintf(path, sizeof path, "%s%.*s", ps->dir, (int)t.n, t.p);
+    rc = gg_load_mesh_file(ps->s, path, &mo, ps->kw_tok.line, &e2);
+    if (rc != GG_OK) return fail(ps, &t, rc, "mesh: %s", e2.message);
+    return GG_OK;
+}
+
 static int kw_depth(parser *ps)
 {
     long d = 0;
@@ -604,12 +717,12 @@ static const keyword keywords[] = {
     {"emission", kw_emission}, {"fresnel", kw_fresnel}, {"conductor", kw_conductor},
     {"absorb", kw_absorb},    {"dispersion", kw_dispersion}, {"texture", kw_texture},
     {"checker", kw_checker},  {"rect", kw_rect},     {"implicit", kw_implicit},
-    {"depth", kw_depth},      {"samples", kw_samples},
+    {"depth", kw_depth},      {"samples", kw_samples},   {"mesh", kw_mesh},
 };
 
 /* Undo everything added since the snapshot: a failed load changes nothing. */
 typedef struct snapshot {
-    size_t nobjects, nmaterials, nlights, ntextures, nverts;
+    size_t nobjects, nmaterials, nlights, ntextures, nverts, nmeshes;
     ggCamera camera;
     bool has_camera;
     ggColor background, ambient;
@@ -620,6 +733,7 @@ static void take(const ggScene *s, snapshot *sn)
 {
     sn->nobjects = s->nobjects, sn->nmaterials = s->nmaterials, sn->nlights = s->nlights;
     sn->ntextures = s->ntextures, sn->nverts = s->nverts, sn->camera = s->camera;
+    sn->nmeshes = s->nmeshes;
     sn->has_camera = s->has_camera, sn->background = s->background, sn->ambient = s->ambient;
     sn->depth = s->depth, sn->samples = s->samples;
 }
@@ -629,6 +743,7 @@ static void rollback(ggScene *s, const snapshot *sn)
     size_t i;
     for (i = sn->nobjects; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
     for (i = sn->ntextures; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_meshes(s, sn->nmeshes);
     s->nobjects = sn->nobjects, s->nmaterials = sn->nmaterials, s->nlights = sn->nlights;
     s->ntextures = sn->ntextures, s->nverts = sn->nverts, s->camera = sn->camera;
     s->has_camera = sn->has_camera, s->background = sn->background, s->ambient = sn->ambient;
@@ -702,6 +817,7 @@ GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
     size_t len = 0;
     int rc;
     if (!s || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadFile: NULL argument");
+    if (gg_load_mesh_format(path)) return gg_load_model(s, path, err);
     rc = read_file(s->alloc, path, &text, &len, err);
     if (rc != GG_OK) return rc;
     dir = gg_mem_strdup(s->alloc, path);

@@ -6,6 +6,7 @@
 ** at fixed positions, nothing random, no shared accumulation), so the
 ** image is bit-identical for any thread count and any crop window.
 */
+#include "render.h"
 #include "shade.h"
 
 #include "trace_int.h"
@@ -543,18 +544,79 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
     }
 }
 
+/* A job set up for tracing single pixels: ggTracePixel and gg_tracer. */
+static int trace_setup(job *j, ggScene *s, const ggRenderOptions *opt, ggError *err)
+{
+    int rc;
+    memset(j, 0, sizeof *j);
+#ifdef GG_NO_RECORDER
+    (void)s, (void)opt;
+    return gg_error_set(err, GG_ERROR_UNSUPPORTED, "this libggrt was built without the recorder");
+#else
+    if ((rc = resolve(s, opt, &j->r, err)) != GG_OK) return rc;
+    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
+    apply_geometry_knobs(s, &j->r.acc);
+    gg_shade_init(&j->ctx, s, j->r.depth, j->r.force, j->r.spd, &j->r.acc);
+    if (j->r.spp > 1) j->ctx.fx |= GG_EFFECT_SUPERSAMPLING;
+    basis(s, j->r.w, j->r.h, &j->cam);
+    return GG_OK;
+#endif
+}
+
+/* c rounded to the floats ggRender stores. Through a volatile: GCC 12.2's
+   SLP vectorizer (-O2) drops the (double)(float) round trip of the two
+   lanes it pairs, r and g, which C99 6.3.1.5 and 5.2.4.2.2 require (compare
+   its output with -fno-tree-slp-vectorize, or with clang's). */
+static ggColor as_stored(ggColor c)
+{
+    volatile float f[3];
+    f[0] = (float)c.r, f[1] = (float)c.g, f[2] = (float)c.b;
+    return rgb(f[0], f[1], f[2]);
+}
+
+/* Pixel (x, y) of a set-up job, as ggRender writes it, recording sample
+   `sample` (-1: all) into rec when rec is not NULL. j0 is only read: the
+   recorder goes into a copy of its context, so threads may share j0. */
+static ggColor trace_one(const job *j0, int x, int y, int sample, ggTrace *rec,
+                         gg_shade_thread *local)
+{
+    job j = *j0;
+    ggColor c;
+    int k;
+    if (rec) gg_trace_clear(rec);
+    if (j.r.corners) {
+        /* The four corners, stored as floats and averaged as ggRender does. */
+        float cf[4][3];
+        for (k = 0; k < 4; k++) {
+            ggColor cc;
+            int recorded = rec && (sample < 0 || sample == k);
+            ggRayStats keep = local->st;
+            if (recorded) {
+                j.ctx.rec = rec;
+                rec->sample = k;
+            }
+            cc = sample_color(&j, x + (k & 1), y + (k >> 1), local);
+            if (rec && !recorded) local->st = keep;
+            j.ctx.rec = NULL;
+            cf[k][0] = (float)cc.r, cf[k][1] = (float)cc.g, cf[k][2] = (float)cc.b;
+        }
+        c.r = ((double)cf[0][0] + cf[1][0] + cf[2][0] + cf[3][0]) * 0.25;
+        c.g = ((double)cf[0][1] + cf[1][1] + cf[2][1] + cf[3][1]) * 0.25;
+        c.b = ((double)cf[0][2] + cf[1][2] + cf[2][2] + cf[3][2]) * 0.25;
+    } else {
+        c = pixel_center(&j, x, y, local, rec, sample);
+    }
+    return as_stored(c);
+}
+
 GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, int sample,
                         ggTrace *rec, ggColor *pixel, ggRayStats *stats, ggError *err)
 {
     job j;
     gg_shade_thread local;
-    ggColor c;
-    int rc, k;
-    if (!s || !rec || !pixel) return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
-#ifdef GG_NO_RECORDER
-    return gg_error_set(err, GG_ERROR_UNSUPPORTED, "this libggrt was built without the recorder");
-#endif
-    memset(&j, 0, sizeof j);
+    int rc;
+    if (!s || !rec || !pixel)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
     memset(&local, 0, sizeof local);
     if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
     if (x < 0 || y < 0 || x >= j.r.w || y >= j.r.h)
@@ -563,38 +625,65 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     if (sample < -1 || sample >= (j.r.corners ? 4 : j.r.spp))
         return gg_error_set(err, GG_ERROR_INVALID, "sample %d does not exist (the pixel has %d)",
                             sample, j.r.corners ? 4 : j.r.spp);
-    if ((rc = ggScenePrepare(s, err)) != GG_OK) return rc;
-    apply_geometry_knobs(s, &j.r.acc);
-    gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
-    if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
-    basis(s, j.r.w, j.r.h, &j.cam);
-    gg_trace_clear(rec);
-    if (j.r.corners) {
-        /* The four corners, stored as floats and averaged as ggRender does. */
-        float cf[4][3];
-        for (k = 0; k < 4; k++) {
-            ggColor cc;
-            int recorded = sample < 0 || sample == k;
-            ggRayStats keep = local.st;
-            if (recorded) {
-                j.ctx.rec = rec;
-                rec->sample = k;
-            }
-            cc = sample_color(&j, x + (k & 1), y + (k >> 1), &local);
-            if (!recorded) local.st = keep;
-            j.ctx.rec = NULL;
-            cf[k][0] = (float)cc.r, cf[k][1] = (float)cc.g, cf[k][2] = (float)cc.b;
-        }
-        c.r = (float)(((double)cf[0][0] + cf[1][0] + cf[2][0] + cf[3][0]) * 0.25);
-        c.g = (float)(((double)cf[0][1] + cf[1][1] + cf[2][1] + cf[3][1]) * 0.25);
-        c.b = (float)(((double)cf[0][2] + cf[1][2] + cf[2][2] + cf[3][2]) * 0.25);
-    } else {
-        c = pixel_center(&j, x, y, &local, rec, sample);
-        c = rgb((float)c.r, (float)c.g, (float)c.b);
-    }
-    *pixel = c;
+    if ((rc = trace_setup(&j, s, opt, err)) != GG_OK) return rc;
+    *pixel = trace_one(&j, x, y, sample, rec, &local);
     if (stats) add_stats(stats, &local.st);
     if (rec->status != GG_OK)
         return gg_error_set(err, rec->status, "out of memory recording the ray tree");
     return GG_OK;
+}
+
+/* ---- gg_tracer (render.h) ---- */
+
+struct gg_tracer {
+    job j;
+    const ggAllocator *alloc;
+};
+
+int gg_tracer_create(ggScene *s, const ggRenderOptions *opt, gg_tracer **out, ggError *err)
+{
+    gg_tracer *t;
+    int rc;
+    *out = NULL;
+    t = gg_mem_calloc(s->alloc, 1, sizeof *t);
+    if (!t) return gg_error_set(err, GG_ERROR_NOMEM, "out of memory");
+    t->alloc = s->alloc;
+    if ((rc = trace_setup(&t->j, s, opt, err)) != GG_OK) {
+        gg_mem_free(s->alloc, t);
+        return rc;
+    }
+    if (opt) t->j.progress = opt->progress, t->j.progress_ud = opt->progress_ud;
+    *out = t;
+    return GG_OK;
+}
+
+void gg_tracer_free(gg_tracer *t)
+{
+    if (t) gg_mem_free(t->alloc, t);
+}
+
+void gg_tracer_info(const gg_tracer *t, gg_tracer_desc *d)
+{
+    const resolved *r = &t->j.r;
+    d->width = r->w, d->height = r->h;
+    d->x0 = r->x0, d->y0 = r->y0, d->x1 = r->x1, d->y1 = r->y1;
+    d->samples = r->corners ? 4 : r->spp;
+    d->max_depth = r->depth;
+    d->threads = r->threads;
+    d->progress = t->j.progress, d->progress_ud = t->j.progress_ud;
+}
+
+ggColor gg_tracer_pixel(const gg_tracer *t, int x, int y, ggTrace *rec, ggRayStats *st)
+{
+    gg_shade_thread local;
+    ggColor c;
+    memset(&local, 0, sizeof local);
+    c = trace_one(&t->j, x, y, -1, rec, &local);
+    if (st) add_stats(st, &local.st);
+    return c;
+}
+
+int gg_tracer_status(const ggTrace *rec)
+{
+    return rec->status;
 }

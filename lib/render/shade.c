@@ -301,6 +301,7 @@ GG_INLINE int rec_ray(const gg_shade_ctx *c, const ray_state *r, const unsigned 
     N->medium = r->media.n ? r->media.mat[r->media.n - 1] : -1;
     N->n_medium = media_index(c->s, &r->media, r->channel);
     N->object = N->shape = N->material = -1;
+    N->triangle = -1;
     N->fresnel = -1;
     N->weight = rgb(1, 1, 1);
     return node;
@@ -315,6 +316,7 @@ GG_INLINE void rec_hit(const gg_shade_ctx *c, int node, const hit_info *hi, cons
     N->hit = true;
     N->object = hi->obj, N->shape = s->objects[hi->obj].kind, N->material = hi->mi;
     N->line = s->objects[hi->obj].line;
+    N->triangle = gg_scene_hit_triangle(s, &s->objects[hi->obj], hi->h->prim);
     N->t = hi->h->t, N->p = hi->sf.p, N->ng = hi->sf.ng, N->ns = hi->sf.ns, N->front = hi->front;
     N->u = hi->sf.u, N->v = hi->sf.v;
     N->surface = gg_scene_surface_color(s, hi->mi, hi->sf.u, hi->sf.v, c->acc.texture);

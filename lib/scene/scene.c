@@ -13,8 +13,8 @@
 
 GG_API const char *ggShapeKindName(int kind)
 {
-    static const char *const names[GG_SHAPE_COUNT] = {"sphere", "triangle", "polygon",
-                                                       "cone",   "rect",     "implicit"};
+    static const char *const names[GG_SHAPE_COUNT] = {"sphere", "triangle", "polygon", "cone",
+                                                       "rect",   "implicit", "mesh"};
     return kind >= 0 && kind < GG_SHAPE_COUNT ? names[kind] : "?";
 }
 
@@ -70,6 +70,8 @@ GG_API void ggSceneFree(ggScene *s)
     unprepare(s);
     for (i = 0; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
     for (i = 0; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_meshes(s, 0);
+    gg_mem_free(s->alloc, s->meshes);
     gg_mem_free(s->alloc, s->objects);
     gg_mem_free(s->alloc, s->materials);
     gg_mem_free(s->alloc, s->lights);
@@ -263,6 +265,13 @@ GG_API int ggSceneAddImplicit(ggScene *s, int material, ggImplicit *imp)
 
 GG_API int ggSceneObjectCount(const ggScene *s) { return (int)s->nobjects; }
 GG_API int ggSceneLightCount(const ggScene *s) { return (int)s->nlights; }
+GG_API int ggSceneGetLight(const ggScene *s, int i, ggVec3 *pos, ggColor *color)
+{
+    if (!s || i < 0 || (size_t)i >= s->nlights) return GG_ERROR_INVALID;
+    if (pos) *pos = s->lights[i].pos;
+    if (color) *color = s->lights[i].color;
+    return GG_OK;
+}
 GG_API int ggSceneMaterialCount(const ggScene *s) { return (int)s->nmaterials; }
 GG_API ggMaterial ggSceneMaterial(const ggScene *s, int i)
 {
@@ -336,6 +345,16 @@ static int add_prims(ggScene *s, size_t i)
     case GG_SHAPE_RECT: p = gg_geom_add_rect(s->geom, o->a, o->b, o->c, id); break;
     case GG_SHAPE_IMPLICIT: p = gg_geom_add_implicit(s->geom, o->imp, id); break;
     case GG_SHAPE_POLYGON: p = gg_geom_add_polygon(s->geom, s->verts + o->vfirst, o->nverts, id); break;
+    case GG_SHAPE_MESH: {
+        const gg_mesh *m = &s->meshes[o->mesh];
+        size_t t;
+        p = gg_geom_add_mesh(s->geom, m->pos, m->nrm, m->uv, m->idx + 3 * o->tri_first, o->ntri,
+                             id);
+        if (p < 0) return -1;
+        if (s->materials[o->material].kt > 0)
+            for (t = 0; t < o->ntri; t++) gg_geom_set_flags(s->geom, p + (int)t, GG_PRIM_TRANSPARENT);
+        return 0;
+    }
     case GG_SHAPE_TRIANGLE:
         if (o->nverts == 3) {
             p = gg_geom_add_triangle(s->geom, s->verts + o->vfirst,
@@ -430,6 +449,7 @@ static void fill_hit(const ggScene *s, const gg_rayq *q, const gg_hit *h, ggHit 
     out->object = obj;
     out->kind = s->objects[obj].kind;
     out->material = s->objects[obj].material;
+    out->triangle = gg_scene_hit_triangle(s, &s->objects[obj], h->prim);
 }
 
 GG_API bool ggSceneIntersect(const ggScene *s, ggRay ray, double tmin, double tmax, ggHit *hit)
@@ -483,6 +503,16 @@ GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
     case GG_SHAPE_CONE: d->base = o->a, d->apex = o->b, d->radius = o->ra, d->radius2 = o->rb; break;
     case GG_SHAPE_RECT: d->base = o->a, d->e1 = o->b, d->e2 = o->c; break;
     case GG_SHAPE_IMPLICIT: gg_implicit_bounds(o->imp, &d->base, &d->apex); break;
+    case GG_SHAPE_MESH: {
+        const gg_mesh *m = &s->meshes[o->mesh];
+        size_t t;
+        d->base = v3(INFINITY, INFINITY, INFINITY), d->apex = v3(-INFINITY, -INFINITY, -INFINITY);
+        for (t = 3 * o->tri_first; t < 3 * (o->tri_first + o->ntri); t++) {
+            d->base = v3min(d->base, m->pos[m->idx[t]]);
+            d->apex = v3max(d->apex, m->pos[m->idx[t]]);
+        }
+        break;
+    }
     default:
         d->nverts = o->nverts;
         d->verts = s->verts + o->vfirst;

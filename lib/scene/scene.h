@@ -24,7 +24,11 @@ typedef struct gg_object {
     int nverts;
     bool has_normals; /* triangle from pp: normals pool parallel to vertices */
     ggImplicit *imp;  /* implicit: owned */
+    int mesh;         /* mesh part: the mesh's index, and its triangles */
+    size_t tri_first, ntri; /* tri_first .. tri_first + ntri - 1 of that mesh */
 } gg_object;
+
+#include "mesh.h"
 
 typedef struct gg_light {
     ggVec3 pos;
@@ -77,6 +81,8 @@ struct ggScene {
     size_t ntextures, cap_textures;
     ggVec3 *verts, *norms; /* polygon vertex pool; norms parallel (zero when absent) */
     size_t nverts, cap_verts, cap_norms;
+    gg_mesh *meshes;       /* mesh.c */
+    size_t nmeshes, cap_meshes;
 
     /* Valid after prepare. */
     bool prepared;

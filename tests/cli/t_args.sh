@@ -37,7 +37,7 @@ for c in render trace; do
     "$c: space before a number" "$ggrt" $c $g $o -n " 4"
   expect_msg 1 "unknown option '--depht' (did you mean --depth?)" \
     "$c: unknown option with a suggestion" "$ggrt" $c $g $o --depht 3
-  expect_msg 1 "refract wants one of accurate, textbook, exact, not 'fast'" \
+  expect_msg 1 "refract must be accurate, textbook or exact, got 'fast'" \
     "$c: --accuracy names the allowed values" "$ggrt" $c $g $o --accuracy refract=fast
 done
 expect_msg 1 "bad value '0,0,4,4junk' for --crop: $crop ('junk' after Y1)" \

@@ -1,0 +1,394 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** ggrt/debug.h -- the ray debugger at image level: find the pixels whose
+** rays did something (a predicate over each pixel's ray tree), check a
+** whole image for invariants, explain a pixel's colour term by term (the
+** ledger), and diff two renders ray by ray.
+**
+** Everything here is built on the recorder of trace.h: every pixel a
+** function below looks at is traced exactly as ggRender computes it, so
+** the values it reports are the rendered ones, bit for bit.
+**
+** Work: ggFind, ggCheck and ggDiff trace each pixel of the options' crop
+** window (the whole image by default) once (ggDiff: once per side), on
+** opt->threads worker threads; nothing else grows with the scene or the
+** predicate. The options' progress callback is called as for ggRender and
+** can cancel (GG_ERROR_CANCELLED), which is how a server bounds the time
+** of a request; the crop window bounds its pixels.
+**
+** Threads: these functions read the scene only, once it is prepared
+** (they prepare it first if needed, which writes into it: call
+** ggScenePrepare before sharing a scene between threads). Several threads
+** may call them at once on one prepared scene, each with its own results,
+** as long as the calls agree on the accuracy knobs that live in the
+** geometry (accuracy.sphere, implicit_tol, gradient_h), which ggRender
+** still sets on the scene per render (render.h).
+**
+** Results are plain data -- numbers, names from fixed tables, arrays
+** sized in the result -- made to be printed or turned into JSON as they
+** are. Each is allocated with the scene's allocator and freed with its
+** own Free function (NULL is a no-op).
+*/
+#ifndef GGRT_DEBUG_H
+#define GGRT_DEBUG_H
+
+#include "ggrt/base.h"
+#include "ggrt/image.h"
+#include "ggrt/render.h"
+#include "ggrt/scene.h"
+#include "ggrt/trace.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ */
+/* Render options as text                                              */
+/* ------------------------------------------------------------------ */
+
+/* Apply the settings in `text` to *opt, which keeps everything the text
+   does not name. Settings are separated by spaces or commas:
+     size=WxH depth=N samples=N threads=N crop=X0,Y0,X1,Y1
+     spd (the SPD's rules: pixel corners, depth 5 unless set, transmitters
+     also reflect)  spd-rules (only the last)  corners  force-effects
+   and the accuracy knobs of render.h:
+     offset=scaled|fixed|EPS (a number > 0: fixed with that epsilon)
+     sphere=stable|textbook  refract=accurate|textbook|exact
+     fresnel=scene|none|schlick|exact  texture=scene|bilinear|nearest
+     wavelengths=rgb|one  cutoff=W (0 to 1)  implicit-tol=own|T
+     gradient=exact|H (T, H > 0)
+   Numbers are read with '.' as the radix point whatever the locale. An
+   empty text changes nothing. On a bad setting *opt is unchanged and err
+   says where, "line:column: message" counting from 1 (as
+   ggImplicitCreateExpr does), e.g. "1:8: sphere must be stable or
+   textbook, got 'text'". Returns GG_OK, GG_ERROR_PARSE, or
+   GG_ERROR_INVALID for a NULL opt or text. */
+GG_API int ggRenderOptionsParse(ggRenderOptions *opt, const char *text, ggError *err);
+
+/* The settings of *opt that differ from the defaults, in the syntax of
+   ggRenderOptionsParse, in a canonical order ("" for the defaults), into
+   buf (always NUL-terminated when size > 0). Returns the length the full
+   text needs (like snprintf); the progress callback and the cost map are
+   not settings and are left out. */
+GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_t size);
+
+/* ------------------------------------------------------------------ */
+/* Predicates over a pixel's ray tree                                  */
+/* ------------------------------------------------------------------ */
+
+/* A compiled predicate. The language (docs/debugging.md has examples):
+
+     some(RAY-EXPR)    some ray of the pixel's trees satisfies RAY-EXPR
+     all(RAY-EXPR)     every ray does
+     count(RAY-EXPR)   how many rays do (a number)
+     A && B, A || B, !A, ( ), and comparisons == != < <= > >=
+
+   The rays are the eye, reflect, refract and tir rays of the trees and
+   their shadow rays (kind shadow). Fields of a ray, usable inside some,
+   all and count only:
+     kind      eye reflect refract tir shadow
+     depth     the eye ray has 1; a shadow ray has the depth of the ray
+               whose hit cast it
+     object material line shape front back
+               the surface hit (for a shadow ray: the surface it leaves);
+               shape is sphere triangle polygon cone rect implicit
+     hit miss  the ray met a surface / left the scene (not shadow rays)
+     t         ray parameter of the hit (shadow ray: of the occluder)
+     stop      none miss depth matte budget: why it spawned no children
+     fresnel   the dielectric reflectance used at the hit
+     weight    the ray's weight in the pixel (colour): the pixel changes
+               by weight * d when the colour the ray returns changes by d
+     color     the colour the ray returns; absorption: over its segment
+     nonfinite the colour it returns is NaN or infinite
+     light verdict occluder transmittance diffuse phong
+               shadow rays: which light, visible blocked attenuated
+               facing_away, the blocking (or first attenuating) object,
+               and what the light gave
+   Fields of the pixel, usable anywhere: x, y, pixel (its value), rays
+   (rays in its trees, shadow rays included). Colour fields take a
+   component .r .g .b .min .max; alone they mean .max. Names after == or
+   != on the other side of a field with named values are those values
+   (stop == depth is the depth-limit stop). A field that a ray does not
+   have (fresnel where none was computed, verdict of an eye ray) makes
+   comparisons with it unknown: unknown is neither true nor false, !
+   keeps it unknown, false && unknown is false, true || unknown is true,
+   and a pixel matches only if the whole predicate is true.
+
+   Examples: some(kind == tir); some(kind == refract && object == 2);
+   some(verdict == blocked && occluder == 1);
+   some(stop == depth && weight > 0.01); count(kind == shadow) > 8. */
+typedef struct ggPredicate ggPredicate;
+
+/* Limits of ggPredicateParse; beyond them it returns GG_ERROR_LIMIT. */
+#define GG_PREDICATE_MAX_TEXT  4096 /* bytes of text */
+#define GG_PREDICATE_MAX_DEPTH 64   /* nesting of ( ), !, some, all, count */
+
+/* Compile `text`. On success *out receives the predicate (free it with
+   ggPredicateFree); on failure *out is NULL and err names the place as
+   "line:column: message", counting from 1, e.g.
+   "1:14: 'tri' is not a kind (eye, reflect, refract, tir, shadow)".
+   Returns GG_OK, GG_ERROR_PARSE, GG_ERROR_LIMIT, GG_ERROR_INVALID (NULL
+   text or out) or GG_ERROR_NOMEM. alloc may be NULL (malloc); it is
+   copied. A compiled predicate is only read afterwards: threads may share
+   it. */
+GG_API int ggPredicateParse(const char *text, const ggAllocator *alloc, ggPredicate **out,
+                            ggError *err);
+GG_API void ggPredicateFree(ggPredicate *pred);
+
+/* Whether the pixel (x, y) of value `pixel`, whose every sample is
+   recorded in trace (ggTracePixel with sample -1), satisfies pred: 1 or
+   0; 0 for a NULL pred or trace. */
+GG_API int ggPredicateMatch(const ggPredicate *pred, const ggTrace *trace, int x, int y,
+                            ggColor pixel);
+
+/* ------------------------------------------------------------------ */
+/* Find                                                                */
+/* ------------------------------------------------------------------ */
+
+typedef struct ggFindMatch {
+    int x, y;
+    ggColor pixel; /* its value, as ggRender writes it */
+} ggFindMatch;
+
+typedef struct ggFindResult {
+    int width, height;     /* the image */
+    int x0, y0, x1, y1;    /* the window scanned, [x0, x1) x [y0, y1) */
+    long scanned, matched; /* pixels scanned, pixels that matched */
+    int nmatches;          /* matches listed: the first min(matched, limit) in row order */
+    ggFindMatch *matches;
+    unsigned char *mask; /* width * height bytes, row by row: 1 where matched */
+    ggImage *image;      /* the pixels' values (the render of the window; black outside) */
+    int traced;          /* 1 if ray trees were recorded, 0 if the predicate needed
+                            only pixel values and a plain render served */
+    ggRayStats stats;    /* rays cast */
+} ggFindResult;
+
+/* Every pixel of opt's window that satisfies pred, as in ggPredicateMatch.
+   limit: how many matches to list (0: none; the count and the mask cover
+   all). Only what the predicate reads is recorded. *out receives the
+   result (NULL on failure). Returns GG_OK, GG_ERROR_INVALID (NULL scene,
+   pred or out; bad options), GG_ERROR_NOMEM, GG_ERROR_CANCELLED, or what
+   ggRender would. */
+GG_API int ggFind(ggScene *scene, const ggRenderOptions *opt, const ggPredicate *pred, int limit,
+                  ggFindResult **out, ggError *err);
+GG_API void ggFindResultFree(ggFindResult *res);
+
+/* ------------------------------------------------------------------ */
+/* Check                                                               */
+/* ------------------------------------------------------------------ */
+
+/* The invariants, by index into ggCheckResult.items. */
+#define GG_CHECK_NONFINITE 0 /* a NaN or infinite pixel value */
+#define GG_CHECK_NEGATIVE  1 /* a negative pixel value */
+#define GG_CHECK_ENERGY                                                                            \
+    2 /* a hit surface returns more than it receives:                                              \
+         kd * max(colour) + ks + kt > 1 (a conductor counts 1 for ks) */
+#define GG_CHECK_TRUNCATION                                                                        \
+    3 /* rays cut by the depth limit or the ray budget while their                                 \
+         children would have weighed more than the threshold */
+#define GG_CHECK_SELF_HIT                                                                          \
+    4 /* a secondary or shadow ray meets the surface it leaves                                     \
+         within a few lengths of its origin's error bound */
+#define GG_CHECK_NEAR_TIR                                                                          \
+    5                      /* a refraction decided within a few rounding errors of                 \
+                              total internal reflection */
+#define GG_CHECK_GRAZING 6 /* a hit at grazing incidence (|cos| below the threshold) */
+#define GG_CHECK_COUNT   7
+
+#define GG_SEVERITY_INFO    0
+#define GG_SEVERITY_WARNING 1
+#define GG_SEVERITY_ERROR   2
+
+/* Short name of an invariant ("nonfinite", "negative", "energy",
+   "truncation", "self-hit", "near-tir", "grazing"), "?" otherwise; of a
+   severity ("info", "warning", "error"). */
+GG_API const char *ggCheckName(int check);
+GG_API const char *ggSeverityName(int severity);
+
+typedef struct ggCheckOptions {
+    int severity[GG_CHECK_COUNT]; /* GG_SEVERITY_* of each invariant */
+    double truncation;            /* weight threshold of GG_CHECK_TRUNCATION */
+    double self_hit;              /* GG_CHECK_SELF_HIT: hits within this many error bounds */
+    double near_tir; /* GG_CHECK_NEAR_TIR: |discriminant| within this many rounding errors */
+    double grazing;  /* GG_CHECK_GRAZING: |cos(incidence)| below this */
+} ggCheckOptions;
+
+/* The defaults: nonfinite, negative, energy and truncation are errors,
+   self-hit a warning, near-tir and grazing information; truncation 0.1,
+   self_hit 4, near_tir 16, grazing 1e-3. */
+GG_API void ggCheckOptionsDefault(ggCheckOptions *co);
+
+#define GG_CHECK_WORST 8 /* pixels kept per invariant */
+
+typedef struct ggCheckPixel {
+    int x, y;
+    double value; /* how badly: the invariant's measure (see ggCheckItem.value) */
+    int node;     /* the first ray where it fails in that pixel's trees, -1 for the pixel */
+    int light;    /* a shadow ray: index into the trace's light records, else -1 */
+    int object;   /* the surface involved, or -1 */
+    int material; /* its material, or -1 */
+    int line;     /* the scene-file line of that material (energy) or object, 0 if none */
+} ggCheckPixel;
+
+typedef struct ggCheckItem {
+    int check;    /* GG_CHECK_* */
+    int severity; /* GG_SEVERITY_* in force */
+    long pixels;  /* pixels where it fails */
+    long rays;    /* rays (or hits) where it fails */
+    double worst; /* the largest measure seen (0 if none) */
+    int nworst;   /* pixels listed in `pixels_worst`, worst first */
+    ggCheckPixel pixels_worst[GG_CHECK_WORST];
+} ggCheckItem;
+
+/* What each measure is: nonfinite 1; negative -(most negative channel);
+   energy kd * max(colour) + ks + kt of the surface; truncation the
+   weight the cut children would have had in the pixel; self-hit the
+   hit distance over the origin's error bound (smaller is worse, stored
+   as its reciprocal so larger is worse); near-tir the reciprocal of the
+   discriminant in rounding errors; grazing the reciprocal of |cos|. */
+
+typedef struct ggCheckResult {
+    int width, height;
+    int x0, y0, x1, y1; /* the window scanned */
+    long scanned;
+    int failed; /* invariants of severity error with pixels > 0 */
+    ggCheckItem items[GG_CHECK_COUNT];
+    /* Truncation: an upper bound on any ray's colour in this scene (the
+       largest channel; INFINITY when ks + kt >= 1 somewhere makes the
+       recursion's sum unbounded), so the light a pixel misses is at
+       most its truncation measure times this. */
+    double radiance_bound;
+    ggRayStats stats;
+} ggCheckResult;
+
+/* Scan every pixel of opt's window for the invariants. co NULL: the
+   defaults. Returns GG_OK whether invariants fail or not (see
+   res->failed), or GG_ERROR_INVALID, GG_ERROR_NOMEM, GG_ERROR_CANCELLED,
+   or what ggRender would. */
+GG_API int ggCheck(ggScene *scene, const ggRenderOptions *opt, const ggCheckOptions *co,
+                   ggCheckResult **out, ggError *err);
+GG_API void ggCheckResultFree(ggCheckResult *res);
+
+/* ------------------------------------------------------------------ */
+/* Ledger: a pixel's colour term by term                               */
+/* ------------------------------------------------------------------ */
+
+#define GG_TERM_EMISSION   0 /* ke at a hit */
+#define GG_TERM_AMBIENT    1 /* kd C ambient at a hit */
+#define GG_TERM_DIFFUSE    2 /* one light's kd C (N.L) at a hit */
+#define GG_TERM_PHONG      3 /* one light's highlight at a hit */
+#define GG_TERM_BACKGROUND 4 /* a ray that left the scene */
+
+/* "emission", "ambient", "diffuse", "phong", "background"; "?" otherwise. */
+GG_API const char *ggTermName(int kind);
+
+typedef struct ggLedgerTerm {
+    int kind;      /* GG_TERM_* */
+    int node;      /* the ray at whose hit (or miss) the light enters */
+    int light;     /* diffuse, phong: the light's index; else -1 */
+    ggColor value; /* what it adds to the pixel */
+    double share;  /* (r + g + b) of value over (r + g + b) of the pixel; 0 if that is 0 */
+} ggLedgerTerm;
+
+typedef struct ggLedger {
+    size_t count;
+    ggLedgerTerm *terms; /* sorted by share, largest first (then by node) */
+    ggColor sum;         /* the terms added up (in double) */
+    ggColor pixel;       /* the pixel value given */
+    ggColor bound;       /* per channel: |sum - pixel| is at most this (rounding) */
+    int holds;           /* 1 when |sum - pixel| <= bound on every channel */
+} ggLedger;
+
+/* The ledger of a pixel whose every sample is recorded in trace
+   (ggTracePixel with sample -1, value `pixel`). Each term's value is the
+   product of the weights and absorptions on the path of rays that carried
+   it, times the term at its hit, divided by the number of samples; terms
+   that are exactly zero are left out. They add up to the pixel within
+   `bound`, the rounding of the renderer's own sums and of the float pixel:
+     bound = 2^-24 (|pixel| + sum |t|) + gamma(2 n + m + 4 d + s + 2) sum |t|
+   per channel, gamma(k) = k 2^-53 / (1 - k 2^-53), for n terms, m rays,
+   depth d and s samples (lib/debug/ledger.c derives it). holds is 0 for
+   a pixel that is not finite. alloc may be NULL; it is copied. Returns
+   GG_OK, GG_ERROR_INVALID (NULL trace or out, an empty trace) or
+   GG_ERROR_NOMEM. */
+GG_API int ggLedgerCreate(const ggTrace *trace, ggColor pixel, const ggAllocator *alloc,
+                          ggLedger **out, ggError *err);
+GG_API void ggLedgerFree(ggLedger *ledger);
+
+/* ------------------------------------------------------------------ */
+/* Diff: two renders ray by ray                                        */
+/* ------------------------------------------------------------------ */
+
+/* What differs at the first divergent ray. */
+#define GG_DIFF_SAME     0
+#define GG_DIFF_HIT      1 /* one ray hit a surface, the other left the scene */
+#define GG_DIFF_OBJECT   2 /* they hit different objects */
+#define GG_DIFF_FACE     3 /* the same object, from the other side */
+#define GG_DIFF_TIR      4 /* one refracted, the other was totally internally reflected */
+#define GG_DIFF_SHADOW   5 /* a light's shadow verdict differs */
+#define GG_DIFF_OCCLUDER 6 /* the same verdict, another occluder */
+#define GG_DIFF_CHILD    7 /* a child ray exists in one tree only */
+#define GG_DIFF_STOP     8 /* they stopped for different reasons */
+#define GG_DIFF_SAMPLES  9 /* the trees are of different sample counts */
+#define GG_DIFF_COUNT    10
+
+/* "same", "hit", "object", "face", "tir", "shadow", "occluder", "child",
+   "stop", "samples"; "?" otherwise. */
+GG_API const char *ggDiffName(int what);
+
+typedef struct ggDivergence {
+    int what;           /* GG_DIFF_* */
+    int node_a, node_b; /* the divergent ray in each tree; -1 where it does not exist */
+    int light;          /* SHADOW, OCCLUDER: the light; else -1 */
+    int a, b;           /* what each side has: objects (OBJECT, OCCLUDER, HIT: -1 = none),
+                           GG_SHADOW_* (SHADOW), GG_STOP_* (STOP), 1 = front (FACE),
+                           GG_RAY_* of the child (CHILD, TIR: the ray that differs) */
+} ggDivergence;
+
+/* Compare two recorded trees: the same rays in the same order (kind,
+   channel), each hitting the same object from the same side or missing,
+   the same stop reasons, and the same verdict and occluder for every
+   light. Positions, colours and weights are not compared. Returns 1 and
+   fills *first (may be NULL) with the first divergence in the order the
+   rays of `a` were cast, or 0 when the trees agree (first->what =
+   GG_DIFF_SAME). NULL traces compare as empty. */
+GG_API int ggTraceCompare(const ggTrace *a, const ggTrace *b, ggDivergence *first);
+
+typedef struct ggDiffPixel {
+    int x, y;
+    ggColor a, b;       /* the pixel's value in each render */
+    double delta;       /* largest |a - b| over the channels (INFINITY if either is not finite) */
+    ggDivergence first; /* the first divergent ray (what = SAME if the trees agree) */
+} ggDiffPixel;
+
+typedef struct ggDiffResult {
+    int width, height;
+    int x0, y0, x1, y1; /* the window scanned */
+    long scanned;
+    long value_differ;                 /* pixels whose values differ in any bit */
+    long tree_differ;                  /* pixels whose ray trees differ (ggTraceCompare) */
+    long first_by_kind[GG_DIFF_COUNT]; /* pixels by what their first divergence is */
+    double max_delta;
+    int nworst; /* pixels listed: those that differ, largest delta first */
+    ggDiffPixel *worst;
+    /* width * height bytes: 0 identical, 1 the value differs but not the
+       tree, 2 the tree differs (value or not). */
+    unsigned char *map;
+    ggImage *image_a, *image_b; /* both renders of the window */
+    ggRayStats stats_a, stats_b;
+} ggDiffResult;
+
+/* Render scene_a with opt_a and scene_b with opt_b (they may be the same
+   scene), pixel by pixel with both ray trees recorded, and compare. The
+   two settings must give images of one size; the window is opt_a's.
+   worst: how many differing pixels to list. Threads and progress come
+   from opt_a. Returns GG_OK, GG_ERROR_INVALID (NULL arguments, sizes that
+   differ), GG_ERROR_NOMEM, GG_ERROR_CANCELLED, or what ggRender would. */
+GG_API int ggDiff(ggScene *scene_a, const ggRenderOptions *opt_a, ggScene *scene_b,
+                  const ggRenderOptions *opt_b, int worst, ggDiffResult **out, ggError *err);
+GG_API void ggDiffResultFree(ggDiffResult *res);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,372 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** check.c -- ggCheck: every pixel's ray trees tested against invariants
+** a correct Whitted render keeps, with the worst pixels of each.
+*/
+#include "debug_int.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct check_res {
+    ggCheckResult pub;
+    gg_dbg_alloc al;
+} check_res;
+
+/* One invariant's state in one pixel: its measure and where it is worst. */
+typedef struct pix_fail {
+    int failed;
+    double measure;
+    ggCheckPixel at;
+} pix_fail;
+
+typedef struct check_thread {
+    gg_dbg_buf buf;
+    ggCheckItem item[GG_CHECK_COUNT];
+} check_thread;
+
+typedef struct check_job {
+    ggCheckOptions co;
+    const ggScene *s;
+    ggCheckResult *res;
+    check_thread *t;
+    const ggAllocator *alloc;
+    double *children; /* per material: the weight its children get, ks + kt (conductor 1 + kt) */
+} check_job;
+
+GG_API const char *ggCheckName(int check)
+{
+    static const char *const n[] = {"nonfinite", "negative", "energy", "truncation",
+                                    "self-hit",  "near-tir", "grazing"};
+    return check >= 0 && check < GG_CHECK_COUNT ? n[check] : "?";
+}
+
+GG_API const char *ggSeverityName(int severity)
+{
+    static const char *const n[] = {"info", "warning", "error"};
+    return severity >= 0 && severity < 3 ? n[severity] : "?";
+}
+
+GG_API void ggCheckOptionsDefault(ggCheckOptions *co)
+{
+    if (!co) return;
+    memset(co, 0, sizeof *co);
+    co->severity[GG_CHECK_NONFINITE] = GG_SEVERITY_ERROR;
+    co->severity[GG_CHECK_NEGATIVE] = GG_SEVERITY_ERROR;
+    co->severity[GG_CHECK_ENERGY] = GG_SEVERITY_ERROR;
+    co->severity[GG_CHECK_TRUNCATION] = GG_SEVERITY_ERROR;
+    co->severity[GG_CHECK_SELF_HIT] = GG_SEVERITY_WARNING;
+    co->severity[GG_CHECK_NEAR_TIR] = GG_SEVERITY_INFO;
+    co->severity[GG_CHECK_GRAZING] = GG_SEVERITY_INFO;
+    co->truncation = 0.1;
+    co->self_hit = 4;
+    co->near_tir = 16;
+    co->grazing = 1e-3;
+}
+
+static double cmax(ggColor c)
+{
+    double m = c.r > c.g ? c.r : c.g;
+    return m > c.b ? m : c.b;
+}
+
+static double cmin(ggColor c)
+{
+    double m = c.r < c.g ? c.r : c.g;
+    return m < c.b ? m : c.b;
+}
+
+/* Worse first: larger measure, then row order. */
+static int worse(const ggCheckPixel *p, const ggCheckPixel *q)
+{
+    if (p->value != q->value) return p->value > q->value;
+    if (p->y != q->y) return p->y < q->y;
+    return p->x < q->x;
+}
+
+static void keep_worst(ggCheckItem *it, const ggCheckPixel *p)
+{
+    int i;
+    if (it->nworst == GG_CHECK_WORST && !worse(p, &it->pixels_worst[GG_CHECK_WORST - 1])) return;
+    i = it->nworst < GG_CHECK_WORST ? it->nworst++ : GG_CHECK_WORST - 1;
+    while (i > 0 && worse(p, &it->pixels_worst[i - 1])) {
+        it->pixels_worst[i] = it->pixels_worst[i - 1];
+        i--;
+    }
+    it->pixels_worst[i] = *p;
+}
+
+/* Ray `node` (light record `light`, or -1) has measure m: keep the worst. */
+static void note(pix_fail *f, double m, int node, int light, const ggTraceNode *n)
+{
+    if (f->failed && m <= f->measure) return;
+    f->failed = 1, f->measure = m;
+    f->at.value = m, f->at.node = node, f->at.light = light;
+    f->at.object = n && n->hit ? n->object : -1;
+    f->at.material = n && n->hit ? n->material : -1;
+    f->at.line = n && n->hit ? n->line : 0;
+}
+
+static void ray_fails(pix_fail *f, ggCheckItem *it, double m, int node, int light,
+                      const ggTraceNode *n)
+{
+    it->rays++;
+    note(f, m, node, light, n);
+}
+
+/* A colour the float image cannot hold (NaN, infinite, or beyond
+   FLT_MAX, which rounds to infinity), or a negative one (neg). */
+static int bad_color(ggColor c, int neg)
+{
+    if (neg) return cmin(c) < 0;
+    return !(fabs(c.r) <= FLT_MAX && fabs(c.g) <= FLT_MAX && fabs(c.b) <= FLT_MAX);
+}
+
+/* The ray where a non-finite (neg = 0) or negative (neg = 1) colour
+   starts: the first whose children's colours are all fine. */
+static int source_ray(const ggTrace *t, int neg)
+{
+    size_t i, j, n = ggTraceNodeCount(t);
+    for (i = 0; i < n; i++) {
+        int kids_bad = 0;
+        if (!bad_color(ggTraceGetNode(t, i)->color, neg)) continue;
+        for (j = i + 1; j < n && !kids_bad; j++) {
+            const ggTraceNode *c = ggTraceGetNode(t, j);
+            if (c->parent == (int)i) kids_bad = bad_color(c->color, neg);
+        }
+        if (!kids_bad) return (int)i;
+    }
+    return -1;
+}
+
+#ifndef GG_STOP_BUDGET
+#define GG_STOP_BUDGET 4
+#endif
+
+/* The discriminant 1 - eta^2 (1 - cos^2) of the refraction at node n, in
+   units of 2^-53 (1 + eta^2), a few of which its rounding can be. */
+static double tir_margin(const ggTraceNode *n)
+{
+    double c = fabs(n->d.x * n->ns.x + n->d.y * n->ns.y + n->d.z * n->ns.z);
+    double eta = n->n_other > 0 ? n->n_medium / n->n_other : 1, e2 = eta * eta;
+    return fabs(1 - e2 * (1 - c * c)) / (0x1p-53 * (1 + e2));
+}
+
+/* The invariants that live at one hit. *cut sums the truncated weight. */
+static void check_node(const check_job *cj, check_thread *th, pix_fail *f, const ggTrace *t, int i,
+                       double *cut, long *ncut, pix_fail *cut_at)
+{
+    const ggTraceNode *n = ggTraceGetNode(t, (size_t)i);
+    const ggMaterial *m;
+    double e, c;
+    if (!n->hit || n->material < 0 || (size_t)n->material >= cj->s->nmaterials) return;
+    m = &cj->s->materials[n->material];
+    e = m->kd * cmax(n->surface) + cj->children[n->material];
+    if (e > 1 + 1e-9) {
+        ray_fails(&f[GG_CHECK_ENERGY], &th->item[GG_CHECK_ENERGY], e, i, -1, n);
+        f[GG_CHECK_ENERGY].at.line = m->line;
+    }
+    c = fabs(n->d.x * n->ng.x + n->d.y * n->ng.y + n->d.z * n->ng.z);
+    if (c < cj->co.grazing)
+        ray_fails(&f[GG_CHECK_GRAZING], &th->item[GG_CHECK_GRAZING], c > 0 ? 1 / c : INFINITY, i,
+                  -1, n);
+    if (m->kt > 0 && n->stop != GG_STOP_DEPTH && n->stop != GG_STOP_BUDGET) {
+        double k = tir_margin(n);
+        if (k < cj->co.near_tir)
+            ray_fails(&f[GG_CHECK_NEAR_TIR], &th->item[GG_CHECK_NEAR_TIR], k > 0 ? 1 / k : INFINITY,
+                      i, -1, n);
+    }
+    if ((n->stop == GG_STOP_DEPTH || n->stop == GG_STOP_BUDGET) && cj->children[n->material] > 0) {
+        const ggColor *w = &th->buf.w[i];
+        ggColor a;
+        double lost;
+        a.r = w->r * n->absorption.r, a.g = w->g * n->absorption.g, a.b = w->b * n->absorption.b;
+        lost = cmax(a) * cj->children[n->material];
+        *cut += lost;
+        (*ncut)++;
+        note(cut_at, lost, i, -1, n);
+    }
+}
+
+/* The pixel-level invariants: its value not finite, or negative. */
+static void check_value(check_thread *th, pix_fail *f, const ggTrace *t, ggColor px)
+{
+    int src;
+    if (gg_dbg_nonfinite(px)) {
+        src = source_ray(t, 0);
+        ray_fails(&f[GG_CHECK_NONFINITE], &th->item[GG_CHECK_NONFINITE], 1, src, -1,
+                  src >= 0 ? ggTraceGetNode(t, (size_t)src) : NULL);
+    } else if (cmin(px) < 0) {
+        src = source_ray(t, 1);
+        ray_fails(&f[GG_CHECK_NEGATIVE], &th->item[GG_CHECK_NEGATIVE], -cmin(px), src, -1,
+                  src >= 0 ? ggTraceGetNode(t, (size_t)src) : NULL);
+    }
+}
+
+static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px)
+{
+    check_job *cj = ud;
+    check_thread *th = &cj->t[thread];
+    const ggTrace *t = recs[0];
+    pix_fail f[GG_CHECK_COUNT], cut_at;
+    size_t i, n = ggTraceNodeCount(t);
+    double cut = 0;
+    long ncut = 0;
+    int c;
+    if (gg_dbg_buf_weights(&th->buf, cj->alloc, t)) return GG_ERROR_NOMEM;
+    memset(f, 0, sizeof f);
+    memset(&cut_at, 0, sizeof cut_at);
+    check_value(th, f, t, px[0]);
+    for (i = 0; i < n; i++) check_node(cj, th, f, t, (int)i, &cut, &ncut, &cut_at);
+    if (cut > cj->co.truncation) {
+        th->item[GG_CHECK_TRUNCATION].rays += ncut;
+        f[GG_CHECK_TRUNCATION] = cut_at;
+        f[GG_CHECK_TRUNCATION].measure = f[GG_CHECK_TRUNCATION].at.value = cut;
+    }
+    for (c = 0; c < GG_CHECK_COUNT; c++) {
+        ggCheckItem *it = &th->item[c];
+        if (!f[c].failed) continue;
+        it->pixels++;
+        if (f[c].measure > it->worst) it->worst = f[c].measure;
+        f[c].at.x = x, f[c].at.y = y;
+        keep_worst(it, &f[c].at);
+    }
+    return 0;
+}
+
+/* ---- the radiance bound ---- */
+
+/* The largest channel a texture can give (colour times texel). */
+static double texture_max(const ggScene *s, const ggMaterial *m)
+{
+    const gg_texture *t;
+    double v = 0;
+    if (m->texture < 0 || (size_t)m->texture >= s->ntextures) return cmax(m->color);
+    t = &s->textures[m->texture];
+    if (!t->img) {
+        v = cmax(t->checker_a) > cmax(t->checker_b) ? cmax(t->checker_a) : cmax(t->checker_b);
+    } else {
+        const float *p = ggImagePixelsConst(t->img);
+        size_t i, k = 3 * (size_t)ggImageWidth(t->img) * (size_t)ggImageHeight(t->img);
+        for (i = 0; i < k; i++)
+            if (p[i] > v || p[i] != p[i]) v = p[i] != p[i] ? INFINITY : p[i];
+    }
+    return v * cmax(m->color);
+}
+
+/* Any ray's colour is at most L, by induction on the depth left: a miss
+   is the background; a hit returns at most its own terms D (emission,
+   ambient, and per light a diffuse term and a highlight of at most the
+   light's colour) plus g L, g the weight its children get (absorption and
+   shadow transmittance only lower that). So L = max(background, D / (1 -
+   g)) over the materials with g < 1 holds for all of them when every
+   other material passes light on without adding any (g = 1, D = 0:
+   clear glass, perfect mirrors); else there is no finite bound. */
+static double radiance_bound(const check_job *cj)
+{
+    const ggScene *s = cj->s;
+    double lights = 0, L = cmax(s->background), amb = cmax(s->ambient);
+    size_t i;
+    for (i = 0; i < s->nlights; i++) lights += cmax(s->light_colors[i]);
+    for (i = 0; i < s->nmaterials; i++) {
+        const ggMaterial *m = &s->materials[i];
+        double d = cmax(m->ke) + m->kd * texture_max(s, m) * (amb + lights) + m->ks * lights;
+        double g = cj->children[i];
+        if (m->kt > 1 || !isfinite(d)) return INFINITY; /* shadows could amplify */
+        if (g < 1) {
+            if (d / (1 - g) > L) L = d / (1 - g);
+        } else if (g > 1 + 1e-12 || d > 0) {
+            return INFINITY;
+        }
+    }
+    return L;
+}
+
+/* ---- ggCheck ---- */
+
+GG_API void ggCheckResultFree(ggCheckResult *r)
+{
+    if (r) gg_mem_free(((check_res *)r)->al.a, r);
+}
+
+static int check_alloc(ggScene *s, const gg_scan *sc, check_job *cj, ggCheckResult **out)
+{
+    check_res *cr = gg_mem_calloc(s->alloc, 1, sizeof *cr);
+    ggCheckResult *r;
+    size_t i;
+    if (!cr) return GG_ERROR_NOMEM;
+    gg_dbg_alloc_init(&cr->al, s->alloc);
+    r = *out = &cr->pub;
+    cj->res = r, cj->alloc = cr->al.a, cj->s = s;
+    r->width = sc->desc.width, r->height = sc->desc.height;
+    r->x0 = sc->desc.x0, r->y0 = sc->desc.y0, r->x1 = sc->desc.x1, r->y1 = sc->desc.y1;
+    cj->t = gg_mem_calloc(cj->alloc, (size_t)sc->threads, sizeof *cj->t);
+    cj->children = gg_mem_calloc(cj->alloc, s->nmaterials ? s->nmaterials : 1, sizeof(double));
+    if (!cj->t || !cj->children) return GG_ERROR_NOMEM;
+    for (i = 0; i < s->nmaterials; i++) {
+        const ggMaterial *m = &s->materials[i];
+        cj->children[i] = (m->fresnel == GG_FRESNEL_CONDUCTOR ? 1 : m->ks) + m->kt;
+    }
+    return GG_OK;
+}
+
+static void merge(check_job *cj, int threads)
+{
+    ggCheckResult *r = cj->res;
+    int i, c, k;
+    for (c = 0; c < GG_CHECK_COUNT; c++) {
+        ggCheckItem *it = &r->items[c];
+        it->check = c, it->severity = cj->co.severity[c];
+        for (i = 0; i < threads; i++) {
+            const ggCheckItem *ti = &cj->t[i].item[c];
+            it->pixels += ti->pixels, it->rays += ti->rays;
+            if (ti->worst > it->worst) it->worst = ti->worst;
+            for (k = 0; k < ti->nworst; k++) keep_worst(it, &ti->pixels_worst[k]);
+        }
+        if (it->severity == GG_SEVERITY_ERROR && it->pixels > 0) r->failed++;
+    }
+}
+
+GG_API int ggCheck(ggScene *s, const ggRenderOptions *opt, const ggCheckOptions *co,
+                   ggCheckResult **out, ggError *err)
+{
+    gg_tracer *tr = NULL;
+    gg_scan sc;
+    check_job cj;
+    ggCheckResult *r = NULL;
+    int rc, i;
+    if (out) *out = NULL;
+    if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggCheck: NULL argument");
+    memset(&cj, 0, sizeof cj);
+    memset(&sc, 0, sizeof sc);
+    if (co)
+        cj.co = *co;
+    else
+        ggCheckOptionsDefault(&cj.co);
+    if ((rc = gg_tracer_create(s, opt, &tr, err)) != GG_OK) return rc;
+    sc.tracer[0] = tr, sc.ntracers = 1, sc.record = 1;
+    gg_scan_init(&sc);
+    if ((rc = check_alloc(s, &sc, &cj, &r)) != GG_OK) {
+        rc = gg_error_set(err, rc, "out of memory for the check result");
+    } else {
+        sc.fn = check_pixel, sc.ud = &cj, sc.alloc = cj.alloc;
+        if ((rc = gg_scan_run(&sc, err)) == GG_OK) {
+            r->stats = sc.stats[0];
+            r->scanned = (long)(r->x1 - r->x0) * (r->y1 - r->y0);
+            r->radiance_bound = radiance_bound(&cj);
+            merge(&cj, sc.threads);
+        }
+    }
+    for (i = 0; cj.t && i < sc.threads; i++) gg_mem_free(cj.alloc, cj.t[i].buf.w);
+    gg_mem_free(cj.alloc, cj.t);
+    gg_mem_free(cj.alloc, cj.children);
+    gg_tracer_free(tr);
+    if (rc != GG_OK) {
+        ggCheckResultFree(r);
+        return rc;
+    }
+    *out = r;
+    return GG_OK;
+}

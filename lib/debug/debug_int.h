@@ -1,0 +1,173 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** debug_int.h -- what the files of the debug layer share (internal).
+*/
+#ifndef GG_DEBUG_INT_H
+#define GG_DEBUG_INT_H
+
+#include "render.h"
+#include "scene.h"
+
+/* What a predicate (or a check) reads from a pixel. */
+#define GG_NEED_TREE   1u /* ray trees (without it pixel values serve) */
+#define GG_NEED_LIGHTS 2u /* shadow-ray records */
+#define GG_NEED_WEIGHT 4u /* the rays' weights in the pixel */
+
+/* A pixel being looked at: its value, its recorded trees (NULL when only
+   the value is known) and, if computed, each node's weight in the pixel. */
+typedef struct gg_dbg_pixel {
+    const ggTrace *trace;
+    int x, y;
+    ggColor px;
+    const ggColor *w;
+} gg_dbg_pixel;
+
+/* ---- predicates (pred.c, pred_eval.c) ---- */
+
+/* Field types and the level they live at. */
+enum { PT_NUM, PT_COLOR, PT_BOOL, PT_ENUM };
+
+enum {
+    PN_OR,
+    PN_AND,
+    PN_NOT,
+    PN_SOME, /* a: the body */
+    PN_ALL,
+    PN_COUNT, /* a number */
+    PN_CMP,   /* a, b: operands; cmp: the operator */
+    PN_BOOL,  /* field: a boolean field */
+    PN_NUM,   /* num */
+    PN_FIELD  /* field, comp */
+};
+
+enum { PC_EQ, PC_NE, PC_LT, PC_LE, PC_GT, PC_GE };
+
+typedef struct gg_pnode {
+    int op;
+    int a, b;  /* operand nodes */
+    int field; /* index in the field table */
+    int comp;  /* colour component: 0 r, 1 g, 2 b, 3 max, 4 min */
+    int cmp;   /* PC_* */
+    double num;
+} gg_pnode;
+
+struct ggPredicate {
+    ggAllocator alloc_copy;
+    const ggAllocator *alloc;
+    gg_pnode *n;
+    int count, root;
+    unsigned needs; /* GG_NEED_* */
+};
+
+/* The field table, shared by the parser and the evaluator. */
+enum {
+    PF_KIND,
+    PF_DEPTH,
+    PF_CHANNEL,
+    PF_OBJECT,
+    PF_MATERIAL,
+    PF_LINE,
+    PF_SHAPE,
+    PF_FRONT,
+    PF_BACK,
+    PF_HIT,
+    PF_MISS,
+    PF_T,
+    PF_STOP,
+    PF_FRESNEL,
+    PF_WEIGHT,
+    PF_COLOR,
+    PF_ABSORPTION,
+    PF_NONFINITE,
+    PF_LIGHT,
+    PF_VERDICT,
+    PF_OCCLUDER,
+    PF_TRANSMITTANCE,
+    PF_DIFFUSE,
+    PF_PHONG,
+    PF_MEDIUM,
+    PF_X, /* pixel fields from here on */
+    PF_Y,
+    PF_PIXEL,
+    PF_RAYS,
+    PF_COUNT
+};
+#define PF_FIRST_PIXEL PF_X
+
+/* The kind a shadow ray has in the language (after GG_RAY_*). */
+#define GG_PRED_SHADOW 4
+
+/* Evaluate on one pixel: 1 true, 0 not (false or unknown). */
+int gg_pred_eval(const ggPredicate *p, const gg_dbg_pixel *px);
+/* Work out p->needs (after parsing). */
+unsigned gg_pred_analyse(const ggPredicate *p);
+
+/* ---- trees (tree.c) ---- */
+
+/* Number of trees (roots) in t. */
+int gg_dbg_roots(const ggTrace *t);
+/* Each node's weight in the pixel into w (n = ggTraceNodeCount entries):
+   the pixel changes by w[i] * d when node i's colour changes by d. The
+   roots weigh 1 / (number of roots); a child weighs its parent's weight
+   times the parent's absorption times its own weight. */
+void gg_dbg_weights(const ggTrace *t, ggColor *w);
+
+/* A growable per-thread buffer for gg_dbg_weights. */
+typedef struct gg_dbg_buf {
+    ggColor *w;
+    size_t cap;
+} gg_dbg_buf;
+/* Fill b->w for t; -1 if out of memory. */
+int gg_dbg_buf_weights(gg_dbg_buf *b, const ggAllocator *a, const ggTrace *t);
+
+/* ---- the pixel scan (scan.c) ---- */
+
+/* Called for every pixel of the window, from worker thread `thread`
+   (0 .. threads - 1): recs[i] and px[i] for each tracer (recs NULL when
+   not recording). Return non-zero to stop the scan with that status. */
+typedef int (*gg_scan_fn)(void *ud, int thread, int x, int y, ggTrace *const *recs,
+                          const ggColor *px);
+
+typedef struct gg_scan {
+    const gg_tracer *tracer[2];
+    int ntracers;
+    int record;          /* record trees */
+    gg_tracer_desc desc; /* of tracer[0] */
+    int threads;         /* worker threads the scan will use (set by gg_scan_init) */
+    gg_scan_fn fn;
+    void *ud;
+    const ggAllocator *alloc;
+    ggRayStats stats[2]; /* per tracer, summed over threads */
+} gg_scan;
+
+/* Fill in desc and threads from the tracers (call before allocating
+   per-thread state). */
+void gg_scan_init(gg_scan *sc);
+/* Run it. Returns GG_OK, GG_ERROR_NOMEM, GG_ERROR_CANCELLED or what fn
+   returned. */
+int gg_scan_run(gg_scan *sc, ggError *err);
+
+/* ---- results ---- */
+
+/* ---- helpers (util.c) ---- */
+
+/* A result's allocator, kept beside it (the scene may go first). */
+typedef struct gg_dbg_alloc {
+    ggAllocator copy;
+    const ggAllocator *a;
+} gg_dbg_alloc;
+void gg_dbg_alloc_init(gg_dbg_alloc *al, const ggAllocator *a);
+
+/* Add b's counts to a. */
+void gg_dbg_stats_add(ggRayStats *a, const ggRayStats *b);
+/* Store c at (x, y) of img as ggRender does (floats). */
+void gg_dbg_put(ggImage *img, int x, int y, ggColor c);
+
+/* Whether c has a NaN or infinite channel. */
+int gg_dbg_nonfinite(ggColor c);
+/* A decimal number at s (at most n bytes: sign, digits, fraction,
+   exponent), read with '.' as the radix point whatever the locale:
+   returns the bytes it takes (0 if none) and the value in *out. */
+size_t gg_dbg_number(const char *s, size_t n, double *out);
+
+#endif

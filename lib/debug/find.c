@@ -1,0 +1,188 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** find.c -- ggFind: the pixels whose ray trees satisfy a predicate.
+*/
+#include "debug_int.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct find_res {
+    ggFindResult pub; /* first: the public pointer is this struct's */
+    gg_dbg_alloc al;
+} find_res;
+
+/* What each worker keeps: its first `limit` matches (in row order, as it
+   takes rows in order) and its count. */
+typedef struct find_thread {
+    ggFindMatch *m;
+    int n;
+    size_t cap;
+    long matched;
+    gg_dbg_buf buf;
+} find_thread;
+
+typedef struct find_job {
+    const ggPredicate *pred;
+    ggFindResult *res;
+    int limit;
+    find_thread *t;
+    const ggAllocator *alloc;
+} find_job;
+
+/* Record a match of worker th; the mask and image are the result's. The
+   list grows as matches come (a limit can be far above the pixel count). */
+static int matched(find_job *fj, find_thread *th, int x, int y, ggColor px)
+{
+    ggFindResult *r = fj->res;
+    r->mask[(size_t)y * r->width + x] = 1;
+    th->matched++;
+    if (th->n < fj->limit) {
+        if (gg_mem_grow(fj->alloc, (void **)&th->m, &th->cap, (size_t)th->n + 1, sizeof *th->m))
+            return GG_ERROR_NOMEM;
+        th->m[th->n].x = x, th->m[th->n].y = y, th->m[th->n].pixel = px;
+        th->n++;
+    }
+    return 0;
+}
+
+static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px)
+{
+    find_job *fj = ud;
+    find_thread *th = &fj->t[thread];
+    gg_dbg_pixel p;
+    memset(&p, 0, sizeof p);
+    p.trace = recs ? recs[0] : NULL, p.x = x, p.y = y, p.px = px[0];
+    if (p.trace && (fj->pred->needs & GG_NEED_WEIGHT)) {
+        if (gg_dbg_buf_weights(&th->buf, fj->alloc, p.trace)) return GG_ERROR_NOMEM;
+        p.w = th->buf.w;
+    }
+    gg_dbg_put(fj->res->image, x, y, px[0]);
+    return gg_pred_eval(fj->pred, &p) ? matched(fj, th, x, y, px[0]) : 0;
+}
+
+static int by_row(const void *a, const void *b)
+{
+    const ggFindMatch *p = a, *q = b;
+    return p->y != q->y ? (p->y < q->y ? -1 : 1) : p->x < q->x ? -1 : p->x > q->x;
+}
+
+/* The workers' lists into the result: the first `limit` in row order. */
+static int merge(find_job *fj, int threads)
+{
+    ggFindResult *r = fj->res;
+    int i, k, total = 0;
+    for (i = 0; i < threads; i++) total += fj->t[i].n, r->matched += fj->t[i].matched;
+    if (total == 0) return GG_OK;
+    r->matches = gg_mem_calloc(fj->alloc, (size_t)total, sizeof *r->matches);
+    if (!r->matches) return GG_ERROR_NOMEM;
+    for (i = 0, k = 0; i < threads; i++) {
+        if (fj->t[i].n == 0) continue; /* its list may be NULL */
+        memcpy(r->matches + k, fj->t[i].m, (size_t)fj->t[i].n * sizeof *r->matches);
+        k += fj->t[i].n;
+    }
+    qsort(r->matches, (size_t)total, sizeof *r->matches, by_row);
+    r->nmatches = total < fj->limit ? total : fj->limit;
+    return GG_OK;
+}
+
+/* A predicate that reads only pixel values: one plain render serves. */
+static int find_by_render(ggScene *s, const ggRenderOptions *opt, find_job *fj, ggError *err)
+{
+    ggFindResult *r = fj->res;
+    find_thread *th = &fj->t[0];
+    ggImage *img = NULL;
+    int x, y, rc = ggRender(s, opt, &img, &r->stats, err);
+    if (rc != GG_OK) return rc;
+    ggImageFree(r->image);
+    r->image = img;
+    for (y = r->y0; y < r->y1; y++)
+        for (x = r->x0; x < r->x1; x++) {
+            gg_dbg_pixel p;
+            memset(&p, 0, sizeof p);
+            p.x = x, p.y = y, p.px = ggImageGet(img, x, y);
+            if (gg_pred_eval(fj->pred, &p) && matched(fj, th, x, y, p.px) != 0)
+                return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
+        }
+    return GG_OK;
+}
+
+GG_API void ggFindResultFree(ggFindResult *r)
+{
+    const ggAllocator *a;
+    if (!r) return;
+    a = ((find_res *)r)->al.a;
+    gg_mem_free(a, r->matches);
+    gg_mem_free(a, r->mask);
+    ggImageFree(r->image);
+    gg_mem_free(a, r);
+}
+
+/* A result for the tracer's image and window, and the workers' lists. */
+static int find_alloc(ggScene *s, const gg_scan *sc, find_job *fj, ggFindResult **out)
+{
+    find_res *fr = gg_mem_calloc(s->alloc, 1, sizeof *fr);
+    ggFindResult *r;
+    if (!fr) return GG_ERROR_NOMEM;
+    gg_dbg_alloc_init(&fr->al, s->alloc);
+    r = *out = &fr->pub;
+    fj->res = r, fj->alloc = fr->al.a;
+    r->width = sc->desc.width, r->height = sc->desc.height;
+    r->x0 = sc->desc.x0, r->y0 = sc->desc.y0, r->x1 = sc->desc.x1, r->y1 = sc->desc.y1;
+    r->mask = gg_mem_calloc(fj->alloc, (size_t)r->width * (size_t)r->height, 1);
+    r->image = ggImageCreate(r->width, r->height, fj->alloc);
+    fj->t = gg_mem_calloc(fj->alloc, (size_t)sc->threads, sizeof *fj->t);
+    if (!r->mask || !r->image || !fj->t) return GG_ERROR_NOMEM;
+    return GG_OK;
+}
+
+static void find_job_free(find_job *fj, int threads)
+{
+    int i;
+    for (i = 0; fj->t && i < threads; i++) {
+        gg_mem_free(fj->alloc, fj->t[i].m);
+        gg_mem_free(fj->alloc, fj->t[i].buf.w);
+    }
+    gg_mem_free(fj->alloc, fj->t);
+}
+
+GG_API int ggFind(ggScene *s, const ggRenderOptions *opt, const ggPredicate *pred, int limit,
+                  ggFindResult **out, ggError *err)
+{
+    gg_tracer *tr = NULL;
+    gg_scan sc;
+    find_job fj;
+    ggFindResult *r = NULL;
+    int rc;
+    if (out) *out = NULL;
+    if (!s || !pred || !out || limit < 0)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggFind: NULL argument or negative limit");
+    if ((rc = gg_tracer_create(s, opt, &tr, err)) != GG_OK) return rc;
+    memset(&sc, 0, sizeof sc);
+    memset(&fj, 0, sizeof fj);
+    sc.tracer[0] = tr, sc.ntracers = 1;
+    sc.record = (pred->needs & GG_NEED_TREE) != 0;
+    gg_scan_init(&sc);
+    fj.pred = pred, fj.limit = limit;
+    rc = find_alloc(s, &sc, &fj, &r);
+    if (rc != GG_OK) {
+        rc = gg_error_set(err, rc, "out of memory for the find result");
+    } else if (!sc.record) {
+        rc = find_by_render(s, opt, &fj, err);
+    } else {
+        sc.fn = find_pixel, sc.ud = &fj, sc.alloc = fj.alloc;
+        r->traced = 1;
+        if ((rc = gg_scan_run(&sc, err)) == GG_OK) r->stats = sc.stats[0];
+    }
+    r->scanned = rc == GG_OK ? (long)(r->x1 - r->x0) * (r->y1 - r->y0) : 0;
+    if (rc == GG_OK && merge(&fj, sc.threads) != GG_OK)
+        rc = gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
+    find_job_free(&fj, sc.threads);
+    gg_tracer_free(tr);
+    if (rc != GG_OK) {
+        ggFindResultFree(r);
+        return rc;
+    }
+    *out = r;
+    return GG_OK;
+}

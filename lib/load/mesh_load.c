@@ -1,0 +1,132 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** mesh_load.c -- ggSceneLoadMesh and friends: pick the reader, hand what
+** it read to the scene (gg_scene_add_mesh_build), and leave the scene as it
+** was when anything fails. Also a model loaded as a scene of its own
+** (ggSceneLoadFile of a .obj or .ply): the mesh, framed.
+*/
+#include "mesh_int.h"
+
+#include <string.h>
+
+static bool ends_with(const char *s, const char *ext)
+{
+    size_t n = strlen(s), k = strlen(ext), i;
+    if (n < k) return false;
+    for (i = 0; i < k; i++) {
+        char c = s[n - k + i];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != ext[i]) return false;
+    }
+    return true;
+}
+
+int gg_load_mesh_format(const char *name)
+{
+    if (ends_with(name, ".obj")) return GG_MESH_FORMAT_OBJ;
+    if (ends_with(name, ".ply")) return GG_MESH_FORMAT_PLY;
+    return GG_MESH_FORMAT_AUTO;
+}
+
+/* What a failed load must undo. */
+typedef struct mark {
+    size_t nobjects, nmaterials, ntextures, nmeshes, nlights;
+    ggCamera camera;
+    bool has_camera;
+} mark;
+
+static void take(const ggScene *s, mark *m)
+{
+    m->nobjects = s->nobjects, m->nmaterials = s->nmaterials, m->ntextures = s->ntextures;
+    m->nmeshes = s->nmeshes, m->nlights = s->nlights;
+    m->camera = s->camera, m->has_camera = s->has_camera;
+}
+
+static void undo(ggScene *s, const mark *m)
+{
+    size_t i;
+    for (i = m->ntextures; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_meshes(s, m->nmeshes);
+    s->nobjects = m->nobjects, s->nmaterials = m->nmaterials, s->ntextures = m->ntextures;
+    s->nlights = m->nlights, s->camera = m->camera, s->has_camera = m->has_camera;
+}
+
+static int load(ggScene *s, const char *data, size_t len, const char *name, const char *dir,
+                const ggMeshOptions *o, int line, ggError *err)
+{
+    ggMeshOptions def;
+    gg_mb mb;
+    mark mk;
+    int fmt, rc, id;
+    if (!o) ggMeshOptionsDefault(&def), o = &def;
+    fmt = o->format ? o->format : gg_load_mesh_format(name);
+    if (fmt != GG_MESH_FORMAT_OBJ && fmt != GG_MESH_FORMAT_PLY)
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED,
+                            "%s: unknown mesh format (the name should end in .obj or .ply)", name);
+    take(s, &mk);
+    gg_mb_init(&mb, s->alloc, fmt);
+    if (fmt == GG_MESH_FORMAT_OBJ)
+        rc = gg_obj_read(s, &mb, data, len, name, dir, o, err);
+    else
+        rc = gg_ply_read(&mb, (const unsigned char *)data, len, name, err);
+    if (rc == GG_OK && !(mb.b.m.name = gg_mem_strdup(s->alloc, name)))
+        rc = gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", name);
+    if (rc == GG_OK && (id = gg_scene_add_mesh_build(s, &mb.b, o, line, err)) < 0) rc = -id;
+    gg_mb_free(&mb);
+    if (rc != GG_OK) undo(s, &mk);
+    return rc;
+}
+
+int gg_load_mesh_file(ggScene *s, const char *path, const ggMeshOptions *o, int line, ggError *err)
+{
+    char *text = NULL, *dir;
+    size_t len = 0;
+    int rc = gg_load_read_file(s->alloc, path, GG_MESH_MAX_FILE, &text, &len, err);
+    if (rc != GG_OK) return rc;
+    if (!(dir = gg_load_dirname(s->alloc, path)))
+        rc = gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+    else
+        rc = load(s, text, len, path, dir, o, line, err);
+    gg_mem_free(s->alloc, dir);
+    gg_mem_free(s->alloc, text);
+    return rc;
+}
+
+GG_API int ggSceneLoadMesh(ggScene *s, const char *path, const ggMeshOptions *o, ggError *err)
+{
+    if (!s || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadMesh: NULL argument");
+    return gg_load_mesh_file(s, path, o, 0, err);
+}
+
+GG_API int ggSceneLoadMeshMemory(ggScene *s, const void *data, size_t len, const char *name,
+                                 const ggMeshOptions *o, ggError *err)
+{
+    if (!s || (!data && len))
+        return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadMeshMemory: NULL argument");
+    return load(s, data ? (const char *)data : "", len, name ? name : "<memory>", NULL, o, 0, err);
+}
+
+int gg_load_model(ggScene *s, const char *path, ggError *err)
+{
+    mark mk;
+    unsigned what;
+    int rc;
+    take(s, &mk);
+    what = (s->has_camera ? 0u : GG_FRAME_CAMERA) | (s->nlights ? 0u : GG_FRAME_LIGHTS);
+    rc = gg_load_mesh_file(s, path, NULL, 0, err);
+    if (rc == GG_OK && what) rc = ggSceneFrame(s, what, err);
+    if (rc != GG_OK) {
+        undo(s, &mk);
+        return rc;
+    }
+    {
+        char *name = gg_mem_strdup(s->alloc, path);
+        if (!name) {
+            undo(s, &mk);
+            return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+        }
+        gg_mem_free(s->alloc, s->filename);
+        s->filename = name;
+    }
+    return GG_OK;
+}

@@ -1,0 +1,781 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** test_debug.c -- the image-level debugger (debug.h): predicate errors
+** name their column; ggFind returns exactly the pixels whose full traces
+** satisfy the predicate (checked by hand-written tests of the recorded
+** trees, not by the predicate evaluator); the ledger adds up to the pixel
+** on every example scene; ggCheck finds planted defects and passes clean
+** scenes; ggDiff reports nothing for identical options and the textbook
+** sphere's divergences on acc-distant.nff; render options as text.
+*/
+#include "testutil.h"
+
+#include "scene.h"
+#include "trace_int.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static ggScene *load(const char *path)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    int rc = ggSceneLoadFile(s, path, &e);
+    if (rc != GG_OK) print_error("%s\n", e.message);
+    assert_int_equal(rc, GG_OK);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    return s;
+}
+
+static ggPredicate *parse(const char *text)
+{
+    ggPredicate *p = NULL;
+    ggError e;
+    int rc = ggPredicateParse(text, NULL, &p, &e);
+    if (rc != GG_OK) print_error("%s: %s\n", text, e.message);
+    assert_int_equal(rc, GG_OK);
+    return p;
+}
+
+static void small(ggRenderOptions *o, int w, int h, int threads)
+{
+    ggRenderOptionsDefault(o);
+    o->width = w, o->height = h, o->threads = threads;
+}
+
+/* ---- predicate errors ---- */
+
+static void expect_error(const char *text, int code, const char *prefix)
+{
+    ggPredicate *p = (ggPredicate *)1;
+    ggError e;
+    int rc = ggPredicateParse(text, NULL, &p, &e);
+    if (rc != code || strncmp(e.message, prefix, strlen(prefix)) != 0)
+        print_error("'%s': got %d '%s', want %d '%s...'\n", text, rc, rc ? e.message : "", code,
+                    prefix);
+    assert_int_equal(rc, code);
+    assert_null(p);
+    assert_memory_equal(e.message, prefix, strlen(prefix));
+}
+
+static void test_predicate_errors(void **state)
+{
+    char deep[400];
+    int i;
+    (void)state;
+    expect_error("some(kind == tri)", GG_ERROR_PARSE,
+                 "1:14: 'tri' is not a kind (eye, reflect, refract, tir, shadow)");
+    expect_error("some(knd == tir)", GG_ERROR_PARSE,
+                 "1:6: unknown field 'knd' (did you mean 'kind'?)");
+    expect_error("kind == tir", GG_ERROR_PARSE, "1:1: 'kind' is a field of a ray");
+    expect_error("some(kind == tir", GG_ERROR_PARSE, "1:17: expected ')'");
+    expect_error("some(depth = 3)", GG_ERROR_PARSE, "1:12: '=' is not an operator: write ==");
+    expect_error("some(depth > 3) junk", GG_ERROR_PARSE, "1:17: unexpected 'junk'");
+    expect_error("some(depth > 3) & x > 1", GG_ERROR_PARSE, "1:17: '&' is not an operator");
+    expect_error("", GG_ERROR_PARSE, "1:1: empty predicate");
+    expect_error("some(front == 1)", GG_ERROR_PARSE, "1:6: 'front' is true or false");
+    expect_error("some(kind < tir)", GG_ERROR_PARSE, "1:13: kind values have no order");
+    expect_error("some(stop == 3)", GG_ERROR_PARSE, "1:14: stop is compared with a name");
+    expect_error("some(some(hit))", GG_ERROR_PARSE, "1:6: some, all and count");
+    expect_error("some(depth >)", GG_ERROR_PARSE, "1:13: expected a field, a number or '('");
+    expect_error("some(tir)", GG_ERROR_PARSE, "1:6: 'tir' is a value of kind: write kind == tir");
+    expect_error("some(color.q > 1)", GG_ERROR_PARSE, "1:12: a colour's component is r, g, b");
+    expect_error("some(depth > 2)\n  && some(kind == tri)", GG_ERROR_PARSE,
+                 "2:19: 'tri' is not a kind");
+    expect_error("x > 1 @", GG_ERROR_PARSE, "1:7: unexpected character '@'");
+    /* the limits */
+    for (i = 0; i < 70; i++) deep[i] = '(';
+    strcpy(deep + 70, "x > 1");
+    for (i = 0; i < 70; i++) strcat(deep, ")");
+    expect_error(deep, GG_ERROR_LIMIT, "1:");
+    {
+        char *big = malloc(GG_PREDICATE_MAX_TEXT + 2);
+        memset(big, ' ', GG_PREDICATE_MAX_TEXT + 1);
+        big[GG_PREDICATE_MAX_TEXT + 1] = '\0';
+        expect_error(big, GG_ERROR_LIMIT, "1:4097: predicate longer than");
+        free(big);
+    }
+    {
+        ggPredicate *p = NULL;
+        assert_int_equal(ggPredicateParse(NULL, NULL, &p, NULL), GG_ERROR_INVALID);
+        assert_int_equal(ggPredicateParse("x > 1", NULL, NULL, NULL), GG_ERROR_INVALID);
+        ggPredicateFree(NULL);
+    }
+}
+
+/* ---- find against hand-written tests of the full traces ---- */
+
+/* Each predicate with a direct test of what it says over a recorded
+   pixel, written against trace.h alone. */
+typedef int (*direct_fn)(const ggTrace *t, ggColor px, int x, int y);
+
+static int d_tir(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < ggTraceNodeCount(t); i++)
+        if (ggTraceGetNode(t, i)->kind == GG_RAY_TIR) return 1;
+    return 0;
+}
+
+static int d_blocked_by_2(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < ggTraceLightCount(t); i++) {
+        const ggTraceLight *L = ggTraceGetLight(t, i);
+        if (L->verdict == GG_SHADOW_BLOCKED && L->occluder == 2) return 1;
+    }
+    return 0;
+}
+
+/* some(stop == depth && weight > 0.01): the weight by multiplying down. */
+static int d_cut_heavy(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i, n = ggTraceNodeCount(t), roots = 0;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < n; i++) roots += ggTraceGetNode(t, i)->parent < 0;
+    for (i = 0; i < n; i++) {
+        const ggTraceNode *nd = ggTraceGetNode(t, i);
+        double w[3];
+        int k;
+        if (nd->stop != GG_STOP_DEPTH) continue;
+        w[0] = w[1] = w[2] = 1.0 / (double)roots;
+        for (; nd->parent >= 0; nd = ggTraceGetNode(t, (size_t)nd->parent)) {
+            const ggTraceNode *up = ggTraceGetNode(t, (size_t)nd->parent);
+            w[0] *= nd->weight.r * up->absorption.r, w[1] *= nd->weight.g * up->absorption.g;
+            w[2] *= nd->weight.b * up->absorption.b;
+        }
+        for (k = 0; k < 3; k++)
+            if (w[k] > 0.01 * (1 + 1e-9)) return 1;
+    }
+    return 0;
+}
+
+static int d_refract_to_2_few_tir(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i;
+    int found = 0, tir = 0;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < ggTraceNodeCount(t); i++) {
+        const ggTraceNode *n = ggTraceGetNode(t, i);
+        if (n->kind == GG_RAY_REFRACT && n->hit && n->object == 2 && n->front) found = 1;
+        tir += n->kind == GG_RAY_TIR;
+    }
+    return found && tir < 2;
+}
+
+static int d_bright_right(const ggTrace *t, ggColor px, int x, int y)
+{
+    (void)t;
+    return (px.r > 0.5 || px.b < 0.2) && x >= 30 && !(y < 10);
+}
+
+static int d_many_shadows(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i;
+    int k = 0;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < ggTraceLightCount(t); i++)
+        k += ggTraceGetLight(t, i)->verdict != GG_SHADOW_FACING_AWAY;
+    return k >= 3;
+}
+
+static int d_all_front_hits(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < ggTraceNodeCount(t); i++) {
+        const ggTraceNode *n = ggTraceGetNode(t, i);
+        if (n->hit && !n->front) return 0;
+    }
+    return 1;
+}
+
+static const struct {
+    const char *scene, *where;
+    direct_fn direct;
+} finds[] = {
+    {"examples/scenes/glass.nff", "some(kind == tir)", d_tir},
+    {"examples/scenes/default.nff", "some(verdict == blocked && occluder == 2)", d_blocked_by_2},
+    {"examples/scenes/glass.nff", "some(stop == depth && weight > 0.01)", d_cut_heavy},
+    {"examples/scenes/glass.nff",
+     "some(kind == refract && object == 2 && front) && count(kind == tir) < 2",
+     d_refract_to_2_few_tir},
+    {"examples/scenes/default.nff", "(pixel.r > 0.5 || pixel.b < 0.2) && x >= 30 && !(y < 10)",
+     d_bright_right},
+    {"examples/scenes/default.nff", "count(kind == shadow && verdict != facing_away) >= 3",
+     d_many_shadows},
+    {"examples/scenes/glass.nff", "all(!hit || front)", d_all_front_hits},
+};
+
+static void test_find_matches_full_traces(void **state)
+{
+    size_t f;
+    (void)state;
+    for (f = 0; f < sizeof finds / sizeof finds[0]; f++) {
+        ggScene *s = load(finds[f].scene);
+        ggPredicate *p = parse(finds[f].where);
+        ggTrace *t = ggTraceCreate(NULL);
+        ggRenderOptions o;
+        ggFindResult *r = NULL;
+        ggError e;
+        long expected = 0;
+        int x, y, listed = 0, threads;
+        for (threads = 1; threads <= 3; threads += 2) {
+            small(&o, 64, 48, threads);
+            assert_int_equal(ggFind(s, &o, p, 1000000, &r, &e), GG_OK);
+            expected = 0, listed = 0;
+            for (y = 0; y < 48; y++)
+                for (x = 0; x < 64; x++) {
+                    ggColor px;
+                    int want, got = r->mask[y * 64 + x];
+                    assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, &e), GG_OK);
+                    want = finds[f].direct(t, px, x, y);
+                    if (want != got)
+                        print_error("%s '%s' %d,%d: find says %d, the trace %d\n", finds[f].scene,
+                                    finds[f].where, x, y, got, want);
+                    assert_int_equal(want, got);
+                    assert_int_equal(ggPredicateMatch(p, t, x, y, px), want);
+                    if (want) {
+                        /* listed in row order, with the traced value */
+                        assert_true(listed < r->nmatches);
+                        assert_int_equal(r->matches[listed].x, x);
+                        assert_int_equal(r->matches[listed].y, y);
+                        assert_true(r->matches[listed].pixel.r == px.r);
+                        listed++;
+                        expected++;
+                    }
+                    {
+                        ggColor img = ggImageGet(r->image, x, y);
+                        assert_true(img.r == px.r && img.g == px.g && img.b == px.b);
+                    }
+                }
+            assert_int_equal(r->matched, expected);
+            assert_int_equal(r->nmatches, listed);
+            assert_int_equal(r->scanned, 64 * 48);
+            ggFindResultFree(r);
+        }
+        /* Nothing vacuous: each predicate matches somewhere and not everywhere. */
+        if (!(expected > 0 && expected < 64 * 48))
+            print_error("'%s': %ld\n", finds[f].where, expected);
+        assert_true(expected > 0 && expected < 64 * 48);
+        ggTraceFree(t);
+        ggPredicateFree(p);
+        ggSceneFree(s);
+    }
+}
+
+/* A limit keeps the first matches in row order; a crop window scans only it. */
+static void test_find_limit_and_crop(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggPredicate *p = parse("some(kind == tir)");
+    ggRenderOptions o;
+    ggFindResult *all = NULL, *few = NULL, *crop = NULL;
+    int i, x, y;
+    (void)state;
+    small(&o, 80, 60, 2);
+    assert_int_equal(ggFind(s, &o, p, 100000, &all, NULL), GG_OK);
+    assert_int_equal(ggFind(s, &o, p, 5, &few, NULL), GG_OK);
+    assert_int_equal(few->matched, all->matched);
+    assert_int_equal(few->nmatches, 5);
+    for (i = 0; i < 5; i++)
+        assert_memory_equal(&few->matches[i], &all->matches[i], sizeof *few->matches);
+    o.crop_x0 = 20, o.crop_y0 = 10, o.crop_x1 = 50, o.crop_y1 = 40;
+    assert_int_equal(ggFind(s, &o, p, 0, &crop, NULL), GG_OK);
+    assert_int_equal(crop->scanned, 30 * 30);
+    assert_int_equal(crop->nmatches, 0);
+    for (y = 0; y < 60; y++)
+        for (x = 0; x < 80; x++) {
+            int in = x >= 20 && x < 50 && y >= 10 && y < 40;
+            assert_int_equal(crop->mask[y * 80 + x], in ? all->mask[y * 80 + x] : 0);
+        }
+    ggFindResultFree(all), ggFindResultFree(few), ggFindResultFree(crop);
+    ggFindResultFree(NULL);
+    ggPredicateFree(p);
+    ggSceneFree(s);
+}
+
+/* ---- the ledger ---- */
+
+static const char *const example_scenes[] = {
+    "examples/scenes/default.nff",     "examples/scenes/glass.nff",
+    "examples/scenes/water.nff",       "examples/scenes/gold.nff",
+    "examples/scenes/prism.nff",       "examples/scenes/torus.nff",
+    "examples/scenes/texture.nff",     "examples/scenes/acc-corridor.nff",
+    "examples/scenes/acc-distant.nff", "examples/scenes/acc-far.nff",
+    "examples/scenes/acc-grazing.nff", "examples/scenes/acc-texture.nff",
+    "examples/scenes/acc-thin.nff",     "tests/data/debug/absorb.nff",
+};
+
+/* Every pixel of every example scene and of a ball of absorbing glass
+   (and four samples, and the SPD's corner rule): the terms add up to the
+   traced pixel within the bound. */
+static void test_ledger_sums_to_pixel(void **state)
+{
+    size_t k;
+    int mode;
+    (void)state;
+    for (k = 0; k < sizeof example_scenes / sizeof example_scenes[0]; k++)
+        for (mode = 0; mode < 3; mode++) {
+            ggScene *s = load(example_scenes[k]);
+            ggTrace *t = ggTraceCreate(NULL);
+            ggRenderOptions o;
+            int x, y, w = mode ? 24 : 48, h = mode ? 18 : 36;
+            small(&o, w, h, 1);
+            if (mode == 1) o.samples = 4;
+            if (mode == 2) o.pixel_corners = o.spd_rules = true;
+            for (y = 0; y < h; y++)
+                for (x = 0; x < w; x++) {
+                    ggColor px;
+                    ggLedger *l = NULL;
+                    double share = 0, prev = INFINITY;
+                    size_t i;
+                    assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+                    assert_int_equal(ggLedgerCreate(t, px, NULL, &l, NULL), GG_OK);
+                    if (!l->holds || !(fabs(l->sum.r - px.r) <= l->bound.r &&
+                                       fabs(l->sum.g - px.g) <= l->bound.g &&
+                                       fabs(l->sum.b - px.b) <= l->bound.b))
+                        print_error("%s mode %d %d,%d: sum %.9g %.9g %.9g, pixel %.9g %.9g %.9g\n",
+                                    example_scenes[k], mode, x, y, l->sum.r, l->sum.g, l->sum.b,
+                                    px.r, px.g, px.b);
+                    assert_true(l->holds);
+                    assert_true(fabs(l->sum.g - px.g) <= l->bound.g);
+                    /* The bound is a rounding bound: tiny next to the pixel. */
+                    assert_true(l->bound.r <= 1e-6 * (1 + fabs(px.r) * 10));
+                    for (i = 0; i < l->count; i++) {
+                        assert_true(l->terms[i].share <= prev);
+                        prev = l->terms[i].share;
+                        share += l->terms[i].share;
+                    }
+                    if (px.r + px.g + px.b > 0) assert_true(fabs(share - 1) < 1e-6);
+                    ggLedgerFree(l);
+                }
+            ggTraceFree(t);
+            ggSceneFree(s);
+        }
+}
+
+/* The ledger of glass.nff's pixel 110,100: the background through the
+   glass, refracted in, reflected totally and refracted out. */
+static void test_ledger_glass_pixel(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggTrace *t = ggTraceCreate(NULL);
+    ggLedger *l = NULL;
+    ggColor px;
+    const ggLedgerTerm *first;
+    (void)state;
+    assert_int_equal(ggTracePixel(s, NULL, 110, 100, -1, t, &px, NULL, NULL), GG_OK);
+    assert_int_equal(ggLedgerCreate(t, px, NULL, &l, NULL), GG_OK);
+    assert_true(l->count >= 2);
+    first = &l->terms[0];
+    assert_int_equal(first->kind, GG_TERM_BACKGROUND);
+    assert_true(first->share > 0.5);
+    assert_int_equal(ggTraceGetNode(t, (size_t)first->node)->kind, GG_RAY_REFRACT);
+    assert_int_equal(
+        ggTraceGetNode(t, (size_t)ggTraceGetNode(t, (size_t)first->node)->parent)->kind,
+        GG_RAY_TIR);
+    assert_true(l->holds);
+    ggLedgerFree(l);
+    assert_int_equal(ggLedgerCreate(NULL, px, NULL, &l, NULL), GG_ERROR_INVALID);
+    ggLedgerFree(NULL);
+    ggTraceFree(t);
+    ggSceneFree(s);
+}
+
+/* ---- check ---- */
+
+static ggCheckResult *check(ggScene *s, int w, int h, int depth)
+{
+    ggRenderOptions o;
+    ggCheckResult *r = NULL;
+    ggError e;
+    small(&o, w, h, 2);
+    o.max_depth = depth;
+    assert_int_equal(ggCheck(s, &o, NULL, &r, &e), GG_OK);
+    return r;
+}
+
+/* NaN in a prepared scene's data, where no loader would let it in: the
+   checker must still see it (the red sphere's diffuse colour, green). */
+static ggScene *nan_scene(void)
+{
+    ggScene *s = load("examples/scenes/default.nff");
+    s->mfast[s->objects[3].material].kd_color.g = NAN;
+    return s;
+}
+
+static void test_check_planted_defects(void **state)
+{
+    ggScene *s;
+    ggCheckResult *r;
+    const ggCheckItem *it;
+    (void)state;
+    /* kd + ks + kt > 1, named with the material's line */
+    s = load("tests/data/debug/energy.nff");
+    r = check(s, 40, 30, 0);
+    it = &r->items[GG_CHECK_ENERGY];
+    assert_true(it->pixels > 0);
+    assert_int_equal(it->severity, GG_SEVERITY_ERROR);
+    assert_true(fabs(it->worst - 1.1) < 1e-9);
+    assert_int_equal(it->pixels_worst[0].line, 14);
+    assert_int_equal(it->pixels_worst[0].material, 1);
+    assert_int_equal(r->failed, 1);
+    ggCheckResultFree(r);
+    ggSceneFree(s);
+    /* an SPD scene's glass: kd 0.1 + ks 0.1 + kt 0.9, line 10 of mount.nff */
+    {
+        char path[512];
+        snprintf(path, sizeof path, "%s/mount.nff", tu_spd_dir());
+        s = load(path);
+        r = check(s, 48, 48, 0);
+        it = &r->items[GG_CHECK_ENERGY];
+        assert_true(it->pixels > 0);
+        assert_true(fabs(it->worst - 1.1) < 1e-9);
+        assert_int_equal(it->pixels_worst[0].line, 10);
+        ggCheckResultFree(r);
+        ggSceneFree(s);
+    }
+    /* NaN, and where it starts */
+    s = nan_scene();
+    r = check(s, 32, 24, 0);
+    it = &r->items[GG_CHECK_NONFINITE];
+    assert_true(it->pixels > 0);
+    assert_true(it->rays == it->pixels);
+    assert_int_equal(r->failed, 1);
+    {
+        /* the first NaN ray hits the floor and its children are finite */
+        ggTrace *t = ggTraceCreate(NULL);
+        ggRenderOptions o;
+        const ggCheckPixel *p = &it->pixels_worst[0];
+        const ggTraceNode *n;
+        ggColor px;
+        size_t j;
+        small(&o, 32, 24, 1);
+        assert_int_equal(ggTracePixel(s, &o, p->x, p->y, -1, t, &px, NULL, NULL), GG_OK);
+        assert_true(isnan(px.g));
+        n = ggTraceGetNode(t, (size_t)p->node);
+        assert_true(isnan(n->color.g) && n->hit && n->object == 3 && p->object == 3);
+        for (j = 0; j < ggTraceNodeCount(t); j++)
+            if (ggTraceGetNode(t, j)->parent == p->node)
+                assert_false(isnan(ggTraceGetNode(t, j)->color.g));
+        ggTraceFree(t);
+    }
+    ggCheckResultFree(r);
+    ggSceneFree(s);
+    /* values too large for the image's floats: infinite pixels */
+    s = load("tests/data/debug/overflow.nff");
+    r = check(s, 40, 30, 0);
+    it = &r->items[GG_CHECK_NONFINITE];
+    assert_true(it->pixels > 0);
+    assert_int_equal(it->pixels_worst[0].node, 0);
+    assert_int_equal(it->pixels_worst[0].object, 1);
+    ggCheckResultFree(r);
+    ggSceneFree(s);
+    /* cut by the depth limit; passes once the depth suffices */
+    s = load("tests/data/debug/cut.nff");
+    r = check(s, 40, 30, 0);
+    it = &r->items[GG_CHECK_TRUNCATION];
+    assert_true(it->pixels > 500);
+    assert_true(it->worst > 0.8);
+    assert_true(isfinite(r->radiance_bound) && r->radiance_bound > 1);
+    assert_int_equal(r->failed, 1);
+    ggCheckResultFree(r);
+    r = check(s, 40, 30, 64);
+    assert_int_equal(r->items[GG_CHECK_TRUNCATION].pixels, 0);
+    assert_int_equal(r->failed, 0);
+    ggCheckResultFree(r);
+    ggSceneFree(s);
+}
+
+static void test_check_clean_scenes(void **state)
+{
+    static const char *const clean[] = {"examples/scenes/default.nff", "examples/scenes/water.nff",
+                                        "examples/scenes/texture.nff", "examples/scenes/torus.nff",
+                                        "examples/scenes/acc-distant.nff"};
+    size_t k;
+    int c;
+    (void)state;
+    for (k = 0; k < sizeof clean / sizeof clean[0]; k++) {
+        ggScene *s = load(clean[k]);
+        ggCheckResult *r = check(s, 64, 48, 0);
+        for (c = 0; c < GG_CHECK_COUNT; c++)
+            if (r->items[c].severity == GG_SEVERITY_ERROR && r->items[c].pixels)
+                print_error("%s: %s fails in %ld pixels\n", clean[k], ggCheckName(c),
+                            r->items[c].pixels);
+        assert_int_equal(r->failed, 0);
+        assert_int_equal(r->scanned, 64 * 48);
+        ggCheckResultFree(r);
+        ggSceneFree(s);
+    }
+}
+
+/* The same answers on 1 and 3 threads. */
+static void test_check_threads(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggCheckResult *a = check(s, 60, 40, 0), *b;
+    ggRenderOptions o;
+    (void)state;
+    small(&o, 60, 40, 3);
+    assert_int_equal(ggCheck(s, &o, NULL, &b, NULL), GG_OK);
+    assert_memory_equal(a->items, b->items, sizeof a->items);
+    assert_true(a->items[GG_CHECK_TRUNCATION].pixels > 0); /* glass.nff at depth 5 is cut */
+    ggCheckResultFree(a), ggCheckResultFree(b);
+    ggCheckResultFree(NULL);
+    ggSceneFree(s);
+}
+
+/* ---- diff ---- */
+
+static void test_diff_identical(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggRenderOptions o;
+    ggDiffResult *r = NULL;
+    int i;
+    (void)state;
+    small(&o, 64, 48, 2);
+    assert_int_equal(ggDiff(s, &o, s, &o, 10, &r, NULL), GG_OK);
+    assert_int_equal(r->value_differ, 0);
+    assert_int_equal(r->tree_differ, 0);
+    assert_int_equal(r->nworst, 0);
+    for (i = 0; i < 64 * 48; i++) assert_int_equal(r->map[i], 0);
+    ggDiffResultFree(r);
+    ggSceneFree(s);
+}
+
+/* Which objects each ray hit and each light's verdict: the trees'
+   identity as ggTraceCompare should see it, hand-written. */
+static unsigned long long signature(const ggTrace *t)
+{
+    unsigned long long h = 1469598103934665603ull;
+    size_t i;
+    int l;
+    for (i = 0; i < ggTraceNodeCount(t); i++) {
+        const ggTraceNode *n = ggTraceGetNode(t, i);
+        h = (h ^ (unsigned long long)(n->hit ? n->object * 2 + n->front + 1 : 0)) *
+            1099511628211ull;
+        h = (h ^ (unsigned long long)(n->kind * 8 + n->stop)) * 1099511628211ull;
+        h = (h ^ (unsigned long long)(n->parent + 1)) * 1099511628211ull;
+        for (l = 0; n->hit && l < n->nlights; l++) {
+            const ggTraceLight *L = ggTraceGetLight(t, (size_t)(n->first_light + l));
+            h = (h ^ (unsigned long long)(L->verdict * 1000 + L->occluder + 1)) * 1099511628211ull;
+        }
+    }
+    return h;
+}
+
+static void test_diff_textbook_sphere(void **state)
+{
+    ggScene *a = load("examples/scenes/acc-distant.nff"),
+            *b = load("examples/scenes/acc-distant.nff");
+    ggRenderOptions oa, ob;
+    ggDiffResult *r = NULL;
+    ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);
+    long trees = 0, values = 0;
+    int x, y, i;
+    (void)state;
+    small(&oa, 80, 60, 2);
+    ob = oa;
+    assert_int_equal(ggRenderOptionsParse(&ob, "sphere=textbook", NULL), GG_OK);
+    assert_int_equal(ob.accuracy.sphere, GG_ACC_SPHERE_TEXTBOOK);
+    /* one scene object cannot hold both sphere modes at once */
+    assert_int_equal(ggDiff(a, &oa, a, &ob, 5, &r, NULL), GG_ERROR_UNSUPPORTED);
+    assert_int_equal(ggDiff(a, &oa, b, &ob, 5, &r, NULL), GG_OK);
+    for (y = 0; y < 60; y++)
+        for (x = 0; x < 80; x++) {
+            ggColor pa, pb;
+            int td, vd;
+            assert_int_equal(ggTracePixel(a, &oa, x, y, -1, ta, &pa, NULL, NULL), GG_OK);
+            assert_int_equal(ggTracePixel(b, &ob, x, y, -1, tb, &pb, NULL, NULL), GG_OK);
+            td = signature(ta) != signature(tb);
+            vd = pa.r != pb.r || pa.g != pb.g || pa.b != pb.b;
+            assert_int_equal(r->map[y * 80 + x], td ? 2 : vd ? 1 : 0);
+            trees += td, values += vd;
+        }
+    assert_int_equal(r->tree_differ, trees);
+    assert_int_equal(r->value_differ, values);
+    /* the textbook quadratic loses silhouettes: eye rays that hit or miss */
+    assert_true(trees > 0 && r->first_by_kind[GG_DIFF_HIT] > 0);
+    assert_true(r->nworst == 5 && r->worst[0].delta > 0.5);
+    for (i = 1; i < r->nworst; i++) assert_true(r->worst[i].delta <= r->worst[i - 1].delta);
+    {
+        /* the worst: its first divergence is an eye ray's hit */
+        const ggDiffPixel *p = &r->worst[0];
+        ggDivergence d;
+        ggColor pa, pb;
+        assert_int_equal(ggTracePixel(a, &oa, p->x, p->y, -1, ta, &pa, NULL, NULL), GG_OK);
+        assert_int_equal(ggTracePixel(b, &ob, p->x, p->y, -1, tb, &pb, NULL, NULL), GG_OK);
+        assert_int_equal(ggTraceCompare(ta, tb, &d), 1);
+        assert_memory_equal(&d, &p->first, sizeof d);
+        assert_true(d.what == GG_DIFF_HIT || d.what == GG_DIFF_OBJECT);
+        assert_int_equal(ggTraceCompare(ta, ta, &d), 0);
+        assert_int_equal(d.what, GG_DIFF_SAME);
+    }
+    ggDiffResultFree(r);
+    ggDiffResultFree(NULL);
+    ggTraceFree(ta), ggTraceFree(tb);
+    ggSceneFree(a), ggSceneFree(b);
+}
+
+/* A depth limit cuts the glass pixel: the first divergence is its stop. */
+static void test_compare_depth(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggRenderOptions o3;
+    ggTrace *a = ggTraceCreate(NULL), *b = ggTraceCreate(NULL);
+    ggDivergence d;
+    ggColor pa, pb;
+    (void)state;
+    ggRenderOptionsDefault(&o3);
+    o3.max_depth = 3;
+    assert_int_equal(ggTracePixel(s, NULL, 110, 100, -1, a, &pa, NULL, NULL), GG_OK);
+    assert_int_equal(ggTracePixel(s, &o3, 110, 100, -1, b, &pb, NULL, NULL), GG_OK);
+    assert_int_equal(ggTraceCompare(a, b, &d), 1);
+    assert_int_equal(d.what, GG_DIFF_STOP);
+    assert_int_equal(d.a, GG_STOP_NONE);
+    assert_int_equal(d.b, GG_STOP_DEPTH);
+    assert_int_equal(ggTraceGetNode(a, (size_t)d.node_a)->depth, 3);
+    ggTraceFree(a), ggTraceFree(b);
+    ggSceneFree(s);
+}
+
+/* Each kind of difference, planted in a copy of a real tree. */
+static void copy_trace(ggTrace *dst, const ggTrace *src)
+{
+    size_t i;
+    int k;
+    gg_trace_clear(dst);
+    for (i = 0; i < src->nnodes; i++) {
+        assert_true((k = gg_trace_add_node(dst)) >= 0); /* may move dst->nodes */
+        dst->nodes[k] = src->nodes[i];
+    }
+    for (i = 0; i < src->nlights; i++) {
+        assert_true((k = gg_trace_add_light(dst)) >= 0);
+        dst->lights[k] = src->lights[i];
+    }
+}
+
+static void expect_divergence(const ggTrace *a, const ggTrace *b, int what, int node_a)
+{
+    ggDivergence d;
+    assert_int_equal(ggTraceCompare(a, b, &d), 1);
+    if (d.what != what || d.node_a != node_a)
+        print_error("want %s at #%d, got %s at #%d\n", ggDiffName(what), node_a, ggDiffName(d.what),
+                    d.node_a);
+    assert_int_equal(d.what, what);
+    assert_int_equal(d.node_a, node_a);
+}
+
+static void test_compare_kinds(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggTrace *a = ggTraceCreate(NULL), *b = ggTraceCreate(NULL);
+    ggColor px;
+    int l1;
+    (void)state;
+    /* 0 eye, 1 refract, 2 tir, 3 refract (miss), 4 reflect, 5 tir (depth), 6 reflect (miss) */
+    assert_int_equal(ggTracePixel(s, NULL, 110, 100, -1, a, &px, NULL, NULL), GG_OK);
+    assert_int_equal(a->nnodes, 7);
+    assert_int_equal(a->nodes[5].stop, GG_STOP_DEPTH);
+    l1 = a->nodes[1].first_light;
+    copy_trace(b, a);
+    assert_int_equal(ggTraceCompare(a, b, NULL), 0);
+    b->nodes[6].hit = true, b->nodes[6].object = 0;
+    expect_divergence(a, b, GG_DIFF_HIT, 6);
+    copy_trace(b, a);
+    b->nodes[1].object = 1;
+    expect_divergence(a, b, GG_DIFF_OBJECT, 1);
+    copy_trace(b, a);
+    b->nodes[2].front = !b->nodes[2].front;
+    expect_divergence(a, b, GG_DIFF_FACE, 2);
+    copy_trace(b, a);
+    b->lights[l1 + 1].verdict = GG_SHADOW_BLOCKED;
+    expect_divergence(a, b, GG_DIFF_SHADOW, 1);
+    copy_trace(b, a);
+    b->lights[l1].occluder = 0;
+    expect_divergence(a, b, GG_DIFF_OCCLUDER, 1);
+    copy_trace(b, a);
+    b->nodes[5].stop = GG_STOP_MATTE;
+    expect_divergence(a, b, GG_DIFF_STOP, 5);
+    copy_trace(b, a);
+    b->nodes[4].kind = GG_RAY_TIR;
+    expect_divergence(a, b, GG_DIFF_TIR, 4);
+    copy_trace(b, a);
+    b->nodes[2].kind = GG_RAY_REFRACT; /* ray 1 refracts in b instead of reflecting totally */
+    expect_divergence(a, b, GG_DIFF_TIR, 2);
+    copy_trace(b, a);
+    b->nodes[3].parent = 99; /* ray 2 has no refracted child in b */
+    expect_divergence(a, b, GG_DIFF_CHILD, 3);
+    copy_trace(b, a);
+    b->nodes[3].parent = -1; /* a second tree */
+    expect_divergence(a, b, GG_DIFF_SAMPLES, -1);
+    ggTraceFree(a), ggTraceFree(b);
+    ggSceneFree(s);
+}
+
+/* ---- render options as text ---- */
+
+static void test_options_text(void **state)
+{
+    ggRenderOptions o, p;
+    ggError e;
+    char buf[512];
+    (void)state;
+    ggRenderOptionsDefault(&o);
+    assert_int_equal(ggRenderOptionsParse(&o, "", &e), GG_OK);
+    assert_int_equal(ggRenderOptionsFormat(&o, buf, sizeof buf), 0);
+    assert_int_equal(ggRenderOptionsParse(&o,
+                                          "size=64x48 depth=8,samples=4 crop=1,2,30,40 spd "
+                                          "sphere=textbook refract=exact fresnel=schlick "
+                                          "texture=nearest wavelengths=one cutoff=0.001 "
+                                          "implicit-tol=1e-7 gradient=1e-5 offset=1e-6",
+                                          &e),
+                     GG_OK);
+    assert_int_equal(o.width, 64);
+    assert_int_equal(o.max_depth, 8);
+    assert_int_equal(o.crop_y1, 40);
+    assert_true(o.spd_rules && o.pixel_corners);
+    assert_int_equal(o.accuracy.refract, GG_ACC_REFRACT_EXACT);
+    assert_int_equal(o.accuracy.offset, GG_ACC_OFFSET_FIXED);
+    assert_true(o.accuracy.offset_eps == 1e-6 && o.accuracy.cutoff == 0.001);
+    ggRenderOptionsFormat(&o, buf, sizeof buf);
+    ggRenderOptionsDefault(&p);
+    assert_int_equal(ggRenderOptionsParse(&p, buf, &e), GG_OK);
+    assert_memory_equal(&o, &p, sizeof o); /* a round trip */
+    /* errors name the column and leave the options alone */
+    p = o;
+    assert_int_equal(ggRenderOptionsParse(&p, "depth=3 sphere=fast", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:16: sphere must be stable or textbook, got 'fast'");
+    assert_memory_equal(&o, &p, sizeof o);
+    assert_int_equal(ggRenderOptionsParse(&p, "depht=3", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:1: unknown setting 'depht'");
+    assert_int_equal(ggRenderOptionsParse(&p, "depth=3x", &e), GG_ERROR_PARSE);
+    assert_int_equal(ggRenderOptionsParse(&p, "depth=65", &e), GG_ERROR_PARSE);
+    assert_int_equal(ggRenderOptionsParse(&p, "size=64x", &e), GG_ERROR_PARSE);
+    assert_int_equal(ggRenderOptionsParse(&p, "cutoff=2", &e), GG_ERROR_PARSE);
+    assert_int_equal(ggRenderOptionsParse(&p, "spd=1", &e), GG_ERROR_PARSE);
+    assert_int_equal(ggRenderOptionsParse(NULL, "", &e), GG_ERROR_INVALID);
+    /* a short buffer: snprintf's contract */
+    assert_true(ggRenderOptionsFormat(&o, buf, 4) > 4);
+    assert_int_equal(strlen(buf), 3);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_predicate_errors),    cmocka_unit_test(test_find_matches_full_traces),
+        cmocka_unit_test(test_find_limit_and_crop), cmocka_unit_test(test_ledger_sums_to_pixel),
+        cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_check_planted_defects),
+        cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
+        cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
+        cmocka_unit_test(test_compare_depth),
+        cmocka_unit_test(test_compare_kinds),       cmocka_unit_test(test_options_text),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

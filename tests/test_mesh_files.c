@@ -1,0 +1,420 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** test_mesh_files.c -- the OBJ, MTL and PLY readers on the files in
+** tests/data/meshes (what they read, names, lines, materials), the three
+** PLY encodings agreeing, errors with their exact places, limits that
+** fail before allocating, the NFF mesh keyword, and a model loaded as a
+** scene of its own.
+*/
+#include "testutil.h"
+
+#include "scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DATA "tests/data/meshes/"
+
+static char *slurp(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf;
+    long n;
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    buf = malloc((size_t)n + 1);
+    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
+    fclose(f);
+    *len = (size_t)n;
+    return buf;
+}
+
+/* Loading `text` as `name` must fail with exactly this code and message,
+   and leave the scene empty. */
+static void expect_error(const char *text, size_t len, const char *name, int code, const char *msg)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    int rc = ggSceneLoadMeshMemory(s, text, len, name, NULL, &e);
+    if (rc != code || strcmp(e.message, msg))
+        print_error("got %d '%s'\nwant %d '%s'\n", rc, rc ? e.message : "", code, msg);
+    assert_int_equal(rc, code);
+    assert_string_equal(e.message, msg);
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    assert_int_equal(ggSceneMaterialCount(s), 0);
+    assert_int_equal(ggSceneMeshCount(s), 0);
+    ggSceneFree(s);
+}
+
+#define EXPECT(text, code, msg) expect_error(text, strlen(text), "t.obj", code, msg)
+
+static void test_obj_cube(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshInfo mi;
+    ggFaceInfo fi;
+    ggMaterial red, glass;
+    ggError e;
+    int i, lines[6] = {22, 25, 29, 30, 33, 36}, seen = 0;
+    (void)state;
+    assert_int_equal(ggSceneLoadMesh(s, DATA "cube.obj", NULL, &e), GG_OK);
+    assert_int_equal(ggSceneGetMeshInfo(s, 0, &mi), GG_OK);
+    assert_string_equal(mi.format, "obj");
+    assert_int_equal(mi.file_vertices, 8);
+    assert_int_equal(mi.file_faces, 6);
+    assert_int_equal(mi.triangles, 12);
+    assert_int_equal(mi.groups, 4);  /* cube, cube/bottom, cube/top, cube/sides */
+    assert_int_equal(mi.ignored, 2); /* l, and Ka in the MTL file */
+    assert_true(mi.has_uv);
+    assert_int_equal(mi.objects, 3); /* red, glass, and the default material */
+    assert_int_equal(mi.warnings, 1);
+    assert_string_equal(mi.warning, DATA "cube.obj: usemtl 'nosuchmaterial' names no material "
+                                         "of the MTL files; its faces get the default material");
+    for (i = 0; i < 12; i++) {
+        int obj = i < 8 ? 0 : i < 10 ? 1 : 2; /* red has 4 faces, glass 1, default 1 */
+        assert_int_equal(ggSceneGetFaceInfo(s, obj, i, &fi), GG_OK);
+        assert_int_equal(fi.line, lines[fi.face]);
+        seen |= 1 << fi.face;
+        if (fi.face == 1) {
+            assert_string_equal(fi.group, "cube/top");
+            assert_string_equal(fi.material_name, "glass");
+        }
+        if (fi.face == 4) assert_string_equal(fi.group, "cube/sides");
+        if (fi.face == 5) assert_int_equal(fi.material, ggSceneObjectMaterial(s, 2));
+    }
+    assert_int_equal(seen, 63);
+    /* the mapping of docs/scene-format.md */
+    red = ggSceneMaterial(s, ggSceneObjectMaterial(s, 0));
+    glass = ggSceneMaterial(s, ggSceneObjectMaterial(s, 1));
+    assert_true(red.color.r == 0.8 && red.color.g == 0.1 && red.kd == 1);
+    assert_true(red.ks == 0 && red.kt == 0 && red.texture == 0); /* illum 2: no mirror */
+    assert_true(glass.kt == 1 - 0.1 && glass.kd == 1 - glass.kt && glass.ior == 1.5);
+    assert_true(glass.ks == 0.1 && glass.shine == 200 && glass.fresnel == GG_FRESNEL_EXACT);
+    /* texture coordinates: the top face's vt run with x and y; OBJ's v is
+       flipped into ggrt's (v = 0 the image's top row) */
+    {
+        ggHit h;
+        ggRay r = {{0.25, 0.75, 3}, {0, 0, -1}};
+        assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+        assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h));
+        assert_close(h.u, 0.25, 1e-12);
+        assert_close(h.v, 1 - 0.75, 1e-12);
+    }
+    ggSceneFree(s);
+}
+
+/* Reading from memory follows no mtllib; the same geometry. */
+static void test_obj_memory(void **state)
+{
+    size_t len;
+    char *text = slurp(DATA "cube.obj", &len);
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshInfo mi;
+    ggError e;
+    (void)state;
+    assert_int_equal(ggSceneLoadMeshMemory(s, text, len, "cube.obj", NULL, &e), GG_OK);
+    ggSceneGetMeshInfo(s, 0, &mi);
+    assert_int_equal(mi.triangles, 12);
+    assert_int_equal(mi.ignored, 2); /* l, mtllib */
+    assert_int_equal(s->ntextures, 0);
+    free(text);
+    ggSceneFree(s);
+}
+
+static void test_obj_errors(void **state)
+{
+    static char big[2200000];
+    size_t k;
+    (void)state;
+    EXPECT("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", GG_ERROR_PARSE,
+           "t.obj:4:7: vertex index 9 is out of range (3 defined so far)");
+    EXPECT("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", GG_ERROR_PARSE,
+           "t.obj:4:7: vertex index -4 is out of range (3 defined so far)");
+    EXPECT("v 0 0 0\nf 0 1 1\n", GG_ERROR_PARSE,
+           "t.obj:2:3: vertex index 0 (OBJ indices start at 1)");
+    EXPECT("v 0 0 0\nf 1/1 1 1\n", GG_ERROR_PARSE,
+           "t.obj:2:5: texture coordinate index 1 is out of range (0 defined so far)");
+    EXPECT("v 1 2 nan\n", GG_ERROR_PARSE, "t.obj:1:7: expected a coordinate, got 'nan'");
+    EXPECT("v 1 2 1e999\n", GG_ERROR_PARSE, "t.obj:1:7: expected a coordinate, got '1e999'");
+    EXPECT("v 1 2\n", GG_ERROR_PARSE, "t.obj:1:6: expected a coordinate, got the end of the line");
+    EXPECT("v 1 2 3 x\n", GG_ERROR_PARSE, "t.obj:1:9: expected a number, got 'x'");
+    EXPECT("v 0 0 0\nf 1 1\n", GG_ERROR_PARSE, "t.obj:2:6: a face needs 3 or more corners, got 2");
+    EXPECT("v 0 0 0\nf 1/1/1/1 1 1\n", GG_ERROR_PARSE,
+           "t.obj:2:5: texture coordinate index 1 is out of range (0 defined so far)");
+    EXPECT("v 0 0 0\nvn 0 0 1\nf 1//1/ 1 1\n", GG_ERROR_PARSE,
+           "t.obj:3:7: unexpected '/' in a face corner");
+    EXPECT("v 0 0 0\ns maybe\n", GG_ERROR_PARSE,
+           "t.obj:2:3: expected a smoothing group number or off");
+    EXPECT("v 0 0 0\nv 0\xc0 0 0\n", GG_ERROR_PARSE,
+           "t.obj:2:3: expected a coordinate, got '0\\xC0'");
+    expect_error("v 0 0 0\nv 1\0 0 0\n", 16, "t.obj", GG_ERROR_PARSE,
+                 "t.obj:2:4: NUL byte in a text file");
+    expect_error("\xff\xfev\0 \0", 6, "t.obj", GG_ERROR_UNSUPPORTED,
+                 "t.obj:1:1: UTF-16 text is not supported (convert the file to UTF-8)");
+    EXPECT("v 0 0 0\nl 1 1\np 1\n", GG_ERROR_PARSE,
+           "t.obj: no faces (1 vertices; 2 statements not read: points, lines, curves or unknown)");
+    EXPECT("", GG_ERROR_PARSE,
+           "t.obj: no faces (0 vertices; 0 statements not read: points, lines, curves or unknown)");
+    /* a face of more than 2^20 corners fails on the count, not on memory */
+    memcpy(big, "v 0 0 0\nf", 9);
+    for (k = 9; k + 2 < sizeof big - 1; k += 2) big[k] = ' ', big[k + 1] = '1';
+    big[k] = '\n', big[k + 1] = '\0';
+    EXPECT(big, GG_ERROR_LIMIT, "t.obj:2:2097155: a face has more than 1048576 corners");
+}
+
+/* Line continuations, negative indices, polygons, and what counts. */
+static void test_obj_forms(void **state)
+{
+    const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 0.2 0\nv 0 1 0\n"
+                       "# a concave pentagon, written across two lines\n"
+                       "f 1 2 \\\n 3 4 5\n"
+                       "f -5 -4 -3\n"
+                       "vp 0.5\ncurv 0 1 1 2\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshInfo mi;
+    ggFaceInfo fi;
+    ggError e;
+    (void)state;
+    assert_int_equal(ggSceneLoadMeshMemory(s, text, strlen(text), "t.obj", NULL, &e), GG_OK);
+    ggSceneGetMeshInfo(s, 0, &mi);
+    assert_int_equal(mi.file_faces, 2);
+    assert_int_equal(mi.triangles, 4); /* 3 for the pentagon, 1 */
+    assert_int_equal(mi.ignored, 2);
+    assert_int_equal(ggSceneGetFaceInfo(s, 0, 3, &fi), GG_OK);
+    assert_int_equal(fi.face, 1);
+    assert_int_equal(fi.line, 9);
+    ggSceneFree(s);
+}
+
+/* A load that fails after its materials and textures were added keeps
+   none of them. */
+static void test_obj_rollback(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    (void)state;
+    assert_int_equal(ggSceneLoadMesh(s, DATA "flat.obj", NULL, &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, DATA "flat.obj: no face has an area");
+    assert_int_equal(ggSceneMaterialCount(s), 0);
+    assert_int_equal(s->ntextures, 0);
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    ggSceneFree(s);
+}
+
+/* A concave quad is split along the diagonal inside it: the notch at
+   (0.5, 1) stays empty. */
+static void test_obj_concave_quad(void **state)
+{
+    const char *text = "v 0 0 0\nv 2 1 0\nv 0 2 0\nv 0.5 1 0\nf 1 2 3 4\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    ggHit h;
+    ggRay in = {{1, 1, 1}, {0, 0, -1}}, notch = {{0.2, 1, 1}, {0, 0, -1}};
+    (void)state;
+    assert_int_equal(ggSceneLoadMeshMemory(s, text, strlen(text), "t.obj", NULL, &e), GG_OK);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_true(ggSceneIntersect(s, in, 0, INFINITY, &h));
+    assert_false(ggSceneIntersect(s, notch, 0, INFINITY, &h));
+    ggSceneFree(s);
+}
+
+/* The concave pentagon's triangles cover it exactly: their areas add up
+   to its area, and none sticks out of the notch at (0.5, 0.2). */
+static void test_obj_concave(void **state)
+{
+    const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 0.2 0\nv 0 1 0\nf 1 2 3 4 5\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    ggHit h;
+    ggRay in = {{0.1, 0.5, 1}, {0, 0, -1}}, notch = {{0.5, 0.5, 1}, {0, 0, -1}};
+    (void)state;
+    assert_int_equal(ggSceneLoadMeshMemory(s, text, strlen(text), "t.obj", NULL, &e), GG_OK);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_true(ggSceneIntersect(s, in, 0, INFINITY, &h));
+    assert_false(ggSceneIntersect(s, notch, 0, INFINITY, &h));
+    ggSceneFree(s);
+}
+
+/* The same cube in ascii, little and big endian: the same mesh. */
+static void test_ply_encodings(void **state)
+{
+    const char *names[3] = {DATA "cube_ascii.ply", DATA "cube_le.ply", DATA "cube_be.ply"};
+    ggScene *s[3];
+    int i;
+    (void)state;
+    for (i = 0; i < 3; i++) {
+        ggMeshInfo mi;
+        ggError e;
+        s[i] = ggSceneCreate(NULL);
+        if (ggSceneLoadMesh(s[i], names[i], NULL, &e) != GG_OK) print_error("%s\n", e.message);
+        assert_int_equal(ggSceneGetMeshInfo(s[i], 0, &mi), GG_OK);
+        assert_string_equal(mi.format, "ply");
+        assert_int_equal(mi.file_vertices, 8);
+        assert_int_equal(mi.file_faces, 6);
+        assert_int_equal(mi.triangles, 12);
+        assert_int_equal(mi.ignored, 1); /* the edge element */
+    }
+    for (i = 1; i < 3; i++) {
+        const gg_mesh *a = &s[0]->meshes[0], *b = &s[i]->meshes[0];
+        assert_int_equal(a->nverts, b->nverts);
+        assert_memory_equal(a->pos, b->pos, a->nverts * sizeof *a->pos);
+        assert_memory_equal(a->nrm, b->nrm, a->nverts * sizeof *a->nrm);
+        assert_memory_equal(a->idx, b->idx, 3 * a->ntri * sizeof *a->idx);
+    }
+    for (i = 0; i < 3; i++) ggSceneFree(s[i]);
+}
+
+/* Byte offsets, element indices and limits in binary PLY. */
+static void test_ply_errors(void **state)
+{
+    size_t len, hdr;
+    char *le = slurp(DATA "cube_le.ply", &len), *t = malloc(len + 64), msg[200];
+    float nan = NAN;
+    int32_t big = 99;
+    (void)state;
+    hdr = (size_t)(strstr(le, "end_header\n") - le) + 11;
+    /* vertices are 15 bytes, faces 18 (count, 4 ints, flags) */
+    memcpy(t, le, len);
+    memcpy(t + hdr + 3 * 15 + 4, &nan, 4);
+    snprintf(msg, sizeof msg,
+             "t.ply: byte %zu (vertex 3): a coordinate, normal or texture "
+             "coordinate is not finite",
+             hdr + 3 * 15 /* where vertex 3 starts */);
+    expect_error(t, len, "t.ply", GG_ERROR_PARSE, msg);
+    memcpy(t, le, len);
+    memcpy(t + hdr + 8 * 15 + 2 * 18 + 1 + 8, &big, 4);
+    snprintf(msg, sizeof msg,
+             "t.ply: byte %zu (face 2): vertex index 99 is out of range (8 vertices)",
+             hdr + 8 * 15 + 2 * 18 + 1 + 8 /* the index */);
+    expect_error(t, len, "t.ply", GG_ERROR_PARSE, msg);
+    /* cut inside face 4 */
+    snprintf(msg, sizeof msg,
+             "t.ply: byte %zu (face 4): the file ends inside this list of 4 indices (truncated)",
+             hdr + 8 * 15 + 4 * 18 + 1);
+    expect_error(le, hdr + 8 * 15 + 4 * 18 + 10, "t.ply", GG_ERROR_PARSE, msg);
+    /* cut inside the vertices: said before reading them */
+    snprintf(msg, sizeof msg,
+             "t.ply: byte %zu (vertex 0): 8 vertex elements need at least 120 "
+             "bytes, 100 are left (truncated or a bad count)",
+             hdr);
+    expect_error(le, hdr + 100, "t.ply", GG_ERROR_PARSE, msg);
+    free(le);
+    free(t);
+    /* counts beyond the limit, or beyond what the file holds */
+    {
+        const char *h = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+                        "property float x\nproperty float y\nproperty float z\nend_header\n";
+        const char *h2 = "ply\nformat binary_little_endian 1.0\nelement vertex 200000000\n"
+                         "property float x\nproperty float y\nproperty float z\nend_header\n";
+        expect_error(h, strlen(h), "t.ply", GG_ERROR_LIMIT,
+                     "t.ply: byte 124 (vertex 0): more than 2^28 vertices");
+        expect_error(h2, strlen(h2), "t.ply", GG_ERROR_PARSE,
+                     "t.ply: byte 123 (vertex 0): 200000000 vertex elements need at least "
+                     "2400000000 bytes, 0 are left (truncated or a bad count)");
+    }
+    {
+        const char *a =
+            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n";
+        const char *b =
+            "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+            "property float z\nend_header\n0 0 inf\n";
+        const char *c =
+            "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+            "element vertex 1\nproperty float x\nend_header\n3 0 0 0\n0\n";
+        expect_error(a, strlen(a), "t.ply", GG_ERROR_PARSE,
+                     "t.ply:13:7: face 0: vertex index 3 is out of range (3 vertices)");
+        expect_error(b, strlen(b), "t.ply", GG_ERROR_PARSE,
+                     "t.ply:8:5: vertex 0: expected a number");
+        expect_error(c, strlen(c), "t.ply", GG_ERROR_UNSUPPORTED,
+                     "t.ply:8:1: face 0: faces before the vertex element are not supported");
+        expect_error("ply\nformat ascii 1.0\n", 20, "t.ply", GG_ERROR_PARSE,
+                     "t.ply:3:1: the header has no end_header line");
+        expect_error("PLY\n", 4, "t.ply", GG_ERROR_PARSE, "t.ply: not a PLY file (no 'ply' line)");
+    }
+}
+
+/* NFF: mesh "file" with a transform, the current material for faces
+   without one, the keyword's line on the objects, and rollback. */
+static void test_nff_mesh(void **state)
+{
+    const char *path = "build_test_mesh.nff";
+    FILE *f = fopen(path, "w");
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshInfo mi;
+    ggError e;
+    (void)state;
+    assert_non_null(f);
+    fprintf(f, "f 0.2 0.4 0.6 1 0 100000 0 0\n"
+               "mesh \"" DATA "cube_le.ply\" scale 2 rotate z 90 translate 10 0 0\n"
+               "s 0 0 5 1\n");
+    fclose(f);
+    assert_int_equal(ggSceneLoadFile(s, path, &e), GG_OK);
+    assert_int_equal(ggSceneObjectCount(s), 2);
+    assert_int_equal(ggSceneObjectKind(s, 0), GG_SHAPE_MESH);
+    assert_int_equal(ggSceneObjectLine(s, 0), 2);
+    assert_true(ggSceneMaterial(s, ggSceneObjectMaterial(s, 0)).color.b == 0.6);
+    ggSceneGetMeshInfo(s, 0, &mi);
+    /* x in [0, 1] -> scaled [0, 2] -> rotated to y in [0, 2], x in [-2, 0] -> x + 10 */
+    assert_close(mi.lo.x, 8, 1e-12);
+    assert_close(mi.hi.x, 10, 1e-12);
+    assert_close(mi.hi.y, 2, 1e-12);
+    assert_close(mi.hi.z, 2, 1e-12);
+    /* an error in the mesh file fails the scene, which stays as it was */
+    f = fopen(path, "w");
+    fprintf(f, "s 0 0 0 1\nmesh \"" DATA "cube_le.ply\" scale 0\n");
+    fclose(f);
+    assert_int_equal(ggSceneLoadFile(s, path, &e), GG_ERROR_INVALID);
+    assert_string_equal(e.message, "build_test_mesh.nff:2:6: mesh: " DATA "cube_le.ply: the "
+                                   "transform is singular");
+    assert_int_equal(ggSceneObjectCount(s), 2);
+    assert_int_equal(ggSceneMeshCount(s), 1);
+    f = fopen(path, "w");
+    fprintf(f, "mesh \"no/such.obj\"\n");
+    fclose(f);
+    assert_int_equal(ggSceneLoadFile(s, path, &e), GG_ERROR_IO);
+    assert_string_equal(e.message,
+                        "build_test_mesh.nff:1:6: mesh: no/such.obj: No such file or directory");
+    remove(path);
+    ggSceneFree(s);
+}
+
+/* A model file as a scene: framed (camera, two lights); renders. */
+static void test_model_as_scene(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggRenderOptions o;
+    ggImage *img = NULL;
+    ggError e;
+    int x, y, lit = 0;
+    (void)state;
+    assert_int_equal(ggSceneLoadFile(s, DATA "cube.obj", &e), GG_OK);
+    assert_int_equal(ggSceneLightCount(s), 2);
+    assert_string_equal(ggSceneFileName(s), DATA "cube.obj");
+    ggRenderOptionsDefault(&o);
+    o.width = 32, o.height = 32, o.threads = 1;
+    assert_int_equal(ggRender(s, &o, &img, NULL, &e), GG_OK);
+    for (y = 0; y < 32; y++)
+        for (x = 0; x < 32; x++) lit += ggImageGet(img, x, y).r > 0;
+    assert_true(lit > 200);
+    ggImageFree(img);
+    ggSceneFree(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_obj_cube),       cmocka_unit_test(test_obj_memory),
+        cmocka_unit_test(test_obj_errors),     cmocka_unit_test(test_obj_forms),
+        cmocka_unit_test(test_obj_concave),   cmocka_unit_test(test_obj_concave_quad),
+        cmocka_unit_test(test_obj_rollback),    cmocka_unit_test(test_ply_encodings),
+        cmocka_unit_test(test_ply_errors),     cmocka_unit_test(test_nff_mesh),
+        cmocka_unit_test(test_model_as_scene),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
