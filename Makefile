@@ -12,6 +12,8 @@
 #   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each; every
 #                        harness runs, a summary at the end (exit 1 if any found something);
 #                        FUZZ="obj ply" runs only those
+#   make check-browser   ggrt serve's page in headless Chromium (CI runs it after check)
+#   make bench-serve     requests/s and latency of ggrt serve under N clients
 #   scripts/deps.sh      the package groups each of these installs
 #   make bench-optics    ns per call of the refraction variants
 #   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c)
@@ -68,6 +70,8 @@ CLI_DEFS   = -DGG_HAVE_MHD $(MHD_CFLAGS)
 CLI_LIBS   = $(MHD_LIBS)
 endif
 endif
+# The page served by ggrt serve (cli/web/), compiled into the binary.
+WEB_SRC := $(sort $(wildcard cli/web/*.html cli/web/*.css cli/web/*.js))
 
 # The library's layers, bottom to top (docs/internals.md). lib/L is compiled
 # with include paths for the layers in L_SEES only -- itself and layers below
@@ -98,7 +102,7 @@ NOREADER_OBJ := $(BUILD)/lib/load/reader_none.o
 FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
 CLI_SRC  := $(sort $(wildcard cli/*.c cli/bench/*.c))
-CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o)
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/web_assets.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TESTUTIL_OBJ := $(BUILD)/tests/testutil.o
@@ -115,7 +119,7 @@ SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test tests deps demo install uninstall installcheck \
-        clean fuzz bench examples format pc layers
+        clean fuzz bench examples format pc layers FORCE check-browser bench-serve
 .DEFAULT_GOAL := all
 .SECONDARY:
 
@@ -156,6 +160,23 @@ $(BUILD)/libggrt.so: $(SHARED)
 $(BUILD)/cli/%.o: cli/%.c
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(GG_WARN) $(CFLAGS) -c $< -o $@
+
+# Whether serve is built in: a file that changes only when that does, so
+# that installing libmicrohttpd (or `make MHD_LIBS=` to leave it out)
+# rebuilds the objects that depend on it.
+$(BUILD)/cli/serve.flag: FORCE
+	@mkdir -p $(@D)
+	@[ "`cat $@ 2>/dev/null`" = "mhd=$(CLI_LIBS)" ] || echo "mhd=$(CLI_LIBS)" > $@
+$(BUILD)/cli/cmd_serve.o $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(wildcard cli/serve_*.c)): \
+  $(BUILD)/cli/serve.flag
+FORCE:
+
+# The page, compiled into the binary (nothing is read from disk at run time).
+$(BUILD)/cli/web_assets.c: $(WEB_SRC) cli/web/embed.sh
+	@mkdir -p $(@D)
+	sh cli/web/embed.sh $(WEB_SRC) > $@.tmp && mv $@.tmp $@
+$(BUILD)/cli/web_assets.o: $(BUILD)/cli/web_assets.c
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) -Icli $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(CLI): $(CLI_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS)
@@ -200,6 +221,21 @@ check: deps-check
 	@echo "check: all suites passed (plain, sanitized, installcheck)"
 
 # scripts/deps.sh GROUP: the packages a target needs (deps = check's).
+# check-browser: ggrt serve's page in headless Chromium through Selenium
+# (tests/browser_test.py, about 15 s); CI runs it after check. Selenium is
+# Debian's python3-selenium, importable by /usr/bin/python3.
+BROWSER_PYTHON ?= /usr/bin/python3
+check-browser: deps-check deps-browser
+	@$(MAKE) --no-print-directory $(BUILD)/release/ggrt BUILD=$(BUILD)/release GG_WERROR=-Werror
+	@$(BROWSER_PYTHON) tests/browser_test.py $(BUILD)/release/ggrt --screenshot $(BUILD)/browser/serve.png
+
+# The load benchmark of ggrt serve (prints figures; not a test).
+BENCH_CLIENTS ?= 8
+BENCH_SECONDS ?= 10
+bench-serve: $(CLI)
+	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
+	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
+
 deps: deps-check
 deps-%:
 	@sh scripts/deps.sh $*

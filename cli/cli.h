@@ -28,6 +28,7 @@ int cmd_find(int argc, char **argv);
 int cmd_check(int argc, char **argv);
 int cmd_diff(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_serve(int argc, char **argv);
 
 /* The one map from a library status to an exit code: GG_ERROR_IO is 3,
    everything else bad input (2) -- except GG_ERROR_INVALID from a call

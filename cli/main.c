@@ -21,6 +21,7 @@ static const command commands[] = {
     {"info", cmd_info, "describe a scene: objects, lights, BVH, effects"},
     {"optics", cmd_optics, "one reflection, refraction or Fresnel evaluation"},
     {"bench", cmd_bench, "benchmarks: SPD scenes, accuracy versus time"},
+    {"serve", cmd_serve, "the ray debugger in a browser: a local HTTP server"},
 };
 
 static void usage(FILE *f)

@@ -155,8 +155,9 @@ static void panel(FILE *f, const trace_view *v, proj *p, const char *title, doub
 {
     size_t i, n = ggTraceNodeCount(v->trace);
     int o, nobj = ggSceneObjectCount(v->scene), l;
-    static int clip_id = 0;
-    clip_id++;
+    /* The panels of one document sit at different x: a unique id without
+       state shared between threads (ggrt serve draws from several). */
+    int clip_id = (int)p->ox;
     fprintf(f,
             "<clipPath id='c%d'><rect x='%.0f' y='%.0f' width='%.0f' height='%.0f'/></clipPath>\n",
             clip_id, p->ox, p->oy, PANEL, PANEL);
@@ -273,7 +274,7 @@ static void camera_panel(FILE *f, const trace_view *v, double ox, double oy)
     fprintf(f, "</g>\n");
 }
 
-void trace_write_svg(FILE *f, const trace_view *v)
+void trace_write_svg_views(FILE *f, const trace_view *v, int camera)
 {
     ggSceneInfo in;
     ggCamera cam = ggSceneCamera(v->scene);
@@ -307,7 +308,7 @@ void trace_write_svg(FILE *f, const trace_view *v)
             "<?xml version='1.0' encoding='UTF-8'?>\n"
             "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' "
             "font-family='sans-serif'>\n",
-            3 * PANEL + 40, PANEL + 90);
+            (camera ? 3 : 2) * PANEL + (camera ? 40 : 30), PANEL + 90);
     fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
     fprintf(f, "<text x='10' y='24' font-size='15' fill='#111'>ggrt trace ");
     xml_text(f, v->path);
@@ -315,7 +316,7 @@ void trace_write_svg(FILE *f, const trace_view *v)
             v->pixel.g, v->pixel.b, ggTraceNodeCount(v->trace));
     panel(f, v, &top, "top view", reach);
     panel(f, v, &side, "side view", reach);
-    camera_panel(f, v, 30 + 2 * PANEL, 40);
+    if (camera) camera_panel(f, v, 30 + 2 * PANEL, 40);
     {
         static const char *const names[] = {"eye", "reflect", "refract", "TIR"};
         int k;
@@ -339,6 +340,8 @@ void trace_write_svg(FILE *f, const trace_view *v)
     }
     fprintf(f, "</svg>\n");
 }
+
+void trace_write_svg(FILE *f, const trace_view *v) { trace_write_svg_views(f, v, 1); }
 
 void trace_write_obj(FILE *f, const trace_view *v)
 {

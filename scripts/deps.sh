@@ -16,7 +16,7 @@ groups() {
   cat <<'GROUPS'
 build:   pkg-config libpng-dev libopenexr-dev
 demo:    @build
-check:   @build libcmocka-dev python3 assimp-testmodels
+check:   @build @serve libcmocka-dev python3 assimp-testmodels
 fuzz:    @build clang
 serve:   libmicrohttpd-dev
 browser: chromium chromium-driver python3-selenium

@@ -1,0 +1,327 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** serve_http.c -- `ggrt serve`'s HTTP side on GNU libmicrohttpd: every
+** request is checked here before a route sees it, in this order:
+**   request target over SRV_MAX_URI bytes        414
+**   a method other than GET or HEAD              405
+**   a Host header that does not name the server  403 (DNS rebinding)
+**   no token (query or Authorization: Bearer)    401
+**   a wrong token                                403
+**   a parameter over the limits, or repeated     400 / 414
+**   an unknown route                             404
+**   a parameter the route does not take          400
+** Every refusal is a JSON body {"status": N, "error": "..."}.
+*/
+#if defined(GG_HAVE_MHD)
+#include "serve.h"
+
+#include <arpa/inet.h>
+#include <microhttpd.h>
+#include <netinet/in.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/socket.h>
+
+typedef struct http_ctx {
+    srv_server *srv;
+    int port;
+    int loopback, wildcard; /* the bound address is loopback / any address */
+    unsigned char addr[16]; /* the bound address, binary */
+    int family;
+} http_ctx;
+
+/* Markers for a request's first call: its target was too long, or not. */
+static int mark_ok, mark_long;
+
+static void *uri_log(void *cls, const char *uri, struct MHD_Connection *c)
+{
+    (void)cls, (void)c;
+    return strlen(uri) > SRV_MAX_URI ? &mark_long : &mark_ok;
+}
+
+static void logger(void *cls, const char *fmt, va_list ap)
+{
+    (void)cls;
+    fprintf(stderr, "ggrt serve: ");
+    vfprintf(stderr, fmt, ap);
+}
+
+/* ---- Host ---- */
+
+/* Does the Host header name this server: the bound address (or localhost
+   when bound to loopback; any address literal when bound to all of
+   them), and the port? A DNS-rebinding page reaches us under its own
+   name, which this refuses. */
+static int host_ok(const http_ctx *h, const char *host)
+{
+    char name[256];
+    const char *port = NULL;
+    unsigned char bin[16];
+    size_t n;
+    int fam = 0;
+    if (!host || !*host || strlen(host) >= sizeof name) return 0;
+    if (host[0] == '[') {
+        const char *e = strchr(host, ']');
+        if (!e) return 0;
+        n = (size_t)(e - host - 1);
+        memcpy(name, host + 1, n), name[n] = '\0';
+        if (e[1] == ':')
+            port = e + 2;
+        else if (e[1])
+            return 0;
+    } else {
+        const char *c = strchr(host, ':');
+        n = c ? (size_t)(c - host) : strlen(host);
+        memcpy(name, host, n), name[n] = '\0';
+        if (c) port = c + 1;
+    }
+    if (port ? atoi(port) != h->port || strspn(port, "0123456789") != strlen(port) || !*port
+             : h->port != 80)
+        return 0;
+    if (inet_pton(AF_INET, name, bin) == 1)
+        fam = AF_INET;
+    else if (inet_pton(AF_INET6, name, bin) == 1)
+        fam = AF_INET6;
+    if (!fam) return h->loopback && !strcasecmp(name, "localhost");
+    if (h->wildcard) return 1;
+    return fam == h->family && !memcmp(bin, h->addr, fam == AF_INET ? 4 : 16);
+}
+
+/* ---- token ---- */
+
+static int same_token(const char *a, const char *b)
+{
+    size_t i, n = strlen(b);
+    unsigned char d = 0;
+    if (strlen(a) != n) return 0;
+    for (i = 0; i < n; i++) d |= (unsigned char)(a[i] ^ b[i]);
+    return d == 0;
+}
+
+/* ---- parameters ---- */
+
+typedef struct collect {
+    srv_req *req;
+    int status; /* 0, or the refusal */
+    char msg[256];
+} collect;
+
+static enum MHD_Result take_param(void *cls, enum MHD_ValueKind kind, const char *key,
+                                  const char *value)
+{
+    collect *c = cls;
+    int i;
+    (void)kind;
+    if (!value) value = "";
+    if (!strcmp(key, "token")) return MHD_YES;
+    if (c->req->nparams >= SRV_MAX_PARAMS) {
+        c->status = 400;
+        snprintf(c->msg, sizeof c->msg, "more than %d query parameters", SRV_MAX_PARAMS);
+        return MHD_NO;
+    }
+    if (strlen(value) > SRV_MAX_VALUE || strlen(key) > 64) {
+        c->status = 414;
+        snprintf(c->msg, sizeof c->msg, "parameter '%.64s' is longer than %d bytes", key,
+                 SRV_MAX_VALUE);
+        return MHD_NO;
+    }
+    for (i = 0; i < c->req->nparams; i++)
+        if (!strcmp(c->req->params[i].key, key)) {
+            c->status = 400;
+            snprintf(c->msg, sizeof c->msg, "parameter '%s' given twice", key);
+            return MHD_NO;
+        }
+    c->req->params[c->req->nparams].key = key;
+    c->req->params[c->req->nparams].value = value;
+    c->req->nparams++;
+    return MHD_YES;
+}
+
+/* ---- responses ---- */
+
+static enum MHD_Result respond(struct MHD_Connection *conn, srv_resp *r)
+{
+    struct MHD_Response *m;
+    enum MHD_Result ok;
+    m = MHD_create_response_from_buffer(
+        r->len, r->body, r->body_static ? MHD_RESPMEM_PERSISTENT : MHD_RESPMEM_MUST_FREE);
+    if (!m) {
+        if (!r->body_static) free(r->body);
+        return MHD_NO;
+    }
+    MHD_add_response_header(m, "Content-Type", r->type ? r->type : "application/json");
+    MHD_add_response_header(m, "Cache-Control", "no-store");
+    MHD_add_response_header(m, "X-Content-Type-Options", "nosniff");
+    MHD_add_response_header(m, "Referrer-Policy", "no-referrer");
+    MHD_add_response_header(m, "X-Frame-Options", "DENY");
+    MHD_add_response_header(m, "Content-Security-Policy",
+                            "default-src 'none'; script-src 'self'; style-src 'self'; "
+                            "img-src 'self' blob: data:; connect-src 'self'; "
+                            "frame-ancestors 'none'; base-uri 'none'; form-action 'none'");
+    if (r->extra_name[0]) MHD_add_response_header(m, r->extra_name, r->extra_value);
+    if (r->extra2_name[0]) MHD_add_response_header(m, r->extra2_name, r->extra2_value);
+    ok = MHD_queue_response(conn, (unsigned)r->status, m);
+    MHD_destroy_response(m);
+    return ok;
+}
+
+static enum MHD_Result refuse(struct MHD_Connection *conn, int status, const char *fmt, ...)
+{
+    srv_resp r;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    memset(&r, 0, sizeof r);
+    srv_error(&r, status, "%s", msg);
+    if (status == 401) {
+        snprintf(r.extra_name, sizeof r.extra_name, "WWW-Authenticate");
+        snprintf(r.extra_value, sizeof r.extra_value, "Bearer realm=\"ggrt serve\"");
+    }
+    if (status == 405) {
+        snprintf(r.extra_name, sizeof r.extra_name, "Allow");
+        snprintf(r.extra_value, sizeof r.extra_value, "GET, HEAD");
+    }
+    return respond(conn, &r);
+}
+
+static const char *bearer(struct MHD_Connection *conn)
+{
+    const char *a = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Authorization");
+    if (!a || strncasecmp(a, "Bearer ", 7)) return NULL;
+    a += 7;
+    while (*a == ' ') a++;
+    return a;
+}
+
+static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char *url,
+                              const char *method, const char *version, const char *upload,
+                              size_t *upload_size, void **con_cls)
+{
+    http_ctx *h = cls;
+    srv_req req;
+    srv_resp resp;
+    collect col;
+    const char *tok;
+    int i;
+    (void)version, (void)upload;
+    if (*con_cls == &mark_long) {
+        *upload_size = 0;
+        return refuse(conn, 414, "request target longer than %d bytes", SRV_MAX_URI);
+    }
+    if (strcmp(method, "GET") && strcmp(method, "HEAD")) {
+        *upload_size = 0;
+        return refuse(conn, 405, "method %s not allowed: the API is read-only (GET)", method);
+    }
+    if (!host_ok(h, MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Host")))
+        return refuse(conn, 403, "Host header does not name this server");
+    tok = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "token");
+    if (!tok) tok = bearer(conn);
+    if (!tok || !*tok)
+        return refuse(conn, 401,
+                      "missing token: add ?token=... as printed by ggrt serve, "
+                      "or an Authorization: Bearer header");
+    if (!same_token(tok, h->srv->token)) return refuse(conn, 403, "wrong token");
+    memset(&req, 0, sizeof req);
+    req.srv = h->srv, req.path = url;
+    col.req = &req, col.status = 0, col.msg[0] = '\0';
+    MHD_get_connection_values(conn, MHD_GET_ARGUMENT_KIND, take_param, &col);
+    if (col.status) return refuse(conn, col.status, "%s", col.msg);
+    for (i = 0; i < req.nparams; i++)
+        if (!srv_param_allowed(url, req.params[i].key))
+            return refuse(conn, 400, "unknown parameter '%.64s' for %.64s (docs/serve.md)",
+                          req.params[i].key, url);
+    memset(&resp, 0, sizeof resp);
+    srv_route(h->srv, &req, &resp);
+    return respond(conn, &resp);
+}
+
+/* ---- start and stop ---- */
+
+struct srv_http {
+    struct MHD_Daemon *d;
+    http_ctx ctx;
+};
+
+static int parse_addr(const char *host, struct sockaddr_storage *ss, http_ctx *h)
+{
+    struct sockaddr_in *a4 = (struct sockaddr_in *)ss;
+    struct sockaddr_in6 *a6 = (struct sockaddr_in6 *)ss;
+    memset(ss, 0, sizeof *ss);
+    if (inet_pton(AF_INET, host, &a4->sin_addr) == 1) {
+        a4->sin_family = AF_INET;
+        h->family = AF_INET;
+        memcpy(h->addr, &a4->sin_addr, 4);
+        h->loopback = h->addr[0] == 127;
+        h->wildcard = a4->sin_addr.s_addr == htonl(INADDR_ANY);
+        return 0;
+    }
+    if (inet_pton(AF_INET6, host, &a6->sin6_addr) == 1) {
+        a6->sin6_family = AF_INET6;
+        h->family = AF_INET6;
+        memcpy(h->addr, &a6->sin6_addr, 16);
+        h->loopback = IN6_IS_ADDR_LOOPBACK(&a6->sin6_addr);
+        h->wildcard = IN6_IS_ADDR_UNSPECIFIED(&a6->sin6_addr);
+        return 0;
+    }
+    return -1;
+}
+
+srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
+{
+    srv_http *h = calloc(1, sizeof *h);
+    struct sockaddr_storage ss;
+    const union MHD_DaemonInfo *info;
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG;
+    if (!h) {
+        snprintf(msg, msglen, "out of memory");
+        return NULL;
+    }
+    h->ctx.srv = s;
+    if (parse_addr(s->cfg.host, &ss, &h->ctx)) {
+        snprintf(msg, msglen, "--host '%s' is not a numeric IPv4 or IPv6 address", s->cfg.host);
+        free(h);
+        return NULL;
+    }
+    if (h->ctx.family == AF_INET6) {
+        flags |= MHD_USE_IPv6;
+        ((struct sockaddr_in6 *)&ss)->sin6_port = htons((uint16_t)s->cfg.port);
+    } else {
+        ((struct sockaddr_in *)&ss)->sin_port = htons((uint16_t)s->cfg.port);
+    }
+    /* The logger first: options before it would log through MHD's own. */
+    /* clang-format off */
+    h->d = MHD_start_daemon(flags, (uint16_t)s->cfg.port, NULL, NULL, handle, &h->ctx,
+                            MHD_OPTION_EXTERNAL_LOGGER, logger, NULL,
+                            MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
+                            MHD_OPTION_THREAD_POOL_SIZE, (unsigned)SRV_THREADS,
+                            MHD_OPTION_CONNECTION_LIMIT, (unsigned)SRV_MAX_CONNECTIONS,
+                            MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)SRV_CONN_TIMEOUT,
+                            MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)SRV_MEMORY_LIMIT,
+                            MHD_OPTION_URI_LOG_CALLBACK, uri_log, NULL, MHD_OPTION_END);
+    /* clang-format on */
+    if (!h->d) {
+        snprintf(msg, msglen, "cannot listen on %s port %d (in use? --port 0 takes a free one)",
+                 s->cfg.host, s->cfg.port);
+        free(h);
+        return NULL;
+    }
+    info = MHD_get_daemon_info(h->d, MHD_DAEMON_INFO_BIND_PORT);
+    h->ctx.port = info && info->port ? info->port : s->cfg.port;
+    *port = h->ctx.port;
+    return h;
+}
+
+void srv_http_stop(srv_http *h)
+{
+    if (!h) return;
+    MHD_stop_daemon(h->d);
+    free(h);
+}
+
+#else
+typedef int serve_http_unused;
+#endif

@@ -1,0 +1,1088 @@
+// SPDX-License-Identifier: MIT
+// ggrt serve: the page. Plain JavaScript, no libraries, nothing from the
+// network but this server's JSON API (docs/serve.md), which every call
+// reaches with the token in an Authorization header.
+'use strict';
+(function () {
+  const TOKEN = new URLSearchParams(location.search).get('token') || '';
+  const $ = (id) => document.getElementById(id);
+
+  // ---- the render options a view can change: the settings of
+  // ggRenderOptionsParse (the text of ggrt diff's --a/--b), applied over the
+  // server's own options ----
+  const OPTS = [
+    ['depth', 'depth', 'int', 1, 16],
+    ['samples', 'samples', 'int', 1, 64],
+    ['refract', 'refract', ['accurate', 'textbook', 'exact']],
+    ['fresnel', 'fresnel', ['scene', 'none', 'schlick', 'exact']],
+    ['sphere', 'sphere', ['stable', 'textbook']],
+    ['offset', 'offset (scaled, fixed or eps)', 'text', 'scaled'],
+    ['texture', 'texture', ['scene', 'bilinear', 'nearest']],
+    ['wavelengths', 'wavelengths', ['rgb', 'one']],
+    ['cutoff', 'cutoff (0 = off)', 'text', '0'],
+    ['implicit-tol', 'implicit tol (own or T)', 'text', 'own'],
+    ['gradient', 'gradient (exact or h)', 'text', 'exact'],
+    ['spd', 'SPD rules', 'flag'],
+    ['corners', 'pixel corners', 'flag'],
+    ['force-effects', 'force effects', 'flag'],
+  ];
+  const OVERLAYS = ['none', 'rays', 'depth', 'time', 'find', 'diff'];
+  const TABS = ['tree', 'rays3d', 'views', 'ledger', 'diag', 'text'];
+  const KIND_COLOR = { eye: '#111', reflect: '#1f5fd0', refract: '#17a34a', tir: '#c026d3' };
+
+  const state = {
+    a: '', b: '', // option text over the server's options (ggRenderOptionsParse)
+    diff: false, px: null, overlay: 'none', opacity: 0.75, zoom: 0, tab: 'tree', find: '',
+  };
+  let info = null, scene = null, W = 0, H = 0;
+  const images = {}; // 'a' / 'b' -> { q, bmp, rgb }
+  const overlays = {}; // key -> { bmp, values, max, legend }
+  let traces = { key: '', a: null, b: null }; // JSON of the selected pixel
+  let generation = 0; // a newer view (image, overlay) makes older answers stale
+  let pixelGen = 0; // the same for the selected pixel
+
+  // ---- small helpers ----
+
+  // printf's %.<p>g, so that values read as ggrt prints them (%.9g).
+  function fmtG(x, p) {
+    if (x === null || x === undefined) return 'nan';
+    if (!isFinite(x)) return isNaN(x) ? 'nan' : (x > 0 ? 'inf' : '-inf');
+    if (x === 0) return (1 / x < 0) ? '-0' : '0';
+    const e = parseInt(x.toExponential(p - 1).split('e')[1], 10);
+    let s;
+    if (e < -4 || e >= p) {
+      let [m, ex] = x.toExponential(p - 1).split('e');
+      if (m.indexOf('.') >= 0) m = m.replace(/0+$/, '').replace(/\.$/, '');
+      const n = parseInt(ex, 10);
+      s = m + 'e' + (n < 0 ? '-' : '+') + String(Math.abs(n)).padStart(2, '0');
+    } else {
+      s = x.toFixed(Math.max(0, p - 1 - e));
+      if (s.indexOf('.') >= 0) s = s.replace(/0+$/, '').replace(/\.$/, '');
+    }
+    return s;
+  }
+  const g4 = (x) => fmtG(x, 4), g6 = (x) => fmtG(x, 6);
+  const vec = (v) => '(' + v.map(g6).join(', ') + ')';
+  const col = (c) => '(' + c.map(g4).join(' ') + ')';
+  function srgb(c) {
+    const f = (v) => {
+      if (!(v > 0)) return 0;
+      if (v >= 1) return 255;
+      const s = v <= 0.0031308 ? 12.92 * v : 1.055 * Math.pow(v, 1 / 2.4) - 0.055;
+      return Math.round(s * 255);
+    };
+    return 'rgb(' + f(c[0]) + ',' + f(c[1]) + ',' + f(c[2]) + ')';
+  }
+  function el(tag, cls, text) {
+    const e = document.createElement(tag);
+    if (cls) e.className = cls;
+    if (text !== undefined) e.textContent = text;
+    return e;
+  }
+  function swatch(c) {
+    const s = el('span', 'sw');
+    s.style.background = srgb(c);
+    return s;
+  }
+  const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+  function showError(msg) {
+    const e = $('error');
+    e.textContent = msg;
+    e.hidden = !msg;
+  }
+  function status(text, frac) {
+    $('status-text').textContent = text;
+    const p = $('progress');
+    if (frac === undefined) p.classList.add('done');
+    else { p.classList.remove('done'); p.value = frac; }
+  }
+
+  class ApiError extends Error {
+    constructor(status, msg) { super(msg); this.status = status; }
+  }
+
+  // GET path?params; as: 'json' (default), 'blob', 'buf', 'text'.
+  async function api(path, params, as) {
+    const q = new URLSearchParams(params || {}).toString();
+    const r = await fetch(path + (q ? '?' + q : ''), {
+      headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
+    });
+    if (!r.ok) {
+      let msg = r.status + ' ' + r.statusText;
+      try { msg = (await r.json()).error || msg; } catch (e) { /* not JSON */ }
+      throw new ApiError(r.status, msg);
+    }
+    const body = as === 'blob' ? await r.blob() : as === 'buf' ? await r.arrayBuffer()
+      : as === 'text' ? await r.text() : await r.json();
+    return { status: r.status, body: body, headers: r.headers };
+  }
+
+  // ---- options ----
+
+  function optParams(side) {
+    const t = side === 'b' ? state.b : state.a;
+    return t ? { opts: t } : {};
+  }
+  function diffParams() {
+    const p = optParams('a');
+    if (state.b) p.b = state.b;
+    return p;
+  }
+  const keyOf = (p) => new URLSearchParams(p).toString();
+
+  // "depth=3 refract=textbook spd" -> {depth: '3', refract: 'textbook', spd: '1'}
+  function parseText(t) {
+    const o = {};
+    for (const w of (t || '').split(/[\s,]+/)) {
+      if (!w) continue;
+      const i = w.indexOf('=');
+      if (i < 0) o[w] = '1';
+      else o[w.slice(0, i)] = w.slice(i + 1);
+    }
+    if (o.spd) o.corners = '1';
+    return o;
+  }
+  let serverOpts = {};
+  function serverValue(name) {
+    const spec = OPTS.find((o) => o[0] === name);
+    if (name in serverOpts) return serverOpts[name];
+    if (spec[2] === 'flag') return '0';
+    if (spec[2] === 'int') return '0';
+    if (spec[2] === 'text') return spec[3];
+    if (name === 'offset' && serverOpts.offset) return serverOpts.offset;
+    return spec[2][0];
+  }
+
+  function buildPanel(side) {
+    const box = $('opts-' + side);
+    box.textContent = '';
+    for (const [name, label, type, lo, hi] of OPTS) {
+      const l = el('label', type === 'flag' ? 'flag' : '');
+      let input;
+      if (type === 'flag') {
+        input = el('input');
+        input.type = 'checkbox';
+      } else if (Array.isArray(type)) {
+        input = el('select');
+        for (const c of type) input.appendChild(el('option', '', c)).value = c;
+      } else if (type === 'int') {
+        input = el('select');
+        input.appendChild(el('option', '', 'scene')).value = '0';
+        for (let i = lo; i <= hi; i++) {
+          if (name === 'samples' && i > 2 && [4, 9, 16, 25, 36, 49, 64].indexOf(i) < 0) continue;
+          input.appendChild(el('option', '', String(i))).value = String(i);
+        }
+      } else {
+        input = el('input');
+        input.type = 'text';
+        input.size = 8;
+      }
+      input.dataset.opt = name;
+      input.id = 'opt-' + side + '-' + name;
+      const span = el('span', '', label);
+      if (type === 'flag') { l.appendChild(input); l.appendChild(span); } else { l.appendChild(span); l.appendChild(input); }
+      box.appendChild(l);
+    }
+    fillPanel(side);
+  }
+
+  function fillPanel(side) {
+    const o = parseText(side === 'b' ? state.b : state.a);
+    for (const input of $('opts-' + side).querySelectorAll('[data-opt]')) {
+      const name = input.dataset.opt, v = name in o ? o[name] : serverValue(name);
+      if (input.type === 'checkbox') {
+        input.checked = v === '1';
+        // A setting's text only adds: what the server has on stays on.
+        input.disabled = serverValue(name) === '1';
+      } else {
+        input.value = v;
+        if (input.tagName === 'SELECT' && input.value !== v) input.value = input.options[0].value;
+      }
+      input.parentNode.classList.toggle('changed', name in o && o[name] !== serverValue(name));
+    }
+  }
+
+  // The panel as option text: the settings that differ from the server's.
+  function readPanel(side) {
+    const words = [];
+    for (const input of $('opts-' + side).querySelectorAll('[data-opt]')) {
+      const name = input.dataset.opt;
+      const v = input.type === 'checkbox' ? (input.checked ? '1' : '0') : input.value.trim();
+      if (v === serverValue(name) || v === '') continue;
+      if (input.type === 'checkbox') { if (v === '1') words.push(name); } else if (v !== '0' || name === 'cutoff') words.push(name + '=' + v);
+    }
+    return words.join(' ');
+  }
+
+  // ---- URL state: #px=X,Y&ov=...&tab=...&zoom=...&find=...&a=OPTIONS&b=OPTIONS&diff=1 ----
+
+  function writeHash() {
+    const p = new URLSearchParams();
+    if (state.px) p.set('px', state.px[0] + ',' + state.px[1]);
+    if (state.overlay !== 'none') p.set('ov', state.overlay);
+    if (state.tab !== 'tree') p.set('tab', state.tab);
+    if (state.zoom) p.set('zoom', String(state.zoom));
+    if (state.opacity !== 0.75) p.set('alpha', String(state.opacity));
+    if (state.find) p.set('find', state.find);
+    if (state.diff) p.set('diff', '1');
+    if (state.a) p.set('a', state.a);
+    if (state.b) p.set('b', state.b);
+    const h = p.toString();
+    history.replaceState(null, '', location.pathname + location.search + (h ? '#' + h : ''));
+  }
+
+  function readHash() {
+    const p = new URLSearchParams(location.hash.slice(1));
+    state.a = p.get('a') || '';
+    state.b = p.get('b') || '';
+    const px = (p.get('px') || '').split(',').map((s) => parseInt(s, 10));
+    state.px = px.length === 2 && px.every((v) => v >= 0) && px[0] < W && px[1] < H ? px : null;
+    state.overlay = OVERLAYS.indexOf(p.get('ov')) >= 0 ? p.get('ov') : 'none';
+    state.tab = TABS.indexOf(p.get('tab')) >= 0 ? p.get('tab') : 'tree';
+    state.zoom = Math.min(8, Math.max(0, parseInt(p.get('zoom') || '0', 10) || 0));
+    const a = parseFloat(p.get('alpha'));
+    state.opacity = a >= 0 && a <= 1 ? a : 0.75;
+    state.find = p.get('find') || '';
+    state.diff = p.get('diff') === '1';
+  }
+
+  // ---- renders ----
+
+  // Ask for a render until it is done, showing its progress.
+  async function waitRender(params, kind, label, gen) {
+    const p = Object.assign({}, params);
+    if (kind !== 'image') p.kind = kind;
+    for (;;) {
+      const r = await api('/api/render', p);
+      const j = r.body.job;
+      if (gen !== generation && gen !== undefined) return false;
+      if (j.state === 'done') return true;
+      if (j.state === 'failed') throw new ApiError(500, j.error);
+      status(label + ': ' + j.state + ' ' + Math.round(100 * j.done / Math.max(1, j.total)) + '%',
+        j.done / Math.max(1, j.total));
+      await sleep(120);
+    }
+  }
+
+  async function loadImage(side, gen) {
+    const params = optParams(side), q = keyOf(params);
+    if (images[side] && images[side].q === q) return images[side];
+    const t0 = performance.now();
+    if (!(await waitRender(params, 'image', 'rendering ' + side.toUpperCase(), gen))) return null;
+    const [png, f32] = await Promise.all([
+      api('/api/image', Object.assign({ format: 'png' }, params), 'blob'),
+      api('/api/image', Object.assign({ format: 'f32' }, params), 'buf')]);
+    const bmp = await createImageBitmap(png.body);
+    images[side] = { q: q, bmp: bmp, rgb: new Float32Array(f32.body) };
+    const r = await api('/api/render', params);
+    const st = r.body.job.stats;
+    status('rendered ' + side.toUpperCase() + ' in ' + r.body.job.seconds.toFixed(2) + ' s' +
+      ' (' + ((performance.now() - t0) / 1000).toFixed(1) + ' s here): ' +
+      (st.eye + st.reflect + st.refract + st.shadow).toLocaleString() + ' rays');
+    return images[side];
+  }
+
+  function sizeCanvases() {
+    let z = state.zoom;
+    if (!z) {
+      const room = Math.max(200, Math.min(820, window.innerWidth * 0.55));
+      z = Math.max(1, Math.floor(room / W));
+    }
+    for (const id of ['image', 'overlay']) {
+      const c = $(id);
+      if (c.width !== W) c.width = W;
+      if (c.height !== H) c.height = H;
+      c.style.width = (W * z) + 'px';
+      c.style.height = (H * z) + 'px';
+    }
+    const m = $('marker');
+    m.width = W * z; m.height = H * z;
+    m.style.width = (W * z) + 'px'; m.style.height = (H * z) + 'px';
+    $('zoom').value = String(Math.min(4, z));
+    return z;
+  }
+
+  function drawImage() {
+    const img = images.a;
+    if (!img) return;
+    sizeCanvases();
+    $('image').getContext('2d').drawImage(img.bmp, 0, 0);
+    $('viewport').dataset.image = img.q || 'default';
+    drawMarker();
+  }
+
+  function drawMarker() {
+    const m = $('marker'), g = m.getContext('2d'), z = m.width / W;
+    g.clearRect(0, 0, m.width, m.height);
+    if (!state.px) return;
+    const [x, y] = state.px, r = Math.max(3, z * 1.5);
+    g.lineWidth = 2;
+    g.strokeStyle = '#000';
+    g.strokeRect(x * z - r, y * z - r, z + 2 * r, z + 2 * r);
+    g.strokeStyle = '#ff2d55';
+    g.lineWidth = 1.5;
+    g.strokeRect(x * z - r + 1, y * z - r + 1, z + 2 * r - 2, z + 2 * r - 2);
+  }
+
+  // ---- overlays: heatmaps, the find mask, the diff map ----
+
+  async function loadOverlay(gen) {
+    const kind = state.overlay;
+    const ctx = $('overlay').getContext('2d');
+    if (kind === 'none' || (kind === 'find' && !state.find) || (kind === 'diff' && !state.diff)) {
+      ctx.clearRect(0, 0, W, H);
+      $('overlay').dataset.kind = 'none';
+      $('legend-text').textContent = kind === 'diff' ? 'tick "compare A with B" to see the diff map' : '';
+      $('legend').width = 0;
+      $('legend').height = 0;
+      $('legend').style.height = '0';
+      return;
+    }
+    let ov;
+    if (kind === 'find') ov = await loadFind(gen);
+    else if (kind === 'diff') ov = await loadDiff(gen);
+    else ov = await loadHeat(kind, gen);
+    if (!ov || gen !== generation) return;
+    ctx.clearRect(0, 0, W, H);
+    ctx.drawImage(ov.bmp, 0, 0, W, H, 0, 0, W, H);
+    $('overlay').dataset.kind = kind;
+    $('overlay').style.opacity = String(state.opacity);
+    const lg = $('legend');
+    if (ov.bmp.height > H) {
+      lg.width = W; lg.height = ov.bmp.height - H;
+      lg.getContext('2d').drawImage(ov.bmp, 0, H, W, lg.height, 0, 0, W, lg.height);
+      lg.style.width = $('image').style.width;
+      lg.style.height = (lg.height * parseInt($('image').style.width, 10) / W) + 'px';
+    } else {
+      lg.width = 0; lg.height = 0; lg.style.height = '0';
+    }
+    $('legend-text').textContent = ov.legend;
+  }
+
+  async function loadHeat(kind, gen) {
+    const params = optParams('a'), key = kind + '|' + keyOf(params);
+    if (overlays[key]) return overlays[key];
+    if (!(await waitRender(params, kind, 'heatmap of ' + kind, gen))) return null;
+    const p = Object.assign({ kind: kind }, params);
+    const [png, f32] = await Promise.all([
+      api('/api/image', Object.assign({ format: 'png' }, p), 'blob'),
+      api('/api/image', Object.assign({ format: 'f32' }, p), 'buf')]);
+    const max = parseFloat(png.headers.get('X-GGRT-Max'));
+    const unit = { rays: 'rays', depth: 'deepest ray', time: 'seconds' }[kind];
+    overlays[key] = {
+      bmp: await createImageBitmap(png.body), values: new Float32Array(f32.body), max: max,
+      legend: kind + ' per pixel (' + unit + '), 0 to ' + fmtG(max, 4), unit: unit,
+    };
+    status('heatmap of ' + kind + ' ready');
+    return overlays[key];
+  }
+
+  // Poll a job route until it answers 200; 202 bodies carry the job.
+  async function waitJob(path, params, label, gen) {
+    for (;;) {
+      const r = await api(path, params);
+      if (gen !== generation) return null;
+      if (r.status === 200) return r;
+      const j = r.body.job;
+      status(label + ': ' + j.state + ' ' + Math.round(100 * j.done / Math.max(1, j.total)) + '%',
+        j.done / Math.max(1, j.total));
+      await sleep(150);
+    }
+  }
+
+  // A w x h byte map as an RGBA canvas, colour[v] for value v.
+  function maskCanvas(bytes, colours) {
+    const c = document.createElement('canvas');
+    c.width = W; c.height = H;
+    const g = c.getContext('2d'), id = g.createImageData(W, H);
+    for (let i = 0; i < W * H; i++) {
+      const k = colours[bytes[i]];
+      if (!k) continue;
+      id.data[4 * i] = k[0]; id.data[4 * i + 1] = k[1]; id.data[4 * i + 2] = k[2]; id.data[4 * i + 3] = 255;
+    }
+    g.putImageData(id, 0, 0);
+    return c;
+  }
+
+  // The diff (ggDiff, as ggrt diff): map 1 = the value differs, 2 = the ray tree does.
+  async function loadDiff(gen) {
+    const params = diffParams(), key = 'diff|' + keyOf(params);
+    if (overlays[key]) return overlays[key];
+    const r = await waitJob('/api/diff', params, 'diff of A and B', gen);
+    if (!r) return null;
+    const sum = r.body;
+    const [map, f32] = await Promise.all([
+      api('/api/diff', Object.assign({ format: 'map' }, params), 'buf'),
+      api('/api/diff', Object.assign({ format: 'f32' }, params), 'buf')]);
+    const kinds = Object.entries(sum.first_divergence).filter(([, n]) => n > 0)
+      .map(([k, n]) => k + ' ' + n).join(', ');
+    const text = sum.value_differ + ' of ' + sum.scanned + ' pixels differ in value, ' + sum.tree_differ +
+      ' in their ray trees' + (kinds ? ' (first divergence: ' + kinds + ')' : '') +
+      '; largest difference ' + fmtG(sum.max_delta, 4);
+    $('diff-result').textContent = text;
+    const bytes = new Uint8Array(map.body);
+    overlays[key] = {
+      bmp: await createImageBitmap(maskCanvas(bytes, [null, [245, 158, 11], [192, 38, 211]])),
+      values: new Float32Array(f32.body), kinds: bytes,
+      legend: 'diff A/B: orange the value differs, magenta the ray tree differs. ' + text,
+      unit: '|A-B|', worst: sum.worst,
+    };
+    status('diff ready');
+    return overlays[key];
+  }
+
+  async function checkPredicate(text) {
+    const box = $('find-input');
+    if (!text) { box.classList.remove('bad'); $('find-result').textContent = ''; return false; }
+    const r = (await api('/api/parse', { where: text })).body.where;
+    box.classList.toggle('bad', !r.valid);
+    box.title = r.valid ? '' : r.error;
+    if (!r.valid) {
+      $('find-result').textContent = r.error;
+      if (r.column > 0) box.setSelectionRange(r.column - 1, Math.min(text.length, r.column));
+    } else if ($('find-result').textContent.match(/^\d+:\d+:/)) {
+      $('find-result').textContent = '';
+    }
+    return r.valid;
+  }
+
+  async function loadFind(gen) {
+    const params = Object.assign({ where: state.find }, optParams('a'));
+    const key = 'find|' + keyOf(params);
+    if (overlays[key]) return overlays[key];
+    let r;
+    try {
+      r = await waitJob('/api/find', params, 'find', gen);
+    } catch (e) {
+      $('find-input').classList.add('bad');
+      $('find-result').textContent = e.message;
+      $('overlay').dataset.kind = 'find-error';
+      return null;
+    }
+    if (!r) return null;
+    $('find-input').classList.remove('bad');
+    const f = r.body;
+    const mask = new Uint8Array((await api('/api/find', Object.assign({ format: 'mask' }, params), 'buf')).body);
+    const text = f.matched + ' pixel' + (f.matched === 1 ? '' : 's') + ' match';
+    $('find-result').textContent = text;
+    overlays[key] = {
+      bmp: await createImageBitmap(maskCanvas(mask, [null, [255, 45, 85]])), values: mask,
+      legend: 'find ' + state.find + ': ' + text, unit: 'match', count: f.matched, matches: f.matches,
+    };
+    status('find done: ' + text);
+    return overlays[key];
+  }
+
+  function currentOverlay() {
+    const k = state.overlay;
+    if (k === 'none') return null;
+    if (k === 'find') return overlays['find|' + keyOf(Object.assign({ where: state.find }, optParams('a')))];
+    if (k === 'diff') return overlays['diff|' + keyOf(diffParams())];
+    return overlays[k + '|' + keyOf(optParams('a'))];
+  }
+
+  // ---- hover ----
+
+  function pixelAt(ev) {
+    const r = $('image').getBoundingClientRect();
+    const x = Math.floor((ev.clientX - r.left) / r.width * W), y = Math.floor((ev.clientY - r.top) / r.height * H);
+    return x >= 0 && y >= 0 && x < W && y < H ? [x, y] : null;
+  }
+
+  function hover(ev) {
+    const p = pixelAt(ev), img = images.a;
+    if (!p || !img) return;
+    const i = 3 * (p[1] * W + p[0]);
+    let t = 'pixel ' + p[0] + ',' + p[1] + '  ' + [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]].map((v) => fmtG(v, 9)).join(' ');
+    const ov = currentOverlay();
+    if (ov) {
+      const v = ov.values[p[1] * W + p[0]];
+      t += '\n' + (state.overlay === 'find' ? (v ? 'matches ' : 'does not match ') + state.find
+        : ov.unit + ' ' + fmtG(v, 6));
+      if (ov.kinds) t += ['  same', '  the value differs', '  the ray tree differs'][ov.kinds[p[1] * W + p[0]]];
+    }
+    if (images.b && state.diff) {
+      t += '\nB ' + [images.b.rgb[i], images.b.rgb[i + 1], images.b.rgb[i + 2]].map((v) => fmtG(v, 9)).join(' ');
+    }
+    $('hover').textContent = t;
+  }
+
+  // ---- the selected pixel: trees, views ----
+
+  async function trace(side, extra) {
+    const p = Object.assign({ x: state.px[0], y: state.px[1] }, optParams(side), extra || {});
+    try {
+      return { json: (await api('/api/trace', p)).body, note: '' };
+    } catch (e) {
+      if (e.status !== 413) throw e;
+      p.sample = 0;
+      return { json: (await api('/api/trace', p)).body, note: 'the whole tree is too large: sample 0 only. ' };
+    }
+  }
+
+  async function loadPixel(gen) {
+    if (!state.px) return;
+    const key = state.px.join(',') + '|' + keyOf(optParams('a')) + '|' + (state.diff ? keyOf(optParams('b')) : '');
+    drawMarker();
+    if (traces.key !== key) {
+      $('pixel-title').textContent = 'pixel ' + state.px.join(',') + ': tracing';
+      const a = await trace('a');
+      const b = state.diff ? await trace('b') : null;
+      const cmp = state.diff ? (await api('/api/compare', Object.assign({ x: state.px[0], y: state.px[1] },
+        diffParams()))).body : null;
+      if (gen !== pixelGen) return;
+      traces = { key: key, a: a, b: b, cmp: cmp };
+    }
+    showPixel();
+    await showTab(gen);
+  }
+
+  function showPixel() {
+    const a = traces.a.json;
+    $('pixel-title').textContent = 'pixel ' + a.pixel.join(',');
+    $('pixel-swatch').style.background = srgb(a.color);
+    // The value is the rendered image's (what ggrt render writes and
+    // --pixel prints); the tree's header shows the trace's own colour.
+    const v = $('pixel-value'), img = images.a, i = 3 * (a.pixel[1] * W + a.pixel[0]);
+    const rgb = img ? [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]] : a.color;
+    v.textContent = rgb.map((c) => fmtG(c, 9)).join(' ');
+    v.dataset.rgb = v.textContent;
+    const s = a.stats;
+    v.title = 'linear RGB, as ggrt render --pixel prints it';
+    v.textContent += '   rays: eye ' + s.eye + ', reflect ' + s.reflect + ', refract ' + s.refract +
+      ', shadow ' + s.shadow + ', tir ' + s.tir;
+    fillTree($('tree-a'), traces.a, state.diff ? 'A' : '');
+    $('tree-b').hidden = !traces.b;
+    if (traces.b) fillTree($('tree-b'), traces.b, 'B');
+    const c = traces.cmp;
+    $('divergence').hidden = !c;
+    if (c) {
+      $('divergence').textContent = (c.differ ? 'first divergence: ' : '') + c.text;
+      for (const [box, id] of [['tree-a', c.first.node_a], ['tree-b', c.first.node_b]]) {
+        const n = id >= 0 && $(box).querySelector('details.node[data-id="' + id + '"]');
+        if (n) n.classList.add('diverge');
+      }
+    }
+    $('pixel-head').dataset.pixel = a.pixel.join(',');
+  }
+
+  function objName(i) {
+    const o = scene && scene.shapes[i];
+    if (!o) return 'object #' + i;
+    return o.kind + ' #' + i + (o.line > 0 ? ' (line ' + o.line + ')' : '');
+  }
+
+  function field(parent, label, text, extra) {
+    const d = el('div', 'f');
+    if (label) d.appendChild(el('b', '', label + ' '));
+    d.appendChild(document.createTextNode(text));
+    if (extra) for (const e of extra) d.appendChild(e);
+    parent.appendChild(d);
+    return d;
+  }
+
+  function nodeEl(n, open) {
+    const d = el('details', 'node kind-' + n.kind);
+    d.dataset.id = n.id;
+    d.open = open(n);
+    const s = el('summary');
+    s.appendChild(el('span', 'kind', n.kind + (n.channel ? ' [' + n.channel + ']' : '')));
+    s.appendChild(document.createTextNode(' #' + n.id + ' depth ' + n.depth +
+      (n.depth > 1 ? '  weight ' + col(n.weight) : '') + '  ' +
+      (n.hit ? '\u2192 ' + objName(n.hit.object) + ' at t ' + g6(n.hit.t) + (n.hit.front ? '' : ', back face')
+        : '\u2192 missed') + '  returns '));
+    s.appendChild(swatch(n.color));
+    s.appendChild(document.createTextNode(col(n.color)));
+    d.appendChild(s);
+    field(d, 'ray', 'o ' + vec(n.origin) + ' d ' + vec(n.direction) + ' in ' +
+      (n.medium < 0 ? 'outside' : 'material ' + n.medium) + ' (n ' + g6(n.n_medium) + ')');
+    const h = n.hit;
+    if (!h) {
+      field(d, 'missed', 'background');
+    } else {
+      const m = scene && scene.materials[h.material];
+      field(d, 'hit', objName(h.object) + ' ' + h.shape + ' at t ' + g6(h.t) + ', ' + (h.front ? 'front' : 'back') + ' face');
+      field(d, 'p', vec(h.point) + '  uv (' + h.uv.map(g4).join(', ') + ')');
+      field(d, 'ng', vec(h.ng) + '  ns ' + vec(h.ns));
+      field(d, 'material', h.material + (m ? ': kd ' + g6(m.kd) + ' ks ' + g6(m.ks) + ' kt ' + g6(m.kt) + ' ior ' + g6(m.ior) : '') +
+        ', surface colour ' + col(h.surface), [swatch(h.surface)]);
+      const em = h.emission.some((v) => v !== 0);
+      field(d, 'ambient', col(h.ambient) + (em ? '  emission ' + col(h.emission) : ''));
+      for (const L of h.lights) {
+        let t = ' ' + L.verdict;
+        if ((L.verdict === 'blocked' || L.verdict === 'attenuated') && L.occluder !== null) {
+          t += ' by ' + objName(L.occluder) + ' at t ' + g4(L.t_block);
+        }
+        if (L.verdict === 'attenuated') t += ', transmittance ' + col(L.transmittance);
+        if (L.verdict === 'visible' || L.verdict === 'attenuated') {
+          t += '  diffuse ' + col(L.diffuse);
+          if (L.phong.some((v) => v !== 0)) t += ' phong ' + col(L.phong);
+        }
+        const f = field(d, 'light ' + L.light + ':', '');
+        f.appendChild(el('span', 'v-' + L.verdict, t));
+      }
+      if (h.fresnel !== null) {
+        field(d, 'fresnel', 'R ' + g6(h.fresnel) + ', T ' + g6(1 - h.fresnel) + ' (n ' + g6(n.n_medium) + ' \u2192 ' + g6(h.n_other) + ')');
+      }
+    }
+    if (n.stop !== 'none' && n.stop !== 'miss') {
+      field(d, '', '', [el('span', 'stop', 'stops: ' + (n.stop === 'depth' ? 'depth limit reached'
+        : n.stop === 'matte' ? 'no ks or kt: no secondary rays' : n.stop))]);
+    }
+    if (n.absorption.some((v) => v !== 1)) field(d, 'absorption', 'over the segment ' + col(n.absorption));
+    field(d, 'returns', col(n.color), [swatch(n.color)]);
+    for (const k of n.children) d.appendChild(nodeEl(k, open));
+    return d;
+  }
+
+  function countNodes(n) { return 1 + n.children.reduce((a, k) => a + countNodes(k), 0); }
+
+  function fillTree(box, t, label) {
+    const j = t.json;
+    box.textContent = '';
+    const total = j.roots.reduce((a, r) => a + countNodes(r), 0);
+    const open = total <= 80 ? () => true : (n) => n.depth <= 2;
+    const h = el('h3', '', (label ? label + ': ' : '') + total + ' rays, colour ' + j.color.map((c) => fmtG(c, 9)).join(' '));
+    box.appendChild(h);
+    if (t.note) box.appendChild(el('div', 'stop', t.note));
+    for (const r of j.roots) {
+      if (j.roots.length > 1) box.appendChild(el('div', 'f', 'sample ' + r.sample));
+      box.appendChild(nodeEl(r, open));
+    }
+  }
+
+  function setTab(tab) {
+    state.tab = tab;
+    for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === tab);
+    for (const t of TABS) $('tab-' + t).hidden = t !== tab;
+    writeHash();
+    showTab(pixelGen).catch(fail);
+  }
+
+  let svgUrl = null;
+  async function showTab(gen) {
+    if (!state.px || !traces.a) return;
+    const p = Object.assign({ x: state.px[0], y: state.px[1] }, optParams('a'));
+    if (traces.a.json.sample !== null) p.sample = traces.a.json.sample;
+    if (state.tab === 'rays3d') draw3d();
+    if (state.tab === 'ledger') showLedger();
+    if (state.tab === 'diag' && traces.diagKey !== traces.key) {
+      const r = await api('/api/check', Object.assign({ x: state.px[0], y: state.px[1] }, optParams('a')));
+      if (gen !== pixelGen) return;
+      showDiagnostics(r.body);
+      traces.diagKey = traces.key;
+    }
+    if (state.tab === 'views' && traces.svgKey !== traces.key) {
+      const r = await api('/api/trace', Object.assign({ format: 'svg' }, p), 'blob');
+      if (gen !== pixelGen) return;
+      if (svgUrl) URL.revokeObjectURL(svgUrl);
+      svgUrl = URL.createObjectURL(r.body);
+      $('svg-view').src = svgUrl;
+      traces.svgKey = traces.key;
+    }
+    if (state.tab === 'text' && traces.textKey !== traces.key) {
+      const r = await api('/api/trace', Object.assign({ format: 'text' }, p), 'text');
+      if (gen !== pixelGen) return;
+      $('trace-text').textContent = r.body;
+      traces.textKey = traces.key;
+    }
+  }
+
+  // The ledger: the pixel's colour term by term (ggLedgerCreate, as ggrt trace --ledger).
+  function showLedger() {
+    const box = $('ledger'), L = traces.a && traces.a.json.ledger;
+    box.textContent = '';
+    if (!L) {
+      box.appendChild(el('p', 'stop', 'The ledger covers the whole pixel: it needs every sample traced.'));
+      return;
+    }
+    const t = el('table', 'kv'), head = el('tr');
+    for (const h of ['share', 'term', 'light', 'carried by', 'value']) head.appendChild(el('th', '', h));
+    t.appendChild(head);
+    for (const term of L.terms) {
+      const tr = el('tr');
+      tr.appendChild(el('td', '', (100 * term.share).toFixed(2) + '%'));
+      tr.appendChild(el('td', '', term.kind + (term.object >= 0 ? ' at ' + objName(term.object) : '')));
+      tr.appendChild(el('td', '', term.light >= 0 ? String(term.light) : ''));
+      tr.appendChild(el('td', '', '#' + term.node + ' ' + term.path));
+      const v = el('td');
+      v.appendChild(swatch(term.value));
+      v.appendChild(document.createTextNode(col(term.value)));
+      tr.appendChild(v);
+      t.appendChild(tr);
+    }
+    box.appendChild(t);
+    const sum = el('p', 'f');
+    sum.textContent = L.terms.length + ' terms; sum ' + L.sum.map((c) => fmtG(c, 9)).join(' ') + ', pixel ' +
+      L.pixel.map((c) => fmtG(c, 9)).join(' ') + ', rounding bound ' + L.bound.map((c) => fmtG(c, 3)).join(' ') +
+      (L.holds ? ': they add up to the pixel' : ': they do NOT add up to the pixel');
+    sum.dataset.holds = L.holds ? '1' : '0';
+    box.appendChild(sum);
+  }
+
+  // The invariants at this pixel (ggCheck of the pixel, as ggrt check --crop).
+  function showDiagnostics(c) {
+    const box = $('diag');
+    box.textContent = '';
+    const t = el('table', 'kv'), head = el('tr');
+    for (const h of ['invariant', 'severity', 'rays', 'worst', 'where']) head.appendChild(el('th', '', h));
+    t.appendChild(head);
+    let bad = 0;
+    for (const it of c.invariants) {
+      const tr = el('tr', it.pixels ? 'sev-' + it.severity : 'ok');
+      const w = it.worst_pixels[0];
+      tr.appendChild(el('td', '', it.name));
+      tr.appendChild(el('td', '', it.severity));
+      tr.appendChild(el('td', '', it.pixels ? String(it.rays) : 'holds'));
+      tr.appendChild(el('td', '', it.pixels ? fmtG(it.worst, 4) : ''));
+      tr.appendChild(el('td', '', w ? (w.node >= 0 ? 'ray #' + w.node : 'the pixel') +
+        (w.object >= 0 ? ', ' + objName(w.object) : '') + (w.line > 0 ? ', line ' + w.line : '') : ''));
+      if (it.pixels) bad++;
+      t.appendChild(tr);
+    }
+    box.appendChild(el('p', 'f', bad ? bad + ' invariant' + (bad === 1 ? '' : 's') + ' fail here' :
+      'every invariant holds at this pixel'));
+    box.appendChild(t);
+    box.appendChild(el('p', 'hint', 'radiance bound of the scene: ' + fmtG(c.radiance_bound, 4) +
+      '. The whole image: /api/check (ggrt check).'));
+  }
+
+  // ---- the rays in 3D: an orbit camera over a wireframe of the scene ----
+
+  const v3 = {
+    sub: (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+    add: (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
+    mul: (a, s) => [a[0] * s, a[1] * s, a[2] * s],
+    dot: (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2],
+    cross: (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]],
+    norm: (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return [a[0] / l, a[1] / l, a[2] / l]; },
+  };
+  const orbit = { yaw: 0, pitch: 0, dist: 10, target: [0, 0, 0], up: [0, 0, 1], e1: [1, 0, 0], e2: [0, 1, 0], set: false };
+
+  function orbitBasis() {
+    const up = v3.norm(info.camera.up);
+    let e1 = Math.abs(up[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
+    e1 = v3.norm(v3.sub(e1, v3.mul(up, v3.dot(e1, up))));
+    orbit.up = up; orbit.e1 = e1; orbit.e2 = v3.cross(up, e1);
+  }
+
+  function orbitFrom(eye) {
+    const d = v3.sub(eye, orbit.target), r = Math.hypot(d[0], d[1], d[2]) || 1;
+    orbit.dist = r;
+    orbit.pitch = Math.asin(Math.max(-1, Math.min(1, v3.dot(d, orbit.up) / r)));
+    orbit.yaw = Math.atan2(v3.dot(d, orbit.e2), v3.dot(d, orbit.e1));
+  }
+
+  function orbitEye() {
+    const c = Math.cos(orbit.pitch);
+    const d = v3.add(v3.add(v3.mul(orbit.e1, c * Math.cos(orbit.yaw)), v3.mul(orbit.e2, c * Math.sin(orbit.yaw))),
+      v3.mul(orbit.up, Math.sin(orbit.pitch)));
+    return v3.add(orbit.target, v3.mul(d, orbit.dist));
+  }
+
+  function preset(which) {
+    orbitBasis();
+    const lo = info.bounds.lo, hi = info.bounds.hi;
+    const diag = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
+    if (which === 'camera') {
+      orbit.target = info.camera.at.slice();
+      orbitFrom(info.camera.from);
+    } else {
+      orbit.target = v3.mul(v3.add(lo, hi), 0.5);
+      const fwd = v3.sub(info.camera.at, info.camera.from);
+      orbitFrom(v3.add(orbit.target, v3.mul(v3.norm(fwd), -diag)));
+      if (which === 'top') orbit.pitch = Math.PI / 2 - 1e-3;
+      else { orbit.pitch = 0; orbit.yaw += Math.PI / 2; }
+      orbit.dist = diag * 1.2;
+    }
+    orbit.set = true;
+    draw3d();
+  }
+
+  function draw3d() {
+    const c = $('view3d'), g = c.getContext('2d');
+    if (!info) return;
+    if (!orbit.set) preset('camera');
+    const Wc = c.width, Hc = c.height, eye = orbitEye();
+    const f = v3.norm(v3.sub(orbit.target, eye));
+    let r = v3.cross(f, orbit.up);
+    if (Math.hypot(r[0], r[1], r[2]) < 1e-9) r = orbit.e1;
+    r = v3.norm(r);
+    const u = v3.cross(r, f), focal = (Hc / 2) / Math.tan((info.camera.fov || 40) * Math.PI / 360), near = 1e-3;
+    const cam = (p) => { const d = v3.sub(p, eye); return [v3.dot(d, r), v3.dot(d, u), v3.dot(d, f)]; };
+    const scr = (q) => [Wc / 2 + q[0] / q[2] * focal, Hc / 2 - q[1] / q[2] * focal];
+    // A segment clipped to the near plane, in screen coordinates.
+    function seg(a, b) {
+      let p = cam(a), q = cam(b);
+      if (p[2] < near && q[2] < near) return null;
+      if (p[2] < near) { const t = (near - p[2]) / (q[2] - p[2]); p = v3.add(p, v3.mul(v3.sub(q, p), t)); }
+      if (q[2] < near) { const t = (near - q[2]) / (p[2] - q[2]); q = v3.add(q, v3.mul(v3.sub(p, q), t)); }
+      return [scr(p), scr(q)];
+    }
+    function line(a, b) {
+      const s = seg(a, b);
+      if (!s) return;
+      g.moveTo(s[0][0], s[0][1]);
+      g.lineTo(s[1][0], s[1][1]);
+    }
+    function poly(pts, closed) {
+      for (let i = 0; i + 1 < pts.length; i++) line(pts[i], pts[i + 1]);
+      if (closed && pts.length > 2) line(pts[pts.length - 1], pts[0]);
+    }
+    function ring(center, a, b, rad, n) {
+      const pts = [];
+      for (let i = 0; i < n; i++) {
+        const t = 2 * Math.PI * i / n;
+        pts.push(v3.add(center, v3.add(v3.mul(a, rad * Math.cos(t)), v3.mul(b, rad * Math.sin(t)))));
+      }
+      poly(pts, true);
+    }
+    g.clearRect(0, 0, Wc, Hc);
+    g.lineWidth = 0.7;
+    g.strokeStyle = '#a9b0b0';
+    g.beginPath();
+    const shapes = scene ? scene.shapes.slice(0, 5000) : [];
+    for (const s of shapes) {
+      if (!s) continue;
+      if (s.kind === 'sphere') {
+        ring(s.center, [1, 0, 0], [0, 1, 0], s.radius, 40);
+        ring(s.center, [0, 1, 0], [0, 0, 1], s.radius, 40);
+        ring(s.center, [1, 0, 0], [0, 0, 1], s.radius, 40);
+      } else if (s.kind === 'rect') {
+        const a = s.corner, b = v3.add(a, s.e1), d = v3.add(a, s.e2), e = v3.add(b, s.e2);
+        poly([a, b, e, d], true);
+      } else if (s.kind === 'cone') {
+        const ax = v3.norm(v3.sub(s.apex, s.base));
+        let p = v3.norm(v3.cross(ax, Math.abs(ax[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0]));
+        const q = v3.cross(ax, p);
+        ring(s.base, p, q, s.radius, 24);
+        ring(s.apex, p, q, s.radius2, 24);
+        for (const k of [0, 1, 2, 3]) {
+          const dir = k < 2 ? v3.mul(p, k ? 1 : -1) : v3.mul(q, k === 3 ? 1 : -1);
+          line(v3.add(s.base, v3.mul(dir, s.radius)), v3.add(s.apex, v3.mul(dir, s.radius2)));
+        }
+      } else if (s.kind === 'implicit' || s.kind === 'mesh') {
+        const lo = s.lo, hi = s.hi, P = (i) => [i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]];
+        for (const [i, j] of [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]]) line(P(i), P(j));
+      } else if (s.verts) {
+        poly(s.verts, true);
+      }
+    }
+    g.stroke();
+    if (!traces.a) return;
+    const lo = info.bounds.lo, hi = info.bounds.hi;
+    const reach = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
+    const walk = (n, fn) => { fn(n); for (const k of n.children) walk(k, fn); };
+    const sets = traces.b ? [[traces.a.json, []], [traces.b.json, [5, 4]]] : [[traces.a.json, []]];
+    for (const [j, dash] of sets) {
+      for (const root of j.roots) {
+        walk(root, (n) => {
+          const end = n.hit ? n.hit.point : v3.add(n.origin, v3.mul(n.direction, reach));
+          g.beginPath();
+          g.setLineDash(dash);
+          g.strokeStyle = KIND_COLOR[n.kind];
+          g.globalAlpha = n.hit ? 1 : 0.5;
+          g.lineWidth = 1.8;
+          line(n.origin, end);
+          g.stroke();
+          g.globalAlpha = 1;
+          if (!n.hit) return;
+          const q = cam(end);
+          if (q[2] > near) {
+            const s = scr(q);
+            g.fillStyle = KIND_COLOR[n.kind];
+            g.beginPath();
+            g.arc(s[0], s[1], 2.8, 0, 2 * Math.PI);
+            g.fill();
+          }
+          for (const L of n.hit.lights) {
+            if (L.verdict === 'facing-away') continue;
+            const t = L.verdict === 'blocked' ? L.t_block : 1;
+            g.beginPath();
+            g.setLineDash([5, 3]);
+            g.strokeStyle = L.verdict === 'blocked' ? '#dc2626' : '#f59e0b';
+            g.lineWidth = 1.1;
+            line(L.origin, v3.add(L.origin, v3.mul(L.direction, t)));
+            g.stroke();
+          }
+        });
+      }
+    }
+    g.setLineDash([]);
+  }
+
+  function setup3d() {
+    const c = $('view3d');
+    let drag = null;
+    c.addEventListener('pointerdown', (e) => { drag = [e.clientX, e.clientY]; c.setPointerCapture(e.pointerId); });
+    c.addEventListener('pointerup', () => { drag = null; });
+    c.addEventListener('pointermove', (e) => {
+      if (!drag) return;
+      orbit.yaw -= (e.clientX - drag[0]) * 0.01;
+      orbit.pitch = Math.max(-1.55, Math.min(1.55, orbit.pitch + (e.clientY - drag[1]) * 0.01));
+      drag = [e.clientX, e.clientY];
+      draw3d();
+    });
+    c.addEventListener('wheel', (e) => {
+      e.preventDefault();
+      orbit.dist *= Math.exp(e.deltaY * 0.001);
+      draw3d();
+    }, { passive: false });
+    for (const b of $('tab-rays3d').querySelectorAll('[data-view]')) b.addEventListener('click', () => preset(b.dataset.view));
+  }
+
+  // ---- putting it together ----
+
+  function fail(e) {
+    showError(e && e.message ? e.message : String(e));
+    status('error');
+  }
+
+  // Bring everything on screen up to date with state.
+  async function refresh() {
+    const gen = ++generation;
+    showError('');
+    writeHash();
+    $('overlay-select').value = state.overlay;
+    $('opacity').value = String(state.opacity);
+    $('diff-on').checked = state.diff;
+    $('find-input').value = state.find;
+    fillPanel('a');
+    fillPanel('b');
+    try {
+      const img = await loadImage('a', gen);
+      if (!img || gen !== generation) return;
+      drawImage();
+      if (state.diff) await loadImage('b', gen);
+      await loadOverlay(gen);
+      const pg = ++pixelGen;
+      await loadPixel(pg);
+    } catch (e) {
+      if (gen === generation) fail(e);
+    }
+  }
+
+  function select(x, y) {
+    state.px = [Math.max(0, Math.min(W - 1, x)), Math.max(0, Math.min(H - 1, y))];
+    writeHash();
+    drawMarker();
+    const gen = ++pixelGen;
+    loadPixel(gen).catch((e) => { if (gen === pixelGen) fail(e); });
+  }
+
+  function keys(e) {
+    const t = e.target.tagName;
+    if (t === 'INPUT' || t === 'SELECT' || t === 'TEXTAREA' || e.ctrlKey || e.metaKey || e.altKey) return;
+    const step = e.shiftKey ? 10 : 1, p = state.px || [Math.floor(W / 2), Math.floor(H / 2)];
+    const moves = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, -step], ArrowDown: [0, step] };
+    if (moves[e.key]) {
+      e.preventDefault();
+      select(p[0] + moves[e.key][0], p[1] + moves[e.key][1]);
+    } else if (e.key === 'o') {
+      state.overlay = OVERLAYS[(OVERLAYS.indexOf(state.overlay) + 1) % OVERLAYS.length];
+      refresh();
+    } else if (e.key === '+' || e.key === '=' || e.key === '-') {
+      const z = parseInt($('zoom').value, 10);
+      state.zoom = Math.max(1, Math.min(8, z + (e.key === '-' ? -1 : 1)));
+      drawImage();
+      writeHash();
+    } else if (e.key >= '1' && e.key <= '6') {
+      const b = $('tabs').querySelectorAll('button')[parseInt(e.key, 10) - 1];
+      if (b && !b.hidden) setTab(b.dataset.tab);
+    } else if (e.key === 'e' || e.key === 'c') {
+      for (const d of document.querySelectorAll('.tree details')) d.open = e.key === 'e';
+    } else if (e.key === 'f') {
+      e.preventDefault();
+      $('find-input').focus();
+    } else if (e.key === '?') {
+      $('help').showModal();
+    }
+  }
+
+  function wire() {
+    $('image').addEventListener('mousemove', hover);
+    $('image').addEventListener('click', (e) => {
+      const p = pixelAt(e);
+      if (p) select(p[0], p[1]);
+      $('image').focus();
+    });
+    document.addEventListener('keydown', keys);
+    $('overlay-select').addEventListener('change', (e) => {
+      state.overlay = e.target.value;
+      if (state.overlay === 'diff' && !state.diff) { state.diff = true; $('diff-panel').open = true; }
+      if (state.overlay === 'find' && !state.find) $('find-input').focus();
+      refresh();
+    });
+    $('opacity').addEventListener('input', (e) => {
+      state.opacity = parseFloat(e.target.value);
+      $('overlay').style.opacity = String(state.opacity);
+      writeHash();
+    });
+    $('zoom').addEventListener('change', (e) => { state.zoom = parseInt(e.target.value, 10); drawImage(); writeHash(); });
+    // The predicate is checked as it is typed (/api/parse answers 200
+    // either way), and only a valid one is searched for.
+    let typing = null;
+    $('find-input').addEventListener('input', () => {
+      clearTimeout(typing);
+      typing = setTimeout(() => checkPredicate($('find-input').value.trim()).catch(fail), 250);
+    });
+    $('find-form').addEventListener('submit', async (e) => {
+      e.preventDefault();
+      const text = $('find-input').value.trim();
+      try {
+        if (!(await checkPredicate(text))) return;
+      } catch (err) {
+        fail(err);
+        return;
+      }
+      state.find = text;
+      state.overlay = 'find';
+      refresh();
+    });
+    $('render-a').addEventListener('click', () => { state.a = readPanel('a'); refresh(); });
+    $('reset-a').addEventListener('click', () => { state.a = ''; refresh(); });
+    $('render-b').addEventListener('click', () => {
+      state.b = readPanel('b');
+      state.diff = true;
+      state.overlay = 'diff';
+      refresh();
+    });
+    $('diff-on').addEventListener('change', (e) => {
+      state.diff = e.target.checked;
+      if (state.diff) state.b = readPanel('b');
+      if (!state.diff && state.overlay === 'diff') state.overlay = 'none';
+      refresh();
+    });
+    for (const b of $('tabs').querySelectorAll('button')) b.addEventListener('click', () => setTab(b.dataset.tab));
+    $('help-button').addEventListener('click', () => $('help').showModal());
+    $('help-close').addEventListener('click', () => $('help').close());
+    window.addEventListener('hashchange', () => { readHash(); refresh(); });
+    window.addEventListener('resize', () => { if (!state.zoom) drawImage(); });
+    setup3d();
+  }
+
+  async function start() {
+    try {
+      info = (await api('/api/info')).body;
+      scene = (await api('/api/scene')).body;
+    } catch (e) {
+      fail(e);
+      return;
+    }
+    W = info.width; H = info.height;
+    document.title = 'ggrt serve: ' + info.scene;
+    $('scene-name').textContent = info.scene + ', ' + W + 'x' + H + ', ' + info.objects + ' objects';
+    serverOpts = parseText(info.options);
+    buildPanel('a');
+    buildPanel('b');
+    readHash();
+    wire();
+    for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === state.tab);
+    for (const t of TABS) $('tab-' + t).hidden = t !== state.tab;
+    if (state.diff) $('diff-panel').open = true;
+    await refresh();
+  }
+
+  start();
+})();

@@ -1,0 +1,561 @@
+# SPDX-License-Identifier: MIT
+"""HTTP test of `ggrt serve` (docs/serve.md): starts the server on a free
+port and checks every route, the token and Host checks, the limits, the
+errors (always JSON with the HTTP status), /api/trace against
+`ggrt trace --format json`, concurrent requests, and that shutdown leaves
+nothing behind. Standard library only (http.client).
+    python3 tests/http_test.py build/ggrt
+Prints one line per check and ends with "http: N passed, M failed"."""
+import http.client
+import json
+import os
+import re
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import urllib.parse
+import xml.dom.minidom
+import zlib
+
+GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SCENE = os.path.join(ROOT, "examples", "scenes", "glass.nff")
+SIZE = (160, 120)
+passed = failed = 0
+
+
+def ok(name):
+    global passed
+    passed += 1
+    print("ok   " + name)
+
+
+def bad(name, detail=""):
+    global failed
+    failed += 1
+    print("FAIL " + name)
+    if detail:
+        for line in str(detail).splitlines()[:30]:
+            print("     " + line)
+
+
+def check(cond, name, detail=""):
+    (ok if cond else lambda n: bad(n, detail))(name)
+    return cond
+
+
+class Server:
+    def __init__(self, args, cwd, env=None, wrap=()):
+        self.proc = subprocess.Popen(list(wrap) + [GGRT, "serve"] + args, cwd=cwd, env=env,
+                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.url = self.proc.stdout.readline().strip()
+        m = re.match(r"^http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})$", self.url)
+        if not m:
+            err = self.proc.stderr.read() if self.proc.poll() is not None else ""
+            raise RuntimeError("no URL printed: %r %s" % (self.url, err))
+        self.port, self.token = int(m.group(1)), m.group(2)
+
+    def conn(self):
+        return http.client.HTTPConnection("127.0.0.1", self.port, timeout=120)
+
+    def get(self, path, token=True, headers=None, conn=None):
+        """GET path (the token as query parameter unless token is False or a
+        string to use instead); returns (status, headers, body bytes)."""
+        if token is not False:
+            path += ("&" if "?" in path else "?") + "token=" + (self.token if token is True else token)
+        c = conn or self.conn()
+        c.request("GET", path, headers=headers or {})
+        r = c.getresponse()
+        body = r.read()
+        if not conn:
+            c.close()
+        return r.status, {k.lower(): v for k, v in r.getheaders()}, body
+
+    def json(self, path, **kw):
+        st, h, b = self.get(path, **kw)
+        return st, json.loads(b.decode())
+
+    def wait(self, path):
+        """Poll a render route until it answers 200."""
+        for _ in range(6000):
+            st, h, b = self.get(path)
+            if st != 202:
+                return st, h, b
+            time.sleep(0.05)
+        raise RuntimeError("render never finished: " + path)
+
+    def stop(self, sig=signal.SIGINT, timeout=60):
+        self.proc.send_signal(sig)
+        try:
+            rc = self.proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            rc = "hung"
+        return rc, self.proc.stderr.read()
+
+
+def json_error(st, h, b, want, name):
+    """A refusal: status want, a JSON body {"status": want, "error": text}."""
+    try:
+        j = json.loads(b.decode())
+        good = (st == want and h.get("content-type") == "application/json" and j.get("status") == want
+                and isinstance(j.get("error"), str) and j["error"])
+    except ValueError:
+        good, j = False, b[:200]
+    return check(good, name, "got %s %r" % (st, j))
+
+
+def png_pixels(data):
+    """Decode an 8-bit RGB PNG (any filter) to (w, h, bytes)."""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    i, idat, w, h = 8, b"", 0, 0
+    while i < len(data):
+        n, = struct.unpack(">I", data[i:i + 4])
+        t, c = data[i + 4:i + 8], data[i + 8:i + 8 + n]
+        if zlib.crc32(data[i + 4:i + 8 + n]) != struct.unpack(">I", data[i + 8 + n:i + 12 + n])[0]:
+            raise ValueError("bad CRC in " + t.decode())
+        if t == b"IHDR":
+            w, h, depth, ctype = struct.unpack(">IIBB", c[:10])
+            assert depth == 8 and ctype == 2, "not 8-bit RGB"
+        elif t == b"IDAT":
+            idat += c
+        i += 12 + n
+    raw, stride, out, prev = zlib.decompress(idat), w * 3, bytearray(), bytearray(w * 3)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for x in range(stride):
+            a = line[x - 3] if x >= 3 else 0
+            b, c = prev[x], (prev[x - 3] if x >= 3 else 0)
+            if f == 1:
+                line[x] = (line[x] + a) & 255
+            elif f == 2:
+                line[x] = (line[x] + b) & 255
+            elif f == 3:
+                line[x] = (line[x] + (a + b) // 2) & 255
+            elif f == 4:
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        out += line
+        prev = line
+    return w, h, bytes(out)
+
+
+def cli(*args, ok=(0,)):
+    """ggrt's standard output; exit codes other than ok raise."""
+    r = subprocess.run([GGRT] + list(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    if r.returncode not in ok:
+        raise RuntimeError("ggrt %s: %s" % (" ".join(args), r.stderr.decode()))
+    return r.stdout
+
+
+def size_args():
+    return ["-s", "%dx%d" % SIZE]
+
+
+# ---- the checks ----
+
+def check_pages(s):
+    st, h, b = s.get("/")
+    check(st == 200 and h["content-type"].startswith("text/html") and
+          ("app.js?token=" + s.token).encode() in b and b"@TOKEN@" not in b,
+          "/ serves the page with the token in its links")
+    check("default-src 'none'" in h.get("content-security-policy", "") and
+          h.get("x-content-type-options") == "nosniff" and h.get("cache-control") == "no-store" and
+          h.get("referrer-policy") == "no-referrer", "security headers (CSP, nosniff, no-store, no-referrer)")
+    for path, typ, needle in (("/app.js", "text/javascript", b"'use strict'"),
+                              ("/app.css", "text/css", b"box-sizing")):
+        st, h, b = s.get(path)
+        check(st == 200 and h["content-type"].startswith(typ) and needle in b, path)
+    st, h, b = s.get("/favicon.ico")
+    json_error(st, h, b, 404, "an unknown page is 404 JSON")
+    st, h, b = s.get("/", headers={"Authorization": "Bearer " + s.token}, token=False)
+    check(st == 200, "Authorization: Bearer works as well as ?token=")
+
+
+def check_info(s):
+    st, j = s.json("/api/info")
+    check(st == 200 and j["width"] == SIZE[0] and j["height"] == SIZE[1] and j["scene"] == SCENE and
+          any(e["name"] == "refraction" for e in j["effects"]) and j["limits"]["max_depth"] == 16 and
+          j["options"] == "size=%dx%d" % SIZE, "/api/info: size, scene, effects, options, limits", j)
+    st, j = s.json("/api/scene")
+    check(st == 200 and len(j["shapes"]) == 3 and j["shapes"][1]["kind"] == "sphere" and
+          len(j["materials"]) == 3, "/api/scene: shapes and materials", j)
+
+
+def check_render(s):
+    st, h, b = s.wait("/api/render")
+    j = json.loads(b)
+    check(st == 200 and j["job"]["state"] == "done" and j["job"]["total"] == SIZE[0] * SIZE[1],
+          "/api/render reaches done", j)
+    st, h, png = s.wait("/api/image")
+    with tempfile.TemporaryDirectory() as d:
+        cli("render", SCENE, *size_args(), "-q", "-o", os.path.join(d, "r.png"))
+        with open(os.path.join(d, "r.png"), "rb") as f:
+            ref = png_pixels(f.read())
+    got = png_pixels(png)
+    check(st == 200 and h["content-type"] == "image/png" and got == ref,
+          "/api/image PNG has the pixels of ggrt render -o x.png")
+    st, h, f32 = s.wait("/api/image?format=f32")
+    check(st == 200 and len(f32) == SIZE[0] * SIZE[1] * 12 and h.get("x-ggrt-size") == "%dx%d" % SIZE,
+          "/api/image?format=f32: 3 little-endian floats a pixel")
+    return struct.unpack("<%df" % (SIZE[0] * SIZE[1] * 3), f32), j["job"]["stats"]
+
+
+def check_trace(s, rgb):
+    pixels = [(44, 40), (0, 0), (80, 60), (159, 119), (70, 20), (100, 90)]
+    for x, y in pixels:
+        ref = cli("trace", SCENE, "--pixel", "%d,%d" % (x, y), "--format", "json", *size_args())
+        st, h, b = s.get("/api/trace?x=%d&y=%d" % (x, y))
+        check(st == 200 and b == ref, "/api/trace %d,%d equals ggrt trace --format json" % (x, y),
+              "status %d, %d vs %d bytes" % (st, len(b), len(ref)))
+        c = json.loads(b)["color"]
+        i = 3 * (y * SIZE[0] + x)
+        check(tuple(struct.unpack("<3f", struct.pack("<3f", *c))) == rgb[i:i + 3],
+              "/api/trace %d,%d colour equals the image's pixel" % (x, y))
+    for q, args in (("opts=depth%3D3", ["-d", "3"]), ("opts=samples%3D4&sample=2", ["-n", "4", "--sample", "2"]),
+                    ("opts=samples%3D4", ["-n", "4"]), ("opts=spd", ["--spd"]),
+                    ("opts=force-effects", ["--force-effects"]),
+                    ("opts=refract%3Dtextbook+fresnel%3Dschlick", ["-a", "refract=textbook,fresnel=schlick"]),
+                    ("opts=depth%3D2,sphere%3Dtextbook,cutoff%3D0.01", ["-d", "2", "-a", "sphere=textbook,cutoff=0.01"])):
+        ref = cli("trace", SCENE, "--pixel", "44,40", "--format", "json", *size_args(), *args)
+        st, h, b = s.get("/api/trace?x=44&y=40&" + q)
+        check(st == 200 and b == ref, "/api/trace ?%s equals ggrt trace %s" % (q, " ".join(args)))
+    ref = cli("trace", SCENE, "--pixel", "44,40", "--ascii", *size_args())
+    st, h, b = s.get("/api/trace?x=44&y=40&format=text")
+    check(st == 200 and b.replace("\u2502".encode(), b"|") and b"tir #" in b and
+          b.decode().split("\n")[:3] == ref.decode().split("\n")[:3],
+          "/api/trace?format=text: the text tree")
+    st, h, b = s.get("/api/trace?x=44&y=40&format=svg")
+    try:
+        xml.dom.minidom.parseString(b)
+        good = st == 200 and h["content-type"] == "image/svg+xml" and b"top view" in b
+    except Exception as e:  # noqa: BLE001 -- any parse failure fails the check
+        good = False
+    check(good, "/api/trace?format=svg parses as XML with the top view")
+    st, j = s.json("/api/trace?x=44&y=40")
+    led = j.get("ledger", {})
+    check(st == 200 and led.get("holds") is True and led.get("terms"), "/api/trace carries the ledger, which holds")
+
+
+def check_heatmaps(s, stats):
+    st, h, b = s.wait("/api/image?kind=rays&format=f32")
+    rays = struct.unpack("<%df" % (SIZE[0] * SIZE[1]), b)
+    total = stats["eye"] + stats["reflect"] + stats["refract"] + stats["shadow"]
+    check(st == 200 and abs(sum(rays) - total) < 0.5, "rays heatmap sums to the render's rays",
+          "%s vs %s" % (sum(rays), total))
+    st, j = s.json("/api/trace?x=44&y=40")
+    want = sum(j["stats"][k] for k in ("eye", "reflect", "refract", "shadow"))
+    check(rays[40 * SIZE[0] + 44] == want, "rays heatmap at 44,40 equals the pixel's traced rays",
+          "%s vs %s" % (rays[40 * SIZE[0] + 44], want))
+    for kind in ("rays", "depth", "time"):
+        st, h, b = s.wait("/api/image?kind=%s" % kind)
+        w, hh, px = png_pixels(b)
+        check(st == 200 and w == SIZE[0] and hh > SIZE[1] and float(h.get("x-ggrt-max", "-1")) > 0,
+              "/api/image?kind=%s: the heatmap with its legend" % kind)
+    st, h, b = s.wait("/api/image?kind=depth&format=f32")
+    depth = struct.unpack("<%df" % (SIZE[0] * SIZE[1]), b)
+    check(st == 200 and max(depth) == 5 and min(depth) >= 1, "depth heatmap: 1 to the limit 5",
+          "%s..%s" % (min(depth), max(depth)))
+
+
+def check_debug(s):
+    """find, check, diff and compare against the command line's JSON."""
+    where = "some(kind == tir)"
+    q = "where=" + urllib.parse.quote(where)
+    st, h, b = s.wait("/api/find?" + q)
+    ref = cli("find", SCENE, *size_args(), "--where", where, "--format", "json", "-q")
+    check(st == 200 and b == ref, "/api/find equals ggrt find --format json", "%d: %s" % (st, b[:300]))
+    j = json.loads(b)
+    st, h, mask = s.wait("/api/find?%s&format=mask" % q)
+    check(st == 200 and len(mask) == SIZE[0] * SIZE[1] and sum(mask) == j["matched"] > 0,
+          "/api/find?format=mask: one byte a pixel, as many set as matched (%d)" % j["matched"])
+    st, h, b = s.wait("/api/find?%s&limit=3&opts=depth%%3D2" % q)
+    ref = cli("find", SCENE, *size_args(), "--where", where, "--format", "json", "-q", "--limit", "3", "-d", "2")
+    check(st == 200 and b == ref, "/api/find with a limit and options equals ggrt find's")
+    st, h, b = s.get("/api/find?where=" + urllib.parse.quote("some(kind == tri)"))
+    json_error(st, h, b, 400, "a predicate with a syntax error: 400")
+    check(b"1:14:" in b, "the predicate's error says where (1:14)", b)
+    for bad, name in (("", "an empty predicate"), ("some(", "an unclosed one"), ("x" * 600, "a 600-byte one"),
+                      ("some(kind == tir) &&", "a dangling &&")):
+        st, h, b = s.get("/api/find?where=" + urllib.parse.quote(bad))
+        json_error(st, h, b, 400, "find: %s is 400" % name)
+    st, h, b = s.get("/api/find")
+    json_error(st, h, b, 400, "find without where: 400")
+    st, j = s.json("/api/parse?where=" + urllib.parse.quote("some(kind == tri)") + "&opts=depth%3D99")
+    check(st == 200 and j["where"]["valid"] is False and j["where"]["line"] == 1 and j["where"]["column"] == 14
+          and j["opts"]["valid"] is False, "/api/parse: 200 with where and why for bad texts", j)
+    st, j = s.json("/api/parse?where=" + urllib.parse.quote(where))
+    check(st == 200 and j == {"where": {"valid": True}}, "/api/parse of a good predicate", j)
+    st, h, b = s.wait("/api/check")
+    ref = cli("check", SCENE, *size_args(), "--format", "json", "-q", ok=(0, 4))  # 4: an invariant fails
+    check(st in (200,) and b == ref, "/api/check equals ggrt check --format json", b[:200])
+    st, h, b = s.get("/api/check?x=44&y=40")
+    ref = cli("check", SCENE, *size_args(), "--crop", "44,40,45,41", "--format", "json", "-q", ok=(0, 4))
+    check(st == 200 and b == ref, "/api/check?x=44&y=40 equals ggrt check --crop 44,40,45,41")
+    st, h, b = s.wait("/api/diff?b=depth%3D2")
+    ref = cli("diff", SCENE, *size_args(), "--b", "depth=2", "--format", "json", "-q")
+    check(st == 200 and b == ref, "/api/diff?b=depth=2 equals ggrt diff --b depth=2 --format json", b[:300])
+    j = json.loads(b)
+    check(0 < j["value_differ"] < j["scanned"], "the diff finds pixels that differ (%d)" % j["value_differ"])
+    st, h, b = s.wait("/api/diff?b=depth%3D2&format=map")
+    check(st == 200 and sum(1 for v in b if v) == max(j["value_differ"], j["tree_differ"]),
+          "/api/diff?format=map: as many pixels marked as differ")
+    st, h, b = s.wait("/api/diff?b=depth%3D2&format=f32")
+    d = struct.unpack("<%df" % (SIZE[0] * SIZE[1]), b)
+    check(st == 200 and max(d) == struct.unpack("<f", struct.pack("<f", j["max_delta"]))[0],
+          "/api/diff?format=f32: the largest difference is max_delta (as a float)",
+          "%s vs %s" % (max(d), j["max_delta"]))
+    st, h, b = s.wait("/api/diff?b=depth%3D2&format=png")
+    check(st == 200 and png_pixels(b)[0] == SIZE[0], "/api/diff?format=png: the difference as a heatmap")
+    st, h, b = s.wait("/api/diff?b=sphere%3Dtextbook&limit=2")
+    ref = cli("diff", SCENE, *size_args(), "--b", "sphere=textbook", "--format", "json", "-q", "--worst", "2")
+    check(st == 200 and b == ref, "/api/diff of a geometry knob (a second copy of the scene) equals ggrt diff's")
+    st, j = s.json("/api/compare?x=44&y=40&b=depth%3D2")
+    check(st == 200 and j["differ"] is True and j["first"]["what"] == "stop" and j["text"].startswith("ray #"),
+          "/api/compare names the first divergent ray", j)
+    st, h, b = s.get("/api/compare?x=44&y=40&b=depth%3D2&format=text")
+    ref = cli("trace", SCENE, *size_args(), "--pixel", "44,40", "--diff", "--b", "depth=2")
+    check(st == 200 and b == ref, "/api/compare?format=text equals ggrt trace --diff", b[:300])
+
+
+def check_security(s):
+    st, h, b = s.get("/api/info", token=False)
+    json_error(st, h, b, 401, "no token: 401")
+    check("bearer" in h.get("www-authenticate", "").lower(), "401 names the Bearer scheme")
+    st, h, b = s.get("/", token=False)
+    json_error(st, h, b, 401, "no token for the page: 401")
+    st, h, b = s.get("/api/info", token="0" * 32)
+    json_error(st, h, b, 403, "wrong token: 403")
+    st, h, b = s.get("/api/info", token=s.token[:-1])
+    json_error(st, h, b, 403, "a token one digit short: 403")
+    st, h, b = s.get("/api/info", token=False, headers={"Authorization": "Bearer " + "f" * 32})
+    json_error(st, h, b, 403, "wrong bearer token: 403")
+    st, h, b = s.get("/api/info", token=False, headers={"Authorization": "Basic " + s.token})
+    json_error(st, h, b, 401, "another auth scheme: 401")
+    for host in ("evil.example:%d" % s.port, "127.0.0.1:%d" % (s.port + 1), "127.0.0.1",
+                 "localhost.evil.example:%d" % s.port, "127.0.0.2:%d" % s.port, "[::1]:%d" % s.port,
+                 "127.0.0.1:%d@evil" % s.port, ""):
+        st, h, b = s.get("/api/info", headers={"Host": host})
+        json_error(st, h, b, 403, "foreign Host %r: 403" % host)
+    for host in ("127.0.0.1:%d" % s.port, "localhost:%d" % s.port, "LOCALHOST:%d" % s.port):
+        st, h, b = s.get("/api/info", headers={"Host": host})
+        check(st == 200, "own Host %r accepted" % host)
+    # HTTP/1.0 without a Host header.
+    sk = socket.create_connection(("127.0.0.1", s.port), timeout=30)
+    sk.sendall(("GET /api/info?token=%s HTTP/1.0\r\n\r\n" % s.token).encode())
+    raw = b""
+    while True:
+        chunk = sk.recv(65536)
+        if not chunk:
+            break
+        raw += chunk
+    sk.close()
+    head, _, body = raw.partition(b"\r\n\r\n")
+    st = int(head.split()[1])
+    json_error(st, {"content-type": "application/json"}, body, 403, "no Host header (HTTP/1.0): 403")
+    c = s.conn()
+    c.request("POST", "/api/info?token=" + s.token, body=b"x" * 100)
+    r = c.getresponse()
+    json_error(r.status, {k.lower(): v for k, v in r.getheaders()}, r.read(), 405, "POST: 405")
+    c.close()
+    # No request parameter names a file.
+    for path, want in (("/api/trace?x=1&y=1&scene=/etc/passwd", 400), ("/api/image?file=/etc/passwd", 400),
+                       ("/api/trace?x=1&y=1&opts=texture%3D/etc/passwd", 400),
+                       ("/api/trace?x=1&y=1&opts=scene%3D/etc/passwd", 400),
+                       ("/api/info?path=/etc/passwd", 400), ("/../../../etc/passwd", 404),
+                       ("/%2e%2e/%2e%2e/etc/passwd", 404), ("/app.js/../../etc/passwd", 404),
+                       ("//etc/passwd", 404), ("/api/trace?x=1&y=1&texture=/etc/passwd", 400)):
+        st, h, b = s.get(path)
+        json_error(st, h, b, want, "refused: %s -> %d" % (path, want))
+        check(b"root:" not in b, "no file content in the answer to " + path)
+
+
+def check_bad_queries(s):
+    cases = [
+        ("/api/trace?y=1", 400, "missing x"),
+        ("/api/trace?x=abc&y=1", 400, "x not a number"),
+        ("/api/trace?x=1.5&y=1", 400, "x not whole"),
+        ("/api/trace?x=-1&y=1", 400, "pixel left of the image"),
+        ("/api/trace?x=%d&y=1" % SIZE[0], 400, "pixel right of the image"),
+        ("/api/trace?x=1&y=%d" % SIZE[1], 400, "pixel below the image"),
+        ("/api/trace?x=1&y=99999999999999999999", 400, "y overflows"),
+        ("/api/trace?x=1&y=1&x=2", 400, "x given twice"),
+        ("/api/trace?x=1&y=1&sample=7", 400, "a sample the pixel does not have"),
+        ("/api/trace?x=1&y=1&format=xml", 400, "unknown format"),
+        ("/api/trace?x=1&y=1&opts=depth%3D17", 400, "depth over the limit"),
+        ("/api/trace?x=1&y=1&opts=depth%3D0x3", 400, "depth in hex"),
+        ("/api/trace?x=1&y=1&opts=samples%3D65", 400, "samples over the limit"),
+        ("/api/trace?x=1&y=1&opts=refract%3Dbogus", 400, "unknown knob value"),
+        ("/api/trace?x=1&y=1&opts=cutoff%3Dnan", 400, "NaN knob"),
+        ("/api/trace?x=1&y=1&opts=cutoff%3D-1", 400, "negative knob"),
+        ("/api/trace?x=1&y=1&opts=spd%3Dmaybe", 400, "a flag with a value"),
+        ("/api/trace?x=1&y=1&opts=bogus%3D1", 400, "an unknown setting"),
+        ("/api/trace?x=1&y=1&opts=size%3D8x8", 400, "a request may not change the size"),
+        ("/api/trace?x=1&y=1&opts=threads%3D1", 400, "nor the threads"),
+        ("/api/trace?x=1&y=1&opts=crop%3D0,0,1,1", 400, "nor the crop"),
+        ("/api/trace?x=1&y=1&depth=2", 400, "a setting as its own parameter"),
+        ("/api/trace?x=1&y=1&b=depth%3D2", 400, "b outside diff and compare"),
+        ("/api/diff?b=depth%3D99", 400, "a bad b"),
+        ("/api/diff?limit=1001", 400, "diff's limit over 1000"),
+        ("/api/find?where=x&limit=-1", 400, "a negative find limit"),
+        ("/api/compare?x=1&y=999", 400, "compare outside the image"),
+        ("/api/image?kind=heat", 400, "unknown heatmap kind"),
+        ("/api/image?format=jpeg", 400, "unknown image format"),
+        ("/api/diff?format=gif", 400, "unknown diff format"),
+        ("/api/check?x=1", 400, "check with x but no y"),
+        ("/api/check?format=text", 400, "check in another format"),
+        ("/api/nothing", 404, "unknown route"),
+        ("/api/trace?x=1&y=1&" + "&".join("p%d=1" % i for i in range(50)), 400, "too many parameters"),
+        ("/api/trace?x=1&y=%s" % ("1" * 1100), 414, "a value over 1024 bytes"),
+        ("/api/trace?x=1&y=1&pad=%s" % ("a" * 5000), 414, "a request target over 4096 bytes"),
+        ("/api/trace?x=1&y=1&%ff%fe=1", 400, "a strange parameter name"),
+        ("/api/trace?x=%00&y=1", 400, "a NUL in a value"),
+    ]
+    for path, want, name in cases:
+        st, h, b = s.get(path)
+        json_error(st, h, b, want, "%s: %d" % (name, want))
+    # Over the per-connection memory for the request head: libmicrohttpd
+    # refuses it itself (not JSON), and the server stays up.
+    st, h, b = s.get("/api/info?pad=" + "a" * 70000)
+    check(400 <= st < 500, "a 70 kB request target: 4xx", "got %d" % st)
+    st, h, b = s.get("/api/info", headers={"X-Big": "b" * 70000})
+    check(400 <= st < 500, "a 70 kB header: 4xx", "got %d" % st)
+    st, j = s.json("/api/info")
+    check(st == 200, "still serving after the oversized requests")
+
+
+def check_concurrent(s):
+    """Traces from 8 threads while a long render runs: all answered, all
+    equal to the answers given one at a time."""
+    pix = [(x, y) for x in range(30, 130, 20) for y in range(20, 110, 30)]
+    want = {p: s.get("/api/trace?x=%d&y=%d" % p)[2] for p in pix}
+    s.get("/api/render?opts=samples%3D16")  # a slower render in the background
+    errors, done = [], []
+
+    def client(k):
+        c = s.conn()
+        try:
+            for i in range(12):
+                p = pix[(k * 7 + i) % len(pix)]
+                st, h, b = s.get("/api/trace?x=%d&y=%d" % p, conn=c)
+                if st != 200 or b != want[p]:
+                    errors.append((p, st))
+                done.append(1)
+        except Exception as e:  # noqa: BLE001 -- report any failure
+            errors.append(str(e))
+        finally:
+            c.close()
+
+    ts = [threading.Thread(target=client, args=(k,)) for k in range(8)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    check(not errors and len(done) == 96, "96 traces from 8 threads during a render: equal, no errors",
+          errors[:5])
+
+
+def file_list(d):
+    out = []
+    for root, dirs, files in os.walk(d):
+        out += [os.path.join(root, f) for f in files + dirs]
+    return sorted(out)
+
+
+def check_opens(workdir, env):
+    """With strace (where it works): the server opens the scene, its
+    texture and /dev/urandom, and no other file of the repository or
+    elsewhere, however it is asked."""
+    if subprocess.run(["sh", "-c", "strace -f -o /dev/null true"], stdout=subprocess.DEVNULL,
+                      stderr=subprocess.DEVNULL).returncode != 0:
+        print("skip opens: strace not available")
+        return
+    log = os.path.join(workdir, "..", "strace.log")
+    # LeakSanitizer cannot run under ptrace: leaks are checked by the runs above.
+    env = dict(env, ASAN_OPTIONS=(env.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":"))
+    s = Server([SCENE, "--port", "0"] + size_args(), workdir, env,
+               wrap=("strace", "-f", "-qq", "-e", "trace=open,openat,creat,truncate", "-o", log))
+    for path in ("/api/trace?x=44&y=40", "/api/trace?x=1&y=1&scene=/etc/passwd", "/../etc/passwd",
+                 "/api/trace?x=44&y=40&format=svg", "/api/info", "/api/scene", "/"):
+        s.get(path)
+    s.wait("/api/image")
+    # SIGINT to strace would detach it and leave ggrt running: signal
+    # ggrt itself (the first process in the log).
+    with open(log) as f:
+        os.kill(int(f.readline().split()[0]), signal.SIGINT)
+    rc, err = s.proc.wait(60), s.proc.stderr.read()
+    with open(log) as f:
+        opened = re.findall(r'open(?:at)?\([^"]*"([^"]+)"', f.read())
+    files = sorted(set(p for p in opened if not p.startswith(("/lib", "/usr/lib", "/etc/ld.so", "/proc/",
+                                                               "/sys/", "/dev/shm"))))
+    # glass.nff's floor texture is procedural: the scene is the only file
+    # of the repository; /dev/urandom gives the token, /etc/localtime is
+    # libc's for the Date header.
+    allowed = {SCENE, "/dev/urandom", "/etc/localtime"}
+    check(rc == 0 and set(files) <= allowed and SCENE in files,
+          "strace: only the scene (and /dev/urandom, /etc/localtime) is opened", (rc, files, err[-500:]))
+    os.unlink(log)
+
+
+def main():
+    base = tempfile.mkdtemp(prefix="ggrt-http-")
+    work, tmp = os.path.join(base, "cwd"), os.path.join(base, "tmp")
+    os.mkdir(work)
+    os.mkdir(tmp)
+    env = dict(os.environ, TMPDIR=tmp)
+    r = subprocess.run([GGRT, "serve", "--help"], stdout=subprocess.PIPE, text=True)
+    if "built without" in r.stdout:
+        bad("ggrt serve is built in", "this ggrt was built without libmicrohttpd")
+        print("http: %d passed, %d failed" % (passed, failed))
+        return 1
+    t0 = time.time()
+    s = Server([SCENE, "--port", "0"] + size_args(), work, env)
+    try:
+        check_pages(s)
+        check_info(s)
+        check_security(s)
+        check_bad_queries(s)
+        rgb, stats = check_render(s)
+        check_trace(s, rgb)
+        check_heatmaps(s, stats)
+        check_debug(s)
+        check_concurrent(s)
+    finally:
+        rc, err = s.stop()
+    check(rc == 0 and "stopping" in err, "SIGINT: clean exit 0", "exit %s: %s" % (rc, err[-2000:]))
+    check(file_list(work) == [] and file_list(tmp) == [], "nothing left in the working or temporary folder",
+          file_list(work) + file_list(tmp))
+    # SIGTERM in the middle of a long render stops it promptly.
+    s = Server([SCENE, "--port", "0", "-s", "400x300"], work, env)
+    s.get("/api/render?opts=samples%3D64,depth%3D16")
+    time.sleep(0.3)
+    t1 = time.time()
+    rc, err = s.stop(signal.SIGTERM)
+    check(rc == 0 and time.time() - t1 < 20, "SIGTERM during a long render: exit 0 in %.1f s" % (time.time() - t1),
+          err[-1000:])
+    # Cannot listen: the port is taken.
+    sk = socket.socket()
+    sk.bind(("127.0.0.1", 0))
+    sk.listen(1)
+    r = subprocess.run([GGRT, "serve", SCENE, "--port", str(sk.getsockname()[1])], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True, timeout=30)
+    sk.close()
+    check(r.returncode == 3 and "cannot listen" in r.stderr, "a port in use: exit 3 with a message", r.stderr)
+    r = subprocess.run([GGRT, "serve", SCENE, "--host", "example.com"], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True, timeout=30)
+    check(r.returncode != 0 and "numeric" in r.stderr, "--host must be numeric", r.stderr)
+    check_opens(work, env)
+    check(file_list(work) == [] and file_list(tmp) == [], "still nothing left behind")
+    subprocess.run(["rm", "-rf", base])
+    print("http: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))
+    return 0 if failed == 0 else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
