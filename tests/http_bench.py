@@ -40,6 +40,15 @@ def main():
         print("bench: ggrt serve did not start: " + srv.stderr.read())
         return 1
     port, token = int(m.group(1)), m.group(2)
+    try:
+        return bench(a, srv, port, token)
+    finally:
+        if srv.poll() is None:  # the run raised: do not leave the server behind
+            srv.kill()
+            srv.wait()
+
+
+def bench(a, srv, port, token):
     hdr = {"Authorization": "Bearer " + token}
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
     c.request("GET", "/api/info", headers=hdr)

@@ -10,6 +10,7 @@ import http.client
 import json
 import os
 import re
+import shutil
 import signal
 import socket
 import struct
@@ -49,10 +50,14 @@ def check(cond, name, detail=""):
     return cond
 
 
+SERVERS = []  # every server started, stopped at the end whatever happened
+
+
 class Server:
     def __init__(self, args, cwd, env=None, wrap=()):
         self.proc = subprocess.Popen(list(wrap) + [GGRT, "serve"] + args, cwd=cwd, env=env,
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        SERVERS.append(self.proc)
         self.url = self.proc.stdout.readline().strip()
         m = re.match(r"^http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})$", self.url)
         if not m:
@@ -505,6 +510,17 @@ def check_opens(workdir, env):
 
 def main():
     base = tempfile.mkdtemp(prefix="ggrt-http-")
+    try:
+        return run(base)
+    finally:
+        for p in SERVERS:
+            if p.poll() is None:
+                p.kill()
+                p.wait()
+        shutil.rmtree(base, ignore_errors=True)
+
+
+def run(base):
     work, tmp = os.path.join(base, "cwd"), os.path.join(base, "tmp")
     os.mkdir(work)
     os.mkdir(tmp)
@@ -552,7 +568,6 @@ def main():
     check(r.returncode != 0 and "numeric" in r.stderr, "--host must be numeric", r.stderr)
     check_opens(work, env)
     check(file_list(work) == [] and file_list(tmp) == [], "still nothing left behind")
-    subprocess.run(["rm", "-rf", base])
     print("http: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))
     return 0 if failed == 0 else 1
 

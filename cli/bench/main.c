@@ -23,7 +23,8 @@ static const char about[] =
     "            reference; writes DIR/accuracy.csv and DIR/accuracy.svg\n"
     "            (docs/accuracy.md), then the scaling tables\n"
     "  scaling   render time against primitives (balls-s1..s4, fitted against\n"
-    "            ln n), image size and threads\n"
+    "            ln n), image size and threads; per SPD scene 1 and 2 threads,\n"
+    "            the speed-up and the serial share (time outside the tile loop)\n"
     "\n"
     "Scene folders are relative to the current directory: run from the source tree\n"
     "or name them with --spd and --pov.";

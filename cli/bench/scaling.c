@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** scaling.c -- `ggrt bench scaling`: render time against primitive count
-** (balls-s1..s4), image size and threads.
+** (balls-s1..s4), image size and threads, and per SPD scene the speed-up
+** from 1 to 2 threads with the share of the render spent outside the
+** parallel tile loop.
 */
 #include "bench.h"
 
@@ -24,6 +26,90 @@ static double render_seconds(ggScene *s, int w, int h, int threads, int runs, gg
         ggImageFree(img);
     }
     return bench_median(t, k);
+}
+
+static ggScene *load_prepared(const char *path);
+
+/* The tile loop seen through the progress callback: the first and the
+   last report (time and pixels done). */
+typedef struct tile_clock {
+    double t0, t1;
+    long d0, d1;
+    int n;
+} tile_clock;
+
+static int clock_progress(void *ud, long done, long total)
+{
+    tile_clock *c = ud;
+    double t = cli_now();
+    (void)total;
+    if (c->n++ == 0) c->t0 = t, c->d0 = done;
+    c->t1 = t, c->d1 = done;
+    return 0;
+}
+
+/* One render; *serial gets the seconds outside the tile loop: the whole
+   render minus the tile loop's span, which runs from the first report
+   back (at the rate between the first and the last report) to where the
+   loop had done nothing, up to the last report (all pixels done). */
+static double render_serial(ggScene *s, int size, int threads, double *serial)
+{
+    ggRenderOptions o;
+    ggImage *img = NULL;
+    tile_clock c;
+    double t0, t, rate, start;
+    memset(&c, 0, sizeof c);
+    ggRenderOptionsDefault(&o);
+    o.width = o.height = size, o.threads = threads;
+    o.progress = clock_progress, o.progress_ud = &c;
+    t0 = cli_now();
+    if (ggRender(s, &o, &img, NULL, NULL) != GG_OK) return -1;
+    t = cli_now() - t0;
+    ggImageFree(img);
+    rate = c.n > 1 && c.d1 > c.d0 ? (c.d1 - c.d0) / (c.t1 - c.t0) : 0;
+    start = rate > 0 ? c.t0 - c.d0 / rate : t0;
+    *serial = t - (c.t1 - (start > t0 ? start : t0));
+    if (*serial < 0) *serial = 0;
+    return t;
+}
+
+/* Per SPD scene: 1 and 2 threads, medians of bo->runs, the speed-up and
+   the serial share (of the 2-thread render). */
+static int threads_table(const bench_opts *bo, int size)
+{
+    static const char *const spd[] = {"balls-s4", "gears", "rings",     "tetra",
+                                      "mount",    "tree",  "teapot-s12"};
+    int i;
+    printf("\nscaling: SPD scenes at %dx%d against threads (median of %d; serial = time outside "
+           "the tile loop)\n",
+           size, size, bo->runs);
+    printf("%-11s %9s %9s %9s %9s %8s\n", "scene", "1 thread", "2 threads", "speed-up", "serial",
+           "share");
+    for (i = 0; i < 7; i++) {
+        char path[512];
+        ggScene *s;
+        double t[2][64], sr[64], tm[2], smed;
+        int th, k, runs = bo->runs < 64 ? bo->runs : 64;
+        if (!bench_selected(bo->scenes, spd[i])) continue;
+        snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, spd[i]);
+        if (!(s = load_prepared(path))) return EXIT_INPUT;
+        for (k = 0; k < runs; k++)
+            for (th = 1; th <= 2; th++) {
+                double ser = 0;
+                t[th - 1][k] = render_serial(s, size, th, &ser);
+                if (t[th - 1][k] < 0) {
+                    ggSceneFree(s);
+                    return EXIT_INPUT;
+                }
+                if (th == 2) sr[k] = ser;
+            }
+        tm[0] = bench_median(t[0], runs), tm[1] = bench_median(t[1], runs);
+        smed = bench_median(sr, runs);
+        printf("%-11s %8.4fs %8.4fs %8.2fx %8.4fs %7.2f%%\n", spd[i], tm[0], tm[1], tm[0] / tm[1],
+               smed, 100 * smed / tm[1]);
+        ggSceneFree(s);
+    }
+    return EXIT_OK;
 }
 
 static ggScene *load_prepared(const char *path)
@@ -100,5 +186,5 @@ int bench_scaling(const bench_opts *bo)
         }
         ggSceneFree(s);
     }
-    return EXIT_OK;
+    return threads_table(bo, size);
 }

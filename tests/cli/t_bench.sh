@@ -34,3 +34,9 @@ printf '#!/bin/sh\necho no result\n' > "$tmp/mute-embree"; chmod +x "$tmp/mute-e
   ok "bench spd --embree: an anchor without a RESULT line fails (exit 2)" ||
   bad "bench spd --embree: an anchor without a RESULT line fails (exit 2, got $got)" "$(cat "$tmp/bench")"
 expect_exit 1 "bench counts --embree is a usage error" "$ggrt" bench counts --embree "$tmp/fake-embree"
+# bench scaling: the per-scene thread table with the serial share
+"$ggrt" bench scaling --size 16 --runs 1 --scenes tetra >"$tmp/scal" 2>&1; got=$?
+if [ $got = 0 ] && grep -q 'against threads (median of 1; serial = time outside the tile loop)' "$tmp/scal" &&
+   grep -Eq '^tetra +[0-9.]+s +[0-9.]+s +[0-9.]+x +[0-9.]+s +[0-9.]+%$' "$tmp/scal"
+then ok "bench scaling: 1 and 2 threads, speed-up and serial share per scene"
+else bad "bench scaling: 1 and 2 threads, speed-up and serial share per scene (exit $got)" "$(cat "$tmp/scal")"; fi
