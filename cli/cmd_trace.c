@@ -29,7 +29,7 @@ static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct trace_args {
     const char *scenes[2], *svg, *obj, *a_text, *b_text;
-    int nscenes, pixel[2], sample, format, ascii, ledger, diff;
+    int nscenes, pixel[2], sample, format, ascii, ledger, diff, no_numeric;
     ggRenderOptions oa, ob; /* --diff: the two sides */
     cli_render ro;
 } trace_args;
@@ -64,6 +64,9 @@ static int parse(trace_args *a, int argc, char **argv)
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F",
                        "text (default) or json (schema: docs/trace-json.md)"),
         CLI_OPT_FLAG(0, "ascii", &a->ascii, "plain ASCII tree even on a UTF-8 terminal"),
+        CLI_OPT_FLAG(0, "no-numeric", &a->no_numeric,
+                     "leave out each hit's numeric state (error bound, offset,\n"
+                     "TIR margin, edge distance) from the text tree"),
         CLI_OPT_STRING(0, "svg", &a->svg, "FILE",
                        "draw the tree over a top and a side view of the scene"),
         CLI_OPT_STRING(0, "obj", &a->obj, "FILE", "write the rays as OBJ line geometry"),
@@ -100,7 +103,7 @@ static int parse(trace_args *a, int argc, char **argv)
     cli_render_finish(&a->ro);
     if (!mine[0].given) return cli_usage_error(&cmd, "need --pixel X,Y");
     if (a->nscenes > 1 && !a->diff) return cli_usage_error(&cmd, "a second scene needs --diff");
-    if ((mine[8].given || mine[9].given) && !a->diff)
+    if ((mine[9].given || mine[10].given) && !a->diff)
         return cli_usage_error(&cmd, "--a and --b need --diff");
     if (a->ledger && a->sample >= 0)
         return cli_usage_error(&cmd, "--ledger explains the whole pixel: drop --sample");
@@ -143,6 +146,7 @@ static int trace_into(const trace_args *a, ggScene *scene, const ggRenderOptions
         return cli_fail(rc, &err, 0);
     v->scene = scene, v->trace = tr, v->opt = opt, v->path = path;
     v->x = a->pixel[0], v->y = a->pixel[1], v->sample = a->sample, v->ledger = *ledger;
+    v->hide_numeric = a->no_numeric;
     return EXIT_OK;
 }
 

@@ -16,6 +16,7 @@ typedef struct trace_view {
     ggColor pixel;
     ggRayStats stats;
     const ggLedger *ledger; /* when every sample is recorded, else NULL */
+    int hide_numeric;       /* text: leave out each hit's numeric state */
 } trace_view;
 
 void trace_print_text(FILE *f, const trace_view *v, int utf8);

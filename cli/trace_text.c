@@ -40,6 +40,15 @@ static void object_name(const trace_view *v, int obj, char *buf, size_t n)
 static void pcol(FILE *f, ggColor c) { fprintf(f, "(%.4g %.4g %.4g)", c.r, c.g, c.b); }
 static void pvec(FILE *f, ggVec3 p) { fprintf(f, "(%.6g, %.6g, %.6g)", p.x, p.y, p.z); }
 
+/* The hit's numeric state on one line: error bound, offset, TIR margin
+   and edge distance where they apply. */
+static void print_numeric(FILE *f, const char *body, const ggTraceNode *n)
+{
+    fprintf(f, "\n%s    numeric: perr %.2g, offset %.2g", body, n->perr, n->offset);
+    if (isfinite(n->tir_margin)) fprintf(f, ", tir margin %+.3g", n->tir_margin);
+    if (isfinite(n->edge)) fprintf(f, ", edge %.3g", n->edge);
+}
+
 typedef struct glyphs {
     const char *tee, *last, *pipe, *blank;
 } glyphs;
@@ -82,6 +91,7 @@ static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, 
         pvec(f, n->ng);
         fprintf(f, "  ns ");
         pvec(f, n->ns);
+        if (!v->hide_numeric) print_numeric(f, body, n);
         fprintf(f, "\n%s    material %d: kd %g ks %g kt %g ior %g, surface colour ", body,
                 n->material, m.kd, m.ks, m.kt, m.ior);
         pcol(f, n->surface);
@@ -239,6 +249,15 @@ static void json_node(FILE *f, const trace_view *v, int i)
         json_face(f, v->scene, n);
         fputc(',', f), jvec(f, "point", n->p), fputc(',', f), jvec(f, "ng", n->ng);
         fputc(',', f), jvec(f, "ns", n->ns);
+        fprintf(f, ",\"numeric\":{\"perr\":");
+        jnum(f, n->perr);
+        fprintf(f, ",\"offset\":");
+        jnum(f, n->offset);
+        fprintf(f, ",\"tir_margin\":");
+        jnum(f, n->tir_margin);
+        fprintf(f, ",\"edge\":");
+        jnum(f, n->edge);
+        fputc('}', f);
         fprintf(f, ",\"front\":%s,\"uv\":[", n->front ? "true" : "false");
         jnum(f, n->u), fputc(',', f), jnum(f, n->v);
         fprintf(f, "],\"n_other\":");

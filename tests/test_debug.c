@@ -194,6 +194,18 @@ static int d_all_front_hits(const ggTrace *t, ggColor px, int x, int y)
     return 1;
 }
 
+static int d_close_tir_or_edge(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < ggTraceNodeCount(t); i++) {
+        const ggTraceNode *n = ggTraceGetNode(t, i);
+        if (n->hit && n->tir_margin < 0 && n->tir_margin > -3e13) return 1;
+        if (n->hit && n->edge < 0.02) return 1;
+    }
+    return 0;
+}
+
 static const struct {
     const char *scene, *where;
     direct_fn direct;
@@ -209,6 +221,8 @@ static const struct {
     {"examples/scenes/default.nff", "count(kind == shadow && verdict != facing_away) >= 3",
      d_many_shadows},
     {"examples/scenes/glass.nff", "all(!hit || front)", d_all_front_hits},
+    {"examples/scenes/glass.nff", "some(tir_margin < 0 && tir_margin > -3e13) || some(edge < 0.02)",
+     d_close_tir_or_edge},
 };
 
 static void test_find_matches_full_traces(void **state)
@@ -308,7 +322,7 @@ static const char *const example_scenes[] = {
     "examples/scenes/texture.nff",     "examples/scenes/acc-corridor.nff",
     "examples/scenes/acc-distant.nff", "examples/scenes/acc-far.nff",
     "examples/scenes/acc-grazing.nff", "examples/scenes/acc-texture.nff",
-    "examples/scenes/acc-thin.nff",     "tests/data/debug/absorb.nff",
+    "examples/scenes/acc-thin.nff",    "tests/data/debug/absorb.nff",
 };
 
 /* Every pixel of every example scene and of a ball of absorbing glass
@@ -719,6 +733,155 @@ static void test_compare_kinds(void **state)
     ggSceneFree(s);
 }
 
+/* ---- the numeric state of each hit ---- */
+
+static void test_numeric_state(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggTrace *t = ggTraceCreate(NULL);
+    ggRenderOptions o;
+    ggColor px;
+    size_t i;
+    int x, y, decided = 0;
+    (void)state;
+    /* 110,100: 0 enters the glass (refracts), 1 is reflected totally at the bubble */
+    assert_int_equal(ggTracePixel(s, NULL, 110, 100, -1, t, &px, NULL, NULL), GG_OK);
+    assert_true(ggTraceGetNode(t, 0)->tir_margin > 1e10);
+    assert_true(ggTraceGetNode(t, 1)->tir_margin < -1e10);
+    assert_true(isnan(ggTraceGetNode(t, 0)->edge)); /* a sphere */
+    for (i = 0; i < ggTraceNodeCount(t); i++) {
+        const ggTraceNode *n = ggTraceGetNode(t, i);
+        if (!n->hit) {
+            assert_true(isnan(n->perr) && isnan(n->offset) && isnan(n->tir_margin));
+            continue;
+        }
+        /* the scaled offset pushes by 8 error bounds (lib/geom/offset.c) */
+        assert_true(n->perr > 0 && n->perr < 1e-14);
+        assert_true(n->offset >= 7.9 * n->perr && n->offset <= 8 * sqrt(3.0) * n->perr * 1.01);
+    }
+    /* Over an image: where the margin is clear, it agrees with the decision. */
+    small(&o, 64, 48, 1);
+    for (y = 0; y < 48; y++)
+        for (x = 0; x < 64; x++) {
+            assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+            for (i = 0; i < ggTraceNodeCount(t); i++) {
+                const ggTraceNode *n = ggTraceGetNode(t, i);
+                size_t j;
+                int refr = 0, tir = 0;
+                if (!isfinite(n->tir_margin) || fabs(n->tir_margin) < 16) continue;
+                for (j = i + 1; j < ggTraceNodeCount(t); j++)
+                    if (ggTraceGetNode(t, j)->parent == (int)i) {
+                        refr |= ggTraceGetNode(t, j)->kind == GG_RAY_REFRACT;
+                        tir |= ggTraceGetNode(t, j)->kind == GG_RAY_TIR;
+                    }
+                if (n->stop == GG_STOP_DEPTH) continue;
+                assert_int_equal(n->tir_margin > 0, refr);
+                assert_int_equal(n->tir_margin < 0, tir);
+                decided++;
+            }
+            /* the floor is a rectangle: an edge distance in [0, 1/2] */
+            if (ggTraceGetNode(t, 0)->hit && ggTraceGetNode(t, 0)->object == 0) {
+                double e = ggTraceGetNode(t, 0)->edge;
+                assert_true(e >= 0 && e <= 0.5);
+            }
+        }
+    assert_true(decided > 100);
+    ggSceneFree(s);
+    /* triangles: the smallest barycentric coordinate; a fixed offset is what it says */
+    {
+        char path[512];
+        ggTraceNode n0;
+        snprintf(path, sizeof path, "%s/tetra.nff", tu_spd_dir());
+        s = load(path);
+        small(&o, 64, 64, 1);
+        assert_int_equal(ggRenderOptionsParse(&o, "offset=1e-6", NULL), GG_OK);
+        assert_int_equal(ggTracePixel(s, &o, 32, 40, -1, t, &px, NULL, NULL), GG_OK);
+        n0 = *ggTraceGetNode(t, 0);
+        assert_true(n0.hit && n0.shape == GG_SHAPE_TRIANGLE);
+        assert_true(n0.edge >= 0 && n0.edge <= 1.0 / 3);
+        assert_true(fabs(n0.offset - 1e-6) < 1e-12);
+        /* the edge distance is the smallest barycentric coordinate of p,
+           here from the triangle's own vertices */
+        for (y = 8; y < 64; y += 8)
+            for (x = 4; x < 64; x += 6) {
+                ggShapeDesc d;
+                ggVec3 a, b, c, q;
+                double ab, bc, ca, all, m;
+                const ggTraceNode *n;
+                assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+                n = ggTraceGetNode(t, 0);
+                if (!n->hit) continue;
+                assert_int_equal(ggSceneObjectShape(s, n->object, &d), GG_OK);
+                a = d.verts[0], b = d.verts[1], c = d.verts[2], q = n->p;
+#define TRI_AREA(p1, p2, p3)                                                                       \
+    sqrt(pow((p2.y - p1.y) * (p3.z - p1.z) - (p2.z - p1.z) * (p3.y - p1.y), 2) +                   \
+         pow((p2.z - p1.z) * (p3.x - p1.x) - (p2.x - p1.x) * (p3.z - p1.z), 2) +                   \
+         pow((p2.x - p1.x) * (p3.y - p1.y) - (p2.y - p1.y) * (p3.x - p1.x), 2))
+                all = TRI_AREA(a, b, c);
+                ab = TRI_AREA(q, a, b) / all, bc = TRI_AREA(q, b, c) / all,
+                ca = TRI_AREA(q, c, a) / all;
+#undef TRI_AREA
+                m = ab < bc ? ab : bc;
+                m = m < ca ? m : ca;
+                if (fabs(m - n->edge) > 1e-6)
+                    print_error("%d,%d: edge %g, barycentric %g\n", x, y, n->edge, m);
+                assert_true(fabs(m - n->edge) <= 1e-6);
+            }
+        ggSceneFree(s);
+    }
+    ggTraceFree(t);
+}
+
+/* self-hit and near-tir see the recorded state: with thresholds that take
+   everything they count every secondary hit and every refraction. */
+static void test_check_numeric(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggRenderOptions o;
+    ggCheckOptions co;
+    ggCheckResult *r = NULL;
+    ggTrace *t = ggTraceCreate(NULL);
+    long second = 0, refr = 0;
+    int x, y;
+    size_t i;
+    (void)state;
+    small(&o, 40, 30, 2);
+    ggCheckOptionsDefault(&co);
+    co.self_hit = co.near_tir = 1e300;
+    assert_int_equal(ggCheck(s, &o, &co, &r, NULL), GG_OK);
+    for (y = 0; y < 30; y++)
+        for (x = 0; x < 40; x++) {
+            ggColor px;
+            assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+            for (i = 0; i < ggTraceNodeCount(t); i++) {
+                const ggTraceNode *n = ggTraceGetNode(t, i);
+                int l;
+                second += n->hit && n->parent >= 0 && ggTraceGetNode(t, (size_t)n->parent)->hit;
+                refr += isfinite(n->tir_margin);
+                for (l = 0; n->hit && l < n->nlights; l++)
+                    second += ggTraceGetLight(t, (size_t)(n->first_light + l))->occluder >= 0;
+            }
+        }
+    assert_int_equal(r->items[GG_CHECK_SELF_HIT].rays, second);
+    assert_int_equal(r->items[GG_CHECK_NEAR_TIR].rays, refr);
+    assert_true(second > 0 && refr > 0);
+    ggCheckResultFree(r);
+    ggSceneFree(s);
+    ggTraceFree(t);
+    /* far from the origin a fixed offset of 1e-12 is no offset at all */
+    s = load("examples/scenes/acc-far.nff");
+    small(&o, 64, 48, 2);
+    assert_int_equal(ggCheck(s, &o, NULL, &r, NULL), GG_OK);
+    assert_int_equal(r->items[GG_CHECK_SELF_HIT].pixels, 0);
+    ggCheckResultFree(r);
+    assert_int_equal(ggRenderOptionsParse(&o, "offset=1e-12", NULL), GG_OK);
+    assert_int_equal(ggCheck(s, &o, NULL, &r, NULL), GG_OK);
+    assert_true(r->items[GG_CHECK_SELF_HIT].pixels > 10);
+    assert_int_equal(r->items[GG_CHECK_SELF_HIT].severity, GG_SEVERITY_WARNING);
+    ggCheckResultFree(r);
+    ggSceneFree(s);
+}
+
 /* ---- render options as text ---- */
 
 static void test_options_text(void **state)
@@ -774,8 +937,9 @@ int main(void)
         cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_check_planted_defects),
         cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
         cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
-        cmocka_unit_test(test_compare_depth),
-        cmocka_unit_test(test_compare_kinds),       cmocka_unit_test(test_options_text),
+        cmocka_unit_test(test_compare_depth),       cmocka_unit_test(test_compare_kinds),
+        cmocka_unit_test(test_numeric_state),       cmocka_unit_test(test_check_numeric),
+        cmocka_unit_test(test_options_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,13 +11,12 @@
 ** limit (depth 12); every other knob is compared with the accurate default
 ** (one sample, depth 5), so that aliasing and the depth limit do not hide
 ** the knob's own effect.
-** "changed" counts pixels whose ray tree met a different object, or got a
-** different shadow verdict, anywhere in the tree (hit/miss included).
+** "changed" counts the pixels whose ray tree differs from the default's,
+** as ggDiff finds them (include/ggrt/debug.h), one sample per pixel.
 */
 #include "bench.h"
 
 #include <math.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -130,44 +129,22 @@ typedef struct row {
     size_t changed;
 } row;
 
-/* A per-pixel signature of the ray tree: which objects each ray hit and
-   each shadow ray's verdict and occluder. */
-static uint64_t tree_signature(ggScene *s, const ggRenderOptions *o, int x, int y, ggTrace *tr)
+/* Pixels whose ray tree the knob changes: ggDiff of one sample per pixel
+   with the accurate defaults (debug.h: another object hit or from the
+   other side, a TIR decision, a shadow verdict or occluder, a ray missing
+   or an extra one, another stop reason). The knob side renders its own
+   copy of the scene: some knobs live in the geometry. -1 if it failed. */
+static long trees_changed(ggScene *s, ggScene *copy, const ggRenderOptions *base,
+                          const ggRenderOptions *o)
 {
-    ggColor px;
-    uint64_t h = 1469598103934665603ull;
-    size_t i, n;
-    if (ggTracePixel(s, o, x, y, 0, tr, &px, NULL, NULL) != GG_OK) return 0;
-    n = ggTraceNodeCount(tr);
-    for (i = 0; i < n; i++) {
-        const ggTraceNode *nd = ggTraceGetNode(tr, i);
-        int l;
-        h = (h ^ (uint64_t)(nd->hit ? nd->object + 1 : 0)) * 1099511628211ull;
-        h = (h ^ (uint64_t)nd->kind) * 1099511628211ull;
-        for (l = 0; nd->hit && l < nd->nlights; l++) {
-            const ggTraceLight *L = ggTraceGetLight(tr, (size_t)(nd->first_light + l));
-            h = (h ^ (uint64_t)(L->verdict * 1000003 + L->occluder + 1)) * 1099511628211ull;
-        }
-    }
-    return h;
-}
-
-static uint64_t *signatures(ggScene *s, const ggRenderOptions *o, int w, int h)
-{
-    uint64_t *sig = malloc(sizeof *sig * (size_t)w * (size_t)h);
-    ggTrace *tr = ggTraceCreate(NULL);
-    ggRenderOptions one = *o;
-    int x, y;
-    one.samples = 1;
-    if (!sig || !tr) {
-        free(sig);
-        ggTraceFree(tr);
-        return NULL;
-    }
-    for (y = 0; y < h; y++)
-        for (x = 0; x < w; x++) sig[(size_t)y * w + x] = tree_signature(s, &one, x, y, tr);
-    ggTraceFree(tr);
-    return sig;
+    ggRenderOptions a = *base, b = *o;
+    ggDiffResult *r = NULL;
+    long n;
+    a.samples = b.samples = 1;
+    if (ggDiff(s, &a, copy, &b, 0, &r, NULL) != GG_OK) return -1;
+    n = r->tree_differ;
+    ggDiffResultFree(r);
+    return n;
 }
 
 static int measure(ggScene *s, const ggRenderOptions *o, int runs, ggImage **img, row *r)
@@ -273,14 +250,13 @@ static void print_row(FILE *csv, const char *scene, size_t i, const row *r)
 }
 
 /* Every knob on one prepared scene: a row each, then the scene's plot. */
-static int sweep(ggScene *s, const bench_opts *bo, const char *scene, int w, int h, FILE *csv,
-                 FILE *svg, double yoff)
+static int sweep(ggScene *s, ggScene *copy, const bench_opts *bo, const char *scene, int w, int h,
+                 FILE *csv, FILE *svg, double yoff)
 {
     ggRenderOptions base, o;
     ggImage *ref = NULL, *ref_spp = NULL, *ref_depth = NULL;
-    uint64_t *ref_sig = NULL;
     row rows[NKNOBS];
-    size_t i, p;
+    size_t i;
     int rc = EXIT_INPUT;
     ggRenderOptionsDefault(&base);
     base.width = w, base.height = h, base.threads = bo->threads;
@@ -291,12 +267,11 @@ static int sweep(ggScene *s, const bench_opts *bo, const char *scene, int w, int
     o = base;
     o.max_depth = REF_DEPTH;
     if (measure(s, &o, 1, &ref_depth, &rows[0]) != 0) goto done;
-    ref_sig = signatures(s, &base, w, h);
     printf("\n%s\n%-13s %-12s %9s %9s %10s %9s %8s %8s %8s\n", scene, "knob", "setting", "time",
            "rays", "RMSE", "max", "PSNR", ">1/255", "changed");
     for (i = 0; i < NKNOBS; i++) {
         ggImage *img = NULL;
-        uint64_t *sig;
+        long changed;
         int is_spp = knobs[i].apply == k_spp, is_depth = knobs[i].apply == k_depth;
         o = base;
         knobs[i].apply(&o, knobs[i].value);
@@ -309,11 +284,12 @@ static int sweep(ggScene *s, const bench_opts *bo, const char *scene, int w, int
                        : is_depth ? ref_depth
                                   : ref,
                        GG_COMPARE_LINEAR, &rows[i].d);
-        rows[i].changed = 0;
-        sig = is_spp || is_depth ? NULL : signatures(s, &o, w, h);
-        if (sig && ref_sig)
-            for (p = 0; p < (size_t)w * h; p++) rows[i].changed += sig[p] != ref_sig[p];
-        free(sig);
+        changed = is_spp || is_depth ? 0 : trees_changed(s, copy, &base, &o);
+        if (changed < 0) {
+            fprintf(stderr, "ggrt bench accuracy: the ray-tree comparison failed\n");
+            goto done;
+        }
+        rows[i].changed = (size_t)changed;
         print_row(csv, scene, i, &rows[i]);
         ggImageFree(img);
         fflush(stdout);
@@ -321,7 +297,6 @@ static int sweep(ggScene *s, const bench_opts *bo, const char *scene, int w, int
     plot(svg, scene, rows, yoff);
     rc = EXIT_OK;
 done:
-    free(ref_sig);
     ggImageFree(ref), ggImageFree(ref_spp), ggImageFree(ref_depth);
     return rc;
 }
@@ -354,18 +329,21 @@ int bench_accuracy(const bench_opts *bo)
            "accurate (samples knob: %d samples; depth knob: depth %d)\n",
            w, h, bo->threads, bo->runs, REF_SPP, REF_DEPTH);
     for (a = 0; a < bo->nargs && rc == EXIT_OK; a++) {
-        ggScene *s = ggSceneCreate(NULL);
+        ggScene *s = ggSceneCreate(NULL), *copy = ggSceneCreate(NULL);
         ggError err;
-        if (!s) {
+        if (!s || !copy) {
             fprintf(stderr, "ggrt bench accuracy: out of memory\n");
             rc = EXIT_INPUT;
         } else if ((rc = ggSceneLoadFile(s, bo->args[a], &err)) != GG_OK ||
-                   (rc = ggScenePrepare(s, &err)) != GG_OK) {
+                   (rc = ggScenePrepare(s, &err)) != GG_OK ||
+                   (rc = ggSceneLoadFile(copy, bo->args[a], &err)) != GG_OK ||
+                   (rc = ggScenePrepare(copy, &err)) != GG_OK) {
             rc = cli_fail(rc, &err, 0);
         } else {
-            rc = sweep(s, bo, bo->args[a], w, h, co.f, so.f, a * 420.0);
+            rc = sweep(s, copy, bo, bo->args[a], w, h, co.f, so.f, a * 420.0);
         }
         ggSceneFree(s);
+        ggSceneFree(copy);
     }
     fprintf(so.f, "</svg>\n");
     if (rc != EXIT_OK) {

@@ -91,7 +91,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
                whose hit cast it
      object material line shape front back
                the surface hit (for a shadow ray: the surface it leaves);
-               shape is sphere triangle polygon cone rect implicit
+               shape is sphere triangle polygon cone rect implicit mesh
      hit miss  the ray met a surface / left the scene (not shadow rays)
      t         ray parameter of the hit (shadow ray: of the occluder)
      stop      none miss depth matte budget: why it spawned no children
@@ -104,6 +104,11 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
                shadow rays: which light, visible blocked attenuated
                facing_away, the blocking (or first attenuating) object,
                and what the light gave
+     perr offset tir_margin edge
+               the hit's numeric state (trace.h's ggTraceNode; a shadow
+               ray: of the hit it leaves)
+     medium    the material the ray travels in, -1 outside
+     triangle  mesh objects: the triangle hit (ggSceneGetFaceInfo)
    Fields of the pixel, usable anywhere: x, y, pixel (its value), rays
    (rays in its trees, shadow rays included). Colour fields take a
    component .r .g .b .min .max; alone they mean .max. Names after == or
@@ -240,12 +245,12 @@ typedef struct ggCheckItem {
     ggCheckPixel pixels_worst[GG_CHECK_WORST];
 } ggCheckItem;
 
-/* What each measure is: nonfinite 1; negative -(most negative channel);
-   energy kd * max(colour) + ks + kt of the surface; truncation the
-   weight the cut children would have had in the pixel; self-hit the
-   hit distance over the origin's error bound (smaller is worse, stored
-   as its reciprocal so larger is worse); near-tir the reciprocal of the
-   discriminant in rounding errors; grazing the reciprocal of |cos|. */
+/* What each measure (ggCheckPixel.value, ggCheckItem.worst) is, larger
+   always worse: nonfinite 1; negative -(the most negative channel);
+   energy kd * max(colour) + ks + kt of the surface; truncation the weight
+   the cut children would have had in the pixel; self-hit the origin's
+   error bound (perr + offset of the hit it leaves) over the distance to
+   the hit; near-tir 1 / |tir_margin|; grazing 1 / |cos|. */
 
 typedef struct ggCheckResult {
     int width, height;

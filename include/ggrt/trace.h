@@ -72,6 +72,17 @@ typedef struct ggTraceNode {
     int first_light, nlights; /* this hit's records in ggTraceGetLight */
     double fresnel;   /* dielectric reflectance F used, or -1 when none was computed */
     ggColor reflect_weight, refract_weight; /* weights given to the children */
+    /* The hit's numeric state (NaN where it does not apply). */
+    double perr;       /* bound on the absolute error of each coordinate of p */
+    double offset;     /* how far the origins of rays leaving the hit were pushed off p */
+    double tir_margin; /* refraction: 1 - eta^2 (1 - cos^2), eta = n_medium / n_other, in
+                          units of its rounding error u (1 + 5 eta^2 + 8 eta^2 cos), u =
+                          2^-53; below 0 means total internal reflection, within a few
+                          units of 0 the decision was a close call. With dispersion, the
+                          channel nearest to 0 */
+    double edge;       /* triangles and mesh triangles: the smallest barycentric coordinate
+                          of the hit (0 on an edge); rectangles: the distance in (u, v) to
+                          the nearest side */
     /* Always. */
     ggColor absorption; /* Beer-Lambert transmittance over this ray's segment */
     ggColor weight;     /* this ray's weight in its parent's colour */

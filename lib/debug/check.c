@@ -145,13 +145,30 @@ static int source_ray(const ggTrace *t, int neg)
 #define GG_STOP_BUDGET 4
 #endif
 
-/* The discriminant 1 - eta^2 (1 - cos^2) of the refraction at node n, in
-   units of 2^-53 (1 + eta^2), a few of which its rounding can be. */
-static double tir_margin(const ggTraceNode *n)
+/* Secondary rays (and shadow rays) meeting something within k times the
+   error bound of their origin, perr + offset of the hit they leave: the
+   measure is that bound over the distance (larger is worse). */
+static void self_hits(const check_job *cj, check_thread *th, pix_fail *f, const ggTrace *t, int i)
 {
-    double c = fabs(n->d.x * n->ns.x + n->d.y * n->ns.y + n->d.z * n->ns.z);
-    double eta = n->n_other > 0 ? n->n_medium / n->n_other : 1, e2 = eta * eta;
-    return fabs(1 - e2 * (1 - c * c)) / (0x1p-53 * (1 + e2));
+    const ggTraceNode *n = ggTraceGetNode(t, (size_t)i), *p;
+    ggCheckItem *it = &th->item[GG_CHECK_SELF_HIT];
+    double bound;
+    int l;
+    if (n->parent >= 0 && n->hit && (p = ggTraceGetNode(t, (size_t)n->parent)) && p->hit) {
+        bound = p->perr + p->offset;
+        if (bound > 0 && n->t <= cj->co.self_hit * bound)
+            ray_fails(&f[GG_CHECK_SELF_HIT], it, n->t > 0 ? bound / n->t : INFINITY, i, -1, n);
+    }
+    bound = n->perr + n->offset;
+    for (l = 0; n->hit && bound > 0 && l < n->nlights; l++) {
+        const ggTraceLight *L = ggTraceGetLight(t, (size_t)(n->first_light + l));
+        double d;
+        if (!L || L->occluder < 0) continue;
+        d = L->t_block * sqrt(L->dir.x * L->dir.x + L->dir.y * L->dir.y + L->dir.z * L->dir.z);
+        if (d <= cj->co.self_hit * bound)
+            ray_fails(&f[GG_CHECK_SELF_HIT], it, d > 0 ? bound / d : INFINITY, i,
+                      n->first_light + l, n);
+    }
 }
 
 /* The invariants that live at one hit. *cut sums the truncated weight. */
@@ -172,12 +189,12 @@ static void check_node(const check_job *cj, check_thread *th, pix_fail *f, const
     if (c < cj->co.grazing)
         ray_fails(&f[GG_CHECK_GRAZING], &th->item[GG_CHECK_GRAZING], c > 0 ? 1 / c : INFINITY, i,
                   -1, n);
-    if (m->kt > 0 && n->stop != GG_STOP_DEPTH && n->stop != GG_STOP_BUDGET) {
-        double k = tir_margin(n);
-        if (k < cj->co.near_tir)
-            ray_fails(&f[GG_CHECK_NEAR_TIR], &th->item[GG_CHECK_NEAR_TIR], k > 0 ? 1 / k : INFINITY,
-                      i, -1, n);
+    if (fabs(n->tir_margin) < cj->co.near_tir) { /* NaN (no refraction) fails this */
+        double k = fabs(n->tir_margin);
+        ray_fails(&f[GG_CHECK_NEAR_TIR], &th->item[GG_CHECK_NEAR_TIR], k > 0 ? 1 / k : INFINITY, i,
+                  -1, n);
     }
+    self_hits(cj, th, f, t, i);
     if ((n->stop == GG_STOP_DEPTH || n->stop == GG_STOP_BUDGET) && cj->children[n->material] > 0) {
         const ggColor *w = &th->buf.w[i];
         ggColor a;
@@ -205,7 +222,8 @@ static void check_value(check_thread *th, pix_fail *f, const ggTrace *t, ggColor
     }
 }
 
-static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px)
+static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px,
+                       int same)
 {
     check_job *cj = ud;
     check_thread *th = &cj->t[thread];
@@ -215,6 +233,7 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
     double cut = 0;
     long ncut = 0;
     int c;
+    (void)same; /* a tree of misses: cheap to check again */
     if (gg_dbg_buf_weights(&th->buf, cj->alloc, t)) return GG_ERROR_NOMEM;
     memset(f, 0, sizeof f);
     memset(&cut_at, 0, sizeof cut_at);

@@ -12,6 +12,7 @@
 #define GG_NEED_TREE   1u /* ray trees (without it pixel values serve) */
 #define GG_NEED_LIGHTS 2u /* shadow-ray records */
 #define GG_NEED_WEIGHT 4u /* the rays' weights in the pixel */
+#define GG_NEED_XY     8u /* the pixel's coordinates */
 
 /* A pixel being looked at: its value, its recorded trees (NULL when only
    the value is known) and, if computed, each node's weight in the pixel. */
@@ -86,6 +87,11 @@ enum {
     PF_DIFFUSE,
     PF_PHONG,
     PF_MEDIUM,
+    PF_PERR,
+    PF_OFFSET,
+    PF_TIR_MARGIN,
+    PF_EDGE,
+    PF_TRIANGLE,
     PF_X, /* pixel fields from here on */
     PF_Y,
     PF_PIXEL,
@@ -124,9 +130,11 @@ int gg_dbg_buf_weights(gg_dbg_buf *b, const ggAllocator *a, const ggTrace *t);
 
 /* Called for every pixel of the window, from worker thread `thread`
    (0 .. threads - 1): recs[i] and px[i] for each tracer (recs NULL when
-   not recording). Return non-zero to stop the scan with that status. */
+   not recording). same: 1 when they are those of the previous call (the
+   pixel to its left, in a span of misses; scan.c). Return non-zero to
+   stop the scan with that status. */
 typedef int (*gg_scan_fn)(void *ud, int thread, int x, int y, ggTrace *const *recs,
-                          const ggColor *px);
+                          const ggColor *px, int same);
 
 typedef struct gg_scan {
     const gg_tracer *tracer[2];
@@ -137,7 +145,9 @@ typedef struct gg_scan {
     gg_scan_fn fn;
     void *ud;
     const ggAllocator *alloc;
-    ggRayStats stats[2]; /* per tracer, summed over threads */
+    ggRayStats stats[2];  /* per tracer, summed over threads */
+    unsigned char *empty; /* during the run: which tiles all miss */
+    int tiles_x;
 } gg_scan;
 
 /* Fill in desc and threads from the tracers (call before allocating

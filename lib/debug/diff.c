@@ -68,13 +68,15 @@ static void keep_worst(ggDiffPixel *list, int *n, int limit, const ggDiffPixel *
     list[i] = *p;
 }
 
-static int diff_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px)
+static int diff_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px,
+                      int same)
 {
     diff_job *dj = ud;
     diff_thread *th = &dj->t[thread];
     ggDiffResult *r = dj->res;
     ggDiffPixel p;
     int vd = bits_differ(px[0], px[1]), td;
+    (void)same;
     memset(&p, 0, sizeof p);
     td = ggTraceCompare(recs[0], recs[1], &p.first);
     gg_dbg_put(r->image_a, x, y, px[0]);

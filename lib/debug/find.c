@@ -18,6 +18,7 @@ typedef struct find_thread {
     ggFindMatch *m;
     int n;
     size_t cap;
+    int last; /* the predicate's value at the last pixel */
     long matched;
     gg_dbg_buf buf;
 } find_thread;
@@ -46,19 +47,24 @@ static int matched(find_job *fj, find_thread *th, int x, int y, ggColor px)
     return 0;
 }
 
-static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px)
+static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px,
+                      int same)
 {
     find_job *fj = ud;
     find_thread *th = &fj->t[thread];
     gg_dbg_pixel p;
+    gg_dbg_put(fj->res->image, x, y, px[0]);
+    /* The same trees as the last pixel's: the same answer, unless the
+       predicate reads x or y. */
+    if (same && !(fj->pred->needs & GG_NEED_XY)) return th->last ? matched(fj, th, x, y, px[0]) : 0;
     memset(&p, 0, sizeof p);
     p.trace = recs ? recs[0] : NULL, p.x = x, p.y = y, p.px = px[0];
     if (p.trace && (fj->pred->needs & GG_NEED_WEIGHT)) {
         if (gg_dbg_buf_weights(&th->buf, fj->alloc, p.trace)) return GG_ERROR_NOMEM;
         p.w = th->buf.w;
     }
-    gg_dbg_put(fj->res->image, x, y, px[0]);
-    return gg_pred_eval(fj->pred, &p) ? matched(fj, th, x, y, px[0]) : 0;
+    th->last = gg_pred_eval(fj->pred, &p);
+    return th->last ? matched(fj, th, x, y, px[0]) : 0;
 }
 
 static int by_row(const void *a, const void *b)

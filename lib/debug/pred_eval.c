@@ -120,6 +120,17 @@ static val surface_field(int f, const ggTraceNode *n)
     }
 }
 
+/* The numeric state of the hit (a shadow ray: of the hit it leaves);
+   NaN, where a field does not apply, is unknown. */
+static val numeric_field(int f, const ggTraceNode *n)
+{
+    double v = f == PF_PERR         ? n->perr
+               : f == PF_OFFSET     ? n->offset
+               : f == PF_TIR_MARGIN ? n->tir_margin
+                                    : n->edge;
+    return n->hit && v == v ? known(v) : unknown;
+}
+
 static val shadow_field(int f, const ggTraceLight *L, int k)
 {
     if (!L) return unknown;
@@ -182,6 +193,13 @@ static val ray_field(const ctx *c, const gg_pnode *pn, const ray_ref *r)
         return L ? unknown : known(comp(n->absorption, k));
     case PF_NONFINITE:
         return known(gg_dbg_nonfinite(L ? light_gave(L) : n->color));
+    case PF_PERR:
+    case PF_OFFSET:
+    case PF_TIR_MARGIN:
+    case PF_EDGE:
+        return numeric_field(f, n);
+    case PF_TRIANGLE:
+        return n->hit && n->triangle >= 0 ? known((double)n->triangle) : unknown;
     default:
         return shadow_field(f, L, k);
     }
@@ -375,6 +393,7 @@ static unsigned needs_of(const ggPredicate *p, int i)
     case PN_BOOL:
         if (pn->field == PF_WEIGHT) m |= GG_NEED_WEIGHT;
         if (pn->field == PF_RAYS) m |= GG_NEED_TREE | GG_NEED_LIGHTS;
+        if (pn->field == PF_X || pn->field == PF_Y) m |= GG_NEED_XY;
         break;
     default:
         break;

@@ -50,19 +50,57 @@ static int take_row(shared *sh, long finished)
     return row;
 }
 
+/* Pixels are traced in spans of SPAN along a row. A span inside a tile
+   whose eye rays all miss (gg_tracer_empty on every tracer, tested once
+   per SPAN x SPAN tile before the scan) is traced at its first pixel
+   only, and that pixel's trees and value serve the others: they differ
+   from what tracing each would record in the rays' origins and
+   directions only, which nothing in this layer reads (the predicate
+   language, the checks and the tree comparison look at what was hit). */
+#define SPAN 16
+
 static int scan_row(shared *sh, int thread, int y, ggTrace *const *recs, ggRayStats *st)
 {
     gg_scan *sc = sh->sc;
     ggColor px[2];
-    int x, i, rc;
-    for (x = sc->desc.x0; x < sc->desc.x1; x++) {
-        for (i = 0; i < sc->ntracers; i++) {
-            px[i] = gg_tracer_pixel(sc->tracer[i], x, y, recs ? recs[i] : NULL, &st[i]);
-            if (recs && gg_tracer_status(recs[i]) != GG_OK) return GG_ERROR_NOMEM;
+    ggRayStats one[2];
+    const unsigned char *empty =
+        sc->empty ? sc->empty + (size_t)((y - sc->desc.y0) / SPAN) * (size_t)sc->tiles_x : NULL;
+    int x, xe, i, rc;
+    for (x = sc->desc.x0; x < sc->desc.x1; x = xe) {
+        int x1 = x + SPAN < sc->desc.x1 ? x + SPAN : sc->desc.x1;
+        int reuse = empty && empty[(x - sc->desc.x0) / SPAN];
+        for (xe = x; xe < x1; xe++) {
+            if (!reuse || xe == x) {
+                for (i = 0; i < sc->ntracers; i++) {
+                    memset(&one[i], 0, sizeof one[i]);
+                    px[i] = gg_tracer_pixel(sc->tracer[i], xe, y, recs ? recs[i] : NULL, &one[i]);
+                    if (recs && gg_tracer_status(recs[i]) != GG_OK) return GG_ERROR_NOMEM;
+                }
+            }
+            for (i = 0; i < sc->ntracers; i++) gg_dbg_stats_add(&st[i], &one[i]);
+            if ((rc = sc->fn(sc->ud, thread, xe, y, recs, px, reuse && xe != x)) != 0) return rc;
         }
-        if ((rc = sc->fn(sc->ud, thread, x, y, recs, px)) != 0) return rc;
     }
     return GG_OK;
+}
+
+/* Which tiles are empty on every tracer (sc->empty; NULL if no memory:
+   then every pixel is traced). */
+static void find_empty_tiles(gg_scan *sc)
+{
+    int tx, ty, i, w = sc->desc.x1 - sc->desc.x0, h = sc->desc.y1 - sc->desc.y0;
+    sc->tiles_x = (w + SPAN - 1) / SPAN;
+    sc->empty = gg_mem_calloc(sc->alloc, (size_t)sc->tiles_x * (size_t)((h + SPAN - 1) / SPAN), 1);
+    for (ty = 0; sc->empty && ty * SPAN < h; ty++)
+        for (tx = 0; tx * SPAN < w; tx++) {
+            int x0 = sc->desc.x0 + tx * SPAN, y0 = sc->desc.y0 + ty * SPAN, e = 1;
+            int x1 = x0 + SPAN < sc->desc.x1 ? x0 + SPAN : sc->desc.x1;
+            int y1 = y0 + SPAN < sc->desc.y1 ? y0 + SPAN : sc->desc.y1;
+            for (i = 0; i < sc->ntracers && e; i++)
+                e = gg_tracer_empty(sc->tracer[i], x0, y0, x1, y1);
+            sc->empty[(size_t)ty * sc->tiles_x + tx] = (unsigned char)e;
+        }
 }
 
 static void *worker(void *arg)
@@ -111,6 +149,7 @@ int gg_scan_run(gg_scan *sc, ggError *err)
     sh.status = GG_OK;
     if (pthread_mutex_init(&sh.mu, NULL) != 0)
         return gg_error_set(err, GG_ERROR_NOMEM, "cannot create a mutex");
+    find_empty_tiles(sc);
     for (i = 0; i < sc->threads && i < 256; i++) args[i].sh = &sh, args[i].thread = i;
     for (i = 1; i < sc->threads && i < 256; i++) {
         if (pthread_create(&th[started], NULL, worker, &args[i]) != 0) break;
@@ -119,6 +158,8 @@ int gg_scan_run(gg_scan *sc, ggError *err)
     worker(&args[0]); /* the calling thread works too */
     for (i = 0; i < started; i++) pthread_join(th[i], NULL);
     pthread_mutex_destroy(&sh.mu);
+    gg_mem_free(sc->alloc, sc->empty);
+    sc->empty = NULL;
     if (sh.status == GG_ERROR_NOMEM)
         return gg_error_set(err, GG_ERROR_NOMEM, "out of memory recording ray trees");
     if (sh.status == GG_ERROR_CANCELLED)

@@ -687,3 +687,9 @@ int gg_tracer_status(const ggTrace *rec)
 {
     return rec->status;
 }
+
+int gg_tracer_empty(const gg_tracer *t, int x0, int y0, int x1, int y1)
+{
+    const resolved *r = &t->j.r;
+    return tile_empty(&t->j, x0 - r->x0, y0 - r->y0, x1 - r->x0, y1 - r->y0);
+}

@@ -38,5 +38,10 @@ void gg_tracer_info(const gg_tracer *t, gg_tracer_desc *d);
 ggColor gg_tracer_pixel(const gg_tracer *t, int x, int y, ggTrace *rec, ggRayStats *st);
 /* GG_OK, or GG_ERROR_NOMEM when a record of the last trace was lost. */
 int gg_tracer_status(const ggTrace *rec);
+/* 1 when no eye ray of the pixels [x0, x1) x [y0, y1) (image
+   coordinates, inside the crop window) can hit anything, so each of them
+   is the miss of its first one but for the direction of its rays: the
+   renderer's empty-tile test (tile_empty in render.c). */
+int gg_tracer_empty(const gg_tracer *t, int x0, int y0, int x1, int y1);
 
 #endif

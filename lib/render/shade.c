@@ -304,7 +304,25 @@ GG_INLINE int rec_ray(const gg_shade_ctx *c, const ray_state *r, const unsigned 
     N->triangle = -1;
     N->fresnel = -1;
     N->weight = rgb(1, 1, 1);
+    N->perr = N->offset = N->tir_margin = N->edge = NAN;
     return node;
+}
+
+/* How close a hit lies to the nearest edge of its triangle or mesh
+   triangle (the smallest barycentric coordinate) or rectangle (in (u,
+   v)); NaN for other shapes. */
+static double edge_distance(int kind, const gg_hit *h)
+{
+    double m;
+    if (kind == GG_SHAPE_TRIANGLE || kind == GG_SHAPE_MESH) {
+        m = 1 - h->b1 - h->b2;
+        if (h->b1 < m) m = h->b1;
+        return h->b2 < m ? h->b2 : m;
+    }
+    if (kind != GG_SHAPE_RECT) return NAN;
+    m = h->b1 < 1 - h->b1 ? h->b1 : 1 - h->b1;
+    if (h->b2 < m) m = h->b2;
+    return 1 - h->b2 < m ? 1 - h->b2 : m;
 }
 
 GG_INLINE void rec_hit(const gg_shade_ctx *c, int node, const hit_info *hi, const unsigned FX)
@@ -324,6 +342,9 @@ GG_INLINE void rec_hit(const gg_shade_ctx *c, int node, const hit_info *hi, cons
     N->emission = (hi->mf->flags & GG_MF_EMIT) ? hi->m->ke : rgb(0, 0, 0);
     N->first_light = (int)c->rec->nlights;
     N->n_other = N->n_medium;
+    N->perr = hi->sf.perr;
+    N->offset = v3len(v3sub(hi->o_out, hi->sf.p));
+    N->edge = edge_distance(N->shape, hi->h);
 }
 
 /* A light record for light li at node's hit, facing away until the
@@ -372,10 +393,21 @@ GG_INLINE void rec_light_terms(const gg_shade_ctx *c, int lr, ggColor diff, ggCo
 GG_INLINE void rec_refract(const gg_shade_ctx *c, int node, double ni, double nt, double cos_i,
                            int ok, int fresnel, double F, const unsigned FX)
 {
-    (void)ni, (void)cos_i, (void)ok;
+    ggTraceNode *N;
+    double eta, e2, k, margin;
+    (void)ok;
     if (!(FX & FX_RECORD) || node < 0) return;
-    c->rec->nodes[node].n_other = nt;
-    if (fresnel) c->rec->nodes[node].fresnel = F;
+    N = &c->rec->nodes[node];
+    N->n_other = nt;
+    if (fresnel) N->fresnel = F;
+    /* The discriminant in units of a bound on its rounding error: a few
+       roundings of cos^2, eta^2, their products and 1 - each, and the
+       error of cos itself (a dot product of unit vectors) times its
+       derivative 2 eta^2 cos. Dispersion: the channel nearest to 0. */
+    eta = ni / nt, e2 = eta * eta;
+    k = 1 - e2 * (1 - cos_i * cos_i);
+    margin = k / (0x1p-53 * (1 + 5 * e2 + 8 * e2 * cos_i));
+    if (!(fabs(margin) >= fabs(N->tir_margin))) N->tir_margin = margin;
 }
 
 /* The index the next ray's record will get (before tracing a child). */

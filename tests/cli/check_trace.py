@@ -59,7 +59,7 @@ def check_node(n, counts, parent_depth):
     else:
         for k in ("object", "line", "material"):
             need(hit, k, int, w + " hit")
-        need(hit, "shape", ("sphere", "triangle", "polygon", "cone", "rect", "implicit"), w)
+        need(hit, "shape", ("sphere", "triangle", "polygon", "cone", "rect", "implicit", "mesh"), w)
         need(hit, "t", NUM, w)
         for k in ("point", "ng", "ns", "surface", "emission", "ambient", "reflect_weight",
                   "refract_weight"):
@@ -70,6 +70,15 @@ def check_node(n, counts, parent_depth):
             fail("%s: uv" % w)
         if hit["fresnel"] is not None and not isinstance(hit["fresnel"], NUM):
             fail("%s: fresnel" % w)
+        num = need(hit, "numeric", dict, w)
+        for k in ("perr", "offset"):
+            if not isinstance(num.get(k), NUM) or num[k] < 0:
+                fail("%s: numeric %s = %r" % (w, k, num.get(k)))
+        for k in ("tir_margin", "edge"):
+            if num.get(k, "absent") is not None and not isinstance(num.get(k), NUM):
+                fail("%s: numeric %s = %r" % (w, k, num.get(k)))
+        if (num["edge"] is None) != (hit["shape"] not in ("triangle", "rect", "mesh")):
+            fail("%s: an edge distance belongs to triangles and rectangles" % w)
         for L in need(hit, "lights", list, w):
             need(L, "light", int, w + " light")
             v = need(L, "verdict", ("visible", "blocked", "attenuated", "facing-away"), w)
@@ -109,6 +118,17 @@ def main():
     rendered = [float(v) for v in m.groups()]
     if [f32(c) for c in color] != [f32(c) for c in rendered]:
         fail("traced colour %r != rendered %r" % (color, rendered))
+    if [f32(c) for c in color] != color:
+        fail("traced colour %r is not the float the image stores" % (color,))
+    # The ledger (every sample recorded): its terms add up to the colour.
+    if doc["sample"] is None:
+        led = need(doc, "ledger", dict, "top")
+        if led["holds"] is not True:
+            fail("the ledger does not hold")
+        for c in range(3):
+            total = sum(t["value"][c] for t in led["terms"])
+            if abs(total - color[c]) > led["bound"][c]:
+                fail("ledger terms add up to %r, the colour is %r" % (total, color[c]))
     # The tree's own counts agree with its stats object...
     tree = {"eye": counts.get("eye", 0), "reflect": counts.get("reflect", 0) + counts.get("tir", 0),
             "refract": counts.get("refract", 0), "shadow": counts.get("shadow", 0)}

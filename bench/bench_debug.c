@@ -1,0 +1,114 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** bench_debug.c -- what the image-level debugger costs: ggFind (three
+** kinds of predicate) and ggCheck over a SIZE x SIZE image against a
+** plain ggRender of it with the same threads, alternated round by round,
+** medians. The target (issue 11): at most 3x the render.
+**   make bench-debug     or   build/bench/bench_debug [-s SIZE] [-r ROUNDS] [-t THREADS] SCENE...
+** Prints one line per scene and task, and the largest ratio.
+*/
+#include "ggrt.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The tasks timed: a render, three finds, a check. */
+static const char *const task_name[] = {"render", "find some(kind == tir)",
+                                        "find some(verdict == blocked)", "find pixel.r > 0.5",
+                                        "check"};
+static const char *const predicates[] = {"some(kind == tir)", "some(verdict == blocked)",
+                                         "pixel.r > 0.5"};
+#define NTASKS 5
+
+static int run_task(ggScene *s, const ggRenderOptions *o, int k, ggPredicate *const *pred)
+{
+    ggError e;
+    int rc;
+    if (k == 0) {
+        ggImage *img = NULL;
+        rc = ggRender(s, o, &img, NULL, &e);
+        ggImageFree(img);
+    } else if (k < 4) {
+        ggFindResult *r = NULL;
+        rc = ggFind(s, o, pred[k - 1], 10, &r, &e);
+        ggFindResultFree(r);
+    } else {
+        ggCheckResult *r = NULL;
+        rc = ggCheck(s, o, NULL, &r, &e);
+        ggCheckResultFree(r);
+    }
+    if (rc != GG_OK) fprintf(stderr, "bench_debug: %s\n", e.message);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    static char *def[] = {"examples/scenes/glass.nff",          "examples/scenes/default.nff",
+                          "examples/scenes/water.nff",          "examples/scenes/spd/balls-s3.nff",
+                          "examples/scenes/spd/gears.nff",      "examples/scenes/spd/mount.nff",
+                          "examples/scenes/spd/tetra.nff",      "examples/scenes/spd/rings.nff",
+                          "examples/scenes/spd/teapot-s12.nff", "examples/scenes/spd/tree.nff"};
+    int size = 512, rounds = 3, threads = 2, i, k, r;
+    double worst = 0;
+    const char *worst_at = "";
+    ggPredicate *pred[3];
+    for (i = 1; i < argc && argv[i][0] == '-'; i += 2) {
+        if (i + 1 >= argc) return 2;
+        if (!strcmp(argv[i], "-s"))
+            size = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "-r"))
+            rounds = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "-t"))
+            threads = atoi(argv[i + 1]);
+    }
+    if (i >= argc) argv = def, i = 0, argc = (int)(sizeof def / sizeof def[0]);
+    if (rounds < 1 || rounds > 64 || size < 1) return 2;
+    for (k = 0; k < 3; k++)
+        if (ggPredicateParse(predicates[k], NULL, &pred[k], NULL) != GG_OK) return 1;
+    printf("bench_debug: %dx%d, %d threads, median of %d alternated rounds; ratio = task / "
+           "render\n",
+           size, size, threads, rounds);
+    for (; i < argc; i++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggRenderOptions o;
+        ggError e;
+        double t[NTASKS][64];
+        if (!s || ggSceneLoadFile(s, argv[i], &e) != GG_OK || ggScenePrepare(s, &e) != GG_OK) {
+            fprintf(stderr, "bench_debug: %s\n", s ? e.message : "out of memory");
+            return 1;
+        }
+        ggRenderOptionsDefault(&o);
+        o.width = o.height = size, o.threads = threads;
+        for (r = 0; r < rounds; r++)
+            for (k = 0; k < NTASKS; k++) {
+                double t0 = now();
+                if (run_task(s, &o, k, pred) != GG_OK) return 1;
+                t[k][r] = now() - t0;
+            }
+        for (k = 0; k < NTASKS; k++) qsort(t[k], (size_t)rounds, sizeof t[k][0], cmp);
+        for (k = 0; k < NTASKS; k++) {
+            double ratio = t[k][rounds / 2] / t[0][rounds / 2];
+            printf("%-36s %-30s %8.4fs %6.2fx\n", argv[i], task_name[k], t[k][rounds / 2], ratio);
+            if (k && ratio > worst) worst = ratio, worst_at = argv[i];
+        }
+        ggSceneFree(s);
+    }
+    printf("bench_debug: largest ratio %.2fx (%s); target <= 3x\n", worst, worst_at);
+    for (k = 0; k < 3; k++) ggPredicateFree(pred[k]);
+    return 0;
+}
