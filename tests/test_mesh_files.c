@@ -14,6 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define DATA "tests/data/meshes/"
 
@@ -381,6 +383,15 @@ static void test_nff_mesh(void **state)
     assert_string_equal(e.message,
                         "build_test_mesh.nff:1:6: mesh: no/such.obj: No such file or directory");
     remove(path);
+    /* only regular files are read: a FIFO is refused at once, never waited on */
+    assert_int_equal(mkfifo("build_test_mesh.ply", 0600), 0);
+    assert_int_equal(ggSceneLoadMesh(s, "build_test_mesh.ply", NULL, &e), GG_ERROR_IO);
+    assert_string_equal(e.message, "build_test_mesh.ply: not a regular file");
+    remove("build_test_mesh.ply");
+    assert_int_equal(mkdir("build_test_dir.obj", 0700), 0);
+    assert_int_equal(ggSceneLoadMesh(s, "build_test_dir.obj", NULL, &e), GG_ERROR_IO);
+    assert_string_equal(e.message, "build_test_dir.obj: not a regular file");
+    rmdir("build_test_dir.obj");
     ggSceneFree(s);
 }
 
@@ -411,8 +422,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_obj_cube),       cmocka_unit_test(test_obj_memory),
         cmocka_unit_test(test_obj_errors),     cmocka_unit_test(test_obj_forms),
-        cmocka_unit_test(test_obj_concave),   cmocka_unit_test(test_obj_concave_quad),
-        cmocka_unit_test(test_obj_rollback),    cmocka_unit_test(test_ply_encodings),
+        cmocka_unit_test(test_obj_concave),    cmocka_unit_test(test_obj_concave_quad),
+        cmocka_unit_test(test_obj_rollback),   cmocka_unit_test(test_ply_encodings),
         cmocka_unit_test(test_ply_errors),     cmocka_unit_test(test_nff_mesh),
         cmocka_unit_test(test_model_as_scene),
     };

@@ -12,7 +12,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 void gg_mb_init(gg_mb *mb, const ggAllocator *a, int format)
 {
@@ -432,14 +434,20 @@ const char *gg_parse_long(const char *p, const char *end, long lo, long hi, long
 int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
                       ggError *err)
 {
-    FILE *f = fopen(path, "rb");
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    FILE *f;
     struct stat st;
     char *buf;
     size_t n, got;
-    if (!f) return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(f);
+    if (fd < 0) return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
         return gg_error_set(err, GG_ERROR_IO, "%s: not a regular file", path);
+    }
+    if (!(f = fdopen(fd, "rb"))) {
+        close(fd);
+        return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
     }
     if ((unsigned long long)st.st_size > (unsigned long long)limit) {
         fclose(f);

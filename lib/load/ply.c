@@ -354,7 +354,8 @@ static int plausible(plyp *pp, const pelem *e)
 {
     double left = pp->fmt ? (double)(pp->end - pp->p) : (double)(pp->c.end - pp->c.p);
     double need = (double)e->count * (pp->fmt ? min_bytes(e) : 2.0 * e->np);
-    if (need <= left + 1) return GG_OK;
+    /* ascii: the last value may end the file without a separator */
+    if (need <= left + (pp->fmt ? 0 : 1)) return GG_OK;
     return bfail(pp, GG_ERROR_PARSE,
                  "%llu %.*s elements need at least %.0f bytes, %.0f are left "
                  "(truncated or a bad count)",
@@ -369,6 +370,8 @@ static int fixed_vertices(plyp *pp, const pelem *e, const int w[W_N], bool has_n
     size_t off[PLY_MAX_PROPS], stride = 0;
     int k;
     for (k = 0; k < e->np; k++) off[k] = stride, stride += (size_t)type_size(e->p[k].type);
+    if ((double)stride * (double)e->count > (double)(pp->end - pp->p))
+        return bfail(pp, GG_ERROR_PARSE, "the file ends inside the vertices (truncated)");
     if (gg_mb_reserve(mb, (size_t)e->count, has_n, has_uv, 0))
         return bfail(pp, GG_ERROR_NOMEM, "out of memory");
     for (pp->index = 0; pp->index < e->count; pp->index++, pp->p += stride) {
