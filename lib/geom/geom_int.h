@@ -298,7 +298,7 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
 /* Ray precomputation; returns 0 if the ray can hit nothing (NaN, d = 0). */
 int gg_rpre_init(gg_rpre *r, const gg_rayq *q);
 
-/* BVH (bvh.c): build over element boxes; writes the leaf order of the
+/* BVH (bvh_build.c): build over element boxes; writes the leaf order of the
    elements to order[]. tri[i] (or NULL) tells whether element i is a
    triangle: leaves of triangles are cheaper for the AVX traversal, which
    the build's cost model then allows for. */
@@ -307,8 +307,10 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
 void gg_bvh_free(gg_geom *g);
 /* After the slots are filled: keep the leaves that hold only triangles
    also as gg_tleaf blocks, and choose the traversal copy (g->trav_avx),
-   when the CPU runs AVX and g->cpu allows it. Returns -1 when out of
-   memory. */
+   when gg_bvh_avx_wanted(g). Returns -1 when out of memory. */
 int gg_bvh_tri_leaves(gg_geom *g);
+/* Whether builds of g make triangle blocks for the AVX traversal (bvh.c):
+   this build has it (bvh_avx.c), the CPU runs it and g->cpu allows it. */
+int gg_bvh_avx_wanted(const gg_geom *g);
 
 #endif
