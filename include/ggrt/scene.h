@@ -119,7 +119,12 @@ GG_API void ggSceneFree(ggScene *scene);
    ggSceneLoadFile also takes a model on its own: a path ending in .obj or
    .ply (any case) is loaded with ggSceneLoadMesh and default options, then
    framed with ggSceneFrame (camera if the scene has none, lights if it has
-   none). ggSceneLoadString reads NFF only. */
+   none). ggSceneLoadString reads NFF only.
+   Limits (GG_ERROR_LIMIT, the message naming the limit and the value): a
+   scene file of more than GG_SCENE_MAX_FILE bytes is refused before it is
+   read; a resolution over the image limits of image.h; textures beyond
+   the texture budget (ggSceneSetTextureBudget). */
+#define GG_SCENE_MAX_FILE ((size_t)256 << 20)
 GG_API int ggSceneLoadFile(ggScene *scene, const char *path, ggError *err);
 GG_API int ggSceneLoadString(ggScene *scene, const char *text, size_t len, const char *name,
                              ggError *err);
@@ -134,6 +139,24 @@ typedef int (*ggImageReader)(void *ud, const char *path, const ggAllocator *allo
    pkg-config ggrt-core), where a scene that names a texture fails with
    GG_ERROR_UNSUPPORTED unless a reader is given here. */
 GG_API void ggSceneSetImageReader(ggScene *scene, ggImageReader fn, void *ud);
+
+/* The texture budget: how many bytes of decoded texels (12 per pixel) the
+   image textures that this scene's files name may hold in all, default
+   GG_TEXTURE_BUDGET (256 MiB). A file named several times (the same path
+   after resolving it against the scene file's folder) is decoded once and
+   counted once. The library's reader checks the size a PNG or OpenEXR
+   header declares against what is left before decoding; an image from a
+   reader given with ggSceneSetImageReader is checked when it returns.
+   Going over is GG_ERROR_LIMIT, "t.png: 3000 x 3000 pixels decode to
+   108000000 bytes, over the texture budget (60000000 bytes left of
+   268435456)", and the load fails as any load error does. Images given
+   with ggSceneAddTexture are not counted.
+   The contract is SQLite's sqlite3_limit(): bytes >= 0 sets the budget
+   for the loads that follow (what is loaded stays, even above a lowered
+   budget); bytes < 0 changes nothing. Either way the budget in effect
+   before the call is returned; -1 for a NULL scene. */
+#define GG_TEXTURE_BUDGET ((int64_t)256 << 20)
+GG_API int64_t ggSceneSetTextureBudget(ggScene *scene, int64_t bytes);
 
 /* ---- building in code ----
    Functions that add something return its index (>= 0), or a negative

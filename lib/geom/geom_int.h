@@ -297,7 +297,7 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
 /* Ray precomputation; returns 0 if the ray can hit nothing (NaN, d = 0). */
 int gg_rpre_init(gg_rpre *r, const gg_rayq *q);
 
-/* BVH (bvh.c): build over element boxes; writes the leaf order of the
+/* BVH (bvh_build.c): build over element boxes; writes the leaf order of the
    elements to order[]. tri[i] (or NULL) tells whether element i is a
    triangle: leaves of triangles are cheaper for the AVX traversal, which
    the build's cost model then allows for. */
@@ -312,6 +312,9 @@ int gg_bvh_tri_leaves(gg_geom *g);
 /* Whether builds may choose the AVX traversal: the compiler made it and
    the CPU and OS run it. */
 int gg_bvh_avx_usable(void);
+/* Whether builds make triangle blocks for the AVX traversal: usable and
+   not turned off by gg_bvh_set_avx (bvh.c). */
+int gg_bvh_avx_wanted(void);
 /* Allow (1) or forbid (0) the AVX traversal for later builds, so that
    tests run both copies; returns the previous setting. Not thread-safe. */
 int gg_bvh_set_avx(int on);

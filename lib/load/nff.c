@@ -328,8 +328,8 @@ static int kw_view(parser *ps)
             if ((rc = integer(ps, 1, GG_IMAGE_MAX_DIM, &w, "a width")) != GG_OK) return rc;
             if ((rc = integer(ps, 1, GG_IMAGE_MAX_DIM, &h, "a height")) != GG_OK) return rc;
             if ((size_t)w * (size_t)h > GG_IMAGE_MAX_PIXELS)
-                return fail(ps, &t, GG_ERROR_LIMIT, "resolution %ldx%ld exceeds %zu pixels", w, h,
-                            (size_t)GG_IMAGE_MAX_PIXELS);
+                return fail(ps, &t, GG_ERROR_LIMIT, "resolution %ldx%ld exceeds the limit of %zu pixels",
+                            w, h, (size_t)GG_IMAGE_MAX_PIXELS);
             c->width = (int)w, c->height = (int)h;
         } else
             break;
@@ -522,18 +522,6 @@ static int kw_dispersion(parser *ps)
     return mat_changed(ps);
 }
 
-/* Through the scene's image reader, else the library's default (load.h). */
-static int read_texture(const ggScene *s, const char *path, ggImage **img, ggError *err)
-{
-    ggImageReader fn = s->reader ? s->reader : gg_load_default_reader();
-    if (!fn)
-        return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                            "%s: this libggrt reads no image files (libggrt-core); give the "
-                            "scene a reader with ggSceneSetImageReader",
-                            path);
-    return fn(s->reader ? s->reader_ud : NULL, path, s->alloc, img, err);
-}
-
 /* texture "file" [repeat|clamp] [nearest|bilinear]  |  texture none */
 static int kw_texture(parser *ps)
 {
@@ -552,6 +540,7 @@ static int kw_texture(parser *ps)
         return fail(ps, &t, GG_ERROR_PARSE, "bad texture file name");
     memset(&tx, 0, sizeof tx);
     tx.wrap = GG_WRAP_REPEAT;
+    tx.shared = 1; /* the image is the scene's cache's */
     while (peek(ps, &o) > 0) {
         if (tok_is(&o, "repeat")) tx.wrap = GG_WRAP_REPEAT;
         else if (tok_is(&o, "clamp")) tx.wrap = GG_WRAP_CLAMP;
@@ -564,7 +553,7 @@ static int kw_texture(parser *ps)
         snprintf(path, sizeof path, "%.*s", (int)t.n, t.p);
     else
         snprintf(path, sizeof path, "%s%.*s", ps->dir, (int)t.n, t.p);
-    rc = read_texture(ps->s, path, &tx.img, &e2);
+    rc = gg_load_texture(ps->s, path, &tx.img, &e2);
     if (rc != GG_OK)
         return fail(ps, &t, rc, "cannot read texture: %s", e2.message);
     id = gg_scene_add_texture_desc(ps->s, &tx);
@@ -799,7 +788,7 @@ static const keyword keywords[] = {
 
 /* Undo everything added since the snapshot: a failed load changes nothing. */
 typedef struct snapshot {
-    size_t nobjects, nmaterials, nlights, ntextures, nverts, nmeshes;
+    size_t nobjects, nmaterials, nlights, ntextures, nimages, nverts, nmeshes;
     ggCamera camera;
     bool has_camera;
     ggColor background, ambient;
@@ -810,7 +799,7 @@ static void take(const ggScene *s, snapshot *sn)
 {
     sn->nobjects = s->nobjects, sn->nmaterials = s->nmaterials, sn->nlights = s->nlights;
     sn->ntextures = s->ntextures, sn->nverts = s->nverts, sn->camera = s->camera;
-    sn->nmeshes = s->nmeshes;
+    sn->nmeshes = s->nmeshes, sn->nimages = s->nimages;
     sn->has_camera = s->has_camera, sn->background = s->background, sn->ambient = s->ambient;
     sn->depth = s->depth, sn->samples = s->samples;
 }
@@ -819,7 +808,7 @@ static void rollback(ggScene *s, const snapshot *sn)
 {
     size_t i;
     for (i = sn->nobjects; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
-    for (i = sn->ntextures; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_textures(s, sn->ntextures, sn->nimages);
     gg_scene_drop_meshes(s, sn->nmeshes);
     s->nobjects = sn->nobjects, s->nmaterials = sn->nmaterials, s->nlights = sn->nlights;
     s->ntextures = sn->ntextures, s->nverts = sn->nverts, s->camera = sn->camera;
@@ -862,32 +851,6 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
     return rc;
 }
 
-static int read_file(const ggAllocator *a, const char *path, char **out, size_t *len, ggError *err)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf = NULL;
-    size_t n = 0, cap = 0, got;
-    if (!f) return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
-    for (;;) {
-        if (gg_mem_grow(a, (void **)&buf, &cap, n + 65536, 1)) {
-            fclose(f);
-            gg_mem_free(a, buf);
-            return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
-        }
-        got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) break;
-    }
-    if (ferror(f)) {
-        fclose(f);
-        gg_mem_free(a, buf);
-        return gg_error_set(err, GG_ERROR_IO, "%s: read error", path);
-    }
-    fclose(f);
-    *out = buf, *len = n;
-    return GG_OK;
-}
-
 GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
 {
     char *text = NULL, *dir, *slash;
@@ -895,7 +858,7 @@ GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
     int rc;
     if (!s || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadFile: NULL argument");
     if (gg_load_mesh_format(path)) return gg_load_model(s, path, err);
-    rc = read_file(s->alloc, path, &text, &len, err);
+    rc = gg_load_read_file(s->alloc, path, GG_SCENE_MAX_FILE, &text, &len, err);
     if (rc != GG_OK) return rc;
     dir = gg_mem_strdup(s->alloc, path);
     if (!dir) {

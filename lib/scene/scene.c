@@ -5,6 +5,7 @@
 */
 #include "scene.h"
 
+#include "image.h"
 #include "implicit.h"
 #include "vec.h"
 
@@ -48,6 +49,7 @@ GG_API ggScene *ggSceneCreate(const ggAllocator *alloc)
     s->camera.height = 512;
     s->background = rgb(0, 0, 0);
     s->ambient = rgb(0.1, 0.1, 0.1);
+    s->tex_budget = GG_TEXTURE_BUDGET;
     return s;
 }
 
@@ -69,13 +71,14 @@ GG_API void ggSceneFree(ggScene *s)
     if (!s) return;
     unprepare(s);
     for (i = 0; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
-    for (i = 0; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_textures(s, 0, 0);
     gg_scene_drop_meshes(s, 0);
     gg_mem_free(s->alloc, s->meshes);
     gg_mem_free(s->alloc, s->objects);
     gg_mem_free(s->alloc, s->materials);
     gg_mem_free(s->alloc, s->lights);
     gg_mem_free(s->alloc, s->textures);
+    gg_mem_free(s->alloc, s->images);
     gg_mem_free(s->alloc, s->verts);
     gg_mem_free(s->alloc, s->norms);
     gg_mem_free(s->alloc, s->filename);
@@ -277,12 +280,58 @@ int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t)
 {
     if (gg_mem_grow(s->alloc, (void **)&s->textures, &s->cap_textures, s->ntextures + 1,
                     sizeof *t)) {
-        ggImageFree(t->img);
+        if (!t->shared) ggImageFree(t->img);
         return -GG_ERROR_NOMEM;
     }
     unprepare(s);
     s->textures[s->ntextures] = *t;
     return (int)s->ntextures++;
+}
+
+ggImage *gg_scene_image_find(const ggScene *s, const char *path)
+{
+    size_t i;
+    for (i = 0; i < s->nimages; i++)
+        if (strcmp(s->images[i].path, path) == 0) return s->images[i].img;
+    return NULL;
+}
+
+int gg_scene_image_add(ggScene *s, const char *path, ggImage *img)
+{
+    char *p = gg_mem_strdup(s->alloc, path);
+    if (!p || gg_mem_grow(s->alloc, (void **)&s->images, &s->cap_images, s->nimages + 1,
+                          sizeof *s->images)) {
+        gg_mem_free(s->alloc, p);
+        ggImageFree(img);
+        return -GG_ERROR_NOMEM;
+    }
+    s->images[s->nimages].path = p;
+    s->images[s->nimages].img = img;
+    s->tex_used += GG_IMAGE_BYTES(img->width, img->height);
+    return (int)s->nimages++;
+}
+
+void gg_scene_drop_textures(ggScene *s, size_t nt, size_t ni)
+{
+    size_t i;
+    for (i = nt; i < s->ntextures; i++)
+        if (!s->textures[i].shared) ggImageFree(s->textures[i].img);
+    for (i = ni; i < s->nimages; i++) {
+        s->tex_used -= GG_IMAGE_BYTES(s->images[i].img->width, s->images[i].img->height);
+        ggImageFree(s->images[i].img);
+        gg_mem_free(s->alloc, s->images[i].path);
+    }
+    if (nt < s->ntextures) s->ntextures = nt;
+    if (ni < s->nimages) s->nimages = ni;
+}
+
+GG_API int64_t ggSceneSetTextureBudget(ggScene *s, int64_t bytes)
+{
+    int64_t old;
+    if (!s) return -1;
+    old = s->tex_budget;
+    if (bytes >= 0) s->tex_budget = bytes;
+    return old;
 }
 
 GG_API int ggSceneAddTexture(ggScene *s, ggImage *img)
