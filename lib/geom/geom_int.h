@@ -318,5 +318,14 @@ int gg_bvh_avx_wanted(void);
 /* Allow (1) or forbid (0) the AVX traversal for later builds, so that
    tests run both copies; returns the previous setting. Not thread-safe. */
 int gg_bvh_set_avx(int on);
+/* Threads of later builds (0: the processors online; small builds use
+   one); returns the previous setting. The tree
+   does not depend on it. Not thread-safe. */
+int gg_bvh_set_threads(int n);
+/* For tests: the element counts from which builds use threads, below
+   which subtrees are handed to them, and from which a node is binned by
+   all of them (sizes[0..2]; 0 keeps one). Swaps in the old values. Not
+   thread-safe. */
+void gg_bvh_set_build_sizes(size_t sizes[3]);
 
 #endif
