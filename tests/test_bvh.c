@@ -675,7 +675,7 @@ static void test_threaded_build(void **state)
         tu_rng r = {23};
         one = random_scene(&r, 4000, 5);
     }
-    assert_true(one->nnodes > 100 && one->ntleaves > 10);
+    assert_true(one->nnodes > 100 && (one->ntleaves > 10 || !gg_bvh_avx_wanted()));
     for (t = 2; t <= 4; t++) {
         tu_rng r = {23};
         gg_geom *g;
