@@ -95,7 +95,7 @@ grep -qF "ggrt diff: --b:1:8: sphere must be stable or textbook, got 'round'" "$
   ok "diff: the --b message" || bad "diff: the --b message" "$(cat "$tmp/err")"
 
 # trace --ledger: the terms add up to the printed colour (glass, water, gears)
-for p in "$g 110,100" "examples/scenes/water.nff 240,250" "examples/scenes/spd/gears.nff 250,260"; do
+for p in "$g 110,100" "examples/scenes/water.nff 240,250" "examples/scenes/spd/gears.nff 250,260" "examples/scenes/spd/gears.nff 151,21"; do
   set -- $p
   "$ggrt" trace "$1" --pixel "$2" --ledger >"$tmp/l" 2>&1
   if grep -q "within the rounding bound .*: yes$" "$tmp/l" && grep -q "^  *[0-9.]*%  (" "$tmp/l"; then
