@@ -80,11 +80,32 @@ typedef struct ggMaterial {
 /* The NFF default: white, kd 1, everything else off, no texture. */
 GG_API ggMaterial ggMaterialDefault(void);
 
+/* Whether m is physically valid, the rule ggSceneAddMaterial and the NFF
+   loader apply: colour, kd, ks, kt, shine, ke, extinction, unit_m and abbe
+   finite and >= 0 (weights above 1 are accepted: `ggrt check` reports the
+   energy they add); ior finite and non-zero when kt > 0 (negative: a
+   metamaterial, optics.h); eta_n and eta_k finite, eta_k >= 0, and for
+   GG_FRESNEL_CONDUCTOR eta_n >= 0 with n and k not both 0 in any channel;
+   fresnel one of GG_FRESNEL_*; texture >= -1 (whether the texture exists
+   is the scene's to check). Returns GG_OK, or GG_ERROR_INVALID with err
+   naming the first field at fault ("material: ks must be finite and >= 0,
+   got -1"); a NULL m is GG_ERROR_INVALID. */
+GG_API int ggMaterialCheck(const ggMaterial *m, ggError *err);
+
 typedef struct ggCamera {
     ggVec3 from, at, up; /* up need not be perpendicular: it is orthogonalised */
     double fov_deg;      /* full field of view, horizontal = vertical scaled by aspect */
     int width, height;   /* image size */
 } ggCamera;
+
+/* Whether cam gives a camera basis: from, at and up finite with no
+   coordinate over 1e150 in magnitude; at - from not
+   zero (nor below 1e-9 of their size); up not zero and not parallel to at
+   - from (within 1e-9 rad); 0 < fov_deg < 180; width and height 1 to
+   GG_IMAGE_MAX_DIM, at most GG_IMAGE_MAX_PIXELS pixels. Returns GG_OK, or
+   GG_ERROR_INVALID with err naming the fault ("camera: 'up' is parallel
+   to the view direction"); a NULL cam is GG_ERROR_INVALID. */
+GG_API int ggCameraCheck(const ggCamera *cam, ggError *err);
 
 /* New empty scene; NULL if out of memory. alloc may be NULL. */
 GG_API ggScene *ggSceneCreate(const ggAllocator *alloc);
@@ -142,14 +163,23 @@ GG_API int64_t ggSceneSetTextureBudget(ggScene *scene, int64_t bytes);
 
 /* ---- building in code ----
    Functions that add something return its index (>= 0), or a negative
-   status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID) on failure. */
-GG_API void ggSceneSetCamera(ggScene *scene, const ggCamera *cam);
+   status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID) on failure; the setters
+   return GG_OK or GG_ERROR_INVALID. Invalid values are refused by the rule
+   the NFF loader applies (docs/scene-format.md, "Parameter ranges"), and
+   the scene is then unchanged. */
+/* GG_ERROR_INVALID unless ggCameraCheck(cam) accepts it. */
+GG_API int ggSceneSetCamera(ggScene *scene, const ggCamera *cam);
+/* The camera; all zero for a NULL scene. */
 GG_API ggCamera ggSceneCamera(const ggScene *scene);
-GG_API void ggSceneSetBackground(ggScene *scene, ggColor c);
-GG_API void ggSceneSetAmbient(ggScene *scene, ggColor c);
-/* Point light; NFF lights without a colour get 1/sqrt(number of lights)
-   (the SPD convention) at render time when `color` has r < 0. */
+/* GG_ERROR_INVALID unless every channel is finite and >= 0. */
+GG_API int ggSceneSetBackground(ggScene *scene, ggColor c);
+GG_API int ggSceneSetAmbient(ggScene *scene, ggColor c);
+/* Point light at a finite position. NFF lights without a colour get
+   1/sqrt(number of lights) (the SPD convention) at render time when
+   `color` has r < 0; any other colour must be finite and >= 0. */
 GG_API int ggSceneAddLight(ggScene *scene, ggVec3 pos, ggColor color);
+/* Copies *m; -GG_ERROR_INVALID unless ggMaterialCheck(m) accepts it and
+   its texture (if any) exists. */
 GG_API int ggSceneAddMaterial(ggScene *scene, const ggMaterial *m);
 /* Takes ownership of img (freed with the scene, also on failure). */
 GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);

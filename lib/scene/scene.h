@@ -110,6 +110,17 @@ int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int cou
 int gg_scene_add_object(ggScene *s, const gg_object *o);
 int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t);
 
+/* What is wrong with a camera (the first problem found), for the loader's
+   messages and ggCameraCheck. */
+#define GG_CAMERA_OK        0
+#define GG_CAMERA_NONFINITE 1 /* from, at or up is not finite */
+#define GG_CAMERA_FROM_AT   2 /* from and at are (all but) the same point */
+#define GG_CAMERA_UP        3 /* up is zero or parallel to the view direction */
+#define GG_CAMERA_FOV       4 /* fov_deg outside (0, 180) */
+#define GG_CAMERA_SIZE      5 /* width or height outside the image limits */
+int gg_camera_fault(const ggCamera *c);
+const char *gg_camera_fault_text(int fault);
+
 /* The texture cache: the image cached under path, or NULL; cache img under
    path (the scene owns it from then on, also when this fails with
    -GG_ERROR_NOMEM); free the textures from index nt and the cached images
