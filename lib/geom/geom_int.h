@@ -213,6 +213,7 @@ void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf 
 /* Point on a triangle from barycentrics (b1, b2 of vertices 1, 2) and its
    error bound. */
 ggVec3 gg_tri_point(const gg_ktri *t, double b1, double b2, double *perr);
+/* 0, GG_GEOM_DEGENERATE or GG_GEOM_NOMEM (geom.h). */
 int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int n, gg_poly *out);
 void gg_poly_bounds(const gg_geom *g, const gg_poly *pl, double lo[3], double hi[3]);
 void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, const gg_hit *h,
