@@ -140,6 +140,12 @@ typedef struct ggRayStats {
     uint64_t nonfinite;  /* samples that produced NaN or infinity */
     uint64_t max_depth;  /* depth of the deepest ray cast */
     uint64_t budget_cut; /* secondary rays not cast: the ray budget was used up */
+    /* Tests of a ray against an implicit surface that ran out of the
+       surface's evaluation budget (ggImplicitSetBudget) and so counted as a
+       miss. Tests, not rays: a shadow ray's test may be skipped when a
+       thread's shadow cache finds the blocker first, so this count (unlike
+       the image) may differ with the number of threads. */
+    uint64_t implicit_cut;
 } ggRayStats;
 
 /* ---- rendering ---- */

@@ -142,6 +142,9 @@ typedef struct gg_rayq {
        gg_geom_occluded), never changes an answer. */
     uint32_t inside;
     const gg_qopt *opt; /* never NULL (gg_rayq_make puts in the defaults) */
+    /* NULL, or a counter of the implicit surfaces whose test of this ray ran
+       out of evaluations (ggRayStats.implicit_cut) */
+    uint64_t *implicit_cut;
 } gg_rayq;
 
 /* The default options: all zero. */
@@ -154,6 +157,7 @@ static inline gg_rayq gg_rayq_make(ggVec3 o, ggVec3 d, double tmin, double tmax,
     q.o = o, q.d = d, q.tmin = tmin, q.tmax = tmax;
     q.ignore_prim = UINT32_MAX, q.skip_flags = 0, q.inside = UINT32_MAX;
     q.opt = opt ? opt : &gg_qopt_default;
+    q.implicit_cut = NULL;
     return q;
 }
 

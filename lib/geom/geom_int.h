@@ -73,6 +73,7 @@ typedef struct gg_rpre {
     double sx, sy, sz;
     int kx, ky, kz;
     const gg_qopt *opt; /* the query's options, never NULL */
+    uint64_t *implicit_cut; /* the query's, or NULL */
     uint32_t ignore;
     unsigned skip;
 } gg_rpre;
@@ -290,6 +291,7 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
     r->sx = r->d[r->kx] * r->sz;
     r->sy = r->d[r->ky] * r->sz;
     r->opt = q->opt;
+    r->implicit_cut = q->implicit_cut;
     r->ignore = q->ignore_prim;
     r->skip = q->skip_flags;
     return 1;
