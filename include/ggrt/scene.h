@@ -121,6 +121,9 @@ GG_API void ggSceneFree(ggScene *scene);
    .ply (any case) is loaded with ggSceneLoadMesh and default options, then
    framed with ggSceneFrame (camera if the scene has none, lights if it has
    none). ggSceneLoadString reads NFF only.
+   Only regular files are read, as scenes, meshes, material libraries and
+   textures: a FIFO, device or directory is GG_ERROR_IO "path: not a
+   regular file" at once (opened without blocking, then checked).
    Limits (GG_ERROR_LIMIT, the message naming the limit and the value): a
    scene file of more than GG_SCENE_MAX_FILE bytes is refused before it is
    read; a resolution over the image limits of image.h; textures beyond

@@ -31,63 +31,14 @@
 
 #include <string.h>
 
-#if GG_HAVE_BVH_AVX
-#include <cpuid.h>
-#include <pthread.h>
-#endif
-
 /* ---- run-time choice of the AVX traversal ---- */
 
-#if GG_HAVE_BVH_AVX
-static int avx_ok, avx_allowed = 1;
-static pthread_once_t avx_once = PTHREAD_ONCE_INIT;
-
-/* AVX needs the CPU flag and the OS saving the YMM registers. */
-static void avx_probe(void)
+/* Whether builds of g make triangle blocks for the AVX traversal: this
+   build has it, the CPU runs it and g allows it (gg_geom_set_cpu). */
+int gg_bvh_avx_wanted(const gg_geom *g)
 {
-    unsigned a, b, c, d, lo, hi;
-    if (!__get_cpuid(1, &a, &b, &c, &d)) return;
-    if (!(c & bit_OSXSAVE) || !(c & bit_AVX)) return;
-    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-    (void)hi;
-    avx_ok = (lo & 6) == 6;
+    return GG_HAVE_BVH_AVX && (g->cpu & gg_cpu_features() & GG_CPU_AVX);
 }
-
-int gg_bvh_avx_usable(void)
-{
-    pthread_once(&avx_once, avx_probe);
-    return avx_ok;
-}
-
-int gg_bvh_set_avx(int on)
-{
-    int was = avx_allowed;
-    avx_allowed = on != 0;
-    return was;
-}
-
-/* Whether builds make triangle blocks for the AVX traversal. */
-int gg_bvh_avx_wanted(void)
-{
-    return avx_allowed && gg_bvh_avx_usable();
-}
-#else
-int gg_bvh_avx_usable(void)
-{
-    return 0;
-}
-
-int gg_bvh_set_avx(int on)
-{
-    (void)on;
-    return 0;
-}
-
-int gg_bvh_avx_wanted(void)
-{
-    return 0;
-}
-#endif
 
 void gg_bvh_free(gg_geom *g)
 {
@@ -112,6 +63,11 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
                 g->ntleaves * sizeof(gg_tleaf);
     st->build_seconds = g->build_seconds;
     st->blocks = g->trav_avx ? g->ntleaves : 0;
+#if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD) /* GG_BVH_SIMD of bvh_trav.h */
+    st->traversal = g->trav_avx ? "avx" : "sse2";
+#else
+    st->traversal = "c";
+#endif
 }
 
 /* ---- triangle leaves for the AVX traversal ---- */
@@ -134,7 +90,7 @@ int gg_bvh_tri_leaves(gg_geom *g)
     size_t i, nb = 0;
     int c;
     g->trav_avx = 0;
-    if (!g->nnodes || !gg_bvh_avx_wanted()) return 0;
+    if (!g->nnodes || !gg_bvh_avx_wanted(g)) return 0;
     for (i = 0; i < g->nnodes; i++)
         for (c = 0; c < 4; c++) nb += (size_t)tri_leaf(g, &g->nodes[i], c);
     g->trav_avx = 1;
@@ -173,8 +129,8 @@ int gg_bvh_tri_leaves(gg_geom *g)
 /* ---- the plain traversal ---- */
 
 /* The plain copy tests every leaf with the scalar loops; a triangle
-   block (built for the AVX copy, which gg_bvh_set_avx may have turned off
-   since) is found through its first slot. */
+   block (built for the AVX copy, when a test runs both copies on one
+   tree) is found through its first slot. */
 typedef struct gg_tx {
     int unused;
 } gg_tx;
@@ -215,7 +171,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define GG_TRAV_SHADOW    shadow_plain
 #include "bvh_trav.h"
 
-/* The AVX copy only where the build chose it (the CPU runs it). */
+/* The AVX copy only where the build of g chose it (gg_bvh_avx_wanted). */
 #if GG_HAVE_BVH_AVX
 #define GG_USE_AVX(g) ((g)->trav_avx)
 #else

@@ -264,7 +264,7 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
     if (n == 0) return 0;
     memset(&c, 0, sizeof c);
     c.lo = lo, c.hi = hi;
-    c.tri = gg_bvh_avx_wanted() ? tri : NULL;
+    c.tri = gg_bvh_avx_wanted(g) ? tri : NULL;
     c.cen = gg_mem_calloc(g->alloc, n, sizeof *c.cen);
     c.idx = order;
     c.n = gg_mem_calloc(g->alloc, 2 * n, sizeof *c.n);
