@@ -69,6 +69,14 @@ static void test_base_optics(void **state)
     COVER(ggFresnelSchlick), assert_true(ggFresnelSchlick(1, 1, 1) == 0);
     COVER(ggAbsorptionCoefficient), assert_true(isnan(ggAbsorptionCoefficient(-1, 1)));
     COVER(ggBeerLambert), assert_true(ggBeerLambert(0, 1, 1) == 1);
+    /* The error measures: a NULL result is GG_ERROR_INVALID. */
+    COVER(ggRefractError);
+    assert_int_equal(ggRefractError(v, n, 1, 1.5, v, false, NULL), GG_ERROR_INVALID);
+    COVER(ggReflectionError), assert_int_equal(ggReflectionError(v, n, n, NULL), GG_ERROR_INVALID);
+    COVER(ggFresnelDielectricError);
+    assert_int_equal(ggFresnelDielectricError(1, 1, 1.5, 0.04, NULL), GG_ERROR_INVALID);
+    COVER(ggFresnelConductorError);
+    assert_int_equal(ggFresnelConductorError(1, 1, 0.2, 3, 0.9, NULL), GG_ERROR_INVALID);
     COVER(ggBeerLambertColor), (void)ggBeerLambertColor((ggColor){0, 0, 0}, (ggColor){1, 1, 1}, 1);
 }
 
