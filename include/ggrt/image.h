@@ -27,14 +27,17 @@ typedef struct ggImage ggImage;
 
 /* Limits that guard against absurd allocations from hostile input: no side
    may exceed GG_IMAGE_MAX_DIM and width*height may not exceed
-   GG_IMAGE_MAX_PIXELS. Readers check them before allocating anything large
-   and fail with GG_ERROR_LIMIT. */
+   GG_IMAGE_MAX_PIXELS (16,777,216, e.g. 4096 x 4096: 192 MiB of float
+   pixels). They hold for every image: files read, images created, renders
+   (ggRender fails with GG_ERROR_LIMIT naming the size and the limit before
+   it allocates). Readers check them against the file's declared size
+   before allocating anything large and fail with GG_ERROR_LIMIT. */
 #define GG_IMAGE_MAX_DIM    65536
-#define GG_IMAGE_MAX_PIXELS ((size_t)1 << 28)
+#define GG_IMAGE_MAX_PIXELS ((size_t)1 << 24)
 
 /* New black image (every float 0.0f); NULL if out of memory or a size is
    <= 0 or over the limits. alloc may be NULL (malloc); a non-NULL
-   allocator is copied, and must outlive the image. */
+   allocator is copied (base.h rule 3). */
 GG_API ggImage *ggImageCreate(int width, int height, const ggAllocator *alloc);
 /* Frees the image; NULL is a no-op. */
 GG_API void ggImageFree(ggImage *img);
@@ -87,7 +90,9 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
    Errors (the message starts with the path):
      GG_ERROR_INVALID      path or out is NULL
      GG_ERROR_IO           cannot open or read ("x.png: cannot open: No
-                           such file or directory")
+                           such file or directory"), or not a regular file
+                           ("x.png: not a regular file": a FIFO, device or
+                           directory is refused at once, never waited on)
      GG_ERROR_UNSUPPORTED  neither magic ("x.png: not a PNG or OpenEXR
                            file"), deep EXR data, subsampled R/G/B/Y
                            channels, no R, G, B or Y channel, a compression

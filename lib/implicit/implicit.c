@@ -38,7 +38,8 @@
 #define SLOPE_SLACK 1e-6   /* relative; rounding noise in observed slopes */
 
 struct ggImplicit {
-    const ggAllocator *alloc;
+    const ggAllocator *alloc; /* &alloc_copy, or NULL for malloc */
+    ggAllocator alloc_copy;   /* the creator's allocator, copied (base.h) */
     gg_expr *expr;
     ggImplicitFn fn;
     ggImplicitGradFn grad;
@@ -232,7 +233,7 @@ static ggImplicit *new_implicit(ggVec3 lo, ggVec3 hi, const ggAllocator *alloc)
 {
     ggImplicit *imp = gg_mem_calloc(alloc, 1, sizeof *imp);
     if (!imp) return NULL;
-    imp->alloc = alloc;
+    if (alloc) imp->alloc_copy = *alloc, imp->alloc = &imp->alloc_copy;
     imp->lo = lo, imp->hi = hi;
     imp->tol = TOL_DEFAULT * v3len(v3sub(hi, lo));
     imp->budget = BUDGET;

@@ -4,6 +4,7 @@
 ** polygons split into triangles, interned names, decimal numbers, and
 ** reading files (mesh_int.h).
 */
+#include "image.h"
 #include "mesh_int.h"
 
 #include "vec.h"
@@ -12,9 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 void gg_mb_init(gg_mb *mb, const ggAllocator *a, int format)
 {
@@ -434,27 +432,18 @@ const char *gg_parse_long(const char *p, const char *end, long lo, long hi, long
 int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
                       ggError *err)
 {
-    /* O_NONBLOCK: opening a FIFO must not wait for a writer */
-    int fd = open(path, O_RDONLY | O_NONBLOCK);
     FILE *f;
-    struct stat st;
+    int64_t size = 0;
     char *buf;
     size_t n, got;
-    if (fd < 0) return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        close(fd);
-        return gg_error_set(err, GG_ERROR_IO, "%s: not a regular file", path);
-    }
-    if (!(f = fdopen(fd, "rb"))) {
-        close(fd);
-        return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
-    }
-    if ((unsigned long long)st.st_size > (unsigned long long)limit) {
+    int rc = gg_file_open(path, NULL, &f, &size, err);
+    if (rc != GG_OK) return rc;
+    if ((unsigned long long)size > (unsigned long long)limit) {
         fclose(f);
         return gg_error_set(err, GG_ERROR_LIMIT, "%s: %lld bytes exceed the limit of %zu", path,
-                            (long long)st.st_size, limit);
+                            (long long)size, limit);
     }
-    n = (size_t)st.st_size;
+    n = (size_t)size;
     if (!(buf = gg_mem_alloc(a, n + 1))) {
         fclose(f);
         return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
@@ -471,13 +460,33 @@ int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char
     return GG_OK;
 }
 
-int gg_load_read_image(const ggScene *s, const char *path, ggImage **img, ggError *err)
+int gg_load_texture(ggScene *s, const char *path, ggImage **img, ggError *err)
 {
     ggImageReader fn = s->reader ? s->reader : gg_load_default_reader();
+    gg_image_budget b;
+    ggImage *got = NULL;
+    int rc;
+    if ((*img = gg_scene_image_find(s, path)) != NULL) return GG_OK;
     if (!fn)
         return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                            "%s: this libggrt reads no image files (libggrt-core)", path);
-    return fn(s->reader ? s->reader_ud : NULL, path, s->alloc, img, err);
+                            "%s: this libggrt reads no image files (libggrt-core); give the "
+                            "scene a reader with ggSceneSetImageReader",
+                            path);
+    b.total = s->tex_budget;
+    b.left = s->tex_budget > s->tex_used ? s->tex_budget - s->tex_used : 0;
+    rc = fn(s->reader ? s->reader_ud : &b, path, s->alloc, &got, err);
+    if (rc != GG_OK) return rc;
+    if (!got)
+        return gg_error_set(err, GG_ERROR_INVALID, "%s: the image reader gave no image", path);
+    rc = gg_image_check_budget(path, got->width, got->height, &b, err);
+    if (rc != GG_OK) {
+        ggImageFree(got);
+        return rc;
+    }
+    if (gg_scene_image_add(s, path, got) < 0)
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+    *img = got;
+    return GG_OK;
 }
 
 char *gg_load_dirname(const ggAllocator *a, const char *path)

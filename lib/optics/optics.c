@@ -53,31 +53,12 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
     return v3scale2(v3(c[0], c[1], c[2]), ev);
 }
 
-#if GG_HAVE_REFRACT_FMA
-#include <cpuid.h>
-#include <pthread.h>
-
-static int fma_ok;
-static pthread_once_t fma_once = PTHREAD_ONCE_INIT;
-
-/* fma needs the CPU flag and the OS saving the AVX (YMM) state, which
-   the VEX-encoded instruction relies on. */
-static void fma_probe(void)
-{
-    unsigned a, b, c, d, lo, hi;
-    if (!__get_cpuid(1, &a, &b, &c, &d)) return;
-    if (!(c & bit_FMA) || !(c & bit_OSXSAVE) || !(c & bit_AVX)) return;
-    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-    (void)hi;
-    fma_ok = (lo & 6) == 6;
-}
-
+#if GG_ISA_X86
 static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
-    /* Same bits either way (refract_core.h); the fma build is about twice
-       as fast. */
-    pthread_once(&fma_once, fma_probe);
-    return fma_ok ? gg_refract_fma(v, n, ni, nt, t) : refract_plain(v, n, ni, nt, t);
+    /* Same bits either way (refract_core.h). */
+    return gg_cpu_features() & GG_CPU_FMA ? gg_refract_fma(v, n, ni, nt, t)
+                                          : refract_plain(v, n, ni, nt, t);
 }
 #else
 #define refract refract_plain

@@ -41,7 +41,7 @@ static int prepare(ggScene *s, ggError *err)
 
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt)
 {
-    memset(opt, 0, sizeof *opt);
+    if (opt) memset(opt, 0, sizeof *opt);
 }
 
 typedef struct resolved {
@@ -70,7 +70,9 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
     r->h = o->height > 0 ? o->height : s->camera.height;
     if (o->width < 0 || o->height < 0 || r->w <= 0 || r->h <= 0 || r->w > GG_IMAGE_MAX_DIM ||
         r->h > GG_IMAGE_MAX_DIM || (size_t)r->w * (size_t)r->h > GG_IMAGE_MAX_PIXELS)
-        return gg_error_set(err, GG_ERROR_LIMIT, "image size %dx%d is out of range", r->w, r->h);
+        return gg_error_set(err, GG_ERROR_LIMIT,
+                            "image size %dx%d exceeds the limit of %lu pixels (%d per side)", r->w,
+                            r->h, (unsigned long)GG_IMAGE_MAX_PIXELS, GG_IMAGE_MAX_DIM);
     r->depth = o->max_depth > 0 ? o->max_depth : s->depth > 0 ? s->depth : 5;
     r->spp = o->samples > 0 ? o->samples : s->samples > 0 ? s->samples : 1;
     if (o->max_depth < 0 || r->depth > 64 || o->samples < 0 || r->spp > 4096)
@@ -125,6 +127,8 @@ GG_API ggRay ggCameraRay(const ggScene *s, const ggRenderOptions *opt, double x,
     resolved r;
     cam_basis b;
     ggRay ray;
+    memset(&ray, 0, sizeof ray);
+    if (!s) return ray;
     if (resolve(s, opt, &r, NULL) != GG_OK) r.w = s->camera.width, r.h = s->camera.height;
     basis(s, r.w > 0 ? r.w : 1, r.h > 0 ? r.h : 1, &b);
     ray.o = b.eye;
@@ -469,6 +473,8 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     job j;
     ggImage *img;
     int rc;
+    /* Statistics are the counts of this call alone, also on failure. */
+    if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggRender: NULL argument");
     *out = NULL;
     memset(&j, 0, sizeof j);
@@ -529,13 +535,14 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
     gg_shade_ctx ctx;
     resolved r;
     gg_shade_thread th;
+    if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
     gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
     ctx.budget = (uint32_t)r.budget;
     memset(&th, 0, sizeof th);
     {
         ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &th);
-        if (stats) add_stats(stats, &th.st);
+        if (stats) *stats = th.st;
         return c;
     }
 }
@@ -611,6 +618,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     job j;
     gg_shade_thread local;
     int rc;
+    if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !rec || !pixel)
         return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
     memset(&local, 0, sizeof local);
@@ -623,7 +631,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
                             sample, j.r.corners ? 4 : j.r.spp);
     if ((rc = trace_setup(&j, s, opt, err)) != GG_OK) return rc;
     *pixel = trace_one(&j, x, y, sample, rec, &local);
-    if (stats) add_stats(stats, &local.st);
+    if (stats) *stats = local.st;
     if (rec->status != GG_OK)
         return gg_error_set(err, rec->status, "out of memory recording the ray tree");
     return GG_OK;
