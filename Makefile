@@ -347,6 +347,12 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	@bad=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -v '^gg[A-Z]'); \
 	  if [ -n "$$bad" ]; then echo "installcheck: libggrt.so exports internal symbols: $$bad"; exit 1; fi; \
 	  echo "installcheck: libggrt.so exports $$(nm -D --defined-only $(SHARED) | wc -l) symbols, all public gg*"
+	@hdr=$$(sed -n 's/^GG_API[^(]*[ *]\(gg[A-Za-z0-9_]*\)(.*/\1/p' include/ggrt.h include/ggrt/*.h | sort); \
+	  exp=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | sort); \
+	  if [ "$$hdr" != "$$exp" ]; then echo "installcheck: exports and GG_API declarations differ:"; \
+	    echo "$$hdr" > $(BUILD)/api.h.txt; echo "$$exp" > $(BUILD)/api.so.txt; \
+	    diff $(BUILD)/api.h.txt $(BUILD)/api.so.txt; exit 1; fi; \
+	  echo "installcheck: the exports are the $$(echo "$$hdr" | wc -l) GG_API functions of include/ (tests/test_null.c calls each)"
 	@rm -rf $(STAGE)
 	@$(MAKE) --no-print-directory install DESTDIR=$(STAGE) PREFIX=/usr >/dev/null
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \
