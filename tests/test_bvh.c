@@ -449,7 +449,8 @@ static void test_coincident(void **state)
 static void test_empty(void **state)
 {
     gg_geom *g = gg_geom_create(NULL);
-    gg_rayq q = {{0, 0, 0}, {1, 0, 0}, 0, INFINITY, UINT32_MAX, 0, UINT32_MAX, &gg_qopt_default};
+    gg_rayq q = {{0, 0, 0},  {1, 0, 0},        0,   INFINITY, UINT32_MAX, 0,
+                 UINT32_MAX, &gg_qopt_default, NULL};
     gg_hit h;
     (void)state;
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);

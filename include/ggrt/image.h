@@ -37,7 +37,7 @@ typedef struct ggImage ggImage;
 
 /* New black image (every float 0.0f); NULL if out of memory or a size is
    <= 0 or over the limits. alloc may be NULL (malloc); a non-NULL
-   allocator is copied, and must outlive the image. */
+   allocator is copied (base.h rule 3). */
 GG_API ggImage *ggImageCreate(int width, int height, const ggAllocator *alloc);
 /* Frees the image; NULL is a no-op. */
 GG_API void ggImageFree(ggImage *img);

@@ -73,6 +73,7 @@ typedef struct gg_rpre {
     double sx, sy, sz;
     int kx, ky, kz;
     const gg_qopt *opt; /* the query's options, never NULL */
+    uint64_t *implicit_cut; /* the query's, or NULL */
     uint32_t ignore;
     unsigned skip;
 } gg_rpre;
@@ -214,6 +215,7 @@ void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf 
 /* Point on a triangle from barycentrics (b1, b2 of vertices 1, 2) and its
    error bound. */
 ggVec3 gg_tri_point(const gg_ktri *t, double b1, double b2, double *perr);
+/* 0, GG_GEOM_DEGENERATE or GG_GEOM_NOMEM (geom.h). */
 int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int n, gg_poly *out);
 void gg_poly_bounds(const gg_geom *g, const gg_poly *pl, double lo[3], double hi[3]);
 void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, const gg_hit *h,
@@ -290,6 +292,7 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
     r->sx = r->d[r->kx] * r->sz;
     r->sy = r->d[r->ky] * r->sz;
     r->opt = q->opt;
+    r->implicit_cut = q->implicit_cut;
     r->ignore = q->ignore_prim;
     r->skip = q->skip_flags;
     return 1;
