@@ -37,7 +37,7 @@ typedef struct ggImage ggImage;
 
 /* New black image (every float 0.0f); NULL if out of memory or a size is
    <= 0 or over the limits. alloc may be NULL (malloc); a non-NULL
-   allocator is copied, and must outlive the image. */
+   allocator is copied (base.h rule 3). */
 GG_API ggImage *ggImageCreate(int width, int height, const ggAllocator *alloc);
 /* Frees the image; NULL is a no-op. */
 GG_API void ggImageFree(ggImage *img);
@@ -90,7 +90,9 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
    Errors (the message starts with the path):
      GG_ERROR_INVALID      path or out is NULL
      GG_ERROR_IO           cannot open or read ("x.png: cannot open: No
-                           such file or directory")
+                           such file or directory"), or not a regular file
+                           ("x.png: not a regular file": a FIFO, device or
+                           directory is refused at once, never waited on)
      GG_ERROR_UNSUPPORTED  neither magic ("x.png: not a PNG or OpenEXR
                            file"), deep EXR data, subsampled R/G/B/Y
                            channels, no R, G, B or Y channel, a compression
