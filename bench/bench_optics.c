@@ -14,6 +14,24 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+/* Instruction counts: under valgrind --tool=callgrind (bench/optics_counts.sh)
+   `bench_optics --count` dumps the counts of each kernel separately. */
+#if defined(__has_include)
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define GG_COUNT(name, k, in)                                                                     \
+    do {                                                                                           \
+        CALLGRIND_ZERO_STATS;                                                                      \
+        sink += k(in, NIN);                                                                        \
+        CALLGRIND_DUMP_STATS_AT(name);                                                             \
+    } while (0)
+#endif
+#endif
+#ifndef GG_COUNT
+#define GG_COUNT(name, k, in) (sink += k(in, NIN))
+#endif
 
 #define NIN    4096
 #define REPS   200
@@ -193,10 +211,27 @@ static double row(const char *name, kernel k, const input *in, double base)
     return t;
 }
 
-int main(void)
+/* One pass of each kernel, each dumped on its own (see GG_COUNT). */
+static void count_kernels(void)
+{
+    GG_COUNT("textbook random", k_textbook, rnd);
+    GG_COUNT("refract random", k_refract, rnd);
+    GG_COUNT("textbook hard", k_textbook, hard);
+    GG_COUNT("refract hard", k_refract, hard);
+    GG_COUNT("reflect_inline random", k_reflect_plain, rnd);
+    GG_COUNT("reflect random", k_reflect, rnd);
+    GG_COUNT("reflect_inline hard", k_reflect_plain, hard);
+    GG_COUNT("reflect hard", k_reflect, hard);
+}
+
+int main(int argc, char **argv)
 {
     double base, t0 = gg_time_now();
     make_inputs();
+    if (argc > 1 && strcmp(argv[1], "--count") == 0) {
+        count_kernels();
+        return 0;
+    }
     printf("bench-optics: ns per call, best of %d runs of %d calls each\n", TRIALS, NIN * REPS);
 #ifdef FP_FAST_FMA
     printf("(double-double products use the fma instruction)\n\n");

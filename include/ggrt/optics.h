@@ -49,9 +49,10 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
     - v and n need not be unit length; only their directions are used
       (both are rescaled internally by powers of two), and *t is always
       unit length. Scaling v, n or both indices by powers of two gives
-      bit-identical results, and so does replacing n by -n. Components
-      smaller than 2^-480 times the largest component of the same vector
-      are treated as zero.
+      bit-identical results, and so does replacing n by -n. Where the
+      double-double fallback decides (see Cost), components smaller than
+      2^-480 times the largest component of the same vector are treated as
+      zero (they move the direction by less than 2^-427 ulp).
     - Accuracy, for 1/4 <= |eta| <= 4 (every pair of real transparent
       media): each component of *t is within 1 ulp (2^-53, the spacing of
       doubles in [0.5, 1)) of the exact refraction or reflection of the
@@ -74,8 +75,11 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
     - Invalid input -- a non-finite component or index, a zero v or n, or
       ni == 0 or nt == 0 -- returns false and writes (NaN, NaN, NaN).
     - t may be NULL: only the decision is returned.
-    - Cost: 15 to 25 times the textbook formula, a few hundred ns
-      (make bench-optics). */
+    - Cost: a fast path in double-double with a running error bound
+      certifies the 1-ulp result wherever it can (0 < eta <= 4, away from
+      the critical angle and the surface plane); the rest goes to a full
+      double-double evaluation. Figures: make bench-optics,
+      docs/performance.md. */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 
 /* The textbook formula, kept for the accuracy study and the benchmark:

@@ -14,7 +14,9 @@
 #define GG_HAVE_REFRACT_FMA 1
 /* The accurate refraction (same contract and same bits as optics.c's
    refract_plain); call only where the CPU has fma (gg_cpu_has_fma). */
-int gg_refract_fma(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
+int gg_refract_fma(const ggVec3 *v, const ggVec3 *n, double ni, double nt, ggVec3 *t);
+/* The same for ggReflection. */
+void gg_reflect_fma(const ggVec3 *v, const ggVec3 *n, ggVec3 *r);
 #else
 #define GG_HAVE_REFRACT_FMA 0
 #endif
