@@ -91,6 +91,18 @@ load_SEES     = core image implicit geom scene load
 imageio_SEES  = core image load imageio
 imageio_CFLAGS = $(PNG_CFLAGS) $(EXR_CFLAGS)
 layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
+
+# Per-ISA objects (lib/core/compiler.h, "Per-ISA code"): on x86-64 a library
+# file named *_avx.c or *_fma.c gets that instruction set's flags, and only
+# it; the library picks its functions at run time (lib/core/cpu.c). Where
+# the compiler does not target x86-64 they compile to nothing (CFLAGS=-DGG_NO_ISA
+# does that on x86-64 too).
+# -ffp-contract=off everywhere: no compiler (clang contracts by default)
+# may fuse a*b+c, so every copy of a kernel rounds the same way.
+ISA_avx       = -mavx
+ISA_fma       = -mfma
+GG_ISA_X86   := $(if $(filter x86_64-% amd64-%,$(shell $(CC) -dumpmachine 2>/dev/null)),1)
+isa_flags     = $(if $(GG_ISA_X86),$(foreach i,avx fma,$(if $(filter %_$(i).c,$(1)),$(ISA_$(i)))))
 ALL_LAYER_INC = $(LAYERS:%=-Ilib/%)
 
 LIB_SRC  := $(sort $(wildcard $(LAYERS:%=lib/%/*.c)))
@@ -132,7 +144,7 @@ define layer_rule
 $$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
 	@mkdir -p $$(@D)
 	$$(CC) $$(GG_CPPFLAGS) -DGG_BUILDING $$(call layer_inc,$(1)) $$($(1)_CFLAGS) $$(GG_WARN) \
-	  $$(CFLAGS) -fPIC -fvisibility=hidden -c $$< -o $$@
+	  $$(call isa_flags,$$<) -ffp-contract=off $$(CFLAGS) -fPIC -fvisibility=hidden -c $$< -o $$@
 endef
 $(foreach l,$(LAYERS),$(eval $(call layer_rule,$(l))))
 
@@ -189,6 +201,18 @@ $(BUILD)/tests/%.o: tests/%.c
 
 $(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
+
+# test_bvh_scalar runs the BVH suite on the portable C traversal: the geom
+# layer built a second time with GG_BVH_NO_SIMD, linked instead of the
+# library's (explicit objects, no archive: nothing depends on link order).
+SCALAR_GEOM := $(patsubst $(BUILD)/lib/%,$(BUILD)/scalar/lib/%,$(filter $(BUILD)/lib/geom/%,$(FULL_OBJ)))
+$(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
+	@mkdir -p $(@D)
+	$(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
+	  $(call isa_flags,$<) -ffp-contract=off $(CFLAGS) -c $< -o $@
+$(BUILD)/tests/test_bvh_scalar: $(BUILD)/tests/test_bvh_scalar.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \
+	  $(SCALAR_GEOM) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
 # Each fuzz harness also builds with the plain compiler as a corpus replayer.
 $(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
@@ -383,4 +407,4 @@ format:
 clean:
 	rm -rf $(BUILD)
 
--include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)
+-include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)

@@ -723,6 +723,35 @@ static void test_spd_scenes(void **state)
     }
 }
 
+/* The traversal this binary runs: test_bvh_scalar's own build of the
+   geometry has the portable one, the library the fastest the CPU runs. */
+static void test_traversal(void **state)
+{
+    gg_geom *g = gg_geom_create(NULL);
+    ggVec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    gg_bvh_stats st;
+#ifdef GG_TEST_TRAVERSAL
+    const char *plain = GG_TEST_TRAVERSAL, *want = plain;
+#else
+#ifdef __SSE2__
+    const char *plain = "sse2";
+#else
+    const char *plain = "c";
+#endif
+    const char *want = GG_HAVE_BVH_AVX && (gg_cpu_features() & GG_CPU_AVX) ? "avx" : plain;
+#endif
+    (void)state;
+    assert_true(gg_geom_add_triangle(g, p, NULL, 0) >= 0);
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    gg_geom_bvh_stats(g, &st);
+    assert_string_equal(st.traversal, want);
+    gg_geom_set_cpu(g, 0);
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    gg_geom_bvh_stats(g, &st);
+    assert_string_equal(st.traversal, plain);
+    gg_geom_free(g);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -737,6 +766,7 @@ int main(void)
         cmocka_unit_test(test_rebuild_stats_bounds),
         cmocka_unit_test(test_allocator),
         cmocka_unit_test(test_spd_scenes),
+        cmocka_unit_test(test_traversal),
     };
     return cmocka_run_group_tests_name(GG_TEST_SUITE, tests, NULL, NULL);
 }

@@ -19,19 +19,7 @@
 #define GG_REFLECT_NAME reflect_plain
 #include "refract_core.h"
 
-#if GG_HAVE_REFRACT_FMA
-#include <cpuid.h>
-
-static int cpu_fma(void)
-{
-    unsigned a, b, c, d, lo, hi;
-    if (!__get_cpuid(1, &a, &b, &c, &d)) return 0;
-    if (!(c & bit_FMA) || !(c & bit_OSXSAVE) || !(c & bit_AVX)) return 0;
-    __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-    (void)hi;
-    return (lo & 6) == 6;
-}
-
+#if GG_ISA_X86
 static ggVec3 V3(double x, double y, double z)
 {
     ggVec3 v;
@@ -67,7 +55,7 @@ static void test_same_bits(void **state)
     tu_rng r = {2024};
     long i;
     (void)state;
-    if (!cpu_fma()) {
+    if (!(gg_cpu_features() & GG_CPU_FMA)) {
         print_message("CPU without fma: nothing to compare\n");
         skip();
     }

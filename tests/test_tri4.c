@@ -274,7 +274,8 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
 static gg_geom *grid(int n, int avx, double (*h)[65])
 {
     gg_geom *g = gg_geom_create(NULL);
-    int i, j, was = gg_bvh_set_avx(avx);
+    int i, j;
+    gg_geom_set_cpu(g, avx ? GG_CPU_ALL : 0);
     for (i = 0; i < n; i++)
         for (j = 0; j < n; j++) {
             ggVec3 a = V3(i, j, h[i][j]), b = V3(i + 1, j, h[i + 1][j]);
@@ -291,7 +292,6 @@ static gg_geom *grid(int n, int avx, double (*h)[65])
             if (i % 3 == 1) gg_geom_set_flags(g, p, GG_PRIM_TRANSPARENT);
         }
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
-    gg_bvh_set_avx(was);
     return g;
 }
 
@@ -342,13 +342,12 @@ static void test_grid_queries(void **state)
 static gg_geom *mixed(int n, int avx, double (*h)[65], tu_rng *r)
 {
     gg_geom *g = grid(n, avx, h);
-    int i, was = gg_bvh_set_avx(avx);
+    int i;
     for (i = 0; i < n * n / 2; i++) {
         ggVec3 c = V3(tu_range(r, 0, n), tu_range(r, 0, n), tu_range(r, 3, 5));
         assert_true(gg_geom_add_sphere(g, c, tu_range(r, 0.05, 0.4), -1) >= 0);
     }
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
-    gg_bvh_set_avx(was);
     return g;
 }
 
@@ -396,7 +395,6 @@ static void test_spd_queries(void **state)
         ggScene *sc = ggSceneCreate(NULL), *sc2 = ggSceneCreate(NULL);
         ggError err;
         gg_geom *g;
-        int was;
         ggVec3 lo, hi;
         tu_rng r = {80 + (unsigned)k};
         uint32_t cache[3] = {0, 0, 0};
@@ -404,10 +402,11 @@ static void test_spd_queries(void **state)
         snprintf(path, sizeof path, "%s/%s.nff", tu_spd_dir(), names[k]);
         assert_int_equal(ggSceneLoadFile(sc, path, &err), GG_OK);
         assert_int_equal(ggScenePrepare(sc, &err), GG_OK);
-        was = gg_bvh_set_avx(0);
         assert_int_equal(ggSceneLoadFile(sc2, path, &err), GG_OK);
         assert_int_equal(ggScenePrepare(sc2, &err), GG_OK);
-        gg_bvh_set_avx(was);
+        /* the same scene built again for the plain code only */
+        gg_geom_set_cpu(sc2->geom, 0);
+        assert_int_equal(gg_geom_build(sc2->geom, &err), GG_OK);
         g = sc->geom;
         assert_true(g->trav_avx && g->ntleaves > 0);
         assert_true(!sc2->geom->trav_avx && sc2->geom->ntleaves == 0);
@@ -440,7 +439,7 @@ int main(void)
         cmocka_unit_test(test_mixed_queries), cmocka_unit_test(test_grid_queries),
         cmocka_unit_test(test_spd_queries),
     };
-    if (!gg_bvh_avx_usable()) {
+    if (!(gg_cpu_features() & GG_CPU_AVX)) {
         printf("tri4: the CPU cannot run AVX; skipped\n");
         return 0;
     }

@@ -44,7 +44,7 @@ int cmd_bench(int argc, char **argv)
     const char *args[BENCH_MAX_ARGS + 1];
     int no_pov = 0, nargs = 0, rc, i;
     cli_opt opts[] = {
-        CLI_OPT_INT(0, "size", &bo.size, 1, 16384, "N",
+        CLI_OPT_INT(0, "size", &bo.size, 1, 4096, "N",
                     "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
                     "wide, 4:3; scaling: 256)"),
         CLI_OPT_INT(0, "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),

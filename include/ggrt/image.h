@@ -27,10 +27,13 @@ typedef struct ggImage ggImage;
 
 /* Limits that guard against absurd allocations from hostile input: no side
    may exceed GG_IMAGE_MAX_DIM and width*height may not exceed
-   GG_IMAGE_MAX_PIXELS. Readers check them before allocating anything large
-   and fail with GG_ERROR_LIMIT. */
+   GG_IMAGE_MAX_PIXELS (16,777,216, e.g. 4096 x 4096: 192 MiB of float
+   pixels). They hold for every image: files read, images created, renders
+   (ggRender fails with GG_ERROR_LIMIT naming the size and the limit before
+   it allocates). Readers check them against the file's declared size
+   before allocating anything large and fail with GG_ERROR_LIMIT. */
 #define GG_IMAGE_MAX_DIM    65536
-#define GG_IMAGE_MAX_PIXELS ((size_t)1 << 28)
+#define GG_IMAGE_MAX_PIXELS ((size_t)1 << 24)
 
 /* New black image (every float 0.0f); NULL if out of memory or a size is
    <= 0 or over the limits. alloc may be NULL (malloc); a non-NULL

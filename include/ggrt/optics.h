@@ -164,6 +164,104 @@ GG_API double ggBeerLambert(double k, double lambda, double distance);
    sample. Invalid channels give NaN in that channel only. */
 GG_API ggColor ggBeerLambertColor(ggColor k, ggColor lambda, double distance);
 
+/* ------------------------------------------------------------------ */
+/* Measuring anyone's result (lib/optics/error.c)                       */
+/* ------------------------------------------------------------------ */
+
+/* The error of a candidate reflected or refracted direction, filled by
+   ggReflectionError and ggRefractError.
+
+   The unit ("ulp") of max_ulp and norm_ulp is 2^-53 times the smallest
+   power of two >= the largest component magnitude of the exact result:
+   2^-53 for a unit vector (whose largest component is in (0.577, 1]), the
+   spacing of doubles in [0.5, 1); for a reflection it is the ulp of |v|'s
+   binade. comp_ulp[i] uses each component's own unit, 2^-53 times the
+   smallest power of two >= |exact_i|. */
+typedef struct ggDirectionError {
+    double max_ulp;      /* max_i |candidate_i - exact_i| / unit */
+    double norm_ulp;     /* |candidate - exact| (Euclidean) / unit */
+    double comp_ulp[3];  /* |candidate_i - exact_i| in component i's own unit: 0
+                            if equal, +inf if exact_i == 0 != candidate_i */
+    double unit;         /* the unit of max_ulp and norm_ulp, a power of two */
+    ggVec3 exact;        /* the exact direction, rounded to nearest */
+    int finite;          /* the candidate's components are all finite */
+    int exact_tir;       /* refraction: 1 total internal reflection, 0
+                            transmitted, -1 v in the surface (v.n == 0 exactly:
+                            not transmitted). 0 for a reflection */
+    int tir_agrees;      /* the candidate's decision is the exact one */
+    int certain;         /* exact_tir is outside the reference's own error band
+                            (|cos2_t| > 2^-499, or no rounding at all) */
+    double cos2_t;       /* the margin: exact cos^2(theta_t), that is
+                            1 - eta^2 sin^2(theta_i), rounded; negative under
+                            TIR, 0 exactly at the critical angle; 1 for v in
+                            the surface and for a reflection */
+    double critical_rad; /* theta_i - theta_c in radians (positive: beyond the
+                            critical angle, TIR); NaN when |ni| <= |nt| */
+} ggDirectionError;
+
+/* Measure candidate, someone's refraction of v through a surface with
+   normal n from index ni into nt (ggRefract's arguments and conventions),
+   against the exact result for the given doubles.
+
+   candidate_tir is the candidate's decision: true if it reports total
+   internal reflection (or otherwise no transmission), i.e. the negation of
+   what a function with ggRefract's signature returned. The error is
+   measured against the exact direction of the branch the candidate chose:
+   the unit transmitted direction (with cos(theta_t) taken as 0 if the
+   exact answer is TIR), or the unit mirror direction; for v exactly in the
+   surface, v/|v| either way (ggRefract's convention). e->tir_agrees and
+   e->cos2_t say whether that branch was the right one and by what margin.
+   A non-finite candidate component gives +inf errors.
+
+   The exact value is evaluated in 512-bit binary floating point (bigf.h)
+   from sums of products of the given doubles (docs/optics.md). Its own
+   error is below 2^-190 + 2^-450 |ni/nt| ulp in each component, and the
+   decision e->exact_tir is exact whenever e->certain is set.
+
+   Returns GG_OK, or GG_ERROR_INVALID (e zeroed) if e is NULL or the
+   arguments are ones for which ggRefract returns NaN: a non-finite or zero
+   vector, a non-finite or zero index. Thread-safe, allocates nothing;
+   some 40 microseconds a call. */
+GG_API int ggRefractError(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 candidate,
+                          bool candidate_tir, ggDirectionError *e);
+
+/* The same for a reflection: candidate against the exact mirror image of
+   v in the plane normal to n, v - 2 n (v.n)/(n.n), which has the length of
+   v (ggReflection's convention). The reference's own error is below
+   2^-450 ulp. exact_tir is 0, tir_agrees and certain 1, cos2_t 1.
+   Returns GG_OK, or GG_ERROR_INVALID if e is NULL, v or n is zero or has a
+   non-finite component. */
+GG_API int ggReflectionError(ggVec3 v, ggVec3 n, ggVec3 candidate, ggDirectionError *e);
+
+/* The error of a candidate reflectance, filled by ggFresnelDielectricError
+   and ggFresnelConductorError. Units: 2^-53 times the smallest power of two
+   >= the exact value (of R for ulp, of 1 - R for complement_ulp). */
+typedef struct ggReflectanceError {
+    double ulp;              /* |candidate - R| in units of R */
+    double exact;            /* R, rounded to nearest */
+    double complement_ulp;   /* |(1 - candidate) - (1 - R)|, in units of 1 - R
+                                (the transmitted or absorbed fraction) */
+    double complement_exact; /* 1 - R, rounded to nearest */
+    int finite;              /* the candidate is finite */
+} ggReflectanceError;
+
+/* candidate, someone's unpolarised dielectric reflectance for
+   ggFresnelDielectric's arguments (same conventions: the sign of cos_i is
+   ignored, |cos_i| > 1 is 1, cos_i == 0 gives 1, |ni| == |nt| gives 0),
+   against the exact R evaluated in 512-bit arithmetic; the reference's own
+   error is below 2^-340 ulp of R. Returns GG_OK, or GG_ERROR_INVALID if e
+   is NULL or ggFresnelDielectric would return NaN. */
+GG_API int ggFresnelDielectricError(double cos_i, double ni, double nt, double candidate,
+                                    ggReflectanceError *e);
+
+/* The same for ggFresnelConductor's arguments (n + ik seen from
+   n_outside). The reference's absolute error is below 2^-480, so below
+   2^-400 ulp of R and of 1 - R unless that is below 2^-27. Returns GG_OK,
+   or GG_ERROR_INVALID if e is NULL or ggFresnelConductor would return
+   NaN. */
+GG_API int ggFresnelConductorError(double cos_i, double n_outside, double n, double k,
+                                   double candidate, ggReflectanceError *e);
+
 #ifdef __cplusplus
 }
 #endif

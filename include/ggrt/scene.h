@@ -80,11 +80,32 @@ typedef struct ggMaterial {
 /* The NFF default: white, kd 1, everything else off, no texture. */
 GG_API ggMaterial ggMaterialDefault(void);
 
+/* Whether m is physically valid, the rule ggSceneAddMaterial and the NFF
+   loader apply: colour, kd, ks, kt, shine, ke, extinction, unit_m and abbe
+   finite and >= 0 (weights above 1 are accepted: `ggrt check` reports the
+   energy they add); ior finite and non-zero when kt > 0 (negative: a
+   metamaterial, optics.h); eta_n and eta_k finite, eta_k >= 0, and for
+   GG_FRESNEL_CONDUCTOR eta_n >= 0 with n and k not both 0 in any channel;
+   fresnel one of GG_FRESNEL_*; texture >= -1 (whether the texture exists
+   is the scene's to check). Returns GG_OK, or GG_ERROR_INVALID with err
+   naming the first field at fault ("material: ks must be finite and >= 0,
+   got -1"); a NULL m is GG_ERROR_INVALID. */
+GG_API int ggMaterialCheck(const ggMaterial *m, ggError *err);
+
 typedef struct ggCamera {
     ggVec3 from, at, up; /* up need not be perpendicular: it is orthogonalised */
     double fov_deg;      /* full field of view, horizontal = vertical scaled by aspect */
     int width, height;   /* image size */
 } ggCamera;
+
+/* Whether cam gives a camera basis: from, at and up finite with no
+   coordinate over 1e150 in magnitude; at - from not
+   zero (nor below 1e-9 of their size); up not zero and not parallel to at
+   - from (within 1e-9 rad); 0 < fov_deg < 180; width and height 1 to
+   GG_IMAGE_MAX_DIM, at most GG_IMAGE_MAX_PIXELS pixels. Returns GG_OK, or
+   GG_ERROR_INVALID with err naming the fault ("camera: 'up' is parallel
+   to the view direction"); a NULL cam is GG_ERROR_INVALID. */
+GG_API int ggCameraCheck(const ggCamera *cam, ggError *err);
 
 /* New empty scene; NULL if out of memory. alloc may be NULL. */
 GG_API ggScene *ggSceneCreate(const ggAllocator *alloc);
@@ -98,7 +119,12 @@ GG_API void ggSceneFree(ggScene *scene);
    ggSceneLoadFile also takes a model on its own: a path ending in .obj or
    .ply (any case) is loaded with ggSceneLoadMesh and default options, then
    framed with ggSceneFrame (camera if the scene has none, lights if it has
-   none). ggSceneLoadString reads NFF only. */
+   none). ggSceneLoadString reads NFF only.
+   Limits (GG_ERROR_LIMIT, the message naming the limit and the value): a
+   scene file of more than GG_SCENE_MAX_FILE bytes is refused before it is
+   read; a resolution over the image limits of image.h; textures beyond
+   the texture budget (ggSceneSetTextureBudget). */
+#define GG_SCENE_MAX_FILE ((size_t)256 << 20)
 GG_API int ggSceneLoadFile(ggScene *scene, const char *path, ggError *err);
 GG_API int ggSceneLoadString(ggScene *scene, const char *text, size_t len, const char *name,
                              ggError *err);
@@ -114,16 +140,43 @@ typedef int (*ggImageReader)(void *ud, const char *path, const ggAllocator *allo
    GG_ERROR_UNSUPPORTED unless a reader is given here. */
 GG_API void ggSceneSetImageReader(ggScene *scene, ggImageReader fn, void *ud);
 
+/* The texture budget: how many bytes of decoded texels (12 per pixel) the
+   image textures that this scene's files name may hold in all, default
+   GG_TEXTURE_BUDGET (256 MiB). A file named several times (the same path
+   after resolving it against the scene file's folder) is decoded once and
+   counted once. The library's reader checks the size a PNG or OpenEXR
+   header declares against what is left before decoding; an image from a
+   reader given with ggSceneSetImageReader is checked when it returns.
+   Going over is GG_ERROR_LIMIT, "t.png: 3000 x 3000 pixels decode to
+   108000000 bytes, over the texture budget (60000000 bytes left of
+   268435456)", and the load fails as any load error does. Images given
+   with ggSceneAddTexture are not counted.
+   The contract is SQLite's sqlite3_limit(): bytes >= 0 sets the budget
+   for the loads that follow (what is loaded stays, even above a lowered
+   budget); bytes < 0 changes nothing. Either way the budget in effect
+   before the call is returned; -1 for a NULL scene. */
+#define GG_TEXTURE_BUDGET ((int64_t)256 << 20)
+GG_API int64_t ggSceneSetTextureBudget(ggScene *scene, int64_t bytes);
+
 /* ---- building in code ----
    Functions that add something return its index (>= 0), or a negative
-   status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID) on failure. */
-GG_API void ggSceneSetCamera(ggScene *scene, const ggCamera *cam);
+   status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID) on failure; the setters
+   return GG_OK or GG_ERROR_INVALID. Invalid values are refused by the rule
+   the NFF loader applies (docs/scene-format.md, "Parameter ranges"), and
+   the scene is then unchanged. */
+/* GG_ERROR_INVALID unless ggCameraCheck(cam) accepts it. */
+GG_API int ggSceneSetCamera(ggScene *scene, const ggCamera *cam);
+/* The camera; all zero for a NULL scene. */
 GG_API ggCamera ggSceneCamera(const ggScene *scene);
-GG_API void ggSceneSetBackground(ggScene *scene, ggColor c);
-GG_API void ggSceneSetAmbient(ggScene *scene, ggColor c);
-/* Point light; NFF lights without a colour get 1/sqrt(number of lights)
-   (the SPD convention) at render time when `color` has r < 0. */
+/* GG_ERROR_INVALID unless every channel is finite and >= 0. */
+GG_API int ggSceneSetBackground(ggScene *scene, ggColor c);
+GG_API int ggSceneSetAmbient(ggScene *scene, ggColor c);
+/* Point light at a finite position. NFF lights without a colour get
+   1/sqrt(number of lights) (the SPD convention) at render time when
+   `color` has r < 0; any other colour must be finite and >= 0. */
 GG_API int ggSceneAddLight(ggScene *scene, ggVec3 pos, ggColor color);
+/* Copies *m; -GG_ERROR_INVALID unless ggMaterialCheck(m) accepts it and
+   its texture (if any) exists. */
 GG_API int ggSceneAddMaterial(ggScene *scene, const ggMaterial *m);
 /* Takes ownership of img (freed with the scene, also on failure). */
 GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);

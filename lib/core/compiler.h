@@ -17,6 +17,9 @@
 #define GG_LIKELY(x)   __builtin_expect(!!(x), 1)
 #define GG_UNLIKELY(x) __builtin_expect(!!(x), 0)
 #define GG_CTZ(m)      __builtin_ctz(m)
+/* One fused multiply-add instruction, in a per-ISA object built for it
+   (dd.h's dd_two_prod in refract_fma.c); math.h's fma may be a call. */
+#define GG_FMA(a, b, c) __builtin_fma(a, b, c)
 #else
 #define GG_INLINE      static inline
 #define GG_NOINLINE
@@ -30,6 +33,17 @@ static inline int gg_ctz_portable(unsigned m)
     return i;
 }
 #define GG_CTZ(m) gg_ctz_portable(m)
+#define GG_FMA(a, b, c) fma(a, b, c)
+#endif
+
+/* No contraction of a*b + c into one fused operation anywhere: the
+   error-free transformations of dd.h need the two roundings, and the
+   plain and per-ISA copies of a kernel must round alike. The Makefile
+   also passes -ffp-contract=off; this covers other builds. C99 7.12.2;
+   clang (which contracts by default) honours it, GCC does not contract
+   in ISO C mode and does not know the pragma. */
+#if defined(__clang__)
+#pragma STDC FP_CONTRACT OFF
 #endif
 
 /* GCC's SLP vectoriser pairs neighbouring 8-byte loads into one 16-byte
@@ -42,6 +56,19 @@ static inline int gg_ctz_portable(unsigned m)
 #define GG_NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
 #else
 #define GG_NO_SLP
+#endif
+
+/* Per-ISA code. A library file named *_avx.c or *_fma.c is compiled, on
+   x86-64 with GCC or clang, with -mavx or -mfma on that file only
+   (Makefile, ISA_FLAGS); the rest of the library targets the base
+   instruction set (SSE2). Such a file holds only functions that its
+   caller runs after gg_cpu_features() (cpu.c) has said the CPU can, the
+   way Embree compiles its kernels once per instruction set. GG_ISA_X86
+   says whether this build has them (-DGG_NO_ISA leaves them out). */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && !defined(GG_NO_ISA)
+#define GG_ISA_X86 1
+#else
+#define GG_ISA_X86 0
 #endif
 
 #endif

@@ -35,4 +35,12 @@ char *gg_mem_strdup(const ggAllocator *a, const char *s);
 /* Monotonic clock in seconds. */
 double gg_time_now(void);
 
+/* The instruction sets of the per-ISA objects (compiler.h) that this CPU
+   and its OS run: a mask of GG_CPU_* bits, 0 where the build has no
+   per-ISA objects. Detected once (cpu.c); thread-safe. */
+#define GG_CPU_AVX 1u /* AVX: bvh_avx.c */
+#define GG_CPU_FMA 2u /* FMA3 (with AVX): refract_fma.c */
+#define GG_CPU_ALL (GG_CPU_AVX | GG_CPU_FMA)
+unsigned gg_cpu_features(void);
+
 #endif

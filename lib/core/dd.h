@@ -30,12 +30,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#if defined(__clang__)
-/* Clang may fuse a*b+c when the target has fma; that would break the
-   error-free transformations below. GCC does not fuse in ISO C mode and
-   does not know this pragma. */
-#pragma STDC FP_CONTRACT OFF
-#endif
+#include "compiler.h" /* GG_FMA; FP_CONTRACT OFF, which the error-free transformations need */
 
 #if FLT_EVAL_METHOD != 0
 #error "dd.h needs FLT_EVAL_METHOD == 0 (SSE2 doubles, not x87)"
@@ -98,7 +93,7 @@ static inline gg_dd dd_two_prod(double a, double b)
     double p = a * b;
 #if defined(GG_DD_FMA)
     /* a translation unit compiled for fma (refract_fma.c) */
-    return dd_make(p, __builtin_fma(a, b, -p));
+    return dd_make(p, GG_FMA(a, b, -p));
 #elif defined(FP_FAST_FMA)
     return dd_make(p, fma(a, b, -p));
 #else
@@ -108,17 +103,6 @@ static inline gg_dd dd_two_prod(double a, double b)
     double ah = ta - (ta - a), al = a - ah;
     double bh = tb - (tb - b), bl = b - bh;
     return dd_make(p, ((ah * bh - p) + ah * bl + al * bh) + al * bl);
-#endif
-}
-
-/* a*b + c with one rounding where fma is hardware, else two roundings
-   (callers only use it where either is accurate enough). */
-static inline double dd_fma(double a, double b, double c)
-{
-#ifdef FP_FAST_FMA
-    return fma(a, b, c);
-#else
-    return a * b + c;
 #endif
 }
 
@@ -153,16 +137,14 @@ static inline gg_dd dd_add_d(gg_dd x, double y)
     return dd_fast_two_sum(s.hi, x.lo + s.lo);
 }
 
-/* Double-word times double-word (JMP 2017, Algorithm 12 / 10). */
+/* Double-word times double-word (JMP 2017, Algorithm 10). Not their
+   Algorithm 12, which fuses the cross terms: it rounds differently, and
+   the plain and the fma copies of a kernel (refract_core.h) must return
+   the same bits; only dd_two_prod, exact either way, uses the fma. */
 static inline gg_dd dd_mul(gg_dd x, gg_dd y)
 {
     gg_dd c = dd_two_prod(x.hi, y.hi);
-#ifdef FP_FAST_FMA
-    double tl = fma(x.hi, y.lo, x.lo * y.lo);
-    tl = fma(x.lo, y.hi, tl);
-#else
     double tl = x.hi * y.lo + x.lo * y.hi;
-#endif
     return dd_fast_two_sum(c.hi, c.lo + tl);
 }
 

@@ -2,9 +2,9 @@
 /*
 ** bvh_avx.c -- the BVH traversals compiled for x86-64 CPUs with AVX,
 ** which test the triangles of a leaf four at a time (one lane per
-** triangle, 4 doubles per register). bvh.c calls them only where the
-** build found the CPU and the OS able to run them; the rest of the library
-** keeps targeting plain SSE2.
+** triangle, 4 doubles per register): a per-ISA object, built with -mavx
+** (compiler.h, "Per-ISA code"). bvh.c calls them only for a geometry
+** whose build chose them (gg_cpu_features() has GG_CPU_AVX).
 **
 ** Same bits as the scalar kernel. Each lane performs exactly the
 ** operations of gg_tri_kernel (shape_tri.h), in the same order and
@@ -22,8 +22,10 @@
 #include "bvh_int.h"
 
 #if GG_HAVE_BVH_AVX
+#ifndef __AVX__
+#error "bvh_avx.c is compiled with -mavx (Makefile: ISA_avx)"
+#endif
 
-#pragma GCC target("avx")
 #include <immintrin.h>
 
 /* Per-ray state of the 4-wide test: the ray's origin and shear broadcast
@@ -142,7 +144,7 @@ unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, doubl
 
 static inline int lowest_lane(unsigned m)
 {
-    return __builtin_ctz(m);
+    return GG_CTZ(m);
 }
 
 /* Lane i of the block against tmax: from the 4-wide result, or from the

@@ -43,12 +43,11 @@ struct gg_tleaf {
     uint32_t pad[6];
 };
 
-/* GCC on x86-64 compiles a second copy of the traversal for AVX
-   (bvh_avx.c) while the rest of the library targets SSE2; which one runs
-   is decided at build time from the CPU (gg_bvh_avx_usable). Clang spells
-   the target pragma differently: it uses the plain copy only. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(GG_BVH_NO_SIMD) && \
-    !defined(GG_NO_AVX_CLONE)
+/* The AVX copy of the traversal (bvh_avx.c) is a per-ISA object
+   (compiler.h, "Per-ISA code"); the portable build of the BVH
+   (GG_BVH_NO_SIMD, tests/test_bvh_scalar.c) has none. Which copy a query
+   takes is the geometry's (gg_geom_set_cpu, g->trav_avx). */
+#if GG_ISA_X86 && !defined(GG_BVH_NO_SIMD)
 #define GG_HAVE_BVH_AVX 1
 int gg_bvh_intersect_avx(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 uint32_t gg_bvh_occluder_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
@@ -56,7 +55,7 @@ int gg_bvh_shadow_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tc
 /* For tests: the 4-wide triangle test of block L alone. Returns the mask
    of lanes hit with t in (r->tmin, tmax] and fills t, b1, b2 for them;
    *zero gets the lanes left to the scalar kernel (an edge function
-   exactly 0). Call only where gg_bvh_avx_usable(). */
+   exactly 0). Call only where gg_cpu_features() has GG_CPU_AVX. */
 unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
                          double b1[4], double b2[4], unsigned *zero);
 #else

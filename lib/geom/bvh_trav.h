@@ -2,7 +2,8 @@
 /*
 ** bvh_trav.h -- the BVH traversals (closest hit, any hit, shadow query),
 ** included once per instruction set: bvh.c compiles the plain copy,
-** bvh_avx.c the AVX one (internal to the BVH).
+** bvh_avx.c, a per-ISA object (compiler.h), the AVX one (internal to the
+** BVH).
 **
 ** The including file defines, before including this:
 **   GG_TRAV_LINK                     linkage of the three functions;
@@ -183,24 +184,13 @@ typedef float gg_t4;
 
 static inline int lowest_bit(unsigned m)
 {
-#if defined(__GNUC__)
-    return __builtin_ctz(m);
-#else
-    int i = 0;
-    while (!(m & 1)) m >>= 1, i++;
-    return i;
-#endif
+    return GG_CTZ(m);
 }
 
 /* gg_rpre_fill and trav_init inline here, reading q one double at a time:
    the caller has usually just written *q field by field, and a 16-byte
    load spanning two 8-byte stores cannot be forwarded from the store
-   buffer (GCC's SLP vectoriser would pair the loads up). */
-#if defined(__GNUC__) && !defined(__clang__)
-#define GG_NO_SLP __attribute__((optimize("no-tree-slp-vectorize")))
-#else
-#define GG_NO_SLP
-#endif
+   buffer (GG_NO_SLP, compiler.h). */
 
 GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {

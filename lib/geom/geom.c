@@ -20,7 +20,13 @@ gg_geom *gg_geom_create(const ggAllocator *alloc)
         g->alloc = &g->alloc_copy;
     }
     g->poly_mode = GG_POLY_TRIANGULATE;
+    g->cpu = GG_CPU_ALL;
     return g;
+}
+
+void gg_geom_set_cpu(gg_geom *g, unsigned cpu)
+{
+    g->cpu = cpu;
 }
 
 const gg_qopt gg_qopt_default = {GG_SPHERE_STABLE, 0, 0};

@@ -90,6 +90,11 @@ size_t gg_geom_prim_count(const gg_geom *g);
 int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim);
 int gg_geom_prim_kind(const gg_geom *g, uint32_t prim); /* ggShapeKind */
 
+/* The instruction sets (GG_CPU_* of core.h) that g's BVH and queries
+   may use, of those the CPU runs; GG_CPU_ALL (the default) is the
+   fastest, 0 the plain code. Takes effect at the next gg_geom_build. */
+void gg_geom_set_cpu(gg_geom *g, unsigned cpu);
+
 /* Build the BVH (SAH). Must be called after the last add and before any
    query. Returns GG_OK, GG_ERROR_LIMIT or GG_ERROR_NOMEM. */
 int gg_geom_build(gg_geom *g, ggError *err);
@@ -102,6 +107,7 @@ typedef struct gg_bvh_stats {
     size_t nodes, leaves, max_depth, bytes;
     size_t blocks; /* AVX four-triangle leaf blocks (0: plain traversal) */
     double build_seconds;
+    const char *traversal; /* the copy queries take: "avx", "sse2" or "c" (portable) */
 } gg_bvh_stats;
 void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
 

@@ -199,6 +199,7 @@ struct gg_geom {
     void *tleaf_mem; /* raw allocation; tleaves is it aligned to 64 */
     gg_tleaf *tleaves;
     size_t ntleaves;
+    unsigned cpu; /* GG_CPU_* the build may use (gg_geom_set_cpu) */
     int trav_avx; /* queries take the AVX copy of the traversal (bvh_avx.c) */
     double build_seconds;
 };
@@ -297,7 +298,7 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
 /* Ray precomputation; returns 0 if the ray can hit nothing (NaN, d = 0). */
 int gg_rpre_init(gg_rpre *r, const gg_rayq *q);
 
-/* BVH (bvh.c): build over element boxes; writes the leaf order of the
+/* BVH (bvh_build.c): build over element boxes; writes the leaf order of the
    elements to order[]. tri[i] (or NULL) tells whether element i is a
    triangle: leaves of triangles are cheaper for the AVX traversal, which
    the build's cost model then allows for. */
@@ -305,15 +306,11 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
                  size_t n, uint32_t *order);
 void gg_bvh_free(gg_geom *g);
 /* After the slots are filled: keep the leaves that hold only triangles
-   also as gg_tleaf blocks, and choose the traversal copy, when the CPU
-   runs AVX (and gg_bvh_set_avx has not turned it off). Returns -1 when
-   out of memory. */
+   also as gg_tleaf blocks, and choose the traversal copy (g->trav_avx),
+   when gg_bvh_avx_wanted(g). Returns -1 when out of memory. */
 int gg_bvh_tri_leaves(gg_geom *g);
-/* Whether builds may choose the AVX traversal: the compiler made it and
-   the CPU and OS run it. */
-int gg_bvh_avx_usable(void);
-/* Allow (1) or forbid (0) the AVX traversal for later builds, so that
-   tests run both copies; returns the previous setting. Not thread-safe. */
-int gg_bvh_set_avx(int on);
+/* Whether builds of g make triangle blocks for the AVX traversal (bvh.c):
+   this build has it (bvh_avx.c), the CPU runs it and g->cpu allows it. */
+int gg_bvh_avx_wanted(const gg_geom *g);
 
 #endif

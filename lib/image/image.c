@@ -23,6 +23,17 @@ int gg_image_check_size(const char *path, int64_t w, int64_t h, ggError *err)
     return GG_OK;
 }
 
+int gg_image_check_budget(const char *path, int64_t w, int64_t h, const gg_image_budget *b,
+                          ggError *err)
+{
+    if (!b || GG_IMAGE_BYTES(w, h) <= b->left) return GG_OK;
+    return gg_error_set(err, GG_ERROR_LIMIT,
+                        "%s: %lld x %lld pixels decode to %lld bytes, over the texture budget "
+                        "(%lld bytes left of %lld)",
+                        path, (long long)w, (long long)h, (long long)GG_IMAGE_BYTES(w, h),
+                        (long long)b->left, (long long)b->total);
+}
+
 GG_API ggImage *ggImageCreate(int width, int height, const ggAllocator *alloc)
 {
     ggImage *img;

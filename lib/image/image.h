@@ -26,15 +26,35 @@ struct ggImage {
    GG_ERROR_PARSE. */
 int gg_image_check_size(const char *path, int64_t w, int64_t h, ggError *err);
 
+/* What is left of a scene's texture budget (ggSceneSetTextureBudget) for
+   the next image a reader decodes: `left` bytes of the `total`. */
+typedef struct gg_image_budget {
+    int64_t left, total;
+} gg_image_budget;
+
+/* The bytes a decoded w x h ggImage holds (3 floats per pixel). */
+#define GG_IMAGE_BYTES(w, h) ((int64_t)(w) * (int64_t)(h)*3 * (int64_t)sizeof(float))
+
+/* GG_OK if b is NULL or a w x h image fits in b->left, else GG_ERROR_LIMIT
+   "path: 3000 x 3000 pixels decode to 108000000 bytes, over the texture
+   budget (... bytes left of ...)". Checked before decoding. */
+int gg_image_check_budget(const char *path, int64_t w, int64_t h, const gg_image_budget *b,
+                          ggError *err);
+
+/* ggImageRead, with the declared size also checked against b (may be
+   NULL) before anything is decoded. */
+int gg_image_read_budget(const char *path, const ggAllocator *alloc, const gg_image_budget *b,
+                         ggImage **out, ggError *err);
+
 /* strerror into buf, thread-safe; returns buf. */
 const char *gg_image_strerror(int errnum, char *buf, size_t n);
 
 /* Format readers, called by ggImageRead once the magic bytes matched. fp
    is open at offset 0 and stays owned by the caller. */
-int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc, ggImage **out,
-                      ggError *err);
-int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc, ggImage **out,
-                      ggError *err);
+int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc,
+                      const gg_image_budget *b, ggImage **out, ggError *err);
+int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
+                      const gg_image_budget *b, ggImage **out, ggError *err);
 
 /* A temporary file beside its destination, renamed over it on commit. */
 typedef struct gg_image_tmp {

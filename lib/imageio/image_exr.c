@@ -130,7 +130,8 @@ typedef struct exr_reader {
     exr_decode_pipeline_t dec;
     int dec_ready;
     const ggAllocator *alloc;
-    void *scratch; /* where channels we do not want are decoded to */
+    const gg_image_budget *budget; /* NULL: only the GG_IMAGE_MAX_* limits */
+    void *scratch;                 /* where channels we do not want are decoded to */
     size_t scratch_cap;
 } exr_reader;
 
@@ -264,6 +265,9 @@ static int read_part(exr_reader *r, const ggAllocator *alloc, ggError *err)
                             r->path);
     rc = gg_image_check_size(r->path, (int64_t)dw.max.x - dw.min.x + 1,
                              (int64_t)dw.max.y - dw.min.y + 1, err);
+    if (rc == GG_OK)
+        rc = gg_image_check_budget(r->path, (int64_t)dw.max.x - dw.min.x + 1,
+                                   (int64_t)dw.max.y - dw.min.y + 1, r->budget, err);
     if (rc != GG_OK) return rc;
     if (chl->num_channels > EXR_MAX_CHANNELS)
         return gg_error_set(err, GG_ERROR_LIMIT, "%s: %d channels exceed the limit of %d", r->path,
@@ -305,8 +309,8 @@ static int read_part(exr_reader *r, const ggAllocator *alloc, ggError *err)
     return rc;
 }
 
-int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc, ggImage **out,
-                      ggError *err)
+int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
+                      const gg_image_budget *b, ggImage **out, ggError *err)
 {
     exr_context_initializer_t init;
     exr_reader r;
@@ -331,6 +335,7 @@ int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc, ggIm
     r.io = &io;
     r.path = path;
     r.alloc = alloc;
+    r.budget = b;
     rv = exr_start_read(&r.ctx, path, &init);
     if (rv != EXR_ERR_SUCCESS) {
         rc = fail(&io, rv, GG_ERROR_PARSE, path, "invalid OpenEXR file", err);

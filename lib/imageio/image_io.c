@@ -21,6 +21,12 @@ const char *gg_image_strerror(int errnum, char *buf, size_t n)
 
 GG_API int ggImageRead(const char *path, const ggAllocator *alloc, ggImage **out, ggError *err)
 {
+    return gg_image_read_budget(path, alloc, NULL, out, err);
+}
+
+int gg_image_read_budget(const char *path, const ggAllocator *alloc, const gg_image_budget *b,
+                         ggImage **out, ggError *err)
+{
     static const unsigned char png_magic[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     static const unsigned char exr_magic[4] = {0x76, 0x2f, 0x31, 0x01};
     unsigned char head[8];
@@ -47,9 +53,9 @@ GG_API int ggImageRead(const char *path, const ggAllocator *alloc, ggImage **out
         return rc;
     }
     if (got >= sizeof png_magic && memcmp(head, png_magic, sizeof png_magic) == 0)
-        rc = gg_image_read_png(fp, path, alloc, out, err);
+        rc = gg_image_read_png(fp, path, alloc, b, out, err);
     else if (got >= sizeof exr_magic && memcmp(head, exr_magic, sizeof exr_magic) == 0)
-        rc = gg_image_read_exr(fp, path, alloc, out, err);
+        rc = gg_image_read_exr(fp, path, alloc, b, out, err);
     else
         rc = gg_error_set(err, GG_ERROR_UNSUPPORTED, "%s: not a PNG or OpenEXR file", path);
     fclose(fp);

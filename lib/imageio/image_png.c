@@ -21,8 +21,8 @@ static int read_fail(FILE *fp, const char *path, const png_image *pi, ggError *e
     return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: %s", path, pi->message);
 }
 
-int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc, ggImage **out,
-                      ggError *err)
+int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc,
+                      const gg_image_budget *b, ggImage **out, ggError *err)
 {
     png_image pi;
     ggImage *img;
@@ -36,7 +36,9 @@ int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc, ggIm
         png_image_free(&pi);
         return rc;
     }
+    /* The header's size, before a byte of pixel data is decoded. */
     rc = gg_image_check_size(path, pi.width, pi.height, err);
+    if (rc == GG_OK) rc = gg_image_check_budget(path, pi.width, pi.height, b, err);
     if (rc != GG_OK) {
         png_image_free(&pi);
         return rc;

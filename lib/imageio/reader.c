@@ -4,13 +4,15 @@
 ** files: ggImageRead (PNG and OpenEXR). libggrt-core links
 ** load/reader_none.c instead (see load.h).
 */
+#include "image.h"
 #include "load.h"
 
+/* ud: the scene's gg_image_budget (load.h), so the declared size is
+   checked against it before decoding. */
 static int read_image(void *ud, const char *path, const ggAllocator *alloc, ggImage **out,
                       ggError *err)
 {
-    (void)ud;
-    return ggImageRead(path, alloc, out, err);
+    return gg_image_read_budget(path, alloc, ud, out, err);
 }
 
 ggImageReader gg_load_default_reader(void) { return read_image; }

@@ -30,6 +30,21 @@ int gg_load_mesh_file(ggScene *s, const char *path, const ggMeshOptions *o, int 
 int gg_load_model(ggScene *s, const char *path, ggError *err);
 int gg_load_mesh_format(const char *name);
 
+/* Read a whole file into memory (NUL-terminated; *len without the NUL):
+   only a regular file (a FIFO, device or directory is GG_ERROR_IO "path:
+   not a regular file", never a block) of at most `limit` bytes, checked
+   before anything is allocated (GG_ERROR_LIMIT "path: N bytes exceed the
+   limit of M"). */
+int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
+                      ggError *err);
+
+/* The image texture at path for scene s, through the texture cache: a path
+   already read gives the same image again; else it is read through the
+   scene's reader (or the default one, given the budget's remainder) and
+   checked against the texture budget (ggSceneSetTextureBudget). *img
+   belongs to the scene's cache (a gg_texture holding it is `shared`). */
+int gg_load_texture(ggScene *s, const char *path, ggImage **img, ggError *err);
+
 /* The image reader a scene without its own uses, or NULL (none: a texture
    is then GG_ERROR_UNSUPPORTED). */
 ggImageReader gg_load_default_reader(void);

@@ -111,11 +111,6 @@ int gg_lc_fail(const gg_lc *c, const char *at, int code, const char *fmt, ...) G
    printed as \xHH). */
 const char *gg_lc_show(const char *w, size_t n, char *buf, size_t size);
 
-/* Read a whole regular file (at most `limit` bytes) into memory. */
-int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
-                      ggError *err);
-/* Read an image through the scene's reader (or the library's default). */
-int gg_load_read_image(const ggScene *s, const char *path, ggImage **img, ggError *err);
 
 /* The folder part of path ("dir/" or ""), allocated. */
 char *gg_load_dirname(const ggAllocator *a, const char *path);

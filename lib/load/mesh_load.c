@@ -30,7 +30,7 @@ int gg_load_mesh_format(const char *name)
 
 /* What a failed load must undo. */
 typedef struct mark {
-    size_t nobjects, nmaterials, ntextures, nmeshes, nlights;
+    size_t nobjects, nmaterials, ntextures, nimages, nmeshes, nlights;
     ggCamera camera;
     bool has_camera;
 } mark;
@@ -38,14 +38,13 @@ typedef struct mark {
 static void take(const ggScene *s, mark *m)
 {
     m->nobjects = s->nobjects, m->nmaterials = s->nmaterials, m->ntextures = s->ntextures;
-    m->nmeshes = s->nmeshes, m->nlights = s->nlights;
+    m->nmeshes = s->nmeshes, m->nlights = s->nlights, m->nimages = s->nimages;
     m->camera = s->camera, m->has_camera = s->has_camera;
 }
 
 static void undo(ggScene *s, const mark *m)
 {
-    size_t i;
-    for (i = m->ntextures; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_textures(s, m->ntextures, m->nimages);
     gg_scene_drop_meshes(s, m->nmeshes);
     s->nobjects = m->nobjects, s->nmaterials = m->nmaterials, s->ntextures = m->ntextures;
     s->nlights = m->nlights, s->camera = m->camera, s->has_camera = m->has_camera;

@@ -4,6 +4,7 @@
 ** polygons split into triangles, interned names, decimal numbers, and
 ** reading files (mesh_int.h).
 */
+#include "image.h"
 #include "mesh_int.h"
 
 #include "vec.h"
@@ -471,13 +472,33 @@ int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char
     return GG_OK;
 }
 
-int gg_load_read_image(const ggScene *s, const char *path, ggImage **img, ggError *err)
+int gg_load_texture(ggScene *s, const char *path, ggImage **img, ggError *err)
 {
     ggImageReader fn = s->reader ? s->reader : gg_load_default_reader();
+    gg_image_budget b;
+    ggImage *got = NULL;
+    int rc;
+    if ((*img = gg_scene_image_find(s, path)) != NULL) return GG_OK;
     if (!fn)
         return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                            "%s: this libggrt reads no image files (libggrt-core)", path);
-    return fn(s->reader ? s->reader_ud : NULL, path, s->alloc, img, err);
+                            "%s: this libggrt reads no image files (libggrt-core); give the "
+                            "scene a reader with ggSceneSetImageReader",
+                            path);
+    b.total = s->tex_budget;
+    b.left = s->tex_budget > s->tex_used ? s->tex_budget - s->tex_used : 0;
+    rc = fn(s->reader ? s->reader_ud : &b, path, s->alloc, &got, err);
+    if (rc != GG_OK) return rc;
+    if (!got)
+        return gg_error_set(err, GG_ERROR_INVALID, "%s: the image reader gave no image", path);
+    rc = gg_image_check_budget(path, got->width, got->height, &b, err);
+    if (rc != GG_OK) {
+        ggImageFree(got);
+        return rc;
+    }
+    if (gg_scene_image_add(s, path, got) < 0)
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+    *img = got;
+    return GG_OK;
 }
 
 char *gg_load_dirname(const ggAllocator *a, const char *path)

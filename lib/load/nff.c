@@ -43,6 +43,8 @@ typedef struct parser {
     bool has_peek;
     token peek;
     token last; /* the last number read, for messages about its value */
+    token comp[3]; /* the numbers of the last colour read */
+    token mat_tok; /* the keyword that last changed the material */
 } parser;
 
 static int fail(parser *ps, const token *t, int code, const char *fmt, ...) GG_PRINTF(4, 5);
@@ -187,8 +189,37 @@ static int vec(parser *ps, ggVec3 *v)
 static int color(parser *ps, ggColor *c)
 {
     double d[3];
-    int rc = numbers(ps, d, 3);
-    if (rc == GG_OK) *c = rgb(d[0], d[1], d[2]);
+    int i, rc;
+    for (i = 0; i < 3; i++) {
+        if ((rc = number(ps, &d[i], "a number")) != GG_OK) return rc;
+        ps->comp[i] = ps->last;
+    }
+    *c = rgb(d[0], d[1], d[2]);
+    return GG_OK;
+}
+
+/* Physically invalid parameters are errors at the value that set them
+   (docs/scene-format.md, "Parameter ranges"). */
+static int nonneg_number(parser *ps, double *d, const char *what)
+{
+    char b[48];
+    int rc = number(ps, d, what);
+    if (rc == GG_OK && *d < 0)
+        return fail(ps, &ps->last, GG_ERROR_PARSE, "%s must not be negative, got %s", what,
+                    show(&ps->last, b, sizeof b));
+    return rc;
+}
+
+static int nonneg_color(parser *ps, ggColor *c, const char *what)
+{
+    const double *ch[3];
+    char b[48];
+    int i, rc = color(ps, c);
+    ch[0] = &c->r, ch[1] = &c->g, ch[2] = &c->b;
+    for (i = 0; rc == GG_OK && i < 3; i++)
+        if (*ch[i] < 0)
+            return fail(ps, &ps->comp[i], GG_ERROR_PARSE, "%s must not be negative, got %s", what,
+                        show(&ps->comp[i], b, sizeof b));
     return rc;
 }
 
@@ -220,6 +251,11 @@ static int material(parser *ps)
 {
     if (ps->mat_id < 0) {
         int id = ggSceneAddMaterial(ps->s, &ps->mat);
+        ggError e2;
+        /* The loader checks each value where it is read; this names what
+           ggMaterialCheck still finds, at the statement that set it. */
+        if (id == -GG_ERROR_INVALID && ggMaterialCheck(&ps->mat, &e2) != GG_OK)
+            return fail(ps, &ps->mat_tok, GG_ERROR_PARSE, "%s", e2.message);
         if (id < 0)
             return fail(ps, &ps->kw_tok, -id, "material%s is invalid",
                         id == -GG_ERROR_INVALID ? "" : " could not be stored");
@@ -240,22 +276,49 @@ static int add_object(parser *ps, gg_object *o)
     return GG_OK;
 }
 
+/* from/at/up: the vector and where its first number is, for messages. */
+static int view_vec(parser *ps, token *t, const char *kw, ggVec3 *v, token *at)
+{
+    next(ps, t), ps->keyword = kw;
+    if (peek(ps, at) <= 0) *at = *t;
+    return vec(ps, v);
+}
+
+/* A degenerate basis is reported at the value that made it so: the later
+   of from and at, or up. */
+static int view_check(parser *ps, const ggCamera *c, const token *from, const token *at,
+                      const token *up)
+{
+    const token *last =
+        from->line > at->line || (from->line == at->line && from->col > at->col) ? from : at;
+    int f = gg_camera_fault(c);
+    if (f == GG_CAMERA_OK) return GG_OK;
+    if (f == GG_CAMERA_UP &&
+        (up->line > last->line || (up->line == last->line && up->col > last->col)))
+        last = up;
+    return fail(ps, last, GG_ERROR_PARSE, "view: %s", gg_camera_fault_text(f));
+}
+
 static int kw_view(parser *ps)
 {
     ggCamera *c = &ps->s->camera;
-    token t;
+    token t, tf = ps->kw_tok, ta = ps->kw_tok, tu = ps->kw_tok;
     int rc = GG_OK;
     double d;
     long w, h;
     while (peek(ps, &t) > 0) {
-        if (tok_is(&t, "from")) next(ps, &t), ps->keyword = "from", rc = vec(ps, &c->from);
-        else if (tok_is(&t, "at")) next(ps, &t), ps->keyword = "at", rc = vec(ps, &c->at);
-        else if (tok_is(&t, "up")) next(ps, &t), ps->keyword = "up", rc = vec(ps, &c->up);
+        if (tok_is(&t, "from"))
+            rc = view_vec(ps, &t, "from", &c->from, &tf);
+        else if (tok_is(&t, "at"))
+            rc = view_vec(ps, &t, "at", &c->at, &ta);
+        else if (tok_is(&t, "up"))
+            rc = view_vec(ps, &t, "up", &c->up, &tu);
         else if (tok_is(&t, "angle")) {
             next(ps, &t), ps->keyword = "angle";
             if ((rc = number(ps, &d, "an angle in degrees")) == GG_OK) {
                 if (!(d > 0 && d < 180))
-                    return fail(ps, &t, GG_ERROR_PARSE, "angle must be in (0, 180), got %g", d);
+                    return fail(ps, &ps->last, GG_ERROR_PARSE, "angle must be in (0, 180), got %g",
+                                d);
                 c->fov_deg = d;
             }
         } else if (tok_is(&t, "hither")) {
@@ -265,17 +328,14 @@ static int kw_view(parser *ps)
             if ((rc = integer(ps, 1, GG_IMAGE_MAX_DIM, &w, "a width")) != GG_OK) return rc;
             if ((rc = integer(ps, 1, GG_IMAGE_MAX_DIM, &h, "a height")) != GG_OK) return rc;
             if ((size_t)w * (size_t)h > GG_IMAGE_MAX_PIXELS)
-                return fail(ps, &t, GG_ERROR_LIMIT, "resolution %ldx%ld exceeds %zu pixels", w, h,
-                            (size_t)GG_IMAGE_MAX_PIXELS);
+                return fail(ps, &t, GG_ERROR_LIMIT, "resolution %ldx%ld exceeds the limit of %zu pixels",
+                            w, h, (size_t)GG_IMAGE_MAX_PIXELS);
             c->width = (int)w, c->height = (int)h;
         } else
             break;
         if (rc != GG_OK) return rc;
     }
-    if (v3len(v3sub(c->at, c->from)) == 0)
-        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "view: 'from' and 'at' are the same point");
-    if (v3len(v3cross(v3sub(c->at, c->from), c->up)) == 0)
-        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "view: 'up' is parallel to the view direction");
+    if ((rc = view_check(ps, c, &tf, &ta, &tu)) != GG_OK) return rc;
     ps->s->has_camera = true;
     return GG_OK;
 }
@@ -286,27 +346,34 @@ static int kw_light(parser *ps)
     ggColor c = rgb(-1, -1, -1);
     int rc = vec(ps, &p), id;
     if (rc != GG_OK) return rc;
-    if (next_is_number(ps) && (rc = color(ps, &c)) != GG_OK) return rc;
+    if (next_is_number(ps) && (rc = nonneg_color(ps, &c, "a light's colour")) != GG_OK) return rc;
     id = ggSceneAddLight(ps->s, p, c);
     if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the light");
     ps->s->lights[id].line = ps->kw_tok.line;
     return GG_OK;
 }
 
+/* f r g b Kd Ks Shine T index_of_refraction */
 static int kw_fill(parser *ps)
 {
-    double d[8];
-    int rc = numbers(ps, d, 8);
+    static const char *const what[4] = {"Kd (the diffuse weight)", "Ks (the specular weight)",
+                                        "the Phong exponent", "T (the transmittance)"};
+    ggColor c;
+    double d[5];
+    int i, rc = nonneg_color(ps, &c, "the colour");
+    for (i = 0; rc == GG_OK && i < 4; i++) rc = nonneg_number(ps, &d[i], what[i]);
+    if (rc == GG_OK) rc = number(ps, &d[4], "an index of refraction");
     if (rc != GG_OK) return rc;
-    ps->mat = ggMaterialDefault();
-    ps->mat.color = rgb(d[0], d[1], d[2]);
-    ps->mat.kd = d[3], ps->mat.ks = d[4], ps->mat.shine = d[5], ps->mat.kt = d[6];
     /* Opaque SPD materials carry ior 0: a transmitter needs a real index. */
-    ps->mat.ior = d[7] > 0 ? d[7] : 1;
-    if (d[6] > 0 && !(d[7] > 0))
-        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE,
-                    "a transparent material (T = %g) needs an index of refraction > 0", d[6]);
+    if (d[3] > 0 && !(d[4] > 0))
+        return fail(ps, &ps->last, GG_ERROR_PARSE,
+                    "a transparent material (T = %g) needs an index of refraction > 0", d[3]);
+    ps->mat = ggMaterialDefault();
+    ps->mat.color = c;
+    ps->mat.kd = d[0], ps->mat.ks = d[1], ps->mat.shine = d[2], ps->mat.kt = d[3];
+    ps->mat.ior = d[4] > 0 ? d[4] : 1;
     ps->mat.line = ps->kw_tok.line;
+    ps->mat_tok = ps->kw_tok;
     ps->mat_id = -1;
     return GG_OK;
 }
@@ -374,21 +441,17 @@ static int kw_polygon(parser *ps, bool normals)
 
 /* ---- ggrt extensions (docs/scene-format.md) ---- */
 
-static int kw_ambient(parser *ps) { return color(ps, &ps->s->ambient); }
+static int kw_ambient(parser *ps)
+{
+    return nonneg_color(ps, &ps->s->ambient, "ambient");
+}
 
 /* Extension keywords that change the current material. */
 static int mat_changed(parser *ps)
 {
+    ps->mat_tok = ps->kw_tok;
     ps->mat_id = -1;
     return GG_OK;
-}
-
-static int nonneg_color(parser *ps, ggColor *c, const char *what)
-{
-    int rc = color(ps, c);
-    if (rc == GG_OK && (c->r < 0 || c->g < 0 || c->b < 0))
-        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "%s must not be negative", what);
-    return rc;
 }
 
 static int kw_emission(parser *ps)
@@ -415,9 +478,23 @@ static int kw_fresnel(parser *ps)
 
 static int kw_conductor(parser *ps)
 {
-    int rc = nonneg_color(ps, &ps->mat.eta_n, "conductor n");
+    token tn[3];
+    int i, rc = nonneg_color(ps, &ps->mat.eta_n, "conductor n");
+    const double *n[3], *k[3];
+    memcpy(tn, ps->comp, sizeof tn);
     if (rc == GG_OK) rc = nonneg_color(ps, &ps->mat.eta_k, "conductor k");
     if (rc != GG_OK) return rc;
+    n[0] = &ps->mat.eta_n.r, n[1] = &ps->mat.eta_n.g, n[2] = &ps->mat.eta_n.b;
+    k[0] = &ps->mat.eta_k.r, k[1] = &ps->mat.eta_k.g, k[2] = &ps->mat.eta_k.b;
+    /* n + ik = 0 has no Fresnel reflectance (ggFresnelConductor gives NaN). */
+    for (i = 0; i < 3; i++)
+        if (*n[i] == 0 && *k[i] == 0)
+            return fail(ps, &tn[i], GG_ERROR_PARSE,
+                        "conductor: n and k are both 0 in the %s channel (the index n + ik "
+                        "must not be 0)",
+                        i == 0   ? "R"
+                        : i == 1 ? "G"
+                                 : "B");
     ps->mat.fresnel = GG_FRESNEL_CONDUCTOR;
     return mat_changed(ps);
 }
@@ -430,7 +507,7 @@ static int kw_absorb(parser *ps)
     if (next_is_number(ps)) {
         if ((rc = number(ps, &unit, "metres per scene unit")) != GG_OK) return rc;
         if (!(unit > 0))
-            return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "metres per scene unit must be > 0");
+            return fail(ps, &ps->last, GG_ERROR_PARSE, "metres per scene unit must be > 0");
     }
     ps->mat.unit_m = unit;
     return mat_changed(ps);
@@ -441,20 +518,8 @@ static int kw_dispersion(parser *ps)
     int rc = number(ps, &ps->mat.abbe, "an Abbe number");
     if (rc != GG_OK) return rc;
     if (ps->mat.abbe < 0)
-        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "the Abbe number must be >= 0");
+        return fail(ps, &ps->last, GG_ERROR_PARSE, "the Abbe number must be >= 0");
     return mat_changed(ps);
-}
-
-/* Through the scene's image reader, else the library's default (load.h). */
-static int read_texture(const ggScene *s, const char *path, ggImage **img, ggError *err)
-{
-    ggImageReader fn = s->reader ? s->reader : gg_load_default_reader();
-    if (!fn)
-        return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                            "%s: this libggrt reads no image files (libggrt-core); give the "
-                            "scene a reader with ggSceneSetImageReader",
-                            path);
-    return fn(s->reader ? s->reader_ud : NULL, path, s->alloc, img, err);
 }
 
 /* texture "file" [repeat|clamp] [nearest|bilinear]  |  texture none */
@@ -475,6 +540,7 @@ static int kw_texture(parser *ps)
         return fail(ps, &t, GG_ERROR_PARSE, "bad texture file name");
     memset(&tx, 0, sizeof tx);
     tx.wrap = GG_WRAP_REPEAT;
+    tx.shared = 1; /* the image is the scene's cache's */
     while (peek(ps, &o) > 0) {
         if (tok_is(&o, "repeat")) tx.wrap = GG_WRAP_REPEAT;
         else if (tok_is(&o, "clamp")) tx.wrap = GG_WRAP_CLAMP;
@@ -487,7 +553,7 @@ static int kw_texture(parser *ps)
         snprintf(path, sizeof path, "%.*s", (int)t.n, t.p);
     else
         snprintf(path, sizeof path, "%s%.*s", ps->dir, (int)t.n, t.p);
-    rc = read_texture(ps->s, path, &tx.img, &e2);
+    rc = gg_load_texture(ps->s, path, &tx.img, &e2);
     if (rc != GG_OK)
         return fail(ps, &t, rc, "cannot read texture: %s", e2.message);
     id = gg_scene_add_texture_desc(ps->s, &tx);
@@ -505,7 +571,7 @@ static int kw_checker(parser *ps)
     memset(&tx, 0, sizeof tx);
     if ((rc = number(ps, &n, "a square count")) != GG_OK) return rc;
     if (!(n > 0 && n <= 1e6))
-        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "checker square count must be in (0, 1e6]");
+        return fail(ps, &ps->last, GG_ERROR_PARSE, "checker square count must be in (0, 1e6]");
     if ((rc = nonneg_color(ps, &tx.checker_a, "checker colour")) != GG_OK) return rc;
     if ((rc = nonneg_color(ps, &tx.checker_b, "checker colour")) != GG_OK) return rc;
     tx.checker_n = n;
@@ -707,7 +773,7 @@ static int kw_p(parser *ps) { return kw_polygon(ps, false); }
 static int kw_pp(parser *ps) { return kw_polygon(ps, true); }
 static int kw_bg(parser *ps)
 {
-    return color(ps, &ps->s->background);
+    return nonneg_color(ps, &ps->s->background, "the background");
 }
 
 static const keyword keywords[] = {
@@ -722,7 +788,7 @@ static const keyword keywords[] = {
 
 /* Undo everything added since the snapshot: a failed load changes nothing. */
 typedef struct snapshot {
-    size_t nobjects, nmaterials, nlights, ntextures, nverts, nmeshes;
+    size_t nobjects, nmaterials, nlights, ntextures, nimages, nverts, nmeshes;
     ggCamera camera;
     bool has_camera;
     ggColor background, ambient;
@@ -733,7 +799,7 @@ static void take(const ggScene *s, snapshot *sn)
 {
     sn->nobjects = s->nobjects, sn->nmaterials = s->nmaterials, sn->nlights = s->nlights;
     sn->ntextures = s->ntextures, sn->nverts = s->nverts, sn->camera = s->camera;
-    sn->nmeshes = s->nmeshes;
+    sn->nmeshes = s->nmeshes, sn->nimages = s->nimages;
     sn->has_camera = s->has_camera, sn->background = s->background, sn->ambient = s->ambient;
     sn->depth = s->depth, sn->samples = s->samples;
 }
@@ -742,7 +808,7 @@ static void rollback(ggScene *s, const snapshot *sn)
 {
     size_t i;
     for (i = sn->nobjects; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
-    for (i = sn->ntextures; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_textures(s, sn->ntextures, sn->nimages);
     gg_scene_drop_meshes(s, sn->nmeshes);
     s->nobjects = sn->nobjects, s->nmaterials = sn->nmaterials, s->nlights = sn->nlights;
     s->ntextures = sn->ntextures, s->nverts = sn->nverts, s->camera = sn->camera;
@@ -785,32 +851,6 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
     return rc;
 }
 
-static int read_file(const ggAllocator *a, const char *path, char **out, size_t *len, ggError *err)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf = NULL;
-    size_t n = 0, cap = 0, got;
-    if (!f) return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
-    for (;;) {
-        if (gg_mem_grow(a, (void **)&buf, &cap, n + 65536, 1)) {
-            fclose(f);
-            gg_mem_free(a, buf);
-            return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
-        }
-        got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (got == 0) break;
-    }
-    if (ferror(f)) {
-        fclose(f);
-        gg_mem_free(a, buf);
-        return gg_error_set(err, GG_ERROR_IO, "%s: read error", path);
-    }
-    fclose(f);
-    *out = buf, *len = n;
-    return GG_OK;
-}
-
 GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
 {
     char *text = NULL, *dir, *slash;
@@ -818,7 +858,7 @@ GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
     int rc;
     if (!s || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadFile: NULL argument");
     if (gg_load_mesh_format(path)) return gg_load_model(s, path, err);
-    rc = read_file(s->alloc, path, &text, &len, err);
+    rc = gg_load_read_file(s->alloc, path, GG_SCENE_MAX_FILE, &text, &len, err);
     if (rc != GG_OK) return rc;
     dir = gg_mem_strdup(s->alloc, path);
     if (!dir) {

@@ -390,7 +390,7 @@ static int add_material(objp *op, gg_mtl_entry *e)
     if (e->map_kd) {
         ggImage *img = NULL;
         ggError e2;
-        rc = gg_load_read_image(op->s, e->map_kd, &img, &e2);
+        rc = gg_load_texture(op->s, e->map_kd, &img, &e2);
         if (rc == GG_ERROR_NOMEM) return nomem(op);
         if (rc != GG_OK) {
             gg_mb_warn(op->mb, "%s: texture not used (%s); the material has its Kd colour alone",
@@ -398,7 +398,7 @@ static int add_material(objp *op, gg_mtl_entry *e)
         } else {
             gg_texture tx;
             memset(&tx, 0, sizeof tx);
-            tx.img = img, tx.wrap = e->wrap;
+            tx.img = img, tx.shared = 1, tx.wrap = e->wrap;
             if ((id = gg_scene_add_texture_desc(op->s, &tx)) < 0) return nomem(op);
             m.texture = id;
         }

@@ -32,32 +32,19 @@
 #define GG_REFLECT_NAME reflect_plain
 #include "refract_core.h"
 
-#if GG_HAVE_REFRACT_FMA
-#include <cpuid.h>
-
-/* 0 not yet probed, 1 plain, 2 fma; written once (benignly racing threads
-   store the same value), read with relaxed atomics. */
+#if GG_ISA_X86
+/* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2
+   yes (threads that race store the same value; relaxed atomics). */
 static int fma_mode;
-
-/* fma needs the CPU flag and the OS saving the AVX (YMM) state, which
-   the VEX-encoded instruction relies on. */
-static int fma_probe(void)
-{
-    unsigned a, b, c, d, lo, hi;
-    int m = 1;
-    if (__get_cpuid(1, &a, &b, &c, &d) && (c & bit_FMA) && (c & bit_OSXSAVE) && (c & bit_AVX)) {
-        __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
-        (void)hi;
-        if ((lo & 6) == 6) m = 2;
-    }
-    __atomic_store_n(&fma_mode, m, __ATOMIC_RELAXED);
-    return m;
-}
 
 static int use_fma(void)
 {
     int m = __atomic_load_n(&fma_mode, __ATOMIC_RELAXED);
-    return (m ? m : fma_probe()) == 2;
+    if (!m) {
+        m = gg_cpu_features() & GG_CPU_FMA ? 2 : 1;
+        __atomic_store_n(&fma_mode, m, __ATOMIC_RELAXED);
+    }
+    return m == 2;
 }
 
 /* Same bits either way (refract_core.h); the fma build is faster. */

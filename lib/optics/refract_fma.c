@@ -1,21 +1,23 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** refract_fma.c -- the accurate refraction compiled for x86-64 CPUs with
-** fused multiply-add (see refract_core.h). ggRefract (optics.c) calls it
-** only after checking, at run time, that the CPU and the OS support it;
-** the default build keeps targeting plain SSE2.
+** fused multiply-add (see refract_core.h): a per-ISA object, built with
+** -mfma (compiler.h, "Per-ISA code"). ggRefract (optics.c) calls it only
+** where gg_cpu_features() has GG_CPU_FMA.
 */
 #include "core.h"
 
 #include "refract_fma.h"
 
-#if GG_HAVE_REFRACT_FMA
+#if GG_ISA_X86
+#ifndef __FMA__
+#error "refract_fma.c is compiled with -mfma (Makefile: ISA_fma)"
+#endif
 
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
 
-#pragma GCC target("fma")
 #define GG_DD_FMA 1
 #define GG_REFRACT_NAME   gg_refract_fma
 #define GG_REFLECT_NAME   gg_reflect_fma

@@ -70,7 +70,9 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
     r->h = o->height > 0 ? o->height : s->camera.height;
     if (o->width < 0 || o->height < 0 || r->w <= 0 || r->h <= 0 || r->w > GG_IMAGE_MAX_DIM ||
         r->h > GG_IMAGE_MAX_DIM || (size_t)r->w * (size_t)r->h > GG_IMAGE_MAX_PIXELS)
-        return gg_error_set(err, GG_ERROR_LIMIT, "image size %dx%d is out of range", r->w, r->h);
+        return gg_error_set(err, GG_ERROR_LIMIT,
+                            "image size %dx%d exceeds the limit of %lu pixels (%d per side)", r->w,
+                            r->h, (unsigned long)GG_IMAGE_MAX_PIXELS, GG_IMAGE_MAX_DIM);
     r->depth = o->max_depth > 0 ? o->max_depth : s->depth > 0 ? s->depth : 5;
     r->spp = o->samples > 0 ? o->samples : s->samples > 0 ? s->samples : 1;
     if (o->max_depth < 0 || r->depth > 64 || o->samples < 0 || r->spp > 4096)

@@ -5,6 +5,7 @@
 */
 #include "scene.h"
 
+#include "image.h"
 #include "implicit.h"
 #include "vec.h"
 
@@ -48,6 +49,7 @@ GG_API ggScene *ggSceneCreate(const ggAllocator *alloc)
     s->camera.height = 512;
     s->background = rgb(0, 0, 0);
     s->ambient = rgb(0.1, 0.1, 0.1);
+    s->tex_budget = GG_TEXTURE_BUDGET;
     return s;
 }
 
@@ -69,40 +71,188 @@ GG_API void ggSceneFree(ggScene *s)
     if (!s) return;
     unprepare(s);
     for (i = 0; i < s->nobjects; i++) ggImplicitFree(s->objects[i].imp);
-    for (i = 0; i < s->ntextures; i++) ggImageFree(s->textures[i].img);
+    gg_scene_drop_textures(s, 0, 0);
     gg_scene_drop_meshes(s, 0);
     gg_mem_free(s->alloc, s->meshes);
     gg_mem_free(s->alloc, s->objects);
     gg_mem_free(s->alloc, s->materials);
     gg_mem_free(s->alloc, s->lights);
     gg_mem_free(s->alloc, s->textures);
+    gg_mem_free(s->alloc, s->images);
     gg_mem_free(s->alloc, s->verts);
     gg_mem_free(s->alloc, s->norms);
     gg_mem_free(s->alloc, s->filename);
     gg_mem_free(s->alloc, s);
 }
 
-GG_API void ggSceneSetCamera(ggScene *s, const ggCamera *cam)
+/* ---- validation (docs/scene-format.md, "Parameter ranges") ---- */
+
+static double vmax(ggVec3 v)
 {
+    return fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
+}
+static bool nonneg(double x)
+{
+    return isfinite(x) && x >= 0;
+}
+static bool color_ok(ggColor c)
+{
+    return nonneg(c.r) && nonneg(c.g) && nonneg(c.b);
+}
+static bool unit_len(ggVec3 v)
+{
+    return fabs(v3len(v) - 1) < 1e-6;
+}
+
+/* Two camera vectors closer (or more parallel) than this, relative to
+   their size, leave the view direction with fewer than 30 correct bits:
+   they count as equal (parallel). The basis is then computed as the
+   renderer does (lib/render/render.c, basis()) and must come out unit. */
+#define CAM_EPS 1e-9
+/* Larger coordinates would overflow the squares of the basis' lengths. */
+#define CAM_MAX 1e150
+
+int gg_camera_fault(const ggCamera *c)
+{
+    ggVec3 d, fwd, cr;
+    if (!v3finite(c->from) || !v3finite(c->at) || !v3finite(c->up) ||
+        !(fmax(vmax(c->from), fmax(vmax(c->at), vmax(c->up))) <= CAM_MAX))
+        return GG_CAMERA_NONFINITE;
+    d = v3sub(c->at, c->from);
+    fwd = v3norm(d);
+    if (!v3finite(d) || !(vmax(d) > CAM_EPS * fmax(vmax(c->from), vmax(c->at))) || !unit_len(fwd))
+        return GG_CAMERA_FROM_AT;
+    cr = v3cross(fwd, c->up);
+    if (!(vmax(cr) > CAM_EPS * vmax(c->up)) || !unit_len(v3norm(cr))) return GG_CAMERA_UP;
+    if (!(c->fov_deg > 0 && c->fov_deg < 180)) return GG_CAMERA_FOV;
+    if (c->width < 1 || c->height < 1 || c->width > GG_IMAGE_MAX_DIM ||
+        c->height > GG_IMAGE_MAX_DIM || (size_t)c->width * (size_t)c->height > GG_IMAGE_MAX_PIXELS)
+        return GG_CAMERA_SIZE;
+    return GG_CAMERA_OK;
+}
+
+const char *gg_camera_fault_text(int fault)
+{
+    switch (fault) {
+    case GG_CAMERA_NONFINITE:
+        return "'from', 'at' and 'up' must be finite, at most 1e150";
+    case GG_CAMERA_FROM_AT:
+        return "'from' and 'at' are the same point";
+    case GG_CAMERA_UP:
+        return "'up' is parallel to the view direction";
+    case GG_CAMERA_FOV:
+        return "the field of view must be in (0, 180) degrees";
+    case GG_CAMERA_SIZE:
+        return "the image size must be 1 to 65536 a side and at most 2^28 pixels";
+    default:
+        return "no problem";
+    }
+}
+
+GG_API int ggCameraCheck(const ggCamera *cam, ggError *err)
+{
+    int f;
+    if (!cam) return gg_error_set(err, GG_ERROR_INVALID, "ggCameraCheck: NULL camera");
+    f = gg_camera_fault(cam);
+    if (f != GG_CAMERA_OK)
+        return gg_error_set(err, GG_ERROR_INVALID, "camera: %s", gg_camera_fault_text(f));
+    return GG_OK;
+}
+
+static int bad_color(ggError *err, const char *what, ggColor c)
+{
+    return gg_error_set(err, GG_ERROR_INVALID, "material: %s must be finite and >= 0, got %g %g %g",
+                        what, c.r, c.g, c.b);
+}
+
+GG_API int ggMaterialCheck(const ggMaterial *m, ggError *err)
+{
+    const double w[4] = {m ? m->kd : 0, m ? m->ks : 0, m ? m->kt : 0, m ? m->shine : 0};
+    const char *const wn[4] = {"kd", "ks", "kt", "the Phong exponent"};
+    const ggColor *n, *k;
+    int i;
+    if (!m) return gg_error_set(err, GG_ERROR_INVALID, "ggMaterialCheck: NULL material");
+    if (!color_ok(m->color)) return bad_color(err, "the colour", m->color);
+    for (i = 0; i < 4; i++)
+        if (!nonneg(w[i]))
+            return gg_error_set(err, GG_ERROR_INVALID,
+                                "material: %s must be finite and >= 0, got %g", wn[i], w[i]);
+    if (!isfinite(m->ior) || (m->kt > 0 && m->ior == 0))
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "material: the index of refraction must be finite (and non-zero "
+                            "when kt > 0), got %g",
+                            m->ior);
+    if (!color_ok(m->ke)) return bad_color(err, "the emission", m->ke);
+    if (!color_ok(m->extinction)) return bad_color(err, "the extinction", m->extinction);
+    if (!nonneg(m->unit_m) || !nonneg(m->abbe))
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "material: unit_m and abbe must be finite and >= 0, got %g and %g",
+                            m->unit_m, m->abbe);
+    if (m->fresnel < GG_FRESNEL_NONE || m->fresnel > GG_FRESNEL_CONDUCTOR)
+        return gg_error_set(err, GG_ERROR_INVALID, "material: unknown fresnel mode %d", m->fresnel);
+    n = &m->eta_n, k = &m->eta_k;
+    if (!isfinite(n->r) || !isfinite(n->g) || !isfinite(n->b) || !color_ok(*k) ||
+        (m->fresnel == GG_FRESNEL_CONDUCTOR && !color_ok(*n)))
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "material: the conductor index needs finite n and k >= 0");
+    if (m->fresnel == GG_FRESNEL_CONDUCTOR &&
+        ((n->r == 0 && k->r == 0) || (n->g == 0 && k->g == 0) || (n->b == 0 && k->b == 0)))
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "material: a conductor index n + ik of 0 (n = k = 0 in a channel) "
+                            "has no Fresnel reflectance");
+    if (m->texture < -1)
+        return gg_error_set(err, GG_ERROR_INVALID, "material: bad texture index %d", m->texture);
+    return GG_OK;
+}
+
+GG_API int ggSceneSetCamera(ggScene *s, const ggCamera *cam)
+{
+    if (!s || !cam || gg_camera_fault(cam) != GG_CAMERA_OK) return GG_ERROR_INVALID;
     s->camera = *cam;
     s->has_camera = true;
+    return GG_OK;
 }
-GG_API ggCamera ggSceneCamera(const ggScene *s) { return s->camera; }
-GG_API void ggSceneSetBackground(ggScene *s, ggColor c) { s->background = c; }
-GG_API void ggSceneSetAmbient(ggScene *s, ggColor c) { s->ambient = c; }
+GG_API ggCamera ggSceneCamera(const ggScene *s)
+{
+    ggCamera c;
+    if (s) return s->camera;
+    memset(&c, 0, sizeof c);
+    return c;
+}
+GG_API int ggSceneSetBackground(ggScene *s, ggColor c)
+{
+    if (!s || !color_ok(c)) return GG_ERROR_INVALID;
+    s->background = c;
+    return GG_OK;
+}
+GG_API int ggSceneSetAmbient(ggScene *s, ggColor c)
+{
+    if (!s || !color_ok(c)) return GG_ERROR_INVALID;
+    s->ambient = c;
+    return GG_OK;
+}
 GG_API void ggSceneSetImageReader(ggScene *s, ggImageReader fn, void *ud)
 {
+    if (!s) return;
     s->reader = fn;
     s->reader_ud = fn ? ud : NULL;
 }
-GG_API void ggSceneSetDepth(ggScene *s, int d) { s->depth = d > 0 ? d : 0; }
-GG_API void ggSceneSetSamples(ggScene *s, int n) { s->samples = n > 0 ? n : 0; }
+GG_API void ggSceneSetDepth(ggScene *s, int d)
+{
+    if (s) s->depth = d > 0 ? d : 0;
+}
+GG_API void ggSceneSetSamples(ggScene *s, int n)
+{
+    if (s) s->samples = n > 0 ? n : 0;
+}
 
 GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
 {
     gg_light *l;
-    if (!v3finite(pos) || !isfinite(color.g) || !isfinite(color.b) || !isfinite(color.r))
+    if (!s || !v3finite(pos) || !isfinite(color.g) || !isfinite(color.b) || !isfinite(color.r))
         return -GG_ERROR_INVALID;
+    /* r < 0 asks for the SPD default colour; any other colour is >= 0. */
+    if (color.r >= 0 && !color_ok(color)) return -GG_ERROR_INVALID;
     if (gg_mem_grow(s->alloc, (void **)&s->lights, &s->cap_lights, s->nlights + 1, sizeof *l))
         return -GG_ERROR_NOMEM;
     unprepare(s);
@@ -113,19 +263,10 @@ GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
     return (int)s->nlights++;
 }
 
-static bool color_ok(ggColor c, double lo)
-{
-    return isfinite(c.r) && isfinite(c.g) && isfinite(c.b) && c.r >= lo && c.g >= lo && c.b >= lo;
-}
-
 GG_API int ggSceneAddMaterial(ggScene *s, const ggMaterial *m)
 {
-    if (!color_ok(m->color, 0) || !color_ok(m->ke, 0) || !color_ok(m->extinction, 0) ||
-        !isfinite(m->kd) || !isfinite(m->ks) || !isfinite(m->kt) || !isfinite(m->shine) ||
-        !isfinite(m->ior) || !isfinite(m->abbe) || !isfinite(m->unit_m) || m->unit_m < 0 ||
-        m->fresnel < GG_FRESNEL_NONE || m->fresnel > GG_FRESNEL_CONDUCTOR ||
-        !color_ok(m->eta_n, -1e300) || !color_ok(m->eta_k, 0) || m->abbe < 0 ||
-        (m->texture >= 0 && (size_t)m->texture >= s->ntextures) || m->texture < -1)
+    if (!s || ggMaterialCheck(m, NULL) != GG_OK ||
+        (m->texture >= 0 && (size_t)m->texture >= s->ntextures))
         return -GG_ERROR_INVALID;
     if (gg_mem_grow(s->alloc, (void **)&s->materials, &s->cap_materials, s->nmaterials + 1,
                     sizeof *m))
@@ -139,7 +280,7 @@ int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t)
 {
     if (gg_mem_grow(s->alloc, (void **)&s->textures, &s->cap_textures, s->ntextures + 1,
                     sizeof *t)) {
-        ggImageFree(t->img);
+        if (!t->shared) ggImageFree(t->img);
         return -GG_ERROR_NOMEM;
     }
     unprepare(s);
@@ -147,10 +288,59 @@ int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t)
     return (int)s->ntextures++;
 }
 
+ggImage *gg_scene_image_find(const ggScene *s, const char *path)
+{
+    size_t i;
+    for (i = 0; i < s->nimages; i++)
+        if (strcmp(s->images[i].path, path) == 0) return s->images[i].img;
+    return NULL;
+}
+
+int gg_scene_image_add(ggScene *s, const char *path, ggImage *img)
+{
+    char *p = gg_mem_strdup(s->alloc, path);
+    if (!p || gg_mem_grow(s->alloc, (void **)&s->images, &s->cap_images, s->nimages + 1,
+                          sizeof *s->images)) {
+        gg_mem_free(s->alloc, p);
+        ggImageFree(img);
+        return -GG_ERROR_NOMEM;
+    }
+    s->images[s->nimages].path = p;
+    s->images[s->nimages].img = img;
+    s->tex_used += GG_IMAGE_BYTES(img->width, img->height);
+    return (int)s->nimages++;
+}
+
+void gg_scene_drop_textures(ggScene *s, size_t nt, size_t ni)
+{
+    size_t i;
+    for (i = nt; i < s->ntextures; i++)
+        if (!s->textures[i].shared) ggImageFree(s->textures[i].img);
+    for (i = ni; i < s->nimages; i++) {
+        s->tex_used -= GG_IMAGE_BYTES(s->images[i].img->width, s->images[i].img->height);
+        ggImageFree(s->images[i].img);
+        gg_mem_free(s->alloc, s->images[i].path);
+    }
+    if (nt < s->ntextures) s->ntextures = nt;
+    if (ni < s->nimages) s->nimages = ni;
+}
+
+GG_API int64_t ggSceneSetTextureBudget(ggScene *s, int64_t bytes)
+{
+    int64_t old;
+    if (!s) return -1;
+    old = s->tex_budget;
+    if (bytes >= 0) s->tex_budget = bytes;
+    return old;
+}
+
 GG_API int ggSceneAddTexture(ggScene *s, ggImage *img)
 {
     gg_texture t;
-    if (!img) return -GG_ERROR_INVALID;
+    if (!s || !img) {
+        ggImageFree(img);
+        return -GG_ERROR_INVALID;
+    }
     memset(&t, 0, sizeof t);
     t.img = img;
     t.wrap = GG_WRAP_REPEAT;
@@ -175,6 +365,7 @@ int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int cou
 
 int gg_scene_add_object(ggScene *s, const gg_object *o)
 {
+    if (!s) return -GG_ERROR_INVALID;
     if (o->material < 0 || (size_t)o->material >= s->nmaterials) return -GG_ERROR_INVALID;
     if (s->nobjects >= (size_t)INT32_MAX) return -GG_ERROR_LIMIT;
     if (gg_mem_grow(s->alloc, (void **)&s->objects, &s->cap_objects, s->nobjects + 1,
@@ -208,7 +399,7 @@ static int add_vertex_object(ggScene *s, int kind, int material, const ggVec3 *v
 {
     gg_object o = object_init(kind, material);
     int i, rc;
-    if (!v || count < 3) return -GG_ERROR_INVALID;
+    if (!s || !v || count < 3) return -GG_ERROR_INVALID;
     for (i = 0; i < count; i++)
         if (!v3finite(v[i]) || (n && !v3finite(n[i]))) return -GG_ERROR_INVALID;
     if (material < 0 || (size_t)material >= s->nmaterials) return -GG_ERROR_INVALID;
@@ -256,15 +447,24 @@ GG_API int ggSceneAddImplicit(ggScene *s, int material, ggImplicit *imp)
 {
     gg_object o = object_init(GG_SHAPE_IMPLICIT, material);
     int rc;
-    if (!imp) return -GG_ERROR_INVALID;
+    if (!s || !imp) {
+        ggImplicitFree(imp);
+        return -GG_ERROR_INVALID;
+    }
     o.imp = imp;
     rc = gg_scene_add_object(s, &o);
     if (rc < 0) ggImplicitFree(imp);
     return rc;
 }
 
-GG_API int ggSceneObjectCount(const ggScene *s) { return (int)s->nobjects; }
-GG_API int ggSceneLightCount(const ggScene *s) { return (int)s->nlights; }
+GG_API int ggSceneObjectCount(const ggScene *s)
+{
+    return s ? (int)s->nobjects : 0;
+}
+GG_API int ggSceneLightCount(const ggScene *s)
+{
+    return s ? (int)s->nlights : 0;
+}
 GG_API int ggSceneGetLight(const ggScene *s, int i, ggVec3 *pos, ggColor *color)
 {
     if (!s || i < 0 || (size_t)i >= s->nlights) return GG_ERROR_INVALID;
@@ -272,24 +472,30 @@ GG_API int ggSceneGetLight(const ggScene *s, int i, ggVec3 *pos, ggColor *color)
     if (color) *color = s->lights[i].color;
     return GG_OK;
 }
-GG_API int ggSceneMaterialCount(const ggScene *s) { return (int)s->nmaterials; }
+GG_API int ggSceneMaterialCount(const ggScene *s)
+{
+    return s ? (int)s->nmaterials : 0;
+}
 GG_API ggMaterial ggSceneMaterial(const ggScene *s, int i)
 {
-    return i >= 0 && (size_t)i < s->nmaterials ? s->materials[i] : ggMaterialDefault();
+    return s && i >= 0 && (size_t)i < s->nmaterials ? s->materials[i] : ggMaterialDefault();
 }
 GG_API int ggSceneObjectKind(const ggScene *s, int i)
 {
-    return i >= 0 && (size_t)i < s->nobjects ? s->objects[i].kind : -1;
+    return s && i >= 0 && (size_t)i < s->nobjects ? s->objects[i].kind : -1;
 }
 GG_API int ggSceneObjectMaterial(const ggScene *s, int i)
 {
-    return i >= 0 && (size_t)i < s->nobjects ? s->objects[i].material : -1;
+    return s && i >= 0 && (size_t)i < s->nobjects ? s->objects[i].material : -1;
 }
 GG_API int ggSceneObjectLine(const ggScene *s, int i)
 {
-    return i >= 0 && (size_t)i < s->nobjects ? s->objects[i].line : 0;
+    return s && i >= 0 && (size_t)i < s->nobjects ? s->objects[i].line : 0;
 }
-GG_API const char *ggSceneFileName(const ggScene *s) { return s->filename ? s->filename : ""; }
+GG_API const char *ggSceneFileName(const ggScene *s)
+{
+    return s && s->filename ? s->filename : "";
+}
 
 /* ---- prepare ---- */
 
@@ -387,6 +593,7 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
     size_t i;
     int rc;
     double t0 = gg_time_now();
+    if (!s) return gg_error_set(err, GG_ERROR_INVALID, "ggScenePrepare: NULL scene");
     if (s->prepared) return GG_OK;
     unprepare(s);
     s->geom = gg_geom_create(s->alloc);
@@ -456,7 +663,7 @@ GG_API bool ggSceneIntersect(const ggScene *s, ggRay ray, double tmin, double tm
 {
     gg_rayq q;
     gg_hit h;
-    if (!s->prepared) return false;
+    if (!s || !s->prepared) return false;
     q = gg_rayq_make(ray.o, ray.d, tmin, tmax, NULL);
     if (!gg_geom_intersect(s->geom, &q, &h)) return false;
     if (hit) fill_hit(s, &q, &h, hit);
@@ -467,7 +674,7 @@ GG_API bool ggSceneOccluded(const ggScene *s, ggRay ray, double tmin, double tma
 {
     gg_rayq q;
     uint32_t cache = 0;
-    if (!s->prepared) return false;
+    if (!s || !s->prepared) return false;
     q = gg_rayq_make(ray.o, ray.d, tmin, tmax, NULL);
     return gg_geom_occluded(s->geom, &q, &cache, NULL) != 0;
 }
@@ -476,8 +683,9 @@ GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
 {
     gg_bvh_stats bs;
     size_t i;
+    if (!info) return GG_ERROR_INVALID;
     memset(info, 0, sizeof *info);
-    if (!s->prepared) return GG_ERROR_INVALID;
+    if (!s || !s->prepared) return GG_ERROR_INVALID;
     for (i = 0; i < s->nobjects; i++) info->objects_by_kind[s->objects[i].kind]++;
     gg_geom_bvh_stats(s->geom, &bs);
     info->primitives = gg_geom_prim_count(s->geom);
@@ -493,8 +701,9 @@ GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
 GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
 {
     const gg_object *o;
+    if (!d) return GG_ERROR_INVALID;
     memset(d, 0, sizeof *d);
-    if (i < 0 || (size_t)i >= s->nobjects) return GG_ERROR_INVALID;
+    if (!s || i < 0 || (size_t)i >= s->nobjects) return GG_ERROR_INVALID;
     o = &s->objects[i];
     d->kind = o->kind, d->material = o->material, d->line = o->line;
     switch (o->kind) {

@@ -38,11 +38,19 @@ typedef struct gg_light {
 
 typedef struct gg_texture {
     ggImage *img;   /* NULL for a procedural checker */
+    int shared;     /* img belongs to the scene's image cache, not to this texture */
     double checker_n;
     ggColor checker_a, checker_b;
     int wrap;       /* GG_WRAP_* */
     int nearest;    /* nearest-texel sampling instead of bilinear */
 } gg_texture;
+
+/* An image file named by the scene's files, decoded once: the texture
+   cache, charged to the texture budget (ggSceneSetTextureBudget). */
+typedef struct gg_teximage {
+    char *path; /* as the loader resolved it against the scene file's folder */
+    ggImage *img;
+} gg_teximage;
 
 /* Resolved per-material data used while shading. */
 typedef struct gg_mat_fast {
@@ -79,6 +87,9 @@ struct ggScene {
     size_t nlights, cap_lights;
     gg_texture *textures;
     size_t ntextures, cap_textures;
+    gg_teximage *images; /* the texture cache */
+    size_t nimages, cap_images;
+    int64_t tex_budget, tex_used; /* bytes of decoded texels: allowed, cached */
     ggVec3 *verts, *norms; /* polygon vertex pool; norms parallel (zero when absent) */
     size_t nverts, cap_verts, cap_norms;
     gg_mesh *meshes;       /* mesh.c */
@@ -98,6 +109,25 @@ struct ggScene {
 int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int count, size_t *first);
 int gg_scene_add_object(ggScene *s, const gg_object *o);
 int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t);
+
+/* What is wrong with a camera (the first problem found), for the loader's
+   messages and ggCameraCheck. */
+#define GG_CAMERA_OK        0
+#define GG_CAMERA_NONFINITE 1 /* from, at or up is not finite */
+#define GG_CAMERA_FROM_AT   2 /* from and at are (all but) the same point */
+#define GG_CAMERA_UP        3 /* up is zero or parallel to the view direction */
+#define GG_CAMERA_FOV       4 /* fov_deg outside (0, 180) */
+#define GG_CAMERA_SIZE      5 /* width or height outside the image limits */
+int gg_camera_fault(const ggCamera *c);
+const char *gg_camera_fault_text(int fault);
+
+/* The texture cache: the image cached under path, or NULL; cache img under
+   path (the scene owns it from then on, also when this fails with
+   -GG_ERROR_NOMEM); free the textures from index nt and the cached images
+   from index ni on (a failed load's rollback). */
+ggImage *gg_scene_image_find(const ggScene *s, const char *path);
+int gg_scene_image_add(ggScene *s, const char *path, ggImage *img);
+void gg_scene_drop_textures(ggScene *s, size_t nt, size_t ni);
 
 /* Work out the effect set and reasons (effects.c). */
 int gg_effects_compute(ggScene *s);

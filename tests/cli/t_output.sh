@@ -56,7 +56,7 @@ printf 'f -1 1 1 1 0 1 0 0\ns 0 0 0 1\n' > "$tmp/badmat.nff"
 for c in render trace info; do
   o="-o $tmp/x.png"; [ $c = trace ] && o="--pixel 1,1"; [ $c = info ] && o=""
   # shellcheck disable=SC2086
-  expect_msg 2 "material is invalid" "$c: a material error is exit 2" "$ggrt" $c "$tmp/badmat.nff" $o
+  expect_msg 2 "badmat.nff:1:3: the colour must not be negative, got -1" "$c: a material error is exit 2 at the f line" "$ggrt" $c "$tmp/badmat.nff" $o
 done
 expect_msg 1 "pixel 9999,1 is outside the" "trace: a pixel outside the image is exit 1" \
   "$ggrt" trace $g --pixel 9999,1

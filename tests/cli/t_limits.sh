@@ -1,0 +1,87 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: bounded memory (issue 16, item 6). Small
+# hostile inputs fail fast with the limit and the value in the message, and
+# none makes ggrt use more than 1 GB: each runs under `ulimit -v` 1 GiB
+# (address space, which is more than resident memory), and its peak RSS is
+# printed. Under ASan (build/asan) the same messages are checked without
+# the ulimit, which ASan's shadow memory cannot run under.
+# Uses run.sh's ggrt, tmp, ok and bad.
+
+lim="$tmp/limits"
+mkdir -p "$lim/out"
+python3 tests/data/hostile.py "$lim" --full
+case $ggrt in */asan/*) asan=1 ;; *) asan= ;; esac
+
+# under_1g CODE TEXT NAME CMD...: exit code and message, under 1 GiB of
+# address space; the name gets the peak RSS.
+under_1g() {
+  want=$1; text=$2; name=$3; shift 3
+  if [ -n "$asan" ]; then
+    "$@" >/dev/null 2>"$tmp/err"; got=$?; mb="?"
+  else
+    (ulimit -v 1048576 && python3 -c '
+import resource, subprocess, sys
+rc = subprocess.run(sys.argv[2:], stdout=subprocess.DEVNULL, stderr=open(sys.argv[1], "w")).returncode
+print(rc, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024)' "$tmp/err" "$@") >"$tmp/rss"
+    read -r got mb <"$tmp/rss"
+  fi
+  # An empty TEXT: nothing on stderr at all.
+  if [ "$got" = "$want" ] && if [ -z "$text" ]; then [ ! -s "$tmp/err" ]; else grep -qF -- "$text" "$tmp/err"; fi
+  then ok "$name (peak RSS $mb MB)"
+  else bad "$name (exit $got, want $want; peak RSS $mb MB)" "want: $text
+got:  $(cat "$tmp/err")"; fi
+}
+
+lim_head() { printf 'v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 32 24\nl 1 1 5\n'; }
+
+# A 70-byte scene asking for a 16384 x 16384 image; the same asked by -s.
+printf 'v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 resolution 16384 16384\ns 0 0 0 1\n' >"$lim/res.nff"
+under_1g 2 "res.nff:1:41: resolution 16384x16384 exceeds the limit of 16777216 pixels" \
+  "a $(wc -c <"$lim/res.nff")-byte scene asking for 16384x16384" \
+  "$ggrt" render "$lim/res.nff" -q -o "$lim/out/res.png"
+under_1g 2 "image size 16384x16384 exceeds the limit of 16777216 pixels (65536 per side)" \
+  "render -s 16384x16384" "$ggrt" render examples/scenes/glass.nff -s 16384x16384 -q -o "$lim/out/s.png"
+under_1g 2 "image size 16384x16384 exceeds the limit of 16777216 pixels (65536 per side)" \
+  "check -s 16384x16384" "$ggrt" check examples/scenes/glass.nff -s 16384x16384
+[ -z "$(ls "$lim/out")" ] && ok "refused sizes leave no image and no *.tmp* file" ||
+  bad "refused sizes leave no image and no *.tmp* file" "$(ls "$lim/out")"
+
+# Textures: small files declaring 16384 x 16384, a lying chunk length.
+for f in big.png big.exr; do
+  { lim_head; printf 'f 1 1 1 1 0 0 0 0\ntexture "%s"\nrect -1 -1 0 2 0 0 0 2 0\n' $f; } >"$lim/t_$f.nff"
+  under_1g 2 "t_$f.nff:10:9: cannot read texture: $lim/$f: image of 16384 x 16384 pixels exceeds the limit (65536 per side, 16777216 pixels)" \
+    "a $(wc -c <"$lim/$f")-byte $f declaring 16384x16384" "$ggrt" render "$lim/t_$f.nff" -q -o "$lim/out/t.png"
+done
+{ lim_head; printf 'texture "lie.png"\nrect -1 -1 0 2 0 0 0 2 0\n'; } >"$lim/lie.nff"
+under_1g 2 "lie.nff:9:9: cannot read texture: $lim/lie.png: invalid PNG: truncated file" \
+  "a PNG whose IDAT length says 2 GB" "$ggrt" render "$lim/lie.nff" -q -o "$lim/out/t.png"
+
+# One texture decoding to 1 MB named 250 times: decoded once.
+{ lim_head; i=0; while [ $i -lt 250 ]; do printf 'texture "tex1m.png"\ns %d 0 0 0.5\n' $i; i=$((i + 1)); done; } \
+  >"$lim/many.nff"
+under_1g 0 "" "a 1 MB-decoded texture named 250 times" "$ggrt" render "$lim/many.nff" -q -o "$lim/out/m.png"
+if [ -z "$asan" ] && [ "${mb:-999}" -lt 100 ]; then ok "... decoded once: peak RSS $mb MB < 100 MB"
+elif [ -z "$asan" ]; then bad "... decoded once: peak RSS $mb MB < 100 MB"; fi
+
+# The largest image the limits allow (4096 x 4096, 192 MiB decoded) is
+# read; a second file of that size is over the 256 MiB texture budget.
+{ lim_head; printf 'texture "full_a.png"\nrect -1 -1 0 2 0 0 0 2 0\n'; } >"$lim/full.nff"
+under_1g 0 "" "a 4096x4096 texture ($(wc -c <"$lim/full_a.png") bytes)" \
+  "$ggrt" render "$lim/full.nff" -q -o "$lim/out/f.png"
+{ cat "$lim/full.nff"; printf 'texture "full_b.png"\ns 0 0 0 1\n'; } >"$lim/full2.nff"
+under_1g 2 "full2.nff:11:9: cannot read texture: $lim/full_b.png: 4096 x 4096 pixels decode to 201326592 bytes, over the texture budget (67108864 bytes left of 268435456)" \
+  "two 4096x4096 textures: the second is over the budget" \
+  "$ggrt" render "$lim/full2.nff" -q -o "$lim/out/f2.png"
+
+# Scenes without bound: a huge sparse file, /dev/zero.
+: >"$lim/sparse.nff"
+if truncate -s 100G "$lim/sparse.nff" 2>/dev/null; then
+  under_1g 2 "sparse.nff: 107374182400 bytes exceed the limit of 268435456" \
+    "a 100 GB sparse scene file" "$ggrt" render "$lim/sparse.nff" -q -o "$lim/out/z.png"
+fi
+rm -f "$lim/sparse.nff"
+under_1g 3 "ggrt: /dev/zero: not a regular file" "/dev/zero as the scene" \
+  "$ggrt" render /dev/zero -q -o "$lim/out/z.png"
+rm -f "$lim/out/m.png" "$lim/out/f.png"
+[ -z "$(ls "$lim/out")" ] && ok "failed loads leave no image and no *.tmp* file" ||
+  bad "failed loads leave no image and no *.tmp* file" "$(ls "$lim/out")"

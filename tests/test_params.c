@@ -1,0 +1,244 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** test_params.c -- physically invalid parameters (negative colours,
+** weights, Phong exponent, light, ambient and background values, a zero
+** conductor index, a degenerate camera) are refused by the NFF loader at
+** the value that set them and by the building functions with
+** GG_ERROR_INVALID; what is accepted on purpose renders finite.
+*/
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Loading `text` fails with GG_ERROR_PARSE and exactly `msg`; the scene is
+   left empty. */
+static void refuse(const char *text, const char *msg)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    int rc = ggSceneLoadString(s, text, strlen(text), "p.nff", &e);
+    if (rc != GG_ERROR_PARSE || strcmp(e.message, msg) != 0)
+        print_error("input: %s\ngot %d '%s'\nwant '%s'\n", text, rc, rc ? e.message : "", msg);
+    assert_int_equal(rc, GG_ERROR_PARSE);
+    assert_string_equal(e.message, msg);
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    assert_int_equal(ggSceneMaterialCount(s), 0);
+    assert_int_equal(ggSceneLightCount(s), 0);
+    ggSceneFree(s);
+}
+
+static void test_nff_material(void **state)
+{
+    (void)state;
+    refuse("f 1 1 -1 1 0 1 0 0\ns 0 0 0 1\n", "p.nff:1:7: the colour must not be negative, got -1");
+    refuse("f 1 1 1 -0.5 0 1 0 0\ns 0 0 0 1\n",
+           "p.nff:1:9: Kd (the diffuse weight) must not be negative, got -0.5");
+    refuse("f 1 1 1 1 -1 1 0 0\ns 0 0 0 1\n",
+           "p.nff:1:11: Ks (the specular weight) must not be negative, got -1");
+    refuse("f 1 1 1 1 0.5 -5 0 0\ns 0 0 0 1\n",
+           "p.nff:1:15: the Phong exponent must not be negative, got -5");
+    refuse("f 1 1 1 1 0 1 -0.2 1.5\ns 0 0 0 1\n",
+           "p.nff:1:15: T (the transmittance) must not be negative, got -0.2");
+    /* The error is at the f line even when the object comes lines later. */
+    refuse("f -1 1 1 1 0 1 0 0\n\n# comment\ns 0 0 0 1\n",
+           "p.nff:1:3: the colour must not be negative, got -1");
+    refuse("emission 0 -1 0\ns 0 0 0 1\n", "p.nff:1:12: emission must not be negative, got -1");
+    refuse("absorb 0 0 -1e-9\ns 0 0 0 1\n",
+           "p.nff:1:12: extinction coefficient must not be negative, got -1e-9");
+    refuse("checker 4 1 1 1 0 -1 0\ns 0 0 0 1\n",
+           "p.nff:1:19: checker colour must not be negative, got -1");
+}
+
+static void test_nff_conductor(void **state)
+{
+    (void)state;
+    refuse("conductor 0 0.1 0.1 0 3 3\ns 0 0 0 1\n",
+           "p.nff:1:11: conductor: n and k are both 0 in the R channel (the index n + ik must "
+           "not be 0)");
+    refuse("conductor 0.1 0.1 0 3 3 0\ns 0 0 0 1\n",
+           "p.nff:1:19: conductor: n and k are both 0 in the B channel (the index n + ik must "
+           "not be 0)");
+    refuse("conductor 0.1 -1 0.1 3 3 3\ns 0 0 0 1\n",
+           "p.nff:1:15: conductor n must not be negative, got -1");
+    refuse("conductor 0.1 1 0.1 3 3 -3\ns 0 0 0 1\n",
+           "p.nff:1:25: conductor k must not be negative, got -3");
+}
+
+static void test_nff_lights_background(void **state)
+{
+    (void)state;
+    refuse("l 1 2 3 -1 0 0\n", "p.nff:1:9: a light's colour must not be negative, got -1");
+    refuse("l 1 2 3 1 1 -0.001\n", "p.nff:1:13: a light's colour must not be negative, got -0.001");
+    refuse("ambient -0.1 0 0\n", "p.nff:1:9: ambient must not be negative, got -0.1");
+    refuse("b 0 -2 0\n", "p.nff:1:5: the background must not be negative, got -2");
+}
+
+static void test_nff_camera(void **state)
+{
+    (void)state;
+    refuse("v\nfrom 1 2 3\nat 1 2 3\nup 0 1 0\nangle 40\n",
+           "p.nff:3:4: view: 'from' and 'at' are the same point");
+    /* The later of the two is the one that made them equal. */
+    refuse("v\nat 1 2 3\nfrom 1 2 3\nup 0 1 0\nangle 40\n",
+           "p.nff:3:6: view: 'from' and 'at' are the same point");
+    /* Equal after rounding: 1e12 and 1e12 + 1e-3 differ by 1e-15 of their size. */
+    refuse("v\nfrom 1e12 0 0\nat 1000000000000.001 0 0\nup 0 1 0\nangle 40\n",
+           "p.nff:3:4: view: 'from' and 'at' are the same point");
+    refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 1\nangle 40\n",
+           "p.nff:4:4: view: 'up' is parallel to the view direction");
+    refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 0\nangle 40\n",
+           "p.nff:4:4: view: 'up' is parallel to the view direction");
+    refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 0\n",
+           "p.nff:5:7: angle must be in (0, 180), got 0");
+    refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 180\n",
+           "p.nff:5:7: angle must be in (0, 180), got 180");
+}
+
+static ggScene *api_scene(void)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    assert_non_null(s);
+    return s;
+}
+
+/* ggSceneAddMaterial refuses m, ggMaterialCheck names `field`. */
+static void refuse_material(ggScene *s, const ggMaterial *m, const char *field)
+{
+    ggError e;
+    int n = ggSceneMaterialCount(s);
+    assert_int_equal(ggSceneAddMaterial(s, m), -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneMaterialCount(s), n);
+    assert_int_equal(ggMaterialCheck(m, &e), GG_ERROR_INVALID);
+    if (!strstr(e.message, field)) print_error("'%s' does not name '%s'\n", e.message, field);
+    assert_non_null(strstr(e.message, field));
+}
+
+static void test_api_material(void **state)
+{
+    ggScene *s = api_scene();
+    ggMaterial m;
+    (void)state;
+    m = ggMaterialDefault(), m.color.g = -1, refuse_material(s, &m, "colour");
+    m = ggMaterialDefault(), m.kd = -0.1, refuse_material(s, &m, "kd");
+    m = ggMaterialDefault(), m.ks = -1, refuse_material(s, &m, "ks");
+    m = ggMaterialDefault(), m.kt = -1, refuse_material(s, &m, "kt");
+    m = ggMaterialDefault(), m.shine = -2, refuse_material(s, &m, "Phong");
+    m = ggMaterialDefault(), m.kt = 0.5, m.ior = 0, refuse_material(s, &m, "index");
+    m = ggMaterialDefault(), m.ke.b = -1, refuse_material(s, &m, "emission");
+    m = ggMaterialDefault(), m.ks = NAN, refuse_material(s, &m, "ks");
+    m = ggMaterialDefault(), m.fresnel = GG_FRESNEL_CONDUCTOR;
+    m.eta_n = (ggColor){0.2, 0, 0.2}, m.eta_k = (ggColor){3, 0, 3};
+    refuse_material(s, &m, "conductor");
+    m.eta_n = (ggColor){0.2, -0.1, 0.2}, m.eta_k = (ggColor){3, 3, 3};
+    refuse_material(s, &m, "conductor");
+    /* Accepted on purpose: zero weights and exponent, n = 0 with k > 0,
+       weights above 1 (ggrt check reports the energy). */
+    m = ggMaterialDefault(), m.kd = 0, m.shine = 0, m.ks = 1.5;
+    assert_int_equal(ggSceneAddMaterial(s, &m), 0);
+    m.fresnel = GG_FRESNEL_CONDUCTOR, m.eta_n = (ggColor){0, 0, 0}, m.eta_k = (ggColor){1, 2, 3};
+    assert_int_equal(ggSceneAddMaterial(s, &m), 1);
+    assert_int_equal(ggMaterialCheck(&m, NULL), GG_OK);
+    assert_int_equal(ggMaterialCheck(NULL, NULL), GG_ERROR_INVALID);
+    ggSceneFree(s);
+}
+
+static void test_api_lights_background(void **state)
+{
+    ggScene *s = api_scene();
+    (void)state;
+    assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){1, -1, 1}), -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){0, 0, -0.5}),
+                     -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneLightCount(s), 0);
+    /* r < 0 is the SPD default colour, documented. */
+    assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){-1, -1, -1}), 0);
+    assert_int_equal(ggSceneSetBackground(s, (ggColor){0.5, -0.5, 0}), GG_ERROR_INVALID);
+    assert_int_equal(ggSceneSetAmbient(s, (ggColor){0, 0, -1}), GG_ERROR_INVALID);
+    assert_int_equal(ggSceneSetAmbient(s, (ggColor){0, INFINITY, 0}), GG_ERROR_INVALID);
+    assert_int_equal(ggSceneSetBackground(s, (ggColor){0.25, 0.5, 1}), GG_OK);
+    assert_int_equal(ggSceneLoadString(s, "ambient 0 0 0\n", 14, NULL, NULL), GG_OK);
+    assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){0, 0, 0}), 1);
+    ggSceneFree(s);
+}
+
+static void refuse_camera(ggScene *s, const ggCamera *c, const char *what)
+{
+    ggCamera before = ggSceneCamera(s), after;
+    ggError e;
+    assert_int_equal(ggSceneSetCamera(s, c), GG_ERROR_INVALID);
+    after = ggSceneCamera(s);
+    assert_memory_equal(&before, &after, sizeof before);
+    assert_int_equal(ggCameraCheck(c, &e), GG_ERROR_INVALID);
+    if (!strstr(e.message, what)) print_error("'%s' does not say '%s'\n", e.message, what);
+    assert_non_null(strstr(e.message, what));
+}
+
+static void test_api_camera(void **state)
+{
+    ggScene *s = api_scene();
+    ggCamera c0, c;
+    (void)state;
+    memset(&c0, 0, sizeof c0);
+    c0.from = (ggVec3){0, 0, 5}, c0.up = (ggVec3){0, 1, 0}, c0.fov_deg = 40;
+    c0.width = 16, c0.height = 12;
+    assert_int_equal(ggSceneSetCamera(s, &c0), GG_OK);
+    c = c0, c.at = c.from, refuse_camera(s, &c, "same point");
+    c = c0, c.up = (ggVec3){0, 0, 2}, refuse_camera(s, &c, "parallel");
+    c = c0, c.up = (ggVec3){0, 0, 0}, refuse_camera(s, &c, "parallel");
+    c = c0, c.up = (ggVec3){1e-300, 1e-300, 1}, refuse_camera(s, &c, "parallel");
+    c = c0, c.fov_deg = 0, refuse_camera(s, &c, "field of view");
+    c = c0, c.fov_deg = 180, refuse_camera(s, &c, "field of view");
+    c = c0, c.width = 0, refuse_camera(s, &c, "image size");
+    c = c0, c.from.x = NAN, refuse_camera(s, &c, "finite");
+    c = c0, c.from.z = 1e200, refuse_camera(s, &c, "1e150");
+    /* A huge but valid distance: the basis still comes out unit. */
+    c = c0, c.from = (ggVec3){0, 0, 1e100};
+    assert_int_equal(ggSceneSetCamera(s, &c), GG_OK);
+    assert_int_equal(ggCameraCheck(NULL, NULL), GG_ERROR_INVALID);
+    ggSceneFree(s);
+}
+
+/* What is accepted on purpose renders finite and non-negative. */
+static void test_accepted_renders_finite(void **state)
+{
+    static const char *const scenes[] = {
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 16 12\nl 2 3 4\n"
+        "f 1 1 1 0 1 0 0 0\ns 0 0 0 1\n", /* kd 0, Phong exponent 0 */
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 16 12\nl 2 3 4 0 0 0\n"
+        "b 0 0 0\nambient 0 0 0\nconductor 0 0 0 1 2 3\ns 0 0 0 1\n", /* n = 0, k > 0 */
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 16 12\nl 2 3 4\n"
+        "f 0 0 0 0 0 0 1 1.5\ns 0 0 0 1\n", /* black, fully transmitting */
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggImage *img = NULL;
+        ggError e;
+        const float *p;
+        size_t k, n;
+        assert_int_equal(ggSceneLoadString(s, scenes[i], strlen(scenes[i]), NULL, &e), GG_OK);
+        assert_int_equal(ggRender(s, NULL, &img, NULL, &e), GG_OK);
+        p = ggImagePixelsConst(img);
+        n = 3 * (size_t)ggImageWidth(img) * (size_t)ggImageHeight(img);
+        for (k = 0; k < n; k++) assert_true(isfinite(p[k]) && p[k] >= 0);
+        ggImageFree(img);
+        ggSceneFree(s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_nff_material),
+        cmocka_unit_test(test_nff_conductor),
+        cmocka_unit_test(test_nff_lights_background),
+        cmocka_unit_test(test_nff_camera),
+        cmocka_unit_test(test_api_material),
+        cmocka_unit_test(test_api_lights_background),
+        cmocka_unit_test(test_api_camera),
+        cmocka_unit_test(test_accepted_renders_finite),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
