@@ -32,7 +32,9 @@ extern "C" {
    n need not be unit length: n/|n| is used, so r always has the length of
    v and is its mirror image in the plane normal to n. Each component is
    within 1 ulp of |v| of the exact mirror image of the given doubles (it
-   is evaluated in double-double and rounded once; docs/optics.md).
+   is evaluated in double-double and rounded once; docs/optics.md). A
+   component is subnormal, and may carry another 2^-1075, only when
+   |v| < 2^-1021.
    Non-finite components or a zero n give (NaN, NaN, NaN); a zero v gives
    v. Overflow (FE_OVERFLOW) is possible only when a component of the exact
    result exceeds DBL_MAX, i.e. |v| > DBL_MAX. */
@@ -50,20 +52,23 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
       (both are rescaled internally by powers of two), and *t is always
       unit length. Scaling v, n or both indices by powers of two gives
       bit-identical results, and so does replacing n by -n. Where the
-      double-double fallback decides (see Cost), components smaller than
-      2^-480 times the largest component of the same vector are treated as
-      zero (they move the direction by less than 2^-427 ulp).
-    - Accuracy, for 1/4 <= |eta| <= 4 (every pair of real transparent
-      media): each component of *t is within 1 ulp (2^-53, the spacing of
-      doubles in [0.5, 1)) of the exact refraction or reflection of the
-      directions of the given doubles -- at grazing incidence, for eta near
-      1, at normal incidence, near the critical angle, for negative
-      indices. The one exception is a transmitted ray within 2^-40 rad of
-      the surface (only inputs within about 2^-80 of the critical angle
-      give one), where the bound is 4 ulp.
+      double-double fallback decides (see Cost) and |eta| <= 2^400,
+      components smaller than 2^-480 times the largest component of the
+      same vector are treated as zero (they move *t by less than 2^-80
+      ulp).
+    - Accuracy, for every finite non-zero v, n, ni and nt (any eta, from
+      2^-2098 to 2^2098, of either sign): each component of *t is within
+      1 ulp (2^-53, the spacing of doubles in [0.5, 1)) of the exact
+      refraction or reflection of the directions of the given doubles --
+      at grazing incidence, for eta near 1, at normal incidence, near the
+      critical angle, for negative indices. The one exception is a
+      transmitted ray within 2^-40 rad of the surface (only inputs within
+      about 2^-80 of the critical angle give one), where the bound is
+      4 ulp. Components of *t below 2^-1022 are subnormal (still within
+      the bound); *t cannot overflow.
     - The total-internal-reflection decision is the sign of the
       discriminant nt^2 |v|^2 cos^2(theta_t), evaluated in double-double
-      arithmetic: for |eta| <= 4 it agrees with exact arithmetic on the
+      arithmetic: for every eta it agrees with exact arithmetic on the
       given doubles unless |cos^2(theta_t)| < 2^-96, i.e. unless the
       incidence angle is within about 2^-97 (relative) of the critical
       one. At exactly the critical angle the ray is transmitted along the
