@@ -235,9 +235,11 @@ tir:
 #if defined(GG_DD_FMA)
 #include <immintrin.h>
 #endif
-#if defined(__GNUC__) && !defined(__clang__)
 /* Every function taking or returning these is inlined (GG_INLINE): no
-   call crosses the ABI that GCC warns about for the plain build. */
+   call crosses the ABI that GCC and clang warn about for the plain build. */
+#if defined(__clang__)
+#pragma clang diagnostic ignored "-Wpsabi"
+#elif defined(__GNUC__)
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 typedef double gg_v4 __attribute__((vector_size(32)));
