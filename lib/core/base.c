@@ -5,10 +5,13 @@
 #include "core.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 GG_API const char *ggVersion(void) { return GG_VERSION_STRING; }
 
@@ -112,4 +115,34 @@ double gg_time_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int gg_file_open(const char *path, const char *verb, FILE **out, int64_t *size, ggError *err)
+{
+    char ebuf[128];
+    struct stat st;
+    FILE *f;
+    /* O_NONBLOCK changes nothing for a regular file's reads. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC), e;
+    if (fd < 0 || fstat(fd, &st) != 0) {
+        e = errno;
+        if (fd >= 0) close(fd);
+        if (strerror_r(e, ebuf, sizeof ebuf) != 0) snprintf(ebuf, sizeof ebuf, "error %d", e);
+        return gg_error_set(err, GG_ERROR_IO, "%s: %s%s%s", path, verb ? verb : "",
+                            verb ? ": " : "", ebuf);
+    }
+    if (!S_ISREG(st.st_mode)) {
+        close(fd);
+        return gg_error_set(err, GG_ERROR_IO, "%s: not a regular file", path);
+    }
+    if (!(f = fdopen(fd, "rb"))) {
+        e = errno;
+        close(fd);
+        if (e == ENOMEM) return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+        if (strerror_r(e, ebuf, sizeof ebuf) != 0) snprintf(ebuf, sizeof ebuf, "error %d", e);
+        return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, ebuf);
+    }
+    if (size) *size = (int64_t)st.st_size;
+    *out = f;
+    return GG_OK;
 }

@@ -11,6 +11,7 @@
 #include "ggrt.h"
 
 #include <stdarg.h>
+#include <stdio.h>
 
 #define GG_PI 3.14159265358979323846
 
@@ -31,6 +32,15 @@ int gg_mem_grow(const ggAllocator *a, void **arr, size_t *cap, size_t need, size
 
 /* Duplicate a NUL-terminated string (NULL on failure). */
 char *gg_mem_strdup(const ggAllocator *a, const char *s);
+
+/* Open path for reading if it is a regular file, the one way every
+   reader of the library opens scene, mesh, material and image files: with
+   O_NONBLOCK, so that a FIFO cannot block the open waiting for a writer,
+   then fstat, so that a FIFO, device or directory is refused before a byte
+   is read (GG_ERROR_IO "path: not a regular file"). A failed open is
+   GG_ERROR_IO "path: why", or "path: verb: why" when verb is not NULL.
+   *size (may be NULL) gets the file's size. The FILE is the caller's. */
+int gg_file_open(const char *path, const char *verb, FILE **out, int64_t *size, ggError *err);
 
 /* Monotonic clock in seconds. */
 double gg_time_now(void);

@@ -13,9 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 void gg_mb_init(gg_mb *mb, const ggAllocator *a, int format)
 {
@@ -435,27 +432,18 @@ const char *gg_parse_long(const char *p, const char *end, long lo, long hi, long
 int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
                       ggError *err)
 {
-    /* O_NONBLOCK: opening a FIFO must not wait for a writer */
-    int fd = open(path, O_RDONLY | O_NONBLOCK);
     FILE *f;
-    struct stat st;
+    int64_t size = 0;
     char *buf;
     size_t n, got;
-    if (fd < 0) return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        close(fd);
-        return gg_error_set(err, GG_ERROR_IO, "%s: not a regular file", path);
-    }
-    if (!(f = fdopen(fd, "rb"))) {
-        close(fd);
-        return gg_error_set(err, GG_ERROR_IO, "%s: %s", path, strerror(errno));
-    }
-    if ((unsigned long long)st.st_size > (unsigned long long)limit) {
+    int rc = gg_file_open(path, NULL, &f, &size, err);
+    if (rc != GG_OK) return rc;
+    if ((unsigned long long)size > (unsigned long long)limit) {
         fclose(f);
         return gg_error_set(err, GG_ERROR_LIMIT, "%s: %lld bytes exceed the limit of %zu", path,
-                            (long long)st.st_size, limit);
+                            (long long)size, limit);
     }
-    n = (size_t)st.st_size;
+    n = (size_t)size;
     if (!(buf = gg_mem_alloc(a, n + 1))) {
         fclose(f);
         return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);

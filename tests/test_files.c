@@ -1,0 +1,139 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** test_files.c -- only regular files are read (issue 16, item 6): a FIFO
+** (with no writer, so a blocking open would wait for ever), a directory
+** and a device as a scene, a texture, an image, a mesh and an MTL library
+** get GG_ERROR_IO "...: not a regular file" at once. An alarm turns a
+** block into a failure instead of a hung suite.
+*/
+#include "testutil.h"
+
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static char dir[] = "/tmp/gg_files_XXXXXX";
+static char fifo[64], folder[64];
+
+static int setup(void **state)
+{
+    (void)state;
+    if (!mkdtemp(dir)) return -1;
+    snprintf(fifo, sizeof fifo, "%s/fifo.nff", dir);
+    snprintf(folder, sizeof folder, "%s/folder.png", dir);
+    if (mkfifo(fifo, 0600) != 0 || mkdir(folder, 0700) != 0) return -1;
+    alarm(60); /* a blocked open or read ends the run with SIGALRM */
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    char p[96];
+    (void)state;
+    alarm(0);
+    remove(fifo);
+    rmdir(folder);
+    snprintf(p, sizeof p, "%s/t.nff", dir);
+    remove(p);
+    snprintf(p, sizeof p, "%s/t.obj", dir);
+    remove(p);
+    snprintf(p, sizeof p, "%s/t.mtl", dir);
+    remove(p);
+    rmdir(dir);
+    return 0;
+}
+
+static void expect_refused(const char *path, const char *what)
+{
+    char want[160];
+    ggScene *s = ggSceneCreate(NULL);
+    ggImage *img = NULL;
+    ggError e;
+    snprintf(want, sizeof want, "%s: not a regular file", path);
+    assert_int_equal(ggSceneLoadFile(s, path, &e), GG_ERROR_IO);
+    assert_string_equal(e.message, want);
+    assert_int_equal(ggImageRead(path, NULL, &img, &e), GG_ERROR_IO);
+    assert_string_equal(e.message, want);
+    assert_null(img);
+    assert_int_equal(ggSceneLoadMesh(s, path, NULL, &e), GG_ERROR_IO);
+    assert_string_equal(e.message, want);
+    ggSceneFree(s);
+    (void)what;
+}
+
+static void test_fifo(void **state)
+{
+    (void)state;
+    expect_refused(fifo, "FIFO");
+}
+static void test_directory(void **state)
+{
+    (void)state;
+    expect_refused(folder, "directory");
+}
+static void test_devices(void **state)
+{
+    (void)state;
+    expect_refused("/dev/null", "character device");
+    expect_refused("/dev/zero", "character device (endless)");
+}
+
+static void write_file(const char *name, const char *text)
+{
+    char p[96];
+    FILE *f;
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    f = fopen(p, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* Named from a scene file: the error has the scene's place. */
+static void test_named_by_scenes(void **state)
+{
+    char p[96], want[256];
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    ggMeshInfo mi;
+    (void)state;
+    write_file("t.nff", "texture \"fifo.nff\"\ns 0 0 0 1\n");
+    snprintf(p, sizeof p, "%s/t.nff", dir);
+    assert_int_equal(ggSceneLoadFile(s, p, &e), GG_ERROR_IO);
+    snprintf(want, sizeof want, "%s:1:9: cannot read texture: %s: not a regular file", p, fifo);
+    assert_string_equal(e.message, want);
+    write_file("t.nff", "mesh \"folder.png\"\n");
+    assert_int_equal(ggSceneLoadFile(s, p, &e), GG_ERROR_IO);
+    snprintf(want, sizeof want, "%s:1:6: mesh: %s: not a regular file", p, folder);
+    assert_string_equal(e.message, want);
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    /* An OBJ whose MTL library is a FIFO, and one whose map_Kd texture is:
+       warnings, the mesh loads. */
+    write_file("t.obj", "mtllib fifo.nff\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    snprintf(p, sizeof p, "%s/t.obj", dir);
+    assert_int_equal(ggSceneLoadMesh(s, p, NULL, &e), GG_OK);
+    assert_int_equal(ggSceneGetMeshInfo(s, 0, &mi), GG_OK);
+    assert_non_null(strstr(mi.warning, "cannot read the material library 'fifo.nff'"));
+    write_file("t.mtl", "newmtl a\nKd 1 0 0\nmap_Kd fifo.nff\n");
+    write_file("t.obj", "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl a\n"
+                        "f 1/1 2/1 3/1\n");
+    assert_int_equal(ggSceneLoadMesh(s, p, NULL, &e), GG_OK);
+    assert_int_equal(ggSceneGetMeshInfo(s, 1, &mi), GG_OK);
+    snprintf(want, sizeof want, "texture not used (%s: not a regular file)", fifo);
+    assert_non_null(strstr(mi.warning, want));
+    ggSceneFree(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fifo),
+        cmocka_unit_test(test_directory),
+        cmocka_unit_test(test_devices),
+        cmocka_unit_test(test_named_by_scenes),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
