@@ -167,15 +167,6 @@ static int run(diff_args *a, ggScene *sa, ggScene *sb)
     return rc;
 }
 
-/* The knobs ggRender still keeps in the scene's geometry (debug.h): two
-   sides that differ in them each get their own copy of the scene. */
-static int own_copy(const ggRenderOptions *a, const ggRenderOptions *b)
-{
-    return a->accuracy.sphere != b->accuracy.sphere ||
-           a->accuracy.implicit_tol != b->accuracy.implicit_tol ||
-           a->accuracy.gradient_h != b->accuracy.gradient_h;
-}
-
 int cmd_diff(int argc, char **argv)
 {
     diff_args a;
@@ -185,7 +176,7 @@ int cmd_diff(int argc, char **argv)
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if (!(sa = dbg_load(a.scenes[0], &rc))) return rc;
     sb = sa;
-    if (a.nscenes > 1 || own_copy(&a.oa, &a.ob)) {
+    if (a.nscenes > 1) {
         if (!(sb = dbg_load(a.scenes[a.nscenes > 1], &rc))) {
             ggSceneFree(sa);
             return rc;

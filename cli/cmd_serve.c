@@ -96,23 +96,6 @@ int cmd_serve(int argc, char **argv)
 #include <signal.h>
 #include <unistd.h>
 
-void srv_lib_lock(srv_server *s)
-{
-    unsigned long me;
-    pthread_mutex_lock(&s->lib);
-    me = s->lib_next++;
-    while (me != s->lib_serving) pthread_cond_wait(&s->lib_turn, &s->lib);
-    pthread_mutex_unlock(&s->lib);
-}
-
-void srv_lib_unlock(srv_server *s)
-{
-    pthread_mutex_lock(&s->lib);
-    s->lib_serving++;
-    pthread_cond_broadcast(&s->lib_turn);
-    pthread_mutex_unlock(&s->lib);
-}
-
 /* 128 random bits from the kernel, as 32 hex digits. */
 static int make_token(char out[33])
 {
@@ -238,22 +221,8 @@ int cmd_serve(int argc, char **argv)
         fprintf(stderr, "ggrt serve: cannot read /dev/urandom for the token\n");
         return EXIT_IO;
     }
-    if ((rc = load(&s)) == EXIT_OK) {
-        if (pthread_mutex_init(&s.lib, NULL) != 0) {
-            fprintf(stderr, "ggrt serve: cannot create a mutex\n");
-            rc = EXIT_IO;
-        } else if (pthread_cond_init(&s.lib_turn, NULL) != 0) {
-            fprintf(stderr, "ggrt serve: cannot create a condition variable\n");
-            pthread_mutex_destroy(&s.lib);
-            rc = EXIT_IO;
-        } else {
-            rc = serve(&s);
-            pthread_cond_destroy(&s.lib_turn);
-            pthread_mutex_destroy(&s.lib);
-        }
-    }
+    if ((rc = load(&s)) == EXIT_OK) rc = serve(&s);
     ggSceneFree(s.scene);
-    ggSceneFree(s.scene_b);
     return rc;
 }
 

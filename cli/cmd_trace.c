@@ -173,15 +173,6 @@ static int run_one(trace_args *a, ggScene *scene, ggTrace *tr)
     return rc;
 }
 
-/* The knobs ggRender still keeps in the scene's geometry (debug.h): two
-   sides that differ in them each get their own copy of the scene. */
-static int own_copy(const ggRenderOptions *a, const ggRenderOptions *b)
-{
-    return a->accuracy.sphere != b->accuracy.sphere ||
-           a->accuracy.implicit_tol != b->accuracy.implicit_tol ||
-           a->accuracy.gradient_h != b->accuracy.gradient_h;
-}
-
 static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
 {
     ggScene *sb = sa;
@@ -195,7 +186,7 @@ static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
         fprintf(stderr, "ggrt trace: out of memory\n");
         return EXIT_INPUT;
     }
-    if ((a->nscenes > 1 || own_copy(&a->oa, &a->ob)) && !(sb = dbg_load(pb, &rc))) {
+    if (a->nscenes > 1 && !(sb = dbg_load(pb, &rc))) {
         ggTraceFree(tb);
         return rc;
     }

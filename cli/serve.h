@@ -106,24 +106,12 @@ typedef struct srv_config {
 
 struct srv_server {
     srv_config cfg;
-    ggScene *scene;
-    ggScene *scene_b; /* a second copy, for diffs of the geometry's knobs (srv_scene_b) */
+    ggScene *scene; /* loaded and prepared before the first request, only
+                       read after: any number of requests and the job worker
+                       call the library on it at once (scene.h, "Threads") */
     char token[33];
-    /* Library calls on the scene are serialised: a render of one scene
-       with different options is not safe against another (the geometry's
-       accuracy knobs are set per call, lib/render/render.c
-       apply_geometry_knobs). A ticket lock, first come first served: a
-       trace that arrives during a render band runs before the next band
-       (a plain mutex let the render thread take it back at once). */
-    pthread_mutex_t lib;
-    pthread_cond_t lib_turn;
-    unsigned long lib_next, lib_serving;
     struct srv_jobs *jobs;
 };
-
-/* Library lock around every call that reads or sets the scene. */
-void srv_lib_lock(srv_server *s);
-void srv_lib_unlock(srv_server *s);
 
 /* Pixel coordinate parameter `name` (required), in [0, limit): 0, or -1
    with resp filled (400). */
@@ -210,12 +198,6 @@ void srv_job_json(FILE *f, const srv_job_view *v);
    progress callback) and merge its result into r. */
 int srv_band_debug(srv_server *s, srv_result *r, const ggRenderOptions *o,
                    const ggRenderOptions *ob, int y0, int y1, ggError *err);
-/* The scene for side B of a diff or a comparison (under the library
-   lock): the served one, or when oa and ob differ in the knobs ggRender
-   keeps in the geometry, a second copy read once from the same file. NULL
-   with err filled if that fails. */
-ggScene *srv_scene_b(srv_server *s, const ggRenderOptions *oa, const ggRenderOptions *ob,
-                     ggError *err);
 /* After the last band: the totals one call would give. */
 void srv_debug_finish(srv_result *r);
 /* Free what a result owns (not r). */

@@ -97,7 +97,6 @@ static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
         srv_body_close(resp, f);
         return;
     }
-    srv_lib_lock(s);
     cam = ggSceneCamera(s->scene);
     ggSceneGetInfo(s->scene, &in);
     fx = ggSceneEffects(s->scene);
@@ -122,7 +121,6 @@ static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
         fputc('}', f);
         first = 0;
     }
-    srv_lib_unlock(s);
     fprintf(f, "],");
     json_options(f, "options", &s->cfg.opt);
     fprintf(f,
@@ -187,7 +185,6 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
         srv_body_close(resp, f);
         return;
     }
-    srv_lib_lock(s);
     n = ggSceneObjectCount(s->scene), m = ggSceneMaterialCount(s->scene);
     fprintf(f, "{\"objects\":%d,\"truncated\":%s,\"materials\":[", n,
             n > MAX_SCENE_OBJECTS ? "true" : "false");
@@ -215,7 +212,6 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
         else
             fprintf(f, "null");
     }
-    srv_lib_unlock(s);
     fprintf(f, "]}\n");
     srv_body_close(resp, f);
 }
@@ -342,14 +338,12 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
     }
     memset(&view, 0, sizeof view);
     err.message[0] = '\0';
-    srv_lib_lock(s);
     rc = ggTracePixel(s->scene, &o, x, y, sample, tr, &view.pixel, &view.stats, &err);
     if (rc == GG_OK) {
         view.scene = s->scene, view.trace = tr, view.opt = &o, view.path = s->cfg.scene_path;
         view.x = x, view.y = y, view.sample = sample;
         trace_body(resp, fmt, &view, &al);
     }
-    srv_lib_unlock(s);
     if ((rc == GG_ERROR_NOMEM || resp->status == 500) && b.refused)
         srv_error(resp, 413,
                   "the ray tree of pixel %d,%d needs more than %d MiB (%zu rays recorded): ask "
@@ -432,16 +426,14 @@ static void api_compare(srv_server *s, const srv_req *r, srv_resp *resp)
         return;
     a.tr = b.tr = NULL;
     err.message[0] = '\0';
-    srv_lib_lock(s);
     rc = trace_side(s, s->scene, &oa, x, y, &a, &err);
-    /* Side b traces after a, under the same lock: one scene serves both
-       (each call sets the geometry's knobs it needs). */
+    /* One scene serves both sides: every knob travels with the options
+       (scene.h, "Threads"). */
     if (rc == GG_OK) rc = trace_side(s, s->scene, &ob, x, y, &b, &err);
     /* The names as ggrt trace --diff prints them: the texts as given. */
     if (rc == GG_OK)
         compare_body(resp, fmt, &a, &b, srv_param_get(r, "opts") ? srv_param_get(r, "opts") : "",
                      srv_param_get(r, "b") ? srv_param_get(r, "b") : "");
-    srv_lib_unlock(s);
     if (rc != GG_OK)
         srv_error(resp, a.b.refused || (b.tr && b.b.refused) ? 413 : 500, "%s", err.message);
     ggTraceFree(a.tr), ggTraceFree(b.tr);

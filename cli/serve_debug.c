@@ -126,43 +126,11 @@ static void diff_keep(ggDiffResult *m, int limit, const ggDiffPixel *p)
     m->worst[i] = *p;
 }
 
-/* The knobs ggRender still keeps in the scene's geometry (debug.h): sides
-   that differ in them need a scene each, as for ggrt diff. */
-static int own_copy(const ggRenderOptions *a, const ggRenderOptions *b)
-{
-    return a->accuracy.sphere != b->accuracy.sphere ||
-           a->accuracy.implicit_tol != b->accuracy.implicit_tol ||
-           a->accuracy.gradient_h != b->accuracy.gradient_h;
-}
-
-/* The scene for side b: the served one, or (once, kept) a second copy
-   read from the same file. */
-ggScene *srv_scene_b(srv_server *s, const ggRenderOptions *oa, const ggRenderOptions *ob,
-                     ggError *err)
-{
-    int rc;
-    if (!own_copy(oa, ob)) return s->scene;
-    if (s->scene_b) return s->scene_b;
-    if (!(s->scene_b = ggSceneCreate(NULL))) {
-        snprintf(err->message, sizeof err->message, "out of memory");
-        return NULL;
-    }
-    rc = ggSceneLoadFile(s->scene_b, s->cfg.scene_path, err);
-    if (rc == GG_OK) rc = ggScenePrepare(s->scene_b, err);
-    if (rc != GG_OK) {
-        ggSceneFree(s->scene_b);
-        s->scene_b = NULL;
-    }
-    return s->scene_b;
-}
-
 static int band_diff(srv_server *s, srv_result *r, const ggRenderOptions *o,
                      const ggRenderOptions *ob, int y0, int y1, ggError *err)
 {
     ggDiffResult *b = NULL, *m = &r->diff;
-    ggScene *sb = srv_scene_b(s, o, ob, err);
     int i, rc;
-    if (!sb) return GG_ERROR_IO;
     if (!m->map) {
         m->map = calloc((size_t)r->width * r->height, 1);
         m->worst = r->spec.limit > 0 ? calloc((size_t)r->spec.limit, sizeof *m->worst) : NULL;
@@ -171,7 +139,7 @@ static int band_diff(srv_server *s, srv_result *r, const ggRenderOptions *o,
             return GG_ERROR_NOMEM;
         }
     }
-    rc = ggDiff(s->scene, o, sb, ob, r->spec.limit, &b, err);
+    rc = ggDiff(s->scene, o, s->scene, ob, r->spec.limit, &b, err);
     if (rc != GG_OK) return rc;
     m->scanned += b->scanned;
     m->value_differ += b->value_differ, m->tree_differ += b->tree_differ;

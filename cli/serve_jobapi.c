@@ -271,9 +271,7 @@ static void check_pixel(srv_server *s, const srv_req *r, ggRenderOptions *o, srv
         srv_pixel_arg(s, r, "y", s->cfg.height, &y, resp))
         return;
     o->crop_x0 = x, o->crop_y0 = y, o->crop_x1 = x + 1, o->crop_y1 = y + 1;
-    srv_lib_lock(s);
     rc = ggCheck(s->scene, o, NULL, &res, &err);
-    srv_lib_unlock(s);
     if (rc != GG_OK) {
         srv_error(resp, 500, "%s", err.message);
         return;

@@ -6,10 +6,10 @@
 **
 ** A job runs as a sequence of bands of rows (crop windows: ggRender
 ** promises their pixels equal the full render's, and ggFind, ggCheck and
-** ggDiff scan the options' crop window), each under the library lock:
-** between two bands a trace request gets the scene, so a click is answered
-** while a long job runs, and the bands give the progress and the points
-** where a job can be cancelled (shutdown, time limit).
+** ggDiff scan the options' crop window). Trace requests run beside the
+** bands on the same prepared scene, which nothing writes (scene.h,
+** "Threads"); the bands give the progress and the points where a job can
+** be cancelled (shutdown, time limit).
 */
 #if defined(GG_HAVE_MHD)
 #include "serve.h"
@@ -20,7 +20,7 @@
 #include <time.h>
 
 #define KEYLEN       2048
-#define BAND_SECONDS 0.05      /* aim of one band: short enough for a trace to wait for */
+#define BAND_SECONDS 0.05      /* aim of one band: frequent progress and cancel points */
 #define BAND_PIXELS  (1 << 16) /* and at most this many pixels */
 
 typedef struct job {
@@ -125,12 +125,10 @@ static int run_bands(srv_server *s, job *j, ggError *err)
         band_options(&r->spec.opt_b, &ob, r, y, rows, &b);
         b.band = (long)rows * w;
         t = now();
-        srv_lib_lock(s);
         if (r->spec.type == SRV_JOB_RENDER)
             rc = band_render(s, r, &o, y, y + rows, err);
         else
             rc = srv_band_debug(s, r, &o, &ob, y, y + rows, err);
-        srv_lib_unlock(s);
         t = now() - t;
         y += rows;
         b.before += (long)rows * w;

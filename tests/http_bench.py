@@ -7,7 +7,7 @@ tree, or a failed connection), which must be 0.
     python3 tests/http_bench.py build/ggrt [--clients N] [--seconds M]
         [--scene FILE] [--size WxH] [--render]
 --render also keeps a render of new options running in the background,
-so that traces wait for the library lock between render bands."""
+so that traces share the machine with a render's bands."""
 import argparse
 import http.client
 import json

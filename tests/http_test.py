@@ -320,7 +320,7 @@ def check_debug(s):
     check(st == 200 and png_pixels(b)[0] == SIZE[0], "/api/diff?format=png: the difference as a heatmap")
     st, h, b = s.wait("/api/diff?b=sphere%3Dtextbook&limit=2")
     ref = cli("diff", SCENE, *size_args(), "--b", "sphere=textbook", "--format", "json", "-q", "--worst", "2")
-    check(st == 200 and b == ref, "/api/diff of a geometry knob (a second copy of the scene) equals ggrt diff's")
+    check(st == 200 and b == ref, "/api/diff of a geometry knob (one scene, both knobs) equals ggrt diff's")
     st, j = s.json("/api/compare?x=44&y=40&b=depth%3D2")
     check(st == 200 and j["differ"] is True and j["first"]["what"] == "stop" and j["text"].startswith("ray #"),
           "/api/compare names the first divergent ray", j)

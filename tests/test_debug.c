@@ -598,9 +598,23 @@ static void test_diff_textbook_sphere(void **state)
     ob = oa;
     assert_int_equal(ggRenderOptionsParse(&ob, "sphere=textbook", NULL), GG_OK);
     assert_int_equal(ob.accuracy.sphere, GG_ACC_SPHERE_TEXTBOOK);
-    /* one scene object cannot hold both sphere modes at once */
-    assert_int_equal(ggDiff(a, &oa, a, &ob, 5, &r, NULL), GG_ERROR_UNSUPPORTED);
-    assert_int_equal(ggDiff(a, &oa, b, &ob, 5, &r, NULL), GG_OK);
+    /* the knobs travel with the options (scene.h): one scene object
+       serves both sphere modes at once, and gives what two copies give */
+    {
+        ggDiffResult *one = NULL;
+        assert_int_equal(ggDiff(a, &oa, a, &ob, 5, &one, NULL), GG_OK);
+        assert_int_equal(ggDiff(a, &oa, b, &ob, 5, &r, NULL), GG_OK);
+        assert_int_equal(one->tree_differ, r->tree_differ);
+        assert_int_equal(one->value_differ, r->value_differ);
+        assert_memory_equal(one->map, r->map, 80 * 60);
+        for (i = 0; i < 5; i++) {
+            assert_int_equal(one->worst[i].x, r->worst[i].x);
+            assert_int_equal(one->worst[i].y, r->worst[i].y);
+            assert_true(one->worst[i].delta == r->worst[i].delta);
+            assert_int_equal(one->worst[i].first.what, r->worst[i].first.what);
+        }
+        ggDiffResultFree(one);
+    }
     for (y = 0; y < 60; y++)
         for (x = 0; x < 80; x++) {
             ggColor pa, pb;

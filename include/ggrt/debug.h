@@ -19,10 +19,8 @@
 ** Threads: these functions read the scene only, once it is prepared
 ** (they prepare it first if needed, which writes into it: call
 ** ggScenePrepare before sharing a scene between threads). Several threads
-** may call them at once on one prepared scene, each with its own results,
-** as long as the calls agree on the accuracy knobs that live in the
-** geometry (accuracy.sphere, implicit_tol, gradient_h), which ggRender
-** still sets on the scene per render (render.h).
+** may call them at once on one prepared scene, each with options and
+** results of its own, accuracy knobs included (scene.h, "Threads").
 **
 ** Results are plain data -- numbers, names from fixed tables, arrays
 ** sized in the result -- made to be printed or turned into JSON as they
@@ -69,7 +67,7 @@ GG_API int ggRenderOptionsParse(ggRenderOptions *opt, const char *text, ggError 
    ggRenderOptionsParse, in a canonical order ("" for the defaults), into
    buf (always NUL-terminated when size > 0). Returns the length the full
    text needs (like snprintf); the progress callback and the cost map are
-   not settings and are left out. */
+   not settings and are left out. A NULL opt gives "" and 0. */
 GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_t size);
 
 /* ------------------------------------------------------------------ */

@@ -141,30 +141,11 @@ static int diff_alloc(ggScene *s, const gg_scan *sc, diff_job *dj, ggDiffResult 
     return GG_OK;
 }
 
-/* The knobs ggRender still writes into the geometry (render.h): two
-   settings of one scene object that differ in them cannot be traced at
-   once. */
-static int geometry_knobs_differ(const ggRenderOptions *a, const ggRenderOptions *b)
-{
-    ggRenderOptions d;
-    ggRenderOptionsDefault(&d);
-    if (!a) a = &d;
-    if (!b) b = &d;
-    return a->accuracy.sphere != b->accuracy.sphere ||
-           a->accuracy.implicit_tol != b->accuracy.implicit_tol ||
-           a->accuracy.gradient_h != b->accuracy.gradient_h;
-}
-
 static int diff_setup(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
                       const ggRenderOptions *ob, gg_tracer **ta, gg_tracer **tb, ggError *err)
 {
     gg_tracer_desc da, db;
     int rc;
-    if (sa == sb && geometry_knobs_differ(oa, ob))
-        return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                            "ggDiff: the two settings differ in sphere, implicit-tol or gradient, "
-                            "which live in the scene's geometry: give each its own copy of the "
-                            "scene (load it twice)");
     if ((rc = gg_tracer_create(sa, oa, ta, err)) != GG_OK) return rc;
     if ((rc = gg_tracer_create(sb, ob, tb, err)) != GG_OK) return rc;
     gg_tracer_info(*ta, &da);

@@ -853,15 +853,19 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
 
 GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
 {
-    char *text = NULL, *dir, *slash;
+    char *text = NULL, *dir, *name, *slash;
     size_t len = 0;
     int rc;
     if (!s || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadFile: NULL argument");
     if (gg_load_mesh_format(path)) return gg_load_model(s, path, err);
     rc = gg_load_read_file(s->alloc, path, GG_SCENE_MAX_FILE, &text, &len, err);
     if (rc != GG_OK) return rc;
+    /* The name is copied before parsing: once the scene holds the file's
+       objects, running out of memory for it would lose the name. */
     dir = gg_mem_strdup(s->alloc, path);
-    if (!dir) {
+    name = dir ? gg_mem_strdup(s->alloc, path) : NULL;
+    if (!name) {
+        gg_mem_free(s->alloc, dir);
         gg_mem_free(s->alloc, text);
         return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
     }
@@ -872,11 +876,10 @@ GG_API int ggSceneLoadFile(ggScene *s, const char *path, ggError *err)
     gg_mem_free(s->alloc, text);
     gg_mem_free(s->alloc, dir);
     if (rc == GG_OK) {
-        char *name = gg_mem_strdup(s->alloc, path);
-        if (name) {
-            gg_mem_free(s->alloc, s->filename);
-            s->filename = name;
-        }
+        gg_mem_free(s->alloc, s->filename);
+        s->filename = name;
+    } else {
+        gg_mem_free(s->alloc, name);
     }
     return rc;
 }

@@ -39,13 +39,16 @@ if [ $rc = 1 ] && grep -qF "ggrt find: --where:1:14: 'tri' is not a kind (eye, r
 else bad "find: a bad predicate names its column (exit $rc)" "$(cat "$tmp/err")"; fi
 
 # check: the planted defects fail (exit 4) with the invariant named; a clean scene passes
-for p in energy:energy overflow:nonfinite cut:truncation; do
+for p in energy:energy overflow:nonfinite nan:nonfinite cut:truncation; do
   f=${p%%:*}; inv=${p#*:}
   "$ggrt" check tests/data/debug/$f.nff -q >"$tmp/out" 2>"$tmp/err"; rc=$?
   if [ $rc = 4 ] && grep -q "^FAIL: 1 error-class invariant failed: $inv$" "$tmp/out"; then
     ok "check: planted $f.nff fails $inv (exit 4)"
   else bad "check: planted $f.nff fails $inv (exit $rc)" "$(cat "$tmp/out" "$tmp/err")"; fi
 done
+"$ggrt" trace tests/data/debug/nan.nff --pixel 20,15 | grep -q "^colour -*nan inf inf$" &&
+  ok "check: nan.nff's pixel 20,15 is a NaN (0 * infinity in red)" ||
+  bad "check: nan.nff's pixel 20,15 is a NaN" "$("$ggrt" trace tests/data/debug/nan.nff --pixel 20,15 | head -3)"
 "$ggrt" check tests/data/debug/energy.nff -q | grep -q "material 1 (tests/data/debug/energy.nff:14): kd \* colour + ks + kt = 1.1" &&
   ok "check: the energy defect names the material's line" || bad "check: the energy defect names the material's line"
 "$ggrt" check examples/scenes/default.nff -s 64x48 -q >"$tmp/out" 2>&1 && grep -q "^ok: no error-class" "$tmp/out" &&
@@ -92,7 +95,7 @@ grep -qF "ggrt diff: --b:1:8: sphere must be stable or textbook, got 'round'" "$
   ok "diff: the --b message" || bad "diff: the --b message" "$(cat "$tmp/err")"
 
 # trace --ledger: the terms add up to the printed colour (glass, water, gears)
-for p in "$g 110,100" "examples/scenes/water.nff 240,250" "examples/scenes/spd/gears.nff 250,260"; do
+for p in "$g 110,100" "examples/scenes/water.nff 240,250" "examples/scenes/spd/gears.nff 250,260" "examples/scenes/spd/gears.nff 151,21"; do
   set -- $p
   "$ggrt" trace "$1" --pixel "$2" --ledger >"$tmp/l" 2>&1
   if grep -q "within the rounding bound .*: yes$" "$tmp/l" && grep -q "^  *[0-9.]*%  (" "$tmp/l"; then
