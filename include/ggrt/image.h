@@ -97,7 +97,9 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
                            file"), deep EXR data, subsampled R/G/B/Y
                            channels, no R, G, B or Y channel, a compression
                            the OpenEXR core cannot decode
-     GG_ERROR_PARSE        corrupt or truncated file
+     GG_ERROR_PARSE        corrupt or truncated file, also an uncompressed
+                           EXR chunk shorter than its pixels: no pixel is
+                           ever taken from memory the file did not fill
      GG_ERROR_LIMIT        a side over GG_IMAGE_MAX_DIM or more pixels than
                            GG_IMAGE_MAX_PIXELS (checked before allocating),
                            more than 1024 EXR channels

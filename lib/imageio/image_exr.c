@@ -161,6 +161,17 @@ static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, int64_t x, in
                             "%s: invalid OpenEXR file: chunk %d (%d x %d at %d, %d) lies "
                             "outside the data window",
                             r->path, (int)ci->idx, (int)ci->width, (int)ci->height, (int)x, (int)y);
+    /* An uncompressed chunk holds its pixels as they are: a shorter one is
+       truncated, and the core (3.1) would leave the rest of its buffer
+       uninitialised and decode it as pixels. A compressed chunk's
+       decompressor checks the size it produces. */
+    if ((ci->compression == EXR_COMPRESSION_NONE && ci->packed_size != ci->unpacked_size) ||
+        (ci->packed_size == 0 && ci->unpacked_size > 0))
+        return gg_error_set(err, GG_ERROR_PARSE,
+                            "%s: invalid OpenEXR file: chunk %d holds %llu bytes, its pixels "
+                            "take %llu",
+                            r->path, (int)ci->idx, (unsigned long long)ci->packed_size,
+                            (unsigned long long)ci->unpacked_size);
     if (r->dec_ready)
         rv = exr_decoding_update(r->ctx, 0, ci, &r->dec);
     else
