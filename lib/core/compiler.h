@@ -61,6 +61,19 @@ static inline int gg_ctz_portable(unsigned m)
 #define GG_ATOMIC_CAS(p, e, v) ((void)(e), *(p) = (v), 1)
 #endif
 
+/* GNU C vector types (GCC and clang; refract_core.h): n bytes of lanes
+   with element-wise operators. GG_PSABI_OFF silences the warning that
+   passing such a type by value has a different ABI with and without AVX,
+   for a file whose functions taking them are all inlined. */
+#if defined(__GNUC__)
+#define GG_VECTOR_SIZE(n) __attribute__((vector_size(n)))
+#if defined(__clang__)
+#define GG_PSABI_OFF _Pragma("clang diagnostic ignored \"-Wpsabi\"")
+#else
+#define GG_PSABI_OFF _Pragma("GCC diagnostic ignored \"-Wpsabi\"")
+#endif
+#endif
+
 /* GCC's SLP vectoriser pairs neighbouring 8-byte loads into one 16-byte
    load; where the caller has just written the struct field by field, that
    load cannot be forwarded from the store buffer and waits for the stores
