@@ -63,7 +63,6 @@ static void test_nff_upper_bounds(void **state)
            "p.nff:1:5: the colour must be at most 1e+30, got 1e31");
     refuse("f 1 1 1 1 0 1 0.5 1e300\ns 0 0 0 1\n",
            "p.nff:1:19: the index of refraction must be at most 1e+30");
-    refuse("l 0 5 5 1e300 1 1\n", "p.nff:1:9: a light's colour must be at most 1e+30, got 1e300");
     refuse("b 0 0 2e30\n", "p.nff:1:7: the background must be at most 1e+30, got 2e30");
     refuse("conductor 1e40 1 1 1 1 1\ns 0 0 0 1\n",
            "p.nff:1:11: conductor n must be at most 1e+30, got 1e40");
@@ -205,7 +204,7 @@ static void test_api_lights_background(void **state)
     assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){1, -1, 1}), -GG_ERROR_INVALID);
     assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){0, 0, -0.5}),
                      -GG_ERROR_INVALID);
-    assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){1, 2e30, 1}),
+    assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){1, INFINITY, 1}),
                      -GG_ERROR_INVALID);
     assert_int_equal(ggSceneLightCount(s), 0);
     /* r < 0 is the SPD default colour, documented. */

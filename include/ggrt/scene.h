@@ -80,15 +80,18 @@ typedef struct ggMaterial {
 /* The NFF default: white, kd 1, everything else off, no texture. */
 GG_API ggMaterial ggMaterialDefault(void);
 
-/* Upper bounds of the physical parameters. Within them every term of a
-   pixel's sum stays below about 1e230 (weights of at most 100 along 64
-   bounces, times a colour and a light of at most 1e30), so rendering
-   never overflows a double and never makes a NaN from them (a pixel above
-   the float range is stored as +inf). */
-#define GG_PARAM_MAX                                                                               \
-    1e30                  /* colours, lights, ambient, background, emission,                       \
-                             extinction, |ior|, conductor n and k, unit_m, abbe */
-#define GG_WEIGHT_MAX 100 /* kd, ks, kt */
+/* Upper bounds of the physical parameters: GG_PARAM_MAX for colours,
+   ambient, background, emission, extinction, |ior|, conductor n and k,
+   unit_m and abbe; GG_WEIGHT_MAX for kd, ks and kt. Within them, and with
+   lights of at most GG_PARAM_MAX too, every term of a pixel's sum stays
+   below about 1e230 (weights of at most 100 along 64 bounces, times a
+   colour and a light of at most 1e30), so rendering never overflows a
+   double and never makes a NaN (a pixel above the float range is stored
+   as +inf). Light colours are deliberately bounded only by being finite:
+   a light of 1e308 is how a scene plants non-finite pixels for ggrt check
+   (tests/data/debug); such samples are counted in ggRayStats.nonfinite. */
+#define GG_PARAM_MAX  1e30
+#define GG_WEIGHT_MAX 100
 
 /* Whether m is physically valid, the rule ggSceneAddMaterial and the NFF
    loader apply: colour, ke, extinction and unit_m in [0, GG_PARAM_MAX];
@@ -189,7 +192,8 @@ GG_API int ggSceneSetBackground(ggScene *scene, ggColor c);
 GG_API int ggSceneSetAmbient(ggScene *scene, ggColor c);
 /* Point light at a finite position. NFF lights without a colour get
    1/sqrt(number of lights) (the SPD convention) at render time when
-   `color` has r < 0; any other colour must be in [0, GG_PARAM_MAX]. */
+   `color` has r < 0; any other colour must be finite and >= 0 (no upper
+   bound, see GG_PARAM_MAX). */
 GG_API int ggSceneAddLight(ggScene *scene, ggVec3 pos, ggColor color);
 /* Copies *m; -GG_ERROR_INVALID unless ggMaterialCheck(m) accepts it and
    its texture (if any) exists. */

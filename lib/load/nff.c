@@ -219,13 +219,18 @@ static int nonneg_number(parser *ps, double *d, double hi, const char *what)
     return rc == GG_OK ? ranged(ps, &ps->last, *d, hi, what) : rc;
 }
 
-static int nonneg_color(parser *ps, ggColor *c, const char *what)
+static int color_upto(parser *ps, ggColor *c, double hi, const char *what)
 {
     double ch[3];
     int i, rc = color(ps, c);
     ch[0] = c->r, ch[1] = c->g, ch[2] = c->b;
-    for (i = 0; rc == GG_OK && i < 3; i++) rc = ranged(ps, &ps->comp[i], ch[i], GG_PARAM_MAX, what);
+    for (i = 0; rc == GG_OK && i < 3; i++) rc = ranged(ps, &ps->comp[i], ch[i], hi, what);
     return rc;
+}
+
+static int nonneg_color(parser *ps, ggColor *c, const char *what)
+{
+    return color_upto(ps, c, GG_PARAM_MAX, what);
 }
 
 static int integer(parser *ps, long lo, long hi, long *out, const char *what)
@@ -351,7 +356,9 @@ static int kw_light(parser *ps)
     ggColor c = rgb(-1, -1, -1);
     int rc = vec(ps, &p), id;
     if (rc != GG_OK) return rc;
-    if (next_is_number(ps) && (rc = nonneg_color(ps, &c, "a light's colour")) != GG_OK) return rc;
+    /* Lights are only finite: see GG_PARAM_MAX in scene.h. */
+    if (next_is_number(ps) && (rc = color_upto(ps, &c, DBL_MAX, "a light's colour")) != GG_OK)
+        return rc;
     id = ggSceneAddLight(ps->s, p, c);
     if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the light");
     ps->s->lights[id].line = ps->kw_tok.line;

@@ -257,7 +257,7 @@ GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
     if (!s || !v3finite(pos) || !isfinite(color.g) || !isfinite(color.b) || !isfinite(color.r))
         return -GG_ERROR_INVALID;
     /* r < 0 asks for the SPD default colour; any other colour is >= 0. */
-    if (color.r >= 0 && !color_ok(color)) return -GG_ERROR_INVALID;
+    if (color.r >= 0 && (color.g < 0 || color.b < 0)) return -GG_ERROR_INVALID;
     if (gg_mem_grow(s->alloc, (void **)&s->lights, &s->cap_lights, s->nlights + 1, sizeof *l))
         return -GG_ERROR_NOMEM;
     unprepare(s);
