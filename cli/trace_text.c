@@ -207,14 +207,7 @@ static void jcol(FILE *f, const char *k, ggColor c)
 }
 static void jstr(FILE *f, const char *s)
 {
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\') fprintf(f, "\\%c", ch);
-        else if (ch < 0x20) fprintf(f, "\\u%04x", ch);
-        else fputc(ch, f);
-    }
-    fputc('"', f);
+    json_str(f, s);
 }
 
 /* Mesh hits: "face": {"triangle", "index", "line", "mesh", "group",

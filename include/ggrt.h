@@ -4,6 +4,9 @@
 **
 **   #include <ggrt.h>      cc prog.c $(pkg-config --cflags --libs ggrt)
 **
+** The rules every function follows -- NULL handles, statistics structs,
+** allocator ownership -- are at the top of ggrt/base.h.
+**
 ** Five minutes to learn:
 **   ggrt/base.h      status codes, ggError, ggAllocator, ggVec3, ggColor, ggRay
 **   ggrt/optics.h    ggReflection, ggRefract, Fresnel, Beer-Lambert

@@ -12,6 +12,35 @@
 **    the code and a message naming what and where, e.g.
 **    "scene.nff:12:5: expected a number after 's'". Pass NULL to ignore it.
 **  - The library never prints, exits or aborts.
+**
+** The API rules. Every public function follows these three; a declaration
+** only adds what is particular to it. tests/test_null.c calls every
+** GG_API function with NULL handles and fails if one is left out.
+**  1. NULL. Freeing NULL is a no-op. Any other function given NULL for a
+**     handle (ggScene, ggImage, ggImplicit, ggTrace, ggPredicate, ggLedger,
+**     a result) or for a pointer it cannot do without (a path, a text, an
+**     output) does nothing, writes no output and returns GG_ERROR_INVALID
+**     if it returns a status (-GG_ERROR_INVALID if it returns an index),
+**     otherwise the neutral value of its type: 0 for counts, sizes and bit
+**     sets, -1 for an index or kind, false, NULL, "" for a file name,
+**     black for a colour, an all-zero struct, NaN for a value or gradient
+**     of f (implicit.h); void setters do nothing. Pointers a declaration
+**     calls optional ("may be NULL": err, stats, alloc, options, ...) are
+**     never required.
+**  2. Statistics. A function that takes a ggRayStats *stats (ggRender,
+**     ggTracePixel, ggRayColor) overwrites it, never adds to it: on return
+**     -- success or failure -- it holds the counts of that call alone
+**     (all zero when the call cast no ray). Add the structs yourself to
+**     total several calls.
+**  3. Allocators. A function that takes a const ggAllocator *alloc copies
+**     the struct (its three functions and ud): the caller may reuse or
+**     discard its ggAllocator variable at once, but the functions and
+**     what ud points to must stay valid while any object made with them
+**     lives. Objects a scene makes (rendered images, textures, results of
+**     ggFind, ggCheck and ggDiff) use a copy of the scene's allocator, so
+**     they may outlive the scene. A function that takes ownership of an
+**     object (ggSceneAddTexture, ggSceneAddImplicit) frees it also when it
+**     fails, NULL scene included.
 */
 #ifndef GGRT_BASE_H
 #define GGRT_BASE_H
@@ -74,8 +103,9 @@ typedef struct ggError {
 /* Every object that allocates takes an optional allocator; NULL means the C
    library's malloc/realloc/free. The three functions behave like their C
    counterparts; `ud` is passed back unchanged. free(ud, NULL) must be a no-op.
-   The allocator must outlive every object created with it, and must be
-   thread-safe if objects created with it are used from several threads. */
+   The struct is copied (rule 3 above); its functions and ud must outlive
+   every object created with it, and be thread-safe if objects created with
+   it are used from several threads. */
 typedef struct ggAllocator {
     void *(*malloc)(void *ud, size_t size);
     void *(*realloc)(void *ud, void *ptr, size_t size);

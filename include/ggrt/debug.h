@@ -67,7 +67,7 @@ GG_API int ggRenderOptionsParse(ggRenderOptions *opt, const char *text, ggError 
    ggRenderOptionsParse, in a canonical order ("" for the defaults), into
    buf (always NUL-terminated when size > 0). Returns the length the full
    text needs (like snprintf); the progress callback and the cost map are
-   not settings and are left out. */
+   not settings and are left out. A NULL opt gives "" and 0. */
 GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_t size);
 
 /* ------------------------------------------------------------------ */

@@ -36,7 +36,7 @@ extern "C" {
 
 /* Short name of one effect bit ("refraction"); "?" otherwise. */
 GG_API const char *ggEffectName(unsigned effect);
-/* The effect set of a prepared scene (0 if not prepared). */
+/* The effect set of a prepared scene (0 if not prepared or NULL). */
 GG_API unsigned ggSceneEffects(const ggScene *scene);
 /* Why the scene needs `effect` ("material 2 (line 14) has kt 0.9"), or
    NULL if it does not. Valid until the scene changes. */
@@ -61,7 +61,7 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
 /* refract */
 #define GG_ACC_REFRACT_ACCURATE 0 /* plain double where cos^2(theta_t) >= 1/16 (within
                                      2^-45 relative), ggRefract near the critical angle */
-#define GG_ACC_REFRACT_TEXTBOOK 1 /* ggRefractTextbook: the notes' formula */
+#define GG_ACC_REFRACT_TEXTBOOK 1 /* ggRefractTextbook (docs/optics.md) */
 #define GG_ACC_REFRACT_EXACT    2 /* ggRefract for every ray */
 /* fresnel: 0 = as each material says, else for every transmitter: */
 #define GG_ACC_FRESNEL_NONE    1
@@ -126,7 +126,8 @@ typedef struct ggRenderOptions {
 #define GG_COST_DEPTH 1 /* depth of the deepest ray in the pixel's trees */
 #define GG_COST_TIME  2 /* seconds spent on the pixel (not reproducible) */
 
-/* Fill *opt with the defaults (all fields zero/false but the above). */
+/* Fill *opt with the defaults (all fields zero/false but the above); NULL
+   is a no-op. */
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt);
 
 /* ---- statistics ---- */
@@ -140,12 +141,19 @@ typedef struct ggRayStats {
     uint64_t nonfinite;  /* samples that produced NaN or infinity */
     uint64_t max_depth;  /* depth of the deepest ray cast */
     uint64_t budget_cut; /* secondary rays not cast: the ray budget was used up */
+    /* Tests of a ray against an implicit surface that ran out of the
+       surface's evaluation budget (ggImplicitSetBudget) and so counted as a
+       miss. Tests, not rays: a shadow ray's test may be skipped when a
+       thread's shadow cache finds the blocker first, so this count (unlike
+       the image) may differ with the number of threads. */
+    uint64_t implicit_cut;
 } ggRayStats;
 
 /* ---- rendering ---- */
 
 /* Render the scene into *out (a new image of the options' size). Prepares
-   the scene if needed. stats may be NULL.
+   the scene if needed. stats may be NULL; else it receives this render's
+   counts, overwritten (base.h rule 2), also when the render fails.
    Threads: a render reads the scene and writes only its own image, stats
    and cost map; several renders (and traces) of one prepared scene may
    run at once with different options, and each gives the image it gives
@@ -157,14 +165,16 @@ GG_API int ggRender(ggScene *scene, const ggRenderOptions *opt, ggImage **out,
 
 /* The eye ray through image point (x, y), in pixels from the top left:
    (x + 0.5, y + 0.5) is the centre of pixel (x, y), the point ggRender
-   samples with one sample per pixel. d is unit length. */
+   samples with one sample per pixel. d is unit length. A NULL scene gives
+   the all-zero ray (base.h rule 1). */
 GG_API ggRay ggCameraRay(const ggScene *scene, const ggRenderOptions *opt, double x, double y);
 
 /* Colour seen along one ray of a prepared scene (never prepares it; any
    number of threads at once): emission + kd * ambient +
    direct light (shadow rays) + ks * reflection + kt * refraction, recursing
-   until depth reaches opt->max_depth (the eye ray has depth 1). stats may be
-   NULL. */
+   until depth reaches opt->max_depth (the eye ray has depth 1). Black for
+   a NULL or unprepared scene or bad options. stats may be NULL; else it
+   receives the counts of this ray's tree, overwritten (base.h rule 2). */
 GG_API ggColor ggRayColor(const ggScene *scene, const ggRenderOptions *opt, ggRay ray,
                           int depth, ggRayStats *stats);
 

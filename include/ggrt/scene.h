@@ -107,7 +107,8 @@ typedef struct ggCamera {
    to the view direction"); a NULL cam is GG_ERROR_INVALID. */
 GG_API int ggCameraCheck(const ggCamera *cam, ggError *err);
 
-/* New empty scene; NULL if out of memory. alloc may be NULL. */
+/* New empty scene; NULL if out of memory. alloc may be NULL; it is copied
+   (base.h rule 3). */
 GG_API ggScene *ggSceneCreate(const ggAllocator *alloc);
 /* Frees the scene and everything it owns; NULL is a no-op. */
 GG_API void ggSceneFree(ggScene *scene);
@@ -286,7 +287,12 @@ GG_API int ggSceneFrame(ggScene *scene, unsigned what, ggError *err);
 GG_API void ggSceneSetDepth(ggScene *scene, int max_depth);
 GG_API void ggSceneSetSamples(ggScene *scene, int samples_per_pixel);
 
-/* ---- inspection ---- */
+/* ---- inspection ----
+   For a NULL scene or an index out of range (base.h rule 1): counts are 0,
+   ggSceneObjectKind, ggSceneObjectMaterial and ggSceneObjectMesh -1,
+   ggSceneObjectLine 0, ggSceneMaterial the ggMaterialDefault(), ggSceneGet*
+   and ggSceneObjectShape GG_ERROR_INVALID, ggSceneIntersect and
+   ggSceneOccluded false, ggSceneFileName "". */
 GG_API int ggSceneObjectCount(const ggScene *scene);
 GG_API int ggSceneLightCount(const ggScene *scene);
 GG_API int ggSceneMaterialCount(const ggScene *scene);

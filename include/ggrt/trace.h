@@ -96,7 +96,8 @@ typedef struct ggTraceNode {
 
 typedef struct ggTrace ggTrace;
 
-/* New empty recorder; NULL if out of memory. */
+/* New empty recorder; NULL if out of memory. alloc may be NULL; it is
+   copied. */
 GG_API ggTrace *ggTraceCreate(const ggAllocator *alloc);
 /* Frees it; NULL is a no-op. */
 GG_API void ggTraceFree(ggTrace *trace);
@@ -111,8 +112,9 @@ GG_API const ggTraceLight *ggTraceGetLight(const ggTrace *trace, size_t i);
 /* Trace pixel (x, y) exactly as ggRender computes it with these options,
    recording the rays of sample `sample` (0-based; -1 records every
    sample) into trace, which is cleared first. *pixel receives the value
-   ggRender writes for that pixel, bit for bit; stats, if not NULL, counts
-   the rays of the recorded samples. In pixel-corner mode the pixel's four
+   ggRender writes for that pixel, bit for bit; stats, if not NULL,
+   receives the counts of the rays of the recorded samples, overwritten
+   (base.h rule 2; all zero when the call fails). In pixel-corner mode the pixel's four
    corner rays are its samples 0..3. Threads: as ggRender, with a trace of
    its own per thread (a ggTrace is written by the call). */
 GG_API int ggTracePixel(ggScene *scene, const ggRenderOptions *opt, int x, int y, int sample,

@@ -534,7 +534,8 @@ int gg_expr_compile(const char *src, size_t len, const ggAllocator *alloc, gg_ex
         gg_mem_free(alloc, p.ins);
         return gg_error_set(err, GG_ERROR_NOMEM, "expression: out of memory");
     }
-    e->alloc = alloc;
+    e->alloc = NULL;
+    if (alloc) e->alloc_copy = *alloc, e->alloc = &e->alloc_copy;
     e->n = p.n;
     e->ins = p.ins;
     *out = e;

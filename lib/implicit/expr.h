@@ -58,7 +58,8 @@ typedef struct gg_expr_ins {
 } gg_expr_ins;
 
 typedef struct gg_expr {
-    const ggAllocator *alloc;
+    const ggAllocator *alloc; /* &alloc_copy, or NULL for malloc */
+    ggAllocator alloc_copy;
     size_t n; /* instructions; slot n - 1 is the result */
     gg_expr_ins *ins;
 } gg_expr;

@@ -41,7 +41,7 @@ static int prepare(ggScene *s, ggError *err)
 
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt)
 {
-    memset(opt, 0, sizeof *opt);
+    if (opt) memset(opt, 0, sizeof *opt);
 }
 
 typedef struct resolved {
@@ -127,6 +127,8 @@ GG_API ggRay ggCameraRay(const ggScene *s, const ggRenderOptions *opt, double x,
     resolved r;
     cam_basis b;
     ggRay ray;
+    memset(&ray, 0, sizeof ray);
+    if (!s) return ray;
     if (resolve(s, opt, &r, NULL) != GG_OK) r.w = s->camera.width, r.h = s->camera.height;
     basis(s, r.w > 0 ? r.w : 1, r.h > 0 ? r.h : 1, &b);
     ray.o = b.eye;
@@ -181,6 +183,7 @@ static void add_stats(ggRayStats *a, const ggRayStats *b)
     a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
     a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
     a->nonfinite += b->nonfinite, a->budget_cut += b->budget_cut;
+    a->implicit_cut += b->implicit_cut;
     if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
 }
 
@@ -291,7 +294,10 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     gg_hit h;
     int i, gy;
     miss_bad = (uint64_t)put_centre(miss, &bg, scale);
-    for (i = 0; i < TILE; i++) q[i] = gg_rayq_make(b->eye, b->eye, 0, INFINITY, &j->ctx.qopt);
+    for (i = 0; i < TILE; i++) {
+        q[i] = gg_rayq_make(b->eye, b->eye, 0, INFINITY, &j->ctx.qopt);
+        q[i].implicit_cut = &th->st.implicit_cut;
+    }
     for (i = 0; i < TILE; i++) {
         double px = j->r.x0 + gx0 + i + 0.5;
         double sx = (2.0 * px / b->w - 1.0) * b->tx;
@@ -467,6 +473,8 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     job j;
     ggImage *img;
     int rc;
+    /* Statistics are the counts of this call alone, also on failure. */
+    if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggRender: NULL argument");
     *out = NULL;
     memset(&j, 0, sizeof j);
@@ -527,13 +535,14 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
     gg_shade_ctx ctx;
     resolved r;
     gg_shade_thread th;
+    if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
     gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
     ctx.budget = (uint32_t)r.budget;
     memset(&th, 0, sizeof th);
     {
         ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &th);
-        if (stats) add_stats(stats, &th.st);
+        if (stats) *stats = th.st;
         return c;
     }
 }
@@ -609,6 +618,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     job j;
     gg_shade_thread local;
     int rc;
+    if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !rec || !pixel)
         return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
     memset(&local, 0, sizeof local);
@@ -621,7 +631,7 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
                             sample, j.r.corners ? 4 : j.r.spp);
     if ((rc = trace_setup(&j, s, opt, err)) != GG_OK) return rc;
     *pixel = trace_one(&j, x, y, sample, rec, &local);
-    if (stats) add_stats(stats, &local.st);
+    if (stats) *stats = local.st;
     if (rec->status != GG_OK)
         return gg_error_set(err, rec->status, "out of memory recording the ray tree");
     return GG_OK;

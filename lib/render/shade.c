@@ -40,7 +40,7 @@
 **   rec_child      a child ray has returned: the child's ray_state, weight
 **   rec_stop       why a ray spawned no (more) children
 **   rec_ray_end    the ray's colour and absorption
-** Per-hit diagnostics (docs/internals.md, "Recorder hooks") belong in these
+** Per-hit diagnostics (docs/internals.md, "Shading and the recorder hooks") belong in these
 ** functions and nowhere else in the shading.
 */
 #include "shade.h"
@@ -241,12 +241,14 @@ static ggColor media_transmittance(const ggScene *s, const gg_media *m, double d
 }
 
 /* A query of this render from o along d, t in (0, tmax), skipping prim
-   `ignore` and the primitives flagged `skip`. */
-static gg_rayq make_q(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, double tmax, uint32_t ignore,
-                      unsigned skip)
+   `ignore` and the primitives flagged `skip`; th's statistics count the
+   implicit surfaces whose evaluation budget it exhausts. */
+static gg_rayq make_q(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3 o, ggVec3 d, double tmax,
+                      uint32_t ignore, unsigned skip)
 {
     gg_rayq q = gg_rayq_make(o, d, 0, tmax, &c->qopt);
     q.ignore_prim = ignore, q.skip_flags = skip;
+    q.implicit_cut = &th->st.implicit_cut;
     return q;
 }
 
@@ -532,8 +534,8 @@ GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, co
    blocks. *first_obj receives the first object crossed (-1 if none) and
    *t_first where (parameter of the original ray). `all` is what
    gg_geom_occluded found on the segment, which it did not find blocked. */
-GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
-                              const gg_media *start, int *first_obj, double *t_first,
+GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3 o, ggVec3 d,
+                              uint32_t from, const gg_media *start, int *first_obj, double *t_first,
                               const gg_tcol *all)
 {
     const ggScene *s = c->s;
@@ -541,7 +543,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_
     gg_media m = *start;
     ggColor tr = rgb(1, 1, 1);
     double len = v3len(d);
-    gg_rayq q = make_q(c, o, d, 1.0, from, 0);
+    gg_rayq q = make_q(c, th, o, d, 1.0, from, 0);
     gg_hit h;
     int step;
     *first_obj = -1;
@@ -618,7 +620,7 @@ GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hi
                              size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const gg_rayq sq = make_q(c, sh->o, sh->d, 1.0, hi->leave, 0);
+    const gg_rayq sq = make_q(c, th, sh->o, sh->d, 1.0, hi->leave, 0);
     if (FX & FX_RECORD) {
         if (nearest_blocker(c, &sq, sh)) return;
     } else if (gg_geom_occluded(s->geom, &sq, &th->occ[li % GG_OCC_CACHES], NULL)) {
@@ -639,7 +641,7 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
                               size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    gg_rayq sq = make_q(c, sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
+    gg_rayq sq = make_q(c, th, sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
     gg_tcol all;
     ggColor through;
     if (FX & FX_RECORD) {
@@ -657,7 +659,7 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
             return;
         }
     }
-    through = shadow_walk(c, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all);
+    through = shadow_walk(c, th, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all);
     if (sh->occ >= 0) sh->verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
     sh->lc = cmul(sh->lc, through);
 }
@@ -902,7 +904,7 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
                            const gg_hit *known, const unsigned FX)
 {
     const ggScene *s = c->s;
-    gg_rayq q = make_q(c, r->o, r->d, INFINITY, r->from_prim, 0);
+    gg_rayq q = make_q(c, th, r->o, r->d, INFINITY, r->from_prim, 0);
     gg_hit h;
     const gg_hit *hp = known ? known : &h;
     ggColor col, att = rgb(1, 1, 1);

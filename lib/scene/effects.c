@@ -32,12 +32,15 @@ static int bit_index(unsigned effect)
     return -1;
 }
 
-GG_API unsigned ggSceneEffects(const ggScene *s) { return s->prepared ? s->effects : 0; }
+GG_API unsigned ggSceneEffects(const ggScene *s)
+{
+    return s && s->prepared ? s->effects : 0;
+}
 
 GG_API const char *ggSceneEffectReason(const ggScene *s, unsigned effect)
 {
     int i = bit_index(effect);
-    if (!s->prepared || i < 0 || !(s->effects & effect)) return NULL;
+    if (!s || !s->prepared || i < 0 || !(s->effects & effect)) return NULL;
     return s->reasons[i];
 }
 
