@@ -173,6 +173,10 @@ static void summary(const render_args *a, ggScene *scene, const ggImage *img, co
                "--ray-budget raises it\n",
                a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
                (unsigned long long)st->budget_cut);
+    if (st->implicit_cut)
+        printf("warning: %llu ray tests of implicit surfaces ran out of their evaluation budget "
+               "and count as misses (holes possible)\n",
+               (unsigned long long)st->implicit_cut);
 }
 
 /* Render, print what was asked, write. The image is written with the

@@ -779,6 +779,56 @@ static void test_budget_warning(void **state)
     ggImplicitFree(imp);
 }
 
+/* A 64x48 render (one thread) of scene text with one implicit surface:
+   its statistics and wall-clock seconds. */
+static ggRayStats render_implicit(const char *expr, const char *view, double *secs)
+{
+    char text[512];
+    ggScene *s = ggSceneCreate(NULL);
+    ggRenderOptions o;
+    ggRayStats st;
+    ggImage *img = NULL;
+    ggError err;
+    double t0;
+    snprintf(text, sizeof text,
+             "v from %s at 0 0 0 up 0 0 1 angle 40 resolution 64 48\nl 3 -3 5\n"
+             "f 0.9 0.3 0.2 0.7 0.3 40 0 0\nimplicit \"%s\" -1.4 -1.4 -1.4 1.4 1.4 1.4\n",
+             view, expr);
+    assert_int_equal(ggSceneLoadString(s, text, strlen(text), "t.nff", &err), GG_OK);
+    ggRenderOptionsDefault(&o);
+    o.threads = 1;
+    t0 = gg_time_now();
+    assert_int_equal(ggRender(s, &o, &img, &st, &err), GG_OK);
+    *secs = gg_time_now() - t0;
+    ggImageFree(img);
+    ggSceneFree(s);
+    return st;
+}
+
+/* Issue 16: x^-1000000000 - 1 rendered for minutes, every ray using its
+   100000 evaluations (x^n underflowing to [0, 0] was widened below 0, so
+   1 / x^n was the whole line). Rays that do run out are counted in
+   ggRayStats.implicit_cut, with the default budget of an expression (at
+   most 4096 evaluations) keeping them cheap. */
+static void test_bounded_time(void **state)
+{
+    double secs, wild_secs;
+    ggRayStats st = render_implicit("x^-1000000000 - 1", "0 -4 2", &secs), wild;
+    (void)state;
+    print_message("x^-1000000000 - 1: %llu of 3072 eye rays hit, %llu tests out of budget, "
+                  "%.2f s\n",
+                  (unsigned long long)st.eye_hit, (unsigned long long)st.implicit_cut, secs);
+    assert_true(st.eye_hit > 1000); /* the planes |x| = 1 are there */
+    assert_int_equal(st.implicit_cut, 0);
+    /* no root, and no enclosure near x = 0 can show it */
+    wild = render_implicit("sin(1/x) - sin(1/x) + 1e-3", "3 -3 0.3", &wild_secs);
+    print_message("sin(1/x) - sin(1/x) + 1e-3: %llu tests out of budget, %.2f s\n",
+                  (unsigned long long)wild.implicit_cut, wild_secs);
+    assert_int_equal(wild.eye_hit, 0);
+    assert_true(wild.implicit_cut > 1000);
+    assert_true(wild.implicit_cut <= wild.eye + wild.shadow);
+}
+
 static void test_api_arguments(void **state)
 {
     ggImplicit *imp = NULL;
@@ -883,6 +933,7 @@ int main(void)
         cmocka_unit_test(test_lipschitz_method_on_expressions),
         cmocka_unit_test(test_threads),
         cmocka_unit_test(test_budget_warning),
+        cmocka_unit_test(test_bounded_time),
         cmocka_unit_test(test_api_arguments),
         cmocka_unit_test(test_allocator_and_no_leaks),
     };

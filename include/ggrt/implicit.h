@@ -121,10 +121,14 @@ GG_API double ggImplicitGradientBound(const ggImplicit *imp);
    GG_OK, GG_ERROR_INVALID or GG_ERROR_UNSUPPORTED. */
 GG_API int ggImplicitSetMethod(ggImplicit *imp, int method);
 
-/* At most this many evaluations of f per ray (default 100000). A ray that
-   needs more (an f too wild for the method, a bound far too large) stops
-   as a miss and raises GG_IMPLICIT_WARN_BUDGET. Returns GG_ERROR_INVALID
-   unless max_evals >= 16. */
+/* At most this many evaluations of f per ray. A ray that needs more (an f
+   too wild for the method, a bound far too large) stops as a miss, raises
+   GG_IMPLICIT_WARN_BUDGET and is counted in ggRayStats.implicit_cut. The
+   default: 100000 for callbacks and the Lipschitz method; for an
+   expression with the interval method 2^18 / (n + 16) for n operations
+   after folding, within [256, 4096] -- about 1 ms of work per ray at most,
+   so a 64x48 render of any expression takes seconds (the example scenes'
+   rays need at most 138). Returns GG_ERROR_INVALID unless max_evals >= 16. */
 GG_API int ggImplicitSetBudget(ggImplicit *imp, long max_evals);
 
 /* Surface normals during rendering: h = 0 (the default) uses the exact

@@ -61,7 +61,7 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
 /* refract */
 #define GG_ACC_REFRACT_ACCURATE 0 /* plain double where cos^2(theta_t) >= 1/16 (within
                                      2^-45 relative), ggRefract near the critical angle */
-#define GG_ACC_REFRACT_TEXTBOOK 1 /* ggRefractTextbook: the notes' formula */
+#define GG_ACC_REFRACT_TEXTBOOK 1 /* ggRefractTextbook (docs/optics.md) */
 #define GG_ACC_REFRACT_EXACT    2 /* ggRefract for every ray */
 /* fresnel: 0 = as each material says, else for every transmitter: */
 #define GG_ACC_FRESNEL_NONE    1
@@ -141,6 +141,12 @@ typedef struct ggRayStats {
     uint64_t nonfinite;  /* samples that produced NaN or infinity */
     uint64_t max_depth;  /* depth of the deepest ray cast */
     uint64_t budget_cut; /* secondary rays not cast: the ray budget was used up */
+    /* Tests of a ray against an implicit surface that ran out of the
+       surface's evaluation budget (ggImplicitSetBudget) and so counted as a
+       miss. Tests, not rays: a shadow ray's test may be skipped when a
+       thread's shadow cache finds the blocker first, so this count (unlike
+       the image) may differ with the number of threads. */
+    uint64_t implicit_cut;
 } ggRayStats;
 
 /* ---- rendering ---- */

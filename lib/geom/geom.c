@@ -69,10 +69,11 @@ void gg_geom_free(gg_geom *g)
 static int add_prim(gg_geom *g, int kind, size_t data, int32_t obj)
 {
     gg_prim *p;
-    if (g->nprim >= (size_t)INT32_MAX || g->nprim >= GG_MAX_ELEMS) return -1;
+    if (g->nprim >= (size_t)INT32_MAX || g->nprim >= GG_MAX_ELEMS) return GG_GEOM_LIMIT;
     if (gg_mem_grow(g->alloc, (void **)&g->prims, &g->cap_prim, g->nprim + 1, sizeof *g->prims))
-        return -1;
-    if (gg_mem_grow(g->alloc, (void **)&g->pflags, &g->cap_flags, g->nprim + 1, 1)) return -1;
+        return GG_GEOM_NOMEM;
+    if (gg_mem_grow(g->alloc, (void **)&g->pflags, &g->cap_flags, g->nprim + 1, 1))
+        return GG_GEOM_NOMEM;
     p = &g->prims[g->nprim];
     p->kind = (uint8_t)kind;
     p->data = (uint32_t)data;
@@ -82,9 +83,10 @@ static int add_prim(gg_geom *g, int kind, size_t data, int32_t obj)
     return (int)g->nprim++;
 }
 
+/* 0, or GG_GEOM_NOMEM */
 static int grow(gg_geom *g, void **arr, size_t *cap, size_t need, size_t elem)
 {
-    return gg_mem_grow(g->alloc, arr, cap, need, elem);
+    return gg_mem_grow(g->alloc, arr, cap, need, elem) ? GG_GEOM_NOMEM : 0;
 }
 
 static int finite3(const ggVec3 *p, int n)
@@ -97,11 +99,12 @@ static int finite3(const ggVec3 *p, int n)
 
 int gg_geom_add_sphere(gg_geom *g, ggVec3 c, double r, int32_t obj)
 {
-    if (!v3finite(c) || !(r > 0) || !isfinite(r) || !isfinite(r * r)) return -1;
-    if (grow(g, (void **)&g->sphs, &g->cap_sph, g->nsph + 1, sizeof *g->sphs)) return -1;
+    int rc;
+    if (!v3finite(c) || !(r > 0) || !isfinite(r) || !isfinite(r * r)) return GG_GEOM_DEGENERATE;
+    if (grow(g, (void **)&g->sphs, &g->cap_sph, g->nsph + 1, sizeof *g->sphs)) return GG_GEOM_NOMEM;
     g->sphs[g->nsph].c = c;
     g->sphs[g->nsph].r = r;
-    if (add_prim(g, GG_SHAPE_SPHERE, g->nsph, obj) < 0) return -1;
+    if ((rc = add_prim(g, GG_SHAPE_SPHERE, g->nsph, obj)) < 0) return rc;
     g->nsph++;
     return (int)g->nprim - 1;
 }
@@ -117,10 +120,11 @@ int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t
 {
     gg_tri *t;
     ggVec3 ng;
-    if (!finite3(p, 3)) return -1;
+    int rc;
+    if (!finite3(p, 3)) return GG_GEOM_DEGENERATE;
     ng = v3cross(v3sub(p[1], p[0]), v3sub(p[2], p[0]));
-    if (!(v3dot(ng, ng) > 0) || !v3finite(ng)) return -1;
-    if (grow(g, (void **)&g->tris, &g->cap_tri, g->ntri + 1, sizeof *g->tris)) return -1;
+    if (!(v3dot(ng, ng) > 0) || !v3finite(ng)) return GG_GEOM_DEGENERATE;
+    if (grow(g, (void **)&g->tris, &g->cap_tri, g->ntri + 1, sizeof *g->tris)) return GG_GEOM_NOMEM;
     t = &g->tris[g->ntri];
     memset(t, 0, sizeof *t);
     set_ktri(&t->k, p[0], p[1], p[2]);
@@ -137,7 +141,7 @@ int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t
             t->flip = v3dot(ng, v3add(v3add(t->n[0], t->n[1]), t->n[2])) < 0;
         }
     }
-    if (add_prim(g, GG_SHAPE_TRIANGLE, g->ntri, obj) < 0) return -1;
+    if ((rc = add_prim(g, GG_SHAPE_TRIANGLE, g->ntri, obj)) < 0) return rc;
     g->ntri++;
     return (int)g->nprim - 1;
 }
@@ -145,18 +149,20 @@ int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t
 int gg_geom_add_polygon(gg_geom *g, const ggVec3 *p, int n, int32_t obj)
 {
     gg_poly pl;
-    if (!p || n < 3 || !finite3(p, n)) return -1;
+    int rc;
+    if (!p || n < 3 || !finite3(p, n)) return GG_GEOM_DEGENERATE;
     if (n == 3) {
         int id = gg_geom_add_triangle(g, p, NULL, obj);
         return id;
     }
-    if (grow(g, (void **)&g->polys, &g->cap_poly, g->npoly + 1, sizeof *g->polys)) return -1;
-    if (gg_poly_prepare(g, p, n, &pl)) return -1;
+    if (grow(g, (void **)&g->polys, &g->cap_poly, g->npoly + 1, sizeof *g->polys))
+        return GG_GEOM_NOMEM;
+    if ((rc = gg_poly_prepare(g, p, n, &pl)) != 0) return rc;
     g->polys[g->npoly] = pl;
-    if (add_prim(g, GG_SHAPE_POLYGON, g->npoly, obj) < 0) {
+    if ((rc = add_prim(g, GG_SHAPE_POLYGON, g->npoly, obj)) < 0) {
         g->npverts = pl.vfirst;
         g->npieces = pl.piece_first;
-        return -1;
+        return rc;
     }
     g->npoly++;
     return (int)g->nprim - 1;
@@ -165,10 +171,12 @@ int gg_geom_add_polygon(gg_geom *g, const ggVec3 *p, int n, int32_t obj)
 int gg_geom_add_cone(gg_geom *g, ggVec3 base, double rb, ggVec3 apex, double ra, int32_t obj)
 {
     gg_cone c;
-    if (gg_cone_prepare(base, rb, apex, ra, &c)) return -1;
-    if (grow(g, (void **)&g->cones, &g->cap_cone, g->ncone + 1, sizeof *g->cones)) return -1;
+    int rc;
+    if (gg_cone_prepare(base, rb, apex, ra, &c)) return GG_GEOM_DEGENERATE;
+    if (grow(g, (void **)&g->cones, &g->cap_cone, g->ncone + 1, sizeof *g->cones))
+        return GG_GEOM_NOMEM;
     g->cones[g->ncone] = c;
-    if (add_prim(g, GG_SHAPE_CONE, g->ncone, obj) < 0) return -1;
+    if ((rc = add_prim(g, GG_SHAPE_CONE, g->ncone, obj)) < 0) return rc;
     g->ncone++;
     return (int)g->nprim - 1;
 }
@@ -176,10 +184,12 @@ int gg_geom_add_cone(gg_geom *g, ggVec3 base, double rb, ggVec3 apex, double ra,
 int gg_geom_add_rect(gg_geom *g, ggVec3 corner, ggVec3 e1, ggVec3 e2, int32_t obj)
 {
     gg_rect r;
-    if (gg_rect_prepare(corner, e1, e2, &r)) return -1;
-    if (grow(g, (void **)&g->rects, &g->cap_rect, g->nrect + 1, sizeof *g->rects)) return -1;
+    int rc;
+    if (gg_rect_prepare(corner, e1, e2, &r)) return GG_GEOM_DEGENERATE;
+    if (grow(g, (void **)&g->rects, &g->cap_rect, g->nrect + 1, sizeof *g->rects))
+        return GG_GEOM_NOMEM;
     g->rects[g->nrect] = r;
-    if (add_prim(g, GG_SHAPE_RECT, g->nrect, obj) < 0) return -1;
+    if ((rc = add_prim(g, GG_SHAPE_RECT, g->nrect, obj)) < 0) return rc;
     g->nrect++;
     return (int)g->nprim - 1;
 }
@@ -187,12 +197,13 @@ int gg_geom_add_rect(gg_geom *g, ggVec3 corner, ggVec3 e1, ggVec3 e2, int32_t ob
 int gg_geom_add_implicit(gg_geom *g, const ggImplicit *imp, int32_t obj)
 {
     double lo[3], hi[3];
-    if (!imp) return -1;
+    int rc;
+    if (!imp) return GG_GEOM_DEGENERATE;
     gg_implicit_shape_bounds(imp, lo, hi);
-    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return -1;
-    if (grow(g, (void **)&g->imps, &g->cap_imp, g->nimp + 1, sizeof *g->imps)) return -1;
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2])) return GG_GEOM_DEGENERATE;
+    if (grow(g, (void **)&g->imps, &g->cap_imp, g->nimp + 1, sizeof *g->imps)) return GG_GEOM_NOMEM;
     g->imps[g->nimp] = imp;
-    if (add_prim(g, GG_SHAPE_IMPLICIT, g->nimp, obj) < 0) return -1;
+    if ((rc = add_prim(g, GG_SHAPE_IMPLICIT, g->nimp, obj)) < 0) return rc;
     g->nimp++;
     return (int)g->nprim - 1;
 }
@@ -341,20 +352,17 @@ static double box_dist2(const double c[3], const double lo[3], const double hi[3
    The margin m = 2^-30 (|c| + r) is far above the rounding of a hit point
    or of the tests below, and far below any gap worth keeping. Another
    sphere counts by its ball (centre distance), everything else by its
-   conservative box. Quadratic: skipped for scenes with many spheres. */
-static void mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3], const double (*hi)[3],
-                          size_t n)
+   conservative box. Quadratic: skipped for scenes with many spheres.
+   -1 when out of memory: an error, not a quiet fallback, so a scene
+   renders the same whatever the allocator did (tests/test_nomem.c). */
+static int mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3], const double (*hi)[3],
+                         size_t n)
 {
     size_t i, j;
-    if (!g->nsph || (double)g->nsph * (double)n > 4e6) return;
+    if (!g->nsph || (double)g->nsph * (double)n > 4e6) return 0;
     g->iso = gg_mem_calloc(g->alloc, g->nprim + 1, sizeof *g->iso);
     g->iso_margin = gg_mem_calloc(g->alloc, g->nprim + 1, sizeof *g->iso_margin);
-    if (!g->iso || !g->iso_margin) {
-        gg_mem_free(g->alloc, g->iso);
-        gg_mem_free(g->alloc, g->iso_margin);
-        g->iso = NULL, g->iso_margin = NULL;
-        return;
-    }
+    if (!g->iso || !g->iso_margin) return -1; /* free_built frees them */
     for (i = 0; i < n; i++) {
         const gg_sph *a;
         double c[3], m, R;
@@ -377,6 +385,7 @@ static void mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3], con
         }
         if (ok) g->iso[el[i].prim] = 1, g->iso_margin[el[i].prim] = m;
     }
+    return 0;
 }
 
 int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit *hit)
@@ -443,7 +452,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
         g->lo = v3min(g->lo, v3(lo[i][0], lo[i][1], lo[i][2]));
         g->hi = v3max(g->hi, v3(hi[i][0], hi[i][1], hi[i][2]));
     }
-    mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n);
+    if (mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n)) goto fail;
     if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, n, order)) goto fail;
 
     /* Copy the intersection records in leaf order. */

@@ -49,9 +49,16 @@ typedef struct gg_geom gg_geom;
 gg_geom *gg_geom_create(const ggAllocator *alloc);
 void gg_geom_free(gg_geom *g);
 
+/* What the add functions return instead of a primitive index: the input
+   is degenerate (the shape cannot be hit; nothing was added), memory ran
+   out, or the element limit GG_MAX_ELEMS is reached. */
+#define GG_GEOM_DEGENERATE (-1)
+#define GG_GEOM_NOMEM      (-2)
+#define GG_GEOM_LIMIT      (-3)
+
 /* Add primitives. `obj` is the owning scene object. Each returns the
-   primitive index (>= 0; indices are consecutive from 0) or -1 when out of
-   memory or on degenerate input: NaN/infinite coordinates, radius <= 0,
+   primitive index (>= 0; indices are consecutive from 0), GG_GEOM_NOMEM,
+   GG_GEOM_LIMIT or GG_GEOM_DEGENERATE on degenerate input: NaN/infinite coordinates, radius <= 0,
    zero-area triangle, polygon with n < 3 or no area, cone with a negative
    radius, both radii 0 or zero height, rectangle with parallel edges.
    A polygon of 3 vertices becomes a triangle (kind GG_SHAPE_TRIANGLE).
@@ -74,8 +81,8 @@ int gg_geom_add_implicit(gg_geom *g, const ggImplicit *imp, int32_t obj);
    for triangles) and idx[3 ntri] into them. The arrays stay owned by the
    caller and must not change or move while g uses them. Adds ntri
    consecutive primitives of object obj, reported as GG_SHAPE_TRIANGLE,
-   and returns the first's index, or -1 when out of memory or beyond the
-   element limit. Every triangle must have finite vertices and a nonzero
+   and returns the first's index, GG_GEOM_NOMEM or GG_GEOM_LIMIT (or
+   GG_GEOM_DEGENERATE for no triangles). Every triangle must have finite vertices and a nonzero
    finite edge cross product (the caller checks; a triangle with none is
    never hit). Surfaces follow gg_geom_add_triangle's rules (the vertex
    normals decide which side ng faces), with (u, v) interpolated from uv. */
@@ -141,6 +148,9 @@ typedef struct gg_rayq {
        gg_geom_occluded), never changes an answer. */
     uint32_t inside;
     const gg_qopt *opt; /* never NULL (gg_rayq_make puts in the defaults) */
+    /* NULL, or a counter of the implicit surfaces whose test of this ray ran
+       out of evaluations (ggRayStats.implicit_cut) */
+    uint64_t *implicit_cut;
 } gg_rayq;
 
 /* The default options: all zero. */
@@ -153,6 +163,7 @@ static inline gg_rayq gg_rayq_make(ggVec3 o, ggVec3 d, double tmin, double tmax,
     q.o = o, q.d = d, q.tmin = tmin, q.tmax = tmax;
     q.ignore_prim = UINT32_MAX, q.skip_flags = 0, q.inside = UINT32_MAX;
     q.opt = opt ? opt : &gg_qopt_default;
+    q.implicit_cut = NULL;
     return q;
 }
 
@@ -172,6 +183,19 @@ typedef struct gg_hit {
    the grown ball, the sphere alone is tested: nothing else can be nearer.
    The answer is the same as without the hint. */
 int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+
+/* What one closest-hit query did: the BVH nodes whose four child boxes it
+   tested, and the elements it tested in leaves (every element when it
+   fell back to testing them all; 1 for the isolated-sphere hint). */
+typedef struct gg_trav_cost {
+    long nodes, prims;
+} gg_trav_cost;
+
+/* gg_geom_intersect with the same answer, counting into *cost (adds to
+   it): a copy of the plain traversal that only the ray-tree recorder
+   calls (bvh_cost.c), so the render's copies stay as they are. The walk
+   is the one every copy takes (bvh_trav.h): the counts are the render's. */
+int gg_geom_intersect_cost(const gg_geom *g, const gg_rayq *q, gg_hit *hit, gg_trav_cost *cost);
 
 /* The transparent surfaces a shadow segment crosses (gg_geom_occluded).
    complete = 1: h[0..n) is every crossing, nearest first (by t, prim,

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** geom_int.h -- the layout behind gg_geom, shared by geom.c, bvh.c and the
-** shape_*.c files (internal to the geometry module).
+** shape_*.c files (private to lib/geom: docs/internals.md, "Headers").
 **
 ** Primitives are kept twice: in insertion order with everything shading
 ** needs (normals, frames), and, after the build, as compact intersection
@@ -73,6 +73,7 @@ typedef struct gg_rpre {
     double sx, sy, sz;
     int kx, ky, kz;
     const gg_qopt *opt; /* the query's options, never NULL */
+    uint64_t *implicit_cut; /* the query's, or NULL */
     uint32_t ignore;
     unsigned skip;
 } gg_rpre;
@@ -214,6 +215,7 @@ void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf 
 /* Point on a triangle from barycentrics (b1, b2 of vertices 1, 2) and its
    error bound. */
 ggVec3 gg_tri_point(const gg_ktri *t, double b1, double b2, double *perr);
+/* 0, GG_GEOM_DEGENERATE or GG_GEOM_NOMEM (geom.h). */
 int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int n, gg_poly *out);
 void gg_poly_bounds(const gg_geom *g, const gg_poly *pl, double lo[3], double hi[3]);
 void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, const gg_hit *h,
@@ -290,6 +292,7 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
     r->sx = r->d[r->kx] * r->sz;
     r->sy = r->d[r->ky] * r->sz;
     r->opt = q->opt;
+    r->implicit_cut = q->implicit_cut;
     r->ignore = q->ignore_prim;
     r->skip = q->skip_flags;
     return 1;
@@ -312,5 +315,14 @@ int gg_bvh_tri_leaves(gg_geom *g);
 /* Whether builds of g make triangle blocks for the AVX traversal (bvh.c):
    this build has it (bvh_avx.c), the CPU runs it and g->cpu allows it. */
 int gg_bvh_avx_wanted(const gg_geom *g);
+/* Threads of later builds (0: the processors online; small builds use
+   one); returns the previous setting. The tree does not depend on it.
+   Not thread-safe. */
+int gg_bvh_set_threads(int n);
+/* For tests: the element counts from which builds use threads, below
+   which subtrees are handed to them, and from which a node is binned by
+   all of them (sizes[0..2]; 0 keeps one). Swaps in the old values. Not
+   thread-safe. */
+void gg_bvh_set_build_sizes(size_t sizes[3]);
 
 #endif

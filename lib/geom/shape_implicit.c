@@ -20,9 +20,12 @@ void gg_implicit_shape_bounds(const ggImplicit *imp, double lo[3], double hi[3])
 int gg_implicit_shape_hit(const ggImplicit *imp, const gg_rpre *r, double tmax, double *t)
 {
     ggVec3 o = v3(r->o[0], r->o[1], r->o[2]), d = v3(r->d[0], r->d[1], r->d[2]);
+    unsigned warn = 0;
     /* The root finder takes an open interval; ours is (tmin, tmax]. */
-    return gg_implicit_intersect_tol(imp, o, d, r->tmin, nextafter(tmax, INFINITY),
-                                     r->opt->implicit_tol, t);
+    int hit = gg_implicit_intersect_warn(imp, o, d, r->tmin, nextafter(tmax, INFINITY),
+                                         r->opt->implicit_tol, t, &warn);
+    if ((warn & GG_IMPLICIT_WARN_BUDGET) && r->implicit_cut) ++*r->implicit_cut;
+    return hit;
 }
 
 /* ng = normalised grad f (pointing to where f grows); (u, v) = (0, 0). */

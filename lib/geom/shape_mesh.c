@@ -13,13 +13,13 @@ int gg_geom_add_mesh(gg_geom *g, const ggVec3 *pos, const ggVec3 *nrm, const dou
 {
     gg_gmesh *m;
     size_t i, need = g->nprim + ntri;
-    if (!pos || !idx || ntri == 0) return -1;
-    if (need >= (size_t)INT32_MAX || need >= GG_MAX_ELEMS) return -1;
+    if (!pos || !idx || ntri == 0) return GG_GEOM_DEGENERATE;
+    if (need >= (size_t)INT32_MAX || need >= GG_MAX_ELEMS) return GG_GEOM_LIMIT;
     if (gg_mem_grow(g->alloc, (void **)&g->gmeshes, &g->cap_gmesh, g->ngmesh + 1,
                     sizeof *g->gmeshes) ||
         gg_mem_grow(g->alloc, (void **)&g->prims, &g->cap_prim, need, sizeof *g->prims) ||
         gg_mem_grow(g->alloc, (void **)&g->pflags, &g->cap_flags, need, 1))
-        return -1;
+        return GG_GEOM_NOMEM;
     m = &g->gmeshes[g->ngmesh];
     m->pos = pos, m->nrm = nrm, m->uv = uv, m->idx = idx;
     m->pfirst = (uint32_t)g->nprim, m->ntri = (uint32_t)ntri;

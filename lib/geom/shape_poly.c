@@ -240,7 +240,7 @@ int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int nv, gg_poly *out)
 
     if (gg_mem_grow(g->alloc, (void **)&g->pverts, &g->cap_pverts, g->npverts + (size_t)nv,
                     sizeof *g->pverts))
-        return -1;
+        return GG_GEOM_NOMEM;
     out->vfirst = (uint32_t)g->npverts;
     out->nv = (uint32_t)nv;
     for (i = 0; i < nv; i++) {
@@ -250,7 +250,7 @@ int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int nv, gg_poly *out)
     }
     out->piece_first = (uint32_t)g->npieces;
     if (g->poly_mode == GG_POLY_TRIANGULATE && nv <= GG_POLY_MAX_CLIP) {
-        if (triangulate(g, p, nv, n, out)) return -1;
+        if (triangulate(g, p, nv, n, out)) return GG_GEOM_NOMEM;
     }
     g->npverts += (size_t)nv;
     return 0;

@@ -20,10 +20,12 @@ static double powi(double x, int n)
     return n < 0 ? 1.0 / r : r;
 }
 
-/* Domain of a non-integer power: x >= 0, as C's pow for those exponents. */
+/* Domain of a non-integer power: x >= 0, as C's pow for those exponents.
+   A NaN exponent (folded from a constant like (-0.5)^20.1) is undefined
+   everywhere, as in the interval version; C's pow(1, NaN) would say 1. */
 static double powc(double x, double c)
 {
-    return x >= 0 ? pow(x, c) : NAN;
+    return x >= 0 && c == c ? pow(x, c) : NAN;
 }
 
 double gg_expr_apply(const gg_expr_ins *in, double a, double b)

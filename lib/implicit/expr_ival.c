@@ -143,6 +143,11 @@ static double pw_up(double x, int n)
     return gg_iv_up(pow(x, n), GG_IV_RELF + 0x1p-52 * m) + m * GG_IV_TINY;
 }
 
+static double nonneg(double x)
+{
+    return x > 0 ? x : 0.0;
+}
+
 gg_ival gg_ival_powi(gg_ival a, int n)
 {
     if (gg_iv_isempty(a)) return a;
@@ -152,8 +157,14 @@ gg_ival gg_ival_powi(gg_ival a, int n)
     }
     if (n == 0) return gg_iv(1, 1);
     if (n == 1) return a;
-    if (n % 2 || a.lo >= 0) return gg_iv(pw_dn(a.lo, n), pw_up(a.hi, n)); /* increasing */
-    if (a.hi <= 0) return gg_iv(pw_dn(a.hi, n), pw_up(a.lo, n));          /* even, decreasing */
+    /* The absolute widening of pw_dn must not take the lower end below 0
+       where x^n >= 0 (n even, or x >= 0; so does repeated squaring): for
+       x^-1000000000 over [0.5, 0.9], x^n underflows to [0, 0] and a lower
+       end of -5e-315 made 1 / x^n the whole line, so no piece of the box
+       was ever pruned (every ray ran out of its budget). */
+    if (a.lo >= 0) return gg_iv(nonneg(pw_dn(a.lo, n)), pw_up(a.hi, n)); /* increasing */
+    if (n % 2) return gg_iv(pw_dn(a.lo, n), pw_up(a.hi, n));             /* odd, increasing */
+    if (a.hi <= 0) return gg_iv(nonneg(pw_dn(a.hi, n)), pw_up(a.lo, n)); /* even, decreasing */
     return gg_iv(0, pw_up(-a.lo > a.hi ? a.lo : a.hi, n));
 }
 

@@ -28,6 +28,10 @@ int gg_implicit_intersect(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin
    stored in imp. */
 int gg_implicit_intersect_tol(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,
                               double tol, double *t);
+/* gg_implicit_intersect_tol that also returns this ray's warnings
+   (GG_IMPLICIT_WARN_*) in *warn, for the renderer's statistics. */
+int gg_implicit_intersect_warn(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin, double tmax,
+                               double tol, double *t, unsigned *warn);
 
 /* What one intersection saw. */
 typedef struct gg_implicit_status {

@@ -183,6 +183,7 @@ static void add_stats(ggRayStats *a, const ggRayStats *b)
     a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
     a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
     a->nonfinite += b->nonfinite, a->budget_cut += b->budget_cut;
+    a->implicit_cut += b->implicit_cut;
     if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
 }
 
@@ -293,7 +294,10 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     gg_hit h;
     int i, gy;
     miss_bad = (uint64_t)put_centre(miss, &bg, scale);
-    for (i = 0; i < TILE; i++) q[i] = gg_rayq_make(b->eye, b->eye, 0, INFINITY, &j->ctx.qopt);
+    for (i = 0; i < TILE; i++) {
+        q[i] = gg_rayq_make(b->eye, b->eye, 0, INFINITY, &j->ctx.qopt);
+        q[i].implicit_cut = &th->st.implicit_cut;
+    }
     for (i = 0; i < TILE; i++) {
         double px = j->r.x0 + gx0 + i + 0.5;
         double sx = (2.0 * px / b->w - 1.0) * b->tx;

@@ -27,6 +27,8 @@
 ** return`, so in the basic and full paths it compiles to nothing; in the
 ** recording path it sees all that the shading computed at that point:
 **   rec_ray        a ray is about to be cast: its ray_state
+**   rec_intersect  its closest-hit query, through the counting copy of the
+**                  traversal (gg_geom_intersect_cost): the same hit
 **   rec_hit        its closest hit: hit_info (the query, gg_hit with the
 **                  barycentrics b1, b2, gg_surf with p, normals and the
 **                  error bound perr, the origin o_out of rays leaving it)
@@ -38,7 +40,7 @@
 **   rec_child      a child ray has returned: the child's ray_state, weight
 **   rec_stop       why a ray spawned no (more) children
 **   rec_ray_end    the ray's colour and absorption
-** Per-hit diagnostics (docs/internals.md, "Recorder hooks") belong in these
+** Per-hit diagnostics (docs/internals.md, "Shading and the recorder hooks") belong in these
 ** functions and nowhere else in the shading.
 */
 #include "shade.h"
@@ -239,12 +241,14 @@ static ggColor media_transmittance(const ggScene *s, const gg_media *m, double d
 }
 
 /* A query of this render from o along d, t in (0, tmax), skipping prim
-   `ignore` and the primitives flagged `skip`. */
-static gg_rayq make_q(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, double tmax, uint32_t ignore,
-                      unsigned skip)
+   `ignore` and the primitives flagged `skip`; th's statistics count the
+   implicit surfaces whose evaluation budget it exhausts. */
+static gg_rayq make_q(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3 o, ggVec3 d, double tmax,
+                      uint32_t ignore, unsigned skip)
 {
     gg_rayq q = gg_rayq_make(o, d, 0, tmax, &c->qopt);
     q.ignore_prim = ignore, q.skip_flags = skip;
+    q.implicit_cut = &th->st.implicit_cut;
     return q;
 }
 
@@ -314,7 +318,21 @@ GG_INLINE int rec_ray(const gg_shade_ctx *c, const ray_state *r, const unsigned 
     N->fresnel = -1;
     N->weight = rgb(1, 1, 1);
     N->perr = N->offset = N->tir_margin = N->edge = NAN;
+    N->nodes = N->prims = -1;
     return node;
+}
+
+/* The recorder's closest-hit query: gg_geom_intersect's answer, and what
+   the traversal tested. A hit the caller already knows (the tracer's eye
+   rays) stays the one used; the query then only counts. */
+GG_INLINE int rec_intersect(const gg_shade_ctx *c, int node, const gg_rayq *q, const gg_hit *known,
+                            gg_hit *h)
+{
+    gg_trav_cost cost = {0, 0};
+    gg_hit other;
+    int hit = gg_geom_intersect_cost(c->s->geom, q, known ? &other : h, &cost);
+    if (node >= 0) c->rec->nodes[node].nodes = cost.nodes, c->rec->nodes[node].prims = cost.prims;
+    return known ? 1 : hit;
 }
 
 /* How close a hit lies to the nearest edge of its triangle or mesh
@@ -516,8 +534,8 @@ GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, co
    blocks. *first_obj receives the first object crossed (-1 if none) and
    *t_first where (parameter of the original ray). `all` is what
    gg_geom_occluded found on the segment, which it did not find blocked. */
-GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_t from,
-                              const gg_media *start, int *first_obj, double *t_first,
+GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3 o, ggVec3 d,
+                              uint32_t from, const gg_media *start, int *first_obj, double *t_first,
                               const gg_tcol *all)
 {
     const ggScene *s = c->s;
@@ -525,7 +543,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, ggVec3 o, ggVec3 d, uint32_
     gg_media m = *start;
     ggColor tr = rgb(1, 1, 1);
     double len = v3len(d);
-    gg_rayq q = make_q(c, o, d, 1.0, from, 0);
+    gg_rayq q = make_q(c, th, o, d, 1.0, from, 0);
     gg_hit h;
     int step;
     *first_obj = -1;
@@ -602,7 +620,7 @@ GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hi
                              size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const gg_rayq sq = make_q(c, sh->o, sh->d, 1.0, hi->leave, 0);
+    const gg_rayq sq = make_q(c, th, sh->o, sh->d, 1.0, hi->leave, 0);
     if (FX & FX_RECORD) {
         if (nearest_blocker(c, &sq, sh)) return;
     } else if (gg_geom_occluded(s->geom, &sq, &th->occ[li % GG_OCC_CACHES], NULL)) {
@@ -623,7 +641,7 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
                               size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    gg_rayq sq = make_q(c, sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
+    gg_rayq sq = make_q(c, th, sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
     gg_tcol all;
     ggColor through;
     if (FX & FX_RECORD) {
@@ -641,7 +659,7 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
             return;
         }
     }
-    through = shadow_walk(c, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all);
+    through = shadow_walk(c, th, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all);
     if (sh->occ >= 0) sh->verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
     sh->lc = cmul(sh->lc, through);
 }
@@ -886,7 +904,7 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
                            const gg_hit *known, const unsigned FX)
 {
     const ggScene *s = c->s;
-    gg_rayq q = make_q(c, r->o, r->d, INFINITY, r->from_prim, 0);
+    gg_rayq q = make_q(c, th, r->o, r->d, INFINITY, r->from_prim, 0);
     gg_hit h;
     const gg_hit *hp = known ? known : &h;
     ggColor col, att = rgb(1, 1, 1);
@@ -894,7 +912,10 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
     node = rec_ray(c, r, FX);
     q.inside = r->inside;
-    if (!known) hit = gg_geom_intersect(s->geom, &q, &h);
+    if (FX & FX_RECORD)
+        hit = rec_intersect(c, node, &q, known, &h);
+    else if (!known)
+        hit = gg_geom_intersect(s->geom, &q, &h);
     if (!hit) {
         col = s->background;
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)

@@ -561,7 +561,7 @@ static int add_prims(ggScene *s, size_t i)
         size_t t;
         p = gg_geom_add_mesh(s->geom, m->pos, m->nrm, m->uv, m->idx + 3 * o->tri_first, o->ntri,
                              id);
-        if (p < 0) return -1;
+        if (p < 0) return p == GG_GEOM_DEGENERATE ? 0 : p;
         if (s->materials[o->material].kt > 0)
             for (t = 0; t < o->ntri; t++) gg_geom_set_flags(s->geom, p + (int)t, GG_PRIM_TRANSPARENT);
         return 0;
@@ -583,14 +583,16 @@ static int add_prims(ggScene *s, size_t i)
             p = gg_geom_add_triangle(s->geom, v, o->has_normals ? n : NULL, id);
             if (p >= 0 && s->materials[o->material].kt > 0)
                 gg_geom_set_flags(s->geom, p, GG_PRIM_TRANSPARENT);
+            if (p < 0 && p != GG_GEOM_DEGENERATE) return p;
         }
         return 0;
     }
     if (p >= 0 && s->materials[o->material].kt > 0)
         gg_geom_set_flags(s->geom, p, GG_PRIM_TRANSPARENT);
-    /* -1 is also "degenerate" (a zero-area polygon): such an object simply
-       cannot be hit, which is what the user's data says. */
-    return 0;
+    /* A degenerate shape (a zero-area polygon) simply cannot be hit, which
+       is what the user's data says; running out of memory or into the
+       element limit is an error (the object would silently vanish). */
+    return p < 0 && p != GG_GEOM_DEGENERATE ? p : 0;
 }
 
 GG_API int ggScenePrepare(ggScene *s, ggError *err)
@@ -605,8 +607,16 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
     s->mfast = gg_mem_calloc(s->alloc, s->nmaterials ? s->nmaterials : 1, sizeof *s->mfast);
     s->light_colors = gg_mem_calloc(s->alloc, s->nlights ? s->nlights : 1, sizeof(ggColor));
     if (!s->geom || !s->mfast || !s->light_colors) goto nomem;
-    for (i = 0; i < s->nobjects; i++)
-        if (add_prims(s, i) < 0) goto nomem;
+    for (i = 0; i < s->nobjects; i++) {
+        rc = add_prims(s, i);
+        if (rc == GG_GEOM_LIMIT) {
+            unprepare(s);
+            return gg_error_set(err, GG_ERROR_LIMIT,
+                                "preparing the scene: object %lu exceeds the BVH's primitive limit",
+                                (unsigned long)i);
+        }
+        if (rc < 0) goto nomem;
+    }
     rc = gg_geom_build(s->geom, err);
     if (rc != GG_OK) {
         unprepare(s);
