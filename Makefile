@@ -16,7 +16,7 @@
 #   make check-browser   ggrt serve's page in headless Chromium (CI runs it after check)
 #   make bench-serve     requests/s and latency of ggrt serve under N clients
 #   scripts/deps.sh      the package groups each of these installs
-#   make bench-optics    ns per call of the refraction variants
+#   make bench-optics    ns and instructions per call of the refraction variants
 #   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c;
 #                        EMBREE=BIN adds the Embree anchor's build times)
 #
@@ -424,6 +424,10 @@ bench-trace: $(BUILD)/bench/bench_render
 # EMBREE=BIN: the embree-whitted anchor's build times beside ggrt's.
 bench-mesh: $(BUILD)/bench/bench_mesh
 	$< $(if $(EMBREE),--embree $(EMBREE)) $(BENCH_MESH_FLAGS)
+
+bench-optics: $(BUILD)/bench/bench_optics
+	$<
+	@sh bench/optics_counts.sh $<
 
 bench-%: $(BUILD)/bench/bench_%
 	$<

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** debug_int.h -- what the files of the debug layer share (internal).
+** debug_int.h -- what the files of the debug layer share (private to
+** lib/debug: docs/internals.md, "Headers").
 */
 #ifndef GG_DEBUG_INT_H
 #define GG_DEBUG_INT_H

@@ -12,7 +12,7 @@
 **       per-ray state of its leaf tests (tx_init may defer filling it to
 **       the first leaf that needs it, tx_fill fills it at once) and the
 **       leaf tests of a leaf reference, with the contracts of
-**       gg_leaf_closest, gg_leaf_any and leaf_shadow.
+**       gg_leaf_closest, gg_leaf_any and gg_leaf_shadow.
 ** Both copies thus share the node walk; only the leaves differ.
 */
 #ifndef GG_BVH_TRAV_H
@@ -208,9 +208,9 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
     /* The conservative box test assumes tmin >= 0 (a box wholly behind the
        origin could otherwise be lost to the exit scaling). */
     if (!trav_init(&tv, &r) || q->tmin < 0) return gg_geom_intersect_brute(g, q, hit);
-    /* Deferred: many closest-hit rays meet no triangle block (measured:
-       eager here cost mount 1%; the any-hit traversals, where GCC then
-       keeps fewer values in registers, came out better eager). */
+    /* Deferred: many closest-hit rays meet no triangle block; the any-hit
+       traversals set up eagerly (docs/performance.md, "Four triangles at
+       once"). */
     tx_init(&tx, &r);
     best.t = gg_next_down(q->tmax);
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
@@ -293,7 +293,8 @@ done:
 
 /* Any-hit descent (the occluder and the shadow query): the first child
    hit next, the others on the stack; the order does not matter for a
-   yes/no answer or for a list (nearest-first was measured slower). */
+   yes/no answer or for a list (nearest-first: docs/performance.md, "Tried
+   and not kept"). */
 #ifndef GG_TRAV_ANY_DESCEND
 #define GG_TRAV_ANY_DESCEND
 GG_INLINE uint32_t any_descend(const gg_bnode *nd, unsigned mask, uint32_t *stack, int *sp)

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** geom_int.h -- the layout behind gg_geom, shared by geom.c, bvh.c and the
-** shape_*.c files (internal to the geometry module).
+** shape_*.c files (private to lib/geom: docs/internals.md, "Headers").
 **
 ** Primitives are kept twice: in insertion order with everything shading
 ** needs (normals, frames), and, after the build, as compact intersection

@@ -3,7 +3,7 @@
 ** mesh_int.h -- what the mesh readers (obj.c, mtl.c, ply.c) share: a mesh
 ** being read (gg_mb: growing arrays, polygons split into triangles,
 ** interned names), a correctly rounded decimal number parser, and the file
-** reading (internal to lib/load).
+** reading (private to lib/load: docs/internals.md, "Headers").
 */
 #ifndef GG_LOAD_MESH_INT_H
 #define GG_LOAD_MESH_INT_H

@@ -38,7 +38,7 @@
 **   rec_child      a child ray has returned: the child's ray_state, weight
 **   rec_stop       why a ray spawned no (more) children
 **   rec_ray_end    the ray's colour and absorption
-** Per-hit diagnostics (docs/internals.md, "Recorder hooks") belong in these
+** Per-hit diagnostics (docs/internals.md, "Shading and the recorder hooks") belong in these
 ** functions and nowhere else in the shading.
 */
 #include "shade.h"
