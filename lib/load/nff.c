@@ -59,6 +59,13 @@ static int fail(parser *ps, const token *t, int code, const char *fmt, ...)
                         t ? t->col : ps->col, msg);
 }
 
+/* A line ends at "\n", at "\r\n" (on its '\n') or at a lone "\r" (files
+   with CR line endings), for line numbers and comments alike. */
+static bool line_end(const char *c, const char *end)
+{
+    return *c == '\n' || (*c == '\r' && (c + 1 >= end || c[1] != '\n'));
+}
+
 /* Next token, or 0 at end of input. Comments run from '#' to the end of
    the line wherever a token could start. */
 static int lex(parser *ps, token *t)
@@ -67,12 +74,12 @@ static int lex(parser *ps, token *t)
     for (;;) {
         while (c < ps->end && (*c == ' ' || *c == '\t' || *c == '\r' || *c == '\n' ||
                                *c == '\f' || *c == '\v')) {
-            if (*c == '\n') ps->line++, ps->col = 1;
+            if (line_end(c, ps->end)) ps->line++, ps->col = 1;
             else ps->col++;
             c++;
         }
         if (c < ps->end && *c == '#') {
-            while (c < ps->end && *c != '\n') c++, ps->col++;
+            while (c < ps->end && !line_end(c, ps->end)) c++, ps->col++;
             continue;
         }
         break;
@@ -82,7 +89,7 @@ static int lex(parser *ps, token *t)
     t->line = ps->line, t->col = ps->col, t->quoted = 0;
     if (*c == '"') {
         const char *q = c + 1;
-        while (q < ps->end && *q != '"' && *q != '\n') q++;
+        while (q < ps->end && *q != '"' && *q != '\n' && *q != '\r') q++;
         if (q >= ps->end || *q != '"') {
             t->p = c, t->n = 1;
             return -1; /* unterminated string */
@@ -130,13 +137,10 @@ static bool tok_is(const token *t, const char *w)
     return !t->quoted && t->n == strlen(w) && memcmp(t->p, w, t->n) == 0;
 }
 
-/* A printable copy of a token for messages (cut at 40 characters). */
+/* A token for messages: its first 40 bytes, escaped (gg_text_escape). */
 static const char *show(const token *t, char *buf, size_t n)
 {
-    size_t k = t->n < 40 ? t->n : 40;
-    if (k >= n) k = n - 1;
-    memcpy(buf, t->p, k);
-    buf[k] = '\0';
+    gg_text_escape(buf, n, t->p, t->n < 40 ? t->n : 40);
     return buf;
 }
 
@@ -816,6 +820,27 @@ static void rollback(ggScene *s, const snapshot *sn)
     s->depth = sn->depth, s->samples = sn->samples;
 }
 
+/* Bytes before tokens: a UTF-8 byte order mark is skipped, UTF-16 is
+   refused, and so is a NUL byte anywhere (at its line and column): C
+   strings would end there, so "1\0junk" must not read as 1. */
+static int check_text(parser *ps)
+{
+    const unsigned char *u = (const unsigned char *)ps->text;
+    size_t len = (size_t)(ps->end - ps->text);
+    const char *z, *c;
+    if (len >= 2 && ((u[0] == 0xFE && u[1] == 0xFF) || (u[0] == 0xFF && u[1] == 0xFE)))
+        return fail(ps, NULL, GG_ERROR_UNSUPPORTED,
+                    "UTF-16 text is not supported (convert the file to UTF-8)");
+    if (len >= 3 && memcmp(u, "\xEF\xBB\xBF", 3) == 0) ps->cur += 3;
+    z = memchr(ps->cur, '\0', (size_t)(ps->end - ps->cur));
+    if (!z) return GG_OK;
+    for (c = ps->cur; c < z; c++)
+        if (line_end(c, ps->end)) ps->line++, ps->col = 1;
+        else ps->col++;
+    ps->cur = ps->end;
+    return fail(ps, NULL, GG_ERROR_PARSE, "NUL byte in a text file");
+}
+
 int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, const char *dir,
                  ggError *err)
 {
@@ -831,6 +856,7 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
     ps.mat = ggMaterialDefault();
     ps.mat_id = -1;
     take(s, &sn);
+    rc = check_text(&ps);
     while (rc == GG_OK && (r = next(&ps, &t)) != 0) {
         const keyword *k = NULL;
         if (r < 0) {
