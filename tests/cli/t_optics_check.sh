@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
-# Sourced by tests/cli/run.sh: `ggrt optics check` and `ggrt optics seeds`
-# (issue 15). ggrt's own refraction and reflection pass every class; the
+# Sourced by tests/cli/run.sh: `ggrt optics check` and `ggrt optics seeds`.
+# ggrt's own refraction and reflection pass every class; the
 # textbook library (examples/textbook_refract.c, built next to ggrt) fails
 # at grazing incidence and near the critical angle; load errors exit 2.
 bdir=$(dirname "$ggrt")
