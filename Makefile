@@ -16,7 +16,7 @@
 #   make check-browser   ggrt serve's page in headless Chromium (CI runs it after check)
 #   make bench-serve     requests/s and latency of ggrt serve under N clients
 #   scripts/deps.sh      the package groups each of these installs
-#   make bench-optics    ns per call of the refraction variants
+#   make bench-optics    ns and instructions per call of the refraction variants
 #   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c)
 #
 # Objects go to $(BUILD) (default build/); BUILD=dir keeps separate trees.
@@ -419,6 +419,10 @@ bench-trace: $(BUILD)/bench/bench_render
 	@$(MAKE) --no-print-directory BUILD=$(BUILD)/norec CFLAGS="$(CFLAGS) -DGG_NO_RECORDER" \
 	  $(BUILD)/norec/bench/bench_render >/dev/null
 	@sh bench/trace_overhead.sh $(BUILD)/bench/bench_render $(BUILD)/norec/bench/bench_render
+
+bench-optics: $(BUILD)/bench/bench_optics
+	$<
+	@sh bench/optics_counts.sh $<
 
 bench-%: $(BUILD)/bench/bench_%
 	$<

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-# Sourced by tests/cli/run.sh: bounded memory (issue 16, item 6). Small
+# Sourced by tests/cli/run.sh: bounded memory (docs/scene-format.md, "NFF"). Small
 # hostile inputs fail fast with the limit and the value in the message, and
 # none makes ggrt use more than 1 GB: each runs under `ulimit -v` 1 GiB
 # (address space, which is more than resident memory), and its peak RSS is
