@@ -243,12 +243,8 @@ tir:
 #endif
 /* Every function taking or returning these is inlined (GG_INLINE): no
    call crosses the ABI that GCC and clang warn about for the plain build. */
-#if defined(__clang__)
-#pragma clang diagnostic ignored "-Wpsabi"
-#elif defined(__GNUC__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-typedef double gg_v4 __attribute__((vector_size(32)));
+GG_PSABI_OFF
+typedef double gg_v4 GG_VECTOR_SIZE(32);
 typedef struct gg_v4dd {
     gg_v4 hi, lo;
 } gg_v4dd;
