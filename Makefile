@@ -16,7 +16,7 @@
 #   make check-browser   ggrt serve's page in headless Chromium (CI runs it after check)
 #   make bench-serve     requests/s and latency of ggrt serve under N clients
 #   scripts/deps.sh      the package groups each of these installs
-#   make bench-optics    ns per call of the refraction variants
+#   make bench-optics    ns and instructions per call of the refraction variants
 #   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c)
 #
 # Objects go to $(BUILD) (default build/); BUILD=dir keeps separate trees.
@@ -123,7 +123,10 @@ FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 REPLAY_BIN := $(FUZZ_SRC:tests/fuzz/fuzz_%.c=$(BUILD)/tests/replay_%)
 BENCH_SRC := $(sort $(wildcard bench/*.c))
 BENCH_BIN := $(BENCH_SRC:bench/%.c=$(BUILD)/bench/%)
-EXAMPLE_SRC := $(sort $(wildcard examples/*.c))
+# The optics check's examples are a plug-in library and a fuzz harness,
+# not programs: built by their own rules below.
+OPTICS_EXAMPLES := examples/textbook_refract.c examples/fuzz_your_refract.c
+EXAMPLE_SRC := $(filter-out $(OPTICS_EXAMPLES),$(sort $(wildcard examples/*.c)))
 
 STATIC = $(BUILD)/libggrt.a
 CORE_STATIC = $(BUILD)/libggrt-core.a
@@ -191,8 +194,9 @@ $(BUILD)/cli/web_assets.c: $(WEB_SRC) cli/web/embed.sh
 $(BUILD)/cli/web_assets.o: $(BUILD)/cli/web_assets.c
 	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) -Icli $(GG_WARN) $(CFLAGS) -c $< -o $@
 
+# -ldl: `ggrt optics check --lib` (cli/optics_check.c); the library never loads code.
 $(CLI): $(CLI_OBJ) $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS)
+	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS) -ldl
 
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
@@ -226,7 +230,24 @@ $(BUILD)/bench/%: bench/%.c $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) $(GG_WARN) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
 
-tests: $(TEST_BIN) $(REPLAY_BIN) $(CLI)
+# `ggrt optics check` measures this one (tests/cli/t_optics.sh).
+$(BUILD)/libtextbook_refract.so: examples/textbook_refract.c
+	@mkdir -p $(@D)
+	$(CC) $(GG_CPPFLAGS) $(GG_WARN) $(CFLAGS) -fPIC -shared $(LDFLAGS) -o $@ $< -lm
+
+# examples/fuzz_your_refract.c as a corpus replayer (tests/fuzz/replay.c),
+# against ggRefract and against the textbook function (tests/cli/t_optics_check.sh).
+YOURFUZZ = $(BUILD)/tests/yourfuzz_ggrefract $(BUILD)/tests/yourfuzz_textbook
+YOURFUZZ_CC = $(CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(GG_WARN) $(CFLAGS) $(LDFLAGS)
+$(BUILD)/tests/yourfuzz_ggrefract: examples/fuzz_your_refract.c tests/fuzz/replay.c $(STATIC)
+	@mkdir -p $(@D)
+	$(YOURFUZZ_CC) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
+$(BUILD)/tests/yourfuzz_textbook: examples/fuzz_your_refract.c tests/fuzz/replay.c \
+  examples/textbook_refract.c $(STATIC)
+	@mkdir -p $(@D)
+	$(YOURFUZZ_CC) -DUSER_REFRACT=textbook_refract -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
+
+tests: $(TEST_BIN) $(REPLAY_BIN) $(CLI) $(BUILD)/libtextbook_refract.so $(YOURFUZZ)
 
 # Run what is built in $(BUILD); `check` runs it twice.
 test: tests
@@ -398,6 +419,10 @@ bench-trace: $(BUILD)/bench/bench_render
 	@$(MAKE) --no-print-directory BUILD=$(BUILD)/norec CFLAGS="$(CFLAGS) -DGG_NO_RECORDER" \
 	  $(BUILD)/norec/bench/bench_render >/dev/null
 	@sh bench/trace_overhead.sh $(BUILD)/bench/bench_render $(BUILD)/norec/bench/bench_render
+
+bench-optics: $(BUILD)/bench/bench_optics
+	$<
+	@sh bench/optics_counts.sh $<
 
 bench-%: $(BUILD)/bench/bench_%
 	$<

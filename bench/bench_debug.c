@@ -3,7 +3,7 @@
 ** bench_debug.c -- what the image-level debugger costs: ggFind (three
 ** kinds of predicate) and ggCheck over a SIZE x SIZE image against a
 ** plain ggRender of it with the same threads, alternated round by round,
-** medians. The target (issue 11): at most 3x the render.
+** medians (docs/debugging.md, "Cost"). The target: at most 3x the render.
 **   make bench-debug     or   build/bench/bench_debug [-s SIZE] [-r ROUNDS] [-t THREADS] SCENE...
 ** Prints one line per scene and task, and the largest ratio.
 */

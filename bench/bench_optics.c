@@ -14,6 +14,24 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+/* Instruction counts: under valgrind --tool=callgrind (bench/optics_counts.sh)
+   `bench_optics --count` dumps the counts of each kernel separately. */
+#if defined(__has_include)
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define GG_COUNT(name, k, in)                                                                     \
+    do {                                                                                           \
+        CALLGRIND_ZERO_STATS;                                                                      \
+        sink += k(in, NIN);                                                                        \
+        CALLGRIND_DUMP_STATS_AT(name);                                                             \
+    } while (0)
+#endif
+#endif
+#ifndef GG_COUNT
+#define GG_COUNT(name, k, in) (sink += k(in, NIN))
+#endif
 
 #define NIN    4096
 #define REPS   200
@@ -189,28 +207,44 @@ static double time_kernel(kernel k, const input *in)
 static double row(const char *name, kernel k, const input *in, double base)
 {
     double t = time_kernel(k, in);
-    printf("%-46s %8.1f %10.2f\n", name, t, base > 0 ? t / base : 1.0);
+    printf("%-50s %8.1f %10.2f\n", name, t, base > 0 ? t / base : 1.0);
     return t;
 }
 
-int main(void)
+/* One pass of each kernel, each dumped on its own (see GG_COUNT). */
+static void count_kernels(void)
+{
+    GG_COUNT("textbook random", k_textbook, rnd);
+    GG_COUNT("refract random", k_refract, rnd);
+    GG_COUNT("textbook hard", k_textbook, hard);
+    GG_COUNT("refract hard", k_refract, hard);
+    GG_COUNT("reflect_inline random", k_reflect_plain, rnd);
+    GG_COUNT("reflect random", k_reflect, rnd);
+    GG_COUNT("reflect_inline hard", k_reflect_plain, hard);
+    GG_COUNT("reflect hard", k_reflect, hard);
+}
+
+int main(int argc, char **argv)
 {
     double base, t0 = gg_time_now();
     make_inputs();
+    if (argc > 1 && strcmp(argv[1], "--count") == 0) {
+        count_kernels();
+        return 0;
+    }
     printf("bench-optics: ns per call, best of %d runs of %d calls each\n", TRIALS, NIN * REPS);
-#ifdef FP_FAST_FMA
-    printf("(double-double products use the fma instruction)\n\n");
-#else
-    printf("(double-double products use Dekker's split: no fma in this build's target)\n\n");
-#endif
-    printf("%-46s %8s %10s\n", "function (inputs)", "ns/call", "x textbook");
+    printf("(ggRefract and ggReflection take their fma build where the CPU has fma: %s)\n\n",
+           gg_cpu_features() & GG_CPU_FMA ? "yes" : "no");
+    printf("%-50s %8s %10s\n", "function (inputs)", "ns/call", "x textbook");
     base = row("ggRefractTextbook (random)", k_textbook, rnd, 0);
     row("ggRefract, accurate (random)", k_refract, rnd, base);
     row("ggRefractTextbook (grazing / near critical)", k_textbook, hard, base);
     row("ggRefract, accurate (grazing / near critical)", k_refract, hard, base);
-    printf("\n%-46s %8s %10s\n", "", "ns/call", "x plain");
+    printf("\n%-50s %8s %10s\n", "", "ns/call", "x plain");
     base = row("v - 2 (v.n) n, inline (random)", k_reflect_plain, rnd, 0);
     row("ggReflection (random)", k_reflect, rnd, base);
+    base = row("v - 2 (v.n) n, inline (grazing / near critical)", k_reflect_plain, hard, 0);
+    row("ggReflection (grazing / near critical)", k_reflect, hard, base);
     base = row("textbook Fresnel, inline (random)", k_fresnel_plain, rnd, 0);
     row("ggFresnelDielectric, exact (random)", k_fresnel, rnd, base);
     row("ggFresnelSchlick (random)", k_schlick, rnd, base);

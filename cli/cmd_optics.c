@@ -8,6 +8,8 @@
 **   ggrt optics fresnel (--angle DEG | --cos C | --v X,Y,Z --n X,Y,Z)
 **                       [--ni N] [--nt N] [--k K]
 **   ggrt optics absorb  --k K --lambda L --distance D
+**   ggrt optics check   [--lib PATH --symbol NAME] [--kind KIND] ...  (optics_check.c)
+**   ggrt optics seeds   DIR                                          (optics_check.c)
 */
 #include "cli.h"
 
@@ -40,7 +42,9 @@ static const char about_all[] =
     "  refract  transmitted direction, angles, TIR, critical angle, Fresnel terms\n"
     "  reflect  mirror direction\n"
     "  fresnel  reflectance of a dielectric or (with --k) a conductor\n"
-    "  absorb   Beer-Lambert transmittance of a path through an absorbing medium";
+    "  absorb   Beer-Lambert transmittance of a path through an absorbing medium\n"
+    "  check    a refraction, reflection or Fresnel function against the exact values\n"
+    "  seeds    write a seed corpus of hard cases for examples/fuzz_your_refract.c";
 
 /* Each form's --help: the usage line after "ggrt optics FORM ", then
    what it computes; the options come from the table in parse. */
@@ -377,6 +381,8 @@ int cmd_optics(int argc, char **argv)
     size_t i;
     opts o;
     int rc;
+    if (argc >= 2 && strcmp(argv[1], "check") == 0) return cli_optics_check(argc - 1, argv + 1);
+    if (argc >= 2 && strcmp(argv[1], "seeds") == 0) return cli_optics_seeds(argc - 1, argv + 1);
     if (argc >= 2 && argv[1][0] != '-') {
         for (i = 0; i < sizeof forms / sizeof forms[0]; i++) {
             if (strcmp(argv[1], forms[i].name) != 0) continue;
@@ -398,8 +404,9 @@ int cmd_optics(int argc, char **argv)
                        .args = &form,
                        .min_args = 1,
                        .max_args = 1,
-                       .args_name = "form (refract, reflect, fresnel or absorb)"};
+                       .args_name = "form (refract, reflect, fresnel, absorb, check or seeds)"};
         if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
-        return cli_usage_error(&cmd, "unknown form '%s' (refract, reflect, fresnel, absorb)", form);
+        return cli_usage_error(
+            &cmd, "unknown form '%s' (refract, reflect, fresnel, absorb, check, seeds)", form);
     }
 }

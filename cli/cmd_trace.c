@@ -66,7 +66,8 @@ static int parse(trace_args *a, int argc, char **argv)
         CLI_OPT_FLAG(0, "ascii", &a->ascii, "plain ASCII tree even on a UTF-8 terminal"),
         CLI_OPT_FLAG(0, "no-numeric", &a->no_numeric,
                      "leave out each hit's numeric state (error bound, offset,\n"
-                     "TIR margin, edge distance) from the text tree"),
+                     "TIR margin, edge distance, traversal cost) from the\n"
+                     "text tree"),
         CLI_OPT_STRING(0, "svg", &a->svg, "FILE",
                        "draw the tree over a top and a side view of the scene"),
         CLI_OPT_STRING(0, "obj", &a->obj, "FILE", "write the rays as OBJ line geometry"),

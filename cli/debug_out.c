@@ -139,17 +139,42 @@ void json_num(FILE *f, double d)
         fprintf(f, "null");
 }
 
+int json_utf8_len(const unsigned char *s)
+{
+    int n, i;
+    unsigned c = s[0];
+    if (c < 0x80) return 1;
+    if (c >= 0xc2 && c <= 0xdf)
+        n = 2;
+    else if (c >= 0xe0 && c <= 0xef)
+        n = 3;
+    else if (c >= 0xf0 && c <= 0xf4)
+        n = 4;
+    else
+        return 0;
+    for (i = 1; i < n; i++)
+        if ((s[i] & 0xc0) != 0x80) return 0; /* also the terminating NUL */
+    if (n == 3 && ((c == 0xe0 && s[1] < 0xa0) || (c == 0xed && s[1] > 0x9f))) return 0;
+    if (n == 4 && ((c == 0xf0 && s[1] < 0x90) || (c == 0xf4 && s[1] > 0x8f))) return 0;
+    return n;
+}
+
 void json_str(FILE *f, const char *s)
 {
+    const unsigned char *p = (const unsigned char *)s;
     fputc('"', f);
-    for (; *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\')
-            fprintf(f, "\\%c", ch);
-        else if (ch < 0x20)
-            fprintf(f, "\\u%04x", ch);
-        else
-            fputc(ch, f);
+    while (*p) {
+        int n = json_utf8_len(p);
+        if (!n)
+            fprintf(f, "\\\\x%02X", *p++); /* the text \xHH, as in the library's messages */
+        else if (*p == '"' || *p == '\\')
+            fprintf(f, "\\%c", *p++);
+        else if (*p < 0x20 || *p == 0x7f)
+            fprintf(f, "\\u%04x", *p++);
+        else {
+            fwrite(p, 1, (size_t)n, f);
+            p += (size_t)n;
+        }
     }
     fputc('"', f);
 }

@@ -51,6 +51,12 @@ void dbg_divergence_text(char *buf, size_t n, const ggTrace *ta, const ggTrace *
 
 /* ---- JSON ---- */
 void json_num(FILE *f, double d);
+/* The length of the well-formed UTF-8 sequence at s (RFC 3629), else 0. */
+int json_utf8_len(const unsigned char *s);
+/* The CLI's one JSON string writer (trace, find, check, diff, serve): ", \
+   and control characters escaped; a byte that is not UTF-8 becomes the
+   text \xHH, the way the library's messages show it, so the document
+   always parses and says which byte it was. */
 void json_str(FILE *f, const char *s);
 void json_color(FILE *f, const char *key, ggColor c);
 /* The options as ggRenderOptionsFormat text. */

@@ -16,6 +16,7 @@
 #include "serve.h"
 
 #include <arpa/inet.h>
+#include <fcntl.h>
 #include <microhttpd.h>
 #include <netinet/in.h>
 #include <stdarg.h>
@@ -23,6 +24,7 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/socket.h>
+#include <unistd.h>
 
 typedef struct http_ctx {
     srv_server *srv;
@@ -270,11 +272,31 @@ static int parse_addr(const char *host, struct sockaddr_storage *ss, http_ctx *h
     return -1;
 }
 
+/* A listening socket on ss (non-blocking, as the daemon's pool of
+   threads accepts on it), and the port it got (--port 0: any free one):
+   known before the daemon starts, so no request runs before it is set. */
+static int listen_on(struct sockaddr_storage *ss, int family, int *port)
+{
+    socklen_t len = family == AF_INET6 ? sizeof(struct sockaddr_in6) : sizeof(struct sockaddr_in);
+    int fd = socket(family, SOCK_STREAM, 0), one = 1;
+    if (fd < 0) return -1;
+    if (setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
+        bind(fd, (struct sockaddr *)ss, len) != 0 || listen(fd, SOMAXCONN) != 0 ||
+        getsockname(fd, (struct sockaddr *)ss, &len) != 0 ||
+        fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK) != 0) {
+        close(fd);
+        return -1;
+    }
+    *port = ntohs(family == AF_INET6 ? ((struct sockaddr_in6 *)ss)->sin6_port
+                                     : ((struct sockaddr_in *)ss)->sin_port);
+    return fd;
+}
+
 srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
 {
     srv_http *h = calloc(1, sizeof *h);
     struct sockaddr_storage ss;
-    const union MHD_DaemonInfo *info;
+    int fd;
     unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG;
     if (!h) {
         snprintf(msg, msglen, "out of memory");
@@ -293,24 +315,25 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
         ((struct sockaddr_in *)&ss)->sin_port = htons((uint16_t)s->cfg.port);
     }
     /* The logger first: options before it would log through MHD's own. */
+    fd = listen_on(&ss, h->ctx.family, &h->ctx.port);
     /* clang-format off */
-    h->d = MHD_start_daemon(flags, (uint16_t)s->cfg.port, NULL, NULL, handle, &h->ctx,
-                            MHD_OPTION_EXTERNAL_LOGGER, logger, NULL,
-                            MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&ss,
-                            MHD_OPTION_THREAD_POOL_SIZE, (unsigned)SRV_THREADS,
-                            MHD_OPTION_CONNECTION_LIMIT, (unsigned)SRV_MAX_CONNECTIONS,
-                            MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)SRV_CONN_TIMEOUT,
-                            MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)SRV_MEMORY_LIMIT,
-                            MHD_OPTION_URI_LOG_CALLBACK, uri_log, NULL, MHD_OPTION_END);
+    if (fd >= 0)
+        h->d = MHD_start_daemon(flags, (uint16_t)h->ctx.port, NULL, NULL, handle, &h->ctx,
+                                MHD_OPTION_EXTERNAL_LOGGER, logger, NULL,
+                                MHD_OPTION_LISTEN_SOCKET, fd,
+                                MHD_OPTION_THREAD_POOL_SIZE, (unsigned)SRV_THREADS,
+                                MHD_OPTION_CONNECTION_LIMIT, (unsigned)SRV_MAX_CONNECTIONS,
+                                MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)SRV_CONN_TIMEOUT,
+                                MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)SRV_MEMORY_LIMIT,
+                                MHD_OPTION_URI_LOG_CALLBACK, uri_log, NULL, MHD_OPTION_END);
     /* clang-format on */
     if (!h->d) {
         snprintf(msg, msglen, "cannot listen on %s port %d (in use? --port 0 takes a free one)",
                  s->cfg.host, s->cfg.port);
+        if (fd >= 0) close(fd);
         free(h);
         return NULL;
     }
-    info = MHD_get_daemon_info(h->d, MHD_DAEMON_INFO_BIND_PORT);
-    h->ctx.port = info && info->port ? info->port : s->cfg.port;
     *port = h->ctx.port;
     return h;
 }

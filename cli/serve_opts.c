@@ -5,6 +5,7 @@
 */
 #if defined(GG_HAVE_MHD)
 #include "serve.h"
+#include "debug_out.h"
 
 #include <errno.h>
 #include <math.h>
@@ -80,60 +81,22 @@ void srv_json_num(FILE *f, double d)
         fprintf(f, "null");
 }
 
-/* Length of the valid UTF-8 sequence at s (RFC 3629: no overlongs, no
-   surrogates, at most U+10FFFF), or 0. */
-static int utf8_len(const unsigned char *s)
-{
-    int n, i;
-    unsigned c = s[0];
-    if (c < 0x80) return 1;
-    if (c >= 0xc2 && c <= 0xdf)
-        n = 2;
-    else if (c >= 0xe0 && c <= 0xef)
-        n = 3;
-    else if (c >= 0xf0 && c <= 0xf4)
-        n = 4;
-    else
-        return 0;
-    for (i = 1; i < n; i++)
-        if ((s[i] & 0xc0) != 0x80) return 0;
-    if (n == 3 && ((c == 0xe0 && s[1] < 0xa0) || (c == 0xed && s[1] > 0x9f))) return 0;
-    if (n == 4 && ((c == 0xf0 && s[1] < 0x90) || (c == 0xf4 && s[1] > 0x8f))) return 0;
-    return n;
-}
-
 int srv_utf8_valid(const char *s)
 {
     const unsigned char *p = (const unsigned char *)s;
     while (*p) {
-        int n = utf8_len(p);
+        int n = json_utf8_len(p);
         if (!n) return 0;
         p += n;
     }
     return 1;
 }
 
-/* A JSON string; bytes that are not UTF-8 (a query can carry any) become
-   U+FFFD, so the document always parses. */
+/* A JSON string: json_str (debug_out.h), bytes that are not UTF-8 (a
+   query can carry any) as the text \xHH, so the document always parses. */
 void srv_json_str(FILE *f, const char *s)
 {
-    const unsigned char *p = (const unsigned char *)s;
-    fputc('"', f);
-    while (*p) {
-        int n = utf8_len(p);
-        if (!n) {
-            fputs("\\ufffd", f);
-            p++;
-        } else if (*p == '"' || *p == '\\') {
-            fprintf(f, "\\%c", *p++);
-        } else if (*p < 0x20 || *p == 0x7f) {
-            fprintf(f, "\\u%04x", *p++);
-        } else {
-            fwrite(p, 1, (size_t)n, f);
-            p += n;
-        }
-    }
-    fputc('"', f);
+    json_str(f, s);
 }
 
 /* ---- render options ---- */

@@ -40,13 +40,20 @@ static void object_name(const trace_view *v, int obj, char *buf, size_t n)
 static void pcol(FILE *f, ggColor c) { fprintf(f, "(%.4g %.4g %.4g)", c.r, c.g, c.b); }
 static void pvec(FILE *f, ggVec3 p) { fprintf(f, "(%.6g, %.6g, %.6g)", p.x, p.y, p.z); }
 
+/* The ray's traversal cost, when recorded. */
+static void print_cost(FILE *f, const ggTraceNode *n)
+{
+    if (n->nodes >= 0) fprintf(f, ", traversal %ld nodes %ld prims", n->nodes, n->prims);
+}
+
 /* The hit's numeric state on one line: error bound, offset, TIR margin
-   and edge distance where they apply. */
+   and edge distance where they apply, and the traversal's cost. */
 static void print_numeric(FILE *f, const char *body, const ggTraceNode *n)
 {
     fprintf(f, "\n%s    numeric: perr %.2g, offset %.2g", body, n->perr, n->offset);
     if (isfinite(n->tir_margin)) fprintf(f, ", tir margin %+.3g", n->tir_margin);
     if (isfinite(n->edge)) fprintf(f, ", edge %.3g", n->edge);
+    print_cost(f, n);
 }
 
 typedef struct glyphs {
@@ -78,7 +85,9 @@ static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, 
     fprintf(f, " in %s (n %.6g)\n", medium_name(v->scene, n->medium, med, sizeof med),
             n->n_medium);
     if (!n->hit) {
-        fprintf(f, "%smissed: background\n", body);
+        fprintf(f, "%smissed: background", body);
+        if (!v->hide_numeric) print_cost(f, n);
+        fputc('\n', f);
     } else {
         ggMaterial m = ggSceneMaterial(v->scene, n->material);
         object_name(v, n->object, name, sizeof name);
@@ -198,14 +207,7 @@ static void jcol(FILE *f, const char *k, ggColor c)
 }
 static void jstr(FILE *f, const char *s)
 {
-    fputc('"', f);
-    for (; *s; s++) {
-        unsigned char ch = (unsigned char)*s;
-        if (ch == '"' || ch == '\\') fprintf(f, "\\%c", ch);
-        else if (ch < 0x20) fprintf(f, "\\u%04x", ch);
-        else fputc(ch, f);
-    }
-    fputc('"', f);
+    json_str(f, s);
 }
 
 /* Mesh hits: "face": {"triangle", "index", "line", "mesh", "group",
@@ -243,6 +245,10 @@ static void json_node(FILE *f, const trace_view *v, int i)
     fputc(',', f), jcol(f, "absorption", n->absorption);
     fprintf(f, ",\"stop\":\"%s\",", ggStopName(n->stop));
     jcol(f, "color", n->color);
+    if (n->nodes >= 0)
+        fprintf(f, ",\"traversal\":{\"nodes\":%ld,\"prims\":%ld}", n->nodes, n->prims);
+    else
+        fprintf(f, ",\"traversal\":null");
     fprintf(f, ",\"hit\":");
     if (!n->hit) {
         fprintf(f, "null");

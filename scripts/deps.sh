@@ -16,14 +16,15 @@ groups() {
   cat <<'GROUPS'
 build:   pkg-config libpng-dev libopenexr-dev
 demo:    @build
-check:   @build @serve libcmocka-dev python3 assimp-testmodels
+check:   @build @serve libcmocka-dev python3 assimp-testmodels valgrind
 fuzz:    @build clang
 serve:   libmicrohttpd-dev
 browser: chromium chromium-driver python3-selenium
 GROUPS
 }
 # check: assimp-testmodels holds the OBJ and PLY files tests/test_assimp.c
-#   loads (/usr/share/assimp/models).
+#   loads (/usr/share/assimp/models); valgrind replays the image fuzz corpus
+#   (tests/cli/t_truncated.sh).
 # serve: ggrt serve (cli/serve*.c) links libmicrohttpd when pkg-config finds
 #   it; without it the rest of ggrt builds and `ggrt serve` says what to
 #   install. browser: tests/browser* drive Chromium through Selenium.

@@ -614,9 +614,12 @@ static void a_free(void *ud, void *p)
 static void test_allocator(void **state)
 {
     ggAllocator al = {a_malloc, a_realloc, a_free, NULL};
+    size_t sizes[3] = {50, 8, 60};
     long b;
-    int ok_builds = 0;
+    int ok_builds = 0, was = gg_bvh_set_threads(2);
     (void)state;
+    /* with two build threads for the 120 primitives (small limits) */
+    gg_bvh_set_build_sizes(sizes);
     for (b = 0; b < 400; b += 3) {
         tu_rng r = {17};
         gg_geom *g;
@@ -651,7 +654,54 @@ static void test_allocator(void **state)
         gg_geom_free(g);
         assert_int_equal(live, 0);
     }
+    gg_bvh_set_build_sizes(sizes);
+    gg_bvh_set_threads(was);
     assert_true(ok_builds > 0);
+}
+
+/* ---- threaded builds ---- */
+
+/* The tree does not depend on the number of threads: the same nodes,
+   slots and triangle blocks byte for byte with 1 to 4 build threads,
+   each handed many small subtrees and binning the large nodes together
+   (small limits), and answers that are brute force's. */
+static void test_threaded_build(void **state)
+{
+    size_t sizes[3] = {500, 40, 700}, keep[3];
+    gg_geom *one;
+    int t, was = gg_bvh_set_threads(1), i;
+    (void)state;
+    gg_bvh_set_build_sizes(sizes);
+    {
+        tu_rng r = {23};
+        one = random_scene(&r, 4000, 5);
+    }
+    assert_true(one->nnodes > 100 && (one->ntleaves > 10 || !gg_bvh_avx_wanted(one)));
+    for (t = 2; t <= 4; t++) {
+        tu_rng r = {23};
+        gg_geom *g;
+        long nhit = 0;
+        gg_bvh_set_threads(t);
+        g = random_scene(&r, 4000, 5);
+        assert_int_equal(g->nnodes, one->nnodes);
+        assert_int_equal(g->nslots, one->nslots);
+        assert_int_equal(g->ntleaves, one->ntleaves);
+        assert_int_equal(memcmp(g->nodes, one->nodes, g->nnodes * sizeof *g->nodes), 0);
+        assert_int_equal(memcmp(g->slots, one->slots, g->nslots * sizeof *g->slots), 0);
+        if (g->ntleaves) /* none in the scalar suite */
+            assert_int_equal(memcmp(g->tleaves, one->tleaves, g->ntleaves * sizeof *g->tleaves), 0);
+        for (i = 0; i < RAYS(5000); i++) {
+            gg_rayq q;
+            random_ray(&r, &q);
+            compare(g, &q, &nhit);
+        }
+        assert_true(nhit > RAYS(500));
+        gg_geom_free(g);
+    }
+    gg_geom_free(one);
+    memcpy(keep, sizes, sizeof keep);
+    gg_bvh_set_build_sizes(keep);
+    gg_bvh_set_threads(was);
 }
 
 /* ---- SPD scenes ---- */
@@ -766,6 +816,7 @@ int main(void)
         cmocka_unit_test(test_float_bounds),
         cmocka_unit_test(test_rebuild_stats_bounds),
         cmocka_unit_test(test_allocator),
+        cmocka_unit_test(test_threaded_build),
         cmocka_unit_test(test_spd_scenes),
         cmocka_unit_test(test_traversal),
     };

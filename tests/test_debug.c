@@ -206,6 +206,17 @@ static int d_close_tir_or_edge(const ggTrace *t, ggColor px, int x, int y)
     return 0;
 }
 
+static int d_eye_no_prims(const ggTrace *t, ggColor px, int x, int y)
+{
+    size_t i;
+    (void)px, (void)x, (void)y;
+    for (i = 0; i < ggTraceNodeCount(t); i++) {
+        const ggTraceNode *n = ggTraceGetNode(t, i);
+        if (n->kind == GG_RAY_EYE && n->prims == 0) return 1;
+    }
+    return 0;
+}
+
 static const struct {
     const char *scene, *where;
     direct_fn direct;
@@ -223,6 +234,9 @@ static const struct {
     {"examples/scenes/glass.nff", "all(!hit || front)", d_all_front_hits},
     {"examples/scenes/glass.nff", "some(tir_margin < 0 && tir_margin > -3e13) || some(edge < 0.02)",
      d_close_tir_or_edge},
+    /* the sky: eye rays that miss every box, beside ones that enter the
+       floor's (each pixel's own ray, no neighbour's tree) */
+    {"examples/scenes/glass.nff", "some(kind == eye && prims == 0)", d_eye_no_prims},
 };
 
 static void test_find_matches_full_traces(void **state)
@@ -846,6 +860,47 @@ static void test_numeric_state(void **state)
     ggTraceFree(t);
 }
 
+/* Each ray's traversal cost: within the BVH's size, a hit has a tested
+   primitive, and the BVH prunes (balls-s3: 821 primitives). */
+static void test_traversal_cost(void **state)
+{
+    char path[512];
+    ggScene *s;
+    ggSceneInfo in;
+    ggTrace *t = ggTraceCreate(NULL);
+    ggRenderOptions o;
+    ggColor px;
+    long eye = 0, eye_prims = 0, rays = 0;
+    size_t i;
+    int x, y;
+    (void)state;
+    snprintf(path, sizeof path, "%s/balls-s3.nff", tu_spd_dir());
+    s = load(path);
+    assert_int_equal(ggSceneGetInfo(s, &in), GG_OK);
+    small(&o, 48, 48, 1);
+    for (y = 0; y < 48; y++)
+        for (x = 0; x < 48; x++) {
+            assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+            for (i = 0; i < ggTraceNodeCount(t); i++) {
+                const ggTraceNode *n = ggTraceGetNode(t, i);
+                assert_true(n->nodes >= 0 && (size_t)n->nodes <= in.bvh_nodes);
+                /* + 1: the isolated-sphere hint tests its sphere first */
+                assert_true(n->prims >= 0 && (size_t)n->prims <= in.primitives + 1);
+                if (n->hit) assert_true(n->prims >= 1 && n->nodes >= 1);
+                if (n->kind == GG_RAY_EYE) eye++, eye_prims += n->prims;
+                rays++;
+            }
+        }
+    assert_int_equal(eye, 48 * 48);
+    assert_true(rays > eye);
+    /* an eye ray tests under 2% of the primitives */
+    if (!(eye_prims * 50 < eye * (long)in.primitives))
+        print_error("%ld primitives tested by %ld eye rays\n", eye_prims, eye);
+    assert_true(eye_prims * 50 < eye * (long)in.primitives);
+    ggSceneFree(s);
+    ggTraceFree(t);
+}
+
 /* self-hit and near-tir see the recorded state: with thresholds that take
    everything they count every secondary hit and every refraction. */
 static void test_check_numeric(void **state)
@@ -952,8 +1007,8 @@ int main(void)
         cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
         cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
         cmocka_unit_test(test_compare_depth),       cmocka_unit_test(test_compare_kinds),
-        cmocka_unit_test(test_numeric_state),       cmocka_unit_test(test_check_numeric),
-        cmocka_unit_test(test_options_text),
+        cmocka_unit_test(test_numeric_state),       cmocka_unit_test(test_traversal_cost),
+        cmocka_unit_test(test_check_numeric),       cmocka_unit_test(test_options_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

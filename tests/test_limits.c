@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** test_limits.c -- bounded memory (issue 16, item 6): the texture budget
+** test_limits.c -- bounded memory (docs/scene-format.md, "NFF"): the texture budget
 ** and its contract, a texture named many times decoded once, declared
 ** image sizes refused before anything large is allocated, the scene-file
 ** size limit and the render's image-size limit. The files are

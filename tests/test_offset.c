@@ -255,7 +255,7 @@ static void test_no_rehits(void **state)
 
 /* No single fixed epsilon works everywhere, which is the point of the
    scaled offset (and shows the tests above can fail): the naive 1e-6 of
-   GG_OFFSET_FIXED jumps over an inner sphere 1e-13 below the outer one at
+   GG_ACC_OFFSET_FIXED jumps over an inner sphere 1e-13 below the outer one at
    scale 1e-4, while an epsilon small enough for that (1e-14) re-hits a
    unit sphere translated to 1e5, where the hit point's error is ~1e-11. */
 static void test_fixed_epsilon_fails(void **state)

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** test_optics.c -- properties of reflection, refraction, Fresnel and
-** Beer-Lambert (issue 2, item 4). Each test asserts a physical or
+** Beer-Lambert (docs/optics.md). Each test asserts a physical or
 ** documented property that a wrong formula would break.
 */
 #include "testutil.h"

@@ -32,6 +32,16 @@
 
 #include "optics_ref.h"
 
+/* The kernels themselves, to test the fast path's certificate on its own. */
+#define GG_REFRACT_NAME refract_plain
+#define GG_REFLECT_NAME reflect_plain
+#include "refract_core.h"
+
+/* check_case's reference: the textbook one of optics_ref.h, or ref_wide
+   (below) for index ratios beyond 2^40. */
+static int use_wide_ref;
+static void ref_wide(ggVec3 v, ggVec3 n, double ni, double nt, ref_result *r);
+
 /* ------------------------------------------------------------------ */
 /* Statistics per category                                             */
 /* ------------------------------------------------------------------ */
@@ -62,7 +72,10 @@ static void check_case(stat *st, ggVec3 v, ggVec3 n, double ni, double nt)
     ggVec3 t, tb, vu, nu;
     bool ok, okb;
     double e, eb, lv, ln;
-    ref_refract(v, n, ni, nt, &r);
+    if (use_wide_ref)
+        ref_wide(v, n, ni, nt, &r);
+    else
+        ref_refract(v, n, ni, nt, &r);
     ok = ggRefract(v, n, ni, nt, &t);
     /* The textbook formula wants unit vectors: give it the best doubles. */
     lv = sqrt(v.x * v.x + v.y * v.y + v.z * v.z), ln = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
@@ -450,12 +463,244 @@ static void test_fresnel_accuracy(void **state)
     assert_true(worst <= BOUND_FRESNEL);
 }
 
+/* ------------------------------------------------------------------ */
+/* Every eta: a reference without cancellation at any index ratio      */
+/* ------------------------------------------------------------------ */
+
+/* The textbook reference above cancels eta v against eta c N: its error
+   grows like eta 2^-128, too much beyond eta = 2^40. This one builds the
+   tangential part from cross products, vt = n x (v x n) / |n|^2 (each
+   component from exact products, 128-bit relative), and
+   cos^2(theta_t) = 1 - eta^2 |v x n|^2 / (|v|^2 |n|^2), so its error stays
+   near 2^-127 of |t| for every eta the doubles allow. */
+static void ref_wide(ggVec3 v, ggVec3 n, double ni, double nt, ref_result *r)
+{
+    ldd vc[3] = {L(v.x), L(v.y), L(v.z)}, nc[3] = {L(n.x), L(n.y), L(n.z)}, w[3], vt[3];
+    ldd vv = L(0), nn = L(0), a = L(0), ww = L(0), lv, ln, eta, k;
+    int i, s;
+    for (i = 0; i < 3; i++) {
+        vv = add(vv, mul(vc[i], vc[i])), nn = add(nn, mul(nc[i], nc[i]));
+        a = add(a, mul(vc[i], nc[i]));
+    }
+    for (i = 0; i < 3; i++) {
+        int j = (i + 1) % 3, l = (i + 2) % 3;
+        w[i] = sub(mul(vc[j], nc[l]), mul(vc[l], nc[j]));
+        ww = add(ww, mul(w[i], w[i]));
+    }
+    for (i = 0; i < 3; i++) {
+        int j = (i + 1) % 3, l = (i + 2) % 3;
+        vt[i] = dvd(sub(mul(nc[j], w[l]), mul(nc[l], w[j])), nn);
+    }
+    lv = sqrt_ldd(vv), ln = sqrt_ldd(nn);
+    s = sgn(a);
+    if (s == 0) {
+        r->tir = -1, r->certain = 1, r->cos2 = 0;
+        for (i = 0; i < 3; i++) r->t[i] = dvd(vc[i], lv);
+        return;
+    }
+    eta = dvd(L(ni), L(nt));
+    k = sub(L(1), mul(mul(eta, eta), dvd(ww, mul(vv, nn))));
+    r->certain = fabsl(k.hi) > 0x1p-118L;
+    r->cos2 = k.hi;
+    if (k.hi < 0) {
+        ldd k2 = dvd(add(a, a), nn);
+        r->tir = 1;
+        for (i = 0; i < 3; i++) r->t[i] = dvd(sub(vc[i], mul(k2, nc[i])), lv);
+    } else {
+        ldd g = mul(L(s), dvd(sqrt_ldd(k), ln)), e = dvd(eta, lv);
+        r->tir = 0;
+        for (i = 0; i < 3; i++) r->t[i] = add(mul(e, vt[i]), mul(g, nc[i]));
+    }
+}
+
+/* A random finite double with exponent in [lo, hi]. */
+static double rand_scaled(tu_rng *r, int lo, int hi)
+{
+    return ldexp(tu_range(r, 1.0, 2.0), lo + (int)(tu_next(r) % (uint64_t)(hi - lo + 1)));
+}
+
+/* eta anywhere in the double range: random directions and index ratios
+   from 2^-2098 to 2^2098; near-normal incidence with sin_i ~ 1/eta (axis
+   normals, so the tiny tangential part is exact), where only huge ratios
+   transmit; tiny eta, where every ray transmits almost along n; and
+   critical angles of huge ratios, cos^2(theta_t) as small as 2^-1000. */
+static void test_refract_every_eta(void **state)
+{
+    tu_rng rng = {4242};
+    stat any = mkstat("any eta"), big = mkstat("huge eta, near normal"),
+         tiny = mkstat("tiny eta"), crit = mkstat("huge eta, critical"),
+         sub = mkstat("subnormal components");
+    long i;
+    (void)state;
+    if (!ref_init()) {
+        print_message("long double is not wider than double here: no reference\n");
+        skip();
+    }
+    use_wide_ref = 1;
+    for (i = 0; i < 20000; i++) {
+        ggVec3 n = tu_unit(&rng), v = incoming(&rng, n, tu_uniform(&rng));
+        double ni = rand_scaled(&rng, -1074, 1023), nt = rand_scaled(&rng, -1074, 1023);
+        if (i % 3 == 0) ni = nt * tu_range(&rng, 4, 64); /* just above the old range */
+        if (i % 3 == 1) nt = ni * tu_range(&rng, 4, 64);
+        perturb(&rng, &v, &n, &ni, &nt);
+        check_case(&any, v, n, ni, nt);
+    }
+    for (i = 0; i < 20000; i++) {
+        int e = 1 + (int)(tu_next(&rng) % 1060), ax = (int)(i % 3);
+        double comp[3], nrm[3] = {0, 0, 0}, ni = ldexp(tu_range(&rng, 1, 2), e), nt = 1.0;
+        ggVec3 v, n;
+        /* sin_i ~ x / eta, x in (0, 2): transmitted below x ~ 1 */
+        comp[ax] = ldexp(tu_range(&rng, 0.01, 2.0), -e) * (tu_next(&rng) & 1 ? 1 : -1);
+        comp[(ax + 1) % 3] = -1, comp[(ax + 2) % 3] = i % 2 ? 0 : comp[ax] * 0.5;
+        nrm[(ax + 1) % 3] = (i & 4) ? 1 : -1;
+        v.x = comp[0], v.y = comp[1], v.z = comp[2];
+        n.x = nrm[0], n.y = nrm[1], n.z = nrm[2];
+        if (i & 8) ni = -ni, nt = -nt;
+        if (i & 16) ni = ldexp(ni, -1000), nt = ldexp(nt, -1000);
+        check_case(&big, v, n, ni, nt);
+    }
+    for (i = 0; i < 10000; i++) {
+        ggVec3 n = tu_unit(&rng), v = incoming(&rng, n, tu_uniform(&rng));
+        double nt = rand_scaled(&rng, 0, 1023), ni = nt * ldexp(1.0, -2 - (int)(tu_next(&rng) % 2000));
+        if (ni == 0) ni = 0x1p-1074;
+        perturb(&rng, &v, &n, &ni, &nt);
+        check_case(&tiny, v, n, ni, nt);
+    }
+    /* v = (x, -1, 0), n = (0, 1, 0): sin_i = x / sqrt(1 + x^2); with ni = 1,
+       nt = x (1 + k 2^-53): critical within a few ulp, cos^2 ~ x^2 or
+       -k 2^-52. */
+    for (i = 0; i < 4000; i++) {
+        double x = ldexp(tu_range(&rng, 1, 2), -1 - (int)(tu_next(&rng) % 1000));
+        double k = (double)((int)(tu_next(&rng) % 9) - 4), nt = x * (1 + k * 0x1p-53);
+        ggVec3 v = {x, -1, 0}, n = {0, 1, 0};
+        check_case(&crit, v, n, 1.0, nt);
+    }
+    /* A normal with a subnormal component: n = (x, +-m, 0), v = (0, -w, 0),
+       sin_i about x, ni = 1, nt = x / r (eta about r / x, up to 2^1074):
+       found by the fuzzer (tests/fuzz/corpus/optics/huge-eta-subnormal-normal)
+       when k n_x underflowed in the double-double path. */
+    for (i = 0; i < 2000; i++) {
+        double x = ldexp(tu_range(&rng, 1, 2), -1023 - (int)(tu_next(&rng) % 50));
+        double r = tu_range(&rng, 0.01, 2.0);
+        ggVec3 v = {0, -1, 0}, n = {x, (i & 1) ? 1 : -1, 0};
+        v.y = -tu_range(&rng, 1, 2), n.y *= tu_range(&rng, 0.5, 1); /* k = v.n/n.n inexact */
+        if (i & 2) v.z = ldexp(x, -(int)(tu_next(&rng) % 4));
+        check_case(&sub, v, n, 1.0, x / r);
+    }
+    use_wide_ref = 0;
+    print_message("ggRefract for every eta against the cross-product reference (bound %.0f, %.0f "
+                  "where cos_t < 2^-40):\n",
+                  BOUND_REFRACT, BOUND_NEARCRIT);
+    report(&any);
+    report(&big);
+    report(&tiny);
+    report(&crit);
+    report(&sub);
+    assert_true(big.count > 0 && crit.nearcrit > 0);
+}
+
+/* ------------------------------------------------------------------ */
+/* The fast path's certificate                                         */
+/* ------------------------------------------------------------------ */
+
+/* refract_fast (lib/optics/refract_core.h, compiled into this test) on the
+   scaled inputs, against the 128-bit reference and against refract_dd on
+   the same inputs: whenever it certifies a result, that result is within
+   the bound; it must decline (return 2) within 2^-60 of the critical
+   angle, where the double-double discriminant cannot give cos_t to the
+   precision the 1-ulp bound needs; and it must cover nearly all random
+   inputs (otherwise the speed claimed in docs/optics.md is not there). */
+static int fast_on(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t, ggVec3 *tdd, int *rdd)
+{
+    gg_v4 V = scale_unit(v, max_bits(v)), N = scale_unit(n, max_bits(n));
+    int e = dd_expo(fabs(ni)) > dd_expo(fabs(nt)) ? dd_expo(fabs(ni)) : dd_expo(fabs(nt)), rc;
+    ni = dd_scale2(ni, -e), nt = dd_scale2(nt, -e);
+    *rdd = refract_dd(v3(flush(V[0]), flush(V[1]), flush(V[2])),
+                      v3(flush(N[0]), flush(N[1]), flush(N[2])), ni, nt, 0, tdd);
+    if (!((ni > 0) == (nt > 0) && fabs(ni) <= 4 * fabs(nt))) return 2;
+    rc = refract_fast(V, N, ni, nt, t);
+    return rc;
+}
+
+static void test_fast_certificate(void **state)
+{
+    tu_rng rng = {31337};
+    long i, certified[4] = {0, 0, 0, 0}, total[4] = {0, 0, 0, 0}, declined_crit = 0;
+    double worst = 0, worst_dd = 0;
+    static const char *cls[4] = {"random", "grazing, eta ~ 1", "near critical", "normal"};
+    (void)state;
+    if (!ref_init()) {
+        print_message("long double is not wider than double here: no reference\n");
+        skip();
+    }
+    for (i = 0; i < 80000; i++) {
+        int k = (int)(i % 4), rc, rdd;
+        ggVec3 n = tu_unit(&rng), v, t, tdd;
+        double ni = rand_index(&rng), nt = rand_index(&rng), c = tu_uniform(&rng), s;
+        ref_result r;
+        if (k == 1) {
+            c = pow(2.0, -tu_range(&rng, 1, 70));
+            nt = ni * (1 + (double)((int)(tu_next(&rng) % 9) - 4) * 0x1p-52);
+        } else if (k == 2) {
+            if (nt > ni) s = nt, nt = ni, ni = s;
+            if (nt == ni) ni = nt * 1.5;
+            s = nt / ni * (1 + (i % 8 < 4 ? 1 : -1) * pow(2.0, -tu_range(&rng, 20, 53)));
+            c = sqrt((1 - s) * (1 + s));
+        } else if (k == 3) {
+            c = 1 - pow(10.0, -tu_range(&rng, 1, 17));
+        }
+        v = incoming(&rng, n, c);
+        rc = fast_on(v, n, ni, nt, &t, &tdd, &rdd);
+        total[k]++;
+        if (rc == 2) continue;
+        certified[k]++;
+        ref_refract(v, n, ni, nt, &r);
+        assert_int_equal(rc, rdd); /* the same decision as the full path */
+        if (r.certain && r.tir != -1) {
+            double e = err_ulps(t, r.t), d;
+            ggVec3 diff = v3sub(t, tdd);
+            assert_int_equal(rc == 1 ? 0 : 1, r.tir);
+            if (e > worst) worst = e;
+            d = 0x1p53 * v3maxabs(diff);
+            if (d > worst_dd) worst_dd = d;
+            if (!(e <= BOUND_REFRACT))
+                print_error("fast path %.3f ulp at v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", e,
+                            v.x, v.y, v.z, n.x, n.y, n.z, ni, nt);
+            assert_true(e <= BOUND_REFRACT);
+        }
+    }
+    /* Within 2^-45 (relative) of the critical angle, on the transmitted
+       side: cos^2(theta_t) about 2^-44, where the discriminant's bound (about 2^-94 of its terms)
+       leaves cos_t less precise than the 1-ulp bound needs: the fast path
+       must decline (docs/optics.md, "The fast paths"). */
+    for (i = 0; i < 2000; i++) {
+        ggVec3 n = tu_unit(&rng), v, t, tdd;
+        double ni = 1.5, nt = 1.0, s = nt / ni * (1 - ldexp(0.5 + 0.5 * tu_uniform(&rng), -45));
+        int rdd;
+        v = incoming(&rng, n, sqrt((1 - s) * (1 + s)));
+        if (fast_on(v, n, ni, nt, &t, &tdd, &rdd) == 2) declined_crit++;
+    }
+    print_message("fast path certified:");
+    for (i = 0; i < 4; i++) print_message(" %s %ld/%ld", cls[i], certified[i], total[i]);
+    print_message("\n  worst certified error %.3f ulp (bound %.0f), largest difference from the "
+                  "double-double path %.3f ulp; declined %ld of 2000 transmitted rays within "
+                  "2^-45 of critical\n",
+                  worst, BOUND_REFRACT, worst_dd, declined_crit);
+    assert_true(worst <= BOUND_REFRACT);
+    assert_true(certified[0] >= total[0] * 99 / 100);
+    assert_true(certified[1] >= total[1] * 9 / 10);
+    assert_int_equal(declined_crit, 2000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_refract_accuracy),
+        cmocka_unit_test(test_refract_every_eta),
+        cmocka_unit_test(test_fast_certificate),
         cmocka_unit_test(test_reflect_accuracy),
         cmocka_unit_test(test_fresnel_accuracy),
     };
+    (void)refract_plain, (void)reflect_plain;
     return cmocka_run_group_tests_name("optics_accuracy", tests, NULL, NULL);
 }

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** test_refract_fma.c -- the fma build of the accurate refraction returns
-** the same bits as the plain build (TwoProd is exact either way), on
+** the same bits as the plain build (and so does the reflection) (TwoProd is exact either way), on
 ** ordinary, grazing, near-critical, eta ~ 1, exactly normal, extreme-scale
 ** and extreme-ratio inputs. The plain build is compiled into this test
 ** from the same source (refract_core.h), so the two are compared directly.
@@ -16,6 +16,7 @@
 #include <string.h>
 
 #define GG_REFRACT_NAME refract_plain
+#define GG_REFLECT_NAME reflect_plain
 #include "refract_core.h"
 
 #if GG_ISA_X86
@@ -31,13 +32,20 @@ static long ncase, ntrans;
 static void same(ggVec3 v, ggVec3 n, double ni, double nt)
 {
     ggVec3 a, b;
-    int ra = refract_plain(v, n, ni, nt, &a), rb = gg_refract_fma(v, n, ni, nt, &b);
+    int ra = refract_plain(&v, &n, ni, nt, &a), rb = gg_refract_fma(&v, &n, ni, nt, &b);
     ncase++;
     ntrans += ra == 1;
     if (ra != rb || memcmp(&a, &b, sizeof a) != 0) {
         print_error("v = (%a, %a, %a) n = (%a, %a, %a) ni = %a nt = %a: plain %d (%a %a %a), "
                     "fma %d (%a %a %a)\n",
                     v.x, v.y, v.z, n.x, n.y, n.z, ni, nt, ra, a.x, a.y, a.z, rb, b.x, b.y, b.z);
+        fail();
+    }
+    reflect_plain(&v, &n, &a), gg_reflect_fma(&v, &n, &b);
+    if (memcmp(&a, &b, sizeof a) != 0) {
+        print_error("reflection of v = (%a, %a, %a) n = (%a, %a, %a): plain (%a %a %a), fma "
+                    "(%a %a %a)\n",
+                    v.x, v.y, v.z, n.x, n.y, n.z, a.x, a.y, a.z, b.x, b.y, b.z);
         fail();
     }
 }
@@ -94,7 +102,7 @@ static void test_same_bits(void **state)
         }
         same(v, n, ni, nt);
     }
-    print_message("%ld cases (%ld transmitted): plain and fma builds agree bit for bit\n", ncase,
+    print_message("%ld cases (%ld transmitted): plain and fma builds agree bit for bit (refraction and reflection)\n", ncase,
                   ntrans);
     assert_true(ntrans > ncase / 4);
 }
@@ -102,7 +110,7 @@ static void test_same_bits(void **state)
 static void test_same_bits(void **state)
 {
     (void)state;
-    (void)refract_plain; /* compiled, nothing to compare it with */
+    (void)refract_plain, (void)reflect_plain; /* compiled, nothing to compare them with */
     print_message("no fma build on this compiler/target\n");
     skip();
 }

@@ -201,8 +201,8 @@ static void test_depth_limit(void **state)
 static void test_direct_light_added(void **state)
 {
     /* Floor facing +z at z = 0, light straight above at height 1: N.L = 1,
-       colour = kd C ambient + kd C Lc. The notes' draft assigned the
-       direct term instead of adding it; ambient must survive. */
+       colour = kd C ambient + kd C Lc: the direct term is added to the
+       ambient one, not assigned over it; ambient must survive. */
     const char *txt = "ambient 0.25 0.25 0.25\nl 0 0 1 1 1 1\n"
                       "f 0.5 0.5 0.5 0.8 0 100000 0 0\np 4 -1 -1 0 1 -1 0 1 1 0 -1 1 0\n";
     ggScene *s = ggSceneCreate(NULL);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** test_texture.c -- ggTextureBilinear against the lecture notes, nearest
+** test_texture.c -- ggTextureBilinear against its formula (ggrt/image.h), nearest
 ** texel, wrap modes, edge cases, and the procedural checker.
 */
 #include "testutil.h"
@@ -35,7 +35,7 @@ static ggImage *random_image(int w, int h, tu_rng *r, double lo, double hi)
         assert_close(c_.b, (B), 1e-12);                                                            \
     } while (0)
 
-/* The notes' example: u = v = 0.5 gives u_p = 0, v_p = 0.5 and
+/* A worked example of the formula: u = v = 0.5 gives u_p = 0, v_p = 0.5 and
    Color = C00 (1)(0.5) + C01 (1)(0.5) = (C00 + C01) / 2. With
    d_i = (w - 1) u that happens for an odd width and an even height; a
    3 x 2 texture is the smallest. */
@@ -340,7 +340,7 @@ static void test_checker(void **state)
     assert_color_eq(ggTextureChecker(0.7, 0.2, 2.5, a, b), 0, 0, 1); /* squares (1, 0) */
 }
 
-/* The blend as the notes write it, computed long-hand, on random points. */
+/* The blend as ggrt/image.h writes it, computed long-hand, on random points. */
 static void test_matches_formula(void **state)
 {
     tu_rng r = {77};

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bench_accuracy.c -- `ggrt bench accuracy SCENE...`: what each accuracy
+** accuracy.c -- `ggrt bench accuracy SCENE...`: what each accuracy
 ** knob costs in time and buys in error, one knob at a time from the
 ** accurate defaults. Writes a CSV, an SVG plot of error against time per
 ** knob (the Pareto front marked), and prints the tables.

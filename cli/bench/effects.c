@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bench_effects.c -- `ggrt bench effects`: what simulating only the
+** effects.c -- `ggrt bench effects`: what simulating only the
 ** effects a scene calls for saves, and proof that it changes nothing.
 */
 #include "bench.h"

@@ -631,6 +631,7 @@
         : n.stop === 'matte' ? 'no ks or kt: no secondary rays' : n.stop))]);
     }
     if (n.absorption.some((v) => v !== 1)) field(d, 'absorption', 'over the segment ' + col(n.absorption));
+    if (n.traversal) field(d, 'traversal', n.traversal.nodes + ' nodes, ' + n.traversal.prims + ' prims tested');
     field(d, 'returns', col(n.color), [swatch(n.color)]);
     for (const k of n.children) d.appendChild(nodeEl(k, open));
     return d;

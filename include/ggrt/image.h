@@ -97,7 +97,9 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
                            file"), deep EXR data, subsampled R/G/B/Y
                            channels, no R, G, B or Y channel, a compression
                            the OpenEXR core cannot decode
-     GG_ERROR_PARSE        corrupt or truncated file
+     GG_ERROR_PARSE        corrupt or truncated file, also an uncompressed
+                           EXR chunk shorter than its pixels: no pixel is
+                           ever taken from memory the file did not fill
      GG_ERROR_LIMIT        a side over GG_IMAGE_MAX_DIM or more pixels than
                            GG_IMAGE_MAX_PIXELS (checked before allocating),
                            more than 1024 EXR channels
@@ -112,7 +114,8 @@ GG_API int ggImageRead(const char *path, const ggAllocator *alloc, ggImage **out
    every byte). */
 GG_API int ggImageWritePNG(const ggImage *img, const char *path, ggError *err);
 /* Write a float (32-bit) linear R, G, B scanline OpenEXR, ZIP compressed
-   (zlib level 1, which is about as small for float data and twice as fast);
+   (zlib level 1: about as small for float data as the default level and
+   faster, docs/performance.md);
    values, including NaN and infinities, are stored bit for bit. */
 GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err);
 /* Chooses PNG or EXR by the extension of path (.png / .exr, any case);
@@ -168,7 +171,7 @@ GG_API int ggImageCompare(const ggImage *a, const ggImage *b, int space, ggImage
 #define GG_WRAP_REPEAT 0
 #define GG_WRAP_CLAMP  1
 
-/* Bilinear sample, exactly as in the lecture notes: d_i = (w-1) u,
+/* Bilinear sample: d_i = (w-1) u,
    d_j = (h-1) v, i = int(d_i), u_p = d_i - i (likewise j, v_p), blend of the
    four texels C00 = (i, j), C01 = (i, j+1), C10 = (i+1, j), C11 = (i+1, j+1):
    C00 (1-u_p)(1-v_p) + C01 (1-u_p) v_p + C10 u_p (1-v_p) + C11 u_p v_p, each

@@ -32,7 +32,9 @@ extern "C" {
    n need not be unit length: n/|n| is used, so r always has the length of
    v and is its mirror image in the plane normal to n. Each component is
    within 1 ulp of |v| of the exact mirror image of the given doubles (it
-   is evaluated in double-double and rounded once; docs/optics.md).
+   is evaluated in double-double and rounded once; docs/optics.md). A
+   component is subnormal, and may carry another 2^-1075, only when
+   |v| < 2^-1021.
    Non-finite components or a zero n give (NaN, NaN, NaN); a zero v gives
    v. Overflow (FE_OVERFLOW) is possible only when a component of the exact
    result exceeds DBL_MAX, i.e. |v| > DBL_MAX. */
@@ -49,20 +51,24 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
     - v and n need not be unit length; only their directions are used
       (both are rescaled internally by powers of two), and *t is always
       unit length. Scaling v, n or both indices by powers of two gives
-      bit-identical results, and so does replacing n by -n. Components
-      smaller than 2^-480 times the largest component of the same vector
-      are treated as zero.
-    - Accuracy, for 1/4 <= |eta| <= 4 (every pair of real transparent
-      media): each component of *t is within 1 ulp (2^-53, the spacing of
-      doubles in [0.5, 1)) of the exact refraction or reflection of the
-      directions of the given doubles -- at grazing incidence, for eta near
-      1, at normal incidence, near the critical angle, for negative
-      indices. The one exception is a transmitted ray within 2^-40 rad of
-      the surface (only inputs within about 2^-80 of the critical angle
-      give one), where the bound is 4 ulp.
+      bit-identical results, and so does replacing n by -n. Where the
+      double-double fallback decides (see Cost) and |eta| <= 2^400,
+      components smaller than 2^-480 times the largest component of the
+      same vector are treated as zero (they move *t by less than 2^-80
+      ulp).
+    - Accuracy, for every finite non-zero v, n, ni and nt (any eta, from
+      2^-2098 to 2^2098, of either sign): each component of *t is within
+      1 ulp (2^-53, the spacing of doubles in [0.5, 1)) of the exact
+      refraction or reflection of the directions of the given doubles --
+      at grazing incidence, for eta near 1, at normal incidence, near the
+      critical angle, for negative indices. The one exception is a
+      transmitted ray within 2^-40 rad of the surface (only inputs within
+      about 2^-80 of the critical angle give one), where the bound is
+      4 ulp. Components of *t below 2^-1022 are subnormal (still within
+      the bound); *t cannot overflow.
     - The total-internal-reflection decision is the sign of the
       discriminant nt^2 |v|^2 cos^2(theta_t), evaluated in double-double
-      arithmetic: for |eta| <= 4 it agrees with exact arithmetic on the
+      arithmetic: for every eta it agrees with exact arithmetic on the
       given doubles unless |cos^2(theta_t)| < 2^-96, i.e. unless the
       incidence angle is within about 2^-97 (relative) of the critical
       one. At exactly the critical angle the ray is transmitted along the
@@ -74,8 +80,11 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
     - Invalid input -- a non-finite component or index, a zero v or n, or
       ni == 0 or nt == 0 -- returns false and writes (NaN, NaN, NaN).
     - t may be NULL: only the decision is returned.
-    - Cost: 15 to 25 times the textbook formula, a few hundred ns
-      (make bench-optics). */
+    - Cost: a fast path in double-double with a running error bound
+      certifies the 1-ulp result wherever it can (0 < eta <= 4, away from
+      the critical angle and the surface plane); the rest goes to a full
+      double-double evaluation. Figures: make bench-optics,
+      docs/performance.md. */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 
 /* The textbook formula, kept for the accuracy study and the benchmark:
@@ -211,8 +220,10 @@ typedef struct ggDirectionError {
 
    The exact value is evaluated in 512-bit binary floating point (bigf.h)
    from sums of products of the given doubles (docs/optics.md). Its own
-   error is below 2^-190 + 2^-450 |ni/nt| ulp in each component, and the
-   decision e->exact_tir is exact whenever e->certain is set.
+   error is below 2^-190 ulp in each component, plus 2^-450 |ni/nt| ulp
+   when the tangential part of v had to be rounded, which takes components
+   of v and n more than about 100 binades apart; the decision
+   e->exact_tir is exact whenever e->certain is set.
 
    Returns GG_OK, or GG_ERROR_INVALID (e zeroed) if e is NULL or the
    arguments are ones for which ggRefract returns NaN: a non-finite or zero

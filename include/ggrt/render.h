@@ -61,7 +61,7 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
 /* refract */
 #define GG_ACC_REFRACT_ACCURATE 0 /* plain double where cos^2(theta_t) >= 1/16 (within
                                      2^-45 relative), ggRefract near the critical angle */
-#define GG_ACC_REFRACT_TEXTBOOK 1 /* ggRefractTextbook: the notes' formula */
+#define GG_ACC_REFRACT_TEXTBOOK 1 /* ggRefractTextbook (docs/optics.md) */
 #define GG_ACC_REFRACT_EXACT    2 /* ggRefract for every ray */
 /* fresnel: 0 = as each material says, else for every transmitter: */
 #define GG_ACC_FRESNEL_NONE    1

@@ -84,6 +84,9 @@ typedef struct ggTraceNode {
     double edge;       /* triangles and mesh triangles: the smallest barycentric coordinate
                           of the hit (0 on an edge); rectangles: the distance in (u, v) to
                           the nearest side */
+    /* The ray's traversal (-1 if not recorded): BVH nodes whose child boxes
+       its closest-hit query tested, and primitives it tested. */
+    long nodes, prims;
     /* Always. */
     ggColor absorption; /* Beer-Lambert transmittance over this ray's segment */
     ggColor weight;     /* this ray's weight in its parent's colour */

@@ -33,13 +33,60 @@ GG_API const char *ggStatusString(int code)
 int gg_error_setv(ggError *err, int code, const char *fmt, va_list ap)
 {
     if (err) {
+        char raw[sizeof err->message];
         err->code = code;
-        if (fmt)
-            vsnprintf(err->message, sizeof err->message, fmt, ap);
-        else
+        if (fmt) {
+            vsnprintf(raw, sizeof raw, fmt, ap);
+            gg_text_escape(err->message, sizeof err->message, raw, strlen(raw));
+        } else
             snprintf(err->message, sizeof err->message, "%s", ggStatusString(code));
     }
     return code;
+}
+
+int gg_utf8_len(const unsigned char *s, size_t n)
+{
+    size_t k, i;
+    unsigned c = s[0];
+    if (c < 0x80) return 1;
+    if (c >= 0xc2 && c <= 0xdf)
+        k = 2;
+    else if (c >= 0xe0 && c <= 0xef)
+        k = 3;
+    else if (c >= 0xf0 && c <= 0xf4)
+        k = 4;
+    else
+        return 0;
+    if (k > n) return 0;
+    for (i = 1; i < k; i++)
+        if ((s[i] & 0xc0) != 0x80) return 0;
+    if (k == 3 && ((c == 0xe0 && s[1] < 0xa0) || (c == 0xed && s[1] > 0x9f))) return 0;
+    if (k == 4 && ((c == 0xf0 && s[1] < 0x90) || (c == 0xf4 && s[1] > 0x8f))) return 0;
+    return (int)k;
+}
+
+size_t gg_text_escape(char *dst, size_t size, const char *src, size_t n)
+{
+    static const char hex[] = "0123456789ABCDEF";
+    const unsigned char *s = (const unsigned char *)src;
+    size_t i = 0, k = 0;
+    if (!size) return 0;
+    while (i < n) {
+        int len = gg_utf8_len(s + i, n - i);
+        if (len == 1 && (s[i] < 0x20 || s[i] == 0x7f)) len = 0;
+        if (len == 0) {
+            if (k + 4 >= size) break;
+            dst[k++] = '\\', dst[k++] = 'x';
+            dst[k++] = hex[s[i] >> 4], dst[k++] = hex[s[i] & 15];
+            i++;
+        } else {
+            if (k + (size_t)len >= size) break;
+            memcpy(dst + k, s + i, (size_t)len);
+            k += (size_t)len, i += (size_t)len;
+        }
+    }
+    dst[k] = '\0';
+    return k;
 }
 
 int gg_error_set(ggError *err, int code, const char *fmt, ...)

@@ -15,9 +15,22 @@
 
 #define GG_PI 3.14159265358979323846
 
-/* Fill *err (if not NULL) and return code. */
+/* Fill *err (if not NULL) and return code. The formatted message goes
+   through gg_text_escape, so every message of the library shows bytes
+   the same way, whatever file or name they came from. */
 int gg_error_set(ggError *err, int code, const char *fmt, ...) GG_PRINTF(3, 4);
 int gg_error_setv(ggError *err, int code, const char *fmt, va_list ap);
+
+/* The length of the well-formed UTF-8 sequence at s[0..n) (RFC 3629: no
+   overlong forms, no surrogates, nothing above U+10FFFF), else 0. */
+int gg_utf8_len(const unsigned char *s, size_t n);
+/* The one way the library shows text it did not write (file names,
+   tokens, names): src[0..n) copied to dst (size bytes, always
+   NUL-terminated, cut at a whole character), printable ASCII and
+   well-formed UTF-8 as they are, every other byte (control characters,
+   DEL, bytes that are not UTF-8) as the four characters \xHH. Its output
+   is left unchanged by a second pass. Returns the length written. */
+size_t gg_text_escape(char *dst, size_t size, const char *src, size_t n);
 
 /* Allocation through an optional allocator (NULL = libc). */
 void *gg_mem_alloc(const ggAllocator *a, size_t size);

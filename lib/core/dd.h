@@ -8,13 +8,15 @@
 ** difference of large terms (the refraction discriminant near the critical
 ** angle, a tangential component near normal incidence).
 **
-** The algorithms are the classical ones: TwoSum (Knuth), Fast2Sum (Dekker),
-** TwoProd (with fma when it is a hardware instruction, else Dekker's
-** product with Veltkamp's split) and the double-word operations of Joldes,
-** Muller and Popescu, "Tight and rigorous error bounds for basic building
-** blocks of double-word arithmetic", ACM TOMS 44(2), 2017: relative error
-** at most 3u^2 for a sum (even under cancellation) and 5u^2 (fma) or 7u^2
-** for a product, u = 2^-53.
+** The algorithms are the classical ones: TwoSum (Knuth, The Art of
+** Computer Programming vol. 2, 4.2.2), Fast2Sum and TwoProd (Dekker, "A
+** floating-point technique for extending the available precision",
+** Numer. Math. 18, 1971; TwoProd is one fma in a per-ISA object built for
+** it, else Dekker's product with Veltkamp's split) and the double-word
+** operations of Joldes, Muller and Popescu, "Tight and rigorous error
+** bounds for basic building blocks of double-word arithmetic", ACM TOMS
+** 44(2), 2017: relative error at most 3u^2 for a sum (even under
+** cancellation) and 7u^2 for a product (their Algorithm 10), u = 2^-53.
 **
 ** They are exact only in binary64 arithmetic without excess precision
 ** (FLT_EVAL_METHOD == 0, true on x86-64 and AArch64) and without

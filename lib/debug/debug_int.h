@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** debug_int.h -- what the files of the debug layer share (internal).
+** debug_int.h -- what the files of the debug layer share (private to
+** lib/debug: docs/internals.md, "Headers").
 */
 #ifndef GG_DEBUG_INT_H
 #define GG_DEBUG_INT_H
@@ -9,10 +10,11 @@
 #include "scene.h"
 
 /* What a predicate (or a check) reads from a pixel. */
-#define GG_NEED_TREE   1u /* ray trees (without it pixel values serve) */
-#define GG_NEED_LIGHTS 2u /* shadow-ray records */
-#define GG_NEED_WEIGHT 4u /* the rays' weights in the pixel */
-#define GG_NEED_XY     8u /* the pixel's coordinates */
+#define GG_NEED_TREE   1u  /* ray trees (without it pixel values serve) */
+#define GG_NEED_LIGHTS 2u  /* shadow-ray records */
+#define GG_NEED_WEIGHT 4u  /* the rays' weights in the pixel */
+#define GG_NEED_XY     8u  /* the pixel's coordinates */
+#define GG_NEED_COST   16u /* the rays' traversal cost (each eye ray's own) */
 
 /* A pixel being looked at: its value, its recorded trees (NULL when only
    the value is known) and, if computed, each node's weight in the pixel. */
@@ -92,6 +94,8 @@ enum {
     PF_TIR_MARGIN,
     PF_EDGE,
     PF_TRIANGLE,
+    PF_NODES,
+    PF_PRIMS,
     PF_X, /* pixel fields from here on */
     PF_Y,
     PF_PIXEL,
@@ -147,6 +151,7 @@ typedef struct gg_scan {
     const ggAllocator *alloc;
     ggRayStats stats[2];  /* per tracer, summed over threads */
     unsigned char *empty; /* during the run: which tiles all miss */
+    int every_pixel;      /* trace each pixel: no tree serves a neighbour (scan.c) */
     int tiles_x;
 } gg_scan;
 

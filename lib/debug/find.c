@@ -168,6 +168,7 @@ GG_API int ggFind(ggScene *s, const ggRenderOptions *opt, const ggPredicate *pre
     memset(&fj, 0, sizeof fj);
     sc.tracer[0] = tr, sc.ntracers = 1;
     sc.record = (pred->needs & GG_NEED_TREE) != 0;
+    sc.every_pixel = (pred->needs & GG_NEED_COST) != 0;
     gg_scan_init(&sc);
     fj.pred = pred, fj.limit = limit;
     rc = find_alloc(s, &sc, &fj, &r);

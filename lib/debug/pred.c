@@ -80,6 +80,8 @@ static const field_def fields[PF_COUNT] = {
     {"tir_margin", PT_NUM, NULL},
     {"edge", PT_NUM, NULL},
     {"triangle", PT_NUM, NULL},
+    {"nodes", PT_NUM, NULL},
+    {"prims", PT_NUM, NULL},
     {"x", PT_NUM, NULL},
     {"y", PT_NUM, NULL},
     {"pixel", PT_COLOR, NULL},

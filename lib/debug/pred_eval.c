@@ -200,6 +200,10 @@ static val ray_field(const ctx *c, const gg_pnode *pn, const ray_ref *r)
         return numeric_field(f, n);
     case PF_TRIANGLE:
         return n->hit && n->triangle >= 0 ? known((double)n->triangle) : unknown;
+    case PF_NODES:
+        return L || n->nodes < 0 ? unknown : known((double)n->nodes);
+    case PF_PRIMS:
+        return L || n->prims < 0 ? unknown : known((double)n->prims);
     default:
         return shadow_field(f, L, k);
     }
@@ -394,6 +398,7 @@ static unsigned needs_of(const ggPredicate *p, int i)
         if (pn->field == PF_WEIGHT) m |= GG_NEED_WEIGHT;
         if (pn->field == PF_RAYS) m |= GG_NEED_TREE | GG_NEED_LIGHTS;
         if (pn->field == PF_X || pn->field == PF_Y) m |= GG_NEED_XY;
+        if (pn->field == PF_NODES || pn->field == PF_PRIMS) m |= GG_NEED_COST;
         break;
     default:
         break;

@@ -56,7 +56,9 @@ static int take_row(shared *sh, long finished)
    only, and that pixel's trees and value serve the others: they differ
    from what tracing each would record in the rays' origins and
    directions only, which nothing in this layer reads (the predicate
-   language, the checks and the tree comparison look at what was hit). */
+   language, the checks and the tree comparison look at what was hit) --
+   but for the traversal cost (nodes, prims), which differs from ray to
+   ray: a scan for a predicate that reads it sets every_pixel. */
 #define SPAN 16
 
 static int scan_row(shared *sh, int thread, int y, ggTrace *const *recs, ggRayStats *st)
@@ -149,7 +151,7 @@ int gg_scan_run(gg_scan *sc, ggError *err)
     sh.status = GG_OK;
     if (pthread_mutex_init(&sh.mu, NULL) != 0)
         return gg_error_set(err, GG_ERROR_NOMEM, "cannot create a mutex");
-    find_empty_tiles(sc);
+    if (!sc->every_pixel) find_empty_tiles(sc);
     for (i = 0; i < sc->threads && i < 256; i++) args[i].sh = &sh, args[i].thread = i;
     for (i = 1; i < sc->threads && i < 256; i++) {
         if (pthread_create(&th[started], NULL, worker, &args[i]) != 0) break;

@@ -2,75 +2,397 @@
 /*
 ** bvh_build.c -- the BVH build: binned SAH over element boxes into a
 ** binary tree, then collapsed to the 4-wide nodes of bvh_int.h.
+**
+** Records. Each element becomes a 32-byte record of its box rounded
+** outward to float, with its index and whether it is a triangle; the
+** build partitions the records themselves, so every pass over a node
+** reads memory in order (Wald, "On fast construction of SAH-based
+** bounding volume hierarchies", IEEE RT 2007, bins primitive references
+** the same way). The union of float boxes is exact, so a node's box,
+** rounded once more outward in set_lane, is the one the double boxes
+** would give.
+**
+** Deterministic threads. A subtree of n elements owns the 2n - 1 binary
+** nodes after its root's slot, its left child's subtree first: where a
+** node lands depends on the splits only, never on which thread built
+** it. The calling thread splits the top of the tree (its largest nodes
+** binned by all threads, each over a part of the records, the parts'
+** bins merged: min, max and counts do not depend on the order); the
+** subtrees below task_max elements are then built by the threads,
+** largest first. The tree is bit for bit the one a single thread builds.
 */
 #include "bvh_int.h"
 
+#include <pthread.h>
 #include <string.h>
+#include <unistd.h>
 
-#define GG_NBINS     32  /* SAH bins per axis */
-#define GG_SAH_TRAV  1.0 /* cost of a node visit, in element tests */
-#define GG_SAH_ISECT 1.0
-#define GG_SAH_TLEAF 2.0 /* a block of triangles, in single tests */
-#define GG_MEDIAN_AT 40  /* from this depth on, median splits only */
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#define GG_NBINS      32  /* SAH bins per axis */
+#define GG_SAH_TRAV   1.0 /* cost of a node visit, in element tests */
+#define GG_SAH_ISECT  1.0
+#define GG_SAH_TLEAF  2.0 /* a block of triangles, in single tests */
+#define GG_MEDIAN_AT  40  /* from this depth on, median splits only */
+#define GG_MAX_THREAD 16
+
+/* Fewer elements: one thread builds; subtrees at most task_max large go
+   to the threads; nodes at least pbin_min large are binned by all
+   threads (gg_bvh_set_build_sizes). */
+static size_t par_min = 20000, task_max = 16384, pbin_min = 131072;
+
+/* ---- four floats ---- */
+
+#if defined(__SSE2__)
+typedef __m128 v4;
+#define v4_ld(p)     _mm_loadu_ps(p)
+#define v4_st(p, a)  _mm_storeu_ps(p, a)
+#define v4_min(a, b) _mm_min_ps(a, b)
+#define v4_max(a, b) _mm_max_ps(a, b)
+#define v4_add(a, b) _mm_add_ps(a, b)
+#define v4_sub(a, b) _mm_sub_ps(a, b)
+#define v4_mul(a, b) _mm_mul_ps(a, b)
+#else
+typedef struct v4 {
+    float f[4];
+} v4;
+static inline v4 v4_ld(const float *p)
+{
+    v4 a;
+    memcpy(a.f, p, sizeof a.f);
+    return a;
+}
+static inline void v4_st(float *p, v4 a)
+{
+    memcpy(p, a.f, sizeof a.f);
+}
+/* min and max as SSE's minps and maxps: the second operand unless the
+   comparison holds. */
+static inline v4 v4_min(v4 a, v4 b)
+{
+    int i;
+    for (i = 0; i < 4; i++) a.f[i] = a.f[i] < b.f[i] ? a.f[i] : b.f[i];
+    return a;
+}
+static inline v4 v4_max(v4 a, v4 b)
+{
+    int i;
+    for (i = 0; i < 4; i++) a.f[i] = a.f[i] > b.f[i] ? a.f[i] : b.f[i];
+    return a;
+}
+static inline v4 v4_add(v4 a, v4 b)
+{
+    int i;
+    for (i = 0; i < 4; i++) a.f[i] += b.f[i];
+    return a;
+}
+static inline v4 v4_sub(v4 a, v4 b)
+{
+    int i;
+    for (i = 0; i < 4; i++) a.f[i] -= b.f[i];
+    return a;
+}
+static inline v4 v4_mul(v4 a, v4 b)
+{
+    int i;
+    for (i = 0; i < 4; i++) a.f[i] *= b.f[i];
+    return a;
+}
+#endif
+
+/* ---- records, nodes, boxes ---- */
+
+/* An element's box, clamped to +-FLT_MAX (set_lane's extra ulp turns
+   FLT_MAX into infinity again), so that centroids stay finite; lane 3 is
+   zero. */
+typedef struct bref {
+    float lo[4], hi[4];
+} bref;
 
 typedef struct bnode2 {
-    double lo[3], hi[3];
+    float lo[3], hi[3];
     uint32_t a, b; /* children, or first element and count */
     int leaf;
 } bnode2;
 
+typedef struct bbox {
+    v4 lo, hi;
+} bbox;
+
+/* A subtree to build: its root's slot, its records, its box and the box
+   of its records' centroids. */
+typedef struct span {
+    uint32_t node, begin, end;
+    int depth;
+    bbox b, c;
+} span;
+
 typedef struct bctx {
-    const double (*lo)[3], (*hi)[3];
+    const ggAllocator *alloc;
+    bref *r;
+    uint32_t *id;       /* element of each record, moved with it */
     const uint8_t *tri; /* per element: a triangle (only when blocks are made) */
-    double (*cen)[3];
-    uint32_t *idx;
     bnode2 *n;
-    size_t nn, ninner;
+    int threads;
+    span *task;
+    size_t ntask, cap, next;
+    pthread_mutex_t mu;
 } bctx;
 
-static double half_area(const double lo[3], const double hi[3])
+/* Per-axis bins over a node. */
+typedef struct bins {
+    bbox b[3][GG_NBINS];
+    uint32_t cnt[3][GG_NBINS];
+} bins;
+
+typedef struct bwork {
+    bctx *c;
+    size_t ninner;
+    int top; /* the calling thread, splitting the top: may hand out tasks */
+    bins bn;
+} bwork;
+
+static bbox box_empty(void)
 {
-    double x = hi[0] - lo[0], y = hi[1] - lo[1], z = hi[2] - lo[2];
-    return x * y + y * z + z * x;
+    static const float inf[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
+    static const float ninf[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+    bbox b;
+    b.lo = v4_ld(inf), b.hi = v4_ld(ninf);
+    return b;
 }
 
-static void grow_box(double lo[3], double hi[3], const double l[3], const double h[3])
+static void box_grow(bbox *b, v4 lo, v4 hi)
 {
-    int k;
-    for (k = 0; k < 3; k++) {
-        if (l[k] < lo[k]) lo[k] = l[k];
-        if (h[k] > hi[k]) hi[k] = h[k];
+    b->lo = v4_min(b->lo, lo), b->hi = v4_max(b->hi, hi);
+}
+
+static float half_area(bbox b)
+{
+    float d[4];
+    v4_st(d, v4_sub(b.hi, b.lo));
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
+}
+
+static v4 centroid(v4 lo, v4 hi)
+{
+    static const float half[4] = {0.5f, 0.5f, 0.5f, 0.5f};
+    v4 h = v4_ld(half);
+    return v4_add(v4_mul(lo, h), v4_mul(hi, h));
+}
+
+/* Bin coordinates of a centroid: (c - base) * scale per axis. */
+static v4 bin_coord(v4 cen, v4 base, v4 scale)
+{
+    return v4_mul(v4_sub(cen, base), scale);
+}
+
+static int bin_clamp(float x, int nb)
+{
+    return x >= 0 ? (x < (float)nb ? (int)x : nb - 1) : 0; /* NaN: bin 0 */
+}
+
+static void span_box(const bctx *c, span *s)
+{
+    uint32_t i;
+    s->b = box_empty(), s->c = box_empty();
+    for (i = s->begin; i < s->end; i++) {
+        v4 lo = v4_ld(c->r[i].lo), hi = v4_ld(c->r[i].hi), ce = centroid(lo, hi);
+        box_grow(&s->b, lo, hi);
+        box_grow(&s->c, ce, ce);
     }
 }
 
-static void empty_box(double lo[3], double hi[3])
+/* ---- binning ---- */
+
+static void bin_range(const bctx *c, bins *bn, uint32_t begin, uint32_t end, v4 base, v4 scale,
+                      int nb)
 {
-    lo[0] = lo[1] = lo[2] = INFINITY;
-    hi[0] = hi[1] = hi[2] = -INFINITY;
+    uint32_t i;
+    int k, b;
+    for (k = 0; k < 3; k++)
+        for (b = 0; b < nb; b++) bn->cnt[k][b] = 0, bn->b[k][b] = box_empty();
+    for (i = begin; i < end; i++) {
+        v4 lo = v4_ld(c->r[i].lo), hi = v4_ld(c->r[i].hi);
+        float x[4];
+        v4_st(x, bin_coord(centroid(lo, hi), base, scale));
+        for (k = 0; k < 3; k++) {
+            b = bin_clamp(x[k], nb);
+            bn->cnt[k][b]++;
+            box_grow(&bn->b[k][b], lo, hi);
+        }
+    }
 }
 
-static int bin_of(double c, double base, double scale, int nb)
+typedef struct pbin {
+    const bctx *c;
+    bins *bn;
+    uint32_t begin, end;
+    v4 base, scale;
+    int nb;
+} pbin;
+
+static void *pbin_run(void *p)
 {
-    int b = (int)((c - base) * scale);
-    return b < 0 ? 0 : b >= nb ? nb - 1 : b;
+    pbin *a = p;
+    bin_range(a->c, a->bn, a->begin, a->end, a->base, a->scale, a->nb);
+    return NULL;
 }
 
-/* Quickselect (Hoare partition): reorder idx[lo..hi] (inclusive) so
-   that position k holds the element whose centroid along `axis` would be
+/* Bin a large node with all threads, each over its part of the records,
+   then merge the parts in part order. */
+static void bin_parallel(bwork *w, const span *s, v4 base, v4 scale, int nb)
+{
+    pbin part[GG_MAX_THREAD];
+    pthread_t th[GG_MAX_THREAD];
+    int started[GG_MAX_THREAD], t, k, b, nt = w->c->threads;
+    uint32_t n = s->end - s->begin;
+    bins *extra = gg_mem_alloc(w->c->alloc, (size_t)(nt - 1) * sizeof *extra);
+    if (!extra) {
+        bin_range(w->c, &w->bn, s->begin, s->end, base, scale, nb);
+        return;
+    }
+    for (t = 0; t < nt; t++) {
+        part[t].c = w->c, part[t].bn = t ? &extra[t - 1] : &w->bn;
+        part[t].begin = s->begin + (uint32_t)((uint64_t)n * t / nt);
+        part[t].end = s->begin + (uint32_t)((uint64_t)n * (t + 1) / nt);
+        part[t].base = base, part[t].scale = scale, part[t].nb = nb;
+        started[t] = t && !pthread_create(&th[t], NULL, pbin_run, &part[t]);
+    }
+    pbin_run(&part[0]);
+    for (t = 1; t < nt; t++) {
+        if (started[t])
+            pthread_join(th[t], NULL);
+        else
+            pbin_run(&part[t]);
+        for (k = 0; k < 3; k++)
+            for (b = 0; b < nb; b++) {
+                w->bn.cnt[k][b] += extra[t - 1].cnt[k][b];
+                box_grow(&w->bn.b[k][b], extra[t - 1].b[k][b].lo, extra[t - 1].b[k][b].hi);
+            }
+    }
+    gg_mem_free(w->c->alloc, extra);
+}
+
+/* ---- split ---- */
+
+typedef struct split {
+    int axis, bin, nb; /* axis -1: none found */
+    double cost;
+    v4 base, scale;
+} split;
+
+/* SAH cost of a leaf of records [begin, begin + n). 2 to 4 triangles
+   become a block that the AVX traversal tests in one go, for about the
+   price of GG_SAH_TLEAF single tests (2 measured best on the SPD scenes:
+   fewer instructions than 1, 1.5, 2.5 or 3). The tree's shape changes,
+   not its answers, which are those of testing every element. */
+static double leaf_cost(const bctx *c, uint32_t begin, uint32_t n)
+{
+    uint32_t i;
+    if (!c->tri || n < 2) return GG_SAH_ISECT * n;
+    for (i = begin; i < begin + n; i++)
+        if (!c->tri[c->id[i]]) return GG_SAH_ISECT * n;
+    return GG_SAH_ISECT * GG_SAH_TLEAF;
+}
+
+/* Sweep the bins of one axis for its best split into sp. */
+static void sweep_axis(const bins *bn, int k, double parea, uint32_t n, split *sp)
+{
+    float rarea[GG_NBINS];
+    uint32_t rcnt[GG_NBINS], lcnt = 0;
+    bbox r = box_empty(), l = box_empty();
+    int b, nb = sp->nb;
+    rcnt[0] = 0;
+    for (b = nb - 1; b > 0; b--) {
+        box_grow(&r, bn->b[k][b].lo, bn->b[k][b].hi);
+        rcnt[b] = bn->cnt[k][b] + (b < nb - 1 ? rcnt[b + 1] : 0);
+        rarea[b] = rcnt[b] ? half_area(r) : 0;
+    }
+    for (b = 1; b < nb; b++) {
+        double cost;
+        box_grow(&l, bn->b[k][b - 1].lo, bn->b[k][b - 1].hi);
+        lcnt += bn->cnt[k][b - 1];
+        if (!lcnt || !rcnt[b]) continue;
+        cost = parea > 0
+                   ? GG_SAH_TRAV + GG_SAH_ISECT *
+                                       ((double)half_area(l) * lcnt + (double)rarea[b] * rcnt[b]) /
+                                       parea
+                   : GG_SAH_TRAV + GG_SAH_ISECT * 0.5 * n;
+        if (cost < sp->cost) sp->cost = cost, sp->axis = k, sp->bin = b;
+    }
+}
+
+/* The best binned SAH split of s, if any. */
+static void find_split(bwork *w, const span *s, split *sp)
+{
+    uint32_t n = s->end - s->begin;
+    float ext[4], scale[4];
+    int k;
+    sp->axis = -1, sp->bin = 0, sp->cost = INFINITY;
+    /* Small nodes get fewer bins: sweeping 32 mostly empty bins per axis
+       dominated the build time, for no better splits. */
+    sp->nb = n < GG_NBINS / 2 ? 2 * (int)n : GG_NBINS;
+    v4_st(ext, v4_sub(s->c.hi, s->c.lo));
+    for (k = 0; k < 4; k++) scale[k] = k < 3 && ext[k] > 0 ? (float)sp->nb / ext[k] : 0;
+    sp->base = s->c.lo, sp->scale = v4_ld(scale);
+    if (w->top && w->c->threads > 1 && n >= pbin_min)
+        bin_parallel(w, s, sp->base, sp->scale, sp->nb);
+    else
+        bin_range(w->c, &w->bn, s->begin, s->end, sp->base, sp->scale, sp->nb);
+    for (k = 0; k < 3; k++)
+        if (ext[k] > 0) sweep_axis(&w->bn, k, half_area(s->b), n, sp);
+}
+
+static void swap_rec(bctx *c, uint32_t i, uint32_t j)
+{
+    bref t = c->r[i];
+    uint32_t u = c->id[i];
+    c->r[i] = c->r[j], c->r[j] = t;
+    c->id[i] = c->id[j], c->id[j] = u;
+}
+
+/* Records left of the split first; returns the first right one and
+   fills the boxes of both sides. */
+static uint32_t partition(bctx *c, const span *s, const split *sp, span *L, span *R)
+{
+    uint32_t l = s->begin, r = s->end;
+    L->b = L->c = R->b = R->c = box_empty();
+    while (l < r) {
+        v4 lo = v4_ld(c->r[l].lo), hi = v4_ld(c->r[l].hi), ce = centroid(lo, hi);
+        float x[4];
+        v4_st(x, bin_coord(ce, sp->base, sp->scale));
+        if (bin_clamp(x[sp->axis], sp->nb) < sp->bin) {
+            box_grow(&L->b, lo, hi), box_grow(&L->c, ce, ce);
+            l++;
+        } else {
+            box_grow(&R->b, lo, hi), box_grow(&R->c, ce, ce);
+            swap_rec(c, l, --r);
+        }
+    }
+    return l;
+}
+
+static float cen_key(const bctx *c, uint32_t i, int axis)
+{
+    float x[4];
+    v4_st(x, centroid(v4_ld(c->r[i].lo), v4_ld(c->r[i].hi)));
+    return x[axis];
+}
+
+/* Quickselect (Hoare partition): reorder records lo..hi (inclusive) so
+   that position k holds the one whose centroid along `axis` would be
    there if sorted, smaller ones before it, larger after. */
 static void select_mid(bctx *c, long lo, long hi, long k, int axis)
 {
     while (lo < hi) {
-        double pv = c->cen[c->idx[lo + (hi - lo) / 2]][axis];
+        float pv = cen_key(c, (uint32_t)(lo + (hi - lo) / 2), axis);
         long i = lo, j = hi;
         while (i <= j) {
-            while (c->cen[c->idx[i]][axis] < pv) i++;
-            while (c->cen[c->idx[j]][axis] > pv) j--;
-            if (i <= j) {
-                uint32_t t = c->idx[i];
-                c->idx[i] = c->idx[j], c->idx[j] = t;
-                i++, j--;
-            }
+            while (cen_key(c, (uint32_t)i, axis) < pv) i++;
+            while (cen_key(c, (uint32_t)j, axis) > pv) j--;
+            if (i <= j) swap_rec(c, (uint32_t)i++, (uint32_t)j--);
         }
         if (k <= j)
             hi = j;
@@ -81,126 +403,147 @@ static void select_mid(bctx *c, long lo, long hi, long k, int axis)
     }
 }
 
-/* SAH cost of a leaf of idx[begin..begin + n). 2 to 4 triangles become
-   a block that the AVX traversal tests in one go, for about the price of
-   GG_SAH_TLEAF single tests (2 measured best on the SPD scenes: fewer
-   instructions than 1, 1.5, 2.5 or 3). The tree's shape changes, not its
-   answers, which are those of testing every element. */
-static double leaf_cost(const bctx *c, uint32_t begin, uint32_t n)
+/* No useful SAH split (deep, or centroids coincide): halve by count
+   along the widest centroid extent. */
+static uint32_t split_median(bctx *c, const span *s, span *L, span *R)
 {
-    uint32_t i;
-    if (!c->tri || n < 2) return GG_SAH_ISECT * n;
-    for (i = begin; i < begin + n; i++)
-        if (!c->tri[c->idx[i]]) return GG_SAH_ISECT * n;
-    return GG_SAH_ISECT * GG_SAH_TLEAF;
+    float e[4];
+    uint32_t mid = s->begin + (s->end - s->begin) / 2;
+    int axis;
+    v4_st(e, v4_sub(s->c.hi, s->c.lo));
+    axis = e[0] >= e[1] && e[0] >= e[2] ? 0 : e[1] >= e[2] ? 1 : 2;
+    select_mid(c, (long)s->begin, (long)s->end - 1, (long)mid, axis);
+    L->begin = s->begin, L->end = mid, R->begin = mid, R->end = s->end;
+    span_box(c, L);
+    span_box(c, R);
+    return mid;
 }
 
-/* Build the binary tree over idx[begin..end); returns the node index.
-   Depth stays below GG_MEDIAN_AT + log2(n) + 1, so the traversal stack
-   (which holds at most 3 entries per level) cannot overflow. */
-static uint32_t build2(bctx *c, uint32_t begin, uint32_t end, int depth)
+/* ---- the binary tree ---- */
+
+static void build(bwork *w, const span *s);
+
+/* Build subtree k now, or (splitting the top, and small enough) leave
+   it to the threads. */
+static void build_child(bwork *w, const span *k)
 {
-    uint32_t ni = (uint32_t)c->nn++, n = end - begin, i, mid = 0;
-    bnode2 *nd = &c->n[ni];
-    double clo[3], chi[3], parea;
-    int axis, best_axis = -1, best_bin = 0, nb;
-    double best_cost = INFINITY;
-
-    empty_box(nd->lo, nd->hi);
-    empty_box(clo, chi);
-    for (i = begin; i < end; i++) {
-        uint32_t e = c->idx[i];
-        grow_box(nd->lo, nd->hi, c->lo[e], c->hi[e]);
-        grow_box(clo, chi, c->cen[e], c->cen[e]);
+    bctx *c = w->c;
+    if (w->top && k->end - k->begin <= task_max && c->ntask < c->cap) {
+        c->task[c->ntask++] = *k;
+        return;
     }
-    nd->leaf = 0;
-    if (n == 1) goto leaf;
-    parea = half_area(nd->lo, nd->hi);
+    build(w, k);
+}
 
-    /* Small nodes get fewer bins: sweeping 32 mostly empty bins per axis
-       dominated the build time, for no better splits. */
-    nb = n < GG_NBINS / 2 ? 2 * (int)n : GG_NBINS;
-    if (depth < GG_MEDIAN_AT) {
-        for (axis = 0; axis < 3; axis++) {
-            double ext = chi[axis] - clo[axis], scale, rlo[GG_NBINS][3], rhi[GG_NBINS][3];
-            double blo[GG_NBINS][3], bhi[GG_NBINS][3], llo[3], lhi[3], rarea[GG_NBINS];
-            uint32_t cnt[GG_NBINS], rcnt[GG_NBINS], lcnt = 0;
-            int b;
-            if (!(ext > 0)) continue;
-            scale = nb / ext;
-            for (b = 0; b < nb; b++) cnt[b] = 0, empty_box(blo[b], bhi[b]);
-            for (i = begin; i < end; i++) {
-                uint32_t e = c->idx[i];
-                b = bin_of(c->cen[e][axis], clo[axis], scale, nb);
-                cnt[b]++;
-                grow_box(blo[b], bhi[b], c->lo[e], c->hi[e]);
-            }
-            empty_box(rlo[nb - 1], rhi[nb - 1]);
-            for (b = nb - 1; b > 0; b--) {
-                /* rlo/rhi[b] = union of bins b..nb-1 */
-                if (b < nb - 1) {
-                    memcpy(rlo[b], rlo[b + 1], sizeof rlo[b]);
-                    memcpy(rhi[b], rhi[b + 1], sizeof rhi[b]);
-                }
-                grow_box(rlo[b], rhi[b], blo[b], bhi[b]);
-                rcnt[b] = cnt[b] + (b < nb - 1 ? rcnt[b + 1] : 0);
-                rarea[b] = rcnt[b] ? half_area(rlo[b], rhi[b]) : 0;
-            }
-            empty_box(llo, lhi);
-            for (b = 1; b < nb; b++) {
-                double cost, la;
-                grow_box(llo, lhi, blo[b - 1], bhi[b - 1]);
-                lcnt += cnt[b - 1];
-                if (!lcnt || !rcnt[b]) continue;
-                la = half_area(llo, lhi);
-                cost = parea > 0
-                           ? GG_SAH_TRAV + GG_SAH_ISECT * (la * lcnt + rarea[b] * rcnt[b]) / parea
-                           : GG_SAH_TRAV + GG_SAH_ISECT * 0.5 * n;
-                if (cost < best_cost) best_cost = cost, best_axis = axis, best_bin = b;
-            }
-        }
-        if (n <= GG_MAX_LEAF && (best_axis < 0 || leaf_cost(c, begin, n) <= best_cost)) goto leaf;
+/* Build the subtree of s into its slots. Depth stays below GG_MEDIAN_AT +
+   log2(n) + 1, so the traversal stack (which holds at most 3 entries per
+   level) cannot overflow. */
+static void build(bwork *w, const span *s)
+{
+    bctx *c = w->c;
+    bnode2 *nd = &c->n[s->node];
+    uint32_t n = s->end - s->begin, mid = s->begin;
+    float lo[4], hi[4];
+    span L, R;
+    split sp;
+    v4_st(lo, s->b.lo), v4_st(hi, s->b.hi);
+    memcpy(nd->lo, lo, sizeof nd->lo), memcpy(nd->hi, hi, sizeof nd->hi);
+    sp.axis = -1, sp.cost = INFINITY;
+    if (n == 1) goto leaf;
+    if (s->depth < GG_MEDIAN_AT) {
+        find_split(w, s, &sp);
+        if (n <= GG_MAX_LEAF && (sp.axis < 0 || leaf_cost(c, s->begin, n) <= sp.cost)) goto leaf;
     } else if (n <= GG_MAX_LEAF) {
         goto leaf;
     }
-
-    if (best_axis >= 0) {
-        double scale = nb / (chi[best_axis] - clo[best_axis]);
-        uint32_t l = begin, r = end;
-        while (l < r) {
-            uint32_t e = c->idx[l];
-            if (bin_of(c->cen[e][best_axis], clo[best_axis], scale, nb) < best_bin) {
-                l++;
-            } else {
-                c->idx[l] = c->idx[--r];
-                c->idx[r] = e;
-            }
-        }
-        mid = l;
-    }
-    if (best_axis < 0 || mid == begin || mid == end) {
-        /* No useful SAH split (deep, or centroids coincide): halve by count
-           along the widest centroid extent. */
-        double ex = chi[0] - clo[0], ey = chi[1] - clo[1], ez = chi[2] - clo[2];
-        axis = ex >= ey && ex >= ez ? 0 : ey >= ez ? 1 : 2;
-        mid = begin + n / 2;
-        select_mid(c, (long)begin, (long)end - 1, (long)mid, axis);
-    }
-    c->ninner++;
-    {
-        uint32_t a = build2(c, begin, mid, depth + 1);
-        uint32_t b = build2(c, mid, end, depth + 1);
-        nd = &c->n[ni];
-        nd->a = a, nd->b = b;
-    }
-    return ni;
+    if (sp.axis >= 0) mid = partition(c, s, &sp, &L, &R);
+    if (sp.axis < 0 || mid == s->begin || mid == s->end) mid = split_median(c, s, &L, &R);
+    L.begin = s->begin, L.end = mid, R.begin = mid, R.end = s->end;
+    L.depth = R.depth = s->depth + 1;
+    L.node = s->node + 1, R.node = s->node + 2 * (mid - s->begin);
+    nd->leaf = 0, nd->a = L.node, nd->b = R.node;
+    w->ninner++;
+    build_child(w, &L);
+    build_child(w, &R);
+    return;
 leaf:
-    nd->leaf = 1;
-    nd->a = begin, nd->b = n;
-    return ni;
+    nd->leaf = 1, nd->a = s->begin, nd->b = n;
 }
 
-static void set_lane(gg_bnode *nd, int lane, const double lo[3], const double hi[3])
+/* ---- threads ---- */
+
+static int build_threads_set; /* gg_bvh_set_threads; 0: the processors */
+
+int gg_bvh_set_threads(int n)
+{
+    int was = build_threads_set;
+    build_threads_set = n > 0 ? n : 0;
+    return was;
+}
+
+void gg_bvh_set_build_sizes(size_t sizes[3])
+{
+    size_t was[3];
+    was[0] = par_min, was[1] = task_max, was[2] = pbin_min;
+    if (sizes[0]) par_min = sizes[0];
+    if (sizes[1]) task_max = sizes[1];
+    if (sizes[2]) pbin_min = sizes[2];
+    memcpy(sizes, was, sizeof was);
+}
+
+static int build_threads(size_t n)
+{
+    long t = build_threads_set ? build_threads_set : sysconf(_SC_NPROCESSORS_ONLN);
+    if (n < par_min || t < 2) return 1;
+    return t > GG_MAX_THREAD ? GG_MAX_THREAD : (int)t;
+}
+
+static void *worker(void *p)
+{
+    bwork *w = p;
+    bctx *c = w->c;
+    for (;;) {
+        span s;
+        int have = 0;
+        pthread_mutex_lock(&c->mu);
+        if (c->next < c->ntask) s = c->task[c->next++], have = 1;
+        pthread_mutex_unlock(&c->mu);
+        if (!have) return NULL;
+        build(w, &s);
+    }
+}
+
+/* Largest first, so that no thread is left with a big one at the end. */
+static int task_cmp(const void *pa, const void *pb)
+{
+    const span *a = pa, *b = pb;
+    uint32_t na = a->end - a->begin, nb = b->end - b->begin;
+    return na != nb ? (na < nb ? 1 : -1) : (a->node > b->node) - (a->node < b->node);
+}
+
+/* Run the tasks on c->threads threads (fewer if some cannot start). */
+static void run_tasks(bctx *c, bwork *w)
+{
+    pthread_t th[GG_MAX_THREAD];
+    int started[GG_MAX_THREAD], t;
+    qsort(c->task, c->ntask, sizeof *c->task, task_cmp);
+    c->next = 0;
+    for (t = 1; t < c->threads; t++) started[t] = !pthread_create(&th[t], NULL, worker, &w[t]);
+    worker(&w[0]);
+    for (t = 1; t < c->threads; t++)
+        if (started[t]) pthread_join(th[t], NULL);
+}
+
+/* ---- collapse to 4-wide nodes ---- */
+
+static double node_area(const bnode2 *k)
+{
+    double x = (double)k->hi[0] - k->lo[0], y = (double)k->hi[1] - k->lo[1],
+           z = (double)k->hi[2] - k->lo[2];
+    return x * y + y * z + z * x;
+}
+
+static void set_lane(gg_bnode *nd, int lane, const float lo[3], const float hi[3])
 {
     int k;
     for (k = 0; k < 3; k++) {
@@ -211,7 +554,7 @@ static void set_lane(gg_bnode *nd, int lane, const double lo[3], const double hi
 
 /* Turn the binary subtree at n2 into 4-wide nodes (depth first, parents
    before children, so a traversal mostly walks forward in memory). */
-static uint32_t collapse(bctx *c, gg_geom *g, uint32_t n2, size_t depth)
+static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
 {
     uint32_t ni = (uint32_t)g->nnodes++, kids[4];
     int nk, i;
@@ -227,7 +570,7 @@ static uint32_t collapse(bctx *c, gg_geom *g, uint32_t n2, size_t depth)
         double ba = -1;
         for (i = 0; i < nk; i++) {
             const bnode2 *k = &c->n[kids[i]];
-            double a = half_area(k->lo, k->hi);
+            double a = node_area(k);
             if (!k->leaf && a > ba) ba = a, bi = i;
         }
         if (bi < 0) break;
@@ -254,29 +597,88 @@ static uint32_t collapse(bctx *c, gg_geom *g, uint32_t n2, size_t depth)
     return ni;
 }
 
+/* ---- entry ---- */
+
+/* A float <= x, clamped to +-FLT_MAX (NaN: -FLT_MAX). */
+static float rec_lo(double x)
+{
+    float f;
+    if (!(x >= -FLT_MAX)) return -FLT_MAX;
+    if (x > FLT_MAX) return FLT_MAX;
+    f = (float)x;
+    return (double)f > x ? f_next_down(f) : f;
+}
+
+static float rec_hi(double x)
+{
+    float f;
+    if (!(x <= FLT_MAX)) return FLT_MAX;
+    if (x < -FLT_MAX) return -FLT_MAX;
+    f = (float)x;
+    return (double)f < x ? f_next_up(f) : f;
+}
+
+/* The threads' state and task list; with fewer than two threads, or
+   short of memory for them, the calling thread builds alone. */
+static bwork *start_work(bctx *c, size_t n)
+{
+    bwork *w;
+    int t;
+    c->threads = build_threads(n);
+    if (c->threads > 1) {
+        c->cap = 2 * n / task_max + 256;
+        c->task = gg_mem_calloc(c->alloc, c->cap, sizeof *c->task);
+        if (!c->task || pthread_mutex_init(&c->mu, NULL)) {
+            gg_mem_free(c->alloc, c->task);
+            c->task = NULL, c->cap = 0, c->threads = 1;
+        }
+    }
+    w = gg_mem_calloc(c->alloc, (size_t)c->threads, sizeof *w);
+    if (!w) return NULL;
+    for (t = 0; t < c->threads; t++) w[t].c = c;
+    w[0].top = c->threads > 1;
+    return w;
+}
+
+static int build_tree(bctx *c, bwork *w, size_t n, size_t *ninner)
+{
+    span root;
+    int t;
+    root.node = 0, root.begin = 0, root.end = (uint32_t)n, root.depth = 0;
+    span_box(c, &root);
+    build(&w[0], &root);
+    if (c->threads > 1) {
+        w[0].top = 0;
+        run_tasks(c, w);
+        pthread_mutex_destroy(&c->mu);
+    }
+    for (*ninner = 0, t = 0; t < c->threads; t++) *ninner += w[t].ninner;
+    return 0;
+}
+
 int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
                  size_t n, uint32_t *order)
 {
     bctx c;
-    size_t i;
-    int rc = -1;
+    bwork *w = NULL;
+    size_t i, ninner;
+    int rc = -1, k;
     gg_bvh_free(g);
     if (n == 0) return 0;
     memset(&c, 0, sizeof c);
-    c.lo = lo, c.hi = hi;
+    c.alloc = g->alloc;
     c.tri = gg_bvh_avx_wanted(g) ? tri : NULL;
-    c.cen = gg_mem_calloc(g->alloc, n, sizeof *c.cen);
-    c.idx = order;
-    c.n = gg_mem_calloc(g->alloc, 2 * n, sizeof *c.n);
-    if (!c.cen || !c.n) goto done;
+    c.id = order;
+    c.r = gg_mem_calloc(g->alloc, n, sizeof *c.r);
+    c.n = gg_mem_alloc(g->alloc, 2 * n * sizeof *c.n);
+    if (!c.r || !c.n || !(w = start_work(&c, n))) goto done;
     for (i = 0; i < n; i++) {
-        int k;
-        for (k = 0; k < 3; k++) c.cen[i][k] = 0.5 * lo[i][k] + 0.5 * hi[i][k];
+        for (k = 0; k < 3; k++) c.r[i].lo[k] = rec_lo(lo[i][k]), c.r[i].hi[k] = rec_hi(hi[i][k]);
         order[i] = (uint32_t)i;
     }
-    build2(&c, 0, (uint32_t)n, 0);
+    build_tree(&c, w, n, &ninner);
     {
-        size_t cap = c.ninner ? c.ninner : 1;
+        size_t cap = ninner ? ninner : 1;
         g->node_mem = gg_mem_alloc(g->alloc, cap * sizeof(gg_bnode) + 64);
         if (!g->node_mem) goto done;
         g->nodes = (gg_bnode *)(((uintptr_t)g->node_mem + 63) & ~(uintptr_t)63);
@@ -285,8 +687,10 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
     collapse(&c, g, 0, 1);
     rc = 0;
 done:
-    gg_mem_free(g->alloc, c.cen);
+    gg_mem_free(g->alloc, c.r);
     gg_mem_free(g->alloc, c.n);
+    gg_mem_free(g->alloc, c.task);
+    gg_mem_free(g->alloc, w);
     if (rc) gg_bvh_free(g);
     return rc;
 }

@@ -2,7 +2,7 @@
 /*
 ** bvh_int.h -- the BVH's node and leaf layout and its float rounding
 ** helpers, shared by the build and the traversal copies (bvh.c, bvh_avx.c,
-** bvh_trav.h; internal to the BVH).
+** bvh_trav.h; private to lib/geom: docs/internals.md, "Headers").
 **
 ** References. A child reference with the top bit set is a leaf:
 **   GG_LEAF | first << 3 | count - 1             a run of slots, or

@@ -12,8 +12,11 @@
 **       per-ray state of its leaf tests (tx_init may defer filling it to
 **       the first leaf that needs it, tx_fill fills it at once) and the
 **       leaf tests of a leaf reference, with the contracts of
-**       gg_leaf_closest, gg_leaf_any and leaf_shadow.
+**       gg_leaf_closest, gg_leaf_any and gg_leaf_shadow.
 ** Both copies thus share the node walk; only the leaves differ.
+** With GG_TRAV_COST defined, GG_TRAV_INTERSECT takes a gg_trav_cost *
+** more and counts into it, and the other two are left out (bvh_cost.c,
+** the ray-tree recorder's copy).
 */
 #ifndef GG_BVH_TRAV_H
 #define GG_BVH_TRAV_H
@@ -192,7 +195,20 @@ static inline int lowest_bit(unsigned m)
    load spanning two 8-byte stores cannot be forwarded from the store
    buffer (GG_NO_SLP, compiler.h). */
 
-GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
+#ifdef GG_TRAV_COST
+#define GG_COST_ARG       , gg_trav_cost *cost
+#define GG_COST_NODE()    (cost->nodes++)
+#define GG_COST_LEAF(ref) (cost->prims += GG_LEAF_N(ref))
+#define GG_COST_ALL()     (cost->prims += (long)g->nslots)
+#else
+#define GG_COST_ARG
+#define GG_COST_NODE()    ((void)0)
+#define GG_COST_LEAF(ref) ((void)0)
+#define GG_COST_ALL()     ((void)0)
+#endif
+
+GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
+                                             gg_hit *hit GG_COST_ARG)
 {
     gg_rpre r;
     trav tv;
@@ -207,10 +223,13 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
     if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
     /* The conservative box test assumes tmin >= 0 (a box wholly behind the
        origin could otherwise be lost to the exit scaling). */
-    if (!trav_init(&tv, &r) || q->tmin < 0) return gg_geom_intersect_brute(g, q, hit);
-    /* Deferred: many closest-hit rays meet no triangle block (measured:
-       eager here cost mount 1%; the any-hit traversals, where GCC then
-       keeps fewer values in registers, came out better eager). */
+    if (!trav_init(&tv, &r) || q->tmin < 0) {
+        GG_COST_ALL();
+        return gg_geom_intersect_brute(g, q, hit);
+    }
+    /* Deferred: many closest-hit rays meet no triangle block; the any-hit
+       traversals set up eagerly (docs/performance.md, "Four triangles at
+       once"). */
     tx_init(&tx, &r);
     best.t = gg_next_down(q->tmax);
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
@@ -224,6 +243,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
             float tn[4];
             unsigned mask = (unsigned)box4(nd, &tv, tmin4, tmax4, tn);
             int i0, i1;
+            GG_COST_NODE();
             if (mask) {
                 i0 = lowest_bit(mask);
                 mask &= mask - 1;
@@ -270,6 +290,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
                 }
             }
         } else {
+            GG_COST_LEAF(cur);
             if (tx_closest(g, &r, &tx, cur, &best)) {
                 tmaxf = f_above(best.t);
                 tcull = tmaxf * GG_EXIT_SCALE;
@@ -291,9 +312,11 @@ done:
     return 1;
 }
 
+#ifndef GG_TRAV_COST
 /* Any-hit descent (the occluder and the shadow query): the first child
    hit next, the others on the stack; the order does not matter for a
-   yes/no answer or for a list (nearest-first was measured slower). */
+   yes/no answer or for a list (nearest-first: docs/performance.md, "Tried
+   and not kept"). */
 #ifndef GG_TRAV_ANY_DESCEND
 #define GG_TRAV_ANY_DESCEND
 GG_INLINE uint32_t any_descend(const gg_bnode *nd, unsigned mask, uint32_t *stack, int *sp)
@@ -414,5 +437,7 @@ blocked:
     *cache = hit;
     return 1;
 }
+
+#endif /* GG_TRAV_COST */
 
 #endif

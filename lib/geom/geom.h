@@ -184,6 +184,19 @@ typedef struct gg_hit {
    The answer is the same as without the hint. */
 int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 
+/* What one closest-hit query did: the BVH nodes whose four child boxes it
+   tested, and the elements it tested in leaves (every element when it
+   fell back to testing them all; 1 for the isolated-sphere hint). */
+typedef struct gg_trav_cost {
+    long nodes, prims;
+} gg_trav_cost;
+
+/* gg_geom_intersect with the same answer, counting into *cost (adds to
+   it): a copy of the plain traversal that only the ray-tree recorder
+   calls (bvh_cost.c), so the render's copies stay as they are. The walk
+   is the one every copy takes (bvh_trav.h): the counts are the render's. */
+int gg_geom_intersect_cost(const gg_geom *g, const gg_rayq *q, gg_hit *hit, gg_trav_cost *cost);
+
 /* The transparent surfaces a shadow segment crosses (gg_geom_occluded).
    complete = 1: h[0..n) is every crossing, nearest first (by t, prim,
    sub), and nothing opaque is on the segment; spheres and cone slices

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** geom_int.h -- the layout behind gg_geom, shared by geom.c, bvh.c and the
-** shape_*.c files (internal to the geometry module).
+** shape_*.c files (private to lib/geom: docs/internals.md, "Headers").
 **
 ** Primitives are kept twice: in insertion order with everything shading
 ** needs (normals, frames), and, after the build, as compact intersection
@@ -315,5 +315,14 @@ int gg_bvh_tri_leaves(gg_geom *g);
 /* Whether builds of g make triangle blocks for the AVX traversal (bvh.c):
    this build has it (bvh_avx.c), the CPU runs it and g->cpu allows it. */
 int gg_bvh_avx_wanted(const gg_geom *g);
+/* Threads of later builds (0: the processors online; small builds use
+   one); returns the previous setting. The tree does not depend on it.
+   Not thread-safe. */
+int gg_bvh_set_threads(int n);
+/* For tests: the element counts from which builds use threads, below
+   which subtrees are handed to them, and from which a node is binned by
+   all of them (sizes[0..2]; 0 keeps one). Swaps in the old values. Not
+   thread-safe. */
+void gg_bvh_set_build_sizes(size_t sizes[3]);
 
 #endif

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** texture.c -- texture sampling: the lecture notes' bilinear blend,
-** nearest texel, and a procedural checkerboard.
+** texture.c -- texture sampling: the bilinear blend and the nearest texel
+** exactly as ggrt/image.h states them, and a procedural checkerboard.
 */
 #include "image.h"
 
@@ -18,7 +18,7 @@ static double wrap_coord(double u, int wrap)
     return u; /* NaN */
 }
 
-/* The notes' "clamp at 1.0"; a NaN blend (from non-finite texels) reads 0
+/* The "clamped at 1.0" of ggTextureBilinear (ggrt/image.h); a NaN blend (from non-finite texels) reads 0
    rather than poisoning whatever the colour is multiplied into. */
 static double clamp1(double c)
 {

@@ -161,6 +161,17 @@ static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, int64_t x, in
                             "%s: invalid OpenEXR file: chunk %d (%d x %d at %d, %d) lies "
                             "outside the data window",
                             r->path, (int)ci->idx, (int)ci->width, (int)ci->height, (int)x, (int)y);
+    /* An uncompressed chunk holds its pixels as they are: a shorter one is
+       truncated, and the core (3.1) would leave the rest of its buffer
+       uninitialised and decode it as pixels. A compressed chunk's
+       decompressor checks the size it produces. */
+    if ((ci->compression == EXR_COMPRESSION_NONE && ci->packed_size != ci->unpacked_size) ||
+        (ci->packed_size == 0 && ci->unpacked_size > 0))
+        return gg_error_set(err, GG_ERROR_PARSE,
+                            "%s: invalid OpenEXR file: chunk %d holds %llu bytes, its pixels "
+                            "take %llu",
+                            r->path, (int)ci->idx, (unsigned long long)ci->packed_size,
+                            (unsigned long long)ci->unpacked_size);
     if (r->dec_ready)
         rv = exr_decoding_update(r->ctx, 0, ci, &r->dec);
     else
@@ -405,9 +416,8 @@ GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
     io.fd = t.fd;
     init_context(&init, &io);
     init.write_fn = write_cb;
-    /* zlib level 1: float pixels hardly compress better at higher levels.
-       Measured on bench_image's 1024^2 render-like image: level 1 writes
-       in 211 ms / 4.34 MB, the default (6) in 475 ms / 4.30 MB. */
+    /* zlib level 1: float pixels hardly compress better at higher levels
+       (docs/performance.md, "Smaller things"). */
     init.zip_level = 1;
     rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv == EXR_ERR_SUCCESS) rv = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part);

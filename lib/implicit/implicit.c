@@ -56,46 +56,24 @@ struct ggImplicit {
     uint64_t slope_bits; /* largest slope seen, bits of a double >= 0 */
 };
 
-/* ---- atomics: GCC and clang builtins; C99 has none of its own ---- */
+/* ---- atomics (GG_ATOMIC_*, compiler.h) ---- */
 
-#if defined(__GNUC__)
 static unsigned load_u(const unsigned *p)
 {
-    return __atomic_load_n(p, __ATOMIC_RELAXED);
+    return GG_ATOMIC_LOAD(p);
 }
 static void or_u(unsigned *p, unsigned v)
 {
-    __atomic_fetch_or(p, v, __ATOMIC_RELAXED);
+    GG_ATOMIC_OR(p, v);
 }
 static uint64_t load_u64(const uint64_t *p)
 {
-    return __atomic_load_n(p, __ATOMIC_RELAXED);
+    return GG_ATOMIC_LOAD(p);
 }
 static int cas_u64(uint64_t *p, uint64_t *expect, uint64_t v)
 {
-    return __atomic_compare_exchange_n(p, expect, v, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+    return GG_ATOMIC_CAS(p, expect, v);
 }
-#else
-/* Without atomics: plain writes of a sticky hint (a benign race). */
-static unsigned load_u(const unsigned *p)
-{
-    return *(const volatile unsigned *)p;
-}
-static void or_u(unsigned *p, unsigned v)
-{
-    *(volatile unsigned *)p |= v;
-}
-static uint64_t load_u64(const uint64_t *p)
-{
-    return *(const volatile uint64_t *)p;
-}
-static int cas_u64(uint64_t *p, uint64_t *expect, uint64_t v)
-{
-    (void)expect;
-    *(volatile uint64_t *)p = v;
-    return 1;
-}
-#endif
 
 static uint64_t dbits(double x)
 {

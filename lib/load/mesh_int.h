@@ -3,7 +3,7 @@
 ** mesh_int.h -- what the mesh readers (obj.c, mtl.c, ply.c) share: a mesh
 ** being read (gg_mb: growing arrays, polygons split into triangles,
 ** interned names), a correctly rounded decimal number parser, and the file
-** reading (internal to lib/load).
+** reading (private to lib/load: docs/internals.md, "Headers").
 */
 #ifndef GG_LOAD_MESH_INT_H
 #define GG_LOAD_MESH_INT_H
@@ -107,8 +107,8 @@ int gg_lc_number(gg_lc *c, double *d, const char *what);
 int gg_lc_end(gg_lc *c);
 /* "name:line:col: message" for position `at` (NULL: the cursor). */
 int gg_lc_fail(const gg_lc *c, const char *at, int code, const char *fmt, ...) GG_PRINTF(4, 5);
-/* A printable copy of w[0..n) for messages (cut, bytes outside ASCII
-   printed as \xHH). */
+/* A printable copy of w[0..n) for messages: its first 40 bytes through
+   gg_text_escape (core.h), as every message of the library shows bytes. */
 const char *gg_lc_show(const char *w, size_t n, char *buf, size_t size);
 
 

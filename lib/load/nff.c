@@ -14,6 +14,7 @@
 #include "vec.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -59,6 +60,13 @@ static int fail(parser *ps, const token *t, int code, const char *fmt, ...)
                         t ? t->col : ps->col, msg);
 }
 
+/* A line ends at "\n", at "\r\n" (on its '\n') or at a lone "\r" (files
+   with CR line endings), for line numbers and comments alike. */
+static bool line_end(const char *c, const char *end)
+{
+    return *c == '\n' || (*c == '\r' && (c + 1 >= end || c[1] != '\n'));
+}
+
 /* Next token, or 0 at end of input. Comments run from '#' to the end of
    the line wherever a token could start. */
 static int lex(parser *ps, token *t)
@@ -67,12 +75,12 @@ static int lex(parser *ps, token *t)
     for (;;) {
         while (c < ps->end && (*c == ' ' || *c == '\t' || *c == '\r' || *c == '\n' ||
                                *c == '\f' || *c == '\v')) {
-            if (*c == '\n') ps->line++, ps->col = 1;
+            if (line_end(c, ps->end)) ps->line++, ps->col = 1;
             else ps->col++;
             c++;
         }
         if (c < ps->end && *c == '#') {
-            while (c < ps->end && *c != '\n') c++, ps->col++;
+            while (c < ps->end && !line_end(c, ps->end)) c++, ps->col++;
             continue;
         }
         break;
@@ -82,7 +90,7 @@ static int lex(parser *ps, token *t)
     t->line = ps->line, t->col = ps->col, t->quoted = 0;
     if (*c == '"') {
         const char *q = c + 1;
-        while (q < ps->end && *q != '"' && *q != '\n') q++;
+        while (q < ps->end && *q != '"' && *q != '\n' && *q != '\r') q++;
         if (q >= ps->end || *q != '"') {
             t->p = c, t->n = 1;
             return -1; /* unterminated string */
@@ -130,13 +138,10 @@ static bool tok_is(const token *t, const char *w)
     return !t->quoted && t->n == strlen(w) && memcmp(t->p, w, t->n) == 0;
 }
 
-/* A printable copy of a token for messages (cut at 40 characters). */
+/* A token for messages: its first 40 bytes, escaped (gg_text_escape). */
 static const char *show(const token *t, char *buf, size_t n)
 {
-    size_t k = t->n < 40 ? t->n : 40;
-    if (k >= n) k = n - 1;
-    memcpy(buf, t->p, k);
-    buf[k] = '\0';
+    gg_text_escape(buf, n, t->p, t->n < 40 ? t->n : 40);
     return buf;
 }
 
@@ -200,27 +205,36 @@ static int color(parser *ps, ggColor *c)
 
 /* Physically invalid parameters are errors at the value that set them
    (docs/scene-format.md, "Parameter ranges"). */
-static int nonneg_number(parser *ps, double *d, const char *what)
+static int ranged(parser *ps, const token *t, double d, double hi, const char *what)
 {
     char b[48];
+    if (d < 0)
+        return fail(ps, t, GG_ERROR_PARSE, "%s must not be negative, got %s", what,
+                    show(t, b, sizeof b));
+    if (d > hi)
+        return fail(ps, t, GG_ERROR_PARSE, "%s must be at most %g, got %s", what, hi,
+                    show(t, b, sizeof b));
+    return GG_OK;
+}
+
+static int nonneg_number(parser *ps, double *d, double hi, const char *what)
+{
     int rc = number(ps, d, what);
-    if (rc == GG_OK && *d < 0)
-        return fail(ps, &ps->last, GG_ERROR_PARSE, "%s must not be negative, got %s", what,
-                    show(&ps->last, b, sizeof b));
+    return rc == GG_OK ? ranged(ps, &ps->last, *d, hi, what) : rc;
+}
+
+static int color_upto(parser *ps, ggColor *c, double hi, const char *what)
+{
+    double ch[3];
+    int i, rc = color(ps, c);
+    ch[0] = c->r, ch[1] = c->g, ch[2] = c->b;
+    for (i = 0; rc == GG_OK && i < 3; i++) rc = ranged(ps, &ps->comp[i], ch[i], hi, what);
     return rc;
 }
 
 static int nonneg_color(parser *ps, ggColor *c, const char *what)
 {
-    const double *ch[3];
-    char b[48];
-    int i, rc = color(ps, c);
-    ch[0] = &c->r, ch[1] = &c->g, ch[2] = &c->b;
-    for (i = 0; rc == GG_OK && i < 3; i++)
-        if (*ch[i] < 0)
-            return fail(ps, &ps->comp[i], GG_ERROR_PARSE, "%s must not be negative, got %s", what,
-                        show(&ps->comp[i], b, sizeof b));
-    return rc;
+    return color_upto(ps, c, GG_PARAM_MAX, what);
 }
 
 static int integer(parser *ps, long lo, long hi, long *out, const char *what)
@@ -346,7 +360,9 @@ static int kw_light(parser *ps)
     ggColor c = rgb(-1, -1, -1);
     int rc = vec(ps, &p), id;
     if (rc != GG_OK) return rc;
-    if (next_is_number(ps) && (rc = nonneg_color(ps, &c, "a light's colour")) != GG_OK) return rc;
+    /* Lights are only finite: see GG_PARAM_MAX in scene.h. */
+    if (next_is_number(ps) && (rc = color_upto(ps, &c, DBL_MAX, "a light's colour")) != GG_OK)
+        return rc;
     id = ggSceneAddLight(ps->s, p, c);
     if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the light");
     ps->s->lights[id].line = ps->kw_tok.line;
@@ -358,11 +374,15 @@ static int kw_fill(parser *ps)
 {
     static const char *const what[4] = {"Kd (the diffuse weight)", "Ks (the specular weight)",
                                         "the Phong exponent", "T (the transmittance)"};
+    static const double hi[4] = {GG_WEIGHT_MAX, GG_WEIGHT_MAX, DBL_MAX, GG_WEIGHT_MAX};
     ggColor c;
     double d[5];
     int i, rc = nonneg_color(ps, &c, "the colour");
-    for (i = 0; rc == GG_OK && i < 4; i++) rc = nonneg_number(ps, &d[i], what[i]);
+    for (i = 0; rc == GG_OK && i < 4; i++) rc = nonneg_number(ps, &d[i], hi[i], what[i]);
     if (rc == GG_OK) rc = number(ps, &d[4], "an index of refraction");
+    if (rc == GG_OK && fabs(d[4]) > GG_PARAM_MAX)
+        return fail(ps, &ps->last, GG_ERROR_PARSE, "the index of refraction must be at most %g",
+                    GG_PARAM_MAX);
     if (rc != GG_OK) return rc;
     /* Opaque SPD materials carry ior 0: a transmitter needs a real index. */
     if (d[3] > 0 && !(d[4] > 0))
@@ -506,8 +526,9 @@ static int kw_absorb(parser *ps)
     if (rc != GG_OK) return rc;
     if (next_is_number(ps)) {
         if ((rc = number(ps, &unit, "metres per scene unit")) != GG_OK) return rc;
-        if (!(unit > 0))
-            return fail(ps, &ps->last, GG_ERROR_PARSE, "metres per scene unit must be > 0");
+        if (!(unit > 0 && unit <= GG_PARAM_MAX))
+            return fail(ps, &ps->last, GG_ERROR_PARSE,
+                        "metres per scene unit must be > 0 and at most %g", GG_PARAM_MAX);
     }
     ps->mat.unit_m = unit;
     return mat_changed(ps);
@@ -517,8 +538,10 @@ static int kw_dispersion(parser *ps)
 {
     int rc = number(ps, &ps->mat.abbe, "an Abbe number");
     if (rc != GG_OK) return rc;
-    if (ps->mat.abbe < 0)
-        return fail(ps, &ps->last, GG_ERROR_PARSE, "the Abbe number must be >= 0");
+    if (ps->mat.abbe != 0 && !(ps->mat.abbe >= 1 && ps->mat.abbe <= GG_PARAM_MAX))
+        return fail(ps, &ps->last, GG_ERROR_PARSE,
+                    "the Abbe number must be 0 (none) or from 1 to %g (glasses: 20 to 90)",
+                    GG_PARAM_MAX);
     return mat_changed(ps);
 }
 
@@ -816,6 +839,27 @@ static void rollback(ggScene *s, const snapshot *sn)
     s->depth = sn->depth, s->samples = sn->samples;
 }
 
+/* Bytes before tokens: a UTF-8 byte order mark is skipped, UTF-16 is
+   refused, and so is a NUL byte anywhere (at its line and column): C
+   strings would end there, so "1\0junk" must not read as 1. */
+static int check_text(parser *ps)
+{
+    const unsigned char *u = (const unsigned char *)ps->text;
+    size_t len = (size_t)(ps->end - ps->text);
+    const char *z, *c;
+    if (len >= 2 && ((u[0] == 0xFE && u[1] == 0xFF) || (u[0] == 0xFF && u[1] == 0xFE)))
+        return fail(ps, NULL, GG_ERROR_UNSUPPORTED,
+                    "UTF-16 text is not supported (convert the file to UTF-8)");
+    if (len >= 3 && memcmp(u, "\xEF\xBB\xBF", 3) == 0) ps->cur += 3;
+    z = memchr(ps->cur, '\0', (size_t)(ps->end - ps->cur));
+    if (!z) return GG_OK;
+    for (c = ps->cur; c < z; c++)
+        if (line_end(c, ps->end)) ps->line++, ps->col = 1;
+        else ps->col++;
+    ps->cur = ps->end;
+    return fail(ps, NULL, GG_ERROR_PARSE, "NUL byte in a text file");
+}
+
 int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, const char *dir,
                  ggError *err)
 {
@@ -831,6 +875,7 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
     ps.mat = ggMaterialDefault();
     ps.mat_id = -1;
     take(s, &sn);
+    rc = check_text(&ps);
     while (rc == GG_OK && (r = next(&ps, &t)) != 0) {
         const keyword *k = NULL;
         if (r < 0) {

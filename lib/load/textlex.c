@@ -2,11 +2,25 @@
 /*
 ** textlex.c -- the line cursor of the text mesh formats (OBJ, MTL): blanks,
 ** continuations, words, numbers and "file:line:col" messages (mesh_int.h).
+** Lines end at LF, CRLF or a lone CR; a UTF-8 byte order mark is skipped.
 */
 #include "mesh_int.h"
 
 #include <stdio.h>
 #include <string.h>
+
+/* A line ends at "\n", "\r\n" or a lone "\r" (CR line endings), as in
+   NFF (nff.c); *p is the end of its line. */
+static bool line_end(const char *p, const char *e)
+{
+    return *p == '\n' || (*p == '\r' && (p + 1 >= e || p[1] != '\n'));
+}
+
+static const char *next_line_end(const char *p, const char *e)
+{
+    while (p < e && !line_end(p, e)) p++;
+    return p;
+}
 
 void gg_lc_init(gg_lc *c, const char *text, size_t len, const char *name, ggError *err)
 {
@@ -25,7 +39,7 @@ int gg_lc_check_text(gg_lc *c)
     z = memchr(c->p, '\0', (size_t)(c->end - c->p));
     if (!z) return GG_OK;
     for (q = c->p; q < z; q++)
-        if (*q == '\n') c->line++, c->ls = q + 1;
+        if (line_end(q, c->end)) c->line++, c->ls = q + 1;
     return gg_lc_fail(c, z, GG_ERROR_PARSE, "NUL byte in a text file");
 }
 
@@ -33,11 +47,13 @@ void gg_lc_blank(gg_lc *c)
 {
     const char *p = c->p, *e = c->end;
     for (;;) {
-        while (p < e && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\f' || *p == '\v')) p++;
+        while (p < e && (*p == ' ' || *p == '\t' || *p == '\f' || *p == '\v' ||
+                         (*p == '\r' && !line_end(p, e))))
+            p++;
         if (p < e && *p == '\\') {
             const char *q = p + 1;
-            while (q < e && *q == '\r') q++;
-            if (q < e && *q == '\n') {
+            while (q < e && *q == '\r' && !line_end(q, e)) q++;
+            if (q < e && line_end(q, e)) {
                 p = q + 1;
                 c->line++, c->ls = p;
                 continue;
@@ -50,13 +66,13 @@ void gg_lc_blank(gg_lc *c)
 
 bool gg_lc_eol(const gg_lc *c)
 {
-    return c->p >= c->end || *c->p == '\n' || *c->p == '#';
+    return c->p >= c->end || line_end(c->p, c->end) || *c->p == '#';
 }
 
 void gg_lc_next_line(gg_lc *c)
 {
-    const char *nl = memchr(c->p, '\n', (size_t)(c->end - c->p));
-    c->p = nl ? nl + 1 : c->end;
+    const char *nl = next_line_end(c->p, c->end);
+    c->p = nl < c->end ? nl + 1 : c->end;
     c->ls = c->p;
     c->line++;
 }
@@ -83,8 +99,7 @@ size_t gg_lc_rest(gg_lc *c, const char **s)
     const char *p, *q;
     gg_lc_blank(c);
     p = c->p;
-    q = memchr(p, '\n', (size_t)(c->end - p));
-    if (!q) q = c->end;
+    q = next_line_end(p, c->end);
     c->p = q;
     while (q > p && blank(q[-1])) q--;
     *s = p;
@@ -93,15 +108,7 @@ size_t gg_lc_rest(gg_lc *c, const char **s)
 
 const char *gg_lc_show(const char *w, size_t n, char *buf, size_t size)
 {
-    size_t i, k = 0;
-    for (i = 0; i < n && k + 5 < size && i < 40; i++) {
-        unsigned char ch = (unsigned char)w[i];
-        if (ch >= 0x20 && ch < 0x7f)
-            buf[k++] = (char)ch;
-        else
-            k += (size_t)snprintf(buf + k, size - k, "\\x%02X", ch);
-    }
-    buf[k] = '\0';
+    gg_text_escape(buf, size, w, n < 40 ? n : 40);
     return buf;
 }
 

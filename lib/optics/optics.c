@@ -29,48 +29,58 @@
 #include <math.h>
 
 #define GG_REFRACT_NAME refract_plain
+#define GG_REFLECT_NAME reflect_plain
 #include "refract_core.h"
 
-GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
-{
-    int ev;
-    gg_dd a, nn, k2;
-    double c[3], nc[3];
-    int i;
-    if (!v3finite(v) || !v3valid(n)) return v3nan();
-    if (v.x == 0 && v.y == 0 && v.z == 0) return v;
-    /* The mirror image is linear in v and independent of |n|. */
-    ev = dd_expo(v3maxabs(v));
-    v = v3scale2(v, -ev);
-    n = v3scale2(n, -dd_expo(v3maxabs(n)));
-    a = dd_dot3(v.x, v.y, v.z, n.x, n.y, n.z);
-    nn = dd_sum_sq3(n.x, n.y, n.z);
-    k2 = dd_div(a, nn);
-    k2.hi *= 2.0, k2.lo *= 2.0;
-    c[0] = v.x, c[1] = v.y, c[2] = v.z;
-    nc[0] = n.x, nc[1] = n.y, nc[2] = n.z;
-    for (i = 0; i < 3; i++) c[i] = dd_sub(dd_from(c[i]), dd_mul_d(k2, nc[i])).hi;
-    return v3scale2(v3(c[0], c[1], c[2]), ev);
-}
-
 #if GG_ISA_X86
-static int refract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
-{
-    /* Same bits either way (refract_core.h). */
-    return gg_cpu_features() & GG_CPU_FMA ? gg_refract_fma(v, n, ni, nt, t)
-                                          : refract_plain(v, n, ni, nt, t);
-}
-#else
-#define refract refract_plain
-#endif
+/* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2
+   yes (threads that race store the same value; relaxed atomics). */
+static int fma_mode;
 
+static int use_fma(void)
+{
+    int m = __atomic_load_n(&fma_mode, __ATOMIC_RELAXED);
+    if (!m) {
+        m = gg_cpu_features() & GG_CPU_FMA ? 2 : 1;
+        __atomic_store_n(&fma_mode, m, __ATOMIC_RELAXED);
+    }
+    return m == 2;
+}
+
+/* Same bits either way (refract_core.h); the fma build is faster. */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
     ggVec3 r;
-    int rc = refract(v, n, ni, nt, &r);
+    int rc = use_fma() ? gg_refract_fma(&v, &n, ni, nt, &r) : refract_plain(&v, &n, ni, nt, &r);
     if (t) *t = r;
     return rc == 1;
 }
+
+GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
+{
+    ggVec3 r;
+    if (use_fma())
+        gg_reflect_fma(&v, &n, &r);
+    else
+        reflect_plain(&v, &n, &r);
+    return r;
+}
+#else
+GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
+{
+    ggVec3 r;
+    int rc = refract_plain(&v, &n, ni, nt, &r);
+    if (t) *t = r;
+    return rc == 1;
+}
+
+GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
+{
+    ggVec3 r;
+    reflect_plain(&v, &n, &r);
+    return r;
+}
+#endif
 
 GG_API bool ggRefractTextbook(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {

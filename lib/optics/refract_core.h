@@ -1,15 +1,27 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** refract_core.h -- the body of the accurate refraction (internal),
-** included twice: by optics.c as plain code, and by refract_fma.c compiled
-** for CPUs with fused multiply-add, where dd.h's TwoProd is one fma instead
-** of Dekker's 17-flop product. TwoProd is exact either way (the inputs are
-** scaled so that no error term underflows), so both copies return the
-** same bits; optics.c picks one at run time. Before including, define
-** GG_REFRACT_NAME (the name of the static function to generate).
+** refract_core.h -- the bodies of the accurate refraction and reflection
+** (internal), included twice: by optics.c as plain code, and by
+** refract_fma.c compiled for CPUs with fused multiply-add, where TwoProd is
+** one fma instead of Dekker's 17-flop product. TwoProd is exact either way
+** (the inputs are scaled so that no error term underflows) and nothing
+** else here uses fma, so both copies return the same bits; optics.c picks
+** one at run time. Before including, define GG_REFRACT_NAME and
+** GG_REFLECT_NAME (the names of the static functions to generate).
+**
+** Each function first scales its vectors by powers of two (exact) and then
+** tries a fast path: double-double where the result needs it, plain double
+** elsewhere, with a running bound on the error. When the bound cannot
+** guarantee the documented 1 ulp (near the critical angle, a ray almost in
+** the surface, |ni/nt| > 4 or negative), the full double-double
+** refract_dd decides. docs/optics.md gives the bound and its proof.
 */
-#ifndef GG_REFRACT_NAME
-#error "define GG_REFRACT_NAME before including refract_core.h"
+#if !defined(GG_REFRACT_NAME) || !defined(GG_REFLECT_NAME)
+#error "define GG_REFRACT_NAME and GG_REFLECT_NAME before including refract_core.h"
+#endif
+/* The linkage of the two generated functions (refract_fma.c exports them). */
+#ifndef GG_OPTICS_LINKAGE
+#define GG_OPTICS_LINKAGE static
 #endif
 
 #include "dd.h"
@@ -25,8 +37,6 @@ static ggVec3 v3scale2(ggVec3 a, int e)
 }
 
 static ggVec3 v3nan(void) { return v3(NAN, NAN, NAN); }
-
-static int v3valid(ggVec3 a) { return v3finite(a) && (a.x != 0 || a.y != 0 || a.z != 0); }
 
 /* Sign (-1, 0, 1) of the exact a.b, from the six exact terms of the
    products summed into a non-overlapping expansion (Shewchuk's
@@ -78,43 +88,63 @@ static ggVec3 dd_scale_vec(gg_dd a, const gg_dd x[3])
    rounding error, must stay a normal number). */
 static double flush(double x) { return fabs(x) < 0x1p-480 ? 0.0 : x; }
 
-/* v and n scaled so their largest components are in [1, 2); returns 0 if
-   either is zero or not finite. */
-static int normalise_pair(ggVec3 *v, ggVec3 *n)
+/* vt projected again along n: the error of vt is about 2^-104 |v| along n
+   (from k's rounding), and t takes eta times it into its normal
+   component. Each pass shrinks it by about 2^-104, until it is below
+   2^-100 |vt| (so eta times it is below 2^-100 wherever the ray is
+   transmitted). */
+static void reproject(gg_dd vt[3], const double nc[3], gg_dd nn)
 {
-    if (!v3valid(*v) || !v3valid(*n)) return 0;
-    *v = v3scale2(*v, -dd_expo(v3maxabs(*v)));
-    *n = v3scale2(*n, -dd_expo(v3maxabs(*n)));
-    *v = v3(flush(v->x), flush(v->y), flush(v->z));
-    *n = v3(flush(n->x), flush(n->y), flush(n->z));
-    return 1;
+    int pass, i;
+    for (pass = 0; pass < 12; pass++) {
+        gg_dd e = dd_from(0.0);
+        double m = fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi);
+        for (i = 0; i < 3; i++) e = dd_add(e, dd_mul_d(vt[i], nc[i]));
+        e = dd_div(e, nn);
+        if (e.hi == 0) break;
+        for (i = 0; i < 3; i++) vt[i] = dd_sub(vt[i], dd_mul_d(e, nc[i]));
+        if (fabs(e.hi) * 4.0 <= 0x1p-100 * m) break;
+    }
 }
 
-/* The accurate refraction. Returns 1 (transmitted), 0 (total internal
-   reflection or tangent v: *t is the mirror direction) or -1 (invalid:
-   *t is NaN). */
-static int GG_REFRACT_NAME(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
+/* g1 vt_i + g2 n_i, rounded once: the exact products of the high parts
+   are summed with TwoSum and everything else (at most 2^-104 of the
+   terms, and |t| = 1) in double. */
+static ggVec3 assemble(gg_dd g1, const gg_dd vt[3], gg_dd g2, const double nc[3])
+{
+    double r[3];
+    int i;
+    for (i = 0; i < 3; i++) {
+        gg_dd p = dd_two_prod(g1.hi, vt[i].hi), q = dd_two_prod(g2.hi, nc[i]);
+        gg_dd sum = dd_two_sum(p.hi, q.hi);
+        double lo =
+            sum.lo + (p.lo + q.lo) + (g1.hi * vt[i].lo + g1.lo * vt[i].hi) + g2.lo * nc[i];
+        r[i] = sum.hi + lo;
+    }
+    return v3(r[0], r[1], r[2]);
+}
+
+/* Mirror direction (v - 2k n) / |v|. */
+static ggVec3 mirror_dd(const double vc[3], const double nc[3], gg_dd k, gg_dd vv)
+{
+    double r[3];
+    gg_dd k2 = dd_make(2.0 * k.hi, 2.0 * k.lo), rv = dd_rsqrt(vv);
+    int i;
+    for (i = 0; i < 3; i++) r[i] = dd_mul(dd_sub(dd_from(vc[i]), dd_mul_d(k2, nc[i])), rv).hi;
+    return v3(r[0], r[1], r[2]);
+}
+
+/* The double-double refraction of normalised inputs (the fallback of the
+   fast path below; tests/test_optics_accuracy.c compares the two):
+   ediff is the exponent of |ni/nt| carried separately when it exceeds
+   450. Returns 1 (transmitted) or 0 (total internal reflection or tangent
+   v: *t is the mirror direction). */
+static int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff, ggVec3 *t)
 {
     double vc[3], nc[3], sump;
     gg_dd a, vv, nn, k, vt[3], ni2, nt2, A, D, g1, g2;
-    int s, i, ediff = 0;
+    int s, i, sc;
 
-    if (!isfinite(ni) || !isfinite(nt) || ni == 0 || nt == 0 || !normalise_pair(&v, &n)) {
-        *t = v3nan();
-        return -1;
-    }
-    /* Indices: one common power of two, unless their ratio is so extreme
-       that the smaller would underflow; then each is scaled on its own and
-       the ratio's exponent is carried by the tangential part below. */
-    {
-        int ei = dd_expo(ni), et = dd_expo(nt), em = ei > et ? ei : et;
-        if (ei - et > 450) {
-            ediff = ei - et;
-            ni = dd_scale2(ni, -ei), nt = dd_scale2(nt, -et);
-        } else {
-            ni = dd_scale2(ni, -em), nt = dd_scale2(nt, -em);
-        }
-    }
     vc[0] = v.x, vc[1] = v.y, vc[2] = v.z;
     nc[0] = n.x, nc[1] = n.y, nc[2] = n.z;
 
@@ -137,30 +167,20 @@ static int GG_REFRACT_NAME(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
     }
     nn = dd_sum_sq3(n.x, n.y, n.z);
     k = dd_div(a, nn);
-    for (i = 0; i < 3; i++) vt[i] = dd_add_d(dd_neg(dd_mul_d(k, nc[i])), vc[i]);
+    /* For eta > 2^450 vt is formed scaled by 2^sc (exact): a component of
+       n below 2^-1022 would otherwise make k n_i subnormal and lose the
+       relative precision that eta multiplies. */
+    sc = ediff ? 600 : 0;
+    for (i = 0; i < 3; i++)
+        vt[i] = dd_add_d(dd_neg(dd_mul_d(k, dd_scale2(nc[i], sc))), dd_scale2(vc[i], sc));
 
     /* Exactly normal incidence: vt above is only rounding noise (at most
        2^-104 |v|), which a huge eta would magnify. */
-    if (fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi) < 0x1p-90 && parallel_exact(v, n))
+    if (fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi) < dd_scale2(0x1p-90, sc) &&
+        parallel_exact(v, n))
         vt[0] = vt[1] = vt[2] = dd_from(0.0);
 
-    /* The error of vt is about 2^-104 |v| along n (from k's rounding);
-       t takes eta times it into its normal component. Negligible unless
-       eta is huge; then vt is projected again, each pass shrinking the
-       error by about 2^-104, until it is below 2^-100 |vt| (so eta times
-       it is below 2^-100 wherever the ray is transmitted). */
-    if (ediff || fabs(ni) > 0x1p30 * fabs(nt)) {
-        int pass;
-        for (pass = 0; pass < 12; pass++) {
-            gg_dd e = dd_from(0.0);
-            double m = fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi);
-            for (i = 0; i < 3; i++) e = dd_add(e, dd_mul_d(vt[i], nc[i]));
-            e = dd_div(e, nn);
-            if (e.hi == 0) break;
-            for (i = 0; i < 3; i++) vt[i] = dd_sub(vt[i], dd_mul_d(e, nc[i]));
-            if (fabs(e.hi) * 4.0 <= 0x1p-100 * m) break;
-        }
-    }
+    if (ediff || fabs(ni) > 0x1p30 * fabs(nt)) reproject(vt, nc, nn);
 
     if (ediff) {
         /* eta > 2^450: transmission needs sin(theta_i) < 1/eta. With
@@ -168,9 +188,9 @@ static int GG_REFRACT_NAME(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
            means eta sin(theta_i) > 1. Otherwise multiply vt by 2^ediff
            (exact) so the formulas below see eta in (1/2, 2). */
         double m = fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi);
-        if (m != 0 && dd_expo(m) >= 4 - ediff) goto tir;
+        if (m != 0 && dd_expo(m) >= 4 - ediff + sc) goto tir;
         for (i = 0; i < 3; i++)
-            vt[i].hi = dd_scale2(vt[i].hi, ediff), vt[i].lo = dd_scale2(vt[i].lo, ediff);
+            vt[i].hi = dd_scale2(vt[i].hi, ediff - sc), vt[i].lo = dd_scale2(vt[i].lo, ediff - sc);
     }
 
     /* D = nt^2 |v|^2 cos^2(theta_t), two ways:
@@ -198,30 +218,313 @@ static int GG_REFRACT_NAME(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
     g1 = dd_mul_d(dd_rsqrt(A), nt > 0 ? ni : -ni);
     g2 = dd_sqrt(dd_div(D, dd_mul(A, nn)));
     if (s < 0) g2 = dd_neg(g2);
-    {
-        /* g1 vt_i + g2 n_i, rounded once: the exact products of the high
-           parts are summed with TwoSum and everything else (at most
-           2^-104 of the terms, and |t| = 1) in double. */
-        double r[3];
-        for (i = 0; i < 3; i++) {
-            gg_dd p = dd_two_prod(g1.hi, vt[i].hi), q = dd_two_prod(g2.hi, nc[i]);
-            gg_dd sum = dd_two_sum(p.hi, q.hi);
-            double lo = sum.lo + (p.lo + q.lo) + (g1.hi * vt[i].lo + g1.lo * vt[i].hi) +
-                        g2.lo * nc[i];
-            r[i] = sum.hi + lo;
-        }
-        *t = v3(r[0], r[1], r[2]);
-    }
+    *t = assemble(g1, vt, g2, nc);
     return 1;
 
 tir:
-    /* Mirror direction (v - 2k n) / |v|. */
-    {
-        double r[3];
-        gg_dd k2 = dd_make(2.0 * k.hi, 2.0 * k.lo), rv = dd_rsqrt(vv);
-        for (i = 0; i < 3; i++) r[i] = dd_mul(dd_sub(dd_from(vc[i]), dd_mul_d(k2, nc[i])), rv).hi;
-        *t = v3(r[0], r[1], r[2]);
-    }
+    *t = mirror_dd(vc, nc, k, vv);
     return 0;
 }
 
+/* ------------------------------------------------------------------ */
+/* Fast paths                                                          */
+/* ------------------------------------------------------------------ */
+
+/* Four-lane double vectors (GNU C vector extensions, GCC and clang): the
+   three components of a vector, or three dot products side by side, go
+   through the same error-free transformations at once. Lanes are
+   independent IEEE operations, so the fma build (256-bit AVX, TwoProd one
+   fma) and the plain build (SSE2 pairs, Dekker's product) agree bit for
+   bit. The fourth lane repeats the third (so it raises no exception the
+   third does not; a zero there makes GCC emit a VEX movq that valgrind
+   3.19 cannot run). */
+#if defined(GG_DD_FMA)
+#include <immintrin.h>
+#endif
+/* Every function taking or returning these is inlined (GG_INLINE): no
+   call crosses the ABI that GCC and clang warn about for the plain build. */
+GG_PSABI_OFF
+typedef double gg_v4 GG_VECTOR_SIZE(32);
+typedef struct gg_v4dd {
+    gg_v4 hi, lo;
+} gg_v4dd;
+
+GG_INLINE gg_v4 v4splat(double x)
+{
+    gg_v4 r = {x, x, x, x};
+    return r;
+}
+
+/* a * b = hi + lo exactly, lane by lane (barring underflow of lo). */
+GG_INLINE gg_v4dd v4_two_prod(gg_v4 a, gg_v4 b)
+{
+    gg_v4dd r;
+    r.hi = a * b;
+#if defined(GG_DD_FMA)
+    r.lo = (gg_v4)_mm256_fmsub_pd((__m256d)a, (__m256d)b, (__m256d)r.hi);
+#else
+    {
+        const gg_v4 split = v4splat(134217729.0); /* 2^27 + 1 */
+        gg_v4 ta = split * a, tb = split * b;
+        gg_v4 ah = ta - (ta - a), al = a - ah, bh = tb - (tb - b), bl = b - bh;
+        r.lo = ((ah * bh - r.hi) + ah * bl + al * bh) + al * bl;
+    }
+#endif
+    return r;
+}
+
+/* a + b = hi + lo exactly, lane by lane. */
+GG_INLINE gg_v4dd v4_two_sum(gg_v4 a, gg_v4 b)
+{
+    gg_v4dd r;
+    gg_v4 bb;
+    r.hi = a + b, bb = r.hi - a;
+    r.lo = (a - (r.hi - bb)) + (b - bb);
+    return r;
+}
+
+/* Double-word products without fma outside TwoProd (so both builds agree):
+   JMP 2017 Algorithms 9 and 12, relative error below 2u^2 and 5u^2. */
+GG_INLINE gg_dd fd_mul(gg_dd x, gg_dd y)
+{
+    gg_dd c = dd_two_prod(x.hi, y.hi);
+    return dd_fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
+}
+GG_INLINE gg_dd fd_mul_d(gg_dd x, double y)
+{
+    gg_dd c = dd_two_prod(x.hi, y);
+    return dd_fast_two_sum(c.hi, c.lo + x.lo * y);
+}
+
+/* 1/sqrt(x) for a double-word x > 0: one Newton step from the double
+   estimate (relative error below 4u^2). 1 - x y^2 is formed exactly enough
+   because x y^2 is within 3u of 1. */
+GG_INLINE gg_dd fd_rsqrt(gg_dd x)
+{
+    double y = 1.0 / sqrt(x.hi);
+    gg_dd m = fd_mul(x, dd_two_prod(y, y));
+    return dd_fast_two_sum(y, 0.5 * y * ((1.0 - m.hi) - m.lo));
+}
+
+/* The bits of |x|, and of the largest |component| (NaN and infinities
+   compare largest, so the exponent field is 2047 if any component is not
+   finite). */
+GG_INLINE uint64_t abs_bits(double x)
+{
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b & ~(1ull << 63);
+}
+GG_INLINE uint64_t max_bits(ggVec3 a)
+{
+    uint64_t x = abs_bits(a.x), y = abs_bits(a.y), z = abs_bits(a.z);
+    x = x > y ? x : y;
+    return x > z ? x : z;
+}
+
+/* 2^(1023 - e) for the biased exponent e in [1, 2045]. */
+GG_INLINE double pow2_inv(uint64_t e)
+{
+    uint64_t b = (2046 - e) << 52;
+    double d;
+    memcpy(&d, &b, sizeof d);
+    return d;
+}
+
+/* a as a vector, scaled so its largest component is in [1, 2), given m =
+   max_bits(a) (finite, non-zero): the same numbers as
+   v3scale2(a, -dd_expo(max)). */
+GG_INLINE gg_v4 scale_unit(ggVec3 a, uint64_t m)
+{
+    uint64_t e = m >> 52;
+    gg_v4 r = {a.x, a.y, a.z, a.z};
+    if (e >= 1 && e <= 2045) return r * v4splat(pow2_inv(e));
+    a = v3scale2(a, -dd_expo(v3maxabs(a)));
+    r[0] = a.x, r[1] = a.y, r[2] = a.z, r[3] = a.z;
+    return r;
+}
+
+/* v.n, v.v and n.n in lanes 0, 1, 2, each hi + lo with |lo| <= u |hi|
+   (Dot2 of Ogita, Rump and Oishi: error below 3u^2 times the sum of the
+   |products|; for the sums of squares a relative error below 3u^2). *sump
+   gets |v_x n_x| + |v_y n_y| + |v_z n_z|. */
+GG_INLINE gg_v4dd v4_dots(gg_v4 V, gg_v4 N, double *sump)
+{
+    gg_v4 l1 = {V[0], V[0], N[0], N[0]}, r1 = {N[0], V[0], N[0], N[0]};
+    gg_v4 l2 = {V[1], V[1], N[1], N[1]}, r2 = {N[1], V[1], N[1], N[1]};
+    gg_v4 l3 = {V[2], V[2], N[2], N[2]}, r3 = {N[2], V[2], N[2], N[2]};
+    gg_v4dd p1 = v4_two_prod(l1, r1), p2 = v4_two_prod(l2, r2), p3 = v4_two_prod(l3, r3);
+    gg_v4dd s = v4_two_sum(p1.hi, p2.hi), t = v4_two_sum(s.hi, p3.hi);
+    gg_v4 lo = ((p1.lo + p2.lo) + (p3.lo + s.lo)) + t.lo;
+    *sump = fabs(p1.hi[0]) + fabs(p2.hi[0]) + fabs(p3.hi[0]);
+    return v4_two_sum(t.hi, lo);
+}
+
+GG_INLINE gg_dd lane(gg_v4dd x, int i) { return dd_make(x.hi[i], x.lo[i]); }
+
+/* (V - 2 (a/nn) N) rho, each component rounded once, for scaled V and N
+   and a double-word rho (rho == NULL: 1, the reflection); a = v.n and nn
+   = n.n as double-words. Error: docs/optics.md, "The fast paths". */
+GG_INLINE ggVec3 mirror_fast(gg_v4 V, gg_v4 N, gg_dd a, gg_dd nn, const gg_dd *rho)
+{
+    double y = 1.0 / nn.hi, q = a.hi * y, rem;
+    gg_dd p = dd_two_prod(q, nn.hi);
+    gg_v4dd pk, s;
+    gg_v4 lo, R;
+    /* k = 2 a / nn as q + kl; a.hi - p.hi is exact (Sterbenz) */
+    rem = (((a.hi - p.hi) - p.lo) + a.lo) - q * nn.lo;
+    pk = v4_two_prod(v4splat(2.0 * q), N);
+    s = v4_two_sum(V, -pk.hi);
+    lo = (s.lo - pk.lo) - v4splat(2.0 * rem * y) * N;
+    if (!rho) {
+        R = s.hi + lo;
+    } else {
+        gg_v4dd m = v4_two_prod(s.hi, v4splat(rho->hi));
+        R = m.hi + (m.lo + (s.hi * v4splat(rho->lo) + lo * v4splat(rho->hi)));
+    }
+    return v3(R[0], R[1], R[2]);
+}
+
+/* The reflection: scale, mirror, scale back. No fallback is needed: the
+   bound holds for every scaled input (docs/optics.md). */
+GG_OPTICS_LINKAGE void GG_REFLECT_NAME(const ggVec3 *vp, const ggVec3 *np, ggVec3 *out)
+{
+    uint64_t mv = max_bits(*vp), mn = max_bits(*np), e = mv >> 52, b;
+    gg_v4 V, N;
+    gg_v4dd d;
+    ggVec3 r;
+    double sump;
+    if (e == 2047 || mn == 0 || (mn >> 52) == 2047) {
+        *out = v3nan();
+        return;
+    }
+    if (mv == 0) {
+        *out = *vp;
+        return;
+    }
+    V = scale_unit(*vp, mv), N = scale_unit(*np, mn);
+    d = v4_dots(V, N, &sump);
+    r = mirror_fast(V, N, lane(d, 0), lane(d, 2), NULL);
+    if (e >= 1 && e <= 2045) {
+        double s;
+        b = e << 52;
+        memcpy(&s, &b, sizeof s);
+        *out = v3scale(r, s);
+    } else {
+        *out = v3scale2(r, dd_expo(v3maxabs(*vp)));
+    }
+}
+
+/* The fast refraction of scaled inputs (largest components and larger
+   index in [1, 2)), for 2^-200 <= eta <= 4. Returns 1 or 0 as refract_dd,
+   or 2 when its running error bound cannot certify the result (then
+   nothing is written). Notation and proof: docs/optics.md, "The fast
+   paths". */
+GG_INLINE int refract_fast(gg_v4 V, gg_v4 N, double ni, double nt, ggVec3 *t)
+{
+    double sump, bound, y, ani = fabs(ni);
+    gg_dd a, vv, nn, ni2, nt2, M, Q, P, D, W, Wi, rho, eta, G1, G2, p;
+    gg_v4dd d, p1, p2, sm;
+    gg_v4 R;
+    int neg;
+    d = v4_dots(V, N, &sump);
+    a = lane(d, 0), vv = lane(d, 1), nn = lane(d, 2);
+    if (!(fabs(a.hi) > 0x1p-100 * sump)) return 2;
+    ni2 = dd_two_prod(ni, ni), nt2 = dd_two_prod(nt, nt);
+    /* D = (nt^2 - ni^2) |v|^2 |n|^2 + ni^2 (v.n)^2 = nt^2 |v|^2 |n|^2 cos^2(theta_t),
+       from the exact products of the high parts */
+    M = dd_sub(nt2, ni2);
+    Q = fd_mul(vv, nn);
+    P = dd_sqr(a);
+    {
+        gg_dd m = dd_two_prod(M.hi, Q.hi), q = dd_two_prod(ni2.hi, P.hi), s = dd_two_sum(m.hi, q.hi);
+        D = dd_fast_two_sum(s.hi, s.lo + ((m.lo + q.lo) + ((M.hi * Q.lo + M.lo * Q.hi) +
+                                                            (ni2.hi * P.lo + ni2.lo * P.hi))));
+    }
+    /* a bound on the error of D (from the magnitudes: docs/optics.md); the
+       constant term covers underflow in products of tiny components */
+    bound = 0x1p-100 * (40.0 * fabs(M.hi) * Q.hi + ni2.hi * (8.0 * fabs(a.hi) * sump + 24.0 * P.hi) +
+                        4.0 * fabs(D.hi)) +
+            0x1p-900;
+    /* the sign of D is certain, and its relative error below 2^-20 */
+    if (!(fabs(D.hi) > 0x1p20 * bound)) return 2;
+    if (D.hi < 0) {
+        rho = fd_rsqrt(vv);
+        *t = mirror_fast(V, N, a, nn, &rho);
+        return 0;
+    }
+    /* W = |nt| (sqrt(D) + |ni| |v.n|) = nt^2 |v| |n| (cos_t + eta |cos_i|) */
+    y = sqrt(D.hi);
+    p = dd_two_prod(y, y);
+    W = dd_make(y, (((D.hi - p.hi) - p.lo) + D.lo) / (2.0 * y));
+    neg = a.hi < 0;
+    if (neg) a = dd_neg(a);
+    W = fd_mul_d(dd_add_same(W, fd_mul_d(a, ani)), fabs(nt));
+    y = 1.0 / W.hi;
+    p = dd_two_prod(W.hi, y);
+    Wi = dd_make(y, y * (((1.0 - p.hi) - p.lo) - W.lo * y));
+    /* t = G1 v + G2 n: G1 = eta/|v|, G2 = sign(v.n) (nt^2 - ni^2) |v| / W */
+    rho = fd_rsqrt(vv);
+    y = 1.0 / nt;
+    eta.hi = ni * y;
+    p = dd_two_prod(eta.hi, nt);
+    eta.lo = ((ni - p.hi) - p.lo) * y;
+    G1 = fd_mul(eta, rho);
+    G2 = fd_mul(fd_mul(M, fd_mul(vv, rho)), Wi);
+    /* The error of D reaches t through sqrt(D), scaled by |G2 n_i| < 2 |G2|
+       (docs/optics.md): certified when that stays below 2^-58. */
+    if (!(bound * fabs(G2.hi) <= 0x1p-59 * D.hi)) return 2;
+    if (neg) G2 = dd_neg(G2);
+    p1 = v4_two_prod(v4splat(G1.hi), V), p2 = v4_two_prod(v4splat(G2.hi), N);
+    sm = v4_two_sum(p1.hi, p2.hi);
+    R = sm.hi + (sm.lo + (p1.lo + p2.lo) + (v4splat(G1.lo) * V + v4splat(G2.lo) * N));
+    *t = v3(R[0], R[1], R[2]);
+    return 1;
+}
+
+/* The accurate refraction. Returns 1 (transmitted), 0 (total internal
+   reflection or tangent v: *t is the mirror direction) or -1 (invalid:
+   *t is NaN). */
+GG_OPTICS_LINKAGE int GG_REFRACT_NAME(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
+                                      ggVec3 *t)
+{
+    const uint64_t fin = 0x7ff0000000000000ull;
+    uint64_t mv = max_bits(*vp), mn = max_bits(*np), bi = abs_bits(ni), bt = abs_bits(nt);
+    uint64_t ei = bi >> 52, et = bt >> 52;
+    int ediff = 0;
+    gg_v4 V, N;
+    ggVec3 v, n;
+    /* finite and non-zero: x - 1 wraps around for zero */
+    if (mv - 1 >= fin - 1 || mn - 1 >= fin - 1 || bi - 1 >= fin - 1 || bt - 1 >= fin - 1) {
+        *t = v3nan();
+        return -1;
+    }
+    V = scale_unit(*vp, mv), N = scale_unit(*np, mn);
+    /* Indices: one common power of two, unless their ratio is so extreme
+       that the smaller would underflow; then each is scaled on its own and
+       the ratio's exponent is carried by the tangential part (refract_dd). */
+    if (ei >= 1 && ei <= 2045 && et >= 1 && et <= 2045 && ei <= et + 450) {
+        double s = pow2_inv(ei > et ? ei : et);
+        ni *= s, nt *= s;
+    } else {
+        int xi = dd_expo(ni), xt = dd_expo(nt), em = xi > xt ? xi : xt;
+        if (xi - xt > 450) {
+            ediff = xi - xt;
+            ni = dd_scale2(ni, -xi), nt = dd_scale2(nt, -xt);
+        } else {
+            ni = dd_scale2(ni, -em), nt = dd_scale2(nt, -em);
+        }
+    }
+    if (!ediff && (ni > 0) == (nt > 0) && fabs(ni) <= 4.0 * fabs(nt) &&
+        fabs(ni) >= 0x1p-200 * fabs(nt)) {
+        int rc = refract_fast(V, N, ni, nt, t);
+        if (rc != 2) return rc;
+    }
+    v = v3(V[0], V[1], V[2]), n = v3(N[0], N[1], N[2]);
+    if (!ediff && fabs(ni) <= 0x1p400 * fabs(nt)) {
+        /* eta * 2^-480 < 2^-80: the flush moves t by less than 2^-80 */
+        v = v3(flush(v.x), flush(v.y), flush(v.z));
+        n = v3(flush(n.x), flush(n.y), flush(n.z));
+    }
+    return refract_dd(v, n, ni, nt, ediff, t);
+}

@@ -19,13 +19,10 @@
 #include <string.h>
 
 #define GG_DD_FMA 1
-#define GG_REFRACT_NAME refract_fma
+#define GG_REFRACT_NAME   gg_refract_fma
+#define GG_REFLECT_NAME   gg_reflect_fma
+#define GG_OPTICS_LINKAGE /* external: declared in refract_fma.h */
 #include "refract_core.h"
-
-int gg_refract_fma(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
-{
-    return refract_fma(v, n, ni, nt, t);
-}
 
 #else
 /* ISO C forbids an empty translation unit. */

@@ -27,6 +27,8 @@
 ** return`, so in the basic and full paths it compiles to nothing; in the
 ** recording path it sees all that the shading computed at that point:
 **   rec_ray        a ray is about to be cast: its ray_state
+**   rec_intersect  its closest-hit query, through the counting copy of the
+**                  traversal (gg_geom_intersect_cost): the same hit
 **   rec_hit        its closest hit: hit_info (the query, gg_hit with the
 **                  barycentrics b1, b2, gg_surf with p, normals and the
 **                  error bound perr, the origin o_out of rays leaving it)
@@ -38,7 +40,7 @@
 **   rec_child      a child ray has returned: the child's ray_state, weight
 **   rec_stop       why a ray spawned no (more) children
 **   rec_ray_end    the ray's colour and absorption
-** Per-hit diagnostics (docs/internals.md, "Recorder hooks") belong in these
+** Per-hit diagnostics (docs/internals.md, "Shading and the recorder hooks") belong in these
 ** functions and nowhere else in the shading.
 */
 #include "shade.h"
@@ -316,7 +318,21 @@ GG_INLINE int rec_ray(const gg_shade_ctx *c, const ray_state *r, const unsigned 
     N->fresnel = -1;
     N->weight = rgb(1, 1, 1);
     N->perr = N->offset = N->tir_margin = N->edge = NAN;
+    N->nodes = N->prims = -1;
     return node;
+}
+
+/* The recorder's closest-hit query: gg_geom_intersect's answer, and what
+   the traversal tested. A hit the caller already knows (the tracer's eye
+   rays) stays the one used; the query then only counts. */
+GG_INLINE int rec_intersect(const gg_shade_ctx *c, int node, const gg_rayq *q, const gg_hit *known,
+                            gg_hit *h)
+{
+    gg_trav_cost cost = {0, 0};
+    gg_hit other;
+    int hit = gg_geom_intersect_cost(c->s->geom, q, known ? &other : h, &cost);
+    if (node >= 0) c->rec->nodes[node].nodes = cost.nodes, c->rec->nodes[node].prims = cost.prims;
+    return known ? 1 : hit;
 }
 
 /* How close a hit lies to the nearest edge of its triangle or mesh
@@ -896,7 +912,10 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
     node = rec_ray(c, r, FX);
     q.inside = r->inside;
-    if (!known) hit = gg_geom_intersect(s->geom, &q, &h);
+    if (FX & FX_RECORD)
+        hit = rec_intersect(c, node, &q, known, &h);
+    else if (!known)
+        hit = gg_geom_intersect(s->geom, &q, &h);
     if (!hit) {
         col = s->background;
         if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)

@@ -31,7 +31,7 @@ typedef struct gg_shade_ctx {
 /* What one rendering thread keeps for itself: its ray counts and, per
    light, the element that blocked its last shadow ray if one did (tested
    first next time: neighbouring shadow rays are mostly blocked by the
-   same one; see gg_geom_occluded_cached). */
+   same one; the cache argument of gg_geom_occluded). */
 #define GG_OCC_CACHES 16
 typedef struct gg_shade_thread {
     ggRayStats st;

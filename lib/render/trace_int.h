@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** trace_int.h -- the ray-tree recorder's insides (internal).
+** trace_int.h -- the ray-tree recorder's insides (private to lib/render:
+** docs/internals.md, "Headers").
 */
 #ifndef GG_TRACE_INT_H
 #define GG_TRACE_INT_H

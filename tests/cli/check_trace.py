@@ -49,6 +49,10 @@ def check_node(n, counts, parent_depth):
     need(n, "medium", int, w)
     need(n, "n_medium", NUM, w)
     need(n, "stop", ("none", "miss", "depth", "matte"), w)
+    tv = need(n, "traversal", dict, w)
+    if not (isinstance(tv.get("nodes"), int) and isinstance(tv.get("prims"), int)
+            and tv["nodes"] >= 0 and tv["prims"] >= 0):
+        fail("%s: traversal %r" % (w, tv))
     counts[kind] = counts.get(kind, 0) + 1
     hit = n.get("hit", "absent")
     if hit == "absent":

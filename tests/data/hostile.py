@@ -11,6 +11,7 @@
                      scanline chunk holds 20 of its 48 bytes
         short2.exr   the same with the chunk's size field saying 48 and the
                      file ending after 20 bytes of it
+        plain.exr    the same file whole (valid)
     python3 tests/data/hostile.py DIR --full   also, each under 100 KB:
         full_a.png, full_b.png   4096 x 4096 RGB PNGs with every row present
                                  (192 MiB decoded each: the largest image the
@@ -58,14 +59,14 @@ def exr_header(w, h, channels=(b'B', b'G', b'R')):
             attr(b'screenWindowWidth', b'float', struct.pack('<f', 1.0)) + b'\0')
 
 
-def short_exr(lie):
+def short_exr(lie, whole=False):
     """4 x 2 float B, G, R, uncompressed: one scanline per chunk."""
     w, h = 4, 2
     head = exr_header(w, h)
     line = struct.pack('<12f', *([0.25] * 12))  # 3 channels x 4 pixels
     table = len(head) + 8 * h
     c0 = struct.pack('<ii', 0, len(line)) + line
-    part = line[:20]
+    part = line if whole else line[:20]
     c1 = struct.pack('<ii', 1, len(line) if lie else len(part)) + part
     offsets = struct.pack('<2Q', table, table + len(c0))
     return head + offsets + c0 + c1
@@ -83,6 +84,7 @@ def main():
         'tex1m.png': png(w, w, rows=tex),
         'short.exr': short_exr(False),
         'short2.exr': short_exr(True),
+        'plain.exr': short_exr(False, whole=True),
     }
     if '--full' in sys.argv[2:]:
         files['full_a.png'] = png(4096, 4096, full=True, shade=64)

@@ -1,0 +1,59 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: `ggrt optics check` and `ggrt optics seeds`.
+# ggrt's own refraction and reflection pass every class; the
+# textbook library (examples/textbook_refract.c, built next to ggrt) fails
+# at grazing incidence and near the critical angle; load errors exit 2.
+bdir=$(dirname "$ggrt")
+tb="$bdir/libtextbook_refract.so"
+
+expect_exit 0 "optics check: ggRefract passes" "$ggrt" optics check --cases 300
+if grep -q "^PASS: worst 0\.[0-9]* ulp" "$tmp/out" && ! grep -q "FAIL" "$tmp/out"; then
+  ok "optics check: ggRefract's worst class is below 1 ulp"
+else bad "optics check: ggRefract's table" "$(cat "$tmp/out")"; fi
+expect_exit 0 "optics check: ggReflection passes" "$ggrt" optics check --kind reflect --cases 300
+expect_exit 0 "optics check: ggFresnelDielectric passes" "$ggrt" optics check --kind fresnel --cases 300
+
+if [ -f "$tb" ]; then
+  expect_exit 4 "optics check: the textbook formula fails" \
+    "$ggrt" optics check --lib "$tb" --symbol textbook_refract --cases 300
+  for class in "grazing " "near critical "; do
+    if grep "^$class" "$tmp/out" | grep -q "FAIL"; then ok "optics check: textbook fails '$class'"
+    else bad "optics check: textbook passes '$class'?" "$(cat "$tmp/out")"; fi
+  done
+  if grep -q "^  near critical *v={-*0x" "$tmp/out"; then ok "optics check: worst inputs as hex floats"
+  else bad "optics check: no hex-float input" "$(cat "$tmp/out")"; fi
+  expect_exit 4 "optics check: textbook json" \
+    "$ggrt" optics check --lib "$tb" --symbol textbook_refract --cases 100 --format json
+  if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 11' "$tmp/out"
+  then ok "optics check: json parses, pass false, 11 classes"
+  else bad "optics check: json" "$(cat "$tmp/out")"; fi
+  expect_exit 4 "optics check: textbook reflection (tangent, huge)" \
+    "$ggrt" optics check --lib "$tb" --symbol textbook_reflect --kind reflect --cases 300
+  expect_exit 4 "optics check: the textbook Fresnel formula fails" \
+    "$ggrt" optics check --lib "$tb" --symbol textbook_fresnel --kind fresnel --cases 300
+  expect_exit 2 "optics check: unknown symbol" "$ggrt" optics check --lib "$tb" --symbol nope
+else
+  bad "optics check: $tb was not built"
+fi
+expect_exit 2 "optics check: missing library" "$ggrt" optics check --lib "$tmp/none.so" --symbol f
+expect_exit 1 "optics check: --symbol without --lib" "$ggrt" optics check --symbol f
+expect_exit 1 "optics check: bad --kind" "$ggrt" optics check --kind refraction
+
+expect_exit 0 "optics seeds: writes a corpus" "$ggrt" optics seeds "$tmp/seeds" --cases 4
+n=$(ls "$tmp/seeds" | wc -l)
+if [ "$n" -eq 44 ]; then ok "optics seeds: 4 seeds for each of 11 classes"
+else bad "optics seeds: $n files, want 44"; fi
+expect_exit 3 "optics seeds: unwritable directory" "$ggrt" optics seeds /nonexistent/dir/seeds
+
+# The fuzz harness of examples/fuzz_your_refract.c, replayed over that
+# corpus: against ggRefract it passes, against the textbook it aborts.
+if [ -x "$bdir/tests/yourfuzz_ggrefract" ] && [ -x "$bdir/tests/yourfuzz_textbook" ]; then
+  "$ggrt" optics seeds "$tmp/seeds2" --cases 16 >/dev/null
+  expect_exit 0 "fuzz_your_refract: ggRefract passes the seed corpus" \
+    "$bdir/tests/yourfuzz_ggrefract" "$tmp/seeds2"
+  "$bdir/tests/yourfuzz_textbook" "$tmp/seeds2" >"$tmp/out" 2>"$tmp/err"; rc=$?
+  if [ $rc -ne 0 ] && grep -q "ulp" "$tmp/err"; then ok "fuzz_your_refract: the textbook is caught"
+  else bad "fuzz_your_refract: textbook not caught (exit $rc)" "$(cat "$tmp/err")"; fi
+else
+  bad "fuzz_your_refract: replay binaries not built in $bdir/tests"
+fi
