@@ -50,6 +50,57 @@ static void test_nff_material(void **state)
            "p.nff:1:19: checker colour must not be negative, got -1");
 }
 
+/* Above the bounds of scene.h (GG_PARAM_MAX, GG_WEIGHT_MAX) a render
+   could overflow a double and make NaN from inf * 0. */
+static void test_nff_upper_bounds(void **state)
+{
+    (void)state;
+    refuse("f 1 1 1 101 0 1 0 0\ns 0 0 0 1\n",
+           "p.nff:1:9: Kd (the diffuse weight) must be at most 100, got 101");
+    refuse("f 1 1 1 1 0 1 1e3 1.5\ns 0 0 0 1\n",
+           "p.nff:1:15: T (the transmittance) must be at most 100, got 1e3");
+    refuse("f 1 1e31 1 1 0 1 0 0\ns 0 0 0 1\n",
+           "p.nff:1:5: the colour must be at most 1e+30, got 1e31");
+    refuse("f 1 1 1 1 0 1 0.5 1e300\ns 0 0 0 1\n",
+           "p.nff:1:19: the index of refraction must be at most 1e+30");
+    refuse("b 0 0 2e30\n", "p.nff:1:7: the background must be at most 1e+30, got 2e30");
+    refuse("conductor 1e40 1 1 1 1 1\ns 0 0 0 1\n",
+           "p.nff:1:11: conductor n must be at most 1e+30, got 1e40");
+    refuse("f 1 1 1 1 0 1 0.9 1.5\ndispersion 0.5\ns 0 0 0 1\n",
+           "p.nff:2:12: the Abbe number must be 0 (none) or from 1 to 1e+30 (glasses: 20 to 90)");
+}
+
+/* Every parameter at its bound, a deep ray tree, Fresnel and a conductor:
+   the render's doubles stay finite (no NaN or infinite sample); pixels
+   beyond the float range are +inf in the image, never NaN. */
+static void test_bounds_render_finite(void **state)
+{
+    static const char text[] =
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 16 12\n"
+        "l 0 5 5 1e30 1e30 1e30\nl 0 -5 5 1e30 1e30 1e30\n"
+        "b 1e30 1e30 1e30\nambient 1e30 1e30 1e30\n"
+        "f 1e30 1e30 1e30 100 100 0 100 1e30\nemission 1e30 1e30 1e30\nfresnel exact\n"
+        "dispersion 1\nabsorb 1e30 1e30 1e30 1e30\ns 0 0 0 1\ns 0 0 -3 1\n"
+        "f 1e30 1e30 1e30 100 100 0 0 0\nconductor 1e30 1e-30 1 1e30 1e30 1e30\n"
+        "s 1 1 -1 0.5\ndepth 64\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggImage *img = NULL;
+    ggRayStats st;
+    ggError e;
+    const float *p;
+    size_t k, n;
+    (void)state;
+    assert_int_equal(ggSceneLoadString(s, text, sizeof text - 1, NULL, &e), GG_OK);
+    assert_int_equal(ggRender(s, NULL, &img, &st, &e), GG_OK);
+    assert_true(st.reflect > 1000 && st.tir > 1000 && st.refract > 100);
+    assert_true(st.nonfinite == 0);
+    p = ggImagePixelsConst(img);
+    n = 3 * (size_t)ggImageWidth(img) * (size_t)ggImageHeight(img);
+    for (k = 0; k < n; k++) assert_true(!isnan(p[k]) && p[k] >= 0);
+    ggImageFree(img);
+    ggSceneFree(s);
+}
+
 static void test_nff_conductor(void **state)
 {
     (void)state;
@@ -127,6 +178,9 @@ static void test_api_material(void **state)
     m = ggMaterialDefault(), m.kt = 0.5, m.ior = 0, refuse_material(s, &m, "index");
     m = ggMaterialDefault(), m.ke.b = -1, refuse_material(s, &m, "emission");
     m = ggMaterialDefault(), m.ks = NAN, refuse_material(s, &m, "ks");
+    m = ggMaterialDefault(), m.ks = 1e300, refuse_material(s, &m, "ks");
+    m = ggMaterialDefault(), m.color.r = 1e31, refuse_material(s, &m, "colour");
+    m = ggMaterialDefault(), m.abbe = 0.5, refuse_material(s, &m, "abbe");
     m = ggMaterialDefault(), m.fresnel = GG_FRESNEL_CONDUCTOR;
     m.eta_n = (ggColor){0.2, 0, 0.2}, m.eta_k = (ggColor){3, 0, 3};
     refuse_material(s, &m, "conductor");
@@ -149,6 +203,8 @@ static void test_api_lights_background(void **state)
     (void)state;
     assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){1, -1, 1}), -GG_ERROR_INVALID);
     assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){0, 0, -0.5}),
+                     -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneAddLight(s, (ggVec3){0, 0, 0}, (ggColor){1, INFINITY, 1}),
                      -GG_ERROR_INVALID);
     assert_int_equal(ggSceneLightCount(s), 0);
     /* r < 0 is the SPD default colour, documented. */
@@ -232,6 +288,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_nff_material),
+        cmocka_unit_test(test_nff_upper_bounds),
+        cmocka_unit_test(test_bounds_render_finite),
         cmocka_unit_test(test_nff_conductor),
         cmocka_unit_test(test_nff_lights_background),
         cmocka_unit_test(test_nff_camera),

@@ -80,12 +80,27 @@ typedef struct ggMaterial {
 /* The NFF default: white, kd 1, everything else off, no texture. */
 GG_API ggMaterial ggMaterialDefault(void);
 
+/* Upper bounds of the physical parameters: GG_PARAM_MAX for colours,
+   ambient, background, emission, extinction, |ior|, conductor n and k,
+   unit_m and abbe; GG_WEIGHT_MAX for kd, ks and kt. Within them, and with
+   lights of at most GG_PARAM_MAX too, every term of a pixel's sum stays
+   below about 1e230 (weights of at most 100 along 64 bounces, times a
+   colour and a light of at most 1e30), so rendering never overflows a
+   double and never makes a NaN (a pixel above the float range is stored
+   as +inf). Light colours are deliberately bounded only by being finite:
+   a light of 1e308 is how a scene plants non-finite pixels for ggrt check
+   (tests/data/debug); such samples are counted in ggRayStats.nonfinite. */
+#define GG_PARAM_MAX  1e30
+#define GG_WEIGHT_MAX 100
+
 /* Whether m is physically valid, the rule ggSceneAddMaterial and the NFF
-   loader apply: colour, kd, ks, kt, shine, ke, extinction, unit_m and abbe
-   finite and >= 0 (weights above 1 are accepted: `ggrt check` reports the
-   energy they add); ior finite and non-zero when kt > 0 (negative: a
-   metamaterial, optics.h); eta_n and eta_k finite, eta_k >= 0, and for
-   GG_FRESNEL_CONDUCTOR eta_n >= 0 with n and k not both 0 in any channel;
+   loader apply: colour, ke, extinction and unit_m in [0, GG_PARAM_MAX];
+   kd, ks and kt in [0, GG_WEIGHT_MAX] (above 1 is accepted: `ggrt check`
+   reports the energy it adds); shine finite and >= 0; abbe 0 or in [1,
+   GG_PARAM_MAX]; |ior| <= GG_PARAM_MAX, non-zero when kt > 0 (negative: a
+   metamaterial, optics.h); |eta_n| <= GG_PARAM_MAX, eta_k in [0,
+   GG_PARAM_MAX], and for GG_FRESNEL_CONDUCTOR eta_n >= 0 with n and k not
+   both 0 in any channel;
    fresnel one of GG_FRESNEL_*; texture >= -1 (whether the texture exists
    is the scene's to check). Returns GG_OK, or GG_ERROR_INVALID with err
    naming the first field at fault ("material: ks must be finite and >= 0,
@@ -172,12 +187,13 @@ GG_API int64_t ggSceneSetTextureBudget(ggScene *scene, int64_t bytes);
 GG_API int ggSceneSetCamera(ggScene *scene, const ggCamera *cam);
 /* The camera; all zero for a NULL scene. */
 GG_API ggCamera ggSceneCamera(const ggScene *scene);
-/* GG_ERROR_INVALID unless every channel is finite and >= 0. */
+/* GG_ERROR_INVALID unless every channel is in [0, GG_PARAM_MAX]. */
 GG_API int ggSceneSetBackground(ggScene *scene, ggColor c);
 GG_API int ggSceneSetAmbient(ggScene *scene, ggColor c);
 /* Point light at a finite position. NFF lights without a colour get
    1/sqrt(number of lights) (the SPD convention) at render time when
-   `color` has r < 0; any other colour must be finite and >= 0. */
+   `color` has r < 0; any other colour must be finite and >= 0 (no upper
+   bound, see GG_PARAM_MAX). */
 GG_API int ggSceneAddLight(ggScene *scene, ggVec3 pos, ggColor color);
 /* Copies *m; -GG_ERROR_INVALID unless ggMaterialCheck(m) accepts it and
    its texture (if any) exists. */
@@ -244,6 +260,14 @@ GG_API void ggMeshOptionsDefault(ggMeshOptions *opt);
    OBJ and MTL, the byte offset and element index for binary PLY. Truncated
    files, bad indices, counts beyond the documented limits and NaN or
    infinite numbers are errors. On error the scene is left as it was. */
+/* A mesh file loaded again (the same path, also through an NFF `mesh`
+   line) is read and placed again; the triangles of all such repeated
+   loads in one scene may not exceed GG_MESH_REPEAT_MAX (2^21, about 700
+   MB with the BVH), checked before the file is read again:
+   GG_ERROR_LIMIT "g.obj: named again: its 20000 triangles would bring the
+   triangles of meshes named more than once to 2100000, over the limit of
+   2097152". So a small scene naming one file many times stays bounded. */
+#define GG_MESH_REPEAT_MAX ((size_t)1 << 21)
 GG_API int ggSceneLoadMesh(ggScene *scene, const char *path, const ggMeshOptions *opt,
                            ggError *err);
 /* The same from memory: `name` (NULL: "<memory>") is used in messages and

@@ -46,6 +46,34 @@ static inline int gg_ctz_portable(unsigned m)
 #pragma STDC FP_CONTRACT OFF
 #endif
 
+/* Relaxed atomics on a shared, sticky hint (lib/implicit/implicit.c):
+   C99 has none of its own. Without GCC's or clang's builtins they are
+   plain accesses, a benign race (a hint read stale is only re-learnt);
+   the CAS then just stores and reports success. */
+#if defined(__GNUC__)
+#define GG_ATOMIC_LOAD(p)    __atomic_load_n(p, __ATOMIC_RELAXED)
+#define GG_ATOMIC_OR(p, v)   (void)__atomic_fetch_or(p, v, __ATOMIC_RELAXED)
+#define GG_ATOMIC_CAS(p, e, v) \
+    __atomic_compare_exchange_n(p, e, v, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED)
+#else
+#define GG_ATOMIC_LOAD(p)      (*(p))
+#define GG_ATOMIC_OR(p, v)     (void)(*(p) |= (v))
+#define GG_ATOMIC_CAS(p, e, v) ((void)(e), *(p) = (v), 1)
+#endif
+
+/* GNU C vector types (GCC and clang; refract_core.h): n bytes of lanes
+   with element-wise operators. GG_PSABI_OFF silences the warning that
+   passing such a type by value has a different ABI with and without AVX,
+   for a file whose functions taking them are all inlined. */
+#if defined(__GNUC__)
+#define GG_VECTOR_SIZE(n) __attribute__((vector_size(n)))
+#if defined(__clang__)
+#define GG_PSABI_OFF _Pragma("clang diagnostic ignored \"-Wpsabi\"")
+#else
+#define GG_PSABI_OFF _Pragma("GCC diagnostic ignored \"-Wpsabi\"")
+#endif
+#endif
+
 /* GCC's SLP vectoriser pairs neighbouring 8-byte loads into one 16-byte
    load; where the caller has just written the struct field by field, that
    load cannot be forwarded from the store buffer and waits for the stores

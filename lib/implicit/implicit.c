@@ -29,9 +29,9 @@
 /* Expressions: BUDGET_WORK / (n + 16) evaluations of a tape of n
    operations, within [BUDGET_MIN, BUDGET_MAX]. The example scenes' rays
    need at most 138 (torus.nff, acc-thin.nff); a ray that exhausts the
-   budget costs about 1 ms at most (x^-1000000000 - 1: 4096 evaluations of
-   0.22 us; a 1024-operation tape: 256 of about 4 us), so a 64x48 render
-   of any expression takes seconds (tests/test_implicit.c). */
+   budget costs about 1 ms (4096 evaluations of x^-1000000000 - 1, 0.22 us
+   each) to 2.2 ms (256 of a 1008-operation tape, 8.5 us each), so a 64x48
+   render of any expression takes seconds (docs/performance.md). */
 #define BUDGET_WORK (1L << 18)
 #define BUDGET_MIN  256
 #define BUDGET_MAX  4096
@@ -56,46 +56,24 @@ struct ggImplicit {
     uint64_t slope_bits; /* largest slope seen, bits of a double >= 0 */
 };
 
-/* ---- atomics: GCC and clang builtins; C99 has none of its own ---- */
+/* ---- atomics (GG_ATOMIC_*, compiler.h) ---- */
 
-#if defined(__GNUC__)
 static unsigned load_u(const unsigned *p)
 {
-    return __atomic_load_n(p, __ATOMIC_RELAXED);
+    return GG_ATOMIC_LOAD(p);
 }
 static void or_u(unsigned *p, unsigned v)
 {
-    __atomic_fetch_or(p, v, __ATOMIC_RELAXED);
+    GG_ATOMIC_OR(p, v);
 }
 static uint64_t load_u64(const uint64_t *p)
 {
-    return __atomic_load_n(p, __ATOMIC_RELAXED);
+    return GG_ATOMIC_LOAD(p);
 }
 static int cas_u64(uint64_t *p, uint64_t *expect, uint64_t v)
 {
-    return __atomic_compare_exchange_n(p, expect, v, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+    return GG_ATOMIC_CAS(p, expect, v);
 }
-#else
-/* Without atomics: plain writes of a sticky hint (a benign race). */
-static unsigned load_u(const unsigned *p)
-{
-    return *(const volatile unsigned *)p;
-}
-static void or_u(unsigned *p, unsigned v)
-{
-    *(volatile unsigned *)p |= v;
-}
-static uint64_t load_u64(const uint64_t *p)
-{
-    return *(const volatile uint64_t *)p;
-}
-static int cas_u64(uint64_t *p, uint64_t *expect, uint64_t v)
-{
-    (void)expect;
-    *(volatile uint64_t *)p = v;
-    return 1;
-}
-#endif
 
 static uint64_t dbits(double x)
 {

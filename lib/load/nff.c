@@ -14,6 +14,7 @@
 #include "vec.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -204,27 +205,36 @@ static int color(parser *ps, ggColor *c)
 
 /* Physically invalid parameters are errors at the value that set them
    (docs/scene-format.md, "Parameter ranges"). */
-static int nonneg_number(parser *ps, double *d, const char *what)
+static int ranged(parser *ps, const token *t, double d, double hi, const char *what)
 {
     char b[48];
+    if (d < 0)
+        return fail(ps, t, GG_ERROR_PARSE, "%s must not be negative, got %s", what,
+                    show(t, b, sizeof b));
+    if (d > hi)
+        return fail(ps, t, GG_ERROR_PARSE, "%s must be at most %g, got %s", what, hi,
+                    show(t, b, sizeof b));
+    return GG_OK;
+}
+
+static int nonneg_number(parser *ps, double *d, double hi, const char *what)
+{
     int rc = number(ps, d, what);
-    if (rc == GG_OK && *d < 0)
-        return fail(ps, &ps->last, GG_ERROR_PARSE, "%s must not be negative, got %s", what,
-                    show(&ps->last, b, sizeof b));
+    return rc == GG_OK ? ranged(ps, &ps->last, *d, hi, what) : rc;
+}
+
+static int color_upto(parser *ps, ggColor *c, double hi, const char *what)
+{
+    double ch[3];
+    int i, rc = color(ps, c);
+    ch[0] = c->r, ch[1] = c->g, ch[2] = c->b;
+    for (i = 0; rc == GG_OK && i < 3; i++) rc = ranged(ps, &ps->comp[i], ch[i], hi, what);
     return rc;
 }
 
 static int nonneg_color(parser *ps, ggColor *c, const char *what)
 {
-    const double *ch[3];
-    char b[48];
-    int i, rc = color(ps, c);
-    ch[0] = &c->r, ch[1] = &c->g, ch[2] = &c->b;
-    for (i = 0; rc == GG_OK && i < 3; i++)
-        if (*ch[i] < 0)
-            return fail(ps, &ps->comp[i], GG_ERROR_PARSE, "%s must not be negative, got %s", what,
-                        show(&ps->comp[i], b, sizeof b));
-    return rc;
+    return color_upto(ps, c, GG_PARAM_MAX, what);
 }
 
 static int integer(parser *ps, long lo, long hi, long *out, const char *what)
@@ -350,7 +360,9 @@ static int kw_light(parser *ps)
     ggColor c = rgb(-1, -1, -1);
     int rc = vec(ps, &p), id;
     if (rc != GG_OK) return rc;
-    if (next_is_number(ps) && (rc = nonneg_color(ps, &c, "a light's colour")) != GG_OK) return rc;
+    /* Lights are only finite: see GG_PARAM_MAX in scene.h. */
+    if (next_is_number(ps) && (rc = color_upto(ps, &c, DBL_MAX, "a light's colour")) != GG_OK)
+        return rc;
     id = ggSceneAddLight(ps->s, p, c);
     if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the light");
     ps->s->lights[id].line = ps->kw_tok.line;
@@ -362,11 +374,15 @@ static int kw_fill(parser *ps)
 {
     static const char *const what[4] = {"Kd (the diffuse weight)", "Ks (the specular weight)",
                                         "the Phong exponent", "T (the transmittance)"};
+    static const double hi[4] = {GG_WEIGHT_MAX, GG_WEIGHT_MAX, DBL_MAX, GG_WEIGHT_MAX};
     ggColor c;
     double d[5];
     int i, rc = nonneg_color(ps, &c, "the colour");
-    for (i = 0; rc == GG_OK && i < 4; i++) rc = nonneg_number(ps, &d[i], what[i]);
+    for (i = 0; rc == GG_OK && i < 4; i++) rc = nonneg_number(ps, &d[i], hi[i], what[i]);
     if (rc == GG_OK) rc = number(ps, &d[4], "an index of refraction");
+    if (rc == GG_OK && fabs(d[4]) > GG_PARAM_MAX)
+        return fail(ps, &ps->last, GG_ERROR_PARSE, "the index of refraction must be at most %g",
+                    GG_PARAM_MAX);
     if (rc != GG_OK) return rc;
     /* Opaque SPD materials carry ior 0: a transmitter needs a real index. */
     if (d[3] > 0 && !(d[4] > 0))
@@ -510,8 +526,9 @@ static int kw_absorb(parser *ps)
     if (rc != GG_OK) return rc;
     if (next_is_number(ps)) {
         if ((rc = number(ps, &unit, "metres per scene unit")) != GG_OK) return rc;
-        if (!(unit > 0))
-            return fail(ps, &ps->last, GG_ERROR_PARSE, "metres per scene unit must be > 0");
+        if (!(unit > 0 && unit <= GG_PARAM_MAX))
+            return fail(ps, &ps->last, GG_ERROR_PARSE,
+                        "metres per scene unit must be > 0 and at most %g", GG_PARAM_MAX);
     }
     ps->mat.unit_m = unit;
     return mat_changed(ps);
@@ -521,8 +538,10 @@ static int kw_dispersion(parser *ps)
 {
     int rc = number(ps, &ps->mat.abbe, "an Abbe number");
     if (rc != GG_OK) return rc;
-    if (ps->mat.abbe < 0)
-        return fail(ps, &ps->last, GG_ERROR_PARSE, "the Abbe number must be >= 0");
+    if (ps->mat.abbe != 0 && !(ps->mat.abbe >= 1 && ps->mat.abbe <= GG_PARAM_MAX))
+        return fail(ps, &ps->last, GG_ERROR_PARSE,
+                    "the Abbe number must be 0 (none) or from 1 to %g (glasses: 20 to 90)",
+                    GG_PARAM_MAX);
     return mat_changed(ps);
 }
 

@@ -9,6 +9,7 @@
 #include "implicit.h"
 #include "vec.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -91,13 +92,14 @@ static double vmax(ggVec3 v)
 {
     return fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
 }
-static bool nonneg(double x)
+static bool in_range(double x, double hi)
 {
-    return isfinite(x) && x >= 0;
+    return x >= 0 && x <= hi;
 }
 static bool color_ok(ggColor c)
 {
-    return nonneg(c.r) && nonneg(c.g) && nonneg(c.b);
+    return in_range(c.r, GG_PARAM_MAX) && in_range(c.g, GG_PARAM_MAX) &&
+           in_range(c.b, GG_PARAM_MAX);
 }
 static bool unit_len(ggVec3 v)
 {
@@ -168,33 +170,36 @@ static int bad_color(ggError *err, const char *what, ggColor c)
 GG_API int ggMaterialCheck(const ggMaterial *m, ggError *err)
 {
     const double w[4] = {m ? m->kd : 0, m ? m->ks : 0, m ? m->kt : 0, m ? m->shine : 0};
+    const double wmax[4] = {GG_WEIGHT_MAX, GG_WEIGHT_MAX, GG_WEIGHT_MAX, DBL_MAX};
     const char *const wn[4] = {"kd", "ks", "kt", "the Phong exponent"};
     const ggColor *n, *k;
     int i;
     if (!m) return gg_error_set(err, GG_ERROR_INVALID, "ggMaterialCheck: NULL material");
     if (!color_ok(m->color)) return bad_color(err, "the colour", m->color);
     for (i = 0; i < 4; i++)
-        if (!nonneg(w[i]))
-            return gg_error_set(err, GG_ERROR_INVALID,
-                                "material: %s must be finite and >= 0, got %g", wn[i], w[i]);
-    if (!isfinite(m->ior) || (m->kt > 0 && m->ior == 0))
+        if (!in_range(w[i], wmax[i]))
+            return gg_error_set(err, GG_ERROR_INVALID, "material: %s must be in [0, %g], got %g",
+                                wn[i], wmax[i], w[i]);
+    if (!(fabs(m->ior) <= GG_PARAM_MAX) || (m->kt > 0 && m->ior == 0))
         return gg_error_set(err, GG_ERROR_INVALID,
-                            "material: the index of refraction must be finite (and non-zero "
-                            "when kt > 0), got %g",
+                            "material: the index of refraction must be at most 1e30 in size "
+                            "(and non-zero when kt > 0), got %g",
                             m->ior);
     if (!color_ok(m->ke)) return bad_color(err, "the emission", m->ke);
     if (!color_ok(m->extinction)) return bad_color(err, "the extinction", m->extinction);
-    if (!nonneg(m->unit_m) || !nonneg(m->abbe))
+    if (!in_range(m->unit_m, GG_PARAM_MAX) || !in_range(m->abbe, GG_PARAM_MAX) ||
+        (m->abbe > 0 && m->abbe < 1))
         return gg_error_set(err, GG_ERROR_INVALID,
-                            "material: unit_m and abbe must be finite and >= 0, got %g and %g",
+                            "material: unit_m must be in [0, 1e30] and abbe 0 or in [1, 1e30], "
+                            "got %g and %g",
                             m->unit_m, m->abbe);
     if (m->fresnel < GG_FRESNEL_NONE || m->fresnel > GG_FRESNEL_CONDUCTOR)
         return gg_error_set(err, GG_ERROR_INVALID, "material: unknown fresnel mode %d", m->fresnel);
     n = &m->eta_n, k = &m->eta_k;
-    if (!isfinite(n->r) || !isfinite(n->g) || !isfinite(n->b) || !color_ok(*k) ||
+    if (!(vmax((ggVec3){n->r, n->g, n->b}) <= GG_PARAM_MAX) || !color_ok(*k) ||
         (m->fresnel == GG_FRESNEL_CONDUCTOR && !color_ok(*n)))
         return gg_error_set(err, GG_ERROR_INVALID,
-                            "material: the conductor index needs finite n and k >= 0");
+                            "material: the conductor index needs n and k in [0, 1e30]");
     if (m->fresnel == GG_FRESNEL_CONDUCTOR &&
         ((n->r == 0 && k->r == 0) || (n->g == 0 && k->g == 0) || (n->b == 0 && k->b == 0)))
         return gg_error_set(err, GG_ERROR_INVALID,
@@ -252,7 +257,7 @@ GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
     if (!s || !v3finite(pos) || !isfinite(color.g) || !isfinite(color.b) || !isfinite(color.r))
         return -GG_ERROR_INVALID;
     /* r < 0 asks for the SPD default colour; any other colour is >= 0. */
-    if (color.r >= 0 && !color_ok(color)) return -GG_ERROR_INVALID;
+    if (color.r >= 0 && (color.g < 0 || color.b < 0)) return -GG_ERROR_INVALID;
     if (gg_mem_grow(s->alloc, (void **)&s->lights, &s->cap_lights, s->nlights + 1, sizeof *l))
         return -GG_ERROR_NOMEM;
     unprepare(s);
