@@ -1,25 +1,18 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** optics_cases.c -- the hard-case generators of `ggrt optics check`
-** (docs/optics.md lists the classes). Every class keeps
-** 1/4 <= |ni/nt| <= 4 and no vector component below 2^-480 of its
-** vector's largest, the range ggRefract's 1-ulp bound covers.
+** (docs/optics.md lists the classes). Every class but "extreme eta" keeps
+** 1/4 <= |ni/nt| <= 4, and none has a vector component below 2^-480 of
+** its vector's largest.
 */
 #include "optics_cases.h"
 
 #include <math.h>
 
-static const char *const refract_classes[] = {"random",
-                                              "grazing",
-                                              "grazing exact dot",
-                                              "near critical",
-                                              "eta near 1",
-                                              "normal incidence",
-                                              "negative index",
-                                              "exactly tangent",
-                                              "huge and tiny",
-                                              "non-unit",
-                                              NULL};
+static const char *const refract_classes[] = {
+    "random",        "grazing",          "grazing exact dot", "near critical",
+    "eta near 1",    "normal incidence", "negative index",    "exactly tangent",
+    "huge and tiny", "non-unit",         "extreme eta",       NULL};
 static const char *const reflect_classes[] = {
     "random",          "grazing",       "grazing exact dot", "normal incidence",
     "exactly tangent", "huge and tiny", "non-unit",          NULL};
@@ -141,6 +134,27 @@ static void near_critical(oc_rng *r, oc_case *c)
     c->n = unit(r), c->v = incoming(r, c->n, cos(th));
 }
 
+/* |eta| = 2^+-(2 ... 900): into a much denser medium, or out of one with
+   sin_i below 1/|eta| (transmitted) or within 2^-40 of it. */
+static void extreme_eta(oc_rng *r, oc_case *c)
+{
+    double e = ldexp(range(r, 1, 2), irange(r, 2, 900)), s, cs;
+    ggVec3 u, a = unit(r);
+    c->nt = index1(r), c->n = unit(r);
+    if (oc_next(r) & 1) {
+        c->ni = c->nt / e;
+        c->v = incoming(r, c->n, uni(r));
+        return;
+    }
+    c->ni = c->nt * e;
+    s = (oc_next(r) & 1) ? uni(r) / e : (1 + irange(r, -1000, 1000) * 0x1p-40) / e;
+    cs = dot(a, c->n);
+    u = V(a.x - cs * c->n.x, a.y - cs * c->n.y, a.z - cs * c->n.z);
+    u = scale(u, 1 / sqrt(dot(u, u)));
+    cs = sqrt((1 - s) * (1 + s));
+    c->v = V(-cs * c->n.x + s * u.x, -cs * c->n.y + s * u.y, -cs * c->n.z + s * u.z);
+}
+
 static void refract_case(int cls, oc_rng *r, oc_case *c)
 {
     double k;
@@ -186,10 +200,13 @@ static void refract_case(int cls, oc_rng *r, oc_case *c)
         c->n = scale(c->n, ldexp(1.0, irange(r, -900, 900)));
         c->ni *= k, c->nt *= k;
         break;
-    default:
+    case 9:
         refract_case(irange(r, 0, 5), r, c);
         c->v = scale(c->v, exp(range(r, -7, 7)));
         c->n = scale(c->n, exp(range(r, -7, 7)));
+        break;
+    default:
+        extreme_eta(r, c);
         break;
     }
 }

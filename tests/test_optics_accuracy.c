@@ -528,7 +528,8 @@ static void test_refract_every_eta(void **state)
 {
     tu_rng rng = {4242};
     stat any = mkstat("any eta"), big = mkstat("huge eta, near normal"),
-         tiny = mkstat("tiny eta"), crit = mkstat("huge eta, critical");
+         tiny = mkstat("tiny eta"), crit = mkstat("huge eta, critical"),
+         sub = mkstat("subnormal components");
     long i;
     (void)state;
     if (!ref_init()) {
@@ -574,6 +575,18 @@ static void test_refract_every_eta(void **state)
         ggVec3 v = {x, -1, 0}, n = {0, 1, 0};
         check_case(&crit, v, n, 1.0, nt);
     }
+    /* A normal with a subnormal component: n = (x, +-m, 0), v = (0, -w, 0),
+       sin_i about x, ni = 1, nt = x / r (eta about r / x, up to 2^1074):
+       found by the fuzzer (tests/fuzz/corpus/optics/huge-eta-subnormal-normal)
+       when k n_x underflowed in the double-double path. */
+    for (i = 0; i < 2000; i++) {
+        double x = ldexp(tu_range(&rng, 1, 2), -1023 - (int)(tu_next(&rng) % 50));
+        double r = tu_range(&rng, 0.01, 2.0);
+        ggVec3 v = {0, -1, 0}, n = {x, (i & 1) ? 1 : -1, 0};
+        v.y = -tu_range(&rng, 1, 2), n.y *= tu_range(&rng, 0.5, 1); /* k = v.n/n.n inexact */
+        if (i & 2) v.z = ldexp(x, -(int)(tu_next(&rng) % 4));
+        check_case(&sub, v, n, 1.0, x / r);
+    }
     use_wide_ref = 0;
     print_message("ggRefract for every eta against the cross-product reference (bound %.0f, %.0f "
                   "where cos_t < 2^-40):\n",
@@ -582,6 +595,7 @@ static void test_refract_every_eta(void **state)
     report(&big);
     report(&tiny);
     report(&crit);
+    report(&sub);
     assert_true(big.count > 0 && crit.nearcrit > 0);
 }
 

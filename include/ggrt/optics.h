@@ -220,8 +220,10 @@ typedef struct ggDirectionError {
 
    The exact value is evaluated in 512-bit binary floating point (bigf.h)
    from sums of products of the given doubles (docs/optics.md). Its own
-   error is below 2^-190 + 2^-450 |ni/nt| ulp in each component, and the
-   decision e->exact_tir is exact whenever e->certain is set.
+   error is below 2^-190 ulp in each component, plus 2^-450 |ni/nt| ulp
+   when the tangential part of v had to be rounded, which takes components
+   of v and n more than about 100 binades apart; the decision
+   e->exact_tir is exact whenever e->certain is set.
 
    Returns GG_OK, or GG_ERROR_INVALID (e zeroed) if e is NULL or the
    arguments are ones for which ggRefract returns NaN: a non-finite or zero

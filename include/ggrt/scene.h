@@ -260,6 +260,14 @@ GG_API void ggMeshOptionsDefault(ggMeshOptions *opt);
    OBJ and MTL, the byte offset and element index for binary PLY. Truncated
    files, bad indices, counts beyond the documented limits and NaN or
    infinite numbers are errors. On error the scene is left as it was. */
+/* A mesh file loaded again (the same path, also through an NFF `mesh`
+   line) is read and placed again; the triangles of all such repeated
+   loads in one scene may not exceed GG_MESH_REPEAT_MAX (2^21, about 700
+   MB with the BVH), checked before the file is read again:
+   GG_ERROR_LIMIT "g.obj: named again: its 20000 triangles would bring the
+   triangles of meshes named more than once to 2100000, over the limit of
+   2097152". So a small scene naming one file many times stays bounded. */
+#define GG_MESH_REPEAT_MAX ((size_t)1 << 21)
 GG_API int ggSceneLoadMesh(ggScene *scene, const char *path, const ggMeshOptions *opt,
                            ggError *err);
 /* The same from memory: `name` (NULL: "<memory>") is used in messages and

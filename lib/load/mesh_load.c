@@ -76,11 +76,39 @@ static int load(ggScene *s, const char *data, size_t len, const char *name, cons
     return rc;
 }
 
+/* A mesh file named again costs its triangles again (each mention is
+   placed on its own), so a small scene naming one file many times could
+   ask for any amount of memory: the triangles of every mention after a
+   path's first count against GG_MESH_REPEAT_MAX, checked before the file
+   is read again. Counted from the scene's meshes, so a rollback needs no
+   bookkeeping. */
+static int check_repeat(const ggScene *s, const char *path, ggError *err)
+{
+    uint64_t again = 0, prev = 0;
+    bool named = false;
+    size_t i, j;
+    for (i = 0; i < s->nmeshes; i++) {
+        const char *n = s->meshes[i].name;
+        if (!n) continue;
+        if (!named && strcmp(n, path) == 0) named = true, prev = s->meshes[i].ntri;
+        for (j = 0; j < i; j++)
+            if (s->meshes[j].name && strcmp(s->meshes[j].name, n) == 0) break;
+        if (j < i) again += s->meshes[i].ntri;
+    }
+    if (!named || again + prev <= GG_MESH_REPEAT_MAX) return GG_OK;
+    return gg_error_set(err, GG_ERROR_LIMIT,
+                        "%s: named again: its %llu triangles would bring the triangles of meshes "
+                        "named more than once to %llu, over the limit of %lu",
+                        path, (unsigned long long)prev, (unsigned long long)(again + prev),
+                        (unsigned long)GG_MESH_REPEAT_MAX);
+}
+
 int gg_load_mesh_file(ggScene *s, const char *path, const ggMeshOptions *o, int line, ggError *err)
 {
     char *text = NULL, *dir;
     size_t len = 0;
-    int rc = gg_load_read_file(s->alloc, path, GG_MESH_MAX_FILE, &text, &len, err);
+    int rc = check_repeat(s, path, err);
+    if (rc == GG_OK) rc = gg_load_read_file(s->alloc, path, GG_MESH_MAX_FILE, &text, &len, err);
     if (rc != GG_OK) return rc;
     if (!(dir = gg_load_dirname(s->alloc, path)))
         rc = gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);

@@ -143,7 +143,7 @@ static int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff, ggVec
 {
     double vc[3], nc[3], sump;
     gg_dd a, vv, nn, k, vt[3], ni2, nt2, A, D, g1, g2;
-    int s, i;
+    int s, i, sc;
 
     vc[0] = v.x, vc[1] = v.y, vc[2] = v.z;
     nc[0] = n.x, nc[1] = n.y, nc[2] = n.z;
@@ -167,11 +167,17 @@ static int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff, ggVec
     }
     nn = dd_sum_sq3(n.x, n.y, n.z);
     k = dd_div(a, nn);
-    for (i = 0; i < 3; i++) vt[i] = dd_add_d(dd_neg(dd_mul_d(k, nc[i])), vc[i]);
+    /* For eta > 2^450 vt is formed scaled by 2^sc (exact): a component of
+       n below 2^-1022 would otherwise make k n_i subnormal and lose the
+       relative precision that eta multiplies. */
+    sc = ediff ? 600 : 0;
+    for (i = 0; i < 3; i++)
+        vt[i] = dd_add_d(dd_neg(dd_mul_d(k, dd_scale2(nc[i], sc))), dd_scale2(vc[i], sc));
 
     /* Exactly normal incidence: vt above is only rounding noise (at most
        2^-104 |v|), which a huge eta would magnify. */
-    if (fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi) < 0x1p-90 && parallel_exact(v, n))
+    if (fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi) < dd_scale2(0x1p-90, sc) &&
+        parallel_exact(v, n))
         vt[0] = vt[1] = vt[2] = dd_from(0.0);
 
     if (ediff || fabs(ni) > 0x1p30 * fabs(nt)) reproject(vt, nc, nn);
@@ -182,9 +188,9 @@ static int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff, ggVec
            means eta sin(theta_i) > 1. Otherwise multiply vt by 2^ediff
            (exact) so the formulas below see eta in (1/2, 2). */
         double m = fabs(vt[0].hi) + fabs(vt[1].hi) + fabs(vt[2].hi);
-        if (m != 0 && dd_expo(m) >= 4 - ediff) goto tir;
+        if (m != 0 && dd_expo(m) >= 4 - ediff + sc) goto tir;
         for (i = 0; i < 3; i++)
-            vt[i].hi = dd_scale2(vt[i].hi, ediff), vt[i].lo = dd_scale2(vt[i].lo, ediff);
+            vt[i].hi = dd_scale2(vt[i].hi, ediff - sc), vt[i].lo = dd_scale2(vt[i].lo, ediff - sc);
     }
 
     /* D = nt^2 |v|^2 cos^2(theta_t), two ways:

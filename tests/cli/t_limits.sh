@@ -73,6 +73,25 @@ under_1g 2 "full2.nff:11:9: cannot read texture: $lim/full_b.png: 4096 x 4096 pi
   "two 4096x4096 textures: the second is over the budget" \
   "$ggrt" render "$lim/full2.nff" -q -o "$lim/out/f2.png"
 
+# One 20000-triangle OBJ (435 KB) named 200 times: refused when repeats
+# pass GG_MESH_REPEAT_MAX (was 1354 MB for ggrt info). Release build only:
+# loading 2 million triangles takes a while under ASan.
+if [ -z "$asan" ]; then
+  python3 -c '
+import sys
+n = 100
+with open(sys.argv[1], "w") as f:
+    for j in range(n + 1):
+        for i in range(n + 1): f.write("v %d %d 0\n" % (i, j))
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i + 1
+            f.write("f %d %d %d\nf %d %d %d\n" % (a, a + 1, a + n + 2, a, a + n + 2, a + n + 1))' "$lim/g.obj"
+  i=0; while [ $i -lt 200 ]; do echo 'mesh "g.obj"'; i=$((i + 1)); done >"$lim/gm.nff"
+  under_1g 2 "gm.nff:106:6: mesh: $lim/g.obj: named again: its 20000 triangles would bring the triangles of meshes named more than once to 2100000, over the limit of 2097152" \
+    "a $(wc -c <"$lim/g.obj")-byte OBJ named 200 times" "$ggrt" info "$lim/gm.nff"
+fi
+
 # Scenes without bound: a huge sparse file, /dev/zero.
 : >"$lim/sparse.nff"
 if truncate -s 100G "$lim/sparse.nff" 2>/dev/null; then
