@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** test_bytes.c -- bytes a careful parser decides about (issue 16, item 6):
+** test_bytes.c -- bytes a careful parser decides about
+** (docs/scene-format.md, "Bytes, decided on purpose"):
 ** a NUL byte (inside a number, an implicit expression, a comment) is an
 ** error at its line and column; a UTF-8 byte order mark and CR or CRLF line
 ** endings are accepted, with the same line numbers as LF; UTF-16 is

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** test_files.c -- only regular files are read (issue 16, item 6): a FIFO
+** test_files.c -- only regular files are read (docs/scene-format.md, "NFF"): a FIFO
 ** (with no writer, so a blocking open would wait for ever), a directory
 ** and a device as a scene, a texture, an image, a mesh and an MTL library
 ** get GG_ERROR_IO "...: not a regular file" at once. An alarm turns a

@@ -805,7 +805,7 @@ static ggRayStats render_implicit(const char *expr, const char *view, double *se
     return st;
 }
 
-/* Issue 16: x^-1000000000 - 1 rendered for minutes, every ray using its
+/* x^-1000000000 - 1 rendered for minutes, every ray using its
    100000 evaluations (x^n underflowing to [0, 0] was widened below 0, so
    1 / x^n was the whole line). Rays that do run out are counted in
    ggRayStats.implicit_cut, with the default budget of an expression (at

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** test_truncated.c -- truncated or short PNG and OpenEXR data is an error,
-** never uninitialised memory (issue 16, item 6). Every prefix of several
+** never uninitialised memory. Every prefix of several
 ** files is read with glibc's malloc perturbation set to two different
 ** bytes (mallopt M_PERTURB fills each new block with it): a read either
 ** fails with GG_ERROR_PARSE, or gives exactly the pixels of the whole

@@ -33,7 +33,7 @@ printf 'v from 3 -3 0.3 at 0 0 0 up 0 0 1 angle 40 resolution 64 48\nl 3 -3 5\n%
 expect_summary "an implicit surface out of evaluations is reported" 60 \
   "ray tests of implicit surfaces ran out of their evaluation budget" \
   "$ggrt" render "$tmp/wild.nff" -o "$tmp/wild.png"
-# x^-1000000000 - 1 (issue 16) ran for minutes: every ray used its
+# x^-1000000000 - 1 ran for minutes: every ray used its
 # 100000 evaluations. Now its planes |x| = 1 are found in far fewer.
 printf 'v from 0 -4 2 at 0 0 0 up 0 0 1 angle 40 resolution 64 48\nl 3 -3 5\n%s\n%s\n' \
   'f 0.9 0.3 0.2 0.7 0.3 40 0 0' \

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-# Sourced by tests/cli/run.sh: bytes (issue 16, item 6). A NUL byte is an
+# Sourced by tests/cli/run.sh: bytes (docs/scene-format.md, "Bytes, decided on purpose"). A NUL byte is an
 # error at its line and column, a BOM and CR line endings are read, bytes
 # that are not UTF-8 appear in messages as \xHH, and the JSON of trace,
 # check and find stays valid JSON (python3's json) when a file name, an

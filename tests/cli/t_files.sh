@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 # Sourced by tests/cli/run.sh: only regular files are read as scenes and
-# textures (issue 16, item 6). A FIFO without a writer, a directory and a
+# textures (docs/scene-format.md, "NFF"). A FIFO without a writer, a directory and a
 # device get exit 3 and "not a regular file" at once; `timeout` turns a
 # block into a failure (exit 124). Uses run.sh's ggrt, tmp, ok, bad and
 # t_args.sh's expect_msg.

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 # Sourced by tests/cli/run.sh: truncated or short image data is an error,
-# never uninitialised memory (issue 16, item 6). The image fuzz corpus
+# never uninitialised memory. The image fuzz corpus
 # (tests/fuzz/corpus/image: truncated PNGs and EXRs, an uncompressed EXR
 # chunk shorter than its pixels) replays under valgrind with no error, and
 # ggrt refuses a texture with a short chunk. valgrind cannot run the ASan
