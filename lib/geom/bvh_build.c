@@ -308,9 +308,9 @@ typedef struct split {
 
 /* SAH cost of a leaf of records [begin, begin + n). 2 to 4 triangles
    become a block that the AVX traversal tests in one go, for about the
-   price of GG_SAH_TLEAF single tests (2 measured best on the SPD scenes:
-   fewer instructions than 1, 1.5, 2.5 or 3). The tree's shape changes,
-   not its answers, which are those of testing every element. */
+   price of GG_SAH_TLEAF single tests (its value: docs/performance.md,
+   "Four triangles at once"). The tree's shape changes, not its answers,
+   which are those of testing every element. */
 static double leaf_cost(const bctx *c, uint32_t begin, uint32_t n)
 {
     uint32_t i;
