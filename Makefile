@@ -17,7 +17,8 @@
 #   make bench-serve     requests/s and latency of ggrt serve under N clients
 #   scripts/deps.sh      the package groups each of these installs
 #   make bench-optics    ns and instructions per call of the refraction variants
-#   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c)
+#   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c;
+#                        EMBREE=BIN adds the Embree anchor's build times)
 #
 # Objects go to $(BUILD) (default build/); BUILD=dir keeps separate trees.
 
@@ -419,6 +420,10 @@ bench-trace: $(BUILD)/bench/bench_render
 	@$(MAKE) --no-print-directory BUILD=$(BUILD)/norec CFLAGS="$(CFLAGS) -DGG_NO_RECORDER" \
 	  $(BUILD)/norec/bench/bench_render >/dev/null
 	@sh bench/trace_overhead.sh $(BUILD)/bench/bench_render $(BUILD)/norec/bench/bench_render
+
+# EMBREE=BIN: the embree-whitted anchor's build times beside ggrt's.
+bench-mesh: $(BUILD)/bench/bench_mesh
+	$< $(if $(EMBREE),--embree $(EMBREE)) $(BENCH_MESH_FLAGS)
 
 bench-optics: $(BUILD)/bench/bench_optics
 	$<

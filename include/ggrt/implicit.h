@@ -126,7 +126,7 @@ GG_API int ggImplicitSetMethod(ggImplicit *imp, int method);
    GG_IMPLICIT_WARN_BUDGET and is counted in ggRayStats.implicit_cut. The
    default: 100000 for callbacks and the Lipschitz method; for an
    expression with the interval method 2^18 / (n + 16) for n operations
-   after folding, within [256, 4096] -- about 1 ms of work per ray at most,
+   after folding, within [256, 4096] -- at most about 2 ms of work per ray,
    so a 64x48 render of any expression takes seconds (the example scenes'
    rays need at most 138). Returns GG_ERROR_INVALID unless max_evals >= 16. */
 GG_API int ggImplicitSetBudget(ggImplicit *imp, long max_evals);

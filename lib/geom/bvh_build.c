@@ -141,10 +141,13 @@ typedef struct bctx {
     pthread_mutex_t mu;
 } bctx;
 
-/* Per-axis bins over a node. */
+/* Per-axis bins over a node: b[0] and cnt[0] once merged; while binning,
+   even records go to set 0 and odd ones to set 1, so that a run of
+   records in the same bin makes two chains of loads and stores that wait
+   on each other, not one. */
 typedef struct bins {
-    bbox b[3][GG_NBINS];
-    uint32_t cnt[3][GG_NBINS];
+    bbox b[2][3][GG_NBINS];
+    uint32_t cnt[2][3][GG_NBINS];
 } bins;
 
 typedef struct bwork {
@@ -188,9 +191,20 @@ static v4 bin_coord(v4 cen, v4 base, v4 scale)
     return v4_mul(v4_sub(cen, base), scale);
 }
 
-static int bin_clamp(float x, int nb)
+/* The bins of a centroid's coordinates x, clamped to [0, nb - 1] before
+   the conversion (max, then min: NaN becomes 0). */
+static void bin_index(v4 x, int nb, int b[4])
 {
-    return x >= 0 ? (x < (float)nb ? (int)x : nb - 1) : 0; /* NaN: bin 0 */
+    static const float zero[4] = {0, 0, 0, 0};
+    float top[4];
+    int k;
+    for (k = 0; k < 4; k++) top[k] = (float)(nb - 1);
+    x = v4_min(v4_max(x, v4_ld(zero)), v4_ld(top));
+#if defined(__SSE2__)
+    _mm_storeu_si128((__m128i *)(void *)b, _mm_cvttps_epi32(x));
+#else
+    for (k = 0; k < 4; k++) b[k] = (int)x.f[k];
+#endif
 }
 
 static void span_box(const bctx *c, span *s)
@@ -206,23 +220,36 @@ static void span_box(const bctx *c, span *s)
 
 /* ---- binning ---- */
 
+/* Merge set 1 of bins a (or set 0 of another bins) into set 0 of a. */
+static void bins_merge(bins *a, const bins *o, int set, int nb)
+{
+    int k, b;
+    for (k = 0; k < 3; k++)
+        for (b = 0; b < nb; b++) {
+            a->cnt[0][k][b] += o->cnt[set][k][b];
+            box_grow(&a->b[0][k][b], o->b[set][k][b].lo, o->b[set][k][b].hi);
+        }
+}
+
 static void bin_range(const bctx *c, bins *bn, uint32_t begin, uint32_t end, v4 base, v4 scale,
                       int nb)
 {
     uint32_t i;
-    int k, b;
-    for (k = 0; k < 3; k++)
-        for (b = 0; b < nb; b++) bn->cnt[k][b] = 0, bn->b[k][b] = box_empty();
+    int k, b, h;
+    for (h = 0; h < 2; h++)
+        for (k = 0; k < 3; k++)
+            for (b = 0; b < nb; b++) bn->cnt[h][k][b] = 0, bn->b[h][k][b] = box_empty();
     for (i = begin; i < end; i++) {
         v4 lo = v4_ld(c->r[i].lo), hi = v4_ld(c->r[i].hi);
-        float x[4];
-        v4_st(x, bin_coord(centroid(lo, hi), base, scale));
+        int x[4];
+        h = (int)(i & 1);
+        bin_index(bin_coord(centroid(lo, hi), base, scale), nb, x);
         for (k = 0; k < 3; k++) {
-            b = bin_clamp(x[k], nb);
-            bn->cnt[k][b]++;
-            box_grow(&bn->b[k][b], lo, hi);
+            bn->cnt[h][k][x[k]]++;
+            box_grow(&bn->b[h][k][x[k]], lo, hi);
         }
     }
+    bins_merge(bn, bn, 1, nb);
 }
 
 typedef struct pbin {
@@ -246,7 +273,7 @@ static void bin_parallel(bwork *w, const span *s, v4 base, v4 scale, int nb)
 {
     pbin part[GG_MAX_THREAD];
     pthread_t th[GG_MAX_THREAD];
-    int started[GG_MAX_THREAD], t, k, b, nt = w->c->threads;
+    int started[GG_MAX_THREAD], t, nt = w->c->threads;
     uint32_t n = s->end - s->begin;
     bins *extra = gg_mem_alloc(w->c->alloc, (size_t)(nt - 1) * sizeof *extra);
     if (!extra) {
@@ -266,11 +293,7 @@ static void bin_parallel(bwork *w, const span *s, v4 base, v4 scale, int nb)
             pthread_join(th[t], NULL);
         else
             pbin_run(&part[t]);
-        for (k = 0; k < 3; k++)
-            for (b = 0; b < nb; b++) {
-                w->bn.cnt[k][b] += extra[t - 1].cnt[k][b];
-                box_grow(&w->bn.b[k][b], extra[t - 1].b[k][b].lo, extra[t - 1].b[k][b].hi);
-            }
+        bins_merge(&w->bn, &extra[t - 1], 0, nb);
     }
     gg_mem_free(w->c->alloc, extra);
 }
@@ -297,8 +320,10 @@ static double leaf_cost(const bctx *c, uint32_t begin, uint32_t n)
     return GG_SAH_ISECT * GG_SAH_TLEAF;
 }
 
-/* Sweep the bins of one axis for its best split into sp. */
-static void sweep_axis(const bins *bn, int k, double parea, uint32_t n, split *sp)
+/* Sweep the bins of one axis for its best split into sp, by the
+   numerator of the SAH cost: sum of area times count over both sides
+   (sp->cost holds the numerator until find_split divides). */
+static void sweep_axis(const bins *bn, int k, split *sp)
 {
     float rarea[GG_NBINS];
     uint32_t rcnt[GG_NBINS], lcnt = 0;
@@ -306,21 +331,17 @@ static void sweep_axis(const bins *bn, int k, double parea, uint32_t n, split *s
     int b, nb = sp->nb;
     rcnt[0] = 0;
     for (b = nb - 1; b > 0; b--) {
-        box_grow(&r, bn->b[k][b].lo, bn->b[k][b].hi);
-        rcnt[b] = bn->cnt[k][b] + (b < nb - 1 ? rcnt[b + 1] : 0);
+        box_grow(&r, bn->b[0][k][b].lo, bn->b[0][k][b].hi);
+        rcnt[b] = bn->cnt[0][k][b] + (b < nb - 1 ? rcnt[b + 1] : 0);
         rarea[b] = rcnt[b] ? half_area(r) : 0;
     }
     for (b = 1; b < nb; b++) {
-        double cost;
-        box_grow(&l, bn->b[k][b - 1].lo, bn->b[k][b - 1].hi);
-        lcnt += bn->cnt[k][b - 1];
+        double num;
+        box_grow(&l, bn->b[0][k][b - 1].lo, bn->b[0][k][b - 1].hi);
+        lcnt += bn->cnt[0][k][b - 1];
         if (!lcnt || !rcnt[b]) continue;
-        cost = parea > 0
-                   ? GG_SAH_TRAV + GG_SAH_ISECT *
-                                       ((double)half_area(l) * lcnt + (double)rarea[b] * rcnt[b]) /
-                                       parea
-                   : GG_SAH_TRAV + GG_SAH_ISECT * 0.5 * n;
-        if (cost < sp->cost) sp->cost = cost, sp->axis = k, sp->bin = b;
+        num = (double)half_area(l) * lcnt + (double)rarea[b] * rcnt[b];
+        if (num < sp->cost) sp->cost = num, sp->axis = k, sp->bin = b;
     }
 }
 
@@ -329,6 +350,7 @@ static void find_split(bwork *w, const span *s, split *sp)
 {
     uint32_t n = s->end - s->begin;
     float ext[4], scale[4];
+    double parea = half_area(s->b);
     int k;
     sp->axis = -1, sp->bin = 0, sp->cost = INFINITY;
     /* Small nodes get fewer bins: sweeping 32 mostly empty bins per axis
@@ -342,7 +364,12 @@ static void find_split(bwork *w, const span *s, split *sp)
     else
         bin_range(w->c, &w->bn, s->begin, s->end, sp->base, sp->scale, sp->nb);
     for (k = 0; k < 3; k++)
-        if (ext[k] > 0) sweep_axis(&w->bn, k, half_area(s->b), n, sp);
+        if (ext[k] > 0) sweep_axis(&w->bn, k, sp);
+    /* cost = traversal + intersections weighted by area; a flat node
+       (zero area) costs half its elements */
+    if (sp->axis >= 0)
+        sp->cost = parea > 0 ? GG_SAH_TRAV + GG_SAH_ISECT * sp->cost / parea
+                             : GG_SAH_TRAV + GG_SAH_ISECT * 0.5 * n;
 }
 
 static void swap_rec(bctx *c, uint32_t i, uint32_t j)
@@ -361,9 +388,9 @@ static uint32_t partition(bctx *c, const span *s, const split *sp, span *L, span
     L->b = L->c = R->b = R->c = box_empty();
     while (l < r) {
         v4 lo = v4_ld(c->r[l].lo), hi = v4_ld(c->r[l].hi), ce = centroid(lo, hi);
-        float x[4];
-        v4_st(x, bin_coord(ce, sp->base, sp->scale));
-        if (bin_clamp(x[sp->axis], sp->nb) < sp->bin) {
+        int x[4];
+        bin_index(bin_coord(ce, sp->base, sp->scale), sp->nb, x);
+        if (x[sp->axis] < sp->bin) {
             box_grow(&L->b, lo, hi), box_grow(&L->c, ce, ce);
             l++;
         } else {

@@ -29,9 +29,9 @@
 /* Expressions: BUDGET_WORK / (n + 16) evaluations of a tape of n
    operations, within [BUDGET_MIN, BUDGET_MAX]. The example scenes' rays
    need at most 138 (torus.nff, acc-thin.nff); a ray that exhausts the
-   budget costs about 1 ms at most (x^-1000000000 - 1: 4096 evaluations of
-   0.22 us; a 1024-operation tape: 256 of about 4 us), so a 64x48 render
-   of any expression takes seconds (tests/test_implicit.c). */
+   budget costs about 1 ms (4096 evaluations of x^-1000000000 - 1, 0.22 us
+   each) to 2.2 ms (256 of a 1008-operation tape, 8.5 us each), so a 64x48
+   render of any expression takes seconds (docs/performance.md). */
 #define BUDGET_WORK (1L << 18)
 #define BUDGET_MIN  256
 #define BUDGET_MAX  4096
