@@ -19,22 +19,6 @@
 
 #define DATA "tests/data/meshes/"
 
-static char *slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf;
-    long n;
-    assert_non_null(f);
-    fseek(f, 0, SEEK_END);
-    n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    buf = malloc((size_t)n + 1);
-    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-    fclose(f);
-    *len = (size_t)n;
-    return buf;
-}
-
 /* Loading `text` as `name` must fail with exactly this code and message,
    and leave the scene empty. */
 static void expect_error(const char *text, size_t len, const char *name, int code, const char *msg)
@@ -113,7 +97,7 @@ static void test_obj_cube(void **state)
 static void test_obj_memory(void **state)
 {
     size_t len;
-    char *text = slurp(DATA "cube.obj", &len);
+    char *text = tu_slurp(DATA "cube.obj", &len);
     ggScene *s = ggSceneCreate(NULL);
     ggMeshInfo mi;
     ggError e;
@@ -274,7 +258,7 @@ static void test_ply_encodings(void **state)
 static void test_ply_errors(void **state)
 {
     size_t len, hdr;
-    char *le = slurp(DATA "cube_le.ply", &len), *t = malloc(len + 64), msg[200];
+    char *le = tu_slurp(DATA "cube_le.ply", &len), *t = malloc(len + 64), msg[200];
     float nan = NAN;
     int32_t big = 99;
     (void)state;

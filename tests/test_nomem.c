@@ -107,29 +107,12 @@ static int count_entries(void)
     return n;
 }
 
-static char *slurp(const char *path, size_t *len)
-{
-    FILE *fp = fopen(path, "rb");
-    char *buf;
-    long n;
-    assert_non_null(fp);
-    fseek(fp, 0, SEEK_END);
-    n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    buf = malloc((size_t)n + 1);
-    assert_non_null(buf);
-    assert_int_equal(fread(buf, 1, (size_t)n, fp), (size_t)n);
-    fclose(fp);
-    *len = (size_t)n;
-    return buf;
-}
-
 /* The scene's text, with texture names made relative to the working
    directory (ggSceneLoadString resolves them there). */
 static char *scene_text(const char *path, size_t *len)
 {
     size_t n, i, o = 0, dl;
-    char *src = slurp(path, &n), *dst, *slash = strrchr(path, '/');
+    char *src = tu_slurp(path, &n), *dst, *slash = strrchr(path, '/');
     dl = slash ? (size_t)(slash - path + 1) : 0;
     dst = malloc(n * (dl + 1) + 1);
     assert_non_null(dst);

@@ -30,23 +30,6 @@ static void perturb(int byte)
 #endif
 }
 
-static unsigned char *slurp(const char *path, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    unsigned char *buf;
-    long len;
-    assert_non_null(f);
-    fseek(f, 0, SEEK_END);
-    len = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    buf = malloc((size_t)len + 1);
-    assert_non_null(buf);
-    assert_int_equal(fread(buf, 1, (size_t)len, f), (size_t)len);
-    fclose(f);
-    *n = (size_t)len;
-    return buf;
-}
-
 static void spit(const char *path, const unsigned char *data, size_t n)
 {
     FILE *f = fopen(path, "wb");
@@ -69,7 +52,7 @@ static int check_prefixes(const char *path)
 {
     char tmp[] = "/tmp/gg_trunc_XXXXXX";
     size_t n, cut;
-    unsigned char *data = slurp(path, &n);
+    unsigned char *data = (unsigned char *)tu_slurp(path, &n);
     ggImage *whole = NULL;
     ggError e;
     int fd = mkstemp(tmp), errors = 0;

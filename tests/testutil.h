@@ -39,6 +39,10 @@ void tu_assert_close(double a, double b, double tol, const char *sa, const char 
         tu_assert_close(a_.z, b_.z, (tol), #a ".z", #b ".z", __FILE__, __LINE__);                \
     } while (0)
 
+/* The whole file at path, NUL-terminated, in malloc'd memory (the caller
+   frees it); *len gets its size. Fails the test if it cannot be read. */
+char *tu_slurp(const char *path, size_t *len);
+
 /* Path of the SPD scenes (GG_SPD_DIR or the repository's examples/scenes/spd). */
 const char *tu_spd_dir(void);
 
