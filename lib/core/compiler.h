@@ -46,17 +46,20 @@ static inline int gg_ctz_portable(unsigned m)
 #pragma STDC FP_CONTRACT OFF
 #endif
 
-/* Relaxed atomics on a shared, sticky hint (lib/implicit/implicit.c):
+/* Relaxed atomics on a shared, sticky hint (lib/implicit/implicit.c, the
+   FMA choice cached in lib/optics/optics.c):
    C99 has none of its own. Without GCC's or clang's builtins they are
    plain accesses, a benign race (a hint read stale is only re-learnt);
    the CAS then just stores and reports success. */
 #if defined(__GNUC__)
 #define GG_ATOMIC_LOAD(p)    __atomic_load_n(p, __ATOMIC_RELAXED)
+#define GG_ATOMIC_STORE(p, v) __atomic_store_n(p, v, __ATOMIC_RELAXED)
 #define GG_ATOMIC_OR(p, v)   (void)__atomic_fetch_or(p, v, __ATOMIC_RELAXED)
 #define GG_ATOMIC_CAS(p, e, v) \
     __atomic_compare_exchange_n(p, e, v, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED)
 #else
 #define GG_ATOMIC_LOAD(p)      (*(p))
+#define GG_ATOMIC_STORE(p, v)  (void)(*(p) = (v))
 #define GG_ATOMIC_OR(p, v)     (void)(*(p) |= (v))
 #define GG_ATOMIC_CAS(p, e, v) ((void)(e), *(p) = (v), 1)
 #endif

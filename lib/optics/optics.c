@@ -39,10 +39,10 @@ static int fma_mode;
 
 static int use_fma(void)
 {
-    int m = __atomic_load_n(&fma_mode, __ATOMIC_RELAXED);
+    int m = GG_ATOMIC_LOAD(&fma_mode);
     if (!m) {
         m = gg_cpu_features() & GG_CPU_FMA ? 2 : 1;
-        __atomic_store_n(&fma_mode, m, __ATOMIC_RELAXED);
+        GG_ATOMIC_STORE(&fma_mode, m);
     }
     return m == 2;
 }
