@@ -31,6 +31,7 @@
 #define GG_REFRACT_NAME refract_plain
 #define GG_REFLECT_NAME reflect_plain
 #include "refract_core.h"
+#include "reflect_core.h"
 
 #if GG_ISA_X86
 /* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2
@@ -47,10 +48,9 @@ static int use_fma(void)
     return m == 2;
 }
 
-/* Same bits either way (refract_core.h); the fma build is faster. */
-/* The refraction's build, picked on the first call (relaxed atomics:
-   threads that race store the same pointer); ggRefract then jumps straight
-   to it. */
+/* The refraction's build (same bits either way, refract_core.h; the fma
+   build is faster), picked on the first call (relaxed atomics: threads
+   that race store the same pointer); ggRefract then jumps straight to it. */
 typedef bool refract_fn(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 static bool refract_pick(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 static refract_fn *refract_impl = refract_pick;
@@ -67,14 +67,18 @@ GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
     return GG_ATOMIC_LOAD(&refract_impl)(v, n, ni, nt, t);
 }
 
+/* The first call, and every call without fma. */
+static GG_NOINLINE ggVec3 reflect_choose(const ggVec3 *v, const ggVec3 *n)
+{
+    return use_fma() ? gg_reflect_fma(v, n) : reflect_plain(v, n);
+}
+
+/* fma_mode tested first: the common call is a load, a compare and the
+   call. */
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
 {
-    ggVec3 r;
-    if (use_fma())
-        gg_reflect_fma(&v, &n, &r);
-    else
-        reflect_plain(&v, &n, &r);
-    return r;
+    if (GG_LIKELY(GG_ATOMIC_LOAD(&fma_mode) == 2)) return gg_reflect_fma(&v, &n);
+    return reflect_choose(&v, &n);
 }
 #else
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
@@ -84,9 +88,7 @@ GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
 {
-    ggVec3 r;
-    reflect_plain(&v, &n, &r);
-    return r;
+    return reflect_plain(&v, &n);
 }
 #endif
 
