@@ -125,8 +125,17 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
    stored in the geometry. All zero is the default. */
 #define GG_SPHERE_STABLE   0 /* Haines et al., Ray Tracing Gems ch. 7 (default) */
 #define GG_SPHERE_TEXTBOOK 1 /* b^2 - 4ac, for the accuracy study */
+/* The precision of the triangle and sphere tests (ggAccuracy.intersect,
+   include/ggrt/render.h; the sphere formula is still `sphere`'s). With
+   GG_ISECT_FLOAT the queries take a traversal copy of their own
+   (bvh_float.c: the plain node walk, float triangle leaves), and
+   gg_geom_surface scales the error bound of sphere and triangle hits to
+   float roundings, so that gg_offset_origin clears them. */
+#define GG_ISECT_DOUBLE 0
+#define GG_ISECT_FLOAT  1
 typedef struct gg_qopt {
     int sphere;          /* GG_SPHERE_* */
+    int isect;           /* GG_ISECT_* */
     double implicit_tol; /* > 0: root tolerance of every implicit surface, in scene
                             units; 0: each surface's own (ggImplicitSetTolerance) */
     double gradient_h;   /* > 0: implicit normals by central differences with this
