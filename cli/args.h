@@ -46,6 +46,15 @@
 #include <stddef.h>
 #include <stdio.h>
 
+/* Lets GCC and clang check a printf-style function's arguments against its
+   format (argument fmt_index is the format, first_arg the first value);
+   the CLI's only compiler-specific spelling. */
+#if defined(__GNUC__)
+#define CLI_PRINTF(fmt_index, first_arg) __attribute__((format(printf, fmt_index, first_arg)))
+#else
+#define CLI_PRINTF(fmt_index, first_arg)
+#endif
+
 /* What an option's value is, and what dst points to. */
 enum cli_kind {
     CLI_END = 0, /* ends a table */
@@ -187,11 +196,7 @@ void cli_help(FILE *f, const cli_cmd *cmd);
 
 /* "ggrt NAME: <message>" and "(see 'ggrt NAME --help')" on stderr;
    returns EXIT_USAGE. */
-int cli_usage_error(const cli_cmd *cmd, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 2, 3)))
-#endif
-    ;
+int cli_usage_error(const cli_cmd *cmd, const char *fmt, ...) CLI_PRINTF(2, 3);
 
 /* How many times option `name` (long name, or the one-letter short name)
    appeared; 0 if it did not or is not in cmd's tables. */

@@ -64,11 +64,7 @@ int srv_parse_int(const char *s, long lo, long hi, int *out);
 const char *srv_param_get(const srv_req *r, const char *key);
 
 /* Fill resp with {"status": status, "error": message} (printf format). */
-void srv_error(srv_resp *resp, int status, const char *fmt, ...)
-#ifdef __GNUC__
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
+void srv_error(srv_resp *resp, int status, const char *fmt, ...) CLI_PRINTF(3, 4);
 
 /* A response built with stdio: srv_body_open, print to the FILE, then
    srv_body_close (status 500 "out of memory" if the stream failed). */

@@ -36,7 +36,10 @@ static ggVec3 v3scale2(ggVec3 a, int e)
     return v3(scalbn(a.x, e), scalbn(a.y, e), scalbn(a.z, e));
 }
 
-static ggVec3 v3nan(void) { return v3(NAN, NAN, NAN); }
+static ggVec3 v3nan(void)
+{
+    return v3(NAN, NAN, NAN);
+}
 
 /* Sign (-1, 0, 1) of the exact a.b, from the six exact terms of the
    products summed into a non-overlapping expansion (Shewchuk's
@@ -86,7 +89,10 @@ static ggVec3 dd_scale_vec(gg_dd a, const gg_dd x[3])
    them could make products of two of them underflow, which would break
    the exactness of the dot product's sign (every product, and its
    rounding error, must stay a normal number). */
-static double flush(double x) { return fabs(x) < 0x1p-480 ? 0.0 : x; }
+static double flush(double x)
+{
+    return fabs(x) < 0x1p-480 ? 0.0 : x;
+}
 
 /* vt projected again along n: the error of vt is about 2^-104 |v| along n
    (from k's rounding), and t takes eta times it into its normal
@@ -117,8 +123,7 @@ static ggVec3 assemble(gg_dd g1, const gg_dd vt[3], gg_dd g2, const double nc[3]
     for (i = 0; i < 3; i++) {
         gg_dd p = dd_two_prod(g1.hi, vt[i].hi), q = dd_two_prod(g2.hi, nc[i]);
         gg_dd sum = dd_two_sum(p.hi, q.hi);
-        double lo =
-            sum.lo + (p.lo + q.lo) + (g1.hi * vt[i].lo + g1.lo * vt[i].hi) + g2.lo * nc[i];
+        double lo = sum.lo + (p.lo + q.lo) + (g1.hi * vt[i].lo + g1.lo * vt[i].hi) + g2.lo * nc[i];
         r[i] = sum.hi + lo;
     }
     return v3(r[0], r[1], r[2]);
@@ -139,7 +144,7 @@ static ggVec3 mirror_dd(const double vc[3], const double nc[3], gg_dd k, gg_dd v
    ediff is the exponent of |ni/nt| carried separately when it exceeds
    450. Returns 1 (transmitted) or 0 (total internal reflection or tangent
    v: *t is the mirror direction). */
-static int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff, ggVec3 *t)
+static GG_NOINLINE int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff, ggVec3 *t)
 {
     double vc[3], nc[3], sump;
     gg_dd a, vv, nn, k, vt[3], ni2, nt2, A, D, g1, g2;
@@ -360,7 +365,10 @@ GG_INLINE gg_v4dd v4_dots(gg_v4 V, gg_v4 N, double *sump)
     return v4_two_sum(t.hi, lo);
 }
 
-GG_INLINE gg_dd lane(gg_v4dd x, int i) { return dd_make(x.hi[i], x.lo[i]); }
+GG_INLINE gg_dd lane(gg_v4dd x, int i)
+{
+    return dd_make(x.hi[i], x.lo[i]);
+}
 
 /* (V - 2 (a/nn) N) rho, each component rounded once, for scaled V and N
    and a double-word rho (rho == NULL: 1, the reflection); a = v.n and nn
@@ -415,66 +423,105 @@ GG_OPTICS_LINKAGE void GG_REFLECT_NAME(const ggVec3 *vp, const ggVec3 *np, ggVec
     }
 }
 
-/* The fast refraction of scaled inputs (largest components and larger
-   index in [1, 2)), for 2^-200 <= eta <= 4. Returns 1 or 0 as refract_dd,
-   or 2 when its running error bound cannot certify the result (then
-   nothing is written). Notation and proof: docs/optics.md, "The fast
-   paths". */
+/* Double-word operations for the fast refraction, without the final
+   renormalisation (Fast2Sum) of dd.h's: operands and results are pairs
+   hi + lo with |lo| <= 8u |hi| (u = 2^-53), which is all the error bounds
+   of docs/optics.md ("The fast paths") assume. No fma outside TwoProd,
+   so the plain and the fma builds agree bit for bit. */
+/* x y: relative error below 3u^2 + |x.lo y.lo| / |x y|. */
+GG_INLINE gg_dd w_mul(gg_dd x, gg_dd y)
+{
+    gg_dd c = dd_two_prod(x.hi, y.hi);
+    return dd_make(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
+}
+/* x y for a double y: relative error below 2u^2. */
+GG_INLINE gg_dd w_mul_d(gg_dd x, double y)
+{
+    gg_dd c = dd_two_prod(x.hi, y);
+    return dd_make(c.hi, c.lo + x.lo * y);
+}
+/* sqrt(x), x > 0, |x.lo| <= u x.hi: one Newton step from the double
+   square root (x.hi - y^2 is exact). */
+GG_INLINE gg_dd w_sqrt(gg_dd x)
+{
+    double y = sqrt(x.hi);
+    gg_dd p = dd_two_prod(y, y);
+    return dd_make(y, (((x.hi - p.hi) - p.lo) + x.lo) / (2.0 * y));
+}
+/* x / y, y.hi != 0: the double quotient corrected by the remainder
+   (x.hi - q y.hi is exact by Sterbenz's lemma). */
+GG_INLINE gg_dd w_div(gg_dd x, gg_dd y)
+{
+    double q = x.hi / y.hi;
+    gg_dd p = dd_two_prod(q, y.hi);
+    return dd_make(q, ((((x.hi - p.hi) - p.lo) + x.lo) - q * y.lo) / y.hi);
+}
+
+/* The fast refraction of scaled v and n (largest components in [1, 2))
+   for indices with |ni|, |nt| in [2^-200, 2^311] and ni/nt in
+   [2^-200, 4]. Returns 1 or 0 as refract_dd, or 2 when its running error
+   bound cannot certify the result (then nothing is written). Notation and
+   proof: docs/optics.md, "The fast paths". */
 GG_INLINE int refract_fast(gg_v4 V, gg_v4 N, double ni, double nt, ggVec3 *t)
 {
-    double sump, bound, y, ani = fabs(ni);
-    gg_dd a, vv, nn, ni2, nt2, M, Q, P, D, W, Wi, rho, eta, G1, G2, p;
+    double sump, sq, bound, eta, ani = fabs(ni), ant = fabs(nt);
+    gg_dd a, vv, nn, Q, dn, sn, M, ni2, P, D, S, W, lv, G1, G2;
     gg_v4dd d, p1, p2, sm;
     gg_v4 R;
-    int neg;
+    uint64_t xi = abs_bits(ni) >> 52, xt = abs_bits(nt) >> 52;
+    /* exponents in [-200, 311]: then ni / nt, the squares and products
+       below neither overflow nor lose their exact error terms */
+    if (((xi - 823) | (xt - 823)) >= 512) return 2;
+    eta = ni / nt;
+    if (!(eta >= 0x1p-200 && eta <= 4.0)) return 2;
     d = v4_dots(V, N, &sump);
     a = lane(d, 0), vv = lane(d, 1), nn = lane(d, 2);
-    if (!(fabs(a.hi) > 0x1p-100 * sump)) return 2;
-    ni2 = dd_two_prod(ni, ni), nt2 = dd_two_prod(nt, nt);
-    /* D = (nt^2 - ni^2) |v|^2 |n|^2 + ni^2 (v.n)^2 = nt^2 |v|^2 |n|^2 cos^2(theta_t),
-       from the exact products of the high parts */
-    M = dd_sub(nt2, ni2);
-    Q = fd_mul(vv, nn);
-    P = dd_sqr(a);
+    Q = w_mul(vv, nn);
+    sq = sqrt(Q.hi);
+    /* the side v comes from is certain: Dot2's error is below 2^-102 |v||n| */
+    if (!(fabs(a.hi) > 0x1p-100 * sq)) return 2;
+    /* D = (nt - ni)(nt + ni) |v|^2 |n|^2 + ni^2 (v.n)^2 = nt^2 |v|^2 |n|^2 cos^2(theta_t) */
+    dn = dd_two_sum(nt, -ni), sn = dd_two_sum(nt, ni);
+    M = w_mul(dn, sn);
+    ni2 = dd_two_prod(ni, ni);
+    P = dd_two_prod(a.hi, a.hi);
+    P.lo += 2.0 * a.hi * a.lo;
     {
-        gg_dd m = dd_two_prod(M.hi, Q.hi), q = dd_two_prod(ni2.hi, P.hi), s = dd_two_sum(m.hi, q.hi);
+        gg_dd m = dd_two_prod(M.hi, Q.hi), q = dd_two_prod(ni2.hi, P.hi),
+              s = dd_two_sum(m.hi, q.hi);
         D = dd_fast_two_sum(s.hi, s.lo + ((m.lo + q.lo) + ((M.hi * Q.lo + M.lo * Q.hi) +
-                                                            (ni2.hi * P.lo + ni2.lo * P.hi))));
+                                                           (ni2.hi * P.lo + ni2.lo * P.hi))));
     }
-    /* a bound on the error of D (from the magnitudes: docs/optics.md); the
-       constant term covers underflow in products of tiny components */
-    bound = 0x1p-100 * (40.0 * fabs(M.hi) * Q.hi + ni2.hi * (8.0 * fabs(a.hi) * sump + 24.0 * P.hi) +
-                        4.0 * fabs(D.hi)) +
-            0x1p-900;
-    /* the sign of D is certain, and its relative error below 2^-20 */
-    if (!(fabs(D.hi) > 0x1p20 * bound)) return 2;
+    /* a bound on the error of D (docs/optics.md); the last term covers
+       underflow in products of tiny components */
+    bound = 0x1p-99 * (fabs(M.hi) * Q.hi + ni2.hi * fabs(a.hi) * sq + fabs(D.hi)) +
+            0x1p-600 * (nt * nt);
     if (D.hi < 0) {
+        gg_dd rho;
+        if (!(-D.hi > 2.0 * bound)) return 2;
         rho = fd_rsqrt(vv);
         *t = mirror_fast(V, N, a, nn, &rho);
         return 0;
     }
-    /* W = |nt| (sqrt(D) + |ni| |v.n|) = nt^2 |v| |n| (cos_t + eta |cos_i|) */
-    y = sqrt(D.hi);
-    p = dd_two_prod(y, y);
-    W = dd_make(y, (((D.hi - p.hi) - p.lo) + D.lo) / (2.0 * y));
-    neg = a.hi < 0;
-    if (neg) a = dd_neg(a);
-    W = fd_mul_d(dd_add_same(W, fd_mul_d(a, ani)), fabs(nt));
-    y = 1.0 / W.hi;
-    p = dd_two_prod(W.hi, y);
-    Wi = dd_make(y, y * (((1.0 - p.hi) - p.lo) - W.lo * y));
-    /* t = G1 v + G2 n: G1 = eta/|v|, G2 = sign(v.n) (nt^2 - ni^2) |v| / W */
-    rho = fd_rsqrt(vv);
-    y = 1.0 / nt;
-    eta.hi = ni * y;
-    p = dd_two_prod(eta.hi, nt);
-    eta.lo = ((ni - p.hi) - p.lo) * y;
-    G1 = fd_mul(eta, rho);
-    G2 = fd_mul(fd_mul(M, fd_mul(vv, rho)), Wi);
-    /* The error of D reaches t through sqrt(D), scaled by |G2 n_i| < 2 |G2|
-       (docs/optics.md): certified when that stays below 2^-58. */
-    if (!(bound * fabs(G2.hi) <= 0x1p-59 * D.hi)) return 2;
-    if (neg) G2 = dd_neg(G2);
+    /* relative error of D below 2^-52: then the Fast2Sum above was exact
+       and sqrt(D) is one Newton step from the double square root */
+    if (!(D.hi > 0x1p52 * bound)) return 2;
+    /* G1 = eta / |v| = ni / (nt |v|), G2 = sign(v.n) M |v| / W with
+       W = |nt| (sqrt(D) + |ni| |v.n|) = nt^2 |v| |n| (cos_t + eta |cos_i|) */
+    S = w_sqrt(D);
+    if (a.hi < 0) a = dd_neg(a);
+    a = w_mul_d(a, ani);
+    {
+        gg_dd s = dd_two_sum(S.hi, a.hi);
+        W = w_mul_d(dd_make(s.hi, s.lo + (S.lo + a.lo)), ant);
+    }
+    lv = w_sqrt(vv);
+    G2 = w_div(w_mul(M, lv), W);
+    G1 = w_div(dd_from(ni), w_mul_d(lv, nt));
+    /* The error of D reaches t through sqrt(D), at most |G2 n_i| rho / 2
+       <= |G2| |n| rho / 2 (rho = bound / D): certified when below 2^-60. */
+    if (!(bound * (fabs(G2.hi) * sqrt(nn.hi)) <= 0x1p-59 * D.hi)) return 2;
+    if (d.hi[0] < 0) G2 = dd_neg(G2);
     p1 = v4_two_prod(v4splat(G1.hi), V), p2 = v4_two_prod(v4splat(G2.hi), N);
     sm = v4_two_sum(p1.hi, p2.hi);
     R = sm.hi + (sm.lo + (p1.lo + p2.lo) + (v4splat(G1.lo) * V + v4splat(G2.lo) * N));
@@ -482,11 +529,21 @@ GG_INLINE int refract_fast(gg_v4 V, gg_v4 N, double ni, double nt, ggVec3 *t)
     return 1;
 }
 
-/* The accurate refraction. Returns 1 (transmitted), 0 (total internal
-   reflection or tangent v: *t is the mirror direction) or -1 (invalid:
-   *t is NaN). */
-GG_OPTICS_LINKAGE int GG_REFRACT_NAME(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
-                                      ggVec3 *t)
+/* v scaled so its largest component is in [1, 2) (as scale_unit), when
+   that component is a normal number below 2^1023; else 0 (zero, NaN,
+   infinite, or extreme: the full path decides). */
+GG_INLINE int load_unit(const ggVec3 *a, gg_v4 *out)
+{
+    uint64_t e = max_bits(*a) >> 52;
+    gg_v4 r = {a->x, a->y, a->z, a->z};
+    if (e - 1 >= 2045) return 0;
+    *out = r * v4splat(pow2_inv(e));
+    return 1;
+}
+
+/* Everything the fast path declines: validation, scaling, refract_dd. */
+static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
+                                    ggVec3 *t)
 {
     const uint64_t fin = 0x7ff0000000000000ull;
     uint64_t mv = max_bits(*vp), mn = max_bits(*np), bi = abs_bits(ni), bt = abs_bits(nt);
@@ -515,11 +572,6 @@ GG_OPTICS_LINKAGE int GG_REFRACT_NAME(const ggVec3 *vp, const ggVec3 *np, double
             ni = dd_scale2(ni, -em), nt = dd_scale2(nt, -em);
         }
     }
-    if (!ediff && (ni > 0) == (nt > 0) && fabs(ni) <= 4.0 * fabs(nt) &&
-        fabs(ni) >= 0x1p-200 * fabs(nt)) {
-        int rc = refract_fast(V, N, ni, nt, t);
-        if (rc != 2) return rc;
-    }
     v = v3(V[0], V[1], V[2]), n = v3(N[0], N[1], N[2]);
     if (!ediff && fabs(ni) <= 0x1p400 * fabs(nt)) {
         /* eta * 2^-480 < 2^-80: the flush moves t by less than 2^-80 */
@@ -527,4 +579,18 @@ GG_OPTICS_LINKAGE int GG_REFRACT_NAME(const ggVec3 *vp, const ggVec3 *np, double
         n = v3(flush(n.x), flush(n.y), flush(n.z));
     }
     return refract_dd(v, n, ni, nt, ediff, t);
+}
+
+/* The accurate refraction. Returns 1 (transmitted), 0 (total internal
+   reflection or tangent v: *t is the mirror direction) or -1 (invalid:
+   *t is NaN). */
+GG_OPTICS_LINKAGE int GG_REFRACT_NAME(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
+                                      ggVec3 *t)
+{
+    gg_v4 V, N;
+    if (load_unit(vp, &V) && load_unit(np, &N)) {
+        int rc = refract_fast(V, N, ni, nt, t);
+        if (rc != 2) return rc;
+    }
+    return refract_full(vp, np, ni, nt, t);
 }
