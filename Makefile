@@ -217,15 +217,17 @@ $(BUILD)/tests/%.o: tests/%.c
 $(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
-# test_bvh_scalar runs the BVH suite on the portable C traversal: the geom
-# layer built a second time with GG_BVH_NO_SIMD, linked instead of the
-# library's (explicit objects, no archive: nothing depends on link order).
+# test_bvh_scalar and test_packet_scalar run the BVH and packet suites on the
+# portable C traversal: the geom layer built a second time with
+# GG_BVH_NO_SIMD, linked instead of the library's (explicit objects, no
+# archive: nothing depends on link order).
 SCALAR_GEOM := $(patsubst $(BUILD)/lib/%,$(BUILD)/scalar/lib/%,$(filter $(BUILD)/lib/geom/%,$(FULL_OBJ)))
 $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
 	  $(call isa_flags,$<) -ffp-contract=off $(CFLAGS) -c $< -o $@
-$(BUILD)/tests/test_bvh_scalar: $(BUILD)/tests/test_bvh_scalar.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
+SCALAR_TESTS := $(BUILD)/tests/test_bvh_scalar $(BUILD)/tests/test_packet_scalar
+$(SCALAR_TESTS): $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \
 	  $(SCALAR_GEOM) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 

@@ -21,7 +21,7 @@
 #if defined(__has_include)
 #if __has_include(<valgrind/callgrind.h>)
 #include <valgrind/callgrind.h>
-#define GG_COUNT(name, k, in)                                                                     \
+#define GG_COUNT(name, k, in)                                                                      \
     do {                                                                                           \
         CALLGRIND_ZERO_STATS;                                                                      \
         sink += k(in, NIN);                                                                        \
@@ -175,12 +175,68 @@ static double k_schlick(const input *in, int n)
     for (i = 0; i < n; i++) s += ggFresnelSchlick(in[i].c, in[i].ni, in[i].nt);
     return s;
 }
-static double k_conductor(const input *in, int n)
+/* Conductor inputs: metal-like n + ik from the random indices; the hard
+   ones are the refraction's hard cases (grazing between nearly matched
+   indices, near critical) with a tiny k. */
+static double cond_n(const input *in, int hard_set)
+{
+    return hard_set ? in->nt : in->ni * 0.1;
+}
+static double cond_k(const input *in, int hard_set)
+{
+    return hard_set ? 1e-9 : in->nt * 2;
+}
+static double cond_n1(const input *in, int hard_set)
+{
+    return hard_set ? in->ni : 1.0;
+}
+static double conductor_set(const input *in, int n, int hard_set)
 {
     double s = 0;
     int i;
-    for (i = 0; i < n; i++) s += ggFresnelConductor(in[i].c, 1.0, in[i].ni * 0.1, in[i].nt * 2);
+    for (i = 0; i < n; i++)
+        s += ggFresnelConductor(in[i].c, cond_n1(&in[i], hard_set), cond_n(&in[i], hard_set),
+                                cond_k(&in[i], hard_set));
     return s;
+}
+static double k_conductor(const input *in, int n)
+{
+    return conductor_set(in, n, 0);
+}
+static double k_conductor_hard(const input *in, int n)
+{
+    return conductor_set(in, n, 1);
+}
+/* The textbook conductor Fresnel in plain double complex arithmetic, inline
+   (eta = (n + ik)/n1, z = sqrt(eta^2 - sin^2), rs = (c - z)/(c + z),
+   rp = (eta^2 c - z)/(eta^2 c + z)), for scale. */
+static double textbook_conductor(double c, double n1, double n, double k)
+{
+    double er = n / n1, ei = k / n1, e2r = er * er - ei * ei, e2i = 2 * er * ei;
+    double xr = e2r - (1 - c * c), m = sqrt(xr * xr + e2i * e2i), za, zb, pr, pi, rs, rp;
+    za = sqrt(0.5 * (m + xr)), zb = za > 0 ? e2i / (2 * za) : sqrt(0.5 * (m - xr));
+    rs = ((c - za) * (c - za) + zb * zb) / ((c + za) * (c + za) + zb * zb);
+    pr = e2r * c, pi = e2i * c;
+    rp = ((pr - za) * (pr - za) + (pi - zb) * (pi - zb)) /
+         ((pr + za) * (pr + za) + (pi + zb) * (pi + zb));
+    return 0.5 * (rs + rp);
+}
+static double conductor_plain_set(const input *in, int n, int hard_set)
+{
+    double s = 0;
+    int i;
+    for (i = 0; i < n; i++)
+        s += textbook_conductor(in[i].c, cond_n1(&in[i], hard_set), cond_n(&in[i], hard_set),
+                                cond_k(&in[i], hard_set));
+    return s;
+}
+static double k_conductor_plain(const input *in, int n)
+{
+    return conductor_plain_set(in, n, 0);
+}
+static double k_conductor_plain_hard(const input *in, int n)
+{
+    return conductor_plain_set(in, n, 1);
 }
 static double k_beer(const input *in, int n)
 {
@@ -222,6 +278,14 @@ static void count_kernels(void)
     GG_COUNT("reflect random", k_reflect, rnd);
     GG_COUNT("reflect_inline hard", k_reflect_plain, hard);
     GG_COUNT("reflect hard", k_reflect, hard);
+    GG_COUNT("fresnel_inline random", k_fresnel_plain, rnd);
+    GG_COUNT("fresnel random", k_fresnel, rnd);
+    GG_COUNT("fresnel_inline hard", k_fresnel_plain, hard);
+    GG_COUNT("fresnel hard", k_fresnel, hard);
+    GG_COUNT("conductor_inline random", k_conductor_plain, rnd);
+    GG_COUNT("conductor random", k_conductor, rnd);
+    GG_COUNT("conductor_inline hard", k_conductor_plain_hard, hard);
+    GG_COUNT("conductor hard", k_conductor_hard, hard);
 }
 
 int main(int argc, char **argv)
@@ -248,8 +312,14 @@ int main(int argc, char **argv)
     base = row("textbook Fresnel, inline (random)", k_fresnel_plain, rnd, 0);
     row("ggFresnelDielectric, exact (random)", k_fresnel, rnd, base);
     row("ggFresnelSchlick (random)", k_schlick, rnd, base);
-    row("ggFresnelConductor (random)", k_conductor, rnd, base);
     row("ggBeerLambert (random)", k_beer, rnd, base);
+    base = row("textbook Fresnel, inline (grazing / near critical)", k_fresnel_plain, hard, 0);
+    row("ggFresnelDielectric, exact (grazing / near critical)", k_fresnel, hard, base);
+    printf("\n%-50s %8s %10s\n", "", "ns/call", "x plain");
+    base = row("textbook conductor, inline (random metals)", k_conductor_plain, rnd, 0);
+    row("ggFresnelConductor (random metals)", k_conductor, rnd, base);
+    base = row("textbook conductor, inline (hard, k = 1e-9)", k_conductor_plain_hard, hard, 0);
+    row("ggFresnelConductor (hard, k = 1e-9)", k_conductor_hard, hard, base);
     printf("\ntotal %.1f s (sink %g)\n", gg_time_now() - t0, (double)sink);
     return 0;
 }

@@ -1,8 +1,8 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# optics_counts.sh BENCH -- instructions per call of the accurate refraction
-# and reflection against their plain forms, counted by callgrind (stable
-# on a loaded machine, unlike the times). `bench_optics --count` runs each
+# optics_counts.sh BENCH -- instructions per call of the accurate refraction,
+# reflection and Fresnel reflectances against their plain forms, counted by
+# callgrind (stable on a loaded machine, unlike the times). `bench_optics --count` runs each
 # kernel once over its 4096 inputs and dumps the count of each run on its
 # own (CALLGRIND_DUMP_STATS_AT); this script divides and prints the ratios.
 bench=$1
@@ -29,6 +29,10 @@ done | awk '
         row("ggRefract", "refract", "textbook", "x textbook")
         row("v - 2 (v.n) n, inline", "reflect_inline", "", "")
         row("ggReflection", "reflect", "reflect_inline", "x inline")
+        row("textbook Fresnel, inline", "fresnel_inline", "", "")
+        row("ggFresnelDielectric", "fresnel", "fresnel_inline", "x inline")
+        row("textbook conductor, inl.", "conductor_inline", "", "")
+        row("ggFresnelConductor", "conductor", "conductor_inline", "x inline")
     }
     function row(label, k, base, unit,    r, h) {
         r = ir[k " random"]; h = ir[k " hard"]

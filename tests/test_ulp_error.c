@@ -329,12 +329,107 @@ static void test_fresnel_consistency(void **state)
     assert_true(isinf(de.max_ulp) && !de.finite);
 }
 
+/* Conductor R in long double-double: the textbook complex evaluation
+   Z = sqrt(X + iY) (half-angle forms), Rs = |a - Z|^2 / |a + Z|^2,
+   Rp = |e c - n1 Z|^2 / |e c + n1 Z|^2 with a = n1 c, e = (n + ik)^2, except
+   that X = (n^2 - n1^2) + n1^2 c^2 - k^2 is summed from exact products, so a
+   tiny cosine keeps its a^2 (1 - c^2 would round to 1). Its cancellations
+   (a - Z, e c - n1 Z) cost the bits R is below its terms: about 128 - 60
+   on the inputs of test_conductor_vs_ldd. */
+static ldd ldd_conductor(double c, double n1, double n, double k)
+{
+    ldd nn = two_prod(n, n), kk = two_prod(k, k), n12 = two_prod(n1, n1), a = two_prod(n1, c);
+    ldd X = sub(add(sub(nn, n12), mul(n12, two_prod(c, c))), kk), Y = mul(L(2), two_prod(n, k));
+    ldd m = sqrt_ldd(add(mul(X, X), mul(Y, Y))), za, zb, er, ei, qa, qb, d1, d2, s1, s2, rs, rp;
+    if (sgn(X) >= 0) {
+        za = sqrt_ldd(mul(L(0.5), add(m, X)));
+        zb = za.hi > 0 ? dvd(Y, mul(L(2), za)) : L(0);
+    } else {
+        zb = sqrt_ldd(mul(L(0.5), sub(m, X)));
+        za = dvd(Y, mul(L(2), zb));
+    }
+    d1 = sub(a, za), s1 = add(a, za);
+    rs = dvd(add(mul(d1, d1), mul(zb, zb)), add(mul(s1, s1), mul(zb, zb)));
+    er = mul(sub(nn, kk), L(c)), ei = mul(Y, L(c)), qa = mul(L(n1), za), qb = mul(L(n1), zb);
+    d1 = sub(er, qa), d2 = sub(ei, qb), s1 = add(er, qa), s2 = add(ei, qb);
+    rp = dvd(add(mul(d1, d1), mul(d2, d2)), add(mul(s1, s1), mul(s2, s2)));
+    return mul(L(0.5), add(rs, rp));
+}
+
+/* |x - r| in units of 2^-53 times the smallest power of two >= r > 0. */
+static double ldd_units(double x, ldd r)
+{
+    int e;
+    ld f = frexpl(r.hi, &e);
+    ldd d = sub(L(x), r);
+    if (f == 0.5L && r.lo <= 0) e--;
+    return (double)fabsl(ldexpl(d.hi + d.lo, 53 - e));
+}
+
+/* The conductor reference (and so ggrt optics check --kind conductor)
+   against ldd_conductor: metals at every angle, random media, tiny k
+   between nearly matched indices, equal indices with a tiny k at cosines
+   down to 2^-500 (where a reference that forms 1 - c^2 loses everything),
+   and index ratios of 2^+-200; the library's R and candidates moved by a
+   few units. */
+static void test_conductor_vs_ldd(void **state)
+{
+    static const double metal[][2] = {{0.14, 3.70}, {0.06, 3.59}, {0.96, 6.69}, {2.90, 3.10}};
+    tu_rng rng = {777};
+    int i, j;
+    (void)state;
+    if (!ref_init()) {
+        print_message("long double is not wider than double here: no reference\n");
+        skip();
+    }
+    for (i = 0; i < 1200; i++) {
+        double c = tu_uniform(&rng), n1 = tu_range(&rng, 1, 1.6), n = tu_range(&rng, 0.05, 3);
+        double k = tu_range(&rng, 0, 8), R;
+        ggReflectanceError e;
+        ldd ref;
+        switch (i % 6) {
+        case 0:
+            n1 = 1, n = metal[i / 6 % 4][0], k = metal[i / 6 % 4][1];
+            break;
+        case 1:
+            n = n1 * (1 + (double)(int)(tu_next(&rng) % 129 - 64) * 0x1p-52);
+            k = ldexp(n1, -(int)(tu_next(&rng) % 30) - 10);
+            break;
+        case 2:
+            n = n1, c = ldexp(tu_range(&rng, 1, 2), -(int)(tu_next(&rng) % 500) - 1);
+            k = ldexp(n1 * c * c, -(int)(tu_next(&rng) % 40));
+            break;
+        case 3:
+            n1 = ldexp(n1, tu_next(&rng) % 2 ? 200 : -200);
+            break;
+        case 4:
+            c = ldexp(1.0, -(int)(tu_next(&rng) % 60) - 1);
+            break;
+        default:
+            break;
+        }
+        R = ggFresnelConductor(c, n1, n, k);
+        ref = ldd_conductor(c, n1, n, k);
+        for (j = -3; j <= 5; j += 4) {
+            int ex;
+            double cand = R + j * ldexp(1.0, (frexp(R, &ex), ex - 53));
+            assert_int_equal(ggFresnelConductorError(c, n1, n, k, cand, &e), GG_OK);
+            if (!(fabs(e.ulp - ldd_units(cand, ref)) <= 0x1p-6)) {
+                print_error("c=%a n1=%a n=%a k=%a cand=%a: %.17g ulp, long double-double %.17g\n",
+                            c, n1, n, k, cand, e.ulp, ldd_units(cand, ref));
+                fail();
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_refract_rational), cmocka_unit_test(test_refract_critical),
         cmocka_unit_test(test_reflect_rational), cmocka_unit_test(test_refract_vs_ldd),
         cmocka_unit_test(test_fresnel_rational), cmocka_unit_test(test_fresnel_consistency),
+        cmocka_unit_test(test_conductor_vs_ldd),
     };
     return cmocka_run_group_tests_name("ulp_error", tests, NULL, NULL);
 }

@@ -115,8 +115,9 @@ GG_API double ggCriticalAngle(double ni, double nt);
    |ni|, |nt|. NaN if an argument is not finite or an index is zero.
    Evaluated without cancellation (the numerators of the amplitude
    coefficients are rewritten with nt^2 - ni^2 as a factor) in
-   double-double: within 1 ulp of R, also near the critical angle and for
-   ni close to nt (where R is tiny). */
+   double-double: within 1 ulp of R (2^-53 times the smallest power of two
+   >= R) for every finite input, also near the critical angle, for ni close
+   to nt (where R is tiny) and for any index ratio. */
 GG_API double ggFresnelDielectric(double cos_i, double ni, double nt);
 
 /* The same with both polarisations: *rs (s, TE, E perpendicular to the
@@ -132,10 +133,23 @@ GG_API void ggFresnelDielectricPolarized(double cos_i, double ni, double nt, dou
    |n_outside|. Requires n >= 0, k >= 0, not both zero, n_outside != 0;
    otherwise (or for a non-finite argument) NaN. Typical values (n, k):
    gold at 650 nm (0.14, 3.70), silver at 550 nm (0.06, 3.59), aluminium
-   at 550 nm (0.96, 6.69). */
+   at 550 nm (0.96, 6.69).
+   Within 1 ulp of R (2^-53 times the smallest power of two >= R) for
+   every valid input, where R is at least 2^-1022; a smaller R is
+   subnormal and within 2^-1074 (R underflows to 0 when n == n_outside and
+   k is below about 2^-512 n). That includes a tiny k between nearly or
+   exactly matched indices (R down to 2^-110 and below), the critical
+   angle of a weakly absorbing medium, grazing incidence (exactly 1 at
+   cos_i == 0) and every index ratio (for |n + ik| < 2^-299 |n_outside|, R
+   is within 2^-296 of 1 and returned as 1). Evaluated in double-double
+   from forms in which only differences of exact products can cancel
+   (docs/optics.md, "Conductors"). 1 - R (the absorbed fraction) computed
+   from the result is exact for R >= 1/2 but keeps R's absolute error of
+   up to 2^-54, so it is within 1 ulp of itself only while 1 - R >= 1/4. */
 GG_API double ggFresnelConductor(double cos_i, double n_outside, double n, double k);
 
-/* The same with both polarisations; either pointer may be NULL. */
+/* The same with both polarisations, each evaluated to the same precision
+   and rounded once; either pointer may be NULL. */
 GG_API void ggFresnelConductorPolarized(double cos_i, double n_outside, double n, double k,
                                         double *rs, double *rp);
 
@@ -263,7 +277,8 @@ GG_API int ggFresnelDielectricError(double cos_i, double ni, double nt, double c
 
 /* The same for ggFresnelConductor's arguments (n + ik seen from
    n_outside). The reference's absolute error is below 2^-480, so below
-   2^-400 ulp of R and of 1 - R unless that is below 2^-27. Returns GG_OK,
+   2^-400 ulp of R and of 1 - R unless that is below 2^-27 (docs/optics.md,
+   "The reference", also for cosines down to 2^-1074). Returns GG_OK,
    or GG_ERROR_INVALID if e is NULL or ggFresnelConductor would return
    NaN. */
 GG_API int ggFresnelConductorError(double cos_i, double n_outside, double n, double k,

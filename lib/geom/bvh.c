@@ -169,6 +169,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define GG_TRAV_INTERSECT intersect_plain
 #define GG_TRAV_OCCLUDER  occluder_plain
 #define GG_TRAV_SHADOW    shadow_plain
+#define GG_TRAV_PACKET    packet_plain
 #include "bvh_trav.h"
 
 /* The AVX copy only where the build of g chose it (gg_bvh_avx_wanted). */
@@ -179,6 +180,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define gg_bvh_intersect_avx intersect_plain
 #define gg_bvh_occluder_avx  occluder_plain
 #define gg_bvh_shadow_avx    shadow_plain
+#define gg_bvh_packet_avx    packet_plain
 #endif
 
 /* Single-precision queries (GG_ISECT_FLOAT) take their own copy
@@ -201,6 +203,23 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
     if (GG_UNLIKELY(q->inside != UINT32_MAX)) return intersect_hinted(g, q, hit);
     return intersect(g, q, hit);
+}
+
+unsigned gg_geom_intersect_packet(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit)
+{
+    unsigned alone = 0, got, m;
+    /* An implicit surface's answer depends on the bound it is asked
+       with (and may count a cut): one ray at a time, in the usual order. */
+    if (g->nimp) alone = lanes;
+    for (m = lanes & ~alone; m; m &= m - 1)
+        if (q[GG_CTZ(m)].inside != UINT32_MAX) alone |= m & -m;
+    lanes &= ~alone;
+    got = !lanes          ? 0
+          : GG_USE_AVX(g) ? gg_bvh_packet_avx(g, q, lanes, hit)
+                          : packet_plain(g, q, lanes, hit);
+    for (m = alone; m; m &= m - 1)
+        if (gg_geom_intersect(g, &q[GG_CTZ(m)], &hit[GG_CTZ(m)])) got |= m & -m;
+    return got;
 }
 
 /* Sort a crossing list nearest first, ties by (prim, sub) as gg_leaf_take

@@ -240,6 +240,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define GG_TRAV_INTERSECT gg_bvh_intersect_avx
 #define GG_TRAV_OCCLUDER  gg_bvh_occluder_avx
 #define GG_TRAV_SHADOW    gg_bvh_shadow_avx
+#define GG_TRAV_PACKET    gg_bvh_packet_avx
 #include "bvh_trav.h"
 
 #else

@@ -57,6 +57,7 @@ int gg_bvh_shadow_float(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_
 int gg_bvh_intersect_avx(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 uint32_t gg_bvh_occluder_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
 int gg_bvh_shadow_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
+unsigned gg_bvh_packet_avx(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
 /* For tests: the 4-wide triangle test of block L alone. Returns the mask
    of lanes hit with t in (r->tmin, tmax] and fills t, b1, b2 for them;
    *zero gets the lanes left to the scalar kernel (an edge function

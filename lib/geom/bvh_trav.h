@@ -6,8 +6,9 @@
 ** BVH).
 **
 ** The including file defines, before including this:
-**   GG_TRAV_LINK                     linkage of the three functions;
-**   GG_TRAV_INTERSECT, GG_TRAV_OCCLUDER, GG_TRAV_SHADOW  their names;
+**   GG_TRAV_LINK                     linkage of the four functions;
+**   GG_TRAV_INTERSECT, GG_TRAV_OCCLUDER, GG_TRAV_SHADOW, GG_TRAV_PACKET
+**       their names (the last: closest hits of a packet of rays);
 **   gg_tx, and tx_init, tx_fill, tx_closest, tx_any, tx_shadow: the
 **       per-ray state of its leaf tests (tx_init may defer filling it to
 **       the first leaf that needs it, tx_fill fills it at once) and the
@@ -15,7 +16,7 @@
 **       gg_leaf_closest, gg_leaf_any and gg_leaf_shadow.
 ** Both copies thus share the node walk; only the leaves differ.
 ** With GG_TRAV_COST defined, GG_TRAV_INTERSECT takes a gg_trav_cost *
-** more and counts into it, and the other two are left out (bvh_cost.c,
+** more and counts into it, and the other three are left out (bvh_cost.c,
 ** the ray-tree recorder's copy).
 */
 #ifndef GG_BVH_TRAV_H
@@ -26,6 +27,9 @@
 #if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD)
 #define GG_BVH_SIMD 1
 #include <emmintrin.h>
+#ifdef __AVX__
+#include <immintrin.h> /* the AVX copy's 8-wide lane tests (pk_lanes) */
+#endif
 #endif
 
 typedef struct trav {
@@ -146,8 +150,8 @@ static inline float f_above(double t)
    so in the order below a NaN can only drop a value out of the max (entry
    earlier) or the min (exit later) -- the test stays conservative -- and
    the result is never NaN because tmin/tmax come second at the bottom. */
-#ifdef GG_BVH_SIMD
 #define GG_ROW(nd, off) ((const float *)((const char *)(nd) + (off)))
+#ifdef GG_BVH_SIMD
 static inline int box4(const gg_bnode *nd, const trav *tv, __m128 tmin4, __m128 tmax4,
                        float tn_out[4])
 {
@@ -436,6 +440,482 @@ done:
 blocked:
     *cache = hit;
     return 1;
+}
+
+/* ---- ray packets ----
+
+   GG_TRAV_PACKET answers up to GG_PK closest-hit queries with one walk
+   of the tree, each lane exactly as GG_TRAV_INTERSECT would. The lanes
+   of one packet share the origin and the signs of 1/d (a tile row of eye
+   rays is one or two packets), so they read the same rows of a node and
+   compute the same differences s = row - on; only 1/d differs. Inner
+   nodes are tested once for all lanes with the interval [lo, hi] of the
+   lanes' 1/d: rounded multiplication is monotone in each operand, so
+   min(s lo, s hi) <= s inv for every lane's inv (and the max >= for the
+   exit distances), and a box that some lane's box4 would enter is
+   entered. At a leaf each lane tests the leaf's box with box4's
+   operations and its own bounds, and its elements with the single-ray
+   leaf test (tx_closest): every lane tests at least the elements its own
+   traversal would, and the closest hit does not depend on the order
+   (the tie rule of gg_leaf_take). No lane sees a NaN: a lane joins a
+   packet only when each 1/d and exit 1/d is finite and nonzero (box4's
+   NaN rule is not the interval's). A lane's ray set-up (gg_rpre_fill,
+   tx_init) waits for its first leaf. */
+
+#define GG_PK 16 /* GG_PACKET_MAX of geom.h */
+
+/* Every lane's box-test terms, before the lanes are split into packets:
+   1/d and the exit 1/d as trav_init rounds them, the bounds, the signs
+   (bit l of neg[k]: lane l's 1/d is negative on axis k), and the shared
+   origin rounded up and down. */
+typedef struct pk_all {
+    float inv[3][GG_PK], invf[3][GG_PK], tmin[GG_PK], tmax[GG_PK];
+    float up[3], dn[3];
+    unsigned neg[3];
+} pk_all;
+
+/* One packet's terms, by the caller's lane index: a lane outside it has
+   tmax -inf (it enters no box) and the packet's first lane's 1/d (so it
+   does not widen the interval). */
+typedef struct pkt {
+    float inv[3][GG_PK], invf[3][GG_PK], tmin[GG_PK], tmax[GG_PK];
+    float on[3], of[3], tminp; /* tminp <= every lane's tmin */
+    size_t nr[3], fr[3];
+    gg_t4 on4[3], of4[3], ilo[3], ihi[3], iflo[3], ifhi[3];
+    unsigned lanes;
+} pkt;
+
+/* The lanes' rays, by the caller's lane index. */
+typedef struct pk_ray {
+    const gg_rayq *q;
+    gg_rpre r[GG_PK];
+    gg_tx tx[GG_PK];
+    gg_hit best[GG_PK];
+    unsigned ready; /* lanes whose r and tx are set up */
+} pk_ray;
+
+/* a's origin terms from q0's origin, as trav_init computes them; 0 when
+   the float traversal cannot take it (beyond 1e30, or not finite). */
+static int pk_origin(pk_all *a, const gg_rayq *q0)
+{
+    const double o[3] = {q0->o.x, q0->o.y, q0->o.z};
+    int k;
+    for (k = 0; k < 3; k++) {
+        float of = f_near(o[k]), e = fabsf(of) * 0x1p-22f + 1e-37f;
+        if (!(fabsf(of) < 1e30f)) return 0;
+        a->up[k] = of + e, a->dn[k] = of - e;
+    }
+    return 1;
+}
+
+/* 1/d and the exit 1/d of the GG_PK directions d[k][l] (trav_init's
+   roundings) into a; returns the lanes where all are finite and nonzero. */
+static unsigned pk_inverses(pk_all *a, double d[3][GG_PK])
+{
+    unsigned good = (1u << GG_PK) - 1;
+    int k, l;
+    for (k = 0; k < 3; k++) {
+        unsigned neg = 0, bad = 0;
+#ifdef GG_BVH_SIMD
+        const __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        for (l = 0; l < GG_PK; l += 4) {
+            __m128 df = _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(&d[k][l])),
+                                      _mm_cvtpd_ps(_mm_loadu_pd(&d[k][l + 2])));
+            __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), df);
+            __m128 invf = _mm_mul_ps(inv, _mm_set1_ps(GG_EXIT_SCALE));
+            __m128 ok = _mm_and_ps(_mm_cmple_ps(_mm_and_ps(invf, absm), _mm_set1_ps(FLT_MAX)),
+                                   _mm_cmpneq_ps(inv, _mm_setzero_ps()));
+            _mm_storeu_ps(&a->inv[k][l], inv);
+            _mm_storeu_ps(&a->invf[k][l], invf);
+            neg |= (unsigned)_mm_movemask_ps(inv) << l;
+            bad |= (unsigned)(~_mm_movemask_ps(ok) & 15) << l;
+        }
+#else
+        for (l = 0; l < GG_PK; l++) {
+            float inv = 1.0f / f_near(d[k][l]), invf = inv * GG_EXIT_SCALE;
+            a->inv[k][l] = inv, a->invf[k][l] = invf;
+            neg |= (unsigned)(signbit(inv) != 0) << l;
+            bad |= (unsigned)!(fabsf(invf) <= FLT_MAX && inv != 0) << l;
+        }
+#endif
+        a->neg[k] = neg;
+        good &= ~bad;
+    }
+    return good;
+}
+
+/* Sets up a and s for the lanes; returns those that may join a packet:
+   one origin (the first lane's), tmin >= 0 < tmax, 1/d finite and
+   nonzero (so gg_rpre_fill will take the ray too). */
+static unsigned pk_setup(pk_all *a, pk_ray *s, const gg_rayq *q, unsigned lanes)
+{
+    double d[3][GG_PK];
+    const gg_rayq *q0 = &q[lowest_bit(lanes)];
+    unsigned ok = 0;
+    int l;
+    if (!pk_origin(a, q0)) return 0;
+    for (l = 0; l < GG_PK; l++) {
+        const gg_rayq *ql = &q[l];
+        if (!(lanes >> l & 1)) {
+            d[0][l] = d[1][l] = d[2][l] = 1;
+            a->tmin[l] = a->tmax[l] = 0;
+            continue;
+        }
+        d[0][l] = ql->d.x, d[1][l] = ql->d.y, d[2][l] = ql->d.z;
+        /* (equal origins round to the same terms, +0 and -0 included) */
+        if (!(ql->o.x == q0->o.x && ql->o.y == q0->o.y && ql->o.z == q0->o.z) ||
+            !(ql->tmin >= 0 && ql->tmax > ql->tmin))
+            continue;
+        ok |= 1u << l;
+        a->tmin[l] = f_down_tmin(ql->tmin);
+        s->best[l].t = gg_next_down(ql->tmax);
+        a->tmax[l] = f_above(s->best[l].t);
+        s->best[l].prim = UINT32_MAX, s->best[l].sub = 0;
+        s->best[l].b1 = s->best[l].b2 = 0;
+    }
+    return ok & pk_inverses(a, d);
+}
+
+/* The lanes of todo with the signs of its first. */
+static inline unsigned pk_same(const pk_all *a, unsigned todo)
+{
+    int i0 = lowest_bit(todo), k;
+    for (k = 0; k < 3; k++) todo &= a->neg[k] >> i0 & 1 ? a->neg[k] : ~a->neg[k];
+    return todo;
+}
+
+/* The packet of lanes grp (one origin, one set of signs) into p: each
+   lane's terms, or the first lane's for lanes outside it, and their
+   interval. */
+static void pk_pack(pkt *p, const pk_all *a, unsigned grp)
+{
+    const int i0 = lowest_bit(grp);
+    int k, l, sm = 0;
+    for (k = 0; k < 3; k++) sm |= (int)(a->neg[k] >> i0 & 1) << k;
+    memcpy(p->nr, row_offsets[sm][0], sizeof p->nr);
+    memcpy(p->fr, row_offsets[sm][1], sizeof p->fr);
+    p->lanes = grp;
+    for (k = 0; k < 3; k++) {
+        p->on[k] = sm >> k & 1 ? a->dn[k] : a->up[k];
+        p->of[k] = sm >> k & 1 ? a->up[k] : a->dn[k];
+        p->on4[k] = GG_T4(p->on[k]), p->of4[k] = GG_T4(p->of[k]);
+    }
+#ifdef GG_BVH_SIMD
+    {
+        const __m128i bit = _mm_setr_epi32(1, 2, 4, 8);
+        __m128 v0[3], vf0[3], lo[3], hi[3], flo[3], fhi[3];
+        for (k = 0; k < 3; k++) {
+            v0[k] = lo[k] = hi[k] = _mm_set1_ps(a->inv[k][i0]);
+            vf0[k] = flo[k] = fhi[k] = _mm_set1_ps(a->invf[k][i0]);
+        }
+        for (l = 0; l < GG_PK; l += 4) {
+            __m128i b = _mm_and_si128(_mm_set1_epi32((int)(grp >> l)), bit);
+            __m128 in = _mm_castsi128_ps(_mm_cmpeq_epi32(b, bit));
+            for (k = 0; k < 3; k++) {
+                __m128 v = _mm_or_ps(_mm_and_ps(in, _mm_loadu_ps(a->inv[k] + l)),
+                                     _mm_andnot_ps(in, v0[k]));
+                __m128 vf = _mm_or_ps(_mm_and_ps(in, _mm_loadu_ps(a->invf[k] + l)),
+                                      _mm_andnot_ps(in, vf0[k]));
+                _mm_store_ps(p->inv[k] + l, v);
+                _mm_store_ps(p->invf[k] + l, vf);
+                lo[k] = _mm_min_ps(lo[k], v), hi[k] = _mm_max_ps(hi[k], v);
+                flo[k] = _mm_min_ps(flo[k], vf), fhi[k] = _mm_max_ps(fhi[k], vf);
+            }
+            _mm_store_ps(p->tmin + l, _mm_loadu_ps(a->tmin + l));
+            _mm_store_ps(p->tmax + l, _mm_or_ps(_mm_and_ps(in, _mm_loadu_ps(a->tmax + l)),
+                                                _mm_andnot_ps(in, _mm_set1_ps(-INFINITY))));
+        }
+        {
+            /* the lanes outside grp only lower it: still a bound */
+            __m128 t = _mm_min_ps(_mm_min_ps(_mm_load_ps(p->tmin), _mm_load_ps(p->tmin + 4)),
+                                  _mm_min_ps(_mm_load_ps(p->tmin + 8), _mm_load_ps(p->tmin + 12)));
+            t = _mm_min_ps(t, _mm_movehl_ps(t, t));
+            p->tminp = _mm_cvtss_f32(_mm_min_ss(t, _mm_shuffle_ps(t, t, 1)));
+        }
+        /* the extremes of the four lanes, in all four */
+        for (k = 0; k < 3; k++) {
+            lo[k] = _mm_min_ps(lo[k], _mm_shuffle_ps(lo[k], lo[k], 0x4e));
+            hi[k] = _mm_max_ps(hi[k], _mm_shuffle_ps(hi[k], hi[k], 0x4e));
+            flo[k] = _mm_min_ps(flo[k], _mm_shuffle_ps(flo[k], flo[k], 0x4e));
+            fhi[k] = _mm_max_ps(fhi[k], _mm_shuffle_ps(fhi[k], fhi[k], 0x4e));
+            p->ilo[k] = _mm_min_ps(lo[k], _mm_shuffle_ps(lo[k], lo[k], 0xb1));
+            p->ihi[k] = _mm_max_ps(hi[k], _mm_shuffle_ps(hi[k], hi[k], 0xb1));
+            p->iflo[k] = _mm_min_ps(flo[k], _mm_shuffle_ps(flo[k], flo[k], 0xb1));
+            p->ifhi[k] = _mm_max_ps(fhi[k], _mm_shuffle_ps(fhi[k], fhi[k], 0xb1));
+        }
+    }
+#else
+    for (k = 0; k < 3; k++) {
+        float lo = a->inv[k][i0], hi = lo, flo = a->invf[k][i0], fhi = flo;
+        for (l = 0; l < GG_PK; l++) {
+            int in = grp >> l & 1;
+            float v = in ? a->inv[k][l] : a->inv[k][i0], vf = in ? a->invf[k][l] : a->invf[k][i0];
+            p->inv[k][l] = v, p->invf[k][l] = vf;
+            lo = v < lo ? v : lo, hi = v > hi ? v : hi;
+            flo = vf < flo ? vf : flo, fhi = vf > fhi ? vf : fhi;
+        }
+        p->ilo[k] = lo, p->ihi[k] = hi, p->iflo[k] = flo, p->ifhi[k] = fhi;
+    }
+    p->tminp = a->tmin[i0];
+    for (l = 0; l < GG_PK; l++) {
+        p->tmin[l] = a->tmin[l];
+        p->tmax[l] = grp >> l & 1 ? a->tmax[l] : -INFINITY;
+        p->tminp = p->tmin[l] < p->tminp ? p->tmin[l] : p->tminp;
+    }
+#endif
+}
+
+/* The interval box test of the four child boxes of nd for every lane of
+   p: box4's contract (the mask of boxes that may be entered, and entry
+   distances) for all the lanes at once, each distance <= every lane's. */
+#ifdef GG_BVH_SIMD
+static inline int pk_box4(const gg_bnode *nd, const pkt *p, __m128 tmin4, __m128 tmax4,
+                          float tn_out[4])
+{
+    __m128 a[3], b[3], tn, tf;
+    int k;
+    for (k = 0; k < 3; k++) {
+        __m128 s = _mm_sub_ps(_mm_load_ps(GG_ROW(nd, p->nr[k])), p->on4[k]);
+        __m128 e = _mm_sub_ps(_mm_load_ps(GG_ROW(nd, p->fr[k])), p->of4[k]);
+        a[k] = _mm_min_ps(_mm_mul_ps(s, p->ilo[k]), _mm_mul_ps(s, p->ihi[k]));
+        b[k] = _mm_max_ps(_mm_mul_ps(e, p->iflo[k]), _mm_mul_ps(e, p->ifhi[k]));
+    }
+    tn = _mm_max_ps(_mm_max_ps(a[0], a[1]), _mm_max_ps(a[2], tmin4));
+    tf = _mm_min_ps(_mm_min_ps(b[0], b[1]), _mm_min_ps(b[2], tmax4));
+    _mm_store_ps(tn_out, tn);
+    return _mm_movemask_ps(_mm_cmple_ps(tn, tf));
+}
+#else
+static inline int pk_box4(const gg_bnode *nd, const pkt *p, float tmin, float tmax, float tn_out[4])
+{
+    int i, k, mask = 0;
+    for (i = 0; i < 4; i++) {
+        float tn = tmin, tf = tmax;
+        for (k = 0; k < 3; k++) {
+            float s = GG_ROW(nd, p->nr[k])[i] - p->on[k];
+            float e = GG_ROW(nd, p->fr[k])[i] - p->of[k];
+            float a0 = s * p->ilo[k], a1 = s * p->ihi[k];
+            float b0 = e * p->iflo[k], b1 = e * p->ifhi[k];
+            float a = a0 < a1 ? a0 : a1, b = b0 > b1 ? b0 : b1;
+            tn = a > tn ? a : tn;
+            tf = b < tf ? b : tf;
+        }
+        tn_out[i] = tn;
+        if (tn <= tf) mask |= 1 << i;
+    }
+    return mask;
+}
+#endif
+
+/* The lanes of p whose own box4 enters box i of nd: the same products
+   s * inv, s' * invf and the same max, min and <= as box4's lane i
+   (without NaN the order of max and min does not matter). */
+static inline unsigned pk_lanes(const gg_bnode *nd, int i, const pkt *p)
+{
+    float s[3], e[3];
+    unsigned m = 0;
+    int k, l;
+    for (k = 0; k < 3; k++) {
+        s[k] = GG_ROW(nd, p->nr[k])[i] - p->on[k];
+        e[k] = GG_ROW(nd, p->fr[k])[i] - p->of[k];
+    }
+#if defined(GG_BVH_SIMD) && defined(__AVX__)
+    for (l = 0; l < GG_PK; l += 8) {
+        __m256 tn = _mm256_max_ps(
+            _mm256_max_ps(_mm256_mul_ps(_mm256_set1_ps(s[0]), _mm256_loadu_ps(p->inv[0] + l)),
+                          _mm256_mul_ps(_mm256_set1_ps(s[1]), _mm256_loadu_ps(p->inv[1] + l))),
+            _mm256_max_ps(_mm256_mul_ps(_mm256_set1_ps(s[2]), _mm256_loadu_ps(p->inv[2] + l)),
+                          _mm256_loadu_ps(p->tmin + l)));
+        __m256 tf = _mm256_min_ps(
+            _mm256_min_ps(_mm256_mul_ps(_mm256_set1_ps(e[0]), _mm256_loadu_ps(p->invf[0] + l)),
+                          _mm256_mul_ps(_mm256_set1_ps(e[1]), _mm256_loadu_ps(p->invf[1] + l))),
+            _mm256_min_ps(_mm256_mul_ps(_mm256_set1_ps(e[2]), _mm256_loadu_ps(p->invf[2] + l)),
+                          _mm256_loadu_ps(p->tmax + l)));
+        m |= (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)) << l;
+    }
+#elif defined(GG_BVH_SIMD)
+    for (l = 0; l < GG_PK; l += 4) {
+        __m128 tn =
+            _mm_max_ps(_mm_max_ps(_mm_mul_ps(_mm_set1_ps(s[0]), _mm_load_ps(p->inv[0] + l)),
+                                  _mm_mul_ps(_mm_set1_ps(s[1]), _mm_load_ps(p->inv[1] + l))),
+                       _mm_max_ps(_mm_mul_ps(_mm_set1_ps(s[2]), _mm_load_ps(p->inv[2] + l)),
+                                  _mm_load_ps(p->tmin + l)));
+        __m128 tf =
+            _mm_min_ps(_mm_min_ps(_mm_mul_ps(_mm_set1_ps(e[0]), _mm_load_ps(p->invf[0] + l)),
+                                  _mm_mul_ps(_mm_set1_ps(e[1]), _mm_load_ps(p->invf[1] + l))),
+                       _mm_min_ps(_mm_mul_ps(_mm_set1_ps(e[2]), _mm_load_ps(p->invf[2] + l)),
+                                  _mm_load_ps(p->tmax + l)));
+        m |= (unsigned)_mm_movemask_ps(_mm_cmple_ps(tn, tf)) << l;
+    }
+#else
+    for (l = 0; l < GG_PK; l++) {
+        float tn = p->tmin[l], tf = p->tmax[l];
+        for (k = 0; k < 3; k++) {
+            float a = s[k] * p->inv[k][l], b = e[k] * p->invf[k][l];
+            tn = a > tn ? a : tn;
+            tf = b < tf ? b : tf;
+        }
+        m |= (unsigned)(tn <= tf) << l;
+    }
+#endif
+    return m & p->lanes;
+}
+
+/* The largest box-test bound of p's lanes. */
+static inline float pk_tmax(const pkt *p)
+{
+#ifdef GG_BVH_SIMD
+    __m128 t = _mm_max_ps(_mm_max_ps(_mm_load_ps(p->tmax), _mm_load_ps(p->tmax + 4)),
+                          _mm_max_ps(_mm_load_ps(p->tmax + 8), _mm_load_ps(p->tmax + 12)));
+    t = _mm_max_ps(t, _mm_movehl_ps(t, t));
+    t = _mm_max_ss(t, _mm_shuffle_ps(t, t, 1));
+    return _mm_cvtss_f32(t);
+#else
+    float t = p->tmax[0];
+    int l;
+    for (l = 1; l < GG_PK; l++) t = p->tmax[l] > t ? p->tmax[l] : t;
+    return t;
+#endif
+}
+
+/* A stack entry for child i of node `node`: a node index, or for a leaf
+   GG_LEAF | node << 2 | i, so that its box can be tested lane by lane
+   (node indices are below GG_MAX_ELEMS = 2^28). */
+static inline uint32_t pk_ref(const gg_bnode *nd, uint32_t node, int i)
+{
+    return nd->child[i] & GG_LEAF ? GG_LEAF | node << 2 | (uint32_t)i : nd->child[i];
+}
+
+/* The children of mask, nearest (by the packet's entry distances) next,
+   the others pushed farthest deepest, as GG_TRAV_INTERSECT orders them. */
+static inline uint32_t pk_descend(const gg_bnode *nd, uint32_t node, unsigned mask,
+                                  const float tn[4], uint32_t *stack, float *stack_t, int *sp)
+{
+    uint32_t rf[4];
+    float tt[4];
+    int k = 0, a, b;
+    a = lowest_bit(mask);
+    mask &= mask - 1;
+    if (!mask) return pk_ref(nd, node, a);
+    b = lowest_bit(mask);
+    if (!(mask & (mask - 1))) {
+        uint32_t c0 = pk_ref(nd, node, a), c1 = pk_ref(nd, node, b);
+        int sw = tn[b] < tn[a];
+        stack[*sp] = sw ? c0 : c1;
+        stack_t[(*sp)++] = sw ? tn[a] : tn[b];
+        return sw ? c1 : c0;
+    }
+    mask |= 1u << a;
+    while (mask) {
+        a = lowest_bit(mask);
+        mask &= mask - 1;
+        rf[k] = pk_ref(nd, node, a), tt[k++] = tn[a];
+    }
+    for (a = 1; a < k; a++)
+        for (b = a; b > 0 && tt[b] > tt[b - 1]; b--) {
+            float ft = tt[b];
+            uint32_t fr = rf[b];
+            tt[b] = tt[b - 1], rf[b] = rf[b - 1];
+            tt[b - 1] = ft, rf[b - 1] = fr;
+        }
+    for (a = 0; a < k - 1; a++) stack[*sp] = rf[a], stack_t[(*sp)++] = tt[a];
+    return rf[k - 1];
+}
+
+/* Leaf entry `box` (pk_ref) for the lanes whose box4 enters its box;
+   returns whether any lane's closest hit came nearer. */
+GG_INLINE int pk_leaf(const gg_geom *g, pkt *p, uint32_t box, pk_ray *s)
+{
+    const gg_bnode *nd = &g->nodes[(box & ~GG_LEAF) >> 2];
+    const int i = (int)(box & 3);
+    unsigned m = pk_lanes(nd, i, p);
+    int found = 0;
+    while (m) {
+        int l = lowest_bit(m);
+        m &= m - 1;
+        if (!(s->ready >> l & 1)) {
+            s->ready |= 1u << l;
+            if (!gg_rpre_fill(&s->r[l], &s->q[l])) { /* not for rays pk_setup took */
+                p->tmax[l] = -INFINITY;
+                continue;
+            }
+            tx_init(&s->tx[l], &s->r[l]);
+        }
+        if (tx_closest(g, &s->r[l], &s->tx[l], nd->child[i], &s->best[l])) {
+            p->tmax[l] = f_above(s->best[l].t);
+            found = 1;
+        }
+    }
+    return found;
+}
+
+/* GG_TRAV_INTERSECT's walk for packet p: pk_box4 for box4 with the
+   bounds of all lanes (the smallest tmin, the largest tmax), leaves by
+   pk_leaf. */
+static void pk_walk(const gg_geom *g, pkt *p, pk_ray *s)
+{
+    uint32_t stack[GG_STACK], cur = 0;
+    float stack_t[GG_STACK], tmaxf = pk_tmax(p), tcull = tmaxf * GG_EXIT_SCALE;
+    int sp = 0;
+    gg_t4 tmin4 = GG_T4(p->tminp), tmax4;
+    tmax4 = GG_T4(tmaxf);
+    for (;;) {
+        if (!(cur & GG_LEAF)) {
+            const gg_bnode *nd = &g->nodes[cur];
+            float tn[4];
+            unsigned mask = (unsigned)pk_box4(nd, p, tmin4, tmax4, tn);
+            if (mask) {
+                cur = pk_descend(nd, cur, mask, tn, stack, stack_t, &sp);
+                continue;
+            }
+        } else if (pk_leaf(g, p, cur, s)) {
+            tmaxf = pk_tmax(p);
+            tcull = tmaxf * GG_EXIT_SCALE;
+            tmax4 = GG_T4(tmaxf);
+        }
+        for (;;) {
+            if (sp == 0) return;
+            sp--;
+            if (stack_t[sp] <= tcull) break;
+        }
+        cur = stack[sp];
+    }
+}
+
+/* Closest hits of q[l] for the lanes l of `lanes` (below GG_PK): hit[l]
+   and bit l of the result as GG_TRAV_INTERSECT(g, &q[l], &hit[l]) gives
+   them. Lanes of one origin and one set of signs walk the tree together;
+   a lane alone, or one a packet cannot take, is traced on its own. */
+GG_TRAV_LINK GG_NO_SLP unsigned GG_TRAV_PACKET(const gg_geom *g, const gg_rayq *q, unsigned lanes,
+                                               gg_hit *hit)
+{
+    pk_all a;
+    pk_ray s;
+    pkt p;
+    unsigned todo, got = 0, m;
+    lanes &= (1u << GG_PK) - 1;
+    if (!g->built || !g->nslots || !lanes) return 0;
+    todo = pk_setup(&a, &s, q, lanes);
+    s.q = q, s.ready = 0;
+    for (m = lanes & ~todo; m; m &= m - 1)
+        if (GG_TRAV_INTERSECT(g, &q[lowest_bit(m)], &hit[lowest_bit(m)])) got |= m & -m;
+    while (todo) {
+        unsigned grp = pk_same(&a, todo);
+        todo &= ~grp;
+        if (!(grp & (grp - 1))) {
+            if (GG_TRAV_INTERSECT(g, &q[lowest_bit(grp)], &hit[lowest_bit(grp)])) got |= grp;
+            continue;
+        }
+        pk_pack(&p, &a, grp);
+        pk_walk(g, &p, &s);
+        for (m = grp & s.ready; m; m &= m - 1) { /* (a lane that reached no leaf hit nothing) */
+            int l = lowest_bit(m);
+            if (s.best[l].prim == UINT32_MAX) continue;
+            hit[l] = s.best[l];
+            got |= 1u << l;
+        }
+    }
+    return got;
 }
 
 #endif /* GG_TRAV_COST */

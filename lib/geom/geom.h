@@ -193,6 +193,16 @@ typedef struct gg_hit {
    The answer is the same as without the hint. */
 int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 
+/* Closest hits of up to GG_PACKET_MAX rays: for each set bit i of lanes
+   (i < GG_PACKET_MAX), hit[i] and bit i of the result are what
+   gg_geom_intersect(g, &q[i], &hit[i]) gives (hit[i] untouched where
+   the bit is 0), bit for bit. Rays of one origin whose directions have
+   the same signs (a row of eye rays) walk the BVH once together
+   (bvh_trav.h, "eye-ray packets"); others are traced one by one, and so
+   is every ray of a geometry with implicit surfaces. */
+#define GG_PACKET_MAX 16
+unsigned gg_geom_intersect_packet(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
+
 /* What one closest-hit query did: the BVH nodes whose four child boxes it
    tested, and the elements it tested in leaves (every element when it
    fell back to testing them all; 1 for the isolated-sphere hint). */

@@ -264,8 +264,17 @@ static bf ratio_sq(bf pr, bf pi, bf qr, bf qi)
 static bf conductor_exact(double c, double n1, double n, double k)
 {
     bf nn = MUL(B(n), B(n)), kk = MUL(B(k), B(k)), Y = gg_bf_scale2(MUL(B(n), B(k)), 1);
-    bf s2 = SUB(B(1.0), MUL(B(c), B(c))), X, m, za, zb, rs, rp, ec;
-    X = sum3(nn, gg_bf_neg(kk), gg_bf_neg(MUL(MUL(B(n1), B(n1)), s2)));
+    bf n12 = MUL(B(n1), B(n1)), X, m, za, zb, rs, rp, ec;
+    /* X = n^2 - k^2 - n1^2 s^2 with s^2 = 1 - c^2 exact for c^2 >= 1/2;
+       below, 1 - c^2 could round to 1 (c < 2^-256) and lose n1^2 c^2, all
+       that is left of X when n == n1 and k is tiny, so then
+       X = (n^2 - n1^2) - k^2 + n1^2 c^2. The first difference is exact
+       unless n and n1 are 230 binades apart, where X + iY is within
+       2^-500 (relative) of (n + ik)^2 or of -n1^2 s^2 either way. */
+    if (c * c >= 0.5)
+        X = sum3(nn, gg_bf_neg(kk), gg_bf_neg(MUL(n12, SUB(B(1.0), MUL(B(c), B(c))))));
+    else
+        X = sum3(SUB(nn, n12), gg_bf_neg(kk), MUL(n12, MUL(B(c), B(c))));
     m = gg_bf_sqrt(ADD(MUL(X, X), MUL(Y, Y)));
     if (!m.sign) {
         za = zb = B(0.0);

@@ -26,10 +26,16 @@ static void scale_pair(double *a, double *b)
 }
 
 /* nt^2 cos^2(theta_t) = (nt^2 - ni^2) + ni^2 c^2, in double-double: the two
-   terms cancel near the critical angle. */
+   terms cancel near the critical angle. For c^2 >= 1/2 (about) it is formed as
+   nt^2 - ni^2 s^2 instead (s^2 = 1 - c^2 from the exact c^2): at normal
+   incidence with ni >> nt the first form would leave nt^2 as the
+   difference of two terms near ni^2, and lose it. */
 static gg_dd cos_t_sq_nt2(double a, double b, double c, gg_dd *delta)
 {
-    *delta = dd_sub(dd_two_prod(b, b), dd_two_prod(a, a));
+    gg_dd a2 = dd_two_prod(a, a), b2 = dd_two_prod(b, b);
+    *delta = dd_sub(b2, a2);
+    if (c >= 0.70710678118654752) /* c^2 >= 1/2 */
+        return dd_sub(b2, dd_mul(a2, dd_sub(dd_from(1.0), dd_two_prod(c, c))));
     return dd_add(*delta, dd_sqr(dd_two_prod(a, c)));
 }
 
@@ -97,8 +103,7 @@ static int dielectric_args(double cos_i, double ni, double nt)
     return isfinite(cos_i) && isfinite(ni) && isfinite(nt) && ni != 0 && nt != 0;
 }
 
-GG_API void ggFresnelDielectricPolarized(double cos_i, double ni, double nt, double *rs,
-                                         double *rp)
+GG_API void ggFresnelDielectricPolarized(double cos_i, double ni, double nt, double *rs, double *rp)
 {
     gg_dd s, p;
     if (!dielectric_args(cos_i, ni, nt)) {
@@ -144,122 +149,226 @@ GG_API double ggFresnelSchlick(double cos_i, double ni, double nt)
 /* Conductors                                                          */
 /* ------------------------------------------------------------------ */
 
-/* |p - q|^2 / |p + q|^2 for complex p = (pr, pi), q = (qr, qi), scaled so
-   that nothing underflows; `zero` is returned for 0/0. */
-static double ratio_sq(double pr, double pi, double qr, double qi, double zero)
+/* Rs and Rp as double-words. */
+typedef struct conductor_r {
+    gg_dd rs, rp;
+} conductor_r;
+
+static gg_dd dd_x2(gg_dd a)
 {
-    double m = fabs(pr), num, den;
-    if (fabs(pi) > m) m = fabs(pi);
-    if (fabs(qr) > m) m = fabs(qr);
-    if (fabs(qi) > m) m = fabs(qi);
-    if (m == 0) return zero;
-    if (m < 0x1p-500 || m > 0x1p500) {
-        int e = -dd_expo(m);
-        pr = dd_scale2(pr, e), pi = dd_scale2(pi, e), qr = dd_scale2(qr, e), qi = dd_scale2(qi, e);
-    }
-    num = (pr - qr) * (pr - qr) + (pi - qi) * (pi - qi);
-    den = (pr + qr) * (pr + qr) + (pi + qi) * (pi + qi);
-    if (den == 0) return zero;
-    return num > den ? 1.0 : num / den;
+    return dd_make(2 * a.hi, 2 * a.lo);
 }
 
-/* Rs and Rp for outside index n1 and inside n + i k (all scaled together,
-   the largest in [1, 2)), cosine c. With eta~ = (n + i k)/n1,
-     z  = sqrt(eta~^2 - sin^2)            (principal root, Re z >= 0)
-     Rs = |c - z|^2 / |c + z|^2,   Rp = |eta~^2 c - z|^2 / |eta~^2 c + z|^2.
-   Multiplying through by n1 (and n1^2 for Rp) leaves Z = n1 z =
-   sqrt(X + i Y), X = n^2 - k^2 - n1^2 sin^2, Y = 2 n k. X is the small
-   difference of large terms near the critical angle when k is small, so
-   it is formed in double-double from exact squares; the square root is
-   then taken without cancellation (the half-angle forms). */
-static void conductor_general(double c, double n1, double n, double k, double *rs, double *rp)
+static gg_dd dd_scale(gg_dd a, int e)
 {
-    gg_dd s2 = dd_sub(dd_from(1.0), dd_two_prod(c, c));
-    gg_dd X = dd_sub(dd_sub(dd_two_prod(n, n), dd_two_prod(k, k)),
-                     dd_mul(dd_two_prod(n1, n1), s2));
-    double Y = 2 * n * k, m = hypot(X.hi, Y), za, zb;
-    if (m == 0) {
-        za = zb = 0;
-    } else if (X.hi >= 0) {
-        /* sqrt(m + X) sqrt(1/2): halving first could underflow to 0. */
-        za = sqrt(m + X.hi) * 0.70710678118654752440;
-        zb = Y / (2 * za);
+    return dd_make(dd_scale2(a.hi, e), dd_scale2(a.lo, e));
+}
+
+/* |x + iy| for double-words, scaled so that the squares cannot underflow. */
+static gg_dd dd_hypot(gg_dd x, gg_dd y)
+{
+    double m = fabs(x.hi) > fabs(y.hi) ? fabs(x.hi) : fabs(y.hi);
+    int e;
+    if (m == 0) return dd_from(0.0);
+    e = dd_expo(m);
+    x = dd_scale(x, -e), y = dd_scale(y, -e);
+    return dd_scale(dd_sqrt(dd_add_same(dd_sqr(x), dd_sqr(y))), e);
+}
+
+/* Z = za + i zb = sqrt(X + iY), the principal root (Y >= 0), from the
+   half-angle forms, which do not cancel; m = |Z|^2 = |X + iY|. */
+static void complex_sqrt(gg_dd X, gg_dd Y, gg_dd *za, gg_dd *zb, gg_dd *m)
+{
+    *m = dd_hypot(X, Y);
+    *za = *zb = dd_from(0.0);
+    if (m->hi == 0) return;
+    if (X.hi >= 0) {
+        *za = dd_sqrt(dd_mul_d(dd_add(*m, X), 0.5));
+        if (Y.hi != 0) *zb = dd_div(Y, dd_x2(*za));
     } else {
-        zb = sqrt(m - X.hi) * 0.70710678118654752440;
-        za = Y / (2 * zb);
+        *zb = dd_sqrt(dd_mul_d(dd_sub(*m, X), 0.5));
+        if (Y.hi != 0) *za = dd_div(Y, dd_x2(*zb));
     }
-    /* With eta~ tending to 0 both ratios tend to 1 (the outside medium
-       is infinitely denser): the 0/0 value. */
-    *rs = ratio_sq(c * n1, 0, za, zb, 1.0);
-    *rp = ratio_sq((n - k) * (n + k) * c, Y * c, n1 * za, n1 * zb, 1.0);
 }
 
-/* |eta~| = H 2^G with G > 300: then sin^2 is negligible next to eta~^2
-   (relative 2^-600), z = eta~, and with u = eta~/|eta~|,
-     Rs = |w - u|^2/|w + u|^2,  w = c / |eta~|;
-     Rp = |L u - 1|^2/|L u + 1|^2, L = c |eta~|. */
-static void conductor_huge(double c, double ur, double ui, double H, int G, double *rs,
-                           double *rp)
+/* The unscaled quantities of the forms below, for outside index n1,
+   inside n + ik, cosine c. */
+typedef struct conductor_in {
+    double c, n1;
+    gg_dd c2, N1, N1s2, NN, KK, Y; /* c^2, n1^2, n1^2 s^2, n^2, k^2, 2nk */
+} conductor_in;
+
+/* Rs, Rp and complements from a scaled pair: with sigma = 2^j,
+   A = sigma a (a = n1 c) and T = sigma^2 ((n + ik)^2 - n1^2) = Tr + i Ti.
+   docs/optics.md ("Conductors") derives the forms: with s^2 = 1 - c^2,
+   Z = n1 cos_t (n + ik) = sqrt(a^2 + (n + ik)^2 - n1^2) (principal root),
+     rs = (a^2 - Z^2) / (a + Z)^2 = -((n + ik)^2 - n1^2) / (a + Z)^2,
+     |rs| = |T| / Ds,            Ds = |A + sigma Z|^2 = A^2 + 2 A za + m,
+     1 - Rs = 4 A za / Ds,       za + i zb = sigma Z, m = |sigma Z|^2,
+     rp = -((n + ik)^2 - n1^2) Bc / ((n + ik)^2 c + n1 Z)^2,
+     Bc = c^2 (n^2 - k^2) - n1^2 s^2 + i 2nk c^2,
+     |rp| = |T| |Bc| / Dp,       Dp = C^2 (n^2 + k^2)^2 + 2 C W + n1^2 m,
+     W = n1 Re(conj((n + ik)^2) sigma Z) = n1 za (n1^2 s^2 + m sigma^-2),
+     1 - Rp = 4 C W / Dp,        C = sigma c.
+   X = Re (sigma Z)^2 = A^2 + Tr = sigma^2 (n^2 - k^2 - n1^2 s^2). Only Tr,
+   X and Re Bc are differences (of exact products, in double-double);
+   every other sum has terms of one sign. Ds and Dp are
+   sigma^2 times their unscaled values, so the ratios do not depend on
+   sigma: it only keeps a tiny A and T inside the exponent range. */
+static void conductor_core(const conductor_in *in, gg_dd NpK, int j, gg_dd A, gg_dd X, gg_dd Tr,
+                           gg_dd Ti, conductor_r *r)
 {
-    double w = dd_scale2(c / H, -G), L;
-    *rs = ratio_sq(w, 0, ur, ui, 1.0);
-    if (c == 0 || dd_expo(c) + G > 900) {
-        /* Grazing, or L > 2^898: Rp = 1 - O(1/L), 1 when rounded. */
-        *rp = 1.0;
-        return;
+    gg_dd za, zb, m, E2, Ds, W, e, Dp, Br, Bi, B2;
+    double C = dd_scale2(in->c, j);
+    complex_sqrt(X, Ti, &za, &zb, &m);
+    Ds = dd_add_same(dd_add_same(dd_sqr(A), dd_x2(dd_mul(A, za))), m);
+    W = dd_mul_d(dd_mul(za, dd_add_same(in->N1s2, dd_scale(m, -2 * j))), in->n1);
+    e = dd_mul_d(NpK, C);
+    Dp = dd_add_same(dd_sqr(e), dd_add_same(dd_x2(dd_mul_d(W, C)), dd_mul(in->N1, m)));
+    Br = dd_sub(dd_sub(dd_mul(in->c2, in->NN), in->N1s2), dd_mul(in->c2, in->KK));
+    Bi = dd_mul(in->c2, in->Y);
+    /* Ds >= max(A^2, m), m = |A^2 + T|, is above 2^-310 (A^2 or |T| is
+       above 2^-302, see conductor_general); |T| is above 2^-54 unless
+       n == n1. */
+    if (Dp.hi > 0x1p-400 && (fabs(Tr.hi) > 0x1p-400 || fabs(Ti.hi) > 0x1p-400) &&
+        (fabs(Br.hi) > 0x1p-400 || fabs(Bi.hi) > 0x1p-400)) {
+        E2 = dd_add_same(dd_sqr(Tr), dd_sqr(Ti));
+        B2 = dd_add_same(dd_sqr(Br), dd_sqr(Bi));
+        r->rs = dd_div(E2, dd_sqr(Ds));
+        r->rp = dd_div(dd_mul(E2, B2), dd_sqr(Dp));
+    } else {
+        /* |T| or |Bc| and Dp tiny (n == n1 with a tiny k, or n1 far below
+           |n + ik|): as ratios first, so that no square underflows */
+        gg_dd E = dd_hypot(Tr, Ti), q = dd_div(E, Ds);
+        r->rs = dd_sqr(q);
+        q = dd_div(dd_mul(E, dd_hypot(Br, Bi)), Dp);
+        r->rp = dd_sqr(q);
     }
-    L = dd_scale2(c * H, G);
-    if (L > 0x1p500)
-        *rp = ratio_sq(ur, ui, 1 / L, 0, 1.0);
-    else
-        *rp = ratio_sq(L * ur, L * ui, 1, 0, 1.0);
 }
 
-static int conductor(double cos_i, double n1, double n, double k, double *rs, double *rp)
+/* Outside index n1, inside n + ik (k > 0), scaled together so that the
+   largest is in [1, 2) and n1 and |n + ik| are both above 2^-302; cosine
+   c in (0, 1]. (n + ik)^2 - n1^2 = (n^2 - k^2 - n1^2) + 2ink is at least
+   2^-54 unless n == n1, where it is k (2in - k): then a tiny k with a tiny
+   c (a and Z both below 2^-480) is scaled up by sigma^2, chosen to bring
+   the larger of a^2 and |T| near 1. */
+static void conductor_general(double c, double n1, double n, double k, conductor_r *r)
 {
-    double c, nm, km, n1m, H;
+    conductor_in in;
+    gg_dd A, X, Tr, Ti;
+    int j = 0;
+    in.c = c, in.n1 = n1;
+    in.c2 = dd_two_prod(c, c), in.N1 = dd_two_prod(n1, n1);
+    in.N1s2 = dd_mul(in.N1, dd_sub(dd_from(1.0), in.c2));
+    in.NN = dd_two_prod(n, n), in.KK = dd_two_prod(k, k), in.Y = dd_x2(dd_two_prod(n, k));
+    if (n == n1) {
+        int ea = dd_expo(c) + dd_expo(n1), et = dd_expo(k) + dd_expo(n > k ? n : k) + 1;
+        int h = 2 * ea > et ? 2 * ea : et;
+        double k2;
+        if (h < -300) j = -(h / 2);
+        k2 = dd_scale2(k, 2 * j);
+        A = dd_two_prod(n1, dd_scale2(c, j));
+        Tr = dd_neg(dd_two_prod(k, k2)), Ti = dd_x2(dd_two_prod(n, k2));
+        X = dd_add(dd_sqr(A), Tr);
+    } else {
+        /* X from n^2 - k^2 - n1^2 s^2: A^2 + Tr would cancel when |n + ik|
+           is much below n1 near normal incidence. */
+        A = dd_two_prod(n1, c);
+        Tr = dd_sub(dd_sub(in.NN, in.N1), in.KK), Ti = in.Y;
+        /* as in cos_t_sq_nt2, whichever of n^2 - n1^2 s^2 and
+           (n^2 - n1^2) + a^2 cancels less */
+        X = in.c2.hi >= 0.5 ? dd_sub(in.NN, in.N1s2) : dd_add(dd_sub(in.NN, in.N1), dd_sqr(A));
+        X = dd_sub(X, in.KK);
+    }
+    conductor_core(&in, dd_add_same(in.NN, in.KK), j, A, X, Tr, Ti, r);
+}
+
+/* |eta~| = (n + ik)/n1 = H 2^G, G > 300, u = eta~/|eta~| = (ur, ui): then
+   sin^2 is negligible next to eta~^2 (relative 2^-600) and z = eta~, so
+   with w = c/|eta~| and L = c |eta~|
+     Rs = |w - u|^2 / |w + u|^2,   1 - Rs = 4 w ur / (1 + 2 w ur + w^2),
+     Rp = |L u - 1|^2 / |L u + 1|^2 = ((L - 1)^2 + 2 L ui^2/(1 + ur)) / Dp,
+     1 - Rp = 4 L ur / Dp,   Dp = L^2 + 2 L ur + 1.
+   c > 0; H as a double-word. */
+static void conductor_huge(double c, gg_dd ur, gg_dd ui, gg_dd H, int G, conductor_r *r)
+{
+    gg_dd w = dd_scale(dd_div(dd_from(c), H), -G), L, one = dd_from(1.0), Dp, N;
+    gg_dd wu = dd_mul(w, ur), tp;
+    r->rs =
+        dd_sub(one, dd_div(dd_mul_d(wu, 4), dd_add_same(one, dd_add_same(dd_x2(wu), dd_sqr(w)))));
+    if (dd_expo(c) + G > 900) {
+        /* L > 2^898: 1 - Rp = 4 ur / L, to 2^-898 relative. */
+        tp = dd_scale(dd_div(dd_mul_d(ur, 4), dd_mul_d(H, c)), -G);
+    } else {
+        L = dd_mul_d(H, dd_scale2(c, G)); /* c 2^G first: c may be subnormal */
+        if (L.hi > 0x1p400) {
+            tp = dd_div(dd_mul_d(ur, 4), L);
+        } else {
+            Dp = dd_add_same(dd_add_same(dd_sqr(L), dd_x2(dd_mul(L, ur))), one);
+            N = dd_add_same(dd_sqr(dd_sub(L, one)),
+                            dd_div(dd_x2(dd_mul(L, dd_sqr(ui))), dd_add_same(one, ur)));
+            r->rp = dd_div(N, Dp);
+            return;
+        }
+    }
+    r->rp = dd_sub(one, tp);
+}
+
+/* Rs, Rp (and the complements) for valid arguments; 0 if they are not. */
+static int conductor(double cos_i, double n1, double n, double k, conductor_r *r)
+{
+    double c;
     int e1, em, G;
     if (!isfinite(cos_i) || !isfinite(n1) || !isfinite(n) || !isfinite(k) || n1 == 0 || n < 0 ||
-        k < 0 || (n == 0 && k == 0)) {
-        *rs = *rp = NAN;
+        k < 0 || (n == 0 && k == 0))
         return 0;
-    }
     c = clamp_cos(cos_i);
     n1 = fabs(n1);
-    if (k == 0 && n == n1) {
-        *rs = *rp = 0;
+    if (k == 0) {
+        /* A dielectric: exactly ggFresnelDielectric's values. */
+        dielectric_dd(c, n1, n, &r->rs, &r->rp);
         return 1;
     }
-    /* eta~ = (n + i k)/n1 = (nm + i km)/n1m 2^G with nm, km, n1m in [1, 2). */
+    r->rs = r->rp = dd_from(1.0);
+    if (c == 0) return 1;
+    /* eta~ = (n + ik)/n1 = (nm + i km)/n1m 2^G with n1m and the larger of
+       nm, km in [1, 2). */
     e1 = dd_expo(n1), em = dd_expo(n > k ? n : k);
     G = em - e1;
     if (G > 300) {
-        n1m = dd_scale2(n1, -e1), nm = dd_scale2(n, -em), km = dd_scale2(k, -em);
-        H = hypot(nm, km);
-        conductor_huge(c, nm / H, km / H, H / n1m, G, rs, rp);
-    } else {
-        /* One common scale. |eta~| < 2^302; tiny ones may underflow, which
-           only pushes R towards its limit 1. */
+        double n1m = dd_scale2(n1, -e1), nm = dd_scale2(n, -em), km = dd_scale2(k, -em);
+        gg_dd h = dd_hypot(dd_from(nm), dd_from(km));
+        conductor_huge(c, dd_div(dd_from(nm), h), dd_div(dd_from(km), h), dd_div(h, dd_from(n1m)),
+                       G, r);
+    } else if (G >= -300) {
         int e = e1 > em ? e1 : em;
-        conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -e), rs, rp);
+        conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -e), r);
     }
+    /* else |eta~| < 2^-299: R = 1 - O(|eta~|), 1 when rounded. */
     return 1;
+}
+
+/* x rounded to a double, at most 1 (an upper bound the double-word forms
+   may pass by a few 2^-106). */
+static double at_most_1(gg_dd x)
+{
+    return x.hi > 1 ? 1.0 : x.hi;
 }
 
 GG_API void ggFresnelConductorPolarized(double cos_i, double n_outside, double n, double k,
                                         double *rs, double *rp)
 {
-    double s, p;
-    conductor(cos_i, n_outside, n, k, &s, &p);
-    if (rs) *rs = s;
-    if (rp) *rp = p;
+    conductor_r r;
+    int ok = conductor(cos_i, n_outside, n, k, &r);
+    if (rs) *rs = ok ? at_most_1(r.rs) : NAN;
+    if (rp) *rp = ok ? at_most_1(r.rp) : NAN;
 }
 
 GG_API double ggFresnelConductor(double cos_i, double n_outside, double n, double k)
 {
-    double s, p;
-    if (!conductor(cos_i, n_outside, n, k, &s, &p)) return NAN;
-    return 0.5 * (s + p);
+    conductor_r r;
+    if (!conductor(cos_i, n_outside, n, k, &r)) return NAN;
+    return at_most_1(dd_mul_d(dd_add(r.rs, r.rp), 0.5));
 }
 
 /* ------------------------------------------------------------------ */

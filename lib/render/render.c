@@ -23,6 +23,8 @@
 #endif
 
 #define TILE 16
+/* A tile row's eye rays are one packet (tile_centres). */
+typedef char tile_row_fits_packet[TILE <= GG_PACKET_MAX ? 1 : -1];
 
 /* ggRender and ggTracePixel prepare an unprepared scene. Two threads may
    do that at once on one scene (scene.h): the lock makes the second wait
@@ -276,8 +278,10 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
    a row or a column hoisted out: a column's right * sx is computed once a
    tile, a row's up * sy once a row. A row's unit directions come first,
    then its rays, so the divisions and square roots run in parallel rather
-   than each at the head of its ray's chain. The eye rays are cast here and
-   only hits call the shading; every miss is the same pixel value. */
+   than each at the head of its ray's chain. The eye rays of a row are cast
+   here as one packet (gg_geom_intersect_packet: the same hits as one at a
+   time), then the hits are shaded left to right as before; every miss is
+   the same pixel value. */
 static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
 {
     const cam_basis *b = &j->cam;
@@ -288,10 +292,11 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     const uint32_t eye_ok = v3finite(b->eye) ? ~0u : 0u;
     double c[3][TILE]; /* right * sx of the tile's columns */
     gg_rayq q[TILE];   /* a row's eye rays */
+    gg_hit h[TILE];    /* and their hits */
     const ggColor black = {0, 0, 0}, bg = gg_shade_eye_miss(&j->ctx);
+    const uint32_t cols = (1u << n) - 1;
     float miss[3];
     uint64_t eye = 0, nonfinite = 0, miss_bad;
-    gg_hit h;
     int i, gy;
     miss_bad = (uint64_t)put_centre(miss, &bg, scale);
     for (i = 0; i < TILE; i++) {
@@ -309,7 +314,8 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
         const double sy = (1.0 - 2.0 * py / b->h) * b->ty;
         const double v[3] = {b->up.x * sy, b->up.y * sy, b->up.z * sy};
         float *o = j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
-        const uint32_t ok = row_dirs(b, c, v, q) & eye_ok;
+        const uint32_t ok = row_dirs(b, c, v, q) & eye_ok & cols;
+        const uint32_t hit = gg_geom_intersect_packet(geom, q, ok, h);
         eye += (uint64_t)n;
         for (i = 0; i < n; i++, o += 3) {
             if (!((ok >> i) & 1u)) {
@@ -317,8 +323,8 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
                 eye--; /* no ray cast: take it back from the row's n */
                 continue;
             }
-            if (gg_geom_intersect(geom, &q[i], &h)) {
-                ggColor col = gg_shade_eye_hit(&j->ctx, &q[i], &h, th);
+            if ((hit >> i) & 1u) {
+                ggColor col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
                 nonfinite += put_centre(o, &col, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
