@@ -211,8 +211,12 @@ unsigned gg_geom_intersect_packet(const gg_geom *g, const gg_rayq *q, unsigned l
     /* An implicit surface's answer depends on the bound it is asked
        with (and may count a cut): one ray at a time, in the usual order. */
     if (g->nimp) alone = lanes;
-    for (m = lanes & ~alone; m; m &= m - 1)
-        if (q[GG_CTZ(m)].inside != UINT32_MAX) alone |= m & -m;
+    /* The packet walk is double; single-precision queries take their own
+       copy (GG_FLOAT_Q), one by one too. */
+    for (m = lanes & ~alone; m; m &= m - 1) {
+        const gg_rayq *qi = &q[GG_CTZ(m)];
+        if (qi->inside != UINT32_MAX || GG_FLOAT_Q(qi)) alone |= m & -m;
+    }
     lanes &= ~alone;
     got = !lanes          ? 0
           : GG_USE_AVX(g) ? gg_bvh_packet_avx(g, q, lanes, hit)

@@ -199,7 +199,8 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
    the bit is 0), bit for bit. Rays of one origin whose directions have
    the same signs (a row of eye rays) walk the BVH once together
    (bvh_trav.h, "eye-ray packets"); others are traced one by one, and so
-   is every ray of a geometry with implicit surfaces. */
+   is every ray of a geometry with implicit surfaces and every
+   single-precision query (GG_ISECT_FLOAT). */
 #define GG_PACKET_MAX 16
 unsigned gg_geom_intersect_packet(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
 
