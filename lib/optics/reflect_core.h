@@ -112,13 +112,18 @@ GG_INLINE double div_rem(double a, double q, double b)
    fast paths". */
 GG_INLINE int reflect_mirror(gg_v4 V, gg_v4 N, ggVec3 *out)
 {
-    gg_v4dd P = v4_two_prod(V + V, N), Q = v4_two_prod(N, N), pk;
+    gg_v4 V2 = V + V, Ph = V2 * N, Qh = N * N, Pl, Ql;
     /* components 0 and 1 summed in lanes 0, 1 (2 v.n, n.n), then 2 added */
-    gg_v4 H0 = v4unpack(P.hi, Q.hi, 0), H1 = v4unpack(P.hi, Q.hi, 1);
-    gg_v4 L0 = v4unpack(P.lo, Q.lo, 0), L01 = L0 + v4unpack(P.lo, Q.lo, 1);
-    gg_v4 S = H0 + H1, B = S - H0, SL = (H0 - (S - B)) + (H1 - B), E, R;
-    gg_v2 s = v4lo(S), h2 = v4hi(H0), t = s + h2, c = t - s, lo;
+    gg_v4 H0 = v4unpack(Ph, Qh, 0), H1 = v4unpack(Ph, Qh, 1), L0, L01, S, B, SL, E, R;
+    gg_v2 s, h2, t, c, lo;
+    gg_v4dd pk;
     double q, kl;
+    /* the low parts once the high parts are shuffled (so GCC can overwrite
+       the high parts rather than copy N) */
+    Pl = v4_two_prod(V2, N).lo, Ql = v4_two_prod(N, N).lo;
+    L0 = v4unpack(Pl, Ql, 0), L01 = L0 + v4unpack(Pl, Ql, 1);
+    S = H0 + H1, B = S - H0, SL = (H0 - (S - B)) + (H1 - B);
+    s = v4lo(S), h2 = v4hi(H0), t = s + h2, c = t - s;
     lo = (v4lo(L01) + (v4hi(L0) + v4lo(SL))) + ((s - (t - c)) + (h2 - c));
     if (!(t[1] >= 0x1p-600)) return 0;
     q = t[0] / t[1];
