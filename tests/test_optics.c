@@ -86,6 +86,36 @@ static void test_reflect_length_and_twice(void **state)
     }
 }
 
+/* Inputs inside the unscaled fast path (components below 2^300, |v| and
+   |n| above 2^-300) and outside it (scaled into [1, 2) first) give the
+   same bits: scaling v by 2^a scales r by 2^a, scaling n changes nothing,
+   while no product of components underflows (components here are at
+   least 2^-20 of their vector's length). */
+static void test_reflect_power_of_two_scaling(void **state)
+{
+    static const int ex[] = {-900, -601, -600, -302, -301, -300, -299, -298, -150, 0,
+                             150,  298,  299,  300,  301,  302,  600,  601,  900};
+    const int nex = (int)(sizeof ex / sizeof ex[0]);
+    tu_rng r = {15};
+    int i, a, b;
+    (void)state;
+    for (i = 0; i < 400; i++) {
+        ggVec3 v = scale(tu_unit(&r), tu_range(&r, 0.5, 2)),
+               n = scale(tu_unit(&r), tu_range(&r, 0.5, 2));
+        ggVec3 r0;
+        if (!(fabs(v.x) > 0x1p-20 && fabs(v.y) > 0x1p-20 && fabs(v.z) > 0x1p-20 &&
+              fabs(n.x) > 0x1p-20 && fabs(n.y) > 0x1p-20 && fabs(n.z) > 0x1p-20))
+            continue;
+        r0 = ggReflection(v, n);
+        for (a = 0; a < nex; a++)
+            for (b = 0; b < nex; b++) {
+                double sa = ldexp(1, ex[a]);
+                ggVec3 r1 = ggReflection(scale(v, sa), scale(n, ldexp(1, ex[b])));
+                assert_true(same_bits(r1, scale(r0, sa)));
+            }
+    }
+}
+
 static void test_reflect_invalid(void **state)
 {
     ggVec3 r;
@@ -613,6 +643,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reflect_length_and_twice),
+        cmocka_unit_test(test_reflect_power_of_two_scaling),
         cmocka_unit_test(test_reflect_invalid),
         cmocka_unit_test(test_refract_matched_is_identity),
         cmocka_unit_test(test_refract_normal_incidence),

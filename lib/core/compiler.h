@@ -13,6 +13,9 @@
    in registers (and, in shade.c, to fold the constant effect set). */
 #define GG_INLINE      static inline __attribute__((always_inline))
 #define GG_NOINLINE    __attribute__((noinline))
+/* A rarely taken function: GCC moves it, and the calls to it, out of the
+   hot path (so a caller can keep its fast path free of a stack frame). */
+#define GG_COLD        __attribute__((cold))
 #define GG_PRINTF(a, b) __attribute__((format(printf, a, b)))
 #define GG_LIKELY(x)   __builtin_expect(!!(x), 1)
 #define GG_UNLIKELY(x) __builtin_expect(!!(x), 0)
@@ -24,6 +27,7 @@
 #else
 #define GG_INLINE      static inline
 #define GG_NOINLINE
+#define GG_COLD
 #define GG_PRINTF(a, b)
 #define GG_LIKELY(x)   (x)
 #define GG_UNLIKELY(x) (x)

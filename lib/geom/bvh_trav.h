@@ -65,8 +65,9 @@ static const size_t row_offsets[8][2][3] = {GG_ROWSET(0), GG_ROWSET(1), GG_ROWSE
    two roundings, which the exit scale allows for. The sign of 1/d (not of
    d) picks the planes, so d = -0 (1/d = -inf) is handled as negative.
    Entry plane lo with the origin rounded up can only shorten the entry
-   distance, exit plane hi with it rounded down only lengthen the exit. */
-GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
+   distance, exit plane hi with it rounded down only lengthen the exit.
+   From the ray's origin (ox, oy, oz) and direction (dx, dy, dz). */
+GG_INLINE int trav_init6(trav *tv, double ox, double oy, double oz, double dx, double dy, double dz)
 {
     int sm;
 #ifdef GG_BVH_SIMD
@@ -75,10 +76,8 @@ GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
            load would wait for the store buffer (see gg_rpre_init). Two
            are then paired and rounded by one cvtpd2ps (the same rounding
            as cvtsd2ss per value, fewer instructions). */
-        __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(r->o[1], r->o[0])),
-                                  _mm_cvtpd_ps(_mm_set1_pd(r->o[2])));
-        __m128 df = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(r->d[1], r->d[0])),
-                                  _mm_cvtpd_ps(_mm_set1_pd(r->d[2])));
+        __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(oy, ox)), _mm_cvtpd_ps(_mm_set1_pd(oz)));
+        __m128 df = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(dy, dx)), _mm_cvtpd_ps(_mm_set1_pd(dz)));
         __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
         __m128 ao = _mm_and_ps(of, absm);
         __m128 e = _mm_add_ps(_mm_mul_ps(ao, _mm_set1_ps(0x1p-22f)), _mm_set1_ps(1e-37f));
@@ -105,10 +104,11 @@ GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
         tv->of[2] = _mm_shuffle_ps(off, off, 0xaa);
     }
 #else
-    if (!(fabs(r->o[0]) < 1e30 && fabs(r->o[1]) < 1e30 && fabs(r->o[2]) < 1e30)) return 0;
+    const double o[3] = {ox, oy, oz}, d[3] = {dx, dy, dz};
+    if (!(fabs(o[0]) < 1e30 && fabs(o[1]) < 1e30 && fabs(o[2]) < 1e30)) return 0;
     sm = 0;
     for (int k = 0; k < 3; k++) {
-        float of = (float)r->o[k], df = f_near(r->d[k]);
+        float of = (float)o[k], df = f_near(d[k]);
         float e = fabsf(of) * 0x1p-22f + 1e-37f, up = of + e, dn = of - e;
         float inv = 1.0f / df;
         int ng = signbit(inv) != 0;
@@ -124,6 +124,11 @@ GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
     memcpy(tv->nr, row_offsets[sm & 7][0], sizeof tv->nr);
     memcpy(tv->fr, row_offsets[sm & 7][1], sizeof tv->fr);
     return 1;
+}
+
+GG_INLINE int trav_init(trav *tv, const gg_rpre *r)
+{
+    return trav_init6(tv, r->o[0], r->o[1], r->o[2], r->d[0], r->d[1], r->d[2]);
 }
 
 /* f_down of a query's tmin, whose usual value 0 skips the rounding's
@@ -335,48 +340,71 @@ GG_INLINE uint32_t any_descend(const gg_bnode *nd, unsigned mask, uint32_t *stac
 }
 #endif
 
-/* Any-hit traversal; returns the slot index + 1 of an occluder, or 0.
-   The occluder at slot index *cache - 1 (if *cache is not 0) is tried
-   first. */
-GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq *q,
-                                                 uint32_t *cache)
+/* The occluder's walk from the root: with `lazy` (a constant, so each
+   caller gets its own copy of the loop) r holds nothing yet and is
+   filled from q at the first leaf, with the leaf state. */
+GG_INLINE uint32_t occ_walk(const gg_geom *g, const gg_rayq *q, gg_rpre *r, const trav *tv,
+                            double tmax, const int lazy)
 {
-    gg_rpre r;
-    trav tv;
     gg_tx tx;
     uint32_t stack[GG_STACK], cur = 0, hit;
-    int sp = 0;
-    double tmax;
-    gg_t4 tmin4, tmax4;
-
-    if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
-    tmax = gg_next_down(q->tmax);
-    if (*cache && *cache <= g->nslots) {
-        hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
-        if (hit) return hit;
-    }
-    if (!trav_init(&tv, &r) || q->tmin < 0) {
-        return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
-    }
-    tx_fill(&tx, &r);
-    tmin4 = GG_T4(f_down_tmin(q->tmin));
-    tmax4 = GG_T4(f_above(tmax));
+    int sp = 0, ready = !lazy;
+    gg_t4 tmin4 = GG_T4(f_down_tmin(q->tmin)), tmax4 = GG_T4(f_above(tmax));
+    if (lazy)
+        tx_init(&tx, r);
+    else
+        tx_fill(&tx, r);
     for (;;) {
         if (!(cur & GG_LEAF)) {
             const gg_bnode *nd = &g->nodes[cur];
             float tn[4];
-            unsigned mask = (unsigned)box4(nd, &tv, tmin4, tmax4, tn);
+            unsigned mask = (unsigned)box4(nd, tv, tmin4, tmax4, tn);
             if (mask) {
                 cur = any_descend(nd, mask, stack, &sp);
                 continue;
             }
         } else {
-            hit = tx_any(g, &r, &tx, cur, tmax);
+            if (lazy && !ready) {
+                if (!gg_rpre_fill(r, q)) return 0;
+                ready = 1;
+            }
+            hit = tx_any(g, r, &tx, cur, tmax);
             if (hit) return hit;
         }
         if (sp == 0) return 0;
         cur = stack[--sp];
     }
+}
+
+/* Any-hit traversal; returns the slot index + 1 of an occluder, or 0.
+   The occluder at slot index *cache - 1 (if *cache is not 0) is tried
+   first. With no cached occluder (the previous shadow ray was clear, and
+   so is this one, mostly, after a few nodes) the ray's precomputation
+   and leaf state wait for the first leaf; trav_init needs only o and d.
+   A ray gg_rpre_fill refuses is clear either way. */
+GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq *q,
+                                                 uint32_t *cache)
+{
+    gg_rpre r;
+    trav tv;
+    uint32_t hit;
+    double tmax;
+
+    if (!g->built || !g->nslots || !(q->tmax > q->tmin)) return 0;
+    tmax = gg_next_down(q->tmax);
+    if (!(*cache && *cache <= g->nslots)) {
+        if (trav_init6(&tv, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z) && q->tmin >= 0)
+            return occ_walk(g, q, &r, &tv, tmax, 1);
+        if (!gg_rpre_fill(&r, q)) return 0;
+        return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
+    }
+    if (!gg_rpre_fill(&r, q)) return 0;
+    hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
+    if (hit) return hit;
+    if (!trav_init(&tv, &r) || q->tmin < 0) {
+        return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
+    }
+    return occ_walk(g, q, &r, &tv, tmax, 0);
 }
 
 /* An any-hit traversal over the whole segment (transparent hits do not

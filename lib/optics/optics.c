@@ -31,6 +31,7 @@
 #define GG_REFRACT_NAME refract_plain
 #define GG_REFLECT_NAME reflect_plain
 #include "refract_core.h"
+#include "reflect_core.h"
 
 #if GG_ISA_X86
 /* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2
@@ -56,14 +57,18 @@ GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
     return rc == 1;
 }
 
+/* The first call, and every call without fma. */
+static GG_NOINLINE ggVec3 reflect_choose(const ggVec3 *v, const ggVec3 *n)
+{
+    return use_fma() ? gg_reflect_fma(v, n) : reflect_plain(v, n);
+}
+
+/* fma_mode tested first: the common call is a load, a compare and the
+   call. */
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
 {
-    ggVec3 r;
-    if (use_fma())
-        gg_reflect_fma(&v, &n, &r);
-    else
-        reflect_plain(&v, &n, &r);
-    return r;
+    if (GG_LIKELY(GG_ATOMIC_LOAD(&fma_mode) == 2)) return gg_reflect_fma(&v, &n);
+    return reflect_choose(&v, &n);
 }
 #else
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
@@ -76,9 +81,7 @@ GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
 {
-    ggVec3 r;
-    reflect_plain(&v, &n, &r);
-    return r;
+    return reflect_plain(&v, &n);
 }
 #endif
 

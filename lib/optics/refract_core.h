@@ -1,23 +1,24 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** refract_core.h -- the bodies of the accurate refraction and reflection
-** (internal), included twice: by optics.c as plain code, and by
-** refract_fma.c compiled for CPUs with fused multiply-add, where TwoProd is
+** refract_core.h -- the body of the accurate refraction and the
+** four-lane helpers it shares with reflect_core.h (internal), included
+** twice: by optics.c as plain code, and by refract_fma.c compiled for
+** CPUs with fused multiply-add, where TwoProd is
 ** one fma instead of Dekker's 17-flop product. TwoProd is exact either way
 ** (the inputs are scaled so that no error term underflows) and nothing
 ** else here uses fma, so both copies return the same bits; optics.c picks
-** one at run time. Before including, define GG_REFRACT_NAME and
-** GG_REFLECT_NAME (the names of the static functions to generate).
+** one at run time. Before including, define GG_REFRACT_NAME (the name of
+** the function to generate).
 **
-** Each function first scales its vectors by powers of two (exact) and then
+** The refraction first scales its vectors by powers of two (exact) and then
 ** tries a fast path: double-double where the result needs it, plain double
 ** elsewhere, with a running bound on the error. When the bound cannot
 ** guarantee the documented 1 ulp (near the critical angle, a ray almost in
 ** the surface, |ni/nt| > 4 or negative), the full double-double
 ** refract_dd decides. docs/optics.md gives the bound and its proof.
 */
-#if !defined(GG_REFRACT_NAME) || !defined(GG_REFLECT_NAME)
-#error "define GG_REFRACT_NAME and GG_REFLECT_NAME before including refract_core.h"
+#if !defined(GG_REFRACT_NAME)
+#error "define GG_REFRACT_NAME before including refract_core.h"
 #endif
 /* The linkage of the two generated functions (refract_fma.c exports them). */
 #ifndef GG_OPTICS_LINKAGE
@@ -391,36 +392,6 @@ GG_INLINE ggVec3 mirror_fast(gg_v4 V, gg_v4 N, gg_dd a, gg_dd nn, const gg_dd *r
         R = m.hi + (m.lo + (s.hi * v4splat(rho->lo) + lo * v4splat(rho->hi)));
     }
     return v3(R[0], R[1], R[2]);
-}
-
-/* The reflection: scale, mirror, scale back. No fallback is needed: the
-   bound holds for every scaled input (docs/optics.md). */
-GG_OPTICS_LINKAGE void GG_REFLECT_NAME(const ggVec3 *vp, const ggVec3 *np, ggVec3 *out)
-{
-    uint64_t mv = max_bits(*vp), mn = max_bits(*np), e = mv >> 52, b;
-    gg_v4 V, N;
-    gg_v4dd d;
-    ggVec3 r;
-    double sump;
-    if (e == 2047 || mn == 0 || (mn >> 52) == 2047) {
-        *out = v3nan();
-        return;
-    }
-    if (mv == 0) {
-        *out = *vp;
-        return;
-    }
-    V = scale_unit(*vp, mv), N = scale_unit(*np, mn);
-    d = v4_dots(V, N, &sump);
-    r = mirror_fast(V, N, lane(d, 0), lane(d, 2), NULL);
-    if (e >= 1 && e <= 2045) {
-        double s;
-        b = e << 52;
-        memcpy(&s, &b, sizeof s);
-        *out = v3scale(r, s);
-    } else {
-        *out = v3scale2(r, dd_expo(v3maxabs(*vp)));
-    }
 }
 
 /* Double-word operations for the fast refraction, without the final

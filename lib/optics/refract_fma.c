@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** refract_fma.c -- the accurate refraction compiled for x86-64 CPUs with
-** fused multiply-add (see refract_core.h): a per-ISA object, built with
-** -mfma (compiler.h, "Per-ISA code"). ggRefract (optics.c) calls it only
+** refract_fma.c -- the accurate refraction and reflection compiled for
+** x86-64 CPUs with fused multiply-add (see refract_core.h and
+** reflect_core.h): a per-ISA object, built with -mfma (compiler.h,
+** "Per-ISA code"). ggRefract and ggReflection (optics.c) call it only
 ** where gg_cpu_features() has GG_CPU_FMA.
 */
 #include "core.h"
@@ -18,11 +19,12 @@
 #include <stdint.h>
 #include <string.h>
 
-#define GG_DD_FMA 1
+#define GG_DD_FMA         1
 #define GG_REFRACT_NAME   gg_refract_fma
 #define GG_REFLECT_NAME   gg_reflect_fma
 #define GG_OPTICS_LINKAGE /* external: declared in refract_fma.h */
 #include "refract_core.h"
+#include "reflect_core.h"
 
 #else
 /* ISO C forbids an empty translation unit. */

@@ -1,0 +1,165 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** reflect_core.h -- the body of the accurate reflection (internal),
+** included after refract_core.h (whose four-lane helpers it uses), and
+** like it twice: by optics.c as plain code and by refract_fma.c for CPUs
+** with fused multiply-add. The two copies differ only where a result is
+** exact either way (TwoProd, and the remainder of a division), so they
+** return the same bits. Before including, define GG_REFLECT_NAME (the name
+** of the function to generate).
+**
+** Where no component exceeds 2^300 in magnitude and |v|, |n| >= 2^-300,
+** nothing below overflows and what underflows is far below the bound, so
+** the mirror image is formed from the given doubles directly; elsewhere
+** (and for zero, infinite or NaN input) v and n are first scaled by powers
+** of two. docs/optics.md, "The fast paths", gives the bound and its proof.
+*/
+#ifndef GG_REFLECT_NAME
+#error "define GG_REFLECT_NAME before including reflect_core.h"
+#endif
+
+typedef uint64_t gg_v4u GG_VECTOR_SIZE(32);
+typedef double gg_v2 GG_VECTOR_SIZE(16);
+
+/* Lane shuffles and tests (the fma build spells them as AVX intrinsics,
+   which GCC otherwise assembles from several instructions; the values are
+   the same). v4lo and v4hi: lanes 0-1 and 2-3; v4unpack: (a0, b0, a2, b2)
+   or (a1, b1, a3, b3); v4load: (p->x, p->y, p->z, 0); v4_any: some lane of
+   a comparison's result is true; v4_out: some |a_i| or |b_i| is not below
+   m (or is NaN). */
+#if defined(GG_DD_FMA)
+GG_INLINE gg_v2 v4lo(gg_v4 a)
+{
+    return (gg_v2)_mm256_castpd256_pd128((__m256d)a);
+}
+GG_INLINE gg_v2 v4hi(gg_v4 a)
+{
+    return (gg_v2)_mm256_extractf128_pd((__m256d)a, 1);
+}
+GG_INLINE gg_v4 v4unpack(gg_v4 a, gg_v4 b, int hi)
+{
+    return hi ? (gg_v4)_mm256_unpackhi_pd((__m256d)a, (__m256d)b)
+              : (gg_v4)_mm256_unpacklo_pd((__m256d)a, (__m256d)b);
+}
+GG_INLINE gg_v4 v4load(const ggVec3 *p)
+{
+    return (gg_v4)_mm256_maskload_pd(&p->x, _mm256_set_epi64x(0, -1, -1, -1));
+}
+GG_INLINE int v4_any(gg_v4u c)
+{
+    return !_mm256_testz_pd((__m256d)c, (__m256d)c);
+}
+/* max returns its second operand if either is NaN */
+GG_INLINE int v4_out(gg_v4 a, gg_v4 b, gg_v4 m)
+{
+    return v4_any(
+        (gg_v4u)_mm256_cmp_pd(_mm256_max_pd((__m256d)b, (__m256d)a), (__m256d)m, _CMP_NLT_UQ));
+}
+#else
+GG_INLINE gg_v2 v4lo(gg_v4 a)
+{
+    gg_v2 r = {a[0], a[1]};
+    return r;
+}
+GG_INLINE gg_v2 v4hi(gg_v4 a)
+{
+    gg_v2 r = {a[2], a[3]};
+    return r;
+}
+GG_INLINE gg_v4 v4unpack(gg_v4 a, gg_v4 b, int hi)
+{
+    gg_v4 r = {a[hi], b[hi], a[2 + hi], b[2 + hi]};
+    return r;
+}
+GG_INLINE gg_v4 v4load(const ggVec3 *p)
+{
+    gg_v4 r = {p->x, p->y, p->z, 0.0};
+    return r;
+}
+GG_INLINE int v4_any(gg_v4u c)
+{
+    return (c[0] | c[1] | c[2] | c[3]) != 0;
+}
+GG_INLINE int v4_out(gg_v4 a, gg_v4 b, gg_v4 m)
+{
+    return v4_any(~((gg_v4u)(a < m) & (gg_v4u)(b < m)));
+}
+#endif
+
+GG_INLINE gg_v4 v4abs(gg_v4 a)
+{
+    const gg_v4u m = {~0ull >> 1, ~0ull >> 1, ~0ull >> 1, ~0ull >> 1};
+    return (gg_v4)((gg_v4u)a & m);
+}
+
+/* a - q b, for q = a / b rounded to nearest: that remainder is a double
+   (barring underflow), so either way gives it exactly. */
+GG_INLINE double div_rem(double a, double q, double b)
+{
+#if defined(GG_DD_FMA)
+    return GG_FMA(-q, b, a);
+#else
+    gg_dd p = dd_two_prod(q, b);
+    return (a - p.hi) - p.lo;
+#endif
+}
+
+/* *out = V - k N, k = 2 (v.n)/(n.n), each component rounded once. The
+   dot products 2 v.n and n.n (lanes 0 and 1) are formed as hi + lo by
+   Dot2 of Ogita, Rump and Oishi without its final renormalising TwoSum;
+   k = q + kl with q the rounded quotient of the high parts. Returns 0, and
+   writes nothing, if n.n < 2^-600 (or NaN). Error: docs/optics.md, "The
+   fast paths". */
+GG_INLINE int reflect_mirror(gg_v4 V, gg_v4 N, ggVec3 *out)
+{
+    gg_v4dd P = v4_two_prod(V + V, N), Q = v4_two_prod(N, N), pk;
+    /* components 0 and 1 summed in lanes 0, 1 (2 v.n, n.n), then 2 added */
+    gg_v4 H0 = v4unpack(P.hi, Q.hi, 0), H1 = v4unpack(P.hi, Q.hi, 1);
+    gg_v4 L0 = v4unpack(P.lo, Q.lo, 0), L01 = L0 + v4unpack(P.lo, Q.lo, 1);
+    gg_v4 S = H0 + H1, B = S - H0, SL = (H0 - (S - B)) + (H1 - B), E, R;
+    gg_v2 s = v4lo(S), h2 = v4hi(H0), t = s + h2, c = t - s, lo;
+    double q, kl;
+    lo = (v4lo(L01) + (v4hi(L0) + v4lo(SL))) + ((s - (t - c)) + (h2 - c));
+    if (!(t[1] >= 0x1p-600)) return 0;
+    q = t[0] / t[1];
+    kl = ((div_rem(t[0], q, t[1]) + lo[0]) - q * lo[1]) / t[1];
+    /* S + E = V - q N exactly (TwoProd, then TwoSum of V and -q N) */
+    pk = v4_two_prod(v4splat(q), N);
+    S = V - pk.hi, B = S - V;
+    E = (V - (S - B)) - (pk.hi + B);
+    R = S + ((E - pk.lo) - v4splat(kl) * N);
+    *out = v3(R[0], R[1], R[2]);
+    return 1;
+}
+
+/* Zero, non-finite or extreme input: the largest components scaled into
+   [1, 2), mirrored, scaled back. */
+static GG_NOINLINE GG_COLD ggVec3 reflect_scaled(const ggVec3 *vp, const ggVec3 *np)
+{
+    ggVec3 v = *vp, n = *np, r;
+    uint64_t mv = max_bits(v), mn = max_bits(n), e = mv >> 52, b;
+    double s;
+    if (e == 2047 || mn == 0 || (mn >> 52) == 2047) return v3nan();
+    if (mv == 0) return v;
+    reflect_mirror(scale_unit(v, mv), scale_unit(n, mn), &r);
+    if (e >= 1 && e <= 2045) {
+        b = e << 52;
+        memcpy(&s, &b, sizeof s);
+        return v3scale(r, s);
+    }
+    return v3scale2(r, dd_expo(v3maxabs(v)));
+}
+
+/* The accurate reflection (ggReflection's contract). */
+GG_OPTICS_LINKAGE ggVec3 GG_REFLECT_NAME(const ggVec3 *v, const ggVec3 *n)
+{
+    /* (lane 3 of V and N is 0: its bounds are any positive number) */
+    const gg_v4 big = {0x1p300, 0x1p300, 0x1p300, 1.0}, tiny = {0x1p-300, 0x1p-300, 0x1p-300, 1.0};
+    gg_v4 V = v4load(v), N = v4load(n), AV = v4abs(V);
+    ggVec3 r;
+    /* every |component| below 2^300: no product overflows; the largest
+       of v at least 2^-300; and n.n >= 2^-600 (reflect_mirror) */
+    if (!v4_out(AV, v4abs(N), big) && v4_any((gg_v4u)(AV >= tiny)) && reflect_mirror(V, N, &r))
+        return r;
+    return reflect_scaled(v, n);
+}
