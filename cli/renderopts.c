@@ -33,7 +33,8 @@ static int parse_accuracy(void *ud, const char *v, char *why, size_t whylen)
     if (memcmp(&o, &d, sizeof o) != 0) {
         snprintf(why, whylen,
                  "only the knobs offset, sphere, refract, fresnel, texture, wavelengths, cutoff, "
-                 "implicit-tol, gradient go here; the other render options have their own flags");
+                 "implicit-tol, gradient, intersect go here; the other render options have their "
+                 "own flags");
         return -1;
     }
     *(ggAccuracy *)ud = o.accuracy; /* all or nothing */
@@ -101,7 +102,9 @@ void cli_render_init(cli_render *r, unsigned parts)
                                   "sphere=stable|textbook, refract=accurate|exact|textbook,\n"
                                   "fresnel=scene|none|schlick|exact,\n"
                                   "texture=scene|bilinear|nearest, wavelengths=rgb|one,\n"
-                                  "cutoff=W, implicit-tol=own|T, gradient=exact|H");
+                                  "cutoff=W, implicit-tol=own|T, gradient=exact|H,\n"
+                                  "intersect=double|float (triangles and spheres in\n"
+                                  "single precision; wrong far from the origin)");
     r->table[n] = (cli_opt)CLI_OPT_END;
 }
 

@@ -39,7 +39,7 @@ static ggRenderOptions options(int k)
     switch (k) {
     case 1: o.accuracy.sphere = GG_ACC_SPHERE_TEXTBOOK; break;
     case 2: o.accuracy.implicit_tol = 1e-3, o.accuracy.gradient_h = 1e-2; break;
-    case 3: o.max_depth = 2, o.samples = 4; break;
+    case 3: o.max_depth = 2, o.samples = 4, o.accuracy.intersect = GG_ACC_ISECT_FLOAT; break;
     case 4: o.spd_rules = o.pixel_corners = true; break;
     case 5: o.accuracy.offset = GG_ACC_OFFSET_FIXED, o.accuracy.offset_eps = 1e-4; break;
     case 6: o.accuracy.refract = GG_ACC_REFRACT_TEXTBOOK, o.accuracy.wavelengths = 1; break;

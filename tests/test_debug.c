@@ -966,10 +966,12 @@ static void test_options_text(void **state)
                                           "size=64x48 depth=8,samples=4 crop=1,2,30,40 spd "
                                           "sphere=textbook refract=exact fresnel=schlick "
                                           "texture=nearest wavelengths=one cutoff=0.001 "
-                                          "implicit-tol=1e-7 gradient=1e-5 offset=1e-6",
+                                          "implicit-tol=1e-7 gradient=1e-5 offset=1e-6 "
+                                          "intersect=float",
                                           &e),
                      GG_OK);
     assert_int_equal(o.width, 64);
+    assert_int_equal(o.accuracy.intersect, GG_ACC_ISECT_FLOAT);
     assert_int_equal(o.max_depth, 8);
     assert_int_equal(o.crop_y1, 40);
     assert_true(o.spd_rules && o.pixel_corners);

@@ -63,15 +63,18 @@ typedef struct sph_stats {
    where either answer is acceptable. A reported t must lie between the
    entry distances of spheres of radius r -+ band (the backward error),
    widened by 4 ulps. */
-static sph_stats sphere_case(const sph_case *sc, int mode, int n, unsigned seed)
+static sph_stats sphere_case(const sph_case *sc, int mode, int isect, int n, unsigned seed)
 {
     gg_geom *g = gg_geom_create(NULL);
     tu_rng r = {seed};
     sph_stats st = {0, 0, 0, 0};
     gg_qopt opt = gg_qopt_default;
+    /* float's ulps are 2^29 of double's: so are the band and the slack */
+    double fscale = isect == GG_ISECT_FLOAT ? 0x1p29 : 1;
     int i;
     assert_true(gg_geom_add_sphere(g, sc->c, sc->r, 0) == 0);
     opt.sphere = mode; /* travels with each query */
+    opt.isect = isect;
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
     for (i = 0; i < n; i++) {
         ggVec3 u = tu_unit(&r), w, o, tgt, d;
@@ -102,7 +105,7 @@ static sph_stats sphere_case(const sph_case *sc, int mode, int n, unsigned seed)
         proj = -fd / dd;
         lx = fx + proj * d.x, ly = fy + proj * d.y, lz = fz + proj * d.z;
         dist = sqrtl(lx * lx + ly * ly + lz * lz);
-        band = 4 * (long double)ulp(sc->dist > sc->r ? sc->dist : sc->r);
+        band = 4 * fscale * (long double)ulp(sc->dist > sc->r ? sc->dist : sc->r);
         R = sc->r;
         if (fabsl(dist - R) <= band) {
             st.band++;
@@ -113,7 +116,7 @@ static sph_stats sphere_case(const sph_case *sc, int mode, int n, unsigned seed)
             long double Rb = R + band, Rs = R - band;
             long double tlo = proj - sqrtl((Rb * Rb - dist * dist) / dd);
             long double thi = dist < Rs ? proj - sqrtl((Rs * Rs - dist * dist) / dd) : proj;
-            long double slack = 4 * (long double)ulp(h.t);
+            long double slack = 4 * fscale * (long double)ulp(h.t);
             st.hits++;
             if (!(h.t >= tlo - slack && h.t <= thi + slack)) st.tbad++;
         }
@@ -133,7 +136,8 @@ static void test_sphere_hard_cases(void **state)
     int k;
     (void)state;
     for (k = 0; k < 3; k++) {
-        sph_stats st = sphere_case(&cases[k], GG_SPHERE_STABLE, 40000, 11 + (unsigned)k);
+        sph_stats st =
+            sphere_case(&cases[k], GG_SPHERE_STABLE, GG_ISECT_DOUBLE, 40000, 11 + (unsigned)k);
         print_message("%-30s stable: %ld wrong, %ld in band, %ld hits, %ld t off\n", cases[k].name,
                       st.wrong, st.band, st.hits, st.tbad);
         assert_int_equal(st.wrong, 0);
@@ -142,11 +146,34 @@ static void test_sphere_hard_cases(void **state)
     }
 }
 
+/* The stable formula in float (GG_ISECT_FLOAT) meets the same measure
+   with float's ulps where the coordinates are of the size of |o - c|;
+   at (1e5, 1e5, 1e5), seen from 10 away, the rounding of o and c to
+   float (an ulp of 0.008) is far outside that band, and it fails. */
+static void test_sphere_float(void **state)
+{
+    int k;
+    (void)state;
+    for (k = 0; k < 3; k++) {
+        sph_stats st =
+            sphere_case(&cases[k], GG_SPHERE_STABLE, GG_ISECT_FLOAT, 40000, 41 + (unsigned)k);
+        print_message("%-30s float: %ld wrong, %ld in band, %ld hits, %ld t off\n", cases[k].name,
+                      st.wrong, st.band, st.hits, st.tbad);
+        if (k < 2) {
+            assert_int_equal(st.wrong, 0);
+            assert_int_equal(st.tbad, 0);
+            assert_true(st.hits > 10000);
+        } else {
+            assert_true(st.wrong + st.tbad > 10000);
+        }
+    }
+}
+
 /* The same measure exposes the textbook formula on the far sphere: the
    test is able to fail. */
 static void test_sphere_textbook_fails(void **state)
 {
-    sph_stats st = sphere_case(&cases[0], GG_SPHERE_TEXTBOOK, 40000, 11);
+    sph_stats st = sphere_case(&cases[0], GG_SPHERE_TEXTBOOK, GG_ISECT_DOUBLE, 40000, 11);
     (void)state;
     print_message("%-30s textbook: %ld wrong, %ld t off\n", cases[0].name, st.wrong, st.tbad);
     assert_true(st.wrong + st.tbad > 100);
@@ -305,8 +332,11 @@ static void make_sphere_mesh(mesh *m, int levels)
 /* Rays from outside aimed exactly at vertices, at points on shared edges
    and inside triangles of a closed convex mesh: each must be hit by
    exactly one triangle on the way in and one on the way out (counted by
-   running the kernel on every triangle), and the BVH must find a hit. */
-static void watertight_run(const mesh *m, ggVec3 shift, double scale, unsigned seed)
+   running the kernel on every triangle), and the BVH must find a hit.
+   opt: the query's options (the precision); ttol: how far past the
+   aimed-at point (t = 1) the entry may come out. */
+static void watertight_run(const mesh *m, ggVec3 shift, double scale, unsigned seed,
+                           const gg_qopt *opt, double ttol)
 {
     gg_geom *g = gg_geom_create(NULL);
     tu_rng r = {seed};
@@ -344,12 +374,13 @@ static void watertight_run(const mesh *m, ggVec3 shift, double scale, unsigned s
         o = V(tgt.x + 3 * scale * u.x, tgt.y + 3 * scale * u.y, tgt.z + 3 * scale * u.z);
         d = V(tgt.x - o.x, tgt.y - o.y, tgt.z - o.z);
         q = ray(o, d);
+        q.opt = opt;
         assert_true(gg_rpre_init(&rp, &q));
         for (j = 0; j < (int)g->nslots; j++) {
             double t, b1, b2;
             if (gg_tri_kernel(&g->ltri[j], &rp, INFINITY, &t, &b1, &b2)) {
                 /* entering at the aimed-at point (t = 1), or leaving */
-                if (t < 1 + 1e-6)
+                if (t < 1 + ttol)
                     nin++;
                 else
                     nout++;
@@ -362,7 +393,7 @@ static void watertight_run(const mesh *m, ggVec3 shift, double scale, unsigned s
         assert_int_equal(nin, 1);
         assert_int_equal(nout, 1);
         assert_true(gg_geom_intersect(g, &q, &h));
-        assert_true(h.t < 1 + 1e-6);
+        assert_true(h.t < 1 + ttol);
         ties += kind == 0;
     }
     assert_true(ties > 500);
@@ -375,10 +406,28 @@ static void test_watertight_mesh(void **state)
     static mesh m;
     (void)state;
     make_sphere_mesh(&m, 4); /* 2048 triangles */
-    watertight_run(&m, V(0, 0, 0), 1, 21);
-    watertight_run(&m, V(1e5, -3e4, 7e4), 1, 22);
-    watertight_run(&m, V(0.5, 0.25, 0), 1e-4, 23);
-    watertight_run(&m, V(0, 0, 0), 1e4, 24);
+    watertight_run(&m, V(0, 0, 0), 1, 21, &gg_qopt_default, 1e-6);
+    watertight_run(&m, V(1e5, -3e4, 7e4), 1, 22, &gg_qopt_default, 1e-6);
+    watertight_run(&m, V(0.5, 0.25, 0), 1e-4, 23, &gg_qopt_default, 1e-6);
+    watertight_run(&m, V(0, 0, 0), 1e4, 24, &gg_qopt_default, 1e-6);
+}
+
+/* The single-precision triangle test (GG_ISECT_FLOAT) is watertight too:
+   vertices rounded alike give neighbours exactly negated edge functions,
+   and the zeros are settled in exact double arithmetic. Far from the
+   origin the rounded mesh is still closed (t is then only float's). */
+static void test_watertight_mesh_float(void **state)
+{
+    static mesh m;
+    gg_qopt fl = gg_qopt_default;
+    (void)state;
+    fl.isect = GG_ISECT_FLOAT;
+    make_sphere_mesh(&m, 4);
+    watertight_run(&m, V(0, 0, 0), 1, 31, &fl, 1e-5);
+    /* a float ulp of 0.5 is 2e-4 of the ray's length here */
+    watertight_run(&m, V(0.5, 0.25, 0), 1e-4, 32, &fl, 1e-2);
+    watertight_run(&m, V(0, 0, 0), 1e4, 33, &fl, 1e-5);
+    watertight_run(&m, V(300, -100, 200), 1, 34, &fl, 1e-3);
 }
 
 /* ---- cones ---- */
@@ -776,12 +825,20 @@ static void test_degenerate(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_sphere_hard_cases), cmocka_unit_test(test_sphere_textbook_fails),
-        cmocka_unit_test(test_sphere_surface),    cmocka_unit_test(test_triangle_basics),
-        cmocka_unit_test(test_watertight_mesh),   cmocka_unit_test(test_cone),
-        cmocka_unit_test(test_cone_slices),       cmocka_unit_test(test_rect),
-        cmocka_unit_test(test_polygon_gear),      cmocka_unit_test(test_polygon_pieces_watertight),
-        cmocka_unit_test(test_polygon_pentagram), cmocka_unit_test(test_degenerate),
+        cmocka_unit_test(test_sphere_hard_cases),
+        cmocka_unit_test(test_sphere_textbook_fails),
+        cmocka_unit_test(test_sphere_float),
+        cmocka_unit_test(test_sphere_surface),
+        cmocka_unit_test(test_triangle_basics),
+        cmocka_unit_test(test_watertight_mesh),
+        cmocka_unit_test(test_watertight_mesh_float),
+        cmocka_unit_test(test_cone),
+        cmocka_unit_test(test_cone_slices),
+        cmocka_unit_test(test_rect),
+        cmocka_unit_test(test_polygon_gear),
+        cmocka_unit_test(test_polygon_pieces_watertight),
+        cmocka_unit_test(test_polygon_pentagram),
+        cmocka_unit_test(test_degenerate),
     };
     return cmocka_run_group_tests_name("shapes", tests, NULL, NULL);
 }

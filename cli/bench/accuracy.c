@@ -77,6 +77,10 @@ static void k_grad(ggRenderOptions *o, double v)
 {
     o->accuracy.gradient_h = v;
 }
+static void k_isect(ggRenderOptions *o, double v)
+{
+    o->accuracy.intersect = (int)v;
+}
 
 static const knob knobs[] = {
     {"default", "all accurate", 1, k_none, 0},
@@ -117,12 +121,15 @@ static const knob knobs[] = {
     {"samples", "1", 1, k_spp, 1},
     {"samples", "4", 0, k_spp, 4},
     {"samples", "9", 0, k_spp, 9},
+    {"intersect", "double", 1, k_isect, GG_ACC_ISECT_DOUBLE},
+    {"intersect", "float", 0, k_isect, GG_ACC_ISECT_FLOAT},
 };
 #define NKNOBS    (sizeof knobs / sizeof knobs[0])
 #define REF_SPP   16
 #define REF_DEPTH 12
 
 typedef struct row {
+    int done; /* measured (--knobs may leave knobs out) */
     double time;
     ggRayStats st;
     ggImageDiff d;
@@ -175,7 +182,7 @@ static const char *const palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd"
 static void plot(FILE *f, const char *scene, const row *rows, double yoff)
 {
     double tmin = 1e300, tmax = 0, emin = 1e300, emax = -1e300;
-    size_t i, k;
+    size_t i, k, prev = 0;
     const char *last = "";
     int c = -1;
     const double W = 640, H = 360, L = 70, T = 30 + yoff;
@@ -183,6 +190,7 @@ static void plot(FILE *f, const char *scene, const row *rows, double yoff)
        it by percents. */
     for (i = 0; i < NKNOBS; i++) {
         double e = log10(rows[i].d.rmse > 1e-12 ? rows[i].d.rmse : 1e-12);
+        if (!rows[i].done) continue;
         tmin = fmin(tmin, rows[i].time), tmax = fmax(tmax, rows[i].time);
         emin = fmin(emin, e), emax = fmax(emax, e);
     }
@@ -207,19 +215,22 @@ static void plot(FILE *f, const char *scene, const row *rows, double yoff)
     for (i = 0; i < NKNOBS; i++) {
         double e = log10(rows[i].d.rmse > 1e-12 ? rows[i].d.rmse : 1e-12);
         int pareto = 1;
+        if (!rows[i].done) continue;
         if (strcmp(knobs[i].name, last)) {
             c = (c + 1) % (int)(sizeof palette / sizeof palette[0]);
             last = knobs[i].name;
             fprintf(f, "<text x='%g' y='%g' font-size='11' fill='%s'>%s</text>\n", L + W + 10,
                     T + 12 + 14 * c, palette[c], knobs[i].name);
         } else {
-            double ep = log10(rows[i - 1].d.rmse > 1e-12 ? rows[i - 1].d.rmse : 1e-12);
+            double ep = log10(rows[prev].d.rmse > 1e-12 ? rows[prev].d.rmse : 1e-12);
             fprintf(f, "<line x1='%.1f' y1='%.1f' x2='%.1f' y2='%.1f' stroke='%s'/>\n",
-                    PX(rows[i - 1].time), PY(ep), PX(rows[i].time), PY(e), palette[c]);
+                    PX(rows[prev].time), PY(ep), PX(rows[i].time), PY(e), palette[c]);
         }
+        prev = i;
         /* Pareto: no other setting is both faster and more accurate. */
         for (k = 0; k < NKNOBS; k++)
-            if (rows[k].time < rows[i].time && rows[k].d.rmse < rows[i].d.rmse) pareto = 0;
+            if (rows[k].done && rows[k].time < rows[i].time && rows[k].d.rmse < rows[i].d.rmse)
+                pareto = 0;
         fprintf(f,
                 "<circle cx='%.1f' cy='%.1f' r='%d' fill='%s'%s><title>%s %s: %.4fs, RMSE "
                 "%.3g</title></circle>\n",
@@ -273,6 +284,9 @@ static int sweep(ggScene *s, ggScene *copy, const bench_opts *bo, const char *sc
         ggImage *img = NULL;
         long changed;
         int is_spp = knobs[i].apply == k_spp, is_depth = knobs[i].apply == k_depth;
+        rows[i].done = 0;
+        if (knobs[i].apply != k_none && !bench_selected(bo->knobs, knobs[i].name)) continue;
+        rows[i].done = 1;
         o = base;
         knobs[i].apply(&o, knobs[i].value);
         if (measure(s, &o, bo->runs, &img, &rows[i]) != 0) {
@@ -356,6 +370,7 @@ int bench_accuracy(const bench_opts *bo)
     }
     if ((rc = cli_out_close(&so, "bench accuracy")) != 0) return rc;
     printf("\nwrote %s/accuracy.csv and %s/accuracy.svg\n", out, out);
+    if (bo->knobs) return EXIT_OK; /* a subset: not the whole study */
     {
         /* The scaling tables always come with the study; --size there is
            the study's, so use the scaling default. */

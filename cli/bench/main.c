@@ -61,6 +61,11 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT_STRING(0, "scenes", &bo.scenes, "LIST", "comma-separated subset of scene names"),
         CLI_OPT_STRING(0, "out", &bo.out_dir, "DIR",
                        "where accuracy writes its CSV and SVG (default .)"),
+        CLI_OPT_STRING(0, "knobs", &bo.knobs, "LIST",
+                       "accuracy: only these knobs (comma-separated names\n"
+                       "as in its tables, e.g. intersect,sphere); the\n"
+                       "default row is always measured, the scaling tables\n"
+                       "are left out"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "bench",
@@ -87,6 +92,8 @@ int cmd_bench(int argc, char **argv)
                                    bo.args[0]);
         if (bo.embree && benches[i].run != bench_spd)
             return cli_usage_error(&cmd, "--embree is an option of bench spd only");
+        if (bo.knobs && benches[i].run != bench_accuracy)
+            return cli_usage_error(&cmd, "--knobs is an option of bench accuracy only");
         if (!opts[0].given) bo.size = benches[i].size;
         return benches[i].run(&bo);
     }

@@ -22,6 +22,7 @@
     ['cutoff', 'cutoff (0 = off)', 'text', '0'],
     ['implicit-tol', 'implicit tol (own or T)', 'text', 'own'],
     ['gradient', 'gradient (exact or h)', 'text', 'exact'],
+    ['intersect', 'intersect', ['double', 'float']],
     ['spd', 'SPD rules', 'flag'],
     ['corners', 'pixel corners', 'flag'],
     ['force-effects', 'force effects', 'flag'],

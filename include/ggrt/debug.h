@@ -54,7 +54,7 @@ extern "C" {
      sphere=stable|textbook  refract=accurate|textbook|exact
      fresnel=scene|none|schlick|exact  texture=scene|bilinear|nearest
      wavelengths=rgb|one  cutoff=W (0 to 1)  implicit-tol=own|T
-     gradient=exact|H (T, H > 0)
+     gradient=exact|H (T, H > 0)  intersect=double|float
    Numbers are read with '.' as the radix point whatever the locale. An
    empty text changes nothing. On a bad setting *opt is unchanged and err
    says where, "line:column: message" counting from 1 (as

@@ -71,6 +71,33 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
 #define GG_ACC_TEXTURE_BILINEAR 1
 #define GG_ACC_TEXTURE_NEAREST  2
 /* wavelengths: 0 = dispersive surfaces split rays into R, G, B; 1 = no split */
+/* intersect: the precision of the ray/shape tests.
+   GG_ACC_ISECT_DOUBLE (default): every shape in double precision.
+   GG_ACC_ISECT_FLOAT: triangles (with the triangles polygons are split
+   into) and spheres are tested in single precision: Woop, Benthin and
+   Wald's watertight triangle test (JCGT 2013) on the vertices, origin and
+   shear rounded to float, with the three edge functions recomputed in
+   double from the same float operands where one of them is exactly 0
+   (exact there, so shared edges stay watertight), and the stable sphere
+   quadratic (Ray Tracing Gems ch. 7) in float. The BVH boxes are float
+   either way. Cones, rectangles, untriangulated polygons and implicit
+   surfaces stay double. The origin of a ray leaving a float-tested hit is
+   pushed off by the hit's error bound scaled to float roundings (2^29
+   times the double one), or curved surfaces find themselves again.
+   What it trades: 24 bits instead of 53, relative to the magnitude of the
+   coordinates and of the hit distance. Where those are large against the
+   features -- a scene far from the world origin, small spheres seen from
+   far away -- hits, edges and hit points go wrong (a unit sphere seen
+   from 3e7 away gets t to within 2, its hit point off by more than its
+   radius). The boxes are conservative for the exact shapes, not for the
+   float tests' roundings; tests/test_float.c finds the traversal's answer
+   equal to testing every element on all of its rays. The answer is still
+   a function of the ray alone: images do not depend on the thread count.
+   It is not faster here: the queries take the plain traversal, without
+   the AVX copy's 4-wide double triangle test. Measured error and time on
+   the accuracy study's scenes: docs/accuracy.md. */
+#define GG_ACC_ISECT_DOUBLE 0
+#define GG_ACC_ISECT_FLOAT  1
 
 typedef struct ggAccuracy {
     int offset;          /* GG_ACC_OFFSET_* */
@@ -84,6 +111,7 @@ typedef struct ggAccuracy {
                             this (POV-Ray's adc_bailout); 0 = off */
     double implicit_tol; /* root tolerance of implicit surfaces (0: their own) */
     double gradient_h;   /* 0: exact gradients; > 0: central differences with step h */
+    int intersect;       /* GG_ACC_ISECT_* */
 } ggAccuracy;
 
 typedef struct ggRenderOptions {

@@ -122,6 +122,7 @@ static const char *const refract_names[] = {"accurate", "textbook", "exact", NUL
 static const char *const fresnel_names[] = {"scene", "none", "schlick", "exact", NULL};
 static const char *const texture_names[] = {"scene", "bilinear", "nearest", NULL};
 static const char *const wave_names[] = {"rgb", "one", NULL};
+static const char *const isect_names[] = {"double", "float", NULL};
 
 static int flag(const word *w, ggRenderOptions *o, ggError *err)
 {
@@ -206,6 +207,8 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
         rc = choice(w, texture_names, &a->texture, err);
     else if (key_is(w, "wavelengths"))
         rc = choice(w, wave_names, &a->wavelengths, err);
+    else if (key_is(w, "intersect"))
+        rc = choice(w, isect_names, &a->intersect, err);
     else if (key_is(w, "offset") || key_is(w, "gradient") || key_is(w, "implicit-tol"))
         rc = word_or_number(w, o, err);
     else if (key_is(w, "cutoff")) {
@@ -319,6 +322,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
     put_name(&o, "fresnel", a->fresnel, fresnel_names, 4);
     put_name(&o, "texture", a->texture, texture_names, 3);
     put_name(&o, "wavelengths", a->wavelengths, wave_names, 2);
+    put_name(&o, "intersect", a->intersect, isect_names, 2);
     if (a->cutoff > 0) put_num(&o, "cutoff", a->cutoff);
     if (a->implicit_tol > 0) put_num(&o, "implicit-tol", a->implicit_tol);
     if (a->gradient_h > 0) put_num(&o, "gradient", a->gradient_h);

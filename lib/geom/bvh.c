@@ -183,8 +183,13 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define gg_bvh_packet_avx    packet_plain
 #endif
 
+/* Single-precision queries (GG_ISECT_FLOAT) take their own copy
+   (bvh_float.c), chosen here once per query. */
+#define GG_FLOAT_Q(q) GG_UNLIKELY((q)->opt->isect == GG_ISECT_FLOAT)
+
 static int intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
+    if (GG_FLOAT_Q(q)) return gg_bvh_intersect_float(g, q, hit);
     return GG_USE_AVX(g) ? gg_bvh_intersect_avx(g, q, hit) : intersect_plain(g, q, hit);
 }
 
@@ -206,8 +211,12 @@ unsigned gg_geom_intersect_packet(const gg_geom *g, const gg_rayq *q, unsigned l
     /* An implicit surface's answer depends on the bound it is asked
        with (and may count a cut): one ray at a time, in the usual order. */
     if (g->nimp) alone = lanes;
-    for (m = lanes & ~alone; m; m &= m - 1)
-        if (q[GG_CTZ(m)].inside != UINT32_MAX) alone |= m & -m;
+    /* The packet walk is double; single-precision queries take their own
+       copy (GG_FLOAT_Q), one by one too. */
+    for (m = lanes & ~alone; m; m &= m - 1) {
+        const gg_rayq *qi = &q[GG_CTZ(m)];
+        if (qi->inside != UINT32_MAX || GG_FLOAT_Q(qi)) alone |= m & -m;
+    }
     lanes &= ~alone;
     got = !lanes          ? 0
           : GG_USE_AVX(g) ? gg_bvh_packet_avx(g, q, lanes, hit)
@@ -237,7 +246,9 @@ static GG_NOINLINE int occluded_list(const gg_geom *g, const gg_rayq *q, uint32_
                                      gg_tcol *tr)
 {
     tr->n = 0, tr->complete = 1, tr->has_near = 0;
-    if (GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, cache, tr) : shadow_plain(g, q, cache, tr)) {
+    if (GG_FLOAT_Q(q)   ? gg_bvh_shadow_float(g, q, cache, tr)
+        : GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, cache, tr)
+                        : shadow_plain(g, q, cache, tr)) {
         tr->n = 0, tr->complete = 0, tr->has_near = 0;
         return 1;
     }
@@ -261,7 +272,9 @@ int gg_geom_occluded(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tco
     if (tr)
         return q->inside == UINT32_MAX ? occluded_list(g, q, cache, tr)
                                        : occluded_inside(g, q, cache, tr);
-    hit = GG_USE_AVX(g) ? gg_bvh_occluder_avx(g, q, cache) : occluder_plain(g, q, cache);
+    hit = GG_FLOAT_Q(q)   ? gg_bvh_occluder_float(g, q, cache)
+          : GG_USE_AVX(g) ? gg_bvh_occluder_avx(g, q, cache)
+                          : occluder_plain(g, q, cache);
     *cache = hit;
     return hit != 0;
 }

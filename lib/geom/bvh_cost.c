@@ -22,9 +22,13 @@ static inline uint32_t tx_first(const gg_geom *g, uint32_t ref)
     return ref & GG_TLEAF ? g->tleaves[GG_LEAF_I(ref)].first : GG_LEAF_I(ref);
 }
 
+/* Both precisions (GG_ISECT_FLOAT: bvh_float.c's leaves), by the
+   query's: this copy serves only the recorder. */
 GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, gg_hit *best)
 {
     (void)x;
+    if (r->opt->isect == GG_ISECT_FLOAT)
+        return gg_leaf_closest_p(g, r, tx_first(g, ref), GG_LEAF_N(ref), best, 1);
     return gg_leaf_closest(g, r, tx_first(g, ref), GG_LEAF_N(ref), best);
 }
 

@@ -43,6 +43,11 @@ struct gg_tleaf {
     uint32_t pad[6];
 };
 
+/* The copy for single-precision queries (GG_ISECT_FLOAT, bvh_float.c). */
+int gg_bvh_intersect_float(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+uint32_t gg_bvh_occluder_float(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
+int gg_bvh_shadow_float(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
+
 /* The AVX copy of the traversal (bvh_avx.c) is a per-ISA object
    (compiler.h, "Per-ISA code"); the portable build of the BVH
    (GG_BVH_NO_SIMD, tests/test_bvh_scalar.c) has none. Which copy a query

@@ -29,7 +29,7 @@ void gg_geom_set_cpu(gg_geom *g, unsigned cpu)
     g->cpu = cpu;
 }
 
-const gg_qopt gg_qopt_default = {GG_SPHERE_STABLE, 0, 0};
+const gg_qopt gg_qopt_default = {GG_SPHERE_STABLE, GG_ISECT_DOUBLE, 0, 0};
 
 static void free_built(gg_geom *g)
 {
@@ -388,6 +388,14 @@ static int mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3], cons
     return 0;
 }
 
+/* The sphere test of gg_geom_inside_hit in float (GG_ISECT_FLOAT), out of
+   line: the double path keeps its ray state in registers. */
+static GG_NOINLINE int inside_float(const gg_ksph *k, const gg_rayq *q, double *t)
+{
+    gg_rpre r;
+    return gg_rpre_init(&r, q) && gg_sphere_kernel_f(k, &r, gg_next_down(q->tmax), t);
+}
+
 int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit *hit)
 {
     const uint32_t prim = q->inside;
@@ -405,10 +413,12 @@ int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit
     f = v3sub(q->o, sp->c);
     lim = sp->r + 0.5 * g->iso_margin[prim];
     if (!(v3dot(f, f) <= lim * lim)) return -1;
-    if (!gg_rpre_fill(&r, q)) return -1;
     k.c[0] = sp->c.x, k.c[1] = sp->c.y, k.c[2] = sp->c.z;
     k.r2 = sp->r * sp->r;
-    if (!gg_sphere_kernel(&k, &r, gg_next_down(q->tmax), &t)) return -1;
+    if (GG_UNLIKELY(q->opt->isect == GG_ISECT_FLOAT)) {
+        if (!inside_float(&k, q, &t)) return -1;
+    } else if (!gg_rpre_fill(&r, q) || !gg_sphere_kernel(&k, &r, gg_next_down(q->tmax), &t))
+        return -1;
     hit->t = t;
     hit->prim = prim;
     hit->sub = 0;
@@ -540,13 +550,30 @@ int gg_geom_intersect_brute(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
     if (!g->built || !g->nslots || !gg_rpre_init(&r, q) || !(q->tmax > q->tmin)) return 0;
     best.t = gg_next_down(q->tmax);
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
-    if (!gg_leaf_closest(g, &r, 0, (uint32_t)g->nslots, &best)) return 0;
+    if (!(q->opt->isect == GG_ISECT_FLOAT
+              ? gg_leaf_closest_p(g, &r, 0, (uint32_t)g->nslots, &best, 1)
+              : gg_leaf_closest(g, &r, 0, (uint32_t)g->nslots, &best)))
+        return 0;
     *hit = best;
     return 1;
 }
 
-void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
-                     unsigned what)
+/* Whether hits on primitive p came from a single-precision kernel under
+   GG_ISECT_FLOAT: spheres, triangles and the triangles a polygon is split
+   into. */
+static int float_kind(const gg_geom *g, const gg_prim *p)
+{
+    return p->kind == GG_SHAPE_SPHERE || p->kind == GG_SHAPE_TRIANGLE || p->kind == GG_SHAPE_MESH ||
+           (p->kind == GG_SHAPE_POLYGON && g->polys[p->data].npiece > 0);
+}
+
+/* The float kernels' roundings are 2^29 times larger than double's
+   (2^-24 against 2^-53 of the same magnitudes): so is the bound, or the
+   rays leaving the hit find the surface again (docs/accuracy.md). */
+#define GG_FLOAT_PERR_SCALE 0x1p29
+
+GG_INLINE void surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
+                       unsigned what)
 {
     const gg_prim *p = &g->prims[hit->prim];
     switch (p->kind) {
@@ -572,4 +599,20 @@ void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_s
         gg_implicit_shape_surface(g->imps[p->data], q, hit, s);
         break;
     }
+}
+
+static GG_NOINLINE void surface_float(const gg_geom *g, const gg_rayq *q, const gg_hit *hit,
+                                      gg_surf *s, unsigned what)
+{
+    surface(g, q, hit, s, what);
+    if (float_kind(g, &g->prims[hit->prim])) s->perr *= GG_FLOAT_PERR_SCALE;
+}
+
+void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
+                     unsigned what)
+{
+    if (GG_UNLIKELY(q->opt->isect == GG_ISECT_FLOAT))
+        surface_float(g, q, hit, s, what);
+    else
+        surface(g, q, hit, s, what);
 }

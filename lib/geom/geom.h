@@ -125,8 +125,17 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
    stored in the geometry. All zero is the default. */
 #define GG_SPHERE_STABLE   0 /* Haines et al., Ray Tracing Gems ch. 7 (default) */
 #define GG_SPHERE_TEXTBOOK 1 /* b^2 - 4ac, for the accuracy study */
+/* The precision of the triangle and sphere tests (ggAccuracy.intersect,
+   include/ggrt/render.h; the sphere formula is still `sphere`'s). With
+   GG_ISECT_FLOAT the queries take a traversal copy of their own
+   (bvh_float.c: the plain node walk, float triangle leaves), and
+   gg_geom_surface scales the error bound of sphere and triangle hits to
+   float roundings, so that gg_offset_origin clears them. */
+#define GG_ISECT_DOUBLE 0
+#define GG_ISECT_FLOAT  1
 typedef struct gg_qopt {
     int sphere;          /* GG_SPHERE_* */
+    int isect;           /* GG_ISECT_* */
     double implicit_tol; /* > 0: root tolerance of every implicit surface, in scene
                             units; 0: each surface's own (ggImplicitSetTolerance) */
     double gradient_h;   /* > 0: implicit normals by central differences with this
@@ -190,7 +199,8 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
    the bit is 0), bit for bit. Rays of one origin whose directions have
    the same signs (a row of eye rays) walk the BVH once together
    (bvh_trav.h, "eye-ray packets"); others are traced one by one, and so
-   is every ray of a geometry with implicit surfaces. */
+   is every ray of a geometry with implicit surfaces and every
+   single-precision query (GG_ISECT_FLOAT). */
 #define GG_PACKET_MAX 16
 unsigned gg_geom_intersect_packet(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
 

@@ -48,6 +48,20 @@ static inline double gg_next_up(double x)
     return -gg_next_down(-x);
 }
 
+/* x rounded to the nearest float: the operands of the single-precision
+   kernels (GG_ISECT_FLOAT, shape_tri.h, shape_sphere.h). Beyond the
+   float range IEC 60559 arithmetic (C99 Annex F.4, __STDC_IEC_559__)
+   gives +-inf, which no test of the kernels accepts; elsewhere such a
+   conversion is undefined (C99 6.3.1.5) and x is clamped to +-FLT_MAX. */
+static inline float gg_flt(double x)
+{
+#ifdef __STDC_IEC_559__
+    return (float)x;
+#else
+    return (float)(x < -FLT_MAX ? -FLT_MAX : x > FLT_MAX ? FLT_MAX : x);
+#endif
+}
+
 /* Kinds of BVH element (what the intersection kernels know). */
 enum { GG_EK_SPHERE = 0, GG_EK_TRI, GG_EK_CONE, GG_EK_RECT, GG_EK_POLY, GG_EK_IMPLICIT };
 #define GG_EK_SHIFT 29

@@ -8,6 +8,15 @@
 
 #include "geom_int.h"
 
+/* gg_sphere_kernel in single precision (GG_ISECT_FLOAT): the same
+   formula (the stable one, or the textbook one as r->opt->sphere says) on
+   the origin, direction, centre and r^2 rounded to float, every operation
+   in float. The stable form still avoids the cancellation, but f = o - c
+   keeps only 24 bits of the coordinates, and t only 24 bits of the
+   distance: far from the origin, or far from the eye against the radius,
+   the hit point goes wrong (docs/accuracy.md: acc-far, acc-distant). */
+int gg_sphere_kernel_f(const gg_ksph *s, const gg_rpre *r, double tmax, double *t);
+
 /* Smallest root t in (r->tmin, tmax] of |o + t d - c|^2 = r^2; 1 if found.
    Stable form (Haines, Guenther, Akenine-Moeller, Ray Tracing Gems ch. 7):
    with f = o - c and b = f.d the discriminant b^2 - a(f.f - r^2) is

@@ -60,3 +60,44 @@ void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf 
     out->u = what & GG_SURF_UV ? clamp01(h->b1) : 0;
     out->v = what & GG_SURF_UV ? clamp01(h->b2) : 0;
 }
+
+/* gg_tri_kernel_f: see shape_tri.h. */
+int gg_tri_kernel_f(const gg_ktri *tr, const gg_rpre *r, double tmax, double *t, double *b1,
+                    double *b2)
+{
+    const int kx = r->kx, ky = r->ky, kz = r->kz;
+    const double *A = tr->v[0], *B = tr->v[1], *C = tr->v[2];
+    const float ox = gg_flt(r->o[kx]), oy = gg_flt(r->o[ky]), oz = gg_flt(r->o[kz]);
+    const float sx = gg_flt(r->sx), sy = gg_flt(r->sy), sz = gg_flt(r->sz);
+    float Az = gg_flt(A[kz]) - oz, Bz = gg_flt(B[kz]) - oz, Cz = gg_flt(C[kz]) - oz;
+    float ax = gg_flt(A[kx]) - ox - sx * Az, ay = gg_flt(A[ky]) - oy - sy * Az;
+    float bx = gg_flt(B[kx]) - ox - sx * Bz, by = gg_flt(B[ky]) - oy - sy * Bz;
+    float cx = gg_flt(C[kx]) - ox - sx * Cz, cy = gg_flt(C[ky]) - oy - sy * Cz;
+    float U = cx * by - cy * bx, V = ax * cy - ay * cx, W = bx * ay - by * ax;
+    float det, T, rcp, tt;
+    if (((U < 0) | (V < 0) | (W < 0)) & ((U > 0) | (V > 0) | (W > 0))) return 0;
+    if (GG_UNLIKELY(U == 0 || V == 0 || W == 0)) {
+        double Ud = (double)cx * by - (double)cy * bx, Vd = (double)ax * cy - (double)ay * cx;
+        double Wd = (double)bx * ay - (double)by * ax, detd, Td, ttd;
+        if (((Ud < 0) | (Vd < 0) | (Wd < 0)) & ((Ud > 0) | (Vd > 0) | (Wd > 0))) return 0;
+        detd = Ud + Vd + Wd;
+        if (detd == 0 || !gg_tri_zero_edge(Ud, Vd, Wd, ax, ay, bx, by, cx, cy)) return 0;
+        Td = (double)sz * (Ud * Az + Vd * Bz + Wd * Cz);
+        ttd = Td / detd;
+        if (!(ttd > r->tmin && ttd <= tmax)) return 0;
+        *t = ttd;
+        *b1 = Vd / detd;
+        *b2 = Wd / detd;
+        return 1;
+    }
+    det = U + V + W;
+    if (det == 0) return 0;
+    T = sz * (U * Az + V * Bz + W * Cz);
+    rcp = 1.0f / det;
+    tt = T * rcp;
+    if (!(tt > r->tmin && tt <= tmax)) return 0;
+    *t = tt;
+    *b1 = V * rcp;
+    *b2 = W * rcp;
+    return 1;
+}

@@ -24,7 +24,7 @@ typedef double gg_v2 GG_VECTOR_SIZE(16);
 /* Lane shuffles and tests (the fma build spells them as AVX intrinsics,
    which GCC otherwise assembles from several instructions; the values are
    the same). v4lo and v4hi: lanes 0-1 and 2-3; v4unpack: (a0, b0, a2, b2)
-   or (a1, b1, a3, b3); v4load: (p->x, p->y, p->z, 0); v4_any: some lane of
+   or (a1, b1, a3, b3); v4_any: some lane of
    a comparison's result is true; v4_out: some |a_i| or |b_i| is not below
    m (or is NaN). */
 #if defined(GG_DD_FMA)
@@ -40,10 +40,6 @@ GG_INLINE gg_v4 v4unpack(gg_v4 a, gg_v4 b, int hi)
 {
     return hi ? (gg_v4)_mm256_unpackhi_pd((__m256d)a, (__m256d)b)
               : (gg_v4)_mm256_unpacklo_pd((__m256d)a, (__m256d)b);
-}
-GG_INLINE gg_v4 v4load(const ggVec3 *p)
-{
-    return (gg_v4)_mm256_maskload_pd(&p->x, _mm256_set_epi64x(0, -1, -1, -1));
 }
 GG_INLINE int v4_any(gg_v4u c)
 {
@@ -71,11 +67,6 @@ GG_INLINE gg_v4 v4unpack(gg_v4 a, gg_v4 b, int hi)
     gg_v4 r = {a[hi], b[hi], a[2 + hi], b[2 + hi]};
     return r;
 }
-GG_INLINE gg_v4 v4load(const ggVec3 *p)
-{
-    gg_v4 r = {p->x, p->y, p->z, 0.0};
-    return r;
-}
 GG_INLINE int v4_any(gg_v4u c)
 {
     return (c[0] | c[1] | c[2] | c[3]) != 0;
@@ -86,22 +77,49 @@ GG_INLINE int v4_out(gg_v4 a, gg_v4 b, gg_v4 m)
 }
 #endif
 
+/* (p->x, p->y, p->z, p->z). A masked load would be one instruction, but
+   it cannot take its data from the caller's pending stores of p
+   (store-to-load forwarding) and is slower. */
+GG_INLINE gg_v4 v4load(const ggVec3 *p)
+{
+    gg_v4 r = {p->x, p->y, p->z, p->z};
+    return r;
+}
+
 GG_INLINE gg_v4 v4abs(gg_v4 a)
 {
     const gg_v4u m = {~0ull >> 1, ~0ull >> 1, ~0ull >> 1, ~0ull >> 1};
     return (gg_v4)((gg_v4u)a & m);
 }
 
-/* a - q b, for q = a / b rounded to nearest: that remainder is a double
-   (barring underflow), so either way gives it exactly. */
-GG_INLINE double div_rem(double a, double q, double b)
+/* From t = (a_h, m_h) and lo = (a_l, m_l): q = a_h / m_h rounded and
+   kl = ((rho + a_l) - q m_l) / m_h, each in every lane of *Q and *KL;
+   0 (nothing written) if m_h < 2^-600 or NaN.
+   rho = a_h - q m_h is a double (the remainder of a quotient rounded to
+   nearest, barring underflow), so one fma or TwoProd and two subtractions
+   give it exactly. The fma build works on the pairs (a_h, a_h), (m_h, m_h)
+   so that q and kl come out already in both lanes; the values are the
+   same. */
+GG_INLINE int reflect_quotient(gg_v2 t, gg_v2 lo, gg_v4 *Q, gg_v4 *KL)
 {
 #if defined(GG_DD_FMA)
-    return GG_FMA(-q, b, a);
+    __m128d m = _mm_unpackhi_pd((__m128d)t, (__m128d)t), a, q, L = (__m128d)lo, num, kl;
+    if (!_mm_comige_sd(m, _mm_set_sd(0x1p-600))) return 0;
+    a = _mm_movedup_pd((__m128d)t), q = _mm_div_pd(a, m);
+    num = _mm_sub_pd(_mm_add_pd(_mm_fnmadd_pd(q, m, a), _mm_movedup_pd(L)),
+                     _mm_mul_pd(q, _mm_unpackhi_pd(L, L)));
+    kl = _mm_div_pd(num, m);
+    *Q = (gg_v4)_mm256_insertf128_pd(_mm256_castpd128_pd256(q), q, 1);
+    *KL = (gg_v4)_mm256_insertf128_pd(_mm256_castpd128_pd256(kl), kl, 1);
 #else
-    gg_dd p = dd_two_prod(q, b);
-    return (a - p.hi) - p.lo;
+    double q, rho;
+    gg_dd p;
+    if (!(t[1] >= 0x1p-600)) return 0;
+    q = t[0] / t[1], p = dd_two_prod(q, t[1]), rho = (t[0] - p.hi) - p.lo;
+    *Q = v4splat(q);
+    *KL = v4splat(((rho + lo[0]) - q * lo[1]) / t[1]);
 #endif
+    return 1;
 }
 
 /* *out = V - k N, k = 2 (v.n)/(n.n), each component rounded once. The
@@ -112,22 +130,24 @@ GG_INLINE double div_rem(double a, double q, double b)
    fast paths". */
 GG_INLINE int reflect_mirror(gg_v4 V, gg_v4 N, ggVec3 *out)
 {
-    gg_v4dd P = v4_two_prod(V + V, N), Q = v4_two_prod(N, N), pk;
+    gg_v4 V2 = V + V, Ph = V2 * N, Qh = N * N, Pl, Ql;
     /* components 0 and 1 summed in lanes 0, 1 (2 v.n, n.n), then 2 added */
-    gg_v4 H0 = v4unpack(P.hi, Q.hi, 0), H1 = v4unpack(P.hi, Q.hi, 1);
-    gg_v4 L0 = v4unpack(P.lo, Q.lo, 0), L01 = L0 + v4unpack(P.lo, Q.lo, 1);
-    gg_v4 S = H0 + H1, B = S - H0, SL = (H0 - (S - B)) + (H1 - B), E, R;
-    gg_v2 s = v4lo(S), h2 = v4hi(H0), t = s + h2, c = t - s, lo;
-    double q, kl;
+    gg_v4 H0 = v4unpack(Ph, Qh, 0), H1 = v4unpack(Ph, Qh, 1), L0, L01, S, B, SL, E, R, Q, KL;
+    gg_v2 s, h2, t, c, lo;
+    gg_v4dd pk;
+    /* the low parts once the high parts are shuffled (so GCC can overwrite
+       the high parts rather than copy N) */
+    Pl = v4_two_prod(V2, N).lo, Ql = v4_two_prod(N, N).lo;
+    L0 = v4unpack(Pl, Ql, 0), L01 = L0 + v4unpack(Pl, Ql, 1);
+    S = H0 + H1, B = S - H0, SL = (H0 - (S - B)) + (H1 - B);
+    s = v4lo(S), h2 = v4hi(H0), t = s + h2, c = t - s;
     lo = (v4lo(L01) + (v4hi(L0) + v4lo(SL))) + ((s - (t - c)) + (h2 - c));
-    if (!(t[1] >= 0x1p-600)) return 0;
-    q = t[0] / t[1];
-    kl = ((div_rem(t[0], q, t[1]) + lo[0]) - q * lo[1]) / t[1];
+    if (!reflect_quotient(t, lo, &Q, &KL)) return 0;
     /* S + E = V - q N exactly (TwoProd, then TwoSum of V and -q N) */
-    pk = v4_two_prod(v4splat(q), N);
+    pk = v4_two_prod(Q, N);
     S = V - pk.hi, B = S - V;
     E = (V - (S - B)) - (pk.hi + B);
-    R = S + ((E - pk.lo) - v4splat(kl) * N);
+    R = S + ((E - pk.lo) - KL * N);
     *out = v3(R[0], R[1], R[2]);
     return 1;
 }
@@ -153,8 +173,10 @@ static GG_NOINLINE GG_COLD ggVec3 reflect_scaled(const ggVec3 *vp, const ggVec3 
 /* The accurate reflection (ggReflection's contract). */
 GG_OPTICS_LINKAGE ggVec3 GG_REFLECT_NAME(const ggVec3 *v, const ggVec3 *n)
 {
-    /* (lane 3 of V and N is 0: its bounds are any positive number) */
-    const gg_v4 big = {0x1p300, 0x1p300, 0x1p300, 1.0}, tiny = {0x1p-300, 0x1p-300, 0x1p-300, 1.0};
+    /* (lane 3 repeats lane 2: bounds there that decide nothing, and that
+       keep the constants from being broadcast from one double) */
+    const gg_v4 big = {0x1p300, 0x1p300, 0x1p300, 0x1p301},
+                tiny = {0x1p-300, 0x1p-300, 0x1p-300, 0x1p-299};
     gg_v4 V = v4load(v), N = v4load(n), AV = v4abs(V);
     ggVec3 r;
     /* every |component| below 2^300: no product overflows; the largest

@@ -147,6 +147,7 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
     /* The knobs the geometry answers by travel with every query. */
     ctx->qopt.sphere =
         ctx->acc.sphere == GG_ACC_SPHERE_TEXTBOOK ? GG_SPHERE_TEXTBOOK : GG_SPHERE_STABLE;
+    ctx->qopt.isect = ctx->acc.intersect == GG_ACC_ISECT_FLOAT ? GG_ISECT_FLOAT : GG_ISECT_DOUBLE;
     ctx->qopt.implicit_tol = ctx->acc.implicit_tol;
     ctx->qopt.gradient_h = ctx->acc.gradient_h;
     /* A Fresnel override on a transmitter needs the Fresnel code. */
