@@ -108,8 +108,14 @@ static inline gg_dd dd_two_prod(double a, double b)
 #endif
 }
 
-static inline gg_dd dd_from(double a) { return dd_make(a, 0.0); }
-static inline gg_dd dd_neg(gg_dd a) { return dd_make(-a.hi, -a.lo); }
+static inline gg_dd dd_from(double a)
+{
+    return dd_make(a, 0.0);
+}
+static inline gg_dd dd_neg(gg_dd a)
+{
+    return dd_make(-a.hi, -a.lo);
+}
 
 /* Accurate double-word sum (JMP 2017, Algorithm 6): relative error <= 3u^2
    whatever the cancellation. */
@@ -122,7 +128,10 @@ static inline gg_dd dd_add(gg_dd x, gg_dd y)
     return dd_fast_two_sum(v.hi, w);
 }
 
-static inline gg_dd dd_sub(gg_dd x, gg_dd y) { return dd_add(x, dd_neg(y)); }
+static inline gg_dd dd_sub(gg_dd x, gg_dd y)
+{
+    return dd_add(x, dd_neg(y));
+}
 
 /* Double-word sum of two operands of the same sign (JMP 2017, Algorithm 5,
    "sloppy"): relative error <= 3u^2 when no cancellation is possible. */
@@ -139,7 +148,8 @@ static inline gg_dd dd_add_d(gg_dd x, double y)
     return dd_fast_two_sum(s.hi, x.lo + s.lo);
 }
 
-/* Double-word times double-word (JMP 2017, Algorithm 10). Not their
+/* Double-word times double-word (JMP 2017, Algorithm 10, DWTimesDW1):
+   relative error <= 7u^2. Not their
    Algorithm 12, which fuses the cross terms: it rounds differently, and
    the plain and the fma copies of a kernel (refract_core.h) must return
    the same bits; only dd_two_prod, exact either way, uses the fma. */
@@ -150,7 +160,9 @@ static inline gg_dd dd_mul(gg_dd x, gg_dd y)
     return dd_fast_two_sum(c.hi, c.lo + tl);
 }
 
-/* Double-word times double (JMP 2017, Algorithm 9): relative error <= 2u^2. */
+/* Double-word times double (JMP 2017, Algorithm 8, DWTimesFP2): relative
+   error <= 3u^2. Not their Algorithm 9, which fuses x.lo * y into c.lo,
+   for the same reason as dd_mul. */
 static inline gg_dd dd_mul_d(gg_dd x, double y)
 {
     gg_dd c = dd_two_prod(x.hi, y);
@@ -201,8 +213,9 @@ static inline gg_dd dd_sum_sq3(double a, double b, double c)
 }
 
 /* a.b for two 3-vectors of doubles, as a double-word with error at most
-   about 3u^2 (|a1 b1| + |a2 b2| + |a3 b3|): the compensated dot product
-   of Ogita, Rump and Oishi (Dot2) with the final rounding left out. */
+   gamma_3^2 (|a1 b1| + |a2 b2| + |a3 b3|), gamma_3 = 3u/(1 - 3u), about
+   9u^2: Dot2 of Ogita, Rump and Oishi, "Accurate sum and dot product",
+   SIAM J. Sci. Comput. 26(6), 2005, with the final rounding left out. */
 static inline gg_dd dd_dot3(double a1, double a2, double a3, double b1, double b2, double b3)
 {
     gg_dd p = dd_two_prod(a1, b1), q = dd_two_prod(a2, b2), r = dd_two_prod(a3, b3);

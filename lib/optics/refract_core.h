@@ -155,7 +155,8 @@ static GG_NOINLINE int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int 
     vc[0] = v.x, vc[1] = v.y, vc[2] = v.z;
     nc[0] = n.x, nc[1] = n.y, nc[2] = n.z;
 
-    /* Which side v comes from. Dot2's error is below 2^-104 sum|v_i n_i|;
+    /* Which side v comes from. Dot2's error is below gamma_3^2 sum|v_i n_i|
+       (about 9u^2 = 2^-102.8; dd.h, dd_dot3);
        only inside that band is the exact sign worked out. */
     a = dd_dot3(v.x, v.y, v.z, n.x, n.y, n.z);
     sump = fabs(v.x * n.x) + fabs(v.y * n.y) + fabs(v.z * n.z);
@@ -299,26 +300,15 @@ GG_INLINE gg_v4dd v4_two_sum(gg_v4 a, gg_v4 b)
     return r;
 }
 
-/* Double-word products without fma outside TwoProd (so both builds agree):
-   JMP 2017 Algorithms 9 and 12, relative error below 2u^2 and 5u^2. */
-GG_INLINE gg_dd fd_mul(gg_dd x, gg_dd y)
-{
-    gg_dd c = dd_two_prod(x.hi, y.hi);
-    return dd_fast_two_sum(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
-}
-GG_INLINE gg_dd fd_mul_d(gg_dd x, double y)
-{
-    gg_dd c = dd_two_prod(x.hi, y);
-    return dd_fast_two_sum(c.hi, c.lo + x.lo * y);
-}
-
 /* 1/sqrt(x) for a double-word x > 0: one Newton step from the double
-   estimate (relative error below 4u^2). 1 - x y^2 is formed exactly enough
-   because x y^2 is within 3u of 1. */
+   estimate y = x^(-1/2) (1 + d), |d| < 2.5u. 1 - m.hi is exact (Sterbenz:
+   m = x y^2 is within 6u of 1), so the step's error is the truncation
+   1.5 d^2, half of dd_mul's 7u^2 (dd.h) and two roundings of about 2.5u^2
+   each: relative error below 20u^2. */
 GG_INLINE gg_dd fd_rsqrt(gg_dd x)
 {
     double y = 1.0 / sqrt(x.hi);
-    gg_dd m = fd_mul(x, dd_two_prod(y, y));
+    gg_dd m = dd_mul(x, dd_two_prod(y, y));
     return dd_fast_two_sum(y, 0.5 * y * ((1.0 - m.hi) - m.lo));
 }
 
