@@ -19,6 +19,8 @@
 
 #include "core.h"
 
+#include <fenv.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 
@@ -177,11 +179,41 @@ static void test_conductor_limits(void **state)
     }
 }
 
+/* No FE_INVALID, FE_DIVBYZERO or FE_OVERFLOW for finite arguments
+   (optics.h), and R in [0, 1], at the corners of the range: every
+   combination of extreme cosines, outside indices and n, k. */
+static void test_no_fp_exceptions(void **state)
+{
+    static const double cs[] = {0x1p-1074, 0x1p-1060, 0x1p-600, 1e-300, 0.5, 1};
+    static const double n1s[] = {0x1p-1074, 0x1p-1000, 1, 0x1p1000, DBL_MAX};
+    static const double ns[] = {0, 0x1p-1074, 1e-300, 0.3, 1, 1e300, DBL_MAX};
+    int a, b, i, j;
+    (void)state;
+    for (a = 0; a < 6; a++)
+        for (b = 0; b < 5; b++)
+            for (i = 0; i < 7; i++)
+                for (j = 0; j < 7; j++) {
+                    double R, rs, rp, D = 0;
+                    if (ns[i] == 0 && ns[j] == 0) continue;
+                    feclearexcept(FE_ALL_EXCEPT);
+                    R = ggFresnelConductor(cs[a], n1s[b], ns[i], ns[j]);
+                    ggFresnelConductorPolarized(cs[a], n1s[b], ns[i], ns[j], &rs, &rp);
+                    if (ns[i] > 0) D = ggFresnelDielectric(cs[a], n1s[b], ns[i]);
+                    if (fetestexcept(FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW) ||
+                        !(R >= 0 && R <= 1) || !(D >= 0 && D <= 1)) {
+                        print_error("c=%a n1=%a n=%a k=%a: R %a, D %a, exceptions %#x\n", cs[a],
+                                    n1s[b], ns[i], ns[j], R, D, fetestexcept(FE_ALL_EXCEPT));
+                        fail();
+                    }
+                }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_conductor_bound),
         cmocka_unit_test(test_conductor_limits),
+        cmocka_unit_test(test_no_fp_exceptions),
     };
     return cmocka_run_group_tests_name("fresnel_bound", tests, NULL, NULL);
 }

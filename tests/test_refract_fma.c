@@ -33,7 +33,7 @@ static long ncase, ntrans;
 static void same(ggVec3 v, ggVec3 n, double ni, double nt)
 {
     ggVec3 a, b;
-    int ra = refract_plain(&v, &n, ni, nt, &a), rb = gg_refract_fma(&v, &n, ni, nt, &b);
+    int ra = refract_plain(v, n, ni, nt, &a), rb = gg_refract_fma(v, n, ni, nt, &b);
     ncase++;
     ntrans += ra == 1;
     if (ra != rb || memcmp(&a, &b, sizeof a) != 0) {
@@ -103,8 +103,9 @@ static void test_same_bits(void **state)
         }
         same(v, n, ni, nt);
     }
-    print_message("%ld cases (%ld transmitted): plain and fma builds agree bit for bit (refraction and reflection)\n", ncase,
-                  ntrans);
+    print_message("%ld cases (%ld transmitted): plain and fma builds agree bit for bit (refraction "
+                  "and reflection)\n",
+                  ncase, ntrans);
     assert_true(ntrans > ncase / 4);
 }
 #else

@@ -21,7 +21,8 @@
 #define GG_UNLIKELY(x) __builtin_expect(!!(x), 0)
 #define GG_CTZ(m)      __builtin_ctz(m)
 /* One fused multiply-add instruction, in a per-ISA object built for it
-   (dd.h's dd_two_prod in refract_fma.c); math.h's fma may be a call. */
+   (dd.h's dd_two_prod in refract_fma.c and fresnel_fma.c); math.h's fma
+   may be a call. */
 #define GG_FMA(a, b, c) __builtin_fma(a, b, c)
 #else
 #define GG_INLINE      static inline

@@ -2,100 +2,65 @@
 /*
 ** fresnel.c -- Fresnel reflectance of dielectric and conducting
 ** interfaces, Schlick's approximation, Beer-Lambert absorption.
-** docs/optics.md derives the forms used here.
+** docs/optics.md derives the forms used here; the double-double kernels
+** are in fresnel_core.h (plain here, fma in fresnel_fma.c).
 */
 #include "core.h"
 
 #include "dd.h"
+#include "fresnel_fma.h"
 
 #include <math.h>
+
+#define GG_DIELECTRIC_NAME dielectric_plain
+#define GG_CONDUCTOR_NAME  conductor_plain
+#include "fresnel_core.h"
+
+#if GG_ISA_X86
+/* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2
+   yes (threads that race store the same value; relaxed atomics). */
+static int fma_mode;
+
+static int use_fma(void)
+{
+    int m = GG_ATOMIC_LOAD(&fma_mode);
+    if (!m) {
+        m = gg_cpu_features() & GG_CPU_FMA ? 2 : 1;
+        GG_ATOMIC_STORE(&fma_mode, m);
+    }
+    return m == 2;
+}
+#endif
+
+/* The two builds of fresnel_core.h return the same bits; the fma one is
+   faster. */
+static void dielectric_dd(double c, double a, double b, gg_dd *rs, gg_dd *rp)
+{
+#if GG_ISA_X86
+    if (use_fma()) {
+        gg_fresnel_dielectric_fma(c, a, b, rs, rp);
+        return;
+    }
+#endif
+    dielectric_plain(c, a, b, rs, rp);
+}
+
+static void conductor_dd(double c, double n1, double n, double k, gg_dd *rs, gg_dd *rp)
+{
+#if GG_ISA_X86
+    if (use_fma()) {
+        gg_fresnel_conductor_fma(c, n1, n, k, rs, rp);
+        return;
+    }
+#endif
+    conductor_plain(c, n1, n, k, rs, rp);
+}
 
 /* |cos_i| clamped to [0, 1]; the caller has checked it is finite. */
 static double clamp_cos(double c)
 {
     c = fabs(c);
     return c > 1 ? 1 : c;
-}
-
-/* Scale a and b (>= 0, not both 0) by one power of two so the larger is in
-   [1, 2): the reflectances depend only on their ratio. */
-static void scale_pair(double *a, double *b)
-{
-    int e = dd_expo(*a > *b ? *a : *b);
-    *a = dd_scale2(*a, -e), *b = dd_scale2(*b, -e);
-}
-
-/* nt^2 cos^2(theta_t) = (nt^2 - ni^2) + ni^2 c^2, in double-double: the two
-   terms cancel near the critical angle. For c^2 >= 1/2 (about) it is formed as
-   nt^2 - ni^2 s^2 instead (s^2 = 1 - c^2 from the exact c^2): at normal
-   incidence with ni >> nt the first form would leave nt^2 as the
-   difference of two terms near ni^2, and lose it. */
-static gg_dd cos_t_sq_nt2(double a, double b, double c, gg_dd *delta)
-{
-    gg_dd a2 = dd_two_prod(a, a), b2 = dd_two_prod(b, b);
-    *delta = dd_sub(b2, a2);
-    if (c >= 0.70710678118654752) /* c^2 >= 1/2 */
-        return dd_sub(b2, dd_mul(a2, dd_sub(dd_from(1.0), dd_two_prod(c, c))));
-    return dd_add(*delta, dd_sqr(dd_two_prod(a, c)));
-}
-
-/* Dielectric: Rs and Rp as double-words. a = |ni|, b = |nt|, c in [0, 1].
-   With q = nt^2 cos_t^2 and delta = nt^2 - ni^2,
-     rs = (ni c - nt cos_t)/(ni c + nt cos_t) = -delta / (ni c + sqrt q)^2
-   (multiply by the conjugate; docs/optics.md), whose numerator cannot
-   cancel: a reflectance of 1e-30 between nearly matched media keeps its
-   digits. After scaling, ni c + sqrt q >= 2^-26 (a != b are doubles in
-   [2^-52, 2) apart), so the square cannot underflow.
-     rp = (nt c - ni cos_t)/(nt c + ni cos_t) = (P - Q)/(P + Q),
-   P = nt^2 c, Q = ni sqrt q, both in double-double; when P and Q are close
-   the numerator is rewritten as (P^2 - Q^2)/(P + Q) with
-   P^2 - Q^2 = delta ((ni^2 + nt^2) c^2 - ni^2), which does not cancel
-   (it vanishes only at Brewster's angle, as rp must). Otherwise P and Q
-   are scaled together (the index ratio may be extreme). */
-static void dielectric_dd(double c, double a, double b, gg_dd *rs, gg_dd *rp)
-{
-    gg_dd delta, q, sq, A, P, Q, amp;
-    double m;
-    if (a == b) {
-        *rs = *rp = dd_from(0.0);
-        return;
-    }
-    if (c == 0) {
-        *rs = *rp = dd_from(1.0);
-        return;
-    }
-    scale_pair(&a, &b);
-    q = cos_t_sq_nt2(a, b, c, &delta);
-    if (q.hi <= 0) { /* total internal reflection */
-        *rs = *rp = dd_from(1.0);
-        return;
-    }
-    sq = dd_sqrt(q);
-    A = dd_add(dd_two_prod(a, c), sq);
-    amp = dd_div(delta, dd_sqr(A));
-    *rs = dd_sqr(amp);
-    P = dd_mul_d(dd_two_prod(b, b), c), Q = dd_mul_d(sq, a);
-    if (P.hi <= 2 * Q.hi && Q.hi <= 2 * P.hi && P.hi > 0x1p-400) {
-        /* P - Q cancels (nearly matched media): use
-           P^2 - Q^2 = delta ((ni^2 + nt^2) c^2 - ni^2) instead. */
-        gg_dd a2 = dd_two_prod(a, a), PQ = dd_add(P, Q);
-        gg_dd br = dd_sub(dd_mul(dd_two_prod(c, c), dd_add(a2, dd_two_prod(b, b))), a2);
-        amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
-        *rp = dd_sqr(amp);
-        return;
-    }
-    m = P.hi > Q.hi ? P.hi : Q.hi;
-    if (m == 0) {
-        *rp = dd_from(1.0);
-        return;
-    }
-    if (m < 0x1p-900) {
-        int e = -dd_expo(m);
-        P = dd_make(dd_scale2(P.hi, e), dd_scale2(P.lo, e));
-        Q = dd_make(dd_scale2(Q.hi, e), dd_scale2(Q.lo, e));
-    }
-    amp = dd_div(dd_sub(P, Q), dd_add(P, Q));
-    *rp = dd_sqr(amp);
 }
 
 static int dielectric_args(double cos_i, double ni, double nt)
@@ -149,202 +114,13 @@ GG_API double ggFresnelSchlick(double cos_i, double ni, double nt)
 /* Conductors                                                          */
 /* ------------------------------------------------------------------ */
 
-/* Rs and Rp as double-words. */
-typedef struct conductor_r {
-    gg_dd rs, rp;
-} conductor_r;
-
-static gg_dd dd_x2(gg_dd a)
+/* Rs and Rp, 0 if the arguments are not valid. */
+static int conductor(double cos_i, double n1, double n, double k, gg_dd *rs, gg_dd *rp)
 {
-    return dd_make(2 * a.hi, 2 * a.lo);
-}
-
-static gg_dd dd_scale(gg_dd a, int e)
-{
-    return dd_make(dd_scale2(a.hi, e), dd_scale2(a.lo, e));
-}
-
-/* |x + iy| for double-words, scaled so that the squares cannot underflow. */
-static gg_dd dd_hypot(gg_dd x, gg_dd y)
-{
-    double m = fabs(x.hi) > fabs(y.hi) ? fabs(x.hi) : fabs(y.hi);
-    int e;
-    if (m == 0) return dd_from(0.0);
-    e = dd_expo(m);
-    x = dd_scale(x, -e), y = dd_scale(y, -e);
-    return dd_scale(dd_sqrt(dd_add_same(dd_sqr(x), dd_sqr(y))), e);
-}
-
-/* Z = za + i zb = sqrt(X + iY), the principal root (Y >= 0), from the
-   half-angle forms, which do not cancel; m = |Z|^2 = |X + iY|. */
-static void complex_sqrt(gg_dd X, gg_dd Y, gg_dd *za, gg_dd *zb, gg_dd *m)
-{
-    *m = dd_hypot(X, Y);
-    *za = *zb = dd_from(0.0);
-    if (m->hi == 0) return;
-    if (X.hi >= 0) {
-        *za = dd_sqrt(dd_mul_d(dd_add(*m, X), 0.5));
-        if (Y.hi != 0) *zb = dd_div(Y, dd_x2(*za));
-    } else {
-        *zb = dd_sqrt(dd_mul_d(dd_sub(*m, X), 0.5));
-        if (Y.hi != 0) *za = dd_div(Y, dd_x2(*zb));
-    }
-}
-
-/* The unscaled quantities of the forms below, for outside index n1,
-   inside n + ik, cosine c. */
-typedef struct conductor_in {
-    double c, n1;
-    gg_dd c2, N1, N1s2, NN, KK, Y; /* c^2, n1^2, n1^2 s^2, n^2, k^2, 2nk */
-} conductor_in;
-
-/* Rs, Rp and complements from a scaled pair: with sigma = 2^j,
-   A = sigma a (a = n1 c) and T = sigma^2 ((n + ik)^2 - n1^2) = Tr + i Ti.
-   docs/optics.md ("Conductors") derives the forms: with s^2 = 1 - c^2,
-   Z = n1 cos_t (n + ik) = sqrt(a^2 + (n + ik)^2 - n1^2) (principal root),
-     rs = (a^2 - Z^2) / (a + Z)^2 = -((n + ik)^2 - n1^2) / (a + Z)^2,
-     |rs| = |T| / Ds,            Ds = |A + sigma Z|^2 = A^2 + 2 A za + m,
-     1 - Rs = 4 A za / Ds,       za + i zb = sigma Z, m = |sigma Z|^2,
-     rp = -((n + ik)^2 - n1^2) Bc / ((n + ik)^2 c + n1 Z)^2,
-     Bc = c^2 (n^2 - k^2) - n1^2 s^2 + i 2nk c^2,
-     |rp| = |T| |Bc| / Dp,       Dp = C^2 (n^2 + k^2)^2 + 2 C W + n1^2 m,
-     W = n1 Re(conj((n + ik)^2) sigma Z) = n1 za (n1^2 s^2 + m sigma^-2),
-     1 - Rp = 4 C W / Dp,        C = sigma c.
-   X = Re (sigma Z)^2 = A^2 + Tr = sigma^2 (n^2 - k^2 - n1^2 s^2). Only Tr,
-   X and Re Bc are differences (of exact products, in double-double);
-   every other sum has terms of one sign. Ds and Dp are
-   sigma^2 times their unscaled values, so the ratios do not depend on
-   sigma: it only keeps a tiny A and T inside the exponent range. */
-static void conductor_core(const conductor_in *in, gg_dd NpK, int j, gg_dd A, gg_dd X, gg_dd Tr,
-                           gg_dd Ti, conductor_r *r)
-{
-    gg_dd za, zb, m, E2, Ds, W, e, Dp, Br, Bi, B2;
-    double C = dd_scale2(in->c, j);
-    complex_sqrt(X, Ti, &za, &zb, &m);
-    Ds = dd_add_same(dd_add_same(dd_sqr(A), dd_x2(dd_mul(A, za))), m);
-    W = dd_mul_d(dd_mul(za, dd_add_same(in->N1s2, dd_scale(m, -2 * j))), in->n1);
-    e = dd_mul_d(NpK, C);
-    Dp = dd_add_same(dd_sqr(e), dd_add_same(dd_x2(dd_mul_d(W, C)), dd_mul(in->N1, m)));
-    Br = dd_sub(dd_sub(dd_mul(in->c2, in->NN), in->N1s2), dd_mul(in->c2, in->KK));
-    Bi = dd_mul(in->c2, in->Y);
-    /* Ds >= max(A^2, m), m = |A^2 + T|, is above 2^-310 (A^2 or |T| is
-       above 2^-302, see conductor_general); |T| is above 2^-54 unless
-       n == n1. */
-    if (Dp.hi > 0x1p-400 && (fabs(Tr.hi) > 0x1p-400 || fabs(Ti.hi) > 0x1p-400) &&
-        (fabs(Br.hi) > 0x1p-400 || fabs(Bi.hi) > 0x1p-400)) {
-        E2 = dd_add_same(dd_sqr(Tr), dd_sqr(Ti));
-        B2 = dd_add_same(dd_sqr(Br), dd_sqr(Bi));
-        r->rs = dd_div(E2, dd_sqr(Ds));
-        r->rp = dd_div(dd_mul(E2, B2), dd_sqr(Dp));
-    } else {
-        /* |T| or |Bc| and Dp tiny (n == n1 with a tiny k, or n1 far below
-           |n + ik|): as ratios first, so that no square underflows */
-        gg_dd E = dd_hypot(Tr, Ti), q = dd_div(E, Ds);
-        r->rs = dd_sqr(q);
-        q = dd_div(dd_mul(E, dd_hypot(Br, Bi)), Dp);
-        r->rp = dd_sqr(q);
-    }
-}
-
-/* Outside index n1, inside n + ik (k > 0), scaled together so that the
-   largest is in [1, 2) and n1 and |n + ik| are both above 2^-302; cosine
-   c in (0, 1]. (n + ik)^2 - n1^2 = (n^2 - k^2 - n1^2) + 2ink is at least
-   2^-54 unless n == n1, where it is k (2in - k): then a tiny k with a tiny
-   c (a and Z both below 2^-480) is scaled up by sigma^2, chosen to bring
-   the larger of a^2 and |T| near 1. */
-static void conductor_general(double c, double n1, double n, double k, conductor_r *r)
-{
-    conductor_in in;
-    gg_dd A, X, Tr, Ti;
-    int j = 0;
-    in.c = c, in.n1 = n1;
-    in.c2 = dd_two_prod(c, c), in.N1 = dd_two_prod(n1, n1);
-    in.N1s2 = dd_mul(in.N1, dd_sub(dd_from(1.0), in.c2));
-    in.NN = dd_two_prod(n, n), in.KK = dd_two_prod(k, k), in.Y = dd_x2(dd_two_prod(n, k));
-    if (n == n1) {
-        int ea = dd_expo(c) + dd_expo(n1), et = dd_expo(k) + dd_expo(n > k ? n : k) + 1;
-        int h = 2 * ea > et ? 2 * ea : et;
-        double k2;
-        if (h < -300) j = -(h / 2);
-        k2 = dd_scale2(k, 2 * j);
-        A = dd_two_prod(n1, dd_scale2(c, j));
-        Tr = dd_neg(dd_two_prod(k, k2)), Ti = dd_x2(dd_two_prod(n, k2));
-        X = dd_add(dd_sqr(A), Tr);
-    } else {
-        /* X from n^2 - k^2 - n1^2 s^2: A^2 + Tr would cancel when |n + ik|
-           is much below n1 near normal incidence. */
-        A = dd_two_prod(n1, c);
-        Tr = dd_sub(dd_sub(in.NN, in.N1), in.KK), Ti = in.Y;
-        /* as in cos_t_sq_nt2, whichever of n^2 - n1^2 s^2 and
-           (n^2 - n1^2) + a^2 cancels less */
-        X = in.c2.hi >= 0.5 ? dd_sub(in.NN, in.N1s2) : dd_add(dd_sub(in.NN, in.N1), dd_sqr(A));
-        X = dd_sub(X, in.KK);
-    }
-    conductor_core(&in, dd_add_same(in.NN, in.KK), j, A, X, Tr, Ti, r);
-}
-
-/* |eta~| = (n + ik)/n1 = H 2^G, G > 300, u = eta~/|eta~| = (ur, ui): then
-   sin^2 is negligible next to eta~^2 (relative 2^-600) and z = eta~, so
-   with w = c/|eta~| and L = c |eta~|
-     Rs = |w - u|^2 / |w + u|^2,   1 - Rs = 4 w ur / (1 + 2 w ur + w^2),
-     Rp = |L u - 1|^2 / |L u + 1|^2 = ((L - 1)^2 + 2 L ui^2/(1 + ur)) / Dp,
-     1 - Rp = 4 L ur / Dp,   Dp = L^2 + 2 L ur + 1.
-   c > 0; H as a double-word. */
-static void conductor_huge(double c, gg_dd ur, gg_dd ui, gg_dd H, int G, conductor_r *r)
-{
-    gg_dd w = dd_scale(dd_div(dd_from(c), H), -G), L, one = dd_from(1.0), Dp, N;
-    gg_dd wu = dd_mul(w, ur), tp;
-    r->rs =
-        dd_sub(one, dd_div(dd_mul_d(wu, 4), dd_add_same(one, dd_add_same(dd_x2(wu), dd_sqr(w)))));
-    if (dd_expo(c) + G > 900) {
-        /* L > 2^898: 1 - Rp = 4 ur / L, to 2^-898 relative. */
-        tp = dd_scale(dd_div(dd_mul_d(ur, 4), dd_mul_d(H, c)), -G);
-    } else {
-        L = dd_mul_d(H, dd_scale2(c, G)); /* c 2^G first: c may be subnormal */
-        if (L.hi > 0x1p400) {
-            tp = dd_div(dd_mul_d(ur, 4), L);
-        } else {
-            Dp = dd_add_same(dd_add_same(dd_sqr(L), dd_x2(dd_mul(L, ur))), one);
-            N = dd_add_same(dd_sqr(dd_sub(L, one)),
-                            dd_div(dd_x2(dd_mul(L, dd_sqr(ui))), dd_add_same(one, ur)));
-            r->rp = dd_div(N, Dp);
-            return;
-        }
-    }
-    r->rp = dd_sub(one, tp);
-}
-
-/* Rs, Rp (and the complements) for valid arguments; 0 if they are not. */
-static int conductor(double cos_i, double n1, double n, double k, conductor_r *r)
-{
-    double c;
-    int e1, em, G;
     if (!isfinite(cos_i) || !isfinite(n1) || !isfinite(n) || !isfinite(k) || n1 == 0 || n < 0 ||
         k < 0 || (n == 0 && k == 0))
         return 0;
-    c = clamp_cos(cos_i);
-    n1 = fabs(n1);
-    if (k == 0) {
-        /* A dielectric: exactly ggFresnelDielectric's values. */
-        dielectric_dd(c, n1, n, &r->rs, &r->rp);
-        return 1;
-    }
-    r->rs = r->rp = dd_from(1.0);
-    if (c == 0) return 1;
-    /* eta~ = (n + ik)/n1 = (nm + i km)/n1m 2^G with n1m and the larger of
-       nm, km in [1, 2). */
-    e1 = dd_expo(n1), em = dd_expo(n > k ? n : k);
-    G = em - e1;
-    if (G > 300) {
-        double n1m = dd_scale2(n1, -e1), nm = dd_scale2(n, -em), km = dd_scale2(k, -em);
-        gg_dd h = dd_hypot(dd_from(nm), dd_from(km));
-        conductor_huge(c, dd_div(dd_from(nm), h), dd_div(dd_from(km), h), dd_div(h, dd_from(n1m)),
-                       G, r);
-    } else if (G >= -300) {
-        int e = e1 > em ? e1 : em;
-        conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -e), r);
-    }
-    /* else |eta~| < 2^-299: R = 1 - O(|eta~|), 1 when rounded. */
+    conductor_dd(clamp_cos(cos_i), fabs(n1), n, k, rs, rp);
     return 1;
 }
 
@@ -358,17 +134,17 @@ static double at_most_1(gg_dd x)
 GG_API void ggFresnelConductorPolarized(double cos_i, double n_outside, double n, double k,
                                         double *rs, double *rp)
 {
-    conductor_r r;
-    int ok = conductor(cos_i, n_outside, n, k, &r);
-    if (rs) *rs = ok ? at_most_1(r.rs) : NAN;
-    if (rp) *rp = ok ? at_most_1(r.rp) : NAN;
+    gg_dd s, p;
+    int ok = conductor(cos_i, n_outside, n, k, &s, &p);
+    if (rs) *rs = ok ? at_most_1(s) : NAN;
+    if (rp) *rp = ok ? at_most_1(p) : NAN;
 }
 
 GG_API double ggFresnelConductor(double cos_i, double n_outside, double n, double k)
 {
-    conductor_r r;
-    if (!conductor(cos_i, n_outside, n, k, &r)) return NAN;
-    return at_most_1(dd_mul_d(dd_add(r.rs, r.rp), 0.5));
+    gg_dd s, p;
+    if (!conductor(cos_i, n_outside, n, k, &s, &p)) return NAN;
+    return at_most_1(dd_mul_d(dd_add(s, p), 0.5));
 }
 
 /* ------------------------------------------------------------------ */

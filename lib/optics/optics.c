@@ -48,13 +48,23 @@ static int use_fma(void)
     return m == 2;
 }
 
-/* Same bits either way (refract_core.h); the fma build is faster. */
+/* The refraction's build (same bits either way, refract_core.h; the fma
+   build is faster), picked on the first call (relaxed atomics: threads
+   that race store the same pointer); ggRefract then jumps straight to it. */
+typedef bool refract_fn(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
+static bool refract_pick(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
+static refract_fn *refract_impl = refract_pick;
+
+static bool refract_pick(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
+{
+    refract_fn *f = use_fma() ? gg_refract_fma : refract_plain;
+    GG_ATOMIC_STORE(&refract_impl, f);
+    return f(v, n, ni, nt, t);
+}
+
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
-    ggVec3 r;
-    int rc = use_fma() ? gg_refract_fma(&v, &n, ni, nt, &r) : refract_plain(&v, &n, ni, nt, &r);
-    if (t) *t = r;
-    return rc == 1;
+    return GG_ATOMIC_LOAD(&refract_impl)(v, n, ni, nt, t);
 }
 
 /* The first call, and every call without fma. */
@@ -73,10 +83,7 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
 #else
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
-    ggVec3 r;
-    int rc = refract_plain(&v, &n, ni, nt, &r);
-    if (t) *t = r;
-    return rc == 1;
+    return refract_plain(v, n, ni, nt, t);
 }
 
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)

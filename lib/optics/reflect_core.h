@@ -18,8 +18,8 @@
 #error "define GG_REFLECT_NAME before including reflect_core.h"
 #endif
 
-typedef uint64_t gg_v4u GG_VECTOR_SIZE(32);
-typedef double gg_v2 GG_VECTOR_SIZE(16);
+/* gg_v4u and gg_v2 come from refract_core.h (C99 allows no repeated
+   typedef). */
 
 /* Lane shuffles and tests (the fma build spells them as AVX intrinsics,
    which GCC otherwise assembles from several instructions; the values are

@@ -5,10 +5,11 @@
 ** twice: by optics.c as plain code, and by refract_fma.c compiled for
 ** CPUs with fused multiply-add, where TwoProd is
 ** one fma instead of Dekker's 17-flop product. TwoProd is exact either way
-** (the inputs are scaled so that no error term underflows) and nothing
-** else here uses fma, so both copies return the same bits; optics.c picks
-** one at run time. Before including, define GG_REFRACT_NAME (the name of
-** the function to generate).
+** (the inputs are scaled so that no error term underflows), and so is the
+** only other use of fma, the remainder of a correctly rounded quotient or
+** square root; so both copies return the same bits; optics.c picks one
+** at run time. Before including, define GG_REFRACT_NAME (the name of the
+** function to generate).
 **
 ** The refraction first scales its vectors by powers of two (exact) and then
 ** tries a fast path: double-double where the result needs it, plain double
@@ -246,6 +247,8 @@ tir:
    3.19 cannot run). */
 #if defined(GG_DD_FMA)
 #include <immintrin.h>
+#elif defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 /* Every function taking or returning these is inlined (GG_INLINE): no
    call crosses the ABI that GCC and clang warn about for the plain build. */
@@ -254,6 +257,13 @@ typedef double gg_v4 GG_VECTOR_SIZE(32);
 typedef struct gg_v4dd {
     gg_v4 hi, lo;
 } gg_v4dd;
+
+typedef uint64_t gg_v4u GG_VECTOR_SIZE(32);
+GG_INLINE gg_v4u v4bits(uint64_t x)
+{
+    gg_v4u r = {x, x, x, x};
+    return r;
+}
 
 GG_INLINE gg_v4 v4splat(double x)
 {
@@ -394,61 +404,100 @@ GG_INLINE ggVec3 mirror_fast(gg_v4 V, gg_v4 N, gg_dd a, gg_dd nn, const gg_dd *r
     return v3(R[0], R[1], R[2]);
 }
 
+/* The square root of x >= 0. In the fma build without the errno check
+   libm's sqrt carries (a compare and a branch); the same correctly
+   rounded result either way. */
+#if defined(GG_DD_FMA)
+GG_INLINE double fsqrt(double x)
+{
+    return _mm_cvtsd_f64(_mm_sqrt_pd(_mm_set1_pd(x)));
+}
+#else
+GG_INLINE double fsqrt(double x)
+{
+    return sqrt(x);
+}
+#endif
+
+/* Two-lane double vectors: two square roots or two quotients of the fast
+   refraction side by side (lanes are independent IEEE operations, as for
+   gg_v4). */
+typedef double gg_v2 GG_VECTOR_SIZE(16);
+typedef uint64_t gg_v2u GG_VECTOR_SIZE(16);
+typedef struct gg_v2dd {
+    gg_v2 hi, lo;
+} gg_v2dd;
+
+GG_INLINE gg_v2u v2bits(uint64_t x)
+{
+    gg_v2u r = {x, x};
+    return r;
+}
+
+GG_INLINE gg_v2 v2sqrt(gg_v2 x)
+{
+#if defined(__SSE2__)
+    return (gg_v2)_mm_sqrt_pd((__m128d)x);
+#else
+    gg_v2 r = {sqrt(x[0]), sqrt(x[1])};
+    return r;
+#endif
+}
+
+/* x - a b, lane by lane, where that value is a double (the remainder of a
+   correctly rounded quotient or square root): one fma in the fma build,
+   Dekker's exact product and two subtractions in the plain one, the same
+   exact result. */
+GG_INLINE gg_v2 v2_exact_rem(gg_v2 x, gg_v2 a, gg_v2 b)
+{
+#if defined(GG_DD_FMA)
+    return (gg_v2)_mm_fnmadd_pd((__m128d)a, (__m128d)b, (__m128d)x);
+#else
+    const gg_v2 split = {134217729.0, 134217729.0}; /* 2^27 + 1 */
+    gg_v2 p = a * b, ta = split * a, tb = split * b;
+    gg_v2 ah = ta - (ta - a), al = a - ah, bh = tb - (tb - b), bl = b - bh;
+    return (x - p) - (((ah * bh - p) + ah * bl + al * bh) + al * bl);
+#endif
+}
+
 /* Double-word operations for the fast refraction, without the final
    renormalisation (Fast2Sum) of dd.h's: operands and results are pairs
-   hi + lo with |lo| <= 8u |hi| (u = 2^-53), which is all the error bounds
-   of docs/optics.md ("The fast paths") assume. No fma outside TwoProd,
-   so the plain and the fma builds agree bit for bit. */
+   hi + lo with |lo| <= 11u |hi| (u = 2^-53), which is all the error
+   bounds of docs/optics.md ("The fast paths") assume. No fma (the builds
+   agree bit for bit). */
 /* x y: relative error below 3u^2 + |x.lo y.lo| / |x y|. */
 GG_INLINE gg_dd w_mul(gg_dd x, gg_dd y)
 {
     gg_dd c = dd_two_prod(x.hi, y.hi);
-    return dd_make(c.hi, c.lo + (x.hi * y.lo + x.lo * y.hi));
+    return dd_make(c.hi, x.hi * y.lo + (x.lo * y.hi + c.lo));
 }
 /* x y for a double y: relative error below 2u^2. */
 GG_INLINE gg_dd w_mul_d(gg_dd x, double y)
 {
     gg_dd c = dd_two_prod(x.hi, y);
-    return dd_make(c.hi, c.lo + x.lo * y);
+    return dd_make(c.hi, x.lo * y + c.lo);
 }
-/* sqrt(x), x > 0, |x.lo| <= u x.hi: one Newton step from the double
-   square root (x.hi - y^2 is exact). */
-GG_INLINE gg_dd w_sqrt(gg_dd x)
-{
-    double y = sqrt(x.hi);
-    gg_dd p = dd_two_prod(y, y);
-    return dd_make(y, (((x.hi - p.hi) - p.lo) + x.lo) / (2.0 * y));
-}
-/* x / y, y.hi != 0: the double quotient corrected by the remainder
-   (x.hi - q y.hi is exact by Sterbenz's lemma). */
-GG_INLINE gg_dd w_div(gg_dd x, gg_dd y)
-{
-    double q = x.hi / y.hi;
-    gg_dd p = dd_two_prod(q, y.hi);
-    return dd_make(q, ((((x.hi - p.hi) - p.lo) + x.lo) - q * y.lo) / y.hi);
-}
-
 /* The fast refraction of scaled v and n (largest components in [1, 2))
-   for indices with |ni|, |nt| in [2^-200, 2^311] and ni/nt in
-   [2^-200, 4]. Returns 1 or 0 as refract_dd, or 2 when its running error
-   bound cannot certify the result (then nothing is written). Notation and
-   proof: docs/optics.md, "The fast paths". */
+   and indices both in [2^-100, 2^101) or scaled so that the larger is in
+   [1, 2) (scale_indices), with ni/nt in [2^-200, 4] (checked here). Every
+   operation below commutes with a common power-of-two scaling of the
+   indices (nothing over- or underflows and the bound is homogeneous in
+   them), so both give the same bits. Returns 1 or 0 as refract_dd, or 2 when its running
+   error bound cannot certify the result (then nothing is written). Notation and proof:
+   docs/optics.md, "The fast paths". */
 GG_INLINE int refract_fast(gg_v4 V, gg_v4 N, double ni, double nt, ggVec3 *t)
 {
-    double sump, sq, bound, eta, ani = fabs(ni), ant = fabs(nt);
-    gg_dd a, vv, nn, Q, dn, sn, M, ni2, P, D, S, W, lv, G1, G2;
+    double sump, sq, bound, eta, ani, ant;
+    gg_dd a, vv, nn, Q, dn, sn, M, ni2, P, D, W, G1, G2;
     gg_v4dd d, p1, p2, sm;
     gg_v4 R;
-    uint64_t xi = abs_bits(ni) >> 52, xt = abs_bits(nt) >> 52;
-    /* exponents in [-200, 311]: then ni / nt, the squares and products
-       below neither overflow nor lose their exact error terms */
-    if (((xi - 823) | (xt - 823)) >= 512) return 2;
     eta = ni / nt;
     if (!(eta >= 0x1p-200 && eta <= 4.0)) return 2;
+    ani = fabs(ni), ant = fabs(nt);
     d = v4_dots(V, N, &sump);
     a = lane(d, 0), vv = lane(d, 1), nn = lane(d, 2);
     Q = w_mul(vv, nn);
-    sq = sqrt(Q.hi);
+    sq = fsqrt(Q.hi);
     /* the side v comes from is certain: Dot2's error is below 2^-102 |v||n| */
     if (!(fabs(a.hi) > 0x1p-100 * sq)) return 2;
     /* D = (nt - ni)(nt + ni) |v|^2 |n|^2 + ni^2 (v.n)^2 = nt^2 |v|^2 |n|^2 cos^2(theta_t) */
@@ -460,13 +509,14 @@ GG_INLINE int refract_fast(gg_v4 V, gg_v4 N, double ni, double nt, ggVec3 *t)
     {
         gg_dd m = dd_two_prod(M.hi, Q.hi), q = dd_two_prod(ni2.hi, P.hi),
               s = dd_two_sum(m.hi, q.hi);
-        D = dd_fast_two_sum(s.hi, s.lo + ((m.lo + q.lo) + ((M.hi * Q.lo + M.lo * Q.hi) +
-                                                           (ni2.hi * P.lo + ni2.lo * P.hi))));
+        double lo = s.lo + (m.lo + q.lo);
+        lo = M.hi * Q.lo + (M.lo * Q.hi + lo);
+        lo = ni2.hi * P.lo + (ni2.lo * P.hi + lo);
+        D = dd_fast_two_sum(s.hi, lo);
     }
     /* a bound on the error of D (docs/optics.md); the last term covers
        underflow in products of tiny components */
-    bound = 0x1p-99 * (fabs(M.hi) * Q.hi + ni2.hi * fabs(a.hi) * sq + fabs(D.hi)) +
-            0x1p-600 * (nt * nt);
+    bound = 0x1p-99 * (fabs(M.hi) * Q.hi + ni2.hi * (fabs(a.hi) * sq + 0x1p-501));
     if (D.hi < 0) {
         gg_dd rho;
         if (!(-D.hi > 2.0 * bound)) return 2;
@@ -475,40 +525,90 @@ GG_INLINE int refract_fast(gg_v4 V, gg_v4 N, double ni, double nt, ggVec3 *t)
         return 0;
     }
     /* relative error of D below 2^-52: then the Fast2Sum above was exact
-       and sqrt(D) is one Newton step from the double square root */
-    if (!(D.hi > 0x1p52 * bound)) return 2;
+       and sqrt(D) is one Newton step from the double square root. With
+       ni == nt (M == 0) G2 is 0 whatever D (and D > 2^-603 > 0). */
+    if (!(D.hi > 0x1p52 * bound) && M.hi != 0) return 2;
     /* G1 = eta / |v| = ni / (nt |v|), G2 = sign(v.n) M |v| / W with
-       W = |nt| (sqrt(D) + |ni| |v.n|) = nt^2 |v| |n| (cos_t + eta |cos_i|) */
-    S = w_sqrt(D);
-    if (a.hi < 0) a = dd_neg(a);
-    a = w_mul_d(a, ani);
+       W = |nt| (sqrt(D) + |ni| |v.n|) = nt^2 |v| |n| (cos_t + eta |cos_i|);
+       sqrt(D) and |v| side by side, then G2 and G1 */
     {
-        gg_dd s = dd_two_sum(S.hi, a.hi);
-        W = w_mul_d(dd_make(s.hi, s.lo + (S.lo + a.lo)), ant);
+        gg_v2 x = {D.hi, vv.hi}, xl = {D.lo, vv.lo}, y, num, den, denl, q;
+        gg_dd S, lv, X;
+        y = v2sqrt(x);
+        xl = (v2_exact_rem(x, y, y) + xl) / (y + y);
+        S = dd_make(y[0], xl[0]), lv = dd_make(y[1], xl[1]);
+        /* |v.n| |ni| and W carrying the sign of v.n (so G2 does) */
+        a = w_mul_d(a, copysign(ani, a.hi));
+        {
+            gg_dd s = dd_two_sum(S.hi, a.hi);
+            W = w_mul_d(dd_make(s.hi, s.lo + (S.lo + a.lo)), copysign(ant, d.hi[0]));
+        }
+        X = w_mul(M, lv);
+        G1 = w_mul_d(lv, nt);
+        num[0] = X.hi, num[1] = ni, den[0] = W.hi, den[1] = G1.hi, denl[0] = W.lo, denl[1] = G1.lo;
+        q = num / den;
+        xl[0] = X.lo, xl[1] = 0.0;
+        xl = ((v2_exact_rem(num, q, den) + xl) - q * denl) / den;
+        G2 = dd_make(q[0], xl[0]), G1 = dd_make(q[1], xl[1]);
     }
-    lv = w_sqrt(vv);
-    G2 = w_div(w_mul(M, lv), W);
-    G1 = w_div(dd_from(ni), w_mul_d(lv, nt));
     /* The error of D reaches t through sqrt(D), at most |G2 n_i| rho / 2
-       <= |G2| |n| rho / 2 (rho = bound / D): certified when below 2^-60. */
-    if (!(bound * (fabs(G2.hi) * sqrt(nn.hi)) <= 0x1p-59 * D.hi)) return 2;
-    if (d.hi[0] < 0) G2 = dd_neg(G2);
+       <= |G2| rho (rho = bound / D, |n_i| < 2): certified when below 2^-60. */
+    if (!(bound * fabs(G2.hi) <= 0x1p-60 * D.hi)) return 2;
     p1 = v4_two_prod(v4splat(G1.hi), V), p2 = v4_two_prod(v4splat(G2.hi), N);
     sm = v4_two_sum(p1.hi, p2.hi);
-    R = sm.hi + (sm.lo + (p1.lo + p2.lo) + (v4splat(G1.lo) * V + v4splat(G2.lo) * N));
+    R = sm.hi + (v4splat(G1.lo) * V + (v4splat(G2.lo) * N + (sm.lo + (p1.lo + p2.lo))));
     *t = v3(R[0], R[1], R[2]);
     return 1;
 }
 
-/* v scaled so its largest component is in [1, 2) (as scale_unit), when
-   that component is a normal number below 2^1023; else 0 (zero, NaN,
-   infinite, or extreme: the full path decides). */
-GG_INLINE int load_unit(const ggVec3 *a, gg_v4 *out)
+/* The exponent fields of a vector's components (and of a pair of
+   indices), as doubles: powers of two, 0 or +infinity, never NaN, so the
+   maxima and compares below raise no exception. */
+GG_INLINE gg_v4 v4_expo(gg_v4 r)
 {
-    uint64_t e = max_bits(*a) >> 52;
-    gg_v4 r = {a->x, a->y, a->z, a->z};
-    if (e - 1 >= 2045) return 0;
-    *out = r * v4splat(pow2_inv(e));
+    return (gg_v4)((gg_v4u)r & v4bits(0x7ff0000000000000ull));
+}
+GG_INLINE double max3(gg_v4 e)
+{
+    double m = e[0] > e[1] ? e[0] : e[1];
+    return m > e[2] ? m : e[2];
+}
+/* All four lanes of a comparison true. */
+GG_INLINE int v4_all(gg_v4u m)
+{
+#if defined(GG_DD_FMA)
+    return _mm256_movemask_pd((__m256d)m) == 15;
+#else
+    return (int)(m[0] & m[1] & m[2] & m[3] & 1);
+#endif
+}
+
+/* v and n scaled so their largest components are in [1, 2) (as
+   scale_unit), when those components are normal numbers below 2^1023;
+   else 0 (zero, NaN, infinite, or extreme: the full path decides). */
+GG_INLINE int load_units(const ggVec3 *a, const ggVec3 *b, gg_v4 *A, gg_v4 *B)
+{
+    const gg_v2 lo = {0x1p-1022, 0x1p-1022}, hi = {0x1p1022, 0x1p1022}, one = {1.0, 1.0};
+    gg_v4 ra = {a->x, a->y, a->z, a->z}, rb = {b->x, b->y, b->z, b->z};
+    gg_v2 m = {max3(v4_expo(ra)), max3(v4_expo(rb))}, sc;
+    gg_v2u in = (gg_v2u)(m >= lo) & (gg_v2u)(m <= hi);
+    if (!(in[0] & in[1])) return 0;
+    sc = one / m;
+    *A = ra * v4splat(sc[0]), *B = rb * v4splat(sc[1]);
+    return 1;
+}
+
+/* The indices scaled by one power of two, the larger into [1, 2) (as
+   refract_full does), when both are normal and their exponents at most
+   201 apart; else 0. (2^-201 m may underflow to 0: hence the test of mn
+   against 2^-1022 first.) */
+GG_INLINE int scale_indices(double *ni, double *nt)
+{
+    gg_v4 x = {*ni, *nt, *nt, *nt}, e = v4_expo(x);
+    double m = e[0] > e[1] ? e[0] : e[1], mn = e[0] > e[1] ? e[1] : e[0], sc;
+    if (!(m <= 0x1p1022 && mn >= 0x1p-1022 && mn >= 0x1p-201 * m)) return 0;
+    sc = 1.0 / m;
+    *ni *= sc, *nt *= sc;
     return 1;
 }
 
@@ -552,16 +652,40 @@ static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double n
     return refract_dd(v, n, ni, nt, ediff, t);
 }
 
-/* The accurate refraction. Returns 1 (transmitted), 0 (total internal
-   reflection or tangent v: *t is the mirror direction) or -1 (invalid:
-   *t is NaN). */
-GG_OPTICS_LINKAGE int GG_REFRACT_NAME(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
-                                      ggVec3 *t)
+/* The fast path for inputs that are not in the common ranges (the
+   vectors' largest components or the indices outside [2^-100, 2^101)),
+   then the full path. */
+static GG_NOINLINE int refract_entry(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
+                                     ggVec3 *t)
 {
     gg_v4 V, N;
-    if (load_unit(vp, &V) && load_unit(np, &N)) {
-        int rc = refract_fast(V, N, ni, nt, t);
+    double si = ni, st = nt;
+    if (load_units(vp, np, &V, &N) && scale_indices(&si, &st)) {
+        int rc = refract_fast(V, N, si, st, t);
         if (rc != 2) return rc;
     }
     return refract_full(vp, np, ni, nt, t);
+}
+
+/* The accurate refraction, ggRefract's contract (include/ggrt/optics.h):
+   true when transmitted; *t (if t is not NULL) the transmitted or mirror
+   direction, NaN for invalid input. The common case -- the largest
+   components of v and n and both indices in [2^-100, 2^101) -- is checked
+   with one comparison of four exponents and goes to the fast path with
+   the indices as given. */
+GG_OPTICS_LINKAGE bool GG_REFRACT_NAME(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
+{
+    const gg_v4 lo = {0x1p-100, 0x1p-100, 0x1p-100, 0x1p-100};
+    const gg_v4 hi = {0x1p100, 0x1p100, 0x1p100, 0x1p100};
+    gg_v4 rv = {v.x, v.y, v.z, v.z}, rn = {n.x, n.y, n.z, n.z}, x = {ni, nt, ni, nt}, e;
+    ggVec3 tmp;
+    if (!t) t = &tmp;
+    e = v4_expo(x);
+    e[0] = max3(v4_expo(rv)), e[1] = max3(v4_expo(rn));
+    if (v4_all((gg_v4u)(e >= lo) & (gg_v4u)(e <= hi))) {
+        int rc = refract_fast(rv * v4splat(1.0 / e[0]), rn * v4splat(1.0 / e[1]), ni, nt, t);
+        if (rc != 2) return rc == 1;
+        return refract_full(&v, &n, ni, nt, t) == 1;
+    }
+    return refract_entry(&v, &n, ni, nt, t) == 1;
 }

@@ -23,7 +23,7 @@
 #endif
 
 #define TILE 16
-/* A tile row's eye rays are one packet (tile_centres). */
+/* A tile row's eye rays are one packet (tile_rows). */
 typedef char tile_row_fits_packet[TILE <= GG_PACKET_MAX ? 1 : -1];
 
 /* ggRender and ggTracePixel prepare an unprepared scene. Two threads may
@@ -230,6 +230,14 @@ static GG_NOINLINE int put_centre(float *o, const ggColor *c, double scale)
     return !isfinite(c->r) || !isfinite(c->g) || !isfinite(c->b);
 }
 
+/* A pixel corner from its colour c, as render_tile stores sample_color's;
+   returns 1 when c is not finite (sample_color's count). */
+static GG_NOINLINE int put_corner(float *o, const ggColor *c)
+{
+    o[0] = (float)c->r, o[1] = (float)c->g, o[2] = (float)c->b;
+    return !isfinite(c->r) || !isfinite(c->g) || !isfinite(c->b);
+}
+
 /* A row's unit eye directions, as basis_dir and gg_shade_dir compute
    them: d = fwd + (right * sx + up * sy) with right * sx of column i in
    c[0..2][i] and v = up * sy, then d / |d|. Bit i of the result is set
@@ -272,8 +280,9 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
     return ok;
 }
 
-/* render_tile for one sample at each pixel centre: pixel_center,
-   sample_color, basis_dir, gg_shade_dir and gg_shade_ray_unit step by step,
+/* render_tile for one sample at each pixel centre (pixel_center,
+   sample_color, basis_dir, gg_shade_dir and gg_shade_ray_unit), or at each
+   pixel corner (sample_color ...), step by step,
    the same operations in the same order, with what does not change along
    a row or a column hoisted out: a column's right * sx is computed once a
    tile, a row's up * sy once a row. A row's unit directions come first,
@@ -282,12 +291,12 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
    here as one packet (gg_geom_intersect_packet: the same hits as one at a
    time), then the hits are shaded left to right as before; every miss is
    the same pixel value. */
-static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+static void tile_rows(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
 {
     const cam_basis *b = &j->cam;
     const gg_geom *geom = j->ctx.s->geom;
-    const int n = gx1 - gx0;
-    const double scale = 1.0 / j->r.spp;
+    const int n = gx1 - gx0, corner = j->corner != NULL;
+    const double scale = 1.0 / j->r.spp, half = corner ? 0 : 0.5;
     /* gg_shade_dir's test of the origin: no ray at all from a non-finite eye. */
     const uint32_t eye_ok = v3finite(b->eye) ? ~0u : 0u;
     double c[3][TILE]; /* right * sx of the tile's columns */
@@ -298,34 +307,35 @@ static void tile_centres(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_th
     float miss[3];
     uint64_t eye = 0, nonfinite = 0, miss_bad;
     int i, gy;
-    miss_bad = (uint64_t)put_centre(miss, &bg, scale);
+    miss_bad = (uint64_t)(corner ? put_corner(miss, &bg) : put_centre(miss, &bg, scale));
     for (i = 0; i < TILE; i++) {
         q[i] = gg_rayq_make(b->eye, b->eye, 0, INFINITY, &j->ctx.qopt);
         q[i].implicit_cut = &th->st.implicit_cut;
     }
     for (i = 0; i < TILE; i++) {
-        double px = j->r.x0 + gx0 + i + 0.5;
+        double px = j->r.x0 + gx0 + i + half;
         double sx = (2.0 * px / b->w - 1.0) * b->tx;
         c[0][i] = b->right.x * sx, c[1][i] = b->right.y * sx, c[2][i] = b->right.z * sx;
     }
     for (gy = gy0; gy < gy1; gy++) {
         const int y = j->r.y0 + gy;
-        const double py = y + 0.5;
+        const double py = y + half;
         const double sy = (1.0 - 2.0 * py / b->h) * b->ty;
         const double v[3] = {b->up.x * sy, b->up.y * sy, b->up.z * sy};
-        float *o = j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
+        float *o = corner ? j->corner + 3 * ((size_t)gy * j->cw + gx0)
+                          : j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
         const uint32_t ok = row_dirs(b, c, v, q) & eye_ok & cols;
         const uint32_t hit = gg_geom_intersect_packet(geom, q, ok, h);
         eye += (uint64_t)n;
         for (i = 0; i < n; i++, o += 3) {
             if (!((ok >> i) & 1u)) {
-                nonfinite += put_centre(o, &black, scale);
+                nonfinite += corner ? put_corner(o, &black) : put_centre(o, &black, scale);
                 eye--; /* no ray cast: take it back from the row's n */
                 continue;
             }
             if ((hit >> i) & 1u) {
                 ggColor col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
-                nonfinite += put_centre(o, &col, scale);
+                nonfinite += corner ? put_corner(o, &col) : put_centre(o, &col, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
@@ -390,8 +400,8 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
         fill_empty_tile(j, gx0, gy0, gx1, gy1, th);
         return;
     }
-    if (!j->corner && !j->cost && j->r.spp == 1 && !j->ctx.rec) {
-        tile_centres(j, gx0, gy0, gx1, gy1, th);
+    if (!j->cost && !j->ctx.rec && (j->corner || j->r.spp == 1)) {
+        tile_rows(j, gx0, gy0, gx1, gy1, th);
         return;
     }
     for (gy = gy0; gy < gy1; gy++)

@@ -1,0 +1,26 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** fresnel_fma.c -- the Fresnel reflectances of fresnel_core.h compiled
+** for x86-64 CPUs with fused multiply-add: a per-ISA object, built with
+** -mfma (compiler.h, "Per-ISA code"). fresnel.c calls it only where
+** gg_cpu_features() has GG_CPU_FMA.
+*/
+#include "core.h"
+
+#include "fresnel_fma.h"
+
+#if GG_ISA_X86
+#ifndef __FMA__
+#error "fresnel_fma.c is compiled with -mfma (Makefile: ISA_fma)"
+#endif
+
+#define GG_DD_FMA          1
+#define GG_DIELECTRIC_NAME gg_fresnel_dielectric_fma
+#define GG_CONDUCTOR_NAME  gg_fresnel_conductor_fma
+#define GG_FRESNEL_LINKAGE /* external: declared in fresnel_fma.h */
+#include "fresnel_core.h"
+
+#else
+/* ISO C forbids an empty translation unit. */
+typedef int gg_fresnel_fma_unused;
+#endif
