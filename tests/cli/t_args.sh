@@ -40,6 +40,10 @@ for c in render trace; do
   expect_msg 1 "refract must be accurate, textbook or exact, got 'fast'" \
     "$c: --accuracy names the allowed values" "$ggrt" $c $g $o --accuracy refract=fast
 done
+expect_msg 1 "intersect must be double or float, got 'half'" \
+  "--accuracy intersect names the allowed values" "$ggrt" render $g -o "$tmp/x.png" --accuracy intersect=half
+expect_exit 0 "--accuracy intersect=float renders" "$ggrt" render $g -s 16x12 -q -o "$tmp/x.png" \
+  --accuracy intersect=float
 expect_msg 1 "bad value '0,0,4,4junk' for --crop: $crop ('junk' after Y1)" \
   "trailing junk in --crop" "$ggrt" render $g -o "$tmp/x.png" --crop 0,0,4,4junk
 expect_msg 1 "bad value '0,0,4' for --crop: $crop (only 3 numbers)" \

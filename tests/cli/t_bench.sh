@@ -40,3 +40,14 @@ if [ $got = 0 ] && grep -q 'against threads (median of 1; serial = time outside 
    grep -Eq '^tetra +[0-9.]+s +[0-9.]+s +[0-9.]+x +[0-9.]+s +[0-9.]+%$' "$tmp/scal"
 then ok "bench scaling: 1 and 2 threads, speed-up and serial share per scene"
 else bad "bench scaling: 1 and 2 threads, speed-up and serial share per scene (exit $got)" "$(cat "$tmp/scal")"; fi
+# bench accuracy --knobs: the default row and the named knob's rows only
+# (no other knob, no scaling tables); float fails on acc-distant
+"$ggrt" bench accuracy examples/scenes/acc-distant.nff --size 32 --runs 1 --knobs intersect \
+  --out "$tmp" >"$tmp/acc" 2>&1; got=$?
+if [ $got = 0 ] && grep -q '^default ' "$tmp/acc" && grep -Eq '^intersect +double ' "$tmp/acc" &&
+   grep -Eq '^intersect +float ' "$tmp/acc" && ! grep -q 'float.*no effect' "$tmp/acc" &&
+   ! grep -Eq '^(sphere|offset|depth) ' "$tmp/acc" && ! grep -q '^scaling' "$tmp/acc" &&
+   [ "$(grep -c ',intersect,' "$tmp/accuracy.csv")" = 2 ]
+then ok "bench accuracy --knobs intersect: the default and the intersect rows only"
+else bad "bench accuracy --knobs intersect: the default and the intersect rows only (exit $got)" "$(cat "$tmp/acc")"; fi
+expect_exit 1 "bench spd --knobs is a usage error" "$ggrt" bench spd --knobs intersect --no-pov
