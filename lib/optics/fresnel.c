@@ -9,6 +9,7 @@
 
 #include "dd.h"
 #include "fresnel_fma.h"
+#include "optics_int.h"
 
 #include <math.h>
 
@@ -16,28 +17,12 @@
 #define GG_CONDUCTOR_NAME  conductor_plain
 #include "fresnel_core.h"
 
-#if GG_ISA_X86
-/* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2
-   yes (threads that race store the same value; relaxed atomics). */
-static int fma_mode;
-
-static int use_fma(void)
-{
-    int m = GG_ATOMIC_LOAD(&fma_mode);
-    if (!m) {
-        m = gg_cpu_features() & GG_CPU_FMA ? 2 : 1;
-        GG_ATOMIC_STORE(&fma_mode, m);
-    }
-    return m == 2;
-}
-#endif
-
 /* The two builds of fresnel_core.h return the same bits; the fma one is
    faster. */
 static void dielectric_dd(double c, double a, double b, gg_dd *rs, gg_dd *rp)
 {
 #if GG_ISA_X86
-    if (use_fma()) {
+    if (gg_optics_use_fma()) {
         gg_fresnel_dielectric_fma(c, a, b, rs, rp);
         return;
     }
@@ -48,7 +33,7 @@ static void dielectric_dd(double c, double a, double b, gg_dd *rs, gg_dd *rp)
 static void conductor_dd(double c, double n1, double n, double k, gg_dd *rs, gg_dd *rp)
 {
 #if GG_ISA_X86
-    if (use_fma()) {
+    if (gg_optics_use_fma()) {
         gg_fresnel_conductor_fma(c, n1, n, k, rs, rp);
         return;
     }

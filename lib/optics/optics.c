@@ -23,6 +23,7 @@
 #include "core.h"
 
 #include "dd.h"
+#include "optics_int.h"
 #include "refract_fma.h"
 #include "vec.h"
 
@@ -38,7 +39,7 @@
    yes (threads that race store the same value; relaxed atomics). */
 static int fma_mode;
 
-static int use_fma(void)
+int gg_optics_use_fma(void)
 {
     int m = GG_ATOMIC_LOAD(&fma_mode);
     if (!m) {
@@ -57,7 +58,7 @@ static refract_fn *refract_impl = refract_pick;
 
 static bool refract_pick(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
-    refract_fn *f = use_fma() ? gg_refract_fma : refract_plain;
+    refract_fn *f = gg_optics_use_fma() ? gg_refract_fma : refract_plain;
     GG_ATOMIC_STORE(&refract_impl, f);
     return f(v, n, ni, nt, t);
 }
@@ -70,7 +71,7 @@ GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 /* The first call, and every call without fma. */
 static GG_NOINLINE ggVec3 reflect_choose(const ggVec3 *v, const ggVec3 *n)
 {
-    return use_fma() ? gg_reflect_fma(v, n) : reflect_plain(v, n);
+    return gg_optics_use_fma() ? gg_reflect_fma(v, n) : reflect_plain(v, n);
 }
 
 /* fma_mode tested first: the common call is a load, a compare and the
