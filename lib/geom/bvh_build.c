@@ -36,6 +36,10 @@
 #define GG_SAH_ISECT  1.0
 #define GG_SAH_TLEAF  2.0 /* a block of triangles, in single tests */
 #define GG_MEDIAN_AT  40  /* from this depth on, median splits only */
+#define GG_NSBINS     32  /* spatial-split bins per axis */
+#define GG_SPLIT_REFS 0.5 /* spatial splits may add this many references per element */
+#define GG_SPLIT_ALPHA 1e-5 /* try them where the object split's children overlap more
+                               (of the root's area; Stich et al., Section 4.5) */
 #define GG_MAX_THREAD 16
 
 /* Fewer elements: one thread builds; subtrees at most task_max large go
@@ -124,7 +128,7 @@ typedef struct bbox {
 /* A subtree to build: its root's slot, its records, its box and the box
    of its records' centroids. */
 typedef struct span {
-    uint32_t node, begin, end;
+    uint32_t node, begin, end, cap; /* records [begin, end), room up to cap */
     int depth;
     bbox b, c;
 } span;
@@ -134,6 +138,10 @@ typedef struct bctx {
     bref *r;
     uint32_t *id;       /* element of each record, moved with it */
     const uint8_t *tri; /* per element: a triangle (only when blocks are made) */
+    const uint8_t *clip; /* per element: a triangle that spatial splits may clip */
+    gg_bvh_verts verts;  /* its vertices */
+    const void *ud;
+    double root_area;
     bnode2 *n;
     int threads;
     span *task;
@@ -150,11 +158,22 @@ typedef struct bins {
     uint32_t cnt[2][3][GG_NBINS];
 } bins;
 
+/* Spatial bins over a node's box: the clipped references' boxes, and
+   how many references begin and end in each bin. */
+typedef struct sbins {
+    bbox b[3][GG_NSBINS];
+    uint32_t enter[3][GG_NSBINS], leave[3][GG_NSBINS];
+} sbins;
+
 typedef struct bwork {
     bctx *c;
     size_t ninner;
     int top; /* the calling thread, splitting the top: may hand out tasks */
     bins bn;
+    sbins sb;
+    bref *tmp; /* the right side of a spatial split, while partitioning */
+    uint32_t *tmp_id;
+    size_t ntmp;
 } bwork;
 
 static bbox box_empty(void)
@@ -446,6 +465,261 @@ static uint32_t split_median(bctx *c, const span *s, span *L, span *R)
     return mid;
 }
 
+/* A float <= x, clamped to +-FLT_MAX (NaN: -FLT_MAX). */
+static float rec_lo(double x)
+{
+    float f;
+    if (!(x >= -FLT_MAX)) return -FLT_MAX;
+    if (x > FLT_MAX) return FLT_MAX;
+    f = (float)x;
+    return (double)f > x ? f_next_down(f) : f;
+}
+
+static float rec_hi(double x)
+{
+    float f;
+    if (!(x <= FLT_MAX)) return FLT_MAX;
+    if (x < -FLT_MAX) return -FLT_MAX;
+    f = (float)x;
+    return (double)f < x ? f_next_up(f) : f;
+}
+
+/* ---- spatial splits ---- */
+
+/* Stich, Friedrich and Dietrich, "Spatial Splits in Bounding Volume
+   Hierarchies", HPG 2009: where the children of the best object split
+   overlap, a plane may also cut the triangles that straddle it, each
+   side keeping the box of its part. A record's box bounds the part of
+   its triangle inside the region its ancestors' planes cut out; every
+   box computed here holds that part (rounded outward), so every point of
+   a triangle stays in the box of some leaf that holds it, and the
+   traversal still finds what testing every element finds. */
+
+typedef struct ssplit {
+    int axis, bin, nb; /* axis -1: none */
+    double cost;
+    float lo[3], w[3]; /* bin b of axis k starts at lo[k] + b * w[k] */
+} ssplit;
+
+static float plane_at(const ssplit *sp, int k, int b)
+{
+    return sp->lo[k] + (float)b * sp->w[k];
+}
+
+static int sbin_of(const ssplit *sp, int k, float x)
+{
+    float f = (x - sp->lo[k]) / sp->w[k];
+    int b;
+    if (!(f > 0)) return 0;
+    b = f < (float)sp->nb ? (int)f : sp->nb - 1;
+    return b < sp->nb ? b : sp->nb - 1;
+}
+
+/* Grow lo/hi by point x of an edge a-b, widened by the rounding error
+   of its computation (at most a few ulps of |a| + |b|) and kept inside
+   the edge's own extent. */
+static void grow_cut(double lo[3], double hi[3], const double a[3], const double b[3], int k,
+                     float p)
+{
+    double t = ((double)p - a[k]) / (b[k] - a[k]);
+    int j;
+    for (j = 0; j < 3; j++) {
+        double x = a[j] + t * (b[j] - a[j]), e = 8 * DBL_EPSILON * (fabs(a[j]) + fabs(b[j]));
+        double mn = a[j] < b[j] ? a[j] : b[j], mx = a[j] < b[j] ? b[j] : a[j];
+        double xl = x - e, xh = x + e;
+        if (j == k) xl = xh = p;
+        if (!(xl >= mn)) xl = mn; /* also NaN */
+        if (!(xh <= mx)) xh = mx;
+        if (xl < lo[j]) lo[j] = xl;
+        if (xh > hi[j]) hi[j] = xh;
+    }
+}
+
+/* The boxes of triangle v's parts in box r on either side of the plane
+   x_k = p; returns bit 0 if the left one is not empty, bit 1 the right. */
+static int clip_tri(const double v[3][3], const bref *r, int k, float p, bref *L, bref *R)
+{
+    double llo[3], lhi[3], rlo[3], rhi[3];
+    int i, j, got = 0;
+    for (j = 0; j < 3; j++) llo[j] = rlo[j] = INFINITY, lhi[j] = rhi[j] = -INFINITY;
+    for (i = 0; i < 3; i++) {
+        const double *a = v[i], *b = v[(i + 1) % 3];
+        if (a[k] <= p)
+            for (j = 0; j < 3; j++) llo[j] = fmin(llo[j], a[j]), lhi[j] = fmax(lhi[j], a[j]);
+        if (a[k] >= p)
+            for (j = 0; j < 3; j++) rlo[j] = fmin(rlo[j], a[j]), rhi[j] = fmax(rhi[j], a[j]);
+        if ((a[k] < p && b[k] > p) || (a[k] > p && b[k] < p)) {
+            grow_cut(llo, lhi, a, b, k, p);
+            grow_cut(rlo, rhi, a, b, k, p);
+        }
+    }
+    *L = *r, *R = *r;
+    for (j = 0; j < 3; j++) {
+        L->lo[j] = fmaxf(L->lo[j], rec_lo(llo[j])), L->hi[j] = fminf(L->hi[j], rec_hi(lhi[j]));
+        R->lo[j] = fmaxf(R->lo[j], rec_lo(rlo[j])), R->hi[j] = fminf(R->hi[j], rec_hi(rhi[j]));
+    }
+    L->hi[k] = fminf(L->hi[k], p), R->lo[k] = fmaxf(R->lo[k], p);
+    got = L->lo[0] <= L->hi[0] && L->lo[1] <= L->hi[1] && L->lo[2] <= L->hi[2];
+    got |= (R->lo[0] <= R->hi[0] && R->lo[1] <= R->hi[1] && R->lo[2] <= R->hi[2]) << 1;
+    return got;
+}
+
+static void sbin_grow(sbins *sb, int k, int b, const bref *x)
+{
+    box_grow(&sb->b[k][b], v4_ld(x->lo), v4_ld(x->hi));
+}
+
+/* Bin record i along axis k: a triangle chopped at every bin plane it
+   crosses, anything else whole in the bin of its centroid. */
+static void sbin_rec(const bctx *c, sbins *sb, const ssplit *sp, uint32_t i, int k,
+                     const double (*v)[3])
+{
+    const bref *x = &c->r[i];
+    bref rest = *x, L, R;
+    int b0, b1, b;
+    if (!v) {
+        b0 = b1 = sbin_of(sp, k, 0.5f * x->lo[k] + 0.5f * x->hi[k]);
+        sbin_grow(sb, k, b0, x);
+    } else {
+        b0 = sbin_of(sp, k, x->lo[k]), b1 = sbin_of(sp, k, x->hi[k]);
+        for (b = b0; b < b1; b++) {
+            int got = clip_tri(v, &rest, k, plane_at(sp, k, b + 1), &L, &R);
+            if (got & 1) sbin_grow(sb, k, b, &L);
+            if (!(got & 2)) break;
+            rest = R;
+        }
+        if (b == b1) sbin_grow(sb, k, b1, &rest);
+    }
+    sb->enter[k][b0]++, sb->leave[k][b1]++;
+}
+
+/* The best spatial split of s by the SAH (sp->cost as find_split's), if
+   its references fit in the room s has. */
+static void find_spatial(bwork *w, const span *s, ssplit *sp)
+{
+    const bctx *c = w->c;
+    sbins *sb = &w->sb;
+    uint32_t n = s->end - s->begin, room = s->cap - s->begin, i;
+    float lo[4], hi[4];
+    double parea = half_area(s->b), best = INFINITY;
+    int k, b;
+    sp->axis = -1, sp->cost = INFINITY;
+    sp->nb = n < GG_NSBINS / 2 ? 2 * (int)n : GG_NSBINS;
+    v4_st(lo, s->b.lo), v4_st(hi, s->b.hi);
+    for (k = 0; k < 3; k++) {
+        sp->lo[k] = lo[k], sp->w[k] = (hi[k] - lo[k]) / (float)sp->nb;
+        for (b = 0; b < sp->nb; b++)
+            sb->b[k][b] = box_empty(), sb->enter[k][b] = sb->leave[k][b] = 0;
+    }
+    for (i = s->begin; i < s->end; i++) {
+        double v[3][3];
+        int tri = c->clip[c->id[i]];
+        if (tri) c->verts(c->ud, c->id[i], v);
+        for (k = 0; k < 3; k++)
+            if (sp->w[k] > 0 && lo[k] + sp->w[k] < hi[k])
+                sbin_rec(c, sb, sp, i, k, tri ? (const double(*)[3])v : NULL);
+    }
+    for (k = 0; k < 3; k++) {
+        float rarea[GG_NSBINS];
+        uint32_t rcnt[GG_NSBINS], lcnt = 0;
+        bbox r = box_empty(), l = box_empty();
+        if (!(sp->w[k] > 0 && lo[k] + sp->w[k] < hi[k])) continue;
+        rcnt[0] = 0;
+        for (b = sp->nb - 1; b > 0; b--) {
+            box_grow(&r, sb->b[k][b].lo, sb->b[k][b].hi);
+            rcnt[b] = sb->leave[k][b] + (b < sp->nb - 1 ? rcnt[b + 1] : 0);
+            rarea[b] = rcnt[b] ? half_area(r) : 0;
+        }
+        for (b = 1; b < sp->nb; b++) {
+            double num;
+            box_grow(&l, sb->b[k][b - 1].lo, sb->b[k][b - 1].hi);
+            lcnt += sb->enter[k][b - 1];
+            if (!lcnt || !rcnt[b] || lcnt == n || rcnt[b] == n || lcnt + rcnt[b] > room) continue;
+            num = (double)half_area(l) * lcnt + (double)rarea[b] * rcnt[b];
+            if (num < best) best = num, sp->axis = k, sp->bin = b;
+        }
+    }
+    if (sp->axis >= 0 && parea > 0) sp->cost = GG_SAH_TRAV + GG_SAH_ISECT * best / parea;
+    else sp->axis = -1;
+}
+
+/* Whether the children of object split sp overlap enough to try a
+   spatial one (w->bn still holds sp's bins). */
+static int worth_spatial(const bwork *w, const span *s, const split *sp)
+{
+    bbox l = box_empty(), r = box_empty(), o;
+    int b;
+    if (!w->c->clip || s->cap - s->begin <= s->end - s->begin || s->depth >= GG_MEDIAN_AT)
+        return 0;
+    if (sp->axis < 0) return 1;
+    for (b = 0; b < sp->nb; b++) {
+        const bbox *x = &w->bn.b[0][sp->axis][b];
+        box_grow(b < sp->bin ? &l : &r, x->lo, x->hi);
+    }
+    o.lo = v4_max(l.lo, r.lo), o.hi = v4_min(l.hi, r.hi);
+    {
+        float d[4];
+        v4_st(d, v4_sub(o.hi, o.lo));
+        if (!(d[0] > 0 && d[1] > 0 && d[2] > 0)) return 0;
+    }
+    return half_area(o) > GG_SPLIT_ALPHA * w->c->root_area;
+}
+
+/* Room for the right side of a spatial split of n records. */
+static int tmp_room(bwork *w, size_t n)
+{
+    if (w->ntmp >= n) return 1;
+    gg_mem_free(w->c->alloc, w->tmp), gg_mem_free(w->c->alloc, w->tmp_id);
+    w->tmp = gg_mem_alloc(w->c->alloc, n * sizeof *w->tmp);
+    w->tmp_id = gg_mem_alloc(w->c->alloc, n * sizeof *w->tmp_id);
+    w->ntmp = w->tmp && w->tmp_id ? n : 0;
+    return w->ntmp != 0;
+}
+
+static void side_add(bctx *c, span *S, uint32_t at, const bref *x, uint32_t id, bref *to,
+                     uint32_t *to_id)
+{
+    v4 lo = v4_ld(x->lo), hi = v4_ld(x->hi), ce = centroid(lo, hi);
+    box_grow(&S->b, lo, hi), box_grow(&S->c, ce, ce);
+    (void)c;
+    to[at] = *x, to_id[at] = id;
+}
+
+/* Split s at sp's plane: the left records stay in place from s->begin
+   (none is written past the one being read), the right ones go to
+   w->tmp; returns their count, and the left one in *nl. */
+static uint32_t partition_spatial(bwork *w, const span *s, const ssplit *sp, span *L, span *R,
+                                  uint32_t *nl)
+{
+    bctx *c = w->c;
+    uint32_t i, l = s->begin, r = 0;
+    int k = sp->axis;
+    float p = plane_at(sp, k, sp->bin);
+    L->b = L->c = R->b = R->c = box_empty();
+    for (i = s->begin; i < s->end; i++) {
+        bref x = c->r[i], a, b;
+        uint32_t id = c->id[i];
+        int side;
+        if (!c->clip[id]) {
+            side = sbin_of(sp, k, 0.5f * x.lo[k] + 0.5f * x.hi[k]) < sp->bin ? 1 : 2;
+            a = b = x;
+        } else if (sbin_of(sp, k, x.hi[k]) < sp->bin) {
+            side = 1, a = x;
+        } else if (sbin_of(sp, k, x.lo[k]) >= sp->bin) {
+            side = 2, b = x;
+        } else {
+            double v[3][3];
+            c->verts(c->ud, id, v);
+            side = clip_tri((const double(*)[3])v, &x, k, p, &a, &b);
+            if (!side) side = 1, a = x; /* cannot happen; keep it whole */
+        }
+        if (side & 1) side_add(c, L, l++, &a, id, c->r, c->id);
+        if (side & 2) side_add(c, R, r++, &b, id, w->tmp, w->tmp_id);
+    }
+    *nl = l - s->begin;
+    return r;
+}
+
 /* ---- the binary tree ---- */
 
 static void build(bwork *w, const span *s);
@@ -462,32 +736,87 @@ static void build_child(bwork *w, const span *k)
     build(w, k);
 }
 
+/* Give the children of s the room s has beyond its records, in
+   proportion to their counts, and move the right records to the start of
+   theirs (from w->tmp after a spatial split, else from mid). A subtree
+   with room for m records owns the 2m - 1 binary nodes after its root. */
+static void place(bctx *c, const span *s, span *L, span *R, uint32_t nl, uint32_t nr,
+                  const bref *from, const uint32_t *from_id)
+{
+    uint32_t spare = s->cap - s->begin - nl - nr;
+    uint32_t capl = nl + (uint32_t)((uint64_t)spare * nl / (nl + nr));
+    uint32_t mid = s->begin + nl;
+    L->begin = s->begin, L->end = mid, L->cap = s->begin + capl;
+    R->begin = s->begin + capl, R->end = R->begin + nr, R->cap = s->cap;
+    if (from) {
+        memcpy(c->r + R->begin, from, nr * sizeof *from);
+        memcpy(c->id + R->begin, from_id, nr * sizeof *from_id);
+    } else if (R->begin != mid) {
+        memmove(c->r + R->begin, c->r + mid, nr * sizeof *c->r);
+        memmove(c->id + R->begin, c->id + mid, nr * sizeof *c->id);
+    }
+    L->depth = R->depth = s->depth + 1;
+    L->node = s->node + 1, R->node = s->node + 2 * capl;
+}
+
+/* The split of s: spatial when it beats the object split (and there is
+   room), by the object split's bins otherwise, or at the median. */
+static void split_span(bwork *w, const span *s, const split *sp, const ssplit *ssp, span *L,
+                       span *R)
+{
+    bctx *c = w->c;
+    span t = *s;
+    uint32_t mid = s->begin, nl, nr;
+    if (ssp->axis >= 0 && tmp_room(w, s->end - s->begin)) {
+        nr = partition_spatial(w, s, ssp, L, R, &nl);
+        if (nl && nr) {
+            place(c, s, L, R, nl, nr, w->tmp, w->tmp_id);
+            return;
+        }
+        /* the clipped boxes left one side empty: halve what there is */
+        if (!nl) {
+            memcpy(c->r + s->begin, w->tmp, nr * sizeof *w->tmp);
+            memcpy(c->id + s->begin, w->tmp_id, nr * sizeof *w->tmp_id);
+        }
+        t.end = s->begin + nl + nr;
+        span_box(c, &t);
+        mid = split_median(c, &t, L, R);
+    } else {
+        if (sp->axis >= 0) mid = partition(c, s, sp, L, R);
+        if (sp->axis < 0 || mid == s->begin || mid == s->end) mid = split_median(c, s, L, R);
+    }
+    place(c, &t, L, R, mid - t.begin, t.end - mid, NULL, NULL);
+}
+
 /* Build the subtree of s into its slots. Depth stays below GG_MEDIAN_AT +
-   log2(n) + 1, so the traversal stack (which holds at most 3 entries per
-   level) cannot overflow. */
+   log2(room) + 1, so the traversal stack (which holds at most 3 entries
+   per level) cannot overflow. */
 static void build(bwork *w, const span *s)
 {
     bctx *c = w->c;
     bnode2 *nd = &c->n[s->node];
-    uint32_t n = s->end - s->begin, mid = s->begin;
+    uint32_t n = s->end - s->begin;
     float lo[4], hi[4];
     span L, R;
     split sp;
+    ssplit ssp;
     v4_st(lo, s->b.lo), v4_st(hi, s->b.hi);
     memcpy(nd->lo, lo, sizeof nd->lo), memcpy(nd->hi, hi, sizeof nd->hi);
-    sp.axis = -1, sp.cost = INFINITY;
+    sp.axis = ssp.axis = -1, sp.cost = ssp.cost = INFINITY;
     if (n == 1) goto leaf;
     if (s->depth < GG_MEDIAN_AT) {
         find_split(w, s, &sp);
-        if (n <= GG_MAX_LEAF && (sp.axis < 0 || leaf_cost(c, s->begin, n) <= sp.cost)) goto leaf;
+        if (worth_spatial(w, s, &sp)) {
+            find_spatial(w, s, &ssp);
+            if (!(ssp.cost < sp.cost)) ssp.axis = -1;
+        }
+        if (n <= GG_MAX_LEAF && (sp.axis < 0 || leaf_cost(c, s->begin, n) <= sp.cost) &&
+            (ssp.axis < 0 || leaf_cost(c, s->begin, n) <= ssp.cost))
+            goto leaf;
     } else if (n <= GG_MAX_LEAF) {
         goto leaf;
     }
-    if (sp.axis >= 0) mid = partition(c, s, &sp, &L, &R);
-    if (sp.axis < 0 || mid == s->begin || mid == s->end) mid = split_median(c, s, &L, &R);
-    L.begin = s->begin, L.end = mid, R.begin = mid, R.end = s->end;
-    L.depth = R.depth = s->depth + 1;
-    L.node = s->node + 1, R.node = s->node + 2 * (mid - s->begin);
+    split_span(w, s, &sp, &ssp, &L, &R);
     nd->leaf = 0, nd->a = L.node, nd->b = R.node;
     w->ninner++;
     build_child(w, &L);
@@ -626,34 +955,15 @@ static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
 
 /* ---- entry ---- */
 
-/* A float <= x, clamped to +-FLT_MAX (NaN: -FLT_MAX). */
-static float rec_lo(double x)
-{
-    float f;
-    if (!(x >= -FLT_MAX)) return -FLT_MAX;
-    if (x > FLT_MAX) return FLT_MAX;
-    f = (float)x;
-    return (double)f > x ? f_next_down(f) : f;
-}
-
-static float rec_hi(double x)
-{
-    float f;
-    if (!(x <= FLT_MAX)) return FLT_MAX;
-    if (x < -FLT_MAX) return -FLT_MAX;
-    f = (float)x;
-    return (double)f < x ? f_next_up(f) : f;
-}
-
 /* The threads' state and task list; with fewer than two threads, or
    short of memory for them, the calling thread builds alone. */
-static bwork *start_work(bctx *c, size_t n)
+static bwork *start_work(bctx *c, size_t n, size_t room)
 {
     bwork *w;
     int t;
     c->threads = build_threads(n);
     if (c->threads > 1) {
-        c->cap = 2 * n / task_max + 256;
+        c->cap = 2 * room / task_max + 256;
         c->task = gg_mem_calloc(c->alloc, c->cap, sizeof *c->task);
         if (!c->task || pthread_mutex_init(&c->mu, NULL)) {
             gg_mem_free(c->alloc, c->task);
@@ -667,12 +977,14 @@ static bwork *start_work(bctx *c, size_t n)
     return w;
 }
 
-static int build_tree(bctx *c, bwork *w, size_t n, size_t *ninner)
+static int build_tree(bctx *c, bwork *w, size_t n, size_t room, size_t *ninner)
 {
     span root;
     int t;
-    root.node = 0, root.begin = 0, root.end = (uint32_t)n, root.depth = 0;
+    root.node = 0, root.begin = 0, root.end = (uint32_t)n, root.cap = (uint32_t)room;
+    root.depth = 0;
     span_box(c, &root);
+    c->root_area = half_area(root.b);
     build(&w[0], &root);
     if (c->threads > 1) {
         w[0].top = 0;
@@ -683,27 +995,58 @@ static int build_tree(bctx *c, bwork *w, size_t n, size_t *ninner)
     return 0;
 }
 
+/* Close the gaps that the room left between the leaves' records: leaves
+   in tree order (left first, as they lie in the records) get consecutive
+   slots in order[]. */
+static void compact(bctx *c, uint32_t n2, uint32_t *order, size_t *k)
+{
+    while (!c->n[n2].leaf) {
+        compact(c, c->n[n2].a, order, k);
+        n2 = c->n[n2].b;
+    }
+    memmove(order + *k, c->id + c->n[n2].a, c->n[n2].b * sizeof *order);
+    c->n[n2].a = (uint32_t)*k;
+    *k += c->n[n2].b;
+}
+
+/* Room for spatial splits: GG_SPLIT_REFS more references per element
+   where some elements are triangles to clip. */
+static size_t build_room(const uint8_t *tri, gg_bvh_verts verts, size_t n)
+{
+    size_t i, extra = (size_t)(GG_SPLIT_REFS * (double)n);
+    if (!tri || !verts || n < 2 || n + extra >= GG_MAX_ELEMS) return n;
+    for (i = 0; i < n; i++)
+        if (tri[i]) return n + extra;
+    return n;
+}
+
 int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
-                 size_t n, uint32_t *order)
+                 gg_bvh_verts verts, const void *ud, size_t n, uint32_t **order, size_t *nref)
 {
     bctx c;
     bwork *w = NULL;
-    size_t i, ninner;
+    size_t i, ninner, room;
     int rc = -1, k;
     gg_bvh_free(g);
+    *order = NULL, *nref = 0;
     if (n == 0) return 0;
+    room = build_room(tri, verts, n);
     memset(&c, 0, sizeof c);
     c.alloc = g->alloc;
     c.tri = gg_bvh_avx_wanted(g) ? tri : NULL;
-    c.id = order;
-    c.r = gg_mem_calloc(g->alloc, n, sizeof *c.r);
-    c.n = gg_mem_alloc(g->alloc, 2 * n * sizeof *c.n);
-    if (!c.r || !c.n || !(w = start_work(&c, n))) goto done;
+    c.clip = room > n ? tri : NULL, c.verts = verts, c.ud = ud;
+    c.id = gg_mem_alloc(g->alloc, room * sizeof *c.id);
+    c.r = gg_mem_calloc(g->alloc, room, sizeof *c.r);
+    c.n = gg_mem_alloc(g->alloc, 2 * room * sizeof *c.n);
+    if (!c.id || !c.r || !c.n || !(w = start_work(&c, n, room))) goto done;
     for (i = 0; i < n; i++) {
         for (k = 0; k < 3; k++) c.r[i].lo[k] = rec_lo(lo[i][k]), c.r[i].hi[k] = rec_hi(hi[i][k]);
-        order[i] = (uint32_t)i;
+        c.id[i] = (uint32_t)i;
     }
-    build_tree(&c, w, n, &ninner);
+    build_tree(&c, w, n, room, &ninner);
+    gg_mem_free(g->alloc, c.r), c.r = NULL;
+    *nref = 0;
+    compact(&c, 0, c.id, nref);
     {
         size_t cap = ninner ? ninner : 1;
         g->node_mem = gg_mem_alloc(g->alloc, cap * sizeof(gg_bnode) + 64);
@@ -712,12 +1055,19 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
         memset(g->nodes, 0, cap * sizeof(gg_bnode));
     }
     collapse(&c, g, 0, 1);
+    *order = c.id, c.id = NULL;
     rc = 0;
 done:
+    gg_mem_free(g->alloc, c.id);
     gg_mem_free(g->alloc, c.r);
     gg_mem_free(g->alloc, c.n);
     gg_mem_free(g->alloc, c.task);
+    if (w)
+        for (k = 0; k < c.threads; k++) {
+            gg_mem_free(g->alloc, w[k].tmp);
+            gg_mem_free(g->alloc, w[k].tmp_id);
+        }
     gg_mem_free(g->alloc, w);
-    if (rc) gg_bvh_free(g);
+    if (rc) gg_bvh_free(g), *nref = 0;
     return rc;
 }

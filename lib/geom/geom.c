@@ -426,13 +426,33 @@ int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit
     return 1;
 }
 
+typedef struct verts_ud {
+    const gg_geom *g;
+    const elem *el;
+} verts_ud;
+
+/* gg_bvh_verts: the vertices of triangle element i. */
+static void elem_verts(const void *ud, uint32_t i, double v[3][3])
+{
+    const verts_ud *u = ud;
+    const elem *e = &u->el[i];
+    gg_ktri k;
+    if (u->g->prims[e->prim].kind == GG_SHAPE_MESH)
+        gg_mesh_ktri(u->g, e->prim, &k);
+    else
+        k = u->g->prims[e->prim].kind == GG_SHAPE_POLYGON ? u->g->pieces[e->data]
+                                                           : u->g->tris[e->data].k;
+    memcpy(v, k.v, sizeof k.v);
+}
+
 int gg_geom_build(gg_geom *g, ggError *err)
 {
     double t0 = gg_time_now();
-    size_t n = count_elems(g), i, ns = 0, nt = 0, nc = 0, nr = 0;
+    size_t n = count_elems(g), i, ns = 0, nt = 0, nc = 0, nr = 0, nref = 0;
     elem *el = NULL;
     double(*lo)[3] = NULL, (*hi)[3] = NULL;
-    uint32_t *order = NULL;
+    uint32_t *order = NULL, *kidx = NULL;
+    verts_ud vu;
     uint8_t *tri = NULL;
     int rc = GG_ERROR_NOMEM;
 
@@ -443,15 +463,13 @@ int gg_geom_build(gg_geom *g, ggError *err)
     el = gg_mem_calloc(g->alloc, n + 1, sizeof *el);
     lo = gg_mem_calloc(g->alloc, n + 1, sizeof *lo);
     hi = gg_mem_calloc(g->alloc, n + 1, sizeof *hi);
-    order = gg_mem_calloc(g->alloc, n + 1, sizeof *order);
+    kidx = gg_mem_alloc(g->alloc, (n + 1) * sizeof *kidx);
     tri = gg_mem_calloc(g->alloc, n + 1, sizeof *tri);
-    g->slots = gg_mem_calloc(g->alloc, n + 1, sizeof *g->slots);
     g->lsph = gg_mem_calloc(g->alloc, g->nsph + 1, sizeof *g->lsph);
     g->ltri = gg_mem_calloc(g->alloc, g->ntri + g->npieces + g->nmtri + 1, sizeof *g->ltri);
     g->lcone = gg_mem_calloc(g->alloc, g->ncone * 8 + 1, sizeof *g->lcone);
     g->lrect = gg_mem_calloc(g->alloc, g->nrect + 1, sizeof *g->lrect);
-    if (!el || !lo || !hi || !order || !tri || !g->slots || !g->lsph || !g->ltri || !g->lcone ||
-        !g->lrect)
+    if (!el || !lo || !hi || !kidx || !tri || !g->lsph || !g->ltri || !g->lcone || !g->lrect)
         goto fail;
     fill_elems(g, el);
     g->lo = v3(INFINITY, INFINITY, INFINITY);
@@ -463,15 +481,27 @@ int gg_geom_build(gg_geom *g, ggError *err)
         g->hi = v3max(g->hi, v3(hi[i][0], hi[i][1], hi[i][2]));
     }
     if (mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n)) goto fail;
-    if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, n, order)) goto fail;
+    vu.g = g, vu.el = el;
+    if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, elem_verts, &vu, n,
+                     &order, &nref))
+        goto fail;
+    g->slots = gg_mem_calloc(g->alloc, nref + 1, sizeof *g->slots);
+    if (!g->slots) goto fail;
 
-    /* Copy the intersection records in leaf order. */
-    for (i = 0; i < n; i++) {
+    /* Copy the intersection records in leaf order; an element in more
+       than one leaf (a triangle clipped by a spatial split) keeps one
+       record, which its slots share. */
+    for (i = 0; i < n; i++) kidx[i] = UINT32_MAX;
+    for (i = 0; i < nref; i++) {
         const elem *e = &el[order[i]];
         gg_slot *s = &g->slots[i];
         uint32_t idx = 0;
         s->prim = e->prim;
         s->sub = e->sub;
+        if (kidx[order[i]] != UINT32_MAX) {
+            s->ki = e->kind << GG_EK_SHIFT | kidx[order[i]];
+            continue;
+        }
         switch (e->kind) {
         case GG_EK_SPHERE:
             g->lsph[ns].c[0] = g->sphs[e->data].c.x;
@@ -503,8 +533,9 @@ int gg_geom_build(gg_geom *g, ggError *err)
             break;
         }
         s->ki = e->kind << GG_EK_SHIFT | idx;
+        kidx[order[i]] = idx;
     }
-    g->nslots = n;
+    g->nslots = nref;
     g->nlcone = nc;
     if (gg_bvh_tri_leaves(g)) goto fail;
     g->built = 1;
@@ -514,6 +545,7 @@ fail:
     gg_mem_free(g->alloc, lo);
     gg_mem_free(g->alloc, hi);
     gg_mem_free(g->alloc, order);
+    gg_mem_free(g->alloc, kidx);
     gg_mem_free(g->alloc, tri);
     if (rc != GG_OK) {
         free_built(g);

@@ -315,12 +315,16 @@ GG_INLINE int gg_rpre_fill(gg_rpre *r, const gg_rayq *q)
 /* Ray precomputation; returns 0 if the ray can hit nothing (NaN, d = 0). */
 int gg_rpre_init(gg_rpre *r, const gg_rayq *q);
 
-/* BVH (bvh_build.c): build over element boxes; writes the leaf order of the
-   elements to order[]. tri[i] (or NULL) tells whether element i is a
-   triangle: leaves of triangles are cheaper for the AVX traversal, which
-   the build's cost model then allows for. */
+/* BVH (bvh_build.c): build over element boxes. tri[i] (or NULL) tells
+   whether element i is a triangle: leaves of triangles are cheaper for
+   the AVX traversal, which the build's cost model then allows for, and
+   spatial splits may clip triangles (verts(ud, i, v) gives element i's
+   vertices v[vertex][axis]), so that an element may be in more than one
+   leaf. Allocates *order (g->alloc) with the element of each of the
+   *nref slots in leaf order. */
+typedef void (*gg_bvh_verts)(const void *ud, uint32_t i, double v[3][3]);
 int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
-                 size_t n, uint32_t *order);
+                 gg_bvh_verts verts, const void *ud, size_t n, uint32_t **order, size_t *nref);
 void gg_bvh_free(gg_geom *g);
 /* After the slots are filled: keep the leaves that hold only triangles
    also as gg_tleaf blocks, and choose the traversal copy (g->trav_avx),

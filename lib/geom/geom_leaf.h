@@ -93,9 +93,16 @@ GG_INLINE uint32_t gg_leaf_any_p(const gg_geom *g, const gg_rpre *r, uint32_t fi
 }
 #define gg_leaf_any(g, r, first, n, tmax) gg_leaf_any_p(g, r, first, n, tmax, 0)
 
+/* A triangle that a spatial split clipped (bvh_build.c) is in more than
+   one leaf and may be met again, with the same t: it crosses once. (No
+   element has two roots at one t: a sphere's or a cone's second root is
+   asked for beyond the first.) */
 static inline void gg_tcol_add(gg_tcol *col, const gg_slot *s, double t, double b1, double b2)
 {
     gg_hit *h;
+    int i;
+    for (i = 0; i < col->n; i++)
+        if (col->h[i].t == t && col->h[i].prim == s->prim && col->h[i].sub == s->sub) return;
     if (col->n == GG_TCOL_CAP) {
         col->complete = 0;
         return;
