@@ -26,7 +26,8 @@ static ggVec3 rvec(tu_rng *r, double lo, double hi)
 }
 
 /* A scene of opaque clutter and a few transparent spheres and triangles
-   in a corner, at coordinate scale `sc`. */
+   in a corner, and long thin transparent triangles, at coordinate scale
+   `sc`. */
 static gg_geom *make_scene(tu_rng *r, double sc)
 {
     gg_geom *g = gg_geom_create(NULL);
@@ -53,7 +54,20 @@ static gg_geom *make_scene(tu_rng *r, double sc)
         assert_true(p >= 0);
         gg_geom_set_flags(g, p, GG_PRIM_TRANSPARENT);
     }
+    /* long thin transparent triangles across the corner: spatial splits
+       clip them (bvh_build.c), so they are in several leaves but must
+       cross once */
+    for (i = 0; i < 8; i++) {
+        ggVec3 t[3];
+        t[0] = rvec(r, -sc, 0.3 * sc);
+        t[1] = rvec(r, 0.3 * sc, sc);
+        t[2] = V3(t[0].x + 0.01 * sc, t[0].y - 0.01 * sc, t[0].z + 0.01 * sc);
+        p = gg_geom_add_triangle(g, t, NULL, 1);
+        assert_true(p >= 0);
+        gg_geom_set_flags(g, p, GG_PRIM_TRANSPARENT);
+    }
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    assert_true(g->nslots > gg_geom_prim_count(g));
     return g;
 }
 

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bvh_build.c -- the BVH build: binned SAH over element boxes into a
-** binary tree, then collapsed to the 4-wide nodes of bvh_int.h.
+** bvh_build.c -- the BVH build: binned SAH over element boxes (object
+** and spatial splits) into a binary tree, then collapsed to the 4-wide
+** nodes of bvh_int.h.
 **
 ** Records. Each element becomes a 32-byte record of its box rounded
 ** outward to float, with its index and whether it is a triangle; the
@@ -12,10 +13,16 @@
 ** rounded once more outward in set_lane, is the one the double boxes
 ** would give.
 **
-** Deterministic threads. A subtree of n elements owns the 2n - 1 binary
-** nodes after its root's slot, its left child's subtree first: where a
-** node lands depends on the splits only, never on which thread built
-** it. The calling thread splits the top of the tree (its largest nodes
+** Spatial splits (section below) clip triangles, so that one element
+** may have records in several leaves: a subtree gets room for more
+** records than it starts with (GG_SPLIT_REFS more per element in all),
+** shared out between the children in proportion to their counts, and
+** the leaves' records are packed into consecutive slots at the end.
+**
+** Deterministic threads. A subtree with room for m records owns the
+** 2m - 1 binary nodes after its root's slot, its left child's subtree
+** first: where a node lands depends on the splits only, never on which
+** thread built it. The calling thread splits the top of the tree (its largest nodes
 ** binned by all threads, each over a part of the records, the parts'
 ** bins merged: min, max and counts do not depend on the order); the
 ** subtrees below task_max elements are then built by the threads,
@@ -36,11 +43,16 @@
 #define GG_SAH_ISECT  1.0
 #define GG_SAH_TLEAF  2.0 /* a block of triangles, in single tests */
 #define GG_MEDIAN_AT  40  /* from this depth on, median splits only */
-#define GG_NSBINS     32  /* spatial-split bins per axis */
-#define GG_SPLIT_REFS 0.5 /* spatial splits may add this many references per element */
-#define GG_SPLIT_ALPHA 1e-5 /* try them where the object split's children overlap more
-                               (of the root's area; Stich et al., Section 4.5) */
-#define GG_MAX_THREAD 16
+#define GG_NSBINS     8   /* spatial-split bins per axis (docs/performance.md, "Spatial splits") */
+#define GG_SPLIT_MAX  16384 /* larger nodes: object splits only (the top is built serially) */
+#define GG_SPLIT_REFS 0.5   /* spatial splits may add this many references per element */
+/* Spatial splits are tried where the object split's children overlap by
+   more than GG_SPLIT_ALPHA of the root's area (Stich et al., Section 4.5)
+   and GG_SPLIT_BETA of the node's own, which spares the build of meshes
+   of small triangles a search that does not pay there. */
+#define GG_SPLIT_ALPHA 1e-5
+#define GG_SPLIT_BETA  0.2
+#define GG_MAX_THREAD  16
 
 /* Fewer elements: one thread builds; subtrees at most task_max large go
    to the threads; nodes at least pbin_min large are binned by all
@@ -136,8 +148,8 @@ typedef struct span {
 typedef struct bctx {
     const ggAllocator *alloc;
     bref *r;
-    uint32_t *id;       /* element of each record, moved with it */
-    const uint8_t *tri; /* per element: a triangle (only when blocks are made) */
+    uint32_t *id;        /* element of each record, moved with it */
+    const uint8_t *tri;  /* per element: a triangle (only when blocks are made) */
     const uint8_t *clip; /* per element: a triangle that spatial splits may clip */
     gg_bvh_verts verts;  /* its vertices */
     const void *ud;
@@ -515,24 +527,44 @@ static int sbin_of(const ssplit *sp, int k, float x)
     return b < sp->nb ? b : sp->nb - 1;
 }
 
-/* Grow lo/hi by point x of an edge a-b, widened by the rounding error
-   of its computation (at most a few ulps of |a| + |b|) and kept inside
+static void grow_pt(double lo[3], double hi[3], const double x[3])
+{
+    int j;
+    for (j = 0; j < 3; j++) {
+        if (x[j] < lo[j]) lo[j] = x[j];
+        if (x[j] > hi[j]) hi[j] = x[j];
+    }
+}
+
+/* Where edge a-b crosses x_k = p, as a box: the computed point widened
+   by its rounding error (a few ulps of |a| + |b| at most) and kept inside
    the edge's own extent. */
-static void grow_cut(double lo[3], double hi[3], const double a[3], const double b[3], int k,
-                     float p)
+static void edge_cut(const double a[3], const double b[3], int k, float p, double lo[3],
+                     double hi[3])
 {
     double t = ((double)p - a[k]) / (b[k] - a[k]);
     int j;
     for (j = 0; j < 3; j++) {
         double x = a[j] + t * (b[j] - a[j]), e = 8 * DBL_EPSILON * (fabs(a[j]) + fabs(b[j]));
         double mn = a[j] < b[j] ? a[j] : b[j], mx = a[j] < b[j] ? b[j] : a[j];
-        double xl = x - e, xh = x + e;
-        if (j == k) xl = xh = p;
-        if (!(xl >= mn)) xl = mn; /* also NaN */
-        if (!(xh <= mx)) xh = mx;
-        if (xl < lo[j]) lo[j] = xl;
-        if (xh > hi[j]) hi[j] = xh;
+        lo[j] = x - e, hi[j] = x + e;
+        if (!(lo[j] >= mn)) lo[j] = mn; /* also NaN */
+        if (!(hi[j] <= mx)) hi[j] = mx;
     }
+    lo[k] = hi[k] = p;
+}
+
+/* Box x cut down to lo/hi (rounded outward); whether it is not empty. */
+static int clip_box(bref *x, const double lo[3], const double hi[3])
+{
+    int j, ok = 1;
+    for (j = 0; j < 3; j++) {
+        float l = rec_lo(lo[j]), h = rec_hi(hi[j]);
+        if (l > x->lo[j]) x->lo[j] = l;
+        if (h < x->hi[j]) x->hi[j] = h;
+        ok &= x->lo[j] <= x->hi[j];
+    }
+    return ok;
 }
 
 /* The boxes of triangle v's parts in box r on either side of the plane
@@ -540,27 +572,23 @@ static void grow_cut(double lo[3], double hi[3], const double a[3], const double
 static int clip_tri(const double v[3][3], const bref *r, int k, float p, bref *L, bref *R)
 {
     double llo[3], lhi[3], rlo[3], rhi[3];
-    int i, j, got = 0;
+    int i, j, got;
     for (j = 0; j < 3; j++) llo[j] = rlo[j] = INFINITY, lhi[j] = rhi[j] = -INFINITY;
     for (i = 0; i < 3; i++) {
-        const double *a = v[i], *b = v[(i + 1) % 3];
-        if (a[k] <= p)
-            for (j = 0; j < 3; j++) llo[j] = fmin(llo[j], a[j]), lhi[j] = fmax(lhi[j], a[j]);
-        if (a[k] >= p)
-            for (j = 0; j < 3; j++) rlo[j] = fmin(rlo[j], a[j]), rhi[j] = fmax(rhi[j], a[j]);
+        const double *a = v[i], *b = v[i == 2 ? 0 : i + 1];
+        if (a[k] <= p) grow_pt(llo, lhi, a);
+        if (a[k] >= p) grow_pt(rlo, rhi, a);
         if ((a[k] < p && b[k] > p) || (a[k] > p && b[k] < p)) {
-            grow_cut(llo, lhi, a, b, k, p);
-            grow_cut(rlo, rhi, a, b, k, p);
+            double clo[3], chi[3];
+            edge_cut(a, b, k, p, clo, chi);
+            grow_pt(llo, lhi, clo), grow_pt(llo, lhi, chi);
+            grow_pt(rlo, rhi, clo), grow_pt(rlo, rhi, chi);
         }
     }
     *L = *r, *R = *r;
-    for (j = 0; j < 3; j++) {
-        L->lo[j] = fmaxf(L->lo[j], rec_lo(llo[j])), L->hi[j] = fminf(L->hi[j], rec_hi(lhi[j]));
-        R->lo[j] = fmaxf(R->lo[j], rec_lo(rlo[j])), R->hi[j] = fminf(R->hi[j], rec_hi(rhi[j]));
-    }
-    L->hi[k] = fminf(L->hi[k], p), R->lo[k] = fmaxf(R->lo[k], p);
-    got = L->lo[0] <= L->hi[0] && L->lo[1] <= L->hi[1] && L->lo[2] <= L->hi[2];
-    got |= (R->lo[0] <= R->hi[0] && R->lo[1] <= R->hi[1] && R->lo[2] <= R->hi[2]) << 1;
+    lhi[k] = p, rlo[k] = p; /* within the box and on its side of the plane */
+    got = clip_box(L, llo, lhi);
+    got |= clip_box(R, rlo, rhi) << 1;
     return got;
 }
 
@@ -569,26 +597,62 @@ static void sbin_grow(sbins *sb, int k, int b, const bref *x)
     box_grow(&sb->b[k][b], v4_ld(x->lo), v4_ld(x->hi));
 }
 
+/* The bins of a triangle that spans bins b0..b1 of axis k: in each, the
+   box of its vertices there and of its edges' points on the bin's
+   planes, within its record's box x. Only the split's choice depends on
+   these boxes (partition_spatial computes the children's own), so the
+   points need no allowance for rounding. */
+static void sbin_chop(sbins *sb, const ssplit *sp, int k, const bref *x, const double (*v)[3],
+                      int b0, int b1)
+{
+    double clo[3], chi[3];
+    int b, i, j;
+    for (b = b0; b <= b1; b++) {
+        double lo[3], hi[3];
+        float pl = plane_at(sp, k, b), ph = plane_at(sp, k, b + 1);
+        bref y = *x;
+        if (b > b0)
+            memcpy(lo, clo, sizeof lo), memcpy(hi, chi, sizeof hi);
+        else
+            for (j = 0; j < 3; j++) lo[j] = INFINITY, hi[j] = -INFINITY;
+        for (i = 0; i < 3; i++)
+            if ((b == b0 || v[i][k] >= pl) && (b == b1 || v[i][k] <= ph)) grow_pt(lo, hi, v[i]);
+        if (b < b1) {
+            for (j = 0; j < 3; j++) clo[j] = INFINITY, chi[j] = -INFINITY;
+            for (i = 0; i < 3; i++) {
+                const double *a = v[i], *e = v[i == 2 ? 0 : i + 1];
+                if ((a[k] < ph && e[k] > ph) || (a[k] > ph && e[k] < ph)) {
+                    double t = ((double)ph - a[k]) / (e[k] - a[k]), q[3];
+                    for (j = 0; j < 3; j++) q[j] = a[j] + t * (e[j] - a[j]);
+                    grow_pt(clo, chi, q);
+                }
+            }
+            grow_pt(lo, hi, clo), grow_pt(lo, hi, chi);
+        }
+        for (j = 0; j < 3; j++) {
+            float l = (float)lo[j], h = (float)hi[j];
+            y.lo[j] = l > y.lo[j] ? l : y.lo[j], y.hi[j] = h < y.hi[j] ? h : y.hi[j];
+        }
+        if (y.lo[0] <= y.hi[0] && y.lo[1] <= y.hi[1] && y.lo[2] <= y.hi[2]) sbin_grow(sb, k, b, &y);
+    }
+}
+
 /* Bin record i along axis k: a triangle chopped at every bin plane it
    crosses, anything else whole in the bin of its centroid. */
 static void sbin_rec(const bctx *c, sbins *sb, const ssplit *sp, uint32_t i, int k,
                      const double (*v)[3])
 {
     const bref *x = &c->r[i];
-    bref rest = *x, L, R;
-    int b0, b1, b;
+    int b0, b1;
     if (!v) {
         b0 = b1 = sbin_of(sp, k, 0.5f * x->lo[k] + 0.5f * x->hi[k]);
         sbin_grow(sb, k, b0, x);
     } else {
         b0 = sbin_of(sp, k, x->lo[k]), b1 = sbin_of(sp, k, x->hi[k]);
-        for (b = b0; b < b1; b++) {
-            int got = clip_tri(v, &rest, k, plane_at(sp, k, b + 1), &L, &R);
-            if (got & 1) sbin_grow(sb, k, b, &L);
-            if (!(got & 2)) break;
-            rest = R;
-        }
-        if (b == b1) sbin_grow(sb, k, b1, &rest);
+        if (b0 == b1)
+            sbin_grow(sb, k, b0, x);
+        else
+            sbin_chop(sb, sp, k, x, v, b0, b1);
     }
     sb->enter[k][b0]++, sb->leave[k][b1]++;
 }
@@ -614,7 +678,13 @@ static void find_spatial(bwork *w, const span *s, ssplit *sp)
     for (i = s->begin; i < s->end; i++) {
         double v[3][3];
         int tri = c->clip[c->id[i]];
-        if (tri) c->verts(c->ud, c->id[i], v);
+        /* the vertices only for a triangle that crosses a bin plane */
+        if (tri) {
+            const bref *x = &c->r[i];
+            for (tri = 0, k = 0; k < 3 && !tri; k++)
+                tri = sp->w[k] > 0 && sbin_of(sp, k, x->lo[k]) != sbin_of(sp, k, x->hi[k]);
+            if (tri) c->verts(c->ud, c->id[i], v);
+        }
         for (k = 0; k < 3; k++)
             if (sp->w[k] > 0 && lo[k] + sp->w[k] < hi[k])
                 sbin_rec(c, sb, sp, i, k, tri ? (const double(*)[3])v : NULL);
@@ -639,8 +709,10 @@ static void find_spatial(bwork *w, const span *s, ssplit *sp)
             if (num < best) best = num, sp->axis = k, sp->bin = b;
         }
     }
-    if (sp->axis >= 0 && parea > 0) sp->cost = GG_SAH_TRAV + GG_SAH_ISECT * best / parea;
-    else sp->axis = -1;
+    if (sp->axis >= 0 && parea > 0)
+        sp->cost = GG_SAH_TRAV + GG_SAH_ISECT * best / parea;
+    else
+        sp->axis = -1;
 }
 
 /* Whether the children of object split sp overlap enough to try a
@@ -649,7 +721,8 @@ static int worth_spatial(const bwork *w, const span *s, const split *sp)
 {
     bbox l = box_empty(), r = box_empty(), o;
     int b;
-    if (!w->c->clip || s->cap - s->begin <= s->end - s->begin || s->depth >= GG_MEDIAN_AT)
+    if (!w->c->clip || s->cap - s->begin <= s->end - s->begin || s->depth >= GG_MEDIAN_AT ||
+        s->end - s->begin > GG_SPLIT_MAX)
         return 0;
     if (sp->axis < 0) return 1;
     for (b = 0; b < sp->nb; b++) {
@@ -662,7 +735,8 @@ static int worth_spatial(const bwork *w, const span *s, const split *sp)
         v4_st(d, v4_sub(o.hi, o.lo));
         if (!(d[0] > 0 && d[1] > 0 && d[2] > 0)) return 0;
     }
-    return half_area(o) > GG_SPLIT_ALPHA * w->c->root_area;
+    return half_area(o) > GG_SPLIT_ALPHA * w->c->root_area &&
+           half_area(o) > GG_SPLIT_BETA * half_area(s->b);
 }
 
 /* Room for the right side of a spatial split of n records. */

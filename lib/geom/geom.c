@@ -441,7 +441,7 @@ static void elem_verts(const void *ud, uint32_t i, double v[3][3])
         gg_mesh_ktri(u->g, e->prim, &k);
     else
         k = u->g->prims[e->prim].kind == GG_SHAPE_POLYGON ? u->g->pieces[e->data]
-                                                           : u->g->tris[e->data].k;
+                                                          : u->g->tris[e->data].k;
     memcpy(v, k.v, sizeof k.v);
 }
 
