@@ -774,6 +774,31 @@ static void test_spd_scenes(void **state)
     }
 }
 
+/* gg_next_down_tmax (the traversals' tmax) is gg_next_down bit for bit:
+   the special values, their neighbours, and random doubles of both
+   signs (random bit patterns, so NaNs and subnormals too). */
+static void test_next_down_tmax(void **state)
+{
+    const double sp[] = {0.0,       -0.0,       INFINITY, -INFINITY, NAN,     -NAN,
+                         1.0,       -1.0,       DBL_MAX,  -DBL_MAX,  DBL_MIN, -DBL_MIN,
+                         0x1p-1074, -0x1p-1074, 1e300,    1e-300};
+    tu_rng rng = {14};
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof sp / sizeof sp[0] + 100000; i++) {
+        double x = 0, a, b;
+        uint64_t u;
+        if (i < sizeof sp / sizeof sp[0]) {
+            x = sp[i];
+        } else {
+            u = tu_next(&rng);
+            memcpy(&x, &u, 8);
+        }
+        a = gg_next_down_tmax(x), b = gg_next_down(x);
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+}
+
 /* The traversal this binary runs: test_bvh_scalar's own build of the
    geometry has the portable one, the library the fastest the CPU runs. */
 static void test_traversal(void **state)
@@ -819,6 +844,7 @@ int main(void)
         cmocka_unit_test(test_threaded_build),
         cmocka_unit_test(test_spd_scenes),
         cmocka_unit_test(test_traversal),
+        cmocka_unit_test(test_next_down_tmax),
     };
     return cmocka_run_group_tests_name(GG_TEST_SUITE, tests, NULL, NULL);
 }

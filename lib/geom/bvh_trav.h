@@ -243,7 +243,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
        traversals set up eagerly (docs/performance.md, "Four triangles at
        once"). */
     tx_init(&tx, &r);
-    best.t = gg_next_down(q->tmax);
+    best.t = gg_next_down_tmax(q->tmax);
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
     tmaxf = f_above(best.t);
     tcull = tmaxf * GG_EXIT_SCALE;
@@ -394,7 +394,7 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
     double tmax;
 
     if (!g->built || !g->nslots || !(q->tmax > q->tmin)) return 0;
-    tmax = gg_next_down(q->tmax);
+    tmax = gg_next_down_tmax(q->tmax);
     if (!(*cache && *cache <= g->nslots)) {
         if (trav_init6(&tv, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z) && q->tmin >= 0)
             return occ_walk(g, q, &r, &tv, tmax, 1);
@@ -430,7 +430,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, ui
 
     if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
     r.skip = 0;
-    tmax = gg_next_down(q->tmax);
+    tmax = gg_next_down_tmax(q->tmax);
     best.t = tmax;
     best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
     /* The opaque element that blocked this light's previous shadow ray

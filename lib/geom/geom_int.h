@@ -43,6 +43,19 @@ static inline double gg_next_down(double x)
     memcpy(&x, &u, 8);
     return x;
 }
+/* gg_next_down(x), the case of a query's tmax (positive, often infinite)
+   tested first: one compare and one step, where gg_next_down's form
+   takes about a dozen instructions. Not for values of either sign
+   (offsets of coordinates): that compare would then be a coin toss. */
+static inline double gg_next_down_tmax(double x)
+{
+    uint64_t u;
+    if (!(x > 0)) return gg_next_down(x);
+    memcpy(&u, &x, 8);
+    u--;
+    memcpy(&x, &u, 8);
+    return x;
+}
 static inline double gg_next_up(double x)
 {
     return -gg_next_down(-x);
