@@ -228,7 +228,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
         }
         if (col) {
             if (!tri4_lane(g, r, s, &o, i, tmax, &t, &b1, &b2)) continue;
-            gg_tcol_add(col, s, t, b1, b2); /* a triangle: one root */
+            gg_tcol_add(col, s, t, b1, b2, g->clipped); /* a triangle: one root */
             if (t <= best->t) gg_leaf_take(best, s, t, b1, b2);
         } else if (tri4_lane(g, r, s, &o, i, best->t, &t, &b1, &b2))
             gg_leaf_take(best, s, t, b1, b2);

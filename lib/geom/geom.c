@@ -42,7 +42,7 @@ static void free_built(gg_geom *g)
     gg_mem_free(g->alloc, g->iso_margin);
     g->iso = NULL, g->iso_margin = NULL;
     g->slots = NULL, g->lsph = NULL, g->ltri = NULL, g->lcone = NULL, g->lrect = NULL;
-    g->nslots = 0;
+    g->nslots = 0, g->clipped = 0;
     gg_bvh_free(g);
     g->built = 0;
 }
@@ -536,6 +536,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
         kidx[order[i]] = idx;
     }
     g->nslots = nref;
+    g->clipped = nref > n;
     g->nlcone = nc;
     if (gg_bvh_tri_leaves(g)) goto fail;
     g->built = 1;

@@ -203,6 +203,7 @@ struct gg_geom {
     double *iso_margin;
     gg_slot *slots;
     size_t nslots;
+    int clipped; /* some element has more than one slot (bvh_build.c, spatial splits) */
     gg_ksph *lsph;
     gg_ktri *ltri;
     gg_kcone *lcone;

@@ -94,15 +94,18 @@ GG_INLINE uint32_t gg_leaf_any_p(const gg_geom *g, const gg_rpre *r, uint32_t fi
 #define gg_leaf_any(g, r, first, n, tmax) gg_leaf_any_p(g, r, first, n, tmax, 0)
 
 /* A triangle that a spatial split clipped (bvh_build.c) is in more than
-   one leaf and may be met again, with the same t: it crosses once. (No
-   element has two roots at one t: a sphere's or a cone's second root is
-   asked for beyond the first.) */
-static inline void gg_tcol_add(gg_tcol *col, const gg_slot *s, double t, double b1, double b2)
+   one leaf and may be met again, with the same t: it crosses once, so
+   with `clipped` (g->clipped) an entry equal in (t, prim, sub) to one
+   listed is left out. (No element has two roots at one t: a sphere's or
+   a cone's second root is asked for beyond the first.) */
+static inline void gg_tcol_add(gg_tcol *col, const gg_slot *s, double t, double b1, double b2,
+                               int clipped)
 {
     gg_hit *h;
     int i;
-    for (i = 0; i < col->n; i++)
-        if (col->h[i].t == t && col->h[i].prim == s->prim && col->h[i].sub == s->sub) return;
+    if (clipped)
+        for (i = 0; i < col->n; i++)
+            if (col->h[i].t == t && col->h[i].prim == s->prim && col->h[i].sub == s->sub) return;
     if (col->n == GG_TCOL_CAP) {
         col->complete = 0;
         return;
@@ -118,12 +121,12 @@ static inline void gg_tcol_elem(const gg_geom *g, const gg_rpre *r, const gg_slo
                                 double b1, double b2, double tmax, gg_tcol *col, int fl)
 {
     unsigned kind = s->ki >> GG_EK_SHIFT;
-    gg_tcol_add(col, s, t, b1, b2);
+    gg_tcol_add(col, s, t, b1, b2, g->clipped);
     if (kind == GG_EK_SPHERE || kind == GG_EK_CONE) {
         gg_rpre r2 = *r;
         double t2, c1 = 0, c2 = 0;
         r2.tmin = t;
-        if (gg_elem_hit_p(g, s, &r2, tmax, &t2, &c1, &c2, fl)) gg_tcol_add(col, s, t2, c1, c2);
+        if (gg_elem_hit_p(g, s, &r2, tmax, &t2, &c1, &c2, fl)) gg_tcol_add(col, s, t2, c1, c2, 0);
     } else if (kind == GG_EK_IMPLICIT) {
         col->complete = 0;
     }
