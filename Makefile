@@ -3,7 +3,7 @@
 #
 #   make                 build/libggrt.a, build/libggrt.so, build/ggrt
 #   make check           install the missing Debian packages the tests need, then
-#                        run every test twice: -O2 and ASan+UBSan (see
+#                        run every test twice: -O3 and ASan+UBSan (see
 #                        tests/run-tests.sh), the concurrency tests under
 #                        ThreadSanitizer, then against an installed copy
 #   make demo            install the missing packages the build needs, render the
@@ -38,7 +38,10 @@ LDCONFIG   ?= ldconfig
 
 BUILD   ?= build
 CC      ?= cc
-CFLAGS  ?= -O2 -g
+# -O3: the same bits as -O2 (every copy keeps IEEE rounding, -ffp-contract=off
+# below) and fewer instructions in the traversal and shading loops:
+# docs/performance.md, "Optimisation level".
+CFLAGS  ?= -O3 -g
 LDFLAGS ?=
 INSTALL ?= install
 

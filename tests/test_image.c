@@ -439,7 +439,7 @@ static void test_png_limits(void **state)
    whose pixel data is complete reads without its closing IEND chunk. */
 static void torture_file(const char *good, const char *name, size_t tail)
 {
-    size_t n, len, i;
+    size_t n = 0, len, i;
     unsigned char *b = slurp(good, &n), *m;
     tu_rng r = {99};
     int errors = 0;
@@ -581,7 +581,7 @@ static void test_write_mode_and_dispatch(void **state)
     unsigned char *b;
     struct stat st;
     mode_t mask = umask(022);
-    size_t n;
+    size_t n = 0;
     (void)state;
     umask(mask);
     assert_int_equal(ggImageWrite(img, tpath("d.Exr"), NULL), GG_OK);

@@ -606,7 +606,9 @@ static void sbin_grow(sbins *sb, int k, int b, const bref *x)
 static void sbin_chop(sbins *sb, const ssplit *sp, int k, const bref *x, const double (*v)[3],
                       int b0, int b1)
 {
-    double clo[3], chi[3];
+    /* Filled at bin b before bin b + 1 reads them; the initialisers only
+       satisfy GCC's -O3 maybe-uninitialized analysis. */
+    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
     int b, i, j;
     for (b = b0; b <= b1; b++) {
         double lo[3], hi[3];

@@ -195,6 +195,14 @@ static double mat_index(const ggScene *s, int mat, int channel)
                           : s->materials[mat].ior;
 }
 
+/* The media stack is copied whole from ray to ray but only mat[0..n) is
+   ever set or read; through the inlined recursion GCC's -O3 cannot see that
+   and warns on the reads below (maybe-uninitialized), so the warning is
+   off for these two functions only. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 /* Remove material mat from the stack (the innermost occurrence). */
 static void media_exit(gg_media *m, int mat)
 {
@@ -214,6 +222,9 @@ static int media_has(const gg_media *m, int mat)
         if (m->mat[i] == mat) return 1;
     return 0;
 }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 static void media_enter(gg_media *m, int mat)
 {
