@@ -445,10 +445,43 @@ static void elem_verts(const void *ud, uint32_t i, double v[3][3])
     memcpy(v, k.v, sizeof k.v);
 }
 
+/* Element e's intersection record, appended to its kind's array (cnt:
+   the records so far of spheres, triangles, cone slices, rectangles);
+   returns its index there (other kinds index their own arrays). */
+static uint32_t add_record(gg_geom *g, const elem *e, size_t cnt[4])
+{
+    switch (e->kind) {
+    case GG_EK_SPHERE: {
+        const gg_sph *sp = &g->sphs[e->data];
+        gg_ksph *k = &g->lsph[cnt[0]];
+        k->c[0] = sp->c.x, k->c[1] = sp->c.y, k->c[2] = sp->c.z;
+        k->r2 = sp->r * sp->r;
+        return (uint32_t)cnt[0]++;
+    }
+    case GG_EK_TRI:
+        if (g->prims[e->prim].kind == GG_SHAPE_MESH)
+            gg_mesh_ktri(g, e->prim, &g->ltri[cnt[1]]);
+        else
+            g->ltri[cnt[1]] = g->prims[e->prim].kind == GG_SHAPE_POLYGON ? g->pieces[e->data]
+                                                                         : g->tris[e->data].k;
+        return (uint32_t)cnt[1]++;
+    case GG_EK_CONE: {
+        const gg_cone *c = &g->cones[e->data];
+        gg_cone_slice(c, e->sub, gg_cone_slices(c), &g->lcone[cnt[2]]);
+        return (uint32_t)cnt[2]++;
+    }
+    case GG_EK_RECT:
+        g->lrect[cnt[3]] = g->rects[e->data].k;
+        return (uint32_t)cnt[3]++;
+    default:
+        return e->data;
+    }
+}
+
 int gg_geom_build(gg_geom *g, ggError *err)
 {
     double t0 = gg_time_now();
-    size_t n = count_elems(g), i, ns = 0, nt = 0, nc = 0, nr = 0, nref = 0;
+    size_t n = count_elems(g), i, cnt[4] = {0, 0, 0, 0}, nref = 0;
     elem *el = NULL;
     double(*lo)[3] = NULL, (*hi)[3] = NULL;
     uint32_t *order = NULL, *kidx = NULL;
@@ -495,49 +528,20 @@ int gg_geom_build(gg_geom *g, ggError *err)
     for (i = 0; i < nref; i++) {
         const elem *e = &el[order[i]];
         gg_slot *s = &g->slots[i];
-        uint32_t idx = 0;
+        uint32_t idx;
         s->prim = e->prim;
         s->sub = e->sub;
         if (kidx[order[i]] != UINT32_MAX) {
             s->ki = e->kind << GG_EK_SHIFT | kidx[order[i]];
             continue;
         }
-        switch (e->kind) {
-        case GG_EK_SPHERE:
-            g->lsph[ns].c[0] = g->sphs[e->data].c.x;
-            g->lsph[ns].c[1] = g->sphs[e->data].c.y;
-            g->lsph[ns].c[2] = g->sphs[e->data].c.z;
-            g->lsph[ns].r2 = g->sphs[e->data].r * g->sphs[e->data].r;
-            idx = (uint32_t)ns++;
-            break;
-        case GG_EK_TRI:
-            if (g->prims[e->prim].kind == GG_SHAPE_MESH)
-                gg_mesh_ktri(g, e->prim, &g->ltri[nt]);
-            else
-                g->ltri[nt] = g->prims[e->prim].kind == GG_SHAPE_POLYGON ? g->pieces[e->data]
-                                                                         : g->tris[e->data].k;
-            idx = (uint32_t)nt++;
-            break;
-        case GG_EK_CONE: {
-            const gg_cone *c = &g->cones[e->data];
-            gg_cone_slice(c, e->sub, gg_cone_slices(c), &g->lcone[nc]);
-            idx = (uint32_t)nc++;
-            break;
-        }
-        case GG_EK_RECT:
-            g->lrect[nr] = g->rects[e->data].k;
-            idx = (uint32_t)nr++;
-            break;
-        default:
-            idx = e->data;
-            break;
-        }
+        idx = add_record(g, e, cnt);
         s->ki = e->kind << GG_EK_SHIFT | idx;
         kidx[order[i]] = idx;
     }
     g->nslots = nref;
     g->clipped = nref > n;
-    g->nlcone = nc;
+    g->nlcone = cnt[2];
     if (gg_bvh_tri_leaves(g)) goto fail;
     g->built = 1;
     rc = GG_OK;
