@@ -522,10 +522,8 @@ static float plane_at(const ssplit *sp, int k, int b)
 static int sbin_of(const ssplit *sp, int k, float x)
 {
     float f = (x - sp->lo[k]) / sp->w[k];
-    int b;
     if (!(f > 0)) return 0;
-    b = f < (float)sp->nb ? (int)f : sp->nb - 1;
-    return b < sp->nb ? b : sp->nb - 1;
+    return f < (float)sp->nb ? (int)f : sp->nb - 1;
 }
 
 static void grow_pt(double lo[3], double hi[3], const double x[3])
@@ -537,16 +535,31 @@ static void grow_pt(double lo[3], double hi[3], const double x[3])
     }
 }
 
+/* Whether edge a-b crosses the plane x_k = p strictly. */
+static int straddles(const double a[3], const double b[3], int k, double p)
+{
+    return (a[k] < p && b[k] > p) || (a[k] > p && b[k] < p);
+}
+
+/* The computed point of edge a-b on the plane x_k = p (it straddles). */
+static void edge_point(const double a[3], const double b[3], int k, double p, double q[3])
+{
+    double t = (p - a[k]) / (b[k] - a[k]);
+    int j;
+    for (j = 0; j < 3; j++) q[j] = a[j] + t * (b[j] - a[j]);
+}
+
 /* Where edge a-b crosses x_k = p, as a box: the computed point widened
    by its rounding error (a few ulps of |a| + |b| at most) and kept inside
    the edge's own extent. */
 static void edge_cut(const double a[3], const double b[3], int k, float p, double lo[3],
                      double hi[3])
 {
-    double t = ((double)p - a[k]) / (b[k] - a[k]);
+    double q[3];
     int j;
+    edge_point(a, b, k, p, q);
     for (j = 0; j < 3; j++) {
-        double x = a[j] + t * (b[j] - a[j]), e = 8 * DBL_EPSILON * (fabs(a[j]) + fabs(b[j]));
+        double x = q[j], e = 8 * DBL_EPSILON * (fabs(a[j]) + fabs(b[j]));
         double mn = a[j] < b[j] ? a[j] : b[j], mx = a[j] < b[j] ? b[j] : a[j];
         lo[j] = x - e, hi[j] = x + e;
         if (!(lo[j] >= mn)) lo[j] = mn; /* also NaN */
@@ -579,7 +592,7 @@ static int clip_tri(const double v[3][3], const bref *r, int k, float p, bref *L
         const double *a = v[i], *b = v[i == 2 ? 0 : i + 1];
         if (a[k] <= p) grow_pt(llo, lhi, a);
         if (a[k] >= p) grow_pt(rlo, rhi, a);
-        if ((a[k] < p && b[k] > p) || (a[k] > p && b[k] < p)) {
+        if (straddles(a, b, k, p)) {
             double clo[3], chi[3];
             edge_cut(a, b, k, p, clo, chi);
             grow_pt(llo, lhi, clo), grow_pt(llo, lhi, chi);
@@ -624,9 +637,9 @@ static void sbin_chop(sbins *sb, const ssplit *sp, int k, const bref *x, const d
             for (j = 0; j < 3; j++) clo[j] = INFINITY, chi[j] = -INFINITY;
             for (i = 0; i < 3; i++) {
                 const double *a = v[i], *e = v[i == 2 ? 0 : i + 1];
-                if ((a[k] < ph && e[k] > ph) || (a[k] > ph && e[k] < ph)) {
-                    double t = ((double)ph - a[k]) / (e[k] - a[k]), q[3];
-                    for (j = 0; j < 3; j++) q[j] = a[j] + t * (e[j] - a[j]);
+                if (straddles(a, e, k, ph)) {
+                    double q[3];
+                    edge_point(a, e, k, ph, q);
                     grow_pt(clo, chi, q);
                 }
             }
@@ -753,12 +766,10 @@ static int tmp_room(bwork *w, size_t n)
     return w->ntmp != 0;
 }
 
-static void side_add(bctx *c, span *S, uint32_t at, const bref *x, uint32_t id, bref *to,
-                     uint32_t *to_id)
+static void side_add(span *S, uint32_t at, const bref *x, uint32_t id, bref *to, uint32_t *to_id)
 {
     v4 lo = v4_ld(x->lo), hi = v4_ld(x->hi), ce = centroid(lo, hi);
     box_grow(&S->b, lo, hi), box_grow(&S->c, ce, ce);
-    (void)c;
     to[at] = *x, to_id[at] = id;
 }
 
@@ -790,8 +801,8 @@ static uint32_t partition_spatial(bwork *w, const span *s, const ssplit *sp, spa
             side = clip_tri((const double(*)[3])v, &x, k, p, &a, &b);
             if (!side) side = 1, a = x; /* cannot happen; keep it whole */
         }
-        if (side & 1) side_add(c, L, l++, &a, id, c->r, c->id);
-        if (side & 2) side_add(c, R, r++, &b, id, w->tmp, w->tmp_id);
+        if (side & 1) side_add(L, l++, &a, id, c->r, c->id);
+        if (side & 2) side_add(R, r++, &b, id, w->tmp, w->tmp_id);
     }
     *nl = l - s->begin;
     return r;
@@ -1122,7 +1133,6 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
     }
     build_tree(&c, w, n, room, &ninner);
     gg_mem_free(g->alloc, c.r), c.r = NULL;
-    *nref = 0;
     compact(&c, 0, c.id, nref);
     {
         size_t cap = ninner ? ninner : 1;
