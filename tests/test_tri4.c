@@ -4,8 +4,11 @@
 ** gives the scalar kernel's bits: lane by lane on random triangles and on
 ** rays exactly through shared edges and vertices, and as whole queries
 ** (closest hit, any hit with its cache, shadow query) against the plain
-** traversal on the same BVH and on a BVH built without the blocks.
-** Skipped where the compiler or the CPU has no AVX copy.
+** traversal on the same BVH and on a BVH built without the blocks (the
+** AVX copy's any-hit walks run on the 8-wide tree, gg_bvh_wide: the
+** queries check those too, and same_wide_tree that it holds exactly the
+** 4-wide tree's leaves with the same boxes). Skipped where the compiler or
+** the CPU has no AVX copy.
 */
 #include "testutil.h"
 
@@ -260,10 +263,19 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
                 same_hit(1, &tr[0].h[i], 1, &tr[k].h[i]);
         }
         if (k == 1) {
-            /* the same occluder, the first in slot order (g2's build, made
-               without blocks, may order the slots differently) */
-            assert_int_equal(oc[0], oc[k]);
-            assert_int_equal(cache[0], cache[k]);
+            /* An occluder exactly when there is one (g2's build, made
+               without blocks, may order the slots differently). The AVX
+               copy's any-hit walks visit the 8-wide tree in another order
+               and may name another one; it blocks too if the plain copy,
+               asked with it cached, keeps it. */
+            uint32_t c = oc[0];
+            assert_int_equal(oc[0] != 0, oc[k] != 0);
+            assert_int_equal(cache[0] != 0, cache[k] != 0);
+            g->trav_avx = 0;
+            if (c) assert_true(gg_geom_occluded(g, q, &c, NULL) && c == oc[0]);
+            c = cache[0];
+            if (c) assert_true(gg_geom_occluded(g, &qs, &c, &tr[2]) && c == cache[0]);
+            g->trav_avx = 1;
         }
     }
     return r[0];
@@ -339,6 +351,68 @@ static void test_grid_queries(void **state)
    above pass sphere leaves before they reach a triangle block, so the
    closest-hit traversal's deferred set-up of the 4-wide test (bvh_avx.c)
    must be made on the first block it meets, whatever came before. */
+/* A leaf reference with the box its parent holds for it. */
+typedef struct leafbox {
+    uint32_t ref;
+    float b[6];
+} leafbox;
+
+static int leafbox_cmp(const void *a, const void *b)
+{
+    uint32_t x = ((const leafbox *)a)->ref, y = ((const leafbox *)b)->ref;
+    return x < y ? -1 : x > y;
+}
+
+/* The used lanes' leaves of wide node w, recursively; returns the number
+   of wide nodes reached. */
+static size_t wide_leaves(const gg_geom *g, uint32_t w, leafbox *out, size_t *n)
+{
+    size_t nodes = 1;
+    int i, k;
+    for (i = 0; i < 8; i++) {
+        const gg_wnode *nd = &g->wnodes[w];
+        uint32_t c = nd->child[i];
+        if (nd->b[0][i] == INFINITY) { /* unused: inverted box, no child */
+            assert_true(nd->b[3][i] == -INFINITY && c == GG_LEAF);
+            continue;
+        }
+        if (!(c & GG_LEAF)) {
+            assert_true(c < g->nwnodes);
+            nodes += wide_leaves(g, c, out, n);
+            continue;
+        }
+        out[*n].ref = c;
+        for (k = 0; k < 6; k++) out[*n].b[k] = nd->b[k][i];
+        ++*n;
+    }
+    return nodes;
+}
+
+/* The 8-wide tree holds every leaf of the 4-wide one once, with the same
+   box, and every wide node is reached once. */
+static void same_wide_tree(const gg_geom *g)
+{
+    size_t n4 = 0, n8 = 0, i;
+    leafbox *a = calloc(4 * g->nnodes, sizeof *a), *b = calloc(4 * g->nnodes, sizeof *b);
+    int c, k;
+    assert_true(a && b && g->wnodes && g->nwnodes > 0 && g->nwnodes <= g->nnodes);
+    for (i = 0; i < g->nnodes; i++)
+        for (c = 0; c < 4; c++) {
+            const gg_bnode *nd = &g->nodes[i];
+            if (!(nd->child[c] & GG_LEAF) || nd->b[0][c] == INFINITY) continue;
+            a[n4].ref = nd->child[c];
+            for (k = 0; k < 6; k++) a[n4].b[k] = nd->b[k][c];
+            n4++;
+        }
+    assert_int_equal(wide_leaves(g, 0, b, &n8), g->nwnodes);
+    assert_int_equal(n4, n8);
+    qsort(a, n4, sizeof *a, leafbox_cmp);
+    qsort(b, n8, sizeof *b, leafbox_cmp);
+    assert_memory_equal(a, b, n4 * sizeof *a);
+    free(a);
+    free(b);
+}
+
 static gg_geom *mixed(int n, int avx, double (*h)[65], tu_rng *r)
 {
     gg_geom *g = grid(n, avx, h);
@@ -363,6 +437,8 @@ static void test_mixed_queries(void **state)
         for (j = 0; j <= 32; j++) h[i][j] = (double)(tu_next(&r) % 9) / 4;
     g = mixed(32, 1, h, &r1), g2 = mixed(32, 0, h, &r2);
     assert_true(g->trav_avx && g->ntleaves > 0);
+    same_wide_tree(g);
+    assert_true(g2->wnodes == NULL);
     for (i = 0; i < 100000; i++) {
         gg_rayq q;
         gg_hit hh;
@@ -410,6 +486,7 @@ static void test_spd_queries(void **state)
         g = sc->geom;
         assert_true(g->trav_avx && g->ntleaves > 0);
         assert_true(!sc2->geom->trav_avx && sc2->geom->ntleaves == 0);
+        same_wide_tree(g);
         gg_geom_bounds(g, &lo, &hi);
         for (i = 0; i < 30000; i++) {
             gg_rayq q;
@@ -424,8 +501,9 @@ static void test_spd_queries(void **state)
             q.skip_flags = 0, q.inside = UINT32_MAX, q.opt = &gg_qopt_default;
             n += same_queries(g, sc2->geom, &q, cache);
         }
-        print_message("%-10s %zu triangle blocks: %ld of 30000 rays hit, same answers\n", names[k],
-                      g->ntleaves, n);
+        print_message("%-10s %zu triangle blocks, %zu wide nodes for %zu: %ld of 30000 rays hit, "
+                      "same answers\n",
+                      names[k], g->ntleaves, g->nwnodes, g->nnodes, n);
         assert_true(n > 1000);
         ggSceneFree(sc);
         ggSceneFree(sc2);

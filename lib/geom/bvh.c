@@ -14,7 +14,12 @@
 **
 ** Leaves of triangles only are also kept as SoA blocks when the CPU runs
 ** AVX: the AVX copy of the traversal (bvh_avx.c) tests their triangles
-** four at a time, with the same bits as the scalar kernel.
+** four at a time, with the same bits as the scalar kernel. For that copy
+** the tree is also kept in 8-wide nodes (gg_bvh_wide: each node with its
+** largest inner children opened until eight boxes fill it, the same
+** float boxes and leaves), which its occluder and shadow walks take: one
+** 8-lane AVX pass tests eight boxes, and a walk visits fewer nodes. The
+** closest-hit walks stay 4-wide, as they sort what they enter.
 **
 ** Conservative float boxes. Boxes are rounded outward to float (and one
 ** more float ulp out). The ray's origin is rounded up or down per axis so
@@ -44,6 +49,10 @@ void gg_bvh_free(gg_geom *g)
 {
     gg_mem_free(g->alloc, g->node_mem);
     gg_mem_free(g->alloc, g->tleaf_mem);
+    gg_mem_free(g->alloc, g->wnode_mem);
+    g->wnode_mem = NULL;
+    g->wnodes = NULL;
+    g->nwnodes = 0;
     g->node_mem = NULL;
     g->nodes = NULL;
     g->tleaf_mem = NULL;
@@ -60,7 +69,7 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
     st->bytes = g->nnodes * sizeof(gg_bnode) + g->nslots * sizeof(gg_slot) +
                 g->nsph * sizeof(gg_ksph) + (g->ntri + g->npieces + g->nmtri) * sizeof(gg_ktri) +
                 g->nlcone * sizeof(gg_kcone) + g->nrect * sizeof(gg_krect) +
-                g->ntleaves * sizeof(gg_tleaf);
+                g->ntleaves * sizeof(gg_tleaf) + g->nwnodes * sizeof(gg_wnode);
     st->build_seconds = g->build_seconds;
     st->blocks = g->trav_avx ? g->ntleaves : 0;
 #if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD) /* GG_BVH_SIMD of bvh_trav.h */
@@ -118,10 +127,87 @@ int gg_bvh_tri_leaves(gg_geom *g)
     }
     return 0;
 }
+
+/* One child box of a wide node being gathered. */
+typedef struct wentry {
+    uint32_t ref;
+    float b[6];
+} wentry;
+
+/* The used lanes of 4-wide node nd (an unused lane's box is inverted). */
+static int wide_entries(const gg_bnode *nd, wentry *e)
+{
+    int i, k, n = 0;
+    for (i = 0; i < 4; i++) {
+        if (nd->b[0][i] == INFINITY) continue;
+        e[n].ref = nd->child[i];
+        for (k = 0; k < 6; k++) e[n].b[k] = nd->b[k][i];
+        n++;
+    }
+    return n;
+}
+
+static double wide_area(const wentry *e)
+{
+    double x = (double)e->b[3] - e->b[0], y = (double)e->b[4] - e->b[1],
+           z = (double)e->b[5] - e->b[2];
+    return x * y + y * z + z * x;
+}
+
+/* Wide node for 4-wide node n4 (depth first, parents before children):
+   its children, with the inner child of largest area opened while its
+   children fit in eight lanes. The boxes are the 4-wide tree's. */
+static uint32_t wide_node(gg_geom *g, uint32_t n4)
+{
+    const uint32_t wi = (uint32_t)g->nwnodes++;
+    wentry e[8], sub[4];
+    int n = wide_entries(&g->nodes[n4], e), i, k;
+    for (;;) {
+        int bi = -1, ns;
+        double ba = -1;
+        for (i = 0; i < n; i++) {
+            double a;
+            if (e[i].ref & GG_LEAF) continue;
+            a = wide_area(&e[i]);
+            if (a > ba && n - 1 + wide_entries(&g->nodes[e[i].ref], sub) <= 8) ba = a, bi = i;
+        }
+        if (bi < 0) break;
+        ns = wide_entries(&g->nodes[e[bi].ref], sub);
+        e[bi] = sub[0];
+        for (i = 1; i < ns; i++) e[n++] = sub[i];
+    }
+    for (i = 0; i < 8; i++) {
+        gg_wnode *w = &g->wnodes[wi];
+        for (k = 0; k < 6; k++) w->b[k][i] = i < n ? e[i].b[k] : k < 3 ? INFINITY : -INFINITY;
+        w->child[i] = GG_LEAF;
+    }
+    for (i = 0; i < n; i++) {
+        uint32_t c = e[i].ref & GG_LEAF ? e[i].ref : wide_node(g, e[i].ref);
+        g->wnodes[wi].child[i] = c;
+    }
+    return wi;
+}
+
+int gg_bvh_wide(gg_geom *g)
+{
+    if (!g->trav_avx || !g->nnodes) return 0;
+    g->wnode_mem = gg_mem_alloc(g->alloc, g->nnodes * sizeof(gg_wnode) + 64);
+    if (!g->wnode_mem) return -1;
+    g->wnodes = (gg_wnode *)(((uintptr_t)g->wnode_mem + 63) & ~(uintptr_t)63);
+    memset(g->wnodes, 0, g->nnodes * sizeof(gg_wnode));
+    wide_node(g, 0);
+    return 0;
+}
 #else
 int gg_bvh_tri_leaves(gg_geom *g)
 {
     g->trav_avx = 0;
+    return 0;
+}
+
+int gg_bvh_wide(gg_geom *g)
+{
+    (void)g;
     return 0;
 }
 #endif

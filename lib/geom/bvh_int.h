@@ -24,6 +24,16 @@ struct gg_bnode {
     uint32_t pad[4];
 };
 
+/* The same tree in 8-wide nodes (gg_bvh_wide: each 4-wide node with its
+   largest inner children opened until there are 8), for the AVX copy's
+   any-hit walks: one 8-lane AVX pass tests eight boxes. The references
+   are the 4-wide tree's leaves and wide node indices. 256 bytes. */
+struct gg_wnode {
+    float b[6][8];
+    uint32_t child[8];
+    uint32_t pad[8];
+};
+
 #define GG_LEAF       0x80000000u
 #define GG_TLEAF      4u /* flag of a reference to a gg_tleaf block */
 #define GG_LEAF_N(r)  (((r)&3) + 1)

@@ -70,28 +70,39 @@ static const size_t row_offsets[8][2][3] = {GG_ROWSET(0), GG_ROWSET(1), GG_ROWSE
    Entry plane lo with the origin rounded up can only shorten the entry
    distance, exit plane hi with it rounded down only lengthen the exit.
    From the ray's origin (ox, oy, oz) and direction (dx, dy, dz). */
+#ifdef GG_BVH_SIMD
+/* The terms as (x, y, z, z) vectors: 1/d, the exit 1/d, the entry and the
+   exit origin; 0 for an origin beyond 1e30 (or one that overflowed). */
+GG_INLINE int trav_terms(double ox, double oy, double oz, double dx, double dy, double dz,
+                         __m128 *inv, __m128 *invf, __m128 *on, __m128 *off)
+{
+    /* One double at a time: r was just written that way, and a wider
+       load would wait for the store buffer (see gg_rpre_init). Two are
+       then paired and rounded by one cvtpd2ps (the same rounding as
+       cvtsd2ss per value, fewer instructions). */
+    __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(oy, ox)), _mm_cvtpd_ps(_mm_set1_pd(oz)));
+    __m128 df = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(dy, dx)), _mm_cvtpd_ps(_mm_set1_pd(dz)));
+    __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    __m128 ao = _mm_and_ps(of, absm);
+    __m128 e = _mm_add_ps(_mm_mul_ps(ao, _mm_set1_ps(0x1p-22f)), _mm_set1_ps(1e-37f));
+    __m128 up = _mm_add_ps(of, e), dn = _mm_sub_ps(of, e);
+    __m128 neg;
+    *inv = _mm_div_ps(_mm_set1_ps(1.0f), df);
+    neg = _mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(*inv), 31));
+    *on = _mm_or_ps(_mm_and_ps(neg, dn), _mm_andnot_ps(neg, up));
+    *off = _mm_or_ps(_mm_and_ps(neg, up), _mm_andnot_ps(neg, dn));
+    *invf = _mm_mul_ps(*inv, _mm_set1_ps(GG_EXIT_SCALE));
+    return _mm_movemask_ps(_mm_cmplt_ps(ao, _mm_set1_ps(1e30f))) == 0xf;
+}
+#endif
+
 GG_INLINE int trav_init6(trav *tv, double ox, double oy, double oz, double dx, double dy, double dz)
 {
     int sm;
 #ifdef GG_BVH_SIMD
     {
-        /* One double at a time: r was just written that way, and a wider
-           load would wait for the store buffer (see gg_rpre_init). Two
-           are then paired and rounded by one cvtpd2ps (the same rounding
-           as cvtsd2ss per value, fewer instructions). */
-        __m128 of = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(oy, ox)), _mm_cvtpd_ps(_mm_set1_pd(oz)));
-        __m128 df = _mm_movelh_ps(_mm_cvtpd_ps(_mm_set_pd(dy, dx)), _mm_cvtpd_ps(_mm_set1_pd(dz)));
-        __m128 absm = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-        __m128 ao = _mm_and_ps(of, absm);
-        __m128 e = _mm_add_ps(_mm_mul_ps(ao, _mm_set1_ps(0x1p-22f)), _mm_set1_ps(1e-37f));
-        __m128 up = _mm_add_ps(of, e), dn = _mm_sub_ps(of, e);
-        __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), df);
-        __m128 neg = _mm_castsi128_ps(_mm_srai_epi32(_mm_castps_si128(inv), 31));
-        __m128 on = _mm_or_ps(_mm_and_ps(neg, dn), _mm_andnot_ps(neg, up));
-        __m128 off = _mm_or_ps(_mm_and_ps(neg, up), _mm_andnot_ps(neg, dn));
-        __m128 invf = _mm_mul_ps(inv, _mm_set1_ps(GG_EXIT_SCALE));
-        /* an origin beyond 1e30 (or one that overflowed to inf) */
-        if (_mm_movemask_ps(_mm_cmplt_ps(ao, _mm_set1_ps(1e30f))) != 0xf) return 0;
+        __m128 inv, invf, on, off;
+        if (!trav_terms(ox, oy, oz, dx, dy, dz, &inv, &invf, &on, &off)) return 0;
         sm = _mm_movemask_ps(inv);
         tv->inv[0] = _mm_shuffle_ps(inv, inv, 0x00);
         tv->inv[1] = _mm_shuffle_ps(inv, inv, 0x55);
@@ -331,39 +342,130 @@ done:
    and not kept"). */
 #ifndef GG_TRAV_ANY_DESCEND
 #define GG_TRAV_ANY_DESCEND
-GG_INLINE uint32_t any_descend(const gg_bnode *nd, unsigned mask, uint32_t *stack, int *sp)
+GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
 {
-    uint32_t first = nd->child[lowest_bit(mask)];
+    uint32_t first = child[lowest_bit(mask)];
     mask &= mask - 1;
     while (mask) {
-        stack[(*sp)++] = nd->child[lowest_bit(mask)];
+        stack[(*sp)++] = child[lowest_bit(mask)];
         mask &= mask - 1;
     }
     return first;
 }
 #endif
 
+/* The any-hit walks' nodes: the 4-wide tree, or with GG_TRAV_WIDE (the AVX
+   copy) the 8-wide one (gg_wnode, gg_bvh_wide), whose boxes are the same
+   floats: box8 is box4's test, lane for lane, on eight boxes. */
+#ifdef GG_TRAV_WIDE
+#define GG_WROWS(ng, k) ((k) + 3 * (ng)) * sizeof(float[8])
+#define GG_WROWSET(m)                                                                              \
+    {                                                                                              \
+        {GG_WROWS((m)&1, 0), GG_WROWS(((m) >> 1) & 1, 1), GG_WROWS(((m) >> 2) & 1, 2)},            \
+        {                                                                                          \
+            GG_WROWS(1 - ((m)&1), 0), GG_WROWS(1 - (((m) >> 1) & 1), 1),                           \
+                GG_WROWS(1 - (((m) >> 2) & 1), 2)                                                  \
+        }                                                                                          \
+    }
+static const size_t wrow_offsets[8][2][3] = {GG_WROWSET(0), GG_WROWSET(1), GG_WROWSET(2),
+                                             GG_WROWSET(3), GG_WROWSET(4), GG_WROWSET(5),
+                                             GG_WROWSET(6), GG_WROWSET(7)};
+#undef GG_WROWSET
+#undef GG_WROWS
+
+typedef struct wtrav {
+    __m256 inv[3], invf[3], on[3], of[3];
+    const size_t (*rows)[3];
+} wtrav;
+
+/* trav_init6 in eight lanes: the same terms, each (x, y, z) vector copied
+   to both halves and then broadcast within them. */
+GG_INLINE int wtrav_init6(wtrav *w, double ox, double oy, double oz, double dx, double dy,
+                          double dz)
+{
+    __m128 inv, invf, on, off;
+    __m256 i8, f8, n8, o8;
+    if (!trav_terms(ox, oy, oz, dx, dy, dz, &inv, &invf, &on, &off)) return 0;
+    i8 = _mm256_insertf128_ps(_mm256_castps128_ps256(inv), inv, 1);
+    f8 = _mm256_insertf128_ps(_mm256_castps128_ps256(invf), invf, 1);
+    n8 = _mm256_insertf128_ps(_mm256_castps128_ps256(on), on, 1);
+    o8 = _mm256_insertf128_ps(_mm256_castps128_ps256(off), off, 1);
+    w->inv[0] = _mm256_permute_ps(i8, 0x00), w->inv[1] = _mm256_permute_ps(i8, 0x55);
+    w->inv[2] = _mm256_permute_ps(i8, 0xaa);
+    w->invf[0] = _mm256_permute_ps(f8, 0x00), w->invf[1] = _mm256_permute_ps(f8, 0x55);
+    w->invf[2] = _mm256_permute_ps(f8, 0xaa);
+    w->on[0] = _mm256_permute_ps(n8, 0x00), w->on[1] = _mm256_permute_ps(n8, 0x55);
+    w->on[2] = _mm256_permute_ps(n8, 0xaa);
+    w->of[0] = _mm256_permute_ps(o8, 0x00), w->of[1] = _mm256_permute_ps(o8, 0x55);
+    w->of[2] = _mm256_permute_ps(o8, 0xaa);
+    w->rows = wrow_offsets[_mm_movemask_ps(inv) & 7];
+    return 1;
+}
+
+/* box4 on the eight boxes of nd: the mask of those entered. */
+static inline unsigned box8(const gg_wnode *nd, const wtrav *tv, __m256 tmin8, __m256 tmax8)
+{
+    const size_t *nr = tv->rows[0], *fr = tv->rows[1];
+    __m256 tx0 =
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, nr[0])), tv->on[0]), tv->inv[0]);
+    __m256 ty0 =
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, nr[1])), tv->on[1]), tv->inv[1]);
+    __m256 tz0 =
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, nr[2])), tv->on[2]), tv->inv[2]);
+    __m256 tx1 =
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, fr[0])), tv->of[0]), tv->invf[0]);
+    __m256 ty1 =
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, fr[1])), tv->of[1]), tv->invf[1]);
+    __m256 tz1 =
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, fr[2])), tv->of[2]), tv->invf[2]);
+    __m256 tn = _mm256_max_ps(_mm256_max_ps(tx0, ty0), _mm256_max_ps(tz0, tmin8));
+    __m256 tf = _mm256_min_ps(_mm256_min_ps(tx1, ty1), _mm256_min_ps(tz1, tmax8));
+    return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ));
+}
+typedef gg_wnode any_node;
+typedef wtrav any_trav;
+typedef __m256 any_t;
+#define ANY_NODES(g)                ((g)->wnodes)
+#define ANY_INIT6                   wtrav_init6
+#define ANY_SET1(x)                 _mm256_set1_ps(x)
+#define ANY_BOX(nd, tv, tmin, tmax) box8(nd, tv, tmin, tmax)
+#else
+static inline unsigned any_box4(const gg_bnode *nd, const trav *tv, gg_t4 tmin4, gg_t4 tmax4)
+{
+    float tn[4];
+    return (unsigned)box4(nd, tv, tmin4, tmax4, tn);
+}
+typedef gg_bnode any_node;
+typedef trav any_trav;
+typedef gg_t4 any_t;
+#define ANY_NODES(g)                ((g)->nodes)
+#define ANY_INIT6                   trav_init6
+#define ANY_SET1(x)                 GG_T4(x)
+#define ANY_BOX(nd, tv, tmin, tmax) any_box4(nd, tv, tmin, tmax)
+#endif
+#define ANY_INIT(tv, r)                                                                            \
+    ANY_INIT6(tv, (r)->o[0], (r)->o[1], (r)->o[2], (r)->d[0], (r)->d[1], (r)->d[2])
+
 /* The occluder's walk from the root: with `lazy` (a constant, so each
    caller gets its own copy of the loop) r holds nothing yet and is
    filled from q at the first leaf, with the leaf state. */
-GG_INLINE uint32_t occ_walk(const gg_geom *g, const gg_rayq *q, gg_rpre *r, const trav *tv,
+GG_INLINE uint32_t occ_walk(const gg_geom *g, const gg_rayq *q, gg_rpre *r, const any_trav *tv,
                             double tmax, const int lazy)
 {
     gg_tx tx;
     uint32_t stack[GG_STACK], cur = 0, hit;
     int sp = 0, ready = !lazy;
-    gg_t4 tmin4 = GG_T4(f_down_tmin(q->tmin)), tmax4 = GG_T4(f_above(tmax));
+    any_t tmin4 = ANY_SET1(f_down_tmin(q->tmin)), tmax4 = ANY_SET1(f_above(tmax));
     if (lazy)
         tx_init(&tx, r);
     else
         tx_fill(&tx, r);
     for (;;) {
         if (!(cur & GG_LEAF)) {
-            const gg_bnode *nd = &g->nodes[cur];
-            float tn[4];
-            unsigned mask = (unsigned)box4(nd, tv, tmin4, tmax4, tn);
+            const any_node *nd = &ANY_NODES(g)[cur];
+            unsigned mask = ANY_BOX(nd, tv, tmin4, tmax4);
             if (mask) {
-                cur = any_descend(nd, mask, stack, &sp);
+                cur = any_descend(nd->child, mask, stack, &sp);
                 continue;
             }
         } else {
@@ -389,14 +491,14 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
                                                  uint32_t *cache)
 {
     gg_rpre r;
-    trav tv;
+    any_trav tv;
     uint32_t hit;
     double tmax;
 
     if (!g->built || !g->nslots || !(q->tmax > q->tmin)) return 0;
     tmax = gg_next_down_tmax(q->tmax);
     if (!(*cache && *cache <= g->nslots)) {
-        if (trav_init6(&tv, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z) && q->tmin >= 0)
+        if (ANY_INIT6(&tv, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z) && q->tmin >= 0)
             return occ_walk(g, q, &r, &tv, tmax, 1);
         if (!gg_rpre_fill(&r, q)) return 0;
         return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
@@ -404,7 +506,7 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
     if (!gg_rpre_fill(&r, q)) return 0;
     hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
     if (hit) return hit;
-    if (!trav_init(&tv, &r) || q->tmin < 0) {
+    if (!ANY_INIT(&tv, &r) || q->tmin < 0) {
         return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
     }
     return occ_walk(g, q, &r, &tv, tmax, 0);
@@ -420,13 +522,13 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, ui
                                           gg_tcol *col)
 {
     gg_rpre r;
-    trav tv;
+    any_trav tv;
     gg_tx tx;
     gg_hit best;
     uint32_t stack[GG_STACK], cur = 0, hit;
     int sp = 0;
     double tmax;
-    gg_t4 tmin4, tmax4;
+    any_t tmin4, tmax4;
 
     if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
     r.skip = 0;
@@ -440,20 +542,19 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, ui
         !(g->pflags[g->slots[*cache - 1].prim] & GG_PRIM_TRANSPARENT) &&
         gg_leaf_any(g, &r, *cache - 1, 1, tmax))
         return 1;
-    if (!trav_init(&tv, &r) || q->tmin < 0) {
+    if (!ANY_INIT(&tv, &r) || q->tmin < 0) {
         if ((hit = gg_leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best, col))) goto blocked;
         goto done;
     }
     tx_fill(&tx, &r);
-    tmin4 = GG_T4(f_down_tmin(q->tmin));
-    tmax4 = GG_T4(f_above(tmax));
+    tmin4 = ANY_SET1(f_down_tmin(q->tmin));
+    tmax4 = ANY_SET1(f_above(tmax));
     for (;;) {
         if (!(cur & GG_LEAF)) {
-            const gg_bnode *nd = &g->nodes[cur];
-            float tn[4];
-            unsigned mask = (unsigned)box4(nd, &tv, tmin4, tmax4, tn);
+            const any_node *nd = &ANY_NODES(g)[cur];
+            unsigned mask = ANY_BOX(nd, &tv, tmin4, tmax4);
             if (mask) {
-                cur = any_descend(nd, mask, stack, &sp);
+                cur = any_descend(nd->child, mask, stack, &sp);
                 continue;
             }
         } else if ((hit = tx_shadow(g, &r, &tx, cur, tmax, &best, col)))

@@ -542,7 +542,7 @@ int gg_geom_build(gg_geom *g, ggError *err)
     g->nslots = nref;
     g->clipped = nref > n;
     g->nlcone = cnt[2];
-    if (gg_bvh_tri_leaves(g)) goto fail;
+    if (gg_bvh_tri_leaves(g) || gg_bvh_wide(g)) goto fail;
     g->built = 1;
     rc = GG_OK;
 fail:

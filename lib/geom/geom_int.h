@@ -99,7 +99,7 @@ typedef struct gg_rpre {
     /* Woop-Benthin-Wald shear: kz is the dominant axis of d. */
     double sx, sy, sz;
     int kx, ky, kz;
-    const gg_qopt *opt; /* the query's options, never NULL */
+    const gg_qopt *opt;     /* the query's options, never NULL */
     uint64_t *implicit_cut; /* the query's, or NULL */
     uint32_t ignore;
     unsigned skip;
@@ -172,6 +172,7 @@ typedef struct gg_gmesh {
 
 /* ---- the BVH ---- */
 typedef struct gg_bnode gg_bnode; /* defined in bvh_int.h */
+typedef struct gg_wnode gg_wnode; /* defined in bvh_int.h */
 typedef struct gg_tleaf gg_tleaf; /* defined in bvh_int.h */
 
 /* How polygons with more than 3 vertices are intersected (poly_mode; the
@@ -228,6 +229,9 @@ struct gg_geom {
     void *tleaf_mem; /* raw allocation; tleaves is it aligned to 64 */
     gg_tleaf *tleaves;
     size_t ntleaves;
+    void *wnode_mem;  /* raw allocation; wnodes is it aligned to 64 */
+    gg_wnode *wnodes; /* the tree again in 8-wide nodes, for the AVX any-hit walks */
+    size_t nwnodes;
     unsigned cpu; /* GG_CPU_* the build may use (gg_geom_set_cpu) */
     int trav_avx; /* queries take the AVX copy of the traversal (bvh_avx.c) */
     double build_seconds;
@@ -344,6 +348,10 @@ void gg_bvh_free(gg_geom *g);
    also as gg_tleaf blocks, and choose the traversal copy (g->trav_avx),
    when gg_bvh_avx_wanted(g). Returns -1 when out of memory. */
 int gg_bvh_tri_leaves(gg_geom *g);
+/* With the AVX copy chosen (after gg_bvh_tri_leaves): the tree again in
+   8-wide nodes (g->wnodes), for the AVX copy's any-hit walks. 0, or -1
+   when out of memory. */
+int gg_bvh_wide(gg_geom *g);
 /* Whether builds of g make triangle blocks for the AVX traversal (bvh.c):
    this build has it (bvh_avx.c), the CPU runs it and g->cpu allows it. */
 int gg_bvh_avx_wanted(const gg_geom *g);
