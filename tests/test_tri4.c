@@ -5,7 +5,7 @@
 ** rays exactly through shared edges and vertices, and as whole queries
 ** (closest hit, any hit with its cache, shadow query) against the plain
 ** traversal on the same BVH and on a BVH built without the blocks (the
-** AVX copy's any-hit walks run on the 8-wide tree, gg_bvh_wide: the
+** AVX copy's single-ray walks run on the 8-wide tree, gg_bvh_wide: the
 ** queries check those too, and same_wide_tree that it holds exactly the
 ** 4-wide tree's leaves with the same boxes). Skipped where the compiler or
 ** the CPU has no AVX copy.
@@ -265,7 +265,7 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
         if (k == 1) {
             /* An occluder exactly when there is one (g2's build, made
                without blocks, may order the slots differently). The AVX
-               copy's any-hit walks visit the 8-wide tree in another order
+               copy's walks visit the 8-wide tree in another order
                and may name another one; it blocks too if the plain copy,
                asked with it cached, keeps it. */
             uint32_t c = oc[0];

@@ -17,9 +17,10 @@
 ** four at a time, with the same bits as the scalar kernel. For that copy
 ** the tree is also kept in 8-wide nodes (gg_bvh_wide: each node with its
 ** largest inner children opened until eight boxes fill it, the same
-** float boxes and leaves), which its occluder and shadow walks take: one
-** 8-lane AVX pass tests eight boxes, and a walk visits fewer nodes. The
-** closest-hit walks stay 4-wide, as they sort what they enter.
+** float boxes and leaves), which its single-ray walks take: one 8-lane
+** AVX pass tests eight boxes, and a walk visits fewer nodes. Packets,
+** the frustum test, the recorder's cost copy and the single-precision
+** copy walk the 4-wide tree.
 **
 ** Conservative float boxes. Boxes are rounded outward to float (and one
 ** more float ulp out). The ray's origin is rounded up or down per axis so

@@ -40,6 +40,7 @@ struct gg_wnode {
 #define GG_LEAF_I(r)  (((r) & ~GG_LEAF) >> 3) /* first slot, or block index */
 #define GG_MAX_LEAF   4                       /* elements per leaf (at most 4: two bits of count) */
 #define GG_STACK      256                     /* > 3 * maximum depth (see build2) */
+#define GG_WSTACK     (7 * (GG_STACK / 3) + 7)   /* the same for 8-wide nodes: each pushes <= 7 */
 #define GG_EXIT_SCALE 1.00000059604644775390625f /* 1 + 5 * 2^-23 */
 
 /* A leaf of 2 to 4 triangles in SoA form: v[axis][vertex][lane] holds

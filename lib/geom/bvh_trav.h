@@ -213,150 +213,10 @@ static inline int lowest_bit(unsigned m)
     return GG_CTZ(m);
 }
 
-/* gg_rpre_fill and trav_init inline here, reading q one double at a time:
-   the caller has usually just written *q field by field, and a 16-byte
-   load spanning two 8-byte stores cannot be forwarded from the store
-   buffer (GG_NO_SLP, compiler.h). */
-
-#ifdef GG_TRAV_COST
-#define GG_COST_ARG       , gg_trav_cost *cost
-#define GG_COST_NODE()    (cost->nodes++)
-#define GG_COST_LEAF(ref) (cost->prims += GG_LEAF_N(ref))
-#define GG_COST_ALL()     (cost->prims += (long)g->nslots)
-#else
-#define GG_COST_ARG
-#define GG_COST_NODE()    ((void)0)
-#define GG_COST_LEAF(ref) ((void)0)
-#define GG_COST_ALL()     ((void)0)
-#endif
-
-GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
-                                             gg_hit *hit GG_COST_ARG)
-{
-    gg_rpre r;
-    trav tv;
-    gg_tx tx;
-    gg_hit best;
-    uint32_t stack[GG_STACK], cur = 0;
-    float stack_t[GG_STACK];
-    int sp = 0;
-    float tmaxf, tcull;
-    gg_t4 tmin4, tmax4;
-
-    if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
-    /* The conservative box test assumes tmin >= 0 (a box wholly behind the
-       origin could otherwise be lost to the exit scaling). */
-    if (!trav_init(&tv, &r) || q->tmin < 0) {
-        GG_COST_ALL();
-        return gg_geom_intersect_brute(g, q, hit);
-    }
-    /* Deferred: many closest-hit rays meet no triangle block; the any-hit
-       traversals set up eagerly (docs/performance.md, "Four triangles at
-       once"). */
-    tx_init(&tx, &r);
-    best.t = gg_next_down_tmax(q->tmax);
-    best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
-    tmaxf = f_above(best.t);
-    tcull = tmaxf * GG_EXIT_SCALE;
-    tmin4 = GG_T4(f_down_tmin(q->tmin));
-    tmax4 = GG_T4(tmaxf);
-    for (;;) {
-        if (!(cur & GG_LEAF)) {
-            const gg_bnode *nd = &g->nodes[cur];
-            float tn[4];
-            unsigned mask = (unsigned)box4(nd, &tv, tmin4, tmax4, tn);
-            int i0, i1;
-            GG_COST_NODE();
-            if (mask) {
-                i0 = lowest_bit(mask);
-                mask &= mask - 1;
-                if (!mask) {
-                    cur = nd->child[i0];
-                    continue;
-                }
-                i1 = lowest_bit(mask);
-                mask &= mask - 1;
-                if (!mask) {
-                    /* Nearer child first, the other on the stack (selects,
-                       not a branch: which is nearer is a coin toss). */
-                    uint32_t c0 = nd->child[i0], c1 = nd->child[i1];
-                    float t0 = tn[i0], t1 = tn[i1];
-                    int sw = t1 < t0;
-                    stack[sp] = sw ? c0 : c1;
-                    stack_t[sp++] = sw ? t0 : t1;
-                    cur = sw ? c1 : c0;
-                    continue;
-                }
-                {
-                    /* Three or four: sort by entry distance, push the far
-                       ones (farthest deepest), descend into the nearest. */
-                    uint32_t rf[4];
-                    float tt[4];
-                    int k = 0, a, b;
-                    rf[k] = nd->child[i0], tt[k++] = tn[i0];
-                    rf[k] = nd->child[i1], tt[k++] = tn[i1];
-                    while (mask) {
-                        a = lowest_bit(mask);
-                        mask &= mask - 1;
-                        rf[k] = nd->child[a], tt[k++] = tn[a];
-                    }
-                    for (a = 1; a < k; a++)
-                        for (b = a; b > 0 && tt[b] > tt[b - 1]; b--) {
-                            float ft = tt[b];
-                            uint32_t fr = rf[b];
-                            tt[b] = tt[b - 1], rf[b] = rf[b - 1];
-                            tt[b - 1] = ft, rf[b - 1] = fr;
-                        }
-                    for (a = 0; a < k - 1; a++) stack[sp] = rf[a], stack_t[sp++] = tt[a];
-                    cur = rf[k - 1];
-                    continue;
-                }
-            }
-        } else {
-            GG_COST_LEAF(cur);
-            if (tx_closest(g, &r, &tx, cur, &best)) {
-                tmaxf = f_above(best.t);
-                tcull = tmaxf * GG_EXIT_SCALE;
-                tmax4 = GG_T4(tmaxf);
-            }
-        }
-        /* Pop the next subtree that may still hold a closer hit (entry
-           distances are compared with the same slack as in box4). */
-        for (;;) {
-            if (sp == 0) goto done;
-            sp--;
-            if (stack_t[sp] <= tcull) break;
-        }
-        cur = stack[sp];
-    }
-done:
-    if (best.prim == UINT32_MAX) return 0;
-    *hit = best;
-    return 1;
-}
-
-#ifndef GG_TRAV_COST
-/* Any-hit descent (the occluder and the shadow query): the first child
-   hit next, the others on the stack; the order does not matter for a
-   yes/no answer or for a list (nearest-first: docs/performance.md, "Tried
-   and not kept"). */
-#ifndef GG_TRAV_ANY_DESCEND
-#define GG_TRAV_ANY_DESCEND
-GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
-{
-    uint32_t first = child[lowest_bit(mask)];
-    mask &= mask - 1;
-    while (mask) {
-        stack[(*sp)++] = child[lowest_bit(mask)];
-        mask &= mask - 1;
-    }
-    return first;
-}
-#endif
-
-/* The any-hit walks' nodes: the 4-wide tree, or with GG_TRAV_WIDE (the AVX
-   copy) the 8-wide one (gg_wnode, gg_bvh_wide), whose boxes are the same
-   floats: box8 is box4's test, lane for lane, on eight boxes. */
+/* The walks' nodes: the 4-wide tree, or with GG_TRAV_WIDE (the AVX copy;
+   not the packets') the 8-wide one (gg_wnode, gg_bvh_wide), whose boxes
+   are the same floats: box8 is box4's test, lane for lane, on eight
+   boxes. ANY_W children a node, ANY_STACK entries a walk's stack. */
 #ifdef GG_TRAV_WIDE
 #define GG_WROWS(ng, k) ((k) + 3 * (ng)) * sizeof(float[8])
 #define GG_WROWSET(m)                                                                              \
@@ -402,8 +262,10 @@ GG_INLINE int wtrav_init6(wtrav *w, double ox, double oy, double oz, double dx, 
     return 1;
 }
 
-/* box4 on the eight boxes of nd: the mask of those entered. */
-static inline unsigned box8(const gg_wnode *nd, const wtrav *tv, __m256 tmin8, __m256 tmax8)
+/* box4 on the eight boxes of nd: the mask of those entered and, if tn_out
+   is not NULL, their entry distances. */
+static inline unsigned box8(const gg_wnode *nd, const wtrav *tv, __m256 tmin8, __m256 tmax8,
+                            float *tn_out)
 {
     const size_t *nr = tv->rows[0], *fr = tv->rows[1];
     __m256 tx0 =
@@ -420,15 +282,19 @@ static inline unsigned box8(const gg_wnode *nd, const wtrav *tv, __m256 tmin8, _
         _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, fr[2])), tv->of[2]), tv->invf[2]);
     __m256 tn = _mm256_max_ps(_mm256_max_ps(tx0, ty0), _mm256_max_ps(tz0, tmin8));
     __m256 tf = _mm256_min_ps(_mm256_min_ps(tx1, ty1), _mm256_min_ps(tz1, tmax8));
+    if (tn_out) _mm256_storeu_ps(tn_out, tn);
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ));
 }
 typedef gg_wnode any_node;
 typedef wtrav any_trav;
 typedef __m256 any_t;
-#define ANY_NODES(g)                ((g)->wnodes)
-#define ANY_INIT6                   wtrav_init6
-#define ANY_SET1(x)                 _mm256_set1_ps(x)
-#define ANY_BOX(nd, tv, tmin, tmax) box8(nd, tv, tmin, tmax)
+#define ANY_NODES(g)                     ((g)->wnodes)
+#define ANY_INIT6                        wtrav_init6
+#define ANY_SET1(x)                      _mm256_set1_ps(x)
+#define ANY_BOX(nd, tv, tmin, tmax)      box8(nd, tv, tmin, tmax, NULL)
+#define ANY_BOXT(nd, tv, tmin, tmax, tn) box8(nd, tv, tmin, tmax, tn)
+#define ANY_W                            8
+#define ANY_STACK                        GG_WSTACK
 #else
 static inline unsigned any_box4(const gg_bnode *nd, const trav *tv, gg_t4 tmin4, gg_t4 tmax4)
 {
@@ -438,13 +304,157 @@ static inline unsigned any_box4(const gg_bnode *nd, const trav *tv, gg_t4 tmin4,
 typedef gg_bnode any_node;
 typedef trav any_trav;
 typedef gg_t4 any_t;
-#define ANY_NODES(g)                ((g)->nodes)
-#define ANY_INIT6                   trav_init6
-#define ANY_SET1(x)                 GG_T4(x)
-#define ANY_BOX(nd, tv, tmin, tmax) any_box4(nd, tv, tmin, tmax)
+#define ANY_NODES(g)                     ((g)->nodes)
+#define ANY_INIT6                        trav_init6
+#define ANY_SET1(x)                      GG_T4(x)
+#define ANY_BOX(nd, tv, tmin, tmax)      any_box4(nd, tv, tmin, tmax)
+#define ANY_BOXT(nd, tv, tmin, tmax, tn) (unsigned)box4(nd, tv, tmin, tmax, tn)
+#define ANY_W                            4
+#define ANY_STACK                        GG_STACK
 #endif
 #define ANY_INIT(tv, r)                                                                            \
     ANY_INIT6(tv, (r)->o[0], (r)->o[1], (r)->o[2], (r)->d[0], (r)->d[1], (r)->d[2])
+
+/* gg_rpre_fill and trav_init inline here, reading q one double at a time:
+   the caller has usually just written *q field by field, and a 16-byte
+   load spanning two 8-byte stores cannot be forwarded from the store
+   buffer (GG_NO_SLP, compiler.h). */
+
+#ifdef GG_TRAV_COST
+#define GG_COST_ARG       , gg_trav_cost *cost
+#define GG_COST_NODE()    (cost->nodes++)
+#define GG_COST_LEAF(ref) (cost->prims += GG_LEAF_N(ref))
+#define GG_COST_ALL()     (cost->prims += (long)g->nslots)
+#else
+#define GG_COST_ARG
+#define GG_COST_NODE()    ((void)0)
+#define GG_COST_LEAF(ref) ((void)0)
+#define GG_COST_ALL()     ((void)0)
+#endif
+
+GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
+                                             gg_hit *hit GG_COST_ARG)
+{
+    gg_rpre r;
+    any_trav tv;
+    gg_tx tx;
+    gg_hit best;
+    uint32_t stack[ANY_STACK], cur = 0;
+    float stack_t[ANY_STACK];
+    int sp = 0;
+    float tmaxf, tcull;
+    any_t tmin4, tmax4;
+
+    if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
+    /* The conservative box test assumes tmin >= 0 (a box wholly behind the
+       origin could otherwise be lost to the exit scaling). */
+    if (!ANY_INIT(&tv, &r) || q->tmin < 0) {
+        GG_COST_ALL();
+        return gg_geom_intersect_brute(g, q, hit);
+    }
+    /* Deferred: many closest-hit rays meet no triangle block; the any-hit
+       traversals set up eagerly (docs/performance.md, "Four triangles at
+       once"). */
+    tx_init(&tx, &r);
+    best.t = gg_next_down_tmax(q->tmax);
+    best.prim = UINT32_MAX, best.sub = 0, best.b1 = best.b2 = 0;
+    tmaxf = f_above(best.t);
+    tcull = tmaxf * GG_EXIT_SCALE;
+    tmin4 = ANY_SET1(f_down_tmin(q->tmin));
+    tmax4 = ANY_SET1(tmaxf);
+    for (;;) {
+        if (!(cur & GG_LEAF)) {
+            const any_node *nd = &ANY_NODES(g)[cur];
+            float tn[ANY_W];
+            unsigned mask = ANY_BOXT(nd, &tv, tmin4, tmax4, tn);
+            int i0, i1;
+            GG_COST_NODE();
+            if (mask) {
+                i0 = lowest_bit(mask);
+                mask &= mask - 1;
+                if (!mask) {
+                    cur = nd->child[i0];
+                    continue;
+                }
+                i1 = lowest_bit(mask);
+                mask &= mask - 1;
+                if (!mask) {
+                    /* Nearer child first, the other on the stack (selects,
+                       not a branch: which is nearer is a coin toss). */
+                    uint32_t c0 = nd->child[i0], c1 = nd->child[i1];
+                    float t0 = tn[i0], t1 = tn[i1];
+                    int sw = t1 < t0;
+                    stack[sp] = sw ? c0 : c1;
+                    stack_t[sp++] = sw ? t0 : t1;
+                    cur = sw ? c1 : c0;
+                    continue;
+                }
+                {
+                    /* Three or more: sort by entry distance, push the far
+                       ones (farthest deepest), descend into the nearest. */
+                    uint32_t rf[ANY_W];
+                    float tt[ANY_W];
+                    int k = 0, a, b;
+                    rf[k] = nd->child[i0], tt[k++] = tn[i0];
+                    rf[k] = nd->child[i1], tt[k++] = tn[i1];
+                    while (mask) {
+                        a = lowest_bit(mask);
+                        mask &= mask - 1;
+                        rf[k] = nd->child[a], tt[k++] = tn[a];
+                    }
+                    for (a = 1; a < k; a++)
+                        for (b = a; b > 0 && tt[b] > tt[b - 1]; b--) {
+                            float ft = tt[b];
+                            uint32_t fr = rf[b];
+                            tt[b] = tt[b - 1], rf[b] = rf[b - 1];
+                            tt[b - 1] = ft, rf[b - 1] = fr;
+                        }
+                    for (a = 0; a < k - 1; a++) stack[sp] = rf[a], stack_t[sp++] = tt[a];
+                    cur = rf[k - 1];
+                    continue;
+                }
+            }
+        } else {
+            GG_COST_LEAF(cur);
+            if (tx_closest(g, &r, &tx, cur, &best)) {
+                tmaxf = f_above(best.t);
+                tcull = tmaxf * GG_EXIT_SCALE;
+                tmax4 = ANY_SET1(tmaxf);
+            }
+        }
+        /* Pop the next subtree that may still hold a closer hit (entry
+           distances are compared with the same slack as in box4). */
+        for (;;) {
+            if (sp == 0) goto done;
+            sp--;
+            if (stack_t[sp] <= tcull) break;
+        }
+        cur = stack[sp];
+    }
+done:
+    if (best.prim == UINT32_MAX) return 0;
+    *hit = best;
+    return 1;
+}
+
+#ifndef GG_TRAV_COST
+/* Any-hit descent (the occluder and the shadow query): the first child
+   hit next, the others on the stack; the order does not matter for a
+   yes/no answer or for a list (nearest-first: docs/performance.md, "Tried
+   and not kept"). */
+#ifndef GG_TRAV_ANY_DESCEND
+#define GG_TRAV_ANY_DESCEND
+GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
+{
+    uint32_t first = child[lowest_bit(mask)];
+    mask &= mask - 1;
+    while (mask) {
+        stack[(*sp)++] = child[lowest_bit(mask)];
+        mask &= mask - 1;
+    }
+    return first;
+}
+#endif
 
 /* The occluder's walk from the root: with `lazy` (a constant, so each
    caller gets its own copy of the loop) r holds nothing yet and is
@@ -453,7 +463,7 @@ GG_INLINE uint32_t occ_walk(const gg_geom *g, const gg_rayq *q, gg_rpre *r, cons
                             double tmax, const int lazy)
 {
     gg_tx tx;
-    uint32_t stack[GG_STACK], cur = 0, hit;
+    uint32_t stack[ANY_STACK], cur = 0, hit;
     int sp = 0, ready = !lazy;
     any_t tmin4 = ANY_SET1(f_down_tmin(q->tmin)), tmax4 = ANY_SET1(f_above(tmax));
     if (lazy)
@@ -525,7 +535,7 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, ui
     any_trav tv;
     gg_tx tx;
     gg_hit best;
-    uint32_t stack[GG_STACK], cur = 0, hit;
+    uint32_t stack[ANY_STACK], cur = 0, hit;
     int sp = 0;
     double tmax;
     any_t tmin4, tmax4;
