@@ -1,0 +1,25 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# Wall time of two builds of ggrt side by side: ROUNDS alternated renders
+# (old, new, old, new ...) of one SPD scene, the median of each and old/new
+# (above 1: the new build is faster). Alternating keeps a drifting machine
+# from favouring either (docs/performance.md).
+# usage: sh bench/ab_time.sh OLD_GGRT NEW_GGRT SCENE [SIZE] [THREADS] [ROUNDS]
+#   (from the top of a checkout; defaults 512, 1, 7)
+old=$1 new=$2 s=$3 size=${4:-512} thr=${5:-1} n=${6:-7}
+[ -x "$old" ] && [ -x "$new" ] && [ -n "$s" ] ||
+  { echo "usage: sh bench/ab_time.sh OLD_GGRT NEW_GGRT SCENE [SIZE] [THREADS] [ROUNDS]" >&2; exit 1; }
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+i=0
+while [ $i -lt "$n" ]; do
+  for b in old new; do
+    eval bin=\$$b
+    "$bin" render "examples/scenes/spd/$s.nff" -s "${size}x$size" -j "$thr" -o "$tmp/x.exr" 2>&1 |
+      sed -n "s/.*render \([0-9.]*\)s.*/$b \1/p" >>"$tmp/t"
+  done
+  i=$((i + 1))
+done
+med() { awk -v k="$1" '$1 == k { print $2 }' "$tmp/t" | sort -n | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
+mo=$(med old) mn=$(med new)
+[ -n "$mo" ] && [ -n "$mn" ] || { echo "bench/ab_time.sh: no render time from $s" >&2; exit 1; }
+echo "$s $mo $mn" | awk '{ printf "%-11s old %.3f s  new %.3f s  old/new %.3f\n", $1, $2, $3, $2 / $3 }'
