@@ -45,20 +45,23 @@ typedef struct trav {
 } trav;
 
 /* Byte offsets of the entry (lo if the axis' 1/d >= 0, else hi) and exit
-   rows of each axis, by the sign mask of 1/d (bit k: axis k negative). */
-#define GG_ROWS(ng, k) ((k) + 3 * (ng)) * sizeof(float[4])
-#define GG_ROWSET(m)                                                                               \
+   rows of each axis, by the sign mask of 1/d (bit k: axis k negative), in
+   a node of w children (rows of w floats). */
+#define GG_ROWS(ng, k, w) ((k) + 3 * (ng)) * sizeof(float[w])
+#define GG_ROWSET(m, w)                                                                            \
     {                                                                                              \
-        {GG_ROWS((m)&1, 0), GG_ROWS(((m) >> 1) & 1, 1), GG_ROWS(((m) >> 2) & 1, 2)},               \
+        {GG_ROWS((m)&1, 0, w), GG_ROWS(((m) >> 1) & 1, 1, w), GG_ROWS(((m) >> 2) & 1, 2, w)},      \
         {                                                                                          \
-            GG_ROWS(1 - ((m)&1), 0), GG_ROWS(1 - (((m) >> 1) & 1), 1),                             \
-                GG_ROWS(1 - (((m) >> 2) & 1), 2)                                                   \
+            GG_ROWS(1 - ((m)&1), 0, w), GG_ROWS(1 - (((m) >> 1) & 1), 1, w),                       \
+                GG_ROWS(1 - (((m) >> 2) & 1), 2, w)                                                \
         }                                                                                          \
     }
-static const size_t row_offsets[8][2][3] = {GG_ROWSET(0), GG_ROWSET(1), GG_ROWSET(2), GG_ROWSET(3),
-                                            GG_ROWSET(4), GG_ROWSET(5), GG_ROWSET(6), GG_ROWSET(7)};
-#undef GG_ROWSET
-#undef GG_ROWS
+#define GG_ROWTABLE(w)                                                                             \
+    {                                                                                              \
+        GG_ROWSET(0, w), GG_ROWSET(1, w), GG_ROWSET(2, w), GG_ROWSET(3, w), GG_ROWSET(4, w),       \
+            GG_ROWSET(5, w), GG_ROWSET(6, w), GG_ROWSET(7, w)                                      \
+    }
+static const size_t row_offsets[8][2][3] = GG_ROWTABLE(4);
 
 /* Per-ray setup of the float slab test. Returns 0 when the float
    traversal cannot represent the ray (an origin beyond 1e30).
@@ -218,20 +221,7 @@ static inline int lowest_bit(unsigned m)
    are the same floats: box8 is box4's test, lane for lane, on eight
    boxes. ANY_W children a node, ANY_STACK entries a walk's stack. */
 #ifdef GG_TRAV_WIDE
-#define GG_WROWS(ng, k) ((k) + 3 * (ng)) * sizeof(float[8])
-#define GG_WROWSET(m)                                                                              \
-    {                                                                                              \
-        {GG_WROWS((m)&1, 0), GG_WROWS(((m) >> 1) & 1, 1), GG_WROWS(((m) >> 2) & 1, 2)},            \
-        {                                                                                          \
-            GG_WROWS(1 - ((m)&1), 0), GG_WROWS(1 - (((m) >> 1) & 1), 1),                           \
-                GG_WROWS(1 - (((m) >> 2) & 1), 2)                                                  \
-        }                                                                                          \
-    }
-static const size_t wrow_offsets[8][2][3] = {GG_WROWSET(0), GG_WROWSET(1), GG_WROWSET(2),
-                                             GG_WROWSET(3), GG_WROWSET(4), GG_WROWSET(5),
-                                             GG_WROWSET(6), GG_WROWSET(7)};
-#undef GG_WROWSET
-#undef GG_WROWS
+static const size_t wrow_offsets[8][2][3] = GG_ROWTABLE(8);
 
 typedef struct wtrav {
     __m256 inv[3], invf[3], on[3], of[3];
@@ -1059,6 +1049,10 @@ GG_TRAV_LINK GG_NO_SLP unsigned GG_TRAV_PACKET(const gg_geom *g, const gg_rayq *
     }
     return got;
 }
+
+#undef GG_ROWTABLE
+#undef GG_ROWSET
+#undef GG_ROWS
 
 #endif /* GG_TRAV_COST */
 
