@@ -141,6 +141,7 @@ int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t
             t->flip = v3dot(ng, v3add(v3add(t->n[0], t->n[1]), t->n[2])) < 0;
         }
     }
+    gg_tri_set_normal(t);
     if ((rc = add_prim(g, GG_SHAPE_TRIANGLE, g->ntri, obj)) < 0) return rc;
     g->ntri++;
     return (int)g->nprim - 1;

@@ -137,7 +137,8 @@ typedef struct gg_tri {
     gg_ktri k;
     ggVec3 n[3]; /* vertex normals (unit) when has_n */
     int has_n;
-    int flip; /* the vertex normals face -(B-A)x(C-A): ng is flipped to match */
+    int flip;  /* the vertex normals face -(B-A)x(C-A): ng is flipped to match */
+    ggVec3 ng; /* the unit geometric normal, flip applied (gg_tri_set_normal) */
 } gg_tri;
 
 typedef struct gg_poly {
@@ -242,6 +243,9 @@ void gg_sphere_bounds(const gg_sph *s, double lo[3], double hi[3]);
 void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_surf *out,
                        unsigned what);
 void gg_tri_bounds(const gg_ktri *t, double lo[3], double hi[3]);
+/* t->ng from t->k and t->flip: call once the two are set (a hit reads it,
+   rather than normalising a cross product every time). */
+void gg_tri_set_normal(gg_tri *t);
 void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out,
                     unsigned what);
 /* Point on a triangle from barycentrics (b1, b2 of vertices 1, 2) and its

@@ -82,6 +82,7 @@ void gg_mesh_surface(const gg_geom *g, uint32_t prim, const gg_rayq *q, const gg
         }
         if (tr.has_n) tr.flip = v3dot(ng, v3add(v3add(tr.n[0], tr.n[1]), tr.n[2])) < 0;
     }
+    gg_tri_set_normal(&tr);
     gg_tri_surface(&tr, q, h, out, what);
     if (m->uv && (what & GG_SURF_UV)) {
         double b0 = 1 - h->b1 - h->b2;

@@ -39,15 +39,20 @@ static double clamp01(double x)
 }
 
 /* (u, v) = the barycentric weights of vertices 1 and 2. */
-void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out, unsigned what)
+void gg_tri_set_normal(gg_tri *t)
 {
     ggVec3 a = v3(t->k.v[0][0], t->k.v[0][1], t->k.v[0][2]);
     ggVec3 b = v3(t->k.v[1][0], t->k.v[1][1], t->k.v[1][2]);
     ggVec3 c = v3(t->k.v[2][0], t->k.v[2][1], t->k.v[2][2]);
     ggVec3 ng = v3norm(v3cross(v3sub(b, a), v3sub(c, a)));
+    t->ng = t->flip ? v3neg(ng) : ng;
+}
+
+void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out, unsigned what)
+{
+    const ggVec3 ng = t->ng;
     (void)q;
     out->p = gg_tri_point(&t->k, h->b1, h->b2, &out->perr);
-    if (t->flip) ng = v3neg(ng);
     out->ng = ng;
     out->ns = ng;
     if (t->has_n) {
