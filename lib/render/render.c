@@ -368,24 +368,29 @@ static void fill_empty_tile(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
     ggRayStats *st = &th->st;
     const ggColor bg = gg_shade_eye_miss(&j->ctx);
     const int bad = !isfinite(bg.r) || !isfinite(bg.g) || !isfinite(bg.b);
-    int gx, gy, k, n = j->corner ? 1 : j->r.spp;
+    const int n = j->corner ? 1 : j->r.spp;
+    const uint64_t rays = (uint64_t)n * (uint64_t)(gx1 - gx0) * (uint64_t)(gy1 - gy0);
+    ggColor acc = rgb(0, 0, 0);
+    float v[3];
+    int gx, gy, k;
+    /* Every pixel of the tile gets the same value, so it is computed
+       once: the background in corner mode, else n samples of it summed
+       and scaled by 1/spp, as a pixel of n misses adds up. */
+    if (j->corner) {
+        acc = bg;
+    } else {
+        for (k = 0; k < n; k++) acc = cadd(acc, bg);
+        acc = cscale(acc, 1.0 / j->r.spp);
+    }
+    v[0] = (float)acc.r, v[1] = (float)acc.g, v[2] = (float)acc.b;
     if (st->max_depth < 1) st->max_depth = 1;
-    for (gy = gy0; gy < gy1; gy++)
-        for (gx = gx0; gx < gx1; gx++) {
-            ggColor acc = rgb(0, 0, 0);
-            float *o;
-            for (k = 0; k < n; k++) acc = cadd(acc, bg);
-            st->eye += (uint64_t)n;
-            if (bad) st->nonfinite += (uint64_t)n;
-            if (j->corner) {
-                o = j->corner + 3 * ((size_t)gy * j->cw + gx);
-                o[0] = (float)bg.r, o[1] = (float)bg.g, o[2] = (float)bg.b;
-            } else {
-                acc = cscale(acc, 1.0 / j->r.spp);
-                o = j->px + 3 * ((size_t)(j->r.y0 + gy) * j->r.w + (j->r.x0 + gx));
-                o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
-            }
-        }
+    st->eye += rays;
+    if (bad) st->nonfinite += rays;
+    for (gy = gy0; gy < gy1; gy++) {
+        float *o = j->corner ? j->corner + 3 * ((size_t)gy * j->cw + gx0)
+                             : j->px + 3 * ((size_t)(j->r.y0 + gy) * j->r.w + (j->r.x0 + gx0));
+        for (gx = gx0; gx < gx1; gx++, o += 3) o[0] = v[0], o[1] = v[1], o[2] = v[2];
+    }
 }
 
 static void render_tile(job *j, int t, gg_shade_thread *th)
