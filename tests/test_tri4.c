@@ -269,12 +269,13 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
                and may name another one; it blocks too if the plain copy,
                asked with it cached, keeps it. */
             uint32_t c = oc[0];
+            gg_tcol again; /* (tr[2] is g2's answer, compared next) */
             assert_int_equal(oc[0] != 0, oc[k] != 0);
             assert_int_equal(cache[0] != 0, cache[k] != 0);
             g->trav_avx = 0;
             if (c) assert_true(gg_geom_occluded(g, q, &c, NULL) && c == oc[0]);
             c = cache[0];
-            if (c) assert_true(gg_geom_occluded(g, &qs, &c, &tr[2]) && c == cache[0]);
+            if (c) assert_true(gg_geom_occluded(g, &qs, &c, &again) && c == cache[0]);
             g->trav_avx = 1;
         }
     }

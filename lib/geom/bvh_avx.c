@@ -236,7 +236,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
     return 0;
 }
 
-#define GG_TRAV_WIDE /* the any-hit walks on the 8-wide nodes (bvh_trav.h) */
+#define GG_TRAV_WIDE /* the single-ray walks on the 8-wide nodes (bvh_trav.h) */
 #define GG_TRAV_LINK
 #define GG_TRAV_INTERSECT gg_bvh_intersect_avx
 #define GG_TRAV_OCCLUDER  gg_bvh_occluder_avx

@@ -26,7 +26,7 @@ struct gg_bnode {
 
 /* The same tree in 8-wide nodes (gg_bvh_wide: each 4-wide node with its
    largest inner children opened until there are 8), for the AVX copy's
-   any-hit walks: one 8-lane AVX pass tests eight boxes. The references
+   single-ray walks: one 8-lane AVX pass tests eight boxes. The references
    are the 4-wide tree's leaves and wide node indices. 256 bytes. */
 struct gg_wnode {
     float b[6][8];

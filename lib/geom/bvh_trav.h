@@ -15,6 +15,9 @@
 **       leaf tests of a leaf reference, with the contracts of
 **       gg_leaf_closest, gg_leaf_any and gg_leaf_shadow.
 ** Both copies thus share the node walk; only the leaves differ.
+** With GG_TRAV_WIDE defined (bvh_avx.c), the single-ray walks take the
+** 8-wide nodes (g->wnodes, gg_bvh_wide) and box8; the packets keep the
+** 4-wide ones.
 ** With GG_TRAV_COST defined, GG_TRAV_INTERSECT takes a gg_trav_cost *
 ** more and counts into it, and the other three are left out (bvh_cost.c,
 ** the ray-tree recorder's copy).
@@ -1050,10 +1053,10 @@ GG_TRAV_LINK GG_NO_SLP unsigned GG_TRAV_PACKET(const gg_geom *g, const gg_rayq *
     return got;
 }
 
+#endif /* GG_TRAV_COST */
+
 #undef GG_ROWTABLE
 #undef GG_ROWSET
 #undef GG_ROWS
-
-#endif /* GG_TRAV_COST */
 
 #endif

@@ -231,7 +231,7 @@ struct gg_geom {
     gg_tleaf *tleaves;
     size_t ntleaves;
     void *wnode_mem;  /* raw allocation; wnodes is it aligned to 64 */
-    gg_wnode *wnodes; /* the tree again in 8-wide nodes, for the AVX any-hit walks */
+    gg_wnode *wnodes; /* the tree again in 8-wide nodes, for the AVX single-ray walks */
     size_t nwnodes;
     unsigned cpu; /* GG_CPU_* the build may use (gg_geom_set_cpu) */
     int trav_avx; /* queries take the AVX copy of the traversal (bvh_avx.c) */
@@ -353,7 +353,7 @@ void gg_bvh_free(gg_geom *g);
    when gg_bvh_avx_wanted(g). Returns -1 when out of memory. */
 int gg_bvh_tri_leaves(gg_geom *g);
 /* With the AVX copy chosen (after gg_bvh_tri_leaves): the tree again in
-   8-wide nodes (g->wnodes), for the AVX copy's any-hit walks. 0, or -1
+   8-wide nodes (g->wnodes), for the AVX copy's single-ray walks. 0, or -1
    when out of memory. */
 int gg_bvh_wide(gg_geom *g);
 /* Whether builds of g make triangle blocks for the AVX traversal (bvh.c):
