@@ -382,7 +382,8 @@ static void test_offset_basics(void **state)
 
 /* The last step of the scaled offset, one ulp further along the normal,
    against nextafter: random points of every magnitude and sign (zeros,
-   subnormals, the largest doubles) and normals with zero components. */
+   subnormals, the largest doubles, infinities) and normals with zero
+   components. */
 static double ref_step(double x, double n)
 {
     if (n > 0) return nextafter(x, INFINITY);
@@ -394,7 +395,7 @@ static void test_offset_ulp_step(void **state)
 {
     static const double special[] = {
         0.0,     -0.0,     0x1p-1074, -0x1p-1074, 0x1p-1022,           -0x1p-1022,
-        DBL_MAX, -DBL_MAX, 1.0,       -1.0,       0x1.fffffffffffffp-1};
+        DBL_MAX, -DBL_MAX, 1.0,       -1.0,       0x1.fffffffffffffp-1, INFINITY, -INFINITY};
     tu_rng r = {77};
     int i, k;
     (void)state;
