@@ -1,9 +1,11 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
-# Wall time of two builds of ggrt side by side: ROUNDS alternated renders
-# (old, new, old, new ...) of one SPD scene, the median of each and old/new
-# (above 1: the new build is faster). Alternating keeps a drifting machine
-# from favouring either (docs/performance.md).
+# Wall time of two builds of ggrt side by side: ROUNDS rounds of one render
+# each of one SPD scene, in the order old, new then new, old (ABBA), the
+# median of each and old/new (above 1: the new build is faster).
+# Alternating keeps a drifting machine from favouring either; swapping the
+# order each round matters too: on the shared 2-core machine the second
+# render of a pair ran 5-10% slower (docs/performance.md).
 # usage: sh bench/ab_time.sh OLD_GGRT NEW_GGRT SCENE [SIZE] [THREADS] [ROUNDS]
 #   (from the top of a checkout; defaults 512, 1, 7)
 old=$1 new=$2 s=$3 size=${4:-512} thr=${5:-1} n=${6:-7}
@@ -12,7 +14,9 @@ old=$1 new=$2 s=$3 size=${4:-512} thr=${5:-1} n=${6:-7}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 i=0
 while [ $i -lt "$n" ]; do
-  for b in old new; do
+  order="old new"
+  [ $((i % 2)) -eq 1 ] && order="new old"
+  for b in $order; do
     eval bin=\$$b
     "$bin" render "examples/scenes/spd/$s.nff" -s "${size}x$size" -j "$thr" -o "$tmp/x.exr" 2>&1 |
       sed -n "s/.*render \([0-9.]*\)s.*/$b \1/p" >>"$tmp/t"
