@@ -107,16 +107,17 @@ optics_CFLAGS  = $(if $(GG_CLANG),-ffp-exception-behavior=maytrap)
 layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 
 # Per-ISA objects (lib/core/compiler.h, "Per-ISA code"): on x86-64 a library
-# file named *_avx.c or *_fma.c gets that instruction set's flags, and only
+# file named *_avx.c, *_avx2.c or *_fma.c gets that instruction set's flags, and only
 # it; the library picks its functions at run time (lib/core/cpu.c). Where
 # the compiler does not target x86-64 they compile to nothing (CFLAGS=-DGG_NO_ISA
 # does that on x86-64 too).
 # -ffp-contract=off everywhere: no compiler (clang contracts by default)
 # may fuse a*b+c, so every copy of a kernel rounds the same way.
 ISA_avx       = -mavx
+ISA_avx2      = -mavx -mavx2 -mbmi -mbmi2 -mlzcnt -mpopcnt
 ISA_fma       = -mfma
 GG_ISA_X86   := $(if $(filter x86_64-% amd64-%,$(shell $(CC) -dumpmachine 2>/dev/null)),1)
-isa_flags     = $(if $(GG_ISA_X86),$(foreach i,avx fma,$(if $(filter %_$(i).c,$(1)),$(ISA_$(i)))))
+isa_flags     = $(if $(GG_ISA_X86),$(foreach i,avx avx2 fma,$(if $(filter %_$(i).c,$(1)),$(ISA_$(i)))))
 ALL_LAYER_INC = $(LAYERS:%=-Ilib/%)
 
 LIB_SRC  := $(sort $(wildcard $(LAYERS:%=lib/%/*.c)))

@@ -102,14 +102,13 @@ static void same_packet(const gg_geom *g, const gg_rayq *q, unsigned lanes)
     }
 }
 
-/* The packet on every copy of the traversal g can take. */
+/* The packet on every copy of the traversal g can take: the plain one,
+   and below the copy g's build chose (2: the AVX2 build) the others. */
 static void same_all_copies(gg_geom *g, const gg_rayq *q, unsigned lanes)
 {
-    int avx = g->trav_avx;
-    g->trav_avx = 0;
-    same_packet(g, q, lanes);
-    if (avx) {
-        g->trav_avx = 1;
+    int avx = g->trav_avx, lv;
+    for (lv = 0; lv <= avx; lv++) {
+        g->trav_avx = lv;
         same_packet(g, q, lanes);
     }
     g->trav_avx = avx;

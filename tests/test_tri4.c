@@ -86,6 +86,19 @@ static void same_lanes(const gg_tleaf *L, const gg_ktri *t, int n, const gg_rayq
     int k;
     if (!gg_rpre_init(&r, q)) return;
     hit = gg_bvh_tri4_avx(L, &r, tmax, tt, b1, b2, &zero);
+    if (gg_cpu_features() & GG_CPU_AVX2) {
+        /* the AVX2 build of the same source: the same lanes, the same bits */
+        double t2[4], c1[4], c2[4];
+        unsigned z2, h2 = gg_bvh_tri4_avx2(L, &r, tmax, t2, c1, c2, &z2);
+        assert_int_equal(h2, hit);
+        assert_int_equal(z2, zero);
+        for (k = 0; k < n; k++)
+            if (hit >> k & 1) {
+                assert_memory_equal(&t2[k], &tt[k], sizeof tt[k]);
+                assert_memory_equal(&c1[k], &b1[k], sizeof b1[k]);
+                assert_memory_equal(&c2[k], &b2[k], sizeof b2[k]);
+            }
+    }
     assert_int_equal((hit | zero) >> n, 0); /* padding lanes never report */
     assert_int_equal(hit & zero, 0);
     for (k = 0; k < n; k++) {
@@ -228,12 +241,13 @@ static void same_hit(int ha, const gg_hit *a, int hb, const gg_hit *b)
     assert_memory_equal(&a->b2, &b->b2, sizeof a->b2);
 }
 
-/* Every query of q on g (built with blocks, g->trav_avx = 1) with the
-   AVX copy and the plain one, and on g2 (the same scene built without the
-   blocks, so with the plain cost model). cache[0..2] are the occluder
-   caches of the three. Returns
-   whether q hit anything. */
-static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_t cache[3])
+/* Every query of q on g (built with blocks) with copy lv of the AVX
+   traversal (g->trav_avx: 1 the AVX copy, 2 its AVX2 build) and the plain
+   one, and on g2 (the same scene built without the blocks, so with the
+   plain cost model). cache[0..2] are the occluder caches of the three.
+   Returns whether q hit anything. */
+static int same_queries_at(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_t cache[3],
+                           int lv)
 {
     gg_hit h[3];
     gg_tcol tr[3];
@@ -243,13 +257,13 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
     qs.skip_flags = GG_PRIM_TRANSPARENT;
     for (k = 0; k < 3; k++) {
         gg_geom *gk = k < 2 ? g : (gg_geom *)g2;
-        g->trav_avx = k == 0;
+        g->trav_avx = k == 0 ? lv : 0;
         oc[k] = cache[k];
         r[k] = gg_geom_intersect(gk, q, &h[k]);
         s[k] = gg_geom_occluded(gk, q, &oc[k], NULL);
         sh[k] = gg_geom_occluded(gk, &qs, &cache[k], &tr[k]);
     }
-    g->trav_avx = 1;
+    g->trav_avx = lv;
     for (k = 1; k < 3; k++) {
         same_hit(r[0], &h[0], r[k], &h[k]);
         assert_int_equal(s[0], s[k]);
@@ -276,10 +290,22 @@ static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_
             if (c) assert_true(gg_geom_occluded(g, q, &c, NULL) && c == oc[0]);
             c = cache[0];
             if (c) assert_true(gg_geom_occluded(g, &qs, &c, &again) && c == cache[0]);
-            g->trav_avx = 1;
+            g->trav_avx = lv;
         }
     }
     return r[0];
+}
+
+/* same_queries_at for every copy g's build may take: the one it chose
+   (the AVX2 build where the CPU has AVX2) and the AVX copy. */
+static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_t cache[3])
+{
+    const int top = g->trav_avx;
+    int r = same_queries_at(g, g2, q, cache, top);
+    assert_int_equal(top, gg_cpu_features() & GG_CPU_AVX2 ? 2 : 1);
+    if (top == 2) assert_int_equal(same_queries_at(g, g2, q, cache, 1), r);
+    g->trav_avx = top;
+    return r;
 }
 
 /* A height field of 2 * n * n triangles on a dyadic grid (shared edges

@@ -61,9 +61,10 @@ double gg_time_now(void);
 /* The instruction sets of the per-ISA objects (compiler.h) that this CPU
    and its OS run: a mask of GG_CPU_* bits, 0 where the build has no
    per-ISA objects. Detected once (cpu.c); thread-safe. */
-#define GG_CPU_AVX 1u /* AVX: bvh_avx.c */
-#define GG_CPU_FMA 2u /* FMA3 (with AVX): refract_fma.c */
-#define GG_CPU_ALL (GG_CPU_AVX | GG_CPU_FMA)
+#define GG_CPU_AVX  1u /* AVX: bvh_avx.c */
+#define GG_CPU_FMA  2u /* FMA3 (with AVX): refract_fma.c */
+#define GG_CPU_AVX2 4u /* AVX2 with BMI1, BMI2, LZCNT and POPCNT (with AVX): bvh_avx2.c */
+#define GG_CPU_ALL  (GG_CPU_AVX | GG_CPU_FMA | GG_CPU_AVX2)
 unsigned gg_cpu_features(void);
 
 #endif

@@ -17,7 +17,20 @@ static pthread_once_t once = PTHREAD_ONCE_INIT;
    switch (OSXSAVE set and XCR0 bits 1 and 2, SSE and AVX state: Intel 64
    and IA-32 Architectures Software Developer's Manual, vol. 1, 14.3
    "Detection of Intel AVX Instructions"); FMA is VEX-encoded and needs the
-   same (14.5.3). */
+   same (14.5.3). The AVX2 copy is compiled with -mavx2 -mbmi -mbmi2
+   -mlzcnt -mpopcnt (Makefile, ISA_avx2), so it needs each of those flags:
+   CPUID leaf 7 EBX (AVX2, BMI1, BMI2), leaf 0x80000001 ECX (LZCNT, "ABM")
+   and leaf 1 ECX (POPCNT); they use the same YMM state as AVX. */
+static unsigned avx2_flags(unsigned c1)
+{
+    unsigned a, b, c, d;
+    const unsigned want7 = bit_AVX2 | bit_BMI | bit_BMI2;
+    if (!(c1 & bit_POPCNT)) return 0;
+    if (!__get_cpuid_count(7, 0, &a, &b, &c, &d) || (b & want7) != want7) return 0;
+    if (!__get_cpuid(0x80000001u, &a, &b, &c, &d) || !(c & bit_LZCNT)) return 0;
+    return GG_CPU_AVX2;
+}
+
 static void probe(void)
 {
     unsigned a, b, c, d, lo, hi;
@@ -26,7 +39,7 @@ static void probe(void)
     __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
     (void)hi;
     if ((lo & 6) != 6) return;
-    features = GG_CPU_AVX | (c & bit_FMA ? GG_CPU_FMA : 0u);
+    features = GG_CPU_AVX | (c & bit_FMA ? GG_CPU_FMA : 0u) | avx2_flags(c);
 }
 
 unsigned gg_cpu_features(void)

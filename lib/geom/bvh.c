@@ -74,7 +74,7 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
     st->build_seconds = g->build_seconds;
     st->blocks = g->trav_avx ? g->ntleaves : 0;
 #if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD) /* GG_BVH_SIMD of bvh_trav.h */
-    st->traversal = g->trav_avx ? "avx" : "sse2";
+    st->traversal = g->trav_avx == 2 ? "avx2" : g->trav_avx ? "avx" : "sse2";
 #else
     st->traversal = "c";
 #endif
@@ -103,7 +103,8 @@ int gg_bvh_tri_leaves(gg_geom *g)
     if (!g->nnodes || !gg_bvh_avx_wanted(g)) return 0;
     for (i = 0; i < g->nnodes; i++)
         for (c = 0; c < 4; c++) nb += (size_t)tri_leaf(g, &g->nodes[i], c);
-    g->trav_avx = 1;
+    /* the AVX2 build of the same copy where the CPU and g allow it */
+    g->trav_avx = g->cpu & gg_cpu_features() & GG_CPU_AVX2 ? 2 : 1;
     if (!nb) return 0;
     g->tleaf_mem = gg_mem_alloc(g->alloc, nb * sizeof(gg_tleaf) + 64);
     if (!g->tleaf_mem) return -1;
@@ -259,16 +260,28 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define GG_TRAV_PACKET    packet_plain
 #include "bvh_trav.h"
 
-/* The AVX copy only where the build of g chose it (gg_bvh_avx_wanted). */
+/* The copy g's build chose (g->trav_avx, gg_bvh_tri_leaves): the plain
+   one, the AVX copy, or its AVX2 build. One load and an indirect call
+   per query: a second test of trav_avx cost more (docs/performance.md,
+   "One source per instruction set"). */
+typedef struct trav_copy {
+    int (*intersect)(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+    uint32_t (*occluder)(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
+    int (*shadow)(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
+    unsigned (*packet)(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
+} trav_copy;
+
+static const trav_copy copies[3] = {
+    {intersect_plain, occluder_plain, shadow_plain, packet_plain},
 #if GG_HAVE_BVH_AVX
-#define GG_USE_AVX(g) ((g)->trav_avx)
+    {gg_bvh_intersect_avx, gg_bvh_occluder_avx, gg_bvh_shadow_avx, gg_bvh_packet_avx},
+    {gg_bvh_intersect_avx2, gg_bvh_occluder_avx2, gg_bvh_shadow_avx2, gg_bvh_packet_avx2},
 #else
-#define GG_USE_AVX(g)        0
-#define gg_bvh_intersect_avx intersect_plain
-#define gg_bvh_occluder_avx  occluder_plain
-#define gg_bvh_shadow_avx    shadow_plain
-#define gg_bvh_packet_avx    packet_plain
+    {intersect_plain, occluder_plain, shadow_plain, packet_plain},
+    {intersect_plain, occluder_plain, shadow_plain, packet_plain},
 #endif
+};
+#define COPY(g) (&copies[(g)->trav_avx])
 
 /* Single-precision queries (GG_ISECT_FLOAT) take their own copy
    (bvh_float.c), chosen here once per query. */
@@ -277,7 +290,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 static int intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
 {
     if (GG_FLOAT_Q(q)) return gg_bvh_intersect_float(g, q, hit);
-    return GG_USE_AVX(g) ? gg_bvh_intersect_avx(g, q, hit) : intersect_plain(g, q, hit);
+    return COPY(g)->intersect(g, q, hit);
 }
 
 static GG_NOINLINE int intersect_hinted(const gg_geom *g, const gg_rayq *q, gg_hit *hit)
@@ -305,9 +318,7 @@ unsigned gg_geom_intersect_packet(const gg_geom *g, const gg_rayq *q, unsigned l
         if (qi->inside != UINT32_MAX || GG_FLOAT_Q(qi)) alone |= m & -m;
     }
     lanes &= ~alone;
-    got = !lanes          ? 0
-          : GG_USE_AVX(g) ? gg_bvh_packet_avx(g, q, lanes, hit)
-                          : packet_plain(g, q, lanes, hit);
+    got = lanes ? COPY(g)->packet(g, q, lanes, hit) : 0;
     for (m = alone; m; m &= m - 1)
         if (gg_geom_intersect(g, &q[GG_CTZ(m)], &hit[GG_CTZ(m)])) got |= m & -m;
     return got;
@@ -333,9 +344,7 @@ static GG_NOINLINE int occluded_list(const gg_geom *g, const gg_rayq *q, uint32_
                                      gg_tcol *tr)
 {
     tr->n = 0, tr->complete = 1, tr->has_near = 0;
-    if (GG_FLOAT_Q(q)   ? gg_bvh_shadow_float(g, q, cache, tr)
-        : GG_USE_AVX(g) ? gg_bvh_shadow_avx(g, q, cache, tr)
-                        : shadow_plain(g, q, cache, tr)) {
+    if (GG_FLOAT_Q(q) ? gg_bvh_shadow_float(g, q, cache, tr) : COPY(g)->shadow(g, q, cache, tr)) {
         tr->n = 0, tr->complete = 0, tr->has_near = 0;
         return 1;
     }
@@ -359,9 +368,7 @@ int gg_geom_occluded(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tco
     if (tr)
         return q->inside == UINT32_MAX ? occluded_list(g, q, cache, tr)
                                        : occluded_inside(g, q, cache, tr);
-    hit = GG_FLOAT_Q(q)   ? gg_bvh_occluder_float(g, q, cache)
-          : GG_USE_AVX(g) ? gg_bvh_occluder_avx(g, q, cache)
-                          : occluder_plain(g, q, cache);
+    hit = GG_FLOAT_Q(q) ? gg_bvh_occluder_float(g, q, cache) : COPY(g)->occluder(g, q, cache);
     *cache = hit;
     return hit != 0;
 }

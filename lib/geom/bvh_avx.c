@@ -5,6 +5,11 @@
 ** triangle, 4 doubles per register): a per-ISA object, built with -mavx
 ** (compiler.h, "Per-ISA code"). bvh.c calls them only for a geometry
 ** whose build chose them (gg_cpu_features() has GG_CPU_AVX).
+** bvh_avx2.c compiles this file once more with AVX2 and the bit
+** instructions (BMI1/2, LZCNT, POPCNT), under names ending in _avx2
+** (GG_AVX_NAME): the same source and the same bits, chosen at run time
+** where the CPU has them, as Embree builds one kernel source per
+** instruction set.
 **
 ** Same bits as the scalar kernel. Each lane performs exactly the
 ** operations of gg_tri_kernel (shape_tri.h), in the same order and
@@ -24,6 +29,10 @@
 #if GG_HAVE_BVH_AVX
 #ifndef __AVX__
 #error "bvh_avx.c is compiled with -mavx (Makefile: ISA_avx)"
+#endif
+/* The external names of this copy: name_avx, or what bvh_avx2.c says. */
+#ifndef GG_AVX_NAME
+#define GG_AVX_NAME(name) name##_avx
 #endif
 
 #include <immintrin.h>
@@ -125,7 +134,7 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
     return hm | zm;
 }
 
-unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
+unsigned GG_AVX_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
                          double b1[4], double b2[4], unsigned *zero)
 {
     gg_tx x;
@@ -238,10 +247,10 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 
 #define GG_TRAV_WIDE /* the single-ray walks on the 8-wide nodes (bvh_trav.h) */
 #define GG_TRAV_LINK
-#define GG_TRAV_INTERSECT gg_bvh_intersect_avx
-#define GG_TRAV_OCCLUDER  gg_bvh_occluder_avx
-#define GG_TRAV_SHADOW    gg_bvh_shadow_avx
-#define GG_TRAV_PACKET    gg_bvh_packet_avx
+#define GG_TRAV_INTERSECT GG_AVX_NAME(gg_bvh_intersect)
+#define GG_TRAV_OCCLUDER  GG_AVX_NAME(gg_bvh_occluder)
+#define GG_TRAV_SHADOW    GG_AVX_NAME(gg_bvh_shadow)
+#define GG_TRAV_PACKET    GG_AVX_NAME(gg_bvh_packet)
 #include "bvh_trav.h"
 
 #else

@@ -69,12 +69,20 @@ int gg_bvh_intersect_avx(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 uint32_t gg_bvh_occluder_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
 int gg_bvh_shadow_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
 unsigned gg_bvh_packet_avx(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
+/* The same compiled for AVX2 (bvh_avx2.c); call only where
+   gg_cpu_features() has GG_CPU_AVX2. */
+int gg_bvh_intersect_avx2(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+uint32_t gg_bvh_occluder_avx2(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
+int gg_bvh_shadow_avx2(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
+unsigned gg_bvh_packet_avx2(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
 /* For tests: the 4-wide triangle test of block L alone. Returns the mask
    of lanes hit with t in (r->tmin, tmax] and fills t, b1, b2 for them;
    *zero gets the lanes left to the scalar kernel (an edge function
    exactly 0). Call only where gg_cpu_features() has GG_CPU_AVX. */
 unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
                          double b1[4], double b2[4], unsigned *zero);
+unsigned gg_bvh_tri4_avx2(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
+                          double b1[4], double b2[4], unsigned *zero);
 #else
 #define GG_HAVE_BVH_AVX 0
 #endif
