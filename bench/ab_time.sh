@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Wall time of two builds of ggrt side by side: ROUNDS rounds of one render
 # each of one SPD scene, in the order old, new then new, old (ABBA), the
-# median of each and old/new (above 1: the new build is faster).
+# median and the fastest of each and old/new (above 1: the new build is
+# faster; interference only slows a render, so the fastest is the steadier).
 # Alternating keeps a drifting machine from favouring either; swapping the
 # order each round matters too: on the shared 2-core machine the second
 # render of a pair ran 5-10% slower (docs/performance.md).
@@ -24,6 +25,7 @@ while [ $i -lt "$n" ]; do
   i=$((i + 1))
 done
 med() { awk -v k="$1" '$1 == k { print $2 }' "$tmp/t" | sort -n | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
-mo=$(med old) mn=$(med new)
+fastest() { awk -v k="$1" '$1 == k { print $2 }' "$tmp/t" | sort -n | head -1; }
+mo=$(med old) mn=$(med new) fo=$(fastest old) fn=$(fastest new)
 [ -n "$mo" ] && [ -n "$mn" ] || { echo "bench/ab_time.sh: no render time from $s" >&2; exit 1; }
-echo "$s $mo $mn" | awk '{ printf "%-11s old %.3f s  new %.3f s  old/new %.3f\n", $1, $2, $3, $2 / $3 }'
+echo "$s $mo $mn $fo $fn" | awk '{ printf "%-11s median old %.3f s  new %.3f s  old/new %.3f | fastest old %.3f s  new %.3f s  old/new %.3f\n", $1, $2, $3, $2 / $3, $4, $5, $4 / $5 }'

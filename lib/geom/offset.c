@@ -28,48 +28,20 @@
 */
 #include "geom_int.h"
 
-/* x one double further along the sign of n: gg_next_up(x) for n > 0,
-   gg_next_down(x) for n < 0, x itself for n = 0 or NaN. For finite
-   nonzero x that is one step of the bit pattern, up when x and n have
-   the same sign (away from zero) and down otherwise, computed without a
-   branch on those signs: they are a coin toss per hit, and the branches
-   of the gg_next_up / gg_next_down pair mispredicted. */
-static inline double step_along(double x, double n)
-{
-    uint64_t u, opposite;
-    if (!(fabs(n) > 0)) return x; /* 0 or NaN: one test, rarely true */
-    if (!(fabs(x) > 0 && fabs(x) < INFINITY)) return n > 0 ? gg_next_up(x) : gg_next_down(x);
-    memcpy(&u, &x, 8);
-    opposite = (u >> 63) ^ (uint64_t)(n < 0);
-    u += 1 - 2 * opposite;
-    memcpy(&x, &u, 8);
-    return x;
-}
-
-/* x with its sign bit flipped where flip has it (-x, as v3neg does). */
-static inline double flip_sign(double x, uint64_t flip)
-{
-    uint64_t u;
-    memcpy(&u, &x, 8);
-    u ^= flip;
-    memcpy(&x, &u, 8);
-    return x;
-}
-
 static ggVec3 push(const gg_surf *s, ggVec3 d, double eps, int round_away)
 {
-    /* ng towards the side d leaves to; which side that is is a coin toss
-       too, so no branch either */
-    const uint64_t flip = (uint64_t)(v3dot(d, s->ng) < 0) << 63;
-    ggVec3 n, p;
-    n.x = flip_sign(s->ng.x, flip), n.y = flip_sign(s->ng.y, flip), n.z = flip_sign(s->ng.z, flip);
+    ggVec3 n = s->ng, p;
+    if (v3dot(d, n) < 0) n = v3neg(n);
     p = v3madd(s->p, n, eps);
     if (round_away) {
         /* The sum p + eps n rounds to nearest; step one ulp further so the
            rounding cannot take back part of the push (pbrt 3.9.5). */
-        p.x = step_along(p.x, n.x);
-        p.y = step_along(p.y, n.y);
-        p.z = step_along(p.z, n.z);
+        if (n.x > 0) p.x = gg_next_up(p.x);
+        if (n.x < 0) p.x = gg_next_down(p.x);
+        if (n.y > 0) p.y = gg_next_up(p.y);
+        if (n.y < 0) p.y = gg_next_down(p.y);
+        if (n.z > 0) p.z = gg_next_up(p.z);
+        if (n.z < 0) p.z = gg_next_down(p.z);
     }
     return p;
 }
