@@ -815,7 +815,7 @@ static void test_traversal(void **state)
     const char *plain = "c";
 #endif
     const char *want = !GG_HAVE_BVH_AVX || !(gg_cpu_features() & GG_CPU_AVX) ? plain
-                       : gg_cpu_features() & GG_CPU_AVX2                      ? "avx2"
+                       : gg_cpu_features() & GG_CPU_AVX2                     ? "avx2"
                                                                              : "avx";
 #endif
     (void)state;

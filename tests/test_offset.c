@@ -394,8 +394,8 @@ static double ref_step(double x, double n)
 static void test_offset_ulp_step(void **state)
 {
     static const double special[] = {
-        0.0,     -0.0,     0x1p-1074, -0x1p-1074, 0x1p-1022,           -0x1p-1022,
-        DBL_MAX, -DBL_MAX, 1.0,       -1.0,       0x1.fffffffffffffp-1, INFINITY, -INFINITY};
+        0.0,      -0.0, 0x1p-1074, -0x1p-1074,           0x1p-1022, -0x1p-1022, DBL_MAX,
+        -DBL_MAX, 1.0,  -1.0,      0x1.fffffffffffffp-1, INFINITY,  -INFINITY};
     tu_rng r = {77};
     int i, k;
     (void)state;

@@ -135,7 +135,7 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
 }
 
 unsigned GG_AVX_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
-                         double b1[4], double b2[4], unsigned *zero)
+                                  double b1[4], double b2[4], unsigned *zero)
 {
     gg_tx x;
     tri4_out o;

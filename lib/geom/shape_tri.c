@@ -38,7 +38,6 @@ static double clamp01(double x)
     return x < 0 ? 0 : x > 1 ? 1 : x;
 }
 
-/* (u, v) = the barycentric weights of vertices 1 and 2. */
 void gg_tri_set_normal(gg_tri *t)
 {
     ggVec3 a = v3(t->k.v[0][0], t->k.v[0][1], t->k.v[0][2]);
@@ -48,6 +47,7 @@ void gg_tri_set_normal(gg_tri *t)
     t->ng = t->flip ? v3neg(ng) : ng;
 }
 
+/* (u, v) = the barycentric weights of vertices 1 and 2. */
 void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out, unsigned what)
 {
     const ggVec3 ng = t->ng;
