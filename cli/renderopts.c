@@ -104,7 +104,9 @@ void cli_render_init(cli_render *r, unsigned parts)
                                   "texture=scene|bilinear|nearest, wavelengths=rgb|one,\n"
                                   "cutoff=W, implicit-tol=own|T, gradient=exact|H,\n"
                                   "intersect=double|float (triangles and spheres in\n"
-                                  "single precision; wrong far from the origin)");
+                                  "single precision; wrong far from the origin),\n"
+                                  "shadows=colored|opaque (opaque: anything blocks the\n"
+                                  "light, glass too)");
     r->table[n] = (cli_opt)CLI_OPT_END;
 }
 

@@ -967,11 +967,12 @@ static void test_options_text(void **state)
                                           "sphere=textbook refract=exact fresnel=schlick "
                                           "texture=nearest wavelengths=one cutoff=0.001 "
                                           "implicit-tol=1e-7 gradient=1e-5 offset=1e-6 "
-                                          "intersect=float",
+                                          "intersect=float shadows=opaque",
                                           &e),
                      GG_OK);
     assert_int_equal(o.width, 64);
     assert_int_equal(o.accuracy.intersect, GG_ACC_ISECT_FLOAT);
+    assert_int_equal(o.accuracy.shadows, GG_ACC_SHADOWS_OPAQUE);
     assert_int_equal(o.max_depth, 8);
     assert_int_equal(o.crop_y1, 40);
     assert_true(o.spd_rules && o.pixel_corners);

@@ -2,7 +2,8 @@
 /*
 ** test_render.c -- the renderer: thread-count and crop invariance, forced
 ** effects give the same image, ggRayColor equals the rendered pixel, the
-** effect set and its reasons, the depth limit, and SPD-rule ray counts.
+** effect set and its reasons, the depth limit, SPD-rule ray counts, and
+** the opaque-shadow knob.
 */
 #include "testutil.h"
 
@@ -218,6 +219,56 @@ static void test_direct_light_added(void **state)
     ggSceneFree(s);
 }
 
+/* shadows=opaque: a transparent pane between a lit point and the light
+   passes kt of the light by default and none of it with the knob; scenes
+   without transmitters render the same either way; a knob outside its
+   values is refused. */
+static void test_opaque_shadows(void **state)
+{
+    /* Floor at z = 0, light above at z = 1, a pane of kt 0.5 (index 1: no
+       bending) at z = 0.5; the ray starts under the pane. */
+    const char *txt = "ambient 0.25 0.25 0.25\nl 0 0 1 1 1 1\n"
+                      "f 0.5 0.5 0.5 0.8 0 100000 0 0\np 4 -1 -1 0 1 -1 0 1 1 0 -1 1 0\n"
+                      "f 1 1 1 0 0 100000 0.5 1\np 4 -1 -1 0.5 1 -1 0.5 1 1 0.5 -1 1 0.5\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggRenderOptions o;
+    ggImage *a, *b;
+    ggRay r;
+    ggColor c;
+    ggError e;
+    (void)state;
+    assert_int_equal(ggSceneLoadString(s, txt, strlen(txt), "pane.nff", NULL), GG_OK);
+    assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
+    r.o.x = 0, r.o.y = 0, r.o.z = 0.2;
+    r.d.x = 0, r.d.y = 0, r.d.z = -1;
+    ggRenderOptionsDefault(&o);
+    c = ggRayColor(s, &o, r, 1, NULL);
+    assert_close(c.r, 0.8 * 0.5 * 0.25 + 0.8 * 0.5 * 0.5, 1e-12);
+    o.accuracy.shadows = GG_ACC_SHADOWS_OPAQUE;
+    c = ggRayColor(s, &o, r, 1, NULL);
+    assert_close(c.r, 0.8 * 0.5 * 0.25, 1e-12);
+    o.force_effects = GG_EFFECT_ALL; /* forcing does not bring them back */
+    c = ggRayColor(s, &o, r, 1, NULL);
+    assert_close(c.r, 0.8 * 0.5 * 0.25, 1e-12);
+    o.accuracy.shadows = 2;
+    a = NULL;
+    assert_int_equal(ggRender(s, &o, &a, NULL, &e), GG_ERROR_INVALID);
+    assert_null(a);
+    assert_string_equal(e.message, "accuracy knob shadows is 2, not 0..1");
+    ggSceneFree(s);
+
+    s = load("examples/scenes/gold.nff");
+    assert_false(ggSceneEffects(s) & GG_EFFECT_COLORED_SHADOWS);
+    ggRenderOptionsDefault(&o);
+    o.width = 48, o.height = 36, o.threads = 2;
+    a = render(s, &o, NULL);
+    o.accuracy.shadows = GG_ACC_SHADOWS_OPAQUE;
+    b = render(s, &o, NULL);
+    assert_true(same_pixels(a, b));
+    ggImageFree(a), ggImageFree(b);
+    ggSceneFree(s);
+}
+
 /* The renderer's shortcuts -- tiles whose eye rays can reach nothing
    filled with the background, the pixel-centre loop that casts eye rays
    itself -- against the plain path that traces every sample (a cost map
@@ -270,6 +321,7 @@ int main(void)
         cmocka_unit_test(test_effect_sets),
         cmocka_unit_test(test_depth_limit),
         cmocka_unit_test(test_direct_light_added),
+        cmocka_unit_test(test_opaque_shadows),
         cmocka_unit_test(test_shortcuts_match_tracing),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);

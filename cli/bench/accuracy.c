@@ -81,6 +81,10 @@ static void k_isect(ggRenderOptions *o, double v)
 {
     o->accuracy.intersect = (int)v;
 }
+static void k_shadows(ggRenderOptions *o, double v)
+{
+    o->accuracy.shadows = (int)v;
+}
 
 static const knob knobs[] = {
     {"default", "all accurate", 1, k_none, 0},
@@ -123,6 +127,8 @@ static const knob knobs[] = {
     {"samples", "9", 0, k_spp, 9},
     {"intersect", "double", 1, k_isect, GG_ACC_ISECT_DOUBLE},
     {"intersect", "float", 0, k_isect, GG_ACC_ISECT_FLOAT},
+    {"shadows", "colored", 1, k_shadows, GG_ACC_SHADOWS_COLORED},
+    {"shadows", "opaque", 0, k_shadows, GG_ACC_SHADOWS_OPAQUE},
 };
 #define NKNOBS    (sizeof knobs / sizeof knobs[0])
 #define REF_SPP   16

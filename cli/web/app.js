@@ -23,6 +23,7 @@
     ['implicit-tol', 'implicit tol (own or T)', 'text', 'own'],
     ['gradient', 'gradient (exact or h)', 'text', 'exact'],
     ['intersect', 'intersect', ['double', 'float']],
+    ['shadows', 'shadows', ['colored', 'opaque']],
     ['spd', 'SPD rules', 'flag'],
     ['corners', 'pixel corners', 'flag'],
     ['force-effects', 'force effects', 'flag'],

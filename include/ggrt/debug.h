@@ -55,6 +55,7 @@ extern "C" {
      fresnel=scene|none|schlick|exact  texture=scene|bilinear|nearest
      wavelengths=rgb|one  cutoff=W (0 to 1)  implicit-tol=own|T
      gradient=exact|H (T, H > 0)  intersect=double|float
+     shadows=colored|opaque
    Numbers are read with '.' as the radix point whatever the locale. An
    empty text changes nothing. On a bad setting *opt is unchanged and err
    says where, "line:column: message" counting from 1 (as

@@ -98,6 +98,19 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
    the accuracy study's scenes: docs/accuracy.md. */
 #define GG_ACC_ISECT_DOUBLE 0
 #define GG_ACC_ISECT_FLOAT  1
+/* shadows: what a transparent surface (kt > 0) between a point and a light
+   does to the light.
+   GG_ACC_SHADOWS_COLORED (default): the light passes, scaled by each
+   surface's kt and the absorption of the media between them (coloured
+   shadows, GG_EFFECT_COLORED_SHADOWS), which means walking the whole
+   segment to the light.
+   GG_ACC_SHADOWS_OPAQUE: any surface blocks the light, as in Whitted's
+   paper and in tracers built on an any-hit query (Embree's rtcOccluded1):
+   the walk stops at the first element it meets. Only scenes with
+   transmitters change (the shadows under glass go black); the ray counts
+   stay the same, one shadow ray per light at each hit. */
+#define GG_ACC_SHADOWS_COLORED 0
+#define GG_ACC_SHADOWS_OPAQUE  1
 
 typedef struct ggAccuracy {
     int offset;          /* GG_ACC_OFFSET_* */
@@ -112,6 +125,7 @@ typedef struct ggAccuracy {
     double implicit_tol; /* root tolerance of implicit surfaces (0: their own) */
     double gradient_h;   /* 0: exact gradients; > 0: central differences with step h */
     int intersect;       /* GG_ACC_ISECT_* */
+    int shadows;         /* GG_ACC_SHADOWS_* */
 } ggAccuracy;
 
 typedef struct ggRenderOptions {

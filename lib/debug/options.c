@@ -123,6 +123,7 @@ static const char *const fresnel_names[] = {"scene", "none", "schlick", "exact",
 static const char *const texture_names[] = {"scene", "bilinear", "nearest", NULL};
 static const char *const wave_names[] = {"rgb", "one", NULL};
 static const char *const isect_names[] = {"double", "float", NULL};
+static const char *const shadow_names[] = {"colored", "opaque", NULL};
 
 static int flag(const word *w, ggRenderOptions *o, ggError *err)
 {
@@ -209,6 +210,8 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
         rc = choice(w, wave_names, &a->wavelengths, err);
     else if (key_is(w, "intersect"))
         rc = choice(w, isect_names, &a->intersect, err);
+    else if (key_is(w, "shadows"))
+        rc = choice(w, shadow_names, &a->shadows, err);
     else if (key_is(w, "offset") || key_is(w, "gradient") || key_is(w, "implicit-tol"))
         rc = word_or_number(w, o, err);
     else if (key_is(w, "cutoff")) {
@@ -323,6 +326,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
     put_name(&o, "texture", a->texture, texture_names, 3);
     put_name(&o, "wavelengths", a->wavelengths, wave_names, 2);
     put_name(&o, "intersect", a->intersect, isect_names, 2);
+    put_name(&o, "shadows", a->shadows, shadow_names, 2);
     if (a->cutoff > 0) put_num(&o, "cutoff", a->cutoff);
     if (a->implicit_tol > 0) put_num(&o, "implicit-tol", a->implicit_tol);
     if (a->gradient_h > 0) put_num(&o, "gradient", a->gradient_h);

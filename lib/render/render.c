@@ -60,6 +60,28 @@ typedef struct cam_basis {
     int w, h;
 } cam_basis;
 
+/* The choice knobs hold one of their GG_ACC_* values. */
+static int knob_range(const ggAccuracy *a, ggError *err)
+{
+    const struct {
+        const char *name;
+        int v, max;
+    } k[] = {{"offset", a->offset, GG_ACC_OFFSET_FIXED},
+             {"sphere", a->sphere, GG_ACC_SPHERE_TEXTBOOK},
+             {"refract", a->refract, GG_ACC_REFRACT_EXACT},
+             {"fresnel", a->fresnel, GG_ACC_FRESNEL_EXACT},
+             {"texture", a->texture, GG_ACC_TEXTURE_NEAREST},
+             {"wavelengths", a->wavelengths, 1},
+             {"intersect", a->intersect, GG_ACC_ISECT_FLOAT},
+             {"shadows", a->shadows, GG_ACC_SHADOWS_OPAQUE}};
+    size_t i;
+    for (i = 0; i < sizeof k / sizeof k[0]; i++)
+        if (k[i].v < 0 || k[i].v > k[i].max)
+            return gg_error_set(err, GG_ERROR_INVALID, "accuracy knob %s is %d, not 0..%d",
+                                k[i].name, k[i].v, k[i].max);
+    return GG_OK;
+}
+
 static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggError *err)
 {
     ggRenderOptions d;
@@ -99,7 +121,7 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
         !(r->acc.implicit_tol >= 0) || !isfinite(r->acc.offset_eps) || !isfinite(r->acc.cutoff) ||
         !isfinite(r->acc.gradient_h) || !isfinite(r->acc.implicit_tol))
         return gg_error_set(err, GG_ERROR_INVALID, "accuracy knobs must be finite and >= 0");
-    return GG_OK;
+    return knob_range(&r->acc, err);
 }
 
 static void basis(const ggScene *s, int w, int h, cam_basis *b)

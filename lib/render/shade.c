@@ -153,6 +153,8 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
     /* A Fresnel override on a transmitter needs the Fresnel code. */
     if (ctx->acc.fresnel >= GG_ACC_FRESNEL_SCHLICK && (s->effects & GG_EFFECT_REFRACTION))
         ctx->fx |= GG_EFFECT_FRESNEL;
+    /* Opaque shadows: the effect is not simulated, even if forced. */
+    if (ctx->acc.shadows == GG_ACC_SHADOWS_OPAQUE) ctx->fx &= ~GG_EFFECT_COLORED_SHADOWS;
     ctx->budget = GG_RAY_BUDGET;
     ctx->rec = NULL;
 }
@@ -716,7 +718,8 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         sh.d = v3sub(s->lights[li].pos, sh.o);
         sh.lc = s->light_colors[li];
         sh.verdict = GG_SHADOW_VISIBLE, sh.occ = -1, sh.tb = 1;
-        if ((FX & GG_EFFECT_COLORED_SHADOWS) && (s->effects & GG_EFFECT_COLORED_SHADOWS))
+        if ((FX & GG_EFFECT_COLORED_SHADOWS) && (c->fx & GG_EFFECT_COLORED_SHADOWS) &&
+            (s->effects & GG_EFFECT_COLORED_SHADOWS))
             shadow_colored(c, r, hi, li, th, &sh, FX);
         else
             shadow_opaque(c, r, hi, li, th, &sh, FX);
