@@ -541,6 +541,9 @@ static void test_interval_functions(void **state)
     assert_true(a.lo == -INFINITY && a.hi == INFINITY);
     a = gg_ival_div(gg_iv(1, 2), gg_iv(0, 4)); /* one-sided */
     assert_true(a.lo <= 0.25 && a.lo > 0.2499999 && a.hi == INFINITY);
+    /* Division by zero itself has no real value at all. */
+    assert_true(gg_iv_isempty(gg_ival_div(gg_iv(1, 2), gg_iv(0, 0))));
+    assert_true(gg_iv_isempty(gg_ival_div(gg_iv(-1, 2), gg_iv(-0.0, 0))));
     /* Domains. */
     assert_true(gg_iv_isempty(gg_ival_sqrt(gg_iv(-2, -1))));
     a = gg_ival_sqrt(gg_iv(-1, 4));

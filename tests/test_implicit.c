@@ -779,6 +779,20 @@ static void test_budget_warning(void **state)
     ggImplicitFree(imp);
 }
 
+/* An expression divided by zero is undefined everywhere: no hit, found
+   without subdividing the ray to the end of its budget (the fuzz finding
+   tests/fuzz/corpus/nff/slow-divide-by-zero.nff took 47 s for a 4x3 image). */
+static void test_divide_by_zero_pruned(void **state)
+{
+    ggImplicit *imp = surface("x^4+y^2+z^2/0", v3(-1.1, -0.1, -1.1), v3(1, 1.1, 1.1));
+    double t;
+    (void)state;
+    assert_false(gg_implicit_intersect(imp, v3(-2, 0.05, 0.3), v3(1, 0, 0.01), 0, INFINITY, &t));
+    assert_false(gg_implicit_intersect(imp, v3(0.2, 0.5, -3), v3(0, 0, 1), 0, INFINITY, &t));
+    assert_int_equal(ggImplicitWarnings(imp), 0);
+    ggImplicitFree(imp);
+}
+
 /* A 64x48 render (one thread) of scene text with one implicit surface:
    its statistics and wall-clock seconds. */
 static ggRayStats render_implicit(const char *expr, const char *view, double *secs)
@@ -933,6 +947,7 @@ int main(void)
         cmocka_unit_test(test_lipschitz_method_on_expressions),
         cmocka_unit_test(test_threads),
         cmocka_unit_test(test_budget_warning),
+        cmocka_unit_test(test_divide_by_zero_pruned),
         cmocka_unit_test(test_bounded_time),
         cmocka_unit_test(test_api_arguments),
         cmocka_unit_test(test_allocator_and_no_leaks),

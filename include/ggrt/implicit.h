@@ -57,7 +57,7 @@ typedef ggVec3 (*ggImplicitGradFn)(void *ud, ggVec3 p);
    max(a, b, ...). Spaces, tabs and newlines are ignored. a^n with a
    constant integer n is defined for every a (x^3 < 0 for x < 0); with any
    other constant exponent for a >= 0; with a non-constant exponent it is
-   exp(n log a), for a > 0. Where f is undefined (sqrt(-1), log(0)...)
+   exp(n log a), for a > 0. Where f is undefined (sqrt(-1), log(0), a / 0...)
    there is no surface. Constant parts are computed once, at compile time,
    and repeated parts shared (x^2 written twice costs one product).
    On success *out receives the surface (free it with ggImplicitFree);

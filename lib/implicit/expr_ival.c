@@ -14,6 +14,10 @@ gg_ival gg_ival_div(gg_ival a, gg_ival b)
 {
     double q1, q2, q3, q4, lo, hi;
     if (gg_iv_isempty(a) || gg_iv_isempty(b)) return gg_iv_empty();
+    /* Division by zero itself: no real quotient, so nothing (an expression
+       like z^2/0 is undefined wherever it is evaluated, and its rays are
+       pruned at once instead of subdividing to the end of their budget). */
+    if (b.lo == 0 && b.hi == 0) return gg_iv_empty();
     if (b.lo > 0 || b.hi < 0) {
         q1 = a.lo / b.lo, q2 = a.lo / b.hi, q3 = a.hi / b.lo, q4 = a.hi / b.hi;
         /* inf / inf: the true quotient can be anything of its sign. */
