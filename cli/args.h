@@ -244,5 +244,10 @@ void cli_render_finish(cli_render *r);
    reproduce r->opt, each preceded by a space ("-s 64x48 --spd"): the
    canonical form of the parsed values, never argv's text. */
 void cli_render_print(FILE *f, const cli_render *r, unsigned parts);
+/* The --accuracy option's parser (a CLI_OPT_FUNC; ud is a ggAccuracy *,
+   set all or nothing) and its printer (" --accuracy k=v,..." for the
+   knobs off their defaults, nothing when all are default). */
+int cli_parse_accuracy(void *ud, const char *v, char *why, size_t whylen);
+void cli_print_accuracy(FILE *f, const ggAccuracy *a);
 
 #endif

@@ -15,7 +15,7 @@
    (ggRenderOptionsParse, include/ggrt/debug.h), limited to the accuracy
    knobs: the rest of a render's options have flags of their own here. */
 
-static int parse_accuracy(void *ud, const char *v, char *why, size_t whylen)
+int cli_parse_accuracy(void *ud, const char *v, char *why, size_t whylen)
 {
     ggRenderOptions o, d;
     ggError err;
@@ -33,15 +33,15 @@ static int parse_accuracy(void *ud, const char *v, char *why, size_t whylen)
     if (memcmp(&o, &d, sizeof o) != 0) {
         snprintf(why, whylen,
                  "only the knobs offset, sphere, refract, fresnel, texture, wavelengths, cutoff, "
-                 "implicit-tol, gradient, intersect go here; the other render options have their "
-                 "own flags");
+                 "implicit-tol, gradient, intersect, shadows go here; the other render options "
+                 "have their own flags");
         return -1;
     }
     *(ggAccuracy *)ud = o.accuracy; /* all or nothing */
     return 0;
 }
 
-static void print_accuracy(FILE *f, const ggAccuracy *a)
+void cli_print_accuracy(FILE *f, const ggAccuracy *a)
 {
     ggRenderOptions o;
     char buf[600], *c;
@@ -95,18 +95,18 @@ void cli_render_init(cli_render *r, unsigned parts)
                                               "fewer\n(same image, slower: for measuring)");
     }
     if (parts & CLI_RENDER_ACCURACY)
-        r->table[n++] =
-            (cli_opt)CLI_OPT_FUNC('a', "accuracy", parse_accuracy, &r->opt.accuracy, "KNOB=V,...",
-                                  "numerical choices, accurate by default (see\n"
-                                  "docs/accuracy.md): offset=scaled|EPS,\n"
-                                  "sphere=stable|textbook, refract=accurate|exact|textbook,\n"
-                                  "fresnel=scene|none|schlick|exact,\n"
-                                  "texture=scene|bilinear|nearest, wavelengths=rgb|one,\n"
-                                  "cutoff=W, implicit-tol=own|T, gradient=exact|H,\n"
-                                  "intersect=double|float (triangles and spheres in\n"
-                                  "single precision; wrong far from the origin),\n"
-                                  "shadows=colored|opaque (opaque: anything blocks the\n"
-                                  "light, glass too)");
+        r->table[n++] = (cli_opt)CLI_OPT_FUNC(
+            'a', "accuracy", cli_parse_accuracy, &r->opt.accuracy, "KNOB=V,...",
+            "numerical choices, accurate by default (see\n"
+            "docs/accuracy.md): offset=scaled|EPS,\n"
+            "sphere=stable|textbook, refract=accurate|exact|textbook,\n"
+            "fresnel=scene|none|schlick|exact,\n"
+            "texture=scene|bilinear|nearest, wavelengths=rgb|one,\n"
+            "cutoff=W, implicit-tol=own|T, gradient=exact|H,\n"
+            "intersect=double|float (triangles and spheres in\n"
+            "single precision; wrong far from the origin),\n"
+            "shadows=colored|opaque (opaque: anything blocks the\n"
+            "light, glass too)");
     r->table[n] = (cli_opt)CLI_OPT_END;
 }
 
@@ -162,5 +162,5 @@ void cli_render_print(FILE *f, const cli_render *r, unsigned parts)
             fprintf(f, " --corners");
         if (r->force) fprintf(f, " --force-effects");
     }
-    if (parts & CLI_RENDER_ACCURACY) print_accuracy(f, &o->accuracy);
+    if (parts & CLI_RENDER_ACCURACY) cli_print_accuracy(f, &o->accuracy);
 }

@@ -13,8 +13,10 @@
 typedef struct bench_opts {
     int size, threads, runs, pov;
     const char *spd_dir, *pov_dir, *scenes, *out_dir;
-    const char *embree;               /* spd: the embree-whitted anchor binary, or NULL */
-    const char *knobs;                /* accuracy: comma-separated knob names, or NULL (all) */
+    const char *embree;  /* spd: the embree-whitted anchor binary, or NULL */
+    const char *knobs;   /* accuracy: comma-separated knob names, or NULL (all) */
+    ggAccuracy accuracy; /* spd: ggrt's accuracy knobs (--accuracy) */
+    int has_accuracy;
     const char *args[BENCH_MAX_ARGS]; /* scene files given on the command line */
     int nargs;
 } bench_opts;

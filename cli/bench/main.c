@@ -61,6 +61,10 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT_STRING(0, "scenes", &bo.scenes, "LIST", "comma-separated subset of scene names"),
         CLI_OPT_STRING(0, "out", &bo.out_dir, "DIR",
                        "where accuracy writes its CSV and SVG (default .)"),
+        CLI_OPT_FUNC('a', "accuracy", cli_parse_accuracy, &bo.accuracy, "KNOB=V,...",
+                     "spd: render ggrt with these accuracy knobs (as in\n"
+                     "'ggrt render --accuracy'), e.g. shadows=opaque for the\n"
+                     "Embree anchor's shadow model"),
         CLI_OPT_STRING(0, "knobs", &bo.knobs, "LIST",
                        "accuracy: only these knobs (comma-separated names\n"
                        "as in its tables, e.g. intersect,sphere); the\n"
@@ -92,6 +96,16 @@ int cmd_bench(int argc, char **argv)
                                    bo.args[0]);
         if (bo.embree && benches[i].run != bench_spd)
             return cli_usage_error(&cmd, "--embree is an option of bench spd only");
+        {
+            /* any knob off its default: the options' text is not empty */
+            ggRenderOptions t;
+            char b[8];
+            ggRenderOptionsDefault(&t);
+            t.accuracy = bo.accuracy;
+            bo.has_accuracy = ggRenderOptionsFormat(&t, b, sizeof b) > 0;
+        }
+        if (bo.has_accuracy && benches[i].run != bench_spd)
+            return cli_usage_error(&cmd, "--accuracy is an option of bench spd only");
         if (bo.knobs && benches[i].run != bench_accuracy)
             return cli_usage_error(&cmd, "--knobs is an option of bench accuracy only");
         if (!opts[0].given) bo.size = benches[i].size;

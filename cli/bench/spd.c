@@ -30,6 +30,7 @@ static const char *const spd_scenes[] = {"balls-s4", "gears", "rings",     "tetr
 typedef struct spd_job {
     char path[1024];
     int size, threads, runs, spd_rules;
+    ggAccuracy accuracy;
 } spd_job;
 
 typedef struct spd_result {
@@ -63,6 +64,7 @@ static int spd_child(void *arg, void *outp)
     o.threads = j->threads;
     o.max_depth = 5;
     if (j->spd_rules) o.spd_rules = o.pixel_corners = true;
+    o.accuracy = j->accuracy;
     for (k = 0; k < j->runs && k < 64; k++) {
         ggImage *img = NULL;
         memset(&r->st, 0, sizeof r->st);
@@ -208,6 +210,11 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
     printf("ggrt bench spd --embree: %dx%d, %d threads, depth 5, pixel centres, %d rounds "
            "interleaved, medians\n",
            bo->size, bo->size, bo->threads, runs);
+    if (bo->has_accuracy) {
+        printf("ggrt with");
+        cli_print_accuracy(stdout, &bo->accuracy);
+        printf("\n");
+    }
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %8s %7s | %7s %7s %8s | %7s | %9s %9s %8s\n", "scene", "ggrt", "Mrays/s",
            "peakMB", "emb-p1", "emb-p16", "Mrays/s", "pov", "emb1/ggrt", "emb16/ggrt", "pov/ggrt");
@@ -219,6 +226,7 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
         memset(&j, 0, sizeof j);
         snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, spd_scenes[i]);
         j.size = bo->size, j.threads = bo->threads, j.runs = 1;
+        j.accuracy = bo->accuracy;
         for (k = 0; k < runs; k++) {
             spd_result r;
             emb_result a, b;
@@ -282,6 +290,11 @@ int bench_spd(const bench_opts *bo)
     printf("ggrt bench spd: %dx%d, %d threads, depth 5, pixel centres, no antialiasing, "
            "median of %d runs\n",
            bo->size, bo->size, bo->threads, bo->runs);
+    if (bo->has_accuracy) {
+        printf("ggrt with");
+        cli_print_accuracy(stdout, &bo->accuracy);
+        printf("\n");
+    }
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %7s %8s %8s %9s %8s %7s %9s | %8s %7s %7s\n", "scene", "prims", "parse",
            "prepare", "render", "Mrays", "Mrays/s", "peakMB", "B/prim", "pov", "povMB", "speedup");
@@ -294,6 +307,7 @@ int bench_spd(const bench_opts *bo)
         memset(&j, 0, sizeof j);
         snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, spd_scenes[i]);
         j.size = bo->size, j.threads = bo->threads, j.runs = bo->runs;
+        j.accuracy = bo->accuracy;
         if (bench_in_child(spd_child, &j, &r, sizeof r, &peak) != 0 || r.error[0]) {
             printf("%-11s failed: %s\n", spd_scenes[i], r.error[0] ? r.error : "child failed");
             return EXIT_INPUT;

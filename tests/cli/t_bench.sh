@@ -34,6 +34,13 @@ printf '#!/bin/sh\necho no result\n' > "$tmp/mute-embree"; chmod +x "$tmp/mute-e
   ok "bench spd --embree: an anchor without a RESULT line fails (exit 2)" ||
   bad "bench spd --embree: an anchor without a RESULT line fails (exit 2, got $got)" "$(cat "$tmp/bench")"
 expect_exit 1 "bench counts --embree is a usage error" "$ggrt" bench counts --embree "$tmp/fake-embree"
+# --accuracy: ggrt's knobs for bench spd, named under the title
+"$ggrt" bench spd --embree "$tmp/fake-embree" --size 16 --runs 1 --scenes gears --no-pov \
+  --accuracy shadows=opaque >"$tmp/bench" 2>&1; got=$?
+[ $got = 0 ] && grep -qx 'ggrt with --accuracy shadows=opaque' "$tmp/bench" && grep -q '^gears ' "$tmp/bench" &&
+  ok "bench spd --accuracy shadows=opaque: named under the title" ||
+  bad "bench spd --accuracy shadows=opaque: named under the title (exit $got)" "$(cat "$tmp/bench")"
+expect_exit 1 "bench counts --accuracy is a usage error" "$ggrt" bench counts --accuracy shadows=opaque
 # bench scaling: the per-scene thread table with the serial share
 "$ggrt" bench scaling --size 16 --runs 1 --scenes tetra >"$tmp/scal" 2>&1; got=$?
 if [ $got = 0 ] && grep -q 'against threads (median of 1; serial = time outside the tile loop)' "$tmp/scal" &&
