@@ -25,6 +25,24 @@ static ggScene *load(const char *path)
     return s;
 }
 
+/* A scene from NFF text, prepared. */
+static ggScene *load_text(const char *txt, const char *name)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    assert_int_equal(ggSceneLoadString(s, txt, strlen(txt), name, NULL), GG_OK);
+    assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
+    return s;
+}
+
+/* The ray straight down from (0, 0, z). */
+static ggRay down_from(double z)
+{
+    ggRay r;
+    r.o.x = 0, r.o.y = 0, r.o.z = z;
+    r.d.x = 0, r.d.y = 0, r.d.z = -1;
+    return r;
+}
+
 static ggImage *render(ggScene *s, const ggRenderOptions *o, ggRayStats *st)
 {
     ggImage *img = NULL;
@@ -206,15 +224,10 @@ static void test_direct_light_added(void **state)
        ambient one, not assigned over it; ambient must survive. */
     const char *txt = "ambient 0.25 0.25 0.25\nl 0 0 1 1 1 1\n"
                       "f 0.5 0.5 0.5 0.8 0 100000 0 0\np 4 -1 -1 0 1 -1 0 1 1 0 -1 1 0\n";
-    ggScene *s = ggSceneCreate(NULL);
-    ggRay r;
+    ggScene *s = load_text(txt, "l.nff");
     ggColor c;
     (void)state;
-    assert_int_equal(ggSceneLoadString(s, txt, strlen(txt), "l.nff", NULL), GG_OK);
-    assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
-    r.o.x = 0, r.o.y = 0, r.o.z = 0.5;
-    r.d.x = 0, r.d.y = 0, r.d.z = -1;
-    c = ggRayColor(s, NULL, r, 1, NULL);
+    c = ggRayColor(s, NULL, down_from(0.5), 1, NULL);
     assert_close(c.r, 0.8 * 0.5 * 0.25 + 0.8 * 0.5 * 1.0, 1e-12);
     ggSceneFree(s);
 }
@@ -230,17 +243,13 @@ static void test_opaque_shadows(void **state)
     const char *txt = "ambient 0.25 0.25 0.25\nl 0 0 1 1 1 1\n"
                       "f 0.5 0.5 0.5 0.8 0 100000 0 0\np 4 -1 -1 0 1 -1 0 1 1 0 -1 1 0\n"
                       "f 1 1 1 0 0 100000 0.5 1\np 4 -1 -1 0.5 1 -1 0.5 1 1 0.5 -1 1 0.5\n";
-    ggScene *s = ggSceneCreate(NULL);
+    ggScene *s = load_text(txt, "pane.nff");
     ggRenderOptions o;
     ggImage *a, *b;
-    ggRay r;
+    ggRay r = down_from(0.2);
     ggColor c;
     ggError e;
     (void)state;
-    assert_int_equal(ggSceneLoadString(s, txt, strlen(txt), "pane.nff", NULL), GG_OK);
-    assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
-    r.o.x = 0, r.o.y = 0, r.o.z = 0.2;
-    r.d.x = 0, r.d.y = 0, r.d.z = -1;
     ggRenderOptionsDefault(&o);
     c = ggRayColor(s, &o, r, 1, NULL);
     assert_close(c.r, 0.8 * 0.5 * 0.25 + 0.8 * 0.5 * 0.5, 1e-12);
