@@ -201,6 +201,15 @@ static double med_of(const double *v, int runs)
     return bench_median(t, k);
 }
 
+/* The line under a table's title naming ggrt's accuracy knobs, if any. */
+static void print_knobs(const bench_opts *bo)
+{
+    if (!bo->has_accuracy) return;
+    printf("ggrt with");
+    cli_print_accuracy(stdout, &bo->accuracy);
+    printf("\n");
+}
+
 /* bench spd --embree: per scene, `runs` rounds of ggrt, anchor -p 1,
    anchor -p 16 and (if enabled) POV-Ray, one render each; medians. */
 static int bench_spd_embree(const bench_opts *bo, int pov)
@@ -210,11 +219,7 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
     printf("ggrt bench spd --embree: %dx%d, %d threads, depth 5, pixel centres, %d rounds "
            "interleaved, medians\n",
            bo->size, bo->size, bo->threads, runs);
-    if (bo->has_accuracy) {
-        printf("ggrt with");
-        cli_print_accuracy(stdout, &bo->accuracy);
-        printf("\n");
-    }
+    print_knobs(bo);
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %8s %7s | %7s %7s %8s | %7s | %9s %9s %8s\n", "scene", "ggrt", "Mrays/s",
            "peakMB", "emb-p1", "emb-p16", "Mrays/s", "pov", "emb1/ggrt", "emb16/ggrt", "pov/ggrt");
@@ -290,11 +295,7 @@ int bench_spd(const bench_opts *bo)
     printf("ggrt bench spd: %dx%d, %d threads, depth 5, pixel centres, no antialiasing, "
            "median of %d runs\n",
            bo->size, bo->size, bo->threads, bo->runs);
-    if (bo->has_accuracy) {
-        printf("ggrt with");
-        cli_print_accuracy(stdout, &bo->accuracy);
-        printf("\n");
-    }
+    print_knobs(bo);
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %7s %8s %8s %9s %8s %7s %9s | %8s %7s %7s\n", "scene", "prims", "parse",
            "prepare", "render", "Mrays", "Mrays/s", "peakMB", "B/prim", "pov", "povMB", "speedup");

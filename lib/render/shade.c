@@ -718,8 +718,8 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         sh.d = v3sub(s->lights[li].pos, sh.o);
         sh.lc = s->light_colors[li];
         sh.verdict = GG_SHADOW_VISIBLE, sh.occ = -1, sh.tb = 1;
-        if ((FX & GG_EFFECT_COLORED_SHADOWS) && (c->fx & GG_EFFECT_COLORED_SHADOWS) &&
-            (s->effects & GG_EFFECT_COLORED_SHADOWS))
+        /* the scene has them, and the shadows knob did not drop them */
+        if ((FX & GG_EFFECT_COLORED_SHADOWS) && (c->fx & s->effects & GG_EFFECT_COLORED_SHADOWS))
             shadow_colored(c, r, hi, li, th, &sh, FX);
         else
             shadow_opaque(c, r, hi, li, th, &sh, FX);
