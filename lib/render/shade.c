@@ -254,6 +254,12 @@ static ggColor media_transmittance(const ggScene *s, const gg_media *m, double d
                a.b > 0 ? exp(-a.b * dist) : 1);
 }
 
+/* Whether this path and this render absorb. Without the effect every
+   medium a ray can be in (a material with kt > 0, media_cross) has zero
+   extinction, so media_transmittance would give (1, 1, 1), which changes
+   no bit of what it multiplies: skip the call. */
+#define ABSORBS(c, FX) (((FX)&GG_EFFECT_ABSORPTION) && ((c)->fx & GG_EFFECT_ABSORPTION))
+
 /* A query of this render from o along d, t in (0, tmax), skipping prim
    `ignore` and the primitives flagged `skip`; th's statistics count the
    implicit surfaces whose evaluation budget it exhausts. */
@@ -550,14 +556,14 @@ GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, co
    gg_geom_occluded found on the segment, which it did not find blocked. */
 GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3 o, ggVec3 d,
                               uint32_t from, const gg_media *start, int *first_obj, double *t_first,
-                              const gg_tcol *all)
+                              const gg_tcol *all, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const ggVec3 light = v3add(o, d);
-    gg_media m = *start;
+    ggVec3 light;
+    gg_media m;
     ggColor tr = rgb(1, 1, 1);
-    double len = v3len(d);
-    gg_rayq q = make_q(c, th, o, d, 1.0, from, 0);
+    double len;
+    gg_rayq q;
     gg_hit h;
     int step;
     *first_obj = -1;
@@ -571,18 +577,29 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
     if (all->complete && c->acc.offset != GG_ACC_OFFSET_FIXED) {
         double prev = 0;
         int i;
+        const int absorb = ABSORBS(c, FX);
+        /* Most shadow rays: nothing crossed, no medium to absorb. The
+           general loop would give (1, 1, 1) times a transmittance of
+           (1, 1, 1): the same bits. */
+        if (all->n == 0 && (start->n == 0 || !absorb)) return tr;
+        m = *start;
+        len = v3len(d);
         for (i = 0; i < all->n; i++) {
             const gg_hit *hi = &all->h[i];
             int obj = gg_geom_prim_object(s->geom, hi->prim), mat = s->objects[obj].material;
             if (*first_obj < 0) *first_obj = obj, *t_first = hi->t;
-            tr = cmul(tr, media_transmittance(s, &m, (hi->t - prev) * len));
+            if (absorb) tr = cmul(tr, media_transmittance(s, &m, (hi->t - prev) * len));
             tr = cscale(tr, s->materials[mat].kt);
             media_cross(&m, mat);
             if (cmaxc(tr) <= 0) return tr;
             prev = hi->t;
         }
-        return cmul(tr, media_transmittance(s, &m, (1 - prev) * len));
+        return absorb ? cmul(tr, media_transmittance(s, &m, (1 - prev) * len)) : tr;
     }
+    light = v3add(o, d);
+    m = *start;
+    len = v3len(d);
+    q = make_q(c, th, o, d, 1.0, from, 0);
     for (step = 0; step < GG_MAX_SHADOW_STEPS; step++) {
         int obj, mat, found;
         gg_surf sf;
@@ -641,7 +658,7 @@ GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hi
         sh->verdict = GG_SHADOW_BLOCKED;
         return;
     }
-    if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0) {
+    if (ABSORBS(c, FX) && r->media.n > 0) {
         ggColor a = media_transmittance(s, &r->media, v3len(sh->d));
         if (a.r != 1 || a.g != 1 || a.b != 1) sh->verdict = GG_SHADOW_ATTENUATED;
         sh->lc = cmul(sh->lc, a);
@@ -673,7 +690,7 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
             return;
         }
     }
-    through = shadow_walk(c, th, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all);
+    through = shadow_walk(c, th, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all, FX);
     if (sh->occ >= 0) sh->verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
     sh->lc = cmul(sh->lc, through);
 }
@@ -704,15 +721,11 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
     const ggScene *s = c->s;
     size_t li;
     for (li = 0; li < s->nlights; li++) {
-        const ggVec3 L = v3sub(s->lights[li].pos, hi->sf.p);
+        ggVec3 L = v3sub(s->lights[li].pos, hi->sf.p);
         const int lr = rec_light(c, node, li, FX);
         shadow_ray sh;
-        ggVec3 Lu;
         double nl, len;
         if (v3dot(hi->ng, L) <= 0 || (nl = v3dot(hi->ns, L)) <= 0) continue;
-        len = v3len(L);
-        Lu = v3scale(L, 1.0 / len);
-        nl /= len;
         th->st.shadow++;
         sh.o = hi->o_out;
         sh.d = v3sub(s->lights[li].pos, sh.o);
@@ -725,7 +738,11 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
             shadow_opaque(c, r, hi, li, th, &sh, FX);
         rec_shadow(c, lr, li, &sh, FX);
         if (sh.verdict == GG_SHADOW_BLOCKED || cis0(sh.lc)) continue;
-        light_terms(c, r, hi, sh.lc, nl, Lu, lr, col, FX);
+        /* L's length and direction only now: a blocked light needs
+           neither, and nothing has to survive the shadow query's call. */
+        len = v3len(L);
+        L = v3scale(L, 1.0 / len);
+        light_terms(c, r, hi, sh.lc, nl / len, L, lr, col, FX);
     }
 }
 
@@ -933,15 +950,13 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
         hit = gg_geom_intersect(s->geom, &q, &h);
     if (!hit) {
         col = s->background;
-        if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
-            att = media_transmittance(s, &r->media, INFINITY);
+        if (ABSORBS(c, FX) && r->media.n > 0) att = media_transmittance(s, &r->media, INFINITY);
     } else {
         if (r->depth == 1) th->st.eye_hit++;
         col = shade_hit(c, r, &q, hp, th, node, FX);
-        if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0)
-            att = media_transmittance(s, &r->media, hp->t);
+        if (ABSORBS(c, FX) && r->media.n > 0) att = media_transmittance(s, &r->media, hp->t);
     }
-    if ((FX & GG_EFFECT_ABSORPTION) && r->media.n > 0) col = cmul(col, att);
+    if (ABSORBS(c, FX) && r->media.n > 0) col = cmul(col, att);
     rec_ray_end(c, node, hit, att, col, FX);
     return col;
 }
