@@ -278,6 +278,31 @@ static void test_opaque_shadows(void **state)
     ggSceneFree(s);
 }
 
+/* Absorption on a shadow ray that crosses nothing: the floor and the
+   light are both inside a ball of red-absorbing glass (index 1: no
+   bending, no Fresnel), so the shadow walk has an empty crossing list but
+   starts in the medium. The ray comes down the z axis, enters at z = 3,
+   meets the floor at z = 0 (3 units in the glass) and the floor's light
+   is 1 unit above it: red keeps exp(-4 pi k (3 + 1) / lambda_R), green
+   all of it. (Without the medium's term on the shadow ray red would keep
+   exp(-4 pi k 3 / lambda_R); without absorption, the same image with and
+   without the absorb line.) */
+static void test_absorbing_shadow_no_crossing(void **state)
+{
+    const char *txt = "ambient 0 0 0\nl 0 0 1 1 1 1\n"
+                      "f 1 1 1 0 0 100000 1 1\nabsorb 1e-8 0 0 1\ns 0 0 0 3\n"
+                      "f 1 1 1 1 0 100000 0 0\np 4 -1 -1 0 1 -1 0 1 1 0 -1 1 0\n";
+    const double alpha = 4 * GG_PI * 1e-8 / (GG_LAMBDA_R * 1e-9);
+    ggScene *s = load_text(txt, "inside.nff");
+    ggColor c;
+    (void)state;
+    assert_true(ggSceneEffects(s) & GG_EFFECT_ABSORPTION);
+    c = ggRayColor(s, NULL, down_from(5), 4, NULL);
+    assert_close(c.g, 1.0, 1e-12);
+    assert_close(c.r, exp(-alpha * 4), 1e-9);
+    ggSceneFree(s);
+}
+
 /* The renderer's shortcuts -- tiles whose eye rays can reach nothing
    filled with the background, the pixel-centre loop that casts eye rays
    itself -- against the plain path that traces every sample (a cost map
@@ -331,6 +356,7 @@ int main(void)
         cmocka_unit_test(test_depth_limit),
         cmocka_unit_test(test_direct_light_added),
         cmocka_unit_test(test_opaque_shadows),
+        cmocka_unit_test(test_absorbing_shadow_no_crossing),
         cmocka_unit_test(test_shortcuts_match_tracing),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);
