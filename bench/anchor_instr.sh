@@ -18,7 +18,8 @@ scenes=${*:-balls-s4 gears rings tetra mount tree teapot-s12}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 cc -O2 -march=haswell -std=c11 -o "$tmp/anchor" "$src/main.c" -lembree3 -lpng -lpthread -lm ||
   { echo "bench/anchor_instr.sh: the anchor did not build (apt-get install libembree-dev)" >&2; exit 1; }
-# callgrind's total for one run: "$@" is the command, $1 the function to count
+# callgrind's total for one run of the anchor: "$@" is the command, $1 the
+# function to count
 count() {
   f=$1; shift
   valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" --toggle-collect="$f" "$@" \
@@ -28,7 +29,9 @@ count() {
 printf "%-11s %14s %14s %14s %9s %9s\n" scene ggrt anchor-p1 anchor-p16 p1/ggrt p16/ggrt
 for s in $scenes; do
   n=examples/scenes/spd/$s.nff
-  a=$(count ggRender "$g" render "$n" -s 256x256 -j 1 -q -o "$tmp/x.png") || exit 1
+  # ggrt's figure is bench/instr.sh's, by the same command
+  a=$(sh bench/instr.sh "$g" "$s" | awk '{ gsub(",", "", $2); print $2 }')
+  [ -n "$a" ] || exit 1
   b=$(count worker_main "$tmp/anchor" -t 1 -r 256 -p 1 -o - "$n") || exit 1
   c=$(count worker_main "$tmp/anchor" -t 1 -r 256 -p 16 -o - "$n") || exit 1
   awk -v s="$s" -v a="$a" -v b="$b" -v c="$c" \

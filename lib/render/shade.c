@@ -721,7 +721,7 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
     const ggScene *s = c->s;
     size_t li;
     for (li = 0; li < s->nlights; li++) {
-        ggVec3 L = v3sub(s->lights[li].pos, hi->sf.p);
+        const ggVec3 L = v3sub(s->lights[li].pos, hi->sf.p);
         const int lr = rec_light(c, node, li, FX);
         shadow_ray sh;
         double nl, len;
@@ -741,8 +741,7 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         /* L's length and direction only now: a blocked light needs
            neither, and nothing has to survive the shadow query's call. */
         len = v3len(L);
-        L = v3scale(L, 1.0 / len);
-        light_terms(c, r, hi, sh.lc, nl / len, L, lr, col, FX);
+        light_terms(c, r, hi, sh.lc, nl / len, v3scale(L, 1.0 / len), lr, col, FX);
     }
 }
 
