@@ -422,7 +422,8 @@ static void same_wide_tree(const gg_geom *g)
     size_t n4 = 0, n8 = 0, i;
     leafbox *a = calloc(4 * g->nnodes, sizeof *a), *b = calloc(4 * g->nnodes, sizeof *b);
     int c, k;
-    assert_true(a && b && g->wnodes && g->nwnodes > 0 && g->nwnodes <= g->nnodes);
+    /* at most one wide node per inner binary node, of which a 4-wide node holds <= 3 */
+    assert_true(a && b && g->wnodes && g->nwnodes > 0 && g->nwnodes <= 3 * g->nnodes);
     for (i = 0; i < g->nnodes; i++)
         for (c = 0; c < 4; c++) {
             const gg_bnode *nd = &g->nodes[i];

@@ -15,9 +15,9 @@
 ** Leaves of triangles only are also kept as SoA blocks when the CPU runs
 ** AVX: the AVX copy of the traversal (bvh_avx.c) tests their triangles
 ** four at a time, with the same bits as the scalar kernel. For that copy
-** the tree is also kept in 8-wide nodes (gg_bvh_wide: each node with its
-** largest inner children opened until eight boxes fill it, the same
-** float boxes and leaves), which its single-ray walks take: one 8-lane
+** the tree is also kept in 8-wide nodes (collapsed from the binary tree
+** with it, bvh_build.c; gg_bvh_wide points their leaves at the blocks:
+** the same float boxes and leaves), which its single-ray walks take: one 8-lane
 ** AVX pass tests eight boxes, and a walk visits fewer nodes. Packets,
 ** the frustum test, the recorder's cost copy and the single-precision
 ** copy walk the 4-wide tree.
@@ -130,74 +130,26 @@ int gg_bvh_tri_leaves(gg_geom *g)
     return 0;
 }
 
-/* One child box of a wide node being gathered. */
-typedef struct wentry {
-    uint32_t ref;
-    float b[6];
-} wentry;
-
-/* The used lanes of 4-wide node nd (an unused lane's box is inverted). */
-static int wide_entries(const gg_bnode *nd, wentry *e)
-{
-    int i, k, n = 0;
-    for (i = 0; i < 4; i++) {
-        if (nd->b[0][i] == INFINITY) continue;
-        e[n].ref = nd->child[i];
-        for (k = 0; k < 6; k++) e[n].b[k] = nd->b[k][i];
-        n++;
-    }
-    return n;
-}
-
-static double wide_area(const wentry *e)
-{
-    double x = (double)e->b[3] - e->b[0], y = (double)e->b[4] - e->b[1],
-           z = (double)e->b[5] - e->b[2];
-    return x * y + y * z + z * x;
-}
-
-/* Wide node for 4-wide node n4 (depth first, parents before children):
-   its children, with the inner child of largest area opened while its
-   children fit in eight lanes. The boxes are the 4-wide tree's. */
-static uint32_t wide_node(gg_geom *g, uint32_t n4)
-{
-    const uint32_t wi = (uint32_t)g->nwnodes++;
-    wentry e[8], sub[4];
-    int n = wide_entries(&g->nodes[n4], e), i, k;
-    for (;;) {
-        int bi = -1, ns;
-        double ba = -1;
-        for (i = 0; i < n; i++) {
-            double a;
-            if (e[i].ref & GG_LEAF) continue;
-            a = wide_area(&e[i]);
-            if (a > ba && n - 1 + wide_entries(&g->nodes[e[i].ref], sub) <= 8) ba = a, bi = i;
-        }
-        if (bi < 0) break;
-        ns = wide_entries(&g->nodes[e[bi].ref], sub);
-        e[bi] = sub[0];
-        for (i = 1; i < ns; i++) e[n++] = sub[i];
-    }
-    for (i = 0; i < 8; i++) {
-        gg_wnode *w = &g->wnodes[wi];
-        for (k = 0; k < 6; k++) w->b[k][i] = i < n ? e[i].b[k] : k < 3 ? INFINITY : -INFINITY;
-        w->child[i] = GG_LEAF;
-    }
-    for (i = 0; i < n; i++) {
-        uint32_t c = e[i].ref & GG_LEAF ? e[i].ref : wide_node(g, e[i].ref);
-        g->wnodes[wi].child[i] = c;
-    }
-    return wi;
-}
-
+/* The 8-wide nodes (built with the tree, bvh_build.c) reach the triangle
+   blocks gg_bvh_tri_leaves made: each leaf that became a block in the
+   4-wide tree, found by its first slot, becomes the same block here. */
 int gg_bvh_wide(gg_geom *g)
 {
-    if (!g->trav_avx || !g->nnodes) return 0;
-    g->wnode_mem = gg_mem_alloc(g->alloc, g->nnodes * sizeof(gg_wnode) + 64);
-    if (!g->wnode_mem) return -1;
-    g->wnodes = (gg_wnode *)(((uintptr_t)g->wnode_mem + 63) & ~(uintptr_t)63);
-    memset(g->wnodes, 0, g->nnodes * sizeof(gg_wnode));
-    wide_node(g, 0);
+    uint32_t *blk;
+    size_t i;
+    int c;
+    if (!g->trav_avx || !g->wnodes || !g->ntleaves) return 0;
+    blk = gg_mem_calloc(g->alloc, g->nslots, sizeof *blk);
+    if (!blk) return -1;
+    for (i = 0; i < g->ntleaves; i++)
+        blk[g->tleaves[i].first] = GG_LEAF | GG_TLEAF | (uint32_t)i << 3 | (g->tleaves[i].n - 1);
+    for (i = 0; i < g->nwnodes; i++)
+        for (c = 0; c < 8; c++) {
+            uint32_t ref = g->wnodes[i].child[c];
+            if (!(ref & GG_LEAF) || g->wnodes[i].b[0][c] == INFINITY) continue;
+            if (blk[GG_LEAF_I(ref)]) g->wnodes[i].child[c] = blk[GG_LEAF_I(ref)];
+        }
+    gg_mem_free(g->alloc, blk);
     return 0;
 }
 #else

@@ -996,20 +996,18 @@ static void set_lane(gg_bnode *nd, int lane, const float lo[3], const float hi[3
     }
 }
 
-/* Turn the binary subtree at n2 into 4-wide nodes (depth first, parents
-   before children, so a traversal mostly walks forward in memory). */
-static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
+/* The children of a w-wide node for binary node n2: its two children,
+   the one of largest area opened while it is inner and there are fewer
+   than w (a leaf n2 is its own only child). */
+static int open_kids(const bctx *c, uint32_t n2, uint32_t *kids, int w)
 {
-    uint32_t ni = (uint32_t)g->nnodes++, kids[4];
     int nk, i;
-    if (depth > g->max_depth) g->max_depth = depth;
     if (c->n[n2].leaf) {
-        kids[0] = n2, nk = 1;
-    } else {
-        kids[0] = c->n[n2].a, kids[1] = c->n[n2].b, nk = 2;
+        kids[0] = n2;
+        return 1;
     }
-    /* Open the largest inner child until there are four. */
-    while (nk < 4) {
+    kids[0] = c->n[n2].a, kids[1] = c->n[n2].b, nk = 2;
+    while (nk < w) {
         int bi = -1;
         double ba = -1;
         for (i = 0; i < nk; i++) {
@@ -1021,6 +1019,21 @@ static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
         kids[nk++] = c->n[kids[bi]].b;
         kids[bi] = c->n[kids[bi]].a;
     }
+    return nk;
+}
+
+static uint32_t leaf_ref(const bnode2 *k)
+{
+    return GG_LEAF | k->a << 3 | (k->b - 1);
+}
+
+/* Turn the binary subtree at n2 into 4-wide nodes (depth first, parents
+   before children, so a traversal mostly walks forward in memory). */
+static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
+{
+    uint32_t ni = (uint32_t)g->nnodes++, kids[4];
+    int nk = open_kids(c, n2, kids, 4), i;
+    if (depth > g->max_depth) g->max_depth = depth;
     for (i = 0; i < 4; i++) {
         gg_bnode *nd = &g->nodes[ni];
         if (i >= nk) {
@@ -1031,7 +1044,7 @@ static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
         }
         set_lane(nd, i, c->n[kids[i]].lo, c->n[kids[i]].hi);
         if (c->n[kids[i]].leaf) {
-            nd->child[i] = GG_LEAF | c->n[kids[i]].a << 3 | (c->n[kids[i]].b - 1);
+            nd->child[i] = leaf_ref(&c->n[kids[i]]);
             g->nleaves++;
         } else {
             uint32_t ch = collapse(c, g, kids[i], depth + 1);
@@ -1039,6 +1052,58 @@ static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
         }
     }
     return ni;
+}
+
+/* The same binary subtree in 8-wide nodes (g->wnodes, in the same order),
+   collapsed straight from the binary tree: from the 4-wide nodes, whose
+   leaves cannot be opened, they came out about five lanes full
+   (docs/performance.md, "Fuller 8-wide nodes"). The leaf references are
+   the 4-wide tree's; gg_bvh_wide points those of triangle blocks at the
+   blocks. */
+static uint32_t collapse8(const bctx *c, gg_geom *g, uint32_t n2)
+{
+    uint32_t wi = (uint32_t)g->nwnodes++, kids[8];
+    int nk = open_kids(c, n2, kids, 8), i, k;
+    for (i = 0; i < 8; i++) {
+        gg_wnode *w = &g->wnodes[wi];
+        const bnode2 *kn = i < nk ? &c->n[kids[i]] : NULL;
+        for (k = 0; k < 3; k++) {
+            w->b[k][i] = kn ? f_down(kn->lo[k]) : INFINITY;
+            w->b[k + 3][i] = kn ? f_up(kn->hi[k]) : -INFINITY;
+        }
+        w->child[i] = kn && kn->leaf ? leaf_ref(kn) : GG_LEAF;
+    }
+    for (i = 0; i < nk; i++)
+        if (!c->n[kids[i]].leaf) {
+            uint32_t ch = collapse8(c, g, kids[i]);
+            g->wnodes[wi].child[i] = ch;
+        }
+    return wi;
+}
+
+/* How many 8-wide nodes collapse8 makes for the subtree at n2. */
+static size_t count8(const bctx *c, uint32_t n2)
+{
+    uint32_t kids[8];
+    int nk = open_kids(c, n2, kids, 8), i;
+    size_t n = 1;
+    for (i = 0; i < nk; i++)
+        if (!c->n[kids[i]].leaf) n += count8(c, kids[i]);
+    return n;
+}
+
+/* The 8-wide nodes for the AVX copy. */
+static int build_wide(const bctx *c, gg_geom *g)
+{
+    size_t cap;
+    if (!gg_bvh_avx_wanted(g)) return 0;
+    cap = count8(c, 0);
+    g->wnode_mem = gg_mem_alloc(g->alloc, cap * sizeof(gg_wnode) + 64);
+    if (!g->wnode_mem) return -1;
+    g->wnodes = (gg_wnode *)(((uintptr_t)g->wnode_mem + 63) & ~(uintptr_t)63);
+    memset(g->wnodes, 0, cap * sizeof(gg_wnode));
+    collapse8(c, g, 0);
+    return 0;
 }
 
 /* ---- entry ---- */
@@ -1142,6 +1207,7 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
         memset(g->nodes, 0, cap * sizeof(gg_bnode));
     }
     collapse(&c, g, 0, 1);
+    if (build_wide(&c, g)) goto done;
     *order = c.id, c.id = NULL;
     rc = 0;
 done:

@@ -352,9 +352,10 @@ void gg_bvh_free(gg_geom *g);
    also as gg_tleaf blocks, and choose the traversal copy (g->trav_avx),
    when gg_bvh_avx_wanted(g). Returns -1 when out of memory. */
 int gg_bvh_tri_leaves(gg_geom *g);
-/* With the AVX copy chosen (after gg_bvh_tri_leaves): the tree again in
-   8-wide nodes (g->wnodes), for the AVX copy's single-ray walks. 0, or -1
-   when out of memory. */
+/* With the AVX copy chosen (after gg_bvh_tri_leaves): the leaves of the
+   8-wide nodes gg_bvh_build made (g->wnodes, for the AVX copy's
+   single-ray walks) that are triangle blocks in the 4-wide tree become
+   those blocks there too. 0, or -1 when out of memory. */
 int gg_bvh_wide(gg_geom *g);
 /* Whether builds of g make triangle blocks for the AVX traversal (bvh.c):
    this build has it (bvh_avx.c), the CPU runs it and g->cpu allows it. */
