@@ -1054,16 +1054,91 @@ static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
     return ni;
 }
 
-/* The same binary subtree in 8-wide nodes (g->wnodes, in the same order),
-   collapsed straight from the binary tree: from the 4-wide nodes, whose
-   leaves cannot be opened, they came out about five lanes full
-   (docs/performance.md, "Fuller 8-wide nodes"). The leaf references are
-   the 4-wide tree's; gg_bvh_wide points those of triangle blocks at the
-   blocks. */
-static uint32_t collapse8(const bctx *c, gg_geom *g, uint32_t n2)
+/* ---- 8-wide nodes ----
+
+   The 8-wide tree (g->wnodes, for the AVX copy's single-ray walks) is
+   collapsed straight from the binary tree, keeping its leaves: from the
+   4-wide nodes, whose leaves cannot be opened, it came out about five
+   lanes full (docs/performance.md, "Fuller 8-wide nodes"). Which binary
+   nodes become wide nodes is chosen as in Ylitie, Karras and Laine,
+   "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide
+   BVHs" (HPG 2017), section 4.1, by dynamic programming over the binary
+   tree: with the leaves fixed, the SAH cost of a wide tree is, up to a
+   constant, the sum of its nodes' areas, and f[n][i-1] is the least such
+   sum for the subtree of binary node n given i lanes in its parent. */
+typedef struct wctx {
+    const bctx *c;
+    float (*f)[8];
+} wctx;
+
+/* The least cost of giving binary inner node nd's two subtrees j lanes
+   between them, and the lanes of the first (*ka). */
+static float wide_split(const wctx *x, const bnode2 *nd, int j, int *ka)
 {
+    float best = INFINITY;
+    int k;
+    for (k = 1; k < j; k++) {
+        float v = x->f[nd->a][k - 1] + x->f[nd->b][j - k - 1];
+        if (v < best) best = v, *ka = k;
+    }
+    return best;
+}
+
+static void wide_cost(const wctx *x, uint32_t n)
+{
+    const bnode2 *nd = &x->c->n[n];
+    float *f = x->f[n], own;
+    int i, k;
+    if (nd->leaf) {
+        for (i = 0; i < 8; i++) f[i] = 0;
+        return;
+    }
+    wide_cost(x, nd->a);
+    wide_cost(x, nd->b);
+    own = (float)node_area(nd) + wide_split(x, nd, 8, &k); /* n as a wide node */
+    f[0] = own;
+    for (i = 2; i <= 8; i++) {
+        float v = wide_split(x, nd, i, &k); /* n's subtrees in its parent's lanes */
+        f[i - 1] = v < own ? v : own;
+    }
+}
+
+/* The lanes of subtree n given j of them, by f's choices. */
+static void wide_gather(const wctx *x, uint32_t n, int j, uint32_t *kids, int *nk)
+{
+    const bnode2 *nd = &x->c->n[n];
+    int k = 1;
+    if (nd->leaf || j == 1 || !(wide_split(x, nd, j, &k) < x->f[n][0])) {
+        kids[(*nk)++] = n;
+        return;
+    }
+    wide_gather(x, nd->a, k, kids, nk);
+    wide_gather(x, nd->b, j - k, kids, nk);
+}
+
+/* The lanes of the wide node for binary node n (a leaf is its own lane). */
+static int wide_kids(const wctx *x, uint32_t n, uint32_t kids[8])
+{
+    const bnode2 *nd = &x->c->n[n];
+    int nk = 0, k = 1;
+    if (nd->leaf) {
+        kids[0] = n;
+        return 1;
+    }
+    wide_split(x, nd, 8, &k);
+    wide_gather(x, nd->a, k, kids, &nk);
+    wide_gather(x, nd->b, 8 - k, kids, &nk);
+    return nk;
+}
+
+/* The wide nodes of the subtree at n2, depth first, parents before
+   children. The leaf references are the 4-wide tree's; gg_bvh_wide points
+   those of triangle blocks at the blocks. */
+static uint32_t collapse8(const wctx *x, gg_geom *g, uint32_t n2)
+{
+    const bctx *c = x->c;
     uint32_t wi = (uint32_t)g->nwnodes++, kids[8];
-    int nk = open_kids(c, n2, kids, 8), i, k;
+    int nk = wide_kids(x, n2, kids), i, k;
     for (i = 0; i < 8; i++) {
         gg_wnode *w = &g->wnodes[wi];
         const bnode2 *kn = i < nk ? &c->n[kids[i]] : NULL;
@@ -1075,35 +1150,42 @@ static uint32_t collapse8(const bctx *c, gg_geom *g, uint32_t n2)
     }
     for (i = 0; i < nk; i++)
         if (!c->n[kids[i]].leaf) {
-            uint32_t ch = collapse8(c, g, kids[i]);
+            uint32_t ch = collapse8(x, g, kids[i]);
             g->wnodes[wi].child[i] = ch;
         }
     return wi;
 }
 
-/* How many 8-wide nodes collapse8 makes for the subtree at n2. */
-static size_t count8(const bctx *c, uint32_t n2)
+/* How many wide nodes collapse8 makes for the subtree at n2. */
+static size_t count8(const wctx *x, uint32_t n2)
 {
     uint32_t kids[8];
-    int nk = open_kids(c, n2, kids, 8), i;
+    int nk = wide_kids(x, n2, kids), i;
     size_t n = 1;
     for (i = 0; i < nk; i++)
-        if (!c->n[kids[i]].leaf) n += count8(c, kids[i]);
+        if (!x->c->n[kids[i]].leaf) n += count8(x, kids[i]);
     return n;
 }
 
-/* The 8-wide nodes for the AVX copy. */
-static int build_wide(const bctx *c, gg_geom *g)
+/* The 8-wide nodes for the AVX copy; nslots2 binary node slots. */
+static int build_wide(const bctx *c, gg_geom *g, size_t nslots2)
 {
+    wctx x;
     size_t cap;
     if (!gg_bvh_avx_wanted(g)) return 0;
-    cap = count8(c, 0);
+    x.c = c;
+    x.f = gg_mem_alloc(g->alloc, nslots2 * sizeof *x.f);
+    if (!x.f) return -1;
+    wide_cost(&x, 0);
+    cap = count8(&x, 0);
     g->wnode_mem = gg_mem_alloc(g->alloc, cap * sizeof(gg_wnode) + 64);
-    if (!g->wnode_mem) return -1;
-    g->wnodes = (gg_wnode *)(((uintptr_t)g->wnode_mem + 63) & ~(uintptr_t)63);
-    memset(g->wnodes, 0, cap * sizeof(gg_wnode));
-    collapse8(c, g, 0);
-    return 0;
+    if (g->wnode_mem) {
+        g->wnodes = (gg_wnode *)(((uintptr_t)g->wnode_mem + 63) & ~(uintptr_t)63);
+        memset(g->wnodes, 0, cap * sizeof(gg_wnode));
+        collapse8(&x, g, 0);
+    }
+    gg_mem_free(g->alloc, x.f);
+    return g->wnode_mem ? 0 : -1;
 }
 
 /* ---- entry ---- */
@@ -1207,7 +1289,7 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
         memset(g->nodes, 0, cap * sizeof(gg_bnode));
     }
     collapse(&c, g, 0, 1);
-    if (build_wide(&c, g)) goto done;
+    if (build_wide(&c, g, 2 * room)) goto done;
     *order = c.id, c.id = NULL;
     rc = 0;
 done:
