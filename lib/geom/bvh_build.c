@@ -39,7 +39,7 @@
 #endif
 
 #define GG_NBINS      32  /* SAH bins per axis */
-#define GG_SAH_TRAV   0.7 /* cost of a node visit, in element tests (docs/performance.md, "Node cost") */
+#define GG_SAH_TRAV   0.7 /* a node visit, in element tests (docs/performance.md, "Node cost") */
 #define GG_SAH_ISECT  1.0
 #define GG_SAH_TLEAF  2.0 /* a block of triangles, in single tests */
 #define GG_MEDIAN_AT  40  /* from this depth on, median splits only */
