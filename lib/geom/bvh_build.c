@@ -996,10 +996,10 @@ static void set_lane(gg_bnode *nd, int lane, const float lo[3], const float hi[3
     }
 }
 
-/* The children of a w-wide node for binary node n2: its two children,
+/* The children of the 4-wide node for binary node n2: its two children,
    the one of largest area opened while it is inner and there are fewer
-   than w (a leaf n2 is its own only child). */
-static int open_kids(const bctx *c, uint32_t n2, uint32_t *kids, int w)
+   than four (a leaf n2 is its own only child). */
+static int open_kids4(const bctx *c, uint32_t n2, uint32_t kids[4])
 {
     int nk, i;
     if (c->n[n2].leaf) {
@@ -1007,7 +1007,7 @@ static int open_kids(const bctx *c, uint32_t n2, uint32_t *kids, int w)
         return 1;
     }
     kids[0] = c->n[n2].a, kids[1] = c->n[n2].b, nk = 2;
-    while (nk < w) {
+    while (nk < 4) {
         int bi = -1;
         double ba = -1;
         for (i = 0; i < nk; i++) {
@@ -1032,7 +1032,7 @@ static uint32_t leaf_ref(const bnode2 *k)
 static uint32_t collapse(const bctx *c, gg_geom *g, uint32_t n2, size_t depth)
 {
     uint32_t ni = (uint32_t)g->nnodes++, kids[4];
-    int nk = open_kids(c, n2, kids, 4), i;
+    int nk = open_kids4(c, n2, kids), i;
     if (depth > g->max_depth) g->max_depth = depth;
     for (i = 0; i < 4; i++) {
         gg_bnode *nd = &g->nodes[ni];
@@ -1167,14 +1167,14 @@ static size_t count8(const wctx *x, uint32_t n2)
     return n;
 }
 
-/* The 8-wide nodes for the AVX copy; nslots2 binary node slots. */
-static int build_wide(const bctx *c, gg_geom *g, size_t nslots2)
+/* The 8-wide nodes for the AVX copy; c->n has nbin entries. */
+static int build_wide(const bctx *c, gg_geom *g, size_t nbin)
 {
     wctx x;
     size_t cap;
     if (!gg_bvh_avx_wanted(g)) return 0;
     x.c = c;
-    x.f = gg_mem_alloc(g->alloc, nslots2 * sizeof *x.f);
+    x.f = gg_mem_alloc(g->alloc, nbin * sizeof *x.f);
     if (!x.f) return -1;
     wide_cost(&x, 0);
     cap = count8(&x, 0);

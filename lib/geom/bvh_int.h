@@ -24,12 +24,13 @@ struct gg_bnode {
     uint32_t pad[4];
 };
 
-/* The same tree in 8-wide nodes (bvh_build.c, collapse8: each from the
-   binary tree, its largest inner children opened until there are 8), for
-   the AVX copy's single-ray walks: one 8-lane AVX pass tests eight boxes.
-   The references are the 4-wide tree's leaves (and blocks, gg_bvh_wide)
-   and wide node indices. A walk's stack: a wide node is no deeper than
-   its binary node, so GG_WSTACK holds as GG_STACK does. 256 bytes. */
+/* The same tree in 8-wide nodes (bvh_build.c, collapse8: which binary
+   nodes become wide nodes is chosen by dynamic programming over the
+   binary tree), for the AVX copy's single-ray walks: one 8-lane AVX pass
+   tests eight boxes. The references are the 4-wide tree's leaves (and
+   blocks, gg_bvh_wide) and wide node indices. A walk's stack: a wide
+   node is no deeper than its binary node, so GG_WSTACK holds as GG_STACK
+   does. 256 bytes. */
 struct gg_wnode {
     float b[6][8];
     uint32_t child[8];
