@@ -113,6 +113,11 @@ layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 # does that on x86-64 too).
 # -ffp-contract=off everywhere: no compiler (clang contracts by default)
 # may fuse a*b+c, so every copy of a kernel rounds the same way.
+# -fno-math-errno in the library: nothing in it reads errno after a libm
+# call, so sqrt is one instruction, without the branch to libm that would
+# only set errno; the results are the same bits (docs/performance.md,
+# "No errno from libm").
+GG_MATH = -ffp-contract=off -fno-math-errno
 ISA_avx       = -mavx
 ISA_avx2      = -mavx -mavx2 -mbmi -mbmi2 -mlzcnt -mpopcnt
 ISA_fma       = -mfma
@@ -162,7 +167,7 @@ define layer_rule
 $$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
 	@mkdir -p $$(@D)
 	$$(CC) $$(GG_CPPFLAGS) -DGG_BUILDING $$(call layer_inc,$(1)) $$($(1)_CFLAGS) $$(GG_WARN) \
-	  $$(call isa_flags,$$<) -ffp-contract=off $$(CFLAGS) -fPIC -fvisibility=hidden -c $$< -o $$@
+	  $$(call isa_flags,$$<) $$(GG_MATH) $$(CFLAGS) -fPIC -fvisibility=hidden -c $$< -o $$@
 endef
 $(foreach l,$(LAYERS),$(eval $(call layer_rule,$(l))))
 
@@ -229,7 +234,7 @@ SCALAR_GEOM := $(patsubst $(BUILD)/lib/%,$(BUILD)/scalar/lib/%,$(filter $(BUILD)
 $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
-	  $(call isa_flags,$<) -ffp-contract=off $(CFLAGS) -c $< -o $@
+	  $(call isa_flags,$<) $(GG_MATH) $(CFLAGS) -c $< -o $@
 SCALAR_TESTS := $(BUILD)/tests/test_bvh_scalar $(BUILD)/tests/test_packet_scalar
 $(SCALAR_TESTS): $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \
