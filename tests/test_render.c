@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** test_render.c -- the renderer: thread-count and crop invariance, forced
-** effects give the same image, ggRayColor equals the rendered pixel, the
+** effects give the same image, each compiled shading path agrees with the
+** full one and with the recorder, ggRayColor equals the rendered pixel, the
 ** effect set and its reasons, the depth limit, SPD-rule ray counts, and
 ** the opaque-shadow knob.
 */
@@ -65,6 +66,15 @@ static const char *const scenes[] = {
     "examples/scenes/gold.nff",    "examples/scenes/prism.nff", "examples/scenes/torus.nff",
 };
 
+/* One scene for each compiled shading path (lib/render/shade.c,
+   trace_root): the basic one (shadows, mirrors, highlights), basic with
+   glass (refraction and coloured shadows, no Fresnel), and the full one. */
+static const char *const path_scenes[] = {
+    "examples/scenes/spd/balls-s4.nff",
+    "examples/scenes/spd/mount.nff",
+    "examples/scenes/glass.nff",
+};
+
 /* 1, 2 and 7 threads give bit-identical images. */
 static void test_threads_identical(void **state)
 {
@@ -111,8 +121,10 @@ static void test_crop_matches_full(void **state)
             for (k = 0; k < 3; k++) {
                 double va = k == 0 ? a.r : k == 1 ? a.g : a.b;
                 double vb = k == 0 ? b.r : k == 1 ? b.g : b.b;
-                if (inside) assert_true(va == vb);
-                else assert_true(vb == 0);
+                if (inside)
+                    assert_true(va == vb);
+                else
+                    assert_true(vb == 0);
             }
         }
     ggImageFree(full), ggImageFree(part);
@@ -137,6 +149,44 @@ static void test_forced_effects_same_image(void **state)
         if (!same_pixels(a, b)) print_error("%s differs when forced\n", scenes[i]);
         assert_true(same_pixels(a, b));
         assert_true(sa.eye == sb.eye && sa.reflect == sb.reflect && sa.refract == sb.refract);
+        ggImageFree(a), ggImageFree(b);
+        ggSceneFree(s);
+    }
+}
+
+/* Each path gives the image the full path gives (every effect forced on,
+   which runs it), and the recording path (ggTracePixel) the same pixels:
+   the paths differ only in the branches compiled out. */
+static void test_paths_agree(void **state)
+{
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof path_scenes / sizeof path_scenes[0]; i++) {
+        ggScene *s = load(path_scenes[i]);
+        ggTrace *t = ggTraceCreate(NULL);
+        ggRenderOptions o;
+        ggImage *a, *b;
+        ggRayStats sa, sb;
+        int x, y, bad = 0;
+        assert_non_null(t);
+        ggRenderOptionsDefault(&o);
+        o.width = 40, o.height = 30, o.threads = 2;
+        a = render(s, &o, &sa);
+        o.force_effects = GG_EFFECT_ALL;
+        b = render(s, &o, &sb);
+        if (!same_pixels(a, b)) print_error("%s differs when forced\n", path_scenes[i]);
+        assert_true(same_pixels(a, b));
+        assert_true(sa.shadow == sb.shadow && sa.reflect == sb.reflect && sa.refract == sb.refract);
+        o.force_effects = 0;
+        for (y = 0; y < 30; y++)
+            for (x = 0; x < 40; x++) {
+                ggColor px, im = ggImageGet(a, x, y);
+                assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+                bad += !(px.r == im.r && px.g == im.g && px.b == im.b);
+            }
+        if (bad) print_error("%s: %d traced pixels differ\n", path_scenes[i], bad);
+        assert_int_equal(bad, 0);
+        ggTraceFree(t);
         ggImageFree(a), ggImageFree(b);
         ggSceneFree(s);
     }
@@ -351,6 +401,7 @@ int main(void)
         cmocka_unit_test(test_threads_identical),
         cmocka_unit_test(test_crop_matches_full),
         cmocka_unit_test(test_forced_effects_same_image),
+        cmocka_unit_test(test_paths_agree),
         cmocka_unit_test(test_raycolor_equals_pixel),
         cmocka_unit_test(test_effect_sets),
         cmocka_unit_test(test_depth_limit),

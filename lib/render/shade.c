@@ -15,9 +15,11 @@
 ** eye ray's tree has used its ray budget.
 **
 ** Specialisation. trace_fx and everything it inlines take the effect set
-** FX as a compile-time constant and are compiled three times: FX_BASIC
+** FX as a compile-time constant and are compiled four times: FX_BASIC
 ** for scenes that need none of refraction, absorption, dispersion,
 ** Fresnel or coloured shadows (their branches are then dead code),
+** FX_GLASS, the basic path with refraction and coloured shadows (glass
+** without Fresnel, absorption or dispersion: the SPD's gears and mount),
 ** FX_FULL, and FX_REC, the full path that also records the ray tree. Which
 ** one runs is decided per ray tree (trace_root) from the scene's effects.
 ** docs/performance.md has what the basic path saves.
@@ -56,6 +58,9 @@
     (GG_EFFECT_SHADOWS | GG_EFFECT_REFLECTION | GG_EFFECT_PHONG | GG_EFFECT_EMISSION |             \
      GG_EFFECT_TEXTURES | GG_EFFECT_IMPLICIT | GG_EFFECT_SUPERSAMPLING)
 #define FX_FULL GG_EFFECT_ALL
+/* The basic path with glass: refraction and the coloured shadows it
+   casts (gears, mount), without the rarer effects' tests. */
+#define FX_GLASS (FX_BASIC | GG_EFFECT_REFRACTION | GG_EFFECT_COLORED_SHADOWS)
 /* Not an effect: the path that also records the ray tree (trace.h). */
 #define FX_RECORD (1u << 30)
 #define FX_REC    (FX_FULL | FX_RECORD)
@@ -117,20 +122,25 @@ static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
                            const gg_hit *known);
 static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                           const gg_hit *known);
+static ggColor trace_glass(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                           const gg_hit *known);
 
 /* The same path's recursion: FX is a compile-time constant everywhere.
    GG_NO_RECORDER builds the library without the recording path, only to
    measure what having it costs (make bench-trace). */
 #ifdef GG_NO_RECORDER
 #define TRACE_CHILD(FX, c, r, th)                                                                  \
-    ((FX) == FX_BASIC ? trace_basic(c, r, th, NULL) : trace_full(c, r, th, NULL))
+    ((FX) == FX_BASIC   ? trace_basic(c, r, th, NULL)                                              \
+     : (FX) == FX_GLASS ? trace_glass(c, r, th, NULL)                                              \
+                        : trace_full(c, r, th, NULL))
 #else
 static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                          const gg_hit *known);
 #define TRACE_CHILD(FX, c, r, th)                                                                  \
-    ((FX) == FX_BASIC  ? trace_basic(c, r, th, NULL)                                               \
-     : (FX) == FX_FULL ? trace_full(c, r, th, NULL)                                                \
-                       : trace_rec(c, r, th, NULL))
+    ((FX) == FX_BASIC   ? trace_basic(c, r, th, NULL)                                              \
+     : (FX) == FX_GLASS ? trace_glass(c, r, th, NULL)                                              \
+     : (FX) == FX_FULL  ? trace_full(c, r, th, NULL)                                               \
+                        : trace_rec(c, r, th, NULL))
 #endif
 
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
@@ -972,6 +982,12 @@ static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_th
     return trace_fx(c, r, th, known, FX_FULL);
 }
 
+static ggColor trace_glass(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                           const gg_hit *known)
+{
+    return trace_fx(c, r, th, known, FX_GLASS);
+}
+
 #ifndef GG_NO_RECORDER
 static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                          const gg_hit *known)
@@ -1020,6 +1036,7 @@ static ggColor trace_root(const gg_shade_ctx *c, const ray_state *r, gg_shade_th
     if (c->rec) return trace_rec(c, r, th, known);
 #endif
     if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, r, th, known);
+    if ((c->fx & ~(unsigned)FX_GLASS) == 0) return trace_glass(c, r, th, known);
     return trace_full(c, r, th, known);
 }
 
