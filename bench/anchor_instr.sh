@@ -9,15 +9,8 @@
 # usage: sh bench/anchor_instr.sh GGRT ANCHOR_SRC_DIR [SCENE...]
 #   (from the top of a checkout; ANCHOR_SRC_DIR holds the anchor's main.c,
 #   e.g. ../shared/anchors/embree-whitted; needs libembree-dev, valgrind)
-g=$1 src=$2
-[ -x "$g" ] && [ -f "$src/main.c" ] ||
-  { echo "usage: sh bench/anchor_instr.sh GGRT ANCHOR_SRC_DIR [SCENE...]" >&2; exit 1; }
-shift 2
-command -v valgrind >/dev/null || { echo "bench/anchor_instr.sh: needs valgrind" >&2; exit 1; }
-scenes=${*:-balls-s4 gears rings tetra mount tree teapot-s12}
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-cc -O2 -march=haswell -std=c11 -o "$tmp/anchor" "$src/main.c" -lembree3 -lpng -lpthread -lm ||
-  { echo "bench/anchor_instr.sh: the anchor did not build (apt-get install libembree-dev)" >&2; exit 1; }
+. "$(dirname "$0")/anchor_setup.sh"
+anchor_setup anchor_instr.sh "$@"
 # callgrind's total for one run of the anchor: "$@" is the command, $1 the
 # function to count
 count() {
