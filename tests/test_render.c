@@ -69,15 +69,18 @@ static const char *const scenes[] = {
 /* One scene for each compiled shading path (lib/render/shade.c,
    trace_root): the basic one (shadows, mirrors, highlights), basic with
    glass (refraction and coloured shadows, no Fresnel), and the full one;
-   with the effects that send it there (has) and keep it from a smaller
-   copy (lacks), so that a scene edit cannot quietly test another path. */
-#define GG_RARE (GG_EFFECT_FRESNEL | GG_EFFECT_ABSORPTION | GG_EFFECT_DISPERSION)
+   with the effects that keep it from a smaller copy (has) and those that
+   would send it to a larger one (lacks), so that a scene edit cannot
+   quietly test another path. */
+#define RARE_EFFECTS (GG_EFFECT_FRESNEL | GG_EFFECT_ABSORPTION | GG_EFFECT_DISPERSION)
 static const struct {
     const char *path;
     unsigned has, lacks;
 } path_scenes[] = {
-    {"examples/scenes/spd/balls-s4.nff", 0, GG_EFFECT_REFRACTION | GG_RARE},
-    {"examples/scenes/spd/mount.nff", GG_EFFECT_REFRACTION | GG_EFFECT_COLORED_SHADOWS, GG_RARE},
+    {"examples/scenes/spd/balls-s4.nff", 0,
+     GG_EFFECT_REFRACTION | GG_EFFECT_COLORED_SHADOWS | RARE_EFFECTS},
+    {"examples/scenes/spd/mount.nff", GG_EFFECT_REFRACTION | GG_EFFECT_COLORED_SHADOWS,
+     RARE_EFFECTS},
     {"examples/scenes/glass.nff", GG_EFFECT_FRESNEL, 0},
 };
 
