@@ -5,7 +5,8 @@
 # stable side of the comparison that compare.sh makes in wall time.
 # valgrind runs no AVX-512, so the anchor is built here with -march=haswell
 # and Embree takes its AVX2 kernels; ggrt takes its AVX2 copy as always
-# under valgrind (docs/performance.md, "Where this stands (2026-12-03)").
+# under valgrind (docs/log/2026-12-03-embree-shading-and-tree.md, "Where
+# this stands (2026-12-03)").
 # usage: sh bench/anchor_instr.sh GGRT ANCHOR_SRC_DIR [SCENE...]
 #   (from the top of a checkout; ANCHOR_SRC_DIR holds the anchor's main.c,
 #   e.g. ../shared/anchors/embree-whitted; needs libembree-dev, valgrind)
