@@ -1,13 +1,14 @@
 # SPDX-License-Identifier: MIT
 # ggrt -- a Whitted-style ray tracer as a C99 library, and its CLI.
 #
-#   make                 build/libggrt.a, build/libggrt.so, build/ggrt
+#   make                 build/libggrt.a, build/libggrt.so, build/ggrt and the
+#                        example plugin build/libtextbook_refract.so (ggrt optics check)
 #   make check           install the missing Debian packages the tests need, then
 #                        run every test twice: -O3 and ASan+UBSan (see
 #                        tests/run-tests.sh), the concurrency tests under
 #                        ThreadSanitizer, then against an installed copy
-#   make demo            install the missing packages the build needs, render the
-#                        default scene
+#   make demo            install the missing packages the build and ggrt serve need,
+#                        build, render the default scene
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
 #                        page); a live install (no DESTDIR) refreshes ldconfig's cache
 #   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each; every
@@ -159,7 +160,7 @@ CLI    = $(BUILD)/ggrt
 .DEFAULT_GOAL := all
 .SECONDARY:
 
-all: lib cli
+all: lib cli $(BUILD)/libtextbook_refract.so
 lib: $(STATIC) $(CORE_STATIC) $(SHARED) $(BUILD)/libggrt.so
 cli: $(CLI)
 
@@ -252,7 +253,8 @@ $(BUILD)/bench/%: bench/%.c $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) $(GG_WARN) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
 
-# `ggrt optics check` measures this one (tests/cli/t_optics.sh).
+# `ggrt optics check` measures this one (tests/cli/t_optics_check.sh); built
+# by `make` so that README's `optics check --lib` line works after it.
 $(BUILD)/libtextbook_refract.so: examples/textbook_refract.c
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) $(GG_WARN) $(CFLAGS) -fPIC -shared $(LDFLAGS) -o $@ $< -lm
@@ -291,6 +293,7 @@ test-tsan: $(TSAN_TESTS)
 check: deps-check
 	@sh tests/layers.sh
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
+	@sh tests/build/targets.sh $(BUILD)/release
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
 	  LDFLAGS="-fsanitize=address,undefined" GG_WERROR=-Werror
 	@$(MAKE) --no-print-directory test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" \

@@ -15,7 +15,7 @@ set -e
 groups() {
   cat <<'GROUPS'
 build:   pkg-config libpng-dev libopenexr-dev
-demo:    @build
+demo:    @build @serve
 check:   @build @serve libcmocka-dev python3 assimp-testmodels valgrind
 fuzz:    @build clang
 serve:   libmicrohttpd-dev
@@ -25,6 +25,8 @@ GROUPS
 # check: assimp-testmodels holds the OBJ and PLY files tests/test_assimp.c
 #   loads (/usr/share/assimp/models); valgrind replays the image fuzz corpus
 #   (tests/cli/t_truncated.sh).
+# demo: the build and serve, since the README goes on from `make demo` to
+#   `ggrt serve`.
 # serve: ggrt serve (cli/serve*.c) links libmicrohttpd when pkg-config finds
 #   it; without it the rest of ggrt builds and `ggrt serve` says what to
 #   install. browser: tests/browser* drive Chromium through Selenium.

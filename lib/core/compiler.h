@@ -94,9 +94,10 @@ static inline int gg_ctz_portable(unsigned m)
 #define GG_NO_SLP
 #endif
 
-/* Per-ISA code. A library file named *_avx.c or *_fma.c is compiled, on
-   x86-64 with GCC or clang, with -mavx or -mfma on that file only
-   (Makefile, ISA_FLAGS); the rest of the library targets the base
+/* Per-ISA code. A library file named *_avx.c, *_avx2.c or *_fma.c is
+   compiled, on x86-64 with GCC or clang, with that instruction set's
+   flags on that file only (Makefile, isa_flags: ISA_avx, ISA_avx2,
+   ISA_fma); the rest of the library targets the base
    instruction set (SSE2). Such a file holds only functions that its
    caller runs after gg_cpu_features() (cpu.c) has said the CPU can, the
    way Embree compiles its kernels once per instruction set. GG_ISA_X86

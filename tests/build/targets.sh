@@ -1,0 +1,42 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# What README.md promises of the build, checked against the Makefile and
+# scripts/deps.sh rather than a finished build (which `make check` makes
+# with more than the README's commands do):
+#  - plain `make` builds build/libtextbook_refract.so, which README's
+#    `ggrt optics check --lib build/libtextbook_refract.so` line needs;
+#  - `make demo` installs what `ggrt serve` needs, which README shows next;
+#  - with a build folder given, README's `optics check --lib` line runs as
+#    written (build/ replaced by that folder) and measures the library.
+#   sh tests/build/targets.sh [BUILD]       (make check runs it)
+cd "$(dirname "$0")/../.." || exit 1
+build=${1:-}
+make=${MAKE:-make}
+tmp=$(mktemp -d /tmp/ggrt-targets-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "targets: $*"; exit 1; }
+
+# A dry run into an empty folder lists every command plain `make` runs.
+MAKEFLAGS= MFLAGS= $make -n --no-print-directory BUILD="$tmp/b" all > "$tmp/plan" 2>&1 ||
+  { cat "$tmp/plan"; fail "make -n all failed"; }
+grep -q -- "-o $tmp/b/libtextbook_refract.so " "$tmp/plan" ||
+  fail "plain make does not build libtextbook_refract.so (README's optics check line needs it)"
+echo "targets: plain make builds libtextbook_refract.so"
+
+demo=" $(sh scripts/deps.sh --list demo) "
+for p in $(sh scripts/deps.sh --list build) $(sh scripts/deps.sh --list serve); do
+  case "$demo" in *" $p "*) ;; *) fail "make demo does not install $p (deps group demo: $demo)" ;; esac
+done
+echo "targets: make demo installs the build's and serve's packages:$demo"
+
+[ -n "$build" ] || exit 0
+line=$(grep '^    build/ggrt optics check --lib ' README.md | head -n 1 | sed 's/^    //; s/ *#.*//')
+[ -n "$line" ] || fail "README.md shows no 'build/ggrt optics check --lib' line"
+run=$(printf '%s' "$line" | sed "s#build/#$build/#g")
+sh -c "$run" > "$tmp/out" 2>&1
+rc=$?
+# The textbook formula misses the 1-ulp bound: exit 4 and a table, not
+# exit 3 (cannot load the library).
+[ $rc = 4 ] && grep -q 'textbook_refract from ' "$tmp/out" ||
+  { cat "$tmp/out"; fail "README's '$line' exited $rc (want 4, the textbook formula measured)"; }
+echo "targets: README's '$line' ran: $(tail -n 1 "$tmp/out")"
