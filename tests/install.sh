@@ -6,7 +6,8 @@
 # ldconfig, removed again on exit; otherwise an rpath), then every compile
 # line of README.md that builds prog.c, run as written on an example
 # (ray_color.c, which uses libm; core_static.c for ggrt-core), and each
-# program run without LD_LIBRARY_PATH.
+# program run without LD_LIBRARY_PATH; then README's library program,
+# compiled as pasted and run on a good and on a broken scene.
 #   sh tests/install.sh BUILD          (make installcheck runs it)
 build=$1
 make=${MAKE:-make}
@@ -77,3 +78,30 @@ while IFS= read -r line; do
   rm -f "$out/prog"
 done < "$out/lines"
 echo "installcheck: $n README compile lines built and ran against the real install"
+
+# README's library program, pasted as it stands: built by the compile line
+# its own comment gives (with -std=c99 -Wall -Wextra -pedantic -Werror, so
+# that a missing #include fails too), run on a scene (a PNG must come out)
+# and on a broken one (it must say file:line:col and exit non-zero, so the
+# program checks the status of every call).
+awk '/^## The library/ { on = 1; next } on && /^## / { exit }
+     on && /^    / { code = 1; print substr($0, 5); next }
+     on && code && /^$/ { print; next } on && code { exit }' README.md > "$out/prog.c"
+grep -q 'int main' "$out/prog.c" || fail "README.md's library section has no program (int main)"
+cline=$(sed -n 's|.*/\* *\(cc .* prog\.c.*[^ ]\) *\*/.*|\1|p' "$out/prog.c" | head -n 1)
+[ -n "$cline" ] || fail "README.md's library program names no compile line (/* cc ... prog.c ... */)"
+(cd "$out" && sh -c "$cline -std=c99 -Wall -Wextra -pedantic -Werror $rpath" 2>"$out/cc.log") ||
+  { cat "$out/cc.log"; fail "README's library program does not compile: $cline"; }
+cp "$here/examples/scenes/default.nff" "$out/scene.nff"
+(cd "$out" && ./prog >"$out/run.log" 2>&1) || { cat "$out/run.log"; fail "README's library program failed on default.nff"; }
+[ "$(od -An -tx1 -N4 "$out/out.png" 2>/dev/null | tr -d ' ')" = 89504e47 ] ||
+  fail "README's library program wrote no PNG (out.png)"
+printf 's 0 0 zero 1\n' > "$out/scene.nff"
+rm -f "$out/out.png"
+if (cd "$out" && ./prog >"$out/run.log" 2>&1); then
+  fail "README's library program exits 0 on a broken scene"
+fi
+grep -q '^scene\.nff:1:7: ' "$out/run.log" ||
+  { cat "$out/run.log"; fail "README's library program does not print the error (scene.nff:1:7: ...)"; }
+[ ! -e "$out/out.png" ] || fail "README's library program wrote out.png from a broken scene"
+echo "installcheck: README's library program compiled ($cline -Werror), rendered default.nff to a PNG, and reported a broken scene ($(head -n 1 "$out/run.log"))"
