@@ -4,9 +4,11 @@
 #   make                 build/libggrt.a, build/libggrt.so, build/ggrt and the
 #                        example plugin build/libtextbook_refract.so (ggrt optics check)
 #   make check           install the missing Debian packages the tests need, then
-#                        run every test twice: -O3 and ASan+UBSan (see
-#                        tests/run-tests.sh), the concurrency tests under
-#                        ThreadSanitizer, then against an installed copy
+#                        check the layers and the path names in docs and comments
+#                        (tests/layers.sh, tests/build/paths.sh), run every test
+#                        twice: -O3 and ASan+UBSan (see tests/run-tests.sh), the
+#                        concurrency tests under ThreadSanitizer, then against an
+#                        installed copy
 #   make demo            install the missing packages the build and ggrt serve need,
 #                        build, render the default scene
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
@@ -292,6 +294,7 @@ test-tsan: $(TSAN_TESTS)
 # re-read pkg-config once the packages are there.
 check: deps-check
 	@sh tests/layers.sh
+	@sh tests/build/paths.sh
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@sh tests/build/targets.sh $(BUILD)/release
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
