@@ -57,8 +57,8 @@ def sources():
     return out
 
 def comments(path, text):
-    """The text a reader takes for prose: a doc whole, a source's comments."""
-    if path.endswith(".md"):
+    """A doc and the Makefile whole, a source's comments."""
+    if path.endswith(".md") or path == "Makefile":
         return text
     if path.endswith(".1"):
         return text.replace("\\-", "-")
@@ -118,6 +118,8 @@ for src in sources():
         p = m.group(1).rstrip(".")
         if p.endswith("/*"):
             p = p[:-2]
+        if prose[m.end():m.end() + 1] in ("%", "$"):
+            p += "*"  # a make pattern or a shell variable completes the name
         if not exists(p):
             bad.append("%s: names %s, which does not exist" % (src, p))
     if src.endswith(".md"):
