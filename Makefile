@@ -368,7 +368,8 @@ uninstall:
 # every example against it through pkg-config (LD_LIBRARY_PATH pointing into
 # the stage); link the core example with -static; then tests/install.sh: a
 # real install into a temporary prefix, registered with the dynamic linker,
-# and README.md's compile lines run as written, without LD_LIBRARY_PATH.
+# and README.md's compile lines and its library program run as written,
+# without LD_LIBRARY_PATH.
 STAGE = $(abspath $(BUILD))/stage
 installcheck: $(SHARED) $(BUILD)/libggrt.so
 	@nm -D --defined-only $(SHARED) >/dev/null || { echo "installcheck: cannot read $(SHARED)"; exit 1; }
