@@ -20,7 +20,7 @@
 
 #define GG_DIELECTRIC_NAME dielectric_plain
 #define GG_CONDUCTOR_NAME  conductor_plain
-#include "fresnel_core.h"
+#include "fresnel.inc.h"
 
 #if GG_ISA_X86
 static int expo(tu_rng *r, int lo, int hi)

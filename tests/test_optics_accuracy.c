@@ -35,8 +35,8 @@
 /* The kernels themselves, to test the fast path's certificate on its own. */
 #define GG_REFRACT_NAME refract_plain
 #define GG_REFLECT_NAME reflect_plain
-#include "refract_core.h"
-#include "reflect_core.h"
+#include "refract.inc.h"
+#include "reflect.inc.h"
 
 /* check_case's reference: the textbook one of optics_ref.h, or ref_wide
    (below) for index ratios beyond 2^40. */

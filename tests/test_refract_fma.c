@@ -17,8 +17,8 @@
 
 #define GG_REFRACT_NAME refract_plain
 #define GG_REFLECT_NAME reflect_plain
-#include "refract_core.h"
-#include "reflect_core.h"
+#include "refract.inc.h"
+#include "reflect.inc.h"
 
 #if GG_ISA_X86
 static ggVec3 V3(double x, double y, double z)

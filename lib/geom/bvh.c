@@ -210,7 +210,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define GG_TRAV_OCCLUDER  occluder_plain
 #define GG_TRAV_SHADOW    shadow_plain
 #define GG_TRAV_PACKET    packet_plain
-#include "bvh_trav.h"
+#include "bvh_trav.inc.h"
 
 /* The copy g's build chose (g->trav_avx, gg_bvh_tri_leaves): the plain
    one, the AVX copy, or its AVX2 build. One load and an indirect call

@@ -251,7 +251,7 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define GG_TRAV_OCCLUDER  GG_AVX_NAME(gg_bvh_occluder)
 #define GG_TRAV_SHADOW    GG_AVX_NAME(gg_bvh_shadow)
 #define GG_TRAV_PACKET    GG_AVX_NAME(gg_bvh_packet)
-#include "bvh_trav.h"
+#include "bvh_trav.inc.h"
 
 #else
 /* ISO C forbids an empty translation unit. */

@@ -35,7 +35,7 @@ GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t 
 #define GG_TRAV_COST
 #define GG_TRAV_LINK      static
 #define GG_TRAV_INTERSECT intersect_cost
-#include "bvh_trav.h"
+#include "bvh_trav.inc.h"
 
 int gg_geom_intersect_cost(const gg_geom *g, const gg_rayq *q, gg_hit *hit, gg_trav_cost *cost)
 {

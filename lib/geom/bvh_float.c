@@ -58,4 +58,4 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 #define GG_TRAV_INTERSECT gg_bvh_intersect_float
 #define GG_TRAV_OCCLUDER  gg_bvh_occluder_float
 #define GG_TRAV_SHADOW    gg_bvh_shadow_float
-#include "bvh_trav.h"
+#include "bvh_trav.inc.h"

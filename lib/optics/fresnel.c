@@ -15,7 +15,7 @@
 
 #define GG_DIELECTRIC_NAME dielectric_plain
 #define GG_CONDUCTOR_NAME  conductor_plain
-#include "fresnel_core.h"
+#include "fresnel.inc.h"
 
 /* The two builds of fresnel_core.h return the same bits; the fma one is
    faster. */

@@ -18,7 +18,7 @@
 #define GG_DIELECTRIC_NAME gg_fresnel_dielectric_fma
 #define GG_CONDUCTOR_NAME  gg_fresnel_conductor_fma
 #define GG_FRESNEL_LINKAGE /* external: declared in fresnel_fma.h */
-#include "fresnel_core.h"
+#include "fresnel.inc.h"
 
 #else
 /* ISO C forbids an empty translation unit. */

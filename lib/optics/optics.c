@@ -31,8 +31,8 @@
 
 #define GG_REFRACT_NAME refract_plain
 #define GG_REFLECT_NAME reflect_plain
-#include "refract_core.h"
-#include "reflect_core.h"
+#include "refract.inc.h"
+#include "reflect.inc.h"
 
 #if GG_ISA_X86
 /* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2

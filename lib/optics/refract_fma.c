@@ -23,8 +23,8 @@
 #define GG_REFRACT_NAME   gg_refract_fma
 #define GG_REFLECT_NAME   gg_reflect_fma
 #define GG_OPTICS_LINKAGE /* external: declared in refract_fma.h */
-#include "refract_core.h"
-#include "reflect_core.h"
+#include "refract.inc.h"
+#include "reflect.inc.h"
 
 #else
 /* ISO C forbids an empty translation unit. */
