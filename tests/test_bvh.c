@@ -862,9 +862,9 @@ static void test_kernel_table(void **state)
                                                : GG_KERNEL_PLAIN);
     for (mask = 0; mask <= GG_CPU_ALL; mask++) {
         gg_geom *g = gg_geom_create(NULL);
-        int want = !have || !(mask & GG_CPU_AVX)                       ? GG_KERNEL_PLAIN
+        int want = !have || !(mask & GG_CPU_AVX)                        ? GG_KERNEL_PLAIN
                    : k->trav == GG_KERNEL_AVX2 && !(mask & GG_CPU_AVX2) ? GG_KERNEL_AVX
-                                                                       : k->trav;
+                                                                        : k->trav;
         assert_true(gg_geom_add_triangle(g, p, NULL, 0) >= 0);
         gg_geom_set_cpu(g, mask);
         assert_int_equal(gg_geom_build(g, NULL), GG_OK);

@@ -199,9 +199,13 @@ typedef struct trav_copy {
 } trav_copy;
 
 #define GG_TRAV_COPY(isa)                                                                          \
-    {bvh_intersect_##isa, bvh_occluder_##isa, bvh_shadow_##isa, bvh_packet_##isa}
+    {                                                                                              \
+        bvh_intersect_##isa, bvh_occluder_##isa, bvh_shadow_##isa, bvh_packet_##isa                \
+    }
 #define GG_TRAV_COPY_GG(isa)                                                                       \
-    {gg_bvh_intersect_##isa, gg_bvh_occluder_##isa, gg_bvh_shadow_##isa, gg_bvh_packet_##isa}
+    {                                                                                              \
+        gg_bvh_intersect_##isa, gg_bvh_occluder_##isa, gg_bvh_shadow_##isa, gg_bvh_packet_##isa    \
+    }
 static const trav_copy copies[3] = {
     GG_TRAV_COPY(plain),
 #if GG_HAVE_BVH_AVX

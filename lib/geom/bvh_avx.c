@@ -257,7 +257,7 @@ GG_INLINE uint32_t tx_slots_shadow(const gg_geom *g, const gg_rpre *r, uint32_t 
 
 #define GG_TRAV_WIDE   /* the single-ray walks on the 8-wide nodes (bvh_trav.inc.h) */
 #define GG_INC_NAME(f) GG_ISA_NAME(gg_##f) /* gg_bvh_intersect_avx, ..._avx2 */
-#define GG_INC_LINK    /* external: declared in bvh_int.h */
+#define GG_INC_LINK                        /* external: declared in bvh_int.h */
 #include "bvh_trav.inc.h"
 
 #else

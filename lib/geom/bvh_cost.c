@@ -11,7 +11,7 @@
 /* The plain copy's hooks (bvh_hooks.h) in both precisions
    (GG_ISECT_FLOAT: bvh_float.c's leaves), by the query's: this copy
    serves only the recorder. */
-#define GG_TX_FLOAT    (r->opt->isect == GG_ISECT_FLOAT)
+#define GG_TX_FLOAT (r->opt->isect == GG_ISECT_FLOAT)
 #define GG_TRAV_COST
 #define GG_INC_NAME(f) f##_cost
 #define GG_INC_LINK    static

@@ -1050,7 +1050,8 @@ GG_INC_LINK GG_NO_SLP unsigned GG_INC_NAME(bvh_packet)(const gg_geom *g, const g
         unsigned grp = pk_same(&a, todo);
         todo &= ~grp;
         if (!(grp & (grp - 1))) {
-            if (GG_INC_NAME(bvh_intersect)(g, &q[lowest_bit(grp)], &hit[lowest_bit(grp)])) got |= grp;
+            if (GG_INC_NAME(bvh_intersect)(g, &q[lowest_bit(grp)], &hit[lowest_bit(grp)]))
+                got |= grp;
             continue;
         }
         pk_pack(&p, &a, grp);

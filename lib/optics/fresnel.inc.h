@@ -284,7 +284,7 @@ static void conductor_huge(double c, gg_dd ur, gg_dd ui, gg_dd H, int G, conduct
 /* Rs and Rp of a conductor for valid arguments: c = |cos_i| clamped to
    [0, 1], n1 = |n_outside| > 0, n >= 0, k >= 0, not both 0. */
 GG_INC_LINK void GG_INC_NAME(fresnel_conductor)(double c, double n1, double n, double k, gg_dd *rs,
-                                          gg_dd *rp)
+                                                gg_dd *rp)
 {
     conductor_r r;
     int e1, em, G;

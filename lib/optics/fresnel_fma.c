@@ -16,7 +16,7 @@
 
 #define GG_DD_FMA      1
 #define GG_INC_NAME(f) GG_ISA_NAME(gg_##f) /* gg_fresnel_dielectric_fma, ..._conductor_fma */
-#define GG_INC_LINK    /* external: declared in fresnel_fma.h */
+#define GG_INC_LINK                        /* external: declared in fresnel_fma.h */
 #include "fresnel.inc.h"
 
 #else

@@ -21,7 +21,7 @@
 
 #define GG_DD_FMA      1
 #define GG_INC_NAME(f) GG_ISA_NAME(gg_##f) /* gg_refract_fma, gg_reflect_fma */
-#define GG_INC_LINK    /* external: declared in refract_fma.h */
+#define GG_INC_LINK                        /* external: declared in refract_fma.h */
 #include "refract.inc.h"
 #include "reflect.inc.h"
 

@@ -128,7 +128,7 @@ typedef struct secondary {
 #define GG_SHADE_RECORDS 0u
 #else
 #define GG_SHADE_COPY_REC(X) X(rec, FX_REC)
-#define GG_SHADE_RECORDS FX_RECORD
+#define GG_SHADE_RECORDS     FX_RECORD
 #endif
 #define GG_SHADE_COPIES(X)                                                                         \
     X(basic, FX_BASIC)                                                                             \
@@ -174,7 +174,7 @@ static void resolve_knobs(gg_shade_ctx *ctx, const ggScene *s)
     if (!(s->effects & GG_EFFECT_COLORED_SHADOWS)) ctx->on &= ~GG_EFFECT_COLORED_SHADOWS;
     ctx->fixed_offset = ctx->acc.offset == GG_ACC_OFFSET_FIXED;
     ctx->offset_eps = ctx->acc.offset_eps > 0 ? ctx->acc.offset_eps : 1e-6;
-    ctx->fresnel_knob = ctx->acc.fresnel == 0                           ? -1
+    ctx->fresnel_knob = ctx->acc.fresnel == 0                        ? -1
                         : ctx->acc.fresnel == GG_ACC_FRESNEL_NONE    ? GG_FRESNEL_NONE
                         : ctx->acc.fresnel == GG_ACC_FRESNEL_SCHLICK ? GG_FRESNEL_SCHLICK
                                                                      : GG_FRESNEL_EXACT;
