@@ -110,10 +110,13 @@ optics_CFLAGS  = $(if $(GG_CLANG),-ffp-exception-behavior=maytrap)
 layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 
 # Per-ISA objects (lib/core/compiler.h, "Per-ISA code"): on x86-64 a library
-# file named *_avx.c, *_avx2.c or *_fma.c gets that instruction set's flags, and only
-# it; the library picks its functions at run time (lib/core/cpu.c). Where
-# the compiler does not target x86-64 they compile to nothing (CFLAGS=-DGG_NO_ISA
-# does that on x86-64 too).
+# object named *_avx.o, *_avx2.o or *_fma.o gets that instruction set's flags and
+# -DGG_ISA=avx, avx2 or fma (isa_flags), and only it; the library picks among the
+# copies at run time, once (the kernel table, lib/core/cpu.c). Its source is the
+# .c of that name, or for one source built for several sets the one ISA_AGAIN
+# names: OBJ:SRC compiles SRC once more into OBJ, so no .c includes another.
+# Where the compiler does not target x86-64 they compile to nothing
+# (CFLAGS=-DGG_NO_ISA does that on x86-64 too).
 # -ffp-contract=off everywhere: no compiler (clang contracts by default)
 # may fuse a*b+c, so every copy of a kernel rounds the same way.
 # -fno-math-errno in the library: nothing in it reads errno after a libm
@@ -125,11 +128,14 @@ ISA_avx       = -mavx
 ISA_avx2      = -mavx -mavx2 -mbmi -mbmi2 -mlzcnt -mpopcnt
 ISA_fma       = -mfma
 GG_ISA_X86   := $(if $(filter x86_64-% amd64-%,$(shell $(CC) -dumpmachine 2>/dev/null)),1)
-isa_flags     = $(if $(GG_ISA_X86),$(foreach i,avx avx2 fma,$(if $(filter %_$(i).c,$(1)),$(ISA_$(i)))))
+isa_of        = $(if $(GG_ISA_X86),$(strip $(foreach i,avx avx2 fma,$(if $(filter %_$(i).o,$(1)),$(i)))))
+isa_flags     = $(if $(call isa_of,$(1)),$(ISA_$(call isa_of,$(1))) -DGG_ISA=$(call isa_of,$(1)))
+ISA_AGAIN     = lib/geom/bvh_avx2.o:lib/geom/bvh_avx.c
+isa_again_obj = $(foreach p,$(ISA_AGAIN),$(firstword $(subst :, ,$(p))))
 ALL_LAYER_INC = $(LAYERS:%=-Ilib/%)
 
 LIB_SRC  := $(sort $(wildcard $(LAYERS:%=lib/%/*.c)))
-LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o)
+LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(isa_again_obj:%=$(BUILD)/%)
 # Two archives from one set of objects: libggrt (everything) and libggrt-core
 # (no image files: nothing of libpng or OpenEXR). Each has its own default
 # texture reader (lib/load/load.h explains the pair).
@@ -166,13 +172,30 @@ all: lib cli $(BUILD)/libtextbook_refract.so
 lib: $(STATIC) $(CORE_STATIC) $(SHARED) $(BUILD)/libggrt.so
 cli: $(CLI)
 
+# A library object of layer $(1) (the folder of $<).
+lib_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING $(call layer_inc,$(1)) $($(1)_CFLAGS) $(GG_WARN) \
+	  $(call isa_flags,$@) $(GG_MATH) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
 define layer_rule
 $$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
 	@mkdir -p $$(@D)
-	$$(CC) $$(GG_CPPFLAGS) -DGG_BUILDING $$(call layer_inc,$(1)) $$($(1)_CFLAGS) $$(GG_WARN) \
-	  $$(call isa_flags,$$<) $$(GG_MATH) $$(CFLAGS) -fPIC -fvisibility=hidden -c $$< -o $$@
+	$$(call lib_cc,$(1))
 endef
 $(foreach l,$(LAYERS),$(eval $(call layer_rule,$(l))))
+# ISA_AGAIN: the same source, another object (and flags); also in the
+# portable geom build below (scalar_cc).
+define isa_again_rule
+$$(BUILD)/$(1): $(2)
+	@mkdir -p $$(@D)
+	$$(call lib_cc,$(word 2,$(subst /, ,$(2))))
+$$(BUILD)/scalar/$(1): $(2)
+	@mkdir -p $$(@D)
+	$$(scalar_cc)
+endef
+$(foreach p,$(ISA_AGAIN),$(eval $(call isa_again_rule,$(firstword $(subst :, ,$(p))),$(lastword $(subst :, ,$(p))))))
+# A build tree older than ISA_AGAIN keeps a dependency file naming the
+# bvh_avx2.c that bvh_avx2.o was once built from: an empty rule lets make
+# rebuild the object once (which rewrites that file) instead of stopping.
+lib/geom/bvh_avx2.c:
 
 # For tests/layers.sh: each layer's include flags, one line a layer.
 layers:
@@ -234,10 +257,12 @@ $(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
 # GG_BVH_NO_SIMD, linked instead of the library's (explicit objects, no
 # archive: nothing depends on link order).
 SCALAR_GEOM := $(patsubst $(BUILD)/lib/%,$(BUILD)/scalar/lib/%,$(filter $(BUILD)/lib/geom/%,$(FULL_OBJ)))
+scalar_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
+	  $(call isa_flags,$@) $(GG_MATH) $(CFLAGS) -c $< -o $@
 $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
-	  $(call isa_flags,$<) $(GG_MATH) $(CFLAGS) -c $< -o $@
+	$(scalar_cc)
+
 SCALAR_TESTS := $(BUILD)/tests/test_bvh_scalar $(BUILD)/tests/test_packet_scalar
 $(SCALAR_TESTS): $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \

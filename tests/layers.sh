@@ -5,7 +5,11 @@
 #    preprocessing `#include "H"` with the layer's flags must fail;
 #  - a positive control: every layer can include core.h;
 #  - no source climbs out of its folder with #include "../...";
-#  - a header named *_int.h is private to its folder.
+#  - a header named *_int.h is private to its folder;
+#  - no library file includes a .c (a source built for several instruction
+#    sets is compiled again by the Makefile, ISA_AGAIN), and a header that
+#    asks its includer for GG_INC_NAME (a template, compiler.h) is named
+#    *.inc.h.
 # Prints one line per rule and exits non-zero on the first broken one.
 cd "$(dirname "$0")/.." || exit 1
 cc=${CC:-cc}
@@ -37,4 +41,10 @@ for h in lib/*/*_int.h; do
   users=$(grep -l "#include \"$name\"" lib/*/*.c lib/*/*.h | grep -v "^$dir/")
   if [ -n "$users" ]; then echo "layers: $h is private to $dir but included by $users"; exit 1; fi
 done
-echo "layers: ok (no upward include compiles; *_int.h headers stay in their folders)"
+if grep -nE '#include *"[^"]*\.c"' lib/*/*.c lib/*/*.h; then
+  echo "layers: a library file includes a .c (Makefile, ISA_AGAIN, builds one source twice)"; exit 1
+fi
+for h in $(grep -l 'defined(GG_INC_NAME)' lib/*/*.h); do
+  case $h in *.inc.h) ;; *) echo "layers: $h is a template but not named *.inc.h"; exit 1 ;; esac
+done
+echo "layers: ok (no upward include compiles; *_int.h headers stay in their folders; no .c includes a .c)"

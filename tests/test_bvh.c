@@ -533,7 +533,7 @@ static void test_nonfinite_rays(void **state)
 
 /* The float rounding helpers of the traversal: f_down(x) < x and f_up(x)
    > x, one float ulp past the nearest float on the safe side, and the
-   constant the traversal takes for f_down of a tmin of +-0 (bvh_trav.h,
+   constant the traversal takes for f_down of a tmin of +-0 (bvh_trav.inc.h,
    f_down_tmin). */
 static void test_float_bounds(void **state)
 {
@@ -835,6 +835,44 @@ static void test_traversal(void **state)
     gg_geom_free(g);
 }
 
+/* The kernel table (core.h, gg_cpu_kernels): filled once, each entry
+   the best copy the CPU's features allow; and a geometry's traversal
+   copy (g->trav_avx, its index into the table's copies) that entry as
+   each of the 8 masks of gg_geom_set_cpu restricts it: the AVX copy only
+   with GG_CPU_AVX, its AVX2 build only with GG_CPU_AVX2 too. */
+static void test_kernel_table(void **state)
+{
+    const gg_kernel_table *k = gg_cpu_kernels();
+    const unsigned f = gg_cpu_features();
+    const int fma = f & GG_CPU_FMA ? GG_KERNEL_FMA : GG_KERNEL_PLAIN;
+#ifdef GG_TEST_TRAVERSAL
+    const int have = 0; /* the portable build of the geometry */
+#else
+    const int have = GG_HAVE_BVH_AVX;
+#endif
+    ggVec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    unsigned mask;
+    (void)state;
+    assert_ptr_equal(k, gg_cpu_kernels());
+    assert_int_equal(k->refract, fma);
+    assert_int_equal(k->reflect, fma);
+    assert_int_equal(k->fresnel, fma);
+    assert_int_equal(k->trav, f & GG_CPU_AVX2  ? GG_KERNEL_AVX2
+                              : f & GG_CPU_AVX ? GG_KERNEL_AVX
+                                               : GG_KERNEL_PLAIN);
+    for (mask = 0; mask <= GG_CPU_ALL; mask++) {
+        gg_geom *g = gg_geom_create(NULL);
+        int want = !have || !(mask & GG_CPU_AVX)                        ? GG_KERNEL_PLAIN
+                   : k->trav == GG_KERNEL_AVX2 && !(mask & GG_CPU_AVX2) ? GG_KERNEL_AVX
+                                                                        : k->trav;
+        assert_true(gg_geom_add_triangle(g, p, NULL, 0) >= 0);
+        gg_geom_set_cpu(g, mask);
+        assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+        assert_int_equal(g->trav_avx, want);
+        gg_geom_free(g);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -851,6 +889,7 @@ int main(void)
         cmocka_unit_test(test_threaded_build),
         cmocka_unit_test(test_spd_scenes),
         cmocka_unit_test(test_traversal),
+        cmocka_unit_test(test_kernel_table),
         cmocka_unit_test(test_next_down_tmax),
     };
     return cmocka_run_group_tests_name(GG_TEST_SUITE, tests, NULL, NULL);

@@ -8,7 +8,7 @@
 ** keeps) -- on
 ** ordinary, grazing, normal, nearly and exactly matched, tiny-k,
 ** extreme-ratio and extreme-scale inputs. The plain build is compiled into
-** this test from the same source (fresnel_core.h), so the two are compared
+** this test from the same source (fresnel.inc.h), so the two are compared
 ** directly. Skipped where the compiler or the CPU has no fma build.
 */
 #include "testutil.h"
@@ -18,9 +18,9 @@
 #include <math.h>
 #include <string.h>
 
-#define GG_DIELECTRIC_NAME dielectric_plain
-#define GG_CONDUCTOR_NAME  conductor_plain
-#include "fresnel_core.h"
+#define GG_INC_NAME(f) f##_plain
+#define GG_INC_LINK    static
+#include "fresnel.inc.h"
 
 #if GG_ISA_X86
 static int expo(tu_rng *r, int lo, int hi)
@@ -96,11 +96,11 @@ static void test_same_bits(void **state)
         n1 *= s, n *= s, k *= s;
         if (!(n1 > 0) || !isfinite(n1) || !isfinite(n) || !isfinite(k) || (n == 0 && k == 0))
             continue;
-        conductor_plain(c, n1, n, k, &ps, &pp);
+        fresnel_conductor_plain(c, n1, n, k, &ps, &pp);
         gg_fresnel_conductor_fma(c, n1, n, k, &fs, &fp);
         same(ps, pp, fs, fp, "conductor", c, n1, n, k);
         if (n > 0) {
-            dielectric_plain(c, n1, n, &ps, &pp);
+            fresnel_dielectric_plain(c, n1, n, &ps, &pp);
             gg_fresnel_dielectric_fma(c, n1, n, &fs, &fp);
             same(ps, pp, fs, fp, "dielectric", c, n1, n, 0);
         }
@@ -110,7 +110,7 @@ static void test_same_bits(void **state)
 static void test_same_bits(void **state)
 {
     (void)state;
-    (void)conductor_plain; /* compiled, nothing to compare it with */
+    (void)fresnel_conductor_plain; /* compiled, nothing to compare it with */
     print_message("no fma build on this target\n");
     skip();
 }

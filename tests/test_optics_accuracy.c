@@ -33,10 +33,10 @@
 #include "optics_ref.h"
 
 /* The kernels themselves, to test the fast path's certificate on its own. */
-#define GG_REFRACT_NAME refract_plain
-#define GG_REFLECT_NAME reflect_plain
-#include "refract_core.h"
-#include "reflect_core.h"
+#define GG_INC_NAME(f) f##_plain
+#define GG_INC_LINK    static
+#include "refract.inc.h"
+#include "reflect.inc.h"
 
 /* check_case's reference: the textbook one of optics_ref.h, or ref_wide
    (below) for index ratios beyond 2^40. */
@@ -610,7 +610,7 @@ static void test_refract_every_eta(void **state)
 /* The fast path's certificate                                         */
 /* ------------------------------------------------------------------ */
 
-/* refract_fast (lib/optics/refract_core.h, compiled into this test) on the
+/* refract_fast (lib/optics/refract.inc.h, compiled into this test) on the
    scaled inputs, against the 128-bit reference and against refract_dd on
    the same inputs: whenever it certifies a result, that result is within
    the bound; it must decline (return 2) within 2^-60 of the critical

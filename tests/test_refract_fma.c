@@ -4,7 +4,7 @@
 ** the same bits as the plain build (and so does the reflection) (TwoProd is exact either way), on
 ** ordinary, grazing, near-critical, eta ~ 1, exactly normal, extreme-scale
 ** and extreme-ratio inputs. The plain build is compiled into this test
-** from the same source (refract_core.h), so the two are compared directly.
+** from the same source (refract.inc.h), so the two are compared directly.
 ** Skipped where the compiler or the CPU has no fma build.
 */
 #include "testutil.h"
@@ -15,10 +15,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#define GG_REFRACT_NAME refract_plain
-#define GG_REFLECT_NAME reflect_plain
-#include "refract_core.h"
-#include "reflect_core.h"
+#define GG_INC_NAME(f) f##_plain
+#define GG_INC_LINK    static
+#include "refract.inc.h"
+#include "reflect.inc.h"
 
 #if GG_ISA_X86
 static ggVec3 V3(double x, double y, double z)

@@ -69,7 +69,7 @@ static inline int gg_ctz_portable(unsigned m)
 #define GG_ATOMIC_CAS(p, e, v) ((void)(e), *(p) = (v), 1)
 #endif
 
-/* GNU C vector types (GCC and clang; refract_core.h): n bytes of lanes
+/* GNU C vector types (GCC and clang; refract.inc.h): n bytes of lanes
    with element-wise operators. GG_PSABI_OFF silences the warning that
    passing such a type by value has a different ABI with and without AVX,
    for a file whose functions taking them are all inlined. */
@@ -94,18 +94,34 @@ static inline int gg_ctz_portable(unsigned m)
 #define GG_NO_SLP
 #endif
 
-/* Per-ISA code. A library file named *_avx.c, *_avx2.c or *_fma.c is
+/* Per-ISA code. An object named *_avx.o, *_avx2.o or *_fma.o is
    compiled, on x86-64 with GCC or clang, with that instruction set's
-   flags on that file only (Makefile, isa_flags: ISA_avx, ISA_avx2,
-   ISA_fma); the rest of the library targets the base
-   instruction set (SSE2). Such a file holds only functions that its
-   caller runs after gg_cpu_features() (cpu.c) has said the CPU can, the
-   way Embree compiles its kernels once per instruction set. GG_ISA_X86
-   says whether this build has them (-DGG_NO_ISA leaves them out). */
+   flags and -DGG_ISA=avx, avx2 or fma (Makefile, "Per-ISA objects"); the
+   rest of the library targets the base instruction set (SSE2). Its
+   source is the file of that name or, for a source built for several
+   sets, the one ISA_AGAIN in the Makefile names (bvh_avx2.o is
+   bvh_avx.c once more): one source per kernel, never a .c including
+   another. Such an object holds only functions that are called through
+   the kernel table (gg_kernels(), cpu.c), which offers them where the
+   CPU runs them, the way Embree compiles its kernels once per
+   instruction set; GG_ISA_NAME(gg_f) names one gg_f_avx2 in the avx2
+   build. GG_ISA_X86 says whether this build has them (-DGG_NO_ISA
+   leaves them out). */
 #if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__) && !defined(GG_NO_ISA)
 #define GG_ISA_X86 1
 #else
 #define GG_ISA_X86 0
 #endif
+#define GG_PASTE_(a, b)   a##_##b
+#define GG_PASTE(a, b)    GG_PASTE_(a, b)
+#define GG_ISA_NAME(name) GG_PASTE(name, GG_ISA)
+
+/* Templates. A header named *.inc.h holds kernels compiled once per
+   file that includes it, each time with other hooks. Its includer
+   defines, before including it, GG_INC_NAME(f), the name this copy gives
+   to the template's function f (f##_plain, GG_ISA_NAME(gg_##f), ...),
+   and GG_INC_LINK, their linkage (static, or empty where a header
+   declares them); the template lists its other hooks at its top and
+   calls nothing else that a copy could want to change. */
 
 #endif

@@ -61,10 +61,28 @@ double gg_time_now(void);
 /* The instruction sets of the per-ISA objects (compiler.h) that this CPU
    and its OS run: a mask of GG_CPU_* bits, 0 where the build has no
    per-ISA objects. Detected once (cpu.c); thread-safe. */
-#define GG_CPU_AVX  1u /* AVX: bvh_avx.c */
-#define GG_CPU_FMA  2u /* FMA3 (with AVX): refract_fma.c */
-#define GG_CPU_AVX2 4u /* AVX2 with BMI1, BMI2, LZCNT and POPCNT (with AVX): bvh_avx2.c */
+#define GG_CPU_AVX  1u /* AVX: bvh_avx.o */
+#define GG_CPU_FMA  2u /* FMA3 (with AVX): refract_fma.o, fresnel_fma.o */
+#define GG_CPU_AVX2 4u /* AVX2 with BMI1, BMI2, LZCNT and POPCNT (with AVX): bvh_avx2.o */
 #define GG_CPU_ALL  (GG_CPU_AVX | GG_CPU_FMA | GG_CPU_AVX2)
 unsigned gg_cpu_features(void);
+
+/* The kernel table: the one run-time choice among the per-ISA copies of
+   a kernel (compiler.h, "Per-ISA code"). Each entry is an index into
+   that kernel's array of copies, kept in its layer (optics.c,
+   fresnel.c, bvh.c), filled once (pthread_once, with the CPU detection)
+   from gg_cpu_features(). Every copy of a kernel returns the same bits. */
+#define GG_KERNEL_PLAIN 0 /* the base instruction set */
+#define GG_KERNEL_FMA   1 /* optics: the fma builds */
+#define GG_KERNEL_AVX   1 /* traversal: bvh_avx.o */
+#define GG_KERNEL_AVX2  2 /* traversal: bvh_avx2.o */
+typedef struct gg_kernel_table {
+    int refract; /* ggRefract's copy */
+    int reflect; /* ggReflection's */
+    int fresnel; /* the dielectric and the conductor Fresnel reflectances' */
+    int trav;    /* the BVH traversal's: the most a geometry takes; gg_geom_set_cpu
+                    may restrict a geometry to less (its index, g->trav_avx) */
+} gg_kernel_table;
+const gg_kernel_table *gg_cpu_kernels(void);
 
 #endif

@@ -2,7 +2,8 @@
 /*
 ** cpu.c -- the one run-time CPU detection of the library: which of the
 ** instruction sets that per-ISA objects are compiled for (compiler.h,
-** "Per-ISA code") the CPU and the operating system run.
+** "Per-ISA code") the CPU and the operating system run, and the kernel
+** table (core.h) filled from it in the same pthread_once.
 */
 #include "core.h"
 
@@ -11,6 +12,7 @@
 #include <pthread.h>
 
 static unsigned features;
+static gg_kernel_table kernels; /* all GG_KERNEL_PLAIN until probe */
 static pthread_once_t once = PTHREAD_ONCE_INIT;
 
 /* AVX needs the CPU flag and the OS saving the YMM registers on a context
@@ -31,15 +33,26 @@ static unsigned avx2_flags(unsigned c1)
     return GG_CPU_AVX2;
 }
 
-static void probe(void)
+static unsigned detect(void)
 {
     unsigned a, b, c, d, lo, hi;
-    if (!__get_cpuid(1, &a, &b, &c, &d)) return;
-    if (!(c & bit_OSXSAVE) || !(c & bit_AVX)) return;
+    if (!__get_cpuid(1, &a, &b, &c, &d)) return 0;
+    if (!(c & bit_OSXSAVE) || !(c & bit_AVX)) return 0;
     __asm__("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
     (void)hi;
-    if ((lo & 6) != 6) return;
-    features = GG_CPU_AVX | (c & bit_FMA ? GG_CPU_FMA : 0u) | avx2_flags(c);
+    if ((lo & 6) != 6) return 0;
+    return GG_CPU_AVX | (c & bit_FMA ? GG_CPU_FMA : 0u) | avx2_flags(c);
+}
+
+/* The features, and the best copy of each kernel they allow. */
+static void probe(void)
+{
+    features = detect();
+    kernels.refract = kernels.reflect = kernels.fresnel =
+        features & GG_CPU_FMA ? GG_KERNEL_FMA : GG_KERNEL_PLAIN;
+    kernels.trav = features & GG_CPU_AVX2  ? GG_KERNEL_AVX2
+                   : features & GG_CPU_AVX ? GG_KERNEL_AVX
+                                           : GG_KERNEL_PLAIN;
 }
 
 unsigned gg_cpu_features(void)
@@ -47,9 +60,23 @@ unsigned gg_cpu_features(void)
     pthread_once(&once, probe);
     return features;
 }
+
+const gg_kernel_table *gg_cpu_kernels(void)
+{
+    pthread_once(&once, probe);
+    return &kernels;
+}
 #else
 unsigned gg_cpu_features(void)
 {
     return 0;
+}
+
+/* No per-ISA objects: every kernel's plain copy. */
+const gg_kernel_table *gg_cpu_kernels(void)
+{
+    static const gg_kernel_table plain = {GG_KERNEL_PLAIN, GG_KERNEL_PLAIN, GG_KERNEL_PLAIN,
+                                          GG_KERNEL_PLAIN};
+    return &plain;
 }
 #endif

@@ -151,7 +151,7 @@ static inline gg_dd dd_add_d(gg_dd x, double y)
 /* Double-word times double-word (JMP 2017, Algorithm 10, DWTimesDW1):
    relative error <= 7u^2. Not their
    Algorithm 12, which fuses the cross terms: it rounds differently, and
-   the plain and the fma copies of a kernel (refract_core.h) must return
+   the plain and the fma copies of a kernel (refract.inc.h) must return
    the same bits; only dd_two_prod, exact either way, uses the fma. */
 static inline gg_dd dd_mul(gg_dd x, gg_dd y)
 {

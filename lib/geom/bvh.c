@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** bvh.c -- the bounding volume hierarchy: node layout, triangle blocks,
-** and the plain copy of the traversals (bvh_trav.h). The build is in
+** and the plain copy of the traversals (bvh_trav.inc.h). The build is in
 ** bvh_build.c.
 **
 ** Layout. A node holds the boxes of its four children as float SoA rows
@@ -39,11 +39,22 @@
 
 /* ---- run-time choice of the AVX traversal ---- */
 
+/* The copy of the traversal g's build takes (an index into bvh.c's
+   copies): the kernel table's (gg_cpu_kernels, what the CPU runs), no
+   more than g allows (gg_geom_set_cpu) and this build has. */
+static int trav_copy_of(const gg_geom *g)
+{
+    int k = gg_cpu_kernels()->trav;
+    if (!GG_HAVE_BVH_AVX || !(g->cpu & GG_CPU_AVX)) return GG_KERNEL_PLAIN;
+    if (k > GG_KERNEL_AVX && !(g->cpu & GG_CPU_AVX2)) return GG_KERNEL_AVX;
+    return k;
+}
+
 /* Whether builds of g make triangle blocks for the AVX traversal: this
    build has it, the CPU runs it and g allows it (gg_geom_set_cpu). */
 int gg_bvh_avx_wanted(const gg_geom *g)
 {
-    return GG_HAVE_BVH_AVX && (g->cpu & gg_cpu_features() & GG_CPU_AVX);
+    return trav_copy_of(g) != GG_KERNEL_PLAIN;
 }
 
 void gg_bvh_free(gg_geom *g)
@@ -73,8 +84,8 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
                 g->ntleaves * sizeof(gg_tleaf) + g->nwnodes * sizeof(gg_wnode);
     st->build_seconds = g->build_seconds;
     st->blocks = g->trav_avx ? g->ntleaves : 0;
-#if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD) /* GG_BVH_SIMD of bvh_trav.h */
-    st->traversal = g->trav_avx == 2 ? "avx2" : g->trav_avx ? "avx" : "sse2";
+#if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD) /* GG_BVH_SIMD of bvh_trav.inc.h */
+    st->traversal = g->trav_avx == GG_KERNEL_AVX2 ? "avx2" : g->trav_avx ? "avx" : "sse2";
 #else
     st->traversal = "c";
 #endif
@@ -103,8 +114,8 @@ int gg_bvh_tri_leaves(gg_geom *g)
     if (!g->nnodes || !gg_bvh_avx_wanted(g)) return 0;
     for (i = 0; i < g->nnodes; i++)
         for (c = 0; c < 4; c++) nb += (size_t)tri_leaf(g, &g->nodes[i], c);
-    /* the AVX2 build of the same copy where the CPU and g allow it */
-    g->trav_avx = g->cpu & gg_cpu_features() & GG_CPU_AVX2 ? 2 : 1;
+    /* the AVX copy, in its AVX2 build where the CPU and g allow it */
+    g->trav_avx = trav_copy_of(g);
     if (!nb) return 0;
     g->tleaf_mem = gg_mem_alloc(g->alloc, nb * sizeof(gg_tleaf) + 64);
     if (!g->tleaf_mem) return -1;
@@ -168,54 +179,18 @@ int gg_bvh_wide(gg_geom *g)
 
 /* ---- the plain traversal ---- */
 
-/* The plain copy tests every leaf with the scalar loops; a triangle
-   block (built for the AVX copy, when a test runs both copies on one
-   tree) is found through its first slot. */
-typedef struct gg_tx {
-    int unused;
-} gg_tx;
+/* The plain copy tests every leaf with the scalar loops (bvh_hooks.h). */
+#define GG_TX_FLOAT    0
+#define GG_INC_NAME(f) f##_plain
+#define GG_INC_LINK    static
+#include "bvh_hooks.h"
+#include "bvh_trav.inc.h"
 
-static inline void tx_init(gg_tx *x, const gg_rpre *r)
-{
-    (void)x, (void)r;
-}
-#define tx_fill tx_init
-
-static inline uint32_t tx_first(const gg_geom *g, uint32_t ref)
-{
-    return ref & GG_TLEAF ? g->tleaves[GG_LEAF_I(ref)].first : GG_LEAF_I(ref);
-}
-
-GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, gg_hit *best)
-{
-    (void)x;
-    return gg_leaf_closest(g, r, tx_first(g, ref), GG_LEAF_N(ref), best);
-}
-
-GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, double tmax)
-{
-    (void)x;
-    return gg_leaf_any(g, r, tx_first(g, ref), GG_LEAF_N(ref), tmax);
-}
-
-GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref,
-                             double tmax, gg_hit *best, gg_tcol *col)
-{
-    (void)x;
-    return gg_leaf_shadow(g, r, tx_first(g, ref), GG_LEAF_N(ref), tmax, best, col);
-}
-
-#define GG_TRAV_LINK      static
-#define GG_TRAV_INTERSECT intersect_plain
-#define GG_TRAV_OCCLUDER  occluder_plain
-#define GG_TRAV_SHADOW    shadow_plain
-#define GG_TRAV_PACKET    packet_plain
-#include "bvh_trav.h"
-
-/* The copy g's build chose (g->trav_avx, gg_bvh_tri_leaves): the plain
-   one, the AVX copy, or its AVX2 build. One load and an indirect call
-   per query: a second test of trav_avx cost more (docs/performance.md,
-   "One source per instruction set"). */
+/* The copies of the traversal, indexed by a geometry's g->trav_avx: the
+   kernel table's entry (gg_cpu_kernels()->trav: GG_KERNEL_PLAIN, _AVX,
+   _AVX2) as g's build restricted it (gg_bvh_tri_leaves). One load and an
+   indirect call per query: a second test of trav_avx cost more
+   (docs/performance.md, "One source per instruction set"). */
 typedef struct trav_copy {
     int (*intersect)(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
     uint32_t (*occluder)(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
@@ -223,14 +198,22 @@ typedef struct trav_copy {
     unsigned (*packet)(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
 } trav_copy;
 
+#define GG_TRAV_COPY(isa)                                                                          \
+    {                                                                                              \
+        bvh_intersect_##isa, bvh_occluder_##isa, bvh_shadow_##isa, bvh_packet_##isa                \
+    }
+#define GG_TRAV_COPY_GG(isa)                                                                       \
+    {                                                                                              \
+        gg_bvh_intersect_##isa, gg_bvh_occluder_##isa, gg_bvh_shadow_##isa, gg_bvh_packet_##isa    \
+    }
 static const trav_copy copies[3] = {
-    {intersect_plain, occluder_plain, shadow_plain, packet_plain},
+    GG_TRAV_COPY(plain),
 #if GG_HAVE_BVH_AVX
-    {gg_bvh_intersect_avx, gg_bvh_occluder_avx, gg_bvh_shadow_avx, gg_bvh_packet_avx},
-    {gg_bvh_intersect_avx2, gg_bvh_occluder_avx2, gg_bvh_shadow_avx2, gg_bvh_packet_avx2},
+    GG_TRAV_COPY_GG(avx),
+    GG_TRAV_COPY_GG(avx2),
 #else
-    {intersect_plain, occluder_plain, shadow_plain, packet_plain},
-    {intersect_plain, occluder_plain, shadow_plain, packet_plain},
+    GG_TRAV_COPY(plain),
+    GG_TRAV_COPY(plain),
 #endif
 };
 #define COPY(g) (&copies[(g)->trav_avx])

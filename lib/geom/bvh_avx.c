@@ -4,12 +4,13 @@
 ** which test the triangles of a leaf four at a time (one lane per
 ** triangle, 4 doubles per register): a per-ISA object, built with -mavx
 ** (compiler.h, "Per-ISA code"). bvh.c calls them only for a geometry
-** whose build chose them (gg_cpu_features() has GG_CPU_AVX).
-** bvh_avx2.c compiles this file once more with AVX2 and the bit
-** instructions (BMI1/2, LZCNT, POPCNT), under names ending in _avx2
-** (GG_AVX_NAME): the same source and the same bits, chosen at run time
-** where the CPU has them, as Embree builds one kernel source per
-** instruction set.
+** whose build chose them (the kernel table, gg_cpu_kernels()->trav).
+** The Makefile compiles this file once more, into bvh_avx2.o (ISA_AGAIN),
+** with AVX2 and the bit instructions (BMI1/2, LZCNT, POPCNT), under names
+** ending in _avx2 (GG_ISA_NAME): the same source and the same bits,
+** chosen at run time where the CPU has them, as Embree builds one kernel
+** source per instruction set. What the AVX2 build bought:
+** docs/performance.md, "One source per instruction set".
 **
 ** Same bits as the scalar kernel. Each lane performs exactly the
 ** operations of gg_tri_kernel (shape_tri.h), in the same order and
@@ -27,12 +28,8 @@
 #include "bvh_int.h"
 
 #if GG_HAVE_BVH_AVX
-#ifndef __AVX__
-#error "bvh_avx.c is compiled with -mavx (Makefile: ISA_avx)"
-#endif
-/* The external names of this copy: name_avx, or what bvh_avx2.c says. */
-#ifndef GG_AVX_NAME
-#define GG_AVX_NAME(name) name##_avx
+#if !defined(__AVX__) || !defined(GG_ISA)
+#error "bvh_avx.c is compiled with -mavx and -DGG_ISA (Makefile: isa_flags)"
 #endif
 
 #include <immintrin.h>
@@ -134,7 +131,7 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
     return hm | zm;
 }
 
-unsigned GG_AVX_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
+unsigned GG_ISA_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
                                   double b1[4], double b2[4], unsigned *zero)
 {
     gg_tx x;
@@ -245,13 +242,23 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
     return 0;
 }
 
-#define GG_TRAV_WIDE /* the single-ray walks on the 8-wide nodes (bvh_trav.h) */
-#define GG_TRAV_LINK
-#define GG_TRAV_INTERSECT GG_AVX_NAME(gg_bvh_intersect)
-#define GG_TRAV_OCCLUDER  GG_AVX_NAME(gg_bvh_occluder)
-#define GG_TRAV_SHADOW    GG_AVX_NAME(gg_bvh_shadow)
-#define GG_TRAV_PACKET    GG_AVX_NAME(gg_bvh_packet)
-#include "bvh_trav.h"
+/* Runs of slots (the occluder cache, the fallbacks): the scalar loops. */
+GG_INLINE uint32_t tx_slots_any(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                                double tmax)
+{
+    return gg_leaf_any(g, r, first, n, tmax);
+}
+
+GG_INLINE uint32_t tx_slots_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                                   double tmax, gg_hit *best, gg_tcol *col)
+{
+    return gg_leaf_shadow(g, r, first, n, tmax, best, col);
+}
+
+#define GG_TRAV_WIDE   /* the single-ray walks on the 8-wide nodes (bvh_trav.inc.h) */
+#define GG_INC_NAME(f) GG_ISA_NAME(gg_##f) /* gg_bvh_intersect_avx, ..._avx2 */
+#define GG_INC_LINK                        /* external: declared in bvh_int.h */
+#include "bvh_trav.inc.h"
 
 #else
 /* ISO C forbids an empty translation unit. */

@@ -2,7 +2,7 @@
 /*
 ** bvh_int.h -- the BVH's node and leaf layout and its float rounding
 ** helpers, shared by the build and the traversal copies (bvh.c, bvh_avx.c,
-** bvh_trav.h; private to lib/geom: docs/internals.md, "Headers").
+** bvh_trav.inc.h; private to lib/geom: docs/internals.md, "Headers").
 **
 ** References. A child reference with the top bit set is a leaf:
 **   GG_LEAF | first << 3 | count - 1             a run of slots, or
@@ -72,8 +72,8 @@ int gg_bvh_intersect_avx(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 uint32_t gg_bvh_occluder_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
 int gg_bvh_shadow_avx(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
 unsigned gg_bvh_packet_avx(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
-/* The same compiled for AVX2 (bvh_avx2.c); call only where
-   gg_cpu_features() has GG_CPU_AVX2. */
+/* The same source compiled for AVX2 (bvh_avx2.o, Makefile: ISA_AGAIN);
+   call only where gg_cpu_features() has GG_CPU_AVX2. */
 int gg_bvh_intersect_avx2(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 uint32_t gg_bvh_occluder_avx2(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
 int gg_bvh_shadow_avx2(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);

@@ -198,7 +198,7 @@ int gg_geom_intersect(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
    gg_geom_intersect(g, &q[i], &hit[i]) gives (hit[i] untouched where
    the bit is 0), bit for bit. Rays of one origin whose directions have
    the same signs (a row of eye rays) walk the BVH once together
-   (bvh_trav.h, "eye-ray packets"); others are traced one by one, and so
+   (bvh_trav.inc.h, "eye-ray packets"); others are traced one by one, and so
    is every ray of a geometry with implicit surfaces and every
    single-precision query (GG_ISECT_FLOAT). */
 #define GG_PACKET_MAX 16
@@ -214,7 +214,7 @@ typedef struct gg_trav_cost {
 /* gg_geom_intersect with the same answer, counting into *cost (adds to
    it): a copy of the plain traversal that only the ray-tree recorder
    calls (bvh_cost.c), so the render's copies stay as they are. The walk
-   is the one every copy takes (bvh_trav.h): the counts are the render's. */
+   is the one every copy takes (bvh_trav.inc.h): the counts are the render's. */
 int gg_geom_intersect_cost(const gg_geom *g, const gg_rayq *q, gg_hit *hit, gg_trav_cost *cost);
 
 /* The transparent surfaces a shadow segment crosses (gg_geom_occluded).

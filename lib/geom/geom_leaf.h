@@ -132,7 +132,7 @@ static inline void gg_tcol_elem(const gg_geom *g, const gg_rpre *r, const gg_slo
     }
 }
 
-/* The shadow query's test of slots [first, first + n) (bvh_trav.h): the
+/* The shadow query's test of slots [first, first + n) (bvh_trav.inc.h): the
    slot index + 1 of the first opaque element hit (then it stops), else 0;
    transparent ones update *best as gg_leaf_closest does, and go into col
    (if not NULL) wherever they are on the segment. */

@@ -3,42 +3,40 @@
 ** fresnel.c -- Fresnel reflectance of dielectric and conducting
 ** interfaces, Schlick's approximation, Beer-Lambert absorption.
 ** docs/optics.md derives the forms used here; the double-double kernels
-** are in fresnel_core.h (plain here, fma in fresnel_fma.c).
+** are in fresnel.inc.h (plain here, fma in fresnel_fma.c).
 */
 #include "core.h"
 
 #include "dd.h"
 #include "fresnel_fma.h"
-#include "optics_int.h"
 
 #include <math.h>
 
-#define GG_DIELECTRIC_NAME dielectric_plain
-#define GG_CONDUCTOR_NAME  conductor_plain
-#include "fresnel_core.h"
+#define GG_INC_NAME(f) f##_plain
+#define GG_INC_LINK    static
+#include "fresnel.inc.h"
 
-/* The two builds of fresnel_core.h return the same bits; the fma one is
-   faster. */
+/* The copies, indexed by the kernel table's entry (core.h,
+   gg_cpu_kernels): the plain build and, on x86-64, the fma one
+   (fresnel_fma.c). Same bits either way; the fma build is faster. */
+typedef void dielectric_fn(double c, double a, double b, gg_dd *rs, gg_dd *rp);
+typedef void conductor_fn(double c, double n1, double n, double k, gg_dd *rs, gg_dd *rp);
+#if GG_ISA_X86
+static dielectric_fn *const dielectrics[] = {fresnel_dielectric_plain, gg_fresnel_dielectric_fma};
+static conductor_fn *const conductors[] = {fresnel_conductor_plain, gg_fresnel_conductor_fma};
+#else
+static dielectric_fn *const dielectrics[] = {fresnel_dielectric_plain};
+static conductor_fn *const conductors[] = {fresnel_conductor_plain};
+#endif
+
 static void dielectric_dd(double c, double a, double b, gg_dd *rs, gg_dd *rp)
 {
-#if GG_ISA_X86
-    if (gg_optics_use_fma()) {
-        gg_fresnel_dielectric_fma(c, a, b, rs, rp);
-        return;
-    }
-#endif
-    dielectric_plain(c, a, b, rs, rp);
+    dielectrics[gg_cpu_kernels()->fresnel](c, a, b, rs, rp);
 }
 
 static void conductor_dd(double c, double n1, double n, double k, gg_dd *rs, gg_dd *rp)
 {
-#if GG_ISA_X86
-    if (gg_optics_use_fma()) {
-        gg_fresnel_conductor_fma(c, n1, n, k, rs, rp);
-        return;
-    }
-#endif
-    conductor_plain(c, n1, n, k, rs, rp);
+    conductors[gg_cpu_kernels()->fresnel](c, n1, n, k, rs, rp);
 }
 
 /* |cos_i| clamped to [0, 1]; the caller has checked it is finite. */

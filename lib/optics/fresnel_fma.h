@@ -12,7 +12,7 @@
 struct gg_dd;
 
 /* The per-ISA object fresnel_fma.c (compiler.h, "Per-ISA code"): the
-   kernels of fresnel_core.h, same arguments and same bits as fresnel.c's
+   kernels of fresnel.inc.h, same arguments and same bits as fresnel.c's
    plain build; call only where gg_cpu_features() has GG_CPU_FMA. */
 #if GG_ISA_X86
 void gg_fresnel_dielectric_fma(double c, double a, double b, struct gg_dd *rs, struct gg_dd *rp);

@@ -23,75 +23,38 @@
 #include "core.h"
 
 #include "dd.h"
-#include "optics_int.h"
 #include "refract_fma.h"
 #include "vec.h"
 
 #include <math.h>
 
-#define GG_REFRACT_NAME refract_plain
-#define GG_REFLECT_NAME reflect_plain
-#include "refract_core.h"
-#include "reflect_core.h"
+#define GG_INC_NAME(f) f##_plain
+#define GG_INC_LINK    static
+#include "refract.inc.h"
+#include "reflect.inc.h"
 
-#if GG_ISA_X86
-/* gg_cpu_features() & GG_CPU_FMA, cached here: 0 not yet asked, 1 no, 2
-   yes (threads that race store the same value; relaxed atomics). */
-static int fma_mode;
-
-int gg_optics_use_fma(void)
-{
-    int m = GG_ATOMIC_LOAD(&fma_mode);
-    if (!m) {
-        m = gg_cpu_features() & GG_CPU_FMA ? 2 : 1;
-        GG_ATOMIC_STORE(&fma_mode, m);
-    }
-    return m == 2;
-}
-
-/* The refraction's build (same bits either way, refract_core.h; the fma
-   build is faster), picked on the first call (relaxed atomics: threads
-   that race store the same pointer); ggRefract then jumps straight to it. */
+/* The copies of each, indexed by the kernel table's entry (core.h,
+   gg_cpu_kernels): the plain build and, on x86-64, the fma one
+   (refract_fma.c). Same bits either way; the fma build is faster. */
 typedef bool refract_fn(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
-static bool refract_pick(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
-static refract_fn *refract_impl = refract_pick;
-
-static bool refract_pick(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
-{
-    refract_fn *f = gg_optics_use_fma() ? gg_refract_fma : refract_plain;
-    GG_ATOMIC_STORE(&refract_impl, f);
-    return f(v, n, ni, nt, t);
-}
-
-GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
-{
-    return GG_ATOMIC_LOAD(&refract_impl)(v, n, ni, nt, t);
-}
-
-/* The first call, and every call without fma. */
-static GG_NOINLINE ggVec3 reflect_choose(const ggVec3 *v, const ggVec3 *n)
-{
-    return gg_optics_use_fma() ? gg_reflect_fma(v, n) : reflect_plain(v, n);
-}
-
-/* fma_mode tested first: the common call is a load, a compare and the
-   call. */
-GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
-{
-    if (GG_LIKELY(GG_ATOMIC_LOAD(&fma_mode) == 2)) return gg_reflect_fma(&v, &n);
-    return reflect_choose(&v, &n);
-}
+typedef ggVec3 reflect_fn(const ggVec3 *v, const ggVec3 *n);
+#if GG_ISA_X86
+static refract_fn *const refracts[] = {refract_plain, gg_refract_fma};
+static reflect_fn *const reflects[] = {reflect_plain, gg_reflect_fma};
 #else
+static refract_fn *const refracts[] = {refract_plain};
+static reflect_fn *const reflects[] = {reflect_plain};
+#endif
+
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
-    return refract_plain(v, n, ni, nt, t);
+    return refracts[gg_cpu_kernels()->refract](v, n, ni, nt, t);
 }
 
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n)
 {
-    return reflect_plain(&v, &n);
+    return reflects[gg_cpu_kernels()->reflect](&v, &n);
 }
-#endif
 
 GG_API bool ggRefractTextbook(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {

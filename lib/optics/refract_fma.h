@@ -12,7 +12,7 @@
 /* The accurate refraction (same contract and same bits as optics.c's
    refract_plain); call only where gg_cpu_features() has GG_CPU_FMA. */
 bool gg_refract_fma(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
-/* The accurate reflection (reflect_core.h; same contract and bits as
+/* The accurate reflection (reflect.inc.h; same contract and bits as
    optics.c's reflect_plain and ggReflection). */
 ggVec3 gg_reflect_fma(const ggVec3 *v, const ggVec3 *n);
 #endif

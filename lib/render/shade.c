@@ -15,14 +15,12 @@
 ** eye ray's tree has used its ray budget.
 **
 ** Specialisation. trace_fx and everything it inlines take the effect set
-** FX as a compile-time constant and are compiled four times: FX_BASIC
-** for scenes that need none of refraction, absorption, dispersion,
-** Fresnel or coloured shadows (their branches are then dead code),
-** FX_GLASS, the basic path with refraction and coloured shadows (glass
-** without Fresnel, absorption or dispersion: the SPD's gears and mount),
-** FX_FULL, and FX_REC, the full path that also records the ray tree. Which
-** one runs is decided per ray tree (trace_root) from the scene's effects.
-** docs/performance.md has what the basic path saves.
+** FX as a compile-time constant and are compiled once per line of
+** GG_SHADE_COPIES (below), whose order is also the order in which a ray
+** tree picks its copy (trace_root); in a copy whose FX lacks an effect,
+** that effect's branches are dead code. What runs within a copy is
+** decided once per render by gg_shade_init (c->on and the resolved knobs,
+** RUNS). docs/performance.md has what the smaller copies save.
 **
 ** Recorder hooks. Everything the recorder stores goes through the rec_*
 ** functions below. Each takes FX and starts with `if (!(FX & FX_RECORD))
@@ -116,32 +114,71 @@ typedef struct secondary {
     double cos_i; /* |cos| of the angle of incidence on ns */
 } secondary;
 
+/* The shading copies, one line each: a name and the effect set FX it is
+   compiled for (trace_fx with FX a compile-time constant). The order is
+   the selection order: a ray tree takes the first copy whose FX holds
+   every effect it needs (trace_root), and a child ray the copy of its
+   parent (TRACE_CHILD). This list is the only place that names them; it
+   generates their prototypes, definitions, the child dispatch and the
+   root selection. GG_NO_RECORDER builds the library without the
+   recording copy, only to measure what having it costs (make
+   bench-trace). */
+#ifdef GG_NO_RECORDER
+#define GG_SHADE_COPY_REC(X)
+#define GG_SHADE_RECORDS 0u
+#else
+#define GG_SHADE_COPY_REC(X) X(rec, FX_REC)
+#define GG_SHADE_RECORDS     FX_RECORD
+#endif
+#define GG_SHADE_COPIES(X)                                                                         \
+    X(basic, FX_BASIC)                                                                             \
+    X(glass, FX_GLASS)                                                                             \
+    X(full, FX_FULL)                                                                               \
+    GG_SHADE_COPY_REC(X)
+
 /* known: the ray's closest hit when the caller has already asked the
    geometry (eye rays from the renderer's tile loop), else NULL. */
-static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                           const gg_hit *known);
-static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                          const gg_hit *known);
-static ggColor trace_glass(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                           const gg_hit *known);
+#define GG_SHADE_PROTO(name, fx)                                                                   \
+    static ggColor trace_##name(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,    \
+                                const gg_hit *known);
+GG_SHADE_COPIES(GG_SHADE_PROTO)
+#undef GG_SHADE_PROTO
 
-/* The same path's recursion: FX is a compile-time constant everywhere.
-   GG_NO_RECORDER builds the library without the recording path, only to
-   measure what having it costs (make bench-trace). */
-#ifdef GG_NO_RECORDER
-#define TRACE_CHILD(FX, c, r, th)                                                                  \
-    ((FX) == FX_BASIC   ? trace_basic(c, r, th, NULL)                                              \
-     : (FX) == FX_GLASS ? trace_glass(c, r, th, NULL)                                              \
-                        : trace_full(c, r, th, NULL))
-#else
-static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                         const gg_hit *known);
-#define TRACE_CHILD(FX, c, r, th)                                                                  \
-    ((FX) == FX_BASIC   ? trace_basic(c, r, th, NULL)                                              \
-     : (FX) == FX_GLASS ? trace_glass(c, r, th, NULL)                                              \
-     : (FX) == FX_FULL  ? trace_full(c, r, th, NULL)                                               \
-                        : trace_rec(c, r, th, NULL))
-#endif
+/* Never called: the end of TRACE_CHILD's chain, which FX (always one of
+   the list's sets) folds away. */
+static ggColor trace_none(void)
+{
+    return rgb(0, 0, 0);
+}
+
+/* A child ray in its parent's copy (TRACE_CHILD): FX is a compile-time
+   constant, so this folds to one direct call. */
+#define GG_SHADE_CHILD(name, fx)                                                                   \
+    if (FX == (fx)) return trace_##name(c, r, th, NULL);
+GG_INLINE ggColor trace_child(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                              const unsigned FX)
+{
+    GG_SHADE_COPIES(GG_SHADE_CHILD)
+    return trace_none();
+}
+#undef GG_SHADE_CHILD
+#define TRACE_CHILD(FX, c, r, th) trace_child(c, r, th, FX)
+
+/* What the shading tests per ray, resolved here once: the effects that
+   run (a copy compiled with an effect runs its code only where `on` has
+   it: coloured shadows only in a scene that has some, whatever was
+   forced), the offset knob and the Fresnel override. */
+static void resolve_knobs(gg_shade_ctx *ctx, const ggScene *s)
+{
+    ctx->on = ctx->fx;
+    if (!(s->effects & GG_EFFECT_COLORED_SHADOWS)) ctx->on &= ~GG_EFFECT_COLORED_SHADOWS;
+    ctx->fixed_offset = ctx->acc.offset == GG_ACC_OFFSET_FIXED;
+    ctx->offset_eps = ctx->acc.offset_eps > 0 ? ctx->acc.offset_eps : 1e-6;
+    ctx->fresnel_knob = ctx->acc.fresnel == 0                        ? -1
+                        : ctx->acc.fresnel == GG_ACC_FRESNEL_NONE    ? GG_FRESNEL_NONE
+                        : ctx->acc.fresnel == GG_ACC_FRESNEL_SCHLICK ? GG_FRESNEL_SCHLICK
+                                                                     : GG_FRESNEL_EXACT;
+}
 
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc)
@@ -165,6 +202,7 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
         ctx->fx |= GG_EFFECT_FRESNEL;
     /* Opaque shadows: the effect is not simulated, even if forced. */
     if (ctx->acc.shadows == GG_ACC_SHADOWS_OPAQUE) ctx->fx &= ~GG_EFFECT_COLORED_SHADOWS;
+    resolve_knobs(ctx, s);
     ctx->budget = GG_RAY_BUDGET;
     ctx->rec = NULL;
 }
@@ -176,18 +214,15 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
    drops the skip of the planar primitive a ray leaves, see leave_prim). */
 static ggVec3 spawn(const gg_shade_ctx *c, const gg_surf *sf, ggVec3 d)
 {
-    if (c->acc.offset == GG_ACC_OFFSET_FIXED)
-        return gg_offset_origin_fixed(sf, d, c->acc.offset_eps > 0 ? c->acc.offset_eps : 1e-6);
+    if (c->fixed_offset) return gg_offset_origin_fixed(sf, d, c->offset_eps);
     return gg_offset_origin(sf, d);
 }
 
 /* The Fresnel mode in force for a material (the knob overrides dielectrics). */
 static int fresnel_mode(const gg_shade_ctx *c, const ggMaterial *m)
 {
-    if (m->fresnel == GG_FRESNEL_CONDUCTOR || c->acc.fresnel == 0) return m->fresnel;
-    return c->acc.fresnel == GG_ACC_FRESNEL_NONE      ? GG_FRESNEL_NONE
-           : c->acc.fresnel == GG_ACC_FRESNEL_SCHLICK ? GG_FRESNEL_SCHLICK
-                                                      : GG_FRESNEL_EXACT;
+    if (m->fresnel == GG_FRESNEL_CONDUCTOR || c->fresnel_knob < 0) return m->fresnel;
+    return c->fresnel_knob;
 }
 
 static double media_index(const ggScene *s, const gg_media *m, int channel)
@@ -264,11 +299,15 @@ static ggColor media_transmittance(const ggScene *s, const gg_media *m, double d
                a.b > 0 ? exp(-a.b * dist) : 1);
 }
 
-/* Whether this path and this render absorb. Without the effect every
-   medium a ray can be in (a material with kt > 0, media_cross) has zero
-   extinction, so media_transmittance would give (1, 1, 1), which changes
-   no bit of what it multiplies: skip the call. */
-#define ABSORBS(c, FX) (((FX)&GG_EFFECT_ABSORPTION) && ((c)->fx & GG_EFFECT_ABSORPTION))
+/* Whether effect e runs here: compiled into this copy (FX, a constant:
+   the test folds away) and resolved on for this render (c->on,
+   gg_shade_init).
+   Absorption: without it every medium a ray can be in (a material with
+   kt > 0, media_cross) has zero extinction, so media_transmittance would
+   give (1, 1, 1), which changes no bit of what it multiplies: skip the
+   call. */
+#define RUNS(c, FX, e) (((FX) & (e)) && ((c)->on & (e)))
+#define ABSORBS(c, FX) RUNS(c, FX, GG_EFFECT_ABSORPTION)
 
 /* A query of this render from o along d, t in (0, tmax), skipping prim
    `ignore` and the primitives flagged `skip`; th's statistics count the
@@ -531,7 +570,7 @@ GG_INLINE void hit_setup(const gg_shade_ctx *c, const ray_state *r, const gg_ray
     hi->mi = s->objects[hi->obj].material;
     hi->m = &s->materials[hi->mi];
     hi->mf = &s->mfast[hi->mi];
-    hi->leave = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h->prim);
+    hi->leave = c->fixed_offset ? UINT32_MAX : leave_prim(s, h->prim);
     /* (u, v) costs an atan2 on curved shapes: only for textures and the
        recorder. */
     gg_geom_surface(s->geom, q, h, &hi->sf,
@@ -584,7 +623,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
        lists that overflowed or met an implicit surface, for walks that
        start inside a sphere, and for the fixed-epsilon knob, whose re-hits
        are part of what the accuracy study shows. */
-    if (all->complete && c->acc.offset != GG_ACC_OFFSET_FIXED) {
+    if (all->complete && !c->fixed_offset) {
         double prev = 0;
         int i;
         const int absorb = ABSORBS(c, FX);
@@ -636,7 +675,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
         q.o = spawn(c, &sf, q.d);
         q.d = v3sub(light, q.o);
         len = v3len(q.d);
-        q.ignore_prim = c->acc.offset == GG_ACC_OFFSET_FIXED ? UINT32_MAX : leave_prim(s, h.prim);
+        q.ignore_prim = c->fixed_offset ? UINT32_MAX : leave_prim(s, h.prim);
         /* Crossed into a sphere: the next surface may well be its far side. */
         q.inside = q.ignore_prim == UINT32_MAX && v3dot(q.d, sf.ng) < 0 ? h.prim : UINT32_MAX;
     }
@@ -742,7 +781,7 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         sh.lc = s->light_colors[li];
         sh.verdict = GG_SHADOW_VISIBLE, sh.occ = -1, sh.tb = 1;
         /* the scene has them, and the shadows knob did not drop them */
-        if ((FX & GG_EFFECT_COLORED_SHADOWS) && (c->fx & s->effects & GG_EFFECT_COLORED_SHADOWS))
+        if (RUNS(c, FX, GG_EFFECT_COLORED_SHADOWS))
             shadow_colored(c, r, hi, li, th, &sh, FX);
         else
             shadow_opaque(c, r, hi, li, th, &sh, FX);
@@ -970,31 +1009,14 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     return col;
 }
 
-static ggColor trace_basic(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                           const gg_hit *known)
-{
-    return trace_fx(c, r, th, known, FX_BASIC);
-}
-
-static ggColor trace_full(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                          const gg_hit *known)
-{
-    return trace_fx(c, r, th, known, FX_FULL);
-}
-
-static ggColor trace_glass(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                           const gg_hit *known)
-{
-    return trace_fx(c, r, th, known, FX_GLASS);
-}
-
-#ifndef GG_NO_RECORDER
-static ggColor trace_rec(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
-                         const gg_hit *known)
-{
-    return trace_fx(c, r, th, known, FX_REC);
-}
-#endif
+#define GG_SHADE_DEF(name, fx)                                                                     \
+    static ggColor trace_##name(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,    \
+                                const gg_hit *known)                                               \
+    {                                                                                              \
+        return trace_fx(c, r, th, known, fx);                                                      \
+    }
+GG_SHADE_COPIES(GG_SHADE_DEF)
+#undef GG_SHADE_DEF
 
 int gg_shade_dir(ggVec3 o, ggVec3 d, ggVec3 *u)
 {
@@ -1026,19 +1048,21 @@ static void root_ray(ray_state *r, ggVec3 o, ggVec3 u, int depth)
     r->weight = 1;
 }
 
-/* The recording path computes exactly what the full path does, so a
+/* The first copy of GG_SHADE_COPIES whose FX holds what the tree needs:
+   the scene's effects (c->fx) and, when recording, FX_RECORD. The
+   recording path computes exactly what the full path does, so a
    recorded pixel equals the rendered one bit for bit. */
+#define GG_SHADE_PICK(name, fx)                                                                    \
+    if ((need & ~(unsigned)(fx)) == 0) return trace_##name(c, r, th, known);
 static ggColor trace_root(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                           const gg_hit *known)
 {
+    const unsigned need = c->fx | (c->rec ? GG_SHADE_RECORDS : 0u);
     th->left = c->budget;
-#ifndef GG_NO_RECORDER
-    if (c->rec) return trace_rec(c, r, th, known);
-#endif
-    if ((c->fx & ~(unsigned)FX_BASIC) == 0) return trace_basic(c, r, th, known);
-    if ((c->fx & ~(unsigned)FX_GLASS) == 0) return trace_glass(c, r, th, known);
-    return trace_full(c, r, th, known);
+    GG_SHADE_COPIES(GG_SHADE_PICK)
+    return trace_none();
 }
+#undef GG_SHADE_PICK
 
 ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth, gg_shade_thread *th)
 {

@@ -21,6 +21,12 @@ typedef struct gg_shade_ctx {
     const ggScene *s;
     int max_depth;
     unsigned fx; /* effects simulated: the scene's plus the forced ones */
+    /* Resolved once by gg_shade_init from the scene, the forced effects
+       and the knobs; shading tests these plain flags, never the knobs. */
+    unsigned on;       /* the effects the chosen copy's code performs (RUNS, shade.c) */
+    int fixed_offset;  /* offset=EPS: rays leave at offset_eps, no primitive skipped */
+    double offset_eps; /* the fixed offset's epsilon */
+    int fresnel_knob;  /* GG_FRESNEL_* replacing every dielectric's, or -1 */
     bool spd_rules;
     ggAccuracy acc;  /* numerical knobs (render.h) */
     gg_qopt qopt;    /* those the geometry answers by, for every query */

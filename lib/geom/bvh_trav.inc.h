@@ -1,31 +1,42 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** bvh_trav.h -- the BVH traversals (closest hit, any hit, shadow query),
-** included once per instruction set: bvh.c compiles the plain copy,
-** bvh_avx.c, a per-ISA object (compiler.h), the AVX one (internal to the
-** BVH).
+** bvh_trav.inc.h -- the BVH traversals (closest hit, any hit, shadow
+** query, packets of closest hits), a template (compiler.h, "Templates";
+** internal to the BVH) instantiated by bvh.c (the plain copy), bvh_avx.c
+** (the AVX copy; its AVX2 build is the same source compiled again),
+** bvh_float.c (single precision) and bvh_cost.c (the recorder's).
 **
 ** The including file defines, before including this:
-**   GG_TRAV_LINK                     linkage of the four functions;
-**   GG_TRAV_INTERSECT, GG_TRAV_OCCLUDER, GG_TRAV_SHADOW, GG_TRAV_PACKET
-**       their names (the last: closest hits of a packet of rays);
-**   gg_tx, and tx_init, tx_fill, tx_closest, tx_any, tx_shadow: the
-**       per-ray state of its leaf tests (tx_init may defer filling it to
-**       the first leaf that needs it, tx_fill fills it at once) and the
-**       leaf tests of a leaf reference, with the contracts of
-**       gg_leaf_closest, gg_leaf_any and gg_leaf_shadow.
-** Both copies thus share the node walk; only the leaves differ.
+**   GG_INC_LINK, GG_INC_NAME(f)   linkage and names of the functions
+**       bvh_intersect, bvh_occluder, bvh_shadow and bvh_packet (closest
+**       hits of a packet of rays);
+**   the leaf hooks, with the contracts of gg_leaf_closest, gg_leaf_any
+**   and gg_leaf_shadow (geom_leaf.h):
+**     gg_tx, tx_init, tx_fill  the per-ray state of its leaf tests
+**         (tx_init may defer filling it to the first leaf that needs it,
+**         tx_fill fills it at once);
+**     tx_closest, tx_any, tx_shadow  the tests of a leaf reference;
+**     tx_slots_any, tx_slots_shadow  the tests of a run of slots (the
+**         occluder cache, and every slot for a ray the float boxes
+**         cannot take).
+** bvh_hooks.h has the hooks of the copies with scalar leaves. The copies
+** thus share the node walk; only the leaves differ.
 ** With GG_TRAV_WIDE defined (bvh_avx.c), the single-ray walks take the
 ** 8-wide nodes (g->wnodes, gg_bvh_wide) and box8; the packets keep the
 ** 4-wide ones.
-** With GG_TRAV_COST defined, GG_TRAV_INTERSECT takes a gg_trav_cost *
-** more and counts into it, and the other three are left out (bvh_cost.c,
-** the ray-tree recorder's copy).
+** With GG_TRAV_SINGLE defined, the packet walk is left out (bvh_float.c).
+** With GG_TRAV_COST defined, bvh_intersect takes a gg_trav_cost * more
+** and counts into it, and the other three are left out (bvh_cost.c, the
+** ray-tree recorder's copy).
 */
 #ifndef GG_BVH_TRAV_H
 #define GG_BVH_TRAV_H
 
 #include "bvh_int.h"
+
+#if !defined(GG_INC_NAME) || !defined(GG_INC_LINK)
+#error "define GG_INC_NAME and GG_INC_LINK before including bvh_trav.inc.h"
+#endif
 
 #if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD)
 #define GG_BVH_SIMD 1
@@ -325,8 +336,8 @@ typedef gg_t4 any_t;
 #define GG_COST_ALL()     ((void)0)
 #endif
 
-GG_TRAV_LINK GG_NO_SLP int GG_TRAV_INTERSECT(const gg_geom *g, const gg_rayq *q,
-                                             gg_hit *hit GG_COST_ARG)
+GG_INC_LINK GG_NO_SLP int GG_INC_NAME(bvh_intersect)(const gg_geom *g, const gg_rayq *q,
+                                                     gg_hit *hit GG_COST_ARG)
 {
     gg_rpre r;
     any_trav tv;
@@ -490,8 +501,8 @@ GG_INLINE uint32_t occ_walk(const gg_geom *g, const gg_rayq *q, gg_rpre *r, cons
    so is this one, mostly, after a few nodes) the ray's precomputation
    and leaf state wait for the first leaf; trav_init needs only o and d.
    A ray gg_rpre_fill refuses is clear either way. */
-GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq *q,
-                                                 uint32_t *cache)
+GG_INC_LINK GG_NO_SLP uint32_t GG_INC_NAME(bvh_occluder)(const gg_geom *g, const gg_rayq *q,
+                                                         uint32_t *cache)
 {
     gg_rpre r;
     any_trav tv;
@@ -504,13 +515,13 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
         if (ANY_INIT6(&tv, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z) && q->tmin >= 0)
             return occ_walk(g, q, &r, &tv, tmax, 1);
         if (!gg_rpre_fill(&r, q)) return 0;
-        return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
+        return tx_slots_any(g, &r, 0, (uint32_t)g->nslots, tmax);
     }
     if (!gg_rpre_fill(&r, q)) return 0;
-    hit = gg_leaf_any(g, &r, *cache - 1, 1, tmax);
+    hit = tx_slots_any(g, &r, *cache - 1, 1, tmax);
     if (hit) return hit;
     if (!ANY_INIT(&tv, &r) || q->tmin < 0) {
-        return gg_leaf_any(g, &r, 0, (uint32_t)g->nslots, tmax);
+        return tx_slots_any(g, &r, 0, (uint32_t)g->nslots, tmax);
     }
     return occ_walk(g, q, &r, &tv, tmax, 0);
 }
@@ -521,8 +532,8 @@ GG_TRAV_LINK GG_NO_SLP uint32_t GG_TRAV_OCCLUDER(const gg_geom *g, const gg_rayq
    every element whose box the segment enters is tested, with the same
    kernels and the same tie rule (the answer of gg_leaf_closest does not
    depend on the visiting order). */
-GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, uint32_t *cache,
-                                          gg_tcol *col)
+GG_INC_LINK GG_NO_SLP int GG_INC_NAME(bvh_shadow)(const gg_geom *g, const gg_rayq *q,
+                                                  uint32_t *cache, gg_tcol *col)
 {
     gg_rpre r;
     any_trav tv;
@@ -543,10 +554,10 @@ GG_TRAV_LINK GG_NO_SLP int GG_TRAV_SHADOW(const gg_geom *g, const gg_rayq *q, ui
        traversal's, whichever opaque element that would have found. */
     if (*cache && *cache <= g->nslots &&
         !(g->pflags[g->slots[*cache - 1].prim] & GG_PRIM_TRANSPARENT) &&
-        gg_leaf_any(g, &r, *cache - 1, 1, tmax))
+        tx_slots_any(g, &r, *cache - 1, 1, tmax))
         return 1;
     if (!ANY_INIT(&tv, &r) || q->tmin < 0) {
-        if ((hit = gg_leaf_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best, col))) goto blocked;
+        if ((hit = tx_slots_shadow(g, &r, 0, (uint32_t)g->nslots, tmax, &best, col))) goto blocked;
         goto done;
     }
     tx_fill(&tx, &r);
@@ -577,10 +588,11 @@ blocked:
     return 1;
 }
 
+#ifndef GG_TRAV_SINGLE
 /* ---- ray packets ----
 
-   GG_TRAV_PACKET answers up to GG_PK closest-hit queries with one walk
-   of the tree, each lane exactly as GG_TRAV_INTERSECT would. The lanes
+   bvh_packet answers up to GG_PK closest-hit queries with one walk
+   of the tree, each lane exactly as bvh_intersect would. The lanes
    of one packet share the origin and the signs of 1/d (a tile row of eye
    rays is one or two packets), so they read the same rows of a node and
    compute the same differences s = row - on; only 1/d differs. Inner
@@ -922,7 +934,7 @@ static inline uint32_t pk_ref(const gg_bnode *nd, uint32_t node, int i)
 }
 
 /* The children of mask, nearest (by the packet's entry distances) next,
-   the others pushed farthest deepest, as GG_TRAV_INTERSECT orders them. */
+   the others pushed farthest deepest, as bvh_intersect orders them. */
 static inline uint32_t pk_descend(const gg_bnode *nd, uint32_t node, unsigned mask,
                                   const float tn[4], uint32_t *stack, float *stack_t, int *sp)
 {
@@ -984,7 +996,7 @@ GG_INLINE int pk_leaf(const gg_geom *g, pkt *p, uint32_t box, pk_ray *s)
     return found;
 }
 
-/* GG_TRAV_INTERSECT's walk for packet p: pk_box4 for box4 with the
+/* bvh_intersect's walk for packet p: pk_box4 for box4 with the
    bounds of all lanes (the smallest tmin, the largest tmax), leaves by
    pk_leaf. */
 static void pk_walk(const gg_geom *g, pkt *p, pk_ray *s)
@@ -1018,11 +1030,11 @@ static void pk_walk(const gg_geom *g, pkt *p, pk_ray *s)
 }
 
 /* Closest hits of q[l] for the lanes l of `lanes` (below GG_PK): hit[l]
-   and bit l of the result as GG_TRAV_INTERSECT(g, &q[l], &hit[l]) gives
+   and bit l of the result as GG_INC_NAME(bvh_intersect)(g, &q[l], &hit[l]) gives
    them. Lanes of one origin and one set of signs walk the tree together;
    a lane alone, or one a packet cannot take, is traced on its own. */
-GG_TRAV_LINK GG_NO_SLP unsigned GG_TRAV_PACKET(const gg_geom *g, const gg_rayq *q, unsigned lanes,
-                                               gg_hit *hit)
+GG_INC_LINK GG_NO_SLP unsigned GG_INC_NAME(bvh_packet)(const gg_geom *g, const gg_rayq *q,
+                                                       unsigned lanes, gg_hit *hit)
 {
     pk_all a;
     pk_ray s;
@@ -1033,12 +1045,13 @@ GG_TRAV_LINK GG_NO_SLP unsigned GG_TRAV_PACKET(const gg_geom *g, const gg_rayq *
     todo = pk_setup(&a, &s, q, lanes);
     s.q = q, s.ready = 0;
     for (m = lanes & ~todo; m; m &= m - 1)
-        if (GG_TRAV_INTERSECT(g, &q[lowest_bit(m)], &hit[lowest_bit(m)])) got |= m & -m;
+        if (GG_INC_NAME(bvh_intersect)(g, &q[lowest_bit(m)], &hit[lowest_bit(m)])) got |= m & -m;
     while (todo) {
         unsigned grp = pk_same(&a, todo);
         todo &= ~grp;
         if (!(grp & (grp - 1))) {
-            if (GG_TRAV_INTERSECT(g, &q[lowest_bit(grp)], &hit[lowest_bit(grp)])) got |= grp;
+            if (GG_INC_NAME(bvh_intersect)(g, &q[lowest_bit(grp)], &hit[lowest_bit(grp)]))
+                got |= grp;
             continue;
         }
         pk_pack(&p, &a, grp);
@@ -1053,6 +1066,7 @@ GG_TRAV_LINK GG_NO_SLP unsigned GG_TRAV_PACKET(const gg_geom *g, const gg_rayq *
     return got;
 }
 
+#endif /* GG_TRAV_SINGLE */
 #endif /* GG_TRAV_COST */
 
 #undef GG_ROWTABLE

@@ -1,12 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** reflect_core.h -- the body of the accurate reflection (internal),
-** included after refract_core.h (whose four-lane helpers it uses), and
+** reflect.inc.h -- the body of the accurate reflection (internal),
+** included after refract.inc.h (whose four-lane helpers it uses), and
 ** like it twice: by optics.c as plain code and by refract_fma.c for CPUs
 ** with fused multiply-add. The two copies differ only where a result is
 ** exact either way (TwoProd, and the remainder of a division), so they
-** return the same bits. Before including, define GG_REFLECT_NAME (the name
-** of the function to generate).
+** return the same bits. Before including, define GG_INC_NAME and
+** GG_INC_LINK (compiler.h, "Templates"); the function is
+** GG_INC_NAME(reflect).
 **
 ** Where no component exceeds 2^300 in magnitude and |v|, |n| >= 2^-300,
 ** nothing below overflows and what underflows is far below the bound, so
@@ -14,11 +15,11 @@
 ** (and for zero, infinite or NaN input) v and n are first scaled by powers
 ** of two. docs/optics.md, "The fast paths", gives the bound and its proof.
 */
-#ifndef GG_REFLECT_NAME
-#error "define GG_REFLECT_NAME before including reflect_core.h"
+#if !defined(GG_INC_NAME) || !defined(GG_INC_LINK)
+#error "define GG_INC_NAME and GG_INC_LINK before including reflect.inc.h"
 #endif
 
-/* gg_v4u and gg_v2 come from refract_core.h (C99 allows no repeated
+/* gg_v4u and gg_v2 come from refract.inc.h (C99 allows no repeated
    typedef). */
 
 /* Lane shuffles and tests (the fma build spells them as AVX intrinsics,
@@ -171,7 +172,7 @@ static GG_NOINLINE GG_COLD ggVec3 reflect_scaled(const ggVec3 *vp, const ggVec3 
 }
 
 /* The accurate reflection (ggReflection's contract). */
-GG_OPTICS_LINKAGE ggVec3 GG_REFLECT_NAME(const ggVec3 *v, const ggVec3 *n)
+GG_INC_LINK ggVec3 GG_INC_NAME(reflect)(const ggVec3 *v, const ggVec3 *n)
 {
     /* (lane 3 repeats lane 2: bounds there that decide nothing, and that
        keep the constants from being broadcast from one double) */

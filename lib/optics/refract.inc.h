@@ -1,15 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** refract_core.h -- the body of the accurate refraction and the
-** four-lane helpers it shares with reflect_core.h (internal), included
+** refract.inc.h -- the body of the accurate refraction and the
+** four-lane helpers it shares with reflect.inc.h (internal), included
 ** twice: by optics.c as plain code, and by refract_fma.c compiled for
 ** CPUs with fused multiply-add, where TwoProd is
 ** one fma instead of Dekker's 17-flop product. TwoProd is exact either way
 ** (the inputs are scaled so that no error term underflows), and so is the
 ** only other use of fma, the remainder of a correctly rounded quotient or
 ** square root; so both copies return the same bits; optics.c picks one
-** at run time. Before including, define GG_REFRACT_NAME (the name of the
-** function to generate).
+** at run time. Before including, define GG_INC_NAME and GG_INC_LINK
+** (compiler.h, "Templates"); the function is GG_INC_NAME(refract).
 **
 ** The refraction first scales its vectors by powers of two (exact) and then
 ** tries a fast path: double-double where the result needs it, plain double
@@ -18,12 +18,8 @@
 ** the surface, |ni/nt| > 4 or negative), the full double-double
 ** refract_dd decides. docs/optics.md gives the bound and its proof.
 */
-#if !defined(GG_REFRACT_NAME)
-#error "define GG_REFRACT_NAME before including refract_core.h"
-#endif
-/* The linkage of the two generated functions (refract_fma.c exports them). */
-#ifndef GG_OPTICS_LINKAGE
-#define GG_OPTICS_LINKAGE static
+#if !defined(GG_INC_NAME) || !defined(GG_INC_LINK)
+#error "define GG_INC_NAME and GG_INC_LINK before including refract.inc.h"
 #endif
 
 #include "dd.h"
@@ -663,7 +659,7 @@ static GG_NOINLINE int refract_entry(const ggVec3 *vp, const ggVec3 *np, double 
    components of v and n and both indices in [2^-100, 2^101) -- is checked
    with one comparison of four exponents and goes to the fast path with
    the indices as given. */
-GG_OPTICS_LINKAGE bool GG_REFRACT_NAME(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
+GG_INC_LINK bool GG_INC_NAME(refract)(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t)
 {
     const gg_v4 lo = {0x1p-100, 0x1p-100, 0x1p-100, 0x1p-100};
     const gg_v4 hi = {0x1p100, 0x1p100, 0x1p100, 0x1p100};

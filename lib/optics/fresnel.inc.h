@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** fresnel_core.h -- the double-double Fresnel reflectances (internal):
+** fresnel.inc.h -- the double-double Fresnel reflectances (internal):
 ** Rs and Rp of a dielectric and of a conductor as double-words, for
 ** validated arguments. docs/optics.md ("Fresnel reflectance") derives the
 ** forms.
@@ -9,15 +9,16 @@
 ** with -mfma for CPUs that have it (compiler.h, "Per-ISA code"), where
 ** dd_two_prod is one fma. TwoProd is exact either way and every other
 ** operation is the same (-ffp-contract=off), so both return the same bits
-** (tests/test_fresnel_fma.c). The includer defines GG_DIELECTRIC_NAME and
-** GG_CONDUCTOR_NAME, and GG_FRESNEL_LINKAGE (static unless defined).
+** (tests/test_fresnel_fma.c). The includer defines GG_INC_NAME and
+** GG_INC_LINK (compiler.h, "Templates"); the functions are
+** GG_INC_NAME(fresnel_dielectric) and GG_INC_NAME(fresnel_conductor).
 */
 #include "dd.h"
 
 #include <math.h>
 
-#ifndef GG_FRESNEL_LINKAGE
-#define GG_FRESNEL_LINKAGE static
+#if !defined(GG_INC_NAME) || !defined(GG_INC_LINK)
+#error "define GG_INC_NAME and GG_INC_LINK before including fresnel.inc.h"
 #endif
 
 /* Scale a and b (>= 0, not both 0) by one power of two so the larger is in
@@ -56,7 +57,7 @@ static gg_dd cos_t_sq_nt2(double a, double b, double c, gg_dd *delta)
    P^2 - Q^2 = delta ((ni^2 + nt^2) c^2 - ni^2), which does not cancel
    (it vanishes only at Brewster's angle, as rp must). Otherwise P and Q
    are scaled together (the index ratio may be extreme). */
-GG_FRESNEL_LINKAGE void GG_DIELECTRIC_NAME(double c, double a, double b, gg_dd *rs, gg_dd *rp)
+GG_INC_LINK void GG_INC_NAME(fresnel_dielectric)(double c, double a, double b, gg_dd *rs, gg_dd *rp)
 {
     gg_dd delta, q, sq, A, P, Q, amp;
     double m;
@@ -282,14 +283,14 @@ static void conductor_huge(double c, gg_dd ur, gg_dd ui, gg_dd H, int G, conduct
 /* Rs, Rp (and the complements) for valid arguments; 0 if they are not. */
 /* Rs and Rp of a conductor for valid arguments: c = |cos_i| clamped to
    [0, 1], n1 = |n_outside| > 0, n >= 0, k >= 0, not both 0. */
-GG_FRESNEL_LINKAGE void GG_CONDUCTOR_NAME(double c, double n1, double n, double k, gg_dd *rs,
-                                          gg_dd *rp)
+GG_INC_LINK void GG_INC_NAME(fresnel_conductor)(double c, double n1, double n, double k, gg_dd *rs,
+                                                gg_dd *rp)
 {
     conductor_r r;
     int e1, em, G;
     if (k == 0) {
         /* A dielectric: exactly ggFresnelDielectric's values. */
-        GG_DIELECTRIC_NAME(c, n1, n, rs, rp);
+        GG_INC_NAME(fresnel_dielectric)(c, n1, n, rs, rp);
         return;
     }
     r.rs = r.rp = dd_from(1.0);
