@@ -197,7 +197,10 @@ static int run(render_args *a, ggScene *scene, double *t)
                 a->pixel[1], w, h);
         return EXIT_USAGE;
     }
-    if (a->heat >= 0 && w > 0 && h > 0) {
+    /* Only for a size ggRender accepts: it refuses a larger one with the
+       size-limit message before allocating anything of that size. */
+    if (a->heat >= 0 && w > 0 && h > 0 && w <= GG_IMAGE_MAX_DIM && h <= GG_IMAGE_MAX_DIM &&
+        (size_t)w * (size_t)h <= GG_IMAGE_MAX_PIXELS) {
         if (!(cost = calloc((size_t)w * (size_t)h, sizeof *cost))) {
             fprintf(stderr, "ggrt render: out of memory for a %dx%d heat map\n", w, h);
             return EXIT_INPUT;

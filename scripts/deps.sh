@@ -16,7 +16,7 @@ groups() {
   cat <<'GROUPS'
 build:   pkg-config libpng-dev libopenexr-dev
 demo:    @build @serve
-check:   @build @serve libcmocka-dev python3 assimp-testmodels valgrind
+check:   @build @serve libcmocka-dev python3 assimp-testmodels valgrind clang
 fuzz:    @build clang
 serve:   libmicrohttpd-dev
 browser: chromium chromium-driver python3-selenium
@@ -24,7 +24,8 @@ GROUPS
 }
 # check: assimp-testmodels holds the OBJ and PLY files tests/test_assimp.c
 #   loads (/usr/share/assimp/models); valgrind replays the image fuzz corpus
-#   (tests/cli/t_truncated.sh).
+#   (tests/cli/t_truncated.sh); clang is make check's second compiler
+#   (CHECK_CC2 in the Makefile).
 # demo: the build and serve, since the README goes on from `make demo` to
 #   `ggrt serve`.
 # serve: ggrt serve (cli/serve*.c) links libmicrohttpd when pkg-config finds

@@ -61,6 +61,18 @@ static void same_bits(const void *a, const void *b, size_t n)
 
 static long nlanes, nhits;
 
+/* Fills the stack below the caller with all-ones bytes (a NaN as a float)
+   so that a value the packet code reads without setting is a NaN on every
+   compiler, not only where clang's ASan frame happened to leave one (a
+   lane's tmin, set only for the lanes a packet takes, once made the packet
+   bound NaN and every lane miss). */
+static void *(*volatile paint_fill)(void *, int, size_t) = memset; /* not optimised away */
+static void paint_stack(void)
+{
+    unsigned char buf[1 << 14];
+    paint_fill(buf, 0xff, sizeof buf);
+}
+
 /* One packet on g's current copy against the single-ray query per lane.
    Lanes outside `lanes` must be left untouched. */
 static void same_packet(const gg_geom *g, const gg_rayq *q, unsigned lanes)
@@ -70,6 +82,7 @@ static void same_packet(const gg_geom *g, const gg_rayq *q, unsigned lanes)
     int l;
     memset(hp, 0xa5, sizeof hp);
     memset(&untouched, 0xa5, sizeof untouched);
+    paint_stack();
     got = gg_geom_intersect_packet(g, q, lanes, hp);
     assert_int_equal(got & ~lanes, 0);
     for (l = 0; l < NL; l++) {

@@ -703,9 +703,11 @@ static unsigned pk_setup(pk_all *a, pk_ray *s, const gg_rayq *q, unsigned lanes)
     if (!pk_origin(a, q0)) return 0;
     for (l = 0; l < GG_PK; l++) {
         const gg_rayq *ql = &q[l];
+        /* Every lane's bounds, taken or not: pk_pack's minimum of tmin
+           reads all GG_PK, and an indeterminate one (a NaN) made it NaN. */
+        a->tmin[l] = a->tmax[l] = 0;
         if (!(lanes >> l & 1)) {
             d[0][l] = d[1][l] = d[2][l] = 1;
-            a->tmin[l] = a->tmax[l] = 0;
             continue;
         }
         d[0][l] = ql->d.x, d[1][l] = ql->d.y, d[2][l] = ql->d.z;

@@ -21,6 +21,42 @@ static int read_fail(FILE *fp, const char *path, const png_image *pi, ggError *e
     return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: %s", path, pi->message);
 }
 
+/* libpng 1.6.39 allocates and zeroes a buffer of a tEXt, zTXt, iTXt, sPLT
+   or pCAL chunk's declared length before reading its data: a 60-byte file
+   declaring 2^31 bytes cost 2 GiB. Its own chunk limit does not stop that
+   (png_set_chunk_malloc_max(p, 1000) on the low-level reader still costs
+   2 GiB: for an ancillary chunk the limit is a benign error, a warning
+   while reading), and the simplified API reads every chunk before the
+   first IDAT inside png_image_begin_read_*, before a limit could be set.
+   So those chunks are walked here first: each must fit in what is left of
+   the file, which bounds what any of them can cost. The IDAT data and the
+   chunks after it are libpng's: it streams IDAT and reads nothing after. */
+static int check_chunks(FILE *fp, const char *path, ggError *err)
+{
+    unsigned char h[8];
+    long size, pos = 8;
+    char ebuf[128];
+    if (fseek(fp, 0, SEEK_END) != 0 || (size = ftell(fp)) < 0) goto io;
+    for (;;) {
+        unsigned long len;
+        if (fseek(fp, pos, SEEK_SET) != 0) goto io;
+        if (fread(h, 1, sizeof h, fp) < sizeof h) break; /* libpng says what is short */
+        len = (unsigned long)h[0] << 24 | (unsigned long)h[1] << 16 | (unsigned long)h[2] << 8 | h[3];
+        if (memcmp(h + 4, "IDAT", 4) == 0) break;
+        if (size - pos < 12 || len > (unsigned long)(size - pos - 12))
+            return gg_error_set(err, GG_ERROR_PARSE,
+                                "%s: invalid PNG: truncated file (byte %ld: a chunk of %lu bytes, "
+                                "%ld are left)",
+                                path, pos, len, size - pos - 12 > 0 ? size - pos - 12 : 0L);
+        pos += 12 + (long)len;
+    }
+    clearerr(fp);
+    if (fseek(fp, 0, SEEK_SET) == 0) return GG_OK;
+io:
+    return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path,
+                        gg_image_strerror(errno, ebuf, sizeof ebuf));
+}
+
 int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc,
                       const gg_image_budget *b, ggImage **out, ggError *err)
 {
@@ -29,6 +65,7 @@ int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc,
     void *buf;
     size_t n, i, bytes;
     int linear, rc;
+    if ((rc = check_chunks(fp, path, err)) != GG_OK) return rc;
     memset(&pi, 0, sizeof pi);
     pi.version = PNG_IMAGE_VERSION;
     if (!png_image_begin_read_from_stdio(&pi, fp)) {

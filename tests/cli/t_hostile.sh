@@ -1,0 +1,78 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: hostile inputs cost no more than their
+# size (issue 32). A PNG texture whose ancillary chunk before IDAT
+# declares 2^31 - 16 bytes (every ancillary kind libpng reads there, and
+# an unknown one) made libpng allocate and zero 2 GiB before failing; -s
+# over the image-size limit with --heatmap allocated the heat map before
+# ggRender checked the size. Each runs on the plain build under
+# `ulimit -v 262144` (256 MiB of address space), must exit 2 with the
+# right message and a peak RSS under 64 MB (printed). Under ASan
+# (build/asan), whose shadow memory cannot run under the ulimit, only the
+# exit codes and messages are checked. Uses run.sh's ggrt, tmp, ok and bad.
+
+ho="$tmp/hostile"
+mkdir -p "$ho"
+case $ggrt in */asan/*) asan=1 ;; *) asan= ;; esac
+
+# under_64m CODE TEXT NAME CMD...: exit code and message under 256 MiB of
+# address space, peak RSS under 64 MB.
+under_64m() {
+  want=$1; text=$2; name=$3; shift 3
+  if [ -n "$asan" ]; then
+    "$@" >/dev/null 2>"$tmp/err"; got=$?; mb=0
+  else
+    (ulimit -v 262144 && python3 -c '
+import resource, subprocess, sys
+rc = subprocess.run(sys.argv[2:], stdout=subprocess.DEVNULL, stderr=open(sys.argv[1], "w")).returncode
+print(rc, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024)' "$tmp/err" "$@") >"$tmp/rss"
+    read -r got mb <"$tmp/rss"
+  fi
+  if [ "$got" = "$want" ] && grep -qF -- "$text" "$tmp/err" && [ "${mb:-999}" -lt 64 ]
+  then ok "$name: exit $got (peak RSS ${asan:+(ASan, not measured) }$mb MB)"
+  else bad "$name (exit $got, want $want; peak RSS $mb MB, want < 64)" "want: $text
+got:  $(cat "$tmp/err")"; fi
+}
+
+# A 4x4 RGB PNG with a chunk KIND before IDAT whose length field says
+# 0x7ffffff0 and which holds 16 bytes.
+python3 -c '
+import struct, sys, zlib
+def chunk(kind, data, n=None):
+    n = len(data) if n is None else n
+    return struct.pack(">I", n) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+raw = zlib.compress(b"".join(b"\0" + b"\x40" * 12 for _ in range(4)))
+for kind in sys.argv[2:]:
+    with open("%s/%s.png" % (sys.argv[1], kind), "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 4, 4, 8, 2, 0, 0, 0)) +
+                chunk(kind.encode(), b"x" * 16, 0x7ffffff0) + chunk(b"IDAT", raw) + chunk(b"IEND", b""))
+' "$ho" tEXt zTXt iTXt sPLT pCAL iCCP eXIf tIME prVt
+for kind in tEXt zTXt iTXt sPLT pCAL iCCP eXIf tIME prVt; do
+  printf 'v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 8 8\nl 1 1 5\ntexture "%s.png"\n%s\n' \
+    "$kind" 'rect -1 -1 0 2 0 0 0 2 0' >"$ho/$kind.nff"
+  under_64m 2 "ggrt: $ho/$kind.nff:3:9: cannot read texture: $ho/$kind.png: invalid PNG: truncated file (byte 33: a chunk of 2147483632 bytes, 54 are left)" \
+    "a $(wc -c <"$ho/$kind.png")-byte PNG whose $kind chunk says 2 GiB" \
+    "$ggrt" render "$ho/$kind.nff" -q -o "$ho/x.png"
+done
+
+# Every command taking -s, at 65536x65536 (16 GiB of heat map) and at
+# 8192x8192 (256 MiB, over the pixel limit too).
+g=examples/scenes/glass.nff
+for s in 65536x65536 8192x8192; do
+  lim="ggrt: image size $s exceeds the limit of 16777216 pixels (65536 per side)"
+  for k in rays depth time; do
+    under_64m 2 "$lim" "render -s $s --heatmap $k" "$ggrt" render $g -s $s --heatmap $k -q -o "$ho/x.png"
+  done
+  under_64m 2 "$lim" "render -s $s" "$ggrt" render $g -s $s -q -o "$ho/x.png"
+  under_64m 2 "$lim" "check -s $s" "$ggrt" check $g -s $s
+  under_64m 2 "$lim" "find -s $s" "$ggrt" find $g -s $s --where 'some(kind == tir)' -o "$ho/x.png"
+  under_64m 2 "$lim" "diff -s $s" "$ggrt" diff $g $g -s $s
+  under_64m 2 "$lim" "trace -s $s" "$ggrt" trace $g -s $s --pixel 1,1
+  # serve's own limit (4096 a side) is a usage error, checked before it
+  # allocates or listens; the timeout only matters if it were not.
+  if "$ggrt" serve --help >/dev/null 2>&1; then
+    under_64m 1 "ggrt serve: a $s image is over the limits" "serve -s $s" \
+      timeout 20 "$ggrt" serve $g -s $s --port 0
+  fi
+done
+[ ! -e "$ho/x.png" ] && ok "refused hostile inputs leave no image" ||
+  bad "refused hostile inputs leave no image"
