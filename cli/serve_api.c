@@ -166,10 +166,9 @@ static void shape_json(FILE *f, const ggShapeDesc *d)
     default:
         fprintf(f, "\"verts\":[");
         for (i = 0; i < d->nverts && d->verts; i++) {
-            fputc(i ? ',' : '[', f);
+            fputs(i ? ",[" : "[", f);
             srv_json_num(f, d->verts[i].x), fputc(',', f), srv_json_num(f, d->verts[i].y);
             fputc(',', f), srv_json_num(f, d->verts[i].z), fputc(']', f);
-            if (i + 1 < d->nverts) fputc(',', f);
         }
         fputc(']', f);
     }
