@@ -18,9 +18,12 @@
 #define SRV_MAX_URI         4096       /* bytes of the request target, query included */
 #define SRV_MAX_PARAMS      40         /* query parameters in one request */
 #define SRV_MAX_VALUE       1024       /* bytes of one decoded parameter value */
-#define SRV_MAX_CONNECTIONS 64         /* open connections at once */
+#define SRV_MAX_CONNECTIONS 512        /* open connections at once */
+#define SRV_MAX_PER_ADDR    16         /* of them from one client address */
 #define SRV_THREADS         4          /* threads answering requests */
-#define SRV_CONN_TIMEOUT    30         /* seconds an idle connection is kept */
+#define SRV_CONN_TIMEOUT    5          /* seconds a connection may send or take nothing */
+#define SRV_HEAD_SECONDS    5          /* seconds a request head may take, or a kept-alive
+                                          connection wait for its next request */
 #define SRV_MEMORY_LIMIT    (64 << 10) /* bytes per connection for the request head */
 #define SRV_MAX_DEPTH       16         /* depth a request may ask for */
 #define SRV_MAX_SAMPLES     64         /* samples per pixel a request may ask for */

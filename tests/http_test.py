@@ -181,6 +181,36 @@ def check_pages(s):
     json_error(st, h, b, 404, "an unknown page is 404 JSON")
     st, h, b = s.get("/", headers={"Authorization": "Bearer " + s.token}, token=False)
     check(st == 200, "Authorization: Bearer works as well as ?token=")
+    check_keepalive(s)
+
+
+def check_keepalive(s):
+    """HTTP/1.1 keep-alive: three requests on one socket, each answered
+    without Connection: close."""
+    sk = socket.create_connection(("127.0.0.1", s.port), timeout=30)
+    f = sk.makefile("rb")
+    heads = []
+    try:
+        for path in ("/api/info", "/api/trace?x=44&y=40", "/app.css"):
+            sk.sendall(("GET %s%stoken=%s HTTP/1.1\r\nHost: 127.0.0.1:%d\r\n\r\n"
+                        % (path, "&" if "?" in path else "?", s.token, s.port)).encode())
+            head = b""
+            while not head.endswith(b"\r\n\r\n"):
+                line = f.readline()
+                if not line:
+                    raise OSError("closed by the server")
+                head += line
+            n = int(re.search(rb"(?i)content-length: *(\d+)", head).group(1))
+            f.read(n)
+            heads.append(head)
+        good = all(h.startswith(b"HTTP/1.1 200") and b"connection: close" not in h.lower() for h in heads)
+    except OSError as e:
+        good, heads = False, heads + [repr(e).encode()]
+    finally:
+        f.close()
+        sk.close()
+    check(good, "keep-alive: 3 requests answered on one connection, none says Connection: close",
+          b"\n".join(heads).decode(errors="replace")[:1500])
 
 
 def check_info(s):
