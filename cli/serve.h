@@ -31,7 +31,8 @@
 #define SRV_MAX_PIXELS      (1L << 24) /* -s: largest width * height */
 #define SRV_MAX_JOBS        8          /* renders kept (image + cost map each) */
 #define SRV_TRACE_BYTES     (4 << 20)  /* memory one recorded ray tree may use */
-#define SRV_RENDER_SECONDS  300        /* a render still running after this is cancelled */
+#define SRV_RENDER_SECONDS  300        /* a job still running after this is cancelled
+                                          (the default and the most of --job-seconds) */
 #define SRV_MAX_EXPR        512        /* bytes of a find predicate */
 
 /* Cost-map kinds a render job can carry, plus the image itself. */
@@ -101,6 +102,7 @@ typedef struct srv_config {
     int width, height;   /* the image size (from -s or the camera) */
     const char *host;    /* numeric address to bind */
     int port;            /* 0: any free port */
+    int job_seconds;     /* a job running longer is cancelled (--job-seconds) */
 } srv_config;
 
 struct srv_server {
@@ -183,7 +185,8 @@ void srv_jobs_cancel(srv_server *s);
 void srv_jobs_stop(srv_server *s);
 /* Find the job named key, or queue one for spec. Fills *view. Returns 0,
    or -1 when every slot is queued, running or being read (view->error
-   says so). */
+   says so). A job that failed (or was cancelled) is reported once, to
+   this request, and forgotten: the next request for it runs it again. */
 int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, srv_job_view *view);
 /* A finished job's results, kept from eviction until srv_jobs_release;
    NULL if the job is not done. */

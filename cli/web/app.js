@@ -104,12 +104,23 @@
     constructor(status, msg) { super(msg); this.status = status; }
   }
 
-  // GET path?params; as: 'json' (default), 'blob', 'buf', 'text'.
+  // GET path?params; as: 'json' (default), 'blob', 'buf', 'text'. A 503
+  // (every job slot busy) is waited out as its Retry-After says, with
+  // "waiting" in the status line, for up to about 10 minutes.
   async function api(path, params, as) {
     const q = new URLSearchParams(params || {}).toString();
-    const r = await fetch(path + (q ? '?' + q : ''), {
-      headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
-    });
+    let r;
+    for (let tries = 0; ; tries++) {
+      r = await fetch(path + (q ? '?' + q : ''), {
+        headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
+      });
+      if (r.status !== 503 || tries >= 300) break;
+      const wait = Math.max(1, Math.min(30, parseInt(r.headers.get('Retry-After'), 10) || 2));
+      let why = '';
+      try { why = (await r.json()).error || ''; } catch (e) { /* not JSON */ }
+      status('waiting ' + wait + ' s for the server: ' + why, 0);
+      await sleep(1000 * wait);
+    }
     if (!r.ok) {
       let msg = r.status + ' ' + r.statusText;
       try { msg = (await r.json()).error || msg; } catch (e) { /* not JSON */ }
@@ -953,17 +964,21 @@
     $('find-input').value = state.find;
     fillPanel('a');
     fillPanel('b');
+    // Tracing first: the selected pixel's tree is asked for at once,
+    // beside the image (a trace is one pixel's work, never a job).
+    const pg = ++pixelGen;
+    const pixel = loadPixel(pg).catch((e) => { if (pg === pixelGen) fail(e); });
     try {
       const img = await loadImage('a', gen);
       if (!img || gen !== generation) return;
       drawImage();
+      drawMarker();
       if (state.diff) await loadImage('b', gen);
       await loadOverlay(gen);
-      const pg = ++pixelGen;
-      await loadPixel(pg);
     } catch (e) {
       if (gen === generation) fail(e);
     }
+    await pixel;
   }
 
   function select(x, y) {
