@@ -26,7 +26,7 @@ static const char tail[] =
 
 typedef struct serve_args {
     const char *scene, *host;
-    int port;
+    int port, job_seconds;
     cli_render ro;
 } serve_args;
 
@@ -43,6 +43,9 @@ static int parse(serve_args *a, int argc, char **argv)
     cli_opt mine[] = {
         CLI_OPT_INT(0, "port", &a->port, 0, 65535, "N",
                     "port to listen on (default 8080; 0: any free port)"),
+        CLI_OPT_INT(0, "job-seconds", &a->job_seconds, 1, 300, "N",
+                    "cancel a render, find, check or diff still running after N\n"
+                    "seconds (default and most 300); it reports failed"),
         CLI_OPT_STRING(0, "host", &a->host, "ADDR",
                        "numeric address to listen on (default 127.0.0.1); any other\n"
                        "than loopback is reachable from other machines"),
@@ -58,7 +61,7 @@ static int parse(serve_args *a, int argc, char **argv)
                    .max_args = 1,
                    .args_name = "scene"};
     int rc;
-    a->port = 8080, a->host = "127.0.0.1";
+    a->port = 8080, a->host = "127.0.0.1", a->job_seconds = 300;
     cli_render_init(&a->ro, CLI_RENDER_PIXEL | CLI_RENDER_THREADS);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
@@ -216,6 +219,7 @@ int cmd_serve(int argc, char **argv)
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     memset(&s, 0, sizeof s);
     s.cfg.scene_path = a.scene, s.cfg.host = a.host, s.cfg.port = a.port;
+    s.cfg.job_seconds = a.job_seconds;
     s.cfg.opt = a.ro.opt;
     if (make_token(s.token)) {
         fprintf(stderr, "ggrt serve: cannot read /dev/urandom for the token\n");

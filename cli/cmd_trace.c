@@ -16,9 +16,10 @@ static const char about[] =
     "Print every ray that made one pixel: eye, reflection, refraction, total internal\n"
     "reflection and shadow rays, what each hit (object, scene-file line, point,\n"
     "normals; for a mesh the triangle, its face, line, group and material in the file),\n"
-    "the material terms, Fresnel weights, absorption, why a branch stopped, and the\n"
-    "colour each ray returns with its weight in its parent. SCENE may be an OBJ or PLY\n"
-    "model (framed as by ggrt render).";
+    "the material terms, Fresnel split, absorption, why a branch stopped, and the\n"
+    "colour each ray returns with its weight in the pixel, its share of the pixel and\n"
+    "its factor in its parent. SCENE may be an OBJ or PLY model (framed as by ggrt\n"
+    "render).";
 
 static const char tail[] =
     "The printed colour equals, bit for bit, what ggrt render writes for the pixel\n"

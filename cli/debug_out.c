@@ -139,6 +139,14 @@ void json_num(FILE *f, double d)
         fprintf(f, "null");
 }
 
+void json_num_text(FILE *f, double d)
+{
+    if (isfinite(d))
+        fprintf(f, "%.17g", d);
+    else
+        fprintf(f, "\"%s\"", isnan(d) ? "nan" : d > 0 ? "inf" : "-inf");
+}
+
 int json_utf8_len(const unsigned char *s)
 {
     int n, i;
@@ -307,14 +315,21 @@ void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRender
     fprintf(f, "]}\n");
 }
 
+static void json_color_text(FILE *f, const char *key, ggColor c)
+{
+    fprintf(f, "\"%s\":[", key);
+    json_num_text(f, c.r), fputc(',', f), json_num_text(f, c.g), fputc(',', f);
+    json_num_text(f, c.b), fputc(']', f);
+}
+
 void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l)
 {
     size_t i;
     char path[512];
     fprintf(f, "{");
-    json_color(f, "sum", l->sum);
-    fputc(',', f), json_color(f, "pixel", l->pixel);
-    fputc(',', f), json_color(f, "bound", l->bound);
+    json_color_text(f, "sum", l->sum);
+    fputc(',', f), json_color_text(f, "pixel", l->pixel);
+    fputc(',', f), json_color_text(f, "bound", l->bound);
     fprintf(f, ",\"holds\":%s,\"terms\":[", l->holds ? "true" : "false");
     for (i = 0; i < l->count; i++) {
         const ggLedgerTerm *term = &l->terms[i];
@@ -324,9 +339,9 @@ void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l)
         dbg_path(path, sizeof path, t, term->node);
         fprintf(f, "\"path\":");
         json_str(f, path);
-        fputc(',', f), json_color(f, "value", term->value);
+        fputc(',', f), json_color_text(f, "value", term->value);
         fprintf(f, ",\"share\":");
-        json_num(f, term->share);
+        json_num_text(f, term->share);
         fputc('}', f);
     }
     fprintf(f, "]}");

@@ -50,7 +50,11 @@ void dbg_divergence_text(char *buf, size_t n, const ggTrace *ta, const ggTrace *
                          const ggDivergence *d);
 
 /* ---- JSON ---- */
+/* A number; NaN and infinity as null (find, check, diff: JSON has none). */
 void json_num(FILE *f, double d);
+/* A number; NaN and infinity as the strings "nan", "inf", "-inf" (the
+   trace document's rule since its version 2, docs/trace-json.md). */
+void json_num_text(FILE *f, double d);
 /* The length of the well-formed UTF-8 sequence at s (RFC 3629), else 0. */
 int json_utf8_len(const unsigned char *s);
 /* The CLI's one JSON string writer (trace, find, check, diff, serve): ", \
@@ -67,7 +71,8 @@ void json_find(FILE *f, const char *scene, const ggRenderOptions *opt, const cha
 void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const ggCheckResult *r);
 void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRenderOptions *oa,
                const ggRenderOptions *ob, const ggDiffResult *r);
-/* The "ledger" member of a trace document (without the key). */
+/* The "ledger" member of a trace document (without the key); numbers
+   as json_num_text. */
 void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l);
 /* A divergence as an object (without a key). */
 void json_divergence(FILE *f, const ggDivergence *d);

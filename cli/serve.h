@@ -18,9 +18,12 @@
 #define SRV_MAX_URI         4096       /* bytes of the request target, query included */
 #define SRV_MAX_PARAMS      40         /* query parameters in one request */
 #define SRV_MAX_VALUE       1024       /* bytes of one decoded parameter value */
-#define SRV_MAX_CONNECTIONS 64         /* open connections at once */
+#define SRV_MAX_CONNECTIONS 512        /* open connections at once */
+#define SRV_MAX_PER_ADDR    16         /* of them from one client address */
 #define SRV_THREADS         4          /* threads answering requests */
-#define SRV_CONN_TIMEOUT    30         /* seconds an idle connection is kept */
+#define SRV_CONN_TIMEOUT    5          /* seconds a connection may send or take nothing */
+#define SRV_HEAD_SECONDS    5          /* seconds a request head may take, or a kept-alive
+                                          connection wait for its next request */
 #define SRV_MEMORY_LIMIT    (64 << 10) /* bytes per connection for the request head */
 #define SRV_MAX_DEPTH       16         /* depth a request may ask for */
 #define SRV_MAX_SAMPLES     64         /* samples per pixel a request may ask for */
@@ -28,7 +31,8 @@
 #define SRV_MAX_PIXELS      (1L << 24) /* -s: largest width * height */
 #define SRV_MAX_JOBS        8          /* renders kept (image + cost map each) */
 #define SRV_TRACE_BYTES     (4 << 20)  /* memory one recorded ray tree may use */
-#define SRV_RENDER_SECONDS  300        /* a render still running after this is cancelled */
+#define SRV_RENDER_SECONDS  300        /* a job still running after this is cancelled
+                                          (the default and the most of --job-seconds) */
 #define SRV_MAX_EXPR        512        /* bytes of a find predicate */
 
 /* Cost-map kinds a render job can carry, plus the image itself. */
@@ -98,6 +102,7 @@ typedef struct srv_config {
     int width, height;   /* the image size (from -s or the camera) */
     const char *host;    /* numeric address to bind */
     int port;            /* 0: any free port */
+    int job_seconds;     /* a job running longer is cancelled (--job-seconds) */
 } srv_config;
 
 struct srv_server {
@@ -180,7 +185,8 @@ void srv_jobs_cancel(srv_server *s);
 void srv_jobs_stop(srv_server *s);
 /* Find the job named key, or queue one for spec. Fills *view. Returns 0,
    or -1 when every slot is queued, running or being read (view->error
-   says so). */
+   says so). A job that failed (or was cancelled) is reported once, to
+   this request, and forgotten: the next request for it runs it again. */
 int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, srv_job_view *view);
 /* A finished job's results, kept from eviction until srv_jobs_release;
    NULL if the job is not done. */

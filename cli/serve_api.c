@@ -126,11 +126,12 @@ static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
     fprintf(f,
             ",\"limits\":{\"max_depth\":%d,\"max_samples\":%d,\"trace_bytes\":%d,"
             "\"jobs\":%d,\"job_seconds\":%d,\"uri_bytes\":%d,\"params\":%d,"
-            "\"value_bytes\":%d,\"connections\":%d,\"threads\":%d,\"timeout_seconds\":%d,"
+            "\"value_bytes\":%d,\"connections\":%d,\"connections_per_address\":%d,"
+            "\"threads\":%d,\"timeout_seconds\":%d,\"head_seconds\":%d,"
             "\"head_bytes\":%d,\"expr_bytes\":%d}",
-            SRV_MAX_DEPTH, SRV_MAX_SAMPLES, SRV_TRACE_BYTES, SRV_MAX_JOBS, SRV_RENDER_SECONDS,
-            SRV_MAX_URI, SRV_MAX_PARAMS, SRV_MAX_VALUE, SRV_MAX_CONNECTIONS, SRV_THREADS,
-            SRV_CONN_TIMEOUT, SRV_MEMORY_LIMIT, SRV_MAX_EXPR);
+            SRV_MAX_DEPTH, SRV_MAX_SAMPLES, SRV_TRACE_BYTES, SRV_MAX_JOBS, s->cfg.job_seconds,
+            SRV_MAX_URI, SRV_MAX_PARAMS, SRV_MAX_VALUE, SRV_MAX_CONNECTIONS, SRV_MAX_PER_ADDR,
+            SRV_THREADS, SRV_CONN_TIMEOUT, SRV_HEAD_SECONDS, SRV_MEMORY_LIMIT, SRV_MAX_EXPR);
     fprintf(f, "}\n");
     srv_body_close(resp, f);
 }
@@ -166,10 +167,9 @@ static void shape_json(FILE *f, const ggShapeDesc *d)
     default:
         fprintf(f, "\"verts\":[");
         for (i = 0; i < d->nverts && d->verts; i++) {
-            fputc(i ? ',' : '[', f);
+            fputs(i ? ",[" : "[", f);
             srv_json_num(f, d->verts[i].x), fputc(',', f), srv_json_num(f, d->verts[i].y);
             fputc(',', f), srv_json_num(f, d->verts[i].z), fputc(']', f);
-            if (i + 1 < d->nverts) fputc(',', f);
         }
         fputc(']', f);
     }

@@ -11,6 +11,17 @@
 **   an unknown route                             404
 **   a parameter the route does not take          400
 ** Every refusal is a JSON body {"status": N, "error": "..."}.
+**
+** Slow clients: libmicrohttpd closes a connection idle for
+** SRV_CONN_TIMEOUT, caps the connections (SRV_MAX_CONNECTIONS) and those
+** of one client address (SRV_MAX_PER_ADDR); its idle timer restarts with
+** every byte, so a watchdog here also cuts a connection whose request
+** head is not complete SRV_HEAD_SECONDS after it began (a client that
+** sends one byte a second), and a kept-alive one that waits longer for
+** its next request. A request is answered on the handler's second call,
+** once the whole request is in: answered on the first, libmicrohttpd
+** would close the connection (it cannot know the body was read), and
+** HTTP/1.1 keep-alive would never work.
 */
 #if defined(GG_HAVE_MHD)
 #include "serve.h"
@@ -24,18 +35,115 @@
 #include <string.h>
 #include <strings.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 
 typedef struct http_ctx {
     srv_server *srv;
+    struct watchdog *watch;
     int port;
     int loopback, wildcard; /* the bound address is loopback / any address */
     unsigned char addr[16]; /* the bound address, binary */
     int family;
 } http_ctx;
 
-/* Markers for a request's first call: its target was too long, or not. */
-static int mark_ok, mark_long;
+/* Markers of a request's state between the handler's calls: its target
+   was too long, or not (set by uri_log), and its head was seen. */
+static int mark_ok, mark_long, mark_head;
+
+/* ---- the watchdog of request heads ---- */
+
+#define WATCH_SLOTS (SRV_MAX_CONNECTIONS + SRV_THREADS * 4)
+
+typedef struct watch_slot {
+    int used, fd;
+    int busy;     /* a request's head is in: its handler or its response runs */
+    double since; /* when the connection began waiting for a request head */
+} watch_slot;
+
+typedef struct watchdog {
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    pthread_t thread;
+    int started, quit;
+    long cut; /* connections cut so far (stderr at shutdown) */
+    watch_slot slots[WATCH_SLOTS];
+} watchdog;
+
+static double mono_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Every half second: shut down the sockets of connections whose request
+   head is late. libmicrohttpd then reads the end of the stream and closes
+   the connection; it reports NOTIFY_CLOSED (which frees the slot, under
+   the same lock) before it closes the descriptor, so the descriptor shut
+   down here is never one reused by a newer connection. */
+static void *watch_run(void *arg)
+{
+    watchdog *w = arg;
+    pthread_mutex_lock(&w->mu);
+    while (!w->quit) {
+        struct timespec ts;
+        double t = mono_now();
+        int i;
+        for (i = 0; i < WATCH_SLOTS; i++) {
+            watch_slot *sl = &w->slots[i];
+            if (sl->used && !sl->busy && sl->since > 0 && t - sl->since > SRV_HEAD_SECONDS) {
+                shutdown(sl->fd, SHUT_RDWR);
+                sl->since = 0; /* once */
+                w->cut++;
+            }
+        }
+        clock_gettime(CLOCK_REALTIME, &ts);
+        ts.tv_nsec += 500000000L;
+        if (ts.tv_nsec >= 1000000000L) ts.tv_sec++, ts.tv_nsec -= 1000000000L;
+        pthread_cond_timedwait(&w->cv, &w->mu, &ts);
+    }
+    pthread_mutex_unlock(&w->mu);
+    return NULL;
+}
+
+/* NOTIFY_CONNECTION: a connection starts (a slot, its clock running) or
+   is closed (its slot freed). A connection without a slot (none free) is
+   left to libmicrohttpd's own idle timeout. */
+static void watch_conn(void *cls, struct MHD_Connection *c, void **ctx,
+                       enum MHD_ConnectionNotificationCode what)
+{
+    watchdog *w = cls;
+    pthread_mutex_lock(&w->mu);
+    if (what == MHD_CONNECTION_NOTIFY_STARTED) {
+        const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CONNECTION_FD);
+        int i;
+        *ctx = NULL;
+        for (i = 0; ci && i < WATCH_SLOTS; i++)
+            if (!w->slots[i].used) {
+                watch_slot *sl = &w->slots[i];
+                sl->used = 1, sl->fd = ci->connect_fd, sl->busy = 0, sl->since = mono_now();
+                *ctx = sl;
+                break;
+            }
+    } else if (*ctx) {
+        memset(*ctx, 0, sizeof(watch_slot));
+        *ctx = NULL;
+    }
+    pthread_mutex_unlock(&w->mu);
+}
+
+/* The connection's head is in (busy 1), or its request is done and it
+   waits for the next one (busy 0, the clock restarted). */
+static void watch_mark(watchdog *w, struct MHD_Connection *c, int busy)
+{
+    const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+    watch_slot *sl = ci ? ci->socket_context : NULL;
+    if (!sl) return;
+    pthread_mutex_lock(&w->mu);
+    if (sl->used) sl->busy = busy, sl->since = busy ? 0 : mono_now();
+    pthread_mutex_unlock(&w->mu);
+}
 
 static void *uri_log(void *cls, const char *uri, struct MHD_Connection *c)
 {
@@ -210,6 +318,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
     const char *tok;
     int i;
     (void)version, (void)upload;
+    if (*con_cls != &mark_head) watch_mark(h->watch, conn, 1);
+    /* Refused at once, on the first call: libmicrohttpd then closes the
+       connection, which is what a request with a body we never read
+       needs. */
     if (*con_cls == &mark_long) {
         *upload_size = 0;
         return refuse(conn, 414, "request target longer than %d bytes", SRV_MAX_URI);
@@ -217,6 +329,17 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
     if (strcmp(method, "GET") && strcmp(method, "HEAD")) {
         *upload_size = 0;
         return refuse(conn, 405, "method %s not allowed: the API is read-only (GET)", method);
+    }
+    /* Answered on the second call, with the whole request in: the
+       connection can then be kept alive. A body sent with a GET is
+       dropped. */
+    if (*con_cls != &mark_head) {
+        *con_cls = &mark_head;
+        return MHD_YES;
+    }
+    if (*upload_size) {
+        *upload_size = 0;
+        return MHD_YES;
     }
     if (!host_ok(h, MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Host")))
         return refuse(conn, 403, "Host header does not name this server");
@@ -246,7 +369,44 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
 struct srv_http {
     struct MHD_Daemon *d;
     http_ctx ctx;
+    watchdog watch;
 };
+
+/* NOTIFY_COMPLETED: a request is done; its connection waits for the
+   next one. */
+static void request_done(void *cls, struct MHD_Connection *c, void **con_cls,
+                         enum MHD_RequestTerminationCode why)
+{
+    (void)con_cls, (void)why;
+    watch_mark(cls, c, 0);
+}
+
+static int watch_start(watchdog *w)
+{
+    if (pthread_mutex_init(&w->mu, NULL) != 0) return -1;
+    if (pthread_cond_init(&w->cv, NULL) != 0) {
+        pthread_mutex_destroy(&w->mu);
+        return -1;
+    }
+    if (pthread_create(&w->thread, NULL, watch_run, w) != 0) {
+        pthread_cond_destroy(&w->cv);
+        pthread_mutex_destroy(&w->mu);
+        return -1;
+    }
+    w->started = 1;
+    return 0;
+}
+
+static void watch_stop(watchdog *w)
+{
+    if (!w->started) return;
+    pthread_mutex_lock(&w->mu);
+    w->quit = 1;
+    pthread_cond_signal(&w->cv);
+    pthread_mutex_unlock(&w->mu);
+    pthread_join(w->thread, NULL);
+    w->started = 0;
+}
 
 static int parse_addr(const char *host, struct sockaddr_storage *ss, http_ctx *h)
 {
@@ -303,6 +463,7 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
         return NULL;
     }
     h->ctx.srv = s;
+    h->ctx.watch = &h->watch;
     if (parse_addr(s->cfg.host, &ss, &h->ctx)) {
         snprintf(msg, msglen, "--host '%s' is not a numeric IPv4 or IPv6 address", s->cfg.host);
         free(h);
@@ -316,6 +477,12 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
     }
     /* The logger first: options before it would log through MHD's own. */
     fd = listen_on(&ss, h->ctx.family, &h->ctx.port);
+    if (fd >= 0 && watch_start(&h->watch) != 0) {
+        close(fd);
+        snprintf(msg, msglen, "cannot start the connection watchdog thread");
+        free(h);
+        return NULL;
+    }
     /* clang-format off */
     if (fd >= 0)
         h->d = MHD_start_daemon(flags, (uint16_t)h->ctx.port, NULL, NULL, handle, &h->ctx,
@@ -323,14 +490,19 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
                                 MHD_OPTION_LISTEN_SOCKET, fd,
                                 MHD_OPTION_THREAD_POOL_SIZE, (unsigned)SRV_THREADS,
                                 MHD_OPTION_CONNECTION_LIMIT, (unsigned)SRV_MAX_CONNECTIONS,
+                                MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)SRV_MAX_PER_ADDR,
                                 MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)SRV_CONN_TIMEOUT,
                                 MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)SRV_MEMORY_LIMIT,
+                                MHD_OPTION_NOTIFY_CONNECTION, watch_conn, &h->watch,
+                                MHD_OPTION_NOTIFY_COMPLETED, request_done, &h->watch,
                                 MHD_OPTION_URI_LOG_CALLBACK, uri_log, NULL, MHD_OPTION_END);
     /* clang-format on */
     if (!h->d) {
         snprintf(msg, msglen, "cannot listen on %s port %d (in use? --port 0 takes a free one)",
                  s->cfg.host, s->cfg.port);
         if (fd >= 0) close(fd);
+        watch_stop(&h->watch);
+        if (fd >= 0) pthread_cond_destroy(&h->watch.cv), pthread_mutex_destroy(&h->watch.mu);
         free(h);
         return NULL;
     }
@@ -341,7 +513,12 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
 void srv_http_stop(srv_http *h)
 {
     if (!h) return;
+    /* The watchdog first: it must not shut down a socket of a daemon
+       that is closing them all. */
+    watch_stop(&h->watch);
     MHD_stop_daemon(h->d);
+    pthread_cond_destroy(&h->watch.cv);
+    pthread_mutex_destroy(&h->watch.mu);
     free(h);
 }
 

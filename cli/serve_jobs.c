@@ -71,7 +71,7 @@ static int band_progress(void *ud, long done, long total)
 {
     band_ctx *b = ud;
     struct srv_jobs *J = b->s->jobs;
-    int stop = now() - b->j->t0 > SRV_RENDER_SECONDS;
+    int stop = now() - b->j->t0 > b->s->cfg.job_seconds;
     pthread_mutex_lock(&J->mu);
     b->j->done = b->before + (total > 0 ? (long)((double)b->band * done / total) : 0);
     stop |= J->quit;
@@ -143,9 +143,9 @@ static int run_bands(srv_server *s, job *j, ggError *err)
         }
     }
     if (rc == GG_OK && r->spec.type != SRV_JOB_RENDER) srv_debug_finish(r);
-    if (rc == GG_ERROR_CANCELLED && now() - j->t0 > SRV_RENDER_SECONDS)
+    if (rc == GG_ERROR_CANCELLED && now() - j->t0 > s->cfg.job_seconds)
         snprintf(err->message, sizeof err->message,
-                 "cancelled: still running after %d s (docs/serve.md, limits)", SRV_RENDER_SECONDS);
+                 "cancelled: still running after %d s (docs/serve.md, limits)", s->cfg.job_seconds);
     return rc;
 }
 
@@ -353,6 +353,10 @@ int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, s
     if (!rc && j) {
         j->stamp = ++J->clock;
         view_of(j, view);
+        /* A failure is this request's answer, not the job's for good:
+           the slot is freed (run_job freed the results) so that the next
+           request runs the job again. */
+        if (j->state == SRV_JOB_FAILED) memset(j, 0, sizeof *j);
     } else if (!rc) {
         snprintf(view->error, sizeof view->error,
                  "all %d job slots are queued, running or being read; retry when one is done",

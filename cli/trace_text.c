@@ -37,8 +37,86 @@ static void object_name(const trace_view *v, int obj, char *buf, size_t n)
         snprintf(buf, n, "%s #%d", ggShapeKindName(ggSceneObjectKind(v->scene, obj)), obj);
 }
 
-static void pcol(FILE *f, ggColor c) { fprintf(f, "(%.4g %.4g %.4g)", c.r, c.g, c.b); }
-static void pvec(FILE *f, ggVec3 p) { fprintf(f, "(%.6g, %.6g, %.6g)", p.x, p.y, p.z); }
+/* %.<p>g, with every NaN as "nan" (glibc prints a negative one "-nan";
+   the JSON and the page say "nan"). */
+static void pnum(FILE *f, int p, double d)
+{
+    if (isnan(d)) fputs("nan", f);
+    else fprintf(f, "%.*g", p, d);
+}
+static void pcol(FILE *f, ggColor c)
+{
+    fputc('(', f), pnum(f, 4, c.r), fputc(' ', f), pnum(f, 4, c.g), fputc(' ', f);
+    pnum(f, 4, c.b), fputc(')', f);
+}
+static void pvec(FILE *f, ggVec3 p)
+{
+    fputc('(', f), pnum(f, 6, p.x), fputs(", ", f), pnum(f, 6, p.y), fputs(", ", f);
+    pnum(f, 6, p.z), fputc(')', f);
+}
+
+/* ---- a ray's weight in the pixel and its share ----
+
+   A node's colour enters its parent's as parent absorption * factor *
+   colour, and the pixel is the mean of its trees: a ray's weight in the
+   pixel is 1/trees times the factors and absorptions above it, the same
+   products in the same order as the library's (lib/debug/tree.c), so the
+   same bits as find's `weight`. Its contribution is weight * colour (0
+   where the weight is 0, as the renderer adds nothing there), and its
+   share that contribution's r+g+b over the reference's: the pixel when
+   every sample is recorded, else the mean of the recorded trees -- the
+   ledger's measure (lib/debug/ledger.c), 0 where the reference is 0 or
+   not finite. */
+
+static int root_count(const ggTrace *t)
+{
+    size_t i, n = ggTraceNodeCount(t);
+    int k = 0;
+    for (i = 0; i < n; i++) k += ggTraceGetNode(t, i)->parent < 0;
+    return k > 0 ? k : 1;
+}
+
+/* The weight of node n whose parent has weight wp (NULL: a root). */
+static ggColor node_weight(const ggTrace *t, const ggTraceNode *n, const ggColor *wp)
+{
+    ggColor w;
+    if (!wp || n->parent < 0) {
+        w.r = w.g = w.b = 1.0 / root_count(t);
+    } else {
+        const ggTraceNode *up = ggTraceGetNode(t, (size_t)n->parent);
+        w.r = wp->r * up->absorption.r * n->weight.r;
+        w.g = wp->g * up->absorption.g * n->weight.g;
+        w.b = wp->b * up->absorption.b * n->weight.b;
+    }
+    return w;
+}
+
+static double part(double w, double c) { return w == 0 ? 0 : w * c; }
+
+/* r+g+b of the reference the shares are of. */
+static double share_base(const trace_view *v)
+{
+    size_t i, n = ggTraceNodeCount(v->trace);
+    double s = 0;
+    if (v->sample < 0) return (double)v->pixel.r + v->pixel.g + v->pixel.b;
+    for (i = 0; i < n; i++) {
+        const ggTraceNode *r = ggTraceGetNode(v->trace, i);
+        if (r->parent < 0) s += r->color.r + r->color.g + r->color.b;
+    }
+    return s / root_count(v->trace);
+}
+
+static ggColor contribution(ggColor w, ggColor c)
+{
+    ggColor o;
+    o.r = part(w.r, c.r), o.g = part(w.g, c.g), o.b = part(w.b, c.b);
+    return o;
+}
+
+static double share_of(ggColor c, double base)
+{
+    return base != 0 && isfinite(base) ? (c.r + c.g + c.b) / base : 0;
+}
 
 /* The ray's traversal cost, when recorded. */
 static void print_cost(FILE *f, const ggTraceNode *n)
@@ -60,20 +138,25 @@ typedef struct glyphs {
     const char *tee, *last, *pipe, *blank;
 } glyphs;
 
-static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, const char *branch,
-                       const char *cont, const glyphs *g)
+static void print_node(FILE *f, const trace_view *v, int i, const ggColor *wp, const char *prefix,
+                       const char *branch, const char *cont, const glyphs *g)
 {
     const ggTraceNode *n = ggTraceGetNode(v->trace, (size_t)i);
+    ggColor w = node_weight(v->trace, n, wp);
     int kids[MAX_KIDS], nk = trace_children(v->trace, i, kids, MAX_KIDS), k, l;
     char body[512], next[512], name[256], med[64];
     const char *chan[] = {"red", "green", "blue"};
 
-    /* Header: kind, weight, ray. */
+    /* Header: kind, weight in the pixel, share of it, factor. */
     fprintf(f, "%s%s%s", prefix, branch, ggRayKindName(n->kind));
     if (n->channel >= 0) fprintf(f, " [%s]", chan[n->channel]);
-    fprintf(f, " #%d depth %d", i, n->depth);
+    fprintf(f, " #%d depth %d  weight ", i, n->depth);
+    pcol(f, w);
+    fprintf(f, "  share ");
+    pnum(f, 3, 100 * share_of(contribution(w, n->color), share_base(v)));
+    fputc('%', f);
     if (n->parent >= 0) {
-        fprintf(f, "  weight ");
+        fprintf(f, "  factor ");
         pcol(f, n->weight);
     }
     fprintf(f, "\n");
@@ -155,7 +238,7 @@ static void print_node(FILE *f, const trace_view *v, int i, const char *prefix, 
     snprintf(next, sizeof next, "%s%s", prefix, cont);
     for (k = 0; k < nk; k++) {
         int last = k == nk - 1;
-        print_node(f, v, kids[k], next, last ? g->last : g->tee, last ? "   " : g->pipe, g);
+        print_node(f, v, kids[k], &w, next, last ? g->last : g->tee, last ? "   " : g->pipe, g);
     }
 }
 
@@ -168,11 +251,13 @@ void trace_print_text(FILE *f, const trace_view *v, int utf8)
     size_t i, n = ggTraceNodeCount(v->trace);
     fprintf(f, "pixel %d,%d of %s", v->x, v->y, v->path);
     if (v->sample >= 0) fprintf(f, ", sample %d", v->sample);
-    fprintf(f, "\ncolour %.9g %.9g %.9g\n", v->pixel.r, v->pixel.g, v->pixel.b);
-    fprintf(f, "rays: eye %llu, reflect %llu, refract %llu, shadow %llu, tir %llu\n\n",
+    fprintf(f, "\ncolour ");
+    pnum(f, 9, v->pixel.r), fputc(' ', f), pnum(f, 9, v->pixel.g), fputc(' ', f);
+    pnum(f, 9, v->pixel.b), fputc('\n', f);
+    fprintf(f, "rays: eye %llu, reflect %llu (tir %llu of them), refract %llu, shadow %llu\n\n",
             (unsigned long long)v->stats.eye, (unsigned long long)v->stats.reflect,
-            (unsigned long long)v->stats.refract, (unsigned long long)v->stats.shadow,
-            (unsigned long long)v->stats.tir);
+            (unsigned long long)v->stats.tir, (unsigned long long)v->stats.refract,
+            (unsigned long long)v->stats.shadow);
     if (v->stats.budget_cut)
         fprintf(f, "ray budget used up: %llu rays not cast (--ray-budget raises it)\n\n",
                 (unsigned long long)v->stats.budget_cut);
@@ -180,18 +265,25 @@ void trace_print_text(FILE *f, const trace_view *v, int utf8)
         if (ggTraceGetNode(v->trace, i)->parent < 0) {
             const ggTraceNode *r = ggTraceGetNode(v->trace, i);
             fprintf(f, "sample %d\n", r->sample);
-            print_node(f, v, (int)i, "", "", "", g);
+            print_node(f, v, (int)i, NULL, "", "", "", g);
             fprintf(f, "\n");
         }
 }
 
 /* ---- JSON ---- */
 
+/* JSON has no NaN or infinity: the strings "inf", "-inf" and "nan"
+   stand for them (docs/trace-json.md, version 2). */
 static void jnum(FILE *f, double d)
 {
-    /* JSON has no NaN or infinity: null stands for them. */
-    if (isfinite(d)) fprintf(f, "%.17g", d);
-    else fprintf(f, "null");
+    json_num_text(f, d);
+}
+/* A number that may not apply: null where it is NaN (the library's
+   "none"), else as jnum. */
+static void jopt(FILE *f, double d)
+{
+    if (isnan(d)) fprintf(f, "null");
+    else jnum(f, d);
 }
 static void jvec(FILE *f, const char *k, ggVec3 p)
 {
@@ -230,9 +322,10 @@ static void json_face(FILE *f, const ggScene *s, const ggTraceNode *n)
     fputc('}', f);
 }
 
-static void json_node(FILE *f, const trace_view *v, int i)
+static void json_node(FILE *f, const trace_view *v, int i, const ggColor *wp, double base)
 {
     const ggTraceNode *n = ggTraceGetNode(v->trace, (size_t)i);
+    ggColor w = node_weight(v->trace, n, wp), c = contribution(w, n->color);
     int kids[MAX_KIDS], nk = trace_children(v->trace, i, kids, MAX_KIDS), k, l;
     fprintf(f, "{\"id\":%d,\"kind\":\"%s\",\"depth\":%d,\"sample\":%d,\"channel\":", i,
             ggRayKindName(n->kind), n->depth, n->sample);
@@ -241,7 +334,11 @@ static void json_node(FILE *f, const trace_view *v, int i)
     fputc(',', f), jvec(f, "origin", n->o), fputc(',', f), jvec(f, "direction", n->d);
     fprintf(f, ",\"medium\":%d,\"n_medium\":", n->medium);
     jnum(f, n->n_medium);
-    fputc(',', f), jcol(f, "weight", n->weight);
+    fputc(',', f), jcol(f, "weight", w);
+    fputc(',', f), jcol(f, "factor", n->weight);
+    fputc(',', f), jcol(f, "contribution", c);
+    fprintf(f, ",\"share\":");
+    jnum(f, share_of(c, base));
     fputc(',', f), jcol(f, "absorption", n->absorption);
     fprintf(f, ",\"stop\":\"%s\",", ggStopName(n->stop));
     jcol(f, "color", n->color);
@@ -264,9 +361,9 @@ static void json_node(FILE *f, const trace_view *v, int i)
         fprintf(f, ",\"offset\":");
         jnum(f, n->offset);
         fprintf(f, ",\"tir_margin\":");
-        jnum(f, n->tir_margin);
+        jopt(f, n->tir_margin);
         fprintf(f, ",\"edge\":");
-        jnum(f, n->edge);
+        jopt(f, n->edge);
         fputc('}', f);
         fprintf(f, ",\"front\":%s,\"uv\":[", n->front ? "true" : "false");
         jnum(f, n->u), fputc(',', f), jnum(f, n->v);
@@ -278,8 +375,8 @@ static void json_node(FILE *f, const trace_view *v, int i)
         fprintf(f, ",\"fresnel\":");
         if (n->fresnel >= 0) jnum(f, n->fresnel);
         else fprintf(f, "null");
-        fputc(',', f), jcol(f, "reflect_weight", n->reflect_weight);
-        fputc(',', f), jcol(f, "refract_weight", n->refract_weight);
+        fputc(',', f), jcol(f, "reflect_factor", n->reflect_weight);
+        fputc(',', f), jcol(f, "refract_factor", n->refract_weight);
         fprintf(f, ",\"lights\":[");
         for (l = 0; l < n->nlights; l++) {
             const ggTraceLight *L = ggTraceGetLight(v->trace, (size_t)(n->first_light + l));
@@ -304,7 +401,7 @@ static void json_node(FILE *f, const trace_view *v, int i)
     fprintf(f, ",\"children\":[");
     for (k = 0; k < nk; k++) {
         if (k) fputc(',', f);
-        json_node(f, v, kids[k]);
+        json_node(f, v, kids[k], &w, base);
     }
     fprintf(f, "]}");
 }
@@ -313,13 +410,15 @@ void trace_print_json(FILE *f, const trace_view *v)
 {
     size_t i, n = ggTraceNodeCount(v->trace);
     int first = 1;
-    fprintf(f, "{\"ggrt_trace\":1,\"scene\":");
+    double base = share_base(v);
+    fprintf(f, "{\"ggrt_trace\":2,\"version\":2,\"scene\":");
     jstr(f, v->path);
     fprintf(f, ",\"pixel\":[%d,%d],\"sample\":", v->x, v->y);
     if (v->sample >= 0) fprintf(f, "%d", v->sample);
     else fprintf(f, "null");
     fputc(',', f);
     jcol(f, "color", v->pixel);
+    /* reflect counts the TIR rays too; tir says how many of them. */
     fprintf(f, ",\"stats\":{\"eye\":%llu,\"reflect\":%llu,\"refract\":%llu,\"shadow\":%llu,"
                "\"tir\":%llu},\"roots\":[",
             (unsigned long long)v->stats.eye, (unsigned long long)v->stats.reflect,
@@ -329,7 +428,7 @@ void trace_print_json(FILE *f, const trace_view *v)
         if (ggTraceGetNode(v->trace, i)->parent < 0) {
             if (!first) fputc(',', f);
             first = 0;
-            json_node(f, v, (int)i);
+            json_node(f, v, (int)i, NULL, base);
         }
     fprintf(f, "]");
     if (v->ledger) {

@@ -76,7 +76,7 @@ def bench(a, srv, port, token):
                 conn.request("GET", "/api/trace?x=%d&y=%d" % (x, y), headers=hdr)
                 r = conn.getresponse()
                 body = r.read()
-                ok = r.status == 200 and body.startswith(b'{"ggrt_trace":1,')
+                ok = r.status == 200 and body.startswith(b'{"ggrt_trace":2,')
             except (OSError, http.client.HTTPException) as e:
                 ok, body = False, str(e).encode()
                 conn.close()

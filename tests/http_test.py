@@ -181,6 +181,36 @@ def check_pages(s):
     json_error(st, h, b, 404, "an unknown page is 404 JSON")
     st, h, b = s.get("/", headers={"Authorization": "Bearer " + s.token}, token=False)
     check(st == 200, "Authorization: Bearer works as well as ?token=")
+    check_keepalive(s)
+
+
+def check_keepalive(s):
+    """HTTP/1.1 keep-alive: three requests on one socket, each answered
+    without Connection: close."""
+    sk = socket.create_connection(("127.0.0.1", s.port), timeout=30)
+    f = sk.makefile("rb")
+    heads = []
+    try:
+        for path in ("/api/info", "/api/trace?x=44&y=40", "/app.css"):
+            sk.sendall(("GET %s%stoken=%s HTTP/1.1\r\nHost: 127.0.0.1:%d\r\n\r\n"
+                        % (path, "&" if "?" in path else "?", s.token, s.port)).encode())
+            head = b""
+            while not head.endswith(b"\r\n\r\n"):
+                line = f.readline()
+                if not line:
+                    raise OSError("closed by the server")
+                head += line
+            n = int(re.search(rb"(?i)content-length: *(\d+)", head).group(1))
+            f.read(n)
+            heads.append(head)
+        good = all(h.startswith(b"HTTP/1.1 200") and b"connection: close" not in h.lower() for h in heads)
+    except OSError as e:
+        good, heads = False, heads + [repr(e).encode()]
+    finally:
+        f.close()
+        sk.close()
+    check(good, "keep-alive: 3 requests answered on one connection, none says Connection: close",
+          b"\n".join(heads).decode(errors="replace")[:1500])
 
 
 def check_info(s):
@@ -466,6 +496,49 @@ def check_concurrent(s):
           errors[:5])
 
 
+def check_tracing_first(work, env):
+    """A click's tree never waits for an image: with depth 16 and 16
+    samples on gears.nff (512x512), while that render runs, /api/trace of
+    a pixel answers within 1 s. A job past --job-seconds fails, is
+    reported once and is not kept as the answer: asking again runs it
+    again. With every job slot busy, 503 with Retry-After."""
+    gears = os.path.join(ROOT, "examples", "scenes", "spd", "gears.nff")
+    try:
+        s = Server([gears, "--port", "0", "--job-seconds", "1"], work, env)
+    except RuntimeError as e:
+        bad("ggrt serve --job-seconds 1 starts", e)
+        return
+    try:
+        heavy = "opts=" + urllib.parse.quote("depth=16 samples=16")
+        st, h, b = s.get("/api/render?" + heavy)
+        check(st == 202, "a depth-16, 16-sample render of gears starts (202)", (st, b[:200]))
+        rnd = __import__("random").Random(31)
+        for x, y in [(256, 256), (250, 260), (0, 0)] + [(rnd.randrange(512), rnd.randrange(512)) for _ in range(3)]:
+            t = time.time()
+            st, h, b = s.get("/api/trace?x=%d&y=%d&%s" % (x, y, heavy))
+            dt = time.time() - t
+            check(st == 200 and json.loads(b)["pixel"] == [x, y] and dt < 1.0,
+                  "/api/trace %d,%d at depth 16, 16 samples during that render: %.3f s (< 1 s)" % (x, y, dt),
+                  (st, b[:200]))
+        st, j, t = 202, {}, time.time()
+        while st == 202 and time.time() - t < 30:
+            st, h, b = s.get("/api/render?" + heavy)
+            j = json.loads(b)
+            time.sleep(0.1)
+        check(st == 500 and "after 1 s" in j.get("error", ""), "past --job-seconds 1 the job fails: 500 once", j)
+        st, h, b = s.get("/api/render?" + heavy)
+        j = json.loads(b)
+        check(st == 202 and j["job"]["state"] in ("queued", "running"),
+              "asking again runs it again (the failure is not kept as the answer)", (st, j))
+        codes = [s.get("/api/render?opts=" + urllib.parse.quote("depth=16 samples=%d" % k))
+                 for k in range(1, 10)]
+        full = [c for c in codes if c[0] == 503]
+        check(full and full[0][1].get("retry-after", "").isdigit() and json.loads(full[0][2])["status"] == 503,
+              "every job slot busy: 503 with Retry-After", [(c[0], c[1].get("retry-after")) for c in codes])
+    finally:
+        s.stop(signal.SIGTERM)
+
+
 def file_list(d):
     out = []
     for root, dirs, files in os.walk(d):
@@ -566,6 +639,7 @@ def run(base):
     r = subprocess.run([GGRT, "serve", SCENE, "--host", "example.com"], stdout=subprocess.PIPE,
                        stderr=subprocess.PIPE, text=True, timeout=30)
     check(r.returncode != 0 and "numeric" in r.stderr, "--host must be numeric", r.stderr)
+    check_tracing_first(work, env)
     check_opens(work, env)
     check(file_list(work) == [] and file_list(tmp) == [], "still nothing left behind")
     print("http: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))

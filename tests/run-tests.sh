@@ -40,14 +40,17 @@ if [ -n "$cli" ] && [ -f tests/cli/run.sh ]; then
   passed=$((passed + ${p:-0})); failed=$((failed + ${f:-0}))
   if [ $rc -ne 0 ]; then [ -z "$f" ] || [ "$f" = 0 ] && failed=$((failed + 1)); bad="$bad cli"; fi
 fi
-if [ -n "$cli" ] && [ -f tests/http_test.py ]; then
-  out=$(python3 tests/http_test.py "$cli" 2>&1); rc=$?
+# The HTTP tests of ggrt serve: tests/http_test.py (the routes on one
+# scene), http_scenes_test.py (every scene), http_slow_test.py (slow clients).
+for py in tests/http_test.py tests/http_scenes_test.py tests/http_slow_test.py; do
+  [ -n "$cli" ] && [ -f "$py" ] || continue
+  out=$(python3 "$py" "$cli" 2>&1); rc=$?
   printf '%s\n' "$out" | tee -a "$log"
   p=$(printf '%s\n' "$out" | sed -n 's/^http: \([0-9]*\) passed.*/\1/p' | tail -n 1)
   f=$(printf '%s\n' "$out" | sed -n 's/^http: [0-9]* passed, \([0-9]*\) failed.*/\1/p' | tail -n 1)
   passed=$((passed + ${p:-0})); failed=$((failed + ${f:-0}))
-  if [ $rc -ne 0 ]; then [ -z "$f" ] || [ "$f" = 0 ] && failed=$((failed + 1)); bad="$bad http"; fi
-fi
+  if [ $rc -ne 0 ]; then [ -z "$f" ] || [ "$f" = 0 ] && failed=$((failed + 1)); bad="$bad $(basename "$py" .py)"; fi
+done
 echo "[$build] $passed passed, $failed failed"
 if [ $failed -ne 0 ] || [ -n "$bad" ]; then
   echo "[$build] failing:$bad" >&2

@@ -104,12 +104,23 @@
     constructor(status, msg) { super(msg); this.status = status; }
   }
 
-  // GET path?params; as: 'json' (default), 'blob', 'buf', 'text'.
+  // GET path?params; as: 'json' (default), 'blob', 'buf', 'text'. A 503
+  // (every job slot busy) is waited out as its Retry-After says, with
+  // "waiting" in the status line, for up to about 10 minutes.
   async function api(path, params, as) {
     const q = new URLSearchParams(params || {}).toString();
-    const r = await fetch(path + (q ? '?' + q : ''), {
-      headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
-    });
+    let r;
+    for (let tries = 0; ; tries++) {
+      r = await fetch(path + (q ? '?' + q : ''), {
+        headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
+      });
+      if (r.status !== 503 || tries >= 300) break;
+      const wait = Math.max(1, Math.min(30, parseInt(r.headers.get('Retry-After'), 10) || 2));
+      let why = '';
+      try { why = (await r.json()).error || ''; } catch (e) { /* not JSON */ }
+      status('waiting ' + wait + ' s for the server: ' + why, 0);
+      await sleep(1000 * wait);
+    }
     if (!r.ok) {
       let msg = r.status + ' ' + r.statusText;
       try { msg = (await r.json()).error || msg; } catch (e) { /* not JSON */ }
@@ -512,14 +523,26 @@
 
   // ---- the selected pixel: trees, views ----
 
+  // The trace document writes NaN and infinities as "nan", "inf", "-inf"
+  // (docs/trace-json.md, version 2): numbers again here, in vectors,
+  // colours and the number fields, never in names (a group may be "inf").
+  const NUMBER_KEYS = new Set(['t', 'n_medium', 'n_other', 'fresnel', 'perr', 'offset', 'tir_margin',
+    'edge', 't_block', 'share']);
+  const NONFINITE = { inf: Infinity, '-inf': -Infinity, nan: NaN };
+  function traceJson(text) {
+    return JSON.parse(text, function (k, v) {
+      return typeof v === 'string' && v in NONFINITE && (Array.isArray(this) || NUMBER_KEYS.has(k))
+        ? NONFINITE[v] : v;
+    });
+  }
   async function trace(side, extra) {
     const p = Object.assign({ x: state.px[0], y: state.px[1] }, optParams(side), extra || {});
     try {
-      return { json: (await api('/api/trace', p)).body, note: '' };
+      return { json: traceJson((await api('/api/trace', p, 'text')).body), note: '' };
     } catch (e) {
       if (e.status !== 413) throw e;
       p.sample = 0;
-      return { json: (await api('/api/trace', p)).body, note: 'the whole tree is too large: sample 0 only. ' };
+      return { json: traceJson((await api('/api/trace', p, 'text')).body), note: 'the whole tree is too large: sample 0 only. ' };
     }
   }
 
@@ -552,8 +575,8 @@
     v.dataset.rgb = v.textContent;
     const s = a.stats;
     v.title = 'linear RGB, as ggrt render --pixel prints it';
-    v.textContent += '   rays: eye ' + s.eye + ', reflect ' + s.reflect + ', refract ' + s.refract +
-      ', shadow ' + s.shadow + ', tir ' + s.tir;
+    v.textContent += '   rays: eye ' + s.eye + ', reflect ' + s.reflect + ' (tir ' + s.tir + ' of them), refract ' +
+      s.refract + ', shadow ' + s.shadow;
     fillTree($('tree-a'), traces.a, state.diff ? 'A' : '');
     $('tree-b').hidden = !traces.b;
     if (traces.b) fillTree($('tree-b'), traces.b, 'B');
@@ -590,8 +613,12 @@
     d.open = open(n);
     const s = el('summary');
     s.appendChild(el('span', 'kind', n.kind + (n.channel ? ' [' + n.channel + ']' : '')));
+    // weight: the factor of this ray's colour in the pixel; share: the
+    // part of the pixel it carries (the ledger's measure); factor: its
+    // weight in its parent's colour (docs/trace-json.md).
     s.appendChild(document.createTextNode(' #' + n.id + ' depth ' + n.depth +
-      (n.depth > 1 ? '  weight ' + col(n.weight) : '') + '  ' +
+      '  weight ' + col(n.weight) + '  share ' + fmtG(100 * n.share, 3) + '%' +
+      (n.depth > 1 ? '  factor ' + col(n.factor) : '') + '  ' +
       (n.hit ? '\u2192 ' + objName(n.hit.object) + ' at t ' + g6(n.hit.t) + (n.hit.front ? '' : ', back face')
         : '\u2192 missed') + '  returns '));
     s.appendChild(swatch(n.color));
@@ -605,6 +632,13 @@
     } else {
       const m = scene && scene.materials[h.material];
       field(d, 'hit', objName(h.object) + ' ' + h.shape + ' at t ' + g6(h.t) + ', ' + (h.front ? 'front' : 'back') + ' face');
+      if (h.face) {
+        // As ggrt trace's text: triangle, the file's face, its line, group, material.
+        const fc = h.face;
+        field(d, '', 'triangle ' + fc.triangle + ': face ' + fc.index + ' of ' + fc.mesh +
+          (fc.line > 0 ? ' (line ' + fc.line + ')' : '') + (fc.group ? ", group '" + fc.group + "'" : '') +
+          (fc.material_name ? ", usemtl '" + fc.material_name + "'" : '')).classList.add('face');
+      }
       field(d, 'p', vec(h.point) + '  uv (' + h.uv.map(g4).join(', ') + ')');
       field(d, 'ng', vec(h.ng) + '  ns ' + vec(h.ns));
       field(d, 'material', h.material + (m ? ': kd ' + g6(m.kd) + ' ks ' + g6(m.ks) + ' kt ' + g6(m.kt) + ' ior ' + g6(m.ior) : '') +
@@ -953,17 +987,21 @@
     $('find-input').value = state.find;
     fillPanel('a');
     fillPanel('b');
+    // Tracing first: the selected pixel's tree is asked for at once,
+    // beside the image (a trace is one pixel's work, never a job).
+    const pg = ++pixelGen;
+    const pixel = loadPixel(pg).catch((e) => { if (pg === pixelGen) fail(e); });
     try {
       const img = await loadImage('a', gen);
       if (!img || gen !== generation) return;
       drawImage();
+      drawMarker();
       if (state.diff) await loadImage('b', gen);
       await loadOverlay(gen);
-      const pg = ++pixelGen;
-      await loadPixel(pg);
     } catch (e) {
       if (gen === generation) fail(e);
     }
+    await pixel;
   }
 
   function select(x, y) {

@@ -305,9 +305,9 @@ typedef struct ggLedger {
 
 /* The ledger of a pixel whose every sample is recorded in trace
    (ggTracePixel with sample -1, value `pixel`). Each term's value is the
-   product of the weights and absorptions on the path of rays that carried
-   it, times the term at its hit, divided by the number of samples; terms
-   that are exactly zero are left out. They add up to the pixel within
+   product of the factors (ggTraceNode.weight) and absorptions on the path
+   of rays that carried it, times the term at its hit, divided by the
+   number of samples; terms that are exactly zero are left out. They add up to the pixel within
    `bound`, the rounding of the renderer's own sums and of the float pixel:
      bound = 2^-24 (|pixel| + sum |t|) + gamma(2 n + m + 4 d + s + 2) sum |t|
    per channel, gamma(k) = k 2^-53 / (1 - k 2^-53), for n terms, m rays,

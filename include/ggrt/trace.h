@@ -72,7 +72,7 @@ typedef struct ggTraceNode {
     ggColor ambient;  /* kd C ambient term */
     int first_light, nlights; /* this hit's records in ggTraceGetLight */
     double fresnel;   /* dielectric reflectance F used, or -1 when none was computed */
-    ggColor reflect_weight, refract_weight; /* weights given to the children */
+    ggColor reflect_weight, refract_weight; /* factors given to the children */
     /* The hit's numeric state (NaN where it does not apply). */
     double perr;       /* bound on the absolute error of each coordinate of p */
     double offset;     /* how far the origins of rays leaving the hit were pushed off p */
@@ -89,7 +89,9 @@ typedef struct ggTraceNode {
     long nodes, prims;
     /* Always. */
     ggColor absorption; /* Beer-Lambert transmittance over this ray's segment */
-    ggColor weight;     /* this ray's weight in its parent's colour */
+    ggColor weight;     /* factor: what this ray's colour is multiplied by in its
+                           parent's (the JSON's `factor`; its `weight` is the
+                           product down from the pixel, as find's) */
     int stop;           /* GG_STOP_* */
     ggColor color;      /* the colour this ray returns (after absorption) */
 } ggTraceNode;

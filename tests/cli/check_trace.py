@@ -10,6 +10,13 @@ import sys
 
 VEC = "vec"
 NUM = (int, float)
+NONFINITE = {"inf": float("inf"), "-inf": float("-inf"), "nan": float("nan")}
+
+
+def num(v):
+    """A number of the document: JSON numbers, and since version 2 the
+    strings "inf", "-inf", "nan" for the values JSON has not."""
+    return NONFINITE[v] if isinstance(v, str) and v in NONFINITE else v
 
 
 def fail(msg):
@@ -22,20 +29,31 @@ def need(obj, key, kind, where):
         fail("%s: missing '%s'" % (where, key))
     v = obj[key]
     if kind == VEC:
-        if not (isinstance(v, list) and len(v) == 3 and all(isinstance(c, NUM) for c in v)):
+        if not (isinstance(v, list) and len(v) == 3 and all(isinstance(num(c), NUM) for c in v)):
             fail("%s: '%s' is not a 3-vector: %r" % (where, key, v))
+        v = [num(c) for c in v]
     elif isinstance(kind, tuple) and all(isinstance(k, str) for k in kind):
         if v not in kind:
             fail("%s: '%s' = %r not one of %s" % (where, key, v, kind))
     elif kind is None:
         pass
+    elif kind is NUM and isinstance(num(v), NUM) and not isinstance(v, bool):
+        v = num(v)
     elif not isinstance(v, kind) or isinstance(v, bool) and kind is not bool:
         fail("%s: '%s' has type %s" % (where, key, type(v).__name__))
     return v
 
 
-def check_node(n, counts, parent_depth):
+def close(a, b, tol):
+    return a == b or abs(a - b) <= tol
+
+
+def check_node(n, counts, parent_depth, parent=None, nodes=None):
+    """parent: (its weight, its absorption) to check this node's weight
+    against: the parent's times its absorption times this factor."""
     w = "node %s" % n.get("id")
+    if nodes is not None:
+        nodes[n.get("id")] = n
     need(n, "id", int, w)
     kind = need(n, "kind", ("eye", "reflect", "refract", "tir"), w)
     depth = need(n, "depth", int, w)
@@ -44,8 +62,15 @@ def check_node(n, counts, parent_depth):
     need(n, "sample", int, w)
     if n.get("channel") not in (None, "r", "g", "b"):
         fail("%s: bad channel" % w)
-    for k in ("origin", "direction", "weight", "absorption", "color"):
+    for k in ("origin", "direction", "weight", "factor", "contribution", "absorption", "color"):
         need(n, k, VEC, w)
+    need(n, "share", NUM, w)
+    wt, fac, ab = need(n, "weight", VEC, w), need(n, "factor", VEC, w), need(n, "absorption", VEC, w)
+    if parent is not None:
+        want = [parent[0][c] * parent[1][c] * fac[c] for c in range(3)]
+        if wt != want:
+            fail("%s: weight %r is not the parent's %r x its absorption %r x factor %r"
+                 % (w, wt, parent[0], parent[1], fac))
     need(n, "medium", int, w)
     need(n, "n_medium", NUM, w)
     need(n, "stop", ("none", "miss", "depth", "matte"), w)
@@ -65,8 +90,8 @@ def check_node(n, counts, parent_depth):
             need(hit, k, int, w + " hit")
         need(hit, "shape", ("sphere", "triangle", "polygon", "cone", "rect", "implicit", "mesh"), w)
         need(hit, "t", NUM, w)
-        for k in ("point", "ng", "ns", "surface", "emission", "ambient", "reflect_weight",
-                  "refract_weight"):
+        for k in ("point", "ng", "ns", "surface", "emission", "ambient", "reflect_factor",
+                  "refract_factor"):
             need(hit, k, VEC, w + " hit")
         need(hit, "front", bool, w)
         uv = need(hit, "uv", list, w)
@@ -95,7 +120,7 @@ def check_node(n, counts, parent_depth):
             if v == "blocked" and not isinstance(L["occluder"], int):
                 fail("%s: blocked light without an occluder" % w)
     for c in need(n, "children", list, w):
-        check_node(c, counts, depth)
+        check_node(c, counts, depth, (wt, ab), nodes)
 
 
 def f32(x):
@@ -103,18 +128,22 @@ def f32(x):
 
 
 def main():
-    doc = json.load(open(sys.argv[1]))
-    if doc.get("ggrt_trace") != 1:
-        fail("not a ggrt trace document")
+    def refuse(name):
+        fail("not JSON: " + name)
+    doc = json.load(open(sys.argv[1]), parse_constant=refuse)
+    if doc.get("ggrt_trace") != 2 or doc.get("version") != 2:
+        fail("not a ggrt trace document of version 2")
     color = need(doc, "color", VEC, "top")
     need(doc, "pixel", list, "top")
     stats = need(doc, "stats", dict, "top")
-    counts = {}
+    counts, nodes = {}, {}
     roots = need(doc, "roots", list, "top")
     for r in roots:
         if r["kind"] != "eye" or r["depth"] != 1:
             fail("a root is not an eye ray of depth 1")
-        check_node(r, counts, None)
+        if [num(c) for c in r["weight"]] != [1.0 / len(roots)] * 3:
+            fail("a root's weight is not 1/%d" % len(roots))
+        check_node(r, counts, None, None, nodes)
     render = open(sys.argv[2]).read()
     m = re.search(r"^pixel \d+,\d+ (\S+) (\S+) (\S+)$", render, re.M)
     if not m:
@@ -133,6 +162,20 @@ def main():
             total = sum(t["value"][c] for t in led["terms"])
             if abs(total - color[c]) > led["bound"][c]:
                 fail("ledger terms add up to %r, the colour is %r" % (total, color[c]))
+        # Each ray's share is the ledger's shares of the terms it carried
+        # (those entering at it or below it), within the ledger's rounding.
+        under = {i: [] for i in nodes}
+        up = {k["id"]: i for i, nd in nodes.items() for k in nd["children"]}
+        for t in led["terms"]:
+            i = t["node"]
+            while i is not None:
+                under[i].append(t)
+                i = up.get(i)
+        tol = 1e-9 + sum(led["bound"]) / max(1e-300, abs(sum(color)))
+        for i, nd in nodes.items():
+            s = sum(num(t["share"]) for t in under[i])
+            if not close(num(nd["share"]), s, tol * max(1, len(under[i]))):
+                fail("node %d: share %r, its ledger terms' %r" % (i, nd["share"], s))
     # The tree's own counts agree with its stats object...
     tree = {"eye": counts.get("eye", 0), "reflect": counts.get("reflect", 0) + counts.get("tir", 0),
             "refract": counts.get("refract", 0), "shadow": counts.get("shadow", 0)}

@@ -1,0 +1,149 @@
+# SPDX-License-Identifier: MIT
+"""Every scene through `ggrt serve` (docs/serve.md): for EVERY scene file
+under examples/scenes (recursively: NFF, and the OBJ and PLY models) and
+tests/data/debug, start the server on a small image and parse, strictly
+(json.loads that refuses NaN and Infinity), /api/info, /api/scene,
+/api/trace of the four corners, the centre and a random pixel, /api/find,
+/api/check and /api/diff. A few servers run at once.
+    python3 tests/http_scenes_test.py build/ggrt [--seed N]
+Prints one line per check and ends with "http: N passed, M failed"."""
+import concurrent.futures
+import http.client
+import json
+import os
+import random
+import re
+import subprocess
+import sys
+import time
+import urllib.parse
+
+GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SIZE = (40, 30)
+SCENE_EXT = (".nff", ".obj", ".ply")
+PARALLEL = 3  # servers at once: the machine is small, each one mostly waits
+TIMEOUT = 120  # seconds for one scene (a test that hangs fails instead)
+
+
+def scene_files():
+    out = []
+    for top in ("examples/scenes", "tests/data/debug"):
+        for d, _, files in os.walk(os.path.join(ROOT, top)):
+            out += [os.path.relpath(os.path.join(d, f), ROOT) for f in files if f.endswith(SCENE_EXT)]
+    return sorted(out)
+
+
+def strict(body):
+    """The document, or raise: JSON has no NaN or Infinity."""
+    def refuse(name):
+        raise ValueError("not JSON: " + name)
+    return json.loads(body.decode("utf-8"), parse_constant=refuse)
+
+
+class Server:
+    def __init__(self, scene):
+        self.proc = subprocess.Popen([GGRT, "serve", scene, "--port", "0", "-s", "%dx%d" % SIZE, "-d", "3"],
+                                     cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        url = self.proc.stdout.readline().strip()
+        m = re.match(r"^http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})$", url)
+        if not m:
+            self.stop()
+            raise RuntimeError("no URL printed: %r %s" % (url, self.proc.stderr.read()[-500:]))
+        self.port, self.token = int(m.group(1)), m.group(2)
+        self.conn = http.client.HTTPConnection("127.0.0.1", self.port, timeout=TIMEOUT)
+
+    def get(self, path):
+        self.conn.request("GET", path, headers={"Authorization": "Bearer " + self.token})
+        r = self.conn.getresponse()
+        return r.status, r.read()
+
+    def wait(self, path, deadline):
+        while True:
+            st, b = self.get(path)
+            if st not in (202, 503) or time.time() > deadline:
+                return st, b
+            time.sleep(0.05)
+
+    def stop(self):
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(30)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+
+
+def one_scene(scene, rnd):
+    """Every route on scene: a list of (ok, name, detail)."""
+    res = []
+    deadline = time.time() + TIMEOUT
+
+    def parse(name, st, b, check=None):
+        try:
+            j = strict(b)
+            good = st == 200 and (check is None or check(j))
+            res.append((good, "%s: %s" % (scene, name), "" if good else "status %d: %s" % (st, b[:300])))
+        except (ValueError, UnicodeDecodeError) as e:
+            res.append((False, "%s: %s parses" % (scene, name), "status %d: %s; %s" % (st, e, b[:300])))
+
+    try:
+        s = Server(scene)
+    except RuntimeError as e:
+        return [(False, "%s: ggrt serve starts" % scene, str(e))]
+    try:
+        st, b = s.get("/api/info")
+        parse("/api/info", st, b, lambda j: j["width"] == SIZE[0] and j["objects"] >= 1)
+        st, b = s.get("/api/scene")
+        parse("/api/scene", st, b,
+              lambda j: len(j["shapes"]) == min(j["objects"], 20000) and
+              all(sh is not None and all(len(v) == 3 for v in sh.get("verts", [])) for sh in j["shapes"]))
+        w, h = SIZE
+        pixels = [(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1), (w // 2, h // 2),
+                  (rnd.randrange(w), rnd.randrange(h))]
+        for x, y in pixels:
+            st, b = s.get("/api/trace?x=%d&y=%d" % (x, y))
+            parse("/api/trace %d,%d" % (x, y), st, b, lambda j: j["pixel"] == [x, y] and j["roots"])
+        where = urllib.parse.quote("some(kind == eye)")
+        st, b = s.wait("/api/find?where=" + where, deadline)
+        parse("/api/find", st, b, lambda j: j["matched"] == j["scanned"] == w * h)
+        st, b = s.wait("/api/check", deadline)
+        parse("/api/check", st, b, lambda j: j["scanned"] == w * h)
+        st, b = s.wait("/api/diff?b=depth%3D2", deadline)
+        parse("/api/diff", st, b, lambda j: j["scanned"] == w * h)
+    except (OSError, http.client.HTTPException) as e:
+        res.append((False, "%s: the server answers" % scene, repr(e)))
+    finally:
+        s.stop()
+    return res
+
+
+def main():
+    seed = int(sys.argv[sys.argv.index("--seed") + 1]) if "--seed" in sys.argv else int(time.time())
+    print("seed %d (--seed %d repeats the random pixels)" % (seed, seed))
+    scenes = scene_files()
+    passed = failed = 0
+    bad_scenes = set()
+    t0 = time.time()
+    with concurrent.futures.ThreadPoolExecutor(PARALLEL) as ex:
+        futs = [ex.submit(one_scene, sc, random.Random("%d %s" % (seed, sc))) for sc in scenes]
+        for sc, fu in zip(scenes, futs):
+            for good, name, detail in fu.result():
+                if good:
+                    passed += 1
+                    print("ok   " + name)
+                else:
+                    failed += 1
+                    bad_scenes.add(sc)
+                    print("FAIL " + name)
+                    for line in str(detail).splitlines()[:10]:
+                        print("     " + line)
+    print("scenes: %d files, %d with a failure%s" % (len(scenes), len(bad_scenes),
+                                                     (": " + " ".join(sorted(bad_scenes))) if bad_scenes else ""))
+    print("http: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))
+    return 0 if failed == 0 and scenes else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
