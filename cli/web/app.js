@@ -929,6 +929,7 @@
     buildPanel('a');
     buildPanel('b');
     readHash();
+    sizeCanvases(); // a click can pick a pixel before the image is in
     wire();
     for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === state.tab);
     for (const t of TABS) $('tab-' + t).hidden = t !== state.tab;

@@ -464,6 +464,8 @@
     return best;
   }
 
+  view.pick = pick;
+
   function wire() {
     const c = $('ov3d');
     let drag = null, moved = false;
@@ -536,7 +538,7 @@
     if (!view.set && loadCam()) view.userMoved = true;
     view.hl = -1;
     view.hlObject = -1;
-    if (!view.userMoved) return preset('rays');
-    draw();
+    // After the tree is on screen: the tree comes first.
+    requestAnimationFrame(() => setTimeout(() => (view.userMoved ? draw() : preset('rays')), 0));
   });
 })();
