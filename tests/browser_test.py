@@ -206,6 +206,12 @@ def open_tabs(d):
     return bad
 
 
+def mesh_triangles(scene):
+    """The triangles of every mesh as ggrt info counts them (0 for none)."""
+    out = subprocess.run([GGRT, "info", scene], cwd=ROOT, stdout=subprocess.PIPE, text=True).stdout
+    return sum(int(n) for n in re.findall(r"^\s+(\d+) triangles, ", out, re.M))
+
+
 def every_scene(d):
     t0, n, broken = time.time(), 0, []
     for sc in scene_files():
@@ -227,6 +233,10 @@ def every_scene(d):
                     what.append("no image: " + page_error(d))
                 if not wait(d, "3D", lambda: attr(d, "box3d", "data-triangles"), 10):
                     what.append("no 3D view: " + d.find_element(By.ID, "note3d").text)
+                want = mesh_triangles(sc)
+                got = int(attr(d, "box3d", "data-mesh-triangles") or 0)
+                if got != want:
+                    what.append("the 3D view shades %d mesh triangles, ggrt info counts %d" % (got, want))
                 if os.path.basename(sc) in TABBED:
                     bad = open_tabs(d)
                     if bad:
@@ -238,7 +248,8 @@ def every_scene(d):
                 what.append("ggrt serve exit %s: %s" % (rc, err))
         n += 1
         tabs = " (every tab)" if os.path.basename(sc) in TABBED else ""
-        if not check(not what, "%s: the page loads, a click shows the tree and the 3D view, "
+        if not check(not what, "%s: the page loads, a click shows the tree and the 3D view (every mesh "
+                     "triangle), "
                      "no console error%s (%.1f s)" % (sc, tabs, time.time() - t1), "\n".join(what)):
             broken.append(sc)
     print("every scene: %d files in %.1f s; failing: %s" % (n, time.time() - t0, " ".join(broken) or "none"))
@@ -596,7 +607,7 @@ def layout(d):
 def docs_shots(d, folder):
     os.makedirs(folder, exist_ok=True)
     for scene, px, kind, name in (("examples/scenes/glass.nff", (110, 100), "tir", "serve-3d-glass.png"),
-                                  ("examples/scenes/knot.nff", (160, 130), "refract", "serve-3d-knot.png")):
+                                  ("examples/scenes/knot.nff", (160, 130), "eye", "serve-3d-knot.png")):
         srv = Server(scene)
         try:
             d.set_window_size(1600, 940)

@@ -134,12 +134,14 @@
     const meshes = {};
     for (const m of scene.meshes || []) meshes[m.object] = m;
     let implicit = 0;
+    view.meshTriangles = 0;
     shapes.forEach((s, i) => {
       if (!s) return;
       const c = matColour(scene, s.material), b = c[3] < 1 ? clear : opaque;
       const m = meshes[i];
       if (s.kind === 'mesh' && m) {
         const v = m.verts;
+        view.meshTriangles += v.length / 9;
         for (let k = 0; k + 8 < v.length; k += 9) {
           b.tri([v[k], v[k + 1], v[k + 2]], [v[k + 3], v[k + 4], v[k + 5]], [v[k + 6], v[k + 7], v[k + 8]], c, i);
         }
@@ -172,7 +174,7 @@
   const FS = 'precision mediump float; uniform vec3 L1; uniform vec3 L2; varying vec3 vn; varying vec4 vc; varying float vh;' +
     'void main() { vec3 n = normalize(vn);' +
     ' float d = 0.3 + 0.55 * abs(dot(n, L1)) + 0.25 * abs(dot(n, L2));' +
-    ' vec3 col = vc.rgb * d; col = mix(col, vec3(0.0, 0.8, 0.9), 0.55 * vh);' +
+    ' vec3 col = vc.rgb * d; col = mix(col, vec3(0.0, 0.75, 0.9) * d, 0.45 * vh);' +
     ' gl_FragColor = vec4(col, max(vc.a, 0.6 * vh)); }';
 
   function glInit(canvas) {
@@ -277,7 +279,7 @@
       const stub = Math.max(diagOf(a, b), 0.15 * diag);
       for (const s of segs) if (!s.hit) grow(V.add(s.a, V.mul(V.norm(V.sub(s.b, s.a)), 0.5 * stub)));
       view.target = V.mul(V.add(a, b), 0.5);
-      const r = Math.max(0.5 * diagOf(a, b), 1e-3 * diag);
+      const r = Math.max(0.5 * diagOf(a, b), 0.1 * diag);
       const side = V.norm(V.add(V.mul(fwd, -1), V.mul(V.cross(fwd, view.up), 0.6)));
       orbitFrom(V.add(view.target, V.add(V.mul(side, 2.6 * r), V.mul(view.up, 0.8 * r))));
     } else {
@@ -427,10 +429,10 @@
     const corner = (sx, sy) => V.add(cam.from, V.mul(V.add(f, V.add(V.mul(r, sx * tx), V.mul(u, sy * ty))), d));
     const cs = [corner(-1, 1), corner(1, 1), corner(1, -1), corner(-1, -1)];
     for (let i = 0; i < 4; i++) {
-      line(cam.from, cs[i], '#6b7280', 1);
-      line(cs[i], cs[(i + 1) % 4], '#6b7280', 1.2);
+      line(cam.from, cs[i], 'rgba(107, 114, 128, 0.7)', 1);
+      line(cs[i], cs[(i + 1) % 4], 'rgba(107, 114, 128, 0.9)', 1);
     }
-    line(cs[0], cs[1], '#374151', 2.2); // the image's top edge
+    line(cs[0], cs[1], '#4b5563', 2); // the image's top edge
   }
 
   // ---- linking: the node under the mouse, a click on a segment ----
@@ -528,6 +530,7 @@
     upload(view.gl, build(app.scene));
     view.built = true;
     $('box3d').dataset.triangles = String(view.triangles);
+    $('box3d').dataset.meshTriangles = String(view.meshTriangles);
     wire();
     draw();
   });
