@@ -348,7 +348,8 @@ def linked(d):
         "for (const s of v.segs) { if (s.kind === 'shadow' || s.id === 0) continue;"
         " const x = (s.s[0][0] + s.s[1][0]) / 2, y = (s.s[0][1] + s.s[1][1]) / 2;"
         " if (x < 5 || y < 5 || x > c.clientWidth - 5 || y > c.clientHeight - 5) continue;"
-        " const p = v.pick(x, y); if (p && p.id === s.id) return [s.id, x, y, c.clientWidth, c.clientHeight]; }"
+        " const near = [[0, 0], [3, 3], [-3, 3], [3, -3], [-3, -3]].map(([a, b]) => v.pick(x + a, y + b));"
+        " if (near.every((p) => p && p.id === s.id && p.side === 'a')) return [s.id, x, y, c.clientWidth, c.clientHeight]; }"
         "return null;")
     if check(seg is not None, "the 3D view has a segment to click", seg):
         sid, x, y, w, h = seg
