@@ -335,7 +335,7 @@ def linked(d):
     how = attr(d, "objmask", "data-how")
     got = int(attr(d, "objmask", "data-pixels") or 0)
     want = (cli_matched("some(kind == eye && object == %d)" % obj, "-d", "1", "-n", "1") if how == "seen first"
-            else cli_matched("some(kind != shadow && object == %d)" % obj))
+            else cli_matched("some(kind != shadow && object == %d)" % obj, "-n", "1"))
     check(ok and hl == [nid, obj] and got == want,
           "hovering refract #%d: its segment is drawn thick, object #%d outlined in the image "
           "(%d pixels, %s; ggrt find: %d)" % (nid, obj, got, how, want), "%s %s" % (hl, how))

@@ -110,7 +110,7 @@
       if (n.hit) {
         for (const L of n.hit.lights || []) {
           if (L.verdict === 'facing-away') continue;
-          const t = L.verdict === 'blocked' && L.t_block !== null ? L.t_block : 1;
+          const t = L.verdict === 'blocked' && typeof L.t_block === 'number' ? L.t_block : 1;
           add('shadow_' + L.verdict, L.origin, L.origin.map((x, i) => x + L.direction[i] * t));
         }
       }
@@ -119,7 +119,9 @@
     j.roots.forEach(walk);
     const out = ['# ggrt serve: the rays of pixel ' + j.pixel.join(',') + ' of ' + app.info.scene +
       ' (' + (j.options || app.state.a || 'the server\'s options') + ')', '# misses are drawn to ' + reach.toPrecision(4)];
-    for (const p of v) out.push('v ' + p.map((x) => x.toPrecision(9)).join(' '));
+    // Non-finite coordinates (null or "inf"/"nan" strings) are written as
+    // nan, which OBJ readers reject loudly rather than misplace.
+    for (const p of v) out.push('v ' + p.map((x) => typeof x === 'number' && isFinite(x) ? x.toPrecision(9) : 'nan').join(' '));
     for (const [g, ends] of Object.entries(groups)) {
       out.push('g ' + g);
       for (const e of ends) out.push('l ' + e + ' ' + (e + 1));

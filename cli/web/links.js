@@ -7,7 +7,7 @@
 // eye && object == N)` with depth 1 and one sample (the pixels whose eye
 // ray hits N first); for an object no eye ray reaches (inside glass,
 // behind a mirror), `some(kind != shadow && object == N)` with the page's
-// options (the pixels whose trees hit it). Kept once loaded.
+// options at one sample (the pixels whose trees hit it). Kept once loaded.
 'use strict';
 (function () {
   const $ = (id) => document.getElementById(id);
@@ -55,8 +55,9 @@
       let m = await findMask(eye), how = 'seen first';
       if (!m) {
         const a = window.ggrt.state.a;
-        m = await findMask(Object.assign({ where: 'some(kind != shadow && object == ' + obj + ')', limit: '0' },
-          a ? { opts: a } : {}));
+        // One sample a pixel: an outline, not a measurement.
+        m = await findMask({ where: 'some(kind != shadow && object == ' + obj + ')', limit: '0',
+          opts: (a ? a + ' ' : '') + 'samples=1' });
         how = 'seen through other surfaces';
       }
       masks[obj] = { mask: m, how: how };

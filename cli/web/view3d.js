@@ -237,15 +237,19 @@
     if (!t || !t.a) return out;
     const info = app.info, reach = 1.5 * diagOf(info.bounds.lo, info.bounds.hi);
     const sets = t.b ? [['a', t.a.json], ['b', t.b.json]] : [['a', t.a.json]];
+    // Non-finite numbers may come as null or as "inf"/"nan" strings: such
+    // a segment cannot be drawn and is left out.
+    const ok = (p) => Array.isArray(p) && p.length === 3 && p.every((x) => typeof x === 'number' && isFinite(x));
+    const push = (s) => { if (ok(s.a) && ok(s.b)) out.push(s); };
     for (const [side, j] of sets) {
       const walk = (n) => {
         const end = n.hit ? n.hit.point : V.add(n.origin, V.mul(V.norm(n.direction), reach));
-        out.push({ side: side, id: n.id, kind: n.kind, a: n.origin, b: end, hit: !!n.hit, node: n });
+        push({ side: side, id: n.id, kind: n.kind, a: n.origin, b: end, hit: !!n.hit, node: n });
         if (n.hit) {
           for (const L of n.hit.lights || []) {
             if (L.verdict === 'facing-away') continue;
-            const tt = L.verdict === 'blocked' && L.t_block !== null ? L.t_block : 1;
-            out.push({ side: side, id: n.id, light: L.light, kind: 'shadow', verdict: L.verdict,
+            const tt = L.verdict === 'blocked' && typeof L.t_block === 'number' ? L.t_block : 1;
+            push({ side: side, id: n.id, light: L.light, kind: 'shadow', verdict: L.verdict,
               a: L.origin, b: V.add(L.origin, V.mul(L.direction, tt)), node: n });
           }
         }
