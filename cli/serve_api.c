@@ -13,6 +13,9 @@
 #include <string.h>
 
 #define MAX_SCENE_OBJECTS 20000 /* objects /api/scene describes (as the SVG views) */
+/* Mesh triangles /api/scene lists (about 5 MB of JSON): past it every k-th
+   is listed and "simplified" says so, for the page to note. */
+#define MAX_SCENE_TRIANGLES 60000L
 
 typedef struct route {
     const char *path;
@@ -176,6 +179,49 @@ static void shape_json(FILE *f, const ggShapeDesc *d)
     fputc('}', f);
 }
 
+/* "meshes": each mesh part's triangles (9 numbers each: the corners) for
+   the 3D view to shade; one in `stride` when the scene has too many. */
+static void mesh_json(FILE *f, const ggScene *sc, int n)
+{
+    long total = 0, stride, shown = 0, k;
+    int i, c, first = 1;
+    ggVec3 v[3];
+    for (i = 0; i < n && i < MAX_SCENE_OBJECTS; i++) total += ggSceneObjectTriangleCount(sc, i);
+    stride = (total + MAX_SCENE_TRIANGLES - 1) / MAX_SCENE_TRIANGLES;
+    fprintf(f, ",\"meshes\":[");
+    for (i = 0; i < n && i < MAX_SCENE_OBJECTS; i++) {
+        long nt = ggSceneObjectTriangleCount(sc, i);
+        if (!nt) continue;
+        fprintf(f, "%s{\"object\":%d,\"triangles\":%ld,\"verts\":[", first ? "" : ",", i, nt);
+        first = 0;
+        for (k = 0; k < nt; k += stride) {
+            if (ggSceneObjectTriangle(sc, i, k, v, NULL) != GG_OK) continue;
+            for (c = 0; c < 3; c++) /* single precision is plenty for a picture */
+                fprintf(f, "%s%.7g,%.7g,%.7g", k || c ? "," : "", v[c].x, v[c].y, v[c].z);
+            shown++;
+        }
+        fprintf(f, "]}");
+    }
+    fprintf(f, "],\"triangles\":%ld,\"triangles_shown\":%ld,\"simplified\":%s", total, shown,
+            shown < total ? "true" : "false");
+}
+
+/* "lights": where each light is, for the 3D view. */
+static void lights_json(FILE *f, const ggScene *sc)
+{
+    int i, n = ggSceneLightCount(sc);
+    fprintf(f, ",\"lights\":[");
+    for (i = 0; i < n; i++) {
+        ggVec3 p;
+        ggColor c;
+        if (ggSceneGetLight(sc, i, &p, &c) != GG_OK) continue;
+        fprintf(f, "%s{", i ? "," : "");
+        vec(f, "position", p);
+        fputc('}', f);
+    }
+    fputc(']', f);
+}
+
 static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     FILE *f = srv_body_open(resp, 200, "application/json");
@@ -212,7 +258,10 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
         else
             fprintf(f, "null");
     }
-    fprintf(f, "]}\n");
+    fputc(']', f);
+    mesh_json(f, s->scene, n);
+    lights_json(f, s->scene);
+    fprintf(f, "}\n");
     srv_body_close(resp, f);
 }
 
@@ -502,6 +551,9 @@ static const route routes[] = {
     {"/", page, ""},
     {"/app.js", page, ""},
     {"/app.css", page, ""},
+    {"/view3d.js", page, ""},
+    {"/links.js", page, ""},
+    {"/export.js", page, ""},
     {"/api/info", api_info, ""},
     {"/api/scene", api_scene, ""},
     {"/api/trace", api_trace, "opts x y sample format"},

@@ -1,24 +1,43 @@
 # SPDX-License-Identifier: MIT
 """The page of `ggrt serve` in a real browser: headless Chromium driven by
 Selenium (Debian: chromium, chromium-driver, python3-selenium; run it with
-the python3 that has selenium, /usr/bin/python3 on Debian). Serves
-examples/scenes/glass.nff, waits for the image, clicks pixel 110,100 and
-checks the tree shows refraction and TIR and the value equals ggrt
-render's, hovers, moves with the keyboard, reloads from the URL, toggles a
-heatmap, types a find predicate, compares with a second set of options,
-draws the 3D view, and finds no console errors. Saves a screenshot.
-    /usr/bin/python3 tests/browser_test.py build/ggrt [--screenshot FILE]
+the python3 that has selenium, /usr/bin/python3 on Debian). One browser,
+one server per scene:
+- every scene file under examples/scenes (models included) and
+  tests/data/debug at 64x48, depth 3: the page loads, a click shows the
+  pixel's tree and the 3D view, no console error; every tab on glass,
+  gears, knot and water;
+- tracing first: a pixel of spd/gears.nff at depth 16 and 16 samples
+  shows its tree within 1 s of the click while the image still renders;
+  with every job slot taken the page says it is waiting (503, Retry-After);
+- glass.nff at full size: the tree (refraction, TIR, the value equal to
+  ggrt render's), collapsing, hover, the arrow keys and the URL, heatmap,
+  find, the 3D view shaded by WebGL and linked to the tree (hover a node:
+  its segment and its object in the image; click a segment: its node;
+  j/k; arrows after a dropdown), the exports (tree JSON equal to
+  /api/trace's bytes, SVG, OBJ, PNG, the command line, which is run),
+  ledger, diagnostics, diff mode, a reload from the URL (3D camera too);
+- the layout at 1280 and 1920 px wide: the tree panel inside the window in
+  normal and diff mode and at 4x zoom (screenshots in build/browser/);
+- with --docs DIR, the linked 3D views of glass and knot as PNGs there
+  (docs/serve.md shows them).
+    /usr/bin/python3 tests/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
+        [--only glass,layout,first,scenes,docs]
 Prints one line per check and ends with "browser: N passed, M failed"."""
+import json
 import os
 import re
+import shlex
 import shutil
 import signal
-import struct
 import subprocess
 import sys
 import tempfile
 import time
 import traceback
+import urllib.error
+import urllib.parse
+import urllib.request
 
 from selenium import webdriver
 from selenium.common.exceptions import TimeoutException
@@ -32,8 +51,12 @@ from selenium.webdriver.support.ui import Select, WebDriverWait
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else os.path.join(ROOT, "build", "ggrt")
 SHOT = sys.argv[sys.argv.index("--screenshot") + 1] if "--screenshot" in sys.argv else None
+DOCS = sys.argv[sys.argv.index("--docs") + 1] if "--docs" in sys.argv else None
+ONLY = sys.argv[sys.argv.index("--only") + 1].split(",") if "--only" in sys.argv else None
+OUT = os.path.dirname(os.path.abspath(SHOT)) if SHOT else tempfile.mkdtemp(prefix="ggrt-browser-out-")
 SCENE = "examples/scenes/glass.nff"
 PIXEL = (110, 100)
+TABBED = ("glass.nff", "gears.nff", "knot.nff", "water.nff")  # every tab is opened on these
 passed = failed = 0
 
 
@@ -47,6 +70,7 @@ def check(cond, name, detail=""):
         print("FAIL " + name)
         for line in str(detail).splitlines()[:20]:
             print("     " + line)
+    sys.stdout.flush()
     return cond
 
 
@@ -60,9 +84,10 @@ def find_binary(*names):
 
 def browser(profile):
     o = Options()
-    for a in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-              "--disable-component-update", "--disable-sync", "--no-first-run",
-              "--disable-default-apps", "--disable-extensions", "--window-size=1500,980",
+    # SwiftShader: WebGL in software, as headless Chromium has no GPU.
+    for a in ("--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+              "--disable-background-networking", "--disable-component-update", "--disable-sync",
+              "--no-first-run", "--disable-default-apps", "--disable-extensions", "--window-size=1500,980",
               "--user-data-dir=" + profile):
         o.add_argument(a)
     o.binary_location = find_binary("chromium", "/usr/bin/chromium", "chromium-browser")
@@ -73,9 +98,52 @@ def browser(profile):
 
 def wait(d, what, fn, timeout=60):
     try:
-        return WebDriverWait(d, timeout, poll_frequency=0.05).until(lambda _: fn())
+        return WebDriverWait(d, timeout, poll_frequency=0.02).until(lambda _: fn())
     except TimeoutException:
         return None
+
+
+class Server:
+    """ggrt serve SCENE ARGS on a free port."""
+
+    def __init__(self, scene, *args):
+        self.p = subprocess.Popen([GGRT, "serve", scene, "--port", "0"] + list(args), cwd=ROOT,
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.url = self.p.stdout.readline().strip()
+        self.base = self.url.split("/?")[0]
+        self.token = self.url.split("token=")[-1]
+
+    def get(self, path, **params):
+        q = urllib.parse.urlencode(params)
+        req = urllib.request.Request(self.base + path + ("?" + q if q else ""),
+                                     headers={"Authorization": "Bearer " + self.token})
+        try:
+            with urllib.request.urlopen(req, timeout=30) as r:
+                return r.status, r.read()
+        except urllib.error.HTTPError as e:
+            return e.code, e.read()
+
+    def stop(self):
+        self.p.send_signal(signal.SIGINT)
+        try:
+            rc = self.p.wait(30)
+        except subprocess.TimeoutExpired:
+            self.p.kill()
+            rc = "hung"
+        return rc, self.p.stderr.read()[-500:]
+
+
+def console_errors(d):
+    return [e["message"] for e in d.get_log("browser") if e["level"] in ("SEVERE", "ERROR")]
+
+
+def attr(d, el_id, name):
+    return d.find_element(By.ID, el_id).get_attribute(name)
+
+
+def page_error(d):
+    e = d.find_element(By.ID, "error")
+    return e.get_attribute("textContent") if e.is_displayed() else ""
 
 
 def cli_pixel():
@@ -103,24 +171,270 @@ def overlay_alpha(d, x, y):
                             "return Array.from(g.getImageData(%d, %d, 1, 1).data);" % (x, y))
 
 
-def main():
-    t0 = time.time()
-    want = cli_pixel()
-    profile = tempfile.mkdtemp(prefix="ggrt-browser-")
-    srv = subprocess.Popen([GGRT, "serve", SCENE, "--port", "0"], cwd=ROOT, stdout=subprocess.PIPE,
-                           stderr=subprocess.PIPE, text=True)
-    url = srv.stdout.readline().strip()
-    d = None
+def selected_pixel(d):
+    return attr(d, "pixel-head", "data-pixel")
+
+
+# ---- every scene ----
+
+def scene_files():
+    out = []
+    for top in ("examples/scenes", "tests/data/debug"):
+        for dp, _, fn in os.walk(os.path.join(ROOT, top)):
+            out += [os.path.relpath(os.path.join(dp, f), ROOT) for f in fn if f.endswith((".nff", ".obj", ".ply"))]
+    return sorted(out)
+
+
+TAB_READY = {
+    "tree": "return document.querySelectorAll('#tree-a details.node').length > 0",
+    "rays3d": "return document.getElementById('box3d').parentElement.id === 'tab-rays3d'",
+    "views": "const i = document.getElementById('svg-view'); return i.complete && i.naturalWidth > 0",
+    "ledger": "return document.querySelectorAll('#ledger p').length > 0",
+    "diag": "return document.querySelectorAll('#diag tr').length === 8",
+    "text": "return document.getElementById('trace-text').textContent.length > 0",
+}
+
+
+def open_tabs(d):
+    """Every tab in turn; the names of those whose content did not come."""
+    bad = []
+    for tab, ready in TAB_READY.items():
+        d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=%s]" % tab).click()
+        if not wait(d, tab, lambda r=ready: d.execute_script(r), 15):
+            bad.append(tab)
+    d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=tree]").click()
+    return bad
+
+
+def mesh_triangles(scene):
+    """The triangles of every mesh as ggrt info counts them (0 for none)."""
+    out = subprocess.run([GGRT, "info", scene], cwd=ROOT, stdout=subprocess.PIPE, text=True).stdout
+    return sum(int(n) for n in re.findall(r"^\s+(\d+) triangles, ", out, re.M))
+
+
+def every_scene(d):
+    t0, n, broken = time.time(), 0, []
+    for sc in scene_files():
+        srv = Server(sc, "-s", "64x48", "-d", "3")
+        what, t1 = [], time.time()
+        try:
+            console_errors(d)
+            d.get(srv.url)
+            # The click goes in as soon as the page has the scene (the image
+            # need not be there: tracing first).
+            wait(d, "ready", lambda: d.execute_script("return !!window.ggrt") or page_error(d), 20)
+            if not d.execute_script("return !!window.ggrt"):
+                what.append("the page did not start: " + page_error(d))
+            else:
+                click_pixel(d, 32, 24)
+                if not wait(d, "tree", lambda: selected_pixel(d) == "32,24" or page_error(d), 20) or page_error(d):
+                    what.append("no tree for 32,24: " + page_error(d))
+                if not wait(d, "image", lambda: attr(d, "viewport", "data-image") or page_error(d), 20) or page_error(d):
+                    what.append("no image: " + page_error(d))
+                if not wait(d, "3D", lambda: attr(d, "box3d", "data-triangles"), 10):
+                    what.append("no 3D view: " + d.find_element(By.ID, "note3d").text)
+                want = mesh_triangles(sc)
+                got = int(attr(d, "box3d", "data-mesh-triangles") or 0)
+                if got != want:
+                    what.append("the 3D view shades %d mesh triangles, ggrt info counts %d" % (got, want))
+                if os.path.basename(sc) in TABBED:
+                    bad = open_tabs(d)
+                    if bad:
+                        what.append("tabs without content: " + ", ".join(bad))
+            what += console_errors(d)
+        finally:
+            rc, err = srv.stop()
+            if rc != 0:
+                what.append("ggrt serve exit %s: %s" % (rc, err))
+        n += 1
+        tabs = " (every tab)" if os.path.basename(sc) in TABBED else ""
+        if not check(not what, "%s: the page loads, a click shows the tree and the 3D view (every mesh "
+                     "triangle), "
+                     "no console error%s (%.1f s)" % (sc, tabs, time.time() - t1), "\n".join(what)):
+            broken.append(sc)
+    print("every scene: %d files in %.1f s; failing: %s" % (n, time.time() - t0, " ".join(broken) or "none"))
+
+
+# ---- tracing first; a full queue waited for ----
+
+def tracing_first(d):
+    srv = Server("examples/scenes/spd/gears.nff")
     try:
-        check(url.startswith("http://127.0.0.1:"), "ggrt serve printed its URL", url)
-        d = browser(profile)
-        d.get(url)
-        ok = wait(d, "image", lambda: d.find_element(By.ID, "viewport").get_attribute("data-image"))
+        opts = "depth=16 samples=16"
+        d.get(srv.url + "#a=" + urllib.parse.quote(opts))
+        wait(d, "rendering", lambda: "rendering" in d.find_element(By.ID, "status-text").text, 20)
+        t0 = time.time()
+        click_pixel(d, 200, 200)
+        ok = wait(d, "tree", lambda: selected_pixel(d) == "200,200", 10)
+        dt = time.time() - t0
+        rendering = not attr(d, "viewport", "data-image")
+        nodes = len(d.find_elements(By.CSS_SELECTOR, "#tree-a details.node"))
+        check(ok and dt < 1.0 and rendering and nodes > 1,
+              "gears.nff, depth 16, 16 samples: pixel 200,200's tree (%d rays) %.2f s after the click, "
+              "the image still rendering" % (nodes, dt), d.find_element(By.ID, "status-text").text)
+        # Take every job slot (the image above holds one), then ask for
+        # another image: 503 with Retry-After, which the page waits out.
+        codes = [srv.get("/api/render", opts="depth=16 samples=16 cutoff=0.%d" % (i + 1))[0] for i in range(7)]
+        d.execute_script("location.hash = arguments[0]", "a=" + urllib.parse.quote("depth=15 samples=16"))
+        ok = wait(d, "waiting", lambda: attr(d, "status", "data-waiting") == "1" and
+                  "waiting" in d.find_element(By.ID, "status-text").text, 10)
+        check(ok and not page_error(d), "every job slot busy (%s): the page says it is waiting (%s), no error"
+              % (" ".join(map(str, codes)), d.find_element(By.ID, "status-text").text), page_error(d))
+        errs = console_errors(d)
+        # A 503 is logged by Chromium as a failed resource: that is the
+        # server's answer, not a page error.
+        errs = [e for e in errs if "503" not in e]
+        check(not errs, "no console errors while waiting", "\n".join(errs))
+    finally:
+        d.get("about:blank")
+        rc, err = srv.stop()
+        check(rc == 0, "ggrt serve stopped cleanly with jobs running", err)
+
+
+# ---- glass.nff: the tree, the views linked, the exports ----
+
+def count_gl(d):
+    """Pixels of the WebGL canvas that are not its background."""
+    return d.execute_script(
+        "const s = document.getElementById('gl3d'), c = document.createElement('canvas');"
+        "c.width = s.width; c.height = s.height; const g = c.getContext('2d'); g.drawImage(s, 0, 0);"
+        "const a = g.getImageData(0, 0, c.width, c.height).data; let n = 0;"
+        "for (let i = 0; i < a.length; i += 4) if (Math.abs(a[i] - 247) + Math.abs(a[i + 1] - 247) +"
+        " Math.abs(a[i + 2] - 244) > 12) n++; return n;")
+
+
+def count_ov3d(d):
+    return d.execute_script("const c = document.getElementById('ov3d'), g = c.getContext('2d');"
+                            "const a = g.getImageData(0, 0, c.width, c.height).data; let n = 0;"
+                            "for (let i = 3; i < a.length; i += 4) if (a[i]) n++; return n;")
+
+
+def node_object(d, node_id):
+    return d.execute_script(
+        "const f = (n) => n.id === arguments[0] ? n : n.children.map(f).find((x) => x) || null;"
+        "for (const r of window.ggrt.traces.a.json.roots) { const n = f(r); if (n) return n.hit ? n.hit.object : -1; }"
+        "return -2;", node_id)
+
+
+def cli_matched(where, *opts):
+    out = subprocess.run([GGRT, "find", SCENE, "--where", where, "--format", "json", "--limit", "0"] + list(opts),
+                         cwd=ROOT, stdout=subprocess.PIPE, text=True, check=True).stdout
+    return json.loads(out)["matched"]
+
+
+def linked(d):
+    """Hover a node: its segment in 3D, its object in the image; click a
+    segment: its node; j / k; arrows after a dropdown; the readout."""
+    node = d.find_element(By.CSS_SELECTOR, "#tree-a details.node.kind-refract > summary")
+    nid = int(node.find_element(By.XPATH, "..").get_attribute("data-id"))
+    ActionChains(d).move_to_element(node).perform()
+    obj = node_object(d, nid)
+    ok = wait(d, "mask", lambda: attr(d, "objmask", "data-object") == str(obj) and
+              int(attr(d, "objmask", "data-pixels") or 0) > 0, 30)
+    hl = d.execute_script("return [window.ggrtView3d.hl, window.ggrtView3d.hlObject];")
+    how = attr(d, "objmask", "data-how")
+    got = int(attr(d, "objmask", "data-pixels") or 0)
+    want = (cli_matched("some(kind == eye && object == %d)" % obj, "-d", "1", "-n", "1") if how == "seen first"
+            else cli_matched("some(kind != shadow && object == %d)" % obj, "-n", "1"))
+    check(ok and hl == [nid, obj] and got == want,
+          "hovering refract #%d: its segment is drawn thick, object #%d outlined in the image "
+          "(%d pixels, %s; ggrt find: %d)" % (nid, obj, got, how, want), "%s %s" % (hl, how))
+    check("object #%d outlined" % obj in d.find_element(By.ID, "hover").text,
+          "the readout names the node and its object", d.find_element(By.ID, "hover").text)
+    # A click on a segment of the 3D view selects its node in the tree.
+    ActionChains(d).move_to_element(d.find_element(By.ID, "pixel-title")).perform()
+    seg = d.execute_script(
+        "const v = window.ggrtView3d, c = document.getElementById('ov3d');"
+        "for (const s of v.segs) { if (s.kind === 'shadow' || s.id === 0) continue;"
+        " const x = (s.s[0][0] + s.s[1][0]) / 2, y = (s.s[0][1] + s.s[1][1]) / 2;"
+        " if (x < 5 || y < 5 || x > c.clientWidth - 5 || y > c.clientHeight - 5) continue;"
+        " const near = [[0, 0], [3, 3], [-3, 3], [3, -3], [-3, -3]].map(([a, b]) => v.pick(x + a, y + b));"
+        " if (near.every((p) => p && p.id === s.id && p.side === 'a')) return [s.id, x, y, c.clientWidth, c.clientHeight]; }"
+        "return null;")
+    if check(seg is not None, "the 3D view has a segment to click", seg):
+        sid, x, y, w, h = seg
+        ActionChains(d).move_to_element_with_offset(d.find_element(By.ID, "ov3d"), int(x - w / 2),
+                                                    int(y - h / 2)).click().perform()
+        ok = wait(d, "select", lambda: d.execute_script("return document.body.dataset.selectedNode") == "a:%d" % sid, 5)
+        el = d.find_element(By.CSS_SELECTOR, '#tree-a details.node[data-id="%d"]' % sid)
+        check(ok and "selected" in el.get_attribute("class") and el.is_displayed(),
+              "clicking ray #%d in the 3D view selects its node in the tree" % sid)
+        # j: the next node of the tree.
+        ids = [int(e.get_attribute("data-id")) for e in d.find_elements(By.CSS_SELECTOR, "#tree-a details.node")]
+        nxt = ids[min(len(ids) - 1, ids.index(sid) + 1)]
+        ActionChains(d).send_keys("j").perform()
+        ok = wait(d, "j", lambda: d.execute_script("return document.body.dataset.selectedNode") == "a:%d" % nxt, 5)
+        check(ok and d.execute_script("return window.ggrtView3d.hl") == nxt and
+              d.find_element(By.ID, "hover").text.find("#%d " % nxt) >= 0,
+              "j selects the next node (#%d): its segment, and the readout follows" % nxt,
+              d.find_element(By.ID, "hover").text)
+    # The overlay dropdown does not keep the arrows: they move the pixel.
+    Select(d.find_element(By.ID, "overlay-select")).select_by_value("none")
+    ActionChains(d).send_keys(Keys.ARROW_RIGHT).perform()
+    ok = wait(d, "arrow", lambda: selected_pixel(d) == "%d,%d" % (PIXEL[0] + 1, PIXEL[1]), 5)
+    hov = d.find_element(By.ID, "hover").text
+    check(ok and hov.startswith("pixel %d,%d " % (PIXEL[0] + 1, PIXEL[1])),
+          "after choosing an overlay, the right arrow moves the pixel and the readout follows", hov)
+    ActionChains(d).send_keys(Keys.ARROW_LEFT).perform()
+    wait(d, "arrow", lambda: selected_pixel(d) == "%d,%d" % PIXEL, 5)
+
+
+def downloads(d, srv, folder):
+    """The export buttons: what each file holds."""
+    d.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": folder})
+    tag = "%d-%d" % PIXEL
+    files = {"json": "ggrt-trace-%s.json" % tag, "svg": "ggrt-rays-%s.svg" % tag, "obj": "ggrt-rays-%s.obj" % tag,
+             "image": "ggrt-image.png", "overlay": "ggrt-find.png"}
+    for k in files:
+        d.find_element(By.CSS_SELECTOR, "#export [data-export=%s]" % k).click()
+        time.sleep(0.2)
+    got = {}
+    for k, f in files.items():
+        p = os.path.join(folder, f)
+        wait(d, f, lambda p=p: os.path.exists(p) and os.path.getsize(p) > 0, 10)
+        got[k] = open(p, "rb").read() if os.path.exists(p) else b""
+    code, want = srv.get("/api/trace", x=PIXEL[0], y=PIXEL[1])
+    check(got["json"] == want, "tree JSON: the bytes of /api/trace (%d)" % len(want))
+    check(got["svg"].lstrip().startswith((b"<svg", b"<?xml")) and b"</svg>" in got["svg"], "rays SVG: an SVG")
+    tree = json.loads(want)
+    def rays(n):
+        k = 1 + sum(1 for L in (n["hit"] or {}).get("lights", []) if L["verdict"] != "facing-away")
+        return k + sum(rays(c) for c in n["children"])
+    nrays = sum(rays(r) for r in tree["roots"])
+    lines = [ln for ln in got["obj"].decode().splitlines() if ln.startswith("l ")]
+    check(len(lines) == nrays and got["obj"].count(b"\nv ") == 2 * nrays,
+          "rays OBJ: %d line segments, one a ray and shadow ray" % len(lines), "want %d" % nrays)
+    check(got["image"][:8] == b"\x89PNG\r\n\x1a\n" and got["image"] == srv.get("/api/image", format="png")[1],
+          "image PNG: /api/image's")
+    check(got["overlay"][:8] == b"\x89PNG\r\n\x1a\n", "mask PNG: the find mask on screen")
+    # The command line for what is on screen prints the same tree.
+    cmd = shlex.split(d.find_element(By.ID, "cmd-trace").get_attribute("value"))
+    out = subprocess.run([GGRT] + cmd[1:] + ["--format", "json"], cwd=ROOT, stdout=subprocess.PIPE).stdout
+    check(cmd[:2] == ["ggrt", "trace"] and out == want, "the copied command (%s) prints the same JSON"
+          % " ".join(cmd), out[:200])
+    cmd = shlex.split(d.find_element(By.ID, "cmd-find").get_attribute("value"))
+    out = subprocess.run([GGRT] + cmd[1:], cwd=ROOT, stdout=subprocess.PIPE, text=True).stdout
+    m = re.search(r"(\d+) of \d+ pixels match", out)
+    page = re.match(r"(\d+) pixels? match", d.find_element(By.ID, "find-result").text)
+    check(m and page and m.group(1) == page.group(1), "the find command (%s) matches as many pixels as the page (%s)"
+          % (" ".join(cmd), page.group(1) if page else "?"), out[:200])
+
+
+def glass(d, want):
+    srv = Server(SCENE)
+    folder = tempfile.mkdtemp(prefix="ggrt-dl-")
+    try:
+        check(srv.url.startswith("http://127.0.0.1:"), "ggrt serve printed its URL", srv.url)
+        t0 = time.time()
+        console_errors(d)
+        d.set_window_size(1500, 980)
+        d.get(srv.url)
+        ok = wait(d, "image", lambda: attr(d, "viewport", "data-image"))
         check(ok, "the image is shown (%.1f s after loading)" % (time.time() - t0),
               d.find_element(By.ID, "status-text").text)
         # Click 110,100: the tree shows the refraction into the glass and TIR inside it.
         click_pixel(d, *PIXEL)
-        ok = wait(d, "tree", lambda: d.find_element(By.ID, "pixel-head").get_attribute("data-pixel") == "%d,%d" % PIXEL)
+        ok = wait(d, "tree", lambda: selected_pixel(d) == "%d,%d" % PIXEL)
         check(ok, "clicking pixel %d,%d selects it" % PIXEL, d.find_element(By.ID, "pixel-title").text)
         tir = d.find_elements(By.CSS_SELECTOR, "#tree-a .node.kind-tir")
         refr = d.find_elements(By.CSS_SELECTOR, "#tree-a .node.kind-refract")
@@ -128,7 +442,7 @@ def main():
               (len(tir), len(refr)))
         check(tir and tir[0].find_element(By.CSS_SELECTOR, "summary .kind").text == "tir" and
               tir[0].is_displayed(), "the TIR node is visible and labelled tir")
-        got = d.find_element(By.ID, "pixel-value").get_attribute("data-rgb")
+        got = attr(d, "pixel-value", "data-rgb")
         check(got == want, "the pixel value equals ggrt render --pixel's: %s" % got, "page %r, CLI %r" % (got, want))
         head = d.find_element(By.CSS_SELECTOR, "#tree-a h3").get_attribute("textContent")
         check(head.endswith("colour " + want), "the traced colour in the tree equals it too", head)
@@ -147,14 +461,21 @@ def main():
         check(hov.startswith("pixel %d,%d  %s" % (PIXEL + (want,))), "hover shows the coordinates and value", hov)
         # Keyboard: the right arrow moves to the next pixel; the URL keeps it.
         d.find_element(By.ID, "image").send_keys(Keys.ARROW_RIGHT)
-        ok = wait(d, "arrow", lambda: d.find_element(By.ID, "pixel-head").get_attribute("data-pixel") == "111,100")
-        check(ok and "px=111%2C100" in d.current_url or "px=111,100" in d.current_url,
+        ok = wait(d, "arrow", lambda: selected_pixel(d) == "111,100")
+        check(ok and ("px=111%2C100" in d.current_url or "px=111,100" in d.current_url),
               "the right arrow selects 111,100 and the URL says so", d.current_url)
         d.find_element(By.ID, "image").send_keys(Keys.ARROW_LEFT)
-        wait(d, "arrow", lambda: d.find_element(By.ID, "pixel-head").get_attribute("data-pixel") == "%d,%d" % PIXEL)
+        wait(d, "arrow", lambda: selected_pixel(d) == "%d,%d" % PIXEL)
+        # The 3D view: WebGL shades the scene, the rays are drawn over it.
+        wait(d, "3D", lambda: attr(d, "box3d", "data-triangles"), 10)
+        shaded, drawn = count_gl(d), count_ov3d(d)
+        check(shaded > 5000 and drawn > 300, "the 3D view shades the scene (%d pixels, %s triangles) and draws "
+              "the rays, lights and camera over it (%d pixels)" % (shaded, attr(d, "box3d", "data-triangles"), drawn),
+              d.find_element(By.ID, "note3d").text)
+        linked(d)
         # A heatmap overlay.
         Select(d.find_element(By.ID, "overlay-select")).select_by_value("rays")
-        ok = wait(d, "heatmap", lambda: d.find_element(By.ID, "overlay").get_attribute("data-kind") == "rays")
+        ok = wait(d, "heatmap", lambda: attr(d, "overlay", "data-kind") == "rays")
         px = overlay_alpha(d, *PIXEL)
         check(ok and px[3] == 255 and "rays per pixel" in d.find_element(By.ID, "legend-text").text,
               "the rays heatmap overlays the image, with its legend", px)
@@ -169,22 +490,27 @@ def main():
               "a predicate with a syntax error is refused, saying where (%s)" % res, res)
         box.clear()
         box.send_keys("some(kind == tir)", Keys.ENTER)
-        ok = wait(d, "find", lambda: d.find_element(By.ID, "overlay").get_attribute("data-kind") == "find")
+        ok = wait(d, "find", lambda: attr(d, "overlay", "data-kind") == "find")
         res = d.find_element(By.ID, "find-result").text
         m = re.match(r"(\d+) pixels? match", res)
         check(ok and m and int(m.group(1)) > 0 and "bad" not in box.get_attribute("class"),
               "find some(kind == tir): matches appear (%s)" % res, res)
         check(overlay_alpha(d, *PIXEL)[3] == 255, "pixel %d,%d is in the find mask" % PIXEL)
         check(overlay_alpha(d, 5, 5)[3] == 0, "a pixel of the sky is not")
-        # The 3D view of the rays draws something.
+        downloads(d, srv, folder)
+        # The 3D tab: the view moves in, larger.
         d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=rays3d]").click()
-        drawn = d.execute_script("const c = document.getElementById('view3d'), g = c.getContext('2d');"
-                                 "const a = g.getImageData(0, 0, c.width, c.height).data; let n = 0;"
-                                 "for (let i = 3; i < a.length; i += 4) if (a[i]) n++; return n;")
-        check(drawn > 1000, "the 3D view draws the scene and the rays (%d pixels)" % drawn)
+        ok = wait(d, "rays3d", lambda: d.execute_script(TAB_READY["rays3d"]), 5)
+        h = d.find_element(By.ID, "stack3d").size["height"]
+        check(ok and count_gl(d) > 5000, "the rays 3D tab shows the view larger (%d px high)" % h)
+        # Drag to turn the 3D camera: the address keeps it.
+        ov = d.find_element(By.ID, "ov3d")
+        ActionChains(d).move_to_element_with_offset(ov, 0, 60).click_and_hold().move_by_offset(60, 0) \
+            .move_by_offset(40, 10).release().perform()
+        cam = urllib.parse.parse_qs(urllib.parse.urlparse(d.current_url).fragment).get("cam", [""])[0]
+        check(cam.count(",") == 5, "turning the 3D view puts its camera in the address (cam=%s)" % cam)
         d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=views]").click()
-        ok = wait(d, "svg", lambda: d.execute_script("const i = document.getElementById('svg-view');"
-                                                     "return i.complete && i.naturalWidth > 0;"))
+        ok = wait(d, "svg", lambda: d.execute_script(TAB_READY["views"]))
         check(ok, "the top and side views load")
         # The ledger: the pixel's colour term by term, adding up to it.
         d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=ledger]").click()
@@ -195,19 +521,22 @@ def main():
               ok[0].text if ok else "no ledger")
         # The diagnostics: every invariant of ggrt check at this pixel.
         d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=diag]").click()
-        ok = wait(d, "diag", lambda: len(d.find_elements(By.CSS_SELECTOR, "#diag tr")) == 8)
+        ok = wait(d, "diag", lambda: d.execute_script(TAB_READY["diag"]))
         check(ok and "invariant" in d.find_element(By.ID, "diag").text,
               "the diagnostics list the 7 invariants at the pixel", d.find_element(By.ID, "diag").text[:200])
         d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=tree]").click()
-        # The URL restores the view after a reload.
+        # The URL restores the view after a reload, the 3D camera too.
         d.get(d.current_url)
-        ok = wait(d, "reload", lambda: d.find_element(By.ID, "pixel-head").get_attribute("data-pixel") == "%d,%d" % PIXEL
-                  and d.find_element(By.ID, "overlay").get_attribute("data-kind") in ("rays", "find"))
-        check(ok, "reloading the URL restores the pixel and the overlay", d.current_url)
+        ok = wait(d, "reload", lambda: selected_pixel(d) == "%d,%d" % PIXEL
+                  and attr(d, "overlay", "data-kind") in ("rays", "find"))
+        back = d.execute_script("const v = window.ggrtView3d; return [v.yaw, v.pitch, v.dist]"
+                                ".concat(v.target).map((x) => Number(x.toPrecision(6))).join(',');")
+        check(ok and back == cam, "reloading the URL restores the pixel, the overlay and the 3D camera (%s)" % back,
+              d.current_url)
         if SHOT:
             os.makedirs(os.path.dirname(os.path.abspath(SHOT)), exist_ok=True)
             Select(d.find_element(By.ID, "overlay-select")).select_by_value("none")
-            wait(d, "none", lambda: d.find_element(By.ID, "overlay").get_attribute("data-kind") == "none")
+            wait(d, "none", lambda: attr(d, "overlay", "data-kind") == "none")
             d.execute_script("window.scrollTo(0, 0); document.activeElement.blur();")
             d.save_screenshot(SHOT)
             print("screenshot: " + SHOT)
@@ -215,8 +544,8 @@ def main():
         d.find_element(By.CSS_SELECTOR, "#diff-panel summary").click()
         Select(d.find_element(By.ID, "opt-b-depth")).select_by_value("2")
         d.find_element(By.ID, "render-b").click()
-        ok = wait(d, "diff", lambda: d.find_element(By.ID, "overlay").get_attribute("data-kind") == "diff"
-                  and d.find_element(By.ID, "pixel-head").get_attribute("data-pixel") == "%d,%d" % PIXEL)
+        ok = wait(d, "diff", lambda: attr(d, "overlay", "data-kind") == "diff"
+                  and selected_pixel(d) == "%d,%d" % PIXEL)
         res = d.find_element(By.ID, "diff-result").text
         trees = d.find_elements(By.CSS_SELECTOR, "#tree-b .node")
         check(ok and re.match(r"\d+ of 120000 pixels differ in value, \d+ in their ray trees", res) and trees,
@@ -226,20 +555,100 @@ def main():
         marked = d.find_elements(By.CSS_SELECTOR, "#tree-a .node.diverge, #tree-b .node.diverge")
         check(ok and div.startswith("first divergence: ray #") and marked,
               "diff mode: the first divergent ray is named and marked (%s)" % div, div)
-        errors = [e for e in d.get_log("browser") if e["level"] in ("SEVERE", "ERROR")]
-        check(not errors, "no console errors", "\n".join(e["message"] for e in errors))
-    except Exception:  # noqa: BLE001 -- a step that cannot go on fails the test, which still cleans up
-        check(False, "the browser steps ran to the end", traceback.format_exc())
+        errors = console_errors(d)
+        check(not errors, "no console errors", "\n".join(errors))
+    finally:
+        d.get("about:blank")
+        rc, err = srv.stop()
+        check(rc == 0, "ggrt serve stopped cleanly", err)
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+# ---- the layout at 1280 and 1920 px ----
+
+INSIDE = ("const W = document.documentElement.clientWidth, out = [];"
+          "for (const id of ['right', 'tree-a', 'tree-b']) { const e = document.getElementById(id);"
+          " if (!e || e.hidden || e.offsetParent === null) continue; const r = e.getBoundingClientRect();"
+          " if (r.left < -0.5 || r.right > W + 0.5 || r.width < 200) out.push(id + ' ' + Math.round(r.left) + '..' +"
+          " Math.round(r.right) + ' of ' + W); }"
+          "if (document.documentElement.scrollWidth > W + 1) out.push('the page scrolls sideways: ' +"
+          " document.documentElement.scrollWidth + ' > ' + W); return out;")
+
+
+def layout(d):
+    srv = Server(SCENE)
+    try:
+        for width in (1280, 1920):
+            d.set_window_size(width, 1000)
+            d.get(srv.url + "#px=%d,%d" % PIXEL)
+            wait(d, "image", lambda: attr(d, "viewport", "data-image") and selected_pixel(d))
+            for mode, h in (("normal", "px=110,100"), ("diff", "px=110,100&diff=1&b=depth%3D2"),
+                            ("zoom4", "px=110,100&zoom=4"), ("diff-zoom4", "px=110,100&zoom=4&diff=1&b=depth%3D2")):
+                d.execute_script("location.hash = arguments[0]", h)
+                diff = "diff" in mode
+                ok = wait(d, mode, lambda: selected_pixel(d) == "110,100" and
+                          (not diff or d.find_elements(By.CSS_SELECTOR, "#tree-b details.node")) and
+                          d.find_element(By.ID, "image").size["width"] >= (1600 if "zoom4" in mode else 0), 30)
+                time.sleep(0.2)
+                bad = d.execute_script(INSIDE)
+                shot = os.path.join(OUT, "layout-%d-%s.png" % (width, mode))
+                d.save_screenshot(shot)
+                check(ok and not bad, "%d px, %s: the tree panel lies inside the window (%s)"
+                      % (width, mode, shot), "\n".join(bad) if bad else "the view did not come")
+        errors = console_errors(d)
+        check(not errors, "layout: no console errors", "\n".join(errors))
+    finally:
+        d.get("about:blank")
+        d.set_window_size(1500, 980)
+        srv.stop()
+
+
+# ---- the screenshots of docs/serve.md ----
+
+def docs_shots(d, folder):
+    os.makedirs(folder, exist_ok=True)
+    for scene, px, kind, name in (("examples/scenes/glass.nff", (110, 100), "tir", "serve-3d-glass.png"),
+                                  ("examples/scenes/knot.nff", (160, 130), "eye", "serve-3d-knot.png")):
+        srv = Server(scene)
+        try:
+            d.set_window_size(1600, 940)
+            d.get(srv.url + "#px=%d,%d" % px)
+            wait(d, "ready", lambda: attr(d, "viewport", "data-image") and selected_pixel(d) and
+                 attr(d, "box3d", "data-triangles"))
+            node = d.find_element(By.CSS_SELECTOR, "#tree-a details.node.kind-%s > summary" % kind)
+            ActionChains(d).move_to_element(node).perform()
+            wait(d, "mask", lambda: int(attr(d, "objmask", "data-pixels") or 0) > 0, 30)
+            time.sleep(0.3)
+            d.save_screenshot(os.path.join(folder, name))
+            print("docs screenshot: " + os.path.join(folder, name))
+        finally:
+            d.get("about:blank")
+            srv.stop()
+
+
+def main():
+    t0 = time.time()
+    want = cli_pixel()
+    profile = tempfile.mkdtemp(prefix="ggrt-browser-")
+    d = None
+    try:
+        d = browser(profile)
+        steps = [("glass", lambda: glass(d, want)), ("layout", lambda: layout(d)),
+                 ("first", lambda: tracing_first(d)), ("scenes", lambda: every_scene(d))]
+        if DOCS:
+            steps.append(("docs", lambda: docs_shots(d, DOCS)))
+        for name, step in steps:
+            if ONLY and name not in ONLY:
+                continue
+            t1 = time.time()
+            try:
+                step()
+            except Exception:  # noqa: BLE001 -- a step that cannot go on fails, the others still run
+                check(False, "the %s steps ran to the end" % name, traceback.format_exc())
+            print("(%s: %.1f s)" % (name, time.time() - t1))
     finally:
         if d:
             d.quit()
-        srv.send_signal(signal.SIGINT)
-        try:
-            rc = srv.wait(30)
-        except subprocess.TimeoutExpired:
-            srv.kill()
-            rc = "hung"
-        check(rc == 0, "ggrt serve stopped cleanly", srv.stderr.read()[-500:])
         shutil.rmtree(profile, ignore_errors=True)
     print("browser: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))
     return 0 if failed == 0 else 1

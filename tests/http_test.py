@@ -174,6 +174,9 @@ def check_pages(s):
           h.get("x-content-type-options") == "nosniff" and h.get("cache-control") == "no-store" and
           h.get("referrer-policy") == "no-referrer", "security headers (CSP, nosniff, no-store, no-referrer)")
     for path, typ, needle in (("/app.js", "text/javascript", b"'use strict'"),
+                              ("/view3d.js", "text/javascript", b"'use strict'"),
+                              ("/links.js", "text/javascript", b"'use strict'"),
+                              ("/export.js", "text/javascript", b"'use strict'"),
                               ("/app.css", "text/css", b"box-sizing")):
         st, h, b = s.get(path)
         check(st == 200 and h["content-type"].startswith(typ) and needle in b, path)
@@ -221,6 +224,9 @@ def check_info(s):
     st, j = s.json("/api/scene")
     check(st == 200 and len(j["shapes"]) == 3 and j["shapes"][1]["kind"] == "sphere" and
           len(j["materials"]) == 3, "/api/scene: shapes and materials", j)
+    check(st == 200 and [L["position"] for L in j["lights"]] == [[3, -3, 6], [-4, -2, 5]] and
+          j["meshes"] == [] and j["triangles"] == 0 and j["simplified"] is False,
+          "/api/scene: the lights (glass.nff lines 16, 17), no mesh triangles", j)
 
 
 def check_render(s):

@@ -169,6 +169,59 @@ static void test_hit_names_triangle(void **state)
     ggSceneFree(s);
 }
 
+/* ggSceneObjectTriangle hands out every triangle of every part once, with
+   the corners the renderer hits: a ray at each triangle's centroid hits
+   that very triangle. */
+static void test_object_triangles(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshData d = oct_data();
+    ggMaterial m = ggMaterialDefault();
+    int mats[8], i, obj, seen[8] = {0};
+    long k, t, total = 0;
+    ggVec3 v[3];
+    ggError e;
+    (void)state;
+    mats[0] = ggSceneAddMaterial(s, &m);
+    m.color.g = 0.5;
+    mats[1] = ggSceneAddMaterial(s, &m);
+    for (i = 7; i >= 0; i--) mats[i] = mats[i % 3 == 1];
+    d.materials = mats;
+    ggSceneAddSphere(s, mats[0], (ggVec3){0, 0, 10}, 1);
+    assert_int_equal(ggSceneAddMesh(s, &d, NULL, &e), 0);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_int_equal(ggSceneObjectTriangleCount(s, 0), 0); /* the sphere */
+    assert_int_equal(ggSceneObjectTriangle(s, 0, 0, v, &t), GG_ERROR_INVALID);
+    for (obj = 1; obj < ggSceneObjectCount(s); obj++) {
+        long n = ggSceneObjectTriangleCount(s, obj);
+        assert_true(n > 0);
+        total += n;
+        assert_int_equal(ggSceneObjectTriangle(s, obj, n, v, &t), GG_ERROR_INVALID);
+        assert_int_equal(ggSceneObjectTriangle(s, obj, -1, v, &t), GG_ERROR_INVALID);
+        for (k = 0; k < n; k++) {
+            ggVec3 c, nrm, a, b;
+            ggHit h;
+            ggRay r;
+            assert_int_equal(ggSceneObjectTriangle(s, obj, k, v, &t), GG_OK);
+            assert_true(t >= 0 && t < 8);
+            seen[t]++;
+            c = (ggVec3){(v[0].x + v[1].x + v[2].x) / 3, (v[0].y + v[1].y + v[2].y) / 3,
+                         (v[0].z + v[1].z + v[2].z) / 3};
+            a = (ggVec3){v[1].x - v[0].x, v[1].y - v[0].y, v[1].z - v[0].z};
+            b = (ggVec3){v[2].x - v[0].x, v[2].y - v[0].y, v[2].z - v[0].z};
+            nrm = (ggVec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+            r.o = (ggVec3){c.x + 3 * nrm.x, c.y + 3 * nrm.y, c.z + 3 * nrm.z};
+            r.d = (ggVec3){-nrm.x, -nrm.y, -nrm.z};
+            assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h));
+            assert_int_equal(h.object, obj);
+            assert_int_equal(h.triangle, t);
+        }
+    }
+    assert_int_equal(total, 8);
+    for (i = 0; i < 8; i++) assert_int_equal(seen[i], 1);
+    ggSceneFree(s);
+}
+
 /* One object per material, in order of first use; faces keep their
    material and their index through the regrouping. */
 static void test_objects_by_material(void **state)
@@ -401,6 +454,7 @@ int main(void)
         cmocka_unit_test(test_transform),
         cmocka_unit_test(test_failures),
         cmocka_unit_test(test_frame),
+        cmocka_unit_test(test_object_triangles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -279,6 +279,9 @@ static void test_scene_query(void **state)
     COVER(ggSceneGetFaceInfo),
         assert_int_equal(ggSceneGetFaceInfo(NULL, 0, 0, &fi), GG_ERROR_INVALID);
     assert_int_equal(ggSceneGetFaceInfo(s, 0, 0, NULL), GG_ERROR_INVALID);
+    COVER(ggSceneObjectTriangleCount), assert_int_equal(ggSceneObjectTriangleCount(NULL, 0), 0);
+    COVER(ggSceneObjectTriangle),
+        assert_int_equal(ggSceneObjectTriangle(NULL, 0, 0, NULL, NULL), GG_ERROR_INVALID);
     COVER(ggSceneFileName), assert_string_equal(ggSceneFileName(NULL), "");
     COVER(ggScenePrepare), assert_int_equal(ggScenePrepare(NULL, NULL), GG_ERROR_INVALID);
     COVER(ggSceneGetInfo), assert_int_equal(ggSceneGetInfo(NULL, &si), GG_ERROR_INVALID);

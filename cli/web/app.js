@@ -110,17 +110,18 @@
   async function api(path, params, as) {
     const q = new URLSearchParams(params || {}).toString();
     let r;
+    // 503 (every job slot busy): wait as Retry-After says, saying so.
     for (let tries = 0; ; tries++) {
       r = await fetch(path + (q ? '?' + q : ''), {
         headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
       });
-      if (r.status !== 503 || tries >= 300) break;
-      const wait = Math.max(1, Math.min(30, parseInt(r.headers.get('Retry-After'), 10) || 2));
-      let why = '';
-      try { why = (await r.json()).error || ''; } catch (e) { /* not JSON */ }
-      status('waiting ' + wait + ' s for the server: ' + why, 0);
+      if (r.status !== 503 || tries >= 100) break;
+      const wait = Math.min(30, Math.max(1, parseInt(r.headers.get('Retry-After'), 10) || 1));
+      status('waiting: the server is busy, asking again in ' + wait + ' s');
+      $('status').dataset.waiting = '1';
       await sleep(1000 * wait);
     }
+    delete $('status').dataset.waiting;
     if (!r.ok) {
       let msg = r.status + ' ' + r.statusText;
       try { msg = (await r.json()).error || msg; } catch (e) { /* not JSON */ }
@@ -241,6 +242,8 @@
     if (state.diff) p.set('diff', '1');
     if (state.a) p.set('a', state.a);
     if (state.b) p.set('b', state.b);
+    const cam = new URLSearchParams(location.hash.slice(1)).get('cam');
+    if (cam) p.set('cam', cam);
     const h = p.toString();
     history.replaceState(null, '', location.pathname + location.search + (h ? '#' + h : ''));
   }
@@ -299,8 +302,11 @@
   function sizeCanvases() {
     let z = state.zoom;
     if (!z) {
+      // Fit the width left of the tree and half the height (the 3D view
+      // goes under the image).
       const room = Math.max(200, Math.min(820, window.innerWidth * 0.55));
-      z = Math.max(1, Math.floor(room / W));
+      const roomH = Math.max(150, (window.innerHeight - 120) / 2);
+      z = Math.max(1, Math.floor(Math.min(room / W, roomH / H)));
     }
     for (const id of ['image', 'overlay']) {
       const c = $(id);
@@ -323,6 +329,7 @@
     $('image').getContext('2d').drawImage(img.bmp, 0, 0);
     $('viewport').dataset.image = img.q || 'default';
     drawMarker();
+    document.dispatchEvent(new Event('ggrt:image'));
   }
 
   function drawMarker() {
@@ -503,8 +510,10 @@
     return x >= 0 && y >= 0 && x < W && y < H ? [x, y] : null;
   }
 
-  function hover(ev) {
-    const p = pixelAt(ev), img = images.a;
+  function hover(ev) { hoverAt(pixelAt(ev)); }
+
+  function hoverAt(p) {
+    const img = images.a;
     if (!p || !img) return;
     const i = 3 * (p[1] * W + p[0]);
     let t = 'pixel ' + p[0] + ',' + p[1] + '  ' + [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]].map((v) => fmtG(v, 9)).join(' ');
@@ -567,16 +576,7 @@
     const a = traces.a.json;
     $('pixel-title').textContent = 'pixel ' + a.pixel.join(',');
     $('pixel-swatch').style.background = srgb(a.color);
-    // The value is the rendered image's (what ggrt render writes and
-    // --pixel prints); the tree's header shows the trace's own colour.
-    const v = $('pixel-value'), img = images.a, i = 3 * (a.pixel[1] * W + a.pixel[0]);
-    const rgb = img ? [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]] : a.color;
-    v.textContent = rgb.map((c) => fmtG(c, 9)).join(' ');
-    v.dataset.rgb = v.textContent;
-    const s = a.stats;
-    v.title = 'linear RGB, as ggrt render --pixel prints it';
-    v.textContent += '   rays: eye ' + s.eye + ', reflect ' + s.reflect + ' (tir ' + s.tir + ' of them), refract ' +
-      s.refract + ', shadow ' + s.shadow;
+    showValue();
     fillTree($('tree-a'), traces.a, state.diff ? 'A' : '');
     $('tree-b').hidden = !traces.b;
     if (traces.b) fillTree($('tree-b'), traces.b, 'B');
@@ -590,6 +590,22 @@
       }
     }
     $('pixel-head').dataset.pixel = a.pixel.join(',');
+    document.dispatchEvent(new Event('ggrt:pixel'));
+  }
+
+  // The value is the rendered image's (what ggrt render writes and
+  // --pixel prints) once it is in; until then the trace's own colour.
+  function showValue() {
+    const a = traces.a.json;
+    const v = $('pixel-value'), img = images.a && images.a.q === keyOf(optParams('a')) ? images.a : null;
+    const i = 3 * (a.pixel[1] * W + a.pixel[0]);
+    const rgb = img ? [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]] : a.color;
+    v.textContent = rgb.map((c) => fmtG(c, 9)).join(' ');
+    v.dataset.rgb = img ? v.textContent : '';
+    const s = a.stats;
+    v.title = 'linear RGB, as ggrt render --pixel prints it';
+    v.textContent += '   rays: eye ' + s.eye + ', reflect ' + s.reflect + ' (tir ' + s.tir + ' of them), refract ' +
+      s.refract + ', shadow ' + s.shadow;
   }
 
   function objName(i) {
@@ -702,7 +718,7 @@
     if (!state.px || !traces.a) return;
     const p = Object.assign({ x: state.px[0], y: state.px[1] }, optParams('a'));
     if (traces.a.json.sample !== null) p.sample = traces.a.json.sample;
-    if (state.tab === 'rays3d') draw3d();
+    if (state.tab === 'rays3d' && window.ggrtView3d) window.ggrtView3d.draw();
     if (state.tab === 'ledger') showLedger();
     if (state.tab === 'diag' && traces.diagKey !== traces.key) {
       const r = await api('/api/check', Object.assign({ x: state.px[0], y: state.px[1] }, optParams('a')));
@@ -785,189 +801,9 @@
       '. The whole image: /api/check (ggrt check).'));
   }
 
-  // ---- the rays in 3D: an orbit camera over a wireframe of the scene ----
-
-  const v3 = {
-    sub: (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
-    add: (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
-    mul: (a, s) => [a[0] * s, a[1] * s, a[2] * s],
-    dot: (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2],
-    cross: (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]],
-    norm: (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return [a[0] / l, a[1] / l, a[2] / l]; },
-  };
-  const orbit = { yaw: 0, pitch: 0, dist: 10, target: [0, 0, 0], up: [0, 0, 1], e1: [1, 0, 0], e2: [0, 1, 0], set: false };
-
-  function orbitBasis() {
-    const up = v3.norm(info.camera.up);
-    let e1 = Math.abs(up[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
-    e1 = v3.norm(v3.sub(e1, v3.mul(up, v3.dot(e1, up))));
-    orbit.up = up; orbit.e1 = e1; orbit.e2 = v3.cross(up, e1);
-  }
-
-  function orbitFrom(eye) {
-    const d = v3.sub(eye, orbit.target), r = Math.hypot(d[0], d[1], d[2]) || 1;
-    orbit.dist = r;
-    orbit.pitch = Math.asin(Math.max(-1, Math.min(1, v3.dot(d, orbit.up) / r)));
-    orbit.yaw = Math.atan2(v3.dot(d, orbit.e2), v3.dot(d, orbit.e1));
-  }
-
-  function orbitEye() {
-    const c = Math.cos(orbit.pitch);
-    const d = v3.add(v3.add(v3.mul(orbit.e1, c * Math.cos(orbit.yaw)), v3.mul(orbit.e2, c * Math.sin(orbit.yaw))),
-      v3.mul(orbit.up, Math.sin(orbit.pitch)));
-    return v3.add(orbit.target, v3.mul(d, orbit.dist));
-  }
-
-  function preset(which) {
-    orbitBasis();
-    const lo = info.bounds.lo, hi = info.bounds.hi;
-    const diag = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
-    if (which === 'camera') {
-      orbit.target = info.camera.at.slice();
-      orbitFrom(info.camera.from);
-    } else {
-      orbit.target = v3.mul(v3.add(lo, hi), 0.5);
-      const fwd = v3.sub(info.camera.at, info.camera.from);
-      orbitFrom(v3.add(orbit.target, v3.mul(v3.norm(fwd), -diag)));
-      if (which === 'top') orbit.pitch = Math.PI / 2 - 1e-3;
-      else { orbit.pitch = 0; orbit.yaw += Math.PI / 2; }
-      orbit.dist = diag * 1.2;
-    }
-    orbit.set = true;
-    draw3d();
-  }
-
-  function draw3d() {
-    const c = $('view3d'), g = c.getContext('2d');
-    if (!info) return;
-    if (!orbit.set) preset('camera');
-    const Wc = c.width, Hc = c.height, eye = orbitEye();
-    const f = v3.norm(v3.sub(orbit.target, eye));
-    let r = v3.cross(f, orbit.up);
-    if (Math.hypot(r[0], r[1], r[2]) < 1e-9) r = orbit.e1;
-    r = v3.norm(r);
-    const u = v3.cross(r, f), focal = (Hc / 2) / Math.tan((info.camera.fov || 40) * Math.PI / 360), near = 1e-3;
-    const cam = (p) => { const d = v3.sub(p, eye); return [v3.dot(d, r), v3.dot(d, u), v3.dot(d, f)]; };
-    const scr = (q) => [Wc / 2 + q[0] / q[2] * focal, Hc / 2 - q[1] / q[2] * focal];
-    // A segment clipped to the near plane, in screen coordinates.
-    function seg(a, b) {
-      let p = cam(a), q = cam(b);
-      if (p[2] < near && q[2] < near) return null;
-      if (p[2] < near) { const t = (near - p[2]) / (q[2] - p[2]); p = v3.add(p, v3.mul(v3.sub(q, p), t)); }
-      if (q[2] < near) { const t = (near - q[2]) / (p[2] - q[2]); q = v3.add(q, v3.mul(v3.sub(p, q), t)); }
-      return [scr(p), scr(q)];
-    }
-    function line(a, b) {
-      const s = seg(a, b);
-      if (!s) return;
-      g.moveTo(s[0][0], s[0][1]);
-      g.lineTo(s[1][0], s[1][1]);
-    }
-    function poly(pts, closed) {
-      for (let i = 0; i + 1 < pts.length; i++) line(pts[i], pts[i + 1]);
-      if (closed && pts.length > 2) line(pts[pts.length - 1], pts[0]);
-    }
-    function ring(center, a, b, rad, n) {
-      const pts = [];
-      for (let i = 0; i < n; i++) {
-        const t = 2 * Math.PI * i / n;
-        pts.push(v3.add(center, v3.add(v3.mul(a, rad * Math.cos(t)), v3.mul(b, rad * Math.sin(t)))));
-      }
-      poly(pts, true);
-    }
-    g.clearRect(0, 0, Wc, Hc);
-    g.lineWidth = 0.7;
-    g.strokeStyle = '#a9b0b0';
-    g.beginPath();
-    const shapes = scene ? scene.shapes.slice(0, 5000) : [];
-    for (const s of shapes) {
-      if (!s) continue;
-      if (s.kind === 'sphere') {
-        ring(s.center, [1, 0, 0], [0, 1, 0], s.radius, 40);
-        ring(s.center, [0, 1, 0], [0, 0, 1], s.radius, 40);
-        ring(s.center, [1, 0, 0], [0, 0, 1], s.radius, 40);
-      } else if (s.kind === 'rect') {
-        const a = s.corner, b = v3.add(a, s.e1), d = v3.add(a, s.e2), e = v3.add(b, s.e2);
-        poly([a, b, e, d], true);
-      } else if (s.kind === 'cone') {
-        const ax = v3.norm(v3.sub(s.apex, s.base));
-        let p = v3.norm(v3.cross(ax, Math.abs(ax[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0]));
-        const q = v3.cross(ax, p);
-        ring(s.base, p, q, s.radius, 24);
-        ring(s.apex, p, q, s.radius2, 24);
-        for (const k of [0, 1, 2, 3]) {
-          const dir = k < 2 ? v3.mul(p, k ? 1 : -1) : v3.mul(q, k === 3 ? 1 : -1);
-          line(v3.add(s.base, v3.mul(dir, s.radius)), v3.add(s.apex, v3.mul(dir, s.radius2)));
-        }
-      } else if (s.kind === 'implicit' || s.kind === 'mesh') {
-        const lo = s.lo, hi = s.hi, P = (i) => [i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]];
-        for (const [i, j] of [[0, 1], [2, 3], [4, 5], [6, 7], [0, 2], [1, 3], [4, 6], [5, 7], [0, 4], [1, 5], [2, 6], [3, 7]]) line(P(i), P(j));
-      } else if (s.verts) {
-        poly(s.verts, true);
-      }
-    }
-    g.stroke();
-    if (!traces.a) return;
-    const lo = info.bounds.lo, hi = info.bounds.hi;
-    const reach = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
-    const walk = (n, fn) => { fn(n); for (const k of n.children) walk(k, fn); };
-    const sets = traces.b ? [[traces.a.json, []], [traces.b.json, [5, 4]]] : [[traces.a.json, []]];
-    for (const [j, dash] of sets) {
-      for (const root of j.roots) {
-        walk(root, (n) => {
-          const end = n.hit ? n.hit.point : v3.add(n.origin, v3.mul(n.direction, reach));
-          g.beginPath();
-          g.setLineDash(dash);
-          g.strokeStyle = KIND_COLOR[n.kind];
-          g.globalAlpha = n.hit ? 1 : 0.5;
-          g.lineWidth = 1.8;
-          line(n.origin, end);
-          g.stroke();
-          g.globalAlpha = 1;
-          if (!n.hit) return;
-          const q = cam(end);
-          if (q[2] > near) {
-            const s = scr(q);
-            g.fillStyle = KIND_COLOR[n.kind];
-            g.beginPath();
-            g.arc(s[0], s[1], 2.8, 0, 2 * Math.PI);
-            g.fill();
-          }
-          for (const L of n.hit.lights) {
-            if (L.verdict === 'facing-away') continue;
-            const t = L.verdict === 'blocked' ? L.t_block : 1;
-            g.beginPath();
-            g.setLineDash([5, 3]);
-            g.strokeStyle = L.verdict === 'blocked' ? '#dc2626' : '#f59e0b';
-            g.lineWidth = 1.1;
-            line(L.origin, v3.add(L.origin, v3.mul(L.direction, t)));
-            g.stroke();
-          }
-        });
-      }
-    }
-    g.setLineDash([]);
-  }
-
-  function setup3d() {
-    const c = $('view3d');
-    let drag = null;
-    c.addEventListener('pointerdown', (e) => { drag = [e.clientX, e.clientY]; c.setPointerCapture(e.pointerId); });
-    c.addEventListener('pointerup', () => { drag = null; });
-    c.addEventListener('pointermove', (e) => {
-      if (!drag) return;
-      orbit.yaw -= (e.clientX - drag[0]) * 0.01;
-      orbit.pitch = Math.max(-1.55, Math.min(1.55, orbit.pitch + (e.clientY - drag[1]) * 0.01));
-      drag = [e.clientX, e.clientY];
-      draw3d();
-    });
-    c.addEventListener('wheel', (e) => {
-      e.preventDefault();
-      orbit.dist *= Math.exp(e.deltaY * 0.001);
-      draw3d();
-    }, { passive: false });
-    for (const b of $('tab-rays3d').querySelectorAll('[data-view]')) b.addEventListener('click', () => preset(b.dataset.view));
-  }
+  // The 3D view is view3d.js (WebGL); links.js links it, the tree and
+  // the image; export.js saves what is shown. They see the page through
+  // window.ggrt and the ggrt:ready / ggrt:pixel / ggrt:image events.
 
   // ---- putting it together ----
 
@@ -987,17 +823,18 @@
     $('find-input').value = state.find;
     fillPanel('a');
     fillPanel('b');
-    // Tracing first: the selected pixel's tree is asked for at once,
-    // beside the image (a trace is one pixel's work, never a job).
+    // The pixel's tree first: a trace is one pixel's work, the image may
+    // take minutes.
     const pg = ++pixelGen;
     const pixel = loadPixel(pg).catch((e) => { if (pg === pixelGen) fail(e); });
     try {
       const img = await loadImage('a', gen);
       if (!img || gen !== generation) return;
       drawImage();
-      drawMarker();
+      if (traces.a && pg === pixelGen) showValue();
       if (state.diff) await loadImage('b', gen);
       await loadOverlay(gen);
+      await pixel;
     } catch (e) {
       if (gen === generation) fail(e);
     }
@@ -1008,6 +845,7 @@
     state.px = [Math.max(0, Math.min(W - 1, x)), Math.max(0, Math.min(H - 1, y))];
     writeHash();
     drawMarker();
+    hoverAt(state.px);
     const gen = ++pixelGen;
     loadPixel(gen).catch((e) => { if (gen === pixelGen) fail(e); });
   }
@@ -1100,7 +938,6 @@
     $('help-close').addEventListener('click', () => $('help').close());
     window.addEventListener('hashchange', () => { readHash(); refresh(); });
     window.addEventListener('resize', () => { if (!state.zoom) drawImage(); });
-    setup3d();
   }
 
   async function start() {
@@ -1118,10 +955,16 @@
     buildPanel('a');
     buildPanel('b');
     readHash();
+    sizeCanvases(); // a click can pick a pixel before the image is in
     wire();
     for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === state.tab);
     for (const t of TABS) $('tab-' + t).hidden = t !== state.tab;
     if (state.diff) $('diff-panel').open = true;
+    window.ggrt = {
+      api: api, state: state, info: info, scene: scene, W: W, H: H, select: select,
+      get traces() { return traces; },
+    };
+    document.dispatchEvent(new Event('ggrt:ready'));
     await refresh();
   }
 

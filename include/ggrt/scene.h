@@ -395,6 +395,16 @@ typedef struct ggFaceInfo {
    range. Strings stay valid until the scene is freed. */
 GG_API int ggSceneGetFaceInfo(const ggScene *scene, int object, long triangle, ggFaceInfo *fi);
 
+/* The triangles of mesh object `object` (one material's part of a mesh),
+   for drawing it: ggSceneObjectTriangleCount says how many (0 if the object
+   is not a mesh part); ggSceneObjectTriangle writes the corners of the k-th
+   (0 <= k < that count), after the mesh's transform, and in *triangle (if
+   not NULL) its number in the mesh as ggHit.triangle gives it.
+   GG_ERROR_INVALID for another object or k out of range. */
+GG_API long ggSceneObjectTriangleCount(const ggScene *scene, int object);
+GG_API int ggSceneObjectTriangle(const ggScene *scene, int object, long k, ggVec3 v[3],
+                                 long *triangle);
+
 /* Name of the file the scene was loaded from ("" if built in code). */
 GG_API const char *ggSceneFileName(const ggScene *scene);
 

@@ -124,6 +124,33 @@ GG_API int ggSceneGetFaceInfo(const ggScene *s, int object, long tri, ggFaceInfo
     return GG_OK;
 }
 
+static const gg_object *mesh_part(const ggScene *s, int object)
+{
+    if (!s || object < 0 || object >= ggSceneObjectCount(s)) return NULL;
+    return s->objects[object].kind == GG_SHAPE_MESH ? &s->objects[object] : NULL;
+}
+
+GG_API long ggSceneObjectTriangleCount(const ggScene *s, int object)
+{
+    const gg_object *o = mesh_part(s, object);
+    return o ? (long)o->ntri : 0;
+}
+
+GG_API int ggSceneObjectTriangle(const ggScene *s, int object, long k, ggVec3 v[3],
+                                 long *triangle)
+{
+    const gg_object *o = mesh_part(s, object);
+    const gg_mesh *m;
+    size_t t;
+    int i;
+    if (!o || !v || k < 0 || (size_t)k >= o->ntri) return GG_ERROR_INVALID;
+    m = &s->meshes[o->mesh];
+    t = o->tri_first + (size_t)k;
+    for (i = 0; i < 3; i++) v[i] = m->pos[m->idx[3 * t + (size_t)i]];
+    if (triangle) *triangle = (long)t;
+    return GG_OK;
+}
+
 long gg_scene_hit_triangle(const ggScene *s, const gg_object *o, uint32_t prim)
 {
     if (o->kind != GG_SHAPE_MESH) return -1;

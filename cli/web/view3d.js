@@ -1,0 +1,551 @@
+// SPDX-License-Identifier: MIT
+// ggrt serve: the 3D view. The scene (/api/scene) shaded with WebGL (one
+// Lambert shader, meshes as their triangles), and over it, on a 2D canvas,
+// the selected pixel's rays coloured by kind, the shadow rays, the lights
+// and the camera's frustum. Linked to the tree: the node under the mouse
+// (or picked with j/k) is drawn thick; a click on a segment selects its
+// node. The orbit camera is kept in the address (#cam=...). No library.
+'use strict';
+(function () {
+  const $ = (id) => document.getElementById(id);
+  const KIND = { eye: '#111111', reflect: '#1f5fd0', refract: '#17a34a', tir: '#c026d3' };
+  const LIGHT = { visible: '#f59e0b', attenuated: '#b45309', blocked: '#dc2626' };
+  const MAX_TRIS = 150000; // triangles the view builds from analytic shapes
+
+  // ---- a tiny mat4 (column-major, as WebGL wants it) ----
+  const M = {
+    mul(a, b) {
+      const r = new Float32Array(16);
+      for (let i = 0; i < 4; i++) {
+        for (let j = 0; j < 4; j++) {
+          let s = 0;
+          for (let k = 0; k < 4; k++) s += a[k * 4 + j] * b[i * 4 + k];
+          r[i * 4 + j] = s;
+        }
+      }
+      return r;
+    },
+    perspective(fovy, aspect, near, far) {
+      const f = 1 / Math.tan(fovy / 2), r = new Float32Array(16);
+      r[0] = f / aspect; r[5] = f; r[10] = (far + near) / (near - far); r[11] = -1;
+      r[14] = 2 * far * near / (near - far);
+      return r;
+    },
+    lookAt(e, t, up) {
+      const f = V.norm(V.sub(t, e)), s = V.norm(V.cross(f, up)), u = V.cross(s, f);
+      return new Float32Array([s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
+        -V.dot(s, e), -V.dot(u, e), V.dot(f, e), 1]);
+    },
+    apply(m, p) {
+      return [0, 1, 2, 3].map((i) => m[i] * p[0] + m[4 + i] * p[1] + m[8 + i] * p[2] + m[12 + i]);
+    },
+  };
+  const V = {
+    sub: (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]],
+    add: (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
+    mul: (a, s) => [a[0] * s, a[1] * s, a[2] * s],
+    dot: (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2],
+    cross: (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]],
+    len: (a) => Math.hypot(a[0], a[1], a[2]),
+    norm: (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return [a[0] / l, a[1] / l, a[2] / l]; },
+    perp: (a) => V.norm(V.cross(a, Math.abs(a[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0])),
+  };
+
+  const view = {
+    gl: null, prog: null, buf: null, opaque: 0, clear: 0, lines: null, note: '',
+    yaw: 0, pitch: 0, dist: 10, target: [0, 0, 0], up: [0, 0, 1], e1: [1, 0, 0], e2: [0, 1, 0],
+    set: false, mvp: null, hl: -1, hlObject: -1, segs: [], triangles: 0, built: false,
+  };
+  window.ggrtView3d = view;
+
+  // ---- geometry: every shape as triangles (pos, normal, rgba, object) ----
+  function builder() {
+    const a = [];
+    return {
+      tri(p, q, r, c, obj, nrm) {
+        const nn = nrm || V.norm(V.cross(V.sub(q, p), V.sub(r, p)));
+        for (const v of [p, q, r]) a.push(v[0], v[1], v[2], nn[0], nn[1], nn[2], c[0], c[1], c[2], c[3], obj);
+      },
+      vert(v, nn, c, obj) { a.push(v[0], v[1], v[2], nn[0], nn[1], nn[2], c[0], c[1], c[2], c[3], obj); },
+      data: a,
+    };
+  }
+  function matColour(scene, m) {
+    const mt = scene.materials[m];
+    if (!mt) return [0.7, 0.7, 0.7, 1];
+    const c = mt.color.map((v) => Math.min(1, Math.max(0, v)));
+    if (mt.kt > 0.2) return [0.45 + 0.3 * c[0], 0.65 + 0.2 * c[1], 0.85 + 0.1 * c[2], 0.45];
+    if (mt.kd < 0.05 && mt.ks > 0.5) return [0.55 * c[0] + 0.25, 0.55 * c[1] + 0.25, 0.55 * c[2] + 0.3, 1];
+    return [0.2 + 0.8 * c[0], 0.2 + 0.8 * c[1], 0.2 + 0.8 * c[2], 1];
+  }
+  function sphere(b, s, c, obj, seg) {
+    const P = (i, j) => {
+      const th = Math.PI * j / (seg / 2), ph = 2 * Math.PI * i / seg;
+      return [Math.sin(th) * Math.cos(ph), Math.sin(th) * Math.sin(ph), Math.cos(th)];
+    };
+    for (let j = 0; j < seg / 2; j++) {
+      for (let i = 0; i < seg; i++) {
+        const n = [P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1)];
+        const p = n.map((d) => V.add(s.center, V.mul(d, s.radius)));
+        b.vert(p[0], n[0], c, obj); b.vert(p[2], n[2], c, obj); b.vert(p[1], n[1], c, obj);
+        b.vert(p[0], n[0], c, obj); b.vert(p[3], n[3], c, obj); b.vert(p[2], n[2], c, obj);
+      }
+    }
+  }
+  function cone(b, s, c, obj, seg) {
+    const ax = V.norm(V.sub(s.apex, s.base)), p = V.perp(ax), q = V.cross(ax, p);
+    const at = (ctr, r, t) => V.add(ctr, V.add(V.mul(p, r * Math.cos(t)), V.mul(q, r * Math.sin(t))));
+    for (let i = 0; i < seg; i++) {
+      const t0 = 2 * Math.PI * i / seg, t1 = 2 * Math.PI * (i + 1) / seg;
+      const a0 = at(s.base, s.radius, t0), a1 = at(s.base, s.radius, t1);
+      const b0 = at(s.apex, s.radius2, t0), b1 = at(s.apex, s.radius2, t1);
+      b.tri(a0, a1, b1, c, obj);
+      b.tri(a0, b1, b0, c, obj);
+    }
+  }
+  function box(b, lo, hi, c, obj) {
+    const P = (i) => [i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]];
+    for (const [i, j, k, l] of [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]) {
+      b.tri(P(i), P(j), P(k), c, obj);
+      b.tri(P(i), P(k), P(l), c, obj);
+    }
+  }
+  function shape(b, scene, s, i, seg) {
+    const c = matColour(scene, s.material);
+    if (s.kind === 'sphere') sphere(b, s, c, i, seg);
+    else if (s.kind === 'cone') cone(b, s, c, i, seg);
+    else if (s.kind === 'rect') {
+      const a = s.corner, p = V.add(a, s.e1), d = V.add(a, s.e2), e = V.add(p, s.e2);
+      b.tri(a, p, e, c, i); b.tri(a, e, d, c, i);
+    } else if (s.kind === 'implicit') {
+      box(b, s.lo, s.hi, [c[0], c[1], c[2], 0.25], i);
+      return 'implicit';
+    } else if (s.verts && s.verts.length >= 3) {
+      for (let k = 1; k + 1 < s.verts.length; k++) b.tri(s.verts[0], s.verts[k], s.verts[k + 1], c, i);
+    }
+    return '';
+  }
+
+  function build(scene) {
+    const opaque = builder(), clear = builder(), shapes = scene.shapes || [];
+    const spheres = shapes.filter((s) => s && (s.kind === 'sphere' || s.kind === 'cone')).length;
+    // Spheres and cones get fewer segments when there are many of them.
+    const seg = Math.max(6, Math.min(32, 2 * Math.floor(Math.sqrt(MAX_TRIS / 2 / Math.max(1, spheres)) / 2)));
+    const meshes = {};
+    for (const m of scene.meshes || []) meshes[m.object] = m;
+    let implicit = 0;
+    view.meshTriangles = 0;
+    shapes.forEach((s, i) => {
+      if (!s) return;
+      const c = matColour(scene, s.material), b = c[3] < 1 ? clear : opaque;
+      const m = meshes[i];
+      if (s.kind === 'mesh' && m) {
+        const v = m.verts;
+        view.meshTriangles += v.length / 9;
+        for (let k = 0; k + 8 < v.length; k += 9) {
+          b.tri([v[k], v[k + 1], v[k + 2]], [v[k + 3], v[k + 4], v[k + 5]], [v[k + 6], v[k + 7], v[k + 8]], c, i);
+        }
+      } else if (s.kind === 'mesh') {
+        box(b, s.lo, s.hi, [c[0], c[1], c[2], 0.25], i);
+      } else if (shape(c[3] < 1 || s.kind === 'implicit' ? clear : opaque, scene, s, i, seg) === 'implicit') {
+        implicit++;
+      }
+    });
+    const notes = [];
+    if (scene.truncated) notes.push('the first ' + shapes.length + ' of ' + scene.objects + ' objects are drawn');
+    if (scene.simplified) {
+      notes.push('meshes simplified: ' + scene.triangles_shown.toLocaleString() + ' of ' +
+        scene.triangles.toLocaleString() + ' triangles drawn');
+    }
+    if (implicit) notes.push(implicit + ' implicit surface' + (implicit > 1 ? 's' : '') + ' drawn as ' + (implicit > 1 ? 'their boxes' : 'its box'));
+    if (spheres && seg < 16) notes.push('spheres and cones drawn with ' + seg + ' segments');
+    view.note = notes.join('; ');
+    view.opaque = opaque.data.length / 11;
+    view.clear = clear.data.length / 11;
+    view.triangles = (view.opaque + view.clear) / 3;
+    const data = new Float32Array(opaque.data.concat(clear.data));
+    return data;
+  }
+
+  // ---- WebGL ----
+  const VS = 'attribute vec3 p; attribute vec3 n; attribute vec4 c; attribute float o;' +
+    'uniform mat4 mvp; uniform float hl; varying vec3 vn; varying vec4 vc; varying float vh;' +
+    'void main() { gl_Position = mvp * vec4(p, 1.0); vn = n; vc = c; vh = abs(o - hl) < 0.5 ? 1.0 : 0.0; }';
+  const FS = 'precision mediump float; uniform vec3 L1; uniform vec3 L2; varying vec3 vn; varying vec4 vc; varying float vh;' +
+    'void main() { vec3 n = normalize(vn);' +
+    ' float d = 0.3 + 0.55 * abs(dot(n, L1)) + 0.25 * abs(dot(n, L2));' +
+    ' vec3 col = vc.rgb * d; col = mix(col, vec3(0.0, 0.75, 0.9) * d, 0.45 * vh);' +
+    ' gl_FragColor = vec4(col, max(vc.a, 0.6 * vh)); }';
+
+  function glInit(canvas) {
+    const gl = canvas.getContext('webgl', { antialias: true, preserveDrawingBuffer: true });
+    if (!gl) return null;
+    const sh = (type, src) => {
+      const s = gl.createShader(type);
+      gl.shaderSource(s, src);
+      gl.compileShader(s);
+      if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error('3D view: ' + gl.getShaderInfoLog(s));
+      return s;
+    };
+    const p = gl.createProgram();
+    gl.attachShader(p, sh(gl.VERTEX_SHADER, VS));
+    gl.attachShader(p, sh(gl.FRAGMENT_SHADER, FS));
+    gl.linkProgram(p);
+    if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error('3D view: ' + gl.getProgramInfoLog(p));
+    view.prog = p;
+    view.buf = gl.createBuffer();
+    return gl;
+  }
+
+  function upload(gl, data) {
+    gl.bindBuffer(gl.ARRAY_BUFFER, view.buf);
+    gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+    const st = 11 * 4, p = view.prog;
+    const at = (name, size, off) => {
+      const l = gl.getAttribLocation(p, name);
+      gl.enableVertexAttribArray(l);
+      gl.vertexAttribPointer(l, size, gl.FLOAT, false, st, off * 4);
+    };
+    at('p', 3, 0); at('n', 3, 3); at('c', 4, 6); at('o', 1, 10);
+  }
+
+  // ---- the orbit camera ----
+  function basis(info) {
+    const up = V.norm(info.camera.up);
+    let e1 = Math.abs(up[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
+    e1 = V.norm(V.sub(e1, V.mul(up, V.dot(e1, up))));
+    view.up = up; view.e1 = e1; view.e2 = V.cross(up, e1);
+  }
+  function orbitFrom(eye) {
+    const d = V.sub(eye, view.target), r = V.len(d) || 1;
+    view.dist = r;
+    view.pitch = Math.asin(Math.max(-1, Math.min(1, V.dot(d, view.up) / r)));
+    view.yaw = Math.atan2(V.dot(d, view.e2), V.dot(d, view.e1));
+  }
+  function eyeOf() {
+    const c = Math.cos(view.pitch);
+    const d = V.add(V.add(V.mul(view.e1, c * Math.cos(view.yaw)), V.mul(view.e2, c * Math.sin(view.yaw))),
+      V.mul(view.up, Math.sin(view.pitch)));
+    return V.add(view.target, V.mul(d, view.dist));
+  }
+  const diagOf = (lo, hi) => V.len(V.sub(hi, lo)) || 1;
+
+  // The segments of the selected rays, clipped to the scene's reach.
+  function raySegments() {
+    const app = window.ggrt, t = app && app.traces;
+    const out = [];
+    if (!t || !t.a) return out;
+    const info = app.info, reach = 1.5 * diagOf(info.bounds.lo, info.bounds.hi);
+    const sets = t.b ? [['a', t.a.json], ['b', t.b.json]] : [['a', t.a.json]];
+    // Non-finite numbers may come as null or as "inf"/"nan" strings: such
+    // a segment cannot be drawn and is left out.
+    const ok = (p) => Array.isArray(p) && p.length === 3 && p.every((x) => typeof x === 'number' && isFinite(x));
+    const push = (s) => { if (ok(s.a) && ok(s.b)) out.push(s); };
+    for (const [side, j] of sets) {
+      const walk = (n) => {
+        const end = n.hit ? n.hit.point : V.add(n.origin, V.mul(V.norm(n.direction), reach));
+        push({ side: side, id: n.id, kind: n.kind, a: n.origin, b: end, hit: !!n.hit, node: n });
+        if (n.hit) {
+          for (const L of n.hit.lights || []) {
+            if (L.verdict === 'facing-away') continue;
+            const tt = L.verdict === 'blocked' && typeof L.t_block === 'number' ? L.t_block : 1;
+            push({ side: side, id: n.id, light: L.light, kind: 'shadow', verdict: L.verdict,
+              a: L.origin, b: V.add(L.origin, V.mul(L.direction, tt)), node: n });
+          }
+        }
+        for (const k of n.children) walk(k);
+      };
+      for (const r of j.roots) walk(r);
+    }
+    return out;
+  }
+
+  function preset(which) {
+    const app = window.ggrt, info = app.info;
+    basis(info);
+    const lo = info.bounds.lo, hi = info.bounds.hi, diag = diagOf(lo, hi);
+    const fwd = V.norm(V.sub(info.camera.at, info.camera.from));
+    if (which === 'camera') {
+      view.target = info.camera.at.slice();
+      orbitFrom(info.camera.from);
+    } else if (which === 'rays') {
+      // Frame the selected rays: their box, seen from the side of the camera.
+      // Misses count with a stub as long as the box of the rest (they
+      // would otherwise stretch it to the scene's reach).
+      const segs = raySegments().filter((s) => s.kind !== 'shadow');
+      if (!segs.length) return preset('camera');
+      let a = [Infinity, Infinity, Infinity], b = [-Infinity, -Infinity, -Infinity];
+      const grow = (p) => { a = a.map((v, i) => Math.min(v, p[i])); b = b.map((v, i) => Math.max(v, p[i])); };
+      // The eye ray's start (the camera) is left out: the rays' box, not the
+      // way from the camera to it.
+      for (const s of segs) { if (s.kind !== 'eye') grow(s.a); if (s.hit) grow(s.b); }
+      if (!isFinite(a[0])) return preset('camera');
+      const stub = Math.max(diagOf(a, b), 0.15 * diag);
+      for (const s of segs) if (!s.hit) grow(V.add(s.a, V.mul(V.norm(V.sub(s.b, s.a)), 0.5 * stub)));
+      view.target = V.mul(V.add(a, b), 0.5);
+      const r = Math.max(0.5 * diagOf(a, b), 0.1 * diag);
+      const side = V.norm(V.add(V.mul(fwd, -1), V.mul(V.cross(fwd, view.up), 0.6)));
+      orbitFrom(V.add(view.target, V.add(V.mul(side, 2.6 * r), V.mul(view.up, 0.8 * r))));
+    } else {
+      view.target = V.mul(V.add(lo, hi), 0.5);
+      orbitFrom(V.add(view.target, V.mul(fwd, -diag)));
+      if (which === 'top') view.pitch = Math.PI / 2 - 1e-3;
+      else { view.pitch = 0; view.yaw += Math.PI / 2; }
+      view.dist = diag * 1.2;
+    }
+    view.set = true;
+    saveCam();
+    draw();
+  }
+
+  // #cam=yaw,pitch,dist,tx,ty,tz in the address, beside app.js's keys.
+  function saveCam() {
+    const p = new URLSearchParams(location.hash.slice(1));
+    const r = (v) => Number(v.toPrecision(6));
+    p.set('cam', [view.yaw, view.pitch, view.dist].concat(view.target).map(r).join(','));
+    history.replaceState(null, '', location.pathname + location.search + '#' + p.toString());
+  }
+  function loadCam() {
+    const v = (new URLSearchParams(location.hash.slice(1)).get('cam') || '').split(',').map(Number);
+    if (v.length !== 6 || !v.every(isFinite) || !(v[2] > 0)) return false;
+    basis(window.ggrt.info);
+    [view.yaw, view.pitch, view.dist] = v;
+    view.target = v.slice(3);
+    view.set = true;
+    return true;
+  }
+
+  // ---- drawing ----
+  function project(p) {
+    const c = M.apply(view.mvp, p);
+    return c;
+  }
+  // A segment in clip space cut at the near plane (z > -w), then on screen.
+  function screenSeg(a, b, Wc, Hc) {
+    let p = project(a), q = project(b);
+    const da = p[2] + p[3], db = q[2] + q[3];
+    if (da < 0 && db < 0) return null;
+    const cut = (u, v, du, dv) => { const t = du / (du - dv); return u.map((x, i) => x + (v[i] - x) * t); };
+    if (da < 0) p = cut(p, q, da, db);
+    if (db < 0) q = cut(q, p, db, da);
+    const s = (c) => [(c[0] / c[3] * 0.5 + 0.5) * Wc, (0.5 - c[1] / c[3] * 0.5) * Hc];
+    if (!(p[3] > 0) || !(q[3] > 0)) return null;
+    return [s(p), s(q)];
+  }
+
+  function draw() {
+    const app = window.ggrt;
+    if (!app || !app.info || !view.gl) return;
+    const c = $('gl3d'), o = $('ov3d'), gl = view.gl;
+    const Wc = c.clientWidth || c.width, Hc = c.clientHeight || c.height;
+    if (c.width !== Wc || c.height !== Hc) { c.width = Wc; c.height = Hc; o.width = Wc; o.height = Hc; }
+    if (!view.set && loadCam()) view.userMoved = true;
+    if (!view.set) return preset(app.traces && app.traces.a ? 'rays' : 'camera');
+    const info = app.info, eye = eyeOf(), diag = diagOf(info.bounds.lo, info.bounds.hi);
+    const far = V.len(V.sub(eye, view.target)) + 4 * diag, near = Math.max(far * 1e-5, view.dist * 1e-3);
+    let up = view.up;
+    if (Math.abs(V.dot(V.norm(V.sub(view.target, eye)), up)) > 0.999) up = view.e2;
+    view.mvp = M.mul(M.perspective(45 * Math.PI / 180, Wc / Hc, near, far), M.lookAt(eye, view.target, up));
+    gl.viewport(0, 0, Wc, Hc);
+    gl.clearColor(0.97, 0.97, 0.955, 1);
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    gl.useProgram(view.prog);
+    gl.uniformMatrix4fv(gl.getUniformLocation(view.prog, 'mvp'), false, view.mvp);
+    gl.uniform1f(gl.getUniformLocation(view.prog, 'hl'), view.hlObject);
+    gl.uniform3fv(gl.getUniformLocation(view.prog, 'L1'), V.norm(V.sub(eye, view.target)));
+    gl.uniform3fv(gl.getUniformLocation(view.prog, 'L2'), view.up);
+    gl.enable(gl.DEPTH_TEST);
+    gl.disable(gl.BLEND);
+    gl.depthMask(true);
+    if (view.opaque) gl.drawArrays(gl.TRIANGLES, 0, view.opaque);
+    if (view.clear) {
+      gl.enable(gl.BLEND);
+      gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+      gl.depthMask(false);
+      gl.drawArrays(gl.TRIANGLES, view.opaque, view.clear);
+      gl.depthMask(true);
+    }
+    overlay(o.getContext('2d'), Wc, Hc, info, diag);
+  }
+
+  function overlay(g, Wc, Hc, info, diag) {
+    g.clearRect(0, 0, Wc, Hc);
+    const line = (a, b, colour, w, dash) => {
+      const s = screenSeg(a, b, Wc, Hc);
+      if (!s) return null;
+      g.beginPath();
+      g.setLineDash(dash || []);
+      g.strokeStyle = colour;
+      g.lineWidth = w;
+      g.moveTo(s[0][0], s[0][1]);
+      g.lineTo(s[1][0], s[1][1]);
+      g.stroke();
+      return s;
+    };
+    const dot = (p, colour, r) => {
+      const c = project(p);
+      if (!(c[3] > 0) || c[2] < -c[3]) return null;
+      const s = [(c[0] / c[3] * 0.5 + 0.5) * Wc, (0.5 - c[1] / c[3] * 0.5) * Hc];
+      g.beginPath();
+      g.fillStyle = colour;
+      g.arc(s[0], s[1], r, 0, 2 * Math.PI);
+      g.fill();
+      return s;
+    };
+    frustum(line, info, diag);
+    g.font = '11px system-ui, sans-serif';
+    const lights = (window.ggrt.scene && window.ggrt.scene.lights) || [];
+    lights.forEach((L, i) => {
+      const s = dot(L.position, '#f59e0b', 6);
+      if (s) {
+        g.strokeStyle = '#7c4a03'; g.lineWidth = 1; g.setLineDash([]);
+        g.beginPath(); g.arc(s[0], s[1], 6, 0, 2 * Math.PI); g.stroke();
+        g.fillStyle = '#7c4a03';
+        g.fillText('light ' + i, s[0] + 8, s[1] - 6);
+      }
+    });
+    view.segs = [];
+    const hl = view.hl;
+    for (const s of raySegments()) {
+      const sel = s.side === 'a' && s.id === hl;
+      const dash = s.side === 'b' ? [6, 4] : null;
+      let sc;
+      if (s.kind === 'shadow') {
+        sc = line(s.a, s.b, LIGHT[s.verdict] || '#f59e0b', sel ? 2.2 : 1.1, [5, 3]);
+        if (s.verdict === 'blocked') dot(s.b, '#dc2626', 3);
+      } else {
+        if (sel) line(s.a, s.b, 'rgba(0, 200, 230, 0.55)', 9);
+        sc = line(s.a, s.b, KIND[s.kind], sel ? 3.5 : 2, dash);
+        if (s.hit) dot(s.b, KIND[s.kind], sel ? 4.5 : 3);
+      }
+      if (sc) view.segs.push({ s: sc, id: s.id, side: s.side, kind: s.kind });
+    }
+    g.setLineDash([]);
+    $('note3d').textContent = view.note;
+  }
+
+  // The camera: its eye, the image's four corner rays and the image plane.
+  function frustum(line, info, diag) {
+    const cam = info.camera, W = info.width, H = info.height;
+    const f = V.norm(V.sub(cam.at, cam.from)), r = V.norm(V.cross(f, cam.up)), u = V.cross(r, f);
+    const tx = Math.tan(cam.fov * Math.PI / 360), ty = tx * H / W;
+    const d = Math.min(V.len(V.sub(cam.at, cam.from)), 0.35 * diag);
+    const corner = (sx, sy) => V.add(cam.from, V.mul(V.add(f, V.add(V.mul(r, sx * tx), V.mul(u, sy * ty))), d));
+    const cs = [corner(-1, 1), corner(1, 1), corner(1, -1), corner(-1, -1)];
+    for (let i = 0; i < 4; i++) {
+      line(cam.from, cs[i], 'rgba(107, 114, 128, 0.7)', 1);
+      line(cs[i], cs[(i + 1) % 4], 'rgba(107, 114, 128, 0.9)', 1);
+    }
+    line(cs[0], cs[1], '#4b5563', 2); // the image's top edge
+  }
+
+  // ---- linking: the node under the mouse, a click on a segment ----
+  function highlight(id) {
+    const t = window.ggrt && window.ggrt.traces;
+    view.hl = id;
+    let obj = -1;
+    if (t && t.a && id >= 0) {
+      const find = (n) => n.id === id ? n : n.children.map(find).find((x) => x) || null;
+      for (const r of t.a.json.roots) {
+        const n = find(r);
+        if (n) { obj = n.hit ? n.hit.object : -1; break; }
+      }
+    }
+    view.hlObject = obj;
+    draw();
+    return obj;
+  }
+  view.highlight = highlight;
+  view.draw = draw;
+  view.preset = preset;
+
+  function pick(x, y) {
+    let best = null, bd = 8;
+    for (const s of view.segs) {
+      const [[x0, y0], [x1, y1]] = s.s, dx = x1 - x0, dy = y1 - y0;
+      const t = Math.max(0, Math.min(1, ((x - x0) * dx + (y - y0) * dy) / (dx * dx + dy * dy || 1)));
+      const d = Math.hypot(x - x0 - t * dx, y - y0 - t * dy);
+      if (d < bd || (d === bd && s.kind !== 'shadow')) { bd = d; best = s; }
+    }
+    return best;
+  }
+
+  view.pick = pick;
+
+  function wire() {
+    const c = $('ov3d');
+    let drag = null, moved = false;
+    c.addEventListener('pointerdown', (e) => {
+      drag = [e.clientX, e.clientY, e.shiftKey]; moved = false; c.setPointerCapture(e.pointerId);
+    });
+    c.addEventListener('pointerup', (e) => {
+      const was = drag;
+      drag = null;
+      if (was && moved) { view.userMoved = true; saveCam(); return; }
+      const r = c.getBoundingClientRect(), s = pick(e.clientX - r.left, e.clientY - r.top);
+      if (s && window.ggrtLinks) window.ggrtLinks.selectNode(s.side, s.id, 'view');
+    });
+    c.addEventListener('pointermove', (e) => {
+      if (!drag) {
+        const r = c.getBoundingClientRect(), s = pick(e.clientX - r.left, e.clientY - r.top);
+        c.style.cursor = s ? 'pointer' : 'grab';
+        c.title = s ? 'ray #' + s.id + ' (' + s.kind + '): click to select it in the tree' : '';
+        return;
+      }
+      const dx = e.clientX - drag[0], dy = e.clientY - drag[1];
+      if (Math.abs(dx) + Math.abs(dy) > 2) moved = true;
+      if (drag[2]) { // shift-drag pans
+        const eye = eyeOf(), f = V.norm(V.sub(view.target, eye)), r = V.norm(V.cross(f, view.up)), u = V.cross(r, f);
+        const k = view.dist * 0.0015;
+        view.target = V.add(view.target, V.add(V.mul(r, -dx * k), V.mul(u, dy * k)));
+      } else {
+        view.yaw -= dx * 0.01;
+        view.pitch = Math.max(-1.55, Math.min(1.55, view.pitch + dy * 0.01));
+      }
+      drag = [e.clientX, e.clientY, drag[2]];
+      draw();
+    });
+    c.addEventListener('wheel', (e) => {
+      e.preventDefault();
+      view.dist *= Math.exp(e.deltaY * 0.001);
+      view.userMoved = true;
+      saveCam();
+      draw();
+    }, { passive: false });
+    for (const b of document.querySelectorAll('#box3d [data-view]')) {
+      b.addEventListener('click', () => { view.userMoved = b.dataset.view !== 'rays'; preset(b.dataset.view); });
+    }
+    window.addEventListener('resize', draw);
+  }
+
+  // Started by app.js once /api/info and /api/scene are in (ggrt:ready).
+  document.addEventListener('ggrt:ready', () => {
+    const app = window.ggrt;
+    try {
+      view.gl = glInit($('gl3d'));
+    } catch (e) {
+      view.gl = null;
+      $('note3d').textContent = e.message;
+    }
+    if (!view.gl) {
+      $('note3d').textContent = 'this browser gives no WebGL: the 3D view is off';
+      return;
+    }
+    upload(view.gl, build(app.scene));
+    view.built = true;
+    $('box3d').dataset.triangles = String(view.triangles);
+    $('box3d').dataset.meshTriangles = String(view.meshTriangles);
+    wire();
+    draw();
+  });
+  document.addEventListener('ggrt:pixel', () => {
+    if (!view.gl) return;
+    // A new pixel's rays are framed unless the camera was moved by hand
+    // (or came from the address); the "rays" button frames them again.
+    if (!view.set && loadCam()) view.userMoved = true;
+    view.hl = -1;
+    view.hlObject = -1;
+    // After the tree is on screen: the tree comes first.
+    requestAnimationFrame(() => setTimeout(() => (view.userMoved ? draw() : preset('rays')), 0));
+  });
+})();
