@@ -39,7 +39,16 @@ int cmd_serve(int argc, char **argv);
    options and pixel given to ggRender or ggTracePixel), which is a usage
    error (1). */
 int cli_exit_code(int status, int from_args);
-/* Print "ggrt: <err->message>" and return cli_exit_code(status, from_args). */
+/* Messages, one prefix rule: every error and warning on stderr starts
+   "ggrt CMD: " (CMD as in "ggrt render: scene.nff:12:5: ..." or "ggrt
+   optics refract: ..."; just "ggrt: " before a command is known).
+   cli_parse calls cli_set_command with its command's name; cli_error
+   prints "ggrt CMD: <message>", cli_warn "ggrt CMD: warning: <message>". */
+void cli_set_command(const char *name);
+void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
+void cli_warn(const char *fmt, ...) CLI_PRINTF(1, 2);
+/* cli_error(err->message), without a leading library function name
+   ("ggDiff: "), and return cli_exit_code(status, from_args). */
 int cli_fail(int status, const ggError *err, int from_args);
 
 /* Seconds on the monotonic clock (for durations only). */
