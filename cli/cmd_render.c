@@ -17,7 +17,10 @@ static const char about[] =
     "paste into a scene) on stderr. SIGINT or SIGTERM cancels the render: nothing is\n"
     "written and an existing OUT is left as it was.";
 
-static const char tail[] = "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
+static const char tail[] =
+    "A scene with no objects, or with no lights and no emitting surface, renders with\n"
+    "a warning on stderr (also under -q).\n"
+    "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
 
 static const char *const heat_kinds[] = {"rays", "depth", "time", NULL};
 
@@ -73,10 +76,9 @@ static void report_bad_pixels(const ggImage *img, const render_args *a)
             }
         }
     if (!bad) return;
-    fprintf(stderr,
-            "ggrt render: %ld pixel%s NaN, infinite or negative; the worst is %d,%d. "
-            "Replay it with:\n  ggrt trace",
-            bad, bad == 1 ? " is" : "s are", bx, by);
+    cli_warn("%ld pixel%s NaN, infinite or negative; the worst is %d,%d. Replay it with:", bad,
+             bad == 1 ? " is" : "s are", bx, by);
+    fprintf(stderr, "  ggrt trace");
     cli_print_arg(stderr, a->scene);
     cli_render_print(stderr, &a->ro, CLI_RENDER_PIXEL);
     fprintf(stderr, " --pixel %d,%d\n", bx, by);
@@ -137,7 +139,7 @@ static int finish_image(const render_args *a, ggImage **img, const float *cost)
         ggImage *map =
             heatmap_image(cost, ggImageWidth(*img), ggImageHeight(*img), label[a->heat], &vmax);
         if (!map) {
-            fprintf(stderr, "ggrt render: out of memory for the heat map\n");
+            cli_error("out of memory for the heat map");
             return EXIT_INPUT;
         }
         if (!a->quiet) printf("heat map: %s per pixel, 0 to %.4g\n", label[a->heat], vmax);
@@ -193,13 +195,12 @@ static int run(render_args *a, ggScene *scene, double *t)
     int rc, sig;
     float *cost = NULL;
     if (a->has_pixel && (a->pixel[0] >= w || a->pixel[1] >= h)) {
-        fprintf(stderr, "ggrt render: --pixel %d,%d is outside the %dx%d image\n", a->pixel[0],
-                a->pixel[1], w, h);
+        cli_error("--pixel %d,%d is outside the %dx%d image", a->pixel[0], a->pixel[1], w, h);
         return EXIT_USAGE;
     }
     if (a->heat >= 0 && w > 0 && h > 0) {
         if (!(cost = calloc((size_t)w * (size_t)h, sizeof *cost))) {
-            fprintf(stderr, "ggrt render: out of memory for a %dx%d heat map\n", w, h);
+            cli_error("out of memory for a %dx%d heat map", w, h);
             return EXIT_INPUT;
         }
         opt->cost_map = cost, opt->cost_kind = a->heat;
@@ -213,7 +214,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     if ((sig = cli_cancelled()) != 0) {
         ggImageFree(img);
         free(cost);
-        fprintf(stderr, "ggrt render: cancelled by signal %d; %s not written\n", sig, a->out);
+        cli_error("cancelled by signal %d; %s not written", sig, a->out);
         cli_cancel_exit(sig);
     }
     if (rc != GG_OK) {
@@ -239,6 +240,23 @@ static int run(render_args *a, ggScene *scene, double *t)
     return rc;
 }
 
+/* A scene without lights or objects renders without error, and a first
+   user sees a dark or empty picture with no reason: say it once, also
+   under -q (which silences progress, not warnings). A scene lit by its
+   emitting surfaces alone (examples/scenes/prism.nff) means it. */
+static void warn_empty(const ggScene *scene, const char *path)
+{
+    int i, glows = 0;
+    for (i = 0; i < ggSceneMaterialCount(scene) && !glows; i++) {
+        ggMaterial m = ggSceneMaterial(scene, i);
+        glows = m.ke.r > 0 || m.ke.g > 0 || m.ke.b > 0;
+    }
+    if (ggSceneObjectCount(scene) == 0)
+        cli_warn("%s has no objects: the image is its background", path);
+    else if (ggSceneLightCount(scene) == 0 && !glows)
+        cli_warn("%s has no lights: only ambient and emission light it", path);
+}
+
 int cmd_render(int argc, char **argv)
 {
     render_args a;
@@ -250,7 +268,7 @@ int cmd_render(int argc, char **argv)
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if ((rc = cli_check_output("render", a.out)) != 0) return rc;
     if (!(scene = ggSceneCreate(NULL))) {
-        fprintf(stderr, "ggrt render: out of memory\n");
+        cli_error("out of memory");
         return EXIT_INPUT;
     }
     t[0] = cli_now();
@@ -260,6 +278,7 @@ int cmd_render(int argc, char **argv)
         if (cli_is_model(a.scene)) cli_print_model_view(stderr, scene, a.scene);
         cli_print_mesh_warnings(stderr, scene);
     }
+    if (rc == GG_OK) warn_empty(scene, a.scene);
     if (rc == GG_OK) rc = ggScenePrepare(scene, &err);
     t[2] = cli_now();
     rc = rc == GG_OK ? run(&a, scene, t) : cli_fail(rc, &err, 0);

@@ -21,7 +21,8 @@ static const char about[] =
 static const char tail[] =
     "The render options are the starting point; the page changes depth, samples and\n"
     "the accuracy knobs per view (depth at most 16, samples at most 64, images at\n"
-    "most 4096 a side and 16777216 pixels). Only SCENE and its textures are read.\n"
+    "most 4096 a side and 16777216 pixels). --crop is refused: the page shows the\n"
+    "whole image. Only SCENE and its textures are read.\n"
     "exit: 0 stopped by Ctrl-C or SIGTERM, 1 usage, 2 bad scene, 3 cannot listen";
 
 typedef struct serve_args {
@@ -59,9 +60,12 @@ static int parse(serve_args *a, int argc, char **argv)
                    .args_name = "scene"};
     int rc;
     a->port = 8080, a->host = "127.0.0.1";
-    cli_render_init(&a->ro, CLI_RENDER_PIXEL | CLI_RENDER_THREADS);
+    cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
+    if (cli_given(&cmd, "crop"))
+        return cli_usage_error(&cmd, "--crop does not apply: the page shows the whole image "
+                                     "(serve renders it in bands of its own)");
     if (a->ro.opt.max_depth > 16)
         return cli_usage_error(&cmd, "--depth %d: ggrt serve takes at most 16",
                                a->ro.opt.max_depth);
