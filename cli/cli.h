@@ -89,13 +89,13 @@ void cli_cancel_release(void);
 void cli_cancel_exit(int signo);
 
 /* Meshes (mesh_out.c): does the path name a model (.obj, .ply) that
-   ggSceneLoadFile frames; each mesh's description (ggrt info); one line
-   per mesh with warnings; a framed model's camera and lights as NFF; and
+   ggSceneLoadFile frames; each mesh's description (ggrt info); a warning
+   (cli_warn) per mesh that has any; a framed model's camera and lights as NFF; and
    "triangle T: face F of FILE (line L), group 'G', usemtl 'M'" for a hit
    (returns 0 when the object is not a mesh). */
 int cli_is_model(const char *path);
 void cli_print_meshes(FILE *f, const ggScene *s);
-void cli_print_mesh_warnings(FILE *f, const ggScene *s);
+void cli_print_mesh_warnings(const ggScene *s);
 void cli_print_model_view(FILE *f, const ggScene *s, const char *path);
 int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t n);
 

@@ -168,17 +168,23 @@ static void summary(const render_args *a, ggScene *scene, const ggImage *img, co
            (unsigned long long)st->shadow, (unsigned long long)st->tir, total);
     printf("time: parse %.3fs, prepare %.3fs, render %.3fs (%.2f Mrays/s)\n", t[1] - t[0],
            t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0);
+}
+
+/* What the render left out, on stderr like every warning (not part of the
+   summary that -q silences). */
+static void warn_stats(const render_args *a, const ggRayStats *st)
+{
     if (st->nonfinite)
-        printf("warning: %llu samples were NaN or infinite\n", (unsigned long long)st->nonfinite);
+        cli_warn("%llu samples were NaN or infinite", (unsigned long long)st->nonfinite);
     if (st->budget_cut)
-        printf("warning: the ray budget (%d rays per eye ray) left %llu rays uncast; "
-               "--ray-budget raises it\n",
-               a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
-               (unsigned long long)st->budget_cut);
+        cli_warn("the ray budget (%d rays per eye ray) left %llu rays uncast; --ray-budget "
+                 "raises it",
+                 a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
+                 (unsigned long long)st->budget_cut);
     if (st->implicit_cut)
-        printf("warning: %llu ray tests of implicit surfaces ran out of their evaluation budget "
-               "and count as misses (holes possible)\n",
-               (unsigned long long)st->implicit_cut);
+        cli_warn("%llu ray tests of implicit surfaces ran out of their evaluation budget and "
+                 "count as misses (holes possible)",
+                 (unsigned long long)st->implicit_cut);
 }
 
 /* Render, print what was asked, write. The image is written with the
@@ -236,6 +242,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     }
     if (rc == EXIT_OK && (sig = cli_cancelled()) != 0) cli_cancel_exit(sig);
     if (rc == EXIT_OK && !a->quiet) summary(a, scene, img, &st, t);
+    if (rc == EXIT_OK) warn_stats(a, &st);
     ggImageFree(img);
     return rc;
 }
@@ -276,7 +283,7 @@ int cmd_render(int argc, char **argv)
     t[1] = cli_now();
     if (rc == GG_OK && !a.quiet) {
         if (cli_is_model(a.scene)) cli_print_model_view(stderr, scene, a.scene);
-        cli_print_mesh_warnings(stderr, scene);
+        cli_print_mesh_warnings(scene);
     }
     if (rc == GG_OK) warn_empty(scene, a.scene);
     if (rc == GG_OK) rc = ggScenePrepare(scene, &err);

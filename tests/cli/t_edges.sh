@@ -39,7 +39,7 @@ prefixed "ggrt optics fresnel" "prefix: optics fresnel with a bad value" \
 prefixed "ggrt optics seeds" "prefix: optics seeds with an unwritable folder" \
   "$ggrt" optics seeds /nonexistent/seeds
 prefixed "ggrt bench" "prefix: bench with a bad argument" "$ggrt" bench spd --bogus
-prefixed "ggrt bench" "prefix: bench accuracy with a bad scene" "$ggrt" bench accuracy "$ed/bad.nff"
+prefixed "ggrt bench accuracy" "prefix: bench accuracy with a bad scene" "$ggrt" bench accuracy "$ed/bad.nff"
 # The library's "ggDiff: the images differ in size" reached the user as is.
 sed 's/^resolution .*/resolution 10 10/' $g >"$ed/small.nff"
 prefixed "ggrt diff" "prefix: diff of two sizes names no library function" \
