@@ -239,12 +239,14 @@ static int set_value(cli_opt *o, const char *v, char *why, size_t whylen)
 
 int cli_usage_error(const cli_cmd *cmd, const char *fmt, ...)
 {
+    char msg[1024];
     va_list ap;
-    fprintf(stderr, "ggrt %s: ", cmd->name);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    fprintf(stderr, "\n(see 'ggrt %s --help')\n", cmd->name);
+    cli_set_command(cmd->name);
+    cli_error("%s", msg);
+    fprintf(stderr, "(see 'ggrt %s --help')\n", cmd->name);
     return EXIT_USAGE;
 }
 
@@ -287,6 +289,15 @@ static size_t distance(const char *a, const char *b)
         }
     }
     return row[lb];
+}
+
+const char *cli_suggest(const char *word, const char *const *names, size_t n)
+{
+    const char *best = NULL;
+    size_t bd = 3, d, i;
+    for (i = 0; i < n; i++)
+        if ((d = distance(word, names[i])) < bd) bd = d, best = names[i];
+    return best;
 }
 
 static int unknown(const cli_cmd *cmd, const char *arg, size_t len)
@@ -406,6 +417,7 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 {
     int i, n = 0, only_args = 0, rc;
     const char *what = cmd->args_name ? cmd->args_name : "argument";
+    cli_set_command(cmd->name); /* the prefix of every message from here on */
     /* --help anywhere wins over every error, as users expect. */
     for (i = 1; i < argc && strcmp(argv[i], "--"); i++)
         if (is_help(argv[i])) {

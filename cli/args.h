@@ -198,6 +198,10 @@ void cli_help(FILE *f, const cli_cmd *cmd);
    returns EXIT_USAGE. */
 int cli_usage_error(const cli_cmd *cmd, const char *fmt, ...) CLI_PRINTF(2, 3);
 
+/* The name of names[0..n) closest to word within two edits (for "did
+   you mean"), or NULL. */
+const char *cli_suggest(const char *word, const char *const *names, size_t n);
+
 /* How many times option `name` (long name, or the one-letter short name)
    appeared; 0 if it did not or is not in cmd's tables. */
 int cli_given(const cli_cmd *cmd, const char *name);

@@ -39,7 +39,16 @@ int cmd_serve(int argc, char **argv);
    options and pixel given to ggRender or ggTracePixel), which is a usage
    error (1). */
 int cli_exit_code(int status, int from_args);
-/* Print "ggrt: <err->message>" and return cli_exit_code(status, from_args). */
+/* Messages, one prefix rule: every error and warning on stderr starts
+   "ggrt CMD: " (CMD as in "ggrt render: scene.nff:12:5: ..." or "ggrt
+   optics refract: ..."; just "ggrt: " before a command is known).
+   cli_parse calls cli_set_command with its command's name; cli_error
+   prints "ggrt CMD: <message>", cli_warn "ggrt CMD: warning: <message>". */
+void cli_set_command(const char *name);
+void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
+void cli_warn(const char *fmt, ...) CLI_PRINTF(1, 2);
+/* cli_error(err->message), without a leading library function name
+   ("ggDiff: "), and return cli_exit_code(status, from_args). */
 int cli_fail(int status, const ggError *err, int from_args);
 
 /* Seconds on the monotonic clock (for durations only). */
@@ -80,13 +89,13 @@ void cli_cancel_release(void);
 void cli_cancel_exit(int signo);
 
 /* Meshes (mesh_out.c): does the path name a model (.obj, .ply) that
-   ggSceneLoadFile frames; each mesh's description (ggrt info); one line
-   per mesh with warnings; a framed model's camera and lights as NFF; and
+   ggSceneLoadFile frames; each mesh's description (ggrt info); a warning
+   (cli_warn) per mesh that has any; a framed model's camera and lights as NFF; and
    "triangle T: face F of FILE (line L), group 'G', usemtl 'M'" for a hit
    (returns 0 when the object is not a mesh). */
 int cli_is_model(const char *path);
 void cli_print_meshes(FILE *f, const ggScene *s);
-void cli_print_mesh_warnings(FILE *f, const ggScene *s);
+void cli_print_mesh_warnings(const ggScene *s);
 void cli_print_model_view(FILE *f, const ggScene *s, const char *path);
 int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t n);
 

@@ -101,7 +101,7 @@ static int write_overlay(const char *path, const ggFindResult *r)
     ggError err;
     int x, y, rc;
     if (!img) {
-        fprintf(stderr, "ggrt find: out of memory for the overlay\n");
+        cli_error("out of memory for the overlay");
         return EXIT_INPUT;
     }
     for (y = 0; y < r->height; y++)

@@ -130,7 +130,7 @@ static int parse(const char *form, unsigned allowed, const char *usage, const ch
 static int need(const opts *o, unsigned flags, const char *form, const char *names)
 {
     if ((o->seen & flags) == flags) return 0;
-    fprintf(stderr, "ggrt optics %s: %s required (see ggrt optics %s --help)\n", form, names, form);
+    cli_error("%s required (see ggrt optics %s --help)", names, form);
     return EXIT_USAGE;
 }
 
@@ -197,19 +197,21 @@ static void print_critical(double ni, double nt)
 
 static int check_index(const char *form, const char *name, double x)
 {
+    (void)form; /* cli_parse made "ggrt optics FORM:" the prefix */
     if (x != 0) return 0;
-    fprintf(stderr, "ggrt optics %s: %s must not be zero\n", form, name);
+    cli_error("%s must not be zero", name);
     return EXIT_INPUT;
 }
 
 static int check_dirs(const char *form, const opts *o)
 {
+    (void)form; /* cli_parse made "ggrt optics FORM:" the prefix */
     if (is_zero(o->v)) {
-        fprintf(stderr, "ggrt optics %s: --v must not be the zero vector\n", form);
+        cli_error("--v must not be the zero vector");
         return EXIT_INPUT;
     }
     if (is_zero(o->n)) {
-        fprintf(stderr, "ggrt optics %s: --n must not be the zero vector\n", form);
+        cli_error("--n must not be the zero vector");
         return EXIT_INPUT;
     }
     return 0;
@@ -296,8 +298,7 @@ static int run_fresnel(const opts *o)
     double c = 1;
     int rc, how = !!(o->seen & O_ANGLE) + !!(o->seen & O_COS) + !!(o->seen & (O_V | O_N));
     if (how != 1) {
-        fprintf(stderr,
-                "ggrt optics fresnel: give exactly one of --angle, --cos, or --v with --n\n");
+        cli_error("give exactly one of --angle, --cos, or --v with --n");
         return EXIT_USAGE;
     }
     if (o->seen & (O_V | O_N)) {
@@ -306,21 +307,20 @@ static int run_fresnel(const opts *o)
         (void)angle_deg(o->v, o->n, &c);
     } else if (o->seen & O_ANGLE) {
         if (o->angle < 0 || o->angle > 90) {
-            fprintf(stderr, "ggrt optics fresnel: --angle must be in [0, 90] degrees\n");
+            cli_error("--angle must be in [0, 90] degrees");
             return EXIT_INPUT;
         }
         c = o->angle == 90 ? 0 : cos(o->angle * (PI / 180));
     } else {
         if (o->cos_i < -1 || o->cos_i > 1) {
-            fprintf(stderr, "ggrt optics fresnel: --cos must be in [-1, 1]\n");
+            cli_error("--cos must be in [-1, 1]");
             return EXIT_INPUT;
         }
         c = fabs(o->cos_i);
     }
     if ((rc = check_index("fresnel", "--ni", o->ni)) != 0) return rc;
     if ((o->seen & O_K) && (o->nt < 0 || o->k < 0 || (o->nt == 0 && o->k == 0))) {
-        fprintf(stderr, "ggrt optics fresnel: a conductor needs --nt >= 0 and --k >= 0, "
-                        "not both zero\n");
+        cli_error("a conductor needs --nt >= 0 and --k >= 0, not both zero");
         return EXIT_INPUT;
     }
     if (!(o->seen & O_K) && (rc = check_index("fresnel", "--nt", o->nt)) != 0) return rc;
@@ -352,7 +352,7 @@ static int run_absorb(const opts *o)
     if ((rc = need(o, O_K | O_LAMBDA | O_DISTANCE, "absorb", "--k, --lambda and --distance")) != 0)
         return rc;
     if (o->k < 0 || o->lambda <= 0 || o->distance < 0) {
-        fprintf(stderr, "ggrt optics absorb: need --k >= 0, --lambda > 0, --distance >= 0\n");
+        cli_error("need --k >= 0, --lambda > 0, --distance >= 0");
         return EXIT_INPUT;
     }
     printf("%-18s k = %.17g, lambda = %.17g, distance = %.17g\n", "medium:", o->k, o->lambda,
@@ -361,6 +361,22 @@ static int run_absorb(const opts *o)
            "alpha = 4 pi k/L:", ggAbsorptionCoefficient(o->k, o->lambda));
     printf("%-18s %.17g\n", "transmittance T:", ggBeerLambert(o->k, o->lambda, o->distance));
     return EXIT_OK;
+}
+
+/* A first word that names no form: say so before its options are read
+   (they belong to the form the user meant, "refrac --v ..."). */
+static int unknown_form(const char *form)
+{
+    static const char *const names[] = {"refract", "reflect", "fresnel",
+                                        "absorb",  "check",   "seeds"};
+    const char *near = cli_suggest(form, names, sizeof names / sizeof names[0]);
+    cli_set_command("optics");
+    if (near)
+        cli_error("unknown form '%s'; did you mean '%s'?", form, near);
+    else
+        cli_error("unknown form '%s' (refract, reflect, fresnel, absorb, check, seeds)", form);
+    fprintf(stderr, "(see 'ggrt optics --help')\n");
+    return EXIT_USAGE;
 }
 
 int cmd_optics(int argc, char **argv)
@@ -392,6 +408,7 @@ int cmd_optics(int argc, char **argv)
                        forms[i].tail, argc - 1, argv + 1, &o);
             return rc != CLI_GO ? rc : forms[i].run(&o);
         }
+        return unknown_form(argv[1]);
     }
     {
         const char *form = NULL;

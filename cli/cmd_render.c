@@ -17,7 +17,10 @@ static const char about[] =
     "paste into a scene) on stderr. SIGINT or SIGTERM cancels the render: nothing is\n"
     "written and an existing OUT is left as it was.";
 
-static const char tail[] = "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
+static const char tail[] =
+    "A scene with no objects, or with no lights and no emitting surface, renders with\n"
+    "a warning on stderr (also under -q).\n"
+    "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
 
 static const char *const heat_kinds[] = {"rays", "depth", "time", NULL};
 
@@ -73,10 +76,9 @@ static void report_bad_pixels(const ggImage *img, const render_args *a)
             }
         }
     if (!bad) return;
-    fprintf(stderr,
-            "ggrt render: %ld pixel%s NaN, infinite or negative; the worst is %d,%d. "
-            "Replay it with:\n  ggrt trace",
-            bad, bad == 1 ? " is" : "s are", bx, by);
+    cli_warn("%ld pixel%s NaN, infinite or negative; the worst is %d,%d. Replay it with:", bad,
+             bad == 1 ? " is" : "s are", bx, by);
+    fprintf(stderr, "  ggrt trace");
     cli_print_arg(stderr, a->scene);
     cli_render_print(stderr, &a->ro, CLI_RENDER_PIXEL);
     fprintf(stderr, " --pixel %d,%d\n", bx, by);
@@ -137,7 +139,7 @@ static int finish_image(const render_args *a, ggImage **img, const float *cost)
         ggImage *map =
             heatmap_image(cost, ggImageWidth(*img), ggImageHeight(*img), label[a->heat], &vmax);
         if (!map) {
-            fprintf(stderr, "ggrt render: out of memory for the heat map\n");
+            cli_error("out of memory for the heat map");
             return EXIT_INPUT;
         }
         if (!a->quiet) printf("heat map: %s per pixel, 0 to %.4g\n", label[a->heat], vmax);
@@ -166,17 +168,23 @@ static void summary(const render_args *a, ggScene *scene, const ggImage *img, co
            (unsigned long long)st->shadow, (unsigned long long)st->tir, total);
     printf("time: parse %.3fs, prepare %.3fs, render %.3fs (%.2f Mrays/s)\n", t[1] - t[0],
            t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0);
+}
+
+/* What the render left out, on stderr like every warning (not part of the
+   summary that -q silences). */
+static void warn_stats(const render_args *a, const ggRayStats *st)
+{
     if (st->nonfinite)
-        printf("warning: %llu samples were NaN or infinite\n", (unsigned long long)st->nonfinite);
+        cli_warn("%llu samples were NaN or infinite", (unsigned long long)st->nonfinite);
     if (st->budget_cut)
-        printf("warning: the ray budget (%d rays per eye ray) left %llu rays uncast; "
-               "--ray-budget raises it\n",
-               a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
-               (unsigned long long)st->budget_cut);
+        cli_warn("the ray budget (%d rays per eye ray) left %llu rays uncast; --ray-budget "
+                 "raises it",
+                 a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
+                 (unsigned long long)st->budget_cut);
     if (st->implicit_cut)
-        printf("warning: %llu ray tests of implicit surfaces ran out of their evaluation budget "
-               "and count as misses (holes possible)\n",
-               (unsigned long long)st->implicit_cut);
+        cli_warn("%llu ray tests of implicit surfaces ran out of their evaluation budget and "
+                 "count as misses (holes possible)",
+                 (unsigned long long)st->implicit_cut);
 }
 
 /* Render, print what was asked, write. The image is written with the
@@ -193,8 +201,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     int rc, sig;
     float *cost = NULL;
     if (a->has_pixel && (a->pixel[0] >= w || a->pixel[1] >= h)) {
-        fprintf(stderr, "ggrt render: --pixel %d,%d is outside the %dx%d image\n", a->pixel[0],
-                a->pixel[1], w, h);
+        cli_error("--pixel %d,%d is outside the %dx%d image", a->pixel[0], a->pixel[1], w, h);
         return EXIT_USAGE;
     }
     /* Only for a size ggRender accepts: it refuses a larger one with the
@@ -202,7 +209,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     if (a->heat >= 0 && w > 0 && h > 0 && w <= GG_IMAGE_MAX_DIM && h <= GG_IMAGE_MAX_DIM &&
         (size_t)w * (size_t)h <= GG_IMAGE_MAX_PIXELS) {
         if (!(cost = calloc((size_t)w * (size_t)h, sizeof *cost))) {
-            fprintf(stderr, "ggrt render: out of memory for a %dx%d heat map\n", w, h);
+            cli_error("out of memory for a %dx%d heat map", w, h);
             return EXIT_INPUT;
         }
         opt->cost_map = cost, opt->cost_kind = a->heat;
@@ -216,7 +223,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     if ((sig = cli_cancelled()) != 0) {
         ggImageFree(img);
         free(cost);
-        fprintf(stderr, "ggrt render: cancelled by signal %d; %s not written\n", sig, a->out);
+        cli_error("cancelled by signal %d; %s not written", sig, a->out);
         cli_cancel_exit(sig);
     }
     if (rc != GG_OK) {
@@ -238,8 +245,26 @@ static int run(render_args *a, ggScene *scene, double *t)
     }
     if (rc == EXIT_OK && (sig = cli_cancelled()) != 0) cli_cancel_exit(sig);
     if (rc == EXIT_OK && !a->quiet) summary(a, scene, img, &st, t);
+    if (rc == EXIT_OK) warn_stats(a, &st);
     ggImageFree(img);
     return rc;
+}
+
+/* A scene without lights or objects renders without error, and a first
+   user sees a dark or empty picture with no reason: say it once, also
+   under -q (which silences progress, not warnings). A scene lit by its
+   emitting surfaces alone (examples/scenes/prism.nff) means it. */
+static void warn_empty(const ggScene *scene, const char *path)
+{
+    int i, glows = 0;
+    for (i = 0; i < ggSceneMaterialCount(scene) && !glows; i++) {
+        ggMaterial m = ggSceneMaterial(scene, i);
+        glows = m.ke.r > 0 || m.ke.g > 0 || m.ke.b > 0;
+    }
+    if (ggSceneObjectCount(scene) == 0)
+        cli_warn("%s has no objects: the image is its background", path);
+    else if (ggSceneLightCount(scene) == 0 && !glows)
+        cli_warn("%s has no lights: only ambient and emission light it", path);
 }
 
 int cmd_render(int argc, char **argv)
@@ -253,7 +278,7 @@ int cmd_render(int argc, char **argv)
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if ((rc = cli_check_output("render", a.out)) != 0) return rc;
     if (!(scene = ggSceneCreate(NULL))) {
-        fprintf(stderr, "ggrt render: out of memory\n");
+        cli_error("out of memory");
         return EXIT_INPUT;
     }
     t[0] = cli_now();
@@ -261,8 +286,9 @@ int cmd_render(int argc, char **argv)
     t[1] = cli_now();
     if (rc == GG_OK && !a.quiet) {
         if (cli_is_model(a.scene)) cli_print_model_view(stderr, scene, a.scene);
-        cli_print_mesh_warnings(stderr, scene);
+        cli_print_mesh_warnings(scene);
     }
+    if (rc == GG_OK) warn_empty(scene, a.scene);
     if (rc == GG_OK) rc = ggScenePrepare(scene, &err);
     t[2] = cli_now();
     rc = rc == GG_OK ? run(&a, scene, t) : cli_fail(rc, &err, 0);

@@ -21,7 +21,8 @@ static const char about[] =
 static const char tail[] =
     "The render options are the starting point; the page changes depth, samples and\n"
     "the accuracy knobs per view (depth at most 16, samples at most 64, images at\n"
-    "most 4096 a side and 16777216 pixels). Only SCENE and its textures are read.\n"
+    "most 4096 a side and 16777216 pixels). --crop is refused: the page shows the\n"
+    "whole image. Only SCENE and its textures are read.\n"
     "exit: 0 stopped by Ctrl-C or SIGTERM, 1 usage, 2 bad scene, 3 cannot listen";
 
 typedef struct serve_args {
@@ -62,9 +63,12 @@ static int parse(serve_args *a, int argc, char **argv)
                    .args_name = "scene"};
     int rc;
     a->port = 8080, a->host = "127.0.0.1", a->job_seconds = 300;
-    cli_render_init(&a->ro, CLI_RENDER_PIXEL | CLI_RENDER_THREADS);
+    cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
+    if (cli_given(&cmd, "crop"))
+        return cli_usage_error(&cmd, "--crop does not apply: the page shows the whole image "
+                                     "(serve renders it in bands of its own)");
     if (a->ro.opt.max_depth > 16)
         return cli_usage_error(&cmd, "--depth %d: ggrt serve takes at most 16",
                                a->ro.opt.max_depth);
@@ -86,8 +90,8 @@ int cmd_serve(int argc, char **argv)
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    fprintf(stderr, "ggrt serve: not available: this ggrt was built without GNU libmicrohttpd "
-                    "(install libmicrohttpd-dev, then rebuild)\n");
+    cli_error("not available: this ggrt was built without GNU libmicrohttpd "
+              "(install libmicrohttpd-dev, then rebuild)");
     return EXIT_USAGE;
 }
 
@@ -124,7 +128,7 @@ static int load(srv_server *s)
     int rc;
     s->scene = ggSceneCreate(NULL);
     if (!s->scene) {
-        fprintf(stderr, "ggrt serve: out of memory\n");
+        cli_error("out of memory");
         return EXIT_INPUT;
     }
     rc = ggSceneLoadFile(s->scene, s->cfg.scene_path, &err);
@@ -137,10 +141,9 @@ static int load(srv_server *s)
     s->cfg.height = s->cfg.opt.height > 0 ? s->cfg.opt.height : cam.height;
     if (s->cfg.width < 1 || s->cfg.height < 1 || s->cfg.width > SRV_MAX_SIDE ||
         s->cfg.height > SRV_MAX_SIDE || (long)s->cfg.width * s->cfg.height > SRV_MAX_PIXELS) {
-        fprintf(stderr,
-                "ggrt serve: a %dx%d image is over the limits (4096 a side, 16777216 pixels); "
-                "choose one with -s WxH\n",
-                s->cfg.width, s->cfg.height);
+        cli_error("a %dx%d image is over the limits (4096 a side, 16777216 pixels); "
+                  "choose one with -s WxH",
+                  s->cfg.width, s->cfg.height);
         return EXIT_USAGE;
     }
     return EXIT_OK;
@@ -181,23 +184,22 @@ static int serve(srv_server *s)
     int port, sig = 0, v6 = strchr(s->cfg.host, ':') != NULL;
     block_signals(&set);
     if (srv_jobs_start(s, &err) != GG_OK) {
-        fprintf(stderr, "ggrt serve: %s\n", err.message);
+        cli_error("%s", err.message);
         return EXIT_IO;
     }
     queue_first_render(s);
     http = srv_http_start(s, &port, msg, sizeof msg);
     if (!http) {
-        fprintf(stderr, "ggrt serve: %s\n", msg);
+        cli_error("%s", msg);
         srv_jobs_stop(s);
         return EXIT_IO;
     }
     fprintf(stderr, "ggrt serve: %s, %dx%d, %d objects, %d lights\n", s->cfg.scene_path,
             s->cfg.width, s->cfg.height, ggSceneObjectCount(s->scene), ggSceneLightCount(s->scene));
     if (strncmp(s->cfg.host, "127.", 4) && strcmp(s->cfg.host, "::1"))
-        fprintf(stderr,
-                "ggrt serve: warning: listening on %s, which other machines can reach; "
-                "anyone with the URL can use this server\n",
-                s->cfg.host);
+        cli_warn("listening on %s, which other machines can reach; anyone with the URL can use "
+                 "this server",
+                 s->cfg.host);
     printf("http://%s%s%s:%d/?token=%s\n", v6 ? "[" : "", s->cfg.host, v6 ? "]" : "", port,
            s->token);
     fflush(stdout);
@@ -222,7 +224,7 @@ int cmd_serve(int argc, char **argv)
     s.cfg.job_seconds = a.job_seconds;
     s.cfg.opt = a.ro.opt;
     if (make_token(s.token)) {
-        fprintf(stderr, "ggrt serve: cannot read /dev/urandom for the token\n");
+        cli_error("cannot read /dev/urandom for the token");
         return EXIT_IO;
     }
     if ((rc = load(&s)) == EXIT_OK) rc = serve(&s);

@@ -23,7 +23,9 @@ static const char about[] =
 
 static const char tail[] =
     "The printed colour equals, bit for bit, what ggrt render writes for the pixel\n"
-    "with the same render options.\n"
+    "with the same render options. -j is accepted and ignored (one pixel is traced\n"
+    "on one thread); a --crop that leaves the pixel out is refused (render leaves\n"
+    "it black).\n"
     "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
 
 static const char *const formats[] = {"text", "json", NULL};
@@ -52,6 +54,24 @@ static int diff_sides(trace_args *a, const cli_cmd *cmd)
         return cli_usage_error(cmd, "--a:%s", err.message);
     if (ggRenderOptionsParse(&a->ob, a->b_text, &err) != GG_OK)
         return cli_usage_error(cmd, "--b:%s", err.message);
+    return CLI_GO;
+}
+
+/* The render options every command takes, here where they do not decide
+   the pixel: -j is said once to do nothing, and a crop must hold the
+   pixel (outside it render writes black, which no trace explains). */
+static int crop_and_threads(const trace_args *a, const cli_cmd *cmd)
+{
+    const ggRenderOptions *o = &a->ro.opt;
+    int x = a->pixel[0], y = a->pixel[1];
+    if (cli_given(cmd, "threads"))
+        cli_warn("-j does not apply to a trace (one pixel, one thread); ignored");
+    if (cli_given(cmd, "crop") &&
+        (x < o->crop_x0 || x >= o->crop_x1 || y < o->crop_y0 || y >= o->crop_y1))
+        return cli_usage_error(cmd,
+                               "--pixel %d,%d is outside --crop %d,%d,%d,%d, where ggrt render "
+                               "writes black",
+                               x, y, o->crop_x0, o->crop_y0, o->crop_x1, o->crop_y1);
     return CLI_GO;
 }
 
@@ -100,10 +120,11 @@ static int parse(trace_args *a, int argc, char **argv)
                    .args_name = "scene"};
     int rc;
     a->sample = -1, a->a_text = a->b_text = "";
-    cli_render_init(&a->ro, CLI_RENDER_PIXEL);
+    cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
     if (!mine[0].given) return cli_usage_error(&cmd, "need --pixel X,Y");
+    if ((rc = crop_and_threads(a, &cmd)) != CLI_GO) return rc;
     if (a->nscenes > 1 && !a->diff) return cli_usage_error(&cmd, "a second scene needs --diff");
     if ((mine[9].given || mine[10].given) && !a->diff)
         return cli_usage_error(&cmd, "--a and --b need --diff");
@@ -185,7 +206,7 @@ static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
     const char *pb = a->scenes[a->nscenes > 1];
     int rc = EXIT_OK;
     if (!tb) {
-        fprintf(stderr, "ggrt trace: out of memory\n");
+        cli_error("out of memory");
         return EXIT_INPUT;
     }
     if (a->nscenes > 1 && !(sb = dbg_load(pb, &rc))) {
@@ -216,7 +237,7 @@ int cmd_trace(int argc, char **argv)
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if (!(scene = dbg_load(a.scenes[0], &rc))) return rc;
     if (!(tr = ggTraceCreate(NULL))) {
-        fprintf(stderr, "ggrt trace: out of memory\n");
+        cli_error("out of memory");
         ggSceneFree(scene);
         return EXIT_INPUT;
     }

@@ -15,7 +15,7 @@ ggScene *dbg_load(const char *path, int *rc)
     ggError err;
     int st;
     if (!s) {
-        fprintf(stderr, "ggrt: out of memory\n");
+        cli_error("out of memory");
         *rc = EXIT_INPUT;
         return NULL;
     }

@@ -40,6 +40,7 @@ static void usage(FILE *f)
 
 static int dispatch(int argc, char **argv)
 {
+    const char *names[sizeof commands / sizeof commands[0]], *near;
     size_t i;
     if (argc < 2) {
         usage(stderr);
@@ -53,11 +54,21 @@ static int dispatch(int argc, char **argv)
         printf("ggrt %s\n", ggVersion());
         return EXIT_OK;
     }
-    for (i = 0; i < sizeof commands / sizeof commands[0]; i++)
-        if (!strcmp(argv[1], commands[i].name)) return commands[i].run(argc - 1, argv + 1);
-    fprintf(stderr, "ggrt: unknown command '%s'\n\n", argv[1]);
-    usage(stderr);
-    return EXIT_USAGE;
+    for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        names[i] = commands[i].name;
+        if (!strcmp(argv[1], commands[i].name)) {
+            cli_set_command(commands[i].name);
+            return commands[i].run(argc - 1, argv + 1);
+        }
+    }
+    /* Two lines, not the whole usage: the typo and where the list is. */
+    near = cli_suggest(argv[1], names, i);
+    if (near)
+        cli_error("unknown command '%s'; did you mean '%s'?", argv[1], near);
+    else
+        cli_error("unknown command '%s'", argv[1]);
+    fprintf(stderr, "run 'ggrt --help' for the list of commands\n");
+    return EXIT_INPUT;
 }
 
 int main(int argc, char **argv)

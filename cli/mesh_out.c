@@ -39,15 +39,14 @@ void cli_print_meshes(FILE *f, const ggScene *s)
     }
 }
 
-void cli_print_mesh_warnings(FILE *f, const ggScene *s)
+void cli_print_mesh_warnings(const ggScene *s)
 {
     int i, n = ggSceneMeshCount(s);
     for (i = 0; i < n; i++) {
         ggMeshInfo mi;
         ggSceneGetMeshInfo(s, i, &mi);
         if (mi.warnings)
-            fprintf(f, "ggrt: warning: %s%s\n", mi.warning,
-                    mi.warnings > 1 ? " (and more: see ggrt info)" : "");
+            cli_warn("%s%s", mi.warning, mi.warnings > 1 ? " (and more: see ggrt info)" : "");
     }
 }
 

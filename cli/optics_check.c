@@ -315,12 +315,12 @@ int cli_optics_check(int argc, char **argv)
     } else {
         void *h = dlopen(k.lib, RTLD_NOW | RTLD_LOCAL);
         if (!h) {
-            fprintf(stderr, "ggrt optics check: %s\n", dlerror());
+            cli_error("%s", dlerror());
             return EXIT_INPUT;
         }
         k.fn = dlsym(h, k.symbol);
         if (!k.fn) {
-            fprintf(stderr, "ggrt optics check: %s: no symbol '%s'\n", k.lib, k.symbol);
+            cli_error("%s: no symbol '%s'", k.lib, k.symbol);
             return EXIT_INPUT;
         }
     }
@@ -353,12 +353,12 @@ static int write_seed(const char *dir, const char *name, int idx, int mode, cons
         if (base[i] == ' ') base[i] = '-';
     snprintf(path, sizeof path, "%s/%s-%03d", dir, base, idx);
     if (!(f = fopen(path, "wb")) || fwrite(buf, 1, sizeof buf, f) != sizeof buf) {
-        fprintf(stderr, "ggrt optics seeds: %s: %s\n", path, strerror(errno));
+        cli_error("%s: %s", path, strerror(errno));
         if (f) fclose(f);
         return EXIT_IO;
     }
     if (fclose(f) != 0) {
-        fprintf(stderr, "ggrt optics seeds: %s: %s\n", path, strerror(errno));
+        cli_error("%s: %s", path, strerror(errno));
         return EXIT_IO;
     }
     return 0;
@@ -387,7 +387,7 @@ int cli_optics_seeds(int argc, char **argv)
                    .args_name = "directory"};
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     if (stat(dir, &sb) != 0 && mkdir(dir, 0777) != 0) {
-        fprintf(stderr, "ggrt optics seeds: %s: %s\n", dir, strerror(errno));
+        cli_error("%s: %s", dir, strerror(errno));
         return EXIT_IO;
     }
     for (n = 0; names[n]; n++) {

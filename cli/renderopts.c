@@ -62,7 +62,7 @@ void cli_render_init(cli_render *r, unsigned parts)
     memset(r, 0, sizeof *r);
     ggRenderOptionsDefault(&r->opt);
     r->parts = parts;
-    r->table[n++] = (cli_opt)CLI_OPT_SECTION("render options (the same in every command)");
+    r->table[n++] = (cli_opt)CLI_OPT_SECTION("render options (the same in every command that renders or traces)");
     if (parts & CLI_RENDER_SIZE)
         r->table[n++] = (cli_opt)CLI_OPT_SIZE('s', "size", r->size, 1, GG_IMAGE_MAX_DIM, "WxH",
                                               "image size (default: the scene's resolution)");

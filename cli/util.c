@@ -5,8 +5,10 @@
 */
 #include "cli.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <stdarg.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,9 +30,57 @@ int cli_exit_code(int status, int from_args)
     }
 }
 
+/* ---- messages: every error and warning is "ggrt CMD: ..." ---- */
+
+static char command_name[64]; /* set by cli_parse; empty before a command runs */
+
+void cli_set_command(const char *name)
+{
+    snprintf(command_name, sizeof command_name, "%s", name ? name : "");
+}
+
+static void say(const char *cmd, const char *kind, const char *fmt, va_list ap)
+{
+    fprintf(stderr, "ggrt%s%s: %s", cmd && *cmd ? " " : "", cmd ? cmd : "", kind);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+}
+
+void cli_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    say(command_name, "", fmt, ap);
+    va_end(ap);
+}
+
+void cli_warn(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    say(command_name, "warning: ", fmt, ap);
+    va_end(ap);
+}
+
+static void error_in(const char *cmd, const char *fmt, ...) CLI_PRINTF(2, 3);
+static void error_in(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    say(cmd, "", fmt, ap);
+    va_end(ap);
+}
+
 int cli_fail(int status, const ggError *err, int from_args)
 {
-    fprintf(stderr, "ggrt: %s\n", err && err->message[0] ? err->message : ggStatusString(status));
+    const char *m = err && err->message[0] ? err->message : ggStatusString(status), *p = m;
+    /* A library message that names its function ("ggDiff: ...") speaks to a
+       programmer; the user ran a command, which the prefix already names. */
+    if (p[0] == 'g' && p[1] == 'g' && isupper((unsigned char)p[2])) {
+        for (p += 2; isalnum((unsigned char)*p); p++) continue;
+        m = p[0] == ':' && p[1] == ' ' ? p + 2 : m;
+    }
+    cli_error("%s", m);
     return cli_exit_code(status, from_args);
 }
 
@@ -43,13 +93,35 @@ double cli_now(void)
 
 /* ---- output files ---- */
 
+/* A new file: its folder must exist and take files, checked now so that
+   a command fails before its work, not after it (trace --svg would print
+   the whole tree first). */
+static int check_folder(const char *cmd, const char *path)
+{
+    char dir[1024] = ".";
+    const char *slash = strrchr(path, '/');
+    struct stat st;
+    size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0; /* "/x.png": the root */
+    if (n >= sizeof dir) {
+        error_in(cmd, "'%s': file name too long", path);
+        return EXIT_IO;
+    }
+    if (slash) memcpy(dir, path, n), dir[n] = '\0';
+    if (stat(dir, &st) != 0 || (!S_ISDIR(st.st_mode) && (errno = ENOTDIR) != 0) ||
+        access(dir, W_OK | X_OK) != 0) {
+        error_in(cmd, "cannot write '%s': %s: %s", path, dir, strerror(errno));
+        return EXIT_IO;
+    }
+    return 0;
+}
+
 int cli_check_output(const char *cmd, const char *path)
 {
     struct stat st;
     const char *why = NULL;
     if (lstat(path, &st) != 0) {
-        if (errno == ENOENT) return 0; /* a new file: the writer reports a missing folder */
-        fprintf(stderr, "ggrt %s: cannot write '%s': %s\n", cmd, path, strerror(errno));
+        if (errno == ENOENT) return check_folder(cmd, path); /* a new file */
+        error_in(cmd, "cannot write '%s': %s", path, strerror(errno));
         return EXIT_IO;
     }
     /* The writers replace the file whole (a new file renamed over it), so
@@ -66,7 +138,7 @@ int cli_check_output(const char *cmd, const char *path)
     else if (access(path, W_OK) != 0)
         why = strerror(errno);
     if (!why) return 0;
-    fprintf(stderr, "ggrt %s: refusing to write '%s': %s\n", cmd, path, why);
+    error_in(cmd, "refusing to write '%s': %s", path, why);
     return EXIT_IO;
 }
 
@@ -76,15 +148,14 @@ int cli_out_open(cli_out *o, const char *cmd, const char *path)
     memset(o, 0, sizeof *o);
     if ((rc = cli_check_output(cmd, path)) != 0) return rc;
     if (strlen(path) >= sizeof o->path) {
-        fprintf(stderr, "ggrt %s: '%s': file name too long\n", cmd, path);
+        error_in(cmd, "'%s': file name too long", path);
         return EXIT_IO;
     }
     strcpy(o->path, path);
     snprintf(o->tmp, sizeof o->tmp, "%s.tmp%ld", path, (long)getpid());
     fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
     if (fd < 0 || !(o->f = fdopen(fd, "w"))) {
-        fprintf(stderr, "ggrt %s: %s: cannot create a temporary file beside it: %s\n", cmd, path,
-                strerror(errno));
+        error_in(cmd, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
         if (fd >= 0) close(fd), unlink(o->tmp);
         return EXIT_IO;
     }
@@ -100,7 +171,7 @@ int cli_out_close(cli_out *o, const char *cmd)
     if (!bad && rename(o->tmp, o->path) != 0) bad = 1, e = errno;
     if (!bad) return 0;
     unlink(o->tmp);
-    fprintf(stderr, "ggrt %s: %s: %s\n", cmd, o->path, e ? strerror(e) : "write error");
+    error_in(cmd, "%s: %s", o->path, e ? strerror(e) : "write error");
     return EXIT_IO;
 }
 
@@ -191,7 +262,6 @@ int cli_close_stdout(void)
     if (fflush(stdout) != 0) bad = 1, e = errno;
     if (fclose(stdout) != 0 && !bad) bad = 1, e = errno;
     if (!bad) return 0;
-    fprintf(stderr, "ggrt: error writing standard output%s%s\n", e ? ": " : "",
-            e ? strerror(e) : "");
+    cli_error("error writing standard output%s%s", e ? ": " : "", e ? strerror(e) : "");
     return EXIT_IO;
 }

@@ -148,12 +148,61 @@ static void test_escape_function(void **state)
     }
 }
 
+/* A binary file is named by its first bytes, in NFF and OBJ alike, before
+   any NUL byte or token is looked at; one byte off is no longer that
+   format (and then a NUL byte, or a token, is the error). */
+static void test_binary_files(void **state)
+{
+    static const struct {
+        const char *bytes;
+        size_t len;
+        const char *kind;
+    } files[] = {
+        {"\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16, "a PNG image"},
+        {"\x76\x2f\x31\x01\x02\0\0\0", 8, "an OpenEXR image"},
+        {"\xff\xd8\xff\xe0\0\x10JFIF", 10, "a JPEG image"},
+        {"GIF89a\x01\0\x01\0", 10, "a GIF image"},
+        {"GIF87a\x01\0\x01\0", 10, "a GIF image"},
+        {"II*\0\x08\0\0\0", 8, "a TIFF image"},
+        {"MM\0*\0\0\0\x08", 8, "a TIFF image"},
+        {"RIFF\x24\0\0\0WEBPVP8 ", 16, "a WebP image"},
+        {"glTF\x02\0\0\0", 8, "a binary glTF model"},
+        {"\x1f\x8b\x08\0\0\0\0\0", 8, "gzip-compressed data"},
+        {"PK\x03\x04\x14\0\0\0", 8, "a ZIP archive"},
+        {"%PDF-1.7\n%\xe2\xe3", 12, "a PDF document"},
+        {"\x7f" "ELF\x02\x01\x01\0", 8, "an executable (ELF)"},
+    };
+    size_t i;
+    char want[200];
+    (void)state;
+    for (i = 0; i < sizeof files / sizeof files[0]; i++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggMeshOptions mo;
+        ggError e;
+        snprintf(want, sizeof want, "t.nff: this is %s, not a scene file (NFF, OBJ or PLY)",
+                 files[i].kind);
+        expect(files[i].bytes, files[i].len, GG_ERROR_PARSE, want);
+        ggMeshOptionsDefault(&mo);
+        mo.format = GG_MESH_FORMAT_OBJ;
+        assert_int_equal(
+            ggSceneLoadMeshMemory(s, files[i].bytes, files[i].len, "m.obj", &mo, &e),
+            GG_ERROR_PARSE);
+        snprintf(want, sizeof want, "m.obj: this is %s, not a text file (OBJ or MTL)",
+                 files[i].kind);
+        assert_string_equal(e.message, want);
+        /* Without its first byte it is not that format any more. */
+        assert_int_equal(load(s, files[i].bytes + 1, files[i].len - 1, &e), GG_ERROR_PARSE);
+        assert_null(strstr(e.message, "this is"));
+        ggSceneFree(s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_nul_bytes),        cmocka_unit_test(test_bom_and_line_endings),
         cmocka_unit_test(test_obj_line_endings), cmocka_unit_test(test_messages_escape_bytes),
-        cmocka_unit_test(test_escape_function),
+        cmocka_unit_test(test_escape_function),  cmocka_unit_test(test_binary_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -296,7 +296,7 @@ static int sweep(ggScene *s, ggScene *copy, const bench_opts *bo, const char *sc
         o = base;
         knobs[i].apply(&o, knobs[i].value);
         if (measure(s, &o, bo->runs, &img, &rows[i]) != 0) {
-            fprintf(stderr, "ggrt bench accuracy: render failed\n");
+            cli_error("render failed");
             goto done;
         }
         ggImageCompare(img,
@@ -306,7 +306,7 @@ static int sweep(ggScene *s, ggScene *copy, const bench_opts *bo, const char *sc
                        GG_COMPARE_LINEAR, &rows[i].d);
         changed = is_spp || is_depth ? 0 : trees_changed(s, copy, &base, &o);
         if (changed < 0) {
-            fprintf(stderr, "ggrt bench accuracy: the ray-tree comparison failed\n");
+            cli_error("the ray-tree comparison failed");
             goto done;
         }
         rows[i].changed = (size_t)changed;
@@ -328,7 +328,7 @@ int bench_accuracy(const bench_opts *bo)
     cli_out co, so;
     int a, rc = EXIT_OK, w = bo->size ? bo->size : 240, h = w * 3 / 4;
     if (bo->nargs == 0) {
-        fprintf(stderr, "ggrt bench accuracy: name one or more scene files\n");
+        cli_error("name one or more scene files");
         return EXIT_USAGE;
     }
     snprintf(path, sizeof path, "%s/accuracy.csv", out);
@@ -352,7 +352,7 @@ int bench_accuracy(const bench_opts *bo)
         ggScene *s = ggSceneCreate(NULL), *copy = ggSceneCreate(NULL);
         ggError err;
         if (!s || !copy) {
-            fprintf(stderr, "ggrt bench accuracy: out of memory\n");
+            cli_error("out of memory");
             rc = EXIT_INPUT;
         } else if ((rc = ggSceneLoadFile(s, bo->args[a], &err)) != GG_OK ||
                    (rc = ggScenePrepare(s, &err)) != GG_OK ||

@@ -43,6 +43,7 @@ int cmd_bench(int argc, char **argv)
     bench_opts bo;
     const char *args[BENCH_MAX_ARGS + 1];
     int no_pov = 0, nargs = 0, rc, i;
+    char name[32];
     cli_opt opts[] = {
         CLI_OPT_INT(0, "size", &bo.size, 1, 4096, "N",
                     "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
@@ -109,6 +110,8 @@ int cmd_bench(int argc, char **argv)
         if (bo.knobs && benches[i].run != bench_accuracy)
             return cli_usage_error(&cmd, "--knobs is an option of bench accuracy only");
         if (!opts[0].given) bo.size = benches[i].size;
+        snprintf(name, sizeof name, "bench %s", benches[i].name);
+        cli_set_command(name); /* "ggrt bench accuracy: ..." */
         return benches[i].run(&bo);
     }
     return cli_usage_error(&cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling)",

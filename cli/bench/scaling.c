@@ -117,7 +117,7 @@ static ggScene *load_prepared(const char *path)
     ggScene *s = ggSceneCreate(NULL);
     ggError e;
     if (!s || ggSceneLoadFile(s, path, &e) != GG_OK || ggScenePrepare(s, &e) != GG_OK) {
-        fprintf(stderr, "ggrt: %s\n", s ? e.message : "out of memory");
+        cli_error("%s", s ? e.message : "out of memory");
         ggSceneFree(s);
         return NULL;
     }

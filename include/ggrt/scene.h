@@ -316,7 +316,11 @@ GG_API void ggSceneSetSamples(ggScene *scene, int samples_per_pixel);
    ggSceneObjectKind, ggSceneObjectMaterial and ggSceneObjectMesh -1,
    ggSceneObjectLine 0, ggSceneMaterial the ggMaterialDefault(), ggSceneGet*
    and ggSceneObjectShape GG_ERROR_INVALID, ggSceneIntersect and
-   ggSceneOccluded false, ggSceneFileName "". */
+   ggSceneOccluded false, ggSceneFileName "".
+   ggSceneObjectCount counts the objects (a mesh is one); ggSceneLightCount
+   the point lights (NFF "l" lines, ggSceneAddLight, ggSceneFrame's), which
+   an emissive material is not: a scene with no light is lit only by its
+   ambient light and emission, one with no object renders its background. */
 GG_API int ggSceneObjectCount(const ggScene *scene);
 GG_API int ggSceneLightCount(const ggScene *scene);
 GG_API int ggSceneMaterialCount(const ggScene *scene);

@@ -151,9 +151,8 @@ static int diff_setup(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
     gg_tracer_info(*ta, &da);
     gg_tracer_info(*tb, &db);
     if (da.width != db.width || da.height != db.height)
-        return gg_error_set(err, GG_ERROR_INVALID,
-                            "ggDiff: the images differ in size (%dx%d, %dx%d)", da.width, da.height,
-                            db.width, db.height);
+        return gg_error_set(err, GG_ERROR_INVALID, "the images differ in size (%dx%d, %dx%d)",
+                            da.width, da.height, db.width, db.height);
     return GG_OK;
 }
 

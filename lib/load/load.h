@@ -38,6 +38,12 @@ int gg_load_mesh_format(const char *name);
 int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
                       ggError *err);
 
+/* What a binary file is, from its first bytes ("a PNG image", "an OpenEXR
+   image", "a ZIP archive", ...), or NULL when they match no known format.
+   The text readers call it before anything else: an image given as a scene
+   is named as such, not reported as a NUL byte at line 3. */
+const char *gg_load_binary_kind(const char *data, size_t len);
+
 /* The image texture at path for scene s, through the texture cache: a path
    already read gives the same image again; else it is read through the
    scene's reader (or the default one, given the budget's remainder) and

@@ -429,6 +429,37 @@ const char *gg_parse_long(const char *p, const char *end, long lo, long hi, long
 
 /* ---- files ---- */
 
+const char *gg_load_binary_kind(const char *data, size_t len)
+{
+    static const struct {
+        const char *magic;
+        size_t len;
+        const char *kind;
+    } known[] = {
+        {"\x89PNG\r\n\x1a\n", 8, "a PNG image"},
+        {"\x76\x2f\x31\x01", 4, "an OpenEXR image"},
+        {"\xff\xd8\xff", 3, "a JPEG image"},
+        {"GIF87a", 6, "a GIF image"},
+        {"GIF89a", 6, "a GIF image"},
+        {"II*\0", 4, "a TIFF image"},
+        {"MM\0*", 4, "a TIFF image"},
+        {"glTF", 4, "a binary glTF model"},
+        {"\x1f\x8b", 2, "gzip-compressed data"},
+        {"PK\x03\x04", 4, "a ZIP archive"},
+        {"%PDF-", 5, "a PDF document"},
+        {"\x7f"
+         "ELF",
+         4, "an executable (ELF)"},
+    };
+    size_t i;
+    for (i = 0; i < sizeof known / sizeof known[0]; i++)
+        if (len >= known[i].len && memcmp(data, known[i].magic, known[i].len) == 0)
+            return known[i].kind;
+    if (len >= 12 && memcmp(data, "RIFF", 4) == 0 && memcmp(data + 8, "WEBP", 4) == 0)
+        return "a WebP image";
+    return NULL;
+}
+
 int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
                       ggError *err)
 {

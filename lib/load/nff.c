@@ -846,7 +846,10 @@ static int check_text(parser *ps)
 {
     const unsigned char *u = (const unsigned char *)ps->text;
     size_t len = (size_t)(ps->end - ps->text);
-    const char *z, *c;
+    const char *z, *c, *kind = gg_load_binary_kind(ps->text, len);
+    if (kind)
+        return gg_error_set(ps->err, GG_ERROR_PARSE,
+                            "%s: this is %s, not a scene file (NFF, OBJ or PLY)", ps->name, kind);
     if (len >= 2 && ((u[0] == 0xFE && u[1] == 0xFF) || (u[0] == 0xFF && u[1] == 0xFE)))
         return fail(ps, NULL, GG_ERROR_UNSUPPORTED,
                     "UTF-16 text is not supported (convert the file to UTF-8)");

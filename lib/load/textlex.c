@@ -31,7 +31,10 @@ int gg_lc_check_text(gg_lc *c)
 {
     const unsigned char *t = (const unsigned char *)c->p;
     size_t len = (size_t)(c->end - c->p);
-    const char *z, *q;
+    const char *z, *q, *kind = gg_load_binary_kind(c->p, len);
+    if (kind)
+        return gg_error_set(c->err, GG_ERROR_PARSE, "%s: this is %s, not a text file (OBJ or MTL)",
+                            c->name, kind);
     if (len >= 2 && ((t[0] == 0xFE && t[1] == 0xFF) || (t[0] == 0xFF && t[1] == 0xFE)))
         return gg_lc_fail(c, NULL, GG_ERROR_UNSUPPORTED,
                           "UTF-16 text is not supported (convert the file to UTF-8)");

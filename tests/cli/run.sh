@@ -31,7 +31,7 @@ got:  $(cat "$tmp/err")"; fi
 # ---- usage and help ----
 expect_exit 0 "ggrt --help" "$ggrt" --help
 expect_exit 1 "ggrt with no command" "$ggrt"
-expect_exit 1 "unknown command" "$ggrt" frobnicate
+expect_exit 2 "unknown command" "$ggrt" frobnicate
 for c in render trace info optics bench; do
   expect_exit 0 "ggrt $c --help" "$ggrt" $c --help
 done
@@ -40,25 +40,25 @@ expect_exit 1 "render with a bad size" "$ggrt" render examples/scenes/glass.nff 
 expect_exit 1 "render to an unknown format" "$ggrt" render examples/scenes/glass.nff -o "$tmp/x.bmp"
 
 # ---- bad input: file:line:col, exit 2; I/O: exit 3; never a crash ----
-expect_err 3 "ggrt: $tmp/none.nff: No such file or directory" "missing scene" \
+expect_err 3 "ggrt render: $tmp/none.nff: No such file or directory" "missing scene" \
   "$ggrt" render "$tmp/none.nff" -o "$tmp/x.png"
 printf 'f 1 1 1 1 0 1 0 0\ns 0 0 0 1\ns 1 2\n' > "$tmp/trunc.nff"
-expect_err 2 "ggrt: $tmp/trunc.nff:4:1: expected a number after 's', got end of file" \
+expect_err 2 "ggrt render: $tmp/trunc.nff:4:1: expected a number after 's', got end of file" \
   "truncated scene" "$ggrt" render "$tmp/trunc.nff" -o "$tmp/x.png"
 printf 'p 4\n0 0 0\n1 0 0\n1 1 0\ns 0 0 0 1\n' > "$tmp/count.nff"
-expect_err 2 "ggrt: $tmp/count.nff:5:1: expected a number after 'p', got 's'" \
+expect_err 2 "ggrt render: $tmp/count.nff:5:1: expected a number after 'p', got 's'" \
   "wrong vertex count" "$ggrt" render "$tmp/count.nff" -o "$tmp/x.png"
 printf 's 0 0 zero 1\n' > "$tmp/nonnum.nff"
-expect_err 2 "ggrt: $tmp/nonnum.nff:1:7: expected a number after 's', got 'zero'" \
+expect_err 2 "ggrt render: $tmp/nonnum.nff:1:7: expected a number after 's', got 'zero'" \
   "not a number" "$ggrt" render "$tmp/nonnum.nff" -o "$tmp/x.png"
 printf 'l 0 0 NaN\n' > "$tmp/nan.nff"
-expect_err 2 "ggrt: $tmp/nan.nff:1:7: expected a number after 'l', got 'NaN'" \
+expect_err 2 "ggrt render: $tmp/nan.nff:1:7: expected a number after 'l', got 'NaN'" \
   "NaN" "$ggrt" render "$tmp/nan.nff" -o "$tmp/x.png"
 printf 'v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 resolution 99999999 2\n' > "$tmp/huge.nff"
-expect_err 2 "ggrt: $tmp/huge.nff:1:52: a width after 'resolution' must be a whole number from 1 to 65536, got 99999999" \
+expect_err 2 "ggrt render: $tmp/huge.nff:1:52: a width after 'resolution' must be a whole number from 1 to 65536, got 99999999" \
   "huge resolution" "$ggrt" render "$tmp/huge.nff" -o "$tmp/x.png"
 printf 'f 1 1 1 1 0 1 0 0\ntexture "nowhere.png"\ns 0 0 0 1\n' > "$tmp/tex.nff"
-expect_err 3 "ggrt: $tmp/tex.nff:2:9: cannot read texture: ${tmp}/nowhere.png: cannot open: No such file or directory" \
+expect_err 3 "ggrt render: $tmp/tex.nff:2:9: cannot read texture: ${tmp}/nowhere.png: cannot open: No such file or directory" \
   "missing texture" "$ggrt" render "$tmp/tex.nff" -o "$tmp/x.png"
 expect_exit 3 "unwritable output" "$ggrt" render examples/scenes/glass.nff -s 8x6 -q -o /nonexistent/dir/x.png
 [ ! -e "$tmp/x.png" ] && ok "failed renders leave no image" || bad "failed renders leave no image"

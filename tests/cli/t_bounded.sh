@@ -6,20 +6,20 @@
 # run.sh's ggrt, tmp, ok and bad.
 
 # expect_summary NAME SECONDS TEXT CMD...: exit 0 within SECONDS (timeout
-# 124 otherwise) and TEXT in the summary on stdout.
+# 124 otherwise) and TEXT in the summary (stdout) or a warning (stderr).
 expect_summary() {
   name=$1; secs=$2; text=$3; shift 3
   timeout "$secs" "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
-  if [ "$got" = 0 ] && grep -qF -- "$text" "$tmp/out"; then ok "$name"
+  if [ "$got" = 0 ] && cat "$tmp/out" "$tmp/err" | grep -qF -- "$text"; then ok "$name"
   else bad "$name (exit $got)" "want: $text
 got:  $(cat "$tmp/out" "$tmp/err")"; fi
 }
 
 expect_summary "nested glass at depth 64: the ray budget acts and is reported" 60 \
-  "warning: the ray budget (1024 rays per eye ray) left " \
+  "ggrt render: warning: the ray budget (1024 rays per eye ray) left " \
   "$ggrt" render tests/data/nested-glass.nff -s 16x12 -o "$tmp/nested.png"
 expect_summary "--ray-budget is what the warning names" 60 \
-  "warning: the ray budget (50 rays per eye ray) left " \
+  "ggrt render: warning: the ray budget (50 rays per eye ray) left " \
   "$ggrt" render tests/data/nested-glass.nff -s 16x12 --ray-budget 50 -o "$tmp/nested.png"
 "$ggrt" render examples/scenes/glass.nff -s 16x12 -o "$tmp/g.png" >"$tmp/out" 2>&1
 grep -q "warning" "$tmp/out" && bad "no budget warning where no budget acts" "$(cat "$tmp/out")" ||

@@ -9,15 +9,15 @@
 by="$tmp/bytes"
 mkdir -p "$by"
 printf 's 0 0 1\0junk 1\n' >"$by/nul.nff"
-expect_msg 2 "ggrt: $by/nul.nff:1:8: NUL byte in a text file" "a NUL byte inside a number" \
+expect_msg 2 "ggrt info: $by/nul.nff:1:8: NUL byte in a text file" "a NUL byte inside a number" \
   "$ggrt" info "$by/nul.nff"
 printf 'implicit "x^2 + y^2 + z^2 - 1\0 + w" -1 -1 -1 1 1 1\n' >"$by/nul2.nff"
-expect_msg 2 "ggrt: $by/nul2.nff:1:30: NUL byte in a text file" "a NUL byte inside an implicit expression" \
+expect_msg 2 "ggrt info: $by/nul2.nff:1:30: NUL byte in a text file" "a NUL byte inside an implicit expression" \
   "$ggrt" info "$by/nul2.nff"
 printf '\357\273\277v\rfrom 0 0 5\rat 0 0 0\rup 0 1 0\rangle 40\rresolution 8 6\r\nl 0 5 5\rs 0 0 0 1\r' >"$by/bomcr.nff"
 expect_exit 0 "a BOM, CR and CRLF line endings are read" "$ggrt" render "$by/bomcr.nff" -q -o "$by/x.png"
 printf 's 0 0 0 1\rs 0 0 \377 1\r' >"$by/cr.nff"
-expect_msg 2 "ggrt: $by/cr.nff:2:7: expected a number after 's', got '\\xFF'" \
+expect_msg 2 "ggrt info: $by/cr.nff:2:7: expected a number after 's', got '\\xFF'" \
   "CR-only lines count as lines; a byte that is not UTF-8 shows as \\xFF" "$ggrt" info "$by/cr.nff"
 
 # A model whose file name, group and material name are not UTF-8.

@@ -9,10 +9,10 @@ fl="$tmp/files"
 mkdir -p "$fl/dir.nff"
 mkfifo "$fl/fifo.nff"
 for f in "$fl/fifo.nff" "$fl/dir.nff" /dev/null /dev/zero; do
-  expect_msg 3 "ggrt: $f: not a regular file" "$(basename "$f") as the scene: refused at once" \
+  expect_msg 3 "ggrt render: $f: not a regular file" "$(basename "$f") as the scene: refused at once" \
     timeout 20 "$ggrt" render "$f" -q -o "$fl/x.png"
   printf 'texture "%s"\ns 0 0 0 1\n' "$f" >"$fl/t.nff"
-  expect_msg 3 "ggrt: $fl/t.nff:1:9: cannot read texture: $f: not a regular file" \
+  expect_msg 3 "ggrt info: $fl/t.nff:1:9: cannot read texture: $f: not a regular file" \
     "$(basename "$f") as a texture: refused at once" timeout 20 "$ggrt" info "$fl/t.nff"
 done
 [ ! -e "$fl/x.png" ] && ok "refused files leave no image" || bad "refused files leave no image"

@@ -99,7 +99,7 @@ if truncate -s 100G "$lim/sparse.nff" 2>/dev/null; then
     "a 100 GB sparse scene file" "$ggrt" render "$lim/sparse.nff" -q -o "$lim/out/z.png"
 fi
 rm -f "$lim/sparse.nff"
-under_1g 3 "ggrt: /dev/zero: not a regular file" "/dev/zero as the scene" \
+under_1g 3 "ggrt render: /dev/zero: not a regular file" "/dev/zero as the scene" \
   "$ggrt" render /dev/zero -q -o "$lim/out/z.png"
 rm -f "$lim/out/m.png" "$lim/out/f.png"
 [ -z "$(ls "$lim/out")" ] && ok "failed loads leave no image and no *.tmp* file" ||

@@ -32,7 +32,9 @@ for c in "trace $g --pixel 1,1" "trace $g --pixel 1,1 --format json" "info $g" "
          "--version" "optics reflect --v 1,-1,0 --n 0,1,0"; do
   # shellcheck disable=SC2086
   "$ggrt" $c >/dev/full 2>"$tmp/err"; got=$?
-  if [ $got = 3 ] && grep -qxF "ggrt: error writing standard output: No space left on device" "$tmp/err"
+  # the prefix names the command: "ggrt optics reflect: ", "ggrt: " for --version
+  who=$(printf '%s\n' "$c" | sed 's/ *examples.*//; s/ *--.*//; s/^\(.\)/ \1/')
+  if [ $got = 3 ] && grep -qxF "ggrt$who: error writing standard output: No space left on device" "$tmp/err"
   then ok "ggrt $c > /dev/full: exit 3"; else bad "ggrt $c > /dev/full: exit 3 (got $got)" "$(cat "$tmp/err")"; fi
 done
 # A file that cannot grow (RLIMIT_FSIZE; SIGXFSZ ignored so write fails with

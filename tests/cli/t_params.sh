@@ -4,10 +4,10 @@
 # command that loads a scene (docs/scene-format.md, "Parameter ranges").
 # Uses run.sh's ggrt, tmp, ok, bad and expect_err.
 
-# param NAME TEXT MESSAGE: the scene TEXT fails with "ggrt: FILE:MESSAGE".
+# param NAME TEXT MESSAGE: the scene TEXT fails with "ggrt render: FILE:MESSAGE".
 param() {
   printf "$2" > "$tmp/param.nff"
-  expect_err 2 "ggrt: $tmp/param.nff:$3" "params: $1 (exit 2 at the value)" \
+  expect_err 2 "ggrt render: $tmp/param.nff:$3" "params: $1 (exit 2 at the value)" \
     "$ggrt" render "$tmp/param.nff" -s 8x6 -q -o "$tmp/param.png"
 }
 pre='l 0 5 5\n'
@@ -42,6 +42,6 @@ printf 'f 1 1 1 1 0 1 0 0\nb -1 0 0\ns 0 0 0 1\n' > "$tmp/param.nff"
 for c in trace info check; do
   o=""; [ $c = trace ] && o="--pixel 1,1"
   # shellcheck disable=SC2086
-  expect_err 2 "ggrt: $tmp/param.nff:2:3: the background must not be negative, got -1" \
+  expect_err 2 "ggrt $c: $tmp/param.nff:2:3: the background must not be negative, got -1" \
     "params: $c reports it too (exit 2)" "$ggrt" $c "$tmp/param.nff" $o
 done

@@ -12,7 +12,7 @@ tr="$tmp/trunc"
 mkdir -p "$tr"
 python3 tests/data/hostile.py "$tr"
 printf 'texture "short.exr"\nrect -1 -1 0 2 0 0 0 2 0\n' >"$tr/t.nff"
-expect_msg 2 "ggrt: $tr/t.nff:1:9: cannot read texture: $tr/short.exr: invalid OpenEXR file: chunk 1 holds 20 bytes, its pixels take 48" \
+expect_msg 2 "ggrt render: $tr/t.nff:1:9: cannot read texture: $tr/short.exr: invalid OpenEXR file: chunk 1 holds 20 bytes, its pixels take 48" \
   "an uncompressed EXR chunk shorter than its pixels is refused" "$ggrt" render "$tr/t.nff" -q -o "$tr/x.png"
 replay="$(dirname "$ggrt")/tests/replay_image"
 case $ggrt in

@@ -1,0 +1,200 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: the rough edges a new user hit (issue 30,
+# item 5), one section each. Uses run.sh's ggrt, tmp, ok, bad and
+# t_args.sh's expect_msg.
+
+ed="$tmp/edges"
+mkdir -p "$ed"
+g=examples/scenes/glass.nff
+printf 's 0 0 zero 1\n' >"$ed/bad.nff"
+
+# prefixed PREFIX NAME CMD...: CMD fails, every stderr line that starts
+# with "ggrt" starts with "PREFIX: ", the first line does, and no library
+# function name ("ggDiff: ") appears.
+prefixed() {
+  want=$1; name=$2; shift 2
+  "$@" >"$ed/out" 2>"$ed/err"; got=$?
+  if [ $got != 0 ] && head -n 1 "$ed/err" | grep -q "^$want: " &&
+     ! grep '^ggrt' "$ed/err" | grep -qv "^$want: " &&
+     ! grep -q 'gg[A-Z][A-Za-z]*: ' "$ed/err"
+  then ok "$name"; else bad "$name (exit $got)" "want: $want: ...
+got:  $(cat "$ed/err")"; fi
+}
+
+# ---- 1. one message style: "ggrt CMD: ..." from every command ----
+for c in render trace find check diff info serve; do
+  case $c in
+    render) o="-o $ed/x.png" ;; trace) o="--pixel 1,1" ;; find) o="--where some(depth>9)" ;; *) o="" ;;
+  esac
+  # shellcheck disable=SC2086
+  prefixed "ggrt $c" "prefix: $c with a bad argument" "$ggrt" $c $g $o --bogus
+  # shellcheck disable=SC2086
+  prefixed "ggrt $c" "prefix: $c with a bad scene" "$ggrt" $c "$ed/bad.nff" $o
+done
+for f in refract reflect fresnel absorb check seeds; do
+  prefixed "ggrt optics $f" "prefix: optics $f with a bad argument" "$ggrt" optics $f --bogus
+done
+prefixed "ggrt optics fresnel" "prefix: optics fresnel with a bad value" \
+  "$ggrt" optics fresnel --angle 100
+prefixed "ggrt optics seeds" "prefix: optics seeds with an unwritable folder" \
+  "$ggrt" optics seeds /nonexistent/seeds
+prefixed "ggrt bench" "prefix: bench with a bad argument" "$ggrt" bench spd --bogus
+prefixed "ggrt bench accuracy" "prefix: bench accuracy with a bad scene" "$ggrt" bench accuracy "$ed/bad.nff"
+# The library's "ggDiff: the images differ in size" reached the user as is.
+sed 's/^resolution .*/resolution 10 10/' $g >"$ed/small.nff"
+prefixed "ggrt diff" "prefix: diff of two sizes names no library function" \
+  "$ggrt" diff $g "$ed/small.nff"
+
+# ---- 2. the render options are the same in every command that renders or traces ----
+"$ggrt" render --help | sed -n '/^render options/,/^ *-h, --help/p' |
+  grep -o '^ *\(-[a-z], \)\?--[a-z-]*' | sed 's/.*--//' | grep -vx help >"$ed/ropts"
+[ "$(wc -l <"$ed/ropts")" -ge 10 ] && ok "render --help lists its render options" ||
+  bad "render --help lists its render options" "$(cat "$ed/ropts")"
+# value OPTION: a valid value for it on an 8x6 image.
+value() {
+  case $1 in
+    size) echo "8x6" ;; depth) echo 3 ;; ray-budget) echo 64 ;; samples) echo 1 ;;
+    threads) echo 2 ;; crop) echo "0,0,4,4" ;; accuracy) echo "shadows=opaque" ;; *) echo "" ;;
+  esac
+}
+for c in trace find check diff serve; do
+  "$ggrt" $c --help >"$ed/help"
+  missing=$(while read -r o; do grep -q -- "--$o\\b" "$ed/help" || echo "$o"; done <"$ed/ropts")
+  [ -z "$missing" ] && ok "render options: $c --help lists every one" ||
+    bad "render options: $c --help lists every one" "missing: $missing"
+  case $c in
+    trace) o="--pixel 1,1" ;; find) o="--where some(depth>9) -q" ;; check) o="-q" ;; *) o="" ;;
+  esac
+  fails=""
+  while read -r opt; do
+    v=$(value "$opt")
+    if [ $c = serve ]; then
+      # serve would listen: a bad scene stops it after the options are read
+      # shellcheck disable=SC2086
+      "$ggrt" serve "$ed/bad.nff" --$opt $v >/dev/null 2>"$ed/err"; got=$?
+      if [ $opt = crop ]; then
+        [ $got = 1 ] && grep -q "^ggrt serve: --crop does not apply" "$ed/err" || fails="$fails crop($got)"
+      else
+        [ $got = 2 ] || fails="$fails $opt($got)"
+      fi
+      continue
+    fi
+    # shellcheck disable=SC2086
+    "$ggrt" $c $g -s 8x6 $o --$opt $v >/dev/null 2>"$ed/err"; got=$?
+    case $c:$got in
+      *:0 | check:4) ;; # check exits 4 when an invariant fails: it ran
+      *) fails="$fails $opt($got: $(head -c 200 "$ed/err"))" ;;
+    esac
+  done <"$ed/ropts"
+  [ -z "$fails" ] && ok "render options: $c takes every one" ||
+    bad "render options: $c takes every one" "$fails"
+done
+"$ggrt" trace $g -s 8x6 --pixel 1,1 -j 2 >/dev/null 2>"$ed/err"
+[ "$(grep -c '^ggrt trace: warning: -j does not apply' "$ed/err")" = 1 ] &&
+  ok "trace -j: said once to do nothing" || bad "trace -j: said once to do nothing" "$(cat "$ed/err")"
+expect_msg 1 "--pixel 5,5 is outside --crop 0,0,4,4" "trace --crop that leaves out the pixel" \
+  "$ggrt" trace $g -s 8x6 --pixel 5,5 --crop 0,0,4,4
+
+# ---- 3. every output path is checked before the work ----
+: >"$ed/file"
+for dir in /nonexistent/dir "$ed/file"; do
+  for c in "render $ed/bad.nff -o $dir/x.png" "render $ed/bad.nff --heatmap rays -o $dir/x.png" \
+           "trace $g -s 8x6 --pixel 1,1 --svg $dir/x.svg" "trace $g -s 8x6 --pixel 1,1 --obj $dir/x.obj" \
+           "find $ed/bad.nff --where some(depth>9) -o $dir/x.png" "find $ed/bad.nff --where some(depth>9) --overlay $dir/x.png" \
+           "diff $ed/bad.nff -o $dir/x.png"; do
+    # shellcheck disable=SC2086
+    "$ggrt" $c >"$ed/out" 2>"$ed/err"; got=$?
+    cmd=${c%% *}
+    if [ $got = 3 ] && [ ! -s "$ed/out" ] && [ "$(wc -l <"$ed/err")" = 1 ] &&
+       grep -q "^ggrt $cmd: cannot write '$dir/x\\.[a-z]*': " "$ed/err"
+    then ok "output checked first: ggrt $c"
+    else bad "output checked first: ggrt $c (exit $got)" "$(cat "$ed/err"; head -3 "$ed/out")"; fi
+  done
+done
+
+# ---- 4. an unknown optics form is named as one, with a suggestion ----
+for f in refract reflect fresnel absorb check seeds; do
+  typo=$(printf '%s' $f | sed 's/.$//')
+  expect_msg 1 "ggrt optics: unknown form '$typo'; did you mean '$f'?" \
+    "optics $typo --v ...: unknown form, did you mean $f" \
+    "$ggrt" optics "$typo" --v -1,0,0 --n 0,1,0
+done
+expect_msg 1 "ggrt optics: unknown form 'xyzzy' (refract, reflect, fresnel, absorb, check, seeds)" \
+  "optics xyzzy: unknown form, the list" "$ggrt" optics xyzzy --v -1,0,0
+
+# ---- 5. a binary file given as a scene says what it is ----
+"$ggrt" render $g -s 8x6 -q -o "$ed/img.png" && "$ggrt" render $g -s 8x6 -q -o "$ed/img.exr"
+printf '\377\330\377\340\0\020JFIF\0' >"$ed/img.jpg"
+gzip -c $g >"$ed/scene.gz"
+printf 'PK\003\004\024\0\0\0' >"$ed/a.zip"
+for f in img.png:"a PNG image" img.exr:"an OpenEXR image" img.jpg:"a JPEG image" \
+         scene.gz:"gzip-compressed data" a.zip:"a ZIP archive"; do
+  file=${f%%:*}; kind=${f#*:}
+  cp "$ed/$file" "$ed/$file.nff"; cp "$ed/$file" "$ed/$file.obj"
+  for c in render info trace; do
+    o=""; [ $c = render ] && o="-o $ed/y.png"; [ $c = trace ] && o="--pixel 0,0"
+    # shellcheck disable=SC2086
+    expect_msg 2 "ggrt $c: $ed/$file.nff: this is $kind, not a scene file (NFF, OBJ or PLY)" \
+      "binary scene: $c $file as NFF" "$ggrt" $c "$ed/$file.nff" $o
+  done
+  expect_msg 2 "ggrt info: $ed/$file.obj: this is $kind, not a text file (OBJ or MTL)" \
+    "binary scene: info $file as OBJ" "$ggrt" info "$ed/$file.obj"
+done
+printf 'mesh "img.png.obj"\n' >"$ed/m.nff"
+expect_msg 2 "$ed/img.png.obj: this is a PNG image, not a text file (OBJ or MTL)" \
+  "binary scene: a PNG named by a mesh line" "$ggrt" info "$ed/m.nff"
+
+# ---- 6. check's truncation says what was cut and which option raises it ----
+"$ggrt" check $g -s 40x30 -q >"$ed/out" 2>&1; got=$?
+if [ $got = 4 ] && grep -q "^truncation: the depth limit (5 here" "$ed/out" &&
+   grep -q "^-d N raises the depth limit" "$ed/out"
+then ok "check glass.nff: truncation names the depth limit and -d"
+else bad "check glass.nff: truncation names the depth limit and -d (exit $got)" "$(tail -8 "$ed/out")"; fi
+"$ggrt" check $g -s 40x30 -q -d 12 >"$ed/out" 2>&1; got=$?
+[ $got = 0 ] && ! grep -q "^truncation:" "$ed/out" && ok "check glass.nff -d 12: no truncation, no hint" ||
+  bad "check glass.nff -d 12: no truncation, no hint (exit $got)" "$(tail -4 "$ed/out")"
+"$ggrt" check $g -s 40x30 -q -d 12 --ray-budget 2 >"$ed/out" 2>&1; got=$?
+[ $got = 4 ] && grep -q -- "^--ray-budget N raises the budget" "$ed/out" &&
+  ok "check --ray-budget 2: the hint names the ray budget" ||
+  bad "check --ray-budget 2: the hint names the ray budget (exit $got)" "$(tail -6 "$ed/out")"
+
+# ---- 7. an unknown command: the typo, a suggestion, one pointer (exit 2) ----
+for c in render trace find check diff info optics bench serve; do
+  "$ggrt" "${c}x" >"$ed/out" 2>"$ed/err"; got=$?
+  if [ $got = 2 ] && [ "$(wc -l <"$ed/err")" = 2 ] &&
+     grep -qxF "ggrt: unknown command '${c}x'; did you mean '$c'?" "$ed/err" &&
+     grep -qxF "run 'ggrt --help' for the list of commands" "$ed/err"
+  then ok "unknown command ${c}x: did you mean $c"
+  else bad "unknown command ${c}x: did you mean $c (exit $got)" "$(cat "$ed/err")"; fi
+done
+"$ggrt" frobnicate >"$ed/out" 2>"$ed/err"; got=$?
+[ $got = 2 ] && [ "$(wc -l <"$ed/err")" = 2 ] && grep -qxF "ggrt: unknown command 'frobnicate'" "$ed/err" &&
+  ok "unknown command frobnicate: two lines, no guess" ||
+  bad "unknown command frobnicate: two lines, no guess (exit $got)" "$(cat "$ed/err")"
+
+# ---- 8. a scene with no lights or no objects renders with a warning ----
+printf 'b 0.1 0.1 0.1\n' >"$ed/empty.nff"
+printf 'l 0 5 5\n' >"$ed/onlylight.nff"
+printf 'f 1 0 0 1 0 0 0 0\ns 0 0 0 1\n' >"$ed/dark.nff"
+printf 'ambient 0.3 0.3 0.3\nf 1 0 0 1 0 0 0 0\ns 0 0 0 1\n' >"$ed/dim.nff"
+# A scene lit by emission alone means it (examples/scenes/prism.nff): no warning.
+printf 'f 1 0 0 1 0 0 0 0\nemission 1 1 1\ns 0 0 0 1\n' >"$ed/glow.nff"
+"$ggrt" render "$ed/glow.nff" -s 8x6 -o "$ed/w.png" >/dev/null 2>"$ed/err"
+grep -q "warning" "$ed/err" && bad "render glow.nff: emission alone, no warning" "$(cat "$ed/err")" ||
+  ok "render glow.nff: emission alone, no warning"
+for f in empty:"has no objects: the image is its background" \
+         onlylight:"has no objects: the image is its background" \
+         dark:"has no lights: only ambient and emission light it" \
+         dim:"has no lights: only ambient and emission light it"; do
+  n=${f%%:*}; w=${f#*:}
+  for q in "" -q; do
+    "$ggrt" render "$ed/$n.nff" -s 8x6 $q -o "$ed/w.png" >/dev/null 2>"$ed/err"; got=$?
+    [ $got = 0 ] && [ "$(grep -c "^ggrt render: warning: $ed/$n.nff $w\$" "$ed/err")" = 1 ] &&
+      ok "render $n.nff $q: warned once" || bad "render $n.nff $q: warned once (exit $got)" "$(cat "$ed/err")"
+  done
+done
+# Every example scene and model has objects and lights: no warning.
+for s in examples/scenes/*.nff examples/scenes/models/*.obj examples/scenes/models/*.ply; do
+  "$ggrt" render "$s" -s 8x6 -q -o "$ed/w.png" >/dev/null 2>"$ed/err"
+  grep -q "warning: .* has no" "$ed/err" && bad "no false warning: $s" "$(cat "$ed/err")" || ok "no false warning: $s"
+done
