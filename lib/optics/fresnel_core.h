@@ -42,6 +42,53 @@ static gg_dd cos_t_sq_nt2(double a, double b, double c, gg_dd *delta)
     return dd_add(*delta, dd_sqr(dd_two_prod(a, c)));
 }
 
+static gg_dd dd_x2(gg_dd a)
+{
+    return dd_make(2 * a.hi, 2 * a.lo);
+}
+
+static gg_dd dd_scale(gg_dd a, int e)
+{
+    return dd_make(dd_scale2(a.hi, e), dd_scale2(a.lo, e));
+}
+
+/* 1 - 4 x for x = xm 2^ex, xm in [1/4, 4) (x < 2^-290): the reflectance
+   ((1 - x)/(1 + x))^2 to within 8 x^2. */
+static gg_dd one_minus_4x(gg_dd xm, int ex)
+{
+    if (ex < -1100) return dd_from(1.0);
+    return dd_sub(dd_from(1.0), dd_scale(xm, ex + 2));
+}
+
+/* Rs and Rp for ni far below nt (a < 2^-300 b, any exponents), where
+   scaling the pair together would leave ni (and ni c) subnormal or zero.
+   With eta = a/b, cos_t = sqrt(1 - eta^2 s^2) is 1 to within 2^-600, so
+     rs = (x - 1)/(x + 1),  x = eta c < 2^-300,
+     rp = (w - 1)/(w + 1),  w = c/eta,
+   and x and w are formed from the mantissas with their exponents apart,
+   so a subnormal c or an index ratio beyond 2^1023 loses nothing. Taking
+   cos_t as 1 moves rp by less than eta^2 < 2^-600 (docs/optics.md,
+   "Index ratios beyond 2^300"). */
+static void dielectric_tiny_eta(double c, double a, double b, gg_dd *rs, gg_dd *rp)
+{
+    int ec = dd_expo(c), ea = dd_expo(a), eb = dd_expo(b), ew;
+    double cm = dd_scale2(c, -ec), am = dd_scale2(a, -ea), bm = dd_scale2(b, -eb);
+    gg_dd x = dd_div(dd_two_prod(am, cm), dd_from(bm)), w = dd_div(dd_two_prod(cm, bm), dd_from(am));
+    *rs = one_minus_4x(x, ea + ec - eb);
+    ew = ec + eb - ea;
+    if (ew > 600) {
+        /* Rp = 1 - 4 w/(w + 1)^2 = 1 - 4/w to within 2^-1200 */
+        *rp = one_minus_4x(dd_div(dd_from(1.0), w), -ew);
+    } else if (ew < -600) {
+        *rp = one_minus_4x(w, ew);
+    } else {
+        gg_dd one = dd_from(1.0), amp;
+        w = dd_scale(w, ew);
+        amp = dd_div(dd_sub(w, one), dd_add(w, one));
+        *rp = dd_sqr(amp);
+    }
+}
+
 /* Dielectric: Rs and Rp as double-words. a = |ni| > 0, b = |nt| > 0, c in
    [0, 1].
    With q = nt^2 cos_t^2 and delta = nt^2 - ni^2,
@@ -66,6 +113,10 @@ GG_FRESNEL_LINKAGE void GG_DIELECTRIC_NAME(double c, double a, double b, gg_dd *
     }
     if (c == 0) {
         *rs = *rp = dd_from(1.0);
+        return;
+    }
+    if (dd_expo(a) < dd_expo(b) - 300) {
+        dielectric_tiny_eta(c, a, b, rs, rp);
         return;
     }
     scale_pair(&a, &b);
@@ -108,16 +159,6 @@ GG_FRESNEL_LINKAGE void GG_DIELECTRIC_NAME(double c, double a, double b, gg_dd *
 typedef struct conductor_r {
     gg_dd rs, rp;
 } conductor_r;
-
-static gg_dd dd_x2(gg_dd a)
-{
-    return dd_make(2 * a.hi, 2 * a.lo);
-}
-
-static gg_dd dd_scale(gg_dd a, int e)
-{
-    return dd_make(dd_scale2(a.hi, e), dd_scale2(a.lo, e));
-}
 
 /* |x + iy| for double-words, scaled first if the squares could leave the
    range where double-words keep their precision. */
@@ -210,29 +251,29 @@ static void conductor_core(const conductor_in *in, gg_dd NpK, int j, gg_dd A, gg
    2^-54 unless n == n1, where it is k (2in - k): then a tiny k with a tiny
    c (a and Z both below 2^-480) is scaled up by sigma^2, chosen to bring
    the larger of a^2 and |T| near 1. */
-static void conductor_general(double c, double n1, double n, double k, conductor_r *r)
+static void conductor_general(double c, double n1, double n, double km, int ke, conductor_r *r)
 {
     conductor_in in;
     gg_dd A, X, Tr, Ti;
     int j = 0;
+    double k = dd_scale2(km, ke);
     in.c = c, in.n1 = n1;
     in.c2 = dd_two_prod(c, c), in.N1 = dd_two_prod(n1, n1);
     in.N1s2 = dd_mul(in.N1, dd_sub(dd_from(1.0), in.c2));
     in.NN = dd_two_prod(n, n), in.KK = dd_two_prod(k, k), in.Y = dd_x2(dd_two_prod(n, k));
     if (n == n1) {
+        /* k = km 2^ke is used only scaled by sigma (k sigma and k sigma^2,
+           sigma = 2^j), so no k down to 2^-1074 n loses a bit; where k
+           itself is subnormal its k^2 and 2nk terms in conductor_core are
+           below 2^-1000 of the terms they are added to. */
         int ea, et, h;
-        double k2;
-        if (k == 0) {
-            /* k < 2^-1074 n before the scaling: R < 2^-2000 */
-            r->rs = r->rp = dd_from(0.0);
-            return;
-        }
-        ea = dd_expo(c) + dd_expo(n1), et = dd_expo(k) + dd_expo(n > k ? n : k) + 1;
+        double kj, k2;
+        ea = dd_expo(c) + dd_expo(n1), et = dd_expo(km) + ke + dd_expo(n > k ? n : k) + 1;
         h = 2 * ea > et ? 2 * ea : et;
         if (h < -300) j = -(h / 2);
-        k2 = dd_scale2(k, 2 * j);
+        kj = dd_scale2(km, ke + j), k2 = dd_scale2(km, ke + 2 * j);
         A = dd_two_prod(n1, dd_scale2(c, j));
-        Tr = dd_neg(dd_two_prod(k, k2)), Ti = dd_x2(dd_two_prod(n, k2));
+        Tr = dd_neg(dd_two_prod(kj, kj)), Ti = dd_x2(dd_two_prod(n, k2));
         X = dd_add(dd_sqr(A), Tr);
     } else {
         /* X from n^2 - k^2 - n1^2 s^2: A^2 + Tr would cancel when |n + ik|
@@ -304,8 +345,9 @@ GG_FRESNEL_LINKAGE void GG_CONDUCTOR_NAME(double c, double n1, double n, double 
             conductor_huge(c, dd_div(dd_from(nm), h), dd_div(dd_from(km), h),
                            dd_div(h, dd_from(n1m)), G, &r);
         } else if (G >= -300) {
-            int e = e1 > em ? e1 : em;
-            conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -e), &r);
+            int e = e1 > em ? e1 : em, ek = dd_expo(k);
+            conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -ek), ek - e,
+                              &r);
         }
         /* else |eta~| < 2^-299: R = 1 - O(|eta~|), 1 when rounded. */
     }
