@@ -220,7 +220,8 @@ static int run_refract(const opts *o)
     ggVec3 t;
     bool ok;
     double ci, ct, th_i, vn;
-    int rc;
+    int rc, tangent;
+    ggDirectionError e;
     if ((rc = need(o, O_V | O_N, "refract", "--v and --n")) != 0) return rc;
     if ((rc = check_dirs("refract", o)) != 0) return rc;
     vn = dot_sign(o->v, o->n);
@@ -228,13 +229,18 @@ static int run_refract(const opts *o)
     if ((rc = check_index("refract", "--nt", o->nt)) != 0) return rc;
 
     ok = ggRefract(o->v, o->n, o->ni, o->nt, &t);
+    /* Whether v lies in the surface comes from the exact reference, not
+       from the rounded vn: a normal part far below the tangential one
+       rounds vn to 0 though v crosses the surface. */
+    tangent = ggRefractError(o->v, o->n, o->ni, o->nt, t, !ok, &e) == GG_OK && e.exact_tir == -1;
     th_i = angle_deg(o->v, o->n, &ci);
     print_vec("incident v:", o->v);
     print_vec("normal n:", o->n);
     printf("%-18s %s\n", "",
-           vn < 0   ? "(n faces the incoming ray)"
+           tangent  ? "(v lies in the surface)"
+           : vn < 0 ? "(n faces the incoming ray)"
            : vn > 0 ? "(n faces away from the incoming ray; same result)"
-                    : "(v lies in the surface)");
+                    : "(v grazes the surface: v.n rounds to 0 but is not 0)");
     printf("%-18s ni = %.17g, nt = %.17g, eta = ni/nt = %.17g\n", "indices:", o->ni, o->nt,
            o->ni / o->nt);
     if ((o->ni < 0) != (o->nt < 0))
@@ -246,7 +252,7 @@ static int run_refract(const opts *o)
         printf("%-18s no\n", "TIR:");
         print_vec("transmitted t:", t);
         printf("%-18s %.9f deg (cos = %.17g)\n", "refraction angle:", th_t, ct);
-    } else if (vn == 0) {
+    } else if (tangent) {
         printf("%-18s no: v lies in the surface and does not cross it\n", "TIR:");
         print_vec("direction:", t);
     } else {

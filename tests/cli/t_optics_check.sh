@@ -57,3 +57,26 @@ if [ -x "$bdir/tests/yourfuzz_ggrefract" ] && [ -x "$bdir/tests/yourfuzz_textboo
 else
   bad "fuzz_your_refract: replay binaries not built in $bdir/tests"
 fi
+
+# `ggrt optics refract` prints one decision, ggRefract's, once: a normal
+# part of v from 2^-1 down to 2^-1074 of the tangential part, for indices
+# with no critical angle (ni <= nt, ni == nt, ni == -nt) and with one.
+refract_bad=""
+for p in 1 60 300 481 600 900 1000 1074; do
+  for ix in "1 1" "1 1.5" "0.7 1" "-1 1" "1e-300 1e300" "2 1"; do
+    set -- $ix
+    "$ggrt" optics refract --v 1,0,-0x1p-$p --n 0,0,1 --ni "$1" --nt "$2" >"$tmp/out" 2>&1 || \
+      refract_bad="$refract_bad [p=$p ni=$1 nt=$2: exit $?]"
+    ntir=$(grep -c "^TIR:" "$tmp/out")
+    if [ "$ntir" -ne 1 ]; then refract_bad="$refract_bad [p=$p ni=$1 nt=$2: $ntir TIR lines]"; fi
+    if grep -q "^critical angle: *none" "$tmp/out" && grep -q "^TIR: *yes" "$tmp/out"; then
+      refract_bad="$refract_bad [p=$p ni=$1 nt=$2: no critical angle, yet TIR]"; fi
+    if grep -q "lies in the surface" "$tmp/out"; then
+      refract_bad="$refract_bad [p=$p ni=$1 nt=$2: v.n != 0 called in the surface]"; fi
+  done
+done
+if [ -z "$refract_bad" ]; then ok "optics refract: one decision at grazing incidence down to 2^-1074"
+else bad "optics refract: contradictions" "$refract_bad"; fi
+expect_exit 0 "optics refract: v in the surface" "$ggrt" optics refract --v 1,0,0 --n 0,0,1
+if grep -q "^TIR: *no: v lies in the surface" "$tmp/out"; then ok "optics refract: tangent v said once"
+else bad "optics refract: tangent v" "$(cat "$tmp/out")"; fi
