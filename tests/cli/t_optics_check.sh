@@ -24,8 +24,8 @@ if [ -f "$tb" ]; then
   else bad "optics check: no hex-float input" "$(cat "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook json" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_refract --cases 100 --format json
-  if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 11' "$tmp/out"
-  then ok "optics check: json parses, pass false, 11 classes"
+  if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 14' "$tmp/out"
+  then ok "optics check: json parses, pass false, 14 classes"
   else bad "optics check: json" "$(cat "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook reflection (tangent, huge)" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_reflect --kind reflect --cases 300
@@ -41,8 +41,8 @@ expect_exit 1 "optics check: bad --kind" "$ggrt" optics check --kind refraction
 
 expect_exit 0 "optics seeds: writes a corpus" "$ggrt" optics seeds "$tmp/seeds" --cases 4
 n=$(ls "$tmp/seeds" | wc -l)
-if [ "$n" -eq 44 ]; then ok "optics seeds: 4 seeds for each of 11 classes"
-else bad "optics seeds: $n files, want 44"; fi
+if [ "$n" -eq 56 ]; then ok "optics seeds: 4 seeds for each of 14 classes"
+else bad "optics seeds: $n files, want 56"; fi
 expect_exit 3 "optics seeds: unwritable directory" "$ggrt" optics seeds /nonexistent/dir/seeds
 
 # The fuzz harness of examples/fuzz_your_refract.c, replayed over that
