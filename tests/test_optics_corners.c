@@ -9,9 +9,13 @@
 **    (k with one, two and 53 significant bits), every cosine exponent;
 **  - ggFresnelDielectric (and the conductor with k = 0) with ni below
 **    2^-300 nt, subnormal cosines and cosines at Brewster's angle;
-**  - the error functions' unit where the exact value underflows.
+**  - the error functions' unit where the exact value underflows;
+**  - ggFresnelDielectricPolarized's Rp at and near Brewster's angle, for
+**    every index ratio, against a 512-bit Rp formed here with bigf.h.
 */
 #include "testutil.h"
+
+#include "bigf.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -216,6 +220,56 @@ static void test_error_unit_at_underflow(void **state)
     print_message("underflowing references: %ld cases, each within 1/2 ulp\n", cases);
 }
 
+/* The exact Rp for a = |ni|, b = |nt|, c (transmitted):
+   rp = (b^2 c - a sqrt q)/(b^2 c + a sqrt q), q = b^2 - a^2 + a^2 c^2. */
+static gg_bf exact_rp(double a, double b, double c)
+{
+    gg_bf a2 = gg_bf_mul(gg_bf_from(a), gg_bf_from(a)), b2 = gg_bf_mul(gg_bf_from(b), gg_bf_from(b));
+    gg_bf q = gg_bf_add(gg_bf_sub(b2, a2), gg_bf_mul(a2, gg_bf_mul(gg_bf_from(c), gg_bf_from(c))));
+    gg_bf pc = gg_bf_mul(b2, gg_bf_from(c)), pq = gg_bf_mul(gg_bf_from(a), gg_bf_sqrt(q));
+    gg_bf rp = gg_bf_div(gg_bf_sub(pc, pq), gg_bf_add(pc, pq));
+    return gg_bf_mul(rp, rp);
+}
+
+/* Rp at Brewster's angle (c = ni/hypot(ni, nt), or ni/nt for tiny
+   ratios) and up to 2^-52 (relative) off it, for ni < nt with every
+   ratio from 1 + 2^-20 to 2^2097: within 1 ulp of Rp (2^-53 times the
+   smallest power of two >= Rp, or 2^-1074). */
+static void test_rp_brewster(void **state)
+{
+    tu_rng rng = {3236};
+    long cases = 0, over = 0;
+    int i;
+    double worst = 0;
+    (void)state;
+    for (i = 0; i < 20000; i++) {
+        int ea = (int)(tu_uniform(&rng) * 2097) - 1074, eb;
+        double ni, nt, c, rs, rp, u;
+        gg_bf R, d;
+        eb = i % 2 ? ea + (int)(tu_uniform(&rng) * 40) : ea + (int)(tu_uniform(&rng) * 2097);
+        ni = draw(&rng, ea), nt = draw(&rng, eb > 1023 ? 1023 : eb);
+        if (!(ni < nt)) continue;
+        c = ni / nt > 0x1p-500 ? ni / hypot(ni, nt) : ni / nt;
+        c *= 1 + ldexp(tu_uniform(&rng) - 0.5, -(int)(tu_uniform(&rng) * 53));
+        if (!(c > 0 && c <= 1)) continue;
+        ggFresnelDielectricPolarized(c, ni, nt, &rs, &rp);
+        R = exact_rp(ni, nt, c);
+        d = gg_bf_sub(gg_bf_from(rp), R);
+        u = 0;
+        if (d.sign) {
+            int ue = R.sign ? gg_bf_ceil_expo(R) - 53 : -1074;
+            u = fabs(gg_bf_to_double(gg_bf_scale2(d, -(ue > -1074 ? ue : -1074))));
+        }
+        cases++;
+        if (u > worst) worst = u;
+        if (!(u <= 1) && over++ < 3)
+            print_message("Rp %.3g ulp off: c=%a ni=%a nt=%a Rp=%a\n", u, c, ni, nt, rp);
+    }
+    print_message("Rp near Brewster: %ld cases, %ld over 1 ulp of Rp, worst %.3f ulp\n", cases,
+                  over, worst);
+    assert_int_equal(over, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -223,6 +277,7 @@ int main(void)
         cmocka_unit_test(test_conductor_matched_tiny_k),
         cmocka_unit_test(test_dielectric_extreme_ratio),
         cmocka_unit_test(test_error_unit_at_underflow),
+        cmocka_unit_test(test_rp_brewster),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

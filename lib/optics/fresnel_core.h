@@ -67,8 +67,8 @@ static gg_dd one_minus_4x(gg_dd xm, int ex)
      rp = (w - 1)/(w + 1),  w = c/eta,
    and x and w are formed from the mantissas with their exponents apart,
    so a subnormal c or an index ratio beyond 2^1023 loses nothing. Taking
-   cos_t as 1 moves rp by less than eta^2 < 2^-600 (docs/optics.md,
-   "Index ratios beyond 2^300"). */
+   cos_t as 1 moves rs and rp by less than eta^2 < 2^-600 (docs/optics.md,
+   "Dielectrics", ni below 2^-300 nt). */
 static void dielectric_tiny_eta(double c, double a, double b, gg_dd *rs, gg_dd *rp)
 {
     int ec = dd_expo(c), ea = dd_expo(a), eb = dd_expo(b), ew;
@@ -82,11 +82,59 @@ static void dielectric_tiny_eta(double c, double a, double b, gg_dd *rs, gg_dd *
     } else if (ew < -600) {
         *rp = one_minus_4x(w, ew);
     } else {
-        gg_dd one = dd_from(1.0), amp;
-        w = dd_scale(w, ew);
-        amp = dd_div(dd_sub(w, one), dd_add(w, one));
+        /* (w - 1)/(w + 1) = (c b - a)/(c b + a) with c b exact: the
+           numerator, which vanishes at Brewster's angle, has only its
+           one rounding (and cos_t = 1 moves it by less than 2^-490 of
+           itself unless c b == a, where Rp < 2^-1200 anyway) */
+        gg_dd X = dd_scale(dd_two_prod(cm, bm), ew), A = dd_from(am);
+        gg_dd amp = dd_div(dd_sub(X, A), dd_add(X, A));
         *rp = dd_sqr(amp);
     }
+}
+
+/* Append x (hi + lo, exact) to the non-overlapping expansion e[0..*m)
+   (Shewchuk's Grow-Expansion, twice). */
+static void grow2(double *e, int *m, gg_dd x)
+{
+    double part[2];
+    int i, j;
+    part[0] = x.hi, part[1] = x.lo;
+    for (j = 0; j < 2; j++) {
+        double q = part[j];
+        for (i = 0; i < *m; i++) {
+            gg_dd t = dd_two_sum(q, e[i]);
+            q = t.hi, e[i] = t.lo;
+        }
+        e[(*m)++] = q;
+    }
+}
+
+/* (h hi + h lo)^2 as three exact products appended to e. */
+static void grow_sqr(double *e, int *m, gg_dd h)
+{
+    grow2(e, m, dd_two_prod(h.hi, h.hi));
+    grow2(e, m, dd_two_prod(2.0 * h.hi, h.lo));
+    grow2(e, m, dd_two_prod(h.lo, h.lo));
+}
+
+/* 2^512 ((ni^2 + nt^2) c^2 - ni^2), a = |ni|, b = |nt| (a >= 2^-301 b,
+   b in [1, 2)), to a relative 2^-100: the term that vanishes at
+   Brewster's angle, where forming it in double-double leaves only its
+   rounding errors (Rp then off by up to 1e3 ulp of itself). Its three
+   products are summed exactly (the indices scaled by 2^256 so no part
+   underflows), except c^2 a^2 for c < 2^-200, which is below 2^-400 a^2
+   and added after the exact sum of the others (which is 0 or above
+   2^-110 a^2). */
+static gg_dd brewster_term(double a, double b, double c)
+{
+    double e[16], as = a * 0x1p256, bs = b * 0x1p256;
+    int m = 0, i;
+    gg_dd r = dd_from(0.0), ca = dd_two_prod(c, as), na = dd_two_prod(as, as);
+    grow_sqr(e, &m, dd_two_prod(c, bs));
+    grow2(e, &m, dd_make(-na.hi, -na.lo));
+    if (c >= 0x1p-200) grow_sqr(e, &m, ca);
+    for (i = 0; i < m; i++) r = dd_add(r, dd_from(e[i]));
+    return c >= 0x1p-200 ? r : dd_add(r, dd_sqr(ca));
 }
 
 /* Dielectric: Rs and Rp as double-words. a = |ni| > 0, b = |nt| > 0, c in
@@ -135,7 +183,14 @@ GG_FRESNEL_LINKAGE void GG_DIELECTRIC_NAME(double c, double a, double b, gg_dd *
            P^2 - Q^2 = delta ((ni^2 + nt^2) c^2 - ni^2) instead. */
         gg_dd a2 = dd_two_prod(a, a), PQ = dd_add(P, Q);
         gg_dd br = dd_sub(dd_mul(dd_two_prod(c, c), dd_add(a2, dd_two_prod(b, b))), a2);
-        amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
+        if (fabs(br.hi) < 0x1p-45 * a2.hi) {
+            /* near Brewster's angle: exactly, scaled by 2^512 */
+            br = brewster_term(a, b, c);
+            amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
+            amp = dd_make(dd_scale2(amp.hi, -512), dd_scale2(amp.lo, -512));
+        } else {
+            amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
+        }
         *rp = dd_sqr(amp);
         return;
     }

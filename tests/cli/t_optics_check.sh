@@ -12,6 +12,7 @@ if grep -q "^PASS: worst 0\.[0-9]* ulp" "$tmp/out" && ! grep -q "FAIL" "$tmp/out
 else bad "optics check: ggRefract's table" "$(cat "$tmp/out")"; fi
 expect_exit 0 "optics check: ggReflection passes" "$ggrt" optics check --kind reflect --cases 300
 expect_exit 0 "optics check: ggFresnelDielectric passes" "$ggrt" optics check --kind fresnel --cases 300
+expect_exit 0 "optics check: ggFresnelConductor passes" "$ggrt" optics check --kind conductor --cases 300
 
 if [ -f "$tb" ]; then
   expect_exit 4 "optics check: the textbook formula fails" \
