@@ -60,6 +60,16 @@ static gg_dd one_minus_4x(gg_dd xm, int ex)
     return dd_sub(dd_from(1.0), dd_scale(xm, ex + 2));
 }
 
+/* The biased exponent field of x >= 0 (0 for a subnormal: then the test
+   below may send a ratio up to 2^352 to the general path, which keeps
+   ni normal after scaling). */
+static uint64_t expo_field(double x)
+{
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b >> 52;
+}
+
 /* Rs and Rp for ni far below nt (a < 2^-300 b, any exponents), where
    scaling the pair together would leave ni (and ni c) subnormal or zero.
    With eta = a/b, cos_t = sqrt(1 - eta^2 s^2) is 1 to within 2^-600, so
@@ -69,7 +79,8 @@ static gg_dd one_minus_4x(gg_dd xm, int ex)
    so a subnormal c or an index ratio beyond 2^1023 loses nothing. Taking
    cos_t as 1 moves rs and rp by less than eta^2 < 2^-600 (docs/optics.md,
    "Dielectrics", ni below 2^-300 nt). */
-static void dielectric_tiny_eta(double c, double a, double b, gg_dd *rs, gg_dd *rp)
+static GG_NOINLINE void dielectric_tiny_eta(double c, double a, double b, gg_dd *rs,
+                                           gg_dd *rp)
 {
     int ec = dd_expo(c), ea = dd_expo(a), eb = dd_expo(b), ew;
     double cm = dd_scale2(c, -ec), am = dd_scale2(a, -ea), bm = dd_scale2(b, -eb);
@@ -117,7 +128,7 @@ static void grow_sqr(double *e, int *m, gg_dd h)
     grow2(e, m, dd_two_prod(h.lo, h.lo));
 }
 
-/* 2^512 ((ni^2 + nt^2) c^2 - ni^2), a = |ni|, b = |nt| (a >= 2^-301 b,
+/* 2^512 ((ni^2 + nt^2) c^2 - ni^2), a = |ni|, b = |nt| (a >= 2^-353 b,
    b in [1, 2)), to a relative 2^-100: the term that vanishes at
    Brewster's angle, where forming it in double-double leaves only its
    rounding errors (Rp then off by up to 1e3 ulp of itself). Its three
@@ -125,7 +136,7 @@ static void grow_sqr(double *e, int *m, gg_dd h)
    underflows), except c^2 a^2 for c < 2^-200, which is below 2^-400 a^2
    and added after the exact sum of the others (which is 0 or above
    2^-110 a^2). */
-static gg_dd brewster_term(double a, double b, double c)
+static GG_NOINLINE gg_dd brewster_term(double a, double b, double c)
 {
     double e[16], as = a * 0x1p256, bs = b * 0x1p256;
     int m = 0, i;
@@ -163,7 +174,7 @@ GG_FRESNEL_LINKAGE void GG_DIELECTRIC_NAME(double c, double a, double b, gg_dd *
         *rs = *rp = dd_from(1.0);
         return;
     }
-    if (dd_expo(a) < dd_expo(b) - 300) {
+    if (expo_field(b) > expo_field(a) + 300) {
         dielectric_tiny_eta(c, a, b, rs, rp);
         return;
     }
@@ -306,23 +317,25 @@ static void conductor_core(const conductor_in *in, gg_dd NpK, int j, gg_dd A, gg
    2^-54 unless n == n1, where it is k (2in - k): then a tiny k with a tiny
    c (a and Z both below 2^-480) is scaled up by sigma^2, chosen to bring
    the larger of a^2 and |T| near 1. */
-static void conductor_general(double c, double n1, double n, double km, int ke, conductor_r *r)
+static void conductor_general(double c, double n1, double n, double k, double kraw, int e,
+                              conductor_r *r)
 {
     conductor_in in;
     gg_dd A, X, Tr, Ti;
     int j = 0;
-    double k = dd_scale2(km, ke);
     in.c = c, in.n1 = n1;
     in.c2 = dd_two_prod(c, c), in.N1 = dd_two_prod(n1, n1);
     in.N1s2 = dd_mul(in.N1, dd_sub(dd_from(1.0), in.c2));
     in.NN = dd_two_prod(n, n), in.KK = dd_two_prod(k, k), in.Y = dd_x2(dd_two_prod(n, k));
     if (n == n1) {
-        /* k = km 2^ke is used only scaled by sigma (k sigma and k sigma^2,
-           sigma = 2^j), so no k down to 2^-1074 n loses a bit; where k
-           itself is subnormal its k^2 and 2nk terms in conductor_core are
-           below 2^-1000 of the terms they are added to. */
-        int ea, et, h;
-        double kj, k2;
+        /* k = kraw 2^-e = km 2^ke is used only scaled by sigma (k sigma
+           and k sigma^2, sigma = 2^j), so no k down to 2^-1074 n loses a
+           bit; where the scaled k is subnormal its k^2 and 2nk terms in
+           conductor_core are below 2^-1000 of the terms they are added
+           to. */
+        int ea, et, h, ke = dd_expo(kraw);
+        double kj, k2, km = dd_scale2(kraw, -ke);
+        ke -= e;
         ea = dd_expo(c) + dd_expo(n1), et = dd_expo(km) + ke + dd_expo(n > k ? n : k) + 1;
         h = 2 * ea > et ? 2 * ea : et;
         if (h < -300) j = -(h / 2);
@@ -400,9 +413,8 @@ GG_FRESNEL_LINKAGE void GG_CONDUCTOR_NAME(double c, double n1, double n, double 
             conductor_huge(c, dd_div(dd_from(nm), h), dd_div(dd_from(km), h),
                            dd_div(h, dd_from(n1m)), G, &r);
         } else if (G >= -300) {
-            int e = e1 > em ? e1 : em, ek = dd_expo(k);
-            conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -ek), ek - e,
-                              &r);
+            int e = e1 > em ? e1 : em;
+            conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -e), k, e, &r);
         }
         /* else |eta~| < 2^-299: R = 1 - O(|eta~|), 1 when rounded. */
     }

@@ -206,8 +206,9 @@ static GG_NOINLINE int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int 
        2^-476; only inside those bands is the exact sign worked out, from
        the caller's doubles. There a (below 2^-470) may even have the wrong
        sign: it is then taken as 0 (v grazing the surface, with the
-       exact side s), which moves t by less than 2^-60 ulp (docs/optics.md,
-       "Grazing incidence below the flush"). */
+       exact side s), which moves t by less than 2^-17 ulp and keeps the
+       decision exact (docs/optics.md, "Grazing incidence below the
+       flush"). */
     a = dd_dot3(v.x, v.y, v.z, n.x, n.y, n.z);
     sump = fabs(v.x * n.x) + fabs(v.y * n.y) + fabs(v.z * n.z);
     if (fabs(a.hi) > 0x1p-100 * sump && fabs(a.hi) > 0x1p-470) {
