@@ -158,8 +158,8 @@ GG_API double ggFresnelConductor(double cos_i, double n_outside, double n, doubl
 
 /* The same with both polarisations, each evaluated to the same precision
    and rounded once; either pointer may be NULL. (The 1-ulp bound above is
-   proven for R; Rs and Rp measured within 0.5 ulp of themselves each,
-   also near the pseudo-Brewster angle: docs/optics.md, "Conductors".) */
+   for R: Rs and Rp are not bounded separately; near the pseudo-Brewster
+   angle Rp is a negligible part of R, docs/optics.md, "Conductors".) */
 GG_API void ggFresnelConductorPolarized(double cos_i, double n_outside, double n, double k,
                                         double *rs, double *rp);
 

@@ -78,7 +78,7 @@ static uint64_t expo_field(double x)
    and x and w are formed from the mantissas with their exponents apart,
    so a subnormal c or an index ratio beyond 2^1023 loses nothing. Taking
    cos_t as 1 moves rs and rp by less than eta^2 < 2^-600 (docs/optics.md,
-   "Dielectrics", ni below 2^-300 nt). */
+   "Dielectrics", "ni far below nt"). */
 static GG_NOINLINE void dielectric_tiny_eta(double c, double a, double b, gg_dd *rs,
                                            gg_dd *rp)
 {
