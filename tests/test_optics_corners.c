@@ -106,6 +106,53 @@ static void test_refract_tiny_normal_part(void **state)
     assert_int_equal(over, 0);
 }
 
+/* Every component of v and n at any exponent from 2^-1074 to 2^1023
+   (one in six zero), either sign, |ni/nt| within 2^+-400 (where the
+   reference's own error stays far below the bound, optics.h), one pair
+   in eight with ni == nt. */
+static void test_refract_every_exponent(void **state)
+{
+    tu_rng rng = {3237};
+    long i, cases = 0, wrong = 0, over = 0;
+    double worst = 0;
+    (void)state;
+    for (i = 0; i < 6000; i++) {
+        double d[6], ni, nt, bound;
+        int j, e = (int)(tu_uniform(&rng) * 1298) - 674;
+        ggVec3 v, n, t;
+        ggDirectionError er;
+        bool ok;
+        for (j = 0; j < 6; j++) {
+            d[j] = tu_uniform(&rng) < 1.0 / 6 ? 0 : draw(&rng, (int)(tu_uniform(&rng) * 2098) - 1074);
+            if (tu_uniform(&rng) < 0.5) d[j] = -d[j];
+        }
+        if ((d[0] == 0 && d[1] == 0 && d[2] == 0) || (d[3] == 0 && d[4] == 0 && d[5] == 0)) continue;
+        v = vec3(d[0], d[1], d[2]), n = vec3(d[3], d[4], d[5]);
+        ni = draw(&rng, e), nt = draw(&rng, e - 400 + (int)(tu_uniform(&rng) * 801));
+        if (tu_uniform(&rng) < 0.5) nt = -nt;
+        if (i % 8 == 0) nt = ni;
+        ok = ggRefract(v, n, ni, nt, &t);
+        assert_int_equal(ggRefractError(v, n, ni, nt, t, !ok, &er), GG_OK);
+        cases++;
+        if (er.certain && !er.tir_agrees && !(fabs(er.cos2_t) < 0x1p-96)) {
+            if (wrong++ < 3)
+                print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", v.x, v.y,
+                              v.z, n.x, n.y, n.z, ni, nt);
+            continue;
+        }
+        bound = ok && er.cos2_t < 0x1p-80 ? 4 : 1;
+        if (er.max_ulp > worst) worst = er.max_ulp;
+        if (!(er.max_ulp <= bound) && over++ < 3)
+            print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", er.max_ulp, v.x, v.y,
+                          v.z, n.x, n.y, n.z, ni, nt);
+    }
+    print_message("every exponent: %ld cases, %ld decisions wrong, %ld over the bound, worst "
+                  "%.3f ulp\n",
+                  cases, wrong, over, worst);
+    assert_int_equal(wrong, 0);
+    assert_int_equal(over, 0);
+}
+
 /* n == n_outside over the exponent range, k from n down to 2^-1074 with
    one, two or 53 significant bits, cosines from 1 down to 2^-1074. */
 static void test_conductor_matched_tiny_k(void **state)
@@ -274,6 +321,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_refract_tiny_normal_part),
+        cmocka_unit_test(test_refract_every_exponent),
         cmocka_unit_test(test_conductor_matched_tiny_k),
         cmocka_unit_test(test_dielectric_extreme_ratio),
         cmocka_unit_test(test_error_unit_at_underflow),
