@@ -5,6 +5,8 @@
 ** checked against the library's 512-bit references (lib/optics/error.c):
 **  - ggRefract with a normal part of v from 1 down to 2^-1074 of its
 **    tangential part, every eta from 2^-2098 to 2^2098, ni == nt, ni == -nt;
+**  - ggRefract with |eta| beyond 2^1028 and a tangential part of v or n
+**    more than 1022 binades below the normal one (the 512-bit fallback);
 **  - ggFresnelConductor with n == n_outside and k from n down to 2^-1074
 **    (k with one, two and 53 significant bits), every cosine exponent;
 **  - ggFresnelDielectric (and the conductor with k = 0) with ni below
@@ -149,6 +151,107 @@ static void test_refract_every_exponent(void **state)
     print_message("every exponent: %ld cases, %ld decisions wrong, %ld over the bound, worst "
                   "%.3f ulp\n",
                   cases, wrong, over, worst);
+    assert_int_equal(wrong, 0);
+    assert_int_equal(over, 0);
+}
+
+/* The exact answer for the two shapes of test_refract_spread_huge_eta,
+   in 512 bits from the geometry (not from the library's formulas):
+   a = the tiny tangential component, b = the large normal one (b > 0),
+   S = a/h, C = b/h, h = sqrt(a^2 + b^2), m = eta S.
+   in_v:  v = (a, 0, -b), n = (0, 0, N):  t = (m, 0, -cos_t),
+          mirror (S, 0, C);
+   else:  v = (0, 0, -V), n = (0, a, b):  t = (0, m C, -(m S + cos_t C)),
+          mirror (0, 2 S C, C^2 - S^2).
+   Returns 1 (transmitted) or 0 (total internal reflection); *cos2 is
+   cos^2(theta_t) = 1 - m^2. */
+static int spread_exact(double a, double b, double ni, double nt, int in_v, gg_bf r[3],
+                        double *cos2)
+{
+    gg_bf A = gg_bf_from(a), Bb = gg_bf_from(b), one = gg_bf_from(1.0), zero = gg_bf_from(0.0);
+    gg_bf h = gg_bf_sqrt(gg_bf_add(gg_bf_mul(Bb, Bb), gg_bf_mul(A, A)));
+    gg_bf S = gg_bf_div(A, h), C = gg_bf_div(Bb, h);
+    gg_bf m = gg_bf_mul(gg_bf_div(gg_bf_from(ni), gg_bf_from(nt)), S);
+    gg_bf c2 = gg_bf_sub(one, gg_bf_mul(m, m)), ct;
+    *cos2 = gg_bf_to_double(c2);
+    r[0] = r[1] = r[2] = zero;
+    if (c2.sign < 0) {
+        if (in_v) r[0] = S, r[2] = C;
+        else
+            r[1] = gg_bf_scale2(gg_bf_mul(S, C), 1),
+            r[2] = gg_bf_sub(gg_bf_mul(C, C), gg_bf_mul(S, S));
+        return 0;
+    }
+    ct = gg_bf_sqrt(c2);
+    if (in_v) r[0] = m, r[2] = gg_bf_neg(ct);
+    else
+        r[1] = gg_bf_mul(m, C), r[2] = gg_bf_neg(gg_bf_add(gg_bf_mul(m, S), gg_bf_mul(ct, C)));
+    return 1;
+}
+
+/* |eta| beyond 2^450 with a decisive tangential part more than 1022
+   binades below the normal one (as the fuzzer found: the scaling to
+   [1, 2) rounded or dropped it, and a ray such a ratio reflects went
+   straight through). The tangential part a = 2^-q b, q from 1030 to
+   2070, in n (v = -V e_z, n = (0, a, b)) or in v (v = (a, 0, -b),
+   n = N e_z); b at any exponent that keeps a representable; ni at any
+   exponent, nt (normal or subnormal, either sign) chosen so that
+   |eta sin(theta_i)| is 1/4 to 2. Decision and every component against
+   spread_exact, within the contract's 1 ulp (4 for a transmitted ray with
+   cos^2(theta_t) < 2^-80). (ggRefractError is not the reference here:
+   its transmitted direction may be off by 2^-450 |eta| ulp for such
+   inputs, optics.h.) */
+static void test_refract_spread_huge_eta(void **state)
+{
+    tu_rng rng = {3238};
+    long i, cases = 0, wrong = 0, over = 0, tir = 0;
+    double worst = 0;
+    (void)state;
+    for (i = 0; i < 4000; i++) {
+        int q = 1030 + (int)(tu_uniform(&rng) * 1041), in_v = (int)(i % 2), j, exact_ok;
+        int E = q - 1074 + (int)(tu_uniform(&rng) * (2097 - q));
+        int ei = q - 1060 + (int)(tu_uniform(&rng) * (2083 - q));
+        double am = (1 + tu_uniform(&rng)) * (tu_uniform(&rng) < 0.5 ? -1 : 1);
+        double bm = 1 + tu_uniform(&rng), mt = 0.25 + 1.75 * tu_uniform(&rng);
+        double nim = (1 + tu_uniform(&rng)) * (tu_uniform(&rng) < 0.5 ? -1 : 1);
+        double a = ldexp(am, E - q), b = ldexp(bm, E), ni = ldexp(nim, ei), nt, cos2, bound;
+        double c[3];
+        ggVec3 v, n, t;
+        gg_bf r[3];
+        bool ok;
+        /* eta S = (nim/ntm) 2^q (am/bm) 2^-q = mt */
+        nt = ldexp(fabs(nim * am / bm) / mt, ei - q);
+        if (nt == 0) continue;
+        if (tu_uniform(&rng) < 0.5) nt = -nt;
+        if (in_v)
+            v = vec3(a, 0, -b), n = vec3(0, 0, draw(&rng, (int)(tu_uniform(&rng) * 2000) - 1000));
+        else
+            v = vec3(0, 0, -draw(&rng, (int)(tu_uniform(&rng) * 2000) - 1000)), n = vec3(0, a, b);
+        ok = ggRefract(v, n, ni, nt, &t);
+        exact_ok = spread_exact(a, b, ni, nt, in_v, r, &cos2);
+        cases++, tir += !exact_ok;
+        if (ok != exact_ok && !(fabs(cos2) < 0x1p-96)) {
+            if (wrong++ < 3)
+                print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a: %s\n", v.x,
+                              v.y, v.z, n.x, n.y, n.z, ni, nt, ok ? "transmitted" : "TIR");
+            continue;
+        }
+        bound = ok && cos2 < 0x1p-80 ? 4 : 1;
+        c[0] = t.x, c[1] = t.y, c[2] = t.z;
+        for (j = 0; j < 3; j++) {
+            double d = fabs(gg_bf_to_double(gg_bf_scale2(gg_bf_sub(gg_bf_from(c[j]), r[j]), 53)));
+            if (d > worst) worst = d;
+            if (!(d <= bound)) {
+                if (over++ < 3)
+                    print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", d, v.x,
+                                  v.y, v.z, n.x, n.y, n.z, ni, nt);
+                break;
+            }
+        }
+    }
+    print_message("huge eta, spread components: %ld cases (%ld TIR), %ld decisions wrong, %ld "
+                  "over the bound, worst %.3f ulp\n",
+                  cases, tir, wrong, over, worst);
     assert_int_equal(wrong, 0);
     assert_int_equal(over, 0);
 }
@@ -322,6 +425,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_refract_tiny_normal_part),
         cmocka_unit_test(test_refract_every_exponent),
+        cmocka_unit_test(test_refract_spread_huge_eta),
         cmocka_unit_test(test_conductor_matched_tiny_k),
         cmocka_unit_test(test_dielectric_extreme_ratio),
         cmocka_unit_test(test_error_unit_at_underflow),

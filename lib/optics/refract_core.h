@@ -27,6 +27,7 @@
 #endif
 
 #include "dd.h"
+#include "refract_big.h"
 #include "vec.h"
 
 #include <math.h>
@@ -655,6 +656,36 @@ GG_INLINE int scale_indices(double *ni, double *nt)
     return 1;
 }
 
+/* True if scaling a's components by 2^-e (e the exponent of the largest)
+   rounds one: a component more than 1022 binades below the largest. */
+static int scaling_rounds(const ggVec3 *a)
+{
+    double c[3];
+    int e = dd_expo(v3maxabs(*a)), i;
+    c[0] = a->x, c[1] = a->y, c[2] = a->z;
+    for (i = 0; i < 3; i++)
+        if (dd_scale2(dd_scale2(c[i], -e), e) != c[i]) return 1;
+    return 0;
+}
+
+/* gg_optics_refract_big on the caller's doubles (v not in the surface). */
+static int refract_wide(const ggVec3 *vp, const ggVec3 *np, double ni, double nt, ggVec3 *t)
+{
+    double vc[3], nc[3], r[3];
+    int s = dot_sign_wide(*vp, *np), rc;
+    if (s == 0) {
+        gg_dd vd[3];
+        ggVec3 v = v3scale2(*vp, -dd_expo(v3maxabs(*vp)));
+        vd[0] = dd_from(v.x), vd[1] = dd_from(v.y), vd[2] = dd_from(v.z);
+        *t = dd_scale_vec(dd_rsqrt(dd_sum_sq3(v.x, v.y, v.z)), vd);
+        return 0;
+    }
+    vc[0] = vp->x, vc[1] = vp->y, vc[2] = vp->z, nc[0] = np->x, nc[1] = np->y, nc[2] = np->z;
+    rc = gg_optics_refract_big(vc, nc, ni, nt, s, r);
+    *t = v3(r[0], r[1], r[2]);
+    return rc;
+}
+
 /* Everything the fast path declines: validation, scaling, refract_dd. */
 static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
                                     ggVec3 *t)
@@ -680,6 +711,9 @@ static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double n
     } else {
         int xi = dd_expo(ni), xt = dd_expo(nt), em = xi > xt ? xi : xt;
         if (xi - xt > 450) {
+            /* such a ratio can make a component the scaling would round
+               decisive: then the 512-bit path */
+            if (scaling_rounds(vp) || scaling_rounds(np)) return refract_wide(vp, np, ni, nt, t);
             ediff = xi - xt;
             ni = dd_scale2(ni, -xi), nt = dd_scale2(nt, -xt);
         } else {
