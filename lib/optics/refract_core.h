@@ -656,20 +656,36 @@ GG_INLINE int scale_indices(double *ni, double *nt)
     return 1;
 }
 
-/* True if scaling a's components by 2^-e (e the exponent of the largest)
-   rounds one: a component more than 1022 binades below the largest. */
-static int scaling_rounds(const ggVec3 *a)
+/* True if the scaling of a to [1, 2) (A = scale_unit(a)) rounded one of
+   its components: only one more than 1022 binades below the largest,
+   which became subnormal or zero, can have been (a scaled normal number
+   is exact); that one is scaled back and compared. */
+static GG_NOINLINE int scaling_rounded(const ggVec3 *a, const gg_v4 *A)
 {
     double c[3];
-    int e = dd_expo(v3maxabs(*a)), i;
+    int i;
     c[0] = a->x, c[1] = a->y, c[2] = a->z;
     for (i = 0; i < 3; i++)
-        if (dd_scale2(dd_scale2(c[i], -e), e) != c[i]) return 1;
+        if (fabs((*A)[i]) < 0x1p-1022 && c[i] != 0 &&
+            dd_scale2((*A)[i], dd_expo(v3maxabs(*a))) != c[i])
+            return 1;
     return 0;
 }
 
+/* A non-zero component of v or n that the scaling made subnormal or zero
+   (so scaling_rounded may be true): one comparison of exponent fields. */
+GG_INLINE int scaled_to_subnormal(const ggVec3 *v, gg_v4 V, const ggVec3 *n, gg_v4 N)
+{
+    const gg_v4 zero = {0, 0, 0, 0};
+    gg_v4 rv = {v->x, v->y, v->z, v->z}, rn = {n->x, n->y, n->z, n->z};
+    gg_v4u m = ((gg_v4u)(v4_expo(V) == zero) & (gg_v4u)(rv != zero)) |
+               ((gg_v4u)(v4_expo(N) == zero) & (gg_v4u)(rn != zero));
+    return (m[0] | m[1] | m[2]) != 0;
+}
+
 /* gg_optics_refract_big on the caller's doubles (v not in the surface). */
-static int refract_wide(const ggVec3 *vp, const ggVec3 *np, double ni, double nt, ggVec3 *t)
+static GG_NOINLINE int refract_wide(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
+                                    ggVec3 *t)
 {
     double vc[3], nc[3], r[3];
     int s = dot_sign_wide(*vp, *np), rc;
@@ -713,7 +729,9 @@ static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double n
         if (xi - xt > 450) {
             /* such a ratio can make a component the scaling would round
                decisive: then the 512-bit path */
-            if (scaling_rounds(vp) || scaling_rounds(np)) return refract_wide(vp, np, ni, nt, t);
+            if (scaled_to_subnormal(vp, V, np, N) &&
+                (scaling_rounded(vp, &V) || scaling_rounded(np, &N)))
+                return refract_wide(vp, np, ni, nt, t);
             ediff = xi - xt;
             ni = dd_scale2(ni, -xi), nt = dd_scale2(nt, -xt);
         } else {
