@@ -13,6 +13,7 @@
 */
 #include "cli.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -215,6 +216,22 @@ static int check_dirs(const char *form, const opts *o)
     return 0;
 }
 
+/* The indices and their ratio; a ratio outside the normal doubles
+   (|ni/nt| beyond 2^1024 or below 2^-1022: ggRefract takes any) as
+   m * 2^e, not inf or 0. */
+static void print_indices(double ni, double nt)
+{
+    double q = ni / nt, m;
+    int ei, et;
+    printf("%-18s ni = %.17g, nt = %.17g, eta = ni/nt = ", "indices:", ni, nt);
+    if (isfinite(q) && fabs(q) >= DBL_MIN) {
+        printf("%.17g\n", q);
+        return;
+    }
+    m = frexp(ni, &ei) / frexp(nt, &et);
+    printf("%.17g * 2^%d\n", m, ei - et);
+}
+
 static int run_refract(const opts *o)
 {
     ggVec3 t;
@@ -241,8 +258,7 @@ static int run_refract(const opts *o)
            : vn < 0 ? "(n faces the incoming ray)"
            : vn > 0 ? "(n faces away from the incoming ray; same result)"
                     : "(v grazes the surface: v.n rounds to 0 but is not 0)");
-    printf("%-18s ni = %.17g, nt = %.17g, eta = ni/nt = %.17g\n", "indices:", o->ni, o->nt,
-           o->ni / o->nt);
+    print_indices(o->ni, o->nt);
     if ((o->ni < 0) != (o->nt < 0))
         printf("%-18s one index is negative: the ray bends to the same side of the normal\n", "");
     printf("%-18s %.9f deg (cos = %.17g)\n", "incidence angle:", th_i, ci);

@@ -81,3 +81,12 @@ else bad "optics refract: contradictions" "$refract_bad"; fi
 expect_exit 0 "optics refract: v in the surface" "$ggrt" optics refract --v 1,0,0 --n 0,0,1
 if grep -q "^TIR: *no: v lies in the surface" "$tmp/out"; then ok "optics refract: tangent v said once"
 else bad "optics refract: tangent v" "$(cat "$tmp/out")"; fi
+# |eta| beyond the doubles (about 2^1334, a tangential part of n 2^-1333 of
+# its normal part: the fuzz_optics input found_huge_eta_spread_components):
+# the ratio printed as m * 2^e, not inf, and the ray totally reflected.
+expect_exit 0 "optics refract: eta beyond the doubles" "$ggrt" optics refract \
+  --v 0,0,-0x1.445489d6cac2bp+741 --n 0,0x0.00000000005e1p-1022,0x1.e0718013dcbf8p+269 \
+  --ni 0x1.8553485eb58e4p+513 --nt -0x1.aa967d3fcb8e1p-821
+if grep -q "eta = ni/nt = -0\.91264981939587964 \* 2^1334$" "$tmp/out" &&
+   grep -q "^TIR: *yes" "$tmp/out"; then ok "optics refract: eta as m * 2^e, TIR"
+else bad "optics refract: eta beyond the doubles" "$(cat "$tmp/out")"; fi
