@@ -13,6 +13,7 @@
 */
 #include "cli.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -217,12 +218,29 @@ static int check_dirs(const char *form, const opts *o)
     return 0;
 }
 
+/* The indices and their ratio; a ratio outside the normal doubles
+   (|ni/nt| beyond 2^1024 or below 2^-1022: ggRefract takes any) as
+   m * 2^e, not inf or 0. */
+static void print_indices(double ni, double nt)
+{
+    double q = ni / nt, m;
+    int ei, et;
+    printf("%-18s ni = %.17g, nt = %.17g, eta = ni/nt = ", "indices:", ni, nt);
+    if (isfinite(q) && fabs(q) >= DBL_MIN) {
+        printf("%.17g\n", q);
+        return;
+    }
+    m = frexp(ni, &ei) / frexp(nt, &et);
+    printf("%.17g * 2^%d\n", m, ei - et);
+}
+
 static int run_refract(const opts *o)
 {
     ggVec3 t;
     bool ok;
     double ci, ct, th_i, vn;
-    int rc;
+    int rc, tangent;
+    ggDirectionError e;
     if ((rc = need(o, O_V | O_N, "refract", "--v and --n")) != 0) return rc;
     if ((rc = check_dirs("refract", o)) != 0) return rc;
     vn = dot_sign(o->v, o->n);
@@ -230,15 +248,19 @@ static int run_refract(const opts *o)
     if ((rc = check_index("refract", "--nt", o->nt)) != 0) return rc;
 
     ok = ggRefract(o->v, o->n, o->ni, o->nt, &t);
+    /* Whether v lies in the surface comes from the exact reference, not
+       from the rounded vn: a normal part far below the tangential one
+       rounds vn to 0 though v crosses the surface. */
+    tangent = ggRefractError(o->v, o->n, o->ni, o->nt, t, !ok, &e) == GG_OK && e.exact_tir == -1;
     th_i = angle_deg(o->v, o->n, &ci);
     print_vec("incident v:", o->v);
     print_vec("normal n:", o->n);
     printf("%-18s %s\n", "",
-           vn < 0   ? "(n faces the incoming ray)"
+           tangent  ? "(v lies in the surface)"
+           : vn < 0 ? "(n faces the incoming ray)"
            : vn > 0 ? "(n faces away from the incoming ray; same result)"
-                    : "(v lies in the surface)");
-    printf("%-18s ni = %.17g, nt = %.17g, eta = ni/nt = %.17g\n", "indices:", o->ni, o->nt,
-           o->ni / o->nt);
+                    : "(v grazes the surface: v.n rounds to 0 but is not 0)");
+    print_indices(o->ni, o->nt);
     if ((o->ni < 0) != (o->nt < 0))
         printf("%-18s one index is negative: the ray bends to the same side of the normal\n", "");
     printf("%-18s %.9f deg (cos = %.17g)\n", "incidence angle:", th_i, ci);
@@ -248,7 +270,7 @@ static int run_refract(const opts *o)
         printf("%-18s no\n", "TIR:");
         print_vec("transmitted t:", t);
         printf("%-18s %.9f deg (cos = %.17g)\n", "refraction angle:", th_t, ct);
-    } else if (vn == 0) {
+    } else if (tangent) {
         printf("%-18s no: v lies in the surface and does not cross it\n", "TIR:");
         print_vec("direction:", t);
     } else {

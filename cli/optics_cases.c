@@ -1,9 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** optics_cases.c -- the hard-case generators of `ggrt optics check`
-** (docs/optics.md lists the classes). Every class but "extreme eta" keeps
-** 1/4 <= |ni/nt| <= 4, and none has a vector component below 2^-480 of
-** its vector's largest.
+** (docs/optics.md lists the classes). The first classes of each kind keep
+** 1/4 <= |ni/nt| <= 4 and vector components within 2^-480 of their
+** vector's largest; the last ones (issue 32) draw every exponent: normal
+** parts of v down to 2^-1074 of the tangential part, subnormal
+** components and cosines, index ratios over the whole double range,
+** ni == nt, and n == n_outside with k down to 2^-1074 and few bits.
 */
 #include "optics_cases.h"
 
@@ -12,16 +15,19 @@
 static const char *const refract_classes[] = {
     "random",        "grazing",          "grazing exact dot", "near critical",
     "eta near 1",    "normal incidence", "negative index",    "exactly tangent",
-    "huge and tiny", "non-unit",         "extreme eta",       NULL};
+    "huge and tiny", "non-unit",         "extreme eta",       "tiny normal part",
+    "every exponent", "any index ratio", NULL};
 static const char *const reflect_classes[] = {
     "random",          "grazing",       "grazing exact dot", "normal incidence",
     "exactly tangent", "huge and tiny", "non-unit",          NULL};
 static const char *const fresnel_classes[] = {"random",        "grazing",          "near critical",
                                               "eta near 1",    "normal incidence", "negative index",
-                                              "huge and tiny", "brewster",         NULL};
+                                              "huge and tiny", "brewster",
+                                              "subnormal cosine", "any index ratio", NULL};
 static const char *const conductor_classes[] = {"random",        "grazing", "normal incidence",
                                                 "metals",        "tiny k",  "tiny k near critical",
-                                                "huge and tiny", NULL};
+                                                "huge and tiny", "matched, tiny k",
+                                                "any index ratio", NULL};
 
 const char *const *oc_classes(int kind)
 {
@@ -97,6 +103,62 @@ static ggVec3 incoming(oc_rng *r, ggVec3 n, double c)
 static double index1(oc_rng *r)
 {
     return range(r, 1.0, 2.5);
+}
+
+/* m 2^e, m in [1, 2) (one bit when few is 1, two when 2), with e in
+   [lo, hi] clamped to the doubles: never 0 or infinite. */
+static double any_exp(oc_rng *r, int lo, int hi, int few)
+{
+    int e = irange(r, lo, hi);
+    double x = ldexp(few == 1 ? 1.0 : few == 2 ? 1.5 : range(r, 1, 2), e < -1074 ? -1074 : e);
+    if (x == 0) x = 0x1p-1074;
+    return isfinite(x) ? x : 0x1.fffffffffffffp1023;
+}
+
+/* Indices whose ratio covers the whole range (2^-2097 to 2^2097), either
+   sign; one pair in four with ni == nt, one in eight ni == -nt. */
+static void any_indices(oc_rng *r, oc_case *c)
+{
+    int w = irange(r, 0, 7);
+    c->ni = any_exp(r, -1074, 1023, 0), c->nt = any_exp(r, -1074, 1023, 0);
+    if (oc_next(r) & 1) c->ni = -c->ni;
+    if (oc_next(r) & 1) c->nt = -c->nt;
+    if (w < 2) c->nt = c->ni;
+    if (w == 2) c->nt = -c->ni;
+}
+
+/* v = T + N, |N| = 2^-p |T| for p in 1..1074: the normal part of v from
+   1/2 down to 2^-1074 of its tangential part, n along an axis (either
+   sign), both at any scale. */
+static void tiny_normal(oc_rng *r, oc_case *c)
+{
+    double t = range(r, 0, 6.283185307179586), comp[3], nc[3] = {0, 0, 0};
+    int ax = irange(r, 0, 2), sg = (oc_next(r) & 1) ? 1 : -1, sv = irange(r, -1000, 1000);
+    comp[(ax + 1) % 3] = ldexp(cos(t), sv), comp[(ax + 2) % 3] = ldexp(sin(t), sv);
+    comp[ax] = -sg * any_exp(r, sv - 1074, sv - 1, 0);
+    nc[ax] = sg * any_exp(r, -1000, 1000, 0);
+    c->v = V(comp[0], comp[1], comp[2]), c->n = V(nc[0], nc[1], nc[2]);
+    any_indices(r, c);
+}
+
+/* Every component of v and n at any exponent (some zero, some
+   subnormal), |ni/nt| within 2^+-400 (beyond, the reference's own error
+   when the tangential part is rounded could reach the bound: optics.h). */
+static void every_exponent(oc_rng *r, oc_case *c)
+{
+    double d[6];
+    int i, e;
+    do {
+        for (i = 0; i < 6; i++) {
+            d[i] = irange(r, 0, 5) == 0 ? 0 : any_exp(r, -1074, 1023, 0);
+            if (oc_next(r) & 1) d[i] = -d[i];
+        }
+    } while ((d[0] == 0 && d[1] == 0 && d[2] == 0) || (d[3] == 0 && d[4] == 0 && d[5] == 0));
+    c->v = V(d[0], d[1], d[2]), c->n = V(d[3], d[4], d[5]);
+    e = irange(r, -674, 623);
+    c->ni = any_exp(r, e, e, 0), c->nt = any_exp(r, e - 400, e + 400, 0);
+    if (oc_next(r) & 1) c->nt = -c->nt;
+    if (irange(r, 0, 7) == 0) c->nt = c->ni;
 }
 
 /* An axis normal (permuted, either sign, power-of-two length) and v with
@@ -205,8 +267,18 @@ static void refract_case(int cls, oc_rng *r, oc_case *c)
         c->v = scale(c->v, exp(range(r, -7, 7)));
         c->n = scale(c->n, exp(range(r, -7, 7)));
         break;
-    default:
+    case 10:
         extreme_eta(r, c);
+        break;
+    case 11:
+        tiny_normal(r, c);
+        break;
+    case 12:
+        every_exponent(r, c);
+        break;
+    default:
+        c->v = incoming(r, c->n, (oc_next(r) & 1) ? uni(r) : 1 - ldexp(uni(r), -irange(r, 1, 60)));
+        any_indices(r, c);
         break;
     }
 }
@@ -252,8 +324,19 @@ static void fresnel_case(int cls, oc_rng *r, oc_case *c)
         c->ni *= s, c->nt *= s;
         break;
     }
-    default: /* Brewster's angle, where rp = 0: cos = ni / hypot(ni, nt) */
+    case 7: /* Brewster's angle, where rp = 0: cos = ni / hypot(ni, nt) */
         c->c = c->ni / hypot(c->ni, c->nt) * (1 + irange(r, -1000, 1000) * 0x1p-53);
+        break;
+    case 8:
+        any_indices(r, c);
+        c->c = any_exp(r, -1074, -1023, 0);
+        break;
+    default: /* any ratio; a third at Brewster's angle of tiny ni/nt */
+        any_indices(r, c);
+        c->c = irange(r, 0, 2) == 0 ? uni(r) : any_exp(r, -1074, 0, 0);
+        if (irange(r, 0, 2) == 0 && fabs(c->ni) < fabs(c->nt))
+            c->c = fabs(c->ni / c->nt) * (1 + irange(r, -1000, 1000) * 0x1p-40);
+        if (c->c > 1 || c->c == 0) c->c = uni(r);
         break;
     }
 }
@@ -287,12 +370,25 @@ static void conductor_case(int cls, oc_rng *r, oc_case *c)
         c->k = ldexp(1.0, -irange(r, 20, 60));
         break;
     }
-    default: {
+    case 6: {
         double s = ldexp(1.0, irange(r, -900, 900));
         conductor_case(irange(r, 0, 3), r, c);
         c->ni *= s, c->nt *= s, c->k *= s;
         break;
     }
+    case 7: { /* n == n_outside, k = n 2^-(0 ... 2100), 1, 2 or 53 bits */
+        int e = irange(r, -1022, 1023);
+        c->ni = c->nt = any_exp(r, e, e, 0);
+        c->k = any_exp(r, e - 2100, e, irange(r, 0, 2));
+        c->c = irange(r, 0, 3) == 0 ? 1 : any_exp(r, -1074, -1, 0);
+        break;
+    }
+    default: /* n_outside, n, k and the cosine at any exponent */
+        c->ni = any_exp(r, -1074, 1023, 0), c->nt = any_exp(r, -1074, 1023, 0);
+        c->k = irange(r, 0, 3) == 0 ? 0 : any_exp(r, -1074, 1023, irange(r, 0, 2));
+        if (oc_next(r) & 1) c->ni = -c->ni;
+        c->c = irange(r, 0, 3) == 0 ? uni(r) : any_exp(r, -1074, -1, 0);
+        break;
     }
 }
 

@@ -274,7 +274,9 @@ static const char about_check[] =
 static const char tail_check[] =
     "Classes (refract): random, grazing (cos = 2^-k), grazing exact dot, near critical\n"
     "(+-2000 ulp of the critical angle), eta near 1, normal incidence, negative index,\n"
-    "exactly tangent, huge and tiny, non-unit (all with 1/4 <= |eta| <= 4), extreme eta.\n"
+    "exactly tangent, huge and tiny, non-unit (all with 1/4 <= |eta| <= 4), extreme eta,\n"
+    "tiny normal part, every exponent, any index ratio (every exponent of every component\n"
+    "and index). The other kinds' classes: docs/optics.md, \"ggrt optics check\".\n"
     "Example: ggrt optics check --lib build/libtextbook_refract.so --symbol textbook_refract\n"
     "exit: 0 pass, 4 fail (an error above --max-ulp, a wrong TIR decision or a\n"
     "non-finite result), 1 usage, 2 library or symbol not found, 3 output error";

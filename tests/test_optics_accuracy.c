@@ -623,7 +623,7 @@ static int fast_on(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t, ggVec3 *
     int e = dd_expo(fabs(ni)) > dd_expo(fabs(nt)) ? dd_expo(fabs(ni)) : dd_expo(fabs(nt)), rc;
     ni = dd_scale2(ni, -e), nt = dd_scale2(nt, -e);
     *rdd = refract_dd(v3(flush(V[0]), flush(V[1]), flush(V[2])),
-                      v3(flush(N[0]), flush(N[1]), flush(N[2])), ni, nt, 0, tdd);
+                      v3(flush(N[0]), flush(N[1]), flush(N[2])), ni, nt, 0, &v, &n, tdd);
     if (!((ni > 0) == (nt > 0) && fabs(ni) <= 4 * fabs(nt))) return 2;
     rc = refract_fast(V, N, ni, nt, t);
     return rc;

@@ -54,8 +54,10 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
       bit-identical results, and so does replacing n by -n. Where the
       double-double fallback decides (see Cost) and |eta| <= 2^400,
       components smaller than 2^-480 times the largest component of the
-      same vector are treated as zero (they move *t by less than 2^-80
-      ulp).
+      same vector are treated as zero in forming *t (they move it by less
+      than 2^-80 ulp); the side v comes from, and so whether it crosses,
+      is still decided from the exact v.n of the given doubles, for a
+      normal part of v down to 2^-1074 of its tangential part.
     - Accuracy, for every finite non-zero v, n, ni and nt (any eta, from
       2^-2098 to 2^2098, of either sign): each component of *t is within
       1 ulp (2^-53, the spacing of doubles in [0.5, 1)) of the exact
@@ -73,7 +75,8 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
       incidence angle is within about 2^-97 (relative) of the critical
       one. At exactly the critical angle the ray is transmitted along the
       surface (returns true).
-    - ni == nt gives t = v/|v|; normal incidence gives t = v/|v|.
+    - ni == nt gives t = v/|v| (and true unless v.n == 0 exactly);
+      normal incidence gives t = v/|v|.
     - v exactly tangent to the surface (v.n == 0 in exact arithmetic)
       never crosses it: returns false and writes v/|v| (its own mirror
       direction).
@@ -83,7 +86,9 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
     - Cost: a fast path in double-double with a running error bound
       certifies the 1-ulp result wherever it can (0 < eta <= 4, away from
       the critical angle and the surface plane); the rest goes to a full
-      double-double evaluation. Figures: make bench-optics,
+      double-double evaluation, and inputs with |ni/nt| > 2^450 whose v
+      or n has a component more than 1022 binades below its largest to
+      a 512-bit one (some 20 microseconds). Figures: make bench-optics,
       docs/performance.md. */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 
@@ -117,11 +122,14 @@ GG_API double ggCriticalAngle(double ni, double nt);
    coefficients are rewritten with nt^2 - ni^2 as a factor) in
    double-double: within 1 ulp of R (2^-53 times the smallest power of two
    >= R) for every finite input, also near the critical angle, for ni close
-   to nt (where R is tiny) and for any index ratio. */
+   to nt (where R is tiny), for subnormal cosines and for any index ratio
+   (up to 2^2097). */
 GG_API double ggFresnelDielectric(double cos_i, double ni, double nt);
 
 /* The same with both polarisations: *rs (s, TE, E perpendicular to the
-   plane of incidence) and *rp (p, TM). Either pointer may be NULL. */
+   plane of incidence) and *rp (p, TM). Either pointer may be NULL. Each is
+   within 1 ulp of itself, Rp also at and near Brewster's angle, where it
+   vanishes. */
 GG_API void ggFresnelDielectricPolarized(double cos_i, double ni, double nt, double *rs,
                                          double *rp);
 
@@ -136,8 +144,10 @@ GG_API void ggFresnelDielectricPolarized(double cos_i, double ni, double nt, dou
    at 550 nm (0.96, 6.69).
    Within 1 ulp of R (2^-53 times the smallest power of two >= R) for
    every valid input, where R is at least 2^-1022; a smaller R is
-   subnormal and within 2^-1074 (R underflows to 0 when n == n_outside and
-   k is below about 2^-512 n). That includes a tiny k between nearly or
+   subnormal and within 2^-1074 (at normal incidence R underflows to 0
+   when n == n_outside and k is below about 2^-537 n; towards grazing
+   cosines it grows to 1 for every k down to 2^-1074, whose bits are all
+   kept). That includes a tiny k between nearly or
    exactly matched indices (R down to 2^-110 and below), the critical
    angle of a weakly absorbing medium, grazing incidence (exactly 1 at
    cos_i == 0) and every index ratio (for |n + ik| < 2^-299 |n_outside|, R
@@ -149,7 +159,9 @@ GG_API void ggFresnelDielectricPolarized(double cos_i, double ni, double nt, dou
 GG_API double ggFresnelConductor(double cos_i, double n_outside, double n, double k);
 
 /* The same with both polarisations, each evaluated to the same precision
-   and rounded once; either pointer may be NULL. */
+   and rounded once; either pointer may be NULL. (The 1-ulp bound above is
+   for R: Rs and Rp are not bounded separately; near the pseudo-Brewster
+   angle Rp is a negligible part of R, docs/optics.md, "Conductors".) */
 GG_API void ggFresnelConductorPolarized(double cos_i, double n_outside, double n, double k,
                                         double *rs, double *rp);
 
@@ -195,7 +207,9 @@ GG_API ggColor ggBeerLambertColor(ggColor k, ggColor lambda, double distance);
    2^-53 for a unit vector (whose largest component is in (0.577, 1]), the
    spacing of doubles in [0.5, 1); for a reflection it is the ulp of |v|'s
    binade. comp_ulp[i] uses each component's own unit, 2^-53 times the
-   smallest power of two >= |exact_i|. */
+   smallest power of two >= |exact_i|. No unit is below 2^-1074, the
+   spacing of subnormals: where the exact value underflows, a correctly
+   rounded subnormal or zero is at most 1/2 unit off. */
 typedef struct ggDirectionError {
     double max_ulp;      /* max_i |candidate_i - exact_i| / unit */
     double norm_ulp;     /* |candidate - exact| (Euclidean) / unit */
@@ -256,7 +270,10 @@ GG_API int ggReflectionError(ggVec3 v, ggVec3 n, ggVec3 candidate, ggDirectionEr
 
 /* The error of a candidate reflectance, filled by ggFresnelDielectricError
    and ggFresnelConductorError. Units: 2^-53 times the smallest power of two
-   >= the exact value (of R for ulp, of 1 - R for complement_ulp). */
+   >= the exact value (of R for ulp, of 1 - R for complement_ulp), or
+   2^-1074 (the spacing of subnormals, the contract's unit where R
+   underflows) if that is larger: a correctly rounded subnormal or zero R
+   is at most 1/2 ulp off. */
 typedef struct ggReflectanceError {
     double ulp;              /* |candidate - R| in units of R */
     double exact;            /* R, rounded to nearest */

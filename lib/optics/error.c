@@ -67,13 +67,17 @@ static bf cross2(const double *a, const double *b)
     return sum3(MUL(c[0], c[0]), MUL(c[1], c[1]), MUL(c[2], c[2]));
 }
 
-/* |d| in units of 2^-53 times the smallest power of two >= |r|
-   (0 if d == 0, +inf if only r is). */
+/* |d| in units of 2^-53 times the smallest power of two >= |r|, or of
+   2^-1074 (the spacing of subnormals, the contract's unit where the
+   result underflows) if that is larger: a correctly rounded subnormal or
+   zero result is at most 1/2 off (0 if d == 0, +inf if only r is). */
 static double in_units_of(bf d, bf r)
 {
+    int ue;
     if (!d.sign) return 0;
     if (!r.sign) return HUGE_VAL;
-    return fabs(gg_bf_to_double(gg_bf_scale2(d, 53 - gg_bf_ceil_expo(r))));
+    ue = gg_bf_ceil_expo(r) - 53;
+    return fabs(gg_bf_to_double(gg_bf_scale2(d, -(ue > -1074 ? ue : -1074))));
 }
 
 /* Fill e's error fields: candidate c against the exact direction r. */
@@ -86,6 +90,7 @@ static void measure(const bf r[3], ggVec3 cand, ggDirectionError *e)
     for (i = 1; i < 3; i++)
         if (gg_bf_cmpabs(r[i], big) > 0) big = r[i];
     ue = big.sign ? gg_bf_ceil_expo(big) - 53 : -1074;
+    if (ue < -1074) ue = -1074; /* the spacing of subnormals, as in_units_of */
     e->unit = ldexp(1.0, ue);
     e->exact = v3(gg_bf_to_double(r[0]), gg_bf_to_double(r[1]), gg_bf_to_double(r[2]));
     e->max_ulp = 0;

@@ -43,6 +43,112 @@ static gg_dd cos_t_sq_nt2(double a, double b, double c, gg_dd *delta)
     return dd_add(*delta, dd_sqr(dd_two_prod(a, c)));
 }
 
+static gg_dd dd_x2(gg_dd a)
+{
+    return dd_make(2 * a.hi, 2 * a.lo);
+}
+
+static gg_dd dd_scale(gg_dd a, int e)
+{
+    return dd_make(dd_scale2(a.hi, e), dd_scale2(a.lo, e));
+}
+
+/* 1 - 4 x for x = xm 2^ex, xm in [1/4, 4) (x < 2^-290): the reflectance
+   ((1 - x)/(1 + x))^2 to within 8 x^2. */
+static gg_dd one_minus_4x(gg_dd xm, int ex)
+{
+    if (ex < -1100) return dd_from(1.0);
+    return dd_sub(dd_from(1.0), dd_scale(xm, ex + 2));
+}
+
+/* The biased exponent field of x >= 0 (0 for a subnormal: then the test
+   below may send a ratio up to 2^352 to the general path, which keeps
+   ni normal after scaling). */
+static uint64_t expo_field(double x)
+{
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b >> 52;
+}
+
+/* Rs and Rp for ni far below nt (a < 2^-300 b, any exponents), where
+   scaling the pair together would leave ni (and ni c) subnormal or zero.
+   With eta = a/b, cos_t = sqrt(1 - eta^2 s^2) is 1 to within 2^-600, so
+     rs = (x - 1)/(x + 1),  x = eta c < 2^-300,
+     rp = (w - 1)/(w + 1),  w = c/eta,
+   and x and w are formed from the mantissas with their exponents apart,
+   so a subnormal c or an index ratio beyond 2^1023 loses nothing. Taking
+   cos_t as 1 moves rs and rp by less than eta^2 < 2^-600 (docs/optics.md,
+   "Dielectrics", "ni far below nt"). */
+static GG_NOINLINE void dielectric_tiny_eta(double c, double a, double b, gg_dd *rs,
+                                           gg_dd *rp)
+{
+    int ec = dd_expo(c), ea = dd_expo(a), eb = dd_expo(b), ew;
+    double cm = dd_scale2(c, -ec), am = dd_scale2(a, -ea), bm = dd_scale2(b, -eb);
+    gg_dd x = dd_div(dd_two_prod(am, cm), dd_from(bm)), w = dd_div(dd_two_prod(cm, bm), dd_from(am));
+    *rs = one_minus_4x(x, ea + ec - eb);
+    ew = ec + eb - ea;
+    if (ew > 600) {
+        /* Rp = 1 - 4 w/(w + 1)^2 = 1 - 4/w to within 2^-1200 */
+        *rp = one_minus_4x(dd_div(dd_from(1.0), w), -ew);
+    } else if (ew < -600) {
+        *rp = one_minus_4x(w, ew);
+    } else {
+        /* (w - 1)/(w + 1) = (c b - a)/(c b + a) with c b exact: the
+           numerator, which vanishes at Brewster's angle, has only its
+           one rounding (and cos_t = 1 moves it by less than 2^-490 of
+           itself unless c b == a, where Rp < 2^-1200 anyway) */
+        gg_dd X = dd_scale(dd_two_prod(cm, bm), ew), A = dd_from(am);
+        gg_dd amp = dd_div(dd_sub(X, A), dd_add(X, A));
+        *rp = dd_sqr(amp);
+    }
+}
+
+/* Append x (hi + lo, exact) to the non-overlapping expansion e[0..*m)
+   (Shewchuk's Grow-Expansion, twice). */
+static void grow2(double *e, int *m, gg_dd x)
+{
+    double part[2];
+    int i, j;
+    part[0] = x.hi, part[1] = x.lo;
+    for (j = 0; j < 2; j++) {
+        double q = part[j];
+        for (i = 0; i < *m; i++) {
+            gg_dd t = dd_two_sum(q, e[i]);
+            q = t.hi, e[i] = t.lo;
+        }
+        e[(*m)++] = q;
+    }
+}
+
+/* (h hi + h lo)^2 as three exact products appended to e. */
+static void grow_sqr(double *e, int *m, gg_dd h)
+{
+    grow2(e, m, dd_two_prod(h.hi, h.hi));
+    grow2(e, m, dd_two_prod(2.0 * h.hi, h.lo));
+    grow2(e, m, dd_two_prod(h.lo, h.lo));
+}
+
+/* 2^512 ((ni^2 + nt^2) c^2 - ni^2), a = |ni|, b = |nt| (a >= 2^-353 b,
+   b in [1, 2)), to a relative 2^-100: the term that vanishes at
+   Brewster's angle, where forming it in double-double leaves only its
+   rounding errors (Rp then off by up to 1e3 ulp of itself). Its three
+   products are summed exactly (the indices scaled by 2^256 so no part
+   underflows), except c^2 a^2 for c < 2^-200, which is below 2^-400 a^2
+   and added after the exact sum of the others (which is 0 or above
+   2^-110 a^2). */
+static GG_NOINLINE gg_dd brewster_term(double a, double b, double c)
+{
+    double e[16], as = a * 0x1p256, bs = b * 0x1p256;
+    int m = 0, i;
+    gg_dd r = dd_from(0.0), ca = dd_two_prod(c, as), na = dd_two_prod(as, as);
+    grow_sqr(e, &m, dd_two_prod(c, bs));
+    grow2(e, &m, dd_make(-na.hi, -na.lo));
+    if (c >= 0x1p-200) grow_sqr(e, &m, ca);
+    for (i = 0; i < m; i++) r = dd_add(r, dd_from(e[i]));
+    return c >= 0x1p-200 ? r : dd_add(r, dd_sqr(ca));
+}
+
 /* Dielectric: Rs and Rp as double-words. a = |ni| > 0, b = |nt| > 0, c in
    [0, 1].
    With q = nt^2 cos_t^2 and delta = nt^2 - ni^2,
@@ -69,6 +175,10 @@ GG_INC_LINK void GG_INC_NAME(fresnel_dielectric)(double c, double a, double b, g
         *rs = *rp = dd_from(1.0);
         return;
     }
+    if (expo_field(b) > expo_field(a) + 300) {
+        dielectric_tiny_eta(c, a, b, rs, rp);
+        return;
+    }
     scale_pair(&a, &b);
     q = cos_t_sq_nt2(a, b, c, &delta);
     if (q.hi <= 0) { /* total internal reflection */
@@ -85,7 +195,14 @@ GG_INC_LINK void GG_INC_NAME(fresnel_dielectric)(double c, double a, double b, g
            P^2 - Q^2 = delta ((ni^2 + nt^2) c^2 - ni^2) instead. */
         gg_dd a2 = dd_two_prod(a, a), PQ = dd_add(P, Q);
         gg_dd br = dd_sub(dd_mul(dd_two_prod(c, c), dd_add(a2, dd_two_prod(b, b))), a2);
-        amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
+        if (fabs(br.hi) < 0x1p-45 * a2.hi) {
+            /* near Brewster's angle: exactly, scaled by 2^512 */
+            br = brewster_term(a, b, c);
+            amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
+            amp = dd_make(dd_scale2(amp.hi, -512), dd_scale2(amp.lo, -512));
+        } else {
+            amp = dd_div(dd_mul(delta, br), dd_sqr(PQ));
+        }
         *rp = dd_sqr(amp);
         return;
     }
@@ -109,16 +226,6 @@ GG_INC_LINK void GG_INC_NAME(fresnel_dielectric)(double c, double a, double b, g
 typedef struct conductor_r {
     gg_dd rs, rp;
 } conductor_r;
-
-static gg_dd dd_x2(gg_dd a)
-{
-    return dd_make(2 * a.hi, 2 * a.lo);
-}
-
-static gg_dd dd_scale(gg_dd a, int e)
-{
-    return dd_make(dd_scale2(a.hi, e), dd_scale2(a.lo, e));
-}
 
 /* |x + iy| for double-words, scaled first if the squares could leave the
    range where double-words keep their precision. */
@@ -211,7 +318,8 @@ static void conductor_core(const conductor_in *in, gg_dd NpK, int j, gg_dd A, gg
    2^-54 unless n == n1, where it is k (2in - k): then a tiny k with a tiny
    c (a and Z both below 2^-480) is scaled up by sigma^2, chosen to bring
    the larger of a^2 and |T| near 1. */
-static void conductor_general(double c, double n1, double n, double k, conductor_r *r)
+static void conductor_general(double c, double n1, double n, double k, double kraw, int e,
+                              conductor_r *r)
 {
     conductor_in in;
     gg_dd A, X, Tr, Ti;
@@ -221,19 +329,20 @@ static void conductor_general(double c, double n1, double n, double k, conductor
     in.N1s2 = dd_mul(in.N1, dd_sub(dd_from(1.0), in.c2));
     in.NN = dd_two_prod(n, n), in.KK = dd_two_prod(k, k), in.Y = dd_x2(dd_two_prod(n, k));
     if (n == n1) {
-        int ea, et, h;
-        double k2;
-        if (k == 0) {
-            /* k < 2^-1074 n before the scaling: R < 2^-2000 */
-            r->rs = r->rp = dd_from(0.0);
-            return;
-        }
-        ea = dd_expo(c) + dd_expo(n1), et = dd_expo(k) + dd_expo(n > k ? n : k) + 1;
+        /* k = kraw 2^-e = km 2^ke is used only scaled by sigma (k sigma
+           and k sigma^2, sigma = 2^j), so no k down to 2^-1074 n loses a
+           bit; where the scaled k is subnormal its k^2 and 2nk terms in
+           conductor_core are below 2^-1000 of the terms they are added
+           to. */
+        int ea, et, h, ke = dd_expo(kraw);
+        double kj, k2, km = dd_scale2(kraw, -ke);
+        ke -= e;
+        ea = dd_expo(c) + dd_expo(n1), et = dd_expo(km) + ke + dd_expo(n > k ? n : k) + 1;
         h = 2 * ea > et ? 2 * ea : et;
         if (h < -300) j = -(h / 2);
-        k2 = dd_scale2(k, 2 * j);
+        kj = dd_scale2(km, ke + j), k2 = dd_scale2(km, ke + 2 * j);
         A = dd_two_prod(n1, dd_scale2(c, j));
-        Tr = dd_neg(dd_two_prod(k, k2)), Ti = dd_x2(dd_two_prod(n, k2));
+        Tr = dd_neg(dd_two_prod(kj, kj)), Ti = dd_x2(dd_two_prod(n, k2));
         X = dd_add(dd_sqr(A), Tr);
     } else {
         /* X from n^2 - k^2 - n1^2 s^2: A^2 + Tr would cancel when |n + ik|
@@ -306,7 +415,7 @@ GG_INC_LINK void GG_INC_NAME(fresnel_conductor)(double c, double n1, double n, d
                            dd_div(h, dd_from(n1m)), G, &r);
         } else if (G >= -300) {
             int e = e1 > em ? e1 : em;
-            conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -e), &r);
+            conductor_general(c, dd_scale2(n1, -e), dd_scale2(n, -e), dd_scale2(k, -e), k, e, &r);
         }
         /* else |eta~| < 2^-299: R = 1 - O(|eta~|), 1 when rounded. */
     }

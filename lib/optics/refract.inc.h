@@ -23,6 +23,7 @@
 #endif
 
 #include "dd.h"
+#include "refract_big.h"
 #include "vec.h"
 
 #include <math.h>
@@ -62,6 +63,48 @@ static int dot_sign_exact(ggVec3 a, ggVec3 b)
     for (i = m - 1; i >= 0; i--)
         if (e[i] != 0) return e[i] > 0 ? 1 : -1;
     return 0;
+}
+
+/* A double as m 2^e with m in [1, 2) (x finite, non-zero). */
+static double mant(double x, int *e)
+{
+    *e = dd_expo(x);
+    return dd_scale2(x, -*e);
+}
+
+/* Sign (-1, 0, 1) of the exact a.b for any finite doubles: each product
+   is kept as the product of two mantissas in [1, 2) with its own exponent
+   (products of tiny components would underflow), and the terms are taken
+   largest exponent first, in runs whose consecutive exponents are less
+   than 300 apart; a run's sum is exact (dot_sign_exact, scaled to its
+   first term: its products stay above 2^-600). A term is a multiple of
+   2^-104 times 2 to its exponent, so a non-zero run is at least 2^-104
+   times its last term's power of two, above everything after it (below
+   2^-297 of that): its sign is the sign; a zero run leaves the decision to
+   the rest. */
+static int dot_sign_wide(ggVec3 a, ggVec3 b)
+{
+    double am[3], bm[3];
+    int ex[3], i, j, e, order[3] = {0, 1, 2}, s = 0;
+    am[0] = a.x, am[1] = a.y, am[2] = a.z, bm[0] = b.x, bm[1] = b.y, bm[2] = b.z;
+    for (i = 0; i < 3; i++) {
+        if (am[i] == 0 || bm[i] == 0) {
+            am[i] = bm[i] = 0, ex[i] = -100000;
+            continue;
+        }
+        am[i] = mant(am[i], &ex[i]), bm[i] = mant(bm[i], &e), ex[i] += e;
+    }
+    for (i = 0; i < 2; i++)
+        for (j = 2; j > i; j--)
+            if (ex[order[j]] > ex[order[j - 1]]) e = order[j], order[j] = order[j - 1], order[j - 1] = e;
+    for (i = 0; i < 3 && s == 0 && am[order[i]] != 0; i = j) {
+        double p[3] = {0, 0, 0}, q[3] = {0, 0, 0};
+        int top = ex[order[i]];
+        for (j = i; j < 3 && am[order[j]] != 0 && (j == i || ex[order[j]] > ex[order[j - 1]] - 300); j++)
+            p[j] = am[order[j]], q[j] = dd_scale2(bm[order[j]], ex[order[j]] - top);
+        s = dot_sign_exact(v3(p[0], p[1], p[2]), v3(q[0], q[1], q[2]));
+    }
+    return s;
 }
 
 /* True if a and b are exactly parallel (a x b == 0 in exact arithmetic). */
@@ -140,9 +183,12 @@ static ggVec3 mirror_dd(const double vc[3], const double nc[3], gg_dd k, gg_dd v
 /* The double-double refraction of normalised inputs (the fallback of the
    fast path below; tests/test_optics_accuracy.c compares the two):
    ediff is the exponent of |ni/nt| carried separately when it exceeds
-   450. Returns 1 (transmitted) or 0 (total internal reflection or tangent
-   v: *t is the mirror direction). */
-static GG_NOINLINE int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff, ggVec3 *t)
+   450; vp and np are the caller's vectors before scaling and flushing,
+   from which the side v comes from is decided exactly. Returns 1
+   (transmitted) or 0 (total internal reflection or tangent v: *t is the
+   mirror direction). */
+static GG_NOINLINE int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int ediff,
+                                  const ggVec3 *vp, const ggVec3 *np, ggVec3 *t)
 {
     double vc[3], nc[3], sump;
     gg_dd a, vv, nn, k, vt[3], ni2, nt2, A, D, g1, g2;
@@ -152,14 +198,22 @@ static GG_NOINLINE int refract_dd(ggVec3 v, ggVec3 n, double ni, double nt, int 
     nc[0] = n.x, nc[1] = n.y, nc[2] = n.z;
 
     /* Which side v comes from. Dot2's error is below gamma_3^2 sum|v_i n_i|
-       (about 9u^2 = 2^-102.8; dd.h, dd_dot3);
-       only inside that band is the exact sign worked out. */
+       (about 9u^2 = 2^-102.8; dd.h, dd_dot3), and the components flushed
+       (or lost to underflow by the scaling) change v.n by less than
+       2^-476; only inside those bands is the exact sign worked out, from
+       the caller's doubles. There a (below 2^-470) may even have the wrong
+       sign: it is then taken as 0 (v grazing the surface, with the
+       exact side s), which moves t by less than 2^-17 ulp and keeps the
+       decision exact (docs/optics.md, "Grazing incidence below the
+       flush"). */
     a = dd_dot3(v.x, v.y, v.z, n.x, n.y, n.z);
     sump = fabs(v.x * n.x) + fabs(v.y * n.y) + fabs(v.z * n.z);
-    if (fabs(a.hi) > 0x1p-100 * sump)
+    if (fabs(a.hi) > 0x1p-100 * sump && fabs(a.hi) > 0x1p-470) {
         s = a.hi > 0 ? 1 : -1;
-    else
-        s = dot_sign_exact(v, n);
+    } else {
+        s = dot_sign_wide(*vp, *np);
+        if (s != (a.hi > 0) - (a.hi < 0)) a = dd_from(0.0);
+    }
 
     vv = dd_sum_sq3(v.x, v.y, v.z);
     if (s == 0) {
@@ -598,6 +652,52 @@ GG_INLINE int scale_indices(double *ni, double *nt)
     return 1;
 }
 
+/* True if the scaling of a to [1, 2) (A = scale_unit(a)) rounded one of
+   its components: only one more than 1022 binades below the largest,
+   which became subnormal or zero, can have been (a scaled normal number
+   is exact); that one is scaled back and compared. */
+static GG_NOINLINE int scaling_rounded(const ggVec3 *a, const gg_v4 *A)
+{
+    double c[3];
+    int i;
+    c[0] = a->x, c[1] = a->y, c[2] = a->z;
+    for (i = 0; i < 3; i++)
+        if (fabs((*A)[i]) < 0x1p-1022 && c[i] != 0 &&
+            dd_scale2((*A)[i], dd_expo(v3maxabs(*a))) != c[i])
+            return 1;
+    return 0;
+}
+
+/* A non-zero component of v or n that the scaling made subnormal or zero
+   (so scaling_rounded may be true): one comparison of exponent fields. */
+GG_INLINE int scaled_to_subnormal(const ggVec3 *v, gg_v4 V, const ggVec3 *n, gg_v4 N)
+{
+    const gg_v4 zero = {0, 0, 0, 0};
+    gg_v4 rv = {v->x, v->y, v->z, v->z}, rn = {n->x, n->y, n->z, n->z};
+    gg_v4u m = ((gg_v4u)(v4_expo(V) == zero) & (gg_v4u)(rv != zero)) |
+               ((gg_v4u)(v4_expo(N) == zero) & (gg_v4u)(rn != zero));
+    return (m[0] | m[1] | m[2]) != 0;
+}
+
+/* gg_optics_refract_big on the caller's doubles (v not in the surface). */
+static GG_NOINLINE int refract_wide(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
+                                    ggVec3 *t)
+{
+    double vc[3], nc[3], r[3];
+    int s = dot_sign_wide(*vp, *np), rc;
+    if (s == 0) {
+        gg_dd vd[3];
+        ggVec3 v = v3scale2(*vp, -dd_expo(v3maxabs(*vp)));
+        vd[0] = dd_from(v.x), vd[1] = dd_from(v.y), vd[2] = dd_from(v.z);
+        *t = dd_scale_vec(dd_rsqrt(dd_sum_sq3(v.x, v.y, v.z)), vd);
+        return 0;
+    }
+    vc[0] = vp->x, vc[1] = vp->y, vc[2] = vp->z, nc[0] = np->x, nc[1] = np->y, nc[2] = np->z;
+    rc = gg_optics_refract_big(vc, nc, ni, nt, s, r);
+    *t = v3(r[0], r[1], r[2]);
+    return rc;
+}
+
 /* Everything the fast path declines: validation, scaling, refract_dd. */
 static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double ni, double nt,
                                     ggVec3 *t)
@@ -605,7 +705,7 @@ static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double n
     const uint64_t fin = 0x7ff0000000000000ull;
     uint64_t mv = max_bits(*vp), mn = max_bits(*np), bi = abs_bits(ni), bt = abs_bits(nt);
     uint64_t ei = bi >> 52, et = bt >> 52;
-    int ediff = 0;
+    int ediff = 0, same = ni == nt;
     gg_v4 V, N;
     ggVec3 v, n;
     /* finite and non-zero: x - 1 wraps around for zero */
@@ -623,6 +723,11 @@ static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double n
     } else {
         int xi = dd_expo(ni), xt = dd_expo(nt), em = xi > xt ? xi : xt;
         if (xi - xt > 450) {
+            /* such a ratio can make a component the scaling would round
+               decisive: then the 512-bit path */
+            if (scaled_to_subnormal(vp, V, np, N) &&
+                (scaling_rounded(vp, &V) || scaling_rounded(np, &N)))
+                return refract_wide(vp, np, ni, nt, t);
             ediff = xi - xt;
             ni = dd_scale2(ni, -xi), nt = dd_scale2(nt, -xt);
         } else {
@@ -630,12 +735,19 @@ static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double n
         }
     }
     v = v3(V[0], V[1], V[2]), n = v3(N[0], N[1], N[2]);
+    if (same) {
+        /* t = v/|v| from the unflushed v, on whichever side v is */
+        gg_dd vd[3];
+        vd[0] = dd_from(v.x), vd[1] = dd_from(v.y), vd[2] = dd_from(v.z);
+        *t = dd_scale_vec(dd_rsqrt(dd_sum_sq3(v.x, v.y, v.z)), vd);
+        return dot_sign_wide(*vp, *np) != 0;
+    }
     if (!ediff && fabs(ni) <= 0x1p400 * fabs(nt)) {
         /* eta * 2^-480 < 2^-80: the flush moves t by less than 2^-80 */
         v = v3(flush(v.x), flush(v.y), flush(v.z));
         n = v3(flush(n.x), flush(n.y), flush(n.z));
     }
-    return refract_dd(v, n, ni, nt, ediff, t);
+    return refract_dd(v, n, ni, nt, ediff, vp, np, t);
 }
 
 /* The fast path for inputs that are not in the common ranges (the

@@ -12,6 +12,7 @@ if grep -q "^PASS: worst 0\.[0-9]* ulp" "$tmp/out" && ! grep -q "FAIL" "$tmp/out
 else bad "optics check: ggRefract's table" "$(cat "$tmp/out")"; fi
 expect_exit 0 "optics check: ggReflection passes" "$ggrt" optics check --kind reflect --cases 300
 expect_exit 0 "optics check: ggFresnelDielectric passes" "$ggrt" optics check --kind fresnel --cases 300
+expect_exit 0 "optics check: ggFresnelConductor passes" "$ggrt" optics check --kind conductor --cases 300
 
 if [ -f "$tb" ]; then
   expect_exit 4 "optics check: the textbook formula fails" \
@@ -24,8 +25,8 @@ if [ -f "$tb" ]; then
   else bad "optics check: no hex-float input" "$(cat "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook json" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_refract --cases 100 --format json
-  if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 11' "$tmp/out"
-  then ok "optics check: json parses, pass false, 11 classes"
+  if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 14' "$tmp/out"
+  then ok "optics check: json parses, pass false, 14 classes"
   else bad "optics check: json" "$(cat "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook reflection (tangent, huge)" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_reflect --kind reflect --cases 300
@@ -41,8 +42,8 @@ expect_exit 1 "optics check: bad --kind" "$ggrt" optics check --kind refraction
 
 expect_exit 0 "optics seeds: writes a corpus" "$ggrt" optics seeds "$tmp/seeds" --cases 4
 n=$(ls "$tmp/seeds" | wc -l)
-if [ "$n" -eq 44 ]; then ok "optics seeds: 4 seeds for each of 11 classes"
-else bad "optics seeds: $n files, want 44"; fi
+if [ "$n" -eq 56 ]; then ok "optics seeds: 4 seeds for each of 14 classes"
+else bad "optics seeds: $n files, want 56"; fi
 expect_exit 3 "optics seeds: unwritable directory" "$ggrt" optics seeds /nonexistent/dir/seeds
 
 # The fuzz harness of examples/fuzz_your_refract.c, replayed over that
@@ -57,3 +58,35 @@ if [ -x "$bdir/tests/yourfuzz_ggrefract" ] && [ -x "$bdir/tests/yourfuzz_textboo
 else
   bad "fuzz_your_refract: replay binaries not built in $bdir/tests"
 fi
+
+# `ggrt optics refract` prints one decision, ggRefract's, once: a normal
+# part of v from 2^-1 down to 2^-1074 of the tangential part, for indices
+# with no critical angle (ni <= nt, ni == nt, ni == -nt) and with one.
+refract_bad=""
+for p in 1 60 300 481 600 900 1000 1074; do
+  for ix in "1 1" "1 1.5" "0.7 1" "-1 1" "1e-300 1e300" "2 1"; do
+    set -- $ix
+    "$ggrt" optics refract --v 1,0,-0x1p-$p --n 0,0,1 --ni "$1" --nt "$2" >"$tmp/out" 2>&1 || \
+      refract_bad="$refract_bad [p=$p ni=$1 nt=$2: exit $?]"
+    ntir=$(grep -c "^TIR:" "$tmp/out")
+    if [ "$ntir" -ne 1 ]; then refract_bad="$refract_bad [p=$p ni=$1 nt=$2: $ntir TIR lines]"; fi
+    if grep -q "^critical angle: *none" "$tmp/out" && grep -q "^TIR: *yes" "$tmp/out"; then
+      refract_bad="$refract_bad [p=$p ni=$1 nt=$2: no critical angle, yet TIR]"; fi
+    if grep -q "lies in the surface" "$tmp/out"; then
+      refract_bad="$refract_bad [p=$p ni=$1 nt=$2: v.n != 0 called in the surface]"; fi
+  done
+done
+if [ -z "$refract_bad" ]; then ok "optics refract: one decision at grazing incidence down to 2^-1074"
+else bad "optics refract: contradictions" "$refract_bad"; fi
+expect_exit 0 "optics refract: v in the surface" "$ggrt" optics refract --v 1,0,0 --n 0,0,1
+if grep -q "^TIR: *no: v lies in the surface" "$tmp/out"; then ok "optics refract: tangent v said once"
+else bad "optics refract: tangent v" "$(cat "$tmp/out")"; fi
+# |eta| beyond the doubles (about 2^1334, a tangential part of n 2^-1333 of
+# its normal part: the fuzz_optics input found_huge_eta_spread_components):
+# the ratio printed as m * 2^e, not inf, and the ray totally reflected.
+expect_exit 0 "optics refract: eta beyond the doubles" "$ggrt" optics refract \
+  --v 0,0,-0x1.445489d6cac2bp+741 --n 0,0x0.00000000005e1p-1022,0x1.e0718013dcbf8p+269 \
+  --ni 0x1.8553485eb58e4p+513 --nt -0x1.aa967d3fcb8e1p-821
+if grep -q "eta = ni/nt = -0\.91264981939587964 \* 2^1334$" "$tmp/out" &&
+   grep -q "^TIR: *yes" "$tmp/out"; then ok "optics refract: eta as m * 2^e, TIR"
+else bad "optics refract: eta beyond the doubles" "$(cat "$tmp/out")"; fi

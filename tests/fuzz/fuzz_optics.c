@@ -13,8 +13,12 @@
 ** against the 128-bit reference of tests/optics_ref.h; bit-identical
 ** results for -n and for power-of-two scalings; reflection preserves
 ** length and is an involution; reflectances in [0, 1]; Beer-Lambert
-** composes. A failed check prints what failed and aborts: the harness
-** does, the library never does.
+** composes. Over the whole range -- eta from 2^-2098 to 2^2098, normal
+** parts of v down to 2^-1074 of the tangential part, subnormal cosines,
+** n == n_outside with k down to 2^-1074 -- the decision and the 1-ulp
+** bounds are also checked against the library's 512-bit references
+** (ggRefractError and friends, lib/optics/error.c). A failed check prints
+** what failed and aborts: the harness does, the library never does.
 **
 ** Built by `make fuzz` with clang -fsanitize=fuzzer,address,undefined, and
 ** with the plain compiler as build/tests/replay_optics, which `make check`
@@ -312,6 +316,59 @@ static void check_fresnel(double c, double ni, double nt, double k)
     }
 }
 
+/* The exponent spread of a vector's non-zero components. */
+static int spread3(ggVec3 a)
+{
+    double c[3];
+    int i, lo = 100000, hi = -100000;
+    c[0] = a.x, c[1] = a.y, c[2] = a.z;
+    for (i = 0; i < 3; i++)
+        if (c[i] != 0) {
+            int e = ilogb(c[i]);
+            lo = e < lo ? e : lo, hi = e > hi ? e : hi;
+        }
+    return hi - lo;
+}
+
+/* Against the library's 512-bit references, at any exponent: the
+   decision wherever the reference is certain, the bound wherever its own
+   error is far below it (optics.h: |ni/nt| <= 2^400 or components within
+   90 binades of each other, and for the conductor R >= 2^-27 or n ==
+   n_outside). */
+static void check_exact(ggVec3 v, ggVec3 n, double ni, double nt, double c, double k)
+{
+    ggDirectionError e;
+    ggReflectanceError r;
+    ggVec3 t;
+    bool ok;
+    if (finite3(v) && finite3(n) && !zero3(v) && !zero3(n) && isfinite(ni) && isfinite(nt) &&
+        ni != 0 && nt != 0) {
+        ok = ggRefract(v, n, ni, nt, &t);
+        CHECK(ggRefractError(v, n, ni, nt, t, !ok, &e) == GG_OK, "ggRefractError accepts it");
+        /* the contract exempts |cos^2 theta_t| < 2^-96 */
+        if (e.certain && !(fabs(e.cos2_t) < 0x1p-96))
+            CHECK(e.tir_agrees, "TIR decision agrees with the 512-bit reference");
+        if (e.tir_agrees && (ilogb(ni) - ilogb(nt) <= 400 || (spread3(v) < 90 && spread3(n) < 90))) {
+            double bound = ok && e.cos2_t < 0x1p-80 ? 4.0 : 1.0;
+            if (!(e.max_ulp <= bound)) fprintf(stderr, "error %.3g ulp (512-bit)\n", e.max_ulp);
+            CHECK(e.max_ulp <= bound, "1 ulp against the 512-bit reference");
+        }
+    }
+    if (!isfinite(c) || !isfinite(ni) || !isfinite(nt) || ni == 0 || nt == 0) return;
+    CHECK(ggFresnelDielectricError(c, ni, nt, ggFresnelDielectric(c, ni, nt), &r) == GG_OK,
+          "ggFresnelDielectricError accepts it");
+    if (!(r.ulp <= 1)) fprintf(stderr, "dielectric error %.3g ulp\n", r.ulp);
+    CHECK(r.ulp <= 1, "dielectric R within 1 ulp of the 512-bit reference");
+    k = fabs(k), nt = fabs(nt);
+    if (!isfinite(k)) return;
+    CHECK(ggFresnelConductorError(c, ni, nt, k, ggFresnelConductor(c, ni, nt, k), &r) == GG_OK,
+          "ggFresnelConductorError accepts it");
+    if (r.exact >= 0x1p-27 || nt == fabs(ni)) {
+        if (!(r.ulp <= 1)) fprintf(stderr, "conductor error %.3g ulp\n", r.ulp);
+        CHECK(r.ulp <= 1, "conductor R within 1 ulp of the 512-bit reference");
+    }
+}
+
 static void check_beer(double k, double lambda, double d)
 {
     const int bad = FE_INVALID | FE_DIVBYZERO | FE_OVERFLOW;
@@ -360,7 +417,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         small = ldexp((double)(bits & 0xffff) - 32768.0, -(int)(40 + (bits >> 16) % 80));
         if (lu == 0) u = V(n.y, -n.x, 0), lu = sqrt(n.x * n.x + n.y * n.y);
         if (lu > 0 && ln > 0) {
-            switch (shape % 6) {
+            switch (shape % 10) {
             case 1: /* eta near 1 */
                 nt = ni * (1 + ldexp((double)((int)(bits % 33) - 16), -52));
                 break;
@@ -388,6 +445,38 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
         }
     }
+    /* Every exponent: these need no moderate inputs. */
+    if (shape % 10 >= 6 && isfinite(ni) && isfinite(nt) && ni != 0 && nt != 0) {
+        uint64_t bits;
+        int p;
+        memcpy(&bits, &d[8], 8);
+        p = (int)(bits % 1075);
+        switch (shape % 10) {
+        case 6: { /* a normal part 2^-p of the tangential part, n along z */
+            int sv = ilogb(fabs(v.x) > fabs(v.y) ? v.x : v.y);
+            if (isfinite(v.x) && isfinite(v.y) && (v.x != 0 || v.y != 0)) {
+                v.z = ldexp(v.z < 0 ? -1.5 : 1.5, sv - p < -1074 ? -1074 : sv - p);
+                n = V(0, 0, n.z != 0 && isfinite(n.z) ? n.z : 1);
+            }
+            break;
+        }
+        case 7: /* eta anywhere in 2^-2098 ... 2^2098 */
+            ni = ldexp(1 + fabs(ni) / (1 + fabs(ni)), (int)((bits >> 11) % 2098) - 1074);
+            nt = ldexp(1 + fabs(nt) / (1 + fabs(nt)), (int)((bits >> 22) % 2098) - 1074);
+            if (ni == 0) ni = 0x1p-1074;
+            if (nt == 0) nt = 0x1p-1074;
+            break;
+        case 8: /* a subnormal cosine */
+            d[8] = ldexp(1 + (double)(bits & 0xfffff) * 0x1p-20, -1023 - (int)((bits >> 20) % 52));
+            break;
+        default: /* n == n_outside with k down to 2^-1074 */
+            nt = fabs(ni);
+            d[9] = ldexp(nt, -(int)((bits >> 11) % 2100));
+            if (d[9] == 0) d[9] = 0x1p-1074;
+            break;
+        }
+    }
+    check_exact(v, n, ni, nt, d[8], d[9]);
     check_refract(v, n, ni, nt);
     check_reflect(v, n);
     check_fresnel(d[8], ni, nt, d[9]);

@@ -113,6 +113,13 @@ seeds["found_almost_parallel_huge_eta"] = base64.b64decode(
     "MzMzMzMz0y9hAAAAAAAAAJqZmZmZmbk/mpmZmZmZyT8AAAAAAADwPwAAAAAAAABBvzMzMzO/M9MzMwAACFQ/Mwg=")
 seeds["found_tir_band_2m110"] = base64.b64decode(
     "AAAAAAAACEAAAAAAAAAQwAAAAAAAAAAAAQAAAAAAADkAAAAAACjwPwAAAAAAAAAAAAAAAAAAFEAAAAAAAAAIQAA=")
+# |eta| about 2^1334 and a (subnormal) tangential part of n 2^-1333 of its
+# normal one, |eta sin(theta_i)| = 1.43: the scaling rounded that part away
+# and the totally reflected ray was transmitted (lib/optics/refract_big.c)
+h = float.fromhex
+seed("found_huge_eta_spread_components", (0.0, 0.0, -h("0x1.445489d6cac2bp+741")),
+     (0.0, h("0x0.00000000005e1p-1022"), h("0x1.e0718013dcbf8p+269")),
+     h("0x1.8553485eb58e4p+513"), -h("0x1.aa967d3fcb8e1p-821"))
 # short inputs use the defaults for what is missing
 seeds["short_v_only"] = struct.pack("<3d", 0.1, -1.0, 0.2)
 seeds["empty"] = b""
