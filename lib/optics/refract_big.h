@@ -13,7 +13,7 @@
    of the exact one; the decision is exact unless |cos^2(theta_t)| <
    2^-507 (docs/optics.md, "Index ratios beyond 2^450 with spread
    components"). 16 to 30 microseconds a call: only for inputs the
-   double-double path cannot represent after scaling (refract_core.h,
+   double-double path cannot represent after scaling (refract.inc.h,
    refract_full). */
 int gg_optics_refract_big(const double v[3], const double n[3], double ni, double nt, int s,
                           double t[3]);
