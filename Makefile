@@ -194,9 +194,10 @@ $$(BUILD)/scalar/$(1): $(2)
 endef
 $(foreach p,$(ISA_AGAIN),$(eval $(call isa_again_rule,$(firstword $(subst :, ,$(p))),$(lastword $(subst :, ,$(p))))))
 # A build tree older than ISA_AGAIN keeps a dependency file naming the
-# bvh_avx2.c that bvh_avx2.o was once built from: an empty rule lets make
-# rebuild the object once (which rewrites that file) instead of stopping.
-lib/geom/bvh_avx2.c:
+# source (bvh_avx2.c) an ISA_AGAIN object was once built from: an empty
+# rule lets make rebuild the object once (which rewrites that file)
+# instead of stopping.
+$(foreach p,$(ISA_AGAIN),$(patsubst %.o,%.c,$(firstword $(subst :, ,$(p))))):
 
 # For tests/layers.sh: each layer's include flags, one line a layer.
 layers:

@@ -41,7 +41,7 @@ PLACEHOLDERS = {"L", "LAYER", "NAME", "SCENE", "CMD", "GROUP", "FILE", "X", "DIR
 GENERATED = [r"release|asan|tsan|o2|o3", r"(release/|asan/|tsan/|o2/|o3/)?ggrt", r"(release/)?libggrt(-core)?\.(a|so)(\.0|\.0\.1\.0)?",
              r"(release/)?libtextbook_refract\.so", r"(\w+/)?(ggrt|ggrt-core)\.pc", r"stage(/.*)?",
              r"(release/|asan/|tsan/)?tests/\w+", r"(\w+/)?(cli|lib|tests|bench|scalar)/.*\.[cho]",
-             r"(\w+/)?bench/\w+", r"browser/serve\.png", r"fuzz(/.*)?", r"api\.(h|so)\.txt",
+             r"(\w+/)?bench/\w+", r"browser/[\w*-]+\.png", r"fuzz(/.*)?", r"api\.(h|so)\.txt",
              r"(\w+/)?cli/serve\.flag", r"examples(/.*)?"]
 
 def sources():
@@ -70,8 +70,15 @@ def comments(path, text):
     # sh, py, Makefile: # comments (not #include, #!).
     return "\n".join(m.group(1) for m in re.finditer(r"(?:^|\s)#(?![!{(])([^\n]*)", text))
 
+def isa_again():
+    """The objects the Makefile's ISA_AGAIN builds from another source."""
+    m = re.search(r"^ISA_AGAIN\s*=([^\n]*)", open("Makefile").read(), re.M)
+    return {w.split(":")[0] for w in m.group(1).split()} if m else set()
+
 def exists(p):
     p = p.rstrip("/")
+    if p.startswith("lib/") and p.endswith(".o"):
+        return os.path.exists(p[:-2] + ".c") or p in isa_again()
     if p.startswith("build/"):
         rest = p[len("build/"):]
         return any(re.fullmatch(g, rest) for g in GENERATED)
