@@ -146,9 +146,15 @@ FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
 CLI_SRC  := $(sort $(wildcard cli/*.c cli/bench/*.c))
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/web_assets.o)
-TEST_SRC := $(sort $(wildcard tests/test_*.c))
-TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
-TESTUTIL_OBJ := $(BUILD)/tests/testutil.o
+# The cmocka suites: tests/unit/LAYER/ (one layer's code) and tests/api/
+# (contracts of every public function); each builds to the same path under
+# $(BUILD) (build/tests/unit/geom/test_bvh).
+TEST_SRC := $(sort $(wildcard tests/unit/*/test_*.c tests/api/test_*.c))
+TEST_BIN := $(TEST_SRC:%.c=$(BUILD)/%)
+TESTUTIL_OBJ := $(BUILD)/tests/common/testutil.o
+TEST_INC  = $(ALL_LAYER_INC) -Itests/common
+# Linked with the portable geom layer (below).
+SCALAR_TESTS := $(BUILD)/tests/unit/geom/test_bvh_scalar $(BUILD)/tests/unit/geom/test_packet_scalar
 FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 REPLAY_BIN := $(FUZZ_SRC:tests/fuzz/fuzz_%.c=$(BUILD)/tests/replay_%)
 BENCH_SRC := $(sort $(wildcard bench/*.c))
@@ -249,9 +255,9 @@ $(CLI): $(CLI_OBJ) $(STATIC)
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
+$(filter-out $(SCALAR_TESTS),$(TEST_BIN)): %: %.o $(TESTUTIL_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
 # test_bvh_scalar and test_packet_scalar run the BVH and packet suites on the
@@ -265,15 +271,14 @@ $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
 	$(scalar_cc)
 
-SCALAR_TESTS := $(BUILD)/tests/test_bvh_scalar $(BUILD)/tests/test_packet_scalar
-$(SCALAR_TESTS): $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
+$(SCALAR_TESTS): %: %.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \
 	  $(SCALAR_GEOM) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
 # Each fuzz harness also builds with the plain compiler as a corpus replayer.
 $(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/tests/replay_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/replay.o $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
@@ -310,7 +315,7 @@ SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-o
 
 # The suites that run the library from several threads at once, run a
 # third time under ThreadSanitizer (GCC's; TSan reports make the run fail).
-TSAN_TESTS = $(BUILD)/tests/test_concurrent $(BUILD)/tests/test_render
+TSAN_TESTS = $(BUILD)/tests/api/test_concurrent $(BUILD)/tests/unit/render/test_render
 TSAN_CC    ?= gcc
 TSAN_FLAGS  = -O1 -g -fsanitize=thread -fno-omit-frame-pointer
 test-tsan: $(TSAN_TESTS)
@@ -327,7 +332,7 @@ CHECK_DIR2 = $(BUILD)/$(notdir $(firstword $(CHECK_CC2)))
 # examples against it. Recursive makes re-read pkg-config once the
 # packages are there.
 check: deps-check
-	@sh tests/layers.sh
+	@sh tests/build/layers.sh
 	@sh tests/build/paths.sh
 	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@sh tests/build/targets.sh $(BUILD)/release
@@ -350,14 +355,14 @@ check: deps-check
 BROWSER_PYTHON ?= /usr/bin/python3
 check-browser: deps-check deps-browser
 	@$(MAKE) --no-print-directory $(BUILD)/release/ggrt BUILD=$(BUILD)/release GG_WERROR=-Werror
-	@$(BROWSER_PYTHON) tests/browser_test.py $(BUILD)/release/ggrt --screenshot $(BUILD)/browser/serve.png
+	@$(BROWSER_PYTHON) tests/browser/browser_test.py $(BUILD)/release/ggrt --screenshot $(BUILD)/browser/serve.png
 
 # The load benchmark of ggrt serve (prints figures; not a test).
 BENCH_CLIENTS ?= 8
 BENCH_SECONDS ?= 10
 bench-serve: $(CLI)
-	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
-	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
+	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
+	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
 
 deps: deps-check
 deps-%:
@@ -420,7 +425,7 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	  if [ "$$hdr" != "$$exp" ]; then echo "installcheck: exports and GG_API declarations differ:"; \
 	    echo "$$hdr" > $(BUILD)/api.h.txt; echo "$$exp" > $(BUILD)/api.so.txt; \
 	    diff $(BUILD)/api.h.txt $(BUILD)/api.so.txt; exit 1; fi; \
-	  echo "installcheck: the exports are the $$(echo "$$hdr" | wc -l) GG_API functions of include/ (tests/test_null.c calls each)"
+	  echo "installcheck: the exports are the $$(echo "$$hdr" | wc -l) GG_API functions of include/ (tests/api/test_null.c calls each)"
 	@rm -rf $(STAGE)
 	@$(MAKE) --no-print-directory install DESTDIR=$(STAGE) PREFIX=/usr >/dev/null
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \
@@ -441,7 +446,7 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	    || { echo "installcheck: the static core example failed"; exit 1; }; \
 	  echo "installcheck: examples/core_static.c linked with -static against libggrt-core" \
 	    "(`pkg-config --static --libs ggrt-core`) and rendered default.nff"
-	@MAKE="$(MAKE)" sh tests/install.sh $(BUILD)
+	@MAKE="$(MAKE)" sh tests/build/install.sh $(BUILD)
 
 # Examples build against an installed libggrt found by pkg-config.
 EXAMPLE_OUT ?= $(BUILD)/examples
@@ -472,7 +477,7 @@ fuzz: deps-fuzz
 	@mkdir -p $(BUILD)/fuzz
 	@for f in $(FUZZ); do \
 	  rm -f $(BUILD)/fuzz/fuzz_$$f; \
-	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(ALL_LAYER_INC) -Itests -std=c99 -g -O1 \
+	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(TEST_INC) -std=c99 -g -O1 \
 	    -fsanitize=fuzzer $(FUZZ_SAN) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c \
 	    $(BUILD)/fuzzlib/libggrt.a $(IMG_LIBS) $(SYS_LIBS) || echo "fuzz: fuzz_$$f did not build"; \
 	done
@@ -500,10 +505,11 @@ bench-%: $(BUILD)/bench/bench_%
 	$<
 
 format:
-	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h cli/bench/*.c cli/bench/*.h tests/*.c \
-	  tests/*.h tests/fuzz/*.c bench/*.c examples/*.c
+	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h cli/bench/*.c cli/bench/*.h \
+	  tests/*/*.c tests/unit/*/*.c tests/common/*.h bench/*.c examples/*.c
 
 clean:
 	rm -rf $(BUILD)
 
--include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)
+-include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d \
+  $(BUILD)/tests/*/*.d $(BUILD)/tests/unit/*/*.d)

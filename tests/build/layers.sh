@@ -11,7 +11,7 @@
 #    asks its includer for GG_INC_NAME (a template, compiler.h) is named
 #    *.inc.h.
 # Prints one line per rule and exits non-zero on the first broken one.
-cd "$(dirname "$0")/.." || exit 1
+cd "$(dirname "$0")/../.." || exit 1
 cc=${CC:-cc}
 flags=$(make -s --no-print-directory layers) || exit 1
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

@@ -5,7 +5,7 @@ tests/data/debug, start the server on a small image and parse, strictly
 (json.loads that refuses NaN and Infinity), /api/info, /api/scene,
 /api/trace of the four corners, the centre and a random pixel, /api/find,
 /api/check and /api/diff. A few servers run at once.
-    python3 tests/http_scenes_test.py build/ggrt [--seed N]
+    python3 tests/http/http_scenes_test.py build/ggrt [--seed N]
 Prints one line per check and ends with "http: N passed, M failed"."""
 import concurrent.futures
 import http.client
@@ -19,7 +19,7 @@ import time
 import urllib.parse
 
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SIZE = (40, 30)
 SCENE_EXT = (".nff", ".obj", ".ply")
 PARALLEL = 3  # servers at once: the machine is small, each one mostly waits

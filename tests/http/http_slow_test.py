@@ -8,7 +8,7 @@ one kept alive: every answer must be 200 and the p99 latency under
 100 ms. Also: the server cuts the slow sockets (the request-head
 deadline), and one address gets no more than its share of connections.
 All traffic stays on 127.0.0.0/8; the test stops by itself (about 20 s).
-    python3 tests/http_slow_test.py build/ggrt
+    python3 tests/http/http_slow_test.py build/ggrt
 Prints one line per check and ends with "http: N passed, M failed"."""
 import http.client
 import os
@@ -20,7 +20,7 @@ import threading
 import time
 
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCENE = os.path.join(ROOT, "examples", "scenes", "glass.nff")
 SLOW = 200          # slow sockets, one per address 127.0.0.2 ...
 SECONDS = 12        # how long the normal client measures (past two head deadlines of 5 s)

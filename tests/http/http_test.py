@@ -4,7 +4,7 @@ port and checks every route, the token and Host checks, the limits, the
 errors (always JSON with the HTTP status), /api/trace against
 `ggrt trace --format json`, concurrent requests, and that shutdown leaves
 nothing behind. Standard library only (http.client).
-    python3 tests/http_test.py build/ggrt
+    python3 tests/http/http_test.py build/ggrt
 Prints one line per check and ends with "http: N passed, M failed"."""
 import http.client
 import json
@@ -24,7 +24,7 @@ import xml.dom.minidom
 import zlib
 
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCENE = os.path.join(ROOT, "examples", "scenes", "glass.nff")
 SIZE = (160, 120)
 passed = failed = 0
