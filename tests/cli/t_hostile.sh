@@ -49,7 +49,7 @@ for kind in sys.argv[2:]:
 for kind in tEXt zTXt iTXt sPLT pCAL iCCP eXIf tIME prVt; do
   printf 'v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 8 8\nl 1 1 5\ntexture "%s.png"\n%s\n' \
     "$kind" 'rect -1 -1 0 2 0 0 0 2 0' >"$ho/$kind.nff"
-  under_64m 2 "ggrt: $ho/$kind.nff:3:9: cannot read texture: $ho/$kind.png: invalid PNG: truncated file (byte 33: a chunk of 2147483632 bytes, 54 are left)" \
+  under_64m 2 "ggrt render: $ho/$kind.nff:3:9: cannot read texture: $ho/$kind.png: invalid PNG: truncated file (byte 33: a chunk of 2147483632 bytes, 54 are left)" \
     "a $(wc -c <"$ho/$kind.png")-byte PNG whose $kind chunk says 2 GiB" \
     "$ggrt" render "$ho/$kind.nff" -q -o "$ho/x.png"
 done
@@ -58,15 +58,15 @@ done
 # 8192x8192 (256 MiB, over the pixel limit too).
 g=examples/scenes/glass.nff
 for s in 65536x65536 8192x8192; do
-  lim="ggrt: image size $s exceeds the limit of 16777216 pixels (65536 per side)"
+  lim="image size $s exceeds the limit of 16777216 pixels (65536 per side)"
   for k in rays depth time; do
-    under_64m 2 "$lim" "render -s $s --heatmap $k" "$ggrt" render $g -s $s --heatmap $k -q -o "$ho/x.png"
+    under_64m 2 "ggrt render: $lim" "render -s $s --heatmap $k" "$ggrt" render $g -s $s --heatmap $k -q -o "$ho/x.png"
   done
-  under_64m 2 "$lim" "render -s $s" "$ggrt" render $g -s $s -q -o "$ho/x.png"
-  under_64m 2 "$lim" "check -s $s" "$ggrt" check $g -s $s
-  under_64m 2 "$lim" "find -s $s" "$ggrt" find $g -s $s --where 'some(kind == tir)' -o "$ho/x.png"
-  under_64m 2 "$lim" "diff -s $s" "$ggrt" diff $g $g -s $s
-  under_64m 2 "$lim" "trace -s $s" "$ggrt" trace $g -s $s --pixel 1,1
+  under_64m 2 "ggrt render: $lim" "render -s $s" "$ggrt" render $g -s $s -q -o "$ho/x.png"
+  under_64m 2 "ggrt check: $lim" "check -s $s" "$ggrt" check $g -s $s
+  under_64m 2 "ggrt find: $lim" "find -s $s" "$ggrt" find $g -s $s --where 'some(kind == tir)' -o "$ho/x.png"
+  under_64m 2 "ggrt diff: $lim" "diff -s $s" "$ggrt" diff $g $g -s $s
+  under_64m 2 "ggrt trace: $lim" "trace -s $s" "$ggrt" trace $g -s $s --pixel 1,1
   # serve's own limit (4096 a side) is a usage error, checked before it
   # allocates or listens; the timeout only matters if it were not.
   if "$ggrt" serve --help >/dev/null 2>&1; then
