@@ -307,9 +307,35 @@ $(BUILD)/tests/yourfuzz_textbook: examples/fuzz_your_refract.c tests/fuzz/replay
 
 tests: $(TEST_BIN) $(REPLAY_BIN) $(CLI) $(BUILD)/libtextbook_refract.so $(YOURFUZZ)
 
-# Run what is built in $(BUILD); `check` runs it twice.
-test: tests
-	@sh tests/run-tests.sh "$(BUILD)" $(TEST_BIN) -- $(REPLAY_BIN) -- $(CLI)
+# Running the suites: each writes TAP to its own file under $(TAP_DIR)
+# (tests/run-tests.sh --run), so that make -j runs them side by side; then
+# run-tests.sh --report reads the files: the failures by name, a summary.
+# TEST_SUITES picks the kinds (check runs fewer in some builds), slowest
+# first so that -j starts them early: the CLI suite (tests/cli/run.sh),
+# the HTTP suites of ggrt serve (tests/http/, TEST_HTTP of them), the
+# cmocka suites (tests/unit/, tests/api/) and the fuzz-corpus replays.
+TAP_DIR     = $(BUILD)/tap
+RUN_SUITE   = sh tests/run-tests.sh --run
+TEST_SUITES ?= cli http unit replay
+TEST_HTTP   ?= $(sort $(wildcard tests/http/http_*test.py))
+TAP_cli     = $(TAP_DIR)/cli/run.tap
+TAP_http    = $(TEST_HTTP:tests/http/%.py=$(TAP_DIR)/http/%.tap)
+TAP_unit    = $(TEST_BIN:$(BUILD)/tests/%=$(TAP_DIR)/%.tap)
+TAP_replay  = $(REPLAY_BIN:$(BUILD)/tests/%=$(TAP_DIR)/fuzz/%.tap)
+TEST_TAPS   = $(foreach k,$(TEST_SUITES),$(TAP_$(k)))
+
+$(TAP_cli): $(CLI) $(REPLAY_BIN) $(YOURFUZZ) $(BUILD)/libtextbook_refract.so FORCE
+	@$(RUN_SUITE) $@ sh tests/cli/run.sh $(CLI)
+$(TAP_DIR)/http/%.tap: tests/http/%.py $(CLI) FORCE
+	@PYTHONDONTWRITEBYTECODE=1 $(RUN_SUITE) $@ python3 $< $(CLI)
+$(TAP_unit): $(TAP_DIR)/%.tap: $(BUILD)/tests/% FORCE
+	@CMOCKA_MESSAGE_OUTPUT=TAP $(RUN_SUITE) $@ $<
+$(TAP_replay): $(TAP_DIR)/fuzz/replay_%.tap: $(BUILD)/tests/replay_% FORCE
+	@$(RUN_SUITE) $@ $< tests/fuzz/corpus/$*
+
+# Run what is built in $(BUILD) (make -j2 test: two suites at a time).
+test: $(TEST_TAPS)
+	@sh tests/run-tests.sh --report "$(BUILD)" $(TEST_TAPS)
 
 SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 
@@ -318,8 +344,9 @@ SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-o
 TSAN_TESTS = $(BUILD)/tests/api/test_concurrent $(BUILD)/tests/unit/render/test_render
 TSAN_CC    ?= gcc
 TSAN_FLAGS  = -O1 -g -fsanitize=thread -fno-omit-frame-pointer
-test-tsan: $(TSAN_TESTS)
-	@TSAN_OPTIONS="halt_on_error=1 $(TSAN_OPTIONS)" sh tests/run-tests.sh "$(BUILD)" $(TSAN_TESTS) --
+test-tsan:
+	@TSAN_OPTIONS="halt_on_error=1 $(TSAN_OPTIONS)" $(MAKE) --no-print-directory test TEST_SUITES=unit \
+	  TEST_BIN="$(TSAN_TESTS)"
 
 # The second compiler check runs the plain and sanitized suites with: the
 # two disagree on what C leaves open (an indeterminate value, evaluation
