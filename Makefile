@@ -5,11 +5,12 @@
 #                        example plugin build/libtextbook_refract.so (ggrt optics check)
 #   make check           install the missing Debian packages the tests need, then
 #                        check the layers and the path names in docs and comments
-#                        (tests/layers.sh, tests/build/paths.sh), run every test
-#                        -O3 and under ASan+UBSan (see tests/run-tests.sh) with
-#                        $(CC), then both again with the other of GCC and clang
-#                        (CHECK_CC2; CHECK_CC2= skips), the concurrency tests
-#                        under ThreadSanitizer (GCC's), then against an installed copy
+#                        (tests/build/layers.sh, tests/build/paths.sh), run every
+#                        suite -O3 and under ASan+UBSan with $(CC), the C suites
+#                        again with the other of GCC and clang (CHECK_CC2; CHECK_CC2=
+#                        skips), the concurrency tests under ThreadSanitizer (GCC's),
+#                        then against an installed copy; CHECK_JOBS at a time (the
+#                        suites print TAP, tests/run-tests.sh reads it: see check below)
 #   make demo            install the missing packages the build and ggrt serve need,
 #                        build, render the default scene
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
@@ -171,7 +172,8 @@ SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test test-tsan tests deps demo install uninstall installcheck \
-        clean fuzz bench examples format pc layers FORCE check-browser bench-serve
+        clean fuzz bench examples format pc layers FORCE check-browser bench-serve \
+        check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
 .DEFAULT_GOAL := all
 .SECONDARY:
 
@@ -337,42 +339,72 @@ $(TAP_replay): $(TAP_DIR)/fuzz/replay_%.tap: $(BUILD)/tests/replay_% FORCE
 test: $(TEST_TAPS)
 	@sh tests/run-tests.sh --report "$(BUILD)" $(TEST_TAPS)
 
-SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+# The check builds' debug information is -g1 (line tables: what a
+# sanitizer's or valgrind's stack trace shows) or none; a full -g tree is
+# `make` or `make test`, on demand. The release tree keeps CFLAGS' -g: it
+# is also the one installcheck installs.
+SAN_FLAGS = -O1 -g1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+SAN_LDFLAGS = -fsanitize=address,undefined
 
 # The suites that run the library from several threads at once, run a
 # third time under ThreadSanitizer (GCC's; TSan reports make the run fail).
 TSAN_TESTS = $(BUILD)/tests/api/test_concurrent $(BUILD)/tests/unit/render/test_render
 TSAN_CC    ?= gcc
-TSAN_FLAGS  = -O1 -g -fsanitize=thread -fno-omit-frame-pointer
+TSAN_FLAGS  = -O1 -g1 -fsanitize=thread -fno-omit-frame-pointer
 test-tsan:
 	@TSAN_OPTIONS="halt_on_error=1 $(TSAN_OPTIONS)" $(MAKE) --no-print-directory test TEST_SUITES=unit \
 	  TEST_BIN="$(TSAN_TESTS)"
 
-# The second compiler check runs the plain and sanitized suites with: the
-# two disagree on what C leaves open (an indeterminate value, evaluation
-# order), so code that passes with one only is caught (issue 29).
+# The second compiler check runs the suites with: the two disagree on what
+# C leaves open (an indeterminate value, evaluation order), so code that
+# passes with one only is caught (issue 29).
 CHECK_CC2 ?= $(if $(GG_CLANG),gcc,clang)
 CHECK_DIR2 = $(BUILD)/$(notdir $(firstword $(CHECK_CC2)))
 
-# check: install missing packages, then the plain and the sanitized runs
-# with $(CC) and with $(CHECK_CC2), then stage an install and build the
-# examples against it. Recursive makes re-read pkg-config once the
-# packages are there.
+# check: install missing packages, then every check below, CHECK_JOBS at a
+# time (default: the processor count; a caller's make -jN is used as
+# given): the builds and suites of the trees run side by side, each suite
+# into its own TAP file (tests/run-tests.sh). Recursive makes re-read
+# pkg-config once the packages are there. Which suites run where:
+#  - $(CC) -O3 (release) and $(CC) ASan+UBSan (asan): every suite. ASan
+#    is the configuration that matters for the unit, CLI and HTTP suites.
+#  - $(CHECK_CC2) -O3 (no -g): the cmocka suites, the corpus replays, the
+#    CLI suite (cli/ is C too) and the HTTP routes (tests/http/http_test.py);
+#    not every scene over HTTP (the library on each scene: the unit and
+#    CLI suites' business) nor the 15 s of slow clients (libmicrohttpd's
+#    connection handling, not the compiler's).
+#  - $(CHECK_CC2) ASan+UBSan: the cmocka suites and the replays, the C that
+#    one compiler may get right and the other wrong; the CLI's memory is
+#    the $(CC) ASan run's.
+#  - ThreadSanitizer: TSAN_TESTS.
+#  - installcheck against the release tree.
+CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+CHECK_J     = $(if $(findstring jobserver,$(MAKEFLAGS)),,-j$(CHECK_JOBS))
+CHECK_MAKE  = $(MAKE) --no-print-directory GG_WERROR=-Werror
+CHECKS      = check-layers check-paths check-asan check-release $(if $(CHECK_CC2),check-cc2-asan check-cc2) \
+              check-tsan
 check: deps-check
-	@sh tests/build/layers.sh
-	@sh tests/build/paths.sh
-	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
-	@sh tests/build/targets.sh $(BUILD)/release
-	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
-	  LDFLAGS="-fsanitize=address,undefined" GG_WERROR=-Werror
-	@$(if $(CHECK_CC2),$(MAKE) --no-print-directory test BUILD=$(CHECK_DIR2)/release \
-	  CC="$(CHECK_CC2)" GG_WERROR=-Werror)
-	@$(if $(CHECK_CC2),$(MAKE) --no-print-directory test BUILD=$(CHECK_DIR2)/asan \
-	  CC="$(CHECK_CC2)" CFLAGS="$(SAN_FLAGS)" LDFLAGS="-fsanitize=address,undefined" GG_WERROR=-Werror)
-	@$(MAKE) --no-print-directory test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" \
-	  LDFLAGS="-fsanitize=thread" GG_WERROR=-Werror
-	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release GG_WERROR=-Werror
+	@$(MAKE) --no-print-directory $(CHECK_J) $(CHECKS)
 	@echo "check: all suites passed (plain and sanitized with $(CC)$(if $(CHECK_CC2), and $(CHECK_CC2)), thread-sanitized, installcheck)"
+
+check-layers:
+	@sh tests/build/layers.sh
+check-paths:
+	@sh tests/build/paths.sh
+check-release:
+	@$(CHECK_MAKE) test BUILD=$(BUILD)/release
+	@sh tests/build/targets.sh $(BUILD)/release
+	@$(CHECK_MAKE) installcheck BUILD=$(BUILD)/release
+check-asan:
+	@$(CHECK_MAKE) test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_LDFLAGS)"
+check-cc2:
+	@$(CHECK_MAKE) test BUILD=$(CHECK_DIR2)/release CC="$(CHECK_CC2)" CFLAGS=-O3 \
+	  TEST_SUITES="cli http unit replay" TEST_HTTP=tests/http/http_test.py
+check-cc2-asan:
+	@$(CHECK_MAKE) test BUILD=$(CHECK_DIR2)/asan CC="$(CHECK_CC2)" CFLAGS="$(SAN_FLAGS)" \
+	  LDFLAGS="$(SAN_LDFLAGS)" TEST_SUITES="unit replay"
+check-tsan:
+	@$(CHECK_MAKE) test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" LDFLAGS="-fsanitize=thread"
 
 # scripts/deps.sh GROUP: the packages a target needs (deps = check's).
 # check-browser: ggrt serve's page in headless Chromium through Selenium

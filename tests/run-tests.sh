@@ -23,6 +23,7 @@ tap_awk() {
   brief=$1; name=$2; shift 2
   awk -v brief="$brief" -v name="$name" '
     function base(f) { sub(/^.*\/tap\//, "", f); sub(/\.tap$/, "", f); return f }
+    function tree(f) { sub(/\/tap\/.*$/, "", f); return f }
     function start(f) {
       file = f; plan = -1; n = 0; pass = 0; fail = 0; skip = 0; bail = ""; secs = ""
       details = ""; indetail = 0; nctx = 0
@@ -37,7 +38,7 @@ tap_awk() {
       ok = (fail == 0 && why == "")
       if (!ok) badlist = badlist " " base(file)
       if (brief) {
-        printf "%-4s %-36s %4d passed", ok ? "ok" : "FAIL", base(file), pass
+        printf "%-4s %-18s %-32s %4d passed", ok ? "ok" : "FAIL", tree(file), base(file), pass
         if (fail) printf ", %d failed", fail
         if (skip) printf ", %d skipped", skip
         if (why != "") printf " (%s)", substr(why, 3)
