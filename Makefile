@@ -90,7 +90,7 @@ WEB_SRC := $(sort $(wildcard cli/web/*.html cli/web/*.css cli/web/*.js))
 
 # The library's layers, bottom to top (docs/internals.md). lib/L is compiled
 # with include paths for the layers in L_SEES only -- itself and layers below
-# it -- so an include of a higher layer does not compile (tests/layers.sh
+# it -- so an include of a higher layer does not compile (tests/build/layers.sh
 # checks it). imageio is the only layer built with libpng and OpenEXR flags.
 LAYERS        = core optics image implicit geom scene render debug load imageio
 core_SEES     = core
@@ -105,7 +105,7 @@ load_SEES     = core image implicit geom scene load
 imageio_SEES  = core image load imageio
 imageio_CFLAGS = $(PNG_CFLAGS) $(EXR_CFLAGS)
 # The optics functions raise no floating-point exception on finite input
-# (tests/test_optics.c test_no_fp_exceptions); clang would otherwise
+# (tests/unit/optics/test_optics.c test_no_fp_exceptions); clang would otherwise
 # evaluate a branch's arithmetic before the branch (an overflow the taken
 # path never computes). GCC does not speculate trapping operations.
 optics_CFLAGS  = $(if $(GG_CLANG),-ffp-exception-behavior=maytrap)
@@ -207,7 +207,7 @@ $(foreach p,$(ISA_AGAIN),$(eval $(call isa_again_rule,$(firstword $(subst :, ,$(
 # instead of stopping.
 $(foreach p,$(ISA_AGAIN),$(patsubst %.o,%.c,$(firstword $(subst :, ,$(p))))):
 
-# For tests/layers.sh: each layer's include flags, one line a layer.
+# For tests/build/layers.sh: each layer's include flags, one line a layer.
 layers:
 	@$(foreach l,$(LAYERS),echo "$(l): $(call layer_inc,$(l))";)
 
@@ -408,7 +408,7 @@ check-tsan:
 
 # scripts/deps.sh GROUP: the packages a target needs (deps = check's).
 # check-browser: ggrt serve's page in headless Chromium through Selenium
-# (tests/browser_test.py: every scene file, glass.nff in depth, the layout;
+# (tests/browser/browser_test.py: every scene file, glass.nff in depth, the layout;
 # 194 s on 2 cores at load average 13, 25 s of it CPU); CI runs it after check. Selenium is
 # Debian's python3-selenium, importable by /usr/bin/python3.
 BROWSER_PYTHON ?= /usr/bin/python3
@@ -469,7 +469,7 @@ uninstall:
 
 # Stage an install under $(BUILD)/stage with PREFIX=/usr and build and run
 # every example against it through pkg-config (LD_LIBRARY_PATH pointing into
-# the stage); link the core example with -static; then tests/install.sh: a
+# the stage); link the core example with -static; then tests/build/install.sh: a
 # real install into a temporary prefix, registered with the dynamic linker,
 # and README.md's compile lines and its library program run as written,
 # without LD_LIBRARY_PATH.

@@ -138,7 +138,7 @@ static ggVec3 mirror_dd(const double vc[3], const double nc[3], gg_dd k, gg_dd v
 }
 
 /* The double-double refraction of normalised inputs (the fallback of the
-   fast path below; tests/test_optics_accuracy.c compares the two):
+   fast path below; tests/unit/optics/test_optics_accuracy.c compares the two):
    ediff is the exponent of |ni/nt| carried separately when it exceeds
    450. Returns 1 (transmitted) or 0 (total internal reflection or tangent
    v: *t is the mirror direction). */

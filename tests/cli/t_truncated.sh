@@ -4,7 +4,7 @@
 # (tests/fuzz/corpus/image: truncated PNGs and EXRs, an uncompressed EXR
 # chunk shorter than its pixels) replays under valgrind with no error, and
 # ggrt refuses a texture with a short chunk. valgrind cannot run the ASan
-# build, so build/asan skips the valgrind runs (tests/test_truncated.c
+# build, so build/asan skips the valgrind runs (tests/unit/imageio/test_truncated.c
 # covers both builds). Uses run.sh's ggrt, tmp, ok, bad, skip and t_args.sh's
 # expect_msg.
 
