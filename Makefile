@@ -380,7 +380,9 @@ CHECK_DIR2 = $(BUILD)/$(notdir $(firstword $(CHECK_CC2)))
 #  - installcheck against the release tree.
 CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CHECK_J     = $(if $(findstring jobserver,$(MAKEFLAGS)),,-j$(CHECK_JOBS))
-CHECK_MAKE  = $(MAKE) --no-print-directory GG_WERROR=-Werror
+# (A recipe line names $(MAKE) itself: only then does make hand the
+# sub-make its jobserver; through another variable the sub-make runs -j1.)
+CHECK_ARGS  = --no-print-directory GG_WERROR=-Werror
 CHECKS      = check-layers check-paths check-asan check-release $(if $(CHECK_CC2),check-cc2-asan check-cc2) \
               check-tsan
 check: deps-check
@@ -392,19 +394,19 @@ check-layers:
 check-paths:
 	@sh tests/build/paths.sh
 check-release:
-	@$(CHECK_MAKE) test BUILD=$(BUILD)/release
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/release
 	@sh tests/build/targets.sh $(BUILD)/release
-	@$(CHECK_MAKE) installcheck BUILD=$(BUILD)/release
+	@$(MAKE) $(CHECK_ARGS) installcheck BUILD=$(BUILD)/release
 check-asan:
-	@$(CHECK_MAKE) test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_LDFLAGS)"
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_LDFLAGS)"
 check-cc2:
-	@$(CHECK_MAKE) test BUILD=$(CHECK_DIR2)/release CC="$(CHECK_CC2)" CFLAGS=-O3 \
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(CHECK_DIR2)/release CC="$(CHECK_CC2)" CFLAGS=-O3 \
 	  TEST_SUITES="cli http unit replay" TEST_HTTP=tests/http/http_test.py
 check-cc2-asan:
-	@$(CHECK_MAKE) test BUILD=$(CHECK_DIR2)/asan CC="$(CHECK_CC2)" CFLAGS="$(SAN_FLAGS)" \
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(CHECK_DIR2)/asan CC="$(CHECK_CC2)" CFLAGS="$(SAN_FLAGS)" \
 	  LDFLAGS="$(SAN_LDFLAGS)" TEST_SUITES="unit replay"
 check-tsan:
-	@$(CHECK_MAKE) test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" LDFLAGS="-fsanitize=thread"
+	@$(MAKE) $(CHECK_ARGS) test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" LDFLAGS="-fsanitize=thread"
 
 # scripts/deps.sh GROUP: the packages a target needs (deps = check's).
 # check-browser: ggrt serve's page in headless Chromium through Selenium
