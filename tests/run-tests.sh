@@ -38,7 +38,7 @@ tap_awk() {
       ok = (fail == 0 && why == "")
       if (!ok) badlist = badlist " " base(file)
       if (brief) {
-        printf "%-4s %-18s %-32s %4d passed", ok ? "ok" : "FAIL", tree(file), base(file), pass
+        printf "%-4s %-20s %-32s %4d passed", ok ? "ok" : "FAIL", tree(file), base(file), pass
         if (fail) printf ", %d failed", fail
         if (skip) printf ", %d skipped", skip
         if (why != "") printf " (%s)", substr(why, 3)
