@@ -5,11 +5,12 @@
 #                        example plugin build/libtextbook_refract.so (ggrt optics check)
 #   make check           install the missing Debian packages the tests need, then
 #                        check the layers and the path names in docs and comments
-#                        (tests/layers.sh, tests/build/paths.sh), run every test
-#                        -O3 and under ASan+UBSan (see tests/run-tests.sh) with
-#                        $(CC), then both again with the other of GCC and clang
-#                        (CHECK_CC2; CHECK_CC2= skips), the concurrency tests
-#                        under ThreadSanitizer (GCC's), then against an installed copy
+#                        (tests/build/layers.sh, tests/build/paths.sh), run every
+#                        suite -O3 and under ASan+UBSan with $(CC), the C suites
+#                        again with the other of GCC and clang (CHECK_CC2; CHECK_CC2=
+#                        skips), the concurrency tests under ThreadSanitizer (GCC's),
+#                        then against an installed copy; CHECK_JOBS at a time (the
+#                        suites print TAP, tests/run-tests.sh reads it: see check below)
 #   make demo            install the missing packages the build and ggrt serve need,
 #                        build, render the default scene
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
@@ -89,7 +90,7 @@ WEB_SRC := $(sort $(wildcard cli/web/*.html cli/web/*.css cli/web/*.js))
 
 # The library's layers, bottom to top (docs/internals.md). lib/L is compiled
 # with include paths for the layers in L_SEES only -- itself and layers below
-# it -- so an include of a higher layer does not compile (tests/layers.sh
+# it -- so an include of a higher layer does not compile (tests/build/layers.sh
 # checks it). imageio is the only layer built with libpng and OpenEXR flags.
 LAYERS        = core optics image implicit geom scene render debug load imageio
 core_SEES     = core
@@ -104,7 +105,7 @@ load_SEES     = core image implicit geom scene load
 imageio_SEES  = core image load imageio
 imageio_CFLAGS = $(PNG_CFLAGS) $(EXR_CFLAGS)
 # The optics functions raise no floating-point exception on finite input
-# (tests/test_optics.c test_no_fp_exceptions); clang would otherwise
+# (tests/unit/optics/test_optics.c test_no_fp_exceptions); clang would otherwise
 # evaluate a branch's arithmetic before the branch (an overflow the taken
 # path never computes). GCC does not speculate trapping operations.
 optics_CFLAGS  = $(if $(GG_CLANG),-ffp-exception-behavior=maytrap)
@@ -146,9 +147,15 @@ FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
 CLI_SRC  := $(sort $(wildcard cli/*.c cli/bench/*.c))
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/web_assets.o)
-TEST_SRC := $(sort $(wildcard tests/test_*.c))
-TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
-TESTUTIL_OBJ := $(BUILD)/tests/testutil.o
+# The cmocka suites: tests/unit/LAYER/ (one layer's code) and tests/api/
+# (contracts of every public function); each builds to the same path under
+# $(BUILD) (build/tests/unit/geom/test_bvh).
+TEST_SRC := $(sort $(wildcard tests/unit/*/test_*.c tests/api/test_*.c))
+TEST_BIN := $(TEST_SRC:%.c=$(BUILD)/%)
+TESTUTIL_OBJ := $(BUILD)/tests/common/testutil.o
+TEST_INC  = $(ALL_LAYER_INC) -Itests/common
+# Linked with the portable geom layer (below).
+SCALAR_TESTS := $(BUILD)/tests/unit/geom/test_bvh_scalar $(BUILD)/tests/unit/geom/test_packet_scalar
 FUZZ_SRC := $(sort $(wildcard tests/fuzz/fuzz_*.c))
 REPLAY_BIN := $(FUZZ_SRC:tests/fuzz/fuzz_%.c=$(BUILD)/tests/replay_%)
 BENCH_SRC := $(sort $(wildcard bench/*.c))
@@ -165,7 +172,8 @@ SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test test-tsan tests deps demo install uninstall installcheck \
-        clean fuzz bench examples format pc layers FORCE check-browser bench-serve
+        clean fuzz bench examples format pc layers FORCE check-browser bench-serve \
+        check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
 .DEFAULT_GOAL := all
 .SECONDARY:
 
@@ -199,7 +207,7 @@ $(foreach p,$(ISA_AGAIN),$(eval $(call isa_again_rule,$(firstword $(subst :, ,$(
 # instead of stopping.
 $(foreach p,$(ISA_AGAIN),$(patsubst %.o,%.c,$(firstword $(subst :, ,$(p))))):
 
-# For tests/layers.sh: each layer's include flags, one line a layer.
+# For tests/build/layers.sh: each layer's include flags, one line a layer.
 layers:
 	@$(foreach l,$(LAYERS),echo "$(l): $(call layer_inc,$(l))";)
 
@@ -249,9 +257,9 @@ $(CLI): $(CLI_OBJ) $(STATIC)
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
-$(BUILD)/tests/test_%: $(BUILD)/tests/test_%.o $(TESTUTIL_OBJ) $(STATIC)
+$(filter-out $(SCALAR_TESTS),$(TEST_BIN)): %: %.o $(TESTUTIL_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
 # test_bvh_scalar and test_packet_scalar run the BVH and packet suites on the
@@ -265,15 +273,14 @@ $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
 	$(scalar_cc)
 
-SCALAR_TESTS := $(BUILD)/tests/test_bvh_scalar $(BUILD)/tests/test_packet_scalar
-$(SCALAR_TESTS): $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
+$(SCALAR_TESTS): %: %.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \
 	  $(SCALAR_GEOM) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
 # Each fuzz harness also builds with the plain compiler as a corpus replayer.
 $(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) -Itests $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/tests/replay_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/replay.o $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
@@ -302,62 +309,121 @@ $(BUILD)/tests/yourfuzz_textbook: examples/fuzz_your_refract.c tests/fuzz/replay
 
 tests: $(TEST_BIN) $(REPLAY_BIN) $(CLI) $(BUILD)/libtextbook_refract.so $(YOURFUZZ)
 
-# Run what is built in $(BUILD); `check` runs it twice.
-test: tests
-	@sh tests/run-tests.sh "$(BUILD)" $(TEST_BIN) -- $(REPLAY_BIN) -- $(CLI)
+# Running the suites: each writes TAP to its own file under $(TAP_DIR)
+# (tests/run-tests.sh --run), so that make -j runs them side by side; then
+# run-tests.sh --report reads the files: the failures by name, a summary.
+# TEST_SUITES picks the kinds (check runs fewer in some builds), slowest
+# first so that -j starts them early: the CLI suite (tests/cli/run.sh),
+# the HTTP suites of ggrt serve (tests/http/, TEST_HTTP of them), the
+# cmocka suites (tests/unit/, tests/api/) and the fuzz-corpus replays.
+TAP_DIR     = $(BUILD)/tap
+RUN_SUITE   = sh tests/run-tests.sh --run
+TEST_SUITES ?= cli http unit replay
+TEST_HTTP   ?= $(sort $(wildcard tests/http/http_*test.py))
+TAP_cli     = $(TAP_DIR)/cli/run.tap
+TAP_http    = $(TEST_HTTP:tests/http/%.py=$(TAP_DIR)/http/%.tap)
+TAP_unit    = $(TEST_BIN:$(BUILD)/tests/%=$(TAP_DIR)/%.tap)
+TAP_replay  = $(REPLAY_BIN:$(BUILD)/tests/%=$(TAP_DIR)/fuzz/%.tap)
+TEST_TAPS   = $(foreach k,$(TEST_SUITES),$(TAP_$(k)))
 
-SAN_FLAGS = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+$(TAP_cli): $(CLI) $(REPLAY_BIN) $(YOURFUZZ) $(BUILD)/libtextbook_refract.so FORCE
+	@$(RUN_SUITE) $@ sh tests/cli/run.sh $(CLI)
+$(TAP_DIR)/http/%.tap: tests/http/%.py $(CLI) FORCE
+	@PYTHONDONTWRITEBYTECODE=1 $(RUN_SUITE) $@ python3 $< $(CLI)
+$(TAP_unit): $(TAP_DIR)/%.tap: $(BUILD)/tests/% FORCE
+	@CMOCKA_MESSAGE_OUTPUT=TAP $(RUN_SUITE) $@ $<
+$(TAP_replay): $(TAP_DIR)/fuzz/replay_%.tap: $(BUILD)/tests/replay_% FORCE
+	@$(RUN_SUITE) $@ $< tests/fuzz/corpus/$*
+
+# Run what is built in $(BUILD) (make -j2 test: two suites at a time).
+test: $(TEST_TAPS)
+	@sh tests/run-tests.sh --report "$(BUILD)" $(TEST_TAPS)
+
+# The check builds' debug information is -g1 (line tables: what a
+# sanitizer's or valgrind's stack trace shows) or none; a full -g tree is
+# `make` or `make test`, on demand. The release tree keeps CFLAGS' -g: it
+# is also the one installcheck installs.
+SAN_FLAGS = -O1 -g1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+SAN_LDFLAGS = -fsanitize=address,undefined
 
 # The suites that run the library from several threads at once, run a
 # third time under ThreadSanitizer (GCC's; TSan reports make the run fail).
-TSAN_TESTS = $(BUILD)/tests/test_concurrent $(BUILD)/tests/test_render
+TSAN_TESTS = $(BUILD)/tests/api/test_concurrent $(BUILD)/tests/unit/render/test_render
 TSAN_CC    ?= gcc
-TSAN_FLAGS  = -O1 -g -fsanitize=thread -fno-omit-frame-pointer
-test-tsan: $(TSAN_TESTS)
-	@TSAN_OPTIONS="halt_on_error=1 $(TSAN_OPTIONS)" sh tests/run-tests.sh "$(BUILD)" $(TSAN_TESTS) --
+TSAN_FLAGS  = -O1 -g1 -fsanitize=thread -fno-omit-frame-pointer
+test-tsan:
+	@TSAN_OPTIONS="halt_on_error=1 $(TSAN_OPTIONS)" $(MAKE) --no-print-directory test TEST_SUITES=unit \
+	  TEST_BIN="$(TSAN_TESTS)"
 
-# The second compiler check runs the plain and sanitized suites with: the
-# two disagree on what C leaves open (an indeterminate value, evaluation
-# order), so code that passes with one only is caught (issue 29).
+# The second compiler check runs the suites with: the two disagree on what
+# C leaves open (an indeterminate value, evaluation order), so code that
+# passes with one only is caught (issue 29).
 CHECK_CC2 ?= $(if $(GG_CLANG),gcc,clang)
 CHECK_DIR2 = $(BUILD)/$(notdir $(firstword $(CHECK_CC2)))
 
-# check: install missing packages, then the plain and the sanitized runs
-# with $(CC) and with $(CHECK_CC2), then stage an install and build the
-# examples against it. Recursive makes re-read pkg-config once the
-# packages are there.
+# check: install missing packages, then every check below, CHECK_JOBS at a
+# time (default: the processor count; a caller's make -jN is used as
+# given): the builds and suites of the trees run side by side, each suite
+# into its own TAP file (tests/run-tests.sh). Recursive makes re-read
+# pkg-config once the packages are there. Which suites run where:
+#  - $(CC) -O3 (release) and $(CC) ASan+UBSan (asan): every suite. ASan
+#    is the configuration that matters for the unit, CLI and HTTP suites.
+#  - $(CHECK_CC2) -O3 (no -g): the cmocka suites, the corpus replays, the
+#    CLI suite (cli/ is C too) and the HTTP routes (tests/http/http_test.py);
+#    not every scene over HTTP (the library on each scene: the unit and
+#    CLI suites' business) nor the 15 s of slow clients (libmicrohttpd's
+#    connection handling, not the compiler's).
+#  - $(CHECK_CC2) ASan+UBSan: the cmocka suites and the replays, the C that
+#    one compiler may get right and the other wrong; the CLI's memory is
+#    the $(CC) ASan run's.
+#  - ThreadSanitizer: TSAN_TESTS.
+#  - installcheck against the release tree.
+CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+CHECK_J     = $(if $(findstring jobserver,$(MAKEFLAGS)),,-j$(CHECK_JOBS))
+# (A recipe line names $(MAKE) itself: only then does make hand the
+# sub-make its jobserver; through another variable the sub-make runs -j1.)
+CHECK_ARGS  = --no-print-directory GG_WERROR=-Werror
+CHECKS      = check-layers check-paths check-asan check-release $(if $(CHECK_CC2),check-cc2-asan check-cc2) \
+              check-tsan
 check: deps-check
-	@sh tests/layers.sh
-	@sh tests/build/paths.sh
-	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/release GG_WERROR=-Werror
-	@sh tests/build/targets.sh $(BUILD)/release
-	@$(MAKE) --no-print-directory test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" \
-	  LDFLAGS="-fsanitize=address,undefined" GG_WERROR=-Werror
-	@$(if $(CHECK_CC2),$(MAKE) --no-print-directory test BUILD=$(CHECK_DIR2)/release \
-	  CC="$(CHECK_CC2)" GG_WERROR=-Werror)
-	@$(if $(CHECK_CC2),$(MAKE) --no-print-directory test BUILD=$(CHECK_DIR2)/asan \
-	  CC="$(CHECK_CC2)" CFLAGS="$(SAN_FLAGS)" LDFLAGS="-fsanitize=address,undefined" GG_WERROR=-Werror)
-	@$(MAKE) --no-print-directory test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" \
-	  LDFLAGS="-fsanitize=thread" GG_WERROR=-Werror
-	@$(MAKE) --no-print-directory installcheck BUILD=$(BUILD)/release GG_WERROR=-Werror
+	@$(MAKE) --no-print-directory $(CHECK_J) $(CHECKS)
 	@echo "check: all suites passed (plain and sanitized with $(CC)$(if $(CHECK_CC2), and $(CHECK_CC2)), thread-sanitized, installcheck)"
+
+check-layers:
+	@sh tests/build/layers.sh
+check-paths:
+	@sh tests/build/paths.sh
+check-release:
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/release
+	@sh tests/build/targets.sh $(BUILD)/release
+	@$(MAKE) $(CHECK_ARGS) installcheck BUILD=$(BUILD)/release
+check-asan:
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_LDFLAGS)"
+check-cc2:
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(CHECK_DIR2)/release CC="$(CHECK_CC2)" CFLAGS=-O3 \
+	  TEST_SUITES="cli http unit replay" TEST_HTTP=tests/http/http_test.py
+check-cc2-asan:
+	@$(MAKE) $(CHECK_ARGS) test BUILD=$(CHECK_DIR2)/asan CC="$(CHECK_CC2)" CFLAGS="$(SAN_FLAGS)" \
+	  LDFLAGS="$(SAN_LDFLAGS)" TEST_SUITES="unit replay"
+check-tsan:
+	@$(MAKE) $(CHECK_ARGS) test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" LDFLAGS="-fsanitize=thread"
 
 # scripts/deps.sh GROUP: the packages a target needs (deps = check's).
 # check-browser: ggrt serve's page in headless Chromium through Selenium
-# (tests/browser_test.py: every scene file, glass.nff in depth, the layout;
+# (tests/browser/browser_test.py: every scene file, glass.nff in depth, the layout;
 # 194 s on 2 cores at load average 13, 25 s of it CPU); CI runs it after check. Selenium is
 # Debian's python3-selenium, importable by /usr/bin/python3.
 BROWSER_PYTHON ?= /usr/bin/python3
 check-browser: deps-check deps-browser
 	@$(MAKE) --no-print-directory $(BUILD)/release/ggrt BUILD=$(BUILD)/release GG_WERROR=-Werror
-	@$(BROWSER_PYTHON) tests/browser_test.py $(BUILD)/release/ggrt --screenshot $(BUILD)/browser/serve.png
+	@$(BROWSER_PYTHON) tests/browser/browser_test.py $(BUILD)/release/ggrt --screenshot $(BUILD)/browser/serve.png
 
 # The load benchmark of ggrt serve (prints figures; not a test).
 BENCH_CLIENTS ?= 8
 BENCH_SECONDS ?= 10
 bench-serve: $(CLI)
-	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
-	python3 tests/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
+	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
+	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
 
 deps: deps-check
 deps-%:
@@ -405,7 +471,7 @@ uninstall:
 
 # Stage an install under $(BUILD)/stage with PREFIX=/usr and build and run
 # every example against it through pkg-config (LD_LIBRARY_PATH pointing into
-# the stage); link the core example with -static; then tests/install.sh: a
+# the stage); link the core example with -static; then tests/build/install.sh: a
 # real install into a temporary prefix, registered with the dynamic linker,
 # and README.md's compile lines and its library program run as written,
 # without LD_LIBRARY_PATH.
@@ -420,7 +486,7 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	  if [ "$$hdr" != "$$exp" ]; then echo "installcheck: exports and GG_API declarations differ:"; \
 	    echo "$$hdr" > $(BUILD)/api.h.txt; echo "$$exp" > $(BUILD)/api.so.txt; \
 	    diff $(BUILD)/api.h.txt $(BUILD)/api.so.txt; exit 1; fi; \
-	  echo "installcheck: the exports are the $$(echo "$$hdr" | wc -l) GG_API functions of include/ (tests/test_null.c calls each)"
+	  echo "installcheck: the exports are the $$(echo "$$hdr" | wc -l) GG_API functions of include/ (tests/api/test_null.c calls each)"
 	@rm -rf $(STAGE)
 	@$(MAKE) --no-print-directory install DESTDIR=$(STAGE) PREFIX=/usr >/dev/null
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \
@@ -441,7 +507,7 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	    || { echo "installcheck: the static core example failed"; exit 1; }; \
 	  echo "installcheck: examples/core_static.c linked with -static against libggrt-core" \
 	    "(`pkg-config --static --libs ggrt-core`) and rendered default.nff"
-	@MAKE="$(MAKE)" sh tests/install.sh $(BUILD)
+	@MAKE="$(MAKE)" sh tests/build/install.sh $(BUILD)
 
 # Examples build against an installed libggrt found by pkg-config.
 EXAMPLE_OUT ?= $(BUILD)/examples
@@ -472,7 +538,7 @@ fuzz: deps-fuzz
 	@mkdir -p $(BUILD)/fuzz
 	@for f in $(FUZZ); do \
 	  rm -f $(BUILD)/fuzz/fuzz_$$f; \
-	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(ALL_LAYER_INC) -Itests -std=c99 -g -O1 \
+	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(TEST_INC) -std=c99 -g -O1 \
 	    -fsanitize=fuzzer $(FUZZ_SAN) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c \
 	    $(BUILD)/fuzzlib/libggrt.a $(IMG_LIBS) $(SYS_LIBS) || echo "fuzz: fuzz_$$f did not build"; \
 	done
@@ -500,10 +566,11 @@ bench-%: $(BUILD)/bench/bench_%
 	$<
 
 format:
-	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h cli/bench/*.c cli/bench/*.h tests/*.c \
-	  tests/*.h tests/fuzz/*.c bench/*.c examples/*.c
+	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h cli/bench/*.c cli/bench/*.h \
+	  tests/*/*.c tests/unit/*/*.c tests/common/*.h bench/*.c examples/*.c
 
 clean:
 	rm -rf $(BUILD)
 
--include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d $(BUILD)/tests/*.d $(BUILD)/tests/fuzz/*.d)
+-include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d \
+  $(BUILD)/tests/*/*.d $(BUILD)/tests/unit/*/*.d)

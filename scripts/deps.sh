@@ -22,7 +22,7 @@ serve:   libmicrohttpd-dev
 browser: chromium chromium-driver python3-selenium
 GROUPS
 }
-# check: assimp-testmodels holds the OBJ and PLY files tests/test_assimp.c
+# check: assimp-testmodels holds the OBJ and PLY files tests/unit/load/test_assimp.c
 #   loads (/usr/share/assimp/models); valgrind replays the image fuzz corpus
 #   (tests/cli/t_truncated.sh); clang is make check's second compiler
 #   (CHECK_CC2 in the Makefile).

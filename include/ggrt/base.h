@@ -14,7 +14,7 @@
 **  - The library never prints, exits or aborts.
 **
 ** The API rules. Every public function follows these three; a declaration
-** only adds what is particular to it. tests/test_null.c calls every
+** only adds what is particular to it. tests/api/test_null.c calls every
 ** GG_API function with NULL handles and fails if one is left out.
 **  1. NULL. Freeing NULL is a no-op. Any other function given NULL for a
 **     handle (ggScene, ggImage, ggImplicit, ggTrace, ggPredicate, ggLedger,

@@ -90,7 +90,7 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
    far away -- hits, edges and hit points go wrong (a unit sphere seen
    from 3e7 away gets t to within 2, its hit point off by more than its
    radius). The boxes are conservative for the exact shapes, not for the
-   float tests' roundings; tests/test_float.c finds the traversal's answer
+   float tests' roundings; tests/unit/geom/test_float.c finds the traversal's answer
    equal to testing every element on all of its rays. The answer is still
    a function of the ray alone: images do not depend on the thread count.
    It is not faster here: the queries take the plain traversal, without

@@ -64,7 +64,7 @@ int gg_bvh_shadow_float(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_
 
 /* The AVX copy of the traversal (bvh_avx.c) is a per-ISA object
    (compiler.h, "Per-ISA code"); the portable build of the BVH
-   (GG_BVH_NO_SIMD, tests/test_bvh_scalar.c) has none. Which copy a query
+   (GG_BVH_NO_SIMD, tests/unit/geom/test_bvh_scalar.c) has none. Which copy a query
    takes is the geometry's (gg_geom_set_cpu, g->trav_avx). */
 #if GG_ISA_X86 && !defined(GG_BVH_NO_SIMD)
 #define GG_HAVE_BVH_AVX 1

@@ -355,7 +355,7 @@ static double box_dist2(const double c[3], const double lo[3], const double hi[3
    sphere counts by its ball (centre distance), everything else by its
    conservative box. Quadratic: skipped for scenes with many spheres.
    -1 when out of memory: an error, not a quiet fallback, so a scene
-   renders the same whatever the allocator did (tests/test_nomem.c). */
+   renders the same whatever the allocator did (tests/api/test_nomem.c). */
 static int mark_isolated(gg_geom *g, const elem *el, const double (*lo)[3], const double (*hi)[3],
                          size_t n)
 {

@@ -31,7 +31,7 @@
 **         (SPHERE, CONE, IMPLICIT: the far side is the same primitive);
 **     q2.inside = hit.prim when the ray enters a sphere (refracted in).
 ** The offset alone is enough to never find the surface just left
-** (tests/test_offset.c: 1e6 rays at scales 1e-6..1e6); ignore_prim merely
+** (tests/unit/geom/test_offset.c: 1e6 rays at scales 1e-6..1e6); ignore_prim merely
 ** saves the test.
 */
 #ifndef GG_GEOM_H

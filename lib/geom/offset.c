@@ -24,7 +24,7 @@
 ** magnitudes), which must not flip the sign of the tiny distance back to
 ** the surface. 8 covers both with a factor of ~2 to spare; the offsets
 ** stay ~1e-14 relative, far below anything visible, and nested surfaces
-** 1e-9 apart are still found (tests/test_offset.c checks both).
+** 1e-9 apart are still found (tests/unit/geom/test_offset.c checks both).
 */
 #include "geom_int.h"
 

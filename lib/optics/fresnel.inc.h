@@ -9,7 +9,7 @@
 ** with -mfma for CPUs that have it (compiler.h, "Per-ISA code"), where
 ** dd_two_prod is one fma. TwoProd is exact either way and every other
 ** operation is the same (-ffp-contract=off), so both return the same bits
-** (tests/test_fresnel_fma.c). The includer defines GG_INC_NAME and
+** (tests/unit/optics/test_fresnel_fma.c). The includer defines GG_INC_NAME and
 ** GG_INC_LINK (compiler.h, "Templates"); the functions are
 ** GG_INC_NAME(fresnel_dielectric) and GG_INC_NAME(fresnel_conductor).
 */

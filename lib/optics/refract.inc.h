@@ -181,7 +181,7 @@ static ggVec3 mirror_dd(const double vc[3], const double nc[3], gg_dd k, gg_dd v
 }
 
 /* The double-double refraction of normalised inputs (the fallback of the
-   fast path below; tests/test_optics_accuracy.c compares the two):
+   fast path below; tests/unit/optics/test_optics_accuracy.c compares the two):
    ediff is the exponent of |ni/nt| carried separately when it exceeds
    450; vp and np are the caller's vectors before scaling and flushing,
    from which the side v comes from is decided exactly. Returns 1

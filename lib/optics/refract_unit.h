@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** refract_unit.h -- the renderer's refraction (internal, inlined into
-** the shading loop; tests/test_refract_unit.c measures it).
+** the shading loop; tests/unit/optics/test_refract_unit.c measures it).
 */
 #ifndef GG_REFRACT_UNIT_H
 #define GG_REFRACT_UNIT_H
@@ -18,7 +18,7 @@
    units of 2^-53 in c and eta, which the square root of
    k = cos_t^2 = 1 - eta^2 (1 - c^2) magnifies by about eta^2 / k: with
    k >= 1/16 and eta <= 2 that stays below 2^-45 relative (measured by
-   tests/test_refract_unit.c), the size of the error the unit inputs carry
+   tests/unit/optics/test_refract_unit.c), the size of the error the unit inputs carry
    anyway (the normal of a hit point is itself good to a few ulp). Near the
    critical angle, and for total internal reflection, the problem is
    ill-conditioned and ggRefract's exact decision and double-double

@@ -9,7 +9,7 @@
 #    as in lib/L/ or examples/scenes/NAME.nff) matches any name;
 #  - names under build/: the files the Makefile makes (GENERATED below);
 #  - a program may be named by its source without the extension
-#    (tests/test_bvh_scalar for tests/test_bvh_scalar.c);
+#    (tests/unit/geom/test_bvh_scalar for tests/unit/geom/test_bvh_scalar.c);
 #  - markdown links, relative to their file, and their #anchors (a heading
 #    of the target);
 #  - cited sections, `FILE.md, "Heading"`: a heading or a paragraph of
@@ -40,7 +40,7 @@ PLACEHOLDERS = {"L", "LAYER", "NAME", "SCENE", "CMD", "GROUP", "FILE", "X", "DIR
 # trees are build/release, build/asan and build/tsan).
 GENERATED = [r"release|asan|tsan|o2|o3", r"(release/|asan/|tsan/|o2/|o3/)?ggrt", r"(release/)?libggrt(-core)?\.(a|so)(\.0|\.0\.1\.0)?",
              r"(release/)?libtextbook_refract\.so", r"(\w+/)?(ggrt|ggrt-core)\.pc", r"stage(/.*)?",
-             r"(release/|asan/|tsan/)?tests/\w+", r"(\w+/)?(cli|lib|tests|bench|scalar)/.*\.[cho]",
+             r"(release/|asan/|tsan/)?tests/[\w/]+", r"(\w+/)*tap(/.*)?", r"(\w+/)?(cli|lib|tests|bench|scalar)/.*\.[cho]",
              r"(\w+/)?bench/\w+", r"browser/[\w*-]+\.png", r"fuzz(/.*)?", r"api\.(h|so)\.txt",
              r"(\w+/)?cli/serve\.flag", r"examples(/.*)?"]
 

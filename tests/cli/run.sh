@@ -2,15 +2,21 @@
 # SPDX-License-Identifier: MIT
 # End-to-end tests of the ggrt command line. Run from the repository root:
 #   sh tests/cli/run.sh build/ggrt
-# Prints one line per check and closes with "cli: N passed, M failed".
+# Prints TAP (tests/run-tests.sh reads it): "ok N - name" or "not ok N -
+# name" and the details as "# " lines, per check; the plan "1..N" last.
 ggrt=$1
-[ -x "$ggrt" ] || { echo "cli: no ggrt binary at '$ggrt'"; echo "cli: 0 passed, 1 failed"; exit 1; }
+[ -x "$ggrt" ] || { echo "not ok 1 - no ggrt binary at '$ggrt'"; echo "1..1"; exit 1; }
 tmp=$(mktemp -d /tmp/ggrt-cli-XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
-pass=0; fail=0
+pass=0; fail=0; tap_n=0
 
-ok()   { pass=$((pass + 1)); echo "ok   $1"; }
-bad()  { fail=$((fail + 1)); echo "FAIL $1"; [ -n "$2" ] && printf '%s\n' "$2" | sed 's/^/     /'; }
+# A TAP description: '#' would start a directive, so it is escaped.
+tap_desc() { case $1 in *'#'*) printf '%s' "$1" | sed 's/#/\\#/g' ;; *) printf '%s' "$1" ;; esac; }
+ok()   { pass=$((pass + 1)); tap_n=$((tap_n + 1)); printf 'ok %d - %s\n' $tap_n "$(tap_desc "$1")"; }
+bad()  { fail=$((fail + 1)); tap_n=$((tap_n + 1)); printf 'not ok %d - %s\n' $tap_n "$(tap_desc "$1")"
+         [ -n "$2" ] && printf '%s\n' "$2" | sed 's/^/# /'; }
+# skip NAME REASON: a check this machine cannot run.
+skip() { tap_n=$((tap_n + 1)); printf 'ok %d - %s # SKIP %s\n' $tap_n "$(tap_desc "$1")" "$2"; }
 
 # expect_exit CODE NAME CMD...: run CMD, check its exit code.
 expect_exit() {
@@ -129,5 +135,6 @@ for part in tests/cli/t_*.sh; do
   [ -f "$part" ] && . "./$part"
 done
 
-echo "cli: $pass passed, $fail failed"
+echo "1..$tap_n"
+echo "# cli: $pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -4,8 +4,8 @@
 # (tests/fuzz/corpus/image: truncated PNGs and EXRs, an uncompressed EXR
 # chunk shorter than its pixels) replays under valgrind with no error, and
 # ggrt refuses a texture with a short chunk. valgrind cannot run the ASan
-# build, so build/asan skips the valgrind runs (tests/test_truncated.c
-# covers both builds). Uses run.sh's ggrt, tmp, ok, bad and t_args.sh's
+# build, so build/asan skips the valgrind runs (tests/unit/imageio/test_truncated.c
+# covers both builds). Uses run.sh's ggrt, tmp, ok, bad, skip and t_args.sh's
 # expect_msg.
 
 tr="$tmp/trunc"
@@ -28,6 +28,6 @@ case $ggrt in
       if [ $got = 2 ] && ! grep -q "^==" "$tmp/err"; then ok "valgrind clean: ggrt render with the short EXR chunk (exit 2)"
       else bad "valgrind clean: ggrt render with the short EXR chunk (exit $got)" "$(head -30 "$tmp/err")"; fi
     else
-      echo "skip valgrind runs: valgrind is not installed (scripts/deps.sh check installs it)"
+      skip "valgrind runs" "valgrind is not installed (scripts/deps.sh check installs it)"
     fi ;;
 esac

@@ -10,7 +10,7 @@
 ** It asserts the documented properties: invalid input gives false and NaN;
 ** no FE_INVALID, FE_DIVBYZERO or FE_OVERFLOW on finite input; t unit and
 ** on the far side; Snell's law; the TIR decision and the 1-ulp bound
-** against the 128-bit reference of tests/optics_ref.h; bit-identical
+** against the 128-bit reference of tests/common/optics_ref.h; bit-identical
 ** results for -n and for power-of-two scalings; reflection preserves
 ** length and is an involution; reflectances in [0, 1]; Beer-Lambert
 ** composes. Over the whole range -- eta from 2^-2098 to 2^2098, normal
@@ -227,7 +227,7 @@ static void check_refract(ggVec3 v, ggVec3 n, double ni, double nt)
 
     /* The decision and the bound against the 128-bit reference. */
     /* every eta up to 2^40, where the textbook reference's own cancellation
-       (eta 2^-128) stays below 2^-88; tests/test_optics_accuracy.c covers
+       (eta 2^-128) stays below 2^-88; tests/unit/optics/test_optics_accuracy.c covers
        the rest with a cross-product reference */
     if (ref_init() && moderate3(v) && moderate3(n) && fabsl(eta) <= 0x1p40L) {
         ref_result r;

@@ -21,7 +21,7 @@ one server per scene:
   normal and diff mode and at 4x zoom (screenshots in build/browser/);
 - with --docs DIR, the linked 3D views of glass and knot as PNGs there
   (docs/serve.md shows them).
-    /usr/bin/python3 tests/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
+    /usr/bin/python3 tests/browser/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
         [--only glass,layout,first,scenes,docs]
 Prints one line per check and ends with "browser: N passed, M failed"."""
 import json
@@ -48,7 +48,7 @@ from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
 from selenium.webdriver.support.ui import Select, WebDriverWait
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else os.path.join(ROOT, "build", "ggrt")
 SHOT = sys.argv[sys.argv.index("--screenshot") + 1] if "--screenshot" in sys.argv else None
 DOCS = sys.argv[sys.argv.index("--docs") + 1] if "--docs" in sys.argv else None

@@ -4,7 +4,7 @@ clients, each on its own keep-alive connection, ask /api/trace for random
 pixels for M seconds against one server; prints requests per second, the
 latency percentiles and the errors (any answer but 200 with a JSON ray
 tree, or a failed connection), which must be 0.
-    python3 tests/http_bench.py build/ggrt [--clients N] [--seconds M]
+    python3 bench/http_bench.py build/ggrt [--clients N] [--seconds M]
         [--scene FILE] [--size WxH] [--render]
 --render also keeps a render of new options running in the background,
 so that traces share the machine with a render's bands."""

@@ -6,7 +6,7 @@
 ** within a few ulp of the critical angle, normal incidence, negative
 ** indices, non-unit vectors.
 **
-** The reference (tests/optics_ref.h) evaluates the textbook formulas in
+** The reference (tests/common/optics_ref.h) evaluates the textbook formulas in
 ** about 128-bit arithmetic ("long double-double"), far more precisely
 ** than the bounds checked, and independently of the library's formulas.
 **

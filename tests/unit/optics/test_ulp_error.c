@@ -9,7 +9,7 @@
 **    |x q - p| / q, with x q - p formed exactly (an fma product and a
 **    TwoSum, all in double);
 **  - the 128-bit "long double-double" textbook evaluation of
-**    tests/optics_ref.h, on random and hard inputs.
+**    tests/common/optics_ref.h, on random and hard inputs.
 ** Candidates are the library's own results and those results moved by
 ** known numbers of units.
 */

@@ -8,8 +8,8 @@ one kept alive: every answer must be 200 and the p99 latency under
 100 ms. Also: the server cuts the slow sockets (the request-head
 deadline), and one address gets no more than its share of connections.
 All traffic stays on 127.0.0.0/8; the test stops by itself (about 20 s).
-    python3 tests/http_slow_test.py build/ggrt
-Prints one line per check and ends with "http: N passed, M failed"."""
+    python3 tests/http/http_slow_test.py build/ggrt
+Prints TAP (tests/http/tap.py)."""
 import http.client
 import os
 import re
@@ -19,26 +19,22 @@ import sys
 import threading
 import time
 
+import tap
+
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCENE = os.path.join(ROOT, "examples", "scenes", "glass.nff")
 SLOW = 200          # slow sockets, one per address 127.0.0.2 ...
 SECONDS = 12        # how long the normal client measures (past two head deadlines of 5 s)
 P99_MS = 100.0
 HEAD = b"GET /api/info HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: " + b"s" * 200
-passed = failed = 0
 
 
 def check(cond, name, detail=""):
-    global passed, failed
     if cond:
-        passed += 1
-        print("ok   " + name)
+        tap.ok(name)
     else:
-        failed += 1
-        print("FAIL " + name)
-        for line in str(detail).splitlines()[:20]:
-            print("     " + line)
+        tap.bad(name, detail, 20)
     return cond
 
 
@@ -195,7 +191,7 @@ def main():
         url = proc.stdout.readline().strip()
         m = re.match(r"^http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})$", url)
         if not check(m is not None, "ggrt serve starts", url):
-            return 1
+            return tap.done()
         port, token = int(m.group(1)), m.group(2)
         slow = subprocess.Popen([sys.executable, os.path.abspath(__file__), GGRT, "--slow", str(port),
                                  str(SECONDS + 2)], stdout=subprocess.PIPE, text=True)
@@ -235,8 +231,7 @@ def main():
             proc.kill()
             rc = "hung"
     check(rc == 0, "SIGTERM: exit 0 (got %s)" % rc)
-    print("http: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))
-    return 0 if failed == 0 else 1
+    return tap.done("(%.1f s)" % (time.time() - t0))
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@
 # (ray_color.c, which uses libm; core_static.c for ggrt-core), and each
 # program run without LD_LIBRARY_PATH; then README's library program,
 # compiled as pasted and run on a good and on a broken scene.
-#   sh tests/install.sh BUILD          (make installcheck runs it)
+#   sh tests/build/install.sh BUILD          (make installcheck runs it)
 build=$1
 make=${MAKE:-make}
 here=$(pwd)

@@ -5,8 +5,8 @@ tests/data/debug, start the server on a small image and parse, strictly
 (json.loads that refuses NaN and Infinity), /api/info, /api/scene,
 /api/trace of the four corners, the centre and a random pixel, /api/find,
 /api/check and /api/diff. A few servers run at once.
-    python3 tests/http_scenes_test.py build/ggrt [--seed N]
-Prints one line per check and ends with "http: N passed, M failed"."""
+    python3 tests/http/http_scenes_test.py build/ggrt [--seed N]
+Prints TAP (tests/http/tap.py)."""
 import concurrent.futures
 import http.client
 import json
@@ -18,8 +18,10 @@ import sys
 import time
 import urllib.parse
 
+import tap
+
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SIZE = (40, 30)
 SCENE_EXT = (".nff", ".obj", ".ply")
 PARALLEL = 3  # servers at once: the machine is small, each one mostly waits
@@ -121,9 +123,8 @@ def one_scene(scene, rnd):
 
 def main():
     seed = int(sys.argv[sys.argv.index("--seed") + 1]) if "--seed" in sys.argv else int(time.time())
-    print("seed %d (--seed %d repeats the random pixels)" % (seed, seed))
+    tap.note("seed %d (--seed %d repeats the random pixels)" % (seed, seed))
     scenes = scene_files()
-    passed = failed = 0
     bad_scenes = set()
     t0 = time.time()
     with concurrent.futures.ThreadPoolExecutor(PARALLEL) as ex:
@@ -131,18 +132,15 @@ def main():
         for sc, fu in zip(scenes, futs):
             for good, name, detail in fu.result():
                 if good:
-                    passed += 1
-                    print("ok   " + name)
+                    tap.ok(name)
                 else:
-                    failed += 1
                     bad_scenes.add(sc)
-                    print("FAIL " + name)
-                    for line in str(detail).splitlines()[:10]:
-                        print("     " + line)
-    print("scenes: %d files, %d with a failure%s" % (len(scenes), len(bad_scenes),
-                                                     (": " + " ".join(sorted(bad_scenes))) if bad_scenes else ""))
-    print("http: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))
-    return 0 if failed == 0 and scenes else 1
+                    tap.bad(name, detail, 10)
+    tap.note("scenes: %d files, %d with a failure%s" % (len(scenes), len(bad_scenes),
+                                                        (": " + " ".join(sorted(bad_scenes))) if bad_scenes else ""))
+    if not scenes:
+        tap.bad("scene files found", "no scene under examples/scenes")
+    return tap.done("(%.1f s)" % (time.time() - t0))
 
 
 if __name__ == "__main__":

@@ -4,8 +4,8 @@ port and checks every route, the token and Host checks, the limits, the
 errors (always JSON with the HTTP status), /api/trace against
 `ggrt trace --format json`, concurrent requests, and that shutdown leaves
 nothing behind. Standard library only (http.client).
-    python3 tests/http_test.py build/ggrt
-Prints one line per check and ends with "http: N passed, M failed"."""
+    python3 tests/http/http_test.py build/ggrt
+Prints TAP (tests/http/tap.py)."""
 import http.client
 import json
 import os
@@ -23,26 +23,13 @@ import urllib.parse
 import xml.dom.minidom
 import zlib
 
+import tap
+
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCENE = os.path.join(ROOT, "examples", "scenes", "glass.nff")
 SIZE = (160, 120)
-passed = failed = 0
-
-
-def ok(name):
-    global passed
-    passed += 1
-    print("ok   " + name)
-
-
-def bad(name, detail=""):
-    global failed
-    failed += 1
-    print("FAIL " + name)
-    if detail:
-        for line in str(detail).splitlines()[:30]:
-            print("     " + line)
+ok, bad = tap.ok, tap.bad
 
 
 def check(cond, name, detail=""):
@@ -558,7 +545,7 @@ def check_opens(workdir, env):
     elsewhere, however it is asked."""
     if subprocess.run(["sh", "-c", "strace -f -o /dev/null true"], stdout=subprocess.DEVNULL,
                       stderr=subprocess.DEVNULL).returncode != 0:
-        print("skip opens: strace not available")
+        tap.skip("strace: only the scene is opened", "strace not available")
         return
     log = os.path.join(workdir, "..", "strace.log")
     # LeakSanitizer cannot run under ptrace: leaks are checked by the runs above.
@@ -607,8 +594,7 @@ def run(base):
     r = subprocess.run([GGRT, "serve", "--help"], stdout=subprocess.PIPE, text=True)
     if "built without" in r.stdout:
         bad("ggrt serve is built in", "this ggrt was built without libmicrohttpd")
-        print("http: %d passed, %d failed" % (passed, failed))
-        return 1
+        return tap.done()
     t0 = time.time()
     s = Server([SCENE, "--port", "0"] + size_args(), work, env)
     try:
@@ -648,8 +634,7 @@ def run(base):
     check_tracing_first(work, env)
     check_opens(work, env)
     check(file_list(work) == [] and file_list(tmp) == [], "still nothing left behind")
-    print("http: %d passed, %d failed (%.1f s)" % (passed, failed, time.time() - t0))
-    return 0 if failed == 0 else 1
+    return tap.done("(%.1f s)" % (time.time() - t0))
 
 
 if __name__ == "__main__":

@@ -11,9 +11,10 @@
 #    asks its includer for GG_INC_NAME (a template, compiler.h) is named
 #    *.inc.h.
 # Prints one line per rule and exits non-zero on the first broken one.
-cd "$(dirname "$0")/.." || exit 1
+cd "$(dirname "$0")/../.." || exit 1
 cc=${CC:-cc}
-flags=$(make -s --no-print-directory layers) || exit 1
+# (MAKEFLAGS cleared: under make -j the jobserver is not ours to use.)
+flags=$(MAKEFLAGS= make -s --no-print-directory layers) || exit 1
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
 echo "$flags" | while IFS=: read -r layer inc; do
