@@ -2,7 +2,7 @@
 // make_exr_fixtures.cpp -- writes the OpenEXR fixtures that OpenEXR 3.1's C
 // core cannot write itself (DWAA/DWAB compression, ripmaps), with the C++
 // library. Run once; the outputs are committed beside this file and checked
-// by tests/test_image_exr.c, which knows the same formulas.
+// by tests/unit/imageio/test_image_exr.c, which knows the same formulas.
 //   g++ -I/usr/include/OpenEXR -I/usr/include/Imath make_exr_fixtures.cpp \
 //       -lOpenEXR -lImath -o /tmp/mkexr && (cd tests/data && /tmp/mkexr)
 #include <ImfArray.h>
