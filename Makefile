@@ -145,7 +145,6 @@ NOREADER_OBJ := $(BUILD)/lib/load/reader_none.o
 FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
 # cli/main.c and one folder per command or group, cli/common/ shared (docs/internals.md).
-CLI_DIRS := $(sort $(dir $(wildcard cli/*/*.c)))
 CLI_SRC  := $(sort $(wildcard cli/*.c cli/*/*.c))
 CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/serve/web_assets.o)
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
@@ -222,7 +221,8 @@ $(BUILD)/libggrt.so: $(SHARED)
 	ln -sf libggrt.so.$(VERSION) $@
 
 # The CLI sees only the public header (no -Ilib): it is a client of the API.
-CLI_INC = $(CLI_DIRS:%/=-I%)
+# Its includes name their folder ("common/cli.h", "serve/serve.h"): -Icli.
+CLI_INC = -Icli
 $(BUILD)/cli/%.o: cli/%.c
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@

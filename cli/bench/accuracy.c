@@ -14,7 +14,7 @@
 ** "changed" counts the pixels whose ray tree differs from the default's,
 ** as ggDiff finds them (include/ggrt/debug.h), one sample per pixel.
 */
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,7 +3,7 @@
 ** main.c -- `ggrt bench NAME [options]`: which benchmark, with which
 ** options. Every figure is measured in the same run it is printed in.
 */
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <string.h>
 

@@ -5,7 +5,7 @@
 ** from 1 to 2 threads with the share of the render spent outside the
 ** parallel tile loop.
 */
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <math.h>
 #include <string.h>

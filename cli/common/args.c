@@ -2,8 +2,8 @@
 /*
 ** args.c -- the command-line parser (args.h): options, values, --help.
 */
-#include "args.h"
-#include "cli.h"
+#include "common/args.h"
+#include "common/cli.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -7,7 +7,7 @@
 #define GG_CLI_H
 
 #include "ggrt.h"
-#include "args.h"
+#include "common/args.h"
 
 #include <stdio.h>
 
@@ -88,7 +88,7 @@ void cli_cancel_hold(void);
 void cli_cancel_release(void);
 void cli_cancel_exit(int signo);
 
-/* Meshes (mesh_out.c): does the path name a model (.obj, .ply) that
+/* Meshes (common/scene.c): does the path name a model (.obj, .ply) that
    ggSceneLoadFile frames; each mesh's description (ggrt info); a warning
    (cli_warn) per mesh that has any; a framed model's camera and lights as NFF; and
    "triangle T: face F of FILE (line L), group 'G', usemtl 'M'" for a hit

@@ -5,7 +5,7 @@
 ** image a bar with the scale's ends written in a tiny built-in font (no
 ** font library needed).
 */
-#include "heatmap.h"
+#include "common/heatmap.h"
 
 #include <math.h>
 #include <stdio.h>

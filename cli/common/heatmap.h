@@ -5,7 +5,7 @@
 #ifndef GG_HEATMAP_H
 #define GG_HEATMAP_H
 
-#include "cli.h"
+#include "common/cli.h"
 
 /* A w x (h + legend) image: cost as a colour ramp from 0 to the largest
    finite value (returned in *vmax), then a legend bar labelled 0, the

@@ -4,8 +4,8 @@
 ** (args.h: cli_render), and their canonical command-line form for the
 ** replay commands ggrt prints.
 */
-#include "args.h"
-#include "cli.h"
+#include "common/args.h"
+#include "common/cli.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** mesh_out.c -- what the commands print about meshes: each mesh of a
+** scene.c -- what the commands print about meshes: each mesh of a
 ** scene (ggrt info), its warnings, the default view of a model rendered on
 ** its own as NFF to paste into a scene (ggrt render), and a hit
 ** triangle in the file's terms (ggrt trace).
 */
-#include "cli.h"
+#include "common/cli.h"
 
 #include <string.h>
 #include <strings.h>

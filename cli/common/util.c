@@ -3,7 +3,7 @@
 ** util.c -- helpers shared by the subcommands: exit codes, the clock,
 ** output files, shell quoting, cancellation by signals, stdout.
 */
-#include "cli.h"
+#include "common/cli.h"
 
 #include <ctype.h>
 #include <errno.h>

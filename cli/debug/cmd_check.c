@@ -4,7 +4,7 @@
 ** invariants of ggCheck; a table, the worst pixels with their replay
 ** commands, and exit 4 when an invariant of class error fails (for CI).
 */
-#include "debug_out.h"
+#include "debug/debug.h"
 
 #include <math.h>
 #include <stdlib.h>

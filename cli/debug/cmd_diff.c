@@ -4,7 +4,7 @@
 ** SCENE_A SCENE_B`: two renders compared pixel by pixel and ray by ray
 ** (ggDiff), the first divergent ray of the worst pixels, a divergence map.
 */
-#include "debug_out.h"
+#include "debug/debug.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
 ** satisfy a predicate (ggFind), with the command that replays each and a
 ** mask image.
 */
-#include "debug_out.h"
+#include "debug/debug.h"
 
 #include <stdlib.h>
 #include <string.h>

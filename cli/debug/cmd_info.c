@@ -2,7 +2,7 @@
 /*
 ** cmd_info.c -- `ggrt info SCENE`: what a scene holds and what it costs.
 */
-#include "cli.h"
+#include "common/cli.h"
 
 #include <string.h>
 

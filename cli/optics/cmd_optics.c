@@ -11,7 +11,7 @@
 **   ggrt optics check   [--lib PATH --symbol NAME] [--kind KIND] ...  (optics_check.c)
 **   ggrt optics seeds   DIR                                          (optics_check.c)
 */
-#include "cli.h"
+#include "common/cli.h"
 
 #include <math.h>
 #include <string.h>

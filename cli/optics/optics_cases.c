@@ -5,7 +5,7 @@
 ** 1/4 <= |ni/nt| <= 4, and none has a vector component below 2^-480 of
 ** its vector's largest.
 */
-#include "optics_cases.h"
+#include "optics/optics_cases.h"
 
 #include <math.h>
 

@@ -7,9 +7,9 @@
 ** And `ggrt optics seeds DIR`: those cases as a seed corpus for
 ** examples/fuzz_your_refract.c.
 */
-#include "cli.h"
-#include "debug_out.h"
-#include "optics_cases.h"
+#include "common/cli.h"
+#include "debug/debug.h"
+#include "optics/optics_cases.h"
 
 #include <dlfcn.h>
 #include <errno.h>

@@ -2,8 +2,8 @@
 /*
 ** cmd_render.c -- `ggrt render SCENE -o out.png|out.exr`.
 */
-#include "cli.h"
-#include "heatmap.h"
+#include "common/cli.h"
+#include "common/heatmap.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -5,7 +5,7 @@
 ** pixel's ray tree on a click, heatmaps, and a JSON API (docs/serve.md).
 ** Without libmicrohttpd at build time the command only says so.
 */
-#include "cli.h"
+#include "common/cli.h"
 
 #include <arpa/inet.h>
 #include <stdlib.h>
@@ -96,7 +96,7 @@ int cmd_serve(int argc, char **argv)
 }
 
 #else
-#include "serve.h"
+#include "serve/serve.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -9,7 +9,7 @@
 #ifndef GG_SERVE_H
 #define GG_SERVE_H
 
-#include "cli.h"
+#include "common/cli.h"
 
 #include <pthread.h>
 #include <stdio.h>

@@ -4,9 +4,9 @@
 ** the page and scripts use (docs/serve.md).
 */
 #if defined(GG_HAVE_MHD)
-#include "serve.h"
-#include "debug_out.h"
-#include "trace_out.h"
+#include "serve/serve.h"
+#include "debug/debug.h"
+#include "trace/trace_view.h"
 
 #include <math.h>
 #include <stdlib.h>

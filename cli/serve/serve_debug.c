@@ -9,7 +9,7 @@
 ** merged lists are the ones a single call lists.
 */
 #if defined(GG_HAVE_MHD)
-#include "serve.h"
+#include "serve/serve.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -24,7 +24,7 @@
 ** HTTP/1.1 keep-alive would never work.
 */
 #if defined(GG_HAVE_MHD)
-#include "serve.h"
+#include "serve/serve.h"
 
 #include <arpa/inet.h>
 #include <fcntl.h>

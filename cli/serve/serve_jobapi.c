@@ -8,9 +8,9 @@
 ** --format json (cli/debug_out.c writes both).
 */
 #if defined(GG_HAVE_MHD)
-#include "serve.h"
-#include "debug_out.h"
-#include "heatmap.h"
+#include "serve/serve.h"
+#include "debug/debug.h"
+#include "common/heatmap.h"
 
 #include <math.h>
 #include <stdlib.h>

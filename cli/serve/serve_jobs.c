@@ -12,7 +12,7 @@
 ** be cancelled (shutdown, time limit).
 */
 #if defined(GG_HAVE_MHD)
-#include "serve.h"
+#include "serve/serve.h"
 
 #include <stddef.h>
 #include <stdlib.h>

@@ -4,8 +4,8 @@
 ** query, responses built with stdio, and JSON helpers.
 */
 #if defined(GG_HAVE_MHD)
-#include "serve.h"
-#include "debug_out.h"
+#include "serve/serve.h"
+#include "debug/debug.h"
 
 #include <errno.h>
 #include <math.h>

@@ -7,7 +7,7 @@
 ** local connection the bytes cost less than compressing them would.
 */
 #if defined(GG_HAVE_MHD)
-#include "serve.h"
+#include "serve/serve.h"
 
 #include <math.h>
 #include <stdlib.h>

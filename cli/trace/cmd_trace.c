@@ -3,9 +3,9 @@
 ** cmd_trace.c -- `ggrt trace SCENE --pixel X,Y`: the full ray tree of one
 ** pixel, as an indented tree, JSON (docs/trace-json.md), SVG or OBJ.
 */
-#include "cli.h"
-#include "debug_out.h"
-#include "trace_out.h"
+#include "common/cli.h"
+#include "debug/debug.h"
+#include "trace/trace_view.h"
 
 #include <locale.h>
 #include <stdlib.h>

@@ -3,8 +3,8 @@
 ** trace_debug.c -- `ggrt trace --ledger` (a pixel's colour term by term)
 ** and `ggrt trace --diff` (two trees of one pixel side by side).
 */
-#include "debug_out.h"
-#include "trace_out.h"
+#include "debug/debug.h"
+#include "trace/trace_view.h"
 
 #include <string.h>
 

@@ -3,7 +3,7 @@
 ** trace_svg.c -- a recorded ray tree drawn over the scene (SVG: top view,
 ** side view, camera view with the pixel marked) and as OBJ lines.
 */
-#include "trace_out.h"
+#include "trace/trace_view.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -2,8 +2,8 @@
 /*
 ** trace_text.c -- a recorded ray tree as an indented tree and as JSON.
 */
-#include "trace_out.h"
-#include "debug_out.h"
+#include "trace/trace_view.h"
+#include "debug/debug.h"
 
 #include <math.h>
 #include <string.h>

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** trace_out.h -- writing a recorded ray tree: text, JSON, SVG, OBJ.
+** trace_view.h -- a recorded ray tree and its writers: text, JSON, SVG, OBJ.
 */
-#ifndef GG_TRACE_OUT_H
-#define GG_TRACE_OUT_H
+#ifndef GG_CLI_TRACE_VIEW_H
+#define GG_CLI_TRACE_VIEW_H
 
-#include "cli.h"
+#include "common/cli.h"
 
 typedef struct trace_view {
     ggScene *scene;

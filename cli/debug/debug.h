@@ -1,15 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** debug_out.h -- what the debugger's commands (find, check, diff, trace
+** debug.h -- what the debugger's commands (find, check, diff, trace
 ** --ledger/--diff) share: loading, progress and cancellation, replay
 ** commands, and their JSON. The JSON writers take a FILE* so that a
 ** server can write the same documents into memory (open_memstream); the
 ** schemas are in docs/debugging.md.
 */
-#ifndef GG_DEBUG_OUT_H
-#define GG_DEBUG_OUT_H
+#ifndef GG_CLI_DEBUG_H
+#define GG_CLI_DEBUG_H
 
-#include "cli.h"
+#include "common/cli.h"
 
 /* Load and prepare a scene; on failure print why and return NULL with the
    exit code in *rc. */

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** debug_out.c -- helpers and JSON of the debugger's commands (debug_out.h).
+** debug.c -- helpers and JSON of the debugger's commands (debug.h).
 */
-#include "debug_out.h"
+#include "debug/debug.h"
 
 #include <math.h>
 #include <stdlib.h>
