@@ -88,6 +88,15 @@ void cli_cancel_hold(void);
 void cli_cancel_release(void);
 void cli_cancel_exit(int signo);
 
+/* Load a scene file and prepare it (common/scene.c): how every command
+   that takes a scene loads it. `loaded` (may be NULL) is called with ud
+   between the two, on the scene as read (ggrt render prints a model's
+   view and warnings there). On failure prints why ("ggrt CMD: file:line:
+   ...") and returns NULL with the exit code in *rc (cli_exit_code);
+   else *rc is EXIT_OK. */
+typedef void (*cli_loaded_fn)(ggScene *s, const char *path, void *ud);
+ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc);
+
 /* Meshes (common/scene.c): does the path name a model (.obj, .ply) that
    ggSceneLoadFile frames; each mesh's description (ggrt info); a warning
    (cli_warn) per mesh that has any; a framed model's camera and lights as NFF; and

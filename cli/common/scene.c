@@ -1,14 +1,37 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** scene.c -- what the commands print about meshes: each mesh of a
-** scene (ggrt info), its warnings, the default view of a model rendered on
-** its own as NFF to paste into a scene (ggrt render), and a hit
-** triangle in the file's terms (ggrt trace).
+** scene.c -- a scene file, loaded the one way every command loads it,
+** and what the commands print about meshes: each mesh of a scene (ggrt
+** info), its warnings, the default view of a model rendered on its own as
+** NFF to paste into a scene (ggrt render), and a hit triangle in the
+** file's terms (ggrt trace).
 */
 #include "common/cli.h"
 
 #include <string.h>
 #include <strings.h>
+
+ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError err;
+    int st;
+    if (!s) {
+        cli_error("out of memory");
+        *rc = EXIT_INPUT;
+        return NULL;
+    }
+    st = ggSceneLoadFile(s, path, &err);
+    if (st == GG_OK && loaded) loaded(s, path, ud);
+    if (st == GG_OK) st = ggScenePrepare(s, &err);
+    if (st != GG_OK) {
+        *rc = cli_fail(st, &err, 0);
+        ggSceneFree(s);
+        return NULL;
+    }
+    *rc = EXIT_OK;
+    return s;
+}
 
 int cli_is_model(const char *path)
 {

@@ -220,7 +220,7 @@ int cmd_check(int argc, char **argv)
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if (!(scene = dbg_load(a.scene, &rc))) return rc;
+    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) return rc;
     dbg_progress_begin(&ps, "check", a.quiet || a.format == 1);
     a.ro.opt.progress = dbg_progress, a.ro.opt.progress_ud = &ps;
     rc = ggCheck(scene, &a.ro.opt, &a.co, &r, &err);

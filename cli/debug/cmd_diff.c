@@ -174,10 +174,10 @@ int cmd_diff(int argc, char **argv)
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if (!(sa = dbg_load(a.scenes[0], &rc))) return rc;
+    if (!(sa = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) return rc;
     sb = sa;
     if (a.nscenes > 1) {
-        if (!(sb = dbg_load(a.scenes[a.nscenes > 1], &rc))) {
+        if (!(sb = cli_load_scene(a.scenes[a.nscenes > 1], NULL, NULL, &rc))) {
             ggSceneFree(sa);
             return rc;
         }

@@ -163,7 +163,7 @@ int cmd_find(int argc, char **argv)
     if ((rc = ggPredicateParse(a.where, NULL, &pred, &err)) != GG_OK)
         return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
                                     : dbg_predicate_error("find", a.where, &err);
-    if (!(scene = dbg_load(a.scene, &rc))) {
+    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) {
         ggPredicateFree(pred);
         return rc;
     }

@@ -16,7 +16,6 @@ int cmd_info(int argc, char **argv)
     const char *path = NULL;
     ggScene *s;
     ggSceneInfo in;
-    ggError err;
     ggCamera cam;
     int i, rc;
     unsigned fx;
@@ -31,14 +30,7 @@ int cmd_info(int argc, char **argv)
                    .max_args = 1,
                    .args_name = "scene"};
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
-    s = ggSceneCreate(NULL);
-    if (!s) return EXIT_INPUT;
-    rc = ggSceneLoadFile(s, path, &err);
-    if (rc == GG_OK) rc = ggScenePrepare(s, &err);
-    if (rc != GG_OK) {
-        ggSceneFree(s);
-        return cli_fail(rc, &err, 0);
-    }
+    if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
     ggSceneGetInfo(s, &in);
     cam = ggSceneCamera(s);
     printf("scene      %s\n", path);

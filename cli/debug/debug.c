@@ -9,27 +9,6 @@
 #include <string.h>
 #include <unistd.h>
 
-ggScene *dbg_load(const char *path, int *rc)
-{
-    ggScene *s = ggSceneCreate(NULL);
-    ggError err;
-    int st;
-    if (!s) {
-        cli_error("out of memory");
-        *rc = EXIT_INPUT;
-        return NULL;
-    }
-    st = ggSceneLoadFile(s, path, &err);
-    if (st == GG_OK) st = ggScenePrepare(s, &err);
-    if (st != GG_OK) {
-        *rc = cli_fail(st, &err, 0);
-        ggSceneFree(s);
-        return NULL;
-    }
-    *rc = EXIT_OK;
-    return s;
-}
-
 void dbg_progress_begin(dbg_progress_state *p, const char *what, int quiet)
 {
     p->what = what, p->t0 = cli_now(), p->last_pct = -1;

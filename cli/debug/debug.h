@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** debug.h -- what the debugger's commands (find, check, diff, trace
-** --ledger/--diff) share: loading, progress and cancellation, replay
+** --ledger/--diff) share: progress and cancellation, replay
 ** commands, and their JSON. The JSON writers take a FILE* so that a
 ** server can write the same documents into memory (open_memstream); the
 ** schemas are in docs/debugging.md.
@@ -10,10 +10,6 @@
 #define GG_CLI_DEBUG_H
 
 #include "common/cli.h"
-
-/* Load and prepare a scene; on failure print why and return NULL with the
-   exit code in *rc. */
-ggScene *dbg_load(const char *path, int *rc);
 
 /* A progress callback for ggFind, ggCheck, ggDiff: a bar on a terminal
    (ud: a dbg_progress_state, NULL for none) and the way a signal cancels. */

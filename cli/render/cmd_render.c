@@ -267,31 +267,39 @@ static void warn_empty(const ggScene *scene, const char *path)
         cli_warn("%s has no lights: only ambient and emission light it", path);
 }
 
+/* Between loading and preparing (cli_load_scene): the end of parsing,
+   then what a first user should know about the scene. */
+typedef struct loaded_state {
+    const render_args *a;
+    double *t;
+} loaded_state;
+
+static void loaded(ggScene *scene, const char *path, void *ud)
+{
+    const loaded_state *ls = ud;
+    ls->t[1] = cli_now();
+    if (!ls->a->quiet) {
+        if (cli_is_model(path)) cli_print_model_view(stderr, scene, path);
+        cli_print_mesh_warnings(scene);
+    }
+    warn_empty(scene, path);
+}
+
 int cmd_render(int argc, char **argv)
 {
     render_args a;
+    loaded_state ls;
     ggScene *scene;
-    ggError err;
     double t[4];
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if ((rc = cli_check_output("render", a.out)) != 0) return rc;
-    if (!(scene = ggSceneCreate(NULL))) {
-        cli_error("out of memory");
-        return EXIT_INPUT;
-    }
+    ls.a = &a, ls.t = t;
     t[0] = cli_now();
-    rc = ggSceneLoadFile(scene, a.scene, &err);
-    t[1] = cli_now();
-    if (rc == GG_OK && !a.quiet) {
-        if (cli_is_model(a.scene)) cli_print_model_view(stderr, scene, a.scene);
-        cli_print_mesh_warnings(scene);
-    }
-    if (rc == GG_OK) warn_empty(scene, a.scene);
-    if (rc == GG_OK) rc = ggScenePrepare(scene, &err);
+    if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
     t[2] = cli_now();
-    rc = rc == GG_OK ? run(&a, scene, t) : cli_fail(rc, &err, 0);
+    rc = run(&a, scene, t);
     ggSceneFree(scene);
     return rc;
 }

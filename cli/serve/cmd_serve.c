@@ -123,19 +123,9 @@ static int make_token(char out[33])
 
 static int load(srv_server *s)
 {
-    ggError err;
     ggCamera cam;
     int rc;
-    s->scene = ggSceneCreate(NULL);
-    if (!s->scene) {
-        cli_error("out of memory");
-        return EXIT_INPUT;
-    }
-    rc = ggSceneLoadFile(s->scene, s->cfg.scene_path, &err);
-    if (rc == GG_OK) rc = ggScenePrepare(s->scene, &err);
-    if (rc != GG_OK) {
-        return cli_fail(rc, &err, 0);
-    }
+    if (!(s->scene = cli_load_scene(s->cfg.scene_path, NULL, NULL, &rc))) return rc;
     cam = ggSceneCamera(s->scene);
     s->cfg.width = s->cfg.opt.width > 0 ? s->cfg.opt.width : cam.width;
     s->cfg.height = s->cfg.opt.height > 0 ? s->cfg.opt.height : cam.height;

@@ -209,7 +209,7 @@ static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
         cli_error("out of memory");
         return EXIT_INPUT;
     }
-    if (a->nscenes > 1 && !(sb = dbg_load(pb, &rc))) {
+    if (a->nscenes > 1 && !(sb = cli_load_scene(pb, NULL, NULL, &rc))) {
         ggTraceFree(tb);
         return rc;
     }
@@ -235,7 +235,7 @@ int cmd_trace(int argc, char **argv)
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if (!(scene = dbg_load(a.scenes[0], &rc))) return rc;
+    if (!(scene = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) return rc;
     if (!(tr = ggTraceCreate(NULL))) {
         cli_error("out of memory");
         ggSceneFree(scene);
