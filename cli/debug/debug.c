@@ -109,88 +109,6 @@ int dbg_write_map(const char *cmd, const char *path, const unsigned char *map, i
 
 /* ---- JSON ---- */
 
-void json_num(FILE *f, double d)
-{
-    /* JSON has no NaN or infinity: null stands for them. */
-    if (isfinite(d))
-        fprintf(f, "%.17g", d);
-    else
-        fprintf(f, "null");
-}
-
-void json_num_text(FILE *f, double d)
-{
-    if (isfinite(d))
-        fprintf(f, "%.17g", d);
-    else
-        fprintf(f, "\"%s\"", isnan(d) ? "nan" : d > 0 ? "inf" : "-inf");
-}
-
-int json_utf8_len(const unsigned char *s)
-{
-    int n, i;
-    unsigned c = s[0];
-    if (c < 0x80) return 1;
-    if (c >= 0xc2 && c <= 0xdf)
-        n = 2;
-    else if (c >= 0xe0 && c <= 0xef)
-        n = 3;
-    else if (c >= 0xf0 && c <= 0xf4)
-        n = 4;
-    else
-        return 0;
-    for (i = 1; i < n; i++)
-        if ((s[i] & 0xc0) != 0x80) return 0; /* also the terminating NUL */
-    if (n == 3 && ((c == 0xe0 && s[1] < 0xa0) || (c == 0xed && s[1] > 0x9f))) return 0;
-    if (n == 4 && ((c == 0xf0 && s[1] < 0x90) || (c == 0xf4 && s[1] > 0x8f))) return 0;
-    return n;
-}
-
-void json_str(FILE *f, const char *s)
-{
-    const unsigned char *p = (const unsigned char *)s;
-    fputc('"', f);
-    while (*p) {
-        int n = json_utf8_len(p);
-        if (!n)
-            fprintf(f, "\\\\x%02X", *p++); /* the text \xHH, as in the library's messages */
-        else if (*p == '"' || *p == '\\')
-            fprintf(f, "\\%c", *p++);
-        else if (*p < 0x20 || *p == 0x7f)
-            fprintf(f, "\\u%04x", *p++);
-        else {
-            fwrite(p, 1, (size_t)n, f);
-            p += (size_t)n;
-        }
-    }
-    fputc('"', f);
-}
-
-void json_color(FILE *f, const char *key, ggColor c)
-{
-    if (key) fprintf(f, "\"%s\":", key);
-    fputc('[', f);
-    json_num(f, c.r), fputc(',', f), json_num(f, c.g), fputc(',', f), json_num(f, c.b);
-    fputc(']', f);
-}
-
-void json_options(FILE *f, const char *key, const ggRenderOptions *opt)
-{
-    char buf[1024];
-    ggRenderOptionsFormat(opt, buf, sizeof buf);
-    fprintf(f, "\"%s\":", key);
-    json_str(f, buf);
-}
-
-static void json_stats(FILE *f, const char *key, const ggRayStats *st)
-{
-    fprintf(f,
-            "\"%s\":{\"eye\":%llu,\"reflect\":%llu,\"refract\":%llu,\"shadow\":%llu,\"tir\":%llu}",
-            key, (unsigned long long)st->eye, (unsigned long long)st->reflect,
-            (unsigned long long)st->refract, (unsigned long long)st->shadow,
-            (unsigned long long)st->tir);
-}
-
 static void json_window(FILE *f, int w, int h, int x0, int y0, int x1, int y1)
 {
     fprintf(f, "\"size\":[%d,%d],\"window\":[%d,%d,%d,%d]", w, h, x0, y0, x1, y1);
@@ -292,13 +210,6 @@ void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRender
         fputc('}', f);
     }
     fprintf(f, "]}\n");
-}
-
-static void json_color_text(FILE *f, const char *key, ggColor c)
-{
-    fprintf(f, "\"%s\":[", key);
-    json_num_text(f, c.r), fputc(',', f), json_num_text(f, c.g), fputc(',', f);
-    json_num_text(f, c.b), fputc(']', f);
 }
 
 void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l)

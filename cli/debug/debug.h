@@ -2,14 +2,15 @@
 /*
 ** debug.h -- what the debugger's commands (find, check, diff, trace
 ** --ledger/--diff) share: progress and cancellation, replay
-** commands, and their JSON. The JSON writers take a FILE* so that a
-** server can write the same documents into memory (open_memstream); the
-** schemas are in docs/debugging.md.
+** commands, and their JSON documents (written with common/json.h, to a
+** FILE* so that ggrt serve writes the same documents into memory; the
+** schemas are in docs/debugging.md).
 */
 #ifndef GG_CLI_DEBUG_H
 #define GG_CLI_DEBUG_H
 
 #include "common/cli.h"
+#include "common/json.h"
 
 /* A progress callback for ggFind, ggCheck, ggDiff: a bar on a terminal
    (ud: a dbg_progress_state, NULL for none) and the way a signal cancels. */
@@ -46,22 +47,6 @@ void dbg_divergence_text(char *buf, size_t n, const ggTrace *ta, const ggTrace *
                          const ggDivergence *d);
 
 /* ---- JSON ---- */
-/* A number; NaN and infinity as null (find, check, diff: JSON has none). */
-void json_num(FILE *f, double d);
-/* A number; NaN and infinity as the strings "nan", "inf", "-inf" (the
-   trace document's rule since its version 2, docs/trace-json.md). */
-void json_num_text(FILE *f, double d);
-/* The length of the well-formed UTF-8 sequence at s (RFC 3629), else 0. */
-int json_utf8_len(const unsigned char *s);
-/* The CLI's one JSON string writer (trace, find, check, diff, serve): ", \
-   and control characters escaped; a byte that is not UTF-8 becomes the
-   text \xHH, the way the library's messages show it, so the document
-   always parses and says which byte it was. */
-void json_str(FILE *f, const char *s);
-void json_color(FILE *f, const char *key, ggColor c);
-/* The options as ggRenderOptionsFormat text. */
-void json_options(FILE *f, const char *key, const ggRenderOptions *opt);
-
 void json_find(FILE *f, const char *scene, const ggRenderOptions *opt, const char *where,
                const ggFindResult *r);
 void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const ggCheckResult *r);

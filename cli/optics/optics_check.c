@@ -8,7 +8,7 @@
 ** examples/fuzz_your_refract.c.
 */
 #include "common/cli.h"
-#include "debug/debug.h"
+#include "common/json.h"
 #include "optics/optics_cases.h"
 
 #include <dlfcn.h>

@@ -10,6 +10,7 @@
 #define GG_SERVE_H
 
 #include "common/cli.h"
+#include "common/json.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -74,13 +75,6 @@ void srv_error(srv_resp *resp, int status, const char *fmt, ...) CLI_PRINTF(3, 4
    srv_body_close (status 500 "out of memory" if the stream failed). */
 FILE *srv_body_open(srv_resp *resp, int status, const char *type);
 void srv_body_close(srv_resp *resp, FILE *f);
-
-/* Is s valid UTF-8 (RFC 3629)? */
-int srv_utf8_valid(const char *s);
-
-/* JSON helpers. */
-void srv_json_str(FILE *f, const char *s);
-void srv_json_num(FILE *f, double d);
 
 /* ---- render options carried by a request ---- */
 

@@ -81,13 +81,6 @@ static void page(srv_server *s, const srv_req *r, srv_resp *resp)
 
 /* ---- /api/info ---- */
 
-static void vec(FILE *f, const char *k, ggVec3 v)
-{
-    fprintf(f, "\"%s\":[", k);
-    srv_json_num(f, v.x), fputc(',', f), srv_json_num(f, v.y), fputc(',', f), srv_json_num(f, v.z);
-    fputc(']', f);
-}
-
 static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     FILE *f = srv_body_open(resp, 200, "application/json");
@@ -104,23 +97,23 @@ static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
     ggSceneGetInfo(s->scene, &in);
     fx = ggSceneEffects(s->scene);
     fprintf(f, "{\"ggrt\":\"%s\",\"scene\":", ggVersion());
-    srv_json_str(f, s->cfg.scene_path);
+    json_str(f, s->cfg.scene_path);
     fprintf(f, ",\"width\":%d,\"height\":%d,\"objects\":%d,\"lights\":%d,\"materials\":%d,",
             s->cfg.width, s->cfg.height, ggSceneObjectCount(s->scene), ggSceneLightCount(s->scene),
             ggSceneMaterialCount(s->scene));
     fprintf(f, "\"camera\":{");
-    vec(f, "from", cam.from), fputc(',', f), vec(f, "at", cam.at), fputc(',', f);
-    vec(f, "up", cam.up);
+    json_vec(f, "from", cam.from), fputc(',', f), json_vec(f, "at", cam.at), fputc(',', f);
+    json_vec(f, "up", cam.up);
     fprintf(f, ",\"fov\":");
-    srv_json_num(f, cam.fov_deg);
+    json_num(f, cam.fov_deg);
     fprintf(f, "},\"bounds\":{");
-    vec(f, "lo", in.lo), fputc(',', f), vec(f, "hi", in.hi);
+    json_vec(f, "lo", in.lo), fputc(',', f), json_vec(f, "hi", in.hi);
     fprintf(f, "},\"primitives\":%zu,\"effects\":[", in.primitives);
     for (e = 1; e < (1u << GG_EFFECT_COUNT); e <<= 1) {
         const char *why = ggSceneEffectReason(s->scene, e);
         if (!(fx & e)) continue;
         fprintf(f, "%s{\"name\":\"%s\",\"reason\":", first ? "" : ",", ggEffectName(e));
-        srv_json_str(f, why ? why : "");
+        json_str(f, why ? why : "");
         fputc('}', f);
         first = 0;
     }
@@ -148,31 +141,31 @@ static void shape_json(FILE *f, const ggShapeDesc *d)
             d->material, d->line);
     switch (d->kind) {
     case GG_SHAPE_SPHERE:
-        vec(f, "center", d->base);
+        json_vec(f, "center", d->base);
         fprintf(f, ",\"radius\":");
-        srv_json_num(f, d->radius);
+        json_num(f, d->radius);
         break;
     case GG_SHAPE_CONE:
-        vec(f, "base", d->base), fputc(',', f), vec(f, "apex", d->apex);
+        json_vec(f, "base", d->base), fputc(',', f), json_vec(f, "apex", d->apex);
         fprintf(f, ",\"radius\":");
-        srv_json_num(f, d->radius);
+        json_num(f, d->radius);
         fprintf(f, ",\"radius2\":");
-        srv_json_num(f, d->radius2);
+        json_num(f, d->radius2);
         break;
     case GG_SHAPE_RECT:
-        vec(f, "corner", d->base), fputc(',', f), vec(f, "e1", d->e1), fputc(',', f);
-        vec(f, "e2", d->e2);
+        json_vec(f, "corner", d->base), fputc(',', f), json_vec(f, "e1", d->e1), fputc(',', f);
+        json_vec(f, "e2", d->e2);
         break;
     case GG_SHAPE_IMPLICIT:
     case GG_SHAPE_MESH: /* the box of the mesh's part */
-        vec(f, "lo", d->base), fputc(',', f), vec(f, "hi", d->apex);
+        json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
         break;
     default:
         fprintf(f, "\"verts\":[");
         for (i = 0; i < d->nverts && d->verts; i++) {
             fputs(i ? ",[" : "[", f);
-            srv_json_num(f, d->verts[i].x), fputc(',', f), srv_json_num(f, d->verts[i].y);
-            fputc(',', f), srv_json_num(f, d->verts[i].z), fputc(']', f);
+            json_num(f, d->verts[i].x), fputc(',', f), json_num(f, d->verts[i].y);
+            fputc(',', f), json_num(f, d->verts[i].z), fputc(']', f);
         }
         fputc(']', f);
     }
@@ -216,7 +209,7 @@ static void lights_json(FILE *f, const ggScene *sc)
         ggColor c;
         if (ggSceneGetLight(sc, i, &p, &c) != GG_OK) continue;
         fprintf(f, "%s{", i ? "," : "");
-        vec(f, "position", p);
+        json_vec(f, "position", p);
         fputc('}', f);
     }
     fputc(']', f);
@@ -236,17 +229,16 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
             n > MAX_SCENE_OBJECTS ? "true" : "false");
     for (i = 0; i < m; i++) {
         ggMaterial mt = ggSceneMaterial(s->scene, i);
-        fprintf(f, "%s{\"color\":[", i ? "," : "");
-        srv_json_num(f, mt.color.r), fputc(',', f), srv_json_num(f, mt.color.g), fputc(',', f);
-        srv_json_num(f, mt.color.b);
-        fprintf(f, "],\"kd\":");
-        srv_json_num(f, mt.kd);
+        fprintf(f, "%s{", i ? "," : "");
+        json_color(f, "color", mt.color);
+        fprintf(f, ",\"kd\":");
+        json_num(f, mt.kd);
         fprintf(f, ",\"ks\":");
-        srv_json_num(f, mt.ks);
+        json_num(f, mt.ks);
         fprintf(f, ",\"kt\":");
-        srv_json_num(f, mt.kt);
+        json_num(f, mt.kt);
         fprintf(f, ",\"ior\":");
-        srv_json_num(f, mt.ior);
+        json_num(f, mt.ior);
         fprintf(f, ",\"line\":%d}", mt.line);
     }
     fprintf(f, "],\"shapes\":[");
@@ -449,7 +441,7 @@ static void compare_body(srv_resp *resp, const char *fmt, side *a, side *b, cons
         fprintf(f, ",\"differ\":%s,\"first\":", differ ? "true" : "false");
         json_divergence(f, &d);
         fprintf(f, ",\"text\":");
-        srv_json_str(f, text);
+        json_str(f, text);
         fprintf(f, "}\n");
     }
     srv_body_close(resp, f);
@@ -503,7 +495,7 @@ static void parse_answer(FILE *f, const char *what, int ok, const char *msg)
     if (!ok) {
         where_of(msg, &line, &col);
         fprintf(f, ",\"error\":");
-        srv_json_str(f, msg);
+        json_str(f, msg);
         fprintf(f, ",\"line\":%d,\"column\":%d", line, col);
     }
     fputc('}', f);
@@ -524,9 +516,9 @@ static void api_parse(srv_server *s, const srv_req *r, srv_resp *resp)
     fputc('{', f);
     if (where) {
         ggPredicate *p = NULL;
-        int ok = strlen(where) <= SRV_MAX_EXPR && srv_utf8_valid(where) &&
+        int ok = strlen(where) <= SRV_MAX_EXPR && ggUTF8Valid(where, strlen(where)) &&
                  ggPredicateParse(where, NULL, &p, &err) == GG_OK;
-        if (!ok && (strlen(where) > SRV_MAX_EXPR || !srv_utf8_valid(where)))
+        if (!ok && (strlen(where) > SRV_MAX_EXPR || !ggUTF8Valid(where, strlen(where))))
             snprintf(err.message, sizeof err.message, "1:1: at most %d bytes of UTF-8",
                      SRV_MAX_EXPR);
         ggPredicateFree(p);

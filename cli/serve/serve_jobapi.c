@@ -229,7 +229,7 @@ void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp)
         srv_error(resp, 400, "missing parameter where (a predicate, docs/debugging.md)");
         return;
     }
-    if (strlen(where) > SRV_MAX_EXPR || !srv_utf8_valid(where)) {
+    if (strlen(where) > SRV_MAX_EXPR || !ggUTF8Valid(where, strlen(where))) {
         srv_error(resp, 400, "where: at most %d bytes of UTF-8", SRV_MAX_EXPR);
         return;
     }

@@ -398,7 +398,7 @@ void srv_job_json(FILE *f, const srv_job_view *v)
     static const char *const names[] = {"queued", "running", "done", "failed"};
     fprintf(f, "{\"state\":\"%s\",\"done\":%ld,\"total\":%ld,\"seconds\":", names[v->state],
             v->done, v->total);
-    srv_json_num(f, v->seconds);
+    json_num(f, v->seconds);
     if (v->state == SRV_JOB_DONE)
         fprintf(f,
                 ",\"stats\":{\"eye\":%llu,\"eye_hit\":%llu,\"reflect\":%llu,\"refract\":%llu,"
@@ -409,7 +409,7 @@ void srv_job_json(FILE *f, const srv_job_view *v)
                 (unsigned long long)v->stats.nonfinite, (unsigned long long)v->stats.max_depth);
     if (v->state == SRV_JOB_FAILED) {
         fprintf(f, ",\"error\":");
-        srv_json_str(f, v->error);
+        json_str(f, v->error);
     }
     fputc('}', f);
 }

@@ -1,11 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** serve_opts.c -- `ggrt serve`: render options carried in a request's
-** query, responses built with stdio, and JSON helpers.
+** query and responses built with stdio.
 */
 #if defined(GG_HAVE_MHD)
 #include "serve/serve.h"
-#include "debug/debug.h"
 
 #include <errno.h>
 #include <math.h>
@@ -66,37 +65,10 @@ void srv_error(srv_resp *resp, int status, const char *fmt, ...)
     f = srv_body_open(resp, status, "application/json");
     if (f) {
         fprintf(f, "{\"status\":%d,\"error\":", status);
-        srv_json_str(f, msg);
+        json_str(f, msg);
         fprintf(f, "}\n");
     }
     srv_body_close(resp, f);
-}
-
-void srv_json_num(FILE *f, double d)
-{
-    /* JSON has no NaN or infinity: null stands for them (docs/trace-json.md). */
-    if (isfinite(d))
-        fprintf(f, "%.17g", d);
-    else
-        fprintf(f, "null");
-}
-
-int srv_utf8_valid(const char *s)
-{
-    const unsigned char *p = (const unsigned char *)s;
-    while (*p) {
-        int n = json_utf8_len(p);
-        if (!n) return 0;
-        p += n;
-    }
-    return 1;
-}
-
-/* A JSON string: json_str (debug_out.h), bytes that are not UTF-8 (a
-   query can carry any) as the text \xHH, so the document always parses. */
-void srv_json_str(FILE *f, const char *s)
-{
-    json_str(f, s);
 }
 
 /* ---- render options ---- */

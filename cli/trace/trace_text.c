@@ -272,35 +272,10 @@ void trace_print_text(FILE *f, const trace_view *v, int utf8)
 
 /* ---- JSON ---- */
 
-/* JSON has no NaN or infinity: the strings "inf", "-inf" and "nan"
-   stand for them (docs/trace-json.md, version 2). */
-static void jnum(FILE *f, double d)
-{
-    json_num_text(f, d);
-}
-/* A number that may not apply: null where it is NaN (the library's
-   "none"), else as jnum. */
-static void jopt(FILE *f, double d)
-{
-    if (isnan(d)) fprintf(f, "null");
-    else jnum(f, d);
-}
-static void jvec(FILE *f, const char *k, ggVec3 p)
-{
-    fprintf(f, "\"%s\":[", k);
-    jnum(f, p.x), fputc(',', f), jnum(f, p.y), fputc(',', f), jnum(f, p.z);
-    fputc(']', f);
-}
-static void jcol(FILE *f, const char *k, ggColor c)
-{
-    fprintf(f, "\"%s\":[", k);
-    jnum(f, c.r), fputc(',', f), jnum(f, c.g), fputc(',', f), jnum(f, c.b);
-    fputc(']', f);
-}
-static void jstr(FILE *f, const char *s)
-{
-    json_str(f, s);
-}
+/* Numbers as json_num_text: JSON has no NaN or infinity, the strings
+   "inf", "-inf" and "nan" stand for them (docs/trace-json.md, version 2);
+   json_num_opt for a number that may not apply (NaN, the library's
+   "none", as null). */
 
 /* Mesh hits: "face": {"triangle", "index", "line", "mesh", "group",
    "material_name"}; null for other shapes. */
@@ -314,11 +289,11 @@ static void json_face(FILE *f, const ggScene *s, const ggTraceNode *n)
     }
     fprintf(f, "{\"triangle\":%ld,\"index\":%ld,\"line\":%d,\"mesh\":", n->triangle, fi.face,
             fi.line);
-    jstr(f, fi.mesh_name);
+    json_str(f, fi.mesh_name);
     fprintf(f, ",\"group\":");
-    jstr(f, fi.group);
+    json_str(f, fi.group);
     fprintf(f, ",\"material_name\":");
-    jstr(f, fi.material_name);
+    json_str(f, fi.material_name);
     fputc('}', f);
 }
 
@@ -331,17 +306,17 @@ static void json_node(FILE *f, const trace_view *v, int i, const ggColor *wp, do
             ggRayKindName(n->kind), n->depth, n->sample);
     if (n->channel >= 0) fprintf(f, "\"%c\"", "rgb"[n->channel]);
     else fprintf(f, "null");
-    fputc(',', f), jvec(f, "origin", n->o), fputc(',', f), jvec(f, "direction", n->d);
+    fputc(',', f), json_vec_text(f, "origin", n->o), fputc(',', f), json_vec_text(f, "direction", n->d);
     fprintf(f, ",\"medium\":%d,\"n_medium\":", n->medium);
-    jnum(f, n->n_medium);
-    fputc(',', f), jcol(f, "weight", w);
-    fputc(',', f), jcol(f, "factor", n->weight);
-    fputc(',', f), jcol(f, "contribution", c);
+    json_num_text(f, n->n_medium);
+    fputc(',', f), json_color_text(f, "weight", w);
+    fputc(',', f), json_color_text(f, "factor", n->weight);
+    fputc(',', f), json_color_text(f, "contribution", c);
     fprintf(f, ",\"share\":");
-    jnum(f, share_of(c, base));
-    fputc(',', f), jcol(f, "absorption", n->absorption);
+    json_num_text(f, share_of(c, base));
+    fputc(',', f), json_color_text(f, "absorption", n->absorption);
     fprintf(f, ",\"stop\":\"%s\",", ggStopName(n->stop));
-    jcol(f, "color", n->color);
+    json_color_text(f, "color", n->color);
     if (n->nodes >= 0)
         fprintf(f, ",\"traversal\":{\"nodes\":%ld,\"prims\":%ld}", n->nodes, n->prims);
     else
@@ -352,31 +327,31 @@ static void json_node(FILE *f, const trace_view *v, int i, const ggColor *wp, do
     } else {
         fprintf(f, "{\"object\":%d,\"shape\":\"%s\",\"line\":%d,\"material\":%d,\"t\":", n->object,
                 ggShapeKindName(n->shape), n->line, n->material);
-        jnum(f, n->t);
+        json_num_text(f, n->t);
         json_face(f, v->scene, n);
-        fputc(',', f), jvec(f, "point", n->p), fputc(',', f), jvec(f, "ng", n->ng);
-        fputc(',', f), jvec(f, "ns", n->ns);
+        fputc(',', f), json_vec_text(f, "point", n->p), fputc(',', f), json_vec_text(f, "ng", n->ng);
+        fputc(',', f), json_vec_text(f, "ns", n->ns);
         fprintf(f, ",\"numeric\":{\"perr\":");
-        jnum(f, n->perr);
+        json_num_text(f, n->perr);
         fprintf(f, ",\"offset\":");
-        jnum(f, n->offset);
+        json_num_text(f, n->offset);
         fprintf(f, ",\"tir_margin\":");
-        jopt(f, n->tir_margin);
+        json_num_opt(f, n->tir_margin);
         fprintf(f, ",\"edge\":");
-        jopt(f, n->edge);
+        json_num_opt(f, n->edge);
         fputc('}', f);
         fprintf(f, ",\"front\":%s,\"uv\":[", n->front ? "true" : "false");
-        jnum(f, n->u), fputc(',', f), jnum(f, n->v);
+        json_num_text(f, n->u), fputc(',', f), json_num_text(f, n->v);
         fprintf(f, "],\"n_other\":");
-        jnum(f, n->n_other);
-        fputc(',', f), jcol(f, "surface", n->surface);
-        fputc(',', f), jcol(f, "emission", n->emission);
-        fputc(',', f), jcol(f, "ambient", n->ambient);
+        json_num_text(f, n->n_other);
+        fputc(',', f), json_color_text(f, "surface", n->surface);
+        fputc(',', f), json_color_text(f, "emission", n->emission);
+        fputc(',', f), json_color_text(f, "ambient", n->ambient);
         fprintf(f, ",\"fresnel\":");
-        if (n->fresnel >= 0) jnum(f, n->fresnel);
+        if (n->fresnel >= 0) json_num_text(f, n->fresnel);
         else fprintf(f, "null");
-        fputc(',', f), jcol(f, "reflect_factor", n->reflect_weight);
-        fputc(',', f), jcol(f, "refract_factor", n->refract_weight);
+        fputc(',', f), json_color_text(f, "reflect_factor", n->reflect_weight);
+        fputc(',', f), json_color_text(f, "refract_factor", n->refract_weight);
         fprintf(f, ",\"lights\":[");
         for (l = 0; l < n->nlights; l++) {
             const ggTraceLight *L = ggTraceGetLight(v->trace, (size_t)(n->first_light + l));
@@ -386,14 +361,14 @@ static void json_node(FILE *f, const trace_view *v, int i, const ggColor *wp, do
             if (L->occluder >= 0) fprintf(f, "%d", L->occluder);
             else fprintf(f, "null");
             if (L->verdict != GG_SHADOW_FACING_AWAY) {
-                fputc(',', f), jvec(f, "origin", L->origin);
-                fputc(',', f), jvec(f, "direction", L->dir);
+                fputc(',', f), json_vec_text(f, "origin", L->origin);
+                fputc(',', f), json_vec_text(f, "direction", L->dir);
                 fprintf(f, ",\"t_block\":");
-                jnum(f, L->t_block);
+                json_num_text(f, L->t_block);
             }
-            fputc(',', f), jcol(f, "transmittance", L->transmittance);
-            fputc(',', f), jcol(f, "diffuse", L->diffuse);
-            fputc(',', f), jcol(f, "phong", L->phong);
+            fputc(',', f), json_color_text(f, "transmittance", L->transmittance);
+            fputc(',', f), json_color_text(f, "diffuse", L->diffuse);
+            fputc(',', f), json_color_text(f, "phong", L->phong);
             fputc('}', f);
         }
         fprintf(f, "]}");
@@ -412,18 +387,14 @@ void trace_print_json(FILE *f, const trace_view *v)
     int first = 1;
     double base = share_base(v);
     fprintf(f, "{\"ggrt_trace\":2,\"version\":2,\"scene\":");
-    jstr(f, v->path);
+    json_str(f, v->path);
     fprintf(f, ",\"pixel\":[%d,%d],\"sample\":", v->x, v->y);
     if (v->sample >= 0) fprintf(f, "%d", v->sample);
     else fprintf(f, "null");
     fputc(',', f);
-    jcol(f, "color", v->pixel);
-    /* reflect counts the TIR rays too; tir says how many of them. */
-    fprintf(f, ",\"stats\":{\"eye\":%llu,\"reflect\":%llu,\"refract\":%llu,\"shadow\":%llu,"
-               "\"tir\":%llu},\"roots\":[",
-            (unsigned long long)v->stats.eye, (unsigned long long)v->stats.reflect,
-            (unsigned long long)v->stats.refract, (unsigned long long)v->stats.shadow,
-            (unsigned long long)v->stats.tir);
+    json_color_text(f, "color", v->pixel);
+    fputc(',', f), json_stats(f, "stats", &v->stats);
+    fprintf(f, ",\"roots\":[");
     for (i = 0; i < n; i++)
         if (ggTraceGetNode(v->trace, i)->parent < 0) {
             if (!first) fputc(',', f);
