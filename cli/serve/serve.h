@@ -201,9 +201,8 @@ void srv_result_free(srv_result *r);
 
 /* ---- pictures ---- */
 
-/* An 8-bit sRGB PNG of w x h RGB floats, encoded as ggImageWritePNG
-   encodes (clamp to [0,1], NaN to 0, sRGB, rounded in linear space
-   against the level midpoints), stored without compression. Returns a
+/* An 8-bit sRGB PNG of w x h RGB floats, the bytes ggImageWritePNG
+   writes (ggLinearToSRGB8), stored without compression. Returns a
    malloc'ed buffer and its size, or NULL if out of memory. */
 unsigned char *srv_png(const float *rgb, int w, int h, size_t *len);
 

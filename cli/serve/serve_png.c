@@ -48,28 +48,13 @@ static unsigned char *chunk(unsigned char *p, const char *t, size_t n)
     return be32(p + 8 + n, crc(p + 4, n + 4));
 }
 
-/* thr[k] is the linear value of the sRGB level midpoint (k - 0.5) / 255: a
-   value encodes to the largest k with thr[k] <= v, as in ggImageWritePNG
-   (lib/imageio/image_png.c), so both give the same bytes. */
-static unsigned char encode8(const double thr[256], float v)
-{
-    double c = v;
-    int lo = 0, step;
-    if (!(c > 0.0)) return 0; /* also NaN */
-    if (c >= 1.0) return 255;
-    for (step = 128; step > 0; step >>= 1)
-        if (lo + step < 256 && thr[lo + step] <= c) lo += step;
-    return (unsigned char)lo;
-}
-
 unsigned char *srv_png(const float *rgb, int w, int h, size_t *len)
 {
     static const unsigned char sig[8] = {137, 80, 78, 71, 13, 10, 26, 10};
     size_t row, raw, blocks, total, i, done;
     unsigned char *out, *data, *p, *d;
     uint32_t a = 1, b = 0;
-    double thr[256];
-    int x, y, k;
+    int y;
     if (w <= 0 || h <= 0) return NULL;
     row = (size_t)w * 3 + 1, raw = row * (size_t)h, blocks = (raw + 65534) / 65535;
     total = 8 + (12 + 13) + (12 + 2 + raw + 5 * blocks + 4) + 12;
@@ -80,11 +65,14 @@ unsigned char *srv_png(const float *rgb, int w, int h, size_t *len)
         return NULL;
     }
     pthread_once(&crc_once, crc_init);
-    thr[0] = 0.0;
-    for (k = 1; k < 256; k++) thr[k] = ggSRGBToLinear((k - 0.5) / 255.0);
-    for (y = 0, d = data; y < h; y++) {
-        *d++ = 0; /* filter type 0: none */
-        for (x = 0; x < w * 3; x++) *d++ = encode8(thr, rgb[(size_t)y * w * 3 + x]);
+    /* The bytes ggImageWritePNG writes (ggLinearToSRGB8), encoded into the
+       last raw - h bytes, then each row moved down behind its filter
+       byte: row y's destination ends before row y + 1's source begins. */
+    ggLinearToSRGB8(rgb, data + h, raw - (size_t)h);
+    for (y = 0; y < h; y++) {
+        d = data + (size_t)y * row;
+        d[0] = 0; /* filter type 0: none */
+        memmove(d + 1, data + h + (size_t)y * (row - 1), row - 1);
     }
     /* Adler-32 (RFC 1950, 8.2), reduced every 5552 bytes as zlib does. */
     for (i = 0; i < raw;) {
