@@ -159,7 +159,7 @@ static void queue_first_render(srv_server *s)
     srv_job_view v;
     char text[1024], key[2048];
     memset(&sp, 0, sizeof sp);
-    sp.type = SRV_JOB_RENDER, sp.kind = SRV_KIND_IMAGE, sp.opt = s->cfg.opt;
+    sp.type = SRV_TYPE_RENDER, sp.kind = SRV_KIND_IMAGE, sp.opt = s->cfg.opt;
     ggRenderOptionsFormat(&sp.opt, text, sizeof text);
     snprintf(key, sizeof key, "render %d|%s", SRV_KIND_IMAGE, text);
     srv_jobs_request(s, key, &sp, &v);

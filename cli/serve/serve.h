@@ -127,14 +127,16 @@ int srv_param_allowed(const char *path, const char *key);
 
 /* ---- jobs: renders, find, check, diff (serve_jobs.c, serve_debug.c) ---- */
 
-/* What a job computes. */
-#define SRV_JOB_RENDER 0 /* the image, or a cost map (kind) */
-#define SRV_JOB_FIND   1 /* ggFind */
-#define SRV_JOB_CHECK  2 /* ggCheck */
-#define SRV_JOB_DIFF   3 /* ggDiff of options A and B */
+/* What a job computes (srv_job_spec.type). */
+enum srv_job_type {
+    SRV_TYPE_RENDER, /* the image, or a cost map (kind) */
+    SRV_TYPE_FIND,   /* ggFind */
+    SRV_TYPE_CHECK,  /* ggCheck */
+    SRV_TYPE_DIFF    /* ggDiff of options A and B */
+};
 
 typedef struct srv_job_spec {
-    int type;              /* SRV_JOB_* */
+    int type;              /* enum srv_job_type: SRV_TYPE_* */
     int kind;              /* render: SRV_KIND_IMAGE or GG_COST_* */
     ggRenderOptions opt;   /* the options (A) */
     ggRenderOptions opt_b; /* diff: B */
@@ -160,17 +162,15 @@ typedef struct srv_result {
 } srv_result;
 
 typedef struct srv_job_view {
-    int state; /* SRV_JOB_* */
+    int state; /* enum srv_job_state: SRV_STATE_* */
     long done, total;
     double seconds;
     ggRayStats stats;
     char error[512];
 } srv_job_view;
 
-#define SRV_JOB_QUEUED  0
-#define SRV_JOB_RUNNING 1
-#define SRV_JOB_DONE    2
-#define SRV_JOB_FAILED  3
+/* Where a job is (srv_job_view.state); the order is used (>= DONE: over). */
+enum srv_job_state { SRV_STATE_QUEUED, SRV_STATE_RUNNING, SRV_STATE_DONE, SRV_STATE_FAILED };
 
 int srv_jobs_start(srv_server *s, ggError *err);
 /* Cancel the running job and stop taking jobs (shutdown, first step). */

@@ -160,9 +160,9 @@ int srv_band_debug(srv_server *s, srv_result *r, const ggRenderOptions *o,
                    const ggRenderOptions *ob, int y0, int y1, ggError *err)
 {
     switch (r->spec.type) {
-    case SRV_JOB_FIND:
+    case SRV_TYPE_FIND:
         return band_find(s, r, o, y0, y1, err);
-    case SRV_JOB_CHECK:
+    case SRV_TYPE_CHECK:
         return band_check(s, r, o, err);
     default:
         return band_diff(s, r, o, ob, y0, y1, err);

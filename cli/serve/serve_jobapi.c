@@ -39,22 +39,22 @@ static int job_ready(srv_server *s, const char *key, const srv_job_spec *spec, s
         retry_after(resp, "2");
         return 0;
     }
-    if (v.state == SRV_JOB_DONE && !always_report) return 1;
-    if (v.state == SRV_JOB_FAILED) {
+    if (v.state == SRV_STATE_DONE && !always_report) return 1;
+    if (v.state == SRV_STATE_FAILED) {
         srv_error(resp, 500, "failed: %s", v.error);
         return 0;
     }
-    f = srv_body_open(resp, v.state == SRV_JOB_DONE ? 200 : 202, "application/json");
+    f = srv_body_open(resp, v.state == SRV_STATE_DONE ? 200 : 202, "application/json");
     if (f) {
         fprintf(f, "{\"job\":");
         srv_job_json(f, &v);
         fputc(',', f), json_options(f, "options", &spec->opt);
-        if (spec->type == SRV_JOB_DIFF) fputc(',', f), json_options(f, "options_b", &spec->opt_b);
+        if (spec->type == SRV_TYPE_DIFF) fputc(',', f), json_options(f, "options_b", &spec->opt_b);
         fprintf(f, "}\n");
     }
     srv_body_close(resp, f);
-    if (v.state != SRV_JOB_DONE) retry_after(resp, "1");
-    return v.state == SRV_JOB_DONE;
+    if (v.state != SRV_STATE_DONE) retry_after(resp, "1");
+    return v.state == SRV_STATE_DONE;
 }
 
 static int kind_arg(const srv_req *r, int *kind, srv_resp *resp)
@@ -100,7 +100,7 @@ static int render_spec(srv_server *s, const srv_req *r, srv_job_spec *sp, char *
 {
     char text[512];
     memset(sp, 0, sizeof *sp);
-    sp->type = SRV_JOB_RENDER;
+    sp->type = SRV_TYPE_RENDER;
     if (kind_arg(r, &sp->kind, resp) ||
         srv_opts_parse(s, r, "opts", &sp->opt, text, sizeof text, resp))
         return -1;
@@ -241,7 +241,7 @@ void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp)
         return;
     }
     ggPredicateFree(pred);
-    sp.type = SRV_JOB_FIND, sp.where = where;
+    sp.type = SRV_TYPE_FIND, sp.where = where;
     snprintf(key, sizeof key, "find %d|%s|%s", sp.limit, text, where);
     if (!job_ready(s, key, &sp, resp, 0)) return;
     if (!(res = srv_jobs_acquire(s, key))) {
@@ -298,7 +298,7 @@ void srv_api_check(srv_server *s, const srv_req *r, srv_resp *resp)
         check_pixel(s, r, &sp.opt, resp);
         return;
     }
-    sp.type = SRV_JOB_CHECK;
+    sp.type = SRV_TYPE_CHECK;
     snprintf(key, sizeof key, "check|%s", text);
     if (!job_ready(s, key, &sp, resp, 0)) return;
     if (!(res = srv_jobs_acquire(s, key))) {
@@ -369,7 +369,7 @@ void srv_api_diff(srv_server *s, const srv_req *r, srv_resp *resp)
         srv_opts_parse(s, r, "opts", &sp.opt, ta, sizeof ta, resp) ||
         srv_opts_parse(s, r, "b", &sp.opt_b, tb, sizeof tb, resp))
         return;
-    sp.type = SRV_JOB_DIFF;
+    sp.type = SRV_TYPE_DIFF;
     snprintf(key, sizeof key, "diff %d|%s|%s", sp.limit, ta, tb);
     if (!job_ready(s, key, &sp, resp, 0)) return;
     if (!(res = srv_jobs_acquire(s, key))) {

@@ -105,7 +105,7 @@ static void band_options(const ggRenderOptions *in, ggRenderOptions *o, const sr
     *o = *in;
     o->width = r->width, o->height = r->height;
     o->crop_x0 = 0, o->crop_x1 = r->width, o->crop_y0 = y, o->crop_y1 = y + rows;
-    o->cost_map = r->spec.type == SRV_JOB_RENDER && r->spec.kind >= 0 ? r->cost : NULL;
+    o->cost_map = r->spec.type == SRV_TYPE_RENDER && r->spec.kind >= 0 ? r->cost : NULL;
     o->cost_kind = r->spec.kind >= 0 ? r->spec.kind : 0;
     o->progress = band_progress, o->progress_ud = b;
 }
@@ -125,7 +125,7 @@ static int run_bands(srv_server *s, job *j, ggError *err)
         band_options(&r->spec.opt_b, &ob, r, y, rows, &b);
         b.band = (long)rows * w;
         t = now();
-        if (r->spec.type == SRV_JOB_RENDER)
+        if (r->spec.type == SRV_TYPE_RENDER)
             rc = band_render(s, r, &o, y, y + rows, err);
         else
             rc = srv_band_debug(s, r, &o, &ob, y, y + rows, err);
@@ -142,7 +142,7 @@ static int run_bands(srv_server *s, job *j, ggError *err)
             rows = want < 16 ? 16 : (int)want / 16 * 16;
         }
     }
-    if (rc == GG_OK && r->spec.type != SRV_JOB_RENDER) srv_debug_finish(r);
+    if (rc == GG_OK && r->spec.type != SRV_TYPE_RENDER) srv_debug_finish(r);
     if (rc == GG_ERROR_CANCELLED && now() - j->t0 > s->cfg.job_seconds)
         snprintf(err->message, sizeof err->message,
                  "cancelled: still running after %d s (docs/serve.md, limits)", s->cfg.job_seconds);
@@ -154,16 +154,16 @@ static int job_alloc(srv_server *s, srv_result *r, ggError *err)
 {
     size_t n = (size_t)r->width * (size_t)r->height;
     int t = r->spec.type;
-    r->px = t == SRV_JOB_RENDER || t == SRV_JOB_DIFF ? calloc(n * 3, sizeof *r->px) : NULL;
-    r->px_b = t == SRV_JOB_DIFF ? calloc(n * 3, sizeof *r->px_b) : NULL;
-    r->cost = t == SRV_JOB_RENDER && r->spec.kind >= 0 ? calloc(n, sizeof *r->cost) : NULL;
-    if (((t == SRV_JOB_RENDER || t == SRV_JOB_DIFF) && !r->px) || (t == SRV_JOB_DIFF && !r->px_b) ||
-        (t == SRV_JOB_RENDER && r->spec.kind >= 0 && !r->cost)) {
+    r->px = t == SRV_TYPE_RENDER || t == SRV_TYPE_DIFF ? calloc(n * 3, sizeof *r->px) : NULL;
+    r->px_b = t == SRV_TYPE_DIFF ? calloc(n * 3, sizeof *r->px_b) : NULL;
+    r->cost = t == SRV_TYPE_RENDER && r->spec.kind >= 0 ? calloc(n, sizeof *r->cost) : NULL;
+    if (((t == SRV_TYPE_RENDER || t == SRV_TYPE_DIFF) && !r->px) || (t == SRV_TYPE_DIFF && !r->px_b) ||
+        (t == SRV_TYPE_RENDER && r->spec.kind >= 0 && !r->cost)) {
         snprintf(err->message, sizeof err->message, "out of memory for a %dx%d job", r->width,
                  r->height);
         return GG_ERROR_NOMEM;
     }
-    if (t == SRV_JOB_FIND) return ggPredicateParse(r->where, NULL, &r->pred, err);
+    if (t == SRV_TYPE_FIND) return ggPredicateParse(r->where, NULL, &r->pred, err);
     (void)s;
     return GG_OK;
 }
@@ -175,7 +175,7 @@ static void run_job(srv_server *s, job *j)
     int rc;
     err.message[0] = '\0';
     pthread_mutex_lock(&J->mu);
-    j->state = SRV_JOB_RUNNING;
+    j->state = SRV_STATE_RUNNING;
     j->t0 = now();
     j->done = 0, j->total = (long)j->res.width * j->res.height;
     pthread_mutex_unlock(&J->mu);
@@ -186,10 +186,10 @@ static void run_job(srv_server *s, job *j)
     pthread_mutex_lock(&J->mu);
     j->seconds = now() - j->t0;
     if (rc == GG_OK) {
-        j->state = SRV_JOB_DONE;
+        j->state = SRV_STATE_DONE;
         j->done = j->total;
     } else {
-        j->state = SRV_JOB_FAILED;
+        j->state = SRV_STATE_FAILED;
         snprintf(j->error, sizeof j->error, "%s", err.message);
         srv_result_free(&j->res);
     }
@@ -202,7 +202,7 @@ static job *next_queued(struct srv_jobs *J)
     int i;
     for (i = 0; i < SRV_MAX_JOBS; i++) {
         job *j = &J->jobs[i];
-        if (j->used && j->state == SRV_JOB_QUEUED && (!best || j->queued < best->queued)) best = j;
+        if (j->used && j->state == SRV_STATE_QUEUED && (!best || j->queued < best->queued)) best = j;
     }
     return best;
 }
@@ -278,8 +278,8 @@ static void view_of(const job *j, srv_job_view *v)
 {
     v->state = j->state;
     v->done = j->done, v->total = j->total;
-    v->seconds = j->state >= SRV_JOB_DONE      ? j->seconds
-                 : j->state == SRV_JOB_RUNNING ? now() - j->t0
+    v->seconds = j->state >= SRV_STATE_DONE      ? j->seconds
+                 : j->state == SRV_STATE_RUNNING ? now() - j->t0
                                                : 0;
     v->stats = j->res.stats;
     snprintf(v->error, sizeof v->error, "%s", j->error);
@@ -302,7 +302,7 @@ static job *slot(struct srv_jobs *J)
     for (i = 0; i < SRV_MAX_JOBS; i++) {
         job *j = &J->jobs[i];
         if (!j->used) return j;
-        if (j->state >= SRV_JOB_DONE && !j->readers && (!lru || j->stamp < lru->stamp)) lru = j;
+        if (j->state >= SRV_STATE_DONE && !j->readers && (!lru || j->stamp < lru->stamp)) lru = j;
     }
     if (lru) {
         srv_result_free(&lru->res);
@@ -320,7 +320,7 @@ static int fill_job(srv_server *s, job *j, const char *key, const srv_job_spec *
     if (spec->where && !(j->res.where = strdup(spec->where))) return -1;
     j->res.spec.where = j->res.where;
     j->used = 1;
-    j->state = SRV_JOB_QUEUED;
+    j->state = SRV_STATE_QUEUED;
     j->total = (long)s->cfg.width * s->cfg.height;
     return 0;
 }
@@ -356,7 +356,7 @@ int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, s
         /* A failure is this request's answer, not the job's for good:
            the slot is freed (run_job freed the results) so that the next
            request runs the job again. */
-        if (j->state == SRV_JOB_FAILED) memset(j, 0, sizeof *j);
+        if (j->state == SRV_STATE_FAILED) memset(j, 0, sizeof *j);
     } else if (!rc) {
         snprintf(view->error, sizeof view->error,
                  "all %d job slots are queued, running or being read; retry when one is done",
@@ -374,7 +374,7 @@ const srv_result *srv_jobs_acquire(srv_server *s, const char *key)
     job *j;
     pthread_mutex_lock(&J->mu);
     j = find(J, key);
-    if (j && j->state == SRV_JOB_DONE) {
+    if (j && j->state == SRV_STATE_DONE) {
         j->readers++;
         r = &j->res;
     }
@@ -399,7 +399,7 @@ void srv_job_json(FILE *f, const srv_job_view *v)
     fprintf(f, "{\"state\":\"%s\",\"done\":%ld,\"total\":%ld,\"seconds\":", names[v->state],
             v->done, v->total);
     json_num(f, v->seconds);
-    if (v->state == SRV_JOB_DONE)
+    if (v->state == SRV_STATE_DONE)
         fprintf(f,
                 ",\"stats\":{\"eye\":%llu,\"eye_hit\":%llu,\"reflect\":%llu,\"refract\":%llu,"
                 "\"shadow\":%llu,\"tir\":%llu,\"nonfinite\":%llu,\"max_depth\":%llu}",
@@ -407,7 +407,7 @@ void srv_job_json(FILE *f, const srv_job_view *v)
                 (unsigned long long)v->stats.reflect, (unsigned long long)v->stats.refract,
                 (unsigned long long)v->stats.shadow, (unsigned long long)v->stats.tir,
                 (unsigned long long)v->stats.nonfinite, (unsigned long long)v->stats.max_depth);
-    if (v->state == SRV_JOB_FAILED) {
+    if (v->state == SRV_STATE_FAILED) {
         fprintf(f, ",\"error\":");
         json_str(f, v->error);
     }
