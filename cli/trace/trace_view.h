@@ -19,13 +19,16 @@ typedef struct trace_view {
     int hide_numeric;       /* text: leave out each hit's numeric state */
 } trace_view;
 
+/* Text and JSON (trace_text.c). */
 void trace_print_text(FILE *f, const trace_view *v, int utf8);
 void trace_print_json(FILE *f, const trace_view *v);
-/* Write to f; the caller checks f for errors (cli_out_close). */
+/* SVG (trace_svg.c). Write to f; the caller checks f for errors
+   (cli_out_close). */
 void trace_write_svg(FILE *f, const trace_view *v);
 /* The same; camera 0 leaves out the camera view (a small render of the
    whole scene, through a temporary PNG file): ggrt serve's views. */
 void trace_write_svg_views(FILE *f, const trace_view *v, int camera);
+/* OBJ lines (trace_obj.c); the same error rule as SVG. */
 void trace_write_obj(FILE *f, const trace_view *v);
 
 /* The ledger (trace_debug.c): terms by share, with the rays that carried
