@@ -35,7 +35,7 @@ void dbg_progress_end(dbg_progress_state *p)
     int sig;
     if (p->draw && p->last_pct >= 0) fputc('\n', stderr);
     if ((sig = cli_cancelled()) != 0) {
-        fprintf(stderr, "ggrt %s: cancelled by signal %d\n", p->what, sig);
+        cli_error_in(p->what, "cancelled by signal %d", sig);
         cli_cancel_exit(sig);
     }
 }
@@ -45,7 +45,7 @@ int dbg_predicate_error(const char *cmd, const char *text, const ggError *err)
 {
     int line = 0, col = 0, l;
     const char *p = text, *e;
-    fprintf(stderr, "ggrt %s: --where:%s\n", cmd, err->message);
+    cli_error_in(cmd, "--where:%s", err->message);
     if (sscanf(err->message, "%d:%d:", &line, &col) != 2 || line < 1 || col < 1) return EXIT_USAGE;
     for (l = 1; l < line && p; l++) p = (p = strchr(p, '\n')) ? p + 1 : NULL;
     if (!p) return EXIT_USAGE;
@@ -92,7 +92,7 @@ int dbg_write_map(const char *cmd, const char *path, const unsigned char *map, i
     int rc;
     if ((rc = cli_check_output(cmd, path)) != 0) return rc;
     if (!(img = ggImageCreate(w, h, NULL))) {
-        fprintf(stderr, "ggrt %s: out of memory for a %dx%d image\n", cmd, w, h);
+        cli_error_in(cmd, "out of memory for a %dx%d image", w, h);
         return EXIT_INPUT;
     }
     p = ggImagePixels(img);
