@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** main.c -- `ggrt bench NAME [options]`: which benchmark, with which
+** cmd_bench.c -- `ggrt bench NAME [options]`: which benchmark, with which
 ** options. Every figure is measured in the same run it is printed in.
 */
 #include "bench/bench.h"

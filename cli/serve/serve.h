@@ -214,7 +214,7 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen);
 /* Stop listening, finish the requests under way, free. NULL is a no-op. */
 void srv_http_stop(srv_http *h);
 
-/* ---- the page (generated from cli/web/ by cli/web/embed.sh) ---- */
+/* ---- the page (generated from cli/serve/web/ by cli/serve/web/embed.sh) ---- */
 typedef struct srv_asset {
     const char *path, *type;
     const unsigned char *data;

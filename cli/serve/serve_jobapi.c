@@ -5,7 +5,7 @@
 ** names its job by the canonical text of its options, starts it or finds
 ** it, and answers 202 with its progress until it is done; the JSON of a
 ** finished find, check or diff is what the command line prints with
-** --format json (cli/debug_out.c writes both).
+** --format json (cli/debug/debug.c writes both).
 */
 #if defined(GG_HAVE_MHD)
 #include "serve/serve.h"
