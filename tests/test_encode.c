@@ -22,7 +22,7 @@ static void test_utf8_length(void **state)
 {
     (void)state;
     assert_int_equal(ulen("a"), 1);
-    assert_int_equal(ggUTF8Length("\0x", 2), 1); /* NUL is one byte */
+    assert_int_equal(ggUTF8Length("\0x", 2), 1);   /* NUL is one byte */
     assert_int_equal(ulen("\xc3\xa9"), 2);         /* U+00E9 */
     assert_int_equal(ulen("\xe2\x82\xac"), 3);     /* U+20AC */
     assert_int_equal(ulen("\xf0\x9f\x98\x80"), 4); /* U+1F600 */
@@ -53,8 +53,8 @@ static void test_utf8_valid(void **state)
     assert_true(ggUTF8Valid("", 0));
     assert_true(ggUTF8Valid("x", 0)); /* n bytes only */
     assert_true(ggUTF8Valid("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80", 14));
-    assert_false(ggUTF8Valid("caf\xc3", 4));      /* cut in the middle */
-    assert_true(ggUTF8Valid("caf\xc3\xa9", 3));   /* the n bytes are whole */
+    assert_false(ggUTF8Valid("caf\xc3", 4));        /* cut in the middle */
+    assert_true(ggUTF8Valid("caf\xc3\xa9", 3));     /* the n bytes are whole */
     assert_false(ggUTF8Valid("ok\xed\xa0\x80", 5)); /* a surrogate */
     assert_false(ggUTF8Valid("ok\xff", 3));
     assert_true(ggUTF8Valid("a\0b", 3)); /* NUL is UTF-8 */
@@ -69,10 +69,14 @@ static int decode_len(const unsigned char *s, size_t n)
     int k, i;
     if (!n) return 0;
     if (s[0] < 0x80) return 1;
-    if ((s[0] & 0xe0) == 0xc0) k = 2, cp = s[0] & 0x1f;
-    else if ((s[0] & 0xf0) == 0xe0) k = 3, cp = s[0] & 0x0f;
-    else if ((s[0] & 0xf8) == 0xf0) k = 4, cp = s[0] & 0x07;
-    else return 0;
+    if ((s[0] & 0xe0) == 0xc0)
+        k = 2, cp = s[0] & 0x1f;
+    else if ((s[0] & 0xf0) == 0xe0)
+        k = 3, cp = s[0] & 0x0f;
+    else if ((s[0] & 0xf8) == 0xf0)
+        k = 4, cp = s[0] & 0x07;
+    else
+        return 0;
     if ((size_t)k > n) return 0;
     for (i = 1; i < k; i++) {
         if ((s[i] & 0xc0) != 0x80) return 0;

@@ -51,7 +51,8 @@ void json_str(FILE *f, const char *s)
     fputc('"', f);
 }
 
-static void triple(FILE *f, const char *key, double a, double b, double c, void (*num)(FILE *, double))
+static void triple(FILE *f, const char *key, double a, double b, double c,
+                   void (*num)(FILE *, double))
 {
     if (key) fprintf(f, "\"%s\":", key);
     fputc('[', f);

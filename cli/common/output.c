@@ -73,7 +73,8 @@ int cli_out_open(cli_out *o, const char *cmd, const char *path)
     snprintf(o->tmp, sizeof o->tmp, "%s.tmp%ld", path, (long)getpid());
     fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
     if (fd < 0 || !(o->f = fdopen(fd, "w"))) {
-        cli_error_in(cmd, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
+        cli_error_in(cmd, "%s: cannot create a temporary file beside it: %s", path,
+                     strerror(errno));
         if (fd >= 0) close(fd), unlink(o->tmp);
         return EXIT_IO;
     }
