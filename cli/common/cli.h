@@ -21,9 +21,6 @@
 
 /* Each subcommand: argv[0] is the subcommand's name. */
 int cmd_optics(int argc, char **argv);
-/* `ggrt optics check` and `ggrt optics seeds` (optics/optics_check.c). */
-int cli_optics_check(int argc, char **argv);
-int cli_optics_seeds(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_trace(int argc, char **argv);
 int cmd_info(int argc, char **argv);

@@ -12,6 +12,7 @@
 **   ggrt optics seeds   DIR                                          (optics_check.c)
 */
 #include "common/cli.h"
+#include "optics/optics_check.h"
 
 #include <math.h>
 #include <string.h>

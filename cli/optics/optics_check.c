@@ -10,6 +10,7 @@
 #include "common/cli.h"
 #include "common/json.h"
 #include "optics/optics_cases.h"
+#include "optics/optics_check.h"
 
 #include <dlfcn.h>
 #include <errno.h>
