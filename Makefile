@@ -72,7 +72,7 @@ EXR_LIBS   := -lOpenEXRCore
 IMG_LIBS    = $(PNG_LIBS) $(EXR_LIBS)
 SYS_LIBS    = -lm -lpthread
 
-# ggrt serve (cli/serve*.c) is built with libmicrohttpd when pkg-config finds
+# ggrt serve (cli/serve/) is built with libmicrohttpd when pkg-config finds
 # it (-DGG_HAVE_MHD); without it the rest of the CLI builds the same and
 # `ggrt serve` says what to install. scripts/deps.sh: group serve.
 MHD_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libmicrohttpd 2>/dev/null))
@@ -80,13 +80,13 @@ MHD_LIBS   := $(shell pkg-config --libs libmicrohttpd 2>/dev/null)
 CLI_DEFS   =
 CLI_LIBS   =
 ifneq ($(MHD_LIBS),)
-ifneq ($(wildcard cli/serve*.c),)
+ifneq ($(wildcard cli/serve/*.c),)
 CLI_DEFS   = -DGG_HAVE_MHD $(MHD_CFLAGS)
 CLI_LIBS   = $(MHD_LIBS)
 endif
 endif
-# The page served by ggrt serve (cli/web/), compiled into the binary.
-WEB_SRC := $(sort $(wildcard cli/web/*.html cli/web/*.css cli/web/*.js))
+# The page served by ggrt serve (cli/serve/web/), compiled into the binary.
+WEB_SRC := $(sort $(wildcard cli/serve/web/*.html cli/serve/web/*.css cli/serve/web/*.js))
 
 # The library's layers, bottom to top (docs/internals.md). lib/L is compiled
 # with include paths for the layers in L_SEES only -- itself and layers below
@@ -145,8 +145,9 @@ IO_OBJ   := $(filter $(BUILD)/lib/imageio/%,$(LIB_OBJ))
 NOREADER_OBJ := $(BUILD)/lib/load/reader_none.o
 FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
-CLI_SRC  := $(sort $(wildcard cli/*.c cli/bench/*.c))
-CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/web_assets.o)
+# cli/main.c and one folder per command or group, cli/common/ shared (docs/internals.md).
+CLI_SRC  := $(sort $(wildcard cli/*.c cli/*/*.c))
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/serve/web_assets.o)
 # The cmocka suites: tests/unit/LAYER/ (one layer's code) and tests/api/
 # (contracts of every public function); each builds to the same path under
 # $(BUILD) (build/tests/unit/geom/test_bvh).
@@ -229,9 +230,11 @@ $(BUILD)/libggrt.so: $(SHARED)
 	ln -sf libggrt.so.$(VERSION) $@
 
 # The CLI sees only the public header (no -Ilib): it is a client of the API.
+# Its includes name their folder ("common/cli.h", "serve/serve.h"): -Icli.
+CLI_INC = -Icli
 $(BUILD)/cli/%.o: cli/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 # Whether serve is built in: a file that changes only when that does, so
 # that installing libmicrohttpd (or `make MHD_LIBS=` to leave it out)
@@ -239,18 +242,17 @@ $(BUILD)/cli/%.o: cli/%.c
 $(BUILD)/cli/serve.flag: FORCE
 	@mkdir -p $(@D)
 	@[ "`cat $@ 2>/dev/null`" = "mhd=$(CLI_LIBS)" ] || echo "mhd=$(CLI_LIBS)" > $@
-$(BUILD)/cli/cmd_serve.o $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(wildcard cli/serve_*.c)): \
-  $(BUILD)/cli/serve.flag
+$(patsubst cli/%.c,$(BUILD)/cli/%.o,$(wildcard cli/serve/*.c)): $(BUILD)/cli/serve.flag
 FORCE:
 
 # The page, compiled into the binary (nothing is read from disk at run time).
-$(BUILD)/cli/web_assets.c: $(WEB_SRC) cli/web/embed.sh
+$(BUILD)/cli/serve/web_assets.c: $(WEB_SRC) cli/serve/web/embed.sh
 	@mkdir -p $(@D)
-	sh cli/web/embed.sh $(WEB_SRC) > $@.tmp && mv $@.tmp $@
-$(BUILD)/cli/web_assets.o: $(BUILD)/cli/web_assets.c
-	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) -Icli $(GG_WARN) $(CFLAGS) -c $< -o $@
+	sh cli/serve/web/embed.sh $(WEB_SRC) > $@.tmp && mv $@.tmp $@
+$(BUILD)/cli/serve/web_assets.o: $(BUILD)/cli/serve/web_assets.c
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
-# -ldl: `ggrt optics check --lib` (cli/optics_check.c); the library never loads code.
+# -ldl: `ggrt optics check --lib` (cli/optics/optics_check.c); the library never loads code.
 $(CLI): $(CLI_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS) -ldl
 
@@ -566,11 +568,11 @@ bench-%: $(BUILD)/bench/bench_%
 	$<
 
 format:
-	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*.h cli/bench/*.c cli/bench/*.h \
+	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*/*.c cli/*/*.h \
 	  tests/*/*.c tests/unit/*/*.c tests/common/*.h bench/*.c examples/*.c
 
 clean:
 	rm -rf $(BUILD)
 
--include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/bench/*.d \
+-include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/*/*.d \
   $(BUILD)/tests/*/*.d $(BUILD)/tests/unit/*/*.d)

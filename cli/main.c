@@ -2,7 +2,7 @@
 /*
 ** main.c -- `ggrt`: dispatch to a subcommand.
 */
-#include "cli.h"
+#include "common/cli.h"
 
 #include <string.h>
 

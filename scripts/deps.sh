@@ -28,7 +28,7 @@ GROUPS
 #   (CHECK_CC2 in the Makefile).
 # demo: the build and serve, since the README goes on from `make demo` to
 #   `ggrt serve`.
-# serve: ggrt serve (cli/serve*.c) links libmicrohttpd when pkg-config finds
+# serve: ggrt serve (cli/serve/) links libmicrohttpd when pkg-config finds
 #   it; without it the rest of ggrt builds and `ggrt serve` says what to
 #   install. browser: tests/browser* drive Chromium through Selenium.
 

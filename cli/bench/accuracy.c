@@ -14,7 +14,7 @@
 ** "changed" counts the pixels whose ray tree differs from the default's,
 ** as ggDiff finds them (include/ggrt/debug.h), one sample per pixel.
 */
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -349,19 +349,9 @@ int bench_accuracy(const bench_opts *bo)
            "accurate (samples knob: %d samples; depth knob: depth %d)\n",
            w, h, bo->threads, bo->runs, REF_SPP, REF_DEPTH);
     for (a = 0; a < bo->nargs && rc == EXIT_OK; a++) {
-        ggScene *s = ggSceneCreate(NULL), *copy = ggSceneCreate(NULL);
-        ggError err;
-        if (!s || !copy) {
-            cli_error("out of memory");
-            rc = EXIT_INPUT;
-        } else if ((rc = ggSceneLoadFile(s, bo->args[a], &err)) != GG_OK ||
-                   (rc = ggScenePrepare(s, &err)) != GG_OK ||
-                   (rc = ggSceneLoadFile(copy, bo->args[a], &err)) != GG_OK ||
-                   (rc = ggScenePrepare(copy, &err)) != GG_OK) {
-            rc = cli_fail(rc, &err, 0);
-        } else {
-            rc = sweep(s, copy, bo, bo->args[a], w, h, co.f, so.f, a * 420.0);
-        }
+        ggScene *s = cli_load_scene(bo->args[a], NULL, NULL, &rc), *copy = NULL;
+        if (s) copy = cli_load_scene(bo->args[a], NULL, NULL, &rc);
+        if (copy) rc = sweep(s, copy, bo, bo->args[a], w, h, co.f, so.f, a * 420.0);
         ggSceneFree(s);
         ggSceneFree(copy);
     }

@@ -6,7 +6,7 @@
 #ifndef GG_BENCH_H
 #define GG_BENCH_H
 
-#include "../cli.h"
+#include "common/cli.h"
 
 #define BENCH_MAX_ARGS 64
 

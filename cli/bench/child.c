@@ -5,7 +5,7 @@
 */
 /* wait4 (per-child peak memory) is a BSD interface. */
 #define _DEFAULT_SOURCE
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <stdlib.h>
 #include <string.h>

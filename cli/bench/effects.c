@@ -3,7 +3,7 @@
 ** effects.c -- `ggrt bench effects`: what simulating only the
 ** effects a scene calls for saves, and proof that it changes nothing.
 */
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <string.h>
 

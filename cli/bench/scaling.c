@@ -5,7 +5,7 @@
 ** from 1 to 2 threads with the share of the render spent outside the
 ** parallel tile loop.
 */
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <math.h>
 #include <string.h>
@@ -27,8 +27,6 @@ static double render_seconds(ggScene *s, int w, int h, int threads, int runs, gg
     }
     return bench_median(t, k);
 }
-
-static ggScene *load_prepared(const char *path);
 
 /* The tile loop seen through the progress callback: the first and the
    last report (time and pixels done). */
@@ -79,7 +77,7 @@ static int threads_table(const bench_opts *bo, int size)
 {
     static const char *const spd[] = {"balls-s4", "gears", "rings",     "tetra",
                                       "mount",    "tree",  "teapot-s12"};
-    int i;
+    int i, rc;
     printf("\nscaling: SPD scenes at %dx%d against threads (median of %d; serial = time outside "
            "the tile loop)\n",
            size, size, bo->runs);
@@ -92,7 +90,7 @@ static int threads_table(const bench_opts *bo, int size)
         int th, k, runs = bo->runs < 64 ? bo->runs : 64;
         if (!bench_selected(bo->scenes, spd[i])) continue;
         snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, spd[i]);
-        if (!(s = load_prepared(path))) return EXIT_INPUT;
+        if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
         for (k = 0; k < runs; k++)
             for (th = 1; th <= 2; th++) {
                 double ser = 0;
@@ -112,23 +110,11 @@ static int threads_table(const bench_opts *bo, int size)
     return EXIT_OK;
 }
 
-static ggScene *load_prepared(const char *path)
-{
-    ggScene *s = ggSceneCreate(NULL);
-    ggError e;
-    if (!s || ggSceneLoadFile(s, path, &e) != GG_OK || ggScenePrepare(s, &e) != GG_OK) {
-        cli_error("%s", s ? e.message : "out of memory");
-        ggSceneFree(s);
-        return NULL;
-    }
-    return s;
-}
-
 int bench_scaling(const bench_opts *bo)
 {
     static const char *const balls[] = {"balls-s1", "balls-s2", "balls-s3", "balls-s4"};
     double ns[4], tr[4];
-    int i, size = bo->size ? bo->size : 256;
+    int i, rc, size = bo->size ? bo->size : 256;
     printf("\nscaling: render time against primitive count (%dx%d, %d threads, median of %d)\n",
            size, size, bo->threads, bo->runs);
     printf("%-10s %8s %9s %10s %12s\n", "scene", "prims", "time", "rays", "ns per ray");
@@ -139,7 +125,7 @@ int bench_scaling(const bench_opts *bo)
         ggRayStats st;
         double t, rays;
         snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, balls[i]);
-        if (!(s = load_prepared(path))) return EXIT_INPUT;
+        if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
         ggSceneGetInfo(s, &in);
         t = render_seconds(s, size, size, bo->threads, bo->runs, &st);
         rays = (double)(st.eye + st.reflect + st.refract + st.shadow);
@@ -171,7 +157,7 @@ int bench_scaling(const bench_opts *bo)
         int sz[3] = {128, 256, 512}, th;
         double t1 = 0;
         snprintf(path, sizeof path, "%s/balls-s3.nff", bo->spd_dir);
-        if (!(s = load_prepared(path))) return EXIT_INPUT;
+        if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
         printf("\nscaling: balls-s3 against image size (%d threads)\n", bo->threads);
         for (i = 0; i < 3; i++) {
             double t = render_seconds(s, sz[i], sz[i], bo->threads, bo->runs, &st);

@@ -12,7 +12,7 @@
 */
 /* wait4 (POV-Ray's peak memory) is a BSD interface. */
 #define _DEFAULT_SOURCE
-#include "bench.h"
+#include "bench/bench.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -88,6 +88,19 @@ GG_API const char *ggVersion(void);
    NULL, also for unknown codes. */
 GG_API const char *ggStatusString(int code);
 
+/* UTF-8 as the library reads and shows text (file names, tokens, the
+   messages of ggError, which show every other byte as the text \xHH):
+   well-formed is RFC 3629's -- no overlong forms, no surrogates
+   (U+D800..U+DFFF), nothing above U+10FFFF.
+   ggUTF8Length: the length in bytes (1 to 4) of the well-formed sequence
+   that begins s[0..n); 0 when s[0..n) does not begin with one (a stray
+   continuation byte, a sequence cut short by n) and when n is 0. A byte
+   below 0x80, NUL included, is a sequence of length 1.
+   ggUTF8Valid: true when s[0..n) is well-formed sequences end to end
+   (n == 0 is), else false. */
+GG_API int ggUTF8Length(const char *s, size_t n);
+GG_API bool ggUTF8Valid(const char *s, size_t n);
+
 /* Receives the details of a failure. `code` repeats the returned status;
    `message` is NUL-terminated and names the place ("file:line:col: ...")
    when there is one. */

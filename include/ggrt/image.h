@@ -199,6 +199,14 @@ GG_API ggColor ggTextureChecker(double u, double v, double n, ggColor a, ggColor
    values above 1 the power segment; NaN gives NaN. */
 GG_API double ggLinearToSRGB(double c);
 GG_API double ggSRGBToLinear(double c);
+/* Encode n linear values (n / 3 RGB pixels, or any other count) as the
+   8-bit sRGB bytes ggImageWritePNG writes: each value clamped to [0,1]
+   (NaN becomes 0), encoded with ggLinearToSRGB and rounded to the nearest
+   of the 256 levels, the rounding done in linear space against the exact
+   level midpoints (ggSRGBToLinear((k - 0.5) / 255)), so decoding a byte
+   and encoding it again gives the same byte. out receives n bytes; in
+   and out must not overlap. */
+GG_API void ggLinearToSRGB8(const float *in, unsigned char *out, size_t n);
 
 #ifdef __cplusplus
 }

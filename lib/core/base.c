@@ -47,7 +47,9 @@ int gg_error_setv(ggError *err, int code, const char *fmt, va_list ap)
 int gg_utf8_len(const unsigned char *s, size_t n)
 {
     size_t k, i;
-    unsigned c = s[0];
+    unsigned c;
+    if (!n) return 0;
+    c = s[0];
     if (c < 0x80) return 1;
     if (c >= 0xc2 && c <= 0xdf)
         k = 2;
@@ -63,6 +65,23 @@ int gg_utf8_len(const unsigned char *s, size_t n)
     if (k == 3 && ((c == 0xe0 && s[1] < 0xa0) || (c == 0xed && s[1] > 0x9f))) return 0;
     if (k == 4 && ((c == 0xf0 && s[1] < 0x90) || (c == 0xf4 && s[1] > 0x8f))) return 0;
     return (int)k;
+}
+
+GG_API int ggUTF8Length(const char *s, size_t n)
+{
+    return s ? gg_utf8_len((const unsigned char *)s, n) : 0;
+}
+
+GG_API bool ggUTF8Valid(const char *s, size_t n)
+{
+    size_t i = 0;
+    if (!s) return false;
+    while (i < n) {
+        int len = gg_utf8_len((const unsigned char *)s + i, n - i);
+        if (!len) return false;
+        i += (size_t)len;
+    }
+    return true;
 }
 
 size_t gg_text_escape(char *dst, size_t size, const char *src, size_t n)

@@ -150,6 +150,32 @@ GG_API double ggSRGBToLinear(double c)
     return pow((c + 0.055) / 1.055, 2.4);
 }
 
+/* thr[k] (k = 1..255) is the linear value of the sRGB level midpoint
+   (k - 0.5) / 255: a linear c encodes to the largest k with thr[k] <= c,
+   which is round(255 * ggLinearToSRGB(c)) evaluated exactly, without a
+   pow per channel. */
+static unsigned char encode8(const double thr[256], float v)
+{
+    double c = v;
+    int lo = 0, step;
+    if (!(c > 0.0)) return 0; /* also NaN */
+    if (c >= 1.0) return 255;
+    for (step = 128; step > 0; step >>= 1)
+        if (lo + step < 256 && thr[lo + step] <= c) lo += step;
+    return (unsigned char)lo;
+}
+
+GG_API void ggLinearToSRGB8(const float *in, unsigned char *out, size_t n)
+{
+    double thr[256];
+    size_t i;
+    int k;
+    if (!in || !out) return;
+    thr[0] = 0.0;
+    for (k = 1; k < 256; k++) thr[k] = ggSRGBToLinear((k - 0.5) / 255.0);
+    for (i = 0; i < n; i++) out[i] = encode8(thr, in[i]);
+}
+
 static double to_compare_space(double c, int space)
 {
     if (space == GG_COMPARE_LINEAR) return c;

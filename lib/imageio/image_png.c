@@ -117,43 +117,19 @@ int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc,
     return GG_OK;
 }
 
-/* thr[k] (k = 1..255) is the linear value of the sRGB level midpoint
-   (k - 0.5) / 255: a linear c encodes to the largest k with thr[k] <= c,
-   which is round(255 * ggLinearToSRGB(c)) evaluated exactly, without a
-   pow per channel. thr[0] is unused. */
-static void make_thresholds(double thr[256])
-{
-    int k;
-    thr[0] = 0.0;
-    for (k = 1; k < 256; k++) thr[k] = ggSRGBToLinear((k - 0.5) / 255.0);
-}
-
-static png_byte encode8(const double thr[256], float v)
-{
-    double c = v;
-    int lo = 0, step;
-    if (!(c > 0.0)) return 0; /* also NaN */
-    if (c >= 1.0) return 255;
-    for (step = 128; step > 0; step >>= 1)
-        if (lo + step < 256 && thr[lo + step] <= c) lo += step;
-    return (png_byte)lo;
-}
-
 GG_API int ggImageWritePNG(const ggImage *img, const char *path, ggError *err)
 {
-    double thr[256];
     gg_image_tmp t;
     png_image pi;
     png_byte *buf;
     FILE *fp;
-    size_t n, i;
+    size_t n;
     int rc;
     if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWritePNG: NULL argument");
     n = (size_t)img->width * (size_t)img->height * 3;
     buf = gg_mem_alloc(GG_IMAGE_ALLOC(img), n);
     if (!buf) return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
-    make_thresholds(thr);
-    for (i = 0; i < n; i++) buf[i] = encode8(thr, img->px[i]);
+    ggLinearToSRGB8(img->px, buf, n);
     rc = gg_image_tmp_open(&t, path, err);
     if (rc != GG_OK) {
         gg_mem_free(GG_IMAGE_ALLOC(img), buf);

@@ -57,6 +57,8 @@ static void test_base_optics(void **state)
     /* No handles: called to show they are covered and answer. */
     COVER(ggVersion), assert_non_null(ggVersion());
     COVER(ggStatusString), assert_non_null(ggStatusString(-99));
+    COVER(ggUTF8Length), assert_int_equal(ggUTF8Length(NULL, 4), 0);
+    COVER(ggUTF8Valid), assert_false(ggUTF8Valid(NULL, 0));
     COVER(ggReflection), assert_true(ggReflection(v, n).y == 1);
     /* Optional out pointers: NULL asks for the decision or nothing. */
     COVER(ggRefract), assert_true(ggRefract(v, n, 1, 1.5, NULL));
@@ -116,6 +118,12 @@ static void test_image(void **state)
         (void)ggTextureChecker(0.5, 0.5, 2, (ggColor){1, 1, 1}, (ggColor){0, 0, 0});
     COVER(ggLinearToSRGB), assert_true(ggLinearToSRGB(0) == 0);
     COVER(ggSRGBToLinear), assert_true(ggSRGBToLinear(0) == 0);
+    {
+        unsigned char b[3] = {7, 7, 7};
+        float px[3] = {1, 1, 1};
+        COVER(ggLinearToSRGB8), ggLinearToSRGB8(NULL, b, 3), ggLinearToSRGB8(px, NULL, 3);
+        assert_true(b[0] == 7 && b[1] == 7 && b[2] == 7);
+    }
     ggImageFree(img);
 }
 

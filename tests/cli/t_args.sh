@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-# Sourced by tests/cli/run.sh: the shared argument parser (cli/args.c) and
+# Sourced by tests/cli/run.sh: the shared argument parser (cli/common/args.c) and
 # the replay commands ggrt prints. Uses run.sh's ggrt, tmp, ok, bad.
 
 # expect_msg CODE TEXT NAME CMD...: exit code, and TEXT somewhere on stderr.

@@ -1,0 +1,119 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** cmd_bench.c -- `ggrt bench NAME [options]`: which benchmark, with which
+** options. Every figure is measured in the same run it is printed in.
+*/
+#include "bench/bench.h"
+
+#include <string.h>
+
+static const char about[] =
+    "  spd       the 7 SPD scenes (depth 5, pixel centres, no antialiasing) and,\n"
+    "            if povray is installed, the same scenes with POV-Ray 3.7: trace\n"
+    "            times, ratios, rays per second, peak memory, bytes per primitive;\n"
+    "            with --embree, also the Embree anchor, all three interleaved\n"
+    "  counts    SPD rules (pixel corners, depth 5, transmitters reflect) at\n"
+    "            512x512: eye-hit, reflect, refract and shadow rays against the\n"
+    "            SPD's table\n"
+    "  effects   each example scene rendered with its own effect set and with\n"
+    "            every effect forced on: times, ratio, whether the images match\n"
+    "  accuracy  sweep each accuracy knob from the accurate default: median time,\n"
+    "            rays, RMSE, max error, PSNR, share of pixels off by > 1/255 and\n"
+    "            pixels whose ray tree changed, against an all-accurate\n"
+    "            reference; writes DIR/accuracy.csv and DIR/accuracy.svg\n"
+    "            (docs/accuracy.md), then the scaling tables\n"
+    "  scaling   render time against primitives (balls-s1..s4, fitted against\n"
+    "            ln n), image size and threads; per SPD scene 1 and 2 threads,\n"
+    "            the speed-up and the serial share (time outside the tile loop)\n"
+    "\n"
+    "Scene folders are relative to the current directory: run from the source tree\n"
+    "or name them with --spd and --pov.";
+
+static const struct {
+    const char *name;
+    int (*run)(const bench_opts *bo);
+    int size; /* default --size; 0: the benchmark's own */
+} benches[] = {
+    {"spd", bench_spd, 1024},        {"counts", bench_counts, 0},   {"effects", bench_effects, 320},
+    {"accuracy", bench_accuracy, 0}, {"scaling", bench_scaling, 0},
+};
+
+int cmd_bench(int argc, char **argv)
+{
+    bench_opts bo;
+    const char *args[BENCH_MAX_ARGS + 1];
+    int no_pov = 0, nargs = 0, rc, i;
+    char name[32];
+    cli_opt opts[] = {
+        CLI_OPT_INT(0, "size", &bo.size, 1, 4096, "N",
+                    "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
+                    "wide, 4:3; scaling: 256)"),
+        CLI_OPT_INT(0, "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),
+        CLI_OPT_INT(0, "runs", &bo.runs, 1, 64, "N",
+                    "runs per measurement, median reported (default 3)"),
+        CLI_OPT_STRING(0, "spd", &bo.spd_dir, "DIR", "NFF scenes (default examples/scenes/spd)"),
+        CLI_OPT_STRING(0, "pov", &bo.pov_dir, "DIR",
+                       "POV-Ray scenes, .pov.gz (default\n"
+                       "examples/scenes/spd-pov)"),
+        CLI_OPT_FLAG(0, "no-pov", &no_pov, "do not run POV-Ray"),
+        CLI_OPT_STRING(0, "embree", &bo.embree, "BIN",
+                       "spd: also time the Embree Whitted anchor BIN\n"
+                       "(-p 1 and -p 16), rounds interleaved"),
+        CLI_OPT_STRING(0, "scenes", &bo.scenes, "LIST", "comma-separated subset of scene names"),
+        CLI_OPT_STRING(0, "out", &bo.out_dir, "DIR",
+                       "where accuracy writes its CSV and SVG (default .)"),
+        CLI_OPT_FUNC('a', "accuracy", cli_parse_accuracy, &bo.accuracy, "KNOB=V,...",
+                     "spd: render ggrt with these accuracy knobs (as in\n"
+                     "'ggrt render --accuracy'), e.g. shadows=opaque for the\n"
+                     "Embree anchor's shadow model"),
+        CLI_OPT_STRING(0, "knobs", &bo.knobs, "LIST",
+                       "accuracy: only these knobs (comma-separated names\n"
+                       "as in its tables, e.g. intersect,sphere); the\n"
+                       "default row is always measured, the scaling tables\n"
+                       "are left out"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "bench",
+                   .usage = "spd|counts|effects|scaling [options]\n"
+                            "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]",
+                   .about = about,
+                   .opts = {opts},
+                   .args = args,
+                   .min_args = 1,
+                   .max_args = BENCH_MAX_ARGS + 1,
+                   .nargs = &nargs,
+                   .args_name = "benchmark name"};
+    memset(&bo, 0, sizeof bo);
+    bo.threads = 2, bo.runs = 3;
+    bo.spd_dir = "examples/scenes/spd";
+    bo.pov_dir = "examples/scenes/spd-pov";
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    bo.pov = !no_pov;
+    for (i = 1; i < nargs; i++) bo.args[bo.nargs++] = args[i];
+    for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) {
+        if (strcmp(args[0], benches[i].name)) continue;
+        if (bo.nargs && benches[i].run != bench_accuracy)
+            return cli_usage_error(&cmd, "bench %s takes no scene files ('%s')", args[0],
+                                   bo.args[0]);
+        if (bo.embree && benches[i].run != bench_spd)
+            return cli_usage_error(&cmd, "--embree is an option of bench spd only");
+        {
+            /* any knob off its default: the options' text is not empty */
+            ggRenderOptions t;
+            char b[8];
+            ggRenderOptionsDefault(&t);
+            t.accuracy = bo.accuracy;
+            bo.has_accuracy = ggRenderOptionsFormat(&t, b, sizeof b) > 0;
+        }
+        if (bo.has_accuracy && benches[i].run != bench_spd)
+            return cli_usage_error(&cmd, "--accuracy is an option of bench spd only");
+        if (bo.knobs && benches[i].run != bench_accuracy)
+            return cli_usage_error(&cmd, "--knobs is an option of bench accuracy only");
+        if (!opts[0].given) bo.size = benches[i].size;
+        snprintf(name, sizeof name, "bench %s", benches[i].name);
+        cli_set_command(name); /* "ggrt bench accuracy: ..." */
+        return benches[i].run(&bo);
+    }
+    return cli_usage_error(&cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling)",
+                           args[0]);
+}

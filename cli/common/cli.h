@@ -1,0 +1,115 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** cli.h -- the ggrt command line: subcommands and the helpers they share.
+** The CLI uses only the public API (<ggrt.h>); option parsing is args.h.
+*/
+#ifndef GG_CLI_H
+#define GG_CLI_H
+
+#include "ggrt.h"
+#include "common/args.h"
+
+#include <stdio.h>
+
+/* Exit codes (documented in ggrt(1)). A command cancelled by SIGINT,
+   SIGTERM or SIGHUP dies of that signal after cleaning up (a shell shows
+   128 + the signal number, e.g. 130). */
+#define EXIT_OK    0
+#define EXIT_USAGE 1
+#define EXIT_INPUT 2
+#define EXIT_IO    3
+
+/* Each subcommand: argv[0] is the subcommand's name. */
+int cmd_optics(int argc, char **argv);
+int cmd_render(int argc, char **argv);
+int cmd_trace(int argc, char **argv);
+int cmd_info(int argc, char **argv);
+int cmd_find(int argc, char **argv);
+int cmd_check(int argc, char **argv);
+int cmd_diff(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+int cmd_serve(int argc, char **argv);
+
+/* The one map from a library status to an exit code: GG_ERROR_IO is 3,
+   everything else bad input (2) -- except GG_ERROR_INVALID from a call
+   whose only caller-chosen inputs are command-line values (from_args: the
+   options and pixel given to ggRender or ggTracePixel), which is a usage
+   error (1). */
+int cli_exit_code(int status, int from_args);
+/* Messages, one prefix rule: every error and warning on stderr starts
+   "ggrt CMD: " (CMD as in "ggrt render: scene.nff:12:5: ..." or "ggrt
+   optics refract: ..."; just "ggrt: " before a command is known).
+   cli_parse calls cli_set_command with its command's name; cli_error
+   prints "ggrt CMD: <message>", cli_warn "ggrt CMD: warning: <message>". */
+void cli_set_command(const char *name);
+void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
+void cli_warn(const char *fmt, ...) CLI_PRINTF(1, 2);
+/* cli_error under the name of command cmd, for helpers that are told
+   which command they serve ("trace", or "bench accuracy"). */
+void cli_error_in(const char *cmd, const char *fmt, ...) CLI_PRINTF(2, 3);
+/* cli_error(err->message), without a leading library function name
+   ("ggDiff: "), and return cli_exit_code(status, from_args). */
+int cli_fail(int status, const ggError *err, int from_args);
+
+/* Seconds on the monotonic clock (for durations only). */
+double cli_now(void);
+
+/* Before a command spends time producing `path`: refuse a path that is a
+   symbolic link, a directory or another non-regular file, or a read-only
+   file, saying why on stderr ("ggrt CMD: ..."). Returns 0 or EXIT_IO. */
+int cli_check_output(const char *cmd, const char *path);
+
+/* A text output file written whole or not at all: cli_out_open creates
+   "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it
+   over path, or removes it on any error. Both print the reason ("ggrt CMD:
+   x.svg: No space left on device") and return 0 / EXIT_IO. */
+typedef struct cli_out {
+    FILE *f;
+    char path[1024], tmp[1100];
+} cli_out;
+int cli_out_open(cli_out *o, const char *cmd, const char *path);
+int cli_out_close(cli_out *o, const char *cmd);
+
+/* Print " ARG", quoted for a POSIX shell when it needs quoting, so that a
+   printed command line works when pasted. */
+void cli_print_arg(FILE *f, const char *arg);
+
+/* Cancellation by SIGINT, SIGTERM and SIGHUP (signals ignored when ggrt
+   started stay ignored). cli_cancel_begin installs the handlers: from
+   then on a signal only sets a flag, which cli_cancelled returns (the
+   signal number, or 0); a progress callback returns it to stop the
+   render. cli_cancel_hold blocks the signals (around a write that must
+   finish or fail whole) and cli_cancel_release unblocks them.
+   cli_cancel_exit restores the default action and re-raises the signal:
+   the process dies of it, as a shell expects. */
+void cli_cancel_begin(void);
+int cli_cancelled(void);
+void cli_cancel_hold(void);
+void cli_cancel_release(void);
+void cli_cancel_exit(int signo);
+
+/* Load a scene file and prepare it (common/scene.c): how every command
+   that takes a scene loads it. `loaded` (may be NULL) is called with ud
+   between the two, on the scene as read (ggrt render prints a model's
+   view and warnings there). On failure prints why ("ggrt CMD: file:line:
+   ...") and returns NULL with the exit code in *rc (cli_exit_code);
+   else *rc is EXIT_OK. */
+typedef void (*cli_loaded_fn)(ggScene *s, const char *path, void *ud);
+ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc);
+
+/* Meshes (common/scene.c): does the path name a model (.obj, .ply) that
+   ggSceneLoadFile frames; each mesh's description (ggrt info); a warning
+   (cli_warn) per mesh that has any; a framed model's camera and lights as NFF; and
+   "triangle T: face F of FILE (line L), group 'G', usemtl 'M'" for a hit
+   (returns 0 when the object is not a mesh). */
+int cli_is_model(const char *path);
+void cli_print_meshes(FILE *f, const ggScene *s);
+void cli_print_mesh_warnings(const ggScene *s);
+void cli_print_model_view(FILE *f, const ggScene *s, const char *path);
+int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t n);
+
+/* Flush and close stdout; on failure print the reason and return EXIT_IO,
+   else 0. */
+int cli_close_stdout(void);
+
+#endif

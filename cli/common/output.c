@@ -1,0 +1,95 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** output.c -- output files: checked before a command spends time on
+** them, and text files written whole or not at all (cli.h).
+*/
+#include "common/cli.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* A new file: its folder must exist and take files, checked now so that
+   a command fails before its work, not after it (trace --svg would print
+   the whole tree first). */
+static int check_folder(const char *cmd, const char *path)
+{
+    char dir[1024] = ".";
+    const char *slash = strrchr(path, '/');
+    struct stat st;
+    size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0; /* "/x.png": the root */
+    if (n >= sizeof dir) {
+        cli_error_in(cmd, "'%s': file name too long", path);
+        return EXIT_IO;
+    }
+    if (slash) memcpy(dir, path, n), dir[n] = '\0';
+    if (stat(dir, &st) != 0 || (!S_ISDIR(st.st_mode) && (errno = ENOTDIR) != 0) ||
+        access(dir, W_OK | X_OK) != 0) {
+        cli_error_in(cmd, "cannot write '%s': %s: %s", path, dir, strerror(errno));
+        return EXIT_IO;
+    }
+    return 0;
+}
+
+int cli_check_output(const char *cmd, const char *path)
+{
+    struct stat st;
+    const char *why = NULL;
+    if (lstat(path, &st) != 0) {
+        if (errno == ENOENT) return check_folder(cmd, path); /* a new file */
+        cli_error_in(cmd, "cannot write '%s': %s", path, strerror(errno));
+        return EXIT_IO;
+    }
+    /* The writers replace the file whole (a new file renamed over it), so
+       a link would be replaced by a file and a device by an image. */
+    if (S_ISLNK(st.st_mode))
+        why = "it is a symbolic link, which ggrt would replace by a file (give the path of the "
+              "file it points to)";
+    else if (S_ISDIR(st.st_mode))
+        why = "it is a directory (give a file name)";
+    else if (!S_ISREG(st.st_mode))
+        why = "it is not a regular file (a device, FIFO or socket)";
+    else if (!(st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)))
+        why = "the file is read-only (make it writable or remove it first)";
+    else if (access(path, W_OK) != 0)
+        why = strerror(errno);
+    if (!why) return 0;
+    cli_error_in(cmd, "refusing to write '%s': %s", path, why);
+    return EXIT_IO;
+}
+
+int cli_out_open(cli_out *o, const char *cmd, const char *path)
+{
+    int fd, rc;
+    memset(o, 0, sizeof *o);
+    if ((rc = cli_check_output(cmd, path)) != 0) return rc;
+    if (strlen(path) >= sizeof o->path) {
+        cli_error_in(cmd, "'%s': file name too long", path);
+        return EXIT_IO;
+    }
+    strcpy(o->path, path);
+    snprintf(o->tmp, sizeof o->tmp, "%s.tmp%ld", path, (long)getpid());
+    fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
+    if (fd < 0 || !(o->f = fdopen(fd, "w"))) {
+        cli_error_in(cmd, "%s: cannot create a temporary file beside it: %s", path,
+                     strerror(errno));
+        if (fd >= 0) close(fd), unlink(o->tmp);
+        return EXIT_IO;
+    }
+    return 0;
+}
+
+int cli_out_close(cli_out *o, const char *cmd)
+{
+    int bad = fflush(o->f) != 0 || ferror(o->f), e = errno;
+    if (!bad && fsync(fileno(o->f)) != 0) bad = 1, e = errno;
+    if (fclose(o->f) != 0 && !bad) bad = 1, e = errno;
+    o->f = NULL;
+    if (!bad && rename(o->tmp, o->path) != 0) bad = 1, e = errno;
+    if (!bad) return 0;
+    unlink(o->tmp);
+    cli_error_in(cmd, "%s: %s", o->path, e ? strerror(e) : "write error");
+    return EXIT_IO;
+}

@@ -1,0 +1,109 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** scene.c -- a scene file, loaded the one way every command loads it,
+** and what the commands print about meshes: each mesh of a scene (ggrt
+** info), its warnings, the default view of a model rendered on its own as
+** NFF to paste into a scene (ggrt render), and a hit triangle in the
+** file's terms (ggrt trace).
+*/
+#include "common/cli.h"
+
+#include <string.h>
+#include <strings.h>
+
+ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError err;
+    int st;
+    if (!s) {
+        cli_error("out of memory");
+        *rc = EXIT_INPUT;
+        return NULL;
+    }
+    st = ggSceneLoadFile(s, path, &err);
+    if (st == GG_OK && loaded) loaded(s, path, ud);
+    if (st == GG_OK) st = ggScenePrepare(s, &err);
+    if (st != GG_OK) {
+        *rc = cli_fail(st, &err, 0);
+        ggSceneFree(s);
+        return NULL;
+    }
+    *rc = EXIT_OK;
+    return s;
+}
+
+int cli_is_model(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && (!strcasecmp(path + n - 4, ".obj") || !strcasecmp(path + n - 4, ".ply"));
+}
+
+void cli_print_meshes(FILE *f, const ggScene *s)
+{
+    int i, n = ggSceneMeshCount(s);
+    for (i = 0; i < n; i++) {
+        ggMeshInfo mi;
+        ggSceneGetMeshInfo(s, i, &mi);
+        fprintf(f, "mesh %-5d %s (%s): %zu vertices, %zu faces in the file", i, mi.name,
+                mi.format[0] ? mi.format : "code", mi.file_vertices, mi.file_faces);
+        if (mi.skipped_faces) fprintf(f, ", %zu of zero area dropped", mi.skipped_faces);
+        if (mi.ignored) fprintf(f, ", %zu statements or elements not used", mi.ignored);
+        fprintf(f, "\n           %zu triangles, %zu vertices, normals %s%s; objects #%d..#%d",
+                mi.triangles, mi.vertices, mi.file_normals ? "from the file" : "computed",
+                mi.has_uv ? ", uv" : "", mi.first_object, mi.first_object + mi.objects - 1);
+        if (mi.groups) fprintf(f, ", %d group%s", mi.groups, mi.groups == 1 ? "" : "s");
+        fprintf(f, "\n           %.2f MB (%.1f bytes per triangle), bounds %g %g %g .. %g %g %g\n",
+                mi.bytes / 1e6, mi.triangles ? (double)mi.bytes / (double)mi.triangles : 0.0,
+                mi.lo.x, mi.lo.y, mi.lo.z, mi.hi.x, mi.hi.y, mi.hi.z);
+        if (mi.warnings)
+            fprintf(f, "           %d warning%s, the first: %s\n", mi.warnings,
+                    mi.warnings == 1 ? "" : "s", mi.warning);
+    }
+}
+
+void cli_print_mesh_warnings(const ggScene *s)
+{
+    int i, n = ggSceneMeshCount(s);
+    for (i = 0; i < n; i++) {
+        ggMeshInfo mi;
+        ggSceneGetMeshInfo(s, i, &mi);
+        if (mi.warnings)
+            cli_warn("%s%s", mi.warning, mi.warnings > 1 ? " (and more: see ggrt info)" : "");
+    }
+}
+
+void cli_print_model_view(FILE *f, const ggScene *s, const char *path)
+{
+    ggCamera c = ggSceneCamera(s);
+    int i, n = ggSceneLightCount(s);
+    fprintf(f,
+            "# ggrt: %s has no camera or lights; it is rendered with these (NFF: paste them "
+            "into a scene)\n",
+            path);
+    fprintf(f,
+            "v\nfrom %.6g %.6g %.6g\nat %.6g %.6g %.6g\nup %g %g %g\nangle %g\nhither 0\n"
+            "resolution %d %d\n",
+            c.from.x, c.from.y, c.from.z, c.at.x, c.at.y, c.at.z, c.up.x, c.up.y, c.up.z, c.fov_deg,
+            c.width, c.height);
+    for (i = 0; i < n; i++) {
+        ggVec3 p;
+        ggColor col;
+        ggSceneGetLight(s, i, &p, &col);
+        fprintf(f, "l %.6g %.6g %.6g %g %g %g\n", p.x, p.y, p.z, col.r, col.g, col.b);
+    }
+    fprintf(f, "mesh \"%s\"\n", path);
+}
+
+int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t n)
+{
+    ggFaceInfo fi;
+    size_t k;
+    if (triangle < 0 || ggSceneGetFaceInfo(s, object, triangle, &fi) != GG_OK) return 0;
+    k = (size_t)snprintf(buf, n, "triangle %ld: face %ld of %s", triangle, fi.face, fi.mesh_name);
+    if (fi.line > 0 && k < n) k += (size_t)snprintf(buf + k, n - k, " (line %d)", fi.line);
+    if (fi.group[0] && k < n) k += (size_t)snprintf(buf + k, n - k, ", group '%s'", fi.group);
+    if (fi.material_name[0] && k < n)
+        k += (size_t)snprintf(buf + k, n - k, ", usemtl '%s'", fi.material_name);
+    return 1;
+}

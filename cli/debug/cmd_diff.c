@@ -1,0 +1,189 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** cmd_diff.c -- `ggrt diff SCENE --a OPTIONS --b OPTIONS` or `ggrt diff
+** SCENE_A SCENE_B`: two renders compared pixel by pixel and ray by ray
+** (ggDiff), the first divergent ray of the worst pixels, a divergence map.
+*/
+#include "debug/debug.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char about[] =
+    "Render two settings of a scene (--a and --b: render options as text, e.g.\n"
+    "--b 'sphere=textbook depth=8'; see docs/debugging.md), or two scenes, with every\n"
+    "pixel's ray trees recorded, and compare: how many pixels differ in value and in\n"
+    "ray tree, and for the worst the first ray where the trees part (which ray, and\n"
+    "what: the object hit, a TIR decision, a shadow verdict, a child missing).\n"
+    "The render options below apply to both sides; --a and --b add to them.";
+
+static const char tail[] = "exit: 0 ok (differences or not), 1 usage, 2 bad scene, 3 I/O error";
+
+static const char *const formats[] = {"text", "json", NULL};
+
+typedef struct diff_args {
+    const char *scenes[2], *a_text, *b_text, *out;
+    int nscenes, worst, format, quiet;
+    ggRenderOptions oa, ob;
+    cli_render ro;
+} diff_args;
+
+static int side(const cli_cmd *cmd, const char *name, const char *text, const ggRenderOptions *base,
+                ggRenderOptions *o)
+{
+    ggError err;
+    *o = *base;
+    if (ggRenderOptionsParse(o, text, &err) != GG_OK)
+        return cli_usage_error(cmd, "--%s:%s", name, err.message);
+    return CLI_GO;
+}
+
+/* --a and --b: any text, the empty one too (the defaults). */
+static int take_text(void *ud, const char *v, char *why, size_t whylen)
+{
+    (void)why, (void)whylen;
+    *(const char **)ud = v;
+    return 0;
+}
+
+static int parse(diff_args *a, int argc, char **argv)
+{
+    cli_opt mine[] = {
+        CLI_OPT_FUNC(0, "a", take_text, &a->a_text, "OPTIONS",
+                     "render options of side a (default '')"),
+        CLI_OPT_FUNC(0, "b", take_text, &a->b_text, "OPTIONS",
+                     "render options of side b (default '')"),
+        CLI_OPT_STRING('o', "output", &a->out, "FILE",
+                       "write the divergence map, .png or .exr: black where\n"
+                       "the pixels agree, blue where only the value differs,\n"
+                       "red where the ray tree differs"),
+        CLI_OPT_INT(0, "worst", &a->worst, 0, 1000, "N",
+                    "list the N pixels that differ most (default 10)"),
+        CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
+        CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "diff",
+                   .usage = "SCENE [SCENE_B] [--a OPTIONS] [--b OPTIONS] [options]",
+                   .about = about,
+                   .tail = tail,
+                   .opts = {mine, a->ro.table},
+                   .args = a->scenes,
+                   .min_args = 1,
+                   .max_args = 2,
+                   .nargs = &a->nscenes,
+                   .args_name = "scene"};
+    int rc;
+    a->worst = 10, a->a_text = "", a->b_text = "";
+    cli_render_init(&a->ro, CLI_RENDER_ALL);
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    cli_render_finish(&a->ro);
+    if ((rc = side(&cmd, "a", a->a_text, &a->ro.opt, &a->oa)) != CLI_GO) return rc;
+    if ((rc = side(&cmd, "b", a->b_text, &a->ro.opt, &a->ob)) != CLI_GO) return rc;
+    if (a->out && (rc = cli_check_output("diff", a->out)) != 0) return rc;
+    return CLI_GO;
+}
+
+/* One listed pixel: both values and the first divergence in words (the
+   pixel is traced again on both sides to name the rays). */
+static void print_pixel(const diff_args *a, ggScene *sa, ggScene *sb, const ggDiffPixel *p)
+{
+    const char *extra[8];
+    char text[800];
+    ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);
+    ggColor ca, cb;
+    int k = 0;
+    printf("  %4d,%-4d a %.6g %.6g %.6g  b %.6g %.6g %.6g  |a-b| %.3g\n", p->x, p->y, p->a.r,
+           p->a.g, p->a.b, p->b.r, p->b.g, p->b.b, p->delta);
+    if (p->first.what != GG_DIFF_SAME && ta && tb &&
+        ggTracePixel(sa, &a->oa, p->x, p->y, -1, ta, &ca, NULL, NULL) == GG_OK &&
+        ggTracePixel(sb, &a->ob, p->x, p->y, -1, tb, &cb, NULL, NULL) == GG_OK) {
+        dbg_divergence_text(text, sizeof text, ta, tb, &p->first);
+        printf("      first divergence: %s\n", text);
+    } else if (p->first.what == GG_DIFF_SAME) {
+        printf("      same ray tree; only the values differ\n");
+    }
+    extra[k++] = "--diff";
+    if (a->a_text[0]) extra[k++] = "--a", extra[k++] = a->a_text;
+    if (a->b_text[0]) extra[k++] = "--b", extra[k++] = a->b_text;
+    extra[k] = NULL;
+    printf("      ");
+    dbg_replay(stdout, a->scenes[0], a->nscenes > 1 ? a->scenes[1] : NULL, &a->ro, p->x, p->y,
+               extra);
+    printf("\n");
+    ggTraceFree(ta);
+    ggTraceFree(tb);
+}
+
+static void print_text(const diff_args *a, ggScene *sa, ggScene *sb, const ggDiffResult *r)
+{
+    double n = r->scanned > 0 ? (double)r->scanned : 1;
+    int i, first = 1;
+    if (a->nscenes > 1)
+        printf("diff %s (a) and %s (b)", a->scenes[0], a->scenes[1]);
+    else
+        printf("diff %s: a '%s' and b '%s'", a->scenes[0], a->a_text, a->b_text);
+    printf(", %dx%d, %ld pixels\n", r->width, r->height, r->scanned);
+    printf("  values differ:    %8ld pixels (%.2f%%), largest |a - b| %.4g\n", r->value_differ,
+           100 * r->value_differ / n, r->max_delta);
+    printf("  ray trees differ: %8ld pixels (%.2f%%)", r->tree_differ, 100 * r->tree_differ / n);
+    for (i = 1; i < GG_DIFF_COUNT; i++)
+        if (r->first_by_kind[i]) {
+            printf("%s%s %ld", first ? "; first divergence: " : ", ", ggDiffName(i),
+                   r->first_by_kind[i]);
+            first = 0;
+        }
+    printf("\n");
+    if (r->nworst) printf("the %d that differ most:\n", r->nworst);
+    for (i = 0; i < r->nworst; i++) print_pixel(a, sa, sb, &r->worst[i]);
+}
+
+static int run(diff_args *a, ggScene *sa, ggScene *sb)
+{
+    static const float map_colours[3][3] = {{0, 0, 0}, {0.1f, 0.3f, 1}, {1, 0.1f, 0.05f}};
+    ggDiffResult *r = NULL;
+    dbg_progress_state ps;
+    ggError err;
+    int rc;
+    dbg_progress_begin(&ps, "diff", a->quiet || a->format == 1);
+    a->oa.progress = dbg_progress, a->oa.progress_ud = &ps;
+    rc = ggDiff(sa, &a->oa, sb, &a->ob, a->worst, &r, &err);
+    dbg_progress_end(&ps);
+    a->oa.progress = NULL, a->oa.progress_ud = NULL;
+    if (rc != GG_OK) return cli_fail(rc, &err, 1);
+    if (a->format == 1)
+        json_diff(stdout, a->scenes[0], a->scenes[a->nscenes > 1], &a->oa, &a->ob, r);
+    else
+        print_text(a, sa, sb, r);
+    rc = EXIT_OK;
+    if (a->out) {
+        rc = dbg_write_map("diff", a->out, r->map, r->width, r->height, map_colours, 3);
+        if (rc == EXIT_OK && a->format != 1)
+            printf("wrote %s (black: same; blue: the value differs; red: the ray tree differs)\n",
+                   a->out);
+    }
+    ggDiffResultFree(r);
+    return rc;
+}
+
+int cmd_diff(int argc, char **argv)
+{
+    diff_args a;
+    ggScene *sa, *sb;
+    int rc;
+    memset(&a, 0, sizeof a);
+    if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
+    if (!(sa = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) return rc;
+    sb = sa;
+    if (a.nscenes > 1) {
+        if (!(sb = cli_load_scene(a.scenes[a.nscenes > 1], NULL, NULL, &rc))) {
+            ggSceneFree(sa);
+            return rc;
+        }
+    }
+    rc = run(&a, sa, sb);
+    if (sb != sa) ggSceneFree(sb);
+    ggSceneFree(sa);
+    return rc;
+}

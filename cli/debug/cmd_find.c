@@ -1,0 +1,174 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** cmd_find.c -- `ggrt find SCENE --where EXPR`: the pixels whose ray trees
+** satisfy a predicate (ggFind), with the command that replays each and a
+** mask image.
+*/
+#include "debug/debug.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char about[] =
+    "Find the pixels whose rays did something: every pixel is traced as ggrt render\n"
+    "computes it and tested with a predicate over its ray trees, e.g.\n"
+    "  some(kind == tir)                       total internal reflection\n"
+    "  some(kind == refract && object == 2)    object 2 seen through a refraction\n"
+    "  some(verdict == blocked && occluder == 1)   shadows cast by object 1\n"
+    "  some(stop == depth && weight > 0.01)    cut by the depth limit, and it matters\n"
+    "The language (fields, some/all/count, && || !) is in docs/debugging.md.";
+
+static const char tail[] = "exit: 0 ok (matches or not), 1 usage or a bad predicate, 2 bad scene,\n"
+                           "3 I/O error";
+
+static const char *const formats[] = {"text", "json", NULL};
+
+typedef struct find_args {
+    const char *scene, *where, *out, *overlay;
+    int limit, format, quiet;
+    cli_render ro;
+} find_args;
+
+static int parse(find_args *a, int argc, char **argv)
+{
+    cli_opt mine[] = {
+        CLI_OPT_STRING('w', "where", &a->where, "EXPR", "the predicate (required)"),
+        CLI_OPT_STRING('o', "output", &a->out, "FILE",
+                       "write the mask, .png or .exr: white where a pixel\n"
+                       "matched, black elsewhere"),
+        CLI_OPT_STRING(0, "overlay", &a->overlay, "FILE",
+                       "write the render with the matches in full colour and\n"
+                       "the other pixels dimmed to grey"),
+        CLI_OPT_INT(0, "limit", &a->limit, 0, 1 << 30, "N",
+                    "list the first N matches in row order (default 20;\n"
+                    "0 lists them all)"),
+        CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
+        CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "find",
+                   .usage = "SCENE --where EXPR [options]",
+                   .about = about,
+                   .tail = tail,
+                   .opts = {mine, a->ro.table},
+                   .args = &a->scene,
+                   .min_args = 1,
+                   .max_args = 1,
+                   .args_name = "scene"};
+    int rc;
+    a->limit = 20;
+    cli_render_init(&a->ro, CLI_RENDER_ALL);
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    cli_render_finish(&a->ro);
+    if (!a->where) return cli_usage_error(&cmd, "need --where EXPR");
+    if (a->out && (rc = cli_check_output("find", a->out)) != 0) return rc;
+    if (a->overlay && (rc = cli_check_output("find", a->overlay)) != 0) return rc;
+    return CLI_GO;
+}
+
+static void print_text(const find_args *a, const ggFindResult *r)
+{
+    int i, bx0 = r->width, by0 = r->height, bx1 = -1, by1 = -1, x, y;
+    for (y = r->y0; y < r->y1; y++)
+        for (x = r->x0; x < r->x1; x++)
+            if (r->mask[(size_t)y * r->width + x]) {
+                if (x < bx0) bx0 = x;
+                if (x > bx1) bx1 = x;
+                if (y < by0) by0 = y;
+                if (y > by1) by1 = y;
+            }
+    printf("%s: %ld of %ld pixels match %s (%.2f%%)", a->scene, r->matched, r->scanned, a->where,
+           r->scanned ? 100.0 * (double)r->matched / (double)r->scanned : 0.0);
+    if (r->matched) printf(", within x %d..%d, y %d..%d", bx0, bx1, by0, by1);
+    printf("\n");
+    if (r->nmatches)
+        printf("%s %d in row order, each with the command that replays it:\n",
+               r->nmatches == r->matched ? "all" : "the first", r->nmatches);
+    for (i = 0; i < r->nmatches; i++) {
+        const ggFindMatch *m = &r->matches[i];
+        printf("  %4d,%-4d %.6g %.6g %.6g   ", m->x, m->y, m->pixel.r, m->pixel.g, m->pixel.b);
+        dbg_replay(stdout, a->scene, NULL, &a->ro, m->x, m->y, NULL);
+        printf("\n");
+    }
+    if (r->matched > r->nmatches)
+        printf("(%ld more: --limit 0 lists them all)\n", r->matched - r->nmatches);
+}
+
+/* The render with the matches in colour and the rest dimmed to grey. */
+static int write_overlay(const char *path, const ggFindResult *r)
+{
+    ggImage *img = ggImageCreate(r->width, r->height, NULL);
+    ggError err;
+    int x, y, rc;
+    if (!img) {
+        cli_error("out of memory for the overlay");
+        return EXIT_INPUT;
+    }
+    for (y = 0; y < r->height; y++)
+        for (x = 0; x < r->width; x++) {
+            ggColor c = ggImageGet(r->image, x, y);
+            if (!r->mask[(size_t)y * r->width + x]) {
+                double g = 0.25 * (0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b);
+                c.r = c.g = c.b = g;
+            }
+            ggImageSet(img, x, y, c);
+        }
+    cli_cancel_hold();
+    rc = ggImageWrite(img, path, &err);
+    cli_cancel_release();
+    ggImageFree(img);
+    return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
+}
+
+static int run(find_args *a, ggScene *scene, const ggPredicate *pred)
+{
+    static const float mask_colours[2][3] = {{0, 0, 0}, {1, 1, 1}};
+    ggFindResult *r = NULL;
+    dbg_progress_state ps;
+    ggError err;
+    int rc;
+    dbg_progress_begin(&ps, "find", a->quiet || a->format == 1);
+    a->ro.opt.progress = dbg_progress, a->ro.opt.progress_ud = &ps;
+    rc = ggFind(scene, &a->ro.opt, pred, a->limit ? a->limit : 1 << 30, &r, &err);
+    dbg_progress_end(&ps);
+    if (rc != GG_OK) return cli_fail(rc, &err, 1);
+    if (a->format == 1)
+        json_find(stdout, a->scene, &a->ro.opt, a->where, r);
+    else
+        print_text(a, r);
+    rc = EXIT_OK;
+    if (a->out) {
+        rc = dbg_write_map("find", a->out, r->mask, r->width, r->height, mask_colours, 2);
+        if (rc == EXIT_OK && a->format != 1)
+            printf("wrote %s (white where a pixel matched)\n", a->out);
+    }
+    if (rc == EXIT_OK && a->overlay) {
+        rc = write_overlay(a->overlay, r);
+        if (rc == EXIT_OK && a->format != 1)
+            printf("wrote %s (matches in colour, the rest grey)\n", a->overlay);
+    }
+    ggFindResultFree(r);
+    return rc;
+}
+
+int cmd_find(int argc, char **argv)
+{
+    find_args a;
+    ggScene *scene;
+    ggPredicate *pred;
+    ggError err;
+    int rc;
+    memset(&a, 0, sizeof a);
+    if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
+    if ((rc = ggPredicateParse(a.where, NULL, &pred, &err)) != GG_OK)
+        return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
+                                    : dbg_predicate_error("find", a.where, &err);
+    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) {
+        ggPredicateFree(pred);
+        return rc;
+    }
+    rc = run(&a, scene, pred);
+    ggPredicateFree(pred);
+    ggSceneFree(scene);
+    return rc;
+}

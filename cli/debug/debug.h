@@ -1,0 +1,61 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** debug.h -- what the debugger's commands (find, check, diff, trace
+** --ledger/--diff) share: progress and cancellation, replay
+** commands, and their JSON documents (written with common/json.h, to a
+** FILE* so that ggrt serve writes the same documents into memory; the
+** schemas are in docs/debugging.md).
+*/
+#ifndef GG_CLI_DEBUG_H
+#define GG_CLI_DEBUG_H
+
+#include "common/cli.h"
+#include "common/json.h"
+
+/* A progress callback for ggFind, ggCheck, ggDiff: a bar on a terminal
+   (ud: a dbg_progress_state, NULL for none) and the way a signal cancels. */
+typedef struct dbg_progress_state {
+    const char *what;
+    double t0;
+    int last_pct, draw;
+} dbg_progress_state;
+void dbg_progress_begin(dbg_progress_state *p, const char *what, int quiet);
+int dbg_progress(void *ud, long done, long total);
+void dbg_progress_end(dbg_progress_state *p);
+
+/* "ggrt trace SCENE [SCENE_B] <the pixel options of ro> --pixel X,Y" and
+   then the words of `extra` (NULL-terminated, may be NULL), each quoted
+   for a shell. No newline. */
+void dbg_replay(FILE *f, const char *scene, const char *scene_b, const cli_render *ro, int x, int y,
+                const char *const *extra);
+
+/* Print a predicate's parse error ("ggrt CMD: --where:L:C: ...") with the line
+   of text and a caret under the column; returns EXIT_USAGE. */
+int dbg_predicate_error(const char *cmd, const char *text, const ggError *err);
+
+/* "eye > refract > tir" for node i: the kinds from its root down. */
+void dbg_path(char *buf, size_t n, const ggTrace *t, int i);
+
+/* Write a w x h byte map as a PNG or EXR image through the CLI's output
+   rules: `colour` gives the RGB of each value. Returns an exit code. */
+int dbg_write_map(const char *cmd, const char *path, const unsigned char *map, int w, int h,
+                  const float colour[][3], int ncolours);
+
+/* The first divergence of two trees in words ("ray #3 (eye > refract):
+   a hits object #2, b leaves the scene"). */
+void dbg_divergence_text(char *buf, size_t n, const ggTrace *ta, const ggTrace *tb,
+                         const ggDivergence *d);
+
+/* ---- JSON ---- */
+void json_find(FILE *f, const char *scene, const ggRenderOptions *opt, const char *where,
+               const ggFindResult *r);
+void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const ggCheckResult *r);
+void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRenderOptions *oa,
+               const ggRenderOptions *ob, const ggDiffResult *r);
+/* The "ledger" member of a trace document (without the key); numbers
+   as json_num_text. */
+void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l);
+/* A divergence as an object (without a key). */
+void json_divergence(FILE *f, const ggDivergence *d);
+
+#endif

@@ -1,0 +1,305 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** cmd_render.c -- `ggrt render SCENE -o out.png|out.exr`.
+*/
+#include "common/cli.h"
+#include "common/heatmap.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char about[] =
+    "Render an NFF scene (SPD NFF plus ggrt's extensions) to an 8-bit sRGB PNG or a\n"
+    "float linear OpenEXR, chosen by the extension of OUT. SCENE may also be an OBJ or\n"
+    "PLY model: it is framed by a default camera and two lights, printed (as NFF, to\n"
+    "paste into a scene) on stderr. SIGINT or SIGTERM cancels the render: nothing is\n"
+    "written and an existing OUT is left as it was.";
+
+static const char tail[] =
+    "A scene with no objects, or with no lights and no emitting surface, renders with\n"
+    "a warning on stderr (also under -q).\n"
+    "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
+
+static const char *const heat_kinds[] = {"rays", "depth", "time", NULL};
+
+typedef struct render_args {
+    const char *scene, *out;
+    int quiet, no_srgb, heat, pixel[2], has_pixel;
+    cli_render ro;
+} render_args;
+
+typedef struct progress_state {
+    double t0;
+    int last_pct, draw;
+} progress_state;
+
+/* Draws the bar on a terminal; always the way a signal cancels the render. */
+static int progress(void *ud, long done, long total)
+{
+    progress_state *p = ud;
+    int pct = total > 0 ? (int)(100.0 * (double)done / (double)total) : 100, i;
+    double el = cli_now() - p->t0;
+    if (cli_cancelled()) return 1;
+    if (!p->draw || pct == p->last_pct) return 0;
+    p->last_pct = pct;
+    fprintf(stderr, "\r[");
+    for (i = 0; i < 40; i++) fputc(i < pct * 40 / 100 ? '#' : '.', stderr);
+    fprintf(stderr, "] %3d%%  %.1fs", pct, el);
+    if (pct > 0 && pct < 100)
+        fprintf(stderr, "  ~%.0fs left ", el * (100 - pct) / pct);
+    else
+        fprintf(stderr, "             ");
+    fflush(stderr);
+    return 0;
+}
+
+/* NaN, infinite or negative pixels: count them and print the ggrt trace
+   command that replays the worst (the same pixel-deciding options, from
+   the parsed values). */
+static void report_bad_pixels(const ggImage *img, const render_args *a)
+{
+    int w = ggImageWidth(img), h = ggImageHeight(img), x, y, bx = -1, by = -1;
+    long bad = 0;
+    double worst = 0;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            ggColor c = ggImageGet(img, x, y);
+            double m = c.r < c.g ? c.r : c.g;
+            if (c.b < m) m = c.b;
+            /* NaN and infinity rank worst, then the most negative. */
+            if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) m = -INFINITY;
+            if (m < 0) {
+                bad++;
+                if (bx < 0 || m < worst) worst = m, bx = x, by = y;
+            }
+        }
+    if (!bad) return;
+    cli_warn("%ld pixel%s NaN, infinite or negative; the worst is %d,%d. Replay it with:", bad,
+             bad == 1 ? " is" : "s are", bx, by);
+    fprintf(stderr, "  ggrt trace");
+    cli_print_arg(stderr, a->scene);
+    cli_render_print(stderr, &a->ro, CLI_RENDER_PIXEL);
+    fprintf(stderr, " --pixel %d,%d\n", bx, by);
+}
+
+static int parse(render_args *a, int argc, char **argv)
+{
+    cli_opt mine[] = {
+        CLI_OPT_STRING('o', "output", &a->out, "FILE",
+                       "image to write (required), .png or .exr; written\n"
+                       "whole or not at all; a symbolic link, a directory or a\n"
+                       "read-only file is refused"),
+        CLI_OPT_XY(0, "pixel", a->pixel, 0, GG_IMAGE_MAX_DIM - 1, "X,Y",
+                   "also print the value written at pixel X,Y (linear,\n"
+                   "%.9g)"),
+        CLI_OPT_FLAG(0, "no-srgb", &a->no_srgb,
+                     "PNG: store the values as they are instead of\n"
+                     "sRGB-encoding them (as POV-Ray 3.7 and SPD-era\n"
+                     "renderers do)"),
+        CLI_OPT_CHOICE(0, "heatmap", &a->heat, heat_kinds, "KIND",
+                       "write a per-pixel cost map instead of the picture,\n"
+                       "with a legend: rays (rays cast), depth (deepest\n"
+                       "ray) or time"),
+        CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar and no summary"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "render",
+                   .usage = "SCENE -o OUT.png|OUT.exr [options]",
+                   .about = about,
+                   .tail = tail,
+                   .opts = {mine, a->ro.table},
+                   .args = &a->scene,
+                   .min_args = 1,
+                   .max_args = 1,
+                   .args_name = "scene"};
+    size_t n;
+    int rc;
+    a->heat = -1;
+    cli_render_init(&a->ro, CLI_RENDER_ALL);
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    cli_render_finish(&a->ro);
+    a->has_pixel = mine[1].given;
+    if (!a->out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
+    n = strlen(a->out);
+    if (n < 4 || (strcmp(a->out + n - 4, ".png") && strcmp(a->out + n - 4, ".exr") &&
+                  strcmp(a->out + n - 4, ".PNG") && strcmp(a->out + n - 4, ".EXR")))
+        return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", a->out);
+    return CLI_GO;
+}
+
+/* The heat map replaces the picture; --no-srgb pre-decodes what the PNG
+   writer will encode. */
+static int finish_image(const render_args *a, ggImage **img, const float *cost)
+{
+    static const char *const label[] = {"rays", "depth", "time s"};
+    if (cost) {
+        double vmax = 0;
+        ggImage *map =
+            heatmap_image(cost, ggImageWidth(*img), ggImageHeight(*img), label[a->heat], &vmax);
+        if (!map) {
+            cli_error("out of memory for the heat map");
+            return EXIT_INPUT;
+        }
+        if (!a->quiet) printf("heat map: %s per pixel, 0 to %.4g\n", label[a->heat], vmax);
+        ggImageFree(*img);
+        *img = map;
+    }
+    if (a->no_srgb) {
+        float *p = ggImagePixels(*img);
+        size_t k, n = (size_t)ggImageWidth(*img) * ggImageHeight(*img) * 3;
+        for (k = 0; k < n; k++) p[k] = (float)ggSRGBToLinear(p[k] > 1 ? 1 : p[k] > 0 ? p[k] : 0);
+    }
+    return EXIT_OK;
+}
+
+static void summary(const render_args *a, ggScene *scene, const ggImage *img, const ggRayStats *st,
+                    const double *t)
+{
+    unsigned long long total =
+        (unsigned long long)(st->eye + st->reflect + st->refract + st->shadow);
+    printf("%s: %dx%d, %d objects, %d lights -> %s\n", a->scene, ggImageWidth(img),
+           ggImageHeight(img), ggSceneObjectCount(scene), ggSceneLightCount(scene), a->out);
+    printf("rays: eye %llu (hit %llu), reflect %llu, refract %llu, shadow %llu, tir %llu, "
+           "total %llu\n",
+           (unsigned long long)st->eye, (unsigned long long)st->eye_hit,
+           (unsigned long long)st->reflect, (unsigned long long)st->refract,
+           (unsigned long long)st->shadow, (unsigned long long)st->tir, total);
+    printf("time: parse %.3fs, prepare %.3fs, render %.3fs (%.2f Mrays/s)\n", t[1] - t[0],
+           t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0);
+}
+
+/* What the render left out, on stderr like every warning (not part of the
+   summary that -q silences). */
+static void warn_stats(const render_args *a, const ggRayStats *st)
+{
+    if (st->nonfinite)
+        cli_warn("%llu samples were NaN or infinite", (unsigned long long)st->nonfinite);
+    if (st->budget_cut)
+        cli_warn("the ray budget (%d rays per eye ray) left %llu rays uncast; --ray-budget "
+                 "raises it",
+                 a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
+                 (unsigned long long)st->budget_cut);
+    if (st->implicit_cut)
+        cli_warn("%llu ray tests of implicit surfaces ran out of their evaluation budget and "
+                 "count as misses (holes possible)",
+                 (unsigned long long)st->implicit_cut);
+}
+
+/* Render, print what was asked, write. The image is written with the
+   cancel signals held, so it lands whole or not at all. */
+static int run(render_args *a, ggScene *scene, double *t)
+{
+    ggRenderOptions *opt = &a->ro.opt;
+    ggImage *img = NULL;
+    ggRayStats st;
+    ggError err;
+    progress_state ps;
+    ggCamera cam = ggSceneCamera(scene);
+    int w = opt->width ? opt->width : cam.width, h = opt->height ? opt->height : cam.height;
+    int rc, sig;
+    float *cost = NULL;
+    if (a->has_pixel && (a->pixel[0] >= w || a->pixel[1] >= h)) {
+        cli_error("--pixel %d,%d is outside the %dx%d image", a->pixel[0], a->pixel[1], w, h);
+        return EXIT_USAGE;
+    }
+    /* Only for a size ggRender accepts: it refuses a larger one with the
+       size-limit message before allocating anything of that size. */
+    if (a->heat >= 0 && w > 0 && h > 0 && w <= GG_IMAGE_MAX_DIM && h <= GG_IMAGE_MAX_DIM &&
+        (size_t)w * (size_t)h <= GG_IMAGE_MAX_PIXELS) {
+        if (!(cost = calloc((size_t)w * (size_t)h, sizeof *cost))) {
+            cli_error("out of memory for a %dx%d heat map", w, h);
+            return EXIT_INPUT;
+        }
+        opt->cost_map = cost, opt->cost_kind = a->heat;
+    }
+    ps.t0 = t[2], ps.last_pct = -1, ps.draw = !a->quiet && isatty(2);
+    opt->progress = progress, opt->progress_ud = &ps;
+    cli_cancel_begin();
+    rc = ggRender(scene, opt, &img, &st, &err);
+    if (ps.draw && ps.last_pct >= 0) fputc('\n', stderr);
+    t[3] = cli_now();
+    if ((sig = cli_cancelled()) != 0) {
+        ggImageFree(img);
+        free(cost);
+        cli_error("cancelled by signal %d; %s not written", sig, a->out);
+        cli_cancel_exit(sig);
+    }
+    if (rc != GG_OK) {
+        free(cost);
+        return cli_fail(rc, &err, 1);
+    }
+    if (a->has_pixel) {
+        ggColor c = ggImageGet(img, a->pixel[0], a->pixel[1]);
+        printf("pixel %d,%d %.9g %.9g %.9g\n", a->pixel[0], a->pixel[1], c.r, c.g, c.b);
+    }
+    report_bad_pixels(img, a);
+    rc = finish_image(a, &img, cost);
+    free(cost);
+    if (rc == EXIT_OK) {
+        cli_cancel_hold();
+        rc = ggImageWrite(img, a->out, &err);
+        cli_cancel_release(); /* a signal that came meanwhile is handled now */
+        rc = rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
+    }
+    if (rc == EXIT_OK && (sig = cli_cancelled()) != 0) cli_cancel_exit(sig);
+    if (rc == EXIT_OK && !a->quiet) summary(a, scene, img, &st, t);
+    if (rc == EXIT_OK) warn_stats(a, &st);
+    ggImageFree(img);
+    return rc;
+}
+
+/* A scene without lights or objects renders without error, and a first
+   user sees a dark or empty picture with no reason: say it once, also
+   under -q (which silences progress, not warnings). A scene lit by its
+   emitting surfaces alone (examples/scenes/prism.nff) means it. */
+static void warn_empty(const ggScene *scene, const char *path)
+{
+    int i, glows = 0;
+    for (i = 0; i < ggSceneMaterialCount(scene) && !glows; i++) {
+        ggMaterial m = ggSceneMaterial(scene, i);
+        glows = m.ke.r > 0 || m.ke.g > 0 || m.ke.b > 0;
+    }
+    if (ggSceneObjectCount(scene) == 0)
+        cli_warn("%s has no objects: the image is its background", path);
+    else if (ggSceneLightCount(scene) == 0 && !glows)
+        cli_warn("%s has no lights: only ambient and emission light it", path);
+}
+
+/* Between loading and preparing (cli_load_scene): the end of parsing,
+   then what a first user should know about the scene. */
+typedef struct loaded_state {
+    const render_args *a;
+    double *t;
+} loaded_state;
+
+static void loaded(ggScene *scene, const char *path, void *ud)
+{
+    const loaded_state *ls = ud;
+    ls->t[1] = cli_now();
+    if (!ls->a->quiet) {
+        if (cli_is_model(path)) cli_print_model_view(stderr, scene, path);
+        cli_print_mesh_warnings(scene);
+    }
+    warn_empty(scene, path);
+}
+
+int cmd_render(int argc, char **argv)
+{
+    render_args a;
+    loaded_state ls;
+    ggScene *scene;
+    double t[4];
+    int rc;
+    memset(&a, 0, sizeof a);
+    if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
+    if ((rc = cli_check_output("render", a.out)) != 0) return rc;
+    ls.a = &a, ls.t = t;
+    t[0] = cli_now();
+    if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
+    t[2] = cli_now();
+    rc = run(&a, scene, t);
+    ggSceneFree(scene);
+    return rc;
+}

@@ -1,0 +1,581 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** serve_api.c -- `ggrt serve`'s routes: the page, and the JSON API that
+** the page and scripts use (docs/serve.md).
+*/
+#if defined(GG_HAVE_MHD)
+#include "serve/serve.h"
+#include "debug/debug.h"
+#include "trace/trace_view.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_SCENE_OBJECTS 20000 /* objects /api/scene describes (as the SVG views) */
+/* Mesh triangles /api/scene lists (about 5 MB of JSON): past it every k-th
+   is listed and "simplified" says so, for the page to note. */
+#define MAX_SCENE_TRIANGLES 60000L
+
+typedef struct route {
+    const char *path;
+    void (*run)(srv_server *s, const srv_req *r, srv_resp *resp);
+    const char *params; /* the parameters it takes besides token, space-separated */
+} route;
+
+static const route *find_route(const char *path);
+
+int srv_param_allowed(const char *path, const char *key)
+{
+    const route *rt = find_route(path);
+    const char *p;
+    size_t n = strlen(key);
+    if (!rt) return 1; /* answered 404 anyway */
+    for (p = rt->params; *p;) {
+        const char *e = strchr(p, ' ');
+        size_t l = e ? (size_t)(e - p) : strlen(p);
+        if (l == n && !strncmp(p, key, n)) return 1;
+        p += l + (e != NULL);
+    }
+    return 0;
+}
+
+/* ---- the page ---- */
+
+static const srv_asset *asset(const char *path)
+{
+    int i;
+    for (i = 0; i < srv_nassets; i++)
+        if (!strcmp(srv_assets[i].path, path)) return &srv_assets[i];
+    return NULL;
+}
+
+/* index.html names the token in its script and style links (a page's
+   sub-resources carry no Authorization header): "@TOKEN@" becomes it. */
+static void page(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const srv_asset *a = asset(!strcmp(r->path, "/") ? "/index.html" : r->path);
+    FILE *f;
+    size_t i;
+    if (!a) {
+        srv_error(resp, 404, "no such page: %s", r->path);
+        return;
+    }
+    if (strcmp(a->path, "/index.html")) {
+        resp->status = 200, resp->type = a->type;
+        resp->body = (char *)a->data, resp->len = a->len, resp->body_static = 1;
+        return;
+    }
+    f = srv_body_open(resp, 200, a->type);
+    if (f)
+        for (i = 0; i < a->len; i++) {
+            if (a->data[i] == '@' && i + 7 <= a->len && !memcmp(a->data + i, "@TOKEN@", 7)) {
+                fputs(s->token, f);
+                i += 6;
+            } else {
+                fputc(a->data[i], f);
+            }
+        }
+    srv_body_close(resp, f);
+}
+
+/* ---- /api/info ---- */
+
+static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    FILE *f = srv_body_open(resp, 200, "application/json");
+    ggCamera cam;
+    ggSceneInfo in;
+    unsigned fx, e;
+    int first = 1;
+    (void)r;
+    if (!f) {
+        srv_body_close(resp, f);
+        return;
+    }
+    cam = ggSceneCamera(s->scene);
+    ggSceneGetInfo(s->scene, &in);
+    fx = ggSceneEffects(s->scene);
+    fprintf(f, "{\"ggrt\":\"%s\",\"scene\":", ggVersion());
+    json_str(f, s->cfg.scene_path);
+    fprintf(f, ",\"width\":%d,\"height\":%d,\"objects\":%d,\"lights\":%d,\"materials\":%d,",
+            s->cfg.width, s->cfg.height, ggSceneObjectCount(s->scene), ggSceneLightCount(s->scene),
+            ggSceneMaterialCount(s->scene));
+    fprintf(f, "\"camera\":{");
+    json_vec(f, "from", cam.from), fputc(',', f), json_vec(f, "at", cam.at), fputc(',', f);
+    json_vec(f, "up", cam.up);
+    fprintf(f, ",\"fov\":");
+    json_num(f, cam.fov_deg);
+    fprintf(f, "},\"bounds\":{");
+    json_vec(f, "lo", in.lo), fputc(',', f), json_vec(f, "hi", in.hi);
+    fprintf(f, "},\"primitives\":%zu,\"effects\":[", in.primitives);
+    for (e = 1; e < (1u << GG_EFFECT_COUNT); e <<= 1) {
+        const char *why = ggSceneEffectReason(s->scene, e);
+        if (!(fx & e)) continue;
+        fprintf(f, "%s{\"name\":\"%s\",\"reason\":", first ? "" : ",", ggEffectName(e));
+        json_str(f, why ? why : "");
+        fputc('}', f);
+        first = 0;
+    }
+    fprintf(f, "],");
+    json_options(f, "options", &s->cfg.opt);
+    fprintf(f,
+            ",\"limits\":{\"max_depth\":%d,\"max_samples\":%d,\"trace_bytes\":%d,"
+            "\"jobs\":%d,\"job_seconds\":%d,\"uri_bytes\":%d,\"params\":%d,"
+            "\"value_bytes\":%d,\"connections\":%d,\"connections_per_address\":%d,"
+            "\"threads\":%d,\"timeout_seconds\":%d,\"head_seconds\":%d,"
+            "\"head_bytes\":%d,\"expr_bytes\":%d}",
+            SRV_MAX_DEPTH, SRV_MAX_SAMPLES, SRV_TRACE_BYTES, SRV_MAX_JOBS, s->cfg.job_seconds,
+            SRV_MAX_URI, SRV_MAX_PARAMS, SRV_MAX_VALUE, SRV_MAX_CONNECTIONS, SRV_MAX_PER_ADDR,
+            SRV_THREADS, SRV_CONN_TIMEOUT, SRV_HEAD_SECONDS, SRV_MEMORY_LIMIT, SRV_MAX_EXPR);
+    fprintf(f, "}\n");
+    srv_body_close(resp, f);
+}
+
+/* ---- /api/scene: shapes for the page's 3D view ---- */
+
+static void shape_json(FILE *f, const ggShapeDesc *d)
+{
+    int i;
+    fprintf(f, "{\"kind\":\"%s\",\"material\":%d,\"line\":%d,", ggShapeKindName(d->kind),
+            d->material, d->line);
+    switch (d->kind) {
+    case GG_SHAPE_SPHERE:
+        json_vec(f, "center", d->base);
+        fprintf(f, ",\"radius\":");
+        json_num(f, d->radius);
+        break;
+    case GG_SHAPE_CONE:
+        json_vec(f, "base", d->base), fputc(',', f), json_vec(f, "apex", d->apex);
+        fprintf(f, ",\"radius\":");
+        json_num(f, d->radius);
+        fprintf(f, ",\"radius2\":");
+        json_num(f, d->radius2);
+        break;
+    case GG_SHAPE_RECT:
+        json_vec(f, "corner", d->base), fputc(',', f), json_vec(f, "e1", d->e1), fputc(',', f);
+        json_vec(f, "e2", d->e2);
+        break;
+    case GG_SHAPE_IMPLICIT:
+    case GG_SHAPE_MESH: /* the box of the mesh's part */
+        json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
+        break;
+    default:
+        fprintf(f, "\"verts\":[");
+        for (i = 0; i < d->nverts && d->verts; i++) {
+            fputs(i ? ",[" : "[", f);
+            json_num(f, d->verts[i].x), fputc(',', f), json_num(f, d->verts[i].y);
+            fputc(',', f), json_num(f, d->verts[i].z), fputc(']', f);
+        }
+        fputc(']', f);
+    }
+    fputc('}', f);
+}
+
+/* "meshes": each mesh part's triangles (9 numbers each: the corners) for
+   the 3D view to shade; one in `stride` when the scene has too many. */
+static void mesh_json(FILE *f, const ggScene *sc, int n)
+{
+    long total = 0, stride, shown = 0, k;
+    int i, c, first = 1;
+    ggVec3 v[3];
+    for (i = 0; i < n && i < MAX_SCENE_OBJECTS; i++) total += ggSceneObjectTriangleCount(sc, i);
+    stride = (total + MAX_SCENE_TRIANGLES - 1) / MAX_SCENE_TRIANGLES;
+    fprintf(f, ",\"meshes\":[");
+    for (i = 0; i < n && i < MAX_SCENE_OBJECTS; i++) {
+        long nt = ggSceneObjectTriangleCount(sc, i);
+        if (!nt) continue;
+        fprintf(f, "%s{\"object\":%d,\"triangles\":%ld,\"verts\":[", first ? "" : ",", i, nt);
+        first = 0;
+        for (k = 0; k < nt; k += stride) {
+            if (ggSceneObjectTriangle(sc, i, k, v, NULL) != GG_OK) continue;
+            for (c = 0; c < 3; c++) /* single precision is plenty for a picture */
+                fprintf(f, "%s%.7g,%.7g,%.7g", k || c ? "," : "", v[c].x, v[c].y, v[c].z);
+            shown++;
+        }
+        fprintf(f, "]}");
+    }
+    fprintf(f, "],\"triangles\":%ld,\"triangles_shown\":%ld,\"simplified\":%s", total, shown,
+            shown < total ? "true" : "false");
+}
+
+/* "lights": where each light is, for the 3D view. */
+static void lights_json(FILE *f, const ggScene *sc)
+{
+    int i, n = ggSceneLightCount(sc);
+    fprintf(f, ",\"lights\":[");
+    for (i = 0; i < n; i++) {
+        ggVec3 p;
+        ggColor c;
+        if (ggSceneGetLight(sc, i, &p, &c) != GG_OK) continue;
+        fprintf(f, "%s{", i ? "," : "");
+        json_vec(f, "position", p);
+        fputc('}', f);
+    }
+    fputc(']', f);
+}
+
+static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    FILE *f = srv_body_open(resp, 200, "application/json");
+    int i, n, m;
+    (void)r;
+    if (!f) {
+        srv_body_close(resp, f);
+        return;
+    }
+    n = ggSceneObjectCount(s->scene), m = ggSceneMaterialCount(s->scene);
+    fprintf(f, "{\"objects\":%d,\"truncated\":%s,\"materials\":[", n,
+            n > MAX_SCENE_OBJECTS ? "true" : "false");
+    for (i = 0; i < m; i++) {
+        ggMaterial mt = ggSceneMaterial(s->scene, i);
+        fprintf(f, "%s{", i ? "," : "");
+        json_color(f, "color", mt.color);
+        fprintf(f, ",\"kd\":");
+        json_num(f, mt.kd);
+        fprintf(f, ",\"ks\":");
+        json_num(f, mt.ks);
+        fprintf(f, ",\"kt\":");
+        json_num(f, mt.kt);
+        fprintf(f, ",\"ior\":");
+        json_num(f, mt.ior);
+        fprintf(f, ",\"line\":%d}", mt.line);
+    }
+    fprintf(f, "],\"shapes\":[");
+    for (i = 0; i < n && i < MAX_SCENE_OBJECTS; i++) {
+        ggShapeDesc d;
+        if (i) fputc(',', f);
+        if (ggSceneObjectShape(s->scene, i, &d) == GG_OK)
+            shape_json(f, &d);
+        else
+            fprintf(f, "null");
+    }
+    fputc(']', f);
+    mesh_json(f, s->scene, n);
+    lights_json(f, s->scene);
+    fprintf(f, "}\n");
+    srv_body_close(resp, f);
+}
+
+/* ---- /api/trace ---- */
+
+/* A ggAllocator that refuses to hold more than SRV_TRACE_BYTES: the bound
+   on one recorded tree (the recorder then reports GG_ERROR_NOMEM). */
+typedef struct budget {
+    size_t used, limit;
+    int refused; /* an allocation went over the limit */
+} budget;
+
+static void *b_malloc(void *ud, size_t n)
+{
+    budget *b = ud;
+    size_t *p;
+    if (n > b->limit - b->used) {
+        b->refused = 1;
+        return NULL;
+    }
+    if (!(p = malloc(n + sizeof(size_t) * 2))) return NULL;
+    b->used += n, p[0] = n;
+    return p + 2;
+}
+static void b_free(void *ud, void *ptr)
+{
+    budget *b = ud;
+    size_t *p = ptr;
+    if (!p) return;
+    b->used -= p[-2];
+    free(p - 2);
+}
+static void *b_realloc(void *ud, void *ptr, size_t n)
+{
+    budget *b = ud;
+    size_t *p = ptr, old = p ? p[-2] : 0;
+    if (!p) return b_malloc(ud, n);
+    if (n > old && n - old > b->limit - b->used) {
+        b->refused = 1;
+        return NULL;
+    }
+    if (!(p = realloc(p - 2, n + sizeof(size_t) * 2))) return NULL;
+    b->used = b->used - old + n, p[0] = n;
+    return p + 2;
+}
+
+int srv_pixel_arg(const srv_server *s, const srv_req *r, const char *name, int limit, int *out,
+                  srv_resp *resp)
+{
+    const char *v = srv_param_get(r, name);
+    if (!v) {
+        srv_error(resp, 400, "missing parameter %s", name);
+        return -1;
+    }
+    if (srv_parse_int(v, -(1L << 30), 1L << 30, out)) {
+        srv_error(resp, 400, "%s must be a whole number, got '%s'", name, v);
+        return -1;
+    }
+    if (*out < 0 || *out >= limit) {
+        srv_error(resp, 400, "pixel %s=%d is outside the %dx%d image", name, *out, s->cfg.width,
+                  s->cfg.height);
+        return -1;
+    }
+    return 0;
+}
+
+/* The tree (and, with every sample recorded, its ledger, as ggrt trace
+   prints it) in the format asked for. */
+static void trace_body(srv_resp *resp, const char *fmt, trace_view *v, const ggAllocator *al)
+{
+    ggLedger *ledger = NULL;
+    ggError err;
+    FILE *f;
+    if (v->sample < 0 && ggLedgerCreate(v->trace, v->pixel, al, &ledger, &err) != GG_OK) {
+        srv_error(resp, 500, "%s", err.message);
+        return;
+    }
+    v->ledger = ledger;
+    f = srv_body_open(resp, 200,
+                      !strcmp(fmt, "json")   ? "application/json"
+                      : !strcmp(fmt, "text") ? "text/plain; charset=utf-8"
+                                             : "image/svg+xml");
+    if (f) {
+        if (!strcmp(fmt, "json"))
+            trace_print_json(f, v);
+        else if (!strcmp(fmt, "text"))
+            trace_print_text(f, v, 1);
+        else
+            trace_write_svg_views(f, v, 0);
+    }
+    srv_body_close(resp, f);
+    ggLedgerFree(ledger);
+}
+
+static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const char *fmt = srv_param_get(r, "format"), *sv = srv_param_get(r, "sample");
+    ggRenderOptions o;
+    ggAllocator al;
+    budget b;
+    ggTrace *tr;
+    ggError err;
+    trace_view view;
+    int x, y, sample = -1, rc;
+    if (!fmt) fmt = "json";
+    if (strcmp(fmt, "json") && strcmp(fmt, "text") && strcmp(fmt, "svg")) {
+        srv_error(resp, 400, "format must be json, text or svg, got '%s'", fmt);
+        return;
+    }
+    if (srv_pixel_arg(s, r, "x", s->cfg.width, &x, resp) ||
+        srv_pixel_arg(s, r, "y", s->cfg.height, &y, resp))
+        return;
+    if (sv && srv_parse_int(sv, -1, 4095, &sample)) {
+        srv_error(resp, 400, "sample must be -1 (all) or a sample index, got '%s'", sv);
+        return;
+    }
+    if (srv_opts_parse(s, r, "opts", &o, NULL, 0, resp)) return;
+    b.used = 0, b.limit = SRV_TRACE_BYTES, b.refused = 0;
+    al.malloc = b_malloc, al.realloc = b_realloc, al.free = b_free, al.ud = &b;
+    if (!(tr = ggTraceCreate(&al))) {
+        srv_error(resp, 500, "out of memory");
+        return;
+    }
+    memset(&view, 0, sizeof view);
+    err.message[0] = '\0';
+    rc = ggTracePixel(s->scene, &o, x, y, sample, tr, &view.pixel, &view.stats, &err);
+    if (rc == GG_OK) {
+        view.scene = s->scene, view.trace = tr, view.opt = &o, view.path = s->cfg.scene_path;
+        view.x = x, view.y = y, view.sample = sample;
+        trace_body(resp, fmt, &view, &al);
+    }
+    if ((rc == GG_ERROR_NOMEM || resp->status == 500) && b.refused)
+        srv_error(resp, 413,
+                  "the ray tree of pixel %d,%d needs more than %d MiB (%zu rays recorded): ask "
+                  "for one sample (sample=K) or a smaller depth",
+                  x, y, SRV_TRACE_BYTES >> 20, ggTraceNodeCount(tr));
+    else if (rc != GG_OK)
+        srv_error(resp, rc == GG_ERROR_INVALID ? 400 : 500, "%s", err.message);
+    ggTraceFree(tr);
+}
+
+/* ---- /api/compare: one pixel's trees under options A and B ---- */
+
+typedef struct side {
+    budget b;
+    ggAllocator al;
+    ggTrace *tr;
+    trace_view v;
+} side;
+
+static int trace_side(srv_server *s, ggScene *sc, const ggRenderOptions *o, int x, int y, side *d,
+                      ggError *err)
+{
+    int rc;
+    d->b.used = 0, d->b.limit = SRV_TRACE_BYTES, d->b.refused = 0;
+    d->al.malloc = b_malloc, d->al.realloc = b_realloc, d->al.free = b_free, d->al.ud = &d->b;
+    memset(&d->v, 0, sizeof d->v);
+    if (!(d->tr = ggTraceCreate(&d->al))) {
+        snprintf(err->message, sizeof err->message, "out of memory");
+        return GG_ERROR_NOMEM;
+    }
+    rc = ggTracePixel(sc, o, x, y, -1, d->tr, &d->v.pixel, &d->v.stats, err);
+    d->v.scene = sc, d->v.trace = d->tr, d->v.opt = o, d->v.path = s->cfg.scene_path;
+    d->v.x = x, d->v.y = y, d->v.sample = -1;
+    return rc;
+}
+
+static void compare_body(srv_resp *resp, const char *fmt, side *a, side *b, const char *ta,
+                         const char *tb)
+{
+    ggDivergence d;
+    char text[800], na[600], nb[600];
+    int differ = ggTraceCompare(a->tr, b->tr, &d);
+    FILE *f = srv_body_open(
+        resp, 200, !strcmp(fmt, "json") ? "application/json" : "text/plain; charset=utf-8");
+    if (f && !strcmp(fmt, "text")) {
+        snprintf(na, sizeof na, "%s '%s'", a->v.path, ta);
+        snprintf(nb, sizeof nb, "%s '%s'", b->v.path, tb);
+        trace_print_diff(f, &a->v, &b->v, na, nb);
+    } else if (f) {
+        dbg_divergence_text(text, sizeof text, a->tr, b->tr, &d);
+        fprintf(f, "{\"pixel\":[%d,%d],", a->v.x, a->v.y);
+        json_options(f, "options_a", a->v.opt), fputc(',', f);
+        json_options(f, "options_b", b->v.opt);
+        fprintf(f, ",\"differ\":%s,\"first\":", differ ? "true" : "false");
+        json_divergence(f, &d);
+        fprintf(f, ",\"text\":");
+        json_str(f, text);
+        fprintf(f, "}\n");
+    }
+    srv_body_close(resp, f);
+}
+
+static void api_compare(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const char *fmt = srv_param_get(r, "format");
+    char ta[512], tb[512];
+    ggRenderOptions oa, ob;
+    side a, b;
+    ggError err;
+    int x, y, rc;
+    if (!fmt) fmt = "json";
+    if (strcmp(fmt, "json") && strcmp(fmt, "text")) {
+        srv_error(resp, 400, "format must be json or text, got '%s'", fmt);
+        return;
+    }
+    if (srv_pixel_arg(s, r, "x", s->cfg.width, &x, resp) ||
+        srv_pixel_arg(s, r, "y", s->cfg.height, &y, resp) ||
+        srv_opts_parse(s, r, "opts", &oa, ta, sizeof ta, resp) ||
+        srv_opts_parse(s, r, "b", &ob, tb, sizeof tb, resp))
+        return;
+    a.tr = b.tr = NULL;
+    err.message[0] = '\0';
+    rc = trace_side(s, s->scene, &oa, x, y, &a, &err);
+    /* One scene serves both sides: every knob travels with the options
+       (scene.h, "Threads"). */
+    if (rc == GG_OK) rc = trace_side(s, s->scene, &ob, x, y, &b, &err);
+    /* The names as ggrt trace --diff prints them: the texts as given. */
+    if (rc == GG_OK)
+        compare_body(resp, fmt, &a, &b, srv_param_get(r, "opts") ? srv_param_get(r, "opts") : "",
+                     srv_param_get(r, "b") ? srv_param_get(r, "b") : "");
+    if (rc != GG_OK)
+        srv_error(resp, a.b.refused || (b.tr && b.b.refused) ? 413 : 500, "%s", err.message);
+    ggTraceFree(a.tr), ggTraceFree(b.tr);
+}
+
+/* ---- /api/parse: is a predicate or an option text well formed? ---- */
+
+/* "L:C: message" -> line and column. */
+static void where_of(const char *msg, int *line, int *col)
+{
+    if (sscanf(msg, "%d:%d:", line, col) != 2) *line = *col = 0;
+}
+
+static void parse_answer(FILE *f, const char *what, int ok, const char *msg)
+{
+    int line = 0, col = 0;
+    fprintf(f, "\"%s\":{\"valid\":%s", what, ok ? "true" : "false");
+    if (!ok) {
+        where_of(msg, &line, &col);
+        fprintf(f, ",\"error\":");
+        json_str(f, msg);
+        fprintf(f, ",\"line\":%d,\"column\":%d", line, col);
+    }
+    fputc('}', f);
+}
+
+/* 200 whether the texts parse or not (a page checks them as they are
+   typed); each one given gets {"valid": ..., "error", "line", "column"}. */
+static void api_parse(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const char *where = srv_param_get(r, "where"), *names[] = {"opts", "b"};
+    FILE *f = srv_body_open(resp, 200, "application/json");
+    ggError err;
+    int i, first = 1;
+    if (!f) {
+        srv_body_close(resp, f);
+        return;
+    }
+    fputc('{', f);
+    if (where) {
+        ggPredicate *p = NULL;
+        int ok = strlen(where) <= SRV_MAX_EXPR && ggUTF8Valid(where, strlen(where)) &&
+                 ggPredicateParse(where, NULL, &p, &err) == GG_OK;
+        if (!ok && (strlen(where) > SRV_MAX_EXPR || !ggUTF8Valid(where, strlen(where))))
+            snprintf(err.message, sizeof err.message, "1:1: at most %d bytes of UTF-8",
+                     SRV_MAX_EXPR);
+        ggPredicateFree(p);
+        parse_answer(f, "where", ok, err.message);
+        first = 0;
+    }
+    for (i = 0; i < 2; i++) {
+        const char *v = srv_param_get(r, names[i]);
+        ggRenderOptions o = s->cfg.opt;
+        if (!v) continue;
+        if (!first) fputc(',', f);
+        parse_answer(f, names[i], ggRenderOptionsParse(&o, v, &err) == GG_OK, err.message);
+        first = 0;
+    }
+    fprintf(f, "}\n");
+    srv_body_close(resp, f);
+}
+
+/* ---- the table ---- */
+
+static const route routes[] = {
+    {"/", page, ""},
+    {"/app.js", page, ""},
+    {"/app.css", page, ""},
+    {"/view3d.js", page, ""},
+    {"/links.js", page, ""},
+    {"/export.js", page, ""},
+    {"/api/info", api_info, ""},
+    {"/api/scene", api_scene, ""},
+    {"/api/trace", api_trace, "opts x y sample format"},
+    {"/api/compare", api_compare, "opts b x y format"},
+    {"/api/parse", api_parse, "where opts b"},
+    {"/api/render", srv_api_render, "opts kind"},
+    {"/api/image", srv_api_image, "opts kind format"},
+    {"/api/find", srv_api_find, "opts where limit format"},
+    {"/api/check", srv_api_check, "opts x y format"},
+    {"/api/diff", srv_api_diff, "opts b limit format"},
+};
+
+static const route *find_route(const char *path)
+{
+    size_t i;
+    for (i = 0; i < sizeof routes / sizeof routes[0]; i++)
+        if (!strcmp(routes[i].path, path)) return &routes[i];
+    return NULL;
+}
+
+void srv_route(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const route *rt = find_route(r->path);
+    if (!rt) {
+        srv_error(resp, 404, "no such route: %s (docs/serve.md lists them)", r->path);
+        return;
+    }
+    rt->run(s, r, resp);
+}
+
+#else
+typedef int serve_api_unused;
+#endif

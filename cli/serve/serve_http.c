@@ -1,0 +1,527 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** serve_http.c -- `ggrt serve`'s HTTP side on GNU libmicrohttpd: every
+** request is checked here before a route sees it, in this order:
+**   request target over SRV_MAX_URI bytes        414
+**   a method other than GET or HEAD              405
+**   a Host header that does not name the server  403 (DNS rebinding)
+**   no token (query or Authorization: Bearer)    401
+**   a wrong token                                403
+**   a parameter over the limits, or repeated     400 / 414
+**   an unknown route                             404
+**   a parameter the route does not take          400
+** Every refusal is a JSON body {"status": N, "error": "..."}.
+**
+** Slow clients: libmicrohttpd closes a connection idle for
+** SRV_CONN_TIMEOUT, caps the connections (SRV_MAX_CONNECTIONS) and those
+** of one client address (SRV_MAX_PER_ADDR); its idle timer restarts with
+** every byte, so a watchdog here also cuts a connection whose request
+** head is not complete SRV_HEAD_SECONDS after it began (a client that
+** sends one byte a second), and a kept-alive one that waits longer for
+** its next request. A request is answered on the handler's second call,
+** once the whole request is in: answered on the first, libmicrohttpd
+** would close the connection (it cannot know the body was read), and
+** HTTP/1.1 keep-alive would never work.
+*/
+#if defined(GG_HAVE_MHD)
+#include "serve/serve.h"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <microhttpd.h>
+#include <netinet/in.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef struct http_ctx {
+    srv_server *srv;
+    struct watchdog *watch;
+    int port;
+    int loopback, wildcard; /* the bound address is loopback / any address */
+    unsigned char addr[16]; /* the bound address, binary */
+    int family;
+} http_ctx;
+
+/* Markers of a request's state between the handler's calls: its target
+   was too long, or not (set by uri_log), and its head was seen. */
+static int mark_ok, mark_long, mark_head;
+
+/* ---- the watchdog of request heads ---- */
+
+#define WATCH_SLOTS (SRV_MAX_CONNECTIONS + SRV_THREADS * 4)
+
+typedef struct watch_slot {
+    int used, fd;
+    int busy;     /* a request's head is in: its handler or its response runs */
+    double since; /* when the connection began waiting for a request head */
+} watch_slot;
+
+typedef struct watchdog {
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    pthread_t thread;
+    int started, quit;
+    long cut; /* connections cut so far (stderr at shutdown) */
+    watch_slot slots[WATCH_SLOTS];
+} watchdog;
+
+static double mono_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Every half second: shut down the sockets of connections whose request
+   head is late. libmicrohttpd then reads the end of the stream and closes
+   the connection; it reports NOTIFY_CLOSED (which frees the slot, under
+   the same lock) before it closes the descriptor, so the descriptor shut
+   down here is never one reused by a newer connection. */
+static void *watch_run(void *arg)
+{
+    watchdog *w = arg;
+    pthread_mutex_lock(&w->mu);
+    while (!w->quit) {
+        struct timespec ts;
+        double t = mono_now();
+        int i;
+        for (i = 0; i < WATCH_SLOTS; i++) {
+            watch_slot *sl = &w->slots[i];
+            if (sl->used && !sl->busy && sl->since > 0 && t - sl->since > SRV_HEAD_SECONDS) {
+                shutdown(sl->fd, SHUT_RDWR);
+                sl->since = 0; /* once */
+                w->cut++;
+            }
+        }
+        clock_gettime(CLOCK_REALTIME, &ts);
+        ts.tv_nsec += 500000000L;
+        if (ts.tv_nsec >= 1000000000L) ts.tv_sec++, ts.tv_nsec -= 1000000000L;
+        pthread_cond_timedwait(&w->cv, &w->mu, &ts);
+    }
+    pthread_mutex_unlock(&w->mu);
+    return NULL;
+}
+
+/* NOTIFY_CONNECTION: a connection starts (a slot, its clock running) or
+   is closed (its slot freed). A connection without a slot (none free) is
+   left to libmicrohttpd's own idle timeout. */
+static void watch_conn(void *cls, struct MHD_Connection *c, void **ctx,
+                       enum MHD_ConnectionNotificationCode what)
+{
+    watchdog *w = cls;
+    pthread_mutex_lock(&w->mu);
+    if (what == MHD_CONNECTION_NOTIFY_STARTED) {
+        const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_CONNECTION_FD);
+        int i;
+        *ctx = NULL;
+        for (i = 0; ci && i < WATCH_SLOTS; i++)
+            if (!w->slots[i].used) {
+                watch_slot *sl = &w->slots[i];
+                sl->used = 1, sl->fd = ci->connect_fd, sl->busy = 0, sl->since = mono_now();
+                *ctx = sl;
+                break;
+            }
+    } else if (*ctx) {
+        memset(*ctx, 0, sizeof(watch_slot));
+        *ctx = NULL;
+    }
+    pthread_mutex_unlock(&w->mu);
+}
+
+/* The connection's head is in (busy 1), or its request is done and it
+   waits for the next one (busy 0, the clock restarted). */
+static void watch_mark(watchdog *w, struct MHD_Connection *c, int busy)
+{
+    const union MHD_ConnectionInfo *ci = MHD_get_connection_info(c, MHD_CONNECTION_INFO_SOCKET_CONTEXT);
+    watch_slot *sl = ci ? ci->socket_context : NULL;
+    if (!sl) return;
+    pthread_mutex_lock(&w->mu);
+    if (sl->used) sl->busy = busy, sl->since = busy ? 0 : mono_now();
+    pthread_mutex_unlock(&w->mu);
+}
+
+static void *uri_log(void *cls, const char *uri, struct MHD_Connection *c)
+{
+    (void)cls, (void)c;
+    return strlen(uri) > SRV_MAX_URI ? &mark_long : &mark_ok;
+}
+
+static void logger(void *cls, const char *fmt, va_list ap)
+{
+    (void)cls;
+    fprintf(stderr, "ggrt serve: ");
+    vfprintf(stderr, fmt, ap);
+}
+
+/* ---- Host ---- */
+
+/* Does the Host header name this server: the bound address (or localhost
+   when bound to loopback; any address literal when bound to all of
+   them), and the port? A DNS-rebinding page reaches us under its own
+   name, which this refuses. */
+static int host_ok(const http_ctx *h, const char *host)
+{
+    char name[256];
+    const char *port = NULL;
+    unsigned char bin[16];
+    size_t n;
+    int fam = 0;
+    if (!host || !*host || strlen(host) >= sizeof name) return 0;
+    if (host[0] == '[') {
+        const char *e = strchr(host, ']');
+        if (!e) return 0;
+        n = (size_t)(e - host - 1);
+        memcpy(name, host + 1, n), name[n] = '\0';
+        if (e[1] == ':')
+            port = e + 2;
+        else if (e[1])
+            return 0;
+    } else {
+        const char *c = strchr(host, ':');
+        n = c ? (size_t)(c - host) : strlen(host);
+        memcpy(name, host, n), name[n] = '\0';
+        if (c) port = c + 1;
+    }
+    if (port ? atoi(port) != h->port || strspn(port, "0123456789") != strlen(port) || !*port
+             : h->port != 80)
+        return 0;
+    if (inet_pton(AF_INET, name, bin) == 1)
+        fam = AF_INET;
+    else if (inet_pton(AF_INET6, name, bin) == 1)
+        fam = AF_INET6;
+    if (!fam) return h->loopback && !strcasecmp(name, "localhost");
+    if (h->wildcard) return 1;
+    return fam == h->family && !memcmp(bin, h->addr, fam == AF_INET ? 4 : 16);
+}
+
+/* ---- token ---- */
+
+static int same_token(const char *a, const char *b)
+{
+    size_t i, n = strlen(b);
+    unsigned char d = 0;
+    if (strlen(a) != n) return 0;
+    for (i = 0; i < n; i++) d |= (unsigned char)(a[i] ^ b[i]);
+    return d == 0;
+}
+
+/* ---- parameters ---- */
+
+typedef struct collect {
+    srv_req *req;
+    int status; /* 0, or the refusal */
+    char msg[256];
+} collect;
+
+static enum MHD_Result take_param(void *cls, enum MHD_ValueKind kind, const char *key,
+                                  const char *value)
+{
+    collect *c = cls;
+    int i;
+    (void)kind;
+    if (!value) value = "";
+    if (!strcmp(key, "token")) return MHD_YES;
+    if (c->req->nparams >= SRV_MAX_PARAMS) {
+        c->status = 400;
+        snprintf(c->msg, sizeof c->msg, "more than %d query parameters", SRV_MAX_PARAMS);
+        return MHD_NO;
+    }
+    if (strlen(value) > SRV_MAX_VALUE || strlen(key) > 64) {
+        c->status = 414;
+        snprintf(c->msg, sizeof c->msg, "parameter '%.64s' is longer than %d bytes", key,
+                 SRV_MAX_VALUE);
+        return MHD_NO;
+    }
+    for (i = 0; i < c->req->nparams; i++)
+        if (!strcmp(c->req->params[i].key, key)) {
+            c->status = 400;
+            snprintf(c->msg, sizeof c->msg, "parameter '%s' given twice", key);
+            return MHD_NO;
+        }
+    c->req->params[c->req->nparams].key = key;
+    c->req->params[c->req->nparams].value = value;
+    c->req->nparams++;
+    return MHD_YES;
+}
+
+/* ---- responses ---- */
+
+static enum MHD_Result respond(struct MHD_Connection *conn, srv_resp *r)
+{
+    struct MHD_Response *m;
+    enum MHD_Result ok;
+    m = MHD_create_response_from_buffer(
+        r->len, r->body, r->body_static ? MHD_RESPMEM_PERSISTENT : MHD_RESPMEM_MUST_FREE);
+    if (!m) {
+        if (!r->body_static) free(r->body);
+        return MHD_NO;
+    }
+    MHD_add_response_header(m, "Content-Type", r->type ? r->type : "application/json");
+    MHD_add_response_header(m, "Cache-Control", "no-store");
+    MHD_add_response_header(m, "X-Content-Type-Options", "nosniff");
+    MHD_add_response_header(m, "Referrer-Policy", "no-referrer");
+    MHD_add_response_header(m, "X-Frame-Options", "DENY");
+    MHD_add_response_header(m, "Content-Security-Policy",
+                            "default-src 'none'; script-src 'self'; style-src 'self'; "
+                            "img-src 'self' blob: data:; connect-src 'self'; "
+                            "frame-ancestors 'none'; base-uri 'none'; form-action 'none'");
+    if (r->extra_name[0]) MHD_add_response_header(m, r->extra_name, r->extra_value);
+    if (r->extra2_name[0]) MHD_add_response_header(m, r->extra2_name, r->extra2_value);
+    ok = MHD_queue_response(conn, (unsigned)r->status, m);
+    MHD_destroy_response(m);
+    return ok;
+}
+
+static enum MHD_Result refuse(struct MHD_Connection *conn, int status, const char *fmt, ...)
+{
+    srv_resp r;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    memset(&r, 0, sizeof r);
+    srv_error(&r, status, "%s", msg);
+    if (status == 401) {
+        snprintf(r.extra_name, sizeof r.extra_name, "WWW-Authenticate");
+        snprintf(r.extra_value, sizeof r.extra_value, "Bearer realm=\"ggrt serve\"");
+    }
+    if (status == 405) {
+        snprintf(r.extra_name, sizeof r.extra_name, "Allow");
+        snprintf(r.extra_value, sizeof r.extra_value, "GET, HEAD");
+    }
+    return respond(conn, &r);
+}
+
+static const char *bearer(struct MHD_Connection *conn)
+{
+    const char *a = MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Authorization");
+    if (!a || strncasecmp(a, "Bearer ", 7)) return NULL;
+    a += 7;
+    while (*a == ' ') a++;
+    return a;
+}
+
+static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char *url,
+                              const char *method, const char *version, const char *upload,
+                              size_t *upload_size, void **con_cls)
+{
+    http_ctx *h = cls;
+    srv_req req;
+    srv_resp resp;
+    collect col;
+    const char *tok;
+    int i;
+    (void)version, (void)upload;
+    if (*con_cls != &mark_head) watch_mark(h->watch, conn, 1);
+    /* Refused at once, on the first call: libmicrohttpd then closes the
+       connection, which is what a request with a body we never read
+       needs. */
+    if (*con_cls == &mark_long) {
+        *upload_size = 0;
+        return refuse(conn, 414, "request target longer than %d bytes", SRV_MAX_URI);
+    }
+    if (strcmp(method, "GET") && strcmp(method, "HEAD")) {
+        *upload_size = 0;
+        return refuse(conn, 405, "method %s not allowed: the API is read-only (GET)", method);
+    }
+    /* Answered on the second call, with the whole request in: the
+       connection can then be kept alive. A body sent with a GET is
+       dropped. */
+    if (*con_cls != &mark_head) {
+        *con_cls = &mark_head;
+        return MHD_YES;
+    }
+    if (*upload_size) {
+        *upload_size = 0;
+        return MHD_YES;
+    }
+    if (!host_ok(h, MHD_lookup_connection_value(conn, MHD_HEADER_KIND, "Host")))
+        return refuse(conn, 403, "Host header does not name this server");
+    tok = MHD_lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "token");
+    if (!tok) tok = bearer(conn);
+    if (!tok || !*tok)
+        return refuse(conn, 401,
+                      "missing token: add ?token=... as printed by ggrt serve, "
+                      "or an Authorization: Bearer header");
+    if (!same_token(tok, h->srv->token)) return refuse(conn, 403, "wrong token");
+    memset(&req, 0, sizeof req);
+    req.srv = h->srv, req.path = url;
+    col.req = &req, col.status = 0, col.msg[0] = '\0';
+    MHD_get_connection_values(conn, MHD_GET_ARGUMENT_KIND, take_param, &col);
+    if (col.status) return refuse(conn, col.status, "%s", col.msg);
+    for (i = 0; i < req.nparams; i++)
+        if (!srv_param_allowed(url, req.params[i].key))
+            return refuse(conn, 400, "unknown parameter '%.64s' for %.64s (docs/serve.md)",
+                          req.params[i].key, url);
+    memset(&resp, 0, sizeof resp);
+    srv_route(h->srv, &req, &resp);
+    return respond(conn, &resp);
+}
+
+/* ---- start and stop ---- */
+
+struct srv_http {
+    struct MHD_Daemon *d;
+    http_ctx ctx;
+    watchdog watch;
+};
+
+/* NOTIFY_COMPLETED: a request is done; its connection waits for the
+   next one. */
+static void request_done(void *cls, struct MHD_Connection *c, void **con_cls,
+                         enum MHD_RequestTerminationCode why)
+{
+    (void)con_cls, (void)why;
+    watch_mark(cls, c, 0);
+}
+
+static int watch_start(watchdog *w)
+{
+    if (pthread_mutex_init(&w->mu, NULL) != 0) return -1;
+    if (pthread_cond_init(&w->cv, NULL) != 0) {
+        pthread_mutex_destroy(&w->mu);
+        return -1;
+    }
+    if (pthread_create(&w->thread, NULL, watch_run, w) != 0) {
+        pthread_cond_destroy(&w->cv);
+        pthread_mutex_destroy(&w->mu);
+        return -1;
+    }
+    w->started = 1;
+    return 0;
+}
+
+static void watch_stop(watchdog *w)
+{
+    if (!w->started) return;
+    pthread_mutex_lock(&w->mu);
+    w->quit = 1;
+    pthread_cond_signal(&w->cv);
+    pthread_mutex_unlock(&w->mu);
+    pthread_join(w->thread, NULL);
+    w->started = 0;
+}
+
+static int parse_addr(const char *host, struct sockaddr_storage *ss, http_ctx *h)
+{
+    struct sockaddr_in *a4 = (struct sockaddr_in *)ss;
+    struct sockaddr_in6 *a6 = (struct sockaddr_in6 *)ss;
+    memset(ss, 0, sizeof *ss);
+    if (inet_pton(AF_INET, host, &a4->sin_addr) == 1) {
+        a4->sin_family = AF_INET;
+        h->family = AF_INET;
+        memcpy(h->addr, &a4->sin_addr, 4);
+        h->loopback = h->addr[0] == 127;
+        h->wildcard = a4->sin_addr.s_addr == htonl(INADDR_ANY);
+        return 0;
+    }
+    if (inet_pton(AF_INET6, host, &a6->sin6_addr) == 1) {
+        a6->sin6_family = AF_INET6;
+        h->family = AF_INET6;
+        memcpy(h->addr, &a6->sin6_addr, 16);
+        h->loopback = IN6_IS_ADDR_LOOPBACK(&a6->sin6_addr);
+        h->wildcard = IN6_IS_ADDR_UNSPECIFIED(&a6->sin6_addr);
+        return 0;
+    }
+    return -1;
+}
+
+/* A listening socket on ss (non-blocking, as the daemon's pool of
+   threads accepts on it), and the port it got (--port 0: any free one):
+   known before the daemon starts, so no request runs before it is set. */
+static int listen_on(struct sockaddr_storage *ss, int family, int *port)
+{
+    socklen_t len = family == AF_INET6 ? sizeof(struct sockaddr_in6) : sizeof(struct sockaddr_in);
+    int fd = socket(family, SOCK_STREAM, 0), one = 1;
+    if (fd < 0) return -1;
+    if (setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
+        bind(fd, (struct sockaddr *)ss, len) != 0 || listen(fd, SOMAXCONN) != 0 ||
+        getsockname(fd, (struct sockaddr *)ss, &len) != 0 ||
+        fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK) != 0) {
+        close(fd);
+        return -1;
+    }
+    *port = ntohs(family == AF_INET6 ? ((struct sockaddr_in6 *)ss)->sin6_port
+                                     : ((struct sockaddr_in *)ss)->sin_port);
+    return fd;
+}
+
+srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
+{
+    srv_http *h = calloc(1, sizeof *h);
+    struct sockaddr_storage ss;
+    int fd;
+    unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG;
+    if (!h) {
+        snprintf(msg, msglen, "out of memory");
+        return NULL;
+    }
+    h->ctx.srv = s;
+    h->ctx.watch = &h->watch;
+    if (parse_addr(s->cfg.host, &ss, &h->ctx)) {
+        snprintf(msg, msglen, "--host '%s' is not a numeric IPv4 or IPv6 address", s->cfg.host);
+        free(h);
+        return NULL;
+    }
+    if (h->ctx.family == AF_INET6) {
+        flags |= MHD_USE_IPv6;
+        ((struct sockaddr_in6 *)&ss)->sin6_port = htons((uint16_t)s->cfg.port);
+    } else {
+        ((struct sockaddr_in *)&ss)->sin_port = htons((uint16_t)s->cfg.port);
+    }
+    /* The logger first: options before it would log through MHD's own. */
+    fd = listen_on(&ss, h->ctx.family, &h->ctx.port);
+    if (fd >= 0 && watch_start(&h->watch) != 0) {
+        close(fd);
+        snprintf(msg, msglen, "cannot start the connection watchdog thread");
+        free(h);
+        return NULL;
+    }
+    /* clang-format off */
+    if (fd >= 0)
+        h->d = MHD_start_daemon(flags, (uint16_t)h->ctx.port, NULL, NULL, handle, &h->ctx,
+                                MHD_OPTION_EXTERNAL_LOGGER, logger, NULL,
+                                MHD_OPTION_LISTEN_SOCKET, fd,
+                                MHD_OPTION_THREAD_POOL_SIZE, (unsigned)SRV_THREADS,
+                                MHD_OPTION_CONNECTION_LIMIT, (unsigned)SRV_MAX_CONNECTIONS,
+                                MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)SRV_MAX_PER_ADDR,
+                                MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)SRV_CONN_TIMEOUT,
+                                MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)SRV_MEMORY_LIMIT,
+                                MHD_OPTION_NOTIFY_CONNECTION, watch_conn, &h->watch,
+                                MHD_OPTION_NOTIFY_COMPLETED, request_done, &h->watch,
+                                MHD_OPTION_URI_LOG_CALLBACK, uri_log, NULL, MHD_OPTION_END);
+    /* clang-format on */
+    if (!h->d) {
+        snprintf(msg, msglen, "cannot listen on %s port %d (in use? --port 0 takes a free one)",
+                 s->cfg.host, s->cfg.port);
+        if (fd >= 0) close(fd);
+        watch_stop(&h->watch);
+        if (fd >= 0) pthread_cond_destroy(&h->watch.cv), pthread_mutex_destroy(&h->watch.mu);
+        free(h);
+        return NULL;
+    }
+    *port = h->ctx.port;
+    return h;
+}
+
+void srv_http_stop(srv_http *h)
+{
+    if (!h) return;
+    /* The watchdog first: it must not shut down a socket of a daemon
+       that is closing them all. */
+    watch_stop(&h->watch);
+    MHD_stop_daemon(h->d);
+    pthread_cond_destroy(&h->watch.cv);
+    pthread_mutex_destroy(&h->watch.mu);
+    free(h);
+}
+
+#else
+typedef int serve_http_unused;
+#endif

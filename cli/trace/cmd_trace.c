@@ -1,0 +1,248 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** cmd_trace.c -- `ggrt trace SCENE --pixel X,Y`: the full ray tree of one
+** pixel, as an indented tree, JSON (docs/trace-json.md), SVG or OBJ.
+*/
+#include "common/cli.h"
+#include "debug/debug.h"
+#include "trace/trace_view.h"
+
+#include <locale.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char about[] =
+    "Print every ray that made one pixel: eye, reflection, refraction, total internal\n"
+    "reflection and shadow rays, what each hit (object, scene-file line, point,\n"
+    "normals; for a mesh the triangle, its face, line, group and material in the file),\n"
+    "the material terms, Fresnel split, absorption, why a branch stopped, and the\n"
+    "colour each ray returns with its weight in the pixel, its share of the pixel and\n"
+    "its factor in its parent. SCENE may be an OBJ or PLY model (framed as by ggrt\n"
+    "render).";
+
+static const char tail[] =
+    "The printed colour equals, bit for bit, what ggrt render writes for the pixel\n"
+    "with the same render options. -j is accepted and ignored (one pixel is traced\n"
+    "on one thread); a --crop that leaves the pixel out is refused (render leaves\n"
+    "it black).\n"
+    "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
+
+static const char *const formats[] = {"text", "json", NULL};
+
+typedef struct trace_args {
+    const char *scenes[2], *svg, *obj, *a_text, *b_text;
+    int nscenes, pixel[2], sample, format, ascii, ledger, diff, no_numeric;
+    ggRenderOptions oa, ob; /* --diff: the two sides */
+    cli_render ro;
+} trace_args;
+
+/* --a and --b: any text, the empty one too. */
+static int take_text(void *ud, const char *v, char *why, size_t whylen)
+{
+    (void)why, (void)whylen;
+    *(const char **)ud = v;
+    return 0;
+}
+
+/* The --diff sides: the render options plus --a, plus --b. */
+static int diff_sides(trace_args *a, const cli_cmd *cmd)
+{
+    ggError err;
+    a->oa = a->ob = a->ro.opt;
+    if (ggRenderOptionsParse(&a->oa, a->a_text, &err) != GG_OK)
+        return cli_usage_error(cmd, "--a:%s", err.message);
+    if (ggRenderOptionsParse(&a->ob, a->b_text, &err) != GG_OK)
+        return cli_usage_error(cmd, "--b:%s", err.message);
+    return CLI_GO;
+}
+
+/* The render options every command takes, here where they do not decide
+   the pixel: -j is said once to do nothing, and a crop must hold the
+   pixel (outside it render writes black, which no trace explains). */
+static int crop_and_threads(const trace_args *a, const cli_cmd *cmd)
+{
+    const ggRenderOptions *o = &a->ro.opt;
+    int x = a->pixel[0], y = a->pixel[1];
+    if (cli_given(cmd, "threads"))
+        cli_warn("-j does not apply to a trace (one pixel, one thread); ignored");
+    if (cli_given(cmd, "crop") &&
+        (x < o->crop_x0 || x >= o->crop_x1 || y < o->crop_y0 || y >= o->crop_y1))
+        return cli_usage_error(cmd,
+                               "--pixel %d,%d is outside --crop %d,%d,%d,%d, where ggrt render "
+                               "writes black",
+                               x, y, o->crop_x0, o->crop_y0, o->crop_x1, o->crop_y1);
+    return CLI_GO;
+}
+
+static int parse(trace_args *a, int argc, char **argv)
+{
+    cli_opt mine[] = {
+        CLI_OPT_XY('p', "pixel", a->pixel, 0, GG_IMAGE_MAX_DIM - 1, "X,Y",
+                   "the pixel (0,0 is the top left); required"),
+        CLI_OPT_INT(0, "sample", &a->sample, 0, 4095, "K",
+                    "record only sample K of the pixel (default: all)"),
+        CLI_OPT_CHOICE('f', "format", &a->format, formats, "F",
+                       "text (default) or json (schema: docs/trace-json.md)"),
+        CLI_OPT_FLAG(0, "ascii", &a->ascii, "plain ASCII tree even on a UTF-8 terminal"),
+        CLI_OPT_FLAG(0, "no-numeric", &a->no_numeric,
+                     "leave out each hit's numeric state (error bound, offset,\n"
+                     "TIR margin, edge distance, traversal cost) from the\n"
+                     "text tree"),
+        CLI_OPT_STRING(0, "svg", &a->svg, "FILE",
+                       "draw the tree over a top and a side view of the scene"),
+        CLI_OPT_STRING(0, "obj", &a->obj, "FILE", "write the rays as OBJ line geometry"),
+        CLI_OPT_FLAG(0, "ledger", &a->ledger,
+                     "print the pixel's colour term by term instead of the\n"
+                     "tree: every emission, ambient, diffuse, highlight and\n"
+                     "background term, the rays that carried it, its share,\n"
+                     "and that they add up to the pixel"),
+        CLI_OPT_FLAG(0, "diff", &a->diff,
+                     "trace the pixel twice and show both trees side by\n"
+                     "side, the first divergent ray marked: with --a and\n"
+                     "--b (render options as text, as for ggrt diff), or\n"
+                     "with a second scene SCENE_B"),
+        CLI_OPT_FUNC(0, "a", take_text, &a->a_text, "OPTIONS",
+                     "--diff: render options of side a (default '')"),
+        CLI_OPT_FUNC(0, "b", take_text, &a->b_text, "OPTIONS",
+                     "--diff: render options of side b (default '')"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "trace",
+                   .usage = "SCENE [SCENE_B] --pixel X,Y [options]",
+                   .about = about,
+                   .tail = tail,
+                   .opts = {mine, a->ro.table},
+                   .args = a->scenes,
+                   .min_args = 1,
+                   .max_args = 2,
+                   .nargs = &a->nscenes,
+                   .args_name = "scene"};
+    int rc;
+    a->sample = -1, a->a_text = a->b_text = "";
+    cli_render_init(&a->ro, CLI_RENDER_ALL);
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    cli_render_finish(&a->ro);
+    if (!mine[0].given) return cli_usage_error(&cmd, "need --pixel X,Y");
+    if ((rc = crop_and_threads(a, &cmd)) != CLI_GO) return rc;
+    if (a->nscenes > 1 && !a->diff) return cli_usage_error(&cmd, "a second scene needs --diff");
+    if ((mine[9].given || mine[10].given) && !a->diff)
+        return cli_usage_error(&cmd, "--a and --b need --diff");
+    if (a->ledger && a->sample >= 0)
+        return cli_usage_error(&cmd, "--ledger explains the whole pixel: drop --sample");
+    if (a->diff && (a->svg || a->obj || a->ledger || a->format == 1))
+        return cli_usage_error(&cmd, "--diff prints text only (no --svg, --obj, --ledger, json)");
+    if (a->diff && (rc = diff_sides(a, &cmd)) != CLI_GO) return rc;
+    if (a->svg && (rc = cli_check_output("trace", a->svg)) != 0) return rc;
+    if (a->obj && (rc = cli_check_output("trace", a->obj)) != 0) return rc;
+    return CLI_GO;
+}
+
+static int write_files(const trace_args *a, const trace_view *view)
+{
+    cli_out o;
+    int rc = EXIT_OK;
+    if (a->svg && (rc = cli_out_open(&o, "trace", a->svg)) == 0) {
+        trace_write_svg(o.f, view);
+        rc = cli_out_close(&o, "trace");
+    }
+    if (rc == EXIT_OK && a->obj && (rc = cli_out_open(&o, "trace", a->obj)) == 0) {
+        trace_write_obj(o.f, view);
+        rc = cli_out_close(&o, "trace");
+    }
+    return rc;
+}
+
+/* Trace the pixel of `scene` with `opt` into tr and *v; the ledger too
+   when every sample is recorded (*ledger, freed by the caller). */
+static int trace_into(const trace_args *a, ggScene *scene, const ggRenderOptions *opt,
+                      const char *path, ggTrace *tr, trace_view *v, ggLedger **ledger)
+{
+    ggError err;
+    int rc;
+    memset(v, 0, sizeof *v);
+    *ledger = NULL;
+    rc = ggTracePixel(scene, opt, a->pixel[0], a->pixel[1], a->sample, tr, &v->pixel, &v->stats,
+                      &err);
+    if (rc != GG_OK) return cli_fail(rc, &err, 1); /* a pixel or sample outside the image */
+    if (a->sample < 0 && (rc = ggLedgerCreate(tr, v->pixel, NULL, ledger, &err)) != GG_OK)
+        return cli_fail(rc, &err, 0);
+    v->scene = scene, v->trace = tr, v->opt = opt, v->path = path;
+    v->x = a->pixel[0], v->y = a->pixel[1], v->sample = a->sample, v->ledger = *ledger;
+    v->hide_numeric = a->no_numeric;
+    return EXIT_OK;
+}
+
+static int run_one(trace_args *a, ggScene *scene, ggTrace *tr)
+{
+    trace_view view;
+    ggLedger *ledger;
+    int rc = trace_into(a, scene, &a->ro.opt, a->scenes[0], tr, &view, &ledger);
+    if (rc != EXIT_OK) return rc;
+    if (a->format == 1) {
+        trace_print_json(stdout, &view);
+    } else if (a->ledger) {
+        printf("pixel %d,%d of %s\ncolour %.9g %.9g %.9g\n\n", view.x, view.y, view.path,
+               view.pixel.r, view.pixel.g, view.pixel.b);
+        trace_print_ledger(stdout, &view, 40);
+    } else {
+        const char *lc = setlocale(LC_CTYPE, "");
+        int utf8 = !a->ascii && isatty(1) && lc &&
+                   (strstr(lc, "UTF-8") || strstr(lc, "utf8") || strstr(lc, "UTF8"));
+        trace_print_text(stdout, &view, utf8);
+    }
+    rc = write_files(a, &view);
+    ggLedgerFree(ledger);
+    return rc;
+}
+
+static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
+{
+    ggScene *sb = sa;
+    ggTrace *tb = ggTraceCreate(NULL);
+    trace_view va, vb;
+    ggLedger *la = NULL, *lb = NULL;
+    char na[1200], nb[1200];
+    const char *pb = a->scenes[a->nscenes > 1];
+    int rc = EXIT_OK;
+    if (!tb) {
+        cli_error("out of memory");
+        return EXIT_INPUT;
+    }
+    if (a->nscenes > 1 && !(sb = cli_load_scene(pb, NULL, NULL, &rc))) {
+        ggTraceFree(tb);
+        return rc;
+    }
+    a->sample = -1;
+    rc = trace_into(a, sa, &a->oa, a->scenes[0], ta, &va, &la);
+    if (rc == EXIT_OK) rc = trace_into(a, sb, &a->ob, pb, tb, &vb, &lb);
+    if (rc == EXIT_OK) {
+        snprintf(na, sizeof na, "%s '%s'", a->scenes[0], a->a_text);
+        snprintf(nb, sizeof nb, "%s '%s'", pb, a->b_text);
+        trace_print_diff(stdout, &va, &vb, na, nb);
+    }
+    ggLedgerFree(la), ggLedgerFree(lb);
+    ggTraceFree(tb);
+    if (sb != sa) ggSceneFree(sb);
+    return rc;
+}
+
+int cmd_trace(int argc, char **argv)
+{
+    trace_args a;
+    ggScene *scene;
+    ggTrace *tr;
+    int rc;
+    memset(&a, 0, sizeof a);
+    if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
+    if (!(scene = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) return rc;
+    if (!(tr = ggTraceCreate(NULL))) {
+        cli_error("out of memory");
+        ggSceneFree(scene);
+        return EXIT_INPUT;
+    }
+    rc = a.diff ? run_diff(&a, scene, tr) : run_one(&a, scene, tr);
+    ggTraceFree(tr);
+    ggSceneFree(scene);
+    return rc;
+}

@@ -1,0 +1,158 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** trace_debug.c -- `ggrt trace --ledger` (a pixel's colour term by term)
+** and `ggrt trace --diff` (two trees of one pixel side by side).
+*/
+#include "debug/debug.h"
+#include "trace/trace_view.h"
+
+#include <string.h>
+
+/* "sphere #2 (glass.nff:29)" */
+static void object_name(const trace_view *v, int obj, char *buf, size_t n)
+{
+    int line = ggSceneObjectLine(v->scene, obj);
+    const char *kind = ggShapeKindName(ggSceneObjectKind(v->scene, obj));
+    if (line > 0)
+        snprintf(buf, n, "%s #%d (%s:%d)", kind, obj, v->path, line);
+    else
+        snprintf(buf, n, "%s #%d", kind, obj);
+}
+
+/* What a term is, in words: "background seen through eye > refract",
+   "light 1 diffuse on sphere #2 (f.nff:9) via eye > reflect". */
+static void term_text(const trace_view *v, const ggLedgerTerm *t, char *buf, size_t n)
+{
+    const ggTraceNode *nd = ggTraceGetNode(v->trace, (size_t)t->node);
+    char path[400], obj[300];
+    dbg_path(path, sizeof path, v->trace, t->node);
+    if (t->kind == GG_TERM_BACKGROUND) {
+        snprintf(buf, n, "background seen through %s (ray #%d)", path, t->node);
+        return;
+    }
+    object_name(v, nd->object, obj, sizeof obj);
+    if (t->kind == GG_TERM_DIFFUSE || t->kind == GG_TERM_PHONG)
+        snprintf(buf, n, "light %d %s on %s via %s (ray #%d)", t->light, ggTermName(t->kind), obj,
+                 path, t->node);
+    else
+        snprintf(buf, n, "%s of %s via %s (ray #%d)", ggTermName(t->kind), obj, path, t->node);
+}
+
+void trace_print_ledger(FILE *f, const trace_view *v, size_t max)
+{
+    const ggLedger *l = v->ledger;
+    size_t i, shown = max && max < l->count ? max : l->count;
+    char text[800];
+    ggColor rest = {0, 0, 0};
+    double rest_share = 0;
+    fprintf(f, "ledger: %zu term%s that add light, largest share first\n", l->count,
+            l->count == 1 ? "" : "s");
+    for (i = 0; i < shown; i++) {
+        const ggLedgerTerm *t = &l->terms[i];
+        term_text(v, t, text, sizeof text);
+        fprintf(f, "  %6.2f%%  (%.6g %.6g %.6g)  %s\n", 100 * t->share, t->value.r, t->value.g,
+                t->value.b, text);
+    }
+    for (; i < l->count; i++) {
+        rest.r += l->terms[i].value.r, rest.g += l->terms[i].value.g;
+        rest.b += l->terms[i].value.b, rest_share += l->terms[i].share;
+    }
+    if (shown < l->count)
+        fprintf(f, "  %6.2f%%  (%.6g %.6g %.6g)  %zu more terms (--format json lists them all)\n",
+                100 * rest_share, rest.r, rest.g, rest.b, l->count - shown);
+    fprintf(f, "sum of the terms %.9g %.9g %.9g\n", l->sum.r, l->sum.g, l->sum.b);
+    fprintf(f, "the pixel        %.9g %.9g %.9g\n", l->pixel.r, l->pixel.g, l->pixel.b);
+    fprintf(f, "difference %.3g %.3g %.3g, within the rounding bound %.3g %.3g %.3g: %s\n",
+            l->sum.r - l->pixel.r, l->sum.g - l->pixel.g, l->sum.b - l->pixel.b, l->bound.r,
+            l->bound.g, l->bound.b, l->holds ? "yes" : "NO");
+}
+
+/* ---- two trees side by side ---- */
+
+#define COL 58
+
+typedef struct kids {
+    int refr[3], mirror;
+} kids;
+
+static void children(const ggTrace *t, int i, kids *k)
+{
+    size_t j, n = ggTraceNodeCount(t);
+    k->refr[0] = k->refr[1] = k->refr[2] = k->mirror = -1;
+    if (i < 0) return;
+    for (j = (size_t)i + 1; j < n; j++) {
+        const ggTraceNode *c = ggTraceGetNode(t, j);
+        if (c->parent != i) continue;
+        if (c->kind == GG_RAY_REFRACT)
+            k->refr[c->channel < 0 ? 0 : c->channel] = (int)j;
+        else
+            k->mirror = (int)j;
+    }
+}
+
+/* One ray in a column: "refract #1 hit #2 front  v v (0.56 0.65 0.84)". */
+static void cell(char *buf, size_t n, const ggTrace *t, int i, int indent)
+{
+    const ggTraceNode *nd;
+    size_t k;
+    int l;
+    if (i < 0) {
+        snprintf(buf, n, "%*s(no such ray)", 2 * indent, "");
+        return;
+    }
+    nd = ggTraceGetNode(t, (size_t)i);
+    k = (size_t)snprintf(buf, n, "%*s%s #%d ", 2 * indent, "", ggRayKindName(nd->kind), i);
+    if (k < n && nd->hit)
+        k += (size_t)snprintf(buf + k, n - k, "hit #%d %s", nd->object,
+                              nd->front ? "front" : "back");
+    else if (k < n)
+        k += (size_t)snprintf(buf + k, n - k, "miss");
+    for (l = 0; nd->hit && l < nd->nlights && k < n; l++) {
+        const ggTraceLight *L = ggTraceGetLight(t, (size_t)(nd->first_light + l));
+        static const char v[] = "vbaf"; /* visible blocked attenuated facing-away */
+        k += (size_t)snprintf(buf + k, n - k, "%s%c", l ? "" : " L:", v[L->verdict & 3]);
+    }
+    if (k < n) snprintf(buf + k, n - k, " (%.4g %.4g %.4g)", nd->color.r, nd->color.g, nd->color.b);
+}
+
+static void rows(FILE *f, const ggTrace *ta, int ia, const ggTrace *tb, int ib, int indent,
+                 const ggDivergence *d)
+{
+    char ca[256], cb[256];
+    kids ka, kb;
+    int c, mark = (ia >= 0 && ia == d->node_a) || (ib >= 0 && ib == d->node_b);
+    cell(ca, sizeof ca, ta, ia, indent);
+    cell(cb, sizeof cb, tb, ib, indent);
+    fprintf(f, "%s %-*.*s | %-.*s\n", mark ? ">>" : "  ", COL, COL, ca, COL, cb);
+    children(ta, ia, &ka);
+    children(tb, ib, &kb);
+    for (c = 0; c < 3; c++)
+        if (ka.refr[c] >= 0 || kb.refr[c] >= 0)
+            rows(f, ta, ka.refr[c], tb, kb.refr[c], indent + 1, d);
+    if (ka.mirror >= 0 || kb.mirror >= 0) rows(f, ta, ka.mirror, tb, kb.mirror, indent + 1, d);
+}
+
+void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const char *name_a,
+                      const char *name_b)
+{
+    ggDivergence d;
+    char text[800];
+    size_t i, j, na = ggTraceNodeCount(a->trace), nb = ggTraceNodeCount(b->trace);
+    int differ = ggTraceCompare(a->trace, b->trace, &d);
+    fprintf(f, "pixel %d,%d\n", a->x, a->y);
+    fprintf(f, "a: %s\n   colour %.9g %.9g %.9g\n", name_a, a->pixel.r, a->pixel.g, a->pixel.b);
+    fprintf(f, "b: %s\n   colour %.9g %.9g %.9g\n", name_b, b->pixel.r, b->pixel.g, b->pixel.b);
+    dbg_divergence_text(text, sizeof text, a->trace, b->trace, &d);
+    fprintf(f, "%s%s\n\n", differ ? "first divergence (>>): " : "", text);
+    fprintf(f, "   %-*s | %s\n", COL, "a", "b");
+    for (i = 0, j = 0; i < na || j < nb;) {
+        /* the roots in order, sample by sample */
+        while (i < na && ggTraceGetNode(a->trace, i)->parent >= 0) i++;
+        while (j < nb && ggTraceGetNode(b->trace, j)->parent >= 0) j++;
+        if (i >= na && j >= nb) break;
+        rows(f, a->trace, i < na ? (int)i : -1, b->trace, j < nb ? (int)j : -1, 0, &d);
+        i++, j++;
+    }
+    fprintf(f, "\nL: the shadow ray of each light: v visible, b blocked, a attenuated, f facing "
+               "away\n");
+}

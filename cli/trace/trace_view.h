@@ -1,0 +1,45 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** trace_view.h -- a recorded ray tree and its writers: text, JSON, SVG, OBJ.
+*/
+#ifndef GG_CLI_TRACE_VIEW_H
+#define GG_CLI_TRACE_VIEW_H
+
+#include "common/cli.h"
+
+typedef struct trace_view {
+    ggScene *scene;
+    const ggTrace *trace;
+    const ggRenderOptions *opt;
+    const char *path;
+    int x, y, sample;
+    ggColor pixel;
+    ggRayStats stats;
+    const ggLedger *ledger; /* when every sample is recorded, else NULL */
+    int hide_numeric;       /* text: leave out each hit's numeric state */
+} trace_view;
+
+/* Text and JSON (trace_text.c). */
+void trace_print_text(FILE *f, const trace_view *v, int utf8);
+void trace_print_json(FILE *f, const trace_view *v);
+/* SVG (trace_svg.c). Write to f; the caller checks f for errors
+   (cli_out_close). */
+void trace_write_svg(FILE *f, const trace_view *v);
+/* The same; camera 0 leaves out the camera view (a small render of the
+   whole scene, through a temporary PNG file): ggrt serve's views. */
+void trace_write_svg_views(FILE *f, const trace_view *v, int camera);
+/* OBJ lines (trace_obj.c); the same error rule as SVG. */
+void trace_write_obj(FILE *f, const trace_view *v);
+
+/* The ledger (trace_debug.c): terms by share, with the rays that carried
+   them; at most `max` terms listed (0: all), the rest summed. */
+void trace_print_ledger(FILE *f, const trace_view *v, size_t max);
+/* Two trees of one pixel side by side, aligned ray by ray, the first
+   divergence marked (trace_debug.c). */
+void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const char *name_a,
+                      const char *name_b);
+
+/* Children of node i, in order: fills kids (up to max), returns count. */
+int trace_children(const ggTrace *t, int i, int *kids, int max);
+
+#endif
