@@ -184,11 +184,11 @@ def main():
             fail("tree has %d %s rays, its stats say %d" % (v, k, stats[k]))
     # ...and, when every sample was recorded, with the renderer's counts.
     if doc["sample"] is None:
-        m = re.search(r"rays: eye (\d+) \(hit \d+\), reflect (\d+), refract (\d+), shadow (\d+), "
-                      r"tir (\d+)", render)
+        m = re.search(r"rays: eye (\d+) \(hit \d+\), reflect (\d+) \(tir (\d+) of them\), "
+                      r"refract (\d+), shadow (\d+)", render)
         if not m:
             fail("no rays line in the render output")
-        got = dict(zip(("eye", "reflect", "refract", "shadow", "tir"), map(int, m.groups())))
+        got = dict(zip(("eye", "reflect", "tir", "refract", "shadow"), map(int, m.groups())))
         for k in ("eye", "reflect", "refract", "shadow", "tir"):
             if got[k] != stats[k]:
                 fail("render counted %d %s rays for the pixel, trace %d" % (got[k], k, stats[k]))

@@ -198,3 +198,20 @@ for s in examples/scenes/*.nff examples/scenes/models/*.obj examples/scenes/mode
   "$ggrt" render "$s" -s 8x6 -q -o "$ed/w.png" >/dev/null 2>"$ed/err"
   grep -q "warning: .* has no" "$ed/err" && bad "no false warning: $s" "$(cat "$ed/err")" || ok "no false warning: $s"
 done
+
+
+# ---- 9. ray counts say that reflect includes the total internal reflections ----
+# render's summary and trace's header in the same words, and the numbers
+# add up: total is eye + reflect + refract + shadow, tir a part of reflect.
+for s in examples/scenes/glass.nff examples/scenes/water.nff examples/scenes/default.nff; do
+  line=$("$ggrt" render "$s" -s 40x30 -o "$ed/c.png" | grep '^rays: ')
+  nums=$(printf '%s\n' "$line" | sed -n 's/^rays: eye \([0-9]*\) (hit [0-9]*), reflect \([0-9]*\) (tir \([0-9]*\) of them), refract \([0-9]*\), shadow \([0-9]*\), total \([0-9]*\)$/\1 \2 \3 \4 \5 \6/p')
+  read -r c_eye c_refl c_tir c_refr c_sh c_tot <<NUMS
+$nums
+NUMS
+  [ -n "$nums" ] && [ $((c_eye + c_refl + c_refr + c_sh)) = "$c_tot" ] && [ "$c_tir" -le "$c_refl" ] &&
+    ok "render $s: reflect (tir N of them), the total adds up" ||
+    bad "render $s: reflect (tir N of them), the total adds up" "$line"
+  "$ggrt" trace "$s" -s 40x30 --pixel 20,15 | grep -q '^rays: eye [0-9]*, reflect [0-9]* (tir [0-9]* of them), refract' &&
+    ok "trace $s: reflect (tir N of them)" || bad "trace $s: reflect (tir N of them)"
+done
