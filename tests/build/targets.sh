@@ -6,6 +6,9 @@
 #  - plain `make` builds build/libtextbook_refract.so, which README's
 #    `ggrt optics check --lib build/libtextbook_refract.so` line needs;
 #  - `make demo` installs what `ggrt serve` needs, which README shows next;
+#  - no command README shows writes into a file the repository tracks
+#    (its `trace --svg docs/trace-glass.svg` once rewrote the picture
+#    beside it, differently);
 #  - with a build folder given, README's `optics check --lib` line runs as
 #    written (build/ replaced by that folder) and measures the library.
 #   sh tests/build/targets.sh [BUILD]       (make check runs it)
@@ -28,6 +31,17 @@ for p in $(sh scripts/deps.sh --list build) $(sh scripts/deps.sh --list serve); 
   case "$demo" in *" $p "*) ;; *) fail "make demo does not install $p (deps group demo: $demo)" ;; esac
 done
 echo "targets: make demo installs the build's and serve's packages:$demo"
+
+# The output paths of README's command lines: -o, --svg, --obj, --overlay.
+grep '^    build/ggrt ' README.md | sed 's/ *#.*//' | tr ' ' '\n' |
+  awk 'prev ~ /^(-o|--svg|--obj|--overlay)$/ { print } { prev = $0 }' > "$tmp/outs"
+[ -s "$tmp/outs" ] || fail "found no output path in README's ggrt command lines"
+while read -r f; do
+  if git ls-files --error-unmatch -- "$f" >/dev/null 2>&1 || { [ ! -d .git ] && [ -e "$f" ]; }; then
+    fail "README's command line writes $f, a file of the repository"
+  fi
+done < "$tmp/outs"
+echo "targets: README's $(wc -l < "$tmp/outs") output paths are none of the repository's files"
 
 [ -n "$build" ] || exit 0
 line=$(grep '^    build/ggrt optics check --lib ' README.md | head -n 1 | sed 's/^    //; s/ *#.*//')
