@@ -515,7 +515,7 @@ static int build(lp *p)
 {
     int root, start;
     char b[12];
-    if (peek(p) == 0) return fail(p, 0, GG_ERROR_PARSE, "empty path expression");
+    if (peek(p) == 0) return fail(p, 0, GG_ERROR_PARSE, "empty path expression"), p->status;
     if ((root = p_alt(p)) < 0) return p->status;
     if (peek(p) != 0) {
         int c = peek(p);
