@@ -20,7 +20,7 @@ static const char about[] =
     "With --path, the pixels with a light path of that shape instead (OSL's light-path\n"
     "expressions, read from the eye), each with the share of its value those paths carry:\n"
     "  C<TS>+B                                 background seen only through refractions\n"
-    "  C<RS'tir'>.*                            light that took a total internal reflection\n"
+    "  C.*<RS'tir'>.*                          light that took a total internal reflection\n"
     "  C<RD>L                                  direct diffuse light";
 
 static const char tail[] = "exit: 0 ok (matches or not), 1 usage or a bad predicate, 2 bad scene,\n"
