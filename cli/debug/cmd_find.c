@@ -16,7 +16,12 @@ static const char about[] =
     "  some(kind == refract && object == 2)    object 2 seen through a refraction\n"
     "  some(verdict == blocked && occluder == 1)   shadows cast by object 1\n"
     "  some(stop == depth && weight > 0.01)    cut by the depth limit, and it matters\n"
-    "The language (fields, some/all/count, && || !) is in docs/debugging.md.";
+    "The language (fields, some/all/count, && || !) is in docs/debugging.md.\n"
+    "With --path, the pixels with a light path of that shape instead (OSL's light-path\n"
+    "expressions, read from the eye), each with the share of its value those paths carry:\n"
+    "  C<TS>+B                                 background seen only through refractions\n"
+    "  C.*<RS'tir'>.*                          light that took a total internal reflection\n"
+    "  C<RD>L                                  direct diffuse light";
 
 static const char tail[] = "exit: 0 ok (matches or not), 1 usage or a bad predicate, 2 bad scene,\n"
                            "3 I/O error";
@@ -24,7 +29,7 @@ static const char tail[] = "exit: 0 ok (matches or not), 1 usage or a bad predic
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct find_args {
-    const char *scene, *where, *out, *overlay;
+    const char *scene, *where, *path, *out, *overlay;
     int limit, format, quiet;
     cli_render ro;
 } find_args;
@@ -32,7 +37,11 @@ typedef struct find_args {
 static int parse(find_args *a, int argc, char **argv)
 {
     cli_opt mine[] = {
-        CLI_OPT_STRING('w', "where", &a->where, "EXPR", "the predicate (required)"),
+        CLI_OPT_STRING('w', "where", &a->where, "EXPR", "the predicate (this or --path)"),
+        CLI_OPT_STRING(0, "path", &a->path, "LPE",
+                       "a light-path expression instead of a predicate: the\n"
+                       "pixels with a path it matches, and the share of the\n"
+                       "pixel those paths carry (docs/debugging.md)"),
         CLI_OPT_STRING('o', "output", &a->out, "FILE",
                        "write the mask, .png or .exr: white where a pixel\n"
                        "matched, black elsewhere"),
@@ -47,7 +56,7 @@ static int parse(find_args *a, int argc, char **argv)
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "find",
-                   .usage = "SCENE --where EXPR [options]",
+                   .usage = "SCENE (--where EXPR | --path LPE) [options]",
                    .about = about,
                    .tail = tail,
                    .opts = {mine, a->ro.table},
@@ -60,7 +69,7 @@ static int parse(find_args *a, int argc, char **argv)
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
-    if (!a->where) return cli_usage_error(&cmd, "need --where EXPR");
+    if (!a->where == !a->path) return cli_usage_error(&cmd, "need --where EXPR or --path LPE");
     if (a->out && (rc = cli_check_output("find", a->out)) != 0) return rc;
     if (a->overlay && (rc = cli_check_output("find", a->overlay)) != 0) return rc;
     return CLI_GO;
@@ -77,7 +86,8 @@ static void print_text(const find_args *a, const ggFindResult *r)
                 if (y < by0) by0 = y;
                 if (y > by1) by1 = y;
             }
-    printf("%s: %ld of %ld pixels match %s (%.2f%%)", a->scene, r->matched, r->scanned, a->where,
+    printf("%s: %ld of %ld pixels match %s%s (%.2f%%)", a->scene, r->matched, r->scanned,
+           a->path ? "--path " : "", a->path ? a->path : a->where,
            r->scanned ? 100.0 * (double)r->matched / (double)r->scanned : 0.0);
     if (r->matched) printf(", within x %d..%d, y %d..%d", bx0, bx1, by0, by1);
     printf("\n");
@@ -86,8 +96,10 @@ static void print_text(const find_args *a, const ggFindResult *r)
                r->nmatches == r->matched ? "all" : "the first", r->nmatches);
     for (i = 0; i < r->nmatches; i++) {
         const ggFindMatch *m = &r->matches[i];
+        const char *extra[3] = {"--path", a->path, NULL};
         printf("  %4d,%-4d %.6g %.6g %.6g   ", m->x, m->y, m->pixel.r, m->pixel.g, m->pixel.b);
-        dbg_replay(stdout, a->scene, NULL, &a->ro, m->x, m->y, NULL);
+        if (a->path) printf("share %6.2f%%   ", 100 * m->share);
+        dbg_replay(stdout, a->scene, NULL, &a->ro, m->x, m->y, a->path ? extra : NULL);
         printf("\n");
     }
     if (r->matched > r->nmatches)
@@ -120,7 +132,7 @@ static int write_overlay(const char *path, const ggFindResult *r)
     return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
 }
 
-static int run(find_args *a, ggScene *scene, const ggPredicate *pred)
+static int run(find_args *a, ggScene *scene, const ggPredicate *pred, const ggPathExpr *path)
 {
     static const float mask_colours[2][3] = {{0, 0, 0}, {1, 1, 1}};
     ggFindResult *r = NULL;
@@ -129,11 +141,14 @@ static int run(find_args *a, ggScene *scene, const ggPredicate *pred)
     int rc;
     dbg_progress_begin(&ps, "find", a->quiet || a->format == 1);
     a->ro.opt.progress = dbg_progress, a->ro.opt.progress_ud = &ps;
-    rc = ggFind(scene, &a->ro.opt, pred, a->limit ? a->limit : 1 << 30, &r, &err);
+    if (path)
+        rc = ggFindPath(scene, &a->ro.opt, path, a->limit ? a->limit : 1 << 30, &r, &err);
+    else
+        rc = ggFind(scene, &a->ro.opt, pred, a->limit ? a->limit : 1 << 30, &r, &err);
     dbg_progress_end(&ps);
     if (rc != GG_OK) return cli_fail(rc, &err, 1);
     if (a->format == 1)
-        json_find(stdout, a->scene, &a->ro.opt, a->where, r);
+        json_find(stdout, a->scene, &a->ro.opt, a->where, a->path, r);
     else
         print_text(a, r);
     rc = EXIT_OK;
@@ -151,24 +166,39 @@ static int run(find_args *a, ggScene *scene, const ggPredicate *pred)
     return rc;
 }
 
+/* The --where predicate or the --path expression, compiled. */
+static int compile(const find_args *a, ggPredicate **pred, ggPathExpr **path)
+{
+    ggError err;
+    int rc;
+    *pred = NULL, *path = NULL;
+    if (a->path) {
+        if ((rc = ggPathParse(a->path, NULL, path, &err)) != GG_OK)
+            return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
+                                        : dbg_expr_error("find", "path", a->path, &err);
+    } else if ((rc = ggPredicateParse(a->where, NULL, pred, &err)) != GG_OK) {
+        return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
+                                    : dbg_predicate_error("find", a->where, &err);
+    }
+    return EXIT_OK;
+}
+
 int cmd_find(int argc, char **argv)
 {
     find_args a;
     ggScene *scene;
     ggPredicate *pred;
-    ggError err;
+    ggPathExpr *path;
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if ((rc = ggPredicateParse(a.where, NULL, &pred, &err)) != GG_OK)
-        return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
-                                    : dbg_predicate_error("find", a.where, &err);
+    if ((rc = compile(&a, &pred, &path)) != EXIT_OK) return rc;
     if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) {
-        ggPredicateFree(pred);
+        ggPredicateFree(pred), ggPathFree(path);
         return rc;
     }
-    rc = run(&a, scene, pred);
-    ggPredicateFree(pred);
+    rc = run(&a, scene, pred, path);
+    ggPredicateFree(pred), ggPathFree(path);
     ggSceneFree(scene);
     return rc;
 }

@@ -43,9 +43,14 @@ void dbg_progress_end(dbg_progress_state *p)
 /* A predicate's error with a caret under its column. */
 int dbg_predicate_error(const char *cmd, const char *text, const ggError *err)
 {
+    return dbg_expr_error(cmd, "where", text, err);
+}
+
+int dbg_expr_error(const char *cmd, const char *option, const char *text, const ggError *err)
+{
     int line = 0, col = 0, l;
     const char *p = text, *e;
-    cli_error_in(cmd, "--where:%s", err->message);
+    cli_error_in(cmd, "--%s:%s", option, err->message);
     if (sscanf(err->message, "%d:%d:", &line, &col) != 2 || line < 1 || col < 1) return EXIT_USAGE;
     for (l = 1; l < line && p; l++) p = (p = strchr(p, '\n')) ? p + 1 : NULL;
     if (!p) return EXIT_USAGE;
@@ -115,14 +120,18 @@ static void json_window(FILE *f, int w, int h, int x0, int y0, int x1, int y1)
 }
 
 void json_find(FILE *f, const char *scene, const ggRenderOptions *opt, const char *where,
-               const ggFindResult *r)
+               const char *path, const ggFindResult *r)
 {
     int i;
     fprintf(f, "{\"ggrt_find\":1,\"scene\":");
     json_str(f, scene);
     fputc(',', f), json_options(f, "options", opt);
     fprintf(f, ",\"where\":");
-    json_str(f, where);
+    if (where) json_str(f, where);
+    else fprintf(f, "null");
+    fprintf(f, ",\"path\":");
+    if (path) json_str(f, path);
+    else fprintf(f, "null");
     fputc(',', f), json_window(f, r->width, r->height, r->x0, r->y0, r->x1, r->y1);
     fprintf(f, ",\"scanned\":%ld,\"matched\":%ld,\"traced\":%s,", r->scanned, r->matched,
             r->traced ? "true" : "false");
@@ -131,6 +140,7 @@ void json_find(FILE *f, const char *scene, const ggRenderOptions *opt, const cha
     for (i = 0; i < r->nmatches; i++) {
         fprintf(f, "%s{\"pixel\":[%d,%d],", i ? "," : "", r->matches[i].x, r->matches[i].y);
         json_color(f, "color", r->matches[i].pixel);
+        if (path) fprintf(f, ",\"share\":"), json_num(f, r->matches[i].share);
         fputc('}', f);
     }
     fprintf(f, "]}\n");

@@ -32,6 +32,8 @@ void dbg_replay(FILE *f, const char *scene, const char *scene_b, const cli_rende
 /* Print a predicate's parse error ("ggrt CMD: --where:L:C: ...") with the line
    of text and a caret under the column; returns EXIT_USAGE. */
 int dbg_predicate_error(const char *cmd, const char *text, const ggError *err);
+/* The same for the expression of option --OPTION ("where", "path"). */
+int dbg_expr_error(const char *cmd, const char *option, const char *text, const ggError *err);
 
 /* "eye > refract > tir" for node i: the kinds from its root down. */
 void dbg_path(char *buf, size_t n, const ggTrace *t, int i);
@@ -48,6 +50,7 @@ void dbg_divergence_text(char *buf, size_t n, const ggTrace *ta, const ggTrace *
 
 /* ---- JSON ---- */
 void json_find(FILE *f, const char *scene, const ggRenderOptions *opt, const char *where,
+               const char *path,
                const ggFindResult *r);
 void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const ggCheckResult *r);
 void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRenderOptions *oa,

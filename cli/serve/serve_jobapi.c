@@ -252,7 +252,7 @@ void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp)
         send_bytes(s, res->find.mask, (size_t)s->cfg.width * s->cfg.height, resp);
     } else {
         f = srv_body_open(resp, 200, "application/json");
-        if (f) json_find(f, s->cfg.scene_path, &sp.opt, where, &res->find);
+        if (f) json_find(f, s->cfg.scene_path, &sp.opt, where, NULL, &res->find);
         srv_body_close(resp, f);
     }
     srv_jobs_release(s, res);

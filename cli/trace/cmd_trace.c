@@ -31,7 +31,7 @@ static const char tail[] =
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct trace_args {
-    const char *scenes[2], *svg, *obj, *a_text, *b_text;
+    const char *scenes[2], *svg, *obj, *a_text, *b_text, *lpe;
     int nscenes, pixel[2], sample, format, ascii, ledger, diff, no_numeric;
     ggRenderOptions oa, ob; /* --diff: the two sides */
     cli_render ro;
@@ -102,6 +102,10 @@ static int parse(trace_args *a, int argc, char **argv)
                      "side, the first divergent ray marked: with --a and\n"
                      "--b (render options as text, as for ggrt diff), or\n"
                      "with a second scene SCENE_B"),
+        CLI_OPT_STRING(0, "path", &a->lpe, "LPE",
+                       "print only the paths a light-path expression matches\n"
+                       "(docs/debugging.md), each with its ledger term, and\n"
+                       "their share of the pixel (text or json)"),
         CLI_OPT_FUNC(0, "a", take_text, &a->a_text, "OPTIONS",
                      "--diff: render options of side a (default '')"),
         CLI_OPT_FUNC(0, "b", take_text, &a->b_text, "OPTIONS",
@@ -126,10 +130,12 @@ static int parse(trace_args *a, int argc, char **argv)
     if (!mine[0].given) return cli_usage_error(&cmd, "need --pixel X,Y");
     if ((rc = crop_and_threads(a, &cmd)) != CLI_GO) return rc;
     if (a->nscenes > 1 && !a->diff) return cli_usage_error(&cmd, "a second scene needs --diff");
-    if ((mine[9].given || mine[10].given) && !a->diff)
+    if ((mine[10].given || mine[11].given) && !a->diff)
         return cli_usage_error(&cmd, "--a and --b need --diff");
     if (a->ledger && a->sample >= 0)
         return cli_usage_error(&cmd, "--ledger explains the whole pixel: drop --sample");
+    if (a->lpe && (a->sample >= 0 || a->ledger || a->diff))
+        return cli_usage_error(&cmd, "--path looks at the whole pixel: no --sample, --ledger, --diff");
     if (a->diff && (a->svg || a->obj || a->ledger || a->format == 1))
         return cli_usage_error(&cmd, "--diff prints text only (no --svg, --obj, --ledger, json)");
     if (a->diff && (rc = diff_sides(a, &cmd)) != CLI_GO) return rc;
@@ -173,12 +179,39 @@ static int trace_into(const trace_args *a, ggScene *scene, const ggRenderOptions
     return EXIT_OK;
 }
 
-static int run_one(trace_args *a, ggScene *scene, ggTrace *tr)
+/* --path: the ledger's terms whose paths match. */
+static int print_paths(const trace_args *a, const ggPathExpr *e, const trace_view *v)
+{
+    unsigned char *matched = calloc(v->ledger->count ? v->ledger->count : 1, 1);
+    ggPathSummary sum;
+    int rc;
+    if (!matched) {
+        cli_error("out of memory");
+        return EXIT_INPUT;
+    }
+    rc = ggPathMatch(e, v->trace, v->x, v->y, v->pixel, v->ledger, matched, &sum);
+    if (rc == GG_OK && a->format == 1)
+        trace_print_paths_json(stdout, v, a->lpe, matched, &sum);
+    else if (rc == GG_OK)
+        trace_print_paths(stdout, v, a->lpe, matched, &sum);
+    free(matched);
+    if (rc == GG_OK) return EXIT_OK;
+    cli_error("out of memory");
+    return EXIT_INPUT;
+}
+
+static int run_one(trace_args *a, ggScene *scene, ggTrace *tr, const ggPathExpr *e)
 {
     trace_view view;
     ggLedger *ledger;
     int rc = trace_into(a, scene, &a->ro.opt, a->scenes[0], tr, &view, &ledger);
     if (rc != EXIT_OK) return rc;
+    if (e) {
+        rc = print_paths(a, e, &view);
+        if (rc == EXIT_OK) rc = write_files(a, &view);
+        ggLedgerFree(ledger);
+        return rc;
+    }
     if (a->format == 1) {
         trace_print_json(stdout, &view);
     } else if (a->ledger) {
@@ -232,17 +265,26 @@ int cmd_trace(int argc, char **argv)
     trace_args a;
     ggScene *scene;
     ggTrace *tr;
+    ggPathExpr *e = NULL;
+    ggError err;
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if (!(scene = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) return rc;
+    if (a.lpe && (rc = ggPathParse(a.lpe, NULL, &e, &err)) != GG_OK)
+        return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
+                                    : dbg_expr_error("trace", "path", a.lpe, &err);
+    if (!(scene = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) {
+        ggPathFree(e);
+        return rc;
+    }
     if (!(tr = ggTraceCreate(NULL))) {
         cli_error("out of memory");
-        ggSceneFree(scene);
+        ggSceneFree(scene), ggPathFree(e);
         return EXIT_INPUT;
     }
-    rc = a.diff ? run_diff(&a, scene, tr) : run_one(&a, scene, tr);
+    rc = a.diff ? run_diff(&a, scene, tr) : run_one(&a, scene, tr, e);
     ggTraceFree(tr);
     ggSceneFree(scene);
+    ggPathFree(e);
     return rc;
 }

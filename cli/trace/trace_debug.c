@@ -156,3 +156,60 @@ void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const c
     fprintf(f, "\nL: the shadow ray of each light: v visible, b blocked, a attenuated, f facing "
                "away\n");
 }
+
+/* ---- the paths an expression matches ---- */
+
+void trace_print_paths(FILE *f, const trace_view *v, const char *expr, const unsigned char *matched,
+                       const ggPathSummary *sum)
+{
+    const ggLedger *l = v->ledger;
+    size_t i;
+    char text[800], events[600];
+    fprintf(f, "pixel %d,%d of %s\ncolour %.9g %.9g %.9g\n", v->x, v->y, v->path, v->pixel.r,
+            v->pixel.g, v->pixel.b);
+    fprintf(f, "paths matching %s: %ld of %ld, carrying %.6g %.6g %.6g (%.2f%% of the pixel)\n",
+            expr, sum->matched, sum->paths, sum->value.r, sum->value.g, sum->value.b,
+            100 * sum->share);
+    for (i = 0; i < l->count; i++) {
+        const ggLedgerTerm *t = &l->terms[i];
+        if (!matched[i]) continue;
+        ggPathFormat(v->trace, t, events, sizeof events);
+        term_text(v, t, text, sizeof text);
+        fprintf(f, "  %6.2f%%  (%.6g %.6g %.6g)  %s\n           %s\n", 100 * t->share, t->value.r,
+                t->value.g, t->value.b, events, text);
+    }
+}
+
+void trace_print_paths_json(FILE *f, const trace_view *v, const char *expr,
+                            const unsigned char *matched, const ggPathSummary *sum)
+{
+    const ggLedger *l = v->ledger;
+    size_t i;
+    int first = 1;
+    char events[600];
+    fprintf(f, "{\"ggrt_paths\":1,\"scene\":");
+    json_str(f, v->path);
+    fprintf(f, ",\"pixel\":[%d,%d],", v->x, v->y);
+    json_color(f, "color", v->pixel);
+    fprintf(f, ",\"expression\":");
+    json_str(f, expr);
+    fprintf(f, ",\"paths\":%ld,\"matched\":%ld,", sum->paths, sum->matched);
+    json_color(f, "value", sum->value);
+    fprintf(f, ",\"share\":");
+    json_num(f, sum->share);
+    fprintf(f, ",\"terms\":[");
+    for (i = 0; i < l->count; i++) {
+        const ggLedgerTerm *t = &l->terms[i];
+        if (!matched[i]) continue;
+        ggPathFormat(v->trace, t, events, sizeof events);
+        fprintf(f, "%s{\"kind\":\"%s\",\"node\":%d,\"light\":%d,\"events\":", first ? "" : ",",
+                ggTermName(t->kind), t->node, t->light);
+        json_str(f, events);
+        fputc(',', f), json_color(f, "value", t->value);
+        fprintf(f, ",\"share\":");
+        json_num(f, t->share);
+        fputc('}', f);
+        first = 0;
+    }
+    fprintf(f, "]}\n");
+}

@@ -39,6 +39,13 @@ void trace_print_ledger(FILE *f, const trace_view *v, size_t max);
 void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const char *name_a,
                       const char *name_b);
 
+/* The ledger terms whose paths an expression matches (matched: one byte
+   per term), with their events, as text or JSON (trace_debug.c). */
+void trace_print_paths(FILE *f, const trace_view *v, const char *expr, const unsigned char *matched,
+                       const ggPathSummary *sum);
+void trace_print_paths_json(FILE *f, const trace_view *v, const char *expr,
+                            const unsigned char *matched, const ggPathSummary *sum);
+
 /* Children of node i, in order: fills kids (up to max), returns count. */
 int trace_children(const ggTrace *t, int i, int *kids, int max);
 

@@ -152,6 +152,7 @@ GG_API int ggPredicateMatch(const ggPredicate *pred, const ggTrace *trace, int x
 typedef struct ggFindMatch {
     int x, y;
     ggColor pixel; /* its value, as ggRender writes it */
+    double share;  /* ggFindPath: the matching paths' share of pixel; ggFind: 0 */
 } ggFindMatch;
 
 typedef struct ggFindResult {
@@ -176,6 +177,7 @@ typedef struct ggFindResult {
 GG_API int ggFind(ggScene *scene, const ggRenderOptions *opt, const ggPredicate *pred, int limit,
                   ggFindResult **out, ggError *err);
 GG_API void ggFindResultFree(ggFindResult *res);
+
 
 /* ------------------------------------------------------------------ */
 /* Check                                                               */
@@ -318,6 +320,106 @@ typedef struct ggLedger {
 GG_API int ggLedgerCreate(const ggTrace *trace, ggColor pixel, const ggAllocator *alloc,
                           ggLedger **out, ggError *err);
 GG_API void ggLedgerFree(ggLedger *ledger);
+
+/* ------------------------------------------------------------------ */
+/* Light-path expressions                                              */
+/* ------------------------------------------------------------------ */
+
+/* A compiled light-path expression (OSL's LPE syntax for the events of a
+   Whitted ray tracer; docs/debugging.md has the grammar and examples).
+
+   Paths. A pixel's paths are its ledger's terms (ggLedgerCreate): each
+   way light that is not exactly zero reaches the eye, read from the eye
+   to the light as a string of events:
+     C        the eye ray (the root of a tree)
+     <RS>     a mirror reflection at a hit; a total internal reflection is
+              <RS> with the label 'tir'
+     <TS>     a refraction at a hit
+     <RD>L    the diffuse term of a light at a hit (L: the shadow ray)
+     <RG>L    the Phong highlight of a light at a hit
+     <RD>A    the ambient term at a hit (A: a ggrt event, not OSL's)
+     O        the emission (ke) of a surface hit
+     B        a ray that left the scene: the background
+   so "C<TS><TS>B" is the background seen through a glass ball. Shadow
+   rays that were blocked, and terms that are exactly zero, are no paths.
+
+   Labels. A surface event (<RS>, <TS>, <RD>, <RG>, O) has the labels
+   'N' (the object hit, a number as in ggrt trace), 'mK' (its material)
+   and 'tir' for a total internal reflection; an L event has 'N', the
+   light's number. C, A and B have none.
+
+   Syntax, loosest first:  E|E  alternatives;  E E  one after the other;
+   E*  E+  E?  E{n}  E{n,}  E{n,m}  repetition;  ( E )  a group; and the
+   events:  C R T L O B A  (an event of that type), D G S (of that scatter),
+   .  (any event),  'label'  (any event with that label),
+   <TYPE SCATTER 'label'...>  with TYPE one of C R T L O B A or '.',
+   SCATTER one of D G S or '.', both optional (<R> is <R.>), every label
+   required;  [e e ...]  any of these events;  [^e e ...]  any event but
+   these. An event or a set may be followed by a predicate in brackets,
+   [RAY-EXPR] (a '[' followed by a lower-case letter, a digit, '(' or
+   '!'): the ray expression of ggPredicateParse, on the ray that arrives at
+   the event (for L: the shadow ray; for C: the eye ray), e.g.
+   <TS>[object == 2 && tir_margin < 16]; only a true value matches.
+   Spaces between items are ignored. A path matches when the whole string
+   of its events does (the expression is anchored at both ends).
+
+   Limits: GG_PATH_MAX_TEXT bytes, GG_PATH_MAX_DEPTH nesting of ( ), [ ]
+   and < >, GG_PATH_MAX_STATES states of the automaton the expression
+   compiles to (a {n} makes n copies) and GG_PATH_MAX_EVENTS distinct
+   event patterns: beyond them ggPathParse returns GG_ERROR_LIMIT. A match
+   then takes time linear in the pixel's rays. */
+typedef struct ggPathExpr ggPathExpr;
+
+#define GG_PATH_MAX_TEXT   4096
+#define GG_PATH_MAX_DEPTH  64
+#define GG_PATH_MAX_STATES 256
+#define GG_PATH_MAX_EVENTS 256
+
+/* Compile `text`. On success *out receives the expression (free it with
+   ggPathFree); on failure *out is NULL and err names the place as
+   "line:column: message", counting from 1 as ggPredicateParse does, e.g.
+   "1:3: 'X' is not an event type (C R T L O B A or .)". Returns GG_OK,
+   GG_ERROR_PARSE, GG_ERROR_LIMIT, GG_ERROR_INVALID (NULL text or out) or
+   GG_ERROR_NOMEM. alloc may be NULL (malloc); it is copied. A compiled
+   expression is only read afterwards: threads may share it. */
+GG_API int ggPathParse(const char *text, const ggAllocator *alloc, ggPathExpr **out,
+                       ggError *err);
+GG_API void ggPathFree(ggPathExpr *expr);
+
+typedef struct ggPathSummary {
+    long paths;      /* the pixel's paths (its ledger's terms) */
+    long matched;    /* those the expression matches */
+    ggColor value;   /* what the matching paths add to the pixel (their terms' sum) */
+    double share;    /* (r + g + b) of value over (r + g + b) of the pixel; 0 if that is 0
+                        or not finite */
+} ggPathSummary;
+
+/* Match expr against every path of the pixel (x, y) of value `pixel`,
+   whose every sample is recorded in trace (ggTracePixel with sample -1).
+   *sum receives the counts and the share. matched (may be NULL), when
+   ledger is given (ggLedgerCreate of the same trace and pixel), receives
+   ledger->count bytes: 1 where the term's path matches. Memory: one bit
+   set of GG_PATH_MAX_STATES bits per ray and the weights, from expr's
+   allocator, freed before it returns. Returns GG_OK, GG_ERROR_INVALID
+   (NULL expr, trace or sum; matched without ledger) or GG_ERROR_NOMEM
+   (then *sum is zero). */
+GG_API int ggPathMatch(const ggPathExpr *expr, const ggTrace *trace, int x, int y, ggColor pixel,
+                       const ggLedger *ledger, unsigned char *matched, ggPathSummary *sum);
+
+/* The events of one ledger term's path as text, e.g. "C<TS'2'><TS'2'>B":
+   each surface event with its object label (and 'tir'), each L with its
+   light's, into buf (always NUL-terminated when size > 0). Returns the
+   length the full text needs (like snprintf); 0 for a NULL trace or
+   term, or a term whose node is not in the trace. */
+GG_API size_t ggPathFormat(const ggTrace *trace, const ggLedgerTerm *term, char *buf,
+                           size_t size);
+
+/* ggFind with a path expression: the pixels of opt's window with at least
+   one path that expr matches (ggPathMatch); each match's `share` is the
+   share of the pixel's value those paths carry (ggPathSummary.share).
+   Everything else as ggFind; res->traced is 1. */
+GG_API int ggFindPath(ggScene *scene, const ggRenderOptions *opt, const ggPathExpr *expr,
+                      int limit, ggFindResult **out, ggError *err);
 
 /* ------------------------------------------------------------------ */
 /* Diff: two renders ray by ray                                        */

@@ -112,6 +112,61 @@ int gg_pred_eval(const ggPredicate *p, const gg_dbg_pixel *px);
 /* Work out p->needs (after parsing). */
 unsigned gg_pred_analyse(const ggPredicate *p);
 
+/* A ray expression (some's body) in text[start..] up to its closing ']'
+   (path expressions, path.c): *end receives the byte after the ']';
+   errors name columns of the whole text. */
+int gg_pred_parse_ray(const char *text, size_t len, size_t start, const ggAllocator *alloc,
+                      ggPredicate **out, size_t *end, ggError *err);
+/* Evaluate a ray expression on node `node` of px->trace, or on its shadow
+   ray L (not NULL): 1 only when true. */
+int gg_pred_eval_ray(const ggPredicate *p, const gg_dbg_pixel *px, int node, const ggTraceLight *L);
+
+/* ---- path expressions (path.c, path_match.c) ---- */
+
+#include <stdint.h>
+
+enum { PE_C, PE_R, PE_T, PE_L, PE_O, PE_B, PE_A, PE_NTYPES }; /* event types */
+enum { PS_NONE, PS_D, PS_G, PS_S };                          /* scatter */
+enum { PL_TIR, PL_NUMBER, PL_MATERIAL };                       /* label kinds */
+
+#define GG_PATH_WORDS   (GG_PATH_MAX_STATES / 64)
+#define GG_PATH_MAX_LABELS 8 /* labels in one < > */
+
+typedef struct gg_path_pat {
+    unsigned types, scatters; /* masks: bit PE_*, bit PS_* */
+    int nlabels;
+    int label_kind[GG_PATH_MAX_LABELS];
+    long label_num[GG_PATH_MAX_LABELS];
+} gg_path_pat;
+
+/* What one transition accepts: any of its patterns (none of them when
+   neg), and then its predicate (if any). */
+typedef struct gg_path_class {
+    int first, count, neg;
+    ggPredicate *pred;
+} gg_path_class;
+
+typedef struct gg_path_edge {
+    int from, cls, to; /* cls -1: an empty move */
+} gg_path_edge;
+
+typedef uint64_t gg_path_set[GG_PATH_WORDS];
+
+struct ggPathExpr {
+    ggAllocator alloc_copy;
+    const ggAllocator *alloc;
+    gg_path_pat *pats;
+    gg_path_class *cls;
+    gg_path_edge *edges;
+    int npats, ncls, nedges, nstates, accept;
+    unsigned needs;                          /* GG_NEED_* of the predicates */
+    gg_path_set closure[GG_PATH_MAX_STATES]; /* each state's empty-move closure */
+};
+
+/* Match e against every path of px (whose w must be set), with sets
+   holding GG_PATH_WORDS words per ray of px->trace (path_match.c). */
+void gg_path_run(const ggPathExpr *e, const gg_dbg_pixel *px, uint64_t *sets, ggPathSummary *sum);
+
 /* ---- trees (tree.c) ---- */
 
 /* Number of trees (roots) in t. */

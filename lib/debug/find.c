@@ -19,12 +19,16 @@ typedef struct find_thread {
     int n;
     size_t cap;
     int last; /* the predicate's value at the last pixel */
+    double last_share; /* path finds: the share at the last pixel */
     long matched;
     gg_dbg_buf buf;
+    uint64_t *sets; /* path finds: the automaton's states per ray */
+    size_t sets_cap;
 } find_thread;
 
 typedef struct find_job {
     const ggPredicate *pred;
+    const ggPathExpr *path; /* instead of pred */
     ggFindResult *res;
     int limit;
     find_thread *t;
@@ -33,7 +37,7 @@ typedef struct find_job {
 
 /* Record a match of worker th; the mask and image are the result's. The
    list grows as matches come (a limit can be far above the pixel count). */
-static int matched(find_job *fj, find_thread *th, int x, int y, ggColor px)
+static int matched(find_job *fj, find_thread *th, int x, int y, ggColor px, double share)
 {
     ggFindResult *r = fj->res;
     r->mask[(size_t)y * r->width + x] = 1;
@@ -42,9 +46,27 @@ static int matched(find_job *fj, find_thread *th, int x, int y, ggColor px)
         if (gg_mem_grow(fj->alloc, (void **)&th->m, &th->cap, (size_t)th->n + 1, sizeof *th->m))
             return GG_ERROR_NOMEM;
         th->m[th->n].x = x, th->m[th->n].y = y, th->m[th->n].pixel = px;
+        th->m[th->n].share = share;
         th->n++;
     }
     return 0;
+}
+
+/* A path find's pixel: weights, then the automaton over its paths. */
+static int path_pixel(find_job *fj, find_thread *th, int x, int y, const ggTrace *tr, ggColor px)
+{
+    gg_dbg_pixel p;
+    ggPathSummary sum;
+    size_t n = ggTraceNodeCount(tr);
+    if (gg_dbg_buf_weights(&th->buf, fj->alloc, tr) ||
+        gg_mem_grow(fj->alloc, (void **)&th->sets, &th->sets_cap, (n ? n : 1) * GG_PATH_WORDS,
+                    sizeof *th->sets))
+        return GG_ERROR_NOMEM;
+    memset(&p, 0, sizeof p);
+    p.trace = tr, p.x = x, p.y = y, p.px = px, p.w = th->buf.w;
+    gg_path_run(fj->path, &p, th->sets, &sum);
+    th->last = sum.matched > 0, th->last_share = sum.share;
+    return th->last ? matched(fj, th, x, y, px, sum.share) : 0;
 }
 
 static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px,
@@ -53,10 +75,13 @@ static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, 
     find_job *fj = ud;
     find_thread *th = &fj->t[thread];
     gg_dbg_pixel p;
+    unsigned needs = fj->path ? fj->path->needs : fj->pred->needs;
     gg_dbg_put(fj->res->image, x, y, px[0]);
     /* The same trees as the last pixel's: the same answer, unless the
        predicate reads x or y. */
-    if (same && !(fj->pred->needs & GG_NEED_XY)) return th->last ? matched(fj, th, x, y, px[0]) : 0;
+    if (same && !(needs & GG_NEED_XY))
+        return th->last ? matched(fj, th, x, y, px[0], th->last_share) : 0;
+    if (fj->path) return path_pixel(fj, th, x, y, recs[0], px[0]);
     memset(&p, 0, sizeof p);
     p.trace = recs ? recs[0] : NULL, p.x = x, p.y = y, p.px = px[0];
     if (p.trace && (fj->pred->needs & GG_NEED_WEIGHT)) {
@@ -64,7 +89,7 @@ static int find_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, 
         p.w = th->buf.w;
     }
     th->last = gg_pred_eval(fj->pred, &p);
-    return th->last ? matched(fj, th, x, y, px[0]) : 0;
+    return th->last ? matched(fj, th, x, y, px[0], 0) : 0;
 }
 
 static int by_row(const void *a, const void *b)
@@ -107,7 +132,7 @@ static int find_by_render(ggScene *s, const ggRenderOptions *opt, find_job *fj, 
             gg_dbg_pixel p;
             memset(&p, 0, sizeof p);
             p.x = x, p.y = y, p.px = ggImageGet(img, x, y);
-            if (gg_pred_eval(fj->pred, &p) && matched(fj, th, x, y, p.px) != 0)
+            if (gg_pred_eval(fj->pred, &p) && matched(fj, th, x, y, p.px, 0) != 0)
                 return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
         }
     return GG_OK;
@@ -148,43 +173,39 @@ static void find_job_free(find_job *fj, int threads)
     for (i = 0; fj->t && i < threads; i++) {
         gg_mem_free(fj->alloc, fj->t[i].m);
         gg_mem_free(fj->alloc, fj->t[i].buf.w);
+        gg_mem_free(fj->alloc, fj->t[i].sets);
     }
     gg_mem_free(fj->alloc, fj->t);
 }
 
-GG_API int ggFind(ggScene *s, const ggRenderOptions *opt, const ggPredicate *pred, int limit,
-                  ggFindResult **out, ggError *err)
+/* ggFind and ggFindPath: fj->pred or fj->path set. */
+static int find_run(ggScene *s, const ggRenderOptions *opt, find_job *fj, unsigned needs,
+                    ggFindResult **out, ggError *err)
 {
     gg_tracer *tr = NULL;
     gg_scan sc;
-    find_job fj;
     ggFindResult *r = NULL;
     int rc;
-    if (out) *out = NULL;
-    if (!s || !pred || !out || limit < 0)
-        return gg_error_set(err, GG_ERROR_INVALID, "ggFind: NULL argument or negative limit");
     if ((rc = gg_tracer_create(s, opt, &tr, err)) != GG_OK) return rc;
     memset(&sc, 0, sizeof sc);
-    memset(&fj, 0, sizeof fj);
     sc.tracer[0] = tr, sc.ntracers = 1;
-    sc.record = (pred->needs & GG_NEED_TREE) != 0;
-    sc.every_pixel = (pred->needs & GG_NEED_COST) != 0;
+    sc.record = (needs & GG_NEED_TREE) != 0;
+    sc.every_pixel = (needs & GG_NEED_COST) != 0;
     gg_scan_init(&sc);
-    fj.pred = pred, fj.limit = limit;
-    rc = find_alloc(s, &sc, &fj, &r);
+    rc = find_alloc(s, &sc, fj, &r);
     if (rc != GG_OK) {
         rc = gg_error_set(err, rc, "out of memory for the find result");
     } else if (!sc.record) {
-        rc = find_by_render(s, opt, &fj, err);
+        rc = find_by_render(s, opt, fj, err);
     } else {
-        sc.fn = find_pixel, sc.ud = &fj, sc.alloc = fj.alloc;
+        sc.fn = find_pixel, sc.ud = fj, sc.alloc = fj->alloc;
         r->traced = 1;
         if ((rc = gg_scan_run(&sc, err)) == GG_OK) r->stats = sc.stats[0];
     }
     r->scanned = rc == GG_OK ? (long)(r->x1 - r->x0) * (r->y1 - r->y0) : 0;
-    if (rc == GG_OK && merge(&fj, sc.threads) != GG_OK)
+    if (rc == GG_OK && merge(fj, sc.threads) != GG_OK)
         rc = gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
-    find_job_free(&fj, sc.threads);
+    find_job_free(fj, sc.threads);
     gg_tracer_free(tr);
     if (rc != GG_OK) {
         ggFindResultFree(r);
@@ -192,4 +213,29 @@ GG_API int ggFind(ggScene *s, const ggRenderOptions *opt, const ggPredicate *pre
     }
     *out = r;
     return GG_OK;
+}
+
+GG_API int ggFind(ggScene *s, const ggRenderOptions *opt, const ggPredicate *pred, int limit,
+                  ggFindResult **out, ggError *err)
+{
+    find_job fj;
+    if (out) *out = NULL;
+    if (!s || !pred || !out || limit < 0)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggFind: NULL argument or negative limit");
+    memset(&fj, 0, sizeof fj);
+    fj.pred = pred, fj.limit = limit;
+    return find_run(s, opt, &fj, pred->needs, out, err);
+}
+
+GG_API int ggFindPath(ggScene *s, const ggRenderOptions *opt, const ggPathExpr *path, int limit,
+                      ggFindResult **out, ggError *err)
+{
+    find_job fj;
+    if (out) *out = NULL;
+    if (!s || !path || !out || limit < 0)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggFindPath: NULL argument or negative limit");
+    memset(&fj, 0, sizeof fj);
+    fj.path = path, fj.limit = limit;
+    return find_run(s, opt, &fj, path->needs | GG_NEED_TREE | GG_NEED_LIGHTS | GG_NEED_WEIGHT,
+                    out, err);
 }

@@ -610,3 +610,35 @@ GG_API int ggPredicateParse(const char *text, const ggAllocator *alloc, ggPredic
     *out = p;
     return GG_OK;
 }
+
+/* A ray expression (the body of some(...)) inside a path expression,
+   from byte `start` of text up to the ']' that closes the '[' at start - 1:
+   errors count columns in the whole text. */
+int gg_pred_parse_ray(const char *text, size_t len, size_t start, const ggAllocator *alloc,
+                      ggPredicate **out, size_t *end, ggError *err)
+{
+    parser ps;
+    ggPredicate *p;
+    char b[40];
+    *out = NULL;
+    p = gg_mem_calloc(alloc, 1, sizeof *p);
+    if (!p) return gg_error_set(err, GG_ERROR_NOMEM, "path expression: out of memory");
+    if (alloc) p->alloc_copy = *alloc, p->alloc = &p->alloc_copy;
+    memset(&ps, 0, sizeof ps);
+    ps.s = text, ps.len = len, ps.pos = start, ps.err = err, ps.p = p, ps.status = GG_OK;
+    ps.in_quant = 1;
+    next(&ps);
+    if (ps.tok == TK_BAD && text[ps.tpos] == ']')
+        fail(&ps, ps.tpos, GG_ERROR_PARSE, "empty predicate in [ ]");
+    else if ((p->root = p_or(&ps)) >= 0 && !(ps.tok == TK_BAD && text[ps.tpos] == ']'))
+        fail(&ps, ps.tpos, GG_ERROR_PARSE, "expected ']' to close the '[' of column %d, got %s",
+             (int)start, tok_text(&ps, b, sizeof b));
+    if (ps.status != GG_OK) {
+        ggPredicateFree(p);
+        return ps.status;
+    }
+    p->needs = gg_pred_analyse(p);
+    *end = ps.tpos + 1;
+    *out = p;
+    return GG_OK;
+}

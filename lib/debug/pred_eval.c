@@ -410,3 +410,13 @@ unsigned gg_pred_analyse(const ggPredicate *p)
 {
     return needs_of(p, p->root);
 }
+
+int gg_pred_eval_ray(const ggPredicate *p, const gg_dbg_pixel *px, int node, const ggTraceLight *L)
+{
+    ctx c;
+    ray_ref r;
+    c.p = p, c.px = px;
+    c.nroots = gg_dbg_roots(px->trace);
+    r.n = ggTraceGetNode(px->trace, (size_t)node), r.L = L, r.index = node;
+    return r.n && eval(&c, p->root, &r) == T;
+}

@@ -1,0 +1,44 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: light-path expressions (find --path, trace
+# --path). Uses run.sh's ggrt, tmp, ok, bad, expect_exit.
+
+g=examples/scenes/glass.nff
+# errors: exit 1, the column, a caret under it
+"$ggrt" find $g --path "C<TS" >"$tmp/out" 2>"$tmp/err"; rc=$?
+if [ $rc = 1 ] && grep -qxF "ggrt find: --path:1:5: expected '>' to close the '<' of column 2, got the end" "$tmp/err" &&
+   grep -qx '      ^' "$tmp/err"; then ok "find --path: a mistake names its column"
+else bad "find --path: a mistake names its column (exit $rc)" "$(cat "$tmp/err")"; fi
+"$ggrt" trace $g -p 1,1 --path "C<TS>[objct == 2]" >"$tmp/out" 2>"$tmp/err"; rc=$?
+if [ $rc = 1 ] && grep -qF "ggrt trace: --path:1:7: unknown field 'objct'" "$tmp/err"; then
+  ok "trace --path: a predicate's mistake names its column in the whole text"
+else bad "trace --path: a predicate's mistake names its column (exit $rc)" "$(cat "$tmp/err")"; fi
+expect_exit 1 "find: --where and --path together" "$ggrt" find $g --where 'some(hit)' --path 'C.*'
+expect_exit 1 "find: neither --where nor --path" "$ggrt" find $g
+expect_exit 1 "trace --path with --sample" "$ggrt" trace $g -p 1,1 --sample 0 --path 'C.*'
+expect_exit 1 "trace --path with --ledger" "$ggrt" trace $g -p 1,1 --ledger --path 'C.*'
+
+# trace --path: only the matching terms, with events that match as written
+"$ggrt" trace $g -s 24x18 -p 10,1 --path "C<TS>.*<RS'tir'>.*" >"$tmp/tp" 2>"$tmp/err"
+if grep -qF "paths matching C<TS>.*<RS'tir'>.*: 1 of 2," "$tmp/tp" &&
+   grep -qF "C<TS'1'><RS'2''tir'><TS'1'>B" "$tmp/tp"; then ok "trace --path: the matching path and its events"
+else bad "trace --path: the matching path and its events" "$(cat "$tmp/tp" "$tmp/err")"; fi
+"$ggrt" trace $g -s 24x18 -p 12,8 --path "C.*" -f json >"$tmp/tp.json" 2>"$tmp/err"
+"$ggrt" trace $g -s 24x18 -p 12,8 -f json >"$tmp/t.json" 2>>"$tmp/err"
+if python3 -c "
+import json, sys
+p = json.load(open(sys.argv[1])); t = json.load(open(sys.argv[2]))
+assert p['ggrt_paths'] == 1 and p['matched'] == p['paths'] == len(t['ledger']['terms']) > 0
+assert abs(p['share'] - 1) < 1e-6, p['share']  # the float pixel: 2^-24
+" "$tmp/tp.json" "$tmp/t.json" 2>"$tmp/py"; then ok "trace --path C.* -f json: every ledger term, share 1 within the float pixel's rounding"
+else bad "trace --path C.* -f json: every ledger term, share 1" "$(cat "$tmp/py" "$tmp/err")"; fi
+
+# the documented examples against an independent matcher on every example scene
+python3 tests/cli/lpe_check.py "$ggrt" docs/debugging.md examples/scenes/*.nff >"$tmp/lpe" 2>&1
+while IFS= read -r line; do
+  case "$line" in
+    "ok   "*) ok "lpe: ${line#ok   }" ;;
+    "FAIL "*) bad "lpe: ${line#FAIL }" ;;
+    *) bad "lpe_check.py: $line" ;;
+  esac
+done < "$tmp/lpe"
+grep -q '^ok' "$tmp/lpe" || bad "lpe_check.py ran" "$(cat "$tmp/lpe")"
