@@ -266,12 +266,21 @@ def tracing_first(d):
         t0 = time.time()
         click_pixel(d, 200, 200)
         ok = wait(d, "tree", lambda: selected_pixel(d) == "200,200", 10)
-        dt = time.time() - t0
+        polled = time.time() - t0
+        # The page's own clock from the click to the tree shown (app.js,
+        # data-clicked-at / data-shown-at): Selenium's polling, slow on a
+        # loaded machine, is not part of what a user waits.
+        try:
+            dt = (float(attr(d, "pixel-head", "data-shown-at")) -
+                  float(attr(d, "pixel-head", "data-clicked-at"))) / 1000
+        except (TypeError, ValueError):
+            dt = float("inf")
         rendering = not attr(d, "viewport", "data-image")
         nodes = len(d.find_elements(By.CSS_SELECTOR, "#tree-a details.node"))
         check(ok and dt < 1.0 and rendering and nodes > 1,
-              "gears.nff, depth 16, 16 samples: pixel 200,200's tree (%d rays) %.2f s after the click, "
-              "the image still rendering" % (nodes, dt), d.find_element(By.ID, "status-text").text)
+              "gears.nff, depth 16, 16 samples: pixel 200,200's tree (%d rays) %.2f s after the click "
+              "(%.2f s as the test polled), the image still rendering" % (nodes, dt, polled),
+              d.find_element(By.ID, "status-text").text)
         # Take every job slot (the image above holds one), then ask for
         # another image: 503 with Retry-After, which the page waits out.
         codes = [srv.get("/api/render", opts="depth=16 samples=16 cutoff=0.%d" % (i + 1))[0] for i in range(7)]

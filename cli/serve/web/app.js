@@ -590,6 +590,7 @@
       }
     }
     $('pixel-head').dataset.pixel = a.pixel.join(',');
+    $('pixel-head').dataset.shownAt = performance.now().toFixed(1);
     document.dispatchEvent(new Event('ggrt:pixel'));
   }
 
@@ -883,6 +884,9 @@
     $('image').addEventListener('mousemove', hover);
     $('image').addEventListener('click', (e) => {
       const p = pixelAt(e);
+      // When the click came and (showPixel) when its tree was shown, in
+      // the page's own clock: what a user waits, without a test's polling.
+      $('pixel-head').dataset.clickedAt = performance.now().toFixed(1);
       if (p) select(p[0], p[1]);
       $('image').focus();
     });
