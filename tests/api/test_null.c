@@ -398,6 +398,40 @@ static void test_debug(void **state)
     ggSceneFree(s);
 }
 
+/* The light-path expressions (include/ggrt/debug.h, "ggPathParse"). */
+static void test_path(void **state)
+{
+    ggScene *s = scene();
+    ggTrace *t = ggTraceCreate(NULL);
+    ggPathExpr *e = (ggPathExpr *)&e;
+    ggFindResult *fr = (ggFindResult *)&fr;
+    ggColor px = {0, 0, 0};
+    ggPathSummary sum;
+    unsigned char m[4];
+    char buf[8] = "x";
+    (void)state;
+    COVER(ggPathParse), assert_int_equal(ggPathParse(NULL, NULL, &e, NULL), GG_ERROR_INVALID);
+    assert_null(e);
+    assert_int_equal(ggPathParse("C.*", NULL, NULL, NULL), GG_ERROR_INVALID);
+    COVER(ggPathFree), ggPathFree(NULL);
+    assert_int_equal(ggPathParse("C.*", NULL, &e, NULL), GG_OK);
+    COVER(ggPathMatch), assert_int_equal(ggPathMatch(NULL, t, 0, 0, px, NULL, NULL, &sum),
+                                         GG_ERROR_INVALID);
+    assert_int_equal(ggPathMatch(e, NULL, 0, 0, px, NULL, NULL, &sum), GG_ERROR_INVALID);
+    assert_int_equal(ggPathMatch(e, t, 0, 0, px, NULL, NULL, NULL), GG_ERROR_INVALID);
+    /* matched without a ledger */
+    assert_int_equal(ggPathMatch(e, t, 0, 0, px, NULL, m, &sum), GG_ERROR_INVALID);
+    COVER(ggPathFormat), assert_int_equal(ggPathFormat(NULL, NULL, buf, sizeof buf), 0);
+    assert_string_equal(buf, "");
+    COVER(ggFindPath), assert_int_equal(ggFindPath(NULL, NULL, e, 0, &fr, NULL), GG_ERROR_INVALID);
+    assert_null(fr);
+    assert_int_equal(ggFindPath(s, NULL, NULL, 0, &fr, NULL), GG_ERROR_INVALID);
+    assert_int_equal(ggFindPath(s, NULL, e, 0, NULL, NULL), GG_ERROR_INVALID);
+    ggPathFree(e);
+    ggTraceFree(t);
+    ggSceneFree(s);
+}
+
 /* ---- statistics are overwritten, never added to ---- */
 
 static bool same_stats(const ggRayStats *a, const ggRayStats *b)
@@ -594,7 +628,7 @@ int main(void)
         cmocka_unit_test(test_scene_build),
         cmocka_unit_test(test_scene_query),
         cmocka_unit_test(test_render_trace),
-        cmocka_unit_test(test_debug),
+        cmocka_unit_test(test_debug), cmocka_unit_test(test_path),
         cmocka_unit_test(test_stats_overwritten),
         cmocka_unit_test(test_allocator_copied),
         /* Last: the others record what they cover. */
