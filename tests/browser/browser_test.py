@@ -668,6 +668,17 @@ def paths(d, folder):
         dimmed = {int(k) for k, v in vis.items() if v[0] and float(v[1]) < 1}
         check(all(v[0] for v in vis.values()) and dimmed == every - on,
               "dim the other paths: every ray shown, the others greyed (%s)" % sorted(dimmed), vis)
+        # The copied commands print what is on screen.
+        runs = []
+        for box in ("cmd-trace", "cmd-find"):
+            cmd = shlex.split(d.find_element(By.ID, box).get_attribute("value"))
+            runs.append(subprocess.run([GGRT] + cmd[1:] + (["--format", "json"] if box == "cmd-trace" else []),
+                                       cwd=ROOT, stdout=subprocess.PIPE, text=True).stdout if cmd[:1] == ["ggrt"]
+                        else "")
+        check(runs[0] and json.loads(runs[0]) == pj and
+              runs[1].startswith("%s: %d of 120000 pixels match --path %s" % (SCENE, ref["matched"], LPE)),
+              "the copied ggrt trace --path and ggrt find --path commands print what the page shows",
+              "\n".join(r[:200] for r in runs))
         url = d.current_url
         check("path=" + urllib.parse.quote(LPE, safe="") in url.replace("*", "%2A") and "pdim=1" in url,
               "the URL keeps the path and the dimming", url)
