@@ -34,7 +34,7 @@
 #define SRV_TRACE_BYTES     (4 << 20)  /* memory one recorded ray tree may use */
 #define SRV_RENDER_SECONDS  300        /* a job still running after this is cancelled
                                           (the default and the most of --job-seconds) */
-#define SRV_MAX_EXPR        512        /* bytes of a find predicate */
+#define SRV_MAX_EXPR        512        /* bytes of a find predicate or path expression */
 
 /* Cost-map kinds a render job can carry, plus the image itself. */
 #define SRV_KIND_IMAGE -1
@@ -130,7 +130,7 @@ int srv_param_allowed(const char *path, const char *key);
 /* What a job computes (srv_job_spec.type). */
 enum srv_job_type {
     SRV_TYPE_RENDER, /* the image, or a cost map (kind) */
-    SRV_TYPE_FIND,   /* ggFind */
+    SRV_TYPE_FIND,   /* ggFind, or ggFindPath (spec.lpe) */
     SRV_TYPE_CHECK,  /* ggCheck */
     SRV_TYPE_DIFF    /* ggDiff of options A and B */
 };
@@ -140,7 +140,8 @@ typedef struct srv_job_spec {
     int kind;              /* render: SRV_KIND_IMAGE or GG_COST_* */
     ggRenderOptions opt;   /* the options (A) */
     ggRenderOptions opt_b; /* diff: B */
-    const char *where;     /* find: the predicate (copied) */
+    const char *where;     /* find: the predicate or path expression (copied) */
+    int lpe;               /* find: where is a light-path expression (ggFindPath) */
     int limit;             /* find: matches listed; diff: worst pixels listed */
 } srv_job_spec;
 
@@ -158,7 +159,9 @@ typedef struct srv_result {
     ggFindResult find; /* matches and mask owned here */
     ggCheckResult check;
     ggDiffResult diff; /* worst and map owned here */
+    float *share;      /* find with a path: each pixel's share (0 where none matched) */
     ggPredicate *pred; /* find, while it runs */
+    ggPathExpr *lpe;   /* find with a path, while it runs */
 } srv_result;
 
 typedef struct srv_job_view {

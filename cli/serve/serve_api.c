@@ -321,10 +321,14 @@ int srv_pixel_arg(const srv_server *s, const srv_req *r, const char *name, int l
 }
 
 /* The tree (and, with every sample recorded, its ledger, as ggrt trace
-   prints it) in the format asked for. */
-static void trace_body(srv_resp *resp, const char *fmt, trace_view *v, const ggAllocator *al)
+   prints it) in the format asked for; with a path expression instead,
+   the ledger terms it matches (ggrt trace --path). */
+static void trace_body(srv_resp *resp, const char *fmt, trace_view *v, const ggAllocator *al,
+                       const ggPathExpr *lpe, const char *path)
 {
     ggLedger *ledger = NULL;
+    unsigned char *matched = NULL;
+    ggPathSummary sum;
     ggError err;
     FILE *f;
     if (v->sample < 0 && ggLedgerCreate(v->trace, v->pixel, al, &ledger, &err) != GG_OK) {
@@ -332,11 +336,22 @@ static void trace_body(srv_resp *resp, const char *fmt, trace_view *v, const ggA
         return;
     }
     v->ledger = ledger;
+    if (lpe && (!(matched = calloc(ledger->count ? ledger->count : 1, 1)) ||
+                ggPathMatch(lpe, v->trace, v->x, v->y, v->pixel, ledger, matched, &sum) != GG_OK)) {
+        srv_error(resp, 500, "out of memory");
+        free(matched), ggLedgerFree(ledger);
+        return;
+    }
     f = srv_body_open(resp, 200,
                       !strcmp(fmt, "json")   ? "application/json"
                       : !strcmp(fmt, "text") ? "text/plain; charset=utf-8"
                                              : "image/svg+xml");
-    if (f) {
+    if (f && lpe) {
+        if (!strcmp(fmt, "json"))
+            trace_print_paths_json(f, v, path, matched, &sum);
+        else
+            trace_print_paths(f, v, path, matched, &sum);
+    } else if (f) {
         if (!strcmp(fmt, "json"))
             trace_print_json(f, v);
         else if (!strcmp(fmt, "text"))
@@ -345,7 +360,33 @@ static void trace_body(srv_resp *resp, const char *fmt, trace_view *v, const ggA
             trace_write_svg_views(f, v, 0);
     }
     srv_body_close(resp, f);
+    free(matched);
     ggLedgerFree(ledger);
+}
+
+/* /api/trace's parameter path (may be absent: *out NULL): 0, or -1 with
+   resp filled (400). A path needs every sample's tree and the json or
+   text format. */
+static int trace_path_arg(const srv_req *r, const char *fmt, int sample, ggPathExpr **out,
+                          srv_resp *resp)
+{
+    const char *v = srv_param_get(r, "path");
+    ggError err;
+    *out = NULL;
+    if (!v) return 0;
+    if (strlen(v) > SRV_MAX_EXPR || !ggUTF8Valid(v, strlen(v))) {
+        srv_error(resp, 400, "path: at most %d bytes of UTF-8", SRV_MAX_EXPR);
+        return -1;
+    }
+    if (sample >= 0 || !strcmp(fmt, "svg")) {
+        srv_error(resp, 400, "path takes every sample (no sample=K) and format json or text");
+        return -1;
+    }
+    if (ggPathParse(v, NULL, out, &err) != GG_OK) {
+        srv_error(resp, 400, "path:%s", err.message);
+        return -1;
+    }
+    return 0;
 }
 
 static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
@@ -355,6 +396,7 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
     ggAllocator al;
     budget b;
     ggTrace *tr;
+    ggPathExpr *lpe = NULL;
     ggError err;
     trace_view view;
     int x, y, sample = -1, rc;
@@ -370,11 +412,14 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
         srv_error(resp, 400, "sample must be -1 (all) or a sample index, got '%s'", sv);
         return;
     }
-    if (srv_opts_parse(s, r, "opts", &o, NULL, 0, resp)) return;
+    if (srv_opts_parse(s, r, "opts", &o, NULL, 0, resp) ||
+        trace_path_arg(r, fmt, sample, &lpe, resp))
+        return;
     b.used = 0, b.limit = SRV_TRACE_BYTES, b.refused = 0;
     al.malloc = b_malloc, al.realloc = b_realloc, al.free = b_free, al.ud = &b;
     if (!(tr = ggTraceCreate(&al))) {
         srv_error(resp, 500, "out of memory");
+        ggPathFree(lpe);
         return;
     }
     memset(&view, 0, sizeof view);
@@ -383,7 +428,7 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
     if (rc == GG_OK) {
         view.scene = s->scene, view.trace = tr, view.opt = &o, view.path = s->cfg.scene_path;
         view.x = x, view.y = y, view.sample = sample;
-        trace_body(resp, fmt, &view, &al);
+        trace_body(resp, fmt, &view, &al, lpe, srv_param_get(r, "path"));
     }
     if ((rc == GG_ERROR_NOMEM || resp->status == 500) && b.refused)
         srv_error(resp, 413,
@@ -393,6 +438,7 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
     else if (rc != GG_OK)
         srv_error(resp, rc == GG_ERROR_INVALID ? 400 : 500, "%s", err.message);
     ggTraceFree(tr);
+    ggPathFree(lpe);
 }
 
 /* ---- /api/compare: one pixel's trees under options A and B ---- */
@@ -503,9 +549,27 @@ static void parse_answer(FILE *f, const char *what, int ok, const char *msg)
 
 /* 200 whether the texts parse or not (a page checks them as they are
    typed); each one given gets {"valid": ..., "error", "line", "column"}. */
+/* Does text (parameter name: where or path) parse? As parse_answer. */
+static void parse_expr(FILE *f, const char *name, const char *text)
+{
+    ggPredicate *p = NULL;
+    ggPathExpr *e = NULL;
+    ggError err;
+    int sized = strlen(text) <= SRV_MAX_EXPR && ggUTF8Valid(text, strlen(text)), ok = 0;
+    if (sized)
+        ok = (!strcmp(name, "path") ? ggPathParse(text, NULL, &e, &err)
+                                    : ggPredicateParse(text, NULL, &p, &err)) == GG_OK;
+    else
+        snprintf(err.message, sizeof err.message, "1:1: at most %d bytes of UTF-8", SRV_MAX_EXPR);
+    ggPredicateFree(p), ggPathFree(e);
+    parse_answer(f, name, ok, err.message);
+}
+
+/* 200 whether the texts parse or not (a page checks them as they are
+   typed); each one given gets {"valid": ..., "error", "line", "column"}. */
 static void api_parse(srv_server *s, const srv_req *r, srv_resp *resp)
 {
-    const char *where = srv_param_get(r, "where"), *names[] = {"opts", "b"};
+    const char *names[] = {"where", "path", "opts", "b"};
     FILE *f = srv_body_open(resp, 200, "application/json");
     ggError err;
     int i, first = 1;
@@ -514,23 +578,15 @@ static void api_parse(srv_server *s, const srv_req *r, srv_resp *resp)
         return;
     }
     fputc('{', f);
-    if (where) {
-        ggPredicate *p = NULL;
-        int ok = strlen(where) <= SRV_MAX_EXPR && ggUTF8Valid(where, strlen(where)) &&
-                 ggPredicateParse(where, NULL, &p, &err) == GG_OK;
-        if (!ok && (strlen(where) > SRV_MAX_EXPR || !ggUTF8Valid(where, strlen(where))))
-            snprintf(err.message, sizeof err.message, "1:1: at most %d bytes of UTF-8",
-                     SRV_MAX_EXPR);
-        ggPredicateFree(p);
-        parse_answer(f, "where", ok, err.message);
-        first = 0;
-    }
-    for (i = 0; i < 2; i++) {
+    for (i = 0; i < 4; i++) {
         const char *v = srv_param_get(r, names[i]);
         ggRenderOptions o = s->cfg.opt;
         if (!v) continue;
         if (!first) fputc(',', f);
-        parse_answer(f, names[i], ggRenderOptionsParse(&o, v, &err) == GG_OK, err.message);
+        if (i < 2)
+            parse_expr(f, names[i], v);
+        else
+            parse_answer(f, names[i], ggRenderOptionsParse(&o, v, &err) == GG_OK, err.message);
         first = 0;
     }
     fprintf(f, "}\n");
@@ -548,12 +604,12 @@ static const route routes[] = {
     {"/export.js", page, ""},
     {"/api/info", api_info, ""},
     {"/api/scene", api_scene, ""},
-    {"/api/trace", api_trace, "opts x y sample format"},
+    {"/api/trace", api_trace, "opts x y sample format path"},
     {"/api/compare", api_compare, "opts b x y format"},
-    {"/api/parse", api_parse, "where opts b"},
+    {"/api/parse", api_parse, "where path opts b"},
     {"/api/render", srv_api_render, "opts kind"},
     {"/api/image", srv_api_image, "opts kind format"},
-    {"/api/find", srv_api_find, "opts where limit format"},
+    {"/api/find", srv_api_find, "opts where path limit format"},
     {"/api/check", srv_api_check, "opts x y format"},
     {"/api/diff", srv_api_diff, "opts b limit format"},
 };

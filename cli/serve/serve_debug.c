@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** serve_debug.c -- `ggrt serve`'s find, check and diff jobs band by band:
-** each band is one call of ggFind, ggCheck or ggDiff (include/ggrt/debug.h)
+** each band is one call of ggFind (ggFindPath), ggCheck or ggDiff (include/ggrt/debug.h)
 ** on a crop window of rows, merged into the result one call over the whole
 ** image gives. Counts add; matches come in row order; the worst pixels
 ** are kept with the library's own order (lib/debug/check.c and diff.c:
@@ -45,9 +45,13 @@ static int band_find(srv_server *s, srv_result *r, const ggRenderOptions *o, int
             return GG_ERROR_NOMEM;
         }
     }
-    rc = ggFind(s->scene, o, r->pred, left, &b, err);
+    /* With a path every match of the band is listed: the share map needs them all. */
+    rc = r->lpe ? ggFindPath(s->scene, o, r->lpe, r->width * (y1 - y0), &b, err)
+                : ggFind(s->scene, o, r->pred, left, &b, err);
     if (rc != GG_OK) return rc;
     m->scanned += b->scanned, m->matched += b->matched;
+    for (i = 0; r->lpe && i < b->nmatches; i++)
+        r->share[(size_t)b->matches[i].y * r->width + b->matches[i].x] = (float)b->matches[i].share;
     for (i = 0; i < b->nmatches && m->nmatches < r->spec.limit; i++)
         m->matches[m->nmatches++] = b->matches[i];
     copy_rows(m->mask, b->mask, r->width, y0, y1, 1);
@@ -186,14 +190,14 @@ void srv_debug_finish(srv_result *r)
 
 void srv_result_free(srv_result *r)
 {
-    free(r->where), free(r->px), free(r->px_b), free(r->cost);
+    free(r->where), free(r->px), free(r->px_b), free(r->cost), free(r->share);
     free(r->find.mask), free(r->find.matches);
     free(r->diff.map), free(r->diff.worst);
-    ggPredicateFree(r->pred);
-    r->where = NULL, r->px = r->px_b = r->cost = NULL;
+    ggPredicateFree(r->pred), ggPathFree(r->lpe);
+    r->where = NULL, r->px = r->px_b = r->cost = r->share = NULL;
     r->find.mask = NULL, r->find.matches = NULL;
     r->diff.map = NULL, r->diff.worst = NULL;
-    r->pred = NULL;
+    r->pred = NULL, r->lpe = NULL;
 }
 
 #else

@@ -214,47 +214,83 @@ static int limit_arg(const srv_req *r, int dflt, int hi, int *out, srv_resp *res
     return 0;
 }
 
+/* The find's expression: where (a predicate) or path (a light-path
+   expression), exactly one, checked; sp->where and sp->lpe receive it. */
+static int find_expr(const srv_req *r, srv_job_spec *sp, srv_resp *resp)
+{
+    const char *where = srv_param_get(r, "where"), *path = srv_param_get(r, "path");
+    const char *name = path ? "path" : "where", *v = path ? path : where;
+    ggPredicate *pred = NULL;
+    ggPathExpr *lpe = NULL;
+    ggError err;
+    int rc;
+    if (!where == !path) {
+        srv_error(resp, 400, "%s", where ? "give where or path, not both"
+                                         : "missing parameter where (a predicate) or path (a "
+                                           "light-path expression), docs/debugging.md");
+        return -1;
+    }
+    if (strlen(v) > SRV_MAX_EXPR || !ggUTF8Valid(v, strlen(v))) {
+        srv_error(resp, 400, "%s: at most %d bytes of UTF-8", name, SRV_MAX_EXPR);
+        return -1;
+    }
+    rc = path ? ggPathParse(v, NULL, &lpe, &err) : ggPredicateParse(v, NULL, &pred, &err);
+    ggPathFree(lpe), ggPredicateFree(pred);
+    if (rc != GG_OK) {
+        srv_error(resp, 400, "%s:%s", name, err.message);
+        return -1;
+    }
+    sp->where = v, sp->lpe = path != NULL;
+    return 0;
+}
+
+/* A finished find in the format asked for: the JSON of ggrt find
+   --format json, the mask, or (with a path) the share map as floats or
+   as a heatmap PNG with its legend. */
+static void find_body(srv_server *s, const char *fmt, const srv_job_spec *sp, const srv_result *res,
+                      srv_resp *resp)
+{
+    size_t n = (size_t)s->cfg.width * s->cfg.height;
+    FILE *f;
+    if (!strcmp(fmt, "mask")) {
+        send_bytes(s, res->find.mask, n, resp);
+    } else if (!strcmp(fmt, "share")) {
+        send_floats(s, res->share, n, resp);
+    } else if (!strcmp(fmt, "png")) {
+        send_png(s, res->share, "share", resp);
+    } else {
+        f = srv_body_open(resp, 200, "application/json");
+        if (f)
+            json_find(f, s->cfg.scene_path, &sp->opt, sp->lpe ? NULL : sp->where,
+                      sp->lpe ? sp->where : NULL, &res->find);
+        srv_body_close(resp, f);
+    }
+}
+
 void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp)
 {
-    static const char *const formats[] = {"json", "mask", NULL};
-    const char *fmt, *where = srv_param_get(r, "where");
+    static const char *const formats[] = {"json", "mask", "share", "png", NULL};
+    const char *fmt;
     char text[512], key[KEYLEN];
     srv_job_spec sp;
     const srv_result *res;
-    ggPredicate *pred = NULL;
-    ggError err;
-    FILE *f;
     memset(&sp, 0, sizeof sp);
-    if (!where) {
-        srv_error(resp, 400, "missing parameter where (a predicate, docs/debugging.md)");
-        return;
-    }
-    if (strlen(where) > SRV_MAX_EXPR || !ggUTF8Valid(where, strlen(where))) {
-        srv_error(resp, 400, "where: at most %d bytes of UTF-8", SRV_MAX_EXPR);
-        return;
-    }
-    if (format_arg(r, formats, &fmt, resp) || limit_arg(r, 20, FIND_LIMIT, &sp.limit, resp) ||
+    if (find_expr(r, &sp, resp) || format_arg(r, formats, &fmt, resp) ||
+        limit_arg(r, 20, FIND_LIMIT, &sp.limit, resp) ||
         srv_opts_parse(s, r, "opts", &sp.opt, text, sizeof text, resp))
         return;
-    if (ggPredicateParse(where, NULL, &pred, &err) != GG_OK) {
-        srv_error(resp, 400, "where:%s", err.message);
+    if (!sp.lpe && (!strcmp(fmt, "share") || !strcmp(fmt, "png"))) {
+        srv_error(resp, 400, "format %s is the share of a path: give path, not where", fmt);
         return;
     }
-    ggPredicateFree(pred);
-    sp.type = SRV_TYPE_FIND, sp.where = where;
-    snprintf(key, sizeof key, "find %d|%s|%s", sp.limit, text, where);
+    sp.type = SRV_TYPE_FIND;
+    snprintf(key, sizeof key, "find%s %d|%s|%s", sp.lpe ? "path" : "", sp.limit, text, sp.where);
     if (!job_ready(s, key, &sp, resp, 0)) return;
     if (!(res = srv_jobs_acquire(s, key))) {
         srv_error(resp, 503, "the find was replaced by newer jobs; ask again");
         return;
     }
-    if (!strcmp(fmt, "mask")) {
-        send_bytes(s, res->find.mask, (size_t)s->cfg.width * s->cfg.height, resp);
-    } else {
-        f = srv_body_open(resp, 200, "application/json");
-        if (f) json_find(f, s->cfg.scene_path, &sp.opt, where, NULL, &res->find);
-        srv_body_close(resp, f);
-    }
+    find_body(s, fmt, &sp, res, resp);
     srv_jobs_release(s, res);
 }
 

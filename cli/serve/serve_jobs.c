@@ -163,6 +163,14 @@ static int job_alloc(srv_server *s, srv_result *r, ggError *err)
                  r->height);
         return GG_ERROR_NOMEM;
     }
+    if (t == SRV_TYPE_FIND && r->spec.lpe) {
+        if (!(r->share = calloc(n, sizeof *r->share))) {
+            snprintf(err->message, sizeof err->message, "out of memory for a %dx%d job", r->width,
+                     r->height);
+            return GG_ERROR_NOMEM;
+        }
+        return ggPathParse(r->where, NULL, &r->lpe, err);
+    }
     if (t == SRV_TYPE_FIND) return ggPredicateParse(r->where, NULL, &r->pred, err);
     (void)s;
     return GG_OK;
@@ -181,8 +189,8 @@ static void run_job(srv_server *s, job *j)
     pthread_mutex_unlock(&J->mu);
     rc = job_alloc(s, &j->res, &err);
     if (rc == GG_OK) rc = run_bands(s, j, &err);
-    ggPredicateFree(j->res.pred);
-    j->res.pred = NULL;
+    ggPredicateFree(j->res.pred), ggPathFree(j->res.lpe);
+    j->res.pred = NULL, j->res.lpe = NULL;
     pthread_mutex_lock(&J->mu);
     j->seconds = now() - j->t0;
     if (rc == GG_OK) {

@@ -17,12 +17,17 @@ one server per scene:
   j/k; arrows after a dropdown), the exports (tree JSON equal to
   /api/trace's bytes, SVG, OBJ, PNG, the command line, which is run),
   ledger, diagnostics, diff mode, a reload from the URL (3D camera too);
+- light-path expressions on glass.nff: the path box (its keys not
+  captured, a malformed path's column), the share heatmap with its legend
+  (the count of matched pixels and every share equal ggrt find --path's),
+  the tree filtered to the matching paths, hidden then dimmed (the rays
+  kept and the summary equal ggrt trace --path's), the URL keeping it;
 - the layout at 1280 and 1920 px wide: the tree panel inside the window in
   normal and diff mode and at 4x zoom (screenshots in build/browser/);
-- with --docs DIR, the linked 3D views of glass and knot as PNGs there
-  (docs/serve.md shows them).
+- with --docs DIR, the linked 3D views of glass and knot, and the path
+  filter on glass, as PNGs there (docs/serve.md shows them).
     /usr/bin/python3 tests/browser/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
-        [--only glass,layout,first,scenes,docs]
+        [--only glass,layout,first,scenes,paths,docs]
 Prints one line per check and ends with "browser: N passed, M failed"."""
 import json
 import os
@@ -30,6 +35,7 @@ import re
 import shlex
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import tempfile
@@ -573,6 +579,139 @@ def glass(d, want):
         shutil.rmtree(folder, ignore_errors=True)
 
 
+# ---- light-path expressions: the path box, the tree filter, the share heatmap ----
+
+LPE = "C<TS>.*"
+
+
+def on_path_ids(tree, paths):
+    """The rays on the matching paths: each term's ray and its ancestors."""
+    parent = {}
+
+    def walk(n, up):
+        parent[n["id"]] = up
+        for k in n["children"]:
+            walk(k, n["id"])
+    for r in tree["roots"]:
+        walk(r, -1)
+    on = set()
+    for t in paths["terms"]:
+        i = t["node"]
+        while i >= 0:
+            on.add(i)
+            i = parent[i]
+    return on, set(parent)
+
+
+def paths(d, folder):
+    """Type a path (keys not captured by the page), a malformed one's
+    column, the share heatmap against ggrt find --path (count and every
+    share), the tree filtered (hidden, then dimmed) against ggrt trace
+    --path, the URL keeping the path."""
+    srv = Server(SCENE)
+    try:
+        console_errors(d)
+        d.set_window_size(1500, 980)
+        d.get(srv.url + "#px=%d,%d" % PIXEL)
+        wait(d, "ready", lambda: attr(d, "viewport", "data-image") and selected_pixel(d))
+        box = d.find_element(By.ID, "path-input")
+        box.send_keys("C<X>")
+        ok = wait(d, "bad", lambda: "bad" in (box.get_attribute("class") or ""), 10)
+        res = d.find_element(By.ID, "path-result").text
+        check(ok and res.startswith("1:3: "), "a malformed path is marked with its column (%s)" % res, res)
+        box.clear()
+        # Letters that are shortcuts elsewhere (o: overlay, e/c: expand, j/k, f, p) only type.
+        typed = "C<TS>[object == 1 || object != 1].*"
+        box.send_keys(typed)
+        time.sleep(0.4)
+        st = d.execute_script("return [window.ggrt.state.overlay, document.activeElement.id];")
+        check(box.get_attribute("value") == typed and st == ["none", "path-input"],
+              "typing a path is not captured by the page's keys", "%r %r" % (box.get_attribute("value"), st))
+        box.clear()
+        box.send_keys(LPE + Keys.ENTER)
+        ok = wait(d, "heatmap", lambda: attr(d, "overlay", "data-kind") == "path" and
+                  attr(d, "path-result", "data-matched"), 60)
+        ref = json.loads(subprocess.run([GGRT, "find", SCENE, "--path", LPE, "--format", "json", "-q", "--limit",
+                                         "120000"], cwd=ROOT, stdout=subprocess.PIPE, text=True, check=True).stdout)
+        got = int(attr(d, "path-result", "data-matched") or -1)
+        check(ok and got == ref["matched"] > 0, "the path box finds %d pixels, as ggrt find --path (%d)"
+              % (got, ref["matched"]), d.find_element(By.ID, "path-result").text)
+        page = d.execute_script("const o = window.ggrt.overlay(), out = [];"
+                                "o.values.forEach((v, i) => { if (v) out.push([i, v]); }); return out;")
+        want = {m["pixel"][1] * 400 + m["pixel"][0]: struct.unpack("<f", struct.pack("<f", m["share"]))[0]
+                for m in ref["matches"]}
+        pg = {i: struct.unpack("<f", struct.pack("<f", v))[0] for i, v in page}
+        diff = [i for i in set(pg) | set(want) if pg.get(i, 0) != want.get(i, 0)]
+        check(len(want) == ref["matched"] and not diff,
+              "the heatmap's share of every pixel equals ggrt find --path's (%d shares)" % len(want),
+              "%d differ, e.g. %s" % (len(diff), [(i, pg.get(i), want.get(i)) for i in diff[:5]]))
+        mx = max(want.values())
+        top = max(want, key=lambda i: want[i])
+        legend = d.find_element(By.ID, "legend-text").text
+        check(int(attr(d, "legend", "height") or 0) > 0 and "share" in legend and
+              overlay_alpha(d, top % 400, top // 400)[3] > 0,
+              "the heatmap is drawn with its legend (largest share %.4f)" % mx, legend)
+        # The tree: only the rays of the matching paths.
+        ok = wait(d, "filter", lambda: d.find_elements(By.ID, "path-summary"), 30)
+        tr = json.loads(subprocess.run([GGRT, "trace", SCENE, "--pixel", "%d,%d" % PIXEL, "--format", "json"],
+                                       cwd=ROOT, stdout=subprocess.PIPE, text=True, check=True).stdout)
+        pj = json.loads(subprocess.run([GGRT, "trace", SCENE, "--pixel", "%d,%d" % PIXEL, "--path", LPE, "--format",
+                                        "json"], cwd=ROOT, stdout=subprocess.PIPE, text=True, check=True).stdout)
+        on, every = on_path_ids(tr, pj)
+        summ = d.find_element(By.ID, "path-summary")
+        check(ok and summ.get_attribute("data-matched") == str(pj["matched"]) and
+              float(summ.get_attribute("data-share")) == pj["share"],
+              "the tree's path summary equals ggrt trace --path's (%d of %d paths, share %.4f)"
+              % (pj["matched"], pj["paths"], pj["share"]), summ.text)
+        vis = d.execute_script("const out = {};"
+                               "for (const n of document.querySelectorAll('#tree-a details.node'))"
+                               " out[n.dataset.id] = n.checkVisibility(); return out;")
+        shown = {int(k) for k, v in vis.items() if v}
+        check(shown == on and every - on, "the tree shows only the rays on matching paths (%s of %d)"
+              % (sorted(on), len(every)), "shown %s, want %s" % (sorted(shown), sorted(on)))
+        d.find_element(By.ID, "path-dim").click()
+        vis = d.execute_script("const out = {};"
+                               "for (const n of document.querySelectorAll('#tree-a details.node'))"
+                               " out[n.dataset.id] = [n.checkVisibility(),"
+                               " getComputedStyle(n.querySelector(':scope > summary')).opacity]; return out;")
+        dimmed = {int(k) for k, v in vis.items() if v[0] and float(v[1]) < 1}
+        check(all(v[0] for v in vis.values()) and dimmed == every - on,
+              "dim the other paths: every ray shown, the others greyed (%s)" % sorted(dimmed), vis)
+        # The copied commands print what is on screen.
+        runs = []
+        for box in ("cmd-trace", "cmd-find"):
+            cmd = shlex.split(d.find_element(By.ID, box).get_attribute("value"))
+            runs.append(subprocess.run([GGRT] + cmd[1:] + (["--format", "json"] if box == "cmd-trace" else []),
+                                       cwd=ROOT, stdout=subprocess.PIPE, text=True).stdout if cmd[:1] == ["ggrt"]
+                        else "")
+        check(runs[0] and json.loads(runs[0]) == pj and
+              runs[1].startswith("%s: %d of 120000 pixels match --path %s" % (SCENE, ref["matched"], LPE)),
+              "the copied ggrt trace --path and ggrt find --path commands print what the page shows",
+              "\n".join(r[:200] for r in runs))
+        url = d.current_url
+        check("path=" + urllib.parse.quote(LPE, safe="") in url.replace("*", "%2A") and "pdim=1" in url,
+              "the URL keeps the path and the dimming", url)
+        if folder:
+            os.makedirs(folder, exist_ok=True)
+            d.execute_script("window.scrollTo(0, 0); document.activeElement.blur();")
+            time.sleep(0.3)
+            d.save_screenshot(os.path.join(folder, "serve-paths-glass.png"))
+            print("docs screenshot: " + os.path.join(folder, "serve-paths-glass.png"))
+        d.get("about:blank")
+        d.get(url)
+        ok = wait(d, "reload", lambda: attr(d, "overlay", "data-kind") == "path" and
+                  d.find_elements(By.ID, "path-summary"), 60)
+        check(ok and d.find_element(By.ID, "path-input").get_attribute("value") == LPE and
+              d.find_element(By.ID, "path-dim").is_selected(),
+              "a reload from the URL brings back the path, its heatmap and filter")
+        errors = console_errors(d)
+        check(not errors, "paths: no console errors", "\n".join(errors))
+    finally:
+        d.get("about:blank")
+        rc, err = srv.stop()
+        check(rc == 0, "ggrt serve stopped cleanly", err)
+
+
 # ---- the layout at 1280 and 1920 px ----
 
 INSIDE = ("const W = document.documentElement.clientWidth, out = [];"
@@ -643,7 +782,8 @@ def main():
     try:
         d = browser(profile)
         steps = [("glass", lambda: glass(d, want)), ("layout", lambda: layout(d)),
-                 ("first", lambda: tracing_first(d)), ("scenes", lambda: every_scene(d))]
+                 ("first", lambda: tracing_first(d)), ("scenes", lambda: every_scene(d)),
+                 ("paths", lambda: paths(d, DOCS))]
         if DOCS:
             steps.append(("docs", lambda: docs_shots(d, DOCS)))
         for name, step in steps:

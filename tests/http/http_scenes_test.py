@@ -4,7 +4,8 @@ under examples/scenes (recursively: NFF, and the OBJ and PLY models) and
 tests/data/debug, start the server on a small image and parse, strictly
 (json.loads that refuses NaN and Infinity), /api/info, /api/scene,
 /api/trace of the four corners, the centre and a random pixel, /api/find,
-/api/check and /api/diff. A few servers run at once.
+/api/find and /api/trace with light-path expressions, /api/check and
+/api/diff. A few servers run at once.
     python3 tests/http/http_scenes_test.py build/ggrt [--seed N]
 Prints TAP (tests/http/tap.py)."""
 import concurrent.futures
@@ -26,6 +27,9 @@ SIZE = (40, 30)
 SCENE_EXT = (".nff", ".obj", ".ply")
 PARALLEL = 3  # servers at once: the machine is small, each one mostly waits
 TIMEOUT = 120  # seconds for one scene (a test that hangs fails instead)
+# Light-path expressions asked of every scene: every path (so every pixel
+# with light matches), and the direct diffuse light or a refraction chain.
+PATHS = ("C.*", "C<RD>L|C<TS>+.*")
 
 
 def scene_files():
@@ -110,6 +114,17 @@ def one_scene(scene, rnd):
         where = urllib.parse.quote("some(kind == eye)")
         st, b = s.wait("/api/find?where=" + where, deadline)
         parse("/api/find", st, b, lambda j: j["matched"] == j["scanned"] == w * h)
+        for lpe in PATHS:
+            q = urllib.parse.quote(lpe)
+            st, b = s.wait("/api/find?limit=%d&path=%s" % (w * h, q), deadline)
+            parse("/api/find?path=" + lpe, st, b,
+                  lambda j: j["path"] == lpe and j["scanned"] == w * h and len(j["matches"]) == j["matched"] and
+                  all(0 <= m["share"] <= 1 + 1e-6 for m in j["matches"]))
+            for x, y in pixels[4:]:
+                st, b = s.get("/api/trace?x=%d&y=%d&path=%s" % (x, y, q))
+                parse("/api/trace %d,%d path=%s" % (x, y, lpe), st, b,
+                      lambda j: j["pixel"] == [x, y] and j["matched"] == len(j["terms"]) <= j["paths"] and
+                      abs(j["share"] - sum(t["share"] for t in j["terms"])) < 1e-9)
         st, b = s.wait("/api/check", deadline)
         parse("/api/check", st, b, lambda j: j["scanned"] == w * h)
         st, b = s.wait("/api/diff?b=depth%3D2", deadline)

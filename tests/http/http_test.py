@@ -352,6 +352,78 @@ def check_debug(s):
     check(st == 200 and b == ref, "/api/compare?format=text equals ggrt trace --diff", b[:300])
 
 
+def f32(v):
+    return struct.unpack("<f", struct.pack("<f", v))[0]
+
+
+def check_paths(s):
+    """Light-path expressions: /api/find?path=, its mask and share map,
+    /api/trace?path=, /api/parse?path=, against ggrt find and trace --path."""
+    n = SIZE[0] * SIZE[1]
+    for lpe in ("C<TS>.*", "C.*<RS'tir'>.*", "C<RD>L"):
+        q = "path=" + urllib.parse.quote(lpe)
+        st, h, b = s.wait("/api/find?" + q)
+        ref = cli("find", SCENE, *size_args(), "--path", lpe, "--format", "json", "-q")
+        check(st == 200 and b == ref, "/api/find?path=%s equals ggrt find --path --format json" % lpe,
+              "%d: %s" % (st, b[:300]))
+        full = json.loads(cli("find", SCENE, *size_args(), "--path", lpe, "--format", "json", "-q",
+                              "--limit", str(n)))
+        st, h, mask = s.wait("/api/find?%s&format=mask" % q)
+        st2, h2, b = s.wait("/api/find?%s&format=share" % q)
+        share = struct.unpack("<%df" % n, b) if st2 == 200 and len(b) == 4 * n else ()
+        want = {(m["pixel"][1] * SIZE[0] + m["pixel"][0]): m["share"] for m in full["matches"]}
+        got = {i: v for i, v in enumerate(share) if v != 0}
+        same = (len(want) == full["matched"] > 0 and sum(mask) == full["matched"] and
+                all(mask[i] == 1 for i in want) and set(got) <= set(want) and
+                all(share[i] == struct.unpack("<f", struct.pack("<f", v))[0] for i, v in want.items()))
+        check(st == 200 and same, "/api/find?path=%s: mask and share map (float) equal ggrt find --path's "
+              "%d matches and shares" % (lpe, full["matched"]), "%d pixels with a share, %d want" % (len(got), len(want)))
+        st, h, b = s.wait("/api/find?%s&format=png" % q)
+        w, hh, px = png_pixels(b)
+        check(st == 200 and w == SIZE[0] and hh > SIZE[1] and
+              f32(float(h.get("x-ggrt-max", "-1"))) == max(struct.unpack("<f", struct.pack("<f", v))[0] for v in want.values()),
+              "/api/find?path=%s&format=png: the share heatmap with its legend, max %s" % (lpe, h.get("x-ggrt-max")))
+        for x, y in ((44, 40), (80, 60), (100, 90)):
+            ref = cli("trace", SCENE, *size_args(), "--pixel", "%d,%d" % (x, y), "--path", lpe, "--format", "json")
+            st, h, b = s.get("/api/trace?x=%d&y=%d&%s" % (x, y, q))
+            check(st == 200 and b == ref, "/api/trace %d,%d path=%s equals ggrt trace --path --format json"
+                  % (x, y, lpe), b[:300])
+    ref = cli("trace", SCENE, *size_args(), "--pixel", "44,40", "--path", "C<TS>.*")
+    st, h, b = s.get("/api/trace?x=44&y=40&format=text&path=" + urllib.parse.quote("C<TS>.*"))
+    check(st == 200 and b == ref, "/api/trace?format=text&path= equals ggrt trace --path", b[:300])
+    # A find with a path is another job than one with a predicate, and the
+    # share of the whole pixel (C.*) is 1 on every pixel with a path.
+    st, h, b = s.wait("/api/find?format=share&path=" + urllib.parse.quote("C.*"))
+    share = struct.unpack("<%df" % n, b)
+    check(st == 200 and all(v == 0 or abs(v - 1) < 1e-6 for v in share) and sum(1 for v in share if v) > n // 2,
+          "/api/find?path=C.*: the share is 1 wherever a path is")
+    for bad in ("C<X>", "C(", "C<TS>[object ==]", "C{", "C<TS>'"):
+        r = subprocess.run([GGRT, "find", SCENE, "--path", bad], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           text=True)
+        want = r.stderr.split("\n")[0].replace("ggrt find: --path:", "path:")
+        for route in ("/api/find?path=", "/api/trace?x=1&y=1&path="):
+            st, h, b = s.get(route + urllib.parse.quote(bad))
+            json_error(st, h, b, 400, "%s%s is 400" % (route, bad))
+            err = json.loads(b).get("error", "")
+            check(r.returncode != 0 and re.match(r"^path:1:\d+: ", err) and err == want,
+                  "%s%s: the error names the column, as ggrt find --path's (%s)" % (route, bad, err),
+                  "%r vs %r" % (err, want))
+        st, j = s.json("/api/parse?path=" + urllib.parse.quote(bad))
+        check(st == 200 and j["path"]["valid"] is False and j["path"]["line"] == 1 and j["path"]["column"] >= 1
+              and j["path"]["error"].startswith("1:%d:" % j["path"]["column"]),
+              "/api/parse?path=%s: invalid at column %d" % (bad, j["path"]["column"]), j)
+    st, j = s.json("/api/parse?path=" + urllib.parse.quote("C<TS>.*B"))
+    check(st == 200 and j == {"path": {"valid": True}}, "/api/parse of a good path", j)
+    for q, name in (("where=x&path=C.*", "both where and path"), ("path=" + "C" * 600, "a 600-byte path"),
+                    ("where=" + urllib.parse.quote("some(kind == tir)") + "&format=share", "format=share of a predicate"),
+                    ("where=" + urllib.parse.quote("some(kind == tir)") + "&format=png", "format=png of a predicate")):
+        st, h, b = s.get("/api/find?" + q)
+        json_error(st, h, b, 400, "find with %s: 400" % name)
+    for q, name in (("sample=0", "one sample"), ("format=svg", "format=svg")):
+        st, h, b = s.get("/api/trace?x=1&y=1&path=C.*&" + q)
+        json_error(st, h, b, 400, "trace with a path and %s: 400" % name)
+
+
 def check_security(s):
     st, h, b = s.get("/api/info", token=False)
     json_error(st, h, b, 401, "no token: 401")
@@ -606,6 +678,7 @@ def run(base):
         check_trace(s, rgb)
         check_heatmaps(s, stats)
         check_debug(s)
+        check_paths(s)
         check_concurrent(s)
     finally:
         rc, err = s.stop()

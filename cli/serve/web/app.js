@@ -28,13 +28,14 @@
     ['corners', 'pixel corners', 'flag'],
     ['force-effects', 'force effects', 'flag'],
   ];
-  const OVERLAYS = ['none', 'rays', 'depth', 'time', 'find', 'diff'];
+  const OVERLAYS = ['none', 'rays', 'depth', 'time', 'find', 'path', 'diff'];
   const TABS = ['tree', 'rays3d', 'views', 'ledger', 'diag', 'text'];
   const KIND_COLOR = { eye: '#111', reflect: '#1f5fd0', refract: '#17a34a', tir: '#c026d3' };
 
   const state = {
     a: '', b: '', // option text over the server's options (ggRenderOptionsParse)
     diff: false, px: null, overlay: 'none', opacity: 0.75, zoom: 0, tab: 'tree', find: '',
+    path: '', pathDim: false, // a light-path expression: the tree filter and the share heatmap
   };
   let info = null, scene = null, W = 0, H = 0;
   const images = {}; // 'a' / 'b' -> { q, bmp, rgb }
@@ -229,7 +230,7 @@
     return words.join(' ');
   }
 
-  // ---- URL state: #px=X,Y&ov=...&tab=...&zoom=...&find=...&a=OPTIONS&b=OPTIONS&diff=1 ----
+  // ---- URL state: #px=X,Y&ov=...&tab=...&zoom=...&find=...&path=...&pdim=1&a=OPTIONS&b=OPTIONS&diff=1 ----
 
   function writeHash() {
     const p = new URLSearchParams();
@@ -239,6 +240,8 @@
     if (state.zoom) p.set('zoom', String(state.zoom));
     if (state.opacity !== 0.75) p.set('alpha', String(state.opacity));
     if (state.find) p.set('find', state.find);
+    if (state.path) p.set('path', state.path);
+    if (state.pathDim) p.set('pdim', '1');
     if (state.diff) p.set('diff', '1');
     if (state.a) p.set('a', state.a);
     if (state.b) p.set('b', state.b);
@@ -260,6 +263,8 @@
     const a = parseFloat(p.get('alpha'));
     state.opacity = a >= 0 && a <= 1 ? a : 0.75;
     state.find = p.get('find') || '';
+    state.path = p.get('path') || '';
+    state.pathDim = p.get('pdim') === '1';
     state.diff = p.get('diff') === '1';
   }
 
@@ -350,7 +355,8 @@
   async function loadOverlay(gen) {
     const kind = state.overlay;
     const ctx = $('overlay').getContext('2d');
-    if (kind === 'none' || (kind === 'find' && !state.find) || (kind === 'diff' && !state.diff)) {
+    if (kind === 'none' || (kind === 'find' && !state.find) || (kind === 'path' && !state.path) ||
+        (kind === 'diff' && !state.diff)) {
       ctx.clearRect(0, 0, W, H);
       $('overlay').dataset.kind = 'none';
       $('legend-text').textContent = kind === 'diff' ? 'tick "compare A with B" to see the diff map' : '';
@@ -361,6 +367,7 @@
     }
     let ov;
     if (kind === 'find') ov = await loadFind(gen);
+    else if (kind === 'path') ov = await loadPath(gen);
     else if (kind === 'diff') ov = await loadDiff(gen);
     else ov = await loadHeat(kind, gen);
     if (!ov || gen !== generation) return;
@@ -452,17 +459,20 @@
     return overlays[key];
   }
 
-  async function checkPredicate(text) {
-    const box = $('find-input');
-    if (!text) { box.classList.remove('bad'); $('find-result').textContent = ''; return false; }
-    const r = (await api('/api/parse', { where: text })).body.where;
+  // Is the text of the find box (what: 'where') or the path box ('path')
+  // well formed? /api/parse says, with the column of an error.
+  async function checkPredicate(text, what) {
+    what = what || 'where';
+    const box = $(what === 'path' ? 'path-input' : 'find-input'), out = $(what === 'path' ? 'path-result' : 'find-result');
+    if (!text) { box.classList.remove('bad'); out.textContent = ''; return false; }
+    const r = (await api('/api/parse', { [what]: text })).body[what];
     box.classList.toggle('bad', !r.valid);
     box.title = r.valid ? '' : r.error;
     if (!r.valid) {
-      $('find-result').textContent = r.error;
+      out.textContent = r.error;
       if (r.column > 0) box.setSelectionRange(r.column - 1, Math.min(text.length, r.column));
-    } else if ($('find-result').textContent.match(/^\d+:\d+:/)) {
-      $('find-result').textContent = '';
+    } else if (out.textContent.match(/^\d+:\d+:/)) {
+      out.textContent = '';
     }
     return r.valid;
   }
@@ -494,10 +504,44 @@
     return overlays[key];
   }
 
+  // The path's share heatmap (ggFindPath, as ggrt find --path): the PNG
+  // with its legend from the server, the shares as floats for the hover.
+  const pathParams = () => Object.assign({ path: state.path, limit: '0' }, optParams('a'));
+  async function loadPath(gen) {
+    const params = pathParams(), key = 'path|' + keyOf(params);
+    if (overlays[key]) return overlays[key];
+    let r;
+    try {
+      r = await waitJob('/api/find', params, 'paths', gen);
+    } catch (e) {
+      $('path-input').classList.add('bad');
+      $('path-result').textContent = e.message;
+      $('overlay').dataset.kind = 'path-error';
+      return null;
+    }
+    if (!r) return null;
+    $('path-input').classList.remove('bad');
+    const [png, f32] = await Promise.all([
+      api('/api/find', Object.assign({ format: 'png' }, params), 'blob'),
+      api('/api/find', Object.assign({ format: 'share' }, params), 'buf')]);
+    const f = r.body, max = parseFloat(png.headers.get('X-GGRT-Max'));
+    const text = f.matched + ' pixel' + (f.matched === 1 ? ' has' : 's have') + ' such a path';
+    $('path-result').textContent = text;
+    $('path-result').dataset.matched = String(f.matched);
+    overlays[key] = {
+      bmp: await createImageBitmap(png.body), values: new Float32Array(f32.body), max: max,
+      legend: 'share of each pixel carried by paths ' + state.path + ': ' + text + '; 0 to ' + fmtG(max, 4),
+      unit: 'share', count: f.matched,
+    };
+    status('paths done: ' + text);
+    return overlays[key];
+  }
+
   function currentOverlay() {
     const k = state.overlay;
     if (k === 'none') return null;
     if (k === 'find') return overlays['find|' + keyOf(Object.assign({ where: state.find }, optParams('a')))];
+    if (k === 'path') return overlays['path|' + keyOf(pathParams())];
     if (k === 'diff') return overlays['diff|' + keyOf(diffParams())];
     return overlays[k + '|' + keyOf(optParams('a'))];
   }
@@ -557,7 +601,8 @@
 
   async function loadPixel(gen) {
     if (!state.px) return;
-    const key = state.px.join(',') + '|' + keyOf(optParams('a')) + '|' + (state.diff ? keyOf(optParams('b')) : '');
+    const key = state.px.join(',') + '|' + keyOf(optParams('a')) + '|' + (state.diff ? keyOf(optParams('b')) : '') +
+      '|' + state.path;
     drawMarker();
     if (traces.key !== key) {
       $('pixel-title').textContent = 'pixel ' + state.px.join(',') + ': tracing';
@@ -565,11 +610,58 @@
       const b = state.diff ? await trace('b') : null;
       const cmp = state.diff ? (await api('/api/compare', Object.assign({ x: state.px[0], y: state.px[1] },
         diffParams()))).body : null;
+      const paths = state.path ? await pixelPaths(a) : null;
       if (gen !== pixelGen) return;
-      traces = { key: key, a: a, b: b, cmp: cmp };
+      traces = { key: key, a: a, b: b, cmp: cmp, paths: paths };
     }
     showPixel();
     await showTab(gen);
+  }
+
+  // The ledger terms of the selected pixel the path matches (ggrt trace
+  // --path's document), or { error } when the path cannot be asked.
+  async function pixelPaths(a) {
+    if (a.json.sample !== null) return { error: 'the whole tree is too large to match paths in' };
+    try {
+      return (await api('/api/trace', Object.assign({ x: state.px[0], y: state.px[1], path: state.path },
+        optParams('a')))).body;
+    } catch (e) {
+      return { error: e.message };
+    }
+  }
+
+  // Mark the rays of box's tree on a matching path (a term's ray and its
+  // ancestors) and hide or dim the others; the matching terms above it.
+  function filterTree(box, j, p) {
+    const parent = {};
+    const walk = (n, up) => { parent[n.id] = up; for (const k of n.children) walk(k, n.id); };
+    for (const r of j.roots) walk(r, -1);
+    const on = new Set();
+    for (const t of p.terms || []) for (let id = t.node; id >= 0 && !on.has(id); id = parent[id]) on.add(id);
+    for (const d of box.querySelectorAll('details.node')) {
+      d.classList.toggle('off-path', !on.has(parseInt(d.dataset.id, 10)));
+      d.classList.toggle('on-path', on.has(parseInt(d.dataset.id, 10)));
+    }
+    box.classList.toggle('path-dim', state.pathDim);
+    box.classList.toggle('path-hide', !state.pathDim);
+    const s = el('div', 'paths');
+    s.id = 'path-summary';
+    if (p.error) {
+      s.textContent = 'path ' + state.path + ': ' + p.error;
+      box.classList.remove('path-dim', 'path-hide');
+    } else {
+      s.dataset.matched = String(p.matched);
+      s.dataset.share = String(p.share);
+      s.appendChild(el('div', 'f', 'paths matching ' + p.expression + ': ' + p.matched + ' of ' + p.paths +
+        ', carrying ' + fmtG(100 * p.share, 4) + '% of the pixel (' + on.size + ' rays on them)'));
+      for (const t of p.terms) {
+        const d = el('div', 'f', fmtG(100 * t.share, 4) + '%  ' + t.kind + (t.light >= 0 ? ' of light ' + t.light : '') +
+          ' at ray #' + t.node + '  ');
+        d.appendChild(el('span', 'ev', t.events));
+        s.appendChild(d);
+      }
+    }
+    box.insertBefore(s, box.querySelector('h3').nextSibling);
   }
 
   function showPixel() {
@@ -578,6 +670,8 @@
     $('pixel-swatch').style.background = srgb(a.color);
     showValue();
     fillTree($('tree-a'), traces.a, state.diff ? 'A' : '');
+    $('tree-a').classList.remove('path-dim', 'path-hide');
+    if (traces.paths) filterTree($('tree-a'), traces.a.json, traces.paths);
     $('tree-b').hidden = !traces.b;
     if (traces.b) fillTree($('tree-b'), traces.b, 'B');
     const c = traces.cmp;
@@ -822,6 +916,8 @@
     $('opacity').value = String(state.opacity);
     $('diff-on').checked = state.diff;
     $('find-input').value = state.find;
+    $('path-input').value = state.path;
+    $('path-dim').checked = state.pathDim;
     fillPanel('a');
     fillPanel('b');
     // The pixel's tree first: a trace is one pixel's work, the image may
@@ -875,6 +971,9 @@
     } else if (e.key === 'f') {
       e.preventDefault();
       $('find-input').focus();
+    } else if (e.key === 'p') {
+      e.preventDefault();
+      $('path-input').focus();
     } else if (e.key === '?') {
       $('help').showModal();
     }
@@ -895,6 +994,7 @@
       state.overlay = e.target.value;
       if (state.overlay === 'diff' && !state.diff) { state.diff = true; $('diff-panel').open = true; }
       if (state.overlay === 'find' && !state.find) $('find-input').focus();
+      if (state.overlay === 'path' && !state.path) $('path-input').focus();
       refresh();
     });
     $('opacity').addEventListener('input', (e) => {
@@ -922,6 +1022,34 @@
       state.find = text;
       state.overlay = 'find';
       refresh();
+    });
+    let typingPath = null;
+    $('path-input').addEventListener('input', () => {
+      clearTimeout(typingPath);
+      typingPath = setTimeout(() => checkPredicate($('path-input').value.trim(), 'path').catch(fail), 250);
+    });
+    $('path-form').addEventListener('submit', async (e) => {
+      e.preventDefault();
+      const text = $('path-input').value.trim();
+      try {
+        if (text && !(await checkPredicate(text, 'path'))) return;
+      } catch (err) {
+        fail(err);
+        return;
+      }
+      // An empty box takes the filter away.
+      state.path = text;
+      if (text) state.overlay = 'path';
+      else if (state.overlay === 'path') state.overlay = 'none';
+      refresh();
+    });
+    $('path-dim').addEventListener('change', (e) => {
+      state.pathDim = e.target.checked;
+      writeHash();
+      if (traces.paths && !traces.paths.error) {
+        $('tree-a').classList.toggle('path-dim', state.pathDim);
+        $('tree-a').classList.toggle('path-hide', !state.pathDim);
+      }
     });
     $('render-a').addEventListener('click', () => { state.a = readPanel('a'); refresh(); });
     $('reset-a').addEventListener('click', () => { state.a = ''; refresh(); });
@@ -965,7 +1093,7 @@
     for (const t of TABS) $('tab-' + t).hidden = t !== state.tab;
     if (state.diff) $('diff-panel').open = true;
     window.ggrt = {
-      api: api, state: state, info: info, scene: scene, W: W, H: H, select: select,
+      api: api, state: state, info: info, scene: scene, W: W, H: H, select: select, overlay: currentOverlay,
       get traces() { return traces; },
     };
     document.dispatchEvent(new Event('ggrt:ready'));

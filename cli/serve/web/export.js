@@ -67,12 +67,16 @@
       c.push('--diff', '--a', s.a || '', '--b', s.b || '');
       return c.concat(flags('server')).map(quote).join(' ');
     }
+    if (s.path && t && t.json.sample === null) c.push('--path', s.path);
     return c.concat(flags('a')).map(quote).join(' ');
   }
+  // The find of the overlay shown: the path's when it is shown or no predicate is set.
   function findCommand() {
-    const app = window.ggrt;
-    if (!app.state.find) return '';
-    return ['ggrt', 'find', app.info.scene, '--where', app.state.find].concat(flags('a')).map(quote).join(' ');
+    const app = window.ggrt, s = app.state;
+    const path = s.path && (s.overlay === 'path' || !s.find);
+    if (!s.find && !path) return '';
+    return ['ggrt', 'find', app.info.scene].concat(path ? ['--path', s.path] : ['--where', s.find])
+      .concat(flags('a')).map(quote).join(' ');
   }
 
   function showCommands() {
@@ -80,7 +84,7 @@
     if (!app || !app.info) return;
     $('cmd-trace').value = app.state.px ? traceCommand() : '';
     $('cmd-find').value = findCommand();
-    $('cmd-find').parentElement.hidden = !app.state.find;
+    $('cmd-find').parentElement.hidden = !app.state.find && !app.state.path;
   }
 
   async function copy(id) {
