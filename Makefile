@@ -173,7 +173,7 @@ SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test test-tsan tests deps demo install uninstall installcheck \
-        clean fuzz bench examples format pc layers FORCE check-browser bench-serve \
+        clean fuzz bench examples format pc layers FORCE check-browser check-cluster bench-serve \
         check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
 .DEFAULT_GOAL := all
 .SECONDARY:
@@ -419,6 +419,16 @@ BROWSER_PYTHON ?= /usr/bin/python3
 check-browser: deps-check deps-browser
 	@$(MAKE) --no-print-directory $(BUILD)/release/ggrt BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@$(BROWSER_PYTHON) tests/browser/browser_test.py $(BUILD)/release/ggrt --screenshot $(BUILD)/browser/serve.png
+
+# check-cluster: the recipes of examples/cluster/ on a real scheduler
+# (tests/cluster/check.sh, docs/cluster.md): as root, munged, slurmctld and
+# slurmd on this machine with a key and a slurm.conf in a temporary folder,
+# examples/cluster/slurm.sh and parallel.sh on gears in 8 tiles, each merge
+# cmp'd with one process's render; every daemon stopped, the folder removed.
+# 25 s on 2 cores. Packages: scripts/deps.sh group cluster.
+check-cluster: deps-cluster
+	@$(MAKE) --no-print-directory $(BUILD)/release/ggrt BUILD=$(BUILD)/release GG_WERROR=-Werror
+	@sh tests/cluster/check.sh $(BUILD)/release/ggrt
 
 # The load benchmark of ggrt serve (prints figures; not a test).
 BENCH_CLIENTS ?= 8

@@ -20,6 +20,7 @@ check:   @build @serve libcmocka-dev python3 assimp-testmodels valgrind clang
 fuzz:    @build clang
 serve:   libmicrohttpd-dev
 browser: chromium chromium-driver python3-selenium
+cluster: @build slurm-wlm munge parallel
 GROUPS
 }
 # check: assimp-testmodels holds the OBJ and PLY files tests/unit/load/test_assimp.c
@@ -31,6 +32,8 @@ GROUPS
 # serve: ggrt serve (cli/serve/) links libmicrohttpd when pkg-config finds
 #   it; without it the rest of ggrt builds and `ggrt serve` says what to
 #   install. browser: tests/browser* drive Chromium through Selenium.
+# cluster: make check-cluster (tests/cluster/check.sh) runs a one-node
+#   Slurm with munge, and GNU parallel, on the recipes of examples/cluster/.
 
 # expand GROUP: its packages, includes resolved (at most 8 levels deep).
 expand() {

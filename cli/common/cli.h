@@ -22,6 +22,7 @@
 /* Each subcommand: argv[0] is the subcommand's name. */
 int cmd_optics(int argc, char **argv);
 int cmd_render(int argc, char **argv);
+int cmd_merge(int argc, char **argv);
 int cmd_trace(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_find(int argc, char **argv);

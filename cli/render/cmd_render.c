@@ -4,6 +4,7 @@
 */
 #include "common/cli.h"
 #include "common/heatmap.h"
+#include "render/tile.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -28,6 +29,7 @@ typedef struct render_args {
     const char *scene, *out;
     int quiet, no_srgb, heat, pixel[2], has_pixel;
     cli_render ro;
+    tile_list tiles; /* --tile or --tiles; tiles.count 0 without */
 } render_args;
 
 typedef struct progress_state {
@@ -84,6 +86,25 @@ static void report_bad_pixels(const ggImage *img, const render_args *a)
     fprintf(stderr, " --pixel %d,%d\n", bx, by);
 }
 
+/* What --tile and --tiles exclude. */
+static int check_tiles(const cli_cmd *cmd, const render_args *a, const cli_opt *mine)
+{
+    size_t n = strlen(a->out);
+    if (mine[4].given + mine[5].given > 1)
+        return cli_usage_error(cmd, "give one of --tile and --tiles, once");
+    if (strcmp(a->out + n - 4, ".exr") && strcmp(a->out + n - 4, ".EXR"))
+        return cli_usage_error(cmd, "tiles are OpenEXR files: -o must end in .exr");
+    if (a->heat >= 0 || a->has_pixel || a->no_srgb || cli_given(cmd, "crop"))
+        return cli_usage_error(cmd, "--tile and --tiles take none of --heatmap, --pixel, "
+                                    "--no-srgb and --crop");
+    if (a->tiles.count > 1 && !strstr(a->out, "%d"))
+        return cli_usage_error(cmd, "--tiles writes several files: -o needs a %%d");
+    if (strchr(a->out, '%') != strstr(a->out, "%d") ||
+        (strstr(a->out, "%d") && strchr(strstr(a->out, "%d") + 1, '%')))
+        return cli_usage_error(cmd, "-o may hold one %%d and no other %%");
+    return CLI_GO;
+}
+
 static int parse(render_args *a, int argc, char **argv)
 {
     cli_opt mine[] = {
@@ -102,6 +123,14 @@ static int parse(render_args *a, int argc, char **argv)
                        "write a per-pixel cost map instead of the picture,\n"
                        "with a legend: rays (rays cast), depth (deepest\n"
                        "ray) or time"),
+        CLI_OPT_FUNC(0, "tile", tile_parse_one, &a->tiles, "I/N",
+                     "render only tile I (0 to N-1) of N bands of rows\n"
+                     "into OUT.exr, its data window, with a manifest for\n"
+                     "ggrt merge (docs/cluster.md)"),
+        CLI_OPT_FUNC(0, "tiles", tile_parse_list, &a->tiles, "I,J,A-B/N",
+                     "several tiles of N, loading the scene once; OUT\n"
+                     "names each with %d replaced by the index\n"
+                     "(-o part-%d.exr)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar and no summary"),
         CLI_OPT_END,
     };
@@ -126,6 +155,7 @@ static int parse(render_args *a, int argc, char **argv)
     if (n < 4 || (strcmp(a->out + n - 4, ".png") && strcmp(a->out + n - 4, ".exr") &&
                   strcmp(a->out + n - 4, ".PNG") && strcmp(a->out + n - 4, ".EXR")))
         return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", a->out);
+    if (a->tiles.count) return check_tiles(&cmd, a, mine);
     return CLI_GO;
 }
 
@@ -296,12 +326,15 @@ int cmd_render(int argc, char **argv)
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if ((rc = cli_check_output("render", a.out)) != 0) return rc;
+    if (!a.tiles.count && (rc = cli_check_output("render", a.out)) != 0) return rc;
     ls.a = &a, ls.t = t;
     t[0] = cli_now();
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
     t[2] = cli_now();
-    rc = run(&a, scene, t);
+    if (a.tiles.count)
+        rc = tile_render(scene, a.scene, &a.ro.opt, &a.tiles, a.out, a.quiet);
+    else
+        rc = run(&a, scene, t);
     ggSceneFree(scene);
     return rc;
 }

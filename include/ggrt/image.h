@@ -130,6 +130,62 @@ GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err);
    file: Permission denied", write or rename failures), GG_ERROR_NOMEM. */
 GG_API int ggImageWrite(const ggImage *img, const char *path, ggError *err);
 
+/* ---- OpenEXR windows and string attributes ---- */
+
+/* A string attribute of an OpenEXR header: name and value, both
+   NUL-terminated. */
+typedef struct ggEXRAttr {
+    const char *name;
+    const char *value;
+} ggEXRAttr;
+
+/* Where an OpenEXR image lies and what its header says besides. The
+   display window is the whole picture, (display_x, display_y) its top-left
+   pixel; the data window is the part the file holds pixels for (what
+   ggImageRead returns), in the same coordinates. A tile of a larger
+   render is a data window inside the display window. attrs lists the
+   header's string attributes but those OpenEXR reserves (the names
+   ggImageWriteEXRHeader refuses: "type", which OpenEXR's core writes,
+   for one); other attribute types are not listed. */
+typedef struct ggEXRHeader {
+    int display_x, display_y, display_width, display_height;
+    int data_x, data_y, data_width, data_height;
+    int attr_count;
+    ggEXRAttr *attrs;
+} ggEXRHeader;
+
+/* Read the header of the OpenEXR file at path (its first part) into *out:
+   both windows and the string attributes in file order (a value is cut
+   at an embedded NUL byte). No pixel is read, so a file truncated after
+   its header reads here and fails in ggImageRead. *out is zeroed first
+   and, on success, owns memory that ggEXRHeaderFree releases.
+   Errors (the message starts with the path): GG_ERROR_INVALID (NULL
+   argument), GG_ERROR_IO (cannot open or read, not a regular file),
+   GG_ERROR_UNSUPPORTED (not an OpenEXR file), GG_ERROR_PARSE (corrupt
+   header, a window over GG_IMAGE_MAX_DIM on a side), GG_ERROR_NOMEM.
+   Nothing is printed. */
+GG_API int ggImageReadEXRHeader(const char *path, ggEXRHeader *out, ggError *err);
+/* Free what ggImageReadEXRHeader put in *h and zero it; NULL, or a zeroed
+   header, is a no-op. Only for headers that function filled. */
+GG_API void ggEXRHeaderFree(ggEXRHeader *h);
+/* The value of the string attribute `name` in h, or NULL if it has none. */
+GG_API const char *ggEXRHeaderGet(const ggEXRHeader *h, const char *name);
+
+/* ggImageWriteEXR (same format, same atomic write, same pixel bytes) with
+   the windows and string attributes of *h: the data window's top-left
+   pixel is (h->data_x, h->data_y), its size the image's (h->data_width
+   and data_height are ignored); the display window is h's. h NULL gives
+   exactly ggImageWriteEXR's file. GG_ERROR_INVALID, nothing written, for
+   a NULL image or path, a display window of size < 1 or over
+   GG_IMAGE_MAX_DIM, a coordinate of either window beyond +-GG_IMAGE_MAX_DIM,
+   attr_count < 0 or over 256, a NULL name or value, a name that is
+   empty, longer than 31 bytes, repeated, or one of the attributes the
+   writer sets itself (channels, compression, dataWindow, displayWindow,
+   lineOrder, pixelAspectRatio, screenWindowCenter, screenWindowWidth,
+   and name, type, version, chunkCount, tiles). */
+GG_API int ggImageWriteEXRHeader(const ggImage *img, const ggEXRHeader *h, const char *path,
+                                 ggError *err);
+
 /* ---- comparison ---- */
 
 /* Colour space for ggImageCompare: GG_COMPARE_LINEAR compares the stored

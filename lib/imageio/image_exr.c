@@ -367,7 +367,8 @@ int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
 
 /* ---- writing ---------------------------------------------------------- */
 
-static int write_pixels(exr_context_t ctx, int part, const ggImage *img, exr_io *io,
+/* The image is the data window, whose top row is y0. */
+static int write_pixels(exr_context_t ctx, int part, const ggImage *img, int y0, exr_io *io,
                         const char *path, ggError *err)
 {
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
@@ -376,7 +377,7 @@ static int write_pixels(exr_context_t ctx, int part, const ggImage *img, exr_io 
     exr_result_t rv = exr_get_scanlines_per_chunk(ctx, part, &lpc);
     for (y = 0; rv == EXR_ERR_SUCCESS && y < img->height; y += lpc) {
         exr_chunk_info_t ci;
-        rv = exr_write_scanline_chunk_info(ctx, part, y, &ci);
+        rv = exr_write_scanline_chunk_info(ctx, part, y0 + y, &ci);
         if (rv != EXR_ERR_SUCCESS) break;
         rv = ready ? exr_encoding_update(ctx, part, &ci, &enc)
                    : exr_encoding_initialize(ctx, part, &ci, &enc);
@@ -400,7 +401,71 @@ static int write_pixels(exr_context_t ctx, int part, const ggImage *img, exr_io 
     return GG_OK;
 }
 
-GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
+/* Attributes the writer sets itself, or that OpenEXR reserves. */
+static const char *const reserved[] = {
+    "channels",           "compression",       "dataWindow", "displayWindow", "lineOrder",
+    "pixelAspectRatio",   "screenWindowCenter", "screenWindowWidth", "name", "type",
+    "version",            "chunkCount",        "tiles",      NULL};
+
+static int window_ok(int64_t x, int64_t y, int64_t w, int64_t h)
+{
+    return w >= 1 && h >= 1 && w <= GG_IMAGE_MAX_DIM && h <= GG_IMAGE_MAX_DIM &&
+           x >= -GG_IMAGE_MAX_DIM && x <= GG_IMAGE_MAX_DIM && y >= -GG_IMAGE_MAX_DIM &&
+           y <= GG_IMAGE_MAX_DIM;
+}
+
+/* The contract of ggImageWriteEXRHeader, checked before anything is
+   created. */
+static int check_header(const ggEXRHeader *h, ggError *err)
+{
+    int i, j, k;
+    if (!window_ok(h->display_x, h->display_y, h->display_width, h->display_height) ||
+        !window_ok(h->data_x, h->data_y, 1, 1))
+        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRHeader: bad window");
+    if (h->attr_count < 0 || h->attr_count > 256 || (h->attr_count > 0 && !h->attrs))
+        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRHeader: bad attr_count %d",
+                            h->attr_count);
+    for (i = 0; i < h->attr_count; i++) {
+        const char *n = h->attrs[i].name;
+        if (!n || !h->attrs[i].value || !n[0] || strlen(n) > 31)
+            return gg_error_set(err, GG_ERROR_INVALID,
+                                "ggImageWriteEXRHeader: attribute %d: bad name or value", i);
+        for (k = 0; reserved[k]; k++)
+            if (strcmp(n, reserved[k]) == 0)
+                return gg_error_set(err, GG_ERROR_INVALID,
+                                    "ggImageWriteEXRHeader: attribute '%s' is reserved", n);
+        for (j = 0; j < i; j++)
+            if (strcmp(n, h->attrs[j].name) == 0)
+                return gg_error_set(err, GG_ERROR_INVALID,
+                                    "ggImageWriteEXRHeader: attribute '%s' repeated", n);
+    }
+    return GG_OK;
+}
+
+/* The required attributes: whole-image windows without h. */
+static exr_result_t init_part(exr_context_t ctx, int part, const ggImage *img,
+                              const ggEXRHeader *h)
+{
+    exr_attr_box2i_t disp, data;
+    exr_attr_v2f_t center = {{{0.0f, 0.0f}}};
+    exr_result_t rv;
+    int i;
+    if (!h)
+        return exr_initialize_required_attr_simple(ctx, part, img->width, img->height,
+                                                   EXR_COMPRESSION_ZIP);
+    disp.min.x = h->display_x, disp.min.y = h->display_y;
+    disp.max.x = h->display_x + h->display_width - 1;
+    disp.max.y = h->display_y + h->display_height - 1;
+    data.min.x = h->data_x, data.min.y = h->data_y;
+    data.max.x = h->data_x + img->width - 1, data.max.y = h->data_y + img->height - 1;
+    rv = exr_initialize_required_attr(ctx, part, &disp, &data, 1.0f, &center, 1.0f,
+                                      EXR_LINEORDER_INCREASING_Y, EXR_COMPRESSION_ZIP);
+    for (i = 0; i < h->attr_count && rv == EXR_ERR_SUCCESS; i++)
+        rv = exr_attr_set_string(ctx, part, h->attrs[i].name, h->attrs[i].value);
+    return rv;
+}
+
+static int write_exr(const ggImage *img, const ggEXRHeader *h, const char *path, ggError *err)
 {
     static const char *const names[3] = {"R", "G", "B"};
     exr_context_initializer_t init;
@@ -409,7 +474,6 @@ GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
     exr_io io;
     exr_result_t rv;
     int part = 0, c, rc;
-    if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXR: NULL argument");
     rc = gg_image_tmp_open(&t, path, err);
     if (rc != GG_OK) return rc;
     memset(&io, 0, sizeof io);
@@ -421,9 +485,7 @@ GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
     init.zip_level = 1;
     rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv == EXR_ERR_SUCCESS) rv = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part);
-    if (rv == EXR_ERR_SUCCESS)
-        rv = exr_initialize_required_attr_simple(ctx, part, img->width, img->height,
-                                                 EXR_COMPRESSION_ZIP);
+    if (rv == EXR_ERR_SUCCESS) rv = init_part(ctx, part, img, h);
     for (c = 0; c < 3 && rv == EXR_ERR_SUCCESS; c++)
         rv = exr_add_channel(ctx, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1,
                              1);
@@ -431,7 +493,7 @@ GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
     if (rv != EXR_ERR_SUCCESS) {
         rc = fail(&io, rv, GG_ERROR_IO, path, "cannot write OpenEXR", err);
     } else {
-        rc = write_pixels(ctx, part, img, &io, path, err);
+        rc = write_pixels(ctx, part, img, h ? h->data_y : 0, &io, path, err);
     }
     /* exr_finish writes the chunk offset table, so it can fail too. */
     rv = exr_finish(&ctx);
@@ -442,4 +504,144 @@ GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
         return rc;
     }
     return gg_image_tmp_commit(&t, NULL, err);
+}
+
+GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
+{
+    if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXR: NULL argument");
+    return write_exr(img, NULL, path, err);
+}
+
+GG_API int ggImageWriteEXRHeader(const ggImage *img, const ggEXRHeader *h, const char *path,
+                                 ggError *err)
+{
+    int rc;
+    if (!img || !path)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRHeader: NULL argument");
+    if (h && (rc = check_header(h, err)) != GG_OK) return rc;
+    return write_exr(img, h, path, err);
+}
+
+/* ---- headers ---------------------------------------------------------- */
+
+/* A string attribute not among those the writer sets itself (OpenEXR's
+   core writes "type" too). */
+static int listed(const exr_attribute_t *a)
+{
+    int k;
+    if (a->type != EXR_ATTR_STRING || !a->string || !a->name) return 0;
+    for (k = 0; reserved[k]; k++)
+        if (strcmp(a->name, reserved[k]) == 0) return 0;
+    return 1;
+}
+
+/* Copy the string attributes into one block: the array, then the texts. */
+static int copy_attrs(exr_context_t ctx, const char *path, ggEXRHeader *out, ggError *err)
+{
+    int32_t n = 0, i;
+    size_t bytes = 0;
+    char *p;
+    if (exr_get_attribute_count(ctx, 0, &n) != EXR_ERR_SUCCESS || n < 0) n = 0;
+    for (i = 0; i < n; i++) {
+        const exr_attribute_t *a = NULL;
+        if (exr_get_attribute_by_index(ctx, 0, EXR_ATTR_LIST_FILE_ORDER, i, &a) != EXR_ERR_SUCCESS ||
+            !a || !listed(a))
+            continue;
+        bytes += sizeof(ggEXRAttr) + strlen(a->name) + 1 + (size_t)a->string->length + 1;
+        out->attr_count++;
+    }
+    if (!out->attr_count) return GG_OK;
+    if (!(out->attrs = gg_mem_alloc(NULL, bytes)))
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+    p = (char *)(out->attrs + out->attr_count);
+    out->attr_count = 0;
+    for (i = 0; i < n; i++) {
+        const exr_attribute_t *a = NULL;
+        ggEXRAttr *d = &out->attrs[out->attr_count];
+        size_t len;
+        if (exr_get_attribute_by_index(ctx, 0, EXR_ATTR_LIST_FILE_ORDER, i, &a) != EXR_ERR_SUCCESS ||
+            !a || !listed(a))
+            continue;
+        len = strlen(a->name) + 1;
+        memcpy(p, a->name, len), d->name = p, p += len;
+        len = (size_t)a->string->length;
+        if (len) memcpy(p, a->string->str, len);
+        p[len] = '\0', d->value = p, p += len + 1;
+        out->attr_count++;
+    }
+    return GG_OK;
+}
+
+static int read_windows(exr_context_t ctx, exr_io *io, const char *path, ggEXRHeader *out,
+                        ggError *err)
+{
+    exr_attr_box2i_t disp, data;
+    exr_result_t rv = exr_get_display_window(ctx, 0, &disp);
+    if (rv == EXR_ERR_SUCCESS) rv = exr_get_data_window(ctx, 0, &data);
+    if (rv != EXR_ERR_SUCCESS) return fail(io, rv, GG_ERROR_PARSE, path, "invalid OpenEXR file", err);
+    if (!window_ok(disp.min.x, disp.min.y, (int64_t)disp.max.x - disp.min.x + 1,
+                   (int64_t)disp.max.y - disp.min.y + 1) ||
+        !window_ok(data.min.x, data.min.y, (int64_t)data.max.x - data.min.x + 1,
+                   (int64_t)data.max.y - data.min.y + 1))
+        return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid OpenEXR file: window out of range",
+                            path);
+    out->display_x = disp.min.x, out->display_y = disp.min.y;
+    out->display_width = disp.max.x - disp.min.x + 1;
+    out->display_height = disp.max.y - disp.min.y + 1;
+    out->data_x = data.min.x, out->data_y = data.min.y;
+    out->data_width = data.max.x - data.min.x + 1, out->data_height = data.max.y - data.min.y + 1;
+    return copy_attrs(ctx, path, out, err);
+}
+
+GG_API int ggImageReadEXRHeader(const char *path, ggEXRHeader *out, ggError *err)
+{
+    static const unsigned char magic[4] = {0x76, 0x2f, 0x31, 0x01};
+    unsigned char head[4];
+    exr_context_initializer_t init;
+    exr_context_t ctx = NULL;
+    exr_io io;
+    FILE *fp;
+    int64_t size = 0;
+    exr_result_t rv;
+    int rc;
+    if (!path || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggImageReadEXRHeader: NULL argument");
+    memset(out, 0, sizeof *out);
+    rc = gg_file_open(path, "cannot open", &fp, &size, err);
+    if (rc != GG_OK) return rc;
+    if (fread(head, 1, sizeof head, fp) != sizeof head || memcmp(head, magic, sizeof magic)) {
+        fclose(fp);
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED, "%s: not an OpenEXR file", path);
+    }
+    memset(&io, 0, sizeof io);
+    io.fd = fileno(fp);
+    io.size = size;
+    init_context(&init, &io);
+    init.read_fn = read_cb;
+    init.size_fn = size_cb;
+    init.flags = EXR_CONTEXT_FLAG_DISABLE_CHUNK_RECONSTRUCTION;
+    rv = exr_start_read(&ctx, path, &init);
+    if (rv != EXR_ERR_SUCCESS)
+        rc = fail(&io, rv, GG_ERROR_PARSE, path, "invalid OpenEXR file", err);
+    else
+        rc = read_windows(ctx, &io, path, out, err);
+    exr_finish(&ctx);
+    fclose(fp);
+    if (rc != GG_OK) ggEXRHeaderFree(out);
+    return rc;
+}
+
+GG_API void ggEXRHeaderFree(ggEXRHeader *h)
+{
+    if (!h) return;
+    gg_mem_free(NULL, h->attrs);
+    memset(h, 0, sizeof *h);
+}
+
+GG_API const char *ggEXRHeaderGet(const ggEXRHeader *h, const char *name)
+{
+    int i;
+    if (!h || !name) return NULL;
+    for (i = 0; i < h->attr_count; i++)
+        if (h->attrs && strcmp(h->attrs[i].name, name) == 0) return h->attrs[i].value;
+    return NULL;
 }

@@ -1,0 +1,217 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** cmd_merge.c -- `ggrt merge TILE.exr... -o OUT.png|OUT.exr`: join the
+** tiles of ggrt render --tile into the image one process renders
+** (tile.h has the cut and the manifest).
+*/
+#include "render/tile.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char about[] =
+    "Join the tiles written by 'ggrt render --tile' or '--tiles' into one image, PNG or\n"
+    "OpenEXR by the extension of OUT: the same file a single 'ggrt render' with the\n"
+    "same options writes, byte for byte. Every tile must come from the same scene file\n"
+    "(its hash), render options, ggrt version and cut, and together they must cover\n"
+    "the image once: otherwise merge names the tile and the reason and writes nothing.";
+
+static const char tail[] = "exit: 0 ok, 1 usage, 2 bad or missing tile, 3 I/O error";
+
+/* One tile file: its header, the manifest fields, its pixels. */
+typedef struct tile_file {
+    const char *path;
+    ggEXRHeader hd;
+    int index, n;
+    ggImage *img;
+} tile_file;
+
+static const char *const manifest[] = {TILE_A_VERSION, TILE_A_HASH, TILE_A_OPTIONS,
+                                       TILE_A_CUT,     TILE_A_TILE, NULL};
+static const char *const what[] = {"ggrt version", "scene (hash)", "render options", "cut",
+                                   NULL};
+
+/* Read a header and the manifest; the first tile's fields are the
+   reference for the others (ref NULL: this is the first). */
+static int read_header(tile_file *t, const tile_file *ref)
+{
+    ggError err;
+    const char *cut, *idx;
+    char *end;
+    long v;
+    int k, rc = ggImageReadEXRHeader(t->path, &t->hd, &err);
+    if (rc != GG_OK) return cli_fail(rc, &err, 0);
+    for (k = 0; manifest[k]; k++)
+        if (!ggEXRHeaderGet(&t->hd, manifest[k])) {
+            cli_error("%s: not a ggrt tile: no %s attribute", t->path, manifest[k]);
+            return EXIT_INPUT;
+        }
+    for (k = 0; ref && what[k]; k++) {
+        const char *a = ggEXRHeaderGet(&t->hd, manifest[k]);
+        const char *b = ggEXRHeaderGet(&ref->hd, manifest[k]);
+        if (strcmp(a, b) != 0) {
+            cli_error("%s: different %s from %s: '%s', not '%s'", t->path, what[k], ref->path, a,
+                      b);
+            return EXIT_INPUT;
+        }
+    }
+    cut = ggEXRHeaderGet(&t->hd, TILE_A_CUT), idx = ggEXRHeaderGet(&t->hd, TILE_A_TILE);
+    v = strncmp(cut, "rows ", 5) == 0 ? strtol(cut + 5, &end, 10) : 0;
+    if (v < 1 || v > GG_IMAGE_MAX_DIM || *end) {
+        cli_error("%s: unknown cut '%s'", t->path, cut);
+        return EXIT_INPUT;
+    }
+    t->n = (int)v;
+    v = strtol(idx, &end, 10);
+    if (!*idx || *end || v < 0 || v >= t->n) {
+        cli_error("%s: tile index '%s' is not in 0..%d", t->path, idx, t->n - 1);
+        return EXIT_INPUT;
+    }
+    t->index = (int)v;
+    return EXIT_OK;
+}
+
+/* The windows must be those the cut gives the tile's index. */
+static int check_windows(const tile_file *t)
+{
+    const ggEXRHeader *h = &t->hd;
+    int y0, y1;
+    if (h->display_x != 0 || h->display_y != 0 || h->display_height < t->n) {
+        cli_error("%s: display window %dx%d at %d,%d is not an image of %d tiles", t->path,
+                  h->display_width, h->display_height, h->display_x, h->display_y, t->n);
+        return EXIT_INPUT;
+    }
+    tile_rows(t->index, t->n, h->display_height, &y0, &y1);
+    if (h->data_x != 0 || h->data_width != h->display_width || h->data_y != y0 ||
+        h->data_height != y1 - y0) {
+        cli_error("%s: data window %dx%d at %d,%d is not tile %d of %d (rows %d..%d)", t->path,
+                  h->data_width, h->data_height, h->data_x, h->data_y, t->index, t->n, y0,
+                  y1 - 1);
+        return EXIT_INPUT;
+    }
+    return EXIT_OK;
+}
+
+/* Headers of every file, then coverage: each tile once, none missing. */
+static int check_all(tile_file *t, int nt)
+{
+    int i, k, rc;
+    const tile_file **seen;
+    for (i = 0; i < nt; i++) {
+        if ((rc = read_header(&t[i], i ? &t[0] : NULL)) != EXIT_OK) return rc;
+        if ((rc = check_windows(&t[i])) != EXIT_OK) return rc;
+        if (i && (t[i].hd.display_width != t[0].hd.display_width ||
+                  t[i].hd.display_height != t[0].hd.display_height)) {
+            cli_error("%s: image size %dx%d, not %dx%d as in %s", t[i].path,
+                      t[i].hd.display_width, t[i].hd.display_height, t[0].hd.display_width,
+                      t[0].hd.display_height, t[0].path);
+            return EXIT_INPUT;
+        }
+    }
+    if (!(seen = calloc((size_t)t[0].n, sizeof *seen))) {
+        cli_error("out of memory");
+        return EXIT_INPUT;
+    }
+    for (i = 0, rc = EXIT_OK; i < nt && rc == EXIT_OK; i++) {
+        if (seen[t[i].index]) {
+            cli_error("%s: tile %d again (also in %s)", t[i].path, t[i].index,
+                      seen[t[i].index]->path);
+            rc = EXIT_INPUT;
+        }
+        seen[t[i].index] = &t[i];
+    }
+    for (k = 0; k < t[0].n && rc == EXIT_OK; k++)
+        if (!seen[k]) {
+            int y0, y1;
+            tile_rows(k, t[0].n, t[0].hd.display_height, &y0, &y1);
+            cli_error("tile %d of %d (rows %d..%d) is missing", k, t[0].n, y0, y1 - 1);
+            rc = EXIT_INPUT;
+        }
+    free(seen);
+    return rc;
+}
+
+/* Read every tile's pixels into the whole image. */
+static int assemble(tile_file *t, int nt, ggImage **out)
+{
+    ggImage *all = ggImageCreate(t[0].hd.display_width, t[0].hd.display_height, NULL);
+    ggError err;
+    int i, rc;
+    if (!all) {
+        cli_error("out of memory for a %dx%d image", t[0].hd.display_width,
+                  t[0].hd.display_height);
+        return EXIT_INPUT;
+    }
+    for (i = 0; i < nt; i++) {
+        ggImage *img = NULL;
+        if ((rc = ggImageRead(t[i].path, NULL, &img, &err)) != GG_OK) {
+            ggImageFree(all);
+            return cli_fail(rc, &err, 0);
+        }
+        ggImagePaste(all, img, 0, t[i].hd.data_y);
+        ggImageFree(img);
+    }
+    *out = all;
+    return EXIT_OK;
+}
+
+static int parse(int argc, char **argv, const char **files, int *nfiles, const char **out,
+                 int *quiet)
+{
+    cli_opt mine[] = {
+        CLI_OPT_STRING('o', "output", out, "FILE",
+                       "the image to write (required), .png or .exr;\n"
+                       "written whole or not at all"),
+        CLI_OPT_FLAG('q', "quiet", quiet, "no summary"),
+        CLI_OPT_END,
+    };
+    cli_cmd cmd = {.name = "merge",
+                   .usage = "TILE.exr... -o OUT.png|OUT.exr [options]",
+                   .about = about,
+                   .tail = tail,
+                   .opts = {mine},
+                   .args = files,
+                   .min_args = 1,
+                   .max_args = argc,
+                   .nargs = nfiles,
+                   .args_name = "tile"};
+    size_t n;
+    int rc;
+    if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
+    if (!*out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
+    n = strlen(*out);
+    if (n < 4 || (strcmp(*out + n - 4, ".png") && strcmp(*out + n - 4, ".exr") &&
+                  strcmp(*out + n - 4, ".PNG") && strcmp(*out + n - 4, ".EXR")))
+        return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", *out);
+    return CLI_GO;
+}
+
+int cmd_merge(int argc, char **argv)
+{
+    const char **files = calloc((size_t)argc + 1, sizeof *files), *out = NULL;
+    tile_file *t = NULL;
+    ggImage *img = NULL;
+    ggError err;
+    int nfiles = 0, quiet = 0, i, rc;
+    if (!files) return EXIT_INPUT;
+    if ((rc = parse(argc, argv, files, &nfiles, &out, &quiet)) != CLI_GO) {
+        free(files);
+        return rc;
+    }
+    if ((rc = cli_check_output("merge", out)) == 0 &&
+        !(t = calloc((size_t)nfiles, sizeof *t))) {
+        cli_error("out of memory");
+        rc = EXIT_INPUT;
+    }
+    for (i = 0; t && i < nfiles; i++) t[i].path = files[i];
+    if (rc == 0 && (rc = check_all(t, nfiles)) == EXIT_OK) rc = assemble(t, nfiles, &img);
+    if (rc == EXIT_OK && (rc = ggImageWrite(img, out, &err)) != GG_OK) rc = cli_fail(rc, &err, 0);
+    if (rc == EXIT_OK && !quiet)
+        printf("%d tiles of %d -> %s, %dx%d\n", nfiles, t[0].n, out, ggImageWidth(img),
+               ggImageHeight(img));
+    for (i = 0; t && i < nfiles; i++) ggEXRHeaderFree(&t[i].hd);
+    ggImageFree(img);
+    free(t);
+    free(files);
+    return rc;
+}

@@ -1,0 +1,34 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# Render SCENE in N tiles with GNU parallel over ssh hosts, then merge
+# them here (docs/cluster.md).
+#   HOSTS=2/alpha,4/beta,: sh examples/cluster/parallel.sh SCENE N OUT [render options...]
+# HOSTS is parallel's --sshlogin list: "K/host" runs K jobs at a time on
+# host, ":" is this machine without ssh (the default: HOSTS=:). Each host
+# needs ggrt on its PATH (or GGRT, the same path on every host). The
+# scene goes to each host once (--basefile) and each tile comes back
+# (--return) into PARTS (default OUT.parts), then is removed there
+# (--cleanup); a scene that reads other files (textures, meshes) needs
+# them on the hosts too, at the same relative paths.
+set -eu
+[ $# -ge 3 ] || { echo "usage: parallel.sh SCENE N OUT.png|OUT.exr [render options...]" >&2; exit 1; }
+scene=$1 n=$2 out=$3
+shift 3
+parts=${PARTS:-$out.parts}
+mkdir -p "$parts"
+ggrt=${GGRT:-ggrt}
+# Tiles are written relative to the remote working folder and returned to
+# the same relative path here, so run from PARTS with the scene beside it.
+case $scene in /*) ;; *) scene=$(pwd)/$scene ;; esac
+case $out in /*) ;; *) out=$(pwd)/$out ;; esac
+cp "$scene" "$parts/scene.nff"
+cd "$parts"
+# Remote hosts work in a folder of their own (--workdir ...), removed
+# afterwards; ":" alone needs no transfer.
+xfer="--workdir ... --basefile scene.nff --return part-{}.exr --cleanup"
+[ "${HOSTS:-:}" = ":" ] && xfer=
+# --halt now,fail=1: one failed tile stops the run (merge would refuse anyway).
+# shellcheck disable=SC2086
+seq 0 $((n - 1)) | parallel --will-cite -S "${HOSTS:-:}" --halt now,fail=1 $xfer \
+  "$ggrt" render scene.nff --tile {}/"$n" -q -o part-{}.exr "$@"
+"$ggrt" merge part-*.exr -o "$out"

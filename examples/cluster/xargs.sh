@@ -1,0 +1,21 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# Render SCENE in N tiles on this machine, P processes at a time with
+# xargs -P, then merge (docs/cluster.md). One process with all the cores
+# (plain ggrt render) is usually as fast: tiles pay off across machines,
+# or to bound each process's memory and time.
+#   P=4 sh examples/cluster/xargs.sh SCENE N OUT.png|OUT.exr [render options...]
+set -eu
+[ $# -ge 3 ] || { echo "usage: xargs.sh SCENE N OUT.png|OUT.exr [render options...]" >&2; exit 1; }
+scene=$1 n=$2 out=$3
+shift 3
+parts=${PARTS:-$out.parts}
+mkdir -p "$parts"
+ggrt=${GGRT:-ggrt}
+p=${P:-$(getconf _NPROCESSORS_ONLN)}
+# Each process gets its share of the cores (-j), so P of them do not
+# oversubscribe the machine; the image does not depend on -j.
+j=$(( $(getconf _NPROCESSORS_ONLN) / p )); [ "$j" -ge 1 ] || j=1
+seq 0 $((n - 1)) | xargs -P "$p" -I{} \
+  "$ggrt" render "$scene" --tile {}/"$n" -q -j "$j" -o "$parts/part-{}.exr" "$@"
+"$ggrt" merge "$parts"/part-*.exr -o "$out"

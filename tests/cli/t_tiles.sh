@@ -1,0 +1,109 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: ggrt render --tile/--tiles and ggrt merge
+# (docs/cluster.md). Tiles of three scenes (one under --spd, whose pixels
+# share their corner rays with the rows above and below) merged from 1, 2,
+# 7 and 16 tiles give the very files one process writes, EXR and PNG (cmp);
+# every bad input to merge names the tile and the reason, exits 2 and
+# writes nothing. Uses run.sh's ggrt, tmp, ok, bad, expect_err.
+
+td="$tmp/tiles"
+mkdir -p "$td"
+
+# merge_same NAME N SCENE [options]: N tiles (rendered by a mix of
+# --tile and --tiles processes, with differing -j) merge into one
+# process's EXR and PNG, byte for byte.
+merge_same() {
+  name=$1; n=$2; shift 2
+  rm -f "$td"/p-*.exr
+  half=$((n / 2))
+  if [ "$n" = 1 ]; then
+    "$ggrt" render "$@" -q --tile 0/1 -o "$td/p-0.exr" 2>"$tmp/err" ||
+      { bad "$name: render --tile 0/1" "$(cat "$tmp/err")"; return; }
+  else
+    # The first tile alone with one thread, the rest in one process.
+    "$ggrt" render "$@" -q -j 1 --tile 0/$n -o "$td/p-0.exr" 2>"$tmp/err" &&
+    "$ggrt" render "$@" -q --tiles "$half-$((n - 1)),$(seq -s, 1 $((half - 1)) | sed 's/,$//')/$n" \
+      -o "$td/p-%d.exr" 2>>"$tmp/err" ||
+      { bad "$name: render --tiles of $n" "$(cat "$tmp/err")"; return; }
+  fi
+  "$ggrt" merge -q "$td"/p-*.exr -o "$td/m.exr" 2>"$tmp/err" &&
+  "$ggrt" merge -q "$td"/p-*.exr -o "$td/m.png" 2>>"$tmp/err" ||
+    { bad "$name: merge of $n tiles" "$(cat "$tmp/err")"; return; }
+  if cmp -s "$td/m.exr" "$td/one.exr" && cmp -s "$td/m.png" "$td/one.png"; then
+    ok "$name: $n tiles merge into one process's EXR and PNG, byte for byte"
+  else
+    bad "$name: $n tiles merge into one process's EXR and PNG" \
+      "$(cmp "$td/m.exr" "$td/one.exr"; cmp "$td/m.png" "$td/one.png")"
+  fi
+}
+
+for spec in "examples/scenes/spd/gears.nff --spd -s 96x64" \
+            "examples/scenes/glass.nff -s 80x48" \
+            "examples/scenes/texture.nff -s 64x40 -n 4"; do
+  # shellcheck disable=SC2086
+  set -- $spec
+  "$ggrt" render "$@" -q -o "$td/one.exr" && "$ggrt" render "$@" -q -o "$td/one.png" ||
+    { bad "one-process render of $spec"; continue; }
+  for n in 1 2 7 16; do
+    # shellcheck disable=SC2086
+    merge_same "$spec" "$n" $spec
+  done
+done
+
+# ---- the manifest and the refusals of render ----
+"$ggrt" render examples/scenes/glass.nff -s 80x48 -q --tiles 0-6/7 -o "$td/g-%d.exr" 2>"$tmp/err" ||
+  bad "render --tiles 0-6/7" "$(cat "$tmp/err")"
+expect_err 1 "ggrt render: --tiles writes several files: -o needs a %d" "--tiles needs %d in -o" \
+  "$ggrt" render examples/scenes/glass.nff --tiles 0,1/4 -o "$td/x.exr"
+expect_err 1 "ggrt render: tiles are OpenEXR files: -o must end in .exr" "a tile is an EXR" \
+  "$ggrt" render examples/scenes/glass.nff --tile 0/4 -o "$td/x.png"
+expect_err 1 "ggrt render: bad value '4/4' for --tile: tile index '4' is not in 0..3" \
+  "--tile index out of range" "$ggrt" render examples/scenes/glass.nff --tile 4/4 -o "$td/x.exr"
+expect_err 1 "ggrt render: 49 tiles of 48 rows: at most one tile per row" "more tiles than rows" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --tile 0/49 -o "$td/x.exr"
+expect_err 1 "ggrt render: --tile and --tiles take none of --heatmap, --pixel, --no-srgb and --crop" \
+  "--tile refuses --crop" "$ggrt" render examples/scenes/glass.nff --tile 0/4 --crop 0,0,4,4 -o "$td/x.exr"
+
+# ---- bad input to merge: the tile, the reason, exit 2, nothing written ----
+# merge_refuses NAME MESSAGE FILES...: exit 2, the exact message, and no
+# output file (nor a temporary one) afterwards.
+merge_refuses() {
+  what=$1; msg=$2; shift 2
+  rm -f "$td"/out.*
+  expect_err 2 "$msg" "merge refuses $what" "$ggrt" merge "$@" -o "$td/out.png"
+  if [ -z "$(ls "$td" | grep '^out\.')" ]; then ok "merge of $what writes nothing"
+  else bad "merge of $what writes nothing" "$(ls "$td" | grep '^out')"; fi
+}
+g="$td/g"
+merge_refuses "a missing tile" "ggrt merge: tile 4 of 7 (rows 27..33) is missing" \
+  "$g-0.exr" "$g-1.exr" "$g-2.exr" "$g-3.exr" "$g-5.exr" "$g-6.exr"
+cp "$g-3.exr" "$td/dup-3.exr"
+merge_refuses "a duplicate" "ggrt merge: $td/dup-3.exr: tile 3 again (also in $g-3.exr)" \
+  "$g"-[0-6].exr "$td/dup-3.exr"
+"$ggrt" render examples/scenes/glass.nff -s 80x48 -d 3 -q --tile 2/7 -o "$td/opt-2.exr"
+merge_refuses "a tile of other options" \
+  "ggrt merge: $td/opt-2.exr: different render options from $g-0.exr: 'size=80x48 depth=3', not 'size=80x48'" \
+  "$g-0.exr" "$g-1.exr" "$td/opt-2.exr" "$g-3.exr" "$g-4.exr" "$g-5.exr" "$g-6.exr"
+sed 's/^l 3 -3 6$/l 3 -3 7/' examples/scenes/glass.nff >"$td/glass2.nff"
+cmp -s "$td/glass2.nff" examples/scenes/glass.nff && bad "glass2.nff differs from glass.nff"
+"$ggrt" render "$td/glass2.nff" -s 80x48 -q --tile 5/7 -o "$td/scene-5.exr"
+h1=$(strings -n 8 "$g-0.exr" | sed -n 's/.*\(fnv1a64:[0-9a-f]*\).*/\1/p')
+h2=$(strings -n 8 "$td/scene-5.exr" | sed -n 's/.*\(fnv1a64:[0-9a-f]*\).*/\1/p')
+merge_refuses "a tile of another scene" \
+  "ggrt merge: $td/scene-5.exr: different scene (hash) from $g-0.exr: '$h2', not '$h1'" \
+  "$g-0.exr" "$g-1.exr" "$g-2.exr" "$g-3.exr" "$g-4.exr" "$td/scene-5.exr" "$g-6.exr"
+"$ggrt" render examples/scenes/glass.nff -s 80x48 -q --tile 6/8 -o "$td/cut-6.exr"
+merge_refuses "a tile of another cut" \
+  "ggrt merge: $td/cut-6.exr: different cut from $g-0.exr: 'rows 8', not 'rows 7'" \
+  "$g-0.exr" "$g-1.exr" "$g-2.exr" "$g-3.exr" "$g-4.exr" "$g-5.exr" "$td/cut-6.exr"
+# Cut inside its pixels: the header reads, the pixels do not.
+size=$(wc -c <"$g-1.exr")
+head -c $((size - 100)) "$g-1.exr" >"$td/trunc-1.exr"
+rm -f "$td"/out.*
+expect_msg 2 "ggrt merge: $td/trunc-1.exr: invalid OpenEXR file: " "merge refuses a truncated tile" \
+  "$ggrt" merge "$g-0.exr" "$td/trunc-1.exr" "$g"-[2-6].exr -o "$td/out.png"
+if [ -z "$(ls "$td" | grep '^out\.')" ]; then ok "merge of a truncated tile writes nothing"
+else bad "merge of a truncated tile writes nothing" "$(ls "$td")"; fi
+"$ggrt" render examples/scenes/glass.nff -s 80x48 -q -o "$td/whole.exr"
+merge_refuses "an EXR that is not a tile" \
+  "ggrt merge: $td/whole.exr: not a ggrt tile: no ggrt.version attribute" "$td/whole.exr"
