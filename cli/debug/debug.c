@@ -186,6 +186,25 @@ void json_divergence(FILE *f, const ggDivergence *d)
             ggDiffName(d->what), d->node_a, d->node_b, d->light, d->a, d->b);
 }
 
+/* ggDiffPath's moved pixels: ,"moved":N,"moves":[...] */
+static void json_moves(FILE *f, const ggDiffResult *r)
+{
+    int i;
+    fprintf(f, ",\"moved\":%ld,\"moves\":[", r->moved);
+    for (i = 0; i < r->nmoves; i++) {
+        const ggDiffMove *m = &r->moves[i];
+        fprintf(f, "%s{\"pixel\":[%d,%d],\"share_a\":", i ? "," : "", m->x, m->y);
+        json_num(f, m->share_a);
+        fprintf(f, ",\"share_b\":");
+        json_num(f, m->share_b);
+        fprintf(f, ",\"matched_a\":%ld,\"matched_b\":%ld,\"first\":", m->matched_a,
+                m->matched_b);
+        json_divergence(f, &m->first);
+        fputc('}', f);
+    }
+    fputc(']', f);
+}
+
 void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRenderOptions *oa,
                const ggRenderOptions *ob, const ggDiffResult *r)
 {
@@ -219,7 +238,9 @@ void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRender
         json_divergence(f, &p->first);
         fputc('}', f);
     }
-    fprintf(f, "]}\n");
+    fprintf(f, "]");
+    if (r->moves || r->moved) json_moves(f, r);
+    fprintf(f, "}\n");
 }
 
 void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l)

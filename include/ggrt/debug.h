@@ -467,6 +467,15 @@ typedef struct ggDiffPixel {
     ggDivergence first; /* the first divergent ray (what = SAME if the trees agree) */
 } ggDiffPixel;
 
+/* ggDiffPath: a pixel whose light moved between path classes: the paths
+   the expression matches differ between the two sides. */
+typedef struct ggDiffMove {
+    int x, y;
+    double share_a, share_b; /* ggPathSummary.share on each side */
+    long matched_a, matched_b; /* matching paths on each side */
+    ggDivergence first;      /* the first divergent ray (what = SAME if the trees agree) */
+} ggDiffMove;
+
 typedef struct ggDiffResult {
     int width, height;
     int x0, y0, x1, y1; /* the window scanned */
@@ -482,6 +491,11 @@ typedef struct ggDiffResult {
     unsigned char *map;
     ggImage *image_a, *image_b; /* both renders of the window */
     ggRayStats stats_a, stats_b;
+    /* ggDiffPath only (ggDiff leaves them 0): the pixels whose light moved
+       between path classes (ggDiffMove). */
+    long moved;        /* how many */
+    int nmoves;        /* listed: the first min(moved, limit) in row order */
+    ggDiffMove *moves;
 } ggDiffResult;
 
 /* Render scene_a with opt_a and scene_b with opt_b (they may be the same
@@ -493,6 +507,24 @@ typedef struct ggDiffResult {
 GG_API int ggDiff(ggScene *scene_a, const ggRenderOptions *opt_a, ggScene *scene_b,
                   const ggRenderOptions *opt_b, int worst, ggDiffResult **out, ggError *err);
 GG_API void ggDiffResultFree(ggDiffResult *res);
+
+/* ggDiff, and for every pixel the paths expr matches on each side
+   (ggPathMatch). A pixel's light moved between path classes when those
+   paths differ as classes: the multiset of their events as ggPathFormat
+   writes them (types, scatters, labels) differs between a and b -- a
+   path is in the class on one side only (it matches there and not on the
+   other, or exists on one side only), or more paths of one string on
+   one side. A change of the paths' values alone (a hit point that moved,
+   a share that changed with the same paths) is not a move. Each moved
+   pixel comes with both shares (ggPathSummary.share) and the first
+   divergent ray of its trees (ggTraceCompare: the decision that
+   flipped; SAME when only a predicate's numbers changed). limit: how
+   many moved pixels to list in res->moves, in row order (res->moved
+   counts them all). Everything else as ggDiff. Returns what ggDiff does
+   (GG_ERROR_INVALID also for a NULL expr or a negative limit). */
+GG_API int ggDiffPath(ggScene *scene_a, const ggRenderOptions *opt_a, ggScene *scene_b,
+                      const ggRenderOptions *opt_b, const ggPathExpr *expr, int worst, int limit,
+                      ggDiffResult **out, ggError *err);
 
 #ifdef __cplusplus
 }

@@ -42,3 +42,24 @@ while IFS= read -r line; do
   esac
 done < "$tmp/lpe"
 grep -q '^ok' "$tmp/lpe" || bad "lpe_check.py ran" "$(cat "$tmp/lpe")"
+
+# diff --path: the pixels whose light moved between path classes, against the
+# independent matcher over both sides' trace JSON (acc-distant: the textbook
+# sphere loses and gains hits, so paths change class)
+python3 tests/cli/lpe_diff_check.py "$ggrt" examples/scenes/acc-distant.nff sphere=textbook \
+  "C<RS>+.*" "C<RD>L" "C.*B" "C<RS'2'>.*" "C[^R]*" >"$tmp/lpediff" 2>&1
+while IFS= read -r line; do
+  case "$line" in
+    "ok   "*) ok "lpe: ${line#ok   }" ;;
+    "FAIL "*) bad "lpe: ${line#FAIL }" ;;
+    *) bad "lpe_diff_check.py: $line" ;;
+  esac
+done < "$tmp/lpediff"
+grep -q '^ok' "$tmp/lpediff" || bad "lpe_diff_check.py ran" "$(cat "$tmp/lpediff")"
+"$ggrt" diff examples/scenes/acc-distant.nff -s 64x48 --b sphere=textbook --path "C<RS>+.*" \
+  --limit 2 -q >"$tmp/dp" 2>"$tmp/err"
+if grep -qF "light moved (paths C<RS>+.*): 160 pixels, the first listed" "$tmp/dp" &&
+   [ "$(grep -c 'first divergence: ray #0 (eye): a leaves the scene, b hits object' "$tmp/dp")" -ge 2 ]; then
+  ok "diff --path: the count, and each listed pixel with the decision that flipped"
+else bad "diff --path: the count and the decision that flipped" "$(cat "$tmp/dp" "$tmp/err")"; fi
+expect_exit 1 "diff --path: a malformed expression" "$ggrt" diff examples/scenes/acc-distant.nff --path "C<TS"
