@@ -150,8 +150,10 @@ static void json_check_pixel(FILE *f, const ggCheckPixel *p)
 {
     fprintf(f, "{\"pixel\":[%d,%d],\"value\":", p->x, p->y);
     json_num(f, p->value);
-    fprintf(f, ",\"node\":%d,\"light\":%d,\"object\":%d,\"material\":%d,\"line\":%d}", p->node,
-            p->light, p->object, p->material, p->line);
+    fprintf(f, ",\"node\":%d,\"light\":%d,\"object\":%d,\"material\":%d,\"line\":%d,\"share\":",
+            p->node, p->light, p->object, p->material, p->line);
+    json_num(f, p->share);
+    fputc('}', f);
 }
 
 void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const ggCheckResult *r)
@@ -161,7 +163,9 @@ void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const gg
     json_str(f, scene);
     fputc(',', f), json_options(f, "options", opt);
     fputc(',', f), json_window(f, r->width, r->height, r->x0, r->y0, r->x1, r->y1);
-    fprintf(f, ",\"scanned\":%ld,\"failed\":%d,\"radiance_bound\":", r->scanned, r->failed);
+    fprintf(f, ",\"scanned\":%ld,\"checked\":%ld,\"share\":", r->scanned, r->checked);
+    json_num(f, r->share);
+    fprintf(f, ",\"failed\":%d,\"radiance_bound\":", r->failed);
     json_num(f, r->radiance_bound);
     fputc(',', f), json_stats(f, "stats", &r->stats);
     fprintf(f, ",\"invariants\":[");

@@ -217,11 +217,20 @@ typedef struct ggCheckOptions {
     double self_hit;              /* GG_CHECK_SELF_HIT: hits within this many error bounds */
     double near_tir; /* GG_CHECK_NEAR_TIR: |discriminant| within this many rounding errors */
     double grazing;  /* GG_CHECK_GRAZING: |cos(incidence)| below this */
+    /* NULL: check every pixel. Else only the pixels with at least one path
+       this expression matches (ggPathMatch; the light-path expressions
+       below) are checked: the others count in `scanned` only, and each
+       listed pixel carries the share of its value those paths carry. The
+       invariants still look at the whole of a checked pixel's trees (a
+       truncation or a NaN on another path of that pixel counts): the
+       question is "are the pixels lit this way sound", not a split of the
+       checks by path. */
+    const struct ggPathExpr *path;
 } ggCheckOptions;
 
 /* The defaults: nonfinite, negative, energy and truncation are errors,
    self-hit a warning, near-tir and grazing information; truncation 0.1,
-   self_hit 4, near_tir 16, grazing 1e-3. */
+   self_hit 4, near_tir 16, grazing 1e-3; no path expression. */
 GG_API void ggCheckOptionsDefault(ggCheckOptions *co);
 
 #define GG_CHECK_WORST 8 /* pixels kept per invariant */
@@ -234,6 +243,8 @@ typedef struct ggCheckPixel {
     int object;   /* the surface involved, or -1 */
     int material; /* its material, or -1 */
     int line;     /* the scene-file line of that material (energy) or object, 0 if none */
+    double share; /* with a path expression: the share of the pixel its matching paths
+                     carry (ggPathSummary.share); else 0 */
 } ggCheckPixel;
 
 typedef struct ggCheckItem {
@@ -257,6 +268,10 @@ typedef struct ggCheckResult {
     int width, height;
     int x0, y0, x1, y1; /* the window scanned */
     long scanned;
+    long checked;   /* pixels checked: scanned, or with a path expression those that
+                       have a matching path */
+    double share;   /* with a path expression: the mean over the checked pixels of
+                       the share their matching paths carry; else 0 */
     int failed; /* invariants of severity error with pixels > 0 */
     ggCheckItem items[GG_CHECK_COUNT];
     /* Truncation: an upper bound on any ray's colour in this scene (the

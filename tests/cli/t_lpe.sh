@@ -63,3 +63,28 @@ if grep -qF "light moved (paths C<RS>+.*): 160 pixels, the first listed" "$tmp/d
   ok "diff --path: the count, and each listed pixel with the decision that flipped"
 else bad "diff --path: the count and the decision that flipped" "$(cat "$tmp/dp" "$tmp/err")"; fi
 expect_exit 1 "diff --path: a malformed expression" "$ggrt" diff examples/scenes/acc-distant.nff --path "C<TS"
+
+# check --path: only the pixels find --path finds are checked, with find's shares
+"$ggrt" check $g -s 48x36 -q --path "C.*<RS'tir'>.*" -f json >"$tmp/cp.json" 2>"$tmp/err"; rc=$?
+"$ggrt" find $g -s 48x36 -q --limit 0 --path "C.*<RS'tir'>.*" -f json >"$tmp/fp.json" 2>>"$tmp/err"
+"$ggrt" check $g -s 48x36 -q -f json >"$tmp/c.json" 2>>"$tmp/err"
+if [ $rc = 4 ] && python3 -c "
+import json, sys
+c, f, a = (json.load(open(p)) for p in sys.argv[1:4])
+share = {tuple(m['pixel']): m['share'] for m in f['matches']}
+assert c['scanned'] == 1728 and c['checked'] == f['matched'] == len(share) > 0, (c['checked'], f['matched'])
+assert abs(c['share'] - sum(share.values()) / len(share)) < 1e-9
+assert a['checked'] == a['scanned'] == 1728 and a['share'] == 0
+n = 0
+for ci, ai in zip(c['invariants'], a['invariants']):
+    assert ci['pixels'] <= ai['pixels'], ci['name']
+    for p in ci['worst_pixels']:
+        assert abs(p['share'] - share[tuple(p['pixel'])]) < 1e-9, p
+        n += 1
+t = [i for i in c['invariants'] if i['name'] == 'truncation'][0]
+assert n > 0 and 0 < t['pixels'] < [i for i in a['invariants'] if i['name'] == 'truncation'][0]['pixels']
+" "$tmp/cp.json" "$tmp/fp.json" "$tmp/c.json" 2>"$tmp/py"; then
+  ok "check --path: the pixels find --path finds, their shares, a subset of the failures"
+else bad "check --path: the pixels find --path finds (exit $rc)" "$(cat "$tmp/py" "$tmp/err")"; fi
+expect_exit 0 "check --path: a class no pixel has checks nothing and passes" "$ggrt" check $g -s 24x18 -q --path "C<TS>{9}.*"
+expect_exit 1 "check --path: a malformed expression" "$ggrt" check $g --path "C<TS"
