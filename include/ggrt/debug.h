@@ -429,6 +429,28 @@ GG_API int ggPathMatch(const ggPathExpr *expr, const ggTrace *trace, int x, int 
 GG_API size_t ggPathFormat(const ggTrace *trace, const ggLedgerTerm *term, char *buf,
                            size_t size);
 
+/* One point of a path's polyline (ggPathPoints). */
+typedef struct ggPathPoint {
+    ggVec3 p;
+    ggColor weight; /* the weight in the pixel of the ray that arrives at p (the
+                       first point: of the eye ray that leaves it), as find's weight
+                       field: the pixel changes by weight * d when that ray's colour
+                       changes by d */
+} ggPathPoint;
+
+/* The points of one ledger term's path, from the eye to the light, into
+   pts (at most max; pts may be NULL when max is 0): the eye ray's origin,
+   the hit point of every ray on the path, and then for a diffuse or Phong
+   term the light's position (the shadow ray's end), for a background term
+   a point on the ray that left the scene, as far from its origin as the
+   path so far is long (at least 1), so that the direction shows at the
+   scene's scale. Emission and ambient terms end at their hit. Returns the
+   number of points the path has (like snprintf: more than max means pts
+   holds the first max); 0 for a NULL trace or term, or a term whose node
+   is not in the trace. */
+GG_API size_t ggPathPoints(const ggTrace *trace, const ggLedgerTerm *term, ggPathPoint *pts,
+                           size_t max);
+
 /* ggFind with a path expression: the pixels of opt's window with at least
    one path that expr matches (ggPathMatch); each match's `share` is the
    share of the pixel's value those paths carry (ggPathSummary.share).

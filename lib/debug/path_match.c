@@ -9,6 +9,7 @@
 */
 #include "debug_int.h"
 
+#include <math.h>
 #include <string.h>
 
 /* One event of a path. */
@@ -236,6 +237,9 @@ GG_API int ggPathMatch(const ggPathExpr *e, const ggTrace *tr, int x, int y, ggC
     return GG_OK;
 }
 
+/* The longest chain of rays ggPathPoints follows (the depth limit is 64). */
+#define GG_PATH_CHAIN 256
+
 /* ---- a path as text ---- */
 
 typedef struct sbuf {
@@ -294,4 +298,65 @@ GG_API size_t ggPathFormat(const ggTrace *tr, const ggLedgerTerm *t, char *buf, 
         break;
     }
     return s.len;
+}
+
+/* ---- a path as points ---- */
+
+static void point(ggPathPoint *pts, size_t max, size_t *k, ggVec3 p, ggColor w)
+{
+    if (*k < max) pts[*k].p = p, pts[*k].weight = w;
+    ++*k;
+}
+
+static double dist(ggVec3 a, ggVec3 b)
+{
+    double x = a.x - b.x, y = a.y - b.y, z = a.z - b.z;
+    return sqrt(x * x + y * y + z * z);
+}
+
+GG_API size_t ggPathPoints(const ggTrace *tr, const ggLedgerTerm *t, ggPathPoint *pts, size_t max)
+{
+    int chain[GG_PATH_CHAIN], depth = 0, i, roots;
+    const ggTraceNode *n, *last = NULL;
+    ggColor w;
+    ggVec3 prev;
+    double len = 0, r;
+    size_t k = 0;
+    if (!tr || !t || t->node < 0 || !(n = ggTraceGetNode(tr, (size_t)t->node))) return 0;
+    if (!pts) max = 0;
+    for (i = t->node; i >= 0 && depth < GG_PATH_CHAIN; depth++) {
+        chain[depth] = i;
+        n = ggTraceGetNode(tr, (size_t)i);
+        i = n->parent < i ? n->parent : -1;
+    }
+    roots = gg_dbg_roots(tr);
+    r = 1.0 / (roots > 0 ? roots : 1);
+    w.r = w.g = w.b = r;
+    for (i = depth - 1; i >= 0; i--) {
+        n = ggTraceGetNode(tr, (size_t)chain[i]);
+        if (!last) {
+            point(pts, max, &k, n->o, w), prev = n->o;
+        } else {
+            w.r *= last->absorption.r * n->weight.r, w.g *= last->absorption.g * n->weight.g;
+            w.b *= last->absorption.b * n->weight.b;
+        }
+        if (n->hit) point(pts, max, &k, n->p, w), len += dist(prev, n->p), prev = n->p;
+        last = n;
+    }
+    if (t->kind == GG_TERM_BACKGROUND) {
+        double s = len > 1 ? len : 1;
+        ggVec3 q;
+        q.x = last->o.x + s * last->d.x, q.y = last->o.y + s * last->d.y;
+        q.z = last->o.z + s * last->d.z;
+        point(pts, max, &k, q, w);
+    } else if (t->kind == GG_TERM_DIFFUSE || t->kind == GG_TERM_PHONG) {
+        const ggTraceLight *L = term_light(tr, t);
+        ggVec3 q;
+        if (L) {
+            q.x = L->origin.x + L->dir.x, q.y = L->origin.y + L->dir.y;
+            q.z = L->origin.z + L->dir.z;
+            point(pts, max, &k, q, w);
+        }
+    }
+    return k;
 }

@@ -88,3 +88,35 @@ assert n > 0 and 0 < t['pixels'] < [i for i in a['invariants'] if i['name'] == '
 else bad "check --path: the pixels find --path finds (exit $rc)" "$(cat "$tmp/py" "$tmp/err")"; fi
 expect_exit 0 "check --path: a class no pixel has checks nothing and passes" "$ggrt" check $g -s 24x18 -q --path "C<TS>{9}.*"
 expect_exit 1 "check --path: a malformed expression" "$ggrt" check $g --path "C<TS"
+
+# path export: find --path --paths-jsonl/--paths-obj against the traces and the
+# independent matcher; trace --path writes the same lines for its pixel
+for e in "C<TS>.*<RS'tir'>.*" "C.*<RD>L" "C<RS>+.*B"; do
+  rm -f "$tmp/p.jsonl" "$tmp/p.obj"
+  "$ggrt" find $g -s 24x18 -q --path "$e" --limit 0 --paths-jsonl "$tmp/p.jsonl" \
+    --paths-obj "$tmp/p.obj" -f json >/dev/null 2>"$tmp/err"
+  line=$(python3 tests/cli/lpe_export_check.py "$ggrt" $g 24x18 "$e" "$tmp/p.jsonl" "$tmp/p.obj" 2>&1)
+  case "$line" in
+    "ok   "*) ok "lpe: ${line#ok   }" ;;
+    *) bad "lpe: path export of $e" "$line
+$(cat "$tmp/err")" ;;
+  esac
+done
+"$ggrt" trace $g -s 24x18 -p 10,1 --path "C<TS>.*<RS'tir'>.*" --paths-jsonl "$tmp/t.jsonl" \
+  --paths-obj "$tmp/t.obj" >/dev/null 2>"$tmp/err"
+"$ggrt" find $g -s 24x18 -q --crop 10,1,11,2 --path "C<TS>.*<RS'tir'>.*" --paths-jsonl "$tmp/f.jsonl" \
+  --paths-obj "$tmp/f.obj" >/dev/null 2>>"$tmp/err"
+if [ -s "$tmp/t.jsonl" ] && cmp -s "$tmp/t.jsonl" "$tmp/f.jsonl" && cmp -s "$tmp/t.obj" "$tmp/f.obj"; then
+  ok "trace --path --paths-jsonl/--paths-obj: the same files as a find of that pixel"
+else bad "trace --path --paths-jsonl/--paths-obj: the same files as a find of that pixel" "$(cat "$tmp/err")"; fi
+expect_exit 1 "--paths-jsonl without --path" "$ggrt" trace $g -p 1,1 --paths-jsonl "$tmp/x.jsonl"
+expect_exit 1 "--paths-obj without --path" "$ggrt" find $g --where 'some(hit)' --paths-obj "$tmp/x.obj"
+# outputs are checked before the work: a folder as the file fails at once (exit 3)
+mkdir "$tmp/dir"
+expect_exit 3 "--paths-jsonl naming a folder fails before the work" \
+  "$ggrt" find $g -s 512x512 --path 'C.*' --paths-jsonl "$tmp/dir" -q
+if grep -qF "refusing to write '$tmp/dir': it is a directory" "$tmp/err" && [ ! -s "$tmp/out" ]; then
+  ok "--paths-jsonl: the message names the file, nothing was found first"
+else bad "--paths-jsonl: the message names the file" "$(cat "$tmp/out" "$tmp/err")"; fi
+expect_exit 3 "--paths-obj naming a folder fails before the work" \
+  "$ggrt" trace $g -p 1,1 --path 'C.*' --paths-obj "$tmp/dir"
