@@ -51,6 +51,14 @@ static int class_ok(const ggPathExpr *e, int c, const pev *ev, const gg_dbg_pixe
     return !cl->pred || gg_pred_eval_ray(cl->pred, px, ev->node, ev->L);
 }
 
+static int empty(const uint64_t *s)
+{
+    int w;
+    uint64_t any = 0;
+    for (w = 0; w < GG_PATH_WORDS; w++) any |= s[w];
+    return any == 0;
+}
+
 /* out = the states after event ev from the states in. */
 static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const gg_dbg_pixel *px,
                  uint64_t *out)
@@ -58,6 +66,7 @@ static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const g
     signed char ok[GG_PATH_MAX_EVENTS];
     int k, w;
     memset(out, 0, sizeof(gg_path_set));
+    if (empty(in)) return; /* a dead path stays dead: most rays of a narrow expression */
     memset(ok, -1, (size_t)e->ncls);
     for (k = 0; k < e->nedges; k++) {
         const gg_path_edge *ed = &e->edges[k];
@@ -71,6 +80,27 @@ static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const g
 static int accepts(const ggPathExpr *e, const uint64_t *s)
 {
     return e->accept >= 0 && (s[e->accept / 64] >> (e->accept % 64) & 1u);
+}
+
+/* Whether the last event ev of a path, from the states in, leads to the
+   accepting state: step and accepts without building the set, stopping
+   at the first edge that does (the term events B O L A end every path). */
+static int step_accepts(const ggPathExpr *e, const uint64_t *in, const pev *ev,
+                        const gg_dbg_pixel *px)
+{
+    signed char ok[GG_PATH_MAX_EVENTS];
+    int k;
+    if (e->accept < 0 || empty(in)) return 0;
+    memset(ok, -1, (size_t)e->ncls);
+    for (k = 0; k < e->nedges; k++) {
+        const gg_path_edge *ed = &e->edges[k];
+        if (ed->cls < 0 || !(in[ed->from / 64] >> (ed->from % 64) & 1u) ||
+            !accepts(e, e->closure[ed->to]))
+            continue;
+        if (ok[ed->cls] < 0) ok[ed->cls] = (signed char)class_ok(e, ed->cls, ev, px);
+        if (ok[ed->cls]) return 1;
+    }
+    return 0;
 }
 
 static void surface(pev *ev, int type, int scatter, const ggTraceNode *at, int node)
@@ -104,13 +134,11 @@ static int term_matches(const ggPathExpr *e, const gg_dbg_pixel *px, int i, int 
                         int *have)
 {
     const ggTraceNode *n = ggTraceGetNode(px->trace, (size_t)i);
-    gg_path_set out;
     pev ev;
     if (kind == GG_TERM_BACKGROUND || kind == GG_TERM_EMISSION) {
         surface(&ev, kind == GG_TERM_BACKGROUND ? PE_B : PE_O, PS_NONE,
                 kind == GG_TERM_EMISSION ? n : NULL, i);
-        step(e, s, &ev, px, out);
-        return accepts(e, out);
+        return step_accepts(e, s, &ev, px);
     }
     if (kind == GG_TERM_PHONG && !(*have & 2)) {
         surface(&ev, PE_R, PS_G, n, i);
@@ -121,8 +149,7 @@ static int term_matches(const ggPathExpr *e, const gg_dbg_pixel *px, int i, int 
     }
     surface(&ev, kind == GG_TERM_AMBIENT ? PE_A : PE_L, PS_NONE, NULL, i);
     ev.L = kind == GG_TERM_AMBIENT ? NULL : L;
-    step(e, kind == GG_TERM_PHONG ? g : d, &ev, px, out);
-    return accepts(e, out);
+    return step_accepts(e, kind == GG_TERM_PHONG ? g : d, &ev, px);
 }
 
 /* a * b per channel, a weight of exactly 0 keeping out even an infinite
