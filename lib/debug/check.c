@@ -248,7 +248,7 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
             return GG_ERROR_NOMEM;
         memset(&p, 0, sizeof p);
         p.trace = t, p.x = x, p.y = y, p.px = px[0], p.w = th->buf.w;
-        gg_path_run(cj->co.path, &p, th->sets, &sum);
+        gg_path_run(cj->co.path, &p, th->sets, &sum, NULL);
         if (sum.matched == 0) return 0;
         th->share_sum += sum.share;
     }

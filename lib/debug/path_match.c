@@ -60,8 +60,8 @@ static int empty(const uint64_t *s)
 }
 
 /* out = the states after event ev from the states in. */
-static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const gg_dbg_pixel *px,
-                 uint64_t *out)
+static void step_raw(const ggPathExpr *e, const uint64_t *in, const pev *ev,
+                     const gg_dbg_pixel *px, uint64_t *out)
 {
     signed char ok[GG_PATH_MAX_EVENTS];
     int k, w;
@@ -75,6 +75,42 @@ static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const g
         if (ok[ed->cls])
             for (w = 0; w < GG_PATH_WORDS; w++) out[w] |= e->closure[ed->to][w];
     }
+}
+
+/* What a step without predicates reads of an event: the labels only if
+   the expression has labels of that kind. */
+static void signature(const gg_path_cache *c, const pev *ev, int *sig)
+{
+    sig[0] = ev->type, sig[1] = ev->scatter, sig[2] = ev->tir;
+    sig[3] = c->numbers && ev->at ? ev->at->object : -1;
+    sig[4] = c->materials && ev->at ? ev->at->material : -1;
+    sig[5] = c->numbers && ev->L ? ev->L->light : -1;
+}
+
+/* step_raw through the cache when there is one that applies. */
+static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const gg_dbg_pixel *px,
+                 uint64_t *out)
+{
+    gg_path_cache *c = px->cache;
+    int sig[6], k;
+    uint64_t h;
+    gg_path_step *st;
+    if (!c || !c->usable) {
+        step_raw(e, in, ev, px, out);
+        return;
+    }
+    signature(c, ev, sig);
+    h = 1469598103934665603u;
+    for (k = 0; k < GG_PATH_WORDS; k++) h = (h ^ in[k]) * 1099511628211u;
+    for (k = 0; k < 6; k++) h = (h ^ (uint64_t)(unsigned)sig[k]) * 1099511628211u;
+    st = &c->slot[(h >> 20) % GG_PATH_CACHE];
+    if (st->valid && !memcmp(st->sig, sig, sizeof sig) && !memcmp(st->in, in, sizeof st->in)) {
+        memcpy(out, st->out, sizeof st->out);
+        return;
+    }
+    step_raw(e, in, ev, px, out);
+    memcpy(st->in, in, sizeof st->in), memcpy(st->out, out, sizeof st->out);
+    memcpy(st->sig, sig, sizeof sig), st->valid = 1;
 }
 
 static int accepts(const ggPathExpr *e, const uint64_t *s)
@@ -91,6 +127,11 @@ static int step_accepts(const ggPathExpr *e, const uint64_t *in, const pev *ev,
     signed char ok[GG_PATH_MAX_EVENTS];
     int k;
     if (e->accept < 0 || empty(in)) return 0;
+    if (px->cache && px->cache->usable) {
+        gg_path_set out;
+        step(e, in, ev, px, out);
+        return accepts(e, out);
+    }
     memset(ok, -1, (size_t)e->ncls);
     for (k = 0; k < e->nedges; k++) {
         const gg_path_edge *ed = &e->edges[k];
@@ -207,11 +248,27 @@ static void node_paths(const ggPathExpr *e, const gg_dbg_pixel *px, int i, const
     }
 }
 
-void gg_path_run(const ggPathExpr *e, const gg_dbg_pixel *px, uint64_t *sets, ggPathSummary *sum)
+void gg_path_run(const ggPathExpr *e, const gg_dbg_pixel *pixel, uint64_t *sets,
+                 ggPathSummary *sum, gg_path_cache *cache)
 {
+    gg_dbg_pixel q = *pixel, *px = &q;
     size_t i, n = ggTraceNodeCount(px->trace);
     double pt = px->px.r + px->px.g + px->px.b, vt;
+    int c, k;
     memset(sum, 0, sizeof *sum);
+    if (cache && cache->e != e) { /* first use with e: forget other expressions' steps */
+        memset(cache->slot, 0, sizeof cache->slot);
+        cache->e = e, cache->usable = 1;
+        for (c = 0; c < e->ncls; c++)
+            if (e->cls[c].pred) cache->usable = 0;
+        cache->numbers = cache->materials = 0;
+        for (c = 0; c < e->npats; c++)
+            for (k = 0; k < e->pats[c].nlabels; k++) {
+                cache->numbers |= e->pats[c].label_kind[k] == PL_NUMBER;
+                cache->materials |= e->pats[c].label_kind[k] == PL_MATERIAL;
+            }
+    }
+    q.cache = cache;
     for (i = 0; i < n; i++) {
         node_states(e, px, (int)i, sets);
         node_paths(e, px, (int)i, sets + i * GG_PATH_WORDS, sum);
@@ -251,7 +308,7 @@ GG_API int ggPathMatch(const ggPathExpr *e, const ggTrace *tr, int x, int y, ggC
     gg_dbg_weights(tr, w);
     memset(&px, 0, sizeof px);
     px.trace = tr, px.x = x, px.y = y, px.px = pixel, px.w = w;
-    gg_path_run(e, &px, sets, sum);
+    gg_path_run(e, &px, sets, sum, NULL);
     for (i = 0; matched && i < ledger->count; i++) {
         const ggLedgerTerm *t = &ledger->terms[i];
         gg_path_set d, g;
