@@ -33,7 +33,7 @@ static int cmp(const void *a, const void *b)
 #define PATH_EXPR "C.*<TS>.*<RD>L"
 static const char *const task_name[] = {"render", "find some(kind == tir)",
                                         "find some(verdict == blocked)", "find pixel.r > 0.5",
-                                        "check", "find --path " PATH_EXPR};
+                                        "check", ("find --path " PATH_EXPR)};
 static const char *const predicates[] = {"some(kind == tir)", "some(verdict == blocked)",
                                          "pixel.r > 0.5"};
 #define NTASKS 6
