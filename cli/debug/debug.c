@@ -243,7 +243,7 @@ void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRender
         fputc('}', f);
     }
     fprintf(f, "]");
-    if (r->moves || r->moved) json_moves(f, r);
+    if (r->by_path) json_moves(f, r);
     fprintf(f, "}\n");
 }
 

@@ -530,6 +530,7 @@ typedef struct ggDiffResult {
     ggRayStats stats_a, stats_b;
     /* ggDiffPath only (ggDiff leaves them 0): the pixels whose light moved
        between path classes (ggDiffMove). */
+    int by_path;       /* 1 when ggDiffPath made the result */
     long moved;        /* how many */
     int nmoves;        /* listed: the first min(moved, limit) in row order */
     ggDiffMove *moves;

@@ -299,6 +299,7 @@ static int diff_run(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
             r->stats_a = sc.stats[0], r->stats_b = sc.stats[1];
             r->scanned = (long)(r->x1 - r->x0) * (r->y1 - r->y0);
             merge(dj, sc.threads);
+            r->by_path = dj->path != NULL;
             if (dj->path && merge_moves(dj, sc.threads) != GG_OK)
                 rc = gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the diff result");
         }

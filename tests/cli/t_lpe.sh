@@ -62,6 +62,13 @@ if grep -qF "light moved (paths C<RS>+.*): 160 pixels, the first listed" "$tmp/d
    [ "$(grep -c 'first divergence: ray #0 (eye): a leaves the scene, b hits object' "$tmp/dp")" -ge 2 ]; then
   ok "diff --path: the count, and each listed pixel with the decision that flipped"
 else bad "diff --path: the count and the decision that flipped" "$(cat "$tmp/dp" "$tmp/err")"; fi
+"$ggrt" diff examples/scenes/acc-distant.nff -s 32x24 --path "C<RS>+.*" -f json -q >"$tmp/d0.json" 2>"$tmp/err"
+if python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d['moved'] == 0 and d['moves'] == [] and d['tree_differ'] == 0
+" "$tmp/d0.json" 2>"$tmp/py"; then ok "diff --path of a render with itself: moved 0, moves []"
+else bad "diff --path of a render with itself: moved 0, moves []" "$(cat "$tmp/py" "$tmp/err")"; fi
 expect_exit 1 "diff --path: a malformed expression" "$ggrt" diff examples/scenes/acc-distant.nff --path "C<TS"
 
 # check --path: only the pixels find --path finds are checked, with find's shares

@@ -508,6 +508,7 @@ static void test_diff_path(void **state)
         assert_true(count > 0);
         ggDiffResultFree(r);
         assert_int_equal(ggDiffPath(s, &oa, s, &oa, e, 0, 10, &same, NULL), GG_OK);
+        assert_int_equal(same->by_path, 1);
         assert_int_equal(same->moved, 0);
         assert_int_equal(same->nmoves, 0);
         ggDiffResultFree(same);
