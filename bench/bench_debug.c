@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /*
 ** bench_debug.c -- what the image-level debugger costs: ggFind (three
-** kinds of predicate) and ggCheck over a SIZE x SIZE image against a
-** plain ggRender of it with the same threads, alternated round by round,
-** medians (docs/debugging.md, "Cost"). The target: at most 3x the render.
+** kinds of predicate), ggFindPath (a light-path expression) and ggCheck
+** over a SIZE x SIZE image against a plain ggRender of it with the same
+** threads, alternated round by round, medians (docs/debugging.md, "Cost").
+** The targets: at most 3x the render; the path find at most 2.5x.
 **   make bench-debug     or   build/bench/bench_debug [-s SIZE] [-r ROUNDS] [-t THREADS] SCENE...
-** Prints one line per scene and task, and the largest ratio.
+** Prints one line per scene and task, the largest ratio, and the path
+** find's largest ratio.
 */
 #include "ggrt.h"
 
@@ -28,14 +30,17 @@ static int cmp(const void *a, const void *b)
 }
 
 /* The tasks timed: a render, three finds, a check. */
+#define PATH_EXPR "C.*<TS>.*<RD>L"
 static const char *const task_name[] = {"render", "find some(kind == tir)",
                                         "find some(verdict == blocked)", "find pixel.r > 0.5",
-                                        "check"};
+                                        "check", ("find --path " PATH_EXPR)};
 static const char *const predicates[] = {"some(kind == tir)", "some(verdict == blocked)",
                                          "pixel.r > 0.5"};
-#define NTASKS 5
+#define NTASKS 6
+#define PATH_TASK 5
 
-static int run_task(ggScene *s, const ggRenderOptions *o, int k, ggPredicate *const *pred)
+static int run_task(ggScene *s, const ggRenderOptions *o, int k, ggPredicate *const *pred,
+                    const ggPathExpr *path)
 {
     ggError e;
     int rc;
@@ -46,6 +51,10 @@ static int run_task(ggScene *s, const ggRenderOptions *o, int k, ggPredicate *co
     } else if (k < 4) {
         ggFindResult *r = NULL;
         rc = ggFind(s, o, pred[k - 1], 10, &r, &e);
+        ggFindResultFree(r);
+    } else if (k == PATH_TASK) {
+        ggFindResult *r = NULL;
+        rc = ggFindPath(s, o, path, 10, &r, &e);
         ggFindResultFree(r);
     } else {
         ggCheckResult *r = NULL;
@@ -64,9 +73,10 @@ int main(int argc, char **argv)
                           "examples/scenes/spd/tetra.nff",      "examples/scenes/spd/rings.nff",
                           "examples/scenes/spd/teapot-s12.nff", "examples/scenes/spd/tree.nff"};
     int size = 512, rounds = 3, threads = 2, i, k, r;
-    double worst = 0;
-    const char *worst_at = "";
+    double worst = 0, worst_path = 0;
+    const char *worst_at = "", *worst_path_at = "";
     ggPredicate *pred[3];
+    ggPathExpr *path;
     for (i = 1; i < argc && argv[i][0] == '-'; i += 2) {
         if (i + 1 >= argc) return 2;
         if (!strcmp(argv[i], "-s"))
@@ -80,6 +90,7 @@ int main(int argc, char **argv)
     if (rounds < 1 || rounds > 64 || size < 1) return 2;
     for (k = 0; k < 3; k++)
         if (ggPredicateParse(predicates[k], NULL, &pred[k], NULL) != GG_OK) return 1;
+    if (ggPathParse(PATH_EXPR, NULL, &path, NULL) != GG_OK) return 1;
     printf("bench_debug: %dx%d, %d threads, median of %d alternated rounds; ratio = task / "
            "render\n",
            size, size, threads, rounds);
@@ -97,7 +108,7 @@ int main(int argc, char **argv)
         for (r = 0; r < rounds; r++)
             for (k = 0; k < NTASKS; k++) {
                 double t0 = now();
-                if (run_task(s, &o, k, pred) != GG_OK) return 1;
+                if (run_task(s, &o, k, pred, path) != GG_OK) return 1;
                 t[k][r] = now() - t0;
             }
         for (k = 0; k < NTASKS; k++) qsort(t[k], (size_t)rounds, sizeof t[k][0], cmp);
@@ -105,10 +116,14 @@ int main(int argc, char **argv)
             double ratio = t[k][rounds / 2] / t[0][rounds / 2];
             printf("%-36s %-30s %8.4fs %6.2fx\n", argv[i], task_name[k], t[k][rounds / 2], ratio);
             if (k && ratio > worst) worst = ratio, worst_at = argv[i];
+            if (k == PATH_TASK && ratio > worst_path) worst_path = ratio, worst_path_at = argv[i];
         }
         ggSceneFree(s);
     }
     printf("bench_debug: largest ratio %.2fx (%s); target <= 3x\n", worst, worst_at);
+    printf("bench_debug: find --path %s: largest ratio %.2fx (%s); target <= 2.5x\n", PATH_EXPR,
+           worst_path, worst_path_at);
     for (k = 0; k < 3; k++) ggPredicateFree(pred[k]);
+    ggPathFree(path);
     return 0;
 }

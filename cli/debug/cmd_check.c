@@ -24,7 +24,10 @@ static const char about[] =
     "  near-tir    refractions decided within a few rounding errors of the critical angle\n"
     "  grazing     hits at grazing incidence\n"
     "nonfinite, negative, energy and truncation are errors, self-hit a warning, the\n"
-    "others information (--severity changes that).";
+    "others information (--severity changes that).\n"
+    "With --path LPE, only the pixels with a light path LPE matches are checked (the\n"
+    "whole of their trees), and each listed pixel shows the share of its value those\n"
+    "paths carry: are the pixels lit this way sound?";
 
 static const char tail[] = "exit: 0 no error-class invariant failed, 4 one did, 1 usage, 2 bad "
                            "scene,\n3 I/O error";
@@ -32,7 +35,7 @@ static const char tail[] = "exit: 0 no error-class invariant failed, 4 one did, 
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct check_args {
-    const char *scene;
+    const char *scene, *path;
     int format, quiet, worst;
     ggCheckOptions co;
     cli_render ro;
@@ -84,11 +87,14 @@ static int parse(check_args *a, int argc, char **argv)
                        "discriminants within K rounding errors (default 16)"),
         CLI_OPT_DOUBLE(0, "grazing", &a->co.grazing, 0, 1, "C",
                        "|cos| of incidence below C (default 1e-3)"),
+        CLI_OPT_STRING(0, "path", &a->path, "LPE",
+                       "check only the pixels with a path this light-path\n"
+                       "expression matches (docs/debugging.md)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "check",
-                   .usage = "SCENE [options]",
+                   .usage = "SCENE [--path LPE] [options]",
                    .about = about,
                    .tail = tail,
                    .opts = {mine, a->ro.table},
@@ -170,7 +176,12 @@ static void truncation_hint(const check_args *a, const ggCheckResult *r)
 static void print_text(const check_args *a, const ggCheckResult *r)
 {
     int c, k;
-    printf("%s: %dx%d, %ld pixels checked\n", a->scene, r->width, r->height, r->scanned);
+    if (a->path)
+        printf("%s: %dx%d, %ld pixels with a path %s checked of %ld (their mean share "
+               "%.2f%%)\n",
+               a->scene, r->width, r->height, r->checked, a->path, r->scanned, 100 * r->share);
+    else
+        printf("%s: %dx%d, %ld pixels checked\n", a->scene, r->width, r->height, r->scanned);
     printf("%-11s %-8s %8s %9s %10s  %s\n", "invariant", "class", "pixels", "rays", "worst", "at");
     for (c = 0; c < GG_CHECK_COUNT; c++) {
         const ggCheckItem *it = &r->items[c];
@@ -188,9 +199,13 @@ static void print_text(const check_args *a, const ggCheckResult *r)
             if (k == 0)
                 printf("\n%s (%s), worst pixels:\n", ggCheckName(c), ggSeverityName(it->severity));
             printf("  %d,%d: ", p->x, p->y);
+            if (a->path) printf("(share %.2f%%) ", 100 * p->share);
             describe(stdout, a, r, c, p);
             printf("\n    ");
-            dbg_replay(stdout, a->scene, NULL, &a->ro, p->x, p->y, NULL);
+            {
+                const char *extra[3] = {"--path", a->path, NULL};
+                dbg_replay(stdout, a->scene, NULL, &a->ro, p->x, p->y, a->path ? extra : NULL);
+            }
             printf("\n");
         }
     }
@@ -215,12 +230,20 @@ int cmd_check(int argc, char **argv)
     check_args a;
     ggScene *scene;
     ggCheckResult *r = NULL;
+    ggPathExpr *path = NULL;
     dbg_progress_state ps;
     ggError err;
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) return rc;
+    if (a.path && (rc = ggPathParse(a.path, NULL, &path, &err)) != GG_OK)
+        return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
+                                    : dbg_expr_error("check", "path", a.path, &err);
+    a.co.path = path;
+    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) {
+        ggPathFree(path);
+        return rc;
+    }
     dbg_progress_begin(&ps, "check", a.quiet || a.format == 1);
     a.ro.opt.progress = dbg_progress, a.ro.opt.progress_ud = &ps;
     rc = ggCheck(scene, &a.ro.opt, &a.co, &r, &err);
@@ -236,5 +259,6 @@ int cmd_check(int argc, char **argv)
     }
     ggCheckResultFree(r);
     ggSceneFree(scene);
+    ggPathFree(path);
     return rc;
 }

@@ -16,15 +16,19 @@ static const char about[] =
     "pixel's ray trees recorded, and compare: how many pixels differ in value and in\n"
     "ray tree, and for the worst the first ray where the trees part (which ray, and\n"
     "what: the object hit, a TIR decision, a shadow verdict, a child missing).\n"
-    "The render options below apply to both sides; --a and --b add to them.";
+    "The render options below apply to both sides; --a and --b add to them.\n"
+    "With --path LPE, also the pixels whose light moved between path classes: the\n"
+    "paths LPE matches differ between a and b (by their events and labels, as trace\n"
+    "--path prints them; values alone do not count), listed in row order with both\n"
+    "sides' shares and the first divergent ray (the decision that flipped).";
 
 static const char tail[] = "exit: 0 ok (differences or not), 1 usage, 2 bad scene, 3 I/O error";
 
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct diff_args {
-    const char *scenes[2], *a_text, *b_text, *out;
-    int nscenes, worst, format, quiet;
+    const char *scenes[2], *a_text, *b_text, *out, *path;
+    int nscenes, worst, format, quiet, limit;
     ggRenderOptions oa, ob;
     cli_render ro;
 } diff_args;
@@ -60,12 +64,17 @@ static int parse(diff_args *a, int argc, char **argv)
                        "red where the ray tree differs"),
         CLI_OPT_INT(0, "worst", &a->worst, 0, 1000, "N",
                     "list the N pixels that differ most (default 10)"),
+        CLI_OPT_STRING(0, "path", &a->path, "LPE",
+                       "also the pixels whose paths LPE matches differ\n"
+                       "between a and b (docs/debugging.md)"),
+        CLI_OPT_INT(0, "limit", &a->limit, 0, 1 << 30, "N",
+                    "--path: list at most N of those pixels (default all)"),
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "diff",
-                   .usage = "SCENE [SCENE_B] [--a OPTIONS] [--b OPTIONS] [options]",
+                   .usage = "SCENE [SCENE_B] [--a OPTIONS] [--b OPTIONS] [--path LPE] [options]",
                    .about = about,
                    .tail = tail,
                    .opts = {mine, a->ro.table},
@@ -75,7 +84,7 @@ static int parse(diff_args *a, int argc, char **argv)
                    .nargs = &a->nscenes,
                    .args_name = "scene"};
     int rc;
-    a->worst = 10, a->a_text = "", a->b_text = "";
+    a->worst = 10, a->a_text = "", a->b_text = "", a->limit = 1 << 30;
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
@@ -116,6 +125,32 @@ static void print_pixel(const diff_args *a, ggScene *sa, ggScene *sb, const ggDi
     ggTraceFree(tb);
 }
 
+/* --path: the pixels whose light moved, with the decision that flipped. */
+static void print_moves(const diff_args *a, ggScene *sa, ggScene *sb, const ggDiffResult *r)
+{
+    char text[800];
+    int i;
+    printf("  light moved (paths %s): %ld pixels%s\n", a->path, r->moved,
+           r->nmoves < r->moved ? ", the first listed" : "");
+    for (i = 0; i < r->nmoves; i++) {
+        const ggDiffMove *m = &r->moves[i];
+        ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);
+        ggColor ca, cb;
+        printf("  %4d,%-4d share a %6.2f%% (%ld paths)  b %6.2f%% (%ld paths)\n", m->x, m->y,
+               100 * m->share_a, m->matched_a, 100 * m->share_b, m->matched_b);
+        if (m->first.what == GG_DIFF_SAME) {
+            printf("      same ray tree; only the values differ\n");
+        } else if (ta && tb &&
+                   ggTracePixel(sa, &a->oa, m->x, m->y, -1, ta, &ca, NULL, NULL) == GG_OK &&
+                   ggTracePixel(sb, &a->ob, m->x, m->y, -1, tb, &cb, NULL, NULL) == GG_OK) {
+            dbg_divergence_text(text, sizeof text, ta, tb, &m->first);
+            printf("      first divergence: %s\n", text);
+        }
+        ggTraceFree(ta);
+        ggTraceFree(tb);
+    }
+}
+
 static void print_text(const diff_args *a, ggScene *sa, ggScene *sb, const ggDiffResult *r)
 {
     double n = r->scanned > 0 ? (double)r->scanned : 1;
@@ -135,11 +170,12 @@ static void print_text(const diff_args *a, ggScene *sa, ggScene *sb, const ggDif
             first = 0;
         }
     printf("\n");
+    if (a->path) print_moves(a, sa, sb, r);
     if (r->nworst) printf("the %d that differ most:\n", r->nworst);
     for (i = 0; i < r->nworst; i++) print_pixel(a, sa, sb, &r->worst[i]);
 }
 
-static int run(diff_args *a, ggScene *sa, ggScene *sb)
+static int run(diff_args *a, ggScene *sa, ggScene *sb, const ggPathExpr *path)
 {
     static const float map_colours[3][3] = {{0, 0, 0}, {0.1f, 0.3f, 1}, {1, 0.1f, 0.05f}};
     ggDiffResult *r = NULL;
@@ -148,7 +184,10 @@ static int run(diff_args *a, ggScene *sa, ggScene *sb)
     int rc;
     dbg_progress_begin(&ps, "diff", a->quiet || a->format == 1);
     a->oa.progress = dbg_progress, a->oa.progress_ud = &ps;
-    rc = ggDiff(sa, &a->oa, sb, &a->ob, a->worst, &r, &err);
+    if (path)
+        rc = ggDiffPath(sa, &a->oa, sb, &a->ob, path, a->worst, a->limit, &r, &err);
+    else
+        rc = ggDiff(sa, &a->oa, sb, &a->ob, a->worst, &r, &err);
     dbg_progress_end(&ps);
     a->oa.progress = NULL, a->oa.progress_ud = NULL;
     if (rc != GG_OK) return cli_fail(rc, &err, 1);
@@ -171,19 +210,27 @@ int cmd_diff(int argc, char **argv)
 {
     diff_args a;
     ggScene *sa, *sb;
+    ggPathExpr *path = NULL;
+    ggError err;
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
-    if (!(sa = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) return rc;
-    sb = sa;
-    if (a.nscenes > 1) {
-        if (!(sb = cli_load_scene(a.scenes[a.nscenes > 1], NULL, NULL, &rc))) {
-            ggSceneFree(sa);
-            return rc;
-        }
+    if (a.path && (rc = ggPathParse(a.path, NULL, &path, &err)) != GG_OK)
+        return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
+                                    : dbg_expr_error("diff", "path", a.path, &err);
+    if (!(sa = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) {
+        ggPathFree(path);
+        return rc;
     }
-    rc = run(&a, sa, sb);
+    sb = sa;
+    if (a.nscenes > 1 && !(sb = cli_load_scene(a.scenes[1], NULL, NULL, &rc))) {
+        ggSceneFree(sa);
+        ggPathFree(path);
+        return rc;
+    }
+    rc = run(&a, sa, sb, path);
     if (sb != sa) ggSceneFree(sb);
     ggSceneFree(sa);
+    ggPathFree(path);
     return rc;
 }

@@ -29,7 +29,7 @@ static const char tail[] = "exit: 0 ok (matches or not), 1 usage or a bad predic
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct find_args {
-    const char *scene, *where, *path, *out, *overlay;
+    const char *scene, *where, *path, *out, *overlay, *paths_jsonl, *paths_obj;
     int limit, format, quiet;
     cli_render ro;
 } find_args;
@@ -52,6 +52,12 @@ static int parse(find_args *a, int argc, char **argv)
                     "list the first N matches in row order (default 20;\n"
                     "0 lists them all)"),
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
+        CLI_OPT_STRING(0, "paths-jsonl", &a->paths_jsonl, "FILE",
+                       "--path: write every matched pixel's matching paths\n"
+                       "as JSON lines, one path a line: pixel, events,\n"
+                       "points, weights, contribution"),
+        CLI_OPT_STRING(0, "paths-obj", &a->paths_obj, "FILE",
+                       "--path: write them as OBJ polylines, one per path"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
         CLI_OPT_END,
     };
@@ -70,6 +76,9 @@ static int parse(find_args *a, int argc, char **argv)
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
     if (!a->where == !a->path) return cli_usage_error(&cmd, "need --where EXPR or --path LPE");
+    if ((a->paths_jsonl || a->paths_obj) && !a->path)
+        return cli_usage_error(&cmd, "--paths-jsonl and --paths-obj write the paths of --path LPE");
+    if ((rc = dbg_paths_check("find", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->out && (rc = cli_check_output("find", a->out)) != 0) return rc;
     if (a->overlay && (rc = cli_check_output("find", a->overlay)) != 0) return rc;
     return CLI_GO;
@@ -132,6 +141,40 @@ static int write_overlay(const char *path, const ggFindResult *r)
     return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
 }
 
+/* --paths-jsonl, --paths-obj: every matched pixel traced again (its trees
+   are not kept by the find), in row order. */
+static int write_paths(const find_args *a, ggScene *scene, const ggPathExpr *e,
+                       const ggFindResult *r)
+{
+    dbg_paths_out o;
+    ggTrace *tr = ggTraceCreate(NULL);
+    ggError err;
+    ggColor px;
+    int x, y, rc = tr ? dbg_paths_open(&o, "find", a->paths_jsonl, a->paths_obj) : EXIT_INPUT;
+    if (!tr) cli_error_in("find", "out of memory");
+    if (rc != 0) {
+        ggTraceFree(tr);
+        return rc;
+    }
+    for (y = r->y0; rc == EXIT_OK && y < r->y1; y++)
+        for (x = r->x0; rc == EXIT_OK && x < r->x1; x++) {
+            if (!r->mask[(size_t)y * r->width + x]) continue;
+            if ((rc = ggTracePixel(scene, &a->ro.opt, x, y, -1, tr, &px, NULL, &err)) != GG_OK)
+                rc = cli_fail(rc, &err, 0);
+            else
+                rc = dbg_paths_pixel(&o, e, tr, x, y, px);
+        }
+    ggTraceFree(tr);
+    if (rc != EXIT_OK) {
+        dbg_paths_abandon(&o);
+        return rc;
+    }
+    if ((rc = dbg_paths_close(&o)) == EXIT_OK && a->format != 1)
+        printf("wrote %ld paths to %s%s%s\n", o.paths, a->paths_jsonl ? a->paths_jsonl : "",
+               a->paths_jsonl && a->paths_obj ? " and " : "", a->paths_obj ? a->paths_obj : "");
+    return rc;
+}
+
 static int run(find_args *a, ggScene *scene, const ggPredicate *pred, const ggPathExpr *path)
 {
     static const float mask_colours[2][3] = {{0, 0, 0}, {1, 1, 1}};
@@ -157,6 +200,7 @@ static int run(find_args *a, ggScene *scene, const ggPredicate *pred, const ggPa
         if (rc == EXIT_OK && a->format != 1)
             printf("wrote %s (white where a pixel matched)\n", a->out);
     }
+    if (rc == EXIT_OK && (a->paths_jsonl || a->paths_obj)) rc = write_paths(a, scene, path, r);
     if (rc == EXIT_OK && a->overlay) {
         rc = write_overlay(a->overlay, r);
         if (rc == EXIT_OK && a->format != 1)

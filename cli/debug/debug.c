@@ -150,8 +150,10 @@ static void json_check_pixel(FILE *f, const ggCheckPixel *p)
 {
     fprintf(f, "{\"pixel\":[%d,%d],\"value\":", p->x, p->y);
     json_num(f, p->value);
-    fprintf(f, ",\"node\":%d,\"light\":%d,\"object\":%d,\"material\":%d,\"line\":%d}", p->node,
-            p->light, p->object, p->material, p->line);
+    fprintf(f, ",\"node\":%d,\"light\":%d,\"object\":%d,\"material\":%d,\"line\":%d,\"share\":",
+            p->node, p->light, p->object, p->material, p->line);
+    json_num(f, p->share);
+    fputc('}', f);
 }
 
 void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const ggCheckResult *r)
@@ -161,7 +163,9 @@ void json_check(FILE *f, const char *scene, const ggRenderOptions *opt, const gg
     json_str(f, scene);
     fputc(',', f), json_options(f, "options", opt);
     fputc(',', f), json_window(f, r->width, r->height, r->x0, r->y0, r->x1, r->y1);
-    fprintf(f, ",\"scanned\":%ld,\"failed\":%d,\"radiance_bound\":", r->scanned, r->failed);
+    fprintf(f, ",\"scanned\":%ld,\"checked\":%ld,\"share\":", r->scanned, r->checked);
+    json_num(f, r->share);
+    fprintf(f, ",\"failed\":%d,\"radiance_bound\":", r->failed);
     json_num(f, r->radiance_bound);
     fputc(',', f), json_stats(f, "stats", &r->stats);
     fprintf(f, ",\"invariants\":[");
@@ -184,6 +188,25 @@ void json_divergence(FILE *f, const ggDivergence *d)
 {
     fprintf(f, "{\"what\":\"%s\",\"node_a\":%d,\"node_b\":%d,\"light\":%d,\"a\":%d,\"b\":%d}",
             ggDiffName(d->what), d->node_a, d->node_b, d->light, d->a, d->b);
+}
+
+/* ggDiffPath's moved pixels: ,"moved":N,"moves":[...] */
+static void json_moves(FILE *f, const ggDiffResult *r)
+{
+    int i;
+    fprintf(f, ",\"moved\":%ld,\"moves\":[", r->moved);
+    for (i = 0; i < r->nmoves; i++) {
+        const ggDiffMove *m = &r->moves[i];
+        fprintf(f, "%s{\"pixel\":[%d,%d],\"share_a\":", i ? "," : "", m->x, m->y);
+        json_num(f, m->share_a);
+        fprintf(f, ",\"share_b\":");
+        json_num(f, m->share_b);
+        fprintf(f, ",\"matched_a\":%ld,\"matched_b\":%ld,\"first\":", m->matched_a,
+                m->matched_b);
+        json_divergence(f, &m->first);
+        fputc('}', f);
+    }
+    fputc(']', f);
 }
 
 void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRenderOptions *oa,
@@ -219,7 +242,9 @@ void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRender
         json_divergence(f, &p->first);
         fputc('}', f);
     }
-    fprintf(f, "]}\n");
+    fprintf(f, "]");
+    if (r->by_path) json_moves(f, r);
+    fprintf(f, "}\n");
 }
 
 void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l)

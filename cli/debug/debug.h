@@ -48,6 +48,33 @@ int dbg_write_map(const char *cmd, const char *path, const unsigned char *map, i
 void dbg_divergence_text(char *buf, size_t n, const ggTrace *ta, const ggTrace *tb,
                          const ggDivergence *d);
 
+/* ---- matching paths written out (paths_out.c) ---- */
+
+/* --paths-jsonl FILE: one JSON object a line, a path each: pixel, events
+   (as ggPathFormat writes them), term, node, light, points (eye to light,
+   ggPathPoints), weights (one per point), contribution (the term's value)
+   and share. --paths-obj FILE: each path an object with its vertices and
+   one polyline (l). Both written whole or not at all (cli_out). */
+typedef struct dbg_paths_out {
+    const char *cmd;
+    cli_out jsonl, obj;
+    int have_jsonl, have_obj;
+    long paths;    /* paths written */
+    long vertices; /* OBJ vertices written */
+} dbg_paths_out;
+/* Before the work: the outputs can be written (cli_check_output); NULL
+   names are skipped. Returns 0 or an exit code. */
+int dbg_paths_check(const char *cmd, const char *jsonl, const char *obj);
+int dbg_paths_open(dbg_paths_out *o, const char *cmd, const char *jsonl, const char *obj);
+/* The paths e matches of the pixel (x, y) of value px, whose every sample
+   tr holds. Returns an exit code. */
+int dbg_paths_pixel(dbg_paths_out *o, const ggPathExpr *e, const ggTrace *tr, int x, int y,
+                    ggColor px);
+/* Close and rename into place; returns an exit code. abandon: remove the
+   temporary files instead. */
+int dbg_paths_close(dbg_paths_out *o);
+void dbg_paths_abandon(dbg_paths_out *o);
+
 /* ---- JSON ---- */
 void json_find(FILE *f, const char *scene, const ggRenderOptions *opt, const char *where,
                const char *path,

@@ -31,7 +31,7 @@ static const char tail[] =
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct trace_args {
-    const char *scenes[2], *svg, *obj, *a_text, *b_text, *lpe;
+    const char *scenes[2], *svg, *obj, *a_text, *b_text, *lpe, *paths_jsonl, *paths_obj;
     int nscenes, pixel[2], sample, format, ascii, ledger, diff, no_numeric;
     ggRenderOptions oa, ob; /* --diff: the two sides */
     cli_render ro;
@@ -110,6 +110,12 @@ static int parse(trace_args *a, int argc, char **argv)
                      "--diff: render options of side a (default '')"),
         CLI_OPT_FUNC(0, "b", take_text, &a->b_text, "OPTIONS",
                      "--diff: render options of side b (default '')"),
+        CLI_OPT_STRING(0, "paths-jsonl", &a->paths_jsonl, "FILE",
+                       "--path: write the matching paths as JSON lines, one\n"
+                       "path a line: events, points, weights, contribution"),
+        CLI_OPT_STRING(0, "paths-obj", &a->paths_obj, "FILE",
+                       "--path: write the matching paths as OBJ polylines,\n"
+                       "eye to light, one per path"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "trace",
@@ -139,6 +145,9 @@ static int parse(trace_args *a, int argc, char **argv)
     if (a->diff && (a->svg || a->obj || a->ledger || a->format == 1))
         return cli_usage_error(&cmd, "--diff prints text only (no --svg, --obj, --ledger, json)");
     if (a->diff && (rc = diff_sides(a, &cmd)) != CLI_GO) return rc;
+    if ((a->paths_jsonl || a->paths_obj) && !a->lpe)
+        return cli_usage_error(&cmd, "--paths-jsonl and --paths-obj write the paths of --path LPE");
+    if ((rc = dbg_paths_check("trace", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->svg && (rc = cli_check_output("trace", a->svg)) != 0) return rc;
     if (a->obj && (rc = cli_check_output("trace", a->obj)) != 0) return rc;
     return CLI_GO;
@@ -200,6 +209,19 @@ static int print_paths(const trace_args *a, const ggPathExpr *e, const trace_vie
     return EXIT_INPUT;
 }
 
+/* --paths-jsonl, --paths-obj */
+static int write_paths(const trace_args *a, const ggPathExpr *e, const trace_view *v)
+{
+    dbg_paths_out o;
+    int rc = dbg_paths_open(&o, "trace", a->paths_jsonl, a->paths_obj);
+    if (rc != 0) return rc;
+    if ((rc = dbg_paths_pixel(&o, e, v->trace, v->x, v->y, v->pixel)) != EXIT_OK) {
+        dbg_paths_abandon(&o);
+        return rc;
+    }
+    return dbg_paths_close(&o);
+}
+
 static int run_one(trace_args *a, ggScene *scene, ggTrace *tr, const ggPathExpr *e)
 {
     trace_view view;
@@ -209,6 +231,7 @@ static int run_one(trace_args *a, ggScene *scene, ggTrace *tr, const ggPathExpr 
     if (e) {
         rc = print_paths(a, e, &view);
         if (rc == EXIT_OK) rc = write_files(a, &view);
+        if (rc == EXIT_OK && (a->paths_jsonl || a->paths_obj)) rc = write_paths(a, e, &view);
         ggLedgerFree(ledger);
         return rc;
     }

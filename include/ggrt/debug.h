@@ -217,11 +217,20 @@ typedef struct ggCheckOptions {
     double self_hit;              /* GG_CHECK_SELF_HIT: hits within this many error bounds */
     double near_tir; /* GG_CHECK_NEAR_TIR: |discriminant| within this many rounding errors */
     double grazing;  /* GG_CHECK_GRAZING: |cos(incidence)| below this */
+    /* NULL: check every pixel. Else only the pixels with at least one path
+       this expression matches (ggPathMatch; the light-path expressions
+       below) are checked: the others count in `scanned` only, and each
+       listed pixel carries the share of its value those paths carry. The
+       invariants still look at the whole of a checked pixel's trees (a
+       truncation or a NaN on another path of that pixel counts): the
+       question is "are the pixels lit this way sound", not a split of the
+       checks by path. */
+    const struct ggPathExpr *path;
 } ggCheckOptions;
 
 /* The defaults: nonfinite, negative, energy and truncation are errors,
    self-hit a warning, near-tir and grazing information; truncation 0.1,
-   self_hit 4, near_tir 16, grazing 1e-3. */
+   self_hit 4, near_tir 16, grazing 1e-3; no path expression. */
 GG_API void ggCheckOptionsDefault(ggCheckOptions *co);
 
 #define GG_CHECK_WORST 8 /* pixels kept per invariant */
@@ -234,6 +243,8 @@ typedef struct ggCheckPixel {
     int object;   /* the surface involved, or -1 */
     int material; /* its material, or -1 */
     int line;     /* the scene-file line of that material (energy) or object, 0 if none */
+    double share; /* with a path expression: the share of the pixel its matching paths
+                     carry (ggPathSummary.share); else 0 */
 } ggCheckPixel;
 
 typedef struct ggCheckItem {
@@ -257,6 +268,10 @@ typedef struct ggCheckResult {
     int width, height;
     int x0, y0, x1, y1; /* the window scanned */
     long scanned;
+    long checked;   /* pixels checked: scanned, or with a path expression those that
+                       have a matching path */
+    double share;   /* with a path expression: the mean over the checked pixels of
+                       the share their matching paths carry; else 0 */
     int failed; /* invariants of severity error with pixels > 0 */
     ggCheckItem items[GG_CHECK_COUNT];
     /* Truncation: an upper bound on any ray's colour in this scene (the
@@ -414,6 +429,28 @@ GG_API int ggPathMatch(const ggPathExpr *expr, const ggTrace *trace, int x, int 
 GG_API size_t ggPathFormat(const ggTrace *trace, const ggLedgerTerm *term, char *buf,
                            size_t size);
 
+/* One point of a path's polyline (ggPathPoints). */
+typedef struct ggPathPoint {
+    ggVec3 p;
+    ggColor weight; /* the weight in the pixel of the ray that arrives at p (the
+                       first point: of the eye ray that leaves it), as find's weight
+                       field: the pixel changes by weight * d when that ray's colour
+                       changes by d */
+} ggPathPoint;
+
+/* The points of one ledger term's path, from the eye to the light, into
+   pts (at most max; pts may be NULL when max is 0): the eye ray's origin,
+   the hit point of every ray on the path, and then for a diffuse or Phong
+   term the light's position (the shadow ray's end), for a background term
+   a point on the ray that left the scene, as far from its origin as the
+   path so far is long (at least 1), so that the direction shows at the
+   scene's scale. Emission and ambient terms end at their hit. Returns the
+   number of points the path has (like snprintf: more than max means pts
+   holds the first max); 0 for a NULL trace or term, or a term whose node
+   is not in the trace. */
+GG_API size_t ggPathPoints(const ggTrace *trace, const ggLedgerTerm *term, ggPathPoint *pts,
+                           size_t max);
+
 /* ggFind with a path expression: the pixels of opt's window with at least
    one path that expr matches (ggPathMatch); each match's `share` is the
    share of the pixel's value those paths carry (ggPathSummary.share).
@@ -467,6 +504,15 @@ typedef struct ggDiffPixel {
     ggDivergence first; /* the first divergent ray (what = SAME if the trees agree) */
 } ggDiffPixel;
 
+/* ggDiffPath: a pixel whose light moved between path classes: the paths
+   the expression matches differ between the two sides. */
+typedef struct ggDiffMove {
+    int x, y;
+    double share_a, share_b; /* ggPathSummary.share on each side */
+    long matched_a, matched_b; /* matching paths on each side */
+    ggDivergence first;      /* the first divergent ray (what = SAME if the trees agree) */
+} ggDiffMove;
+
 typedef struct ggDiffResult {
     int width, height;
     int x0, y0, x1, y1; /* the window scanned */
@@ -482,6 +528,12 @@ typedef struct ggDiffResult {
     unsigned char *map;
     ggImage *image_a, *image_b; /* both renders of the window */
     ggRayStats stats_a, stats_b;
+    /* ggDiffPath only (ggDiff leaves them 0): the pixels whose light moved
+       between path classes (ggDiffMove). */
+    int by_path;       /* 1 when ggDiffPath made the result */
+    long moved;        /* how many */
+    int nmoves;        /* listed: the first min(moved, limit) in row order */
+    ggDiffMove *moves;
 } ggDiffResult;
 
 /* Render scene_a with opt_a and scene_b with opt_b (they may be the same
@@ -493,6 +545,24 @@ typedef struct ggDiffResult {
 GG_API int ggDiff(ggScene *scene_a, const ggRenderOptions *opt_a, ggScene *scene_b,
                   const ggRenderOptions *opt_b, int worst, ggDiffResult **out, ggError *err);
 GG_API void ggDiffResultFree(ggDiffResult *res);
+
+/* ggDiff, and for every pixel the paths expr matches on each side
+   (ggPathMatch). A pixel's light moved between path classes when those
+   paths differ as classes: the multiset of their events as ggPathFormat
+   writes them (types, scatters, labels) differs between a and b -- a
+   path is in the class on one side only (it matches there and not on the
+   other, or exists on one side only), or more paths of one string on
+   one side. A change of the paths' values alone (a hit point that moved,
+   a share that changed with the same paths) is not a move. Each moved
+   pixel comes with both shares (ggPathSummary.share) and the first
+   divergent ray of its trees (ggTraceCompare: the decision that
+   flipped; SAME when only a predicate's numbers changed). limit: how
+   many moved pixels to list in res->moves, in row order (res->moved
+   counts them all). Everything else as ggDiff. Returns what ggDiff does
+   (GG_ERROR_INVALID also for a NULL expr or a negative limit). */
+GG_API int ggDiffPath(ggScene *scene_a, const ggRenderOptions *opt_a, ggScene *scene_b,
+                      const ggRenderOptions *opt_b, const ggPathExpr *expr, int worst, int limit,
+                      ggDiffResult **out, ggError *err);
 
 #ifdef __cplusplus
 }

@@ -25,6 +25,10 @@ typedef struct pix_fail {
 typedef struct check_thread {
     gg_dbg_buf buf;
     ggCheckItem item[GG_CHECK_COUNT];
+    long checked;
+    double share_sum; /* path checks: the checked pixels' shares */
+    uint64_t *sets;   /* path checks: the automaton's states per ray */
+    size_t sets_cap;
 } check_thread;
 
 typedef struct check_job {
@@ -229,12 +233,26 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
     check_thread *th = &cj->t[thread];
     const ggTrace *t = recs[0];
     pix_fail f[GG_CHECK_COUNT], cut_at;
+    ggPathSummary sum;
     size_t i, n = ggTraceNodeCount(t);
     double cut = 0;
     long ncut = 0;
     int c;
+    memset(&sum, 0, sizeof sum);
     (void)same; /* a tree of misses: cheap to check again */
     if (gg_dbg_buf_weights(&th->buf, cj->alloc, t)) return GG_ERROR_NOMEM;
+    if (cj->co.path) {
+        gg_dbg_pixel p;
+        if (gg_mem_grow(cj->alloc, (void **)&th->sets, &th->sets_cap,
+                        (n ? n : 1) * GG_PATH_WORDS, sizeof *th->sets))
+            return GG_ERROR_NOMEM;
+        memset(&p, 0, sizeof p);
+        p.trace = t, p.x = x, p.y = y, p.px = px[0], p.w = th->buf.w;
+        gg_path_run(cj->co.path, &p, th->sets, &sum, NULL);
+        if (sum.matched == 0) return 0;
+        th->share_sum += sum.share;
+    }
+    th->checked++;
     memset(f, 0, sizeof f);
     memset(&cut_at, 0, sizeof cut_at);
     check_value(th, f, t, px[0]);
@@ -249,7 +267,7 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
         if (!f[c].failed) continue;
         it->pixels++;
         if (f[c].measure > it->worst) it->worst = f[c].measure;
-        f[c].at.x = x, f[c].at.y = y;
+        f[c].at.x = x, f[c].at.y = y, f[c].at.share = sum.share;
         keep_worst(it, &f[c].at);
     }
     return 0;
@@ -335,6 +353,9 @@ static void merge(check_job *cj, int threads)
 {
     ggCheckResult *r = cj->res;
     int i, c, k;
+    double share = 0;
+    for (i = 0; i < threads; i++) r->checked += cj->t[i].checked, share += cj->t[i].share_sum;
+    if (cj->co.path && r->checked > 0) r->share = share / (double)r->checked;
     for (c = 0; c < GG_CHECK_COUNT; c++) {
         ggCheckItem *it = &r->items[c];
         it->check = c, it->severity = cj->co.severity[c];
@@ -378,7 +399,10 @@ GG_API int ggCheck(ggScene *s, const ggRenderOptions *opt, const ggCheckOptions 
             merge(&cj, sc.threads);
         }
     }
-    for (i = 0; cj.t && i < sc.threads; i++) gg_mem_free(cj.alloc, cj.t[i].buf.w);
+    for (i = 0; cj.t && i < sc.threads; i++) {
+        gg_mem_free(cj.alloc, cj.t[i].buf.w);
+        gg_mem_free(cj.alloc, cj.t[i].sets);
+    }
     gg_mem_free(cj.alloc, cj.t);
     gg_mem_free(cj.alloc, cj.children);
     gg_tracer_free(tr);

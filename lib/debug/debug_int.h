@@ -23,6 +23,7 @@ typedef struct gg_dbg_pixel {
     int x, y;
     ggColor px;
     const ggColor *w;
+    struct gg_path_cache *cache; /* path matching: this worker's steps (NULL: none) */
 } gg_dbg_pixel;
 
 /* ---- predicates (pred.c, pred_eval.c) ---- */
@@ -163,9 +164,28 @@ struct ggPathExpr {
     gg_path_set closure[GG_PATH_MAX_STATES]; /* each state's empty-move closure */
 };
 
+/* A worker's memory of the automaton's steps: the state set after an
+   event from a state set, by the event's type, scatter and labels (for an
+   expression without predicates, that is all a step reads). Direct
+   mapped; one per thread, kept across its pixels (path_match.c). */
+#define GG_PATH_CACHE 512
+typedef struct gg_path_step {
+    gg_path_set in, out;
+    int sig[6]; /* type, scatter, tir, object, material, light */
+    int valid;
+} gg_path_step;
+typedef struct gg_path_cache {
+    const ggPathExpr *e;
+    int usable;          /* e has no predicates */
+    int numbers, materials; /* e has labels 'N' (objects, lights), 'mN' */
+    gg_path_step slot[GG_PATH_CACHE];
+} gg_path_cache;
+
 /* Match e against every path of px (whose w must be set), with sets
-   holding GG_PATH_WORDS words per ray of px->trace (path_match.c). */
-void gg_path_run(const ggPathExpr *e, const gg_dbg_pixel *px, uint64_t *sets, ggPathSummary *sum);
+   holding GG_PATH_WORDS words per ray of px->trace (path_match.c).
+   cache: NULL, or a zeroed (or earlier) gg_path_cache of this thread. */
+void gg_path_run(const ggPathExpr *e, const gg_dbg_pixel *px, uint64_t *sets, ggPathSummary *sum,
+                 gg_path_cache *cache);
 
 /* ---- trees (tree.c) ---- */
 

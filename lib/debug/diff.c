@@ -19,12 +19,24 @@ typedef struct diff_thread {
     int n;
     long value_differ, tree_differ, by_kind[GG_DIFF_COUNT];
     double max_delta;
+    /* ggDiffPath: the moved pixels (the first `moves_limit`, row order),
+       and the last pixel's matching paths */
+    ggDiffMove *moves;
+    int nmoves;
+    size_t moves_cap;
+    long moved;
+    uint64_t *cls[2]; /* each side's matching paths, as sorted hashes */
+    size_t ncls[2], cls_cap[2];
+    ggPathSummary last[2];
+    int last_moved;
 } diff_thread;
 
 typedef struct diff_job {
     ggDiffResult *res;
     diff_thread *t;
     int limit;
+    const ggPathExpr *path; /* ggDiffPath */
+    int moves_limit;
     const ggAllocator *alloc;
 } diff_job;
 
@@ -68,6 +80,76 @@ static void keep_worst(ggDiffPixel *list, int *n, int limit, const ggDiffPixel *
     list[i] = *p;
 }
 
+/* A hash of a path's events as text (ggPathFormat: types, scatters and
+   labels), FNV-1a. */
+static uint64_t path_hash(const ggTrace *tr, const ggLedgerTerm *term)
+{
+    char buf[1024];
+    uint64_t h = 14695981039346656037u;
+    size_t k, n = ggPathFormat(tr, term, buf, sizeof buf);
+    for (k = 0; k < n && k + 1 < sizeof buf; k++) h = (h ^ (unsigned char)buf[k]) * 1099511628211u;
+    return h ^ n;
+}
+
+static int by_hash(const void *a, const void *b)
+{
+    uint64_t p = *(const uint64_t *)a, q = *(const uint64_t *)b;
+    return p < q ? -1 : p > q;
+}
+
+/* One side of a pixel: its path summary and the matching paths' classes
+   (their events' hashes, sorted) into th->cls[side]. */
+static int side_paths(diff_job *dj, diff_thread *th, int side, int x, int y, const ggTrace *tr,
+                      ggColor px)
+{
+    ggLedger *l = NULL;
+    unsigned char *m = NULL;
+    size_t i;
+    int rc = ggLedgerCreate(tr, px, dj->alloc, &l, NULL);
+    th->ncls[side] = 0;
+    if (rc == GG_ERROR_INVALID) /* an empty trace: no paths */
+        return ggPathMatch(dj->path, tr, x, y, px, NULL, NULL, &th->last[side]);
+    if (rc == GG_OK && !(m = gg_mem_calloc(dj->alloc, l->count ? l->count : 1, 1)))
+        rc = GG_ERROR_NOMEM;
+    if (rc == GG_OK) rc = ggPathMatch(dj->path, tr, x, y, px, l, m, &th->last[side]);
+    if (rc == GG_OK && gg_mem_grow(dj->alloc, (void **)&th->cls[side], &th->cls_cap[side],
+                                   l->count ? l->count : 1, sizeof *th->cls[side]))
+        rc = GG_ERROR_NOMEM;
+    for (i = 0; rc == GG_OK && i < l->count; i++)
+        if (m[i]) th->cls[side][th->ncls[side]++] = path_hash(tr, &l->terms[i]);
+    if (rc == GG_OK) qsort(th->cls[side], th->ncls[side], sizeof *th->cls[side], by_hash);
+    gg_mem_free(dj->alloc, m);
+    ggLedgerFree(l);
+    return rc;
+}
+
+/* ggDiffPath's part of a pixel: both sides' matching paths, and a move
+   when they differ as classes. same: the pixel is the last one's. */
+static int path_pixel(diff_job *dj, diff_thread *th, int x, int y, ggTrace *const *recs,
+                      const ggColor *px, int same, const ggDivergence *first)
+{
+    ggDiffMove *m;
+    int i;
+    if (!same || (dj->path->needs & GG_NEED_XY)) {
+        for (i = 0; i < 2; i++)
+            if (side_paths(dj, th, i, x, y, recs[i], px[i]) != GG_OK) return GG_ERROR_NOMEM;
+        th->last_moved = th->ncls[0] != th->ncls[1] ||
+                         (th->ncls[0] && memcmp(th->cls[0], th->cls[1],
+                                                th->ncls[0] * sizeof *th->cls[0]) != 0);
+    }
+    if (!th->last_moved) return 0;
+    th->moved++;
+    if (th->nmoves >= dj->moves_limit) return 0;
+    if (gg_mem_grow(dj->alloc, (void **)&th->moves, &th->moves_cap, (size_t)th->nmoves + 1,
+                    sizeof *th->moves))
+        return GG_ERROR_NOMEM;
+    m = &th->moves[th->nmoves++];
+    m->x = x, m->y = y, m->first = *first;
+    m->share_a = th->last[0].share, m->share_b = th->last[1].share;
+    m->matched_a = th->last[0].matched, m->matched_b = th->last[1].matched;
+    return 0;
+}
+
 static int diff_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px,
                       int same)
 {
@@ -76,9 +158,10 @@ static int diff_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, 
     ggDiffResult *r = dj->res;
     ggDiffPixel p;
     int vd = bits_differ(px[0], px[1]), td;
-    (void)same;
     memset(&p, 0, sizeof p);
     td = ggTraceCompare(recs[0], recs[1], &p.first);
+    if (dj->path && path_pixel(dj, th, x, y, recs, px, same, &p.first) != 0)
+        return GG_ERROR_NOMEM;
     gg_dbg_put(r->image_a, x, y, px[0]);
     gg_dbg_put(r->image_b, x, y, px[1]);
     r->map[(size_t)y * r->width + x] = (unsigned char)(td ? 2 : vd ? 1 : 0);
@@ -90,6 +173,32 @@ static int diff_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, 
     if (p.delta > th->max_delta) th->max_delta = p.delta;
     keep_worst(th->worst, &th->n, dj->limit, &p);
     return 0;
+}
+
+static int by_row(const void *a, const void *b)
+{
+    const ggDiffMove *p = a, *q = b;
+    return p->y != q->y ? (p->y < q->y ? -1 : 1) : p->x < q->x ? -1 : p->x > q->x;
+}
+
+/* The workers' moved pixels into the result: the first moves_limit in
+   row order (each worker's are its first, in row order). */
+static int merge_moves(diff_job *dj, int threads)
+{
+    ggDiffResult *r = dj->res;
+    int i, k, total = 0;
+    for (i = 0; i < threads; i++) total += dj->t[i].nmoves, r->moved += dj->t[i].moved;
+    if (total == 0) return GG_OK;
+    if (!(r->moves = gg_mem_calloc(dj->alloc, (size_t)total, sizeof *r->moves)))
+        return GG_ERROR_NOMEM;
+    for (i = 0, k = 0; i < threads; i++) {
+        if (dj->t[i].nmoves == 0) continue;
+        memcpy(r->moves + k, dj->t[i].moves, (size_t)dj->t[i].nmoves * sizeof *r->moves);
+        k += dj->t[i].nmoves;
+    }
+    qsort(r->moves, (size_t)total, sizeof *r->moves, by_row);
+    r->nmoves = total < dj->moves_limit ? total : dj->moves_limit;
+    return GG_OK;
 }
 
 static void merge(diff_job *dj, int threads)
@@ -111,6 +220,7 @@ GG_API void ggDiffResultFree(ggDiffResult *r)
     if (!r) return;
     a = ((diff_res *)r)->al.a;
     gg_mem_free(a, r->worst);
+    gg_mem_free(a, r->moves);
     gg_mem_free(a, r->map);
     ggImageFree(r->image_a);
     ggImageFree(r->image_b);
@@ -156,36 +266,45 @@ static int diff_setup(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
     return GG_OK;
 }
 
-GG_API int ggDiff(ggScene *sa, const ggRenderOptions *oa, ggScene *sb, const ggRenderOptions *ob,
-                  int worst, ggDiffResult **out, ggError *err)
+static void diff_job_free(diff_job *dj, int threads)
+{
+    int i;
+    for (i = 0; dj->t && i < threads; i++) {
+        gg_mem_free(dj->alloc, dj->t[i].worst);
+        gg_mem_free(dj->alloc, dj->t[i].moves);
+        gg_mem_free(dj->alloc, dj->t[i].cls[0]);
+        gg_mem_free(dj->alloc, dj->t[i].cls[1]);
+    }
+    gg_mem_free(dj->alloc, dj->t);
+}
+
+/* ggDiff and ggDiffPath (dj->path set); dj->limit and moves_limit set. */
+static int diff_run(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
+                    const ggRenderOptions *ob, diff_job *dj, ggDiffResult **out, ggError *err)
 {
     gg_tracer *ta = NULL, *tb = NULL;
     gg_scan sc;
-    diff_job dj;
     ggDiffResult *r = NULL;
-    int rc, i;
-    if (out) *out = NULL;
-    if (!sa || !sb || !out || worst < 0)
-        return gg_error_set(err, GG_ERROR_INVALID, "ggDiff: NULL argument or negative count");
+    int rc;
     memset(&sc, 0, sizeof sc);
-    memset(&dj, 0, sizeof dj);
     if ((rc = diff_setup(sa, oa, sb, ob, &ta, &tb, err)) == GG_OK) {
         sc.tracer[0] = ta, sc.tracer[1] = tb, sc.ntracers = 2, sc.record = 1;
         gg_scan_init(&sc);
-        dj.limit = worst;
-        if ((rc = diff_alloc(sa, &sc, &dj, &r)) != GG_OK)
+        if ((rc = diff_alloc(sa, &sc, dj, &r)) != GG_OK)
             rc = gg_error_set(err, rc, "out of memory for the diff result");
     }
     if (rc == GG_OK) {
-        sc.fn = diff_pixel, sc.ud = &dj, sc.alloc = dj.alloc;
+        sc.fn = diff_pixel, sc.ud = dj, sc.alloc = dj->alloc;
         if ((rc = gg_scan_run(&sc, err)) == GG_OK) {
             r->stats_a = sc.stats[0], r->stats_b = sc.stats[1];
             r->scanned = (long)(r->x1 - r->x0) * (r->y1 - r->y0);
-            merge(&dj, sc.threads);
+            merge(dj, sc.threads);
+            r->by_path = dj->path != NULL;
+            if (dj->path && merge_moves(dj, sc.threads) != GG_OK)
+                rc = gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the diff result");
         }
     }
-    for (i = 0; dj.t && i < sc.threads; i++) gg_mem_free(dj.alloc, dj.t[i].worst);
-    gg_mem_free(dj.alloc, dj.t);
+    diff_job_free(dj, sc.threads);
     gg_tracer_free(ta);
     gg_tracer_free(tb);
     if (rc != GG_OK) {
@@ -194,4 +313,30 @@ GG_API int ggDiff(ggScene *sa, const ggRenderOptions *oa, ggScene *sb, const ggR
     }
     *out = r;
     return GG_OK;
+}
+
+GG_API int ggDiff(ggScene *sa, const ggRenderOptions *oa, ggScene *sb, const ggRenderOptions *ob,
+                  int worst, ggDiffResult **out, ggError *err)
+{
+    diff_job dj;
+    if (out) *out = NULL;
+    if (!sa || !sb || !out || worst < 0)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggDiff: NULL argument or negative count");
+    memset(&dj, 0, sizeof dj);
+    dj.limit = worst;
+    return diff_run(sa, oa, sb, ob, &dj, out, err);
+}
+
+GG_API int ggDiffPath(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
+                      const ggRenderOptions *ob, const ggPathExpr *expr, int worst, int limit,
+                      ggDiffResult **out, ggError *err)
+{
+    diff_job dj;
+    if (out) *out = NULL;
+    if (!sa || !sb || !expr || !out || worst < 0 || limit < 0)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "ggDiffPath: NULL argument or negative count");
+    memset(&dj, 0, sizeof dj);
+    dj.limit = worst, dj.path = expr, dj.moves_limit = limit;
+    return diff_run(sa, oa, sb, ob, &dj, out, err);
 }

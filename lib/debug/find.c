@@ -24,6 +24,7 @@ typedef struct find_thread {
     gg_dbg_buf buf;
     uint64_t *sets; /* path finds: the automaton's states per ray */
     size_t sets_cap;
+    gg_path_cache *cache; /* path finds: the automaton's steps */
 } find_thread;
 
 typedef struct find_job {
@@ -60,11 +61,12 @@ static int path_pixel(find_job *fj, find_thread *th, int x, int y, const ggTrace
     size_t n = ggTraceNodeCount(tr);
     if (gg_dbg_buf_weights(&th->buf, fj->alloc, tr) ||
         gg_mem_grow(fj->alloc, (void **)&th->sets, &th->sets_cap, (n ? n : 1) * GG_PATH_WORDS,
-                    sizeof *th->sets))
+                    sizeof *th->sets) ||
+        (!th->cache && !(th->cache = gg_mem_calloc(fj->alloc, 1, sizeof *th->cache))))
         return GG_ERROR_NOMEM;
     memset(&p, 0, sizeof p);
     p.trace = tr, p.x = x, p.y = y, p.px = px, p.w = th->buf.w;
-    gg_path_run(fj->path, &p, th->sets, &sum);
+    gg_path_run(fj->path, &p, th->sets, &sum, th->cache);
     th->last = sum.matched > 0, th->last_share = sum.share;
     return th->last ? matched(fj, th, x, y, px, sum.share) : 0;
 }
@@ -174,6 +176,7 @@ static void find_job_free(find_job *fj, int threads)
         gg_mem_free(fj->alloc, fj->t[i].m);
         gg_mem_free(fj->alloc, fj->t[i].buf.w);
         gg_mem_free(fj->alloc, fj->t[i].sets);
+        gg_mem_free(fj->alloc, fj->t[i].cache);
     }
     gg_mem_free(fj->alloc, fj->t);
 }

@@ -9,6 +9,7 @@
 */
 #include "debug_int.h"
 
+#include <math.h>
 #include <string.h>
 
 /* One event of a path. */
@@ -50,13 +51,22 @@ static int class_ok(const ggPathExpr *e, int c, const pev *ev, const gg_dbg_pixe
     return !cl->pred || gg_pred_eval_ray(cl->pred, px, ev->node, ev->L);
 }
 
+static int empty(const uint64_t *s)
+{
+    int w;
+    uint64_t any = 0;
+    for (w = 0; w < GG_PATH_WORDS; w++) any |= s[w];
+    return any == 0;
+}
+
 /* out = the states after event ev from the states in. */
-static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const gg_dbg_pixel *px,
-                 uint64_t *out)
+static void step_raw(const ggPathExpr *e, const uint64_t *in, const pev *ev,
+                     const gg_dbg_pixel *px, uint64_t *out)
 {
     signed char ok[GG_PATH_MAX_EVENTS];
     int k, w;
     memset(out, 0, sizeof(gg_path_set));
+    if (empty(in)) return; /* a dead path stays dead: most rays of a narrow expression */
     memset(ok, -1, (size_t)e->ncls);
     for (k = 0; k < e->nedges; k++) {
         const gg_path_edge *ed = &e->edges[k];
@@ -67,9 +77,71 @@ static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const g
     }
 }
 
+/* What a step without predicates reads of an event: the labels only if
+   the expression has labels of that kind. */
+static void signature(const gg_path_cache *c, const pev *ev, int *sig)
+{
+    sig[0] = ev->type, sig[1] = ev->scatter, sig[2] = ev->tir;
+    sig[3] = c->numbers && ev->at ? ev->at->object : -1;
+    sig[4] = c->materials && ev->at ? ev->at->material : -1;
+    sig[5] = c->numbers && ev->L ? ev->L->light : -1;
+}
+
+/* step_raw through the cache when there is one that applies. */
+static void step(const ggPathExpr *e, const uint64_t *in, const pev *ev, const gg_dbg_pixel *px,
+                 uint64_t *out)
+{
+    gg_path_cache *c = px->cache;
+    int sig[6], k;
+    uint64_t h;
+    gg_path_step *st;
+    if (!c || !c->usable) {
+        step_raw(e, in, ev, px, out);
+        return;
+    }
+    signature(c, ev, sig);
+    h = 1469598103934665603u;
+    for (k = 0; k < GG_PATH_WORDS; k++) h = (h ^ in[k]) * 1099511628211u;
+    for (k = 0; k < 6; k++) h = (h ^ (uint64_t)(unsigned)sig[k]) * 1099511628211u;
+    st = &c->slot[(h >> 20) % GG_PATH_CACHE];
+    if (st->valid && !memcmp(st->sig, sig, sizeof sig) && !memcmp(st->in, in, sizeof st->in)) {
+        memcpy(out, st->out, sizeof st->out);
+        return;
+    }
+    step_raw(e, in, ev, px, out);
+    memcpy(st->in, in, sizeof st->in), memcpy(st->out, out, sizeof st->out);
+    memcpy(st->sig, sig, sizeof sig), st->valid = 1;
+}
+
 static int accepts(const ggPathExpr *e, const uint64_t *s)
 {
     return e->accept >= 0 && (s[e->accept / 64] >> (e->accept % 64) & 1u);
+}
+
+/* Whether the last event ev of a path, from the states in, leads to the
+   accepting state: step and accepts without building the set, stopping
+   at the first edge that does (the term events B O L A end every path). */
+static int step_accepts(const ggPathExpr *e, const uint64_t *in, const pev *ev,
+                        const gg_dbg_pixel *px)
+{
+    signed char ok[GG_PATH_MAX_EVENTS];
+    int k;
+    if (e->accept < 0 || empty(in)) return 0;
+    if (px->cache && px->cache->usable) {
+        gg_path_set out;
+        step(e, in, ev, px, out);
+        return accepts(e, out);
+    }
+    memset(ok, -1, (size_t)e->ncls);
+    for (k = 0; k < e->nedges; k++) {
+        const gg_path_edge *ed = &e->edges[k];
+        if (ed->cls < 0 || !(in[ed->from / 64] >> (ed->from % 64) & 1u) ||
+            !accepts(e, e->closure[ed->to]))
+            continue;
+        if (ok[ed->cls] < 0) ok[ed->cls] = (signed char)class_ok(e, ed->cls, ev, px);
+        if (ok[ed->cls]) return 1;
+    }
+    return 0;
 }
 
 static void surface(pev *ev, int type, int scatter, const ggTraceNode *at, int node)
@@ -103,13 +175,11 @@ static int term_matches(const ggPathExpr *e, const gg_dbg_pixel *px, int i, int 
                         int *have)
 {
     const ggTraceNode *n = ggTraceGetNode(px->trace, (size_t)i);
-    gg_path_set out;
     pev ev;
     if (kind == GG_TERM_BACKGROUND || kind == GG_TERM_EMISSION) {
         surface(&ev, kind == GG_TERM_BACKGROUND ? PE_B : PE_O, PS_NONE,
                 kind == GG_TERM_EMISSION ? n : NULL, i);
-        step(e, s, &ev, px, out);
-        return accepts(e, out);
+        return step_accepts(e, s, &ev, px);
     }
     if (kind == GG_TERM_PHONG && !(*have & 2)) {
         surface(&ev, PE_R, PS_G, n, i);
@@ -120,8 +190,7 @@ static int term_matches(const ggPathExpr *e, const gg_dbg_pixel *px, int i, int 
     }
     surface(&ev, kind == GG_TERM_AMBIENT ? PE_A : PE_L, PS_NONE, NULL, i);
     ev.L = kind == GG_TERM_AMBIENT ? NULL : L;
-    step(e, kind == GG_TERM_PHONG ? g : d, &ev, px, out);
-    return accepts(e, out);
+    return step_accepts(e, kind == GG_TERM_PHONG ? g : d, &ev, px);
 }
 
 /* a * b per channel, a weight of exactly 0 keeping out even an infinite
@@ -179,11 +248,27 @@ static void node_paths(const ggPathExpr *e, const gg_dbg_pixel *px, int i, const
     }
 }
 
-void gg_path_run(const ggPathExpr *e, const gg_dbg_pixel *px, uint64_t *sets, ggPathSummary *sum)
+void gg_path_run(const ggPathExpr *e, const gg_dbg_pixel *pixel, uint64_t *sets,
+                 ggPathSummary *sum, gg_path_cache *cache)
 {
+    gg_dbg_pixel q = *pixel, *px = &q;
     size_t i, n = ggTraceNodeCount(px->trace);
     double pt = px->px.r + px->px.g + px->px.b, vt;
+    int c, k;
     memset(sum, 0, sizeof *sum);
+    if (cache && cache->e != e) { /* first use with e: forget other expressions' steps */
+        memset(cache->slot, 0, sizeof cache->slot);
+        cache->e = e, cache->usable = 1;
+        for (c = 0; c < e->ncls; c++)
+            if (e->cls[c].pred) cache->usable = 0;
+        cache->numbers = cache->materials = 0;
+        for (c = 0; c < e->npats; c++)
+            for (k = 0; k < e->pats[c].nlabels; k++) {
+                cache->numbers |= e->pats[c].label_kind[k] == PL_NUMBER;
+                cache->materials |= e->pats[c].label_kind[k] == PL_MATERIAL;
+            }
+    }
+    q.cache = cache;
     for (i = 0; i < n; i++) {
         node_states(e, px, (int)i, sets);
         node_paths(e, px, (int)i, sets + i * GG_PATH_WORDS, sum);
@@ -223,7 +308,7 @@ GG_API int ggPathMatch(const ggPathExpr *e, const ggTrace *tr, int x, int y, ggC
     gg_dbg_weights(tr, w);
     memset(&px, 0, sizeof px);
     px.trace = tr, px.x = x, px.y = y, px.px = pixel, px.w = w;
-    gg_path_run(e, &px, sets, sum);
+    gg_path_run(e, &px, sets, sum, NULL);
     for (i = 0; matched && i < ledger->count; i++) {
         const ggLedgerTerm *t = &ledger->terms[i];
         gg_path_set d, g;
@@ -235,6 +320,9 @@ GG_API int ggPathMatch(const ggPathExpr *e, const ggTrace *tr, int x, int y, ggC
     gg_mem_free(e->alloc, sets), gg_mem_free(e->alloc, w);
     return GG_OK;
 }
+
+/* The longest chain of rays ggPathPoints follows (the depth limit is 64). */
+#define GG_PATH_CHAIN 256
 
 /* ---- a path as text ---- */
 
@@ -294,4 +382,65 @@ GG_API size_t ggPathFormat(const ggTrace *tr, const ggLedgerTerm *t, char *buf, 
         break;
     }
     return s.len;
+}
+
+/* ---- a path as points ---- */
+
+static void point(ggPathPoint *pts, size_t max, size_t *k, ggVec3 p, ggColor w)
+{
+    if (*k < max) pts[*k].p = p, pts[*k].weight = w;
+    ++*k;
+}
+
+static double dist(ggVec3 a, ggVec3 b)
+{
+    double x = a.x - b.x, y = a.y - b.y, z = a.z - b.z;
+    return sqrt(x * x + y * y + z * z);
+}
+
+GG_API size_t ggPathPoints(const ggTrace *tr, const ggLedgerTerm *t, ggPathPoint *pts, size_t max)
+{
+    int chain[GG_PATH_CHAIN], depth = 0, i, roots;
+    const ggTraceNode *n, *last = NULL;
+    ggColor w;
+    ggVec3 prev;
+    double len = 0, r;
+    size_t k = 0;
+    if (!tr || !t || t->node < 0 || !(n = ggTraceGetNode(tr, (size_t)t->node))) return 0;
+    if (!pts) max = 0;
+    for (i = t->node; i >= 0 && depth < GG_PATH_CHAIN; depth++) {
+        chain[depth] = i;
+        n = ggTraceGetNode(tr, (size_t)i);
+        i = n->parent < i ? n->parent : -1;
+    }
+    roots = gg_dbg_roots(tr);
+    r = 1.0 / (roots > 0 ? roots : 1);
+    w.r = w.g = w.b = r;
+    for (i = depth - 1; i >= 0; i--) {
+        n = ggTraceGetNode(tr, (size_t)chain[i]);
+        if (!last) {
+            point(pts, max, &k, n->o, w), prev = n->o;
+        } else {
+            w.r *= last->absorption.r * n->weight.r, w.g *= last->absorption.g * n->weight.g;
+            w.b *= last->absorption.b * n->weight.b;
+        }
+        if (n->hit) point(pts, max, &k, n->p, w), len += dist(prev, n->p), prev = n->p;
+        last = n;
+    }
+    if (t->kind == GG_TERM_BACKGROUND) {
+        double s = len > 1 ? len : 1;
+        ggVec3 q;
+        q.x = last->o.x + s * last->d.x, q.y = last->o.y + s * last->d.y;
+        q.z = last->o.z + s * last->d.z;
+        point(pts, max, &k, q, w);
+    } else if (t->kind == GG_TERM_DIFFUSE || t->kind == GG_TERM_PHONG) {
+        const ggTraceLight *L = term_light(tr, t);
+        ggVec3 q;
+        if (L) {
+            q.x = L->origin.x + L->dir.x, q.y = L->origin.y + L->dir.y;
+            q.z = L->origin.z + L->dir.z;
+            point(pts, max, &k, q, w);
+        }
+    }
+    return k;
 }

@@ -434,6 +434,176 @@ static void test_find_path(void **state)
     ggSceneFree(s);
 }
 
+/* The matching paths' texts of one pixel, sorted (a class as a multiset). */
+static size_t classes(const ggPathExpr *e, const ggTrace *t, int x, int y, ggColor px,
+                      char (*out)[256], size_t max)
+{
+    ggLedger *l;
+    unsigned char m[4096];
+    ggPathSummary sum;
+    size_t i, n = 0;
+    if (ggLedgerCreate(t, px, NULL, &l, NULL) != GG_OK) return 0;
+    assert_true(l->count <= sizeof m);
+    assert_int_equal(ggPathMatch(e, t, x, y, px, l, m, &sum), GG_OK);
+    for (i = 0; i < l->count; i++)
+        if (m[i]) {
+            assert_true(n < max);
+            ggPathFormat(t, &l->terms[i], out[n++], 256);
+        }
+    qsort(out, n, sizeof *out, (int (*)(const void *, const void *))strcmp);
+    ggLedgerFree(l);
+    return n;
+}
+
+static int same_classes(char (*a)[256], char (*b)[256], size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (strcmp(a[i], b[i]) != 0) return 0;
+    return 1;
+}
+
+/* ggDiffPath: the moved pixels are those whose matching paths' texts
+   differ between the sides, in row order, with ggTraceCompare's first
+   divergence; a diff of a render with itself moves nothing. */
+static void test_diff_path(void **state)
+{
+    static const char *const exprs[] = {"C<RS>+.*", "C<RD>L", "C.*B"};
+    static char ca[64][256], cb[64][256];
+    ggScene *s = load("examples/scenes/acc-distant.nff");
+    ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);
+    ggRenderOptions oa, ob;
+    size_t k;
+    (void)state;
+    ggRenderOptionsDefault(&oa);
+    oa.width = 32, oa.height = 24, oa.threads = 2;
+    ob = oa;
+    assert_int_equal(ggRenderOptionsParse(&ob, "sphere=textbook", NULL), GG_OK);
+    for (k = 0; k < sizeof exprs / sizeof exprs[0]; k++) {
+        ggPathExpr *e = parse(exprs[k]);
+        ggDiffResult *r, *same;
+        long count = 0;
+        int x, y, m = 0;
+        assert_int_equal(ggDiffPath(s, &oa, s, &ob, e, 0, 1000, &r, NULL), GG_OK);
+        for (y = 0; y < oa.height; y++)
+            for (x = 0; x < oa.width; x++) {
+                ggColor pa, pb;
+                ggDivergence d;
+                size_t na, nb;
+                assert_int_equal(ggTracePixel(s, &oa, x, y, -1, ta, &pa, NULL, NULL), GG_OK);
+                assert_int_equal(ggTracePixel(s, &ob, x, y, -1, tb, &pb, NULL, NULL), GG_OK);
+                na = classes(e, ta, x, y, pa, ca, 64), nb = classes(e, tb, x, y, pb, cb, 64);
+                if (na == nb && same_classes(ca, cb, na)) continue;
+                count++;
+                assert_true(m < r->nmoves);
+                assert_int_equal(r->moves[m].x, x);
+                assert_int_equal(r->moves[m].y, y);
+                ggTraceCompare(ta, tb, &d);
+                assert_int_equal(r->moves[m].first.what, d.what);
+                assert_int_equal(r->moves[m].first.node_a, d.node_a);
+                m++;
+            }
+        assert_int_equal(r->moved, count);
+        assert_int_equal(r->nmoves, m);
+        assert_true(count > 0);
+        ggDiffResultFree(r);
+        assert_int_equal(ggDiffPath(s, &oa, s, &oa, e, 0, 10, &same, NULL), GG_OK);
+        assert_int_equal(same->by_path, 1);
+        assert_int_equal(same->moved, 0);
+        assert_int_equal(same->nmoves, 0);
+        ggDiffResultFree(same);
+        ggPathFree(e);
+    }
+    assert_int_equal(ggDiffPath(s, &oa, s, &ob, NULL, 0, 0, NULL, NULL), GG_ERROR_INVALID);
+    ggTraceFree(ta), ggTraceFree(tb);
+    ggSceneFree(s);
+}
+
+/* ggCheck with a path: only the pixels find --path finds are checked. */
+static void test_check_path(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggRenderOptions o;
+    ggCheckOptions co;
+    ggCheckResult *r;
+    ggFindResult *f;
+    ggPathExpr *tir = parse("C.*<RS'tir'>.*"), *all = parse("C.*"), *none = parse("C<TS>{9}.*");
+    (void)state;
+    ggRenderOptionsDefault(&o);
+    o.width = 24, o.height = 18, o.threads = 2;
+    ggCheckOptionsDefault(&co);
+    assert_null(co.path);
+    co.path = tir;
+    assert_int_equal(ggCheck(s, &o, &co, &r, NULL), GG_OK);
+    assert_int_equal(ggFindPath(s, &o, tir, 0, &f, NULL), GG_OK);
+    assert_int_equal(r->scanned, 432);
+    assert_int_equal(r->checked, f->matched);
+    assert_true(r->checked > 0 && r->share > 0 && r->share < 1);
+    ggFindResultFree(f);
+    ggCheckResultFree(r);
+    co.path = all;
+    assert_int_equal(ggCheck(s, &o, &co, &r, NULL), GG_OK);
+    assert_int_equal(r->checked, 432);
+    assert_true(fabs(r->share - 1) < 1e-6);
+    ggCheckResultFree(r);
+    co.path = none;
+    assert_int_equal(ggCheck(s, &o, &co, &r, NULL), GG_OK);
+    assert_int_equal(r->checked, 0);
+    assert_int_equal(r->failed, 0);
+    ggCheckResultFree(r);
+    ggPathFree(tir), ggPathFree(all), ggPathFree(none);
+    ggSceneFree(s);
+}
+
+/* ggPathPoints: the eye, every hit of the chain, then the light or a
+   point on the leaving ray; weights start at 1 / samples. */
+static void test_path_points(void **state)
+{
+    ggScene *s = load("examples/scenes/glass.nff");
+    ggTrace *t = ggTraceCreate(NULL);
+    ggRenderOptions o;
+    int x, y, seen_l = 0, seen_b = 0;
+    (void)state;
+    ggRenderOptionsDefault(&o);
+    o.width = 12, o.height = 9;
+    for (y = 0; y < o.height; y++)
+        for (x = 0; x < o.width; x++) {
+            ggColor px;
+            ggLedger *l;
+            size_t i;
+            assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+            assert_int_equal(ggLedgerCreate(t, px, NULL, &l, NULL), GG_OK);
+            for (i = 0; i < l->count; i++) {
+                const ggLedgerTerm *term = &l->terms[i];
+                ggPathPoint pts[80];
+                size_t n = ggPathPoints(t, term, pts, 80), hits = 0, k = 0;
+                int j = term->node, chain[80], depth = 0;
+                assert_true(n >= 2 && n <= 80);
+                assert_int_equal(ggPathPoints(t, term, NULL, 0), n);
+                while (j >= 0) chain[depth++] = j, j = ggTraceGetNode(t, (size_t)j)->parent;
+                assert_true(pts[0].p.x == ggTraceGetNode(t, (size_t)chain[depth - 1])->o.x);
+                assert_true(pts[0].weight.g == 1);
+                for (j = depth - 1; j >= 0; j--) {
+                    const ggTraceNode *nd = ggTraceGetNode(t, (size_t)chain[j]);
+                    if (!nd->hit) continue;
+                    hits++, k++;
+                    assert_true(pts[k].p.x == nd->p.x && pts[k].p.z == nd->p.z);
+                }
+                if (term->kind == GG_TERM_DIFFUSE || term->kind == GG_TERM_PHONG)
+                    seen_l++, assert_int_equal(n, hits + 2);
+                else if (term->kind == GG_TERM_BACKGROUND)
+                    seen_b++, assert_int_equal(n, hits + 2);
+                else
+                    assert_int_equal(n, hits + 1);
+            }
+            ggLedgerFree(l);
+        }
+    assert_true(seen_l > 0 && seen_b > 0);
+    assert_int_equal(ggPathPoints(NULL, NULL, NULL, 0), 0);
+    ggTraceFree(t);
+    ggSceneFree(s);
+}
+
 /* ---- allocation failures ---- */
 
 typedef struct budget {
@@ -491,6 +661,8 @@ int main(void)
         cmocka_unit_test(test_path_errors),    cmocka_unit_test(test_path_semantics),
         cmocka_unit_test(test_path_format),    cmocka_unit_test(test_path_partition),
         cmocka_unit_test(test_find_path),      cmocka_unit_test(test_path_nomem),
+        cmocka_unit_test(test_diff_path),      cmocka_unit_test(test_check_path),
+        cmocka_unit_test(test_path_points),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
