@@ -106,6 +106,21 @@ static void test_image(void **state)
     assert_int_equal(ggImageWritePNG(img, NULL, &e), GG_ERROR_INVALID);
     COVER(ggImageWriteEXR), assert_int_equal(ggImageWriteEXR(NULL, "x.exr", &e), GG_ERROR_INVALID);
     assert_int_equal(ggImageWriteEXR(img, NULL, &e), GG_ERROR_INVALID);
+    {
+        ggEXRHeader h;
+        memset(&h, 0x5a, sizeof h);
+        COVER(ggImageReadEXRHeader),
+            assert_int_equal(ggImageReadEXRHeader(NULL, &h, &e), GG_ERROR_INVALID);
+        assert_int_equal(ggImageReadEXRHeader("x.exr", NULL, &e), GG_ERROR_INVALID);
+        COVER(ggEXRHeaderFree), ggEXRHeaderFree(NULL);
+        memset(&h, 0, sizeof h);
+        ggEXRHeaderFree(&h); /* a zeroed header: a no-op */
+        COVER(ggEXRHeaderGet), assert_null(ggEXRHeaderGet(NULL, "ggrt.tile"));
+        assert_null(ggEXRHeaderGet(&h, "ggrt.tile"));
+        COVER(ggImageWriteEXRHeader),
+            assert_int_equal(ggImageWriteEXRHeader(NULL, NULL, "x.exr", &e), GG_ERROR_INVALID);
+        assert_int_equal(ggImageWriteEXRHeader(img, NULL, NULL, &e), GG_ERROR_INVALID);
+    }
     COVER(ggImageWrite), assert_int_equal(ggImageWrite(NULL, "x.png", &e), GG_ERROR_INVALID);
     assert_int_equal(ggImageWrite(img, NULL, NULL), GG_ERROR_INVALID);
     COVER(ggImageCompare);
@@ -405,6 +420,7 @@ static void test_path(void **state)
     ggTrace *t = ggTraceCreate(NULL);
     ggPathExpr *e = (ggPathExpr *)&e;
     ggFindResult *fr = (ggFindResult *)&fr;
+    ggDiffResult *dr = (ggDiffResult *)&dr;
     ggColor px = {0, 0, 0};
     ggPathSummary sum;
     unsigned char m[4];
@@ -421,6 +437,13 @@ static void test_path(void **state)
     assert_int_equal(ggPathMatch(e, t, 0, 0, px, NULL, NULL, NULL), GG_ERROR_INVALID);
     /* matched without a ledger */
     assert_int_equal(ggPathMatch(e, t, 0, 0, px, NULL, m, &sum), GG_ERROR_INVALID);
+    COVER(ggPathPoints), assert_int_equal(ggPathPoints(NULL, NULL, NULL, 0), 0);
+    COVER(ggDiffPath),
+        assert_int_equal(ggDiffPath(NULL, NULL, s, NULL, e, 1, 0, &dr, NULL), GG_ERROR_INVALID);
+    assert_null(dr);
+    assert_int_equal(ggDiffPath(s, NULL, s, NULL, NULL, 1, 0, &dr, NULL), GG_ERROR_INVALID);
+    assert_int_equal(ggDiffPath(s, NULL, s, NULL, e, 1, -1, &dr, NULL), GG_ERROR_INVALID);
+    assert_int_equal(ggDiffPath(s, NULL, s, NULL, e, 1, 0, NULL, NULL), GG_ERROR_INVALID);
     COVER(ggPathFormat), assert_int_equal(ggPathFormat(NULL, NULL, buf, sizeof buf), 0);
     assert_string_equal(buf, "");
     COVER(ggFindPath), assert_int_equal(ggFindPath(NULL, NULL, e, 0, &fr, NULL), GG_ERROR_INVALID);
