@@ -1,6 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 #include "testutil.h"
 
+#include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -75,4 +79,52 @@ const char *tu_spd_dir(void)
 {
     const char *d = getenv("GG_SPD_DIR");
     return d && *d ? d : "examples/scenes/spd";
+}
+
+static char tmpdir[64];
+
+int tu_tmpdir_make(const char *name)
+{
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/gg_test_%.20s_XXXXXX", name);
+    return mkdtemp(tmpdir) ? 0 : -1;
+}
+
+const char *tu_tmpdir(void)
+{
+    return tmpdir;
+}
+
+const char *tu_tmppath(const char *file)
+{
+    static char buf[4][512];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, file);
+    return buf[k];
+}
+
+/* Everything below dir (made writable first, so a test's read-only
+   folder goes too). */
+static void clear_dir(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    char p[512];
+    while (d && (e = readdir(d))) {
+        if (e->d_name[0] == '.' && (!e->d_name[1] || (e->d_name[1] == '.' && !e->d_name[2])))
+            continue;
+        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+        chmod(p, 0700);
+        clear_dir(p);
+        if (remove(p) != 0) rmdir(p);
+    }
+    if (d) closedir(d);
+}
+
+void tu_tmpdir_remove(void)
+{
+    if (!tmpdir[0]) return;
+    clear_dir(tmpdir);
+    rmdir(tmpdir);
+    tmpdir[0] = 0;
 }

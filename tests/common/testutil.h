@@ -43,6 +43,17 @@ void tu_assert_close(double a, double b, double tol, const char *sa, const char 
    frees it); *len gets its size. Fails the test if it cannot be read. */
 char *tu_slurp(const char *path, size_t *len);
 
+/* A suite's scratch folder: tu_tmpdir_make creates a fresh
+   /tmp/gg_test_NAME_XXXXXX (0 on success, -1 if it cannot: a cmocka group
+   setup's return value), tu_tmpdir names it, tu_tmppath(file) is a path
+   in it (four rotating buffers: at most four in use at once), and
+   tu_tmpdir_remove deletes it with everything below it, read-only
+   folders too (a group teardown). One folder per process. */
+int tu_tmpdir_make(const char *name);
+const char *tu_tmpdir(void);
+const char *tu_tmppath(const char *file);
+void tu_tmpdir_remove(void);
+
 /* Path of the SPD scenes (GG_SPD_DIR or the repository's examples/scenes/spd). */
 const char *tu_spd_dir(void);
 

@@ -8,44 +8,22 @@
 
 #include "image.h"
 
-#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
-static char tmpdir[64];
-
 static int setup_dir(void **state)
 {
     (void)state;
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/gg_test_exrh_XXXXXX");
-    return mkdtemp(tmpdir) ? 0 : -1;
+    return tu_tmpdir_make("exrh");
 }
 
 static int teardown_dir(void **state)
 {
-    DIR *d = opendir(tmpdir);
-    struct dirent *e;
-    char p[512];
     (void)state;
-    while (d && (e = readdir(d))) {
-        if (e->d_name[0] == '.') continue;
-        snprintf(p, sizeof p, "%s/%s", tmpdir, e->d_name);
-        remove(p);
-    }
-    if (d) closedir(d);
-    rmdir(tmpdir);
+    tu_tmpdir_remove();
     return 0;
-}
-
-static const char *tpath(const char *name)
-{
-    static char buf[4][512];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, name);
-    return buf[k];
 }
 
 /* A w x h image whose every float differs. */
@@ -64,7 +42,7 @@ static void test_round_trip_windows_attrs(void **state)
     ggEXRHeader h, r;
     ggImage *img = ramp(7, 3), *back = NULL;
     ggError err;
-    const char *p = tpath("tile.exr");
+    const char *p = tu_tmppath("tile.exr");
     (void)state;
     memset(&h, 0, sizeof h);
     h.display_width = 7, h.display_height = 11, h.data_x = 0, h.data_y = 5;
@@ -105,7 +83,7 @@ static void test_offset_windows(void **state)
     ggEXRHeader h, r;
     ggImage *img = ramp(4, 5), *back = NULL;
     ggError err;
-    const char *p = tpath("off.exr");
+    const char *p = tu_tmppath("off.exr");
     (void)state;
     memset(&h, 0, sizeof h);
     h.display_x = -2, h.display_y = 3, h.display_width = 10, h.display_height = 4;
@@ -136,10 +114,10 @@ static void test_null_header_same_file(void **state)
     size_t na = 0, nb = 0;
     char *a, *b;
     (void)state;
-    assert_int_equal(ggImageWriteEXR(img, tpath("a.exr"), &err), GG_OK);
-    assert_int_equal(ggImageWriteEXRHeader(img, NULL, tpath("b.exr"), &err), GG_OK);
-    a = tu_slurp(tpath("a.exr"), &na);
-    b = tu_slurp(tpath("b.exr"), &nb);
+    assert_int_equal(ggImageWriteEXR(img, tu_tmppath("a.exr"), &err), GG_OK);
+    assert_int_equal(ggImageWriteEXRHeader(img, NULL, tu_tmppath("b.exr"), &err), GG_OK);
+    a = tu_slurp(tu_tmppath("a.exr"), &na);
+    b = tu_slurp(tu_tmppath("b.exr"), &nb);
     assert_non_null(a);
     assert_non_null(b);
     assert_int_equal(na, nb);
@@ -161,7 +139,7 @@ static void test_refusals(void **state)
     ggEXRHeader h, r;
     ggImage *img = ramp(2, 2);
     ggError err;
-    const char *p = tpath("refused.exr");
+    const char *p = tu_tmppath("refused.exr");
     (void)state;
     for (k = 0; k < 5; k++) {
         memset(&h, 0, sizeof h);
@@ -177,9 +155,9 @@ static void test_refusals(void **state)
     assert_int_equal(ggImageWriteEXRHeader(NULL, NULL, p, &err), GG_ERROR_INVALID);
     assert_int_equal(access(p, F_OK), -1);
     /* Reading: missing file, not EXR, NULL arguments. */
-    assert_int_equal(ggImageReadEXRHeader(tpath("none.exr"), &r, &err), GG_ERROR_IO);
-    assert_int_equal(ggImageWritePNG(img, tpath("x.png"), &err), GG_OK);
-    assert_int_equal(ggImageReadEXRHeader(tpath("x.png"), &r, &err), GG_ERROR_UNSUPPORTED);
+    assert_int_equal(ggImageReadEXRHeader(tu_tmppath("none.exr"), &r, &err), GG_ERROR_IO);
+    assert_int_equal(ggImageWritePNG(img, tu_tmppath("x.png"), &err), GG_OK);
+    assert_int_equal(ggImageReadEXRHeader(tu_tmppath("x.png"), &r, &err), GG_ERROR_UNSUPPORTED);
     assert_int_equal(ggImageReadEXRHeader(NULL, &r, &err), GG_ERROR_INVALID);
     assert_int_equal(ggImageReadEXRHeader(p, NULL, &err), GG_ERROR_INVALID);
     ggImageFree(img);
@@ -199,23 +177,23 @@ static void test_truncated(void **state)
     (void)state;
     memset(&h, 0, sizeof h);
     h.display_width = 64, h.display_height = 64, h.attr_count = 1, h.attrs = attrs;
-    assert_int_equal(ggImageWriteEXRHeader(img, &h, tpath("full.exr"), &err), GG_OK);
-    data = tu_slurp(tpath("full.exr"), &n);
+    assert_int_equal(ggImageWriteEXRHeader(img, &h, tu_tmppath("full.exr"), &err), GG_OK);
+    data = tu_slurp(tu_tmppath("full.exr"), &n);
     assert_non_null(data);
     assert_true(n > 2000);
-    f = fopen(tpath("cut.exr"), "wb");
+    f = fopen(tu_tmppath("cut.exr"), "wb");
     assert_non_null(f);
     assert_int_equal(fwrite(data, 1, n - 1000, f), n - 1000);
     fclose(f);
-    assert_int_equal(ggImageReadEXRHeader(tpath("cut.exr"), &r, &err), GG_OK);
+    assert_int_equal(ggImageReadEXRHeader(tu_tmppath("cut.exr"), &r, &err), GG_OK);
     assert_string_equal(ggEXRHeaderGet(&r, "k"), "value");
     ggEXRHeaderFree(&r);
-    assert_int_equal(ggImageRead(tpath("cut.exr"), NULL, &back, &err), GG_ERROR_PARSE);
-    f = fopen(tpath("head.exr"), "wb");
+    assert_int_equal(ggImageRead(tu_tmppath("cut.exr"), NULL, &back, &err), GG_ERROR_PARSE);
+    f = fopen(tu_tmppath("head.exr"), "wb");
     assert_non_null(f);
     assert_int_equal(fwrite(data, 1, 40, f), 40);
     fclose(f);
-    assert_int_equal(ggImageReadEXRHeader(tpath("head.exr"), &r, &err), GG_ERROR_PARSE);
+    assert_int_equal(ggImageReadEXRHeader(tu_tmppath("head.exr"), &r, &err), GG_ERROR_PARSE);
     assert_int_equal(r.attr_count, 0);
     free(data);
     ggImageFree(img);

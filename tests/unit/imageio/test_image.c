@@ -21,46 +21,17 @@
 
 /* ---- helpers ------------------------------------------------------------ */
 
-static char tmpdir[64];
-
 static int setup_dir(void **state)
 {
     (void)state;
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/gg_test_image_XXXXXX");
-    return mkdtemp(tmpdir) ? 0 : -1;
-}
-
-static void clear_dir(const char *dir)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    char p[512];
-    while (d && (e = readdir(d))) {
-        if (e->d_name[0] == '.' && (!e->d_name[1] || (e->d_name[1] == '.' && !e->d_name[2])))
-            continue;
-        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
-        chmod(p, 0700);
-        clear_dir(p);
-        if (remove(p) != 0) rmdir(p);
-    }
-    if (d) closedir(d);
+    return tu_tmpdir_make("image");
 }
 
 static int teardown_dir(void **state)
 {
     (void)state;
-    clear_dir(tmpdir);
-    rmdir(tmpdir);
+    tu_tmpdir_remove();
     return 0;
-}
-
-static const char *tpath(const char *name)
-{
-    static char buf[4][512];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, name);
-    return buf[k];
 }
 
 static int count_entries(const char *dir)
@@ -233,8 +204,8 @@ static void test_png_round_trip_exact(void **state)
             ggImagePixels(img)[3 * k + c] = (float)ggSRGBToLinear(((k + 85 * c) % 256) / 255.0);
             ggImagePixels(img)[3 * (256 + k) + c] = (float)ggSRGBToLinear((255 - k) / 255.0);
         }
-    assert_int_equal(ggImageWritePNG(img, tpath("levels.png"), &e), GG_OK);
-    b = png_bytes(tpath("levels.png"), &w, &h);
+    assert_int_equal(ggImageWritePNG(img, tu_tmppath("levels.png"), &e), GG_OK);
+    b = png_bytes(tu_tmppath("levels.png"), &w, &h);
     assert_non_null(b);
     assert_int_equal(w, 256);
     assert_int_equal(h, 2);
@@ -244,13 +215,13 @@ static void test_png_round_trip_exact(void **state)
             assert_int_equal(b[3 * (256 + k) + c], 255 - k);
         }
     free(b);
-    assert_int_equal(ggImageRead(tpath("levels.png"), NULL, &back, &e), GG_OK);
+    assert_int_equal(ggImageRead(tu_tmppath("levels.png"), NULL, &back, &e), GG_OK);
     assert_int_equal(ggImageWidth(back), 256);
     assert_int_equal(ggImageHeight(back), 2);
     assert_memory_equal(ggImagePixels(back), ggImagePixels(img), 256 * 2 * 3 * sizeof(float));
     /* Writing what was read reproduces the file byte for byte. */
-    assert_int_equal(ggImageWrite(back, tpath("levels2.PNG"), &e), GG_OK);
-    assert_int_equal(ggImageRead(tpath("levels2.PNG"), NULL, &again, &e), GG_OK);
+    assert_int_equal(ggImageWrite(back, tu_tmppath("levels2.PNG"), &e), GG_OK);
+    assert_int_equal(ggImageRead(tu_tmppath("levels2.PNG"), NULL, &again, &e), GG_OK);
     assert_memory_equal(ggImagePixels(again), ggImagePixels(img), 256 * 2 * 3 * sizeof(float));
     ggImageFree(img);
     ggImageFree(back);
@@ -270,8 +241,8 @@ static void test_png_encode_rounding(void **state)
     p[0] = NAN, p[1] = -1.0f, p[2] = 7.0f;
     p[3] = INFINITY, p[4] = -INFINITY, p[5] = -0.0f;
     p[6] = 1.0f, p[7] = 0.0f, p[8] = (float)ggSRGBToLinear(0.5 / 255.0);
-    assert_int_equal(ggImageWritePNG(img, tpath("round.png"), NULL), GG_OK);
-    b = png_bytes(tpath("round.png"), &w, &h);
+    assert_int_equal(ggImageWritePNG(img, tu_tmppath("round.png"), NULL), GG_OK);
+    b = png_bytes(tu_tmppath("round.png"), &w, &h);
     assert_non_null(b);
     assert_int_equal(b[0], 0);
     assert_int_equal(b[1], 0);
@@ -316,8 +287,8 @@ static void test_png_formats(void **state)
     ggColor c;
     int i;
     (void)state;
-    write_png_raw(tpath("grey.png"), 3, 2, PNG_FORMAT_GRAY, grey);
-    assert_int_equal(ggImageRead(tpath("grey.png"), NULL, &img, NULL), GG_OK);
+    write_png_raw(tu_tmppath("grey.png"), 3, 2, PNG_FORMAT_GRAY, grey);
+    assert_int_equal(ggImageRead(tu_tmppath("grey.png"), NULL, &img, NULL), GG_OK);
     assert_int_equal(ggImageWidth(img), 3);
     for (i = 0; i < 6; i++) {
         c = ggImageGet(img, i % 3, i / 3);
@@ -327,24 +298,24 @@ static void test_png_formats(void **state)
     ggImageFree(img);
     img = NULL;
     /* Grey + alpha: opaque keeps its value, transparent goes black. */
-    write_png_raw(tpath("ga.png"), 2, 1, PNG_FORMAT_GA, ga);
-    assert_int_equal(ggImageRead(tpath("ga.png"), NULL, &img, NULL), GG_OK);
+    write_png_raw(tu_tmppath("ga.png"), 2, 1, PNG_FORMAT_GA, ga);
+    assert_int_equal(ggImageRead(tu_tmppath("ga.png"), NULL, &img, NULL), GG_OK);
     c = ggImageGet(img, 0, 0);
     assert_close(c.g, ggSRGBToLinear(200 / 255.0), 1e-6);
     c = ggImageGet(img, 1, 0);
     assert_true(c.r == 0.0 && c.g == 0.0 && c.b == 0.0);
     ggImageFree(img);
     img = NULL;
-    write_png_raw(tpath("rgba.png"), 2, 1, PNG_FORMAT_RGBA, rgba);
-    assert_int_equal(ggImageRead(tpath("rgba.png"), NULL, &img, NULL), GG_OK);
+    write_png_raw(tu_tmppath("rgba.png"), 2, 1, PNG_FORMAT_RGBA, rgba);
+    assert_int_equal(ggImageRead(tu_tmppath("rgba.png"), NULL, &img, NULL), GG_OK);
     c = ggImageGet(img, 1, 0);
     assert_close(c.r, ggSRGBToLinear(40 / 255.0), 1e-6);
     assert_close(c.b, ggSRGBToLinear(60 / 255.0), 1e-6);
     ggImageFree(img);
     img = NULL;
     /* 16-bit linear RGB written by libpng reads back as value / 65535. */
-    write_png_raw(tpath("lin16.png"), 2, 1, PNG_FORMAT_LINEAR_RGB, lin);
-    assert_int_equal(ggImageRead(tpath("lin16.png"), NULL, &img, NULL), GG_OK);
+    write_png_raw(tu_tmppath("lin16.png"), 2, 1, PNG_FORMAT_LINEAR_RGB, lin);
+    assert_int_equal(ggImageRead(tu_tmppath("lin16.png"), NULL, &img, NULL), GG_OK);
     for (i = 0; i < 6; i++) assert_close(ggImagePixels(img)[i], lin[i] / 65535.0, 2e-5);
     ggImageFree(img);
 }
@@ -357,19 +328,19 @@ static void test_read_errors(void **state)
     ggError e;
     char msg[600];
     (void)state;
-    assert_int_equal(ggImageRead(tpath("missing.png"), NULL, &img, &e), GG_ERROR_IO);
+    assert_int_equal(ggImageRead(tu_tmppath("missing.png"), NULL, &img, &e), GG_ERROR_IO);
     assert_int_equal(e.code, GG_ERROR_IO);
-    snprintf(msg, sizeof msg, "%s: cannot open: No such file or directory", tpath("missing.png"));
+    snprintf(msg, sizeof msg, "%s: cannot open: No such file or directory", tu_tmppath("missing.png"));
     assert_string_equal(e.message, msg);
-    spit(tpath("junk.png"), "hello, world", 12);
-    assert_int_equal(ggImageRead(tpath("junk.png"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
-    snprintf(msg, sizeof msg, "%s: not a PNG or OpenEXR file", tpath("junk.png"));
+    spit(tu_tmppath("junk.png"), "hello, world", 12);
+    assert_int_equal(ggImageRead(tu_tmppath("junk.png"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
+    snprintf(msg, sizeof msg, "%s: not a PNG or OpenEXR file", tu_tmppath("junk.png"));
     assert_string_equal(e.message, msg);
-    spit(tpath("empty.exr"), "", 0);
-    assert_int_equal(ggImageRead(tpath("empty.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
-    assert_int_equal(ggImageRead(tmpdir, NULL, &img, &e), GG_ERROR_IO); /* a directory */
+    spit(tu_tmppath("empty.exr"), "", 0);
+    assert_int_equal(ggImageRead(tu_tmppath("empty.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
+    assert_int_equal(ggImageRead(tu_tmpdir(), NULL, &img, &e), GG_ERROR_IO); /* a directory */
     assert_int_equal(ggImageRead(NULL, NULL, &img, &e), GG_ERROR_INVALID);
-    assert_int_equal(ggImageRead(tpath("junk.png"), NULL, NULL, NULL), GG_ERROR_INVALID);
+    assert_int_equal(ggImageRead(tu_tmppath("junk.png"), NULL, NULL, NULL), GG_ERROR_INVALID);
     assert_null(img);
 }
 
@@ -422,14 +393,14 @@ static void test_png_limits(void **state)
     ggImage *img = NULL;
     ggError e;
     (void)state;
-    write_png_header_only(tpath("wide.png"), GG_IMAGE_MAX_DIM + 1, 1);
-    assert_int_equal(ggImageRead(tpath("wide.png"), NULL, &img, &e), GG_ERROR_LIMIT);
+    write_png_header_only(tu_tmppath("wide.png"), GG_IMAGE_MAX_DIM + 1, 1);
+    assert_int_equal(ggImageRead(tu_tmppath("wide.png"), NULL, &img, &e), GG_ERROR_LIMIT);
     assert_non_null(strstr(e.message, "wide.png: image of 65537 x 1 pixels exceeds"));
-    write_png_header_only(tpath("big.png"), 30000, 30000); /* 9e8 > 2^28 pixels */
-    assert_int_equal(ggImageRead(tpath("big.png"), NULL, &img, &e), GG_ERROR_LIMIT);
+    write_png_header_only(tu_tmppath("big.png"), 30000, 30000); /* 9e8 > 2^28 pixels */
+    assert_int_equal(ggImageRead(tu_tmppath("big.png"), NULL, &img, &e), GG_ERROR_LIMIT);
     /* Within the limits the header alone is just truncated. */
-    write_png_header_only(tpath("small.png"), 4, 4);
-    assert_int_equal(ggImageRead(tpath("small.png"), NULL, &img, &e), GG_ERROR_PARSE);
+    write_png_header_only(tu_tmppath("small.png"), 4, 4);
+    assert_int_equal(ggImageRead(tu_tmppath("small.png"), NULL, &img, &e), GG_ERROR_PARSE);
     assert_null(img);
 }
 
@@ -449,12 +420,12 @@ static void torture_file(const char *good, const char *name, size_t tail)
         ggImage *img = NULL;
         ggError e;
         int rc;
-        spit(tpath(name), b, len);
-        rc = ggImageRead(tpath(name), NULL, &img, &e);
+        spit(tu_tmppath(name), b, len);
+        rc = ggImageRead(tu_tmppath(name), NULL, &img, &e);
         assert_int_not_equal(rc, GG_OK);
         assert_null(img);
         assert_int_equal(e.code, rc);
-        assert_true(strncmp(e.message, tpath(name), strlen(tpath(name))) == 0);
+        assert_true(strncmp(e.message, tu_tmppath(name), strlen(tu_tmppath(name))) == 0);
         errors++;
     }
     for (i = 0; i < 300; i++) {
@@ -462,8 +433,8 @@ static void torture_file(const char *good, const char *name, size_t tail)
         int k, rc;
         memcpy(m, b, n);
         for (k = 0; k < 1 + (int)(i % 4); k++) m[tu_next(&r) % n] = (unsigned char)tu_next(&r);
-        spit(tpath(name), m, n);
-        rc = ggImageRead(tpath(name), NULL, &img, NULL);
+        spit(tu_tmppath(name), m, n);
+        rc = ggImageRead(tu_tmppath(name), NULL, &img, NULL);
         assert_true(rc == GG_OK ? img != NULL : img == NULL);
         ggImageFree(img);
     }
@@ -477,10 +448,10 @@ static void test_truncated_and_corrupt(void **state)
     tu_rng r = {3};
     ggImage *img = random_image(23, 19, &r, -0.1, 1.5);
     (void)state;
-    assert_int_equal(ggImageWritePNG(img, tpath("good.png"), NULL), GG_OK);
-    assert_int_equal(ggImageWriteEXR(img, tpath("good.exr"), NULL), GG_OK);
-    torture_file(tpath("good.png"), "bad.png", 12);
-    torture_file(tpath("good.exr"), "bad.exr", 0);
+    assert_int_equal(ggImageWritePNG(img, tu_tmppath("good.png"), NULL), GG_OK);
+    assert_int_equal(ggImageWriteEXR(img, tu_tmppath("good.exr"), NULL), GG_OK);
+    torture_file(tu_tmppath("good.png"), "bad.png", 12);
+    torture_file(tu_tmppath("good.exr"), "bad.exr", 0);
     ggImageFree(img);
 }
 
@@ -494,19 +465,19 @@ static void test_write_unwritable(void **state)
     ggError e;
     (void)state;
     /* Missing directory. */
-    snprintf(path, sizeof path, "%s/no/such/dir/out.png", tmpdir);
+    snprintf(path, sizeof path, "%s/no/such/dir/out.png", tu_tmpdir());
     assert_int_equal(ggImageWritePNG(img, path, &e), GG_ERROR_IO);
     snprintf(msg, sizeof msg, "%s: cannot create temporary file: No such file or directory", path);
     assert_string_equal(e.message, msg);
     /* A "directory" that is a regular file. */
-    spit(tpath("plain"), "x", 1);
-    snprintf(path, sizeof path, "%s/plain/out.exr", tmpdir);
+    spit(tu_tmppath("plain"), "x", 1);
+    snprintf(path, sizeof path, "%s/plain/out.exr", tu_tmpdir());
     assert_int_equal(ggImageWriteEXR(img, path, &e), GG_ERROR_IO);
     snprintf(msg, sizeof msg, "%s: cannot create temporary file: Not a directory", path);
     assert_string_equal(e.message, msg);
     /* A read-only directory: root ignores permissions, so only check it
        when they apply. */
-    snprintf(dir, sizeof dir, "%s/ro", tmpdir);
+    snprintf(dir, sizeof dir, "%s/ro", tu_tmpdir());
     assert_int_equal(mkdir(dir, 0555), 0);
     if (geteuid() != 0) {
         snprintf(path, sizeof path, "%s/out.exr", dir);
@@ -518,9 +489,9 @@ static void test_write_unwritable(void **state)
     }
     assert_int_equal(count_entries(dir), 0);
     /* Unknown extension: nothing written. */
-    assert_int_equal(ggImageWrite(img, tpath("out.tga"), &e), GG_ERROR_UNSUPPORTED);
-    assert_int_equal(access(tpath("out.tga"), F_OK), -1);
-    assert_int_equal(ggImageWrite(NULL, tpath("x.png"), &e), GG_ERROR_INVALID);
+    assert_int_equal(ggImageWrite(img, tu_tmppath("out.tga"), &e), GG_ERROR_UNSUPPORTED);
+    assert_int_equal(access(tu_tmppath("out.tga"), F_OK), -1);
+    assert_int_equal(ggImageWrite(NULL, tu_tmppath("x.png"), &e), GG_ERROR_INVALID);
     ggImageFree(img);
 }
 
@@ -538,28 +509,28 @@ static void failed_overwrite(int (*writer)(const ggImage *, const char *, ggErro
     size_t nb, na;
     ggError e;
     int rc, entries;
-    assert_int_equal(writer(small, tpath(name), &e), GG_OK);
-    entries = count_entries(tmpdir);
-    before = slurp(tpath(name), &nb);
+    assert_int_equal(writer(small, tu_tmppath(name), &e), GG_OK);
+    entries = count_entries(tu_tmpdir());
+    before = slurp(tu_tmppath(name), &nb);
     assert_non_null(before);
     assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
     lim = old;
     lim.rlim_cur = 20000;
     oldsig = signal(SIGXFSZ, SIG_IGN);
     assert_int_equal(setrlimit(RLIMIT_FSIZE, &lim), 0);
-    rc = writer(big, tpath(name), &e);
+    rc = writer(big, tu_tmppath(name), &e);
     assert_int_equal(setrlimit(RLIMIT_FSIZE, &old), 0);
     signal(SIGXFSZ, oldsig);
     assert_int_equal(rc, GG_ERROR_IO);
     assert_int_equal(e.code, GG_ERROR_IO);
-    assert_true(strncmp(e.message, tpath(name), strlen(tpath(name))) == 0);
-    after = slurp(tpath(name), &na);
+    assert_true(strncmp(e.message, tu_tmppath(name), strlen(tu_tmppath(name))) == 0);
+    after = slurp(tu_tmppath(name), &na);
     assert_int_equal(na, nb);
     assert_memory_equal(after, before, nb);
-    assert_int_equal(count_entries(tmpdir), entries); /* no temporary left */
+    assert_int_equal(count_entries(tu_tmpdir()), entries); /* no temporary left */
     /* And without the limit the same write succeeds. */
-    assert_int_equal(writer(big, tpath(name), &e), GG_OK);
-    assert_int_equal(count_entries(tmpdir), entries);
+    assert_int_equal(writer(big, tu_tmppath(name), &e), GG_OK);
+    assert_int_equal(count_entries(tu_tmpdir()), entries);
     free(before);
     free(after);
     ggImageFree(small);
@@ -584,15 +555,15 @@ static void test_write_mode_and_dispatch(void **state)
     size_t n = 0;
     (void)state;
     umask(mask);
-    assert_int_equal(ggImageWrite(img, tpath("d.Exr"), NULL), GG_OK);
-    b = slurp(tpath("d.Exr"), &n);
+    assert_int_equal(ggImageWrite(img, tu_tmppath("d.Exr"), NULL), GG_OK);
+    b = slurp(tu_tmppath("d.Exr"), &n);
     assert_true(n > 4 && b[0] == 0x76 && b[1] == 0x2f && b[2] == 0x31 && b[3] == 0x01);
     free(b);
-    assert_int_equal(ggImageWrite(img, tpath("d.PnG"), NULL), GG_OK);
-    b = slurp(tpath("d.PnG"), &n);
+    assert_int_equal(ggImageWrite(img, tu_tmppath("d.PnG"), NULL), GG_OK);
+    b = slurp(tu_tmppath("d.PnG"), &n);
     assert_true(n > 8 && memcmp(b, "\x89PNG", 4) == 0);
     free(b);
-    assert_int_equal(stat(tpath("d.PnG"), &st), 0);
+    assert_int_equal(stat(tu_tmppath("d.PnG"), &st), 0);
     assert_int_equal(st.st_mode & 0777, 0666 & ~mask);
     ggImageFree(img);
 }

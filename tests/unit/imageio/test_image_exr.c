@@ -10,7 +10,6 @@
 #include "image.h"
 
 #include <OpenEXR/openexr.h>
-#include <dirent.h>
 #include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
@@ -18,38 +17,17 @@
 #include <string.h>
 #include <unistd.h>
 
-static char tmpdir[64];
-
 static int setup_dir(void **state)
 {
     (void)state;
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/gg_test_exr_XXXXXX");
-    return mkdtemp(tmpdir) ? 0 : -1;
+    return tu_tmpdir_make("exr");
 }
 
 static int teardown_dir(void **state)
 {
-    DIR *d = opendir(tmpdir);
-    struct dirent *e;
-    char p[512];
     (void)state;
-    while (d && (e = readdir(d))) {
-        if (e->d_name[0] == '.') continue;
-        snprintf(p, sizeof p, "%s/%s", tmpdir, e->d_name);
-        remove(p);
-    }
-    if (d) closedir(d);
-    rmdir(tmpdir);
+    tu_tmpdir_remove();
     return 0;
-}
-
-static const char *tpath(const char *name)
-{
-    static char buf[4][512];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, name);
-    return buf[k];
 }
 
 /* ---- fixture writer ------------------------------------------------------ */
@@ -287,8 +265,8 @@ static void test_exr_round_trip_bit_exact(void **state)
             }
         }
         if (n > 3) p[0] = INFINITY, p[1] = -INFINITY, p[2] = -0.0f;
-        assert_int_equal(ggImageWriteEXR(img, tpath("rt.exr"), &e), GG_OK);
-        assert_int_equal(ggImageRead(tpath("rt.exr"), NULL, &back, &e), GG_OK);
+        assert_int_equal(ggImageWriteEXR(img, tu_tmppath("rt.exr"), &e), GG_OK);
+        assert_int_equal(ggImageRead(tu_tmppath("rt.exr"), NULL, &back, &e), GG_OK);
         assert_int_equal(ggImageWidth(back), w);
         assert_int_equal(ggImageHeight(back), h);
         assert_memory_equal(ggImagePixels(back), p, n * sizeof(float));
@@ -310,8 +288,8 @@ static void test_exr_written_header(void **state)
     int i;
     (void)state;
     init.error_handler_fn = quiet;
-    assert_int_equal(ggImageWrite(img, tpath("hdr.exr"), NULL), GG_OK);
-    assert_int_equal(exr_start_read(&ctx, tpath("hdr.exr"), &init), 0);
+    assert_int_equal(ggImageWrite(img, tu_tmppath("hdr.exr"), NULL), GG_OK);
+    assert_int_equal(exr_start_read(&ctx, tu_tmppath("hdr.exr"), &init), 0);
     assert_int_equal(exr_get_storage(ctx, 0, &st), 0);
     assert_int_equal(st, EXR_STORAGE_SCANLINE);
     assert_int_equal(exr_get_compression(ctx, 0, &comp), 0);
@@ -339,8 +317,8 @@ static void test_exr_half_every_compression(void **state)
         fixture f = {EXR_STORAGE_SCANLINE, comps[i], EXR_PIXEL_HALF, "RGB", 0, 0, 21, 35, 0, 0};
         int lossy = comps[i] >= EXR_COMPRESSION_B44;
         double err, mean;
-        write_fixture(tpath("half.exr"), &f, 0);
-        err = check_fixture_mean(tpath("half.exr"), &f, &mean);
+        write_fixture(tu_tmppath("half.exr"), &f, 0);
+        err = check_fixture_mean(tu_tmppath("half.exr"), &f, &mean);
         /* Lossless codecs must be exact. B44 is lossy by design and this
            noise (values 0..5.5) is its worst case (measured: max 1.75, mean
            0.32); a misplaced or garbled decode would be far off. (The 3.1
@@ -361,12 +339,12 @@ static void test_exr_float_uint_and_windows(void **state)
     fixture f3 = {
         EXR_STORAGE_SCANLINE, EXR_COMPRESSION_RLE, EXR_PIXEL_FLOAT, "ABGRZ", 0, 0, 4, 3, 0, 0};
     (void)state;
-    write_fixture(tpath("f1.exr"), &f1, 0);
-    assert_true(check_fixture(tpath("f1.exr"), &f1) == 0.0);
-    write_fixture(tpath("f2.exr"), &f2, 0);
-    assert_true(check_fixture(tpath("f2.exr"), &f2) == 0.0);
-    write_fixture(tpath("f3.exr"), &f3, 0);
-    assert_true(check_fixture(tpath("f3.exr"), &f3) == 0.0);
+    write_fixture(tu_tmppath("f1.exr"), &f1, 0);
+    assert_true(check_fixture(tu_tmppath("f1.exr"), &f1) == 0.0);
+    write_fixture(tu_tmppath("f2.exr"), &f2, 0);
+    assert_true(check_fixture(tu_tmppath("f2.exr"), &f2) == 0.0);
+    write_fixture(tu_tmppath("f3.exr"), &f3, 0);
+    assert_true(check_fixture(tu_tmppath("f3.exr"), &f3) == 0.0);
 }
 
 static void test_exr_tiled(void **state)
@@ -385,16 +363,16 @@ static void test_exr_tiled(void **state)
     fixture f5 = {EXR_STORAGE_TILED, EXR_COMPRESSION_ZIP, EXR_PIXEL_HALF, "BGN", 1, -1, 5, 4, 2,
                   EXR_TILE_ONE_LEVEL};
     (void)state;
-    write_fixture(tpath("t1.exr"), &f1, 0);
-    assert_true(check_fixture(tpath("t1.exr"), &f1) == 0.0);
-    write_fixture(tpath("t2.exr"), &f2, 0);
-    assert_true(check_fixture(tpath("t2.exr"), &f2) == 0.0);
-    write_fixture(tpath("t3.exr"), &f3, 0); /* levels 1.. hold +100: must not leak in */
-    assert_true(check_fixture(tpath("t3.exr"), &f3) == 0.0);
-    write_fixture(tpath("t4.exr"), &f4, 0);
-    assert_true(check_fixture(tpath("t4.exr"), &f4) == 0.0);
-    write_fixture(tpath("t5.exr"), &f5, 0);
-    assert_true(check_fixture(tpath("t5.exr"), &f5) == 0.0);
+    write_fixture(tu_tmppath("t1.exr"), &f1, 0);
+    assert_true(check_fixture(tu_tmppath("t1.exr"), &f1) == 0.0);
+    write_fixture(tu_tmppath("t2.exr"), &f2, 0);
+    assert_true(check_fixture(tu_tmppath("t2.exr"), &f2) == 0.0);
+    write_fixture(tu_tmppath("t3.exr"), &f3, 0); /* levels 1.. hold +100: must not leak in */
+    assert_true(check_fixture(tu_tmppath("t3.exr"), &f3) == 0.0);
+    write_fixture(tu_tmppath("t4.exr"), &f4, 0);
+    assert_true(check_fixture(tu_tmppath("t4.exr"), &f4) == 0.0);
+    write_fixture(tu_tmppath("t5.exr"), &f5, 0);
+    assert_true(check_fixture(tu_tmppath("t5.exr"), &f5) == 0.0);
 }
 
 /* Files from tests/data/make_exr_fixtures.cpp (OpenEXR's C++ library). */
@@ -453,22 +431,22 @@ static void test_exr_channels(void **state)
     char msg[600];
     int x;
     (void)state;
-    write_fixture(tpath("y.exr"), &y, 0);
-    assert_true(check_fixture(tpath("y.exr"), &y) == 0.0); /* grey: R = G = B = Y */
-    write_fixture(tpath("g.exr"), &g, 0);
-    assert_true(check_fixture(tpath("g.exr"), &g) == 0.0); /* R = B = 0 */
+    write_fixture(tu_tmppath("y.exr"), &y, 0);
+    assert_true(check_fixture(tu_tmppath("y.exr"), &y) == 0.0); /* grey: R = G = B = Y */
+    write_fixture(tu_tmppath("g.exr"), &g, 0);
+    assert_true(check_fixture(tu_tmppath("g.exr"), &g) == 0.0); /* R = B = 0 */
     /* With R present, Y is ignored (G and B missing read 0). */
-    write_fixture(tpath("yr.exr"), &yr, 0);
-    assert_int_equal(ggImageRead(tpath("yr.exr"), NULL, &img, &e), GG_OK);
+    write_fixture(tu_tmppath("yr.exr"), &yr, 0);
+    assert_int_equal(ggImageRead(tu_tmppath("yr.exr"), NULL, &img, &e), GG_OK);
     for (x = 0; x < 3; x++) {
         ggColor c = ggImageGet(img, x, 1);
         assert_true(c.r == fx_value(&yr, 1, x, 1, 0) && c.g == 0.0 && c.b == 0.0);
     }
     ggImageFree(img);
     img = NULL;
-    write_fixture(tpath("none.exr"), &none, 0);
-    assert_int_equal(ggImageRead(tpath("none.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
-    snprintf(msg, sizeof msg, "%s: no R, G, B or Y channel", tpath("none.exr"));
+    write_fixture(tu_tmppath("none.exr"), &none, 0);
+    assert_int_equal(ggImageRead(tu_tmppath("none.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
+    snprintf(msg, sizeof msg, "%s: no R, G, B or Y channel", tu_tmppath("none.exr"));
     assert_string_equal(e.message, msg);
     assert_null(img);
 }
@@ -500,15 +478,15 @@ static void test_exr_limits(void **state)
     ggImage *img = NULL;
     ggError e;
     (void)state;
-    write_fixture(tpath("wide.exr"), &wide, 1);
-    assert_int_equal(ggImageRead(tpath("wide.exr"), NULL, &img, &e), GG_ERROR_LIMIT);
+    write_fixture(tu_tmppath("wide.exr"), &wide, 1);
+    assert_int_equal(ggImageRead(tu_tmppath("wide.exr"), NULL, &img, &e), GG_ERROR_LIMIT);
     assert_non_null(strstr(e.message, "wide.exr: image of 65537 x 2 pixels exceeds"));
-    write_fixture(tpath("huge.exr"), &huge, 1);
-    assert_int_equal(ggImageRead(tpath("huge.exr"), NULL, &img, &e), GG_ERROR_LIMIT);
+    write_fixture(tu_tmppath("huge.exr"), &huge, 1);
+    assert_int_equal(ggImageRead(tu_tmppath("huge.exr"), NULL, &img, &e), GG_ERROR_LIMIT);
     /* Within the limits, a header alone is a truncated file (4000 chunks
        cannot fit in a few hundred bytes), found before allocating. */
-    write_fixture(tpath("tall.exr"), &tall, 1);
-    assert_int_equal(ggImageRead(tpath("tall.exr"), NULL, &img, &e), GG_ERROR_PARSE);
+    write_fixture(tu_tmppath("tall.exr"), &tall, 1);
+    assert_int_equal(ggImageRead(tu_tmppath("tall.exr"), NULL, &img, &e), GG_ERROR_PARSE);
     assert_non_null(strstr(e.message, "truncated"));
     assert_null(img);
 }
@@ -525,28 +503,28 @@ static void test_exr_silent(void **state)
     int saved, fd;
     (void)state;
     for (i = 0; i < 1200; i++) ggImagePixels(img)[i] = (float)tu_uniform(&r);
-    assert_int_equal(ggImageWriteEXR(img, tpath("s.exr"), NULL), GG_OK);
-    f = fopen(tpath("s.exr"), "rb");
+    assert_int_equal(ggImageWriteEXR(img, tu_tmppath("s.exr"), NULL), GG_OK);
+    f = fopen(tu_tmppath("s.exr"), "rb");
     n = fread(buf, 1, sizeof buf, f);
     fclose(f);
-    snprintf(log, sizeof log, "%s", tpath("stderr.log"));
+    snprintf(log, sizeof log, "%s", tu_tmppath("stderr.log"));
     fflush(stderr);
     saved = dup(2);
     fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(fd, 2);
     close(fd);
     for (i = 0; i < n; i += 13) {
-        f = fopen(tpath("cut.exr"), "wb");
+        f = fopen(tu_tmppath("cut.exr"), "wb");
         fwrite(buf, 1, i, f);
         fclose(f);
-        ggImageRead(tpath("cut.exr"), NULL, &back, NULL);
+        ggImageRead(tu_tmppath("cut.exr"), NULL, &back, NULL);
         ggImageFree(back);
         back = NULL;
-        f = fopen(tpath("cut.png"), "wb");
+        f = fopen(tu_tmppath("cut.png"), "wb");
         fwrite("\x89PNG\r\n\x1a\n", 1, 8, f);
         fwrite(buf, 1, i, f);
         fclose(f);
-        ggImageRead(tpath("cut.png"), NULL, &back, NULL);
+        ggImageRead(tu_tmppath("cut.png"), NULL, &back, NULL);
         ggImageFree(back);
         back = NULL;
     }
