@@ -89,8 +89,14 @@ static int band_check(srv_server *s, srv_result *r, const ggRenderOptions *o, gg
 {
     ggCheckResult *b = NULL, *m = &r->check;
     int c, k, rc = ggCheck(s->scene, o, NULL, &b, err);
+    long n;
     if (rc != GG_OK) return rc;
+    n = m->checked + b->checked;
     m->scanned += b->scanned;
+    /* checked and share as one ggCheck over the whole image gives them
+       (share: the mean over the checked pixels, 0 without a path) */
+    if (n > 0) m->share = (m->share * (double)m->checked + b->share * (double)b->checked) / (double)n;
+    m->checked = n;
     m->radiance_bound = b->radiance_bound; /* the scene's, the same in every band */
     for (c = 0; c < GG_CHECK_COUNT; c++) {
         ggCheckItem *it = &m->items[c];
