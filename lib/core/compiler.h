@@ -102,7 +102,7 @@ static inline int gg_ctz_portable(unsigned m)
    sets, the one ISA_AGAIN in the Makefile names (bvh_avx2.o is
    bvh_avx.c once more): one source per kernel, never a .c including
    another. Such an object holds only functions that are called through
-   the kernel table (gg_kernels(), cpu.c), which offers them where the
+   the kernel table (gg_cpu_kernels(), cpu.c), which offers them where the
    CPU runs them, the way Embree compiles its kernels once per
    instruction set; GG_ISA_NAME(gg_f) names one gg_f_avx2 in the avx2
    build. GG_ISA_X86 says whether this build has them (-DGG_NO_ISA
