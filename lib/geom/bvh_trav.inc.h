@@ -287,7 +287,12 @@ static inline unsigned box8(const gg_wnode *nd, const wtrav *tv, __m256 tmin8, _
     __m256 tn = _mm256_max_ps(_mm256_max_ps(tx0, ty0), _mm256_max_ps(tz0, tmin8));
     __m256 tf = _mm256_min_ps(_mm256_min_ps(tx1, ty1), _mm256_min_ps(tz1, tmax8));
     if (tn_out) _mm256_storeu_ps(tn_out, tn);
+#ifdef __AVX512VL__
+    /* the AVX-512 build: the compare writes the mask register itself */
+    return (unsigned)_mm256_cmp_ps_mask(tn, tf, _CMP_LE_OQ);
+#else
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ));
+#endif
 }
 typedef gg_wnode any_node;
 typedef wtrav any_trav;
@@ -448,6 +453,22 @@ done:
    and not kept"). */
 #ifndef GG_TRAV_ANY_DESCEND
 #define GG_TRAV_ANY_DESCEND
+#if defined(GG_TRAV_WIDE) && defined(__AVX512VL__)
+/* The AVX-512 build: the children after the first packed into the low
+   lanes of one register (in lane order, as the loop below pushes them)
+   and stored as eight; the stack has room for the lanes past the last
+   (GG_WSTACK). Compressing into a register, not into memory: a
+   compressing store is microcoded on some CPUs (AMD Zen 4). */
+GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
+{
+    const __m256i c = _mm256_load_si256((const __m256i *)(const void *)child);
+    const unsigned rest = mask & (mask - 1);
+    _mm256_storeu_si256((__m256i *)(void *)(stack + *sp),
+                        _mm256_maskz_compress_epi32((__mmask8)rest, c));
+    *sp += __builtin_popcount(rest);
+    return child[lowest_bit(mask)];
+}
+#else
 GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
 {
     uint32_t first = child[lowest_bit(mask)];
@@ -458,6 +479,7 @@ GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *s
     }
     return first;
 }
+#endif
 #endif
 
 /* The occluder's walk from the root: with `lazy` (a constant, so each
