@@ -42,7 +42,8 @@
 #define GG_BVH_SIMD 1
 #include <emmintrin.h>
 #ifdef __AVX__
-#include <immintrin.h> /* the AVX copy's 8-wide lane tests (pk_lanes) */
+#include <immintrin.h> /* the AVX copy's 8-wide lane tests (pk_lanes; 16-wide in its
+                          AVX-512 build) */
 #endif
 #endif
 
@@ -890,7 +891,26 @@ static inline unsigned pk_lanes(const gg_bnode *nd, int i, const pkt *p)
         s[k] = GG_ROW(nd, p->nr[k])[i] - p->on[k];
         e[k] = GG_ROW(nd, p->fr[k])[i] - p->of[k];
     }
-#if defined(GG_BVH_SIMD) && defined(__AVX__)
+#if defined(GG_BVH_SIMD) && defined(__AVX512F__)
+    /* the AVX-512 build: all GG_PK = 16 lanes in one pass, into a mask */
+#if GG_PK != 16
+#error "pk_lanes' AVX-512 pass is 16 lanes wide"
+#endif
+    (void)l;
+    {
+        __m512 tn = _mm512_max_ps(
+            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[0]), _mm512_loadu_ps(p->inv[0])),
+                          _mm512_mul_ps(_mm512_set1_ps(s[1]), _mm512_loadu_ps(p->inv[1]))),
+            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[2]), _mm512_loadu_ps(p->inv[2])),
+                          _mm512_loadu_ps(p->tmin)));
+        __m512 tf = _mm512_min_ps(
+            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[0]), _mm512_loadu_ps(p->invf[0])),
+                          _mm512_mul_ps(_mm512_set1_ps(e[1]), _mm512_loadu_ps(p->invf[1]))),
+            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[2]), _mm512_loadu_ps(p->invf[2])),
+                          _mm512_loadu_ps(p->tmax)));
+        m = (unsigned)_mm512_cmp_ps_mask(tn, tf, _CMP_LE_OQ);
+    }
+#elif defined(GG_BVH_SIMD) && defined(__AVX__)
     for (l = 0; l < GG_PK; l += 8) {
         __m256 tn = _mm256_max_ps(
             _mm256_max_ps(_mm256_mul_ps(_mm256_set1_ps(s[0]), _mm256_loadu_ps(p->inv[0] + l)),
