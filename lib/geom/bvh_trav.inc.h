@@ -646,8 +646,14 @@ typedef struct pk_all {
 
 /* One packet's terms, by the caller's lane index: a lane outside it has
    tmax -inf (it enters no box) and the packet's first lane's 1/d (so it
-   does not widen the interval). */
-typedef struct pkt {
+   does not widen the interval). In the AVX-512 build aligned to 64, so
+   that each 16-lane row pk_lanes loads is one cache line. */
+#if defined(GG_BVH_SIMD) && defined(__AVX512F__)
+#define GG_PKT_ALIGN __attribute__((aligned(64)))
+#else
+#define GG_PKT_ALIGN
+#endif
+typedef struct GG_PKT_ALIGN pkt {
     float inv[3][GG_PK], invf[3][GG_PK], tmin[GG_PK], tmax[GG_PK];
     float on[3], of[3], tminp; /* tminp <= every lane's tmin */
     size_t nr[3], fr[3];
@@ -899,15 +905,15 @@ static inline unsigned pk_lanes(const gg_bnode *nd, int i, const pkt *p)
     (void)l;
     {
         __m512 tn = _mm512_max_ps(
-            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[0]), _mm512_loadu_ps(p->inv[0])),
-                          _mm512_mul_ps(_mm512_set1_ps(s[1]), _mm512_loadu_ps(p->inv[1]))),
-            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[2]), _mm512_loadu_ps(p->inv[2])),
-                          _mm512_loadu_ps(p->tmin)));
+            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[0]), _mm512_load_ps(p->inv[0])),
+                          _mm512_mul_ps(_mm512_set1_ps(s[1]), _mm512_load_ps(p->inv[1]))),
+            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[2]), _mm512_load_ps(p->inv[2])),
+                          _mm512_load_ps(p->tmin)));
         __m512 tf = _mm512_min_ps(
-            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[0]), _mm512_loadu_ps(p->invf[0])),
-                          _mm512_mul_ps(_mm512_set1_ps(e[1]), _mm512_loadu_ps(p->invf[1]))),
-            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[2]), _mm512_loadu_ps(p->invf[2])),
-                          _mm512_loadu_ps(p->tmax)));
+            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[0]), _mm512_load_ps(p->invf[0])),
+                          _mm512_mul_ps(_mm512_set1_ps(e[1]), _mm512_load_ps(p->invf[1]))),
+            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[2]), _mm512_load_ps(p->invf[2])),
+                          _mm512_load_ps(p->tmax)));
         m = (unsigned)_mm512_cmp_ps_mask(tn, tf, _CMP_LE_OQ);
     }
 #elif defined(GG_BVH_SIMD) && defined(__AVX__)
