@@ -112,8 +112,8 @@ optics_CFLAGS  = $(if $(GG_CLANG),-ffp-exception-behavior=maytrap)
 layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 
 # Per-ISA objects (lib/core/compiler.h, "Per-ISA code"): on x86-64 a library
-# object named *_avx.o, *_avx2.o or *_fma.o gets that instruction set's flags and
-# -DGG_ISA=avx, avx2 or fma (isa_flags), and only it; the library picks among the
+# object named *_avx.o, *_avx2.o, *_avx512.o or *_fma.o gets that instruction set's
+# flags and -DGG_ISA=avx, avx2, avx512 or fma (isa_flags), and only it; the library picks among the
 # copies at run time, once (the kernel table, lib/core/cpu.c). Its source is the
 # .c of that name, or for one source built for several sets the one ISA_AGAIN
 # names: OBJ:SRC compiles SRC once more into OBJ, so no .c includes another.
@@ -128,11 +128,12 @@ layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 GG_MATH = -ffp-contract=off -fno-math-errno
 ISA_avx       = -mavx
 ISA_avx2      = -mavx -mavx2 -mbmi -mbmi2 -mlzcnt -mpopcnt
+ISA_avx512    = $(ISA_avx2) -mfma -mavx512f -mavx512vl -mavx512dq -mavx512bw
 ISA_fma       = -mfma
 GG_ISA_X86   := $(if $(filter x86_64-% amd64-%,$(shell $(CC) -dumpmachine 2>/dev/null)),1)
-isa_of        = $(if $(GG_ISA_X86),$(strip $(foreach i,avx avx2 fma,$(if $(filter %_$(i).o,$(1)),$(i)))))
+isa_of        = $(if $(GG_ISA_X86),$(strip $(foreach i,avx avx2 avx512 fma,$(if $(filter %_$(i).o,$(1)),$(i)))))
 isa_flags     = $(if $(call isa_of,$(1)),$(ISA_$(call isa_of,$(1))) -DGG_ISA=$(call isa_of,$(1)))
-ISA_AGAIN     = lib/geom/bvh_avx2.o:lib/geom/bvh_avx.c
+ISA_AGAIN     = lib/geom/bvh_avx2.o:lib/geom/bvh_avx.c lib/geom/bvh_avx512.o:lib/geom/bvh_avx.c
 isa_again_obj = $(foreach p,$(ISA_AGAIN),$(firstword $(subst :, ,$(p))))
 ALL_LAYER_INC = $(LAYERS:%=-Ilib/%)
 

@@ -25,6 +25,8 @@ static const char about[] =
     "  scaling   render time against primitives (balls-s1..s4, fitted against\n"
     "            ln n), image size and threads; per SPD scene 1 and 2 threads,\n"
     "            the speed-up and the serial share (time outside the tile loop)\n"
+    "  rays      per SPD scene, Mrays/s on one core for the eye, secondary and\n"
+    "            shadow rays of a 256x256 render, cast again one by one\n"
     "\n"
     "Scene folders are relative to the current directory: run from the source tree\n"
     "or name them with --spd and --pov.";
@@ -35,7 +37,7 @@ static const struct {
     int size; /* default --size; 0: the benchmark's own */
 } benches[] = {
     {"spd", bench_spd, 1024},        {"counts", bench_counts, 0},   {"effects", bench_effects, 320},
-    {"accuracy", bench_accuracy, 0}, {"scaling", bench_scaling, 0},
+    {"accuracy", bench_accuracy, 0}, {"scaling", bench_scaling, 0}, {"rays", bench_rays, 256},
 };
 
 int cmd_bench(int argc, char **argv)
@@ -47,7 +49,7 @@ int cmd_bench(int argc, char **argv)
     cli_opt opts[] = {
         CLI_OPT_INT(0, "size", &bo.size, 1, 4096, "N",
                     "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
-                    "wide, 4:3; scaling: 256)"),
+                    "wide, 4:3; scaling: 256; rays: 256)"),
         CLI_OPT_INT(0, "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),
         CLI_OPT_INT(0, "runs", &bo.runs, 1, 64, "N",
                     "runs per measurement, median reported (default 3)"),
@@ -74,7 +76,7 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "bench",
-                   .usage = "spd|counts|effects|scaling [options]\n"
+                   .usage = "spd|counts|effects|scaling|rays [options]\n"
                             "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]",
                    .about = about,
                    .opts = {opts},
@@ -114,6 +116,6 @@ int cmd_bench(int argc, char **argv)
         cli_set_command(name); /* "ggrt bench accuracy: ..." */
         return benches[i].run(&bo);
     }
-    return cli_usage_error(&cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling)",
-                           args[0]);
+    return cli_usage_error(
+        &cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling, rays)", args[0]);
 }

@@ -60,11 +60,18 @@ double gg_time_now(void);
 
 /* The instruction sets of the per-ISA objects (compiler.h) that this CPU
    and its OS run: a mask of GG_CPU_* bits, 0 where the build has no
-   per-ISA objects. Detected once (cpu.c); thread-safe. */
+   per-ISA objects. Detected once (cpu.c); thread-safe. The environment
+   variable GGRT_ISA (sse2, avx, avx2 or avx512), read at that detection,
+   caps the mask at that level, so that one machine can time its copies
+   side by side (bench/ab_time.sh on two wrappers); anything else leaves
+   the mask as detected. */
 #define GG_CPU_AVX  1u /* AVX: bvh_avx.o */
 #define GG_CPU_FMA  2u /* FMA3 (with AVX): refract_fma.o, fresnel_fma.o */
 #define GG_CPU_AVX2 4u /* AVX2 with BMI1, BMI2, LZCNT and POPCNT (with AVX): bvh_avx2.o */
-#define GG_CPU_ALL  (GG_CPU_AVX | GG_CPU_FMA | GG_CPU_AVX2)
+/* AVX-512 F, BW, DQ and VL with the OS saving the opmask and ZMM state
+   (with AVX2 and FMA): bvh_avx512.o */
+#define GG_CPU_AVX512 8u
+#define GG_CPU_ALL    (GG_CPU_AVX | GG_CPU_FMA | GG_CPU_AVX2 | GG_CPU_AVX512)
 unsigned gg_cpu_features(void);
 
 /* The kernel table: the one run-time choice among the per-ISA copies of
@@ -72,10 +79,11 @@ unsigned gg_cpu_features(void);
    that kernel's array of copies, kept in its layer (optics.c,
    fresnel.c, bvh.c), filled once (pthread_once, with the CPU detection)
    from gg_cpu_features(). Every copy of a kernel returns the same bits. */
-#define GG_KERNEL_PLAIN 0 /* the base instruction set */
-#define GG_KERNEL_FMA   1 /* optics: the fma builds */
-#define GG_KERNEL_AVX   1 /* traversal: bvh_avx.o */
-#define GG_KERNEL_AVX2  2 /* traversal: bvh_avx2.o */
+#define GG_KERNEL_PLAIN  0 /* the base instruction set */
+#define GG_KERNEL_FMA    1 /* optics: the fma builds */
+#define GG_KERNEL_AVX    1 /* traversal: bvh_avx.o */
+#define GG_KERNEL_AVX2   2 /* traversal: bvh_avx2.o */
+#define GG_KERNEL_AVX512 3 /* traversal: bvh_avx512.o */
 typedef struct gg_kernel_table {
     int refract; /* ggRefract's copy */
     int reflect; /* ggReflection's */

@@ -47,6 +47,7 @@ static int trav_copy_of(const gg_geom *g)
     int k = gg_cpu_kernels()->trav;
     if (!GG_HAVE_BVH_AVX || !(g->cpu & GG_CPU_AVX)) return GG_KERNEL_PLAIN;
     if (k > GG_KERNEL_AVX && !(g->cpu & GG_CPU_AVX2)) return GG_KERNEL_AVX;
+    if (k > GG_KERNEL_AVX2 && !(g->cpu & GG_CPU_AVX512)) return GG_KERNEL_AVX2;
     return k;
 }
 
@@ -85,7 +86,10 @@ void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st)
     st->build_seconds = g->build_seconds;
     st->blocks = g->trav_avx ? g->ntleaves : 0;
 #if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD) /* GG_BVH_SIMD of bvh_trav.inc.h */
-    st->traversal = g->trav_avx == GG_KERNEL_AVX2 ? "avx2" : g->trav_avx ? "avx" : "sse2";
+    st->traversal = g->trav_avx == GG_KERNEL_AVX512 ? "avx512"
+                    : g->trav_avx == GG_KERNEL_AVX2 ? "avx2"
+                    : g->trav_avx                   ? "avx"
+                                                    : "sse2";
 #else
     st->traversal = "c";
 #endif
@@ -188,7 +192,7 @@ int gg_bvh_wide(gg_geom *g)
 
 /* The copies of the traversal, indexed by a geometry's g->trav_avx: the
    kernel table's entry (gg_cpu_kernels()->trav: GG_KERNEL_PLAIN, _AVX,
-   _AVX2) as g's build restricted it (gg_bvh_tri_leaves). One load and an
+   _AVX2, _AVX512) as g's build restricted it (gg_bvh_tri_leaves). One load and an
    indirect call per query: a second test of trav_avx cost more
    (docs/performance.md, "One source per instruction set"). */
 typedef struct trav_copy {
@@ -206,12 +210,14 @@ typedef struct trav_copy {
     {                                                                                              \
         gg_bvh_intersect_##isa, gg_bvh_occluder_##isa, gg_bvh_shadow_##isa, gg_bvh_packet_##isa    \
     }
-static const trav_copy copies[3] = {
+static const trav_copy copies[4] = {
     GG_TRAV_COPY(plain),
 #if GG_HAVE_BVH_AVX
     GG_TRAV_COPY_GG(avx),
     GG_TRAV_COPY_GG(avx2),
+    GG_TRAV_COPY_GG(avx512),
 #else
+    GG_TRAV_COPY(plain),
     GG_TRAV_COPY(plain),
     GG_TRAV_COPY(plain),
 #endif

@@ -9,7 +9,10 @@
 ** with AVX2 and the bit instructions (BMI1/2, LZCNT, POPCNT), under names
 ** ending in _avx2 (GG_ISA_NAME): the same source and the same bits,
 ** chosen at run time where the CPU has them, as Embree builds one kernel
-** source per instruction set. What the AVX2 build bought:
+** source per instruction set; and once more into bvh_avx512.o with
+** AVX-512 F, VL, DQ and BW (names ending in _avx512), where the node and
+** triangle tests compare into mask registers and the any-hit walks push
+** a node's children with one compress (__AVX512VL__ below). What the AVX2 build bought:
 ** docs/performance.md, "One source per instruction set".
 **
 ** Same bits as the scalar kernel. Each lane performs exactly the
@@ -75,6 +78,42 @@ static inline void tx_fill(gg_tx *x, const gg_rpre *r)
 
 #define GG_TROW(L, off) ((const double *)((const char *)(L)->v + (off)))
 
+#ifdef __AVX512VL__
+/* The AVX-512 build's second half of tri4_test: the same compares, each
+   writing a mask register (no movemask, no and/or of vectors). */
+GG_INLINE unsigned tri4_finish(const gg_tx *x, double tmax, __m256d zero, __m256d Az, __m256d Bz,
+                               __m256d Cz, __m256d U, __m256d V, __m256d W, tri4_out *o)
+{
+    unsigned neg = _mm256_cmp_pd_mask(U, zero, _CMP_LT_OQ) |
+                   _mm256_cmp_pd_mask(V, zero, _CMP_LT_OQ) |
+                   _mm256_cmp_pd_mask(W, zero, _CMP_LT_OQ);
+    unsigned pos = _mm256_cmp_pd_mask(U, zero, _CMP_GT_OQ) |
+                   _mm256_cmp_pd_mask(V, zero, _CMP_GT_OQ) |
+                   _mm256_cmp_pd_mask(W, zero, _CMP_GT_OQ);
+    __m256d det = _mm256_add_pd(_mm256_add_pd(U, V), W), T, rcp, tt;
+    unsigned lm = ~(neg & pos) & _mm256_cmp_pd_mask(det, zero, _CMP_NEQ_UQ), zm, hm;
+    if (!lm) return 0;
+    zm = (_mm256_cmp_pd_mask(U, zero, _CMP_EQ_OQ) | _mm256_cmp_pd_mask(V, zero, _CMP_EQ_OQ) |
+          _mm256_cmp_pd_mask(W, zero, _CMP_EQ_OQ)) &
+         lm;
+    T = _mm256_mul_pd(x->sz,
+                      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(U, Az), _mm256_mul_pd(V, Bz)),
+                                    _mm256_mul_pd(W, Cz)));
+    rcp = _mm256_div_pd(_mm256_set1_pd(1.0), det);
+    tt = _mm256_mul_pd(T, rcp);
+    hm = _mm256_cmp_pd_mask(tt, x->tmin, _CMP_GT_OQ) &
+         _mm256_cmp_pd_mask(tt, _mm256_set1_pd(tmax), _CMP_LE_OQ) & lm & ~zm;
+    o->zero = zm;
+    o->hit = hm;
+    if (hm) {
+        _mm256_storeu_pd(o->t, tt);
+        _mm256_storeu_pd(o->b1, _mm256_mul_pd(V, rcp));
+        _mm256_storeu_pd(o->b2, _mm256_mul_pd(W, rcp));
+    }
+    return hm | zm;
+}
+#endif
+
 /* gg_tri_kernel on the four lanes of block L with t in (tmin, tmax].
    Returns o->hit | o->zero; o->t, b1, b2 are filled when o->hit != 0. */
 GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri4_out *o)
@@ -97,6 +136,9 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
     __m256d U = _mm256_sub_pd(_mm256_mul_pd(cx, by), _mm256_mul_pd(cy, bx));
     __m256d V = _mm256_sub_pd(_mm256_mul_pd(ax, cy), _mm256_mul_pd(ay, cx));
     __m256d W = _mm256_sub_pd(_mm256_mul_pd(bx, ay), _mm256_mul_pd(by, ax));
+#ifdef __AVX512VL__
+    return tri4_finish(x, tmax, zero, Az, Bz, Cz, U, V, W, o);
+#else
     __m256d neg = _mm256_or_pd(
         _mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_LT_OQ), _mm256_cmp_pd(V, zero, _CMP_LT_OQ)),
         _mm256_cmp_pd(W, zero, _CMP_LT_OQ));
@@ -129,6 +171,7 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
         _mm256_storeu_pd(o->b2, _mm256_mul_pd(W, rcp));
     }
     return hm | zm;
+#endif
 }
 
 unsigned GG_ISA_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
@@ -137,6 +180,8 @@ unsigned GG_ISA_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tm
     gg_tx x;
     tri4_out o;
     unsigned m;
+    /* (GCC cannot follow the AVX-512 build's masks to the stores) */
+    memset(&o, 0, sizeof o);
     tx_fill(&x, r);
     m = tri4_test(L, &x, tmax, &o);
     *zero = m ? o.zero : 0;

@@ -37,13 +37,15 @@ struct gg_wnode {
     uint32_t pad[8];
 };
 
-#define GG_LEAF       0x80000000u
-#define GG_TLEAF      4u /* flag of a reference to a gg_tleaf block */
-#define GG_LEAF_N(r)  (((r)&3) + 1)
-#define GG_LEAF_I(r)  (((r) & ~GG_LEAF) >> 3) /* first slot, or block index */
-#define GG_MAX_LEAF   4                       /* elements per leaf (at most 4: two bits of count) */
-#define GG_STACK      256                     /* > 3 * maximum depth (see build2) */
-#define GG_WSTACK     (7 * (GG_STACK / 3) + 7)   /* the same for 8-wide nodes: each pushes <= 7 */
+#define GG_LEAF      0x80000000u
+#define GG_TLEAF     4u /* flag of a reference to a gg_tleaf block */
+#define GG_LEAF_N(r) (((r)&3) + 1)
+#define GG_LEAF_I(r) (((r) & ~GG_LEAF) >> 3) /* first slot, or block index */
+#define GG_MAX_LEAF  4                       /* elements per leaf (at most 4: two bits of count) */
+#define GG_STACK     256                     /* > 3 * maximum depth (see build2) */
+/* the same for 8-wide nodes: each pushes <= 7; and one more, as the
+   AVX-512 build's any-hit descent stores eight lanes (any_descend) */
+#define GG_WSTACK     (7 * (GG_STACK / 3) + 8)
 #define GG_EXIT_SCALE 1.00000059604644775390625f /* 1 + 5 * 2^-23 */
 
 /* A leaf of 2 to 4 triangles in SoA form: v[axis][vertex][lane] holds
@@ -78,6 +80,13 @@ int gg_bvh_intersect_avx2(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
 uint32_t gg_bvh_occluder_avx2(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
 int gg_bvh_shadow_avx2(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
 unsigned gg_bvh_packet_avx2(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
+/* And for AVX-512 (bvh_avx512.o, ISA_AGAIN): mask registers in the node
+   and triangle tests; call only where gg_cpu_features() has
+   GG_CPU_AVX512. */
+int gg_bvh_intersect_avx512(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+uint32_t gg_bvh_occluder_avx512(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
+int gg_bvh_shadow_avx512(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
+unsigned gg_bvh_packet_avx512(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
 /* For tests: the 4-wide triangle test of block L alone. Returns the mask
    of lanes hit with t in (r->tmin, tmax] and fills t, b1, b2 for them;
    *zero gets the lanes left to the scalar kernel (an edge function
@@ -86,6 +95,8 @@ unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, doubl
                          double b1[4], double b2[4], unsigned *zero);
 unsigned gg_bvh_tri4_avx2(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
                           double b1[4], double b2[4], unsigned *zero);
+unsigned gg_bvh_tri4_avx512(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
+                            double b1[4], double b2[4], unsigned *zero);
 #else
 #define GG_HAVE_BVH_AVX 0
 #endif

@@ -42,7 +42,8 @@
 #define GG_BVH_SIMD 1
 #include <emmintrin.h>
 #ifdef __AVX__
-#include <immintrin.h> /* the AVX copy's 8-wide lane tests (pk_lanes) */
+#include <immintrin.h> /* the AVX copy's 8-wide lane tests (pk_lanes; 16-wide in its
+                          AVX-512 build) */
 #endif
 #endif
 
@@ -287,7 +288,12 @@ static inline unsigned box8(const gg_wnode *nd, const wtrav *tv, __m256 tmin8, _
     __m256 tn = _mm256_max_ps(_mm256_max_ps(tx0, ty0), _mm256_max_ps(tz0, tmin8));
     __m256 tf = _mm256_min_ps(_mm256_min_ps(tx1, ty1), _mm256_min_ps(tz1, tmax8));
     if (tn_out) _mm256_storeu_ps(tn_out, tn);
+#ifdef __AVX512VL__
+    /* the AVX-512 build: the compare writes the mask register itself */
+    return (unsigned)_mm256_cmp_ps_mask(tn, tf, _CMP_LE_OQ);
+#else
     return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ));
+#endif
 }
 typedef gg_wnode any_node;
 typedef wtrav any_trav;
@@ -448,6 +454,22 @@ done:
    and not kept"). */
 #ifndef GG_TRAV_ANY_DESCEND
 #define GG_TRAV_ANY_DESCEND
+#if defined(GG_TRAV_WIDE) && defined(__AVX512VL__)
+/* The AVX-512 build: the children after the first packed into the low
+   lanes of one register (in lane order, as the loop below pushes them)
+   and stored as eight; the stack has room for the lanes past the last
+   (GG_WSTACK). Compressing into a register, not into memory: a
+   compressing store is microcoded on some CPUs (AMD Zen 4). */
+GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
+{
+    const __m256i c = _mm256_load_si256((const __m256i *)(const void *)child);
+    const unsigned rest = mask & (mask - 1);
+    _mm256_storeu_si256((__m256i *)(void *)(stack + *sp),
+                        _mm256_maskz_compress_epi32((__mmask8)rest, c));
+    *sp += __builtin_popcount(rest);
+    return child[lowest_bit(mask)];
+}
+#else
 GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
 {
     uint32_t first = child[lowest_bit(mask)];
@@ -458,6 +480,7 @@ GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *s
     }
     return first;
 }
+#endif
 #endif
 
 /* The occluder's walk from the root: with `lazy` (a constant, so each
@@ -623,8 +646,14 @@ typedef struct pk_all {
 
 /* One packet's terms, by the caller's lane index: a lane outside it has
    tmax -inf (it enters no box) and the packet's first lane's 1/d (so it
-   does not widen the interval). */
-typedef struct pkt {
+   does not widen the interval). In the AVX-512 build aligned to 64, so
+   that each 16-lane row pk_lanes loads is one cache line. */
+#if defined(GG_BVH_SIMD) && defined(__AVX512F__)
+#define GG_PKT_ALIGN __attribute__((aligned(64)))
+#else
+#define GG_PKT_ALIGN
+#endif
+typedef struct GG_PKT_ALIGN pkt {
     float inv[3][GG_PK], invf[3][GG_PK], tmin[GG_PK], tmax[GG_PK];
     float on[3], of[3], tminp; /* tminp <= every lane's tmin */
     size_t nr[3], fr[3];
@@ -868,7 +897,26 @@ static inline unsigned pk_lanes(const gg_bnode *nd, int i, const pkt *p)
         s[k] = GG_ROW(nd, p->nr[k])[i] - p->on[k];
         e[k] = GG_ROW(nd, p->fr[k])[i] - p->of[k];
     }
-#if defined(GG_BVH_SIMD) && defined(__AVX__)
+#if defined(GG_BVH_SIMD) && defined(__AVX512F__)
+    /* the AVX-512 build: all GG_PK = 16 lanes in one pass, into a mask */
+#if GG_PK != 16
+#error "pk_lanes' AVX-512 pass is 16 lanes wide"
+#endif
+    (void)l;
+    {
+        __m512 tn = _mm512_max_ps(
+            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[0]), _mm512_load_ps(p->inv[0])),
+                          _mm512_mul_ps(_mm512_set1_ps(s[1]), _mm512_load_ps(p->inv[1]))),
+            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[2]), _mm512_load_ps(p->inv[2])),
+                          _mm512_load_ps(p->tmin)));
+        __m512 tf = _mm512_min_ps(
+            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[0]), _mm512_load_ps(p->invf[0])),
+                          _mm512_mul_ps(_mm512_set1_ps(e[1]), _mm512_load_ps(p->invf[1]))),
+            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[2]), _mm512_load_ps(p->invf[2])),
+                          _mm512_load_ps(p->tmax)));
+        m = (unsigned)_mm512_cmp_ps_mask(tn, tf, _CMP_LE_OQ);
+    }
+#elif defined(GG_BVH_SIMD) && defined(__AVX__)
     for (l = 0; l < GG_PK; l += 8) {
         __m256 tn = _mm256_max_ps(
             _mm256_max_ps(_mm256_mul_ps(_mm256_set1_ps(s[0]), _mm256_loadu_ps(p->inv[0] + l)),

@@ -234,7 +234,8 @@ struct gg_geom {
     gg_wnode *wnodes; /* the tree again in 8-wide nodes, for the AVX single-ray walks */
     size_t nwnodes;
     unsigned cpu; /* GG_CPU_* the build may use (gg_geom_set_cpu) */
-    int trav_avx; /* the walk copy queries take: 0 plain, 1 AVX (bvh_avx.c), 2 its AVX2 build */
+    int trav_avx; /* the walk copy queries take: 0 plain, 1 AVX (bvh_avx.c), 2 its AVX2 build,
+                     3 its AVX-512 build */
     double build_seconds;
 };
 

@@ -47,6 +47,17 @@ if [ $got = 0 ] && grep -q 'against threads (median of 1; serial = time outside 
    grep -Eq '^tetra +[0-9.]+s +[0-9.]+s +[0-9.]+x +[0-9.]+s +[0-9.]+%$' "$tmp/scal"
 then ok "bench scaling: 1 and 2 threads, speed-up and serial share per scene"
 else bad "bench scaling: 1 and 2 threads, speed-up and serial share per scene (exit $got)" "$(cat "$tmp/scal")"; fi
+# bench rays: the rays it casts are the render's, kind by kind (the counts
+# `ggrt render` prints for the same size: eye, reflect + refract, shadow)
+"$ggrt" bench rays --size 16 --runs 1 --scenes gears >"$tmp/rays" 2>&1; got=$?
+"$ggrt" render examples/scenes/spd/gears.nff -s 16x16 -j 1 -o "$tmp/rays.exr" 2>&1 |
+  sed -n 's/^rays: eye \([0-9]*\) .*reflect \([0-9]*\) .*refract \([0-9]*\), shadow \([0-9]*\),.*/\1 \2 \3 \4/p' >"$tmp/rays.want"
+if [ $got = 0 ] && [ -s "$tmp/rays.want" ] &&
+   awk 'NR == FNR { e = $1; s = $2 + $3; sh = $4; next }
+        $1 == "gears" { ok = $2 == e && $5 == s && $8 == sh && $4 > 0 && $10 > 0 }
+        END { exit !ok }' "$tmp/rays.want" "$tmp/rays"
+then ok "bench rays: the render's eye, secondary and shadow rays, with Mrays/s"
+else bad "bench rays: the render's eye, secondary and shadow rays, with Mrays/s (exit $got)" "$(cat "$tmp/rays" "$tmp/rays.want")"; fi
 # bench accuracy --knobs: the default row and the named knob's rows only
 # (no other knob, no scaling tables); float fails on acc-distant
 "$ggrt" bench accuracy examples/scenes/acc-distant.nff --size 32 --runs 1 --knobs intersect \

@@ -815,6 +815,7 @@ static void test_traversal(void **state)
     const char *plain = "c";
 #endif
     const char *want = !GG_HAVE_BVH_AVX || !(gg_cpu_features() & GG_CPU_AVX) ? plain
+                       : gg_cpu_features() & GG_CPU_AVX512                   ? "avx512"
                        : gg_cpu_features() & GG_CPU_AVX2                     ? "avx2"
                                                                              : "avx";
 #endif
@@ -823,6 +824,11 @@ static void test_traversal(void **state)
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
     gg_geom_bvh_stats(g, &st);
     assert_string_equal(st.traversal, want);
+    /* AVX2 allowed, AVX-512 not: the AVX2 build on an AVX-512 CPU */
+    gg_geom_set_cpu(g, GG_CPU_ALL & ~GG_CPU_AVX512);
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    gg_geom_bvh_stats(g, &st);
+    assert_string_equal(st.traversal, strcmp(want, "avx512") ? want : "avx2");
     /* AVX allowed, AVX2 not: the AVX copy's own build */
     gg_geom_set_cpu(g, GG_CPU_AVX);
     assert_int_equal(gg_geom_build(g, NULL), GG_OK);
@@ -838,8 +844,9 @@ static void test_traversal(void **state)
 /* The kernel table (core.h, gg_cpu_kernels): filled once, each entry
    the best copy the CPU's features allow; and a geometry's traversal
    copy (g->trav_avx, its index into the table's copies) that entry as
-   each of the 8 masks of gg_geom_set_cpu restricts it: the AVX copy only
-   with GG_CPU_AVX, its AVX2 build only with GG_CPU_AVX2 too. */
+   each of the 16 masks of gg_geom_set_cpu restricts it: the AVX copy only
+   with GG_CPU_AVX, its AVX2 build only with GG_CPU_AVX2 too, its AVX-512
+   build only with GG_CPU_AVX512 as well. */
 static void test_kernel_table(void **state)
 {
     const gg_kernel_table *k = gg_cpu_kernels();
@@ -857,14 +864,16 @@ static void test_kernel_table(void **state)
     assert_int_equal(k->refract, fma);
     assert_int_equal(k->reflect, fma);
     assert_int_equal(k->fresnel, fma);
-    assert_int_equal(k->trav, f & GG_CPU_AVX2  ? GG_KERNEL_AVX2
-                              : f & GG_CPU_AVX ? GG_KERNEL_AVX
-                                               : GG_KERNEL_PLAIN);
+    assert_int_equal(k->trav, f & GG_CPU_AVX512 ? GG_KERNEL_AVX512
+                              : f & GG_CPU_AVX2 ? GG_KERNEL_AVX2
+                              : f & GG_CPU_AVX  ? GG_KERNEL_AVX
+                                                : GG_KERNEL_PLAIN);
     for (mask = 0; mask <= GG_CPU_ALL; mask++) {
         gg_geom *g = gg_geom_create(NULL);
-        int want = !have || !(mask & GG_CPU_AVX)                        ? GG_KERNEL_PLAIN
-                   : k->trav == GG_KERNEL_AVX2 && !(mask & GG_CPU_AVX2) ? GG_KERNEL_AVX
-                                                                        : k->trav;
+        int want = !have || !(mask & GG_CPU_AVX)                            ? GG_KERNEL_PLAIN
+                   : k->trav >= GG_KERNEL_AVX2 && !(mask & GG_CPU_AVX2)     ? GG_KERNEL_AVX
+                   : k->trav == GG_KERNEL_AVX512 && !(mask & GG_CPU_AVX512) ? GG_KERNEL_AVX2
+                                                                            : k->trav;
         assert_true(gg_geom_add_triangle(g, p, NULL, 0) >= 0);
         gg_geom_set_cpu(g, mask);
         assert_int_equal(gg_geom_build(g, NULL), GG_OK);

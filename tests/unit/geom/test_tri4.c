@@ -7,8 +7,10 @@
 ** traversal on the same BVH and on a BVH built without the blocks (the
 ** AVX copy's single-ray walks run on the 8-wide tree, gg_bvh_wide: the
 ** queries check those too, and same_wide_tree that it holds exactly the
-** 4-wide tree's leaves with the same boxes). Skipped where the compiler or
-** the CPU has no AVX copy.
+** 4-wide tree's leaves with the same boxes). Every build of the AVX copy
+** the CPU runs (AVX, AVX2, AVX-512) is checked; the AVX-512 lane tests
+** are TAP skips on a CPU without it. Skipped where the compiler or the
+** CPU has no AVX copy.
 */
 #include "testutil.h"
 
@@ -77,6 +79,32 @@ static ggVec3 vert(const gg_ktri *t, int v)
 
 static long nlane, nhit, nzero, nzero_hit;
 
+/* A build of the 4-wide test (gg_bvh_tri4_avx, _avx2, _avx512). */
+typedef unsigned (*tri4_fn)(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
+                            double b1[4], double b2[4], unsigned *zero);
+
+/* Which build the lane tests check against the scalar kernel: the AVX
+   one (and its AVX2 build beside it where the CPU has AVX2), or the
+   AVX-512 one (test_lanes_*_avx512). */
+static tri4_fn lane_fn;
+
+/* The AVX2 build of the same source: the same lanes, the same bits. */
+static void same_as_avx2(const gg_tleaf *L, const gg_rpre *r, double tmax, int n, unsigned hit,
+                         unsigned zero, const double *tt, const double *b1, const double *b2)
+{
+    double t2[4], c1[4], c2[4];
+    unsigned z2, h2 = gg_bvh_tri4_avx2(L, r, tmax, t2, c1, c2, &z2);
+    int k;
+    assert_int_equal(h2, hit);
+    assert_int_equal(z2, zero);
+    for (k = 0; k < n; k++)
+        if (hit >> k & 1) {
+            assert_memory_equal(&t2[k], &tt[k], sizeof tt[k]);
+            assert_memory_equal(&c1[k], &b1[k], sizeof b1[k]);
+            assert_memory_equal(&c2[k], &b2[k], sizeof b2[k]);
+        }
+}
+
 /* Every lane of the block against the scalar kernel for ray q. */
 static void same_lanes(const gg_tleaf *L, const gg_ktri *t, int n, const gg_rayq *q)
 {
@@ -85,20 +113,9 @@ static void same_lanes(const gg_tleaf *L, const gg_ktri *t, int n, const gg_rayq
     unsigned zero, hit;
     int k;
     if (!gg_rpre_init(&r, q)) return;
-    hit = gg_bvh_tri4_avx(L, &r, tmax, tt, b1, b2, &zero);
-    if (gg_cpu_features() & GG_CPU_AVX2) {
-        /* the AVX2 build of the same source: the same lanes, the same bits */
-        double t2[4], c1[4], c2[4];
-        unsigned z2, h2 = gg_bvh_tri4_avx2(L, &r, tmax, t2, c1, c2, &z2);
-        assert_int_equal(h2, hit);
-        assert_int_equal(z2, zero);
-        for (k = 0; k < n; k++)
-            if (hit >> k & 1) {
-                assert_memory_equal(&t2[k], &tt[k], sizeof tt[k]);
-                assert_memory_equal(&c1[k], &b1[k], sizeof b1[k]);
-                assert_memory_equal(&c2[k], &b2[k], sizeof b2[k]);
-            }
-    }
+    hit = lane_fn(L, &r, tmax, tt, b1, b2, &zero);
+    if (lane_fn == gg_bvh_tri4_avx && (gg_cpu_features() & GG_CPU_AVX2))
+        same_as_avx2(L, &r, tmax, n, hit, zero, tt, b1, b2);
     assert_int_equal((hit | zero) >> n, 0); /* padding lanes never report */
     assert_int_equal(hit & zero, 0);
     for (k = 0; k < n; k++) {
@@ -125,13 +142,13 @@ static void same_lanes(const gg_tleaf *L, const gg_ktri *t, int n, const gg_rayq
     }
 }
 
-static void test_lanes_random(void **state)
+static void lanes_random(tri4_fn fn)
 {
     gg_geom *g = gg_geom_create(NULL);
     gg_tleaf *L = tleaf_new();
     tu_rng r = {77};
     long it;
-    (void)state;
+    lane_fn = fn;
     nlane = nhit = 0;
     for (it = 0; it < 20000; it++) {
         gg_ktri t[4];
@@ -180,13 +197,13 @@ static void test_lanes_random(void **state)
    dyadic grid, and rays along exact directions through their vertices
    and edge midpoints: the edge functions are then exactly 0 and the
    lanes go to the scalar kernel (which keeps exactly one triangle). */
-static void test_lanes_edges(void **state)
+static void lanes_edges(tri4_fn fn)
 {
     gg_geom *g = gg_geom_create(NULL);
     gg_tleaf *L = tleaf_new();
     tu_rng r = {78};
     long it;
-    (void)state;
+    lane_fn = fn;
     nlane = nhit = nzero = nzero_hit = 0;
     for (it = 0; it < 20000; it++) {
         gg_ktri t[4];
@@ -228,6 +245,41 @@ static void test_lanes_edges(void **state)
     gg_geom_free(g);
 }
 
+static void test_lanes_random(void **state)
+{
+    (void)state;
+    lanes_random(gg_bvh_tri4_avx);
+}
+
+static void test_lanes_edges(void **state)
+{
+    (void)state;
+    lanes_edges(gg_bvh_tri4_avx);
+}
+
+/* The AVX-512 build (mask registers in place of movemask): the same
+   lanes against the scalar kernel; a TAP skip where the CPU has no
+   AVX-512 (the AVX and AVX2 builds are still tested above). */
+static void test_lanes_random_avx512(void **state)
+{
+    (void)state;
+    if (!(gg_cpu_features() & GG_CPU_AVX512)) {
+        print_message("the CPU cannot run AVX-512; skipped\n");
+        skip();
+    }
+    lanes_random(gg_bvh_tri4_avx512);
+}
+
+static void test_lanes_edges_avx512(void **state)
+{
+    (void)state;
+    if (!(gg_cpu_features() & GG_CPU_AVX512)) {
+        print_message("the CPU cannot run AVX-512; skipped\n");
+        skip();
+    }
+    lanes_edges(gg_bvh_tri4_avx512);
+}
+
 /* ---- whole queries: AVX copy against the plain one ---- */
 
 static void same_hit(int ha, const gg_hit *a, int hb, const gg_hit *b)
@@ -242,7 +294,8 @@ static void same_hit(int ha, const gg_hit *a, int hb, const gg_hit *b)
 }
 
 /* Every query of q on g (built with blocks) with copy lv of the AVX
-   traversal (g->trav_avx: 1 the AVX copy, 2 its AVX2 build) and the plain
+   traversal (g->trav_avx: 1 the AVX copy, 2 its AVX2 build, 3 its
+   AVX-512 build) and the plain
    one, and on g2 (the same scene built without the blocks, so with the
    plain cost model). cache[0..2] are the occluder caches of the three.
    Returns whether q hit anything. */
@@ -297,13 +350,15 @@ static int same_queries_at(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint
 }
 
 /* same_queries_at for every copy g's build may take: the one it chose
-   (the AVX2 build where the CPU has AVX2) and the AVX copy. */
+   (the AVX-512 build where the CPU has AVX-512, else the AVX2 build
+   where it has AVX2) and each below it down to the AVX copy. */
 static int same_queries(gg_geom *g, const gg_geom *g2, const gg_rayq *q, uint32_t cache[3])
 {
+    const unsigned f = gg_cpu_features();
     const int top = g->trav_avx;
-    int r = same_queries_at(g, g2, q, cache, top);
-    assert_int_equal(top, gg_cpu_features() & GG_CPU_AVX2 ? 2 : 1);
-    if (top == 2) assert_int_equal(same_queries_at(g, g2, q, cache, 1), r);
+    int r = same_queries_at(g, g2, q, cache, top), lv;
+    assert_int_equal(top, f & GG_CPU_AVX512 ? 3 : f & GG_CPU_AVX2 ? 2 : 1);
+    for (lv = top - 1; lv >= 1; lv--) assert_int_equal(same_queries_at(g, g2, q, cache, lv), r);
     g->trav_avx = top;
     return r;
 }
@@ -541,8 +596,9 @@ static void test_spd_queries(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_lanes_random),  cmocka_unit_test(test_lanes_edges),
-        cmocka_unit_test(test_mixed_queries), cmocka_unit_test(test_grid_queries),
+        cmocka_unit_test(test_lanes_random),        cmocka_unit_test(test_lanes_edges),
+        cmocka_unit_test(test_lanes_random_avx512), cmocka_unit_test(test_lanes_edges_avx512),
+        cmocka_unit_test(test_mixed_queries),       cmocka_unit_test(test_grid_queries),
         cmocka_unit_test(test_spd_queries),
     };
     if (!(gg_cpu_features() & GG_CPU_AVX)) {
