@@ -7,6 +7,7 @@
 ** image is bit-identical for any thread count and any crop window.
 */
 #include "render.h"
+#include "lpe.h"
 #include "shade.h"
 
 #include "trace_int.h"
@@ -199,6 +200,9 @@ typedef struct job {
     void *progress_ud;
     float *cost;
     int cost_kind;
+    const ggPathLayers *layers; /* path layers (n > 0), or NULL */
+    float *lmap;                /* their map (ggRenderOptions.layer_map) */
+    float *lcorner;             /* pixel-corner mode: each corner's layers, n RGB */
     ggRayStats stats;
 } job;
 
@@ -241,6 +245,47 @@ static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *
         if (recorded) j->ctx.rec = NULL;
     }
     return cscale(acc, 1.0 / j->r.spp);
+}
+
+/* Layer l's value v at pixel (x, y) of the map. */
+static void put_layer(job *j, int l, int x, int y, ggColor v)
+{
+    float *o = j->lmap + 3 * (((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x);
+    o[0] = (float)v.r, o[1] = (float)v.g, o[2] = (float)v.b;
+}
+
+/* pixel_center with path layers: the same pixel (returned), and each
+   layer's share of it, the mean of its samples' shares, into the map. */
+static ggColor pixel_layers(job *j, int x, int y, gg_shade_thread *th)
+{
+    const int nl = j->layers->n;
+    ggColor acc = rgb(0, 0, 0), lacc[GG_LAYERS_MAX];
+    int k, l;
+    for (l = 0; l < nl; l++) lacc[l] = rgb(0, 0, 0);
+    for (k = 0; k < j->r.spp; k++) {
+        double sx, sy;
+        sample_pos(k, j->r.spp, &sx, &sy);
+        for (l = 0; l < nl; l++) th->aov[l] = rgb(0, 0, 0);
+        acc = cadd(acc, sample_color(j, x + sx, y + sy, th));
+        for (l = 0; l < nl; l++) lacc[l] = cadd(lacc[l], th->aov[l]);
+    }
+    for (l = 0; l < nl; l++) put_layer(j, l, x, y, cscale(lacc[l], 1.0 / j->r.spp));
+    return cscale(acc, 1.0 / j->r.spp);
+}
+
+/* A pixel corner's colour with path layers: as sample_color, and each
+   layer's share of it into j->lcorner at corner index i. */
+static ggColor corner_layers(job *j, double px, double py, size_t i, gg_shade_thread *th)
+{
+    const int nl = j->layers->n;
+    float *o = j->lcorner + 3 * (size_t)nl * i;
+    ggColor c;
+    int l;
+    for (l = 0; l < nl; l++) th->aov[l] = rgb(0, 0, 0);
+    c = sample_color(j, px, py, th);
+    for (l = 0; l < nl; l++, o += 3)
+        o[0] = (float)th->aov[l].r, o[1] = (float)th->aov[l].g, o[2] = (float)th->aov[l].b;
+    return c;
 }
 
 /* A pixel-centre pixel from its one sample's colour c, as pixel_center
@@ -422,12 +467,13 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
     int gx, gy;
-    /* Cost maps measure every pixel the slow way, on purpose. */
-    if (!j->cost && tile_empty(j, gx0, gy0, gx1, gy1)) {
+    /* Cost maps and path layers take every pixel the slow way, on
+       purpose: cost maps measure each, layers need each one's share. */
+    if (!j->cost && !j->layers && tile_empty(j, gx0, gy0, gx1, gy1)) {
         fill_empty_tile(j, gx0, gy0, gx1, gy1, th);
         return;
     }
-    if (!j->cost && !j->ctx.rec && (j->corner || j->r.spp == 1)) {
+    if (!j->cost && !j->layers && !j->ctx.rec && (j->corner || j->r.spp == 1)) {
         tile_rows(j, gx0, gy0, gx1, gy1, th);
         return;
     }
@@ -438,12 +484,15 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
             if (j->cost) st->max_depth = 0;
             if (j->corner) {
                 /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
-                ggColor c = sample_color(j, j->r.x0 + gx, j->r.y0 + gy, th);
+                ggColor c = j->layers ? corner_layers(j, j->r.x0 + gx, j->r.y0 + gy,
+                                                      (size_t)gy * j->cw + gx, th)
+                                      : sample_color(j, j->r.x0 + gx, j->r.y0 + gy, th);
                 float *o = j->corner + 3 * ((size_t)gy * j->cw + gx);
                 o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
             } else {
                 int x = j->r.x0 + gx, y = j->r.y0 + gy;
-                ggColor acc = pixel_center(j, x, y, th, NULL, -1);
+                ggColor acc =
+                    j->layers ? pixel_layers(j, x, y, th) : pixel_center(j, x, y, th, NULL, -1);
                 float *o = j->px + 3 * ((size_t)y * j->r.w + x);
                 o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
             }
@@ -465,7 +514,9 @@ static void *worker(void *arg)
 {
     job *j = arg;
     gg_shade_thread th;
+    ggColor aov[GG_LAYERS_MAX];
     memset(&th, 0, sizeof th);
+    th.aov = aov;
     for (;;) {
         int t;
         long tile_px;
@@ -510,6 +561,49 @@ static void run_tiles(job *j, int cw, int ch)
     for (i = 0; i < started; i++) pthread_join(th[i], NULL);
 }
 
+/* Pixel-corner mode: each pixel the mean of its four corners, and so each
+   of its layers. */
+static void average_corners(job *j, int cw)
+{
+    const int nl = j->layers ? j->layers->n : 0;
+    int x, y, k, l;
+    for (y = j->r.y0; y < j->r.y1 && !j->cancelled; y++)
+        for (x = j->r.x0; x < j->r.x1; x++) {
+            const size_t i = (size_t)(y - j->r.y0) * cw + (x - j->r.x0);
+            const float *c00 = j->corner + 3 * i;
+            const float *c10 = c00 + 3, *c01 = c00 + 3 * (size_t)cw, *c11 = c01 + 3;
+            float *o = j->px + 3 * ((size_t)y * j->r.w + x);
+            for (k = 0; k < 3; k++)
+                o[k] = (float)(((double)c00[k] + c10[k] + c01[k] + c11[k]) * 0.25);
+            for (l = 0; l < nl; l++) {
+                const size_t row = 3 * (size_t)nl * (size_t)cw, at = 3 * ((size_t)nl * i + l);
+                const float *d00 = j->lcorner + at, *d10 = d00 + 3 * nl, *d01 = d00 + row;
+                const float *d11 = d01 + 3 * nl;
+                ggColor v;
+                v.r = ((double)d00[0] + d10[0] + d01[0] + d11[0]) * 0.25;
+                v.g = ((double)d00[1] + d10[1] + d01[1] + d11[1]) * 0.25;
+                v.b = ((double)d00[2] + d10[2] + d01[2] + d11[2]) * 0.25;
+                put_layer(j, l, x, y, v);
+            }
+        }
+}
+
+/* The options' path layers into the job (and its shading). */
+static int set_layers(job *j, const ggRenderOptions *opt, ggError *err)
+{
+    if (!opt || (!opt->layers && !opt->layer_map)) return GG_OK;
+    if (!opt->layers || !opt->layer_map)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "ggRender: path layers need both layers and layer_map");
+    if (opt->layers->n < 0 || opt->layers->n > GG_LAYERS_MAX)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggRender: %d path layers (0..%d)",
+                            opt->layers->n, GG_LAYERS_MAX);
+    if (opt->layers->n == 0) return GG_OK;
+    j->layers = j->ctx.layers = opt->layers;
+    j->lmap = opt->layer_map;
+    return GG_OK;
+}
+
 GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRayStats *stats,
                     ggError *err)
 {
@@ -522,11 +616,13 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     *out = NULL;
     memset(&j, 0, sizeof j);
     if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if ((rc = set_layers(&j, opt, err)) != GG_OK) return rc;
     if ((rc = prepare(s, err)) != GG_OK) return rc;
     img = ggImageCreate(j.r.w, j.r.h, s->alloc);
     if (!img)
         return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    j.ctx.layers = j.layers;
     j.ctx.budget = (uint32_t)j.r.budget;
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
@@ -542,23 +638,19 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     if (j.r.corners) {
         /* SPD sampling: rays through the (w+1) x (h+1) pixel corners, each
            pixel the mean of its four corners. Corners are shaded once. */
-        int cw = j.r.x1 - j.r.x0 + 1, ch = j.r.y1 - j.r.y0 + 1, x, y, k;
+        int cw = j.r.x1 - j.r.x0 + 1, ch = j.r.y1 - j.r.y0 + 1;
+        const size_t nl = j.layers ? (size_t)j.layers->n : 0;
         j.corner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * sizeof(float));
-        if (!j.corner) {
+        if (nl) j.lcorner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * nl * sizeof(float));
+        if (!j.corner || (nl && !j.lcorner)) {
+            gg_mem_free(s->alloc, j.corner), gg_mem_free(s->alloc, j.lcorner);
             pthread_mutex_destroy(&j.mu);
             ggImageFree(img);
             return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for pixel corners");
         }
         run_tiles(&j, cw, ch);
-        for (y = j.r.y0; y < j.r.y1 && !j.cancelled; y++)
-            for (x = j.r.x0; x < j.r.x1; x++) {
-                const float *c00 = j.corner + 3 * ((size_t)(y - j.r.y0) * cw + (x - j.r.x0));
-                const float *c10 = c00 + 3, *c01 = c00 + 3 * (size_t)cw, *c11 = c01 + 3;
-                float *o = j.px + 3 * ((size_t)y * j.r.w + x);
-                for (k = 0; k < 3; k++)
-                    o[k] = (float)(((double)c00[k] + c10[k] + c01[k] + c11[k]) * 0.25);
-            }
-        gg_mem_free(s->alloc, j.corner);
+        average_corners(&j, cw);
+        gg_mem_free(s->alloc, j.corner), gg_mem_free(s->alloc, j.lcorner);
     } else {
         run_tiles(&j, j.r.x1 - j.r.x0, j.r.y1 - j.r.y0);
     }
