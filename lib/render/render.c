@@ -599,7 +599,7 @@ static int set_layers(job *j, const ggRenderOptions *opt, ggError *err)
         return gg_error_set(err, GG_ERROR_INVALID, "ggRender: %d path layers (0..%d)",
                             opt->layers->n, GG_LAYERS_MAX);
     if (opt->layers->n == 0) return GG_OK;
-    j->layers = j->ctx.layers = opt->layers;
+    j->layers = opt->layers;
     j->lmap = opt->layer_map;
     return GG_OK;
 }
@@ -622,7 +622,7 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     if (!img)
         return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
-    j.ctx.layers = j.layers;
+    gg_shade_set_layers(&j.ctx, j.layers);
     j.ctx.budget = (uint32_t)j.r.budget;
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);

@@ -195,6 +195,14 @@ static void resolve_knobs(gg_shade_ctx *ctx, const ggScene *s)
                                                                      : GG_FRESNEL_EXACT;
 }
 
+void gg_shade_set_layers(gg_shade_ctx *ctx, const struct ggPathLayers *layers)
+{
+    ctx->layers = layers;
+    /* Not an effect: makes trace_root pick the layer copy, the one
+       GG_SHADE_COPIES line that holds FX_AOV. */
+    if (layers) ctx->fx |= FX_AOV;
+}
+
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc)
 {
@@ -1115,6 +1123,14 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     const gg_hit *hp = known ? known : &h;
     ggColor col, att = rgb(1, 1, 1);
     int node, hit = 1;
+    ray_state root;
+    /* The layer copy: a tree's root starts its layers here, so that
+       the other copies' roots cost nothing for them. */
+    if ((FX & FX_AOV) && r->kind == GG_RAY_EYE) {
+        root = *r;
+        aov_root(c, &root);
+        r = &root;
+    }
     if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
     node = rec_ray(c, r, FX);
     q.inside = r->inside;
@@ -1189,7 +1205,7 @@ static void root_ray(ray_state *r, ggVec3 o, ggVec3 u, int depth)
 static ggColor trace_root(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
                           const gg_hit *known)
 {
-    const unsigned need = c->fx | (c->rec ? GG_SHADE_RECORDS : 0u) | (c->layers ? FX_AOV : 0u);
+    const unsigned need = c->fx | (c->rec ? GG_SHADE_RECORDS : 0u);
     th->left = c->budget;
     GG_SHADE_COPIES(GG_SHADE_PICK)
     return trace_none();
@@ -1200,7 +1216,6 @@ ggColor gg_shade_ray_unit(const gg_shade_ctx *c, ggVec3 o, ggVec3 u, int depth, 
 {
     ray_state r;
     root_ray(&r, o, u, depth);
-    if (c->layers) aov_root(c, &r);
     if (depth == 1) th->st.eye++;
     return trace_root(c, &r, th, NULL);
 }
@@ -1210,6 +1225,5 @@ ggColor gg_shade_eye_hit(const gg_shade_ctx *c, const gg_rayq *q, const gg_hit *
 {
     ray_state r;
     root_ray(&r, q->o, q->d, 1);
-    if (c->layers) aov_root(c, &r);
     return trace_root(c, &r, th, h);
 }

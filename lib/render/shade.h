@@ -56,6 +56,10 @@ typedef struct gg_shade_thread {
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc);
 
+/* Split every ray tree's colour into these path layers (NULL: none)
+   from now on, into each thread's gg_shade_thread.aov: the layer copy. */
+void gg_shade_set_layers(gg_shade_ctx *ctx, const struct ggPathLayers *layers);
+
 /* Colour along a ray starting in the outside medium (an eye ray, or any
    ray of ggRayColor) at the given depth (eye ray = 1). */
 ggColor gg_shade_ray(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 d, int depth, gg_shade_thread *th);
