@@ -100,12 +100,14 @@ static void note(aov_side *s, double d, int x, int y)
 }
 
 /* Compare every pixel: gap and overlap; *total the image's light, *bad
-   the pixels that are not finite (not compared). */
-static void compare(const aov_file *f, aov_side *gap, aov_side *over, double *total, long *bad)
+   the pixels that are not finite (not compared), *ratio the largest
+   |image - layers| over its bound (0/0 counting 0). */
+static void compare(const aov_file *f, aov_side *gap, aov_side *over, double *total, long *bad,
+                    double *ratio)
 {
     int x, y, k, c;
     memset(gap, 0, sizeof *gap), memset(over, 0, sizeof *over);
-    *total = 0, *bad = 0;
+    *total = 0, *bad = 0, *ratio = 0;
     for (y = 0; y < f->h; y++)
         for (x = 0; x < f->w; x++) {
             const ggColor p = ggImageGet(f->img, x, y);
@@ -126,6 +128,7 @@ static void compare(const aov_file *f, aov_side *gap, aov_side *over, double *to
             *total += pv[0] + pv[1] + pv[2];
             for (c = 0; c < 3; c++) {
                 const double d = pv[c] - sum[c], bound = 0x1p-22 * mag[c];
+                if (d != 0 && fabs(d) / bound > *ratio) *ratio = fabs(d) / bound;
                 if (fabs(d) <= bound) continue;
                 out = 1;
                 if (d > 0) miss += d;
@@ -226,7 +229,7 @@ int aov_sum_check(const char *exr, const char *scene_arg)
     aov_side gap, over;
     ggRenderOptions opt;
     ggScene *scene = NULL;
-    double total;
+    double total, ratio;
     long bad;
     int k, rc;
     memset(&f, 0, sizeof f);
@@ -235,10 +238,12 @@ int aov_sum_check(const char *exr, const char *scene_arg)
         file_free(&f);
         return rc;
     }
-    compare(&f, &gap, &over, &total, &bad);
+    compare(&f, &gap, &over, &total, &bad, &ratio);
     printf("%s: %dx%d, %d layers:", exr, f.w, f.h, f.n);
     for (k = 0; k < f.n; k++) printf(" %s=%s", f.name[k], f.expr[k]);
-    printf("\nbound: |image - sum of layers| <= 2^-22 (|image| + sum |layer|) per channel\n");
+    printf("\nbound: |image - sum of layers| <= 2^-22 (|image| + sum |layer|) per channel; the "
+           "largest difference is %.3g of it\n",
+           ratio);
     if (bad) printf("%ld pixels not finite (not compared)\n", bad);
     if (gap.pixels || over.pixels) scene = trace_scene(&f, scene_arg, &opt);
     report(&f, &gap, total, "gap:", scene, &opt, 0);
