@@ -454,7 +454,12 @@ GG_API size_t ggPathPoints(const ggTrace *trace, const ggLedgerTerm *term, ggPat
 /* ggFind with a path expression: the pixels of opt's window with at least
    one path that expr matches (ggPathMatch); each match's `share` is the
    share of the pixel's value those paths carry (ggPathSummary.share).
-   Everything else as ggFind; res->traced is 1. */
+   Everything else as ggFind. An expression without predicates, at one
+   sample per pixel at its centre (not corners), is answered by a render
+   whose shading carries the expression's automaton, as path layers
+   (ggPathLayersCompile), with the same matches and shares bit for bit
+   and res->traced 0; otherwise every pixel's trees are recorded and
+   matched (ggPathMatch), res->traced 1. */
 GG_API int ggFindPath(ggScene *scene, const ggRenderOptions *opt, const ggPathExpr *expr,
                       int limit, ggFindResult **out, ggError *err);
 

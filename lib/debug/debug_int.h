@@ -190,6 +190,10 @@ typedef struct gg_path_cache {
 void gg_path_step_event(const ggPathExpr *e, const uint64_t *in, int type, int scatter, int tir,
                         int has_at, long object, long material, long light, uint64_t *out);
 
+/* e (without predicates) as one path layer, from e's allocator
+   (path_layers.c): GG_OK or ggPathLayersCompile's errors. */
+int gg_path_layers_of(const ggPathExpr *e, ggPathLayers **out, ggError *err);
+
 /* Match e against every path of px (whose w must be set), with sets
    holding GG_PATH_WORDS words per ray of px->trace (path_match.c).
    cache: NULL, or a zeroed (or earlier) gg_path_cache of this thread. */

@@ -157,6 +157,23 @@ GG_API int ggPathLayersCount(const ggPathLayers *layers)
     return layers ? layers->n : 0;
 }
 
+int gg_path_layers_of(const ggPathExpr *e, ggPathLayers **out, ggError *err)
+{
+    ggPathLayers *P;
+    int rc;
+    *out = NULL;
+    if (!(P = gg_mem_calloc(e->alloc, 1, sizeof *P)))
+        return gg_error_set(err, GG_ERROR_NOMEM, "path layers: out of memory");
+    if (e->alloc) P->alloc_copy = *e->alloc, P->alloc = &P->alloc_copy;
+    P->n = 1;
+    if ((rc = compile_layer(e, &P->layer[0], 0, err)) != GG_OK) {
+        ggPathLayersFree(P);
+        return rc;
+    }
+    *out = P;
+    return GG_OK;
+}
+
 GG_API int ggPathLayersCompile(const char *const *exprs, int n, const ggAllocator *alloc,
                                ggPathLayers **out, ggError *err)
 {

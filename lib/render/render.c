@@ -201,7 +201,9 @@ typedef struct job {
     float *cost;
     int cost_kind;
     const ggPathLayers *layers; /* path layers (n > 0), or NULL */
-    float *lmap;                /* their map (ggRenderOptions.layer_map) */
+    float *lmap;                /* their map (ggRenderOptions.layer_map), or NULL */
+    double *lsum;               /* gg_render_layer_sums: the layers in double, or NULL */
+    uint32_t *lcnt;             /* and the terms each took */
     float *lcorner;             /* pixel-corner mode: each corner's layers, n RGB */
     ggRayStats stats;
 } job;
@@ -250,8 +252,9 @@ static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *
 /* Layer l's value v at pixel (x, y) of the map. */
 static void put_layer(job *j, int l, int x, int y, ggColor v)
 {
-    float *o = j->lmap + 3 * (((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x);
-    o[0] = (float)v.r, o[1] = (float)v.g, o[2] = (float)v.b;
+    const size_t i = ((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x;
+    if (j->lmap) j->lmap[3 * i] = (float)v.r, j->lmap[3 * i + 1] = (float)v.g, j->lmap[3 * i + 2] = (float)v.b;
+    if (j->lsum) j->lsum[3 * i] = v.r, j->lsum[3 * i + 1] = v.g, j->lsum[3 * i + 2] = v.b;
 }
 
 /* pixel_center with path layers: the same pixel (returned), and each
@@ -262,6 +265,8 @@ static ggColor pixel_layers(job *j, int x, int y, gg_shade_thread *th)
     ggColor acc = rgb(0, 0, 0), lacc[GG_LAYERS_MAX];
     int k, l;
     for (l = 0; l < nl; l++) lacc[l] = rgb(0, 0, 0);
+    if (th->aov_n)
+        for (l = 0; l < nl; l++) th->aov_n[l] = 0;
     for (k = 0; k < j->r.spp; k++) {
         double sx, sy;
         sample_pos(k, j->r.spp, &sx, &sy);
@@ -270,6 +275,10 @@ static ggColor pixel_layers(job *j, int x, int y, gg_shade_thread *th)
         for (l = 0; l < nl; l++) lacc[l] = cadd(lacc[l], th->aov[l]);
     }
     for (l = 0; l < nl; l++) put_layer(j, l, x, y, cscale(lacc[l], 1.0 / j->r.spp));
+    if (j->lcnt)
+        for (l = 0; l < nl; l++)
+            j->lcnt[((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x] =
+                th->aov_n[l];
     return cscale(acc, 1.0 / j->r.spp);
 }
 
@@ -515,8 +524,10 @@ static void *worker(void *arg)
     job *j = arg;
     gg_shade_thread th;
     ggColor aov[GG_LAYERS_MAX];
+    uint32_t aov_n[GG_LAYERS_MAX];
     memset(&th, 0, sizeof th);
     th.aov = aov;
+    if (j->lcnt) th.aov_n = aov_n;
     for (;;) {
         int t;
         long tile_px;
@@ -604,19 +615,46 @@ static int set_layers(job *j, const ggRenderOptions *opt, ggError *err)
     return GG_OK;
 }
 
+static int render_job(job *j, ggScene *s, const ggRenderOptions *opt, ggImage **out,
+                      ggRayStats *stats, ggError *err);
+
 GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRayStats *stats,
                     ggError *err)
 {
     job j;
-    ggImage *img;
     int rc;
     /* Statistics are the counts of this call alone, also on failure. */
     if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggRender: NULL argument");
     *out = NULL;
     memset(&j, 0, sizeof j);
-    if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
     if ((rc = set_layers(&j, opt, err)) != GG_OK) return rc;
+    return render_job(&j, s, opt, out, stats, err);
+}
+
+int gg_render_layer_sums(ggScene *s, const ggRenderOptions *opt, const ggPathLayers *l,
+                         double *sums, uint32_t *counts, ggImage **out, ggRayStats *stats,
+                         ggError *err)
+{
+    job j;
+    if (stats) memset(stats, 0, sizeof *stats);
+    *out = NULL;
+    memset(&j, 0, sizeof j);
+    j.layers = l, j.lsum = sums, j.lcnt = counts;
+    return render_job(&j, s, opt, out, stats, err);
+}
+
+/* ggRender with the job's layers set. */
+static int render_job(job *j0, ggScene *s, const ggRenderOptions *opt, ggImage **out,
+                      ggRayStats *stats, ggError *err)
+{
+    job j = *j0;
+    ggImage *img;
+    int rc;
+    if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if (j.lsum && (j.r.spp != 1 || j.r.corners))
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED,
+                            "layer sums: one sample per pixel at its centre only");
     if ((rc = prepare(s, err)) != GG_OK) return rc;
     img = ggImageCreate(j.r.w, j.r.h, s->alloc);
     if (!img)

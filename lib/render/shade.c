@@ -587,6 +587,8 @@ static ggColor wmul(ggColor a, ggColor b)
 static void aov_add(gg_shade_thread *th, int l, ggColor a, ggColor term)
 {
     th->aov[l] = cadd(th->aov[l], wmul(a, term));
+    /* The ledger's terms are the non-zero ones (lib/debug/ledger.c). */
+    if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
 }
 
 /* An eye ray: weight 1, every layer after its C. */

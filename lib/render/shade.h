@@ -47,8 +47,10 @@ typedef struct gg_shade_thread {
     uint32_t occ[GG_OCC_CACHES];
     uint32_t left; /* secondary rays the current eye ray's tree may still cast */
     /* With ctx.layers: one colour per layer that the traced rays add
-       their layers' shares to (the caller zeroes them per sample). */
+       their layers' shares to (the caller zeroes them per sample), and,
+       if not NULL, per layer the number of non-zero terms it took. */
     ggColor *aov;
+    uint32_t *aov_n;
 } gg_shade_thread;
 
 /* Fill ctx from a prepared scene and resolved options; acc may be NULL.

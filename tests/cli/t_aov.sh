@@ -87,3 +87,18 @@ case $(cat "$tmp/ac") in
   "ok   "*) ok "aov: $(sed 's/^ok   //' "$tmp/ac")" ;;
   *) bad "aov: layers against the independent matcher" "$(cat "$tmp/ac")" ;;
 esac
+
+# find --path without predicates is answered by the layer copy: the same
+# document as the recorder's (an always-true predicate forces it) on every
+# example, model, SPD and test-data scene
+python3 tests/cli/find_layers_check.py "$ggrt" examples/scenes/*.nff examples/scenes/models/*.obj \
+  examples/scenes/models/*.ply examples/scenes/spd/*.nff tests/data/*.nff tests/data/debug/*.nff \
+  >"$tmp/fl" 2>&1
+while IFS= read -r line; do
+  case "$line" in
+    "ok   "*) ok "${line#ok   }" ;;
+    "FAIL "*) bad "${line#FAIL }" ;;
+    *) bad "find_layers_check.py: $line" ;;
+  esac
+done < "$tmp/fl"
+grep -q '^ok' "$tmp/fl" || bad "find_layers_check.py ran" "$(cat "$tmp/fl")"
