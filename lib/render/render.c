@@ -204,6 +204,8 @@ typedef struct job {
     float *lmap;                /* their map (ggRenderOptions.layer_map), or NULL */
     double *lsum;               /* gg_render_layer_sums: the layers in double, or NULL */
     uint32_t *lcnt;             /* and the terms each took */
+    ggColor lmiss[GG_LAYERS_MAX];   /* each layer's share of an eye ray's miss */
+    uint32_t nmiss[GG_LAYERS_MAX];  /* and its terms (0 or 1) */
     float *lcorner;             /* pixel-corner mode: each corner's layers, n RGB */
     ggRayStats stats;
 } job;
@@ -255,6 +257,44 @@ static void put_layer(job *j, int l, int x, int y, ggColor v)
     const size_t i = ((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x;
     if (j->lmap) j->lmap[3 * i] = (float)v.r, j->lmap[3 * i + 1] = (float)v.g, j->lmap[3 * i + 2] = (float)v.b;
     if (j->lsum) j->lsum[3 * i] = v.r, j->lsum[3 * i + 1] = v.g, j->lsum[3 * i + 2] = v.b;
+}
+
+/* One sample's layers v (and term counts n) at grid point (gx, gy): a
+   pixel centre's value (scaled as put_centre scales the pixel), or a
+   corner's (tile_rows and fill_empty_tile). */
+static void put_sample_layers(job *j, int gx, int gy, const ggColor *v, const uint32_t *n,
+                              double scale)
+{
+    const int nl = j->layers->n;
+    int l;
+    if (j->corner) {
+        float *o = j->lcorner + 3 * (size_t)nl * ((size_t)gy * j->cw + gx);
+        for (l = 0; l < nl; l++, o += 3)
+            o[0] = (float)v[l].r, o[1] = (float)v[l].g, o[2] = (float)v[l].b;
+        return;
+    }
+    for (l = 0; l < nl; l++) {
+        const int x = j->r.x0 + gx, y = j->r.y0 + gy;
+        put_layer(j, l, x, y, cscale(cadd(rgb(0, 0, 0), v[l]), scale));
+        if (j->lcnt)
+            j->lcnt[((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x] =
+                n ? n[l] : 0;
+    }
+}
+
+/* What an eye ray's miss gives each layer: the background if the layer
+   takes CB (the layer copy's trace_fx on a miss: weight 1, no
+   absorption outside every medium). */
+static void miss_layers(job *j)
+{
+    const ggColor bg = gg_shade_eye_miss(&j->ctx);
+    int l;
+    for (l = 0; l < j->layers->n; l++) {
+        const gg_lpe_dfa *d = &j->layers->layer[l];
+        const int on = d->accept[gg_lpe_step(d, d->start, GG_LPE_B, gg_lpe_none(d))];
+        j->lmiss[l] = on ? bg : rgb(0, 0, 0);
+        j->nmiss[l] = on && (bg.r != 0 || bg.g != 0 || bg.b != 0);
+    }
 }
 
 /* pixel_center with path layers: the same pixel (returned), and each
@@ -367,7 +407,8 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
    here as one packet (gg_geom_intersect_packet: the same hits as one at a
    time), then the hits are shaded left to right as before; every miss is
    the same pixel value. */
-static void tile_rows(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th,
+                            const int layers)
 {
     const cam_basis *b = &j->cam;
     const gg_geom *geom = j->ctx.s->geom;
@@ -407,20 +448,46 @@ static void tile_rows(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_threa
             if (!((ok >> i) & 1u)) {
                 nonfinite += corner ? put_corner(o, &black) : put_centre(o, &black, scale);
                 eye--; /* no ray cast: take it back from the row's n */
+                if (layers) {
+                    ggColor none[GG_LAYERS_MAX];
+                    int l;
+                    for (l = 0; l < j->layers->n; l++) none[l] = black;
+                    put_sample_layers(j, gx0 + i, gy, none, NULL, scale);
+                }
                 continue;
             }
             if ((hit >> i) & 1u) {
-                ggColor col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
+                ggColor col;
+                int l;
+                for (l = 0; layers && l < j->layers->n; l++) {
+                    th->aov[l] = black;
+                    if (th->aov_n) th->aov_n[l] = 0;
+                }
+                col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
                 nonfinite += corner ? put_corner(o, &col) : put_centre(o, &col, scale);
+                if (layers) put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
+                if (layers) put_sample_layers(j, gx0 + i, gy, j->lmiss, j->nmiss, scale);
             }
         }
     }
     th->st.eye += eye;
     th->st.nonfinite += nonfinite;
     if (eye > 0 && th->st.max_depth < 1) th->st.max_depth = 1;
+}
+
+static void tile_rows(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+{
+    tile_rows_fx(j, gx0, gy0, gx1, gy1, th, 0);
+}
+
+/* tile_rows with path layers: a copy of its own, the other unchanged. */
+static GG_NOINLINE void tile_rows_layers(job *j, int gx0, int gy0, int gx1, int gy1,
+                                         gg_shade_thread *th)
+{
+    tile_rows_fx(j, gx0, gy0, gx1, gy1, th, 1);
 }
 
 /* Whether no eye ray of tile [gx0, gx1) x [gy0, gy1) can hit anything:
@@ -434,6 +501,22 @@ static int tile_empty(const job *j, int gx0, int gy0, int gx1, int gy1)
     d[0] = basis_dir(&j->cam, xa, ya), d[1] = basis_dir(&j->cam, xb, ya);
     d[2] = basis_dir(&j->cam, xb, yb), d[3] = basis_dir(&j->cam, xa, yb);
     return gg_geom_frustum_empty(j->ctx.s->geom, j->cam.eye, d);
+}
+
+/* fill_empty_tile's layers: n misses a pixel (one a corner), summed and
+   scaled as pixel_layers sums them. */
+static void empty_tile_layers(job *j, int gx0, int gy0, int gx1, int gy1, int n)
+{
+    ggColor v[GG_LAYERS_MAX];
+    uint32_t c[GG_LAYERS_MAX];
+    int l, k, gx, gy;
+    for (l = 0; l < j->layers->n; l++) {
+        ggColor acc = rgb(0, 0, 0);
+        for (k = 0; k < n; k++) acc = cadd(acc, j->lmiss[l]);
+        v[l] = acc, c[l] = (uint32_t)n * j->nmiss[l];
+    }
+    for (gy = gy0; gy < gy1; gy++)
+        for (gx = gx0; gx < gx1; gx++) put_sample_layers(j, gx, gy, v, c, 1.0 / j->r.spp);
 }
 
 /* An empty tile: every sample is a miss. The same values and counts as
@@ -467,6 +550,7 @@ static void fill_empty_tile(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
                              : j->px + 3 * ((size_t)(j->r.y0 + gy) * j->r.w + (j->r.x0 + gx0));
         for (gx = gx0; gx < gx1; gx++, o += 3) o[0] = v[0], o[1] = v[1], o[2] = v[2];
     }
+    if (j->layers) empty_tile_layers(j, gx0, gy0, gx1, gy1, n);
 }
 
 static void render_tile(job *j, int t, gg_shade_thread *th)
@@ -476,14 +560,16 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
     int gx, gy;
-    /* Cost maps and path layers take every pixel the slow way, on
-       purpose: cost maps measure each, layers need each one's share. */
-    if (!j->cost && !j->layers && tile_empty(j, gx0, gy0, gx1, gy1)) {
+    /* Cost maps measure every pixel the slow way, on purpose. */
+    if (!j->cost && tile_empty(j, gx0, gy0, gx1, gy1)) {
         fill_empty_tile(j, gx0, gy0, gx1, gy1, th);
         return;
     }
-    if (!j->cost && !j->layers && !j->ctx.rec && (j->corner || j->r.spp == 1)) {
-        tile_rows(j, gx0, gy0, gx1, gy1, th);
+    if (!j->cost && !j->ctx.rec && (j->corner || j->r.spp == 1)) {
+        if (j->layers)
+            tile_rows_layers(j, gx0, gy0, gx1, gy1, th);
+        else
+            tile_rows(j, gx0, gy0, gx1, gy1, th);
         return;
     }
     for (gy = gy0; gy < gy1; gy++)
@@ -661,6 +747,7 @@ static int render_job(job *j0, ggScene *s, const ggRenderOptions *opt, ggImage *
         return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
     gg_shade_set_layers(&j.ctx, j.layers);
+    if (j.layers) miss_layers(&j);
     j.ctx.budget = (uint32_t)j.r.budget;
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
