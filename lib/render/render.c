@@ -266,6 +266,8 @@ static void put_sample_layers(job *j, int gx, int gy, const ggColor *v, const ui
                               double scale)
 {
     const int nl = j->layers->n;
+    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
+    size_t i;
     int l;
     if (j->corner) {
         float *o = j->lcorner + 3 * (size_t)nl * ((size_t)gy * j->cw + gx);
@@ -273,12 +275,13 @@ static void put_sample_layers(job *j, int gx, int gy, const ggColor *v, const ui
             o[0] = (float)v[l].r, o[1] = (float)v[l].g, o[2] = (float)v[l].b;
         return;
     }
-    for (l = 0; l < nl; l++) {
-        const int x = j->r.x0 + gx, y = j->r.y0 + gy;
-        put_layer(j, l, x, y, cscale(cadd(rgb(0, 0, 0), v[l]), scale));
-        if (j->lcnt)
-            j->lcnt[((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x] =
-                n ? n[l] : 0;
+    /* put_layer's arithmetic and places, one layer's plane after another */
+    i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
+    for (l = 0; l < nl; l++, i += plane) {
+        const ggColor a = cscale(cadd(rgb(0, 0, 0), v[l]), scale);
+        if (j->lmap) j->lmap[3 * i] = (float)a.r, j->lmap[3 * i + 1] = (float)a.g, j->lmap[3 * i + 2] = (float)a.b;
+        if (j->lsum) j->lsum[3 * i] = a.r, j->lsum[3 * i + 1] = a.g, j->lsum[3 * i + 2] = a.b;
+        if (j->lcnt) j->lcnt[i] = n ? n[l] : 0;
     }
 }
 

@@ -108,7 +108,13 @@ typedef struct hit_info {
     int front;      /* the ray arrived against sf.ng */
     ggVec3 o_out;   /* origin of every ray that leaves to the incoming side */
     ggColor kdc;    /* kd times the surface colour (texture included) */
-    ggColor aw;     /* the layer copy: the ray's thru times its absorption to the hit */
+    /* The layer copy (aov_local fills them): the ray's thru times its
+       absorption to the hit; per layer the class of the hit's labels and
+       the states after <RD> and <RG> there; the layers not dead after
+       one of them (bit l). */
+    ggColor aw;
+    uint16_t lcls[GG_LAYERS_MAX], lsd[GG_LAYERS_MAX], lsg[GG_LAYERS_MAX];
+    unsigned llive;
 } hit_info;
 
 /* One shadow ray and what it found. */
@@ -148,6 +154,7 @@ typedef struct secondary {
     X(basic, FX_BASIC)                                                                             \
     X(glass, FX_GLASS)                                                                             \
     X(full, FX_FULL)                                                                               \
+    X(layers_basic, FX_BASIC | FX_AOV)                                                             \
     X(layers, FX_LAYERS)                                                                           \
     GG_SHADE_COPY_REC(X)
 
@@ -599,20 +606,28 @@ static void aov_root(const gg_shade_ctx *c, ray_state *r)
     for (l = 0; l < c->layers->n; l++) r->lpe[l] = c->layers->layer[l].start;
 }
 
-/* The terms that end a path at the hit: ambient amb (<RD>A) and, if it
-   glows, emission (O). */
-GG_INLINE void aov_local(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+/* The hit's per-layer states (hi->lcls, lsd, lsg, llive), then the
+   terms that end a path there: ambient amb (<RD>A) and, if it glows,
+   emission (O). */
+GG_INLINE void aov_local(const gg_shade_ctx *c, const ray_state *r, hit_info *hi,
                          gg_shade_thread *th, ggColor amb, const unsigned FX)
 {
     int l;
     if (!(FX & FX_AOV)) return;
+    hi->llive = 0;
     for (l = 0; l < c->layers->n; l++) {
         const gg_lpe_dfa *d = &c->layers->layer[l];
         const unsigned s = r->lpe[l];
         int cls;
-        if (!s) continue;
-        cls = gg_lpe_surface(d, hi->obj, hi->mi);
-        if (d->accept[gg_lpe_step(d, gg_lpe_step(d, s, GG_LPE_RD, cls), GG_LPE_A, gg_lpe_none(d))])
+        if (!s) {
+            hi->lsd[l] = hi->lsg[l] = 0;
+            continue;
+        }
+        hi->lcls[l] = (uint16_t)(cls = gg_lpe_surface(d, hi->obj, hi->mi));
+        hi->lsd[l] = (uint16_t)gg_lpe_step(d, s, GG_LPE_RD, cls);
+        hi->lsg[l] = (uint16_t)gg_lpe_step(d, s, GG_LPE_RG, cls);
+        if (hi->lsd[l] | hi->lsg[l]) hi->llive |= 1u << l;
+        if (hi->lsd[l] && d->accept[gg_lpe_step(d, hi->lsd[l], GG_LPE_A, gg_lpe_none(d))])
             aov_add(th, l, hi->aw, amb);
         if ((FX & GG_EFFECT_EMISSION) && (hi->mf->flags & GG_MF_EMIT) &&
             d->accept[gg_lpe_step(d, s, GG_LPE_O, cls)])
@@ -625,17 +640,16 @@ GG_INLINE void aov_light(const gg_shade_ctx *c, const ray_state *r, const hit_in
                          gg_shade_thread *th, size_t li, ggColor diff, ggColor ph,
                          const unsigned FX)
 {
-    int l;
+    unsigned m;
+    (void)r;
     if (!(FX & FX_AOV)) return;
-    for (l = 0; l < c->layers->n; l++) {
+    for (m = hi->llive; m; m &= m - 1) {
+        const int l = (int)GG_CTZ(m);
         const gg_lpe_dfa *d = &c->layers->layer[l];
-        const unsigned s = r->lpe[l];
-        int cls, lc;
-        if (!s) continue;
-        cls = gg_lpe_surface(d, hi->obj, hi->mi), lc = gg_lpe_light(d, (int)li);
-        if (d->accept[gg_lpe_step(d, gg_lpe_step(d, s, GG_LPE_RD, cls), GG_LPE_L, lc)])
+        const int lc = gg_lpe_light(d, (int)li);
+        if (hi->lsd[l] && d->accept[gg_lpe_step(d, hi->lsd[l], GG_LPE_L, lc)])
             aov_add(th, l, hi->aw, diff);
-        if (d->accept[gg_lpe_step(d, gg_lpe_step(d, s, GG_LPE_RG, cls), GG_LPE_L, lc)])
+        if (hi->lsg[l] && d->accept[gg_lpe_step(d, hi->lsg[l], GG_LPE_L, lc)])
             aov_add(th, l, hi->aw, ph);
     }
 }
@@ -651,7 +665,7 @@ GG_INLINE void aov_child(const gg_shade_ctx *c, const ray_state *r, const hit_in
     for (l = 0; l < c->layers->n; l++) {
         const gg_lpe_dfa *d = &c->layers->layer[l];
         const unsigned s = r->lpe[l];
-        child->lpe[l] = (uint16_t)(s ? gg_lpe_step(d, s, k, gg_lpe_surface(d, hi->obj, hi->mi)) : 0);
+        child->lpe[l] = (uint16_t)(s ? gg_lpe_step(d, s, k, hi->lcls[l]) : 0);
     }
 }
 
