@@ -206,6 +206,7 @@ typedef struct job {
     uint32_t *lcnt;             /* and the terms each took */
     ggColor lmiss[GG_LAYERS_MAX];   /* each layer's share of an eye ray's miss */
     uint32_t nmiss[GG_LAYERS_MAX];  /* and its terms (0 or 1) */
+    float fmiss[GG_LAYERS_MAX][3];  /* a one-sample pixel's layers of a miss, as stored */
     float *lcorner;             /* pixel-corner mode: each corner's layers, n RGB */
     ggRayStats stats;
 } job;
@@ -295,8 +296,24 @@ static void miss_layers(job *j)
     for (l = 0; l < j->layers->n; l++) {
         const gg_lpe_dfa *d = &j->layers->layer[l];
         const int on = d->accept[gg_lpe_step(d, d->start, GG_LPE_B, gg_lpe_none(d))];
+        const ggColor a = cscale(cadd(rgb(0, 0, 0), on ? bg : rgb(0, 0, 0)), 1.0 / j->r.spp);
         j->lmiss[l] = on ? bg : rgb(0, 0, 0);
         j->nmiss[l] = on && (bg.r != 0 || bg.g != 0 || bg.b != 0);
+        j->fmiss[l][0] = (float)a.r, j->fmiss[l][1] = (float)a.g, j->fmiss[l][2] = (float)a.b;
+    }
+}
+
+/* Layer values f (as stored) at the n pixels from grid point (gx, gy)
+   on: the stores of put_sample_layers when only the float map is
+   wanted, for misses. */
+static void fill_layers(job *j, int gx, int gy, int n, const float (*f)[3])
+{
+    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
+    const size_t i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
+    int l, k;
+    for (l = 0; l < j->layers->n; l++) {
+        float *o = j->lmap + 3 * (i + (size_t)l * plane);
+        for (k = 0; k < n; k++, o += 3) o[0] = f[l][0], o[1] = f[l][1], o[2] = f[l][2];
     }
 }
 
@@ -472,7 +489,10 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
-                if (layers) put_sample_layers(j, gx0 + i, gy, j->lmiss, j->nmiss, scale);
+                if (layers && !j->corner && !j->lsum && !j->lcnt)
+                    fill_layers(j, gx0 + i, gy, 1, (const float(*)[3])j->fmiss);
+                else if (layers)
+                    put_sample_layers(j, gx0 + i, gy, j->lmiss, j->nmiss, scale);
             }
         }
     }
@@ -513,10 +533,17 @@ static void empty_tile_layers(job *j, int gx0, int gy0, int gx1, int gy1, int n)
     ggColor v[GG_LAYERS_MAX];
     uint32_t c[GG_LAYERS_MAX];
     int l, k, gx, gy;
+    float f[GG_LAYERS_MAX][3];
     for (l = 0; l < j->layers->n; l++) {
-        ggColor acc = rgb(0, 0, 0);
+        ggColor acc = rgb(0, 0, 0), a;
         for (k = 0; k < n; k++) acc = cadd(acc, j->lmiss[l]);
         v[l] = acc, c[l] = (uint32_t)n * j->nmiss[l];
+        a = cscale(cadd(rgb(0, 0, 0), acc), 1.0 / j->r.spp);
+        f[l][0] = (float)a.r, f[l][1] = (float)a.g, f[l][2] = (float)a.b;
+    }
+    if (!j->corner && !j->lsum && !j->lcnt) {
+        for (gy = gy0; gy < gy1; gy++) fill_layers(j, gx0, gy, gx1 - gx0, (const float(*)[3])f);
+        return;
     }
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) put_sample_layers(j, gx, gy, v, c, 1.0 / j->r.spp);
