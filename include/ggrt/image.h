@@ -208,9 +208,9 @@ GG_API int ggImageWriteEXRLayers(const ggImage *img, const ggImage *const *layer
    path as an image, as ggImageRead reads R, G, B (the first part, the
    data window); layer NULL or "" reads the image's own R, G, B (or Y).
    A missing channel of the three reads as 0. GG_ERROR_UNSUPPORTED when
-   the file has no channel of the layer (or is not an OpenEXR file);
-   GG_ERROR_INVALID for a NULL path or out; otherwise ggImageRead's
-   errors. */
+   the file has no channel of the layer; GG_ERROR_PARSE when it is not
+   an OpenEXR file (or a damaged one); GG_ERROR_INVALID for a NULL path
+   or out; otherwise ggImageRead's errors. */
 GG_API int ggImageReadEXRLayer(const char *path, const char *layer, const ggAllocator *alloc,
                                ggImage **out, ggError *err);
 
