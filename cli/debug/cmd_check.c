@@ -27,15 +27,21 @@ static const char about[] =
     "others information (--severity changes that).\n"
     "With --path LPE, only the pixels with a light path LPE matches are checked (the\n"
     "whole of their trees), and each listed pixel shows the share of its value those\n"
-    "paths carry: are the pixels lit this way sound?";
+    "paths carry: are the pixels lit this way sound?\n"
+    "With --aov-sum LAYERS.exr (from ggrt render --aov), instead: do the file's path\n"
+    "layers add up to its image in every pixel, within rounding? It names the light\n"
+    "no layer claims (a gap) and the light two layers claim (an overlap), and traces\n"
+    "the worst pixel of each in SCENE (default: the scene the file names) for an\n"
+    "example path.";
 
-static const char tail[] = "exit: 0 no error-class invariant failed, 4 one did, 1 usage, 2 bad "
-                           "scene,\n3 I/O error";
+static const char tail[] = "exit: 0 no error-class invariant failed (--aov-sum: the layers add up), "
+                           "4 one did\n(--aov-sum: a gap or an overlap), 1 usage, 2 bad scene or "
+                           "file, 3 I/O error";
 
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct check_args {
-    const char *scene, *path;
+    const char *scene, *path, *aov_sum;
     int format, quiet, worst;
     ggCheckOptions co;
     cli_render ro;
@@ -90,16 +96,19 @@ static int parse(check_args *a, int argc, char **argv)
         CLI_OPT_STRING(0, "path", &a->path, "LPE",
                        "check only the pixels with a path this light-path\n"
                        "expression matches (docs/debugging.md)"),
+        CLI_OPT_STRING(0, "aov-sum", &a->aov_sum, "LAYERS.exr",
+                       "check that the path layers of this ggrt render\n"
+                       "--aov file add up to its image (SCENE optional)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "check",
-                   .usage = "SCENE [--path LPE] [options]",
+                   .usage = "SCENE [--path LPE] [options] | --aov-sum LAYERS.exr [SCENE]",
                    .about = about,
                    .tail = tail,
                    .opts = {mine, a->ro.table},
                    .args = &a->scene,
-                   .min_args = 1,
+                   .min_args = 0,
                    .max_args = 1,
                    .args_name = "scene"};
     int rc;
@@ -108,6 +117,9 @@ static int parse(check_args *a, int argc, char **argv)
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
+    if (!a->scene && !a->aov_sum) return cli_usage_error(&cmd, "need a scene");
+    if (a->aov_sum && (a->path || a->format))
+        return cli_usage_error(&cmd, "--aov-sum takes neither --path nor -f json");
     return CLI_GO;
 }
 
@@ -236,6 +248,7 @@ int cmd_check(int argc, char **argv)
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
+    if (a.aov_sum) return aov_sum_check(a.aov_sum, a.scene);
     if (a.path && (rc = ggPathParse(a.path, NULL, &path, &err)) != GG_OK)
         return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
                                     : dbg_expr_error("check", "path", a.path, &err);

@@ -29,6 +29,9 @@ void dbg_progress_end(dbg_progress_state *p);
 void dbg_replay(FILE *f, const char *scene, const char *scene_b, const cli_render *ro, int x, int y,
                 const char *const *extra);
 
+/* ggrt check --aov-sum LAYERS.exr [SCENE] (aov_sum.c): the exit status. */
+int aov_sum_check(const char *exr, const char *scene);
+
 /* Print a predicate's parse error ("ggrt CMD: --where:L:C: ...") with the line
    of text and a caret under the column; returns EXIT_USAGE. */
 int dbg_predicate_error(const char *cmd, const char *text, const ggError *err);

@@ -4,6 +4,7 @@
 */
 #include "common/cli.h"
 #include "common/heatmap.h"
+#include "render/aov.h"
 #include "render/tile.h"
 
 #include <math.h>
@@ -30,6 +31,7 @@ typedef struct render_args {
     int quiet, no_srgb, heat, pixel[2], has_pixel;
     cli_render ro;
     tile_list tiles; /* --tile or --tiles; tiles.count 0 without */
+    aov_list aov;    /* --aov and --aov-png */
 } render_args;
 
 typedef struct progress_state {
@@ -114,7 +116,7 @@ static int parse(render_args *a, int argc, char **argv)
                        "read-only file is refused"),
         CLI_OPT_XY(0, "pixel", a->pixel, 0, GG_IMAGE_MAX_DIM - 1, "X,Y",
                    "also print the value written at pixel X,Y (linear,\n"
-                   "%.9g)"),
+                   "%.9g), and each --aov layer's"),
         CLI_OPT_FLAG(0, "no-srgb", &a->no_srgb,
                      "PNG: store the values as they are instead of\n"
                      "sRGB-encoding them (as POV-Ray 3.7 and SPD-era\n"
@@ -131,6 +133,14 @@ static int parse(render_args *a, int argc, char **argv)
                      "several tiles of N, loading the scene once; OUT\n"
                      "names each with %d replaced by the index\n"
                      "(-o part-%d.exr)"),
+        CLI_OPT_FUNC(0, "aov", aov_parse_one, &a->aov, "NAME=LPE",
+                     "a path layer (repeatable, up to 16): the part of\n"
+                     "each pixel that the light paths LPE matches carry\n"
+                     "(docs/debugging.md, \"Path layers\"), written into\n"
+                     "the .exr as channels NAME.R, NAME.G, NAME.B"),
+        CLI_OPT_STRING(0, "aov-png", &a->aov.png_dir, "DIR",
+                       "also write each --aov layer as DIR/NAME.png\n"
+                       "(DIR is created if missing)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar and no summary"),
         CLI_OPT_END,
     };
@@ -155,7 +165,14 @@ static int parse(render_args *a, int argc, char **argv)
     if (n < 4 || (strcmp(a->out + n - 4, ".png") && strcmp(a->out + n - 4, ".exr") &&
                   strcmp(a->out + n - 4, ".PNG") && strcmp(a->out + n - 4, ".EXR")))
         return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", a->out);
+    if (a->tiles.count && a->aov.n) return cli_usage_error(&cmd, "--tile and --tiles take no --aov");
     if (a->tiles.count) return check_tiles(&cmd, a, mine);
+    if (a->aov.png_dir && !a->aov.n) return cli_usage_error(&cmd, "--aov-png needs --aov");
+    if (a->aov.n && a->heat >= 0) return cli_usage_error(&cmd, "--aov takes no --heatmap");
+    if (a->aov.n && !a->aov.png_dir && strcmp(a->out + n - 4, ".exr") &&
+        strcmp(a->out + n - 4, ".EXR"))
+        return cli_usage_error(&cmd, "--aov writes its layers into -o OUT.exr or, with "
+                                     "--aov-png DIR, as PNGs");
     return CLI_GO;
 }
 
@@ -246,6 +263,10 @@ static int run(render_args *a, ggScene *scene, double *t)
         }
         opt->cost_map = cost, opt->cost_kind = a->heat;
     }
+    if (a->aov.n && (rc = aov_prepare(&a->aov, opt, w, h)) != EXIT_OK) {
+        free(cost);
+        return rc;
+    }
     ps.t0 = t[2], ps.last_pct = -1, ps.draw = !a->quiet && isatty(2);
     opt->progress = progress, opt->progress_ud = &ps;
     cli_cancel_begin();
@@ -265,13 +286,15 @@ static int run(render_args *a, ggScene *scene, double *t)
     if (a->has_pixel) {
         ggColor c = ggImageGet(img, a->pixel[0], a->pixel[1]);
         printf("pixel %d,%d %.9g %.9g %.9g\n", a->pixel[0], a->pixel[1], c.r, c.g, c.b);
+        aov_print_pixel(&a->aov, a->pixel[0], a->pixel[1]);
     }
     report_bad_pixels(img, a);
     rc = finish_image(a, &img, cost);
     free(cost);
     if (rc == EXIT_OK) {
         cli_cancel_hold();
-        rc = ggImageWrite(img, a->out, &err);
+        rc = a->aov.n ? aov_write(&a->aov, img, a->out, a->scene, opt, &err)
+                       : ggImageWrite(img, a->out, &err);
         cli_cancel_release(); /* a signal that came meanwhile is handled now */
         rc = rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
     }
@@ -335,6 +358,7 @@ int cmd_render(int argc, char **argv)
         rc = tile_render(scene, a.scene, &a.ro.opt, &a.tiles, a.out, a.quiet);
     else
         rc = run(&a, scene, t);
+    aov_free(&a.aov);
     ggSceneFree(scene);
     return rc;
 }

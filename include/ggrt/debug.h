@@ -454,9 +454,39 @@ GG_API size_t ggPathPoints(const ggTrace *trace, const ggLedgerTerm *term, ggPat
 /* ggFind with a path expression: the pixels of opt's window with at least
    one path that expr matches (ggPathMatch); each match's `share` is the
    share of the pixel's value those paths carry (ggPathSummary.share).
-   Everything else as ggFind; res->traced is 1. */
+   Everything else as ggFind. An expression without predicates, at one
+   sample per pixel at its centre (not corners), is answered by a render
+   whose shading carries the expression's automaton, as path layers
+   (ggPathLayersCompile), with the same matches and shares bit for bit
+   and res->traced 0; otherwise every pixel's trees are recorded and
+   matched (ggPathMatch), res->traced 1. */
 GG_API int ggFindPath(ggScene *scene, const ggRenderOptions *opt, const ggPathExpr *expr,
                       int limit, ggFindResult **out, ggError *err);
+
+/* Path layers for ggRender (render.h, ggRenderOptions.layers): each of
+   the n expressions (1..GG_PATH_LAYERS_MAX) compiled once into a
+   deterministic automaton that the shading steps as it traces (one table
+   lookup per event and layer), so a render with layers costs no recorder
+   and no trees. A layer's pixel is what the terms whose paths its
+   expression matches (ggPathMatch's rule) add to the pixel. Expressions
+   take the whole grammar but predicates: a '[...]' predicate is refused
+   with GG_ERROR_UNSUPPORTED, "layer K: 1:COL: ..." naming its column.
+   A layer may name at most GG_PATH_LAYER_LABELS distinct numbers and as
+   many materials, and its automaton may have at most 4096 states
+   (GG_ERROR_LIMIT). Errors of the expression itself are ggPathParse's,
+   prefixed "layer K: " (K from 1). On success *out receives the layers
+   (free with ggPathLayersFree); on failure NULL. GG_ERROR_INVALID: NULL
+   exprs, an element of it, or out; n out of range. alloc may be NULL
+   (malloc); it is copied. Compiled layers are only read afterwards:
+   renders on any number of threads may share them. */
+#define GG_PATH_LAYERS_MAX   16
+#define GG_PATH_LAYER_LABELS 8
+GG_API int ggPathLayersCompile(const char *const *exprs, int n, const ggAllocator *alloc,
+                               ggPathLayers **out, ggError *err);
+/* The number of layers (0 for NULL). */
+GG_API int ggPathLayersCount(const ggPathLayers *layers);
+/* NULL is a no-op. */
+GG_API void ggPathLayersFree(ggPathLayers *layers);
 
 /* ------------------------------------------------------------------ */
 /* Diff: two renders ray by ray                                        */

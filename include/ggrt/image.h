@@ -186,6 +186,34 @@ GG_API const char *ggEXRHeaderGet(const ggEXRHeader *h, const char *name);
 GG_API int ggImageWriteEXRHeader(const ggImage *img, const ggEXRHeader *h, const char *path,
                                  ggError *err);
 
+/* ---- OpenEXR layers ---- */
+
+#define GG_EXR_LAYERS_MAX 64 /* layers besides the image */
+#define GG_EXR_LAYER_NAME 24 /* bytes in a layer's name */
+
+/* ggImageWriteEXRHeader (h may be NULL) with n more images of img's size,
+   the layers, each as three float channels NAME.R, NAME.G, NAME.B beside
+   the image's R, G, B (the layer naming of OpenEXR's multi-channel
+   files, which compositors read as layers). A name is 1 to
+   GG_EXR_LAYER_NAME letters, digits, '_' or '-', all different.
+   GG_ERROR_INVALID, nothing written: NULL img or path, layers or names
+   NULL with n > 0, n outside 0..GG_EXR_LAYERS_MAX, a NULL layer, one of
+   another size, a bad or repeated name, or h refused as
+   ggImageWriteEXRHeader refuses it. n = 0 writes ggImageWriteEXRHeader's
+   file. */
+GG_API int ggImageWriteEXRLayers(const ggImage *img, const ggImage *const *layers,
+                                 const char *const *names, int n, const ggEXRHeader *h,
+                                 const char *path, ggError *err);
+/* Read layer `layer` (channels LAYER.R, .G, .B) of the OpenEXR file at
+   path as an image, as ggImageRead reads R, G, B (the first part, the
+   data window); layer NULL or "" reads the image's own R, G, B (or Y).
+   A missing channel of the three reads as 0. GG_ERROR_UNSUPPORTED when
+   the file has no channel of the layer; GG_ERROR_PARSE when it is not
+   an OpenEXR file (or a damaged one); GG_ERROR_INVALID for a NULL path
+   or out; otherwise ggImageRead's errors. */
+GG_API int ggImageReadEXRLayer(const char *path, const char *layer, const ggAllocator *alloc,
+                               ggImage **out, ggError *err);
+
 /* ---- comparison ---- */
 
 /* Colour space for ggImageCompare: GG_COMPARE_LINEAR compares the stored

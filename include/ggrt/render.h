@@ -128,6 +128,9 @@ typedef struct ggAccuracy {
     int shadows;         /* GG_ACC_SHADOWS_* */
 } ggAccuracy;
 
+/* Path layers compiled for a render (ggPathLayersCompile in debug.h). */
+typedef struct ggPathLayers ggPathLayers;
+
 typedef struct ggRenderOptions {
     int width, height;  /* 0: from the scene's camera */
     int max_depth;      /* ray-tree depth counting the eye ray; 0: scene or 5 */
@@ -159,6 +162,20 @@ typedef struct ggRenderOptions {
        left). NULL = none. */
     float *cost_map;
     int cost_kind; /* GG_COST_* */
+    /* Optional path layers (ggrt render --aov): layers compiled by
+       ggPathLayersCompile (debug.h) from light-path expressions, and the
+       map ggRender fills with them: width * height * 3 floats per layer,
+       layer after layer, each row by row like the image (layer l's pixel
+       (x, y) at layer_map[3 * ((l * height + y) * width + x)]). Each
+       layer's pixel is the part of the image's pixel that the paths its
+       expression matches carry (the ledger's terms, ggLedgerCreate), so a
+       set of disjoint expressions that covers every path adds up to the
+       image within rounding (docs/debugging.md, "Path layers"). Only the
+       rendered pixels are written (zero the map first for a crop). Both
+       NULL = none; layers without a map is GG_ERROR_INVALID. The image
+       is the one a render without layers gives, bit for bit. */
+    const ggPathLayers *layers;
+    float *layer_map;
 } ggRenderOptions;
 
 #define GG_RAY_BUDGET     1024      /* the default ray budget per eye ray */

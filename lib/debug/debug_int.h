@@ -145,6 +145,7 @@ typedef struct gg_path_pat {
 typedef struct gg_path_class {
     int first, count, neg;
     ggPredicate *pred;
+    size_t pred_pos; /* where its '[' is, for messages */
 } gg_path_class;
 
 typedef struct gg_path_edge {
@@ -180,6 +181,18 @@ typedef struct gg_path_cache {
     int numbers, materials; /* e has labels 'N' (objects, lights), 'mN' */
     gg_path_step slot[GG_PATH_CACHE];
 } gg_path_cache;
+
+/* The states after one event from the states in, for an expression
+   without predicates: type PE_*, scatter PS_*, the tir flag, and the
+   labels the event has: the surface's object and material when
+   has_at, the light's number on PE_L (path_match.c's step: the one
+   matcher, which path_layers.c compiles into the layers' automata). */
+void gg_path_step_event(const ggPathExpr *e, const uint64_t *in, int type, int scatter, int tir,
+                        int has_at, long object, long material, long light, uint64_t *out);
+
+/* e (without predicates) as one path layer, from e's allocator
+   (path_layers.c): GG_OK or ggPathLayersCompile's errors. */
+int gg_path_layers_of(const ggPathExpr *e, ggPathLayers **out, ggError *err);
 
 /* Match e against every path of px (whose w must be set), with sets
    holding GG_PATH_WORDS words per ray of px->trace (path_match.c).

@@ -140,6 +140,38 @@ static int find_by_render(ggScene *s, const ggRenderOptions *opt, find_job *fj, 
     return GG_OK;
 }
 
+/* A path find without predicates (l: its one layer, freed here), one
+   sample per pixel at its centre: a
+   render whose layer copy carries the expression's automaton gives each
+   pixel's matching terms, their count and their sum in ggPathMatch's
+   order (gg_render_layer_sums), so the same matches and shares as
+   tracing every pixel, without the recorder. */
+static int find_by_layers(ggScene *s, const ggRenderOptions *opt, find_job *fj, ggPathLayers *l,
+                          ggError *err)
+{
+    ggFindResult *r = fj->res;
+    const size_t n = (size_t)r->width * (size_t)r->height;
+    ggImage *img = NULL;
+    double *sum = gg_mem_calloc(fj->alloc, n, 3 * sizeof *sum);
+    uint32_t *cnt = gg_mem_calloc(fj->alloc, n, sizeof *cnt);
+    int x, y, rc = sum && cnt ? GG_OK
+                              : gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a path find");
+    if (rc == GG_OK) rc = gg_render_layer_sums(s, opt, l, sum, cnt, &img, &r->stats, err);
+    if (rc == GG_OK) ggImageFree(r->image), r->image = img;
+    for (y = r->y0; rc == GG_OK && y < r->y1; y++)
+        for (x = r->x0; rc == GG_OK && x < r->x1; x++) {
+            const size_t i = (size_t)y * r->width + x;
+            const ggColor px = ggImageGet(img, x, y);
+            const double pt = px.r + px.g + px.b, vt = sum[3 * i] + sum[3 * i + 1] + sum[3 * i + 2];
+            /* the share as path_match.c's gg_path_run computes it */
+            if (cnt[i] && matched(fj, &fj->t[0], x, y, px, pt != 0 && pt == pt && pt - pt == 0 ? vt / pt : 0))
+                rc = gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
+        }
+    ggPathLayersFree(l);
+    gg_mem_free(fj->alloc, sum), gg_mem_free(fj->alloc, cnt);
+    return rc;
+}
+
 GG_API void ggFindResultFree(ggFindResult *r)
 {
     const ggAllocator *a;
@@ -188,6 +220,7 @@ static int find_run(ggScene *s, const ggRenderOptions *opt, find_job *fj, unsign
     gg_tracer *tr = NULL;
     gg_scan sc;
     ggFindResult *r = NULL;
+    ggPathLayers *l = NULL;
     int rc;
     if ((rc = gg_tracer_create(s, opt, &tr, err)) != GG_OK) return rc;
     memset(&sc, 0, sizeof sc);
@@ -200,6 +233,8 @@ static int find_run(ggScene *s, const ggRenderOptions *opt, find_job *fj, unsign
         rc = gg_error_set(err, rc, "out of memory for the find result");
     } else if (!sc.record) {
         rc = find_by_render(s, opt, fj, err);
+    } else if (fj->path && sc.desc.samples == 1 && gg_path_layers_of(fj->path, &l, NULL) == GG_OK) {
+        rc = find_by_layers(s, opt, fj, l, err);
     } else {
         sc.fn = find_pixel, sc.ud = fj, sc.alloc = fj->alloc;
         r->traced = 1;

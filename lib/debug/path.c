@@ -283,7 +283,9 @@ static int item(lp *p)
     }
     if (peek(p) == '[' && opens_predicate(p)) {
         size_t end;
-        int rc = gg_pred_parse_ray(p->s, p->len, p->pos + 1, p->e->alloc, &p->e->cls[c].pred,
+        int rc;
+        p->e->cls[c].pred_pos = p->pos;
+        rc = gg_pred_parse_ray(p->s, p->len, p->pos + 1, p->e->alloc, &p->e->cls[c].pred,
                                    &end, p->err);
         if (rc != GG_OK) {
             p->status = rc;

@@ -150,6 +150,21 @@ static void surface(pev *ev, int type, int scatter, const ggTraceNode *at, int n
     ev->type = type, ev->scatter = scatter, ev->at = at, ev->node = node;
 }
 
+void gg_path_step_event(const ggPathExpr *e, const uint64_t *in, int type, int scatter, int tir,
+                        int has_at, long object, long material, long light, uint64_t *out)
+{
+    ggTraceNode at;
+    ggTraceLight L;
+    gg_dbg_pixel px;
+    pev ev;
+    memset(&at, 0, sizeof at), memset(&L, 0, sizeof L), memset(&px, 0, sizeof px);
+    at.object = (int)object, at.material = (int)material, L.light = (int)light;
+    surface(&ev, type, scatter, has_at ? &at : NULL, -1);
+    ev.tir = tir;
+    ev.L = type == PE_L ? &L : NULL;
+    step_raw(e, in, &ev, &px, out);
+}
+
 /* The state set after the events that lead to node i: C for a root, else
    the parent's set and the scattering that cast i. */
 static void node_states(const ggPathExpr *e, const gg_dbg_pixel *px, int i, uint64_t *sets)

@@ -133,6 +133,7 @@ typedef struct exr_reader {
     const gg_image_budget *budget; /* NULL: only the GG_IMAGE_MAX_* limits */
     void *scratch;                 /* where channels we do not want are decoded to */
     size_t scratch_cap;
+    const char *layer; /* read channels LAYER.R, .G, .B (NULL: R, G, B or Y) */
 } exr_reader;
 
 /* Where a channel goes within the RGB pixel, or -1 to skip it. */
@@ -144,6 +145,17 @@ static int channel_slot(const char *name, int grey)
     if (strcmp(name, "G") == 0) return 1;
     if (strcmp(name, "B") == 0) return 2;
     return -1;
+}
+
+/* Where channel `name` of layer `layer` ("layer.R") goes within the RGB
+   pixel, or -1; layer NULL: channel_slot. */
+static int layer_slot(const char *name, const char *layer, int grey)
+{
+    size_t n;
+    if (!layer) return channel_slot(name, grey);
+    n = strlen(layer);
+    if (!name || strncmp(name, layer, n) || name[n] != '.') return -1;
+    return channel_slot(name + n + 1, 0);
 }
 
 /* Decode chunk ci, whose top-left pixel is (x, y) of the image. */
@@ -188,7 +200,7 @@ static int decode_chunk(exr_reader *r, const exr_chunk_info_t *ci, int64_t x, in
         return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", r->path);
     for (c = 0; c < r->dec.channel_count; c++) {
         exr_coding_channel_info_t *ch = &r->dec.channels[c];
-        int slot = channel_slot(ch->channel_name, r->grey);
+        int slot = layer_slot(ch->channel_name, r->layer, r->grey);
         if (slot < 0 || ch->height <= 0 || ch->width <= 0) {
             ch->decode_to_ptr = (uint8_t *)r->scratch;
             ch->user_pixel_stride = (int32_t)sizeof(float);
@@ -285,15 +297,19 @@ static int read_part(exr_reader *r, const ggAllocator *alloc, ggError *err)
                             (int)chl->num_channels, EXR_MAX_CHANNELS);
     for (i = 0; i < chl->num_channels; i++) {
         const exr_attr_chlist_entry_t *e = &chl->entries[i];
-        if (channel_slot(e->name.str, 0) >= 0) rgb = 1;
-        if (channel_slot(e->name.str, 1) >= 0) y = 1;
+        if (layer_slot(e->name.str, r->layer, 0) >= 0) rgb = 1;
+        if (!r->layer && channel_slot(e->name.str, 1) >= 0) y = 1;
     }
+    if (!rgb && !y && r->layer)
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED, "%s: no layer '%s' (channels %s.R, .G, .B)",
+                            r->path, r->layer, r->layer);
     if (!rgb && !y)
         return gg_error_set(err, GG_ERROR_UNSUPPORTED, "%s: no R, G, B or Y channel", r->path);
     r->grey = !rgb;
     for (i = 0; i < chl->num_channels; i++) {
         const exr_attr_chlist_entry_t *e = &chl->entries[i];
-        if (channel_slot(e->name.str, r->grey) >= 0 && (e->x_sampling != 1 || e->y_sampling != 1))
+        if (layer_slot(e->name.str, r->layer, r->grey) >= 0 &&
+            (e->x_sampling != 1 || e->y_sampling != 1))
             return gg_error_set(err, GG_ERROR_UNSUPPORTED,
                                 "%s: subsampled channel %s is not supported", r->path, e->name.str);
     }
@@ -320,8 +336,9 @@ static int read_part(exr_reader *r, const ggAllocator *alloc, ggError *err)
     return rc;
 }
 
-int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
-                      const gg_image_budget *b, ggImage **out, ggError *err)
+/* gg_image_read_exr, of layer `layer` (NULL: the image's own R, G, B). */
+static int read_exr_layer(FILE *fp, const char *path, const char *layer, const ggAllocator *alloc,
+                          const gg_image_budget *b, ggImage **out, ggError *err)
 {
     exr_context_initializer_t init;
     exr_reader r;
@@ -347,6 +364,7 @@ int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
     r.path = path;
     r.alloc = alloc;
     r.budget = b;
+    r.layer = layer;
     rv = exr_start_read(&r.ctx, path, &init);
     if (rv != EXR_ERR_SUCCESS) {
         rc = fail(&io, rv, GG_ERROR_PARSE, path, "invalid OpenEXR file", err);
@@ -365,12 +383,58 @@ int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
     return GG_OK;
 }
 
+int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
+                      const gg_image_budget *b, ggImage **out, ggError *err)
+{
+    return read_exr_layer(fp, path, NULL, alloc, b, out, err);
+}
+
+GG_API int ggImageReadEXRLayer(const char *path, const char *layer, const ggAllocator *alloc,
+                               ggImage **out, ggError *err)
+{
+    FILE *fp;
+    int rc;
+    if (out) *out = NULL;
+    if (!path || !out)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggImageReadEXRLayer: NULL argument");
+    rc = gg_file_open(path, "cannot open", &fp, NULL, err);
+    if (rc != GG_OK) return rc;
+    rc = read_exr_layer(fp, path, layer && layer[0] ? layer : NULL, alloc, NULL, out, err);
+    fclose(fp);
+    return rc;
+}
+
 /* ---- writing ---------------------------------------------------------- */
 
-/* The image is the data window, whose top row is y0. */
-static int write_pixels(exr_context_t ctx, int part, const ggImage *img, int y0, exr_io *io,
+/* What a file holds: the image and its layers (names[0] NULL: the image's
+   own R, G, B). */
+typedef struct exr_set {
+    const ggImage *const *img;
+    const char *const *names;
+    int n;
+} exr_set;
+
+/* The image and slot channel `name` is written from. */
+static const float *channel_src(const exr_set *set, const char *name, int *slot)
+{
+    const char *dot = name ? strrchr(name, '.') : NULL;
+    int i;
+    for (i = 0; i < set->n; i++) {
+        const char *nm = set->names[i];
+        if (!nm ? !dot
+                : dot && strlen(nm) == (size_t)(dot - name) && !strncmp(nm, name, strlen(nm)))
+            break;
+    }
+    *slot = channel_slot(dot ? dot + 1 : name, 0);
+    if (i == set->n || *slot < 0) *slot = 0, i = 0; /* not one of ours: cannot happen */
+    return set->img[i]->px;
+}
+
+/* The images are the data window, whose top row is y0. */
+static int write_pixels(exr_context_t ctx, int part, const exr_set *set, int y0, exr_io *io,
                         const char *path, ggError *err)
 {
+    const ggImage *img = set->img[0];
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
     int32_t lpc = 0;
     int ready = 0, y, c;
@@ -384,13 +448,14 @@ static int write_pixels(exr_context_t ctx, int part, const ggImage *img, int y0,
         if (rv != EXR_ERR_SUCCESS) break;
         for (c = 0; c < enc.channel_count; c++) {
             exr_coding_channel_info_t *ch = &enc.channels[c];
-            int slot = channel_slot(ch->channel_name, 0);
+            int slot;
+            const float *src = channel_src(set, ch->channel_name, &slot);
             ch->user_data_type = EXR_PIXEL_FLOAT;
             ch->user_bytes_per_element = (int16_t)sizeof(float);
             ch->user_pixel_stride = 3 * (int32_t)sizeof(float);
             ch->user_line_stride = 3 * (int32_t)sizeof(float) * img->width;
             ch->encode_from_ptr =
-                (const uint8_t *)(img->px + 3 * (size_t)y * (size_t)img->width + slot);
+                (const uint8_t *)(src + 3 * (size_t)y * (size_t)img->width + slot);
         }
         if (!ready) rv = exr_encoding_choose_default_routines(ctx, part, &enc);
         ready = 1;
@@ -465,9 +530,10 @@ static exr_result_t init_part(exr_context_t ctx, int part, const ggImage *img,
     return rv;
 }
 
-static int write_exr(const ggImage *img, const ggEXRHeader *h, const char *path, ggError *err)
+static int write_exr(const exr_set *set, const ggEXRHeader *h, const char *path, ggError *err)
 {
     static const char *const names[3] = {"R", "G", "B"};
+    const ggImage *img = set->img[0];
     exr_context_initializer_t init;
     exr_context_t ctx = NULL;
     gg_image_tmp t;
@@ -486,14 +552,17 @@ static int write_exr(const ggImage *img, const ggEXRHeader *h, const char *path,
     rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rv == EXR_ERR_SUCCESS) rv = exr_add_part(ctx, NULL, EXR_STORAGE_SCANLINE, &part);
     if (rv == EXR_ERR_SUCCESS) rv = init_part(ctx, part, img, h);
-    for (c = 0; c < 3 && rv == EXR_ERR_SUCCESS; c++)
-        rv = exr_add_channel(ctx, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1,
-                             1);
+    for (c = 0; c < 3 * set->n && rv == EXR_ERR_SUCCESS; c++) {
+        char name[64];
+        const char *nm = set->names[c / 3];
+        snprintf(name, sizeof name, "%s%s%s", nm ? nm : "", nm ? "." : "", names[c % 3]);
+        rv = exr_add_channel(ctx, part, name, EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
+    }
     if (rv == EXR_ERR_SUCCESS) rv = exr_write_header(ctx);
     if (rv != EXR_ERR_SUCCESS) {
         rc = fail(&io, rv, GG_ERROR_IO, path, "cannot write OpenEXR", err);
     } else {
-        rc = write_pixels(ctx, part, img, h ? h->data_y : 0, &io, path, err);
+        rc = write_pixels(ctx, part, set, h ? h->data_y : 0, &io, path, err);
     }
     /* exr_finish writes the chunk offset table, so it can fail too. */
     rv = exr_finish(&ctx);
@@ -506,20 +575,80 @@ static int write_exr(const ggImage *img, const ggEXRHeader *h, const char *path,
     return gg_image_tmp_commit(&t, NULL, err);
 }
 
+/* One image: its own R, G, B. */
+static exr_set single(const ggImage *const *img)
+{
+    static const char *const none[1] = {NULL};
+    exr_set set;
+    set.img = img, set.names = none, set.n = 1;
+    return set;
+}
+
 GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
 {
+    exr_set set = single(&img);
     if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXR: NULL argument");
-    return write_exr(img, NULL, path, err);
+    return write_exr(&set, NULL, path, err);
 }
 
 GG_API int ggImageWriteEXRHeader(const ggImage *img, const ggEXRHeader *h, const char *path,
                                  ggError *err)
 {
+    exr_set set;
     int rc;
     if (!img || !path)
         return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRHeader: NULL argument");
     if (h && (rc = check_header(h, err)) != GG_OK) return rc;
-    return write_exr(img, h, path, err);
+    set = single(&img);
+    return write_exr(&set, h, path, err);
+}
+
+/* A layer name: 1..GG_EXR_LAYER_NAME bytes of letters, digits, '_' and
+   '-'. */
+static int layer_name_ok(const char *n)
+{
+    size_t k;
+    if (!n || !n[0] || strlen(n) > GG_EXR_LAYER_NAME) return 0;
+    for (k = 0; n[k]; k++)
+        if (!((n[k] >= 'a' && n[k] <= 'z') || (n[k] >= 'A' && n[k] <= 'Z') ||
+              (n[k] >= '0' && n[k] <= '9') || n[k] == '_' || n[k] == '-'))
+            return 0;
+    return 1;
+}
+
+GG_API int ggImageWriteEXRLayers(const ggImage *img, const ggImage *const *layers,
+                                 const char *const *names, int n, const ggEXRHeader *h,
+                                 const char *path, ggError *err)
+{
+    const ggImage *all[1 + GG_EXR_LAYERS_MAX];
+    const char *nm[1 + GG_EXR_LAYERS_MAX];
+    exr_set set;
+    int i, j, rc;
+    if (!img || !path || (n > 0 && (!layers || !names)))
+        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRLayers: NULL argument");
+    if (n < 0 || n > GG_EXR_LAYERS_MAX)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRLayers: %d layers (0..%d)", n,
+                            GG_EXR_LAYERS_MAX);
+    all[0] = img, nm[0] = NULL;
+    for (i = 0; i < n; i++) {
+        if (!layers[i] || layers[i]->width != img->width || layers[i]->height != img->height)
+            return gg_error_set(err, GG_ERROR_INVALID,
+                                "ggImageWriteEXRLayers: layer %d is missing or not %dx%d", i + 1,
+                                img->width, img->height);
+        if (!layer_name_ok(names[i]))
+            return gg_error_set(err, GG_ERROR_INVALID,
+                                "ggImageWriteEXRLayers: layer %d: a name is 1 to %d letters, "
+                                "digits, '_' or '-'",
+                                i + 1, GG_EXR_LAYER_NAME);
+        for (j = 0; j < i; j++)
+            if (!strcmp(names[i], names[j]))
+                return gg_error_set(err, GG_ERROR_INVALID,
+                                    "ggImageWriteEXRLayers: layer name '%s' repeated", names[i]);
+        all[i + 1] = layers[i], nm[i + 1] = names[i];
+    }
+    if (h && (rc = check_header(h, err)) != GG_OK) return rc;
+    set.img = all, set.names = nm, set.n = n + 1;
+    return write_exr(&set, h, path, err);
 }
 
 /* ---- headers ---------------------------------------------------------- */

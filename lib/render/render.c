@@ -7,6 +7,7 @@
 ** image is bit-identical for any thread count and any crop window.
 */
 #include "render.h"
+#include "lpe.h"
 #include "shade.h"
 
 #include "trace_int.h"
@@ -199,6 +200,14 @@ typedef struct job {
     void *progress_ud;
     float *cost;
     int cost_kind;
+    const ggPathLayers *layers; /* path layers (n > 0), or NULL */
+    float *lmap;                /* their map (ggRenderOptions.layer_map), or NULL */
+    double *lsum;               /* gg_render_layer_sums: the layers in double, or NULL */
+    uint32_t *lcnt;             /* and the terms each took */
+    ggColor lmiss[GG_LAYERS_MAX];   /* each layer's share of an eye ray's miss */
+    uint32_t nmiss[GG_LAYERS_MAX];  /* and its terms (0 or 1) */
+    float fmiss[GG_LAYERS_MAX][3];  /* a one-sample pixel's layers of a miss, as stored */
+    float *lcorner;             /* pixel-corner mode: each corner's layers, n RGB */
     ggRayStats stats;
 } job;
 
@@ -241,6 +250,111 @@ static ggColor pixel_center(job *j, int x, int y, gg_shade_thread *th, ggTrace *
         if (recorded) j->ctx.rec = NULL;
     }
     return cscale(acc, 1.0 / j->r.spp);
+}
+
+/* Layer l's value v at pixel (x, y) of the map. */
+static void put_layer(job *j, int l, int x, int y, ggColor v)
+{
+    const size_t i = ((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x;
+    if (j->lmap) j->lmap[3 * i] = (float)v.r, j->lmap[3 * i + 1] = (float)v.g, j->lmap[3 * i + 2] = (float)v.b;
+    if (j->lsum) j->lsum[3 * i] = v.r, j->lsum[3 * i + 1] = v.g, j->lsum[3 * i + 2] = v.b;
+}
+
+/* One sample's layers v (and term counts n) at grid point (gx, gy): a
+   pixel centre's value (scaled as put_centre scales the pixel), or a
+   corner's (tile_rows and fill_empty_tile). */
+static void put_sample_layers(job *j, int gx, int gy, const ggColor *v, const uint32_t *n,
+                              double scale)
+{
+    const int nl = j->layers->n;
+    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
+    size_t i;
+    int l;
+    if (j->corner) {
+        float *o = j->lcorner + 3 * (size_t)nl * ((size_t)gy * j->cw + gx);
+        for (l = 0; l < nl; l++, o += 3)
+            o[0] = (float)v[l].r, o[1] = (float)v[l].g, o[2] = (float)v[l].b;
+        return;
+    }
+    /* put_layer's arithmetic and places, one layer's plane after another */
+    i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
+    for (l = 0; l < nl; l++, i += plane) {
+        const ggColor a = cscale(cadd(rgb(0, 0, 0), v[l]), scale);
+        if (j->lmap) j->lmap[3 * i] = (float)a.r, j->lmap[3 * i + 1] = (float)a.g, j->lmap[3 * i + 2] = (float)a.b;
+        if (j->lsum) j->lsum[3 * i] = a.r, j->lsum[3 * i + 1] = a.g, j->lsum[3 * i + 2] = a.b;
+        if (j->lcnt) j->lcnt[i] = n ? n[l] : 0;
+    }
+}
+
+/* What an eye ray's miss gives each layer: the background if the layer
+   takes CB (the layer copy's trace_fx on a miss: weight 1, no
+   absorption outside every medium). */
+static void miss_layers(job *j)
+{
+    const ggColor bg = gg_shade_eye_miss(&j->ctx);
+    int l;
+    for (l = 0; l < j->layers->n; l++) {
+        const gg_lpe_dfa *d = &j->layers->layer[l];
+        const int on = d->accept[gg_lpe_step(d, d->start, GG_LPE_B, gg_lpe_none(d))];
+        const ggColor a = cscale(cadd(rgb(0, 0, 0), on ? bg : rgb(0, 0, 0)), 1.0 / j->r.spp);
+        j->lmiss[l] = on ? bg : rgb(0, 0, 0);
+        j->nmiss[l] = on && (bg.r != 0 || bg.g != 0 || bg.b != 0);
+        j->fmiss[l][0] = (float)a.r, j->fmiss[l][1] = (float)a.g, j->fmiss[l][2] = (float)a.b;
+    }
+}
+
+/* Layer values f (as stored) at the n pixels from grid point (gx, gy)
+   on: the stores of put_sample_layers when only the float map is
+   wanted, for misses. */
+static void fill_layers(job *j, int gx, int gy, int n, const float (*f)[3])
+{
+    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
+    const size_t i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
+    int l, k;
+    for (l = 0; l < j->layers->n; l++) {
+        float *o = j->lmap + 3 * (i + (size_t)l * plane);
+        for (k = 0; k < n; k++, o += 3) o[0] = f[l][0], o[1] = f[l][1], o[2] = f[l][2];
+    }
+}
+
+/* pixel_center with path layers: the same pixel (returned), and each
+   layer's share of it, the mean of its samples' shares, into the map. */
+static ggColor pixel_layers(job *j, int x, int y, gg_shade_thread *th)
+{
+    const int nl = j->layers->n;
+    ggColor acc = rgb(0, 0, 0), lacc[GG_LAYERS_MAX];
+    int k, l;
+    for (l = 0; l < nl; l++) lacc[l] = rgb(0, 0, 0);
+    if (th->aov_n)
+        for (l = 0; l < nl; l++) th->aov_n[l] = 0;
+    for (k = 0; k < j->r.spp; k++) {
+        double sx, sy;
+        sample_pos(k, j->r.spp, &sx, &sy);
+        for (l = 0; l < nl; l++) th->aov[l] = rgb(0, 0, 0);
+        acc = cadd(acc, sample_color(j, x + sx, y + sy, th));
+        for (l = 0; l < nl; l++) lacc[l] = cadd(lacc[l], th->aov[l]);
+    }
+    for (l = 0; l < nl; l++) put_layer(j, l, x, y, cscale(lacc[l], 1.0 / j->r.spp));
+    if (j->lcnt)
+        for (l = 0; l < nl; l++)
+            j->lcnt[((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x] =
+                th->aov_n[l];
+    return cscale(acc, 1.0 / j->r.spp);
+}
+
+/* A pixel corner's colour with path layers: as sample_color, and each
+   layer's share of it into j->lcorner at corner index i. */
+static ggColor corner_layers(job *j, double px, double py, size_t i, gg_shade_thread *th)
+{
+    const int nl = j->layers->n;
+    float *o = j->lcorner + 3 * (size_t)nl * i;
+    ggColor c;
+    int l;
+    for (l = 0; l < nl; l++) th->aov[l] = rgb(0, 0, 0);
+    c = sample_color(j, px, py, th);
+    for (l = 0; l < nl; l++, o += 3)
+        o[0] = (float)th->aov[l].r, o[1] = (float)th->aov[l].g, o[2] = (float)th->aov[l].b;
+    return c;
 }
 
 /* A pixel-centre pixel from its one sample's colour c, as pixel_center
@@ -313,7 +427,8 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
    here as one packet (gg_geom_intersect_packet: the same hits as one at a
    time), then the hits are shaded left to right as before; every miss is
    the same pixel value. */
-static void tile_rows(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th,
+                            const int layers)
 {
     const cam_basis *b = &j->cam;
     const gg_geom *geom = j->ctx.s->geom;
@@ -353,20 +468,49 @@ static void tile_rows(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_threa
             if (!((ok >> i) & 1u)) {
                 nonfinite += corner ? put_corner(o, &black) : put_centre(o, &black, scale);
                 eye--; /* no ray cast: take it back from the row's n */
+                if (layers) {
+                    ggColor none[GG_LAYERS_MAX];
+                    int l;
+                    for (l = 0; l < j->layers->n; l++) none[l] = black;
+                    put_sample_layers(j, gx0 + i, gy, none, NULL, scale);
+                }
                 continue;
             }
             if ((hit >> i) & 1u) {
-                ggColor col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
+                ggColor col;
+                int l;
+                for (l = 0; layers && l < j->layers->n; l++) {
+                    th->aov[l] = black;
+                    if (th->aov_n) th->aov_n[l] = 0;
+                }
+                col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
                 nonfinite += corner ? put_corner(o, &col) : put_centre(o, &col, scale);
+                if (layers) put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
+                if (layers && !j->corner && !j->lsum && !j->lcnt)
+                    fill_layers(j, gx0 + i, gy, 1, (const float(*)[3])j->fmiss);
+                else if (layers)
+                    put_sample_layers(j, gx0 + i, gy, j->lmiss, j->nmiss, scale);
             }
         }
     }
     th->st.eye += eye;
     th->st.nonfinite += nonfinite;
     if (eye > 0 && th->st.max_depth < 1) th->st.max_depth = 1;
+}
+
+static void tile_rows(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade_thread *th)
+{
+    tile_rows_fx(j, gx0, gy0, gx1, gy1, th, 0);
+}
+
+/* tile_rows with path layers: a copy of its own, the other unchanged. */
+static GG_NOINLINE void tile_rows_layers(job *j, int gx0, int gy0, int gx1, int gy1,
+                                         gg_shade_thread *th)
+{
+    tile_rows_fx(j, gx0, gy0, gx1, gy1, th, 1);
 }
 
 /* Whether no eye ray of tile [gx0, gx1) x [gy0, gy1) can hit anything:
@@ -380,6 +524,29 @@ static int tile_empty(const job *j, int gx0, int gy0, int gx1, int gy1)
     d[0] = basis_dir(&j->cam, xa, ya), d[1] = basis_dir(&j->cam, xb, ya);
     d[2] = basis_dir(&j->cam, xb, yb), d[3] = basis_dir(&j->cam, xa, yb);
     return gg_geom_frustum_empty(j->ctx.s->geom, j->cam.eye, d);
+}
+
+/* fill_empty_tile's layers: n misses a pixel (one a corner), summed and
+   scaled as pixel_layers sums them. */
+static void empty_tile_layers(job *j, int gx0, int gy0, int gx1, int gy1, int n)
+{
+    ggColor v[GG_LAYERS_MAX];
+    uint32_t c[GG_LAYERS_MAX];
+    int l, k, gx, gy;
+    float f[GG_LAYERS_MAX][3];
+    for (l = 0; l < j->layers->n; l++) {
+        ggColor acc = rgb(0, 0, 0), a;
+        for (k = 0; k < n; k++) acc = cadd(acc, j->lmiss[l]);
+        v[l] = acc, c[l] = (uint32_t)n * j->nmiss[l];
+        a = cscale(cadd(rgb(0, 0, 0), acc), 1.0 / j->r.spp);
+        f[l][0] = (float)a.r, f[l][1] = (float)a.g, f[l][2] = (float)a.b;
+    }
+    if (!j->corner && !j->lsum && !j->lcnt) {
+        for (gy = gy0; gy < gy1; gy++) fill_layers(j, gx0, gy, gx1 - gx0, (const float(*)[3])f);
+        return;
+    }
+    for (gy = gy0; gy < gy1; gy++)
+        for (gx = gx0; gx < gx1; gx++) put_sample_layers(j, gx, gy, v, c, 1.0 / j->r.spp);
 }
 
 /* An empty tile: every sample is a miss. The same values and counts as
@@ -413,6 +580,7 @@ static void fill_empty_tile(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
                              : j->px + 3 * ((size_t)(j->r.y0 + gy) * j->r.w + (j->r.x0 + gx0));
         for (gx = gx0; gx < gx1; gx++, o += 3) o[0] = v[0], o[1] = v[1], o[2] = v[2];
     }
+    if (j->layers) empty_tile_layers(j, gx0, gy0, gx1, gy1, n);
 }
 
 static void render_tile(job *j, int t, gg_shade_thread *th)
@@ -428,7 +596,10 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
         return;
     }
     if (!j->cost && !j->ctx.rec && (j->corner || j->r.spp == 1)) {
-        tile_rows(j, gx0, gy0, gx1, gy1, th);
+        if (j->layers)
+            tile_rows_layers(j, gx0, gy0, gx1, gy1, th);
+        else
+            tile_rows(j, gx0, gy0, gx1, gy1, th);
         return;
     }
     for (gy = gy0; gy < gy1; gy++)
@@ -438,12 +609,15 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
             if (j->cost) st->max_depth = 0;
             if (j->corner) {
                 /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
-                ggColor c = sample_color(j, j->r.x0 + gx, j->r.y0 + gy, th);
+                ggColor c = j->layers ? corner_layers(j, j->r.x0 + gx, j->r.y0 + gy,
+                                                      (size_t)gy * j->cw + gx, th)
+                                      : sample_color(j, j->r.x0 + gx, j->r.y0 + gy, th);
                 float *o = j->corner + 3 * ((size_t)gy * j->cw + gx);
                 o[0] = (float)c.r, o[1] = (float)c.g, o[2] = (float)c.b;
             } else {
                 int x = j->r.x0 + gx, y = j->r.y0 + gy;
-                ggColor acc = pixel_center(j, x, y, th, NULL, -1);
+                ggColor acc =
+                    j->layers ? pixel_layers(j, x, y, th) : pixel_center(j, x, y, th, NULL, -1);
                 float *o = j->px + 3 * ((size_t)y * j->r.w + x);
                 o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
             }
@@ -465,7 +639,11 @@ static void *worker(void *arg)
 {
     job *j = arg;
     gg_shade_thread th;
+    ggColor aov[GG_LAYERS_MAX];
+    uint32_t aov_n[GG_LAYERS_MAX];
     memset(&th, 0, sizeof th);
+    th.aov = aov;
+    if (j->lcnt) th.aov_n = aov_n;
     for (;;) {
         int t;
         long tile_px;
@@ -510,23 +688,96 @@ static void run_tiles(job *j, int cw, int ch)
     for (i = 0; i < started; i++) pthread_join(th[i], NULL);
 }
 
+/* Pixel-corner mode: each pixel the mean of its four corners, and so each
+   of its layers. */
+static void average_corners(job *j, int cw)
+{
+    const int nl = j->layers ? j->layers->n : 0;
+    int x, y, k, l;
+    for (y = j->r.y0; y < j->r.y1 && !j->cancelled; y++)
+        for (x = j->r.x0; x < j->r.x1; x++) {
+            const size_t i = (size_t)(y - j->r.y0) * cw + (x - j->r.x0);
+            const float *c00 = j->corner + 3 * i;
+            const float *c10 = c00 + 3, *c01 = c00 + 3 * (size_t)cw, *c11 = c01 + 3;
+            float *o = j->px + 3 * ((size_t)y * j->r.w + x);
+            for (k = 0; k < 3; k++)
+                o[k] = (float)(((double)c00[k] + c10[k] + c01[k] + c11[k]) * 0.25);
+            for (l = 0; l < nl; l++) {
+                const size_t row = 3 * (size_t)nl * (size_t)cw, at = 3 * ((size_t)nl * i + l);
+                const float *d00 = j->lcorner + at, *d10 = d00 + 3 * nl, *d01 = d00 + row;
+                const float *d11 = d01 + 3 * nl;
+                ggColor v;
+                v.r = ((double)d00[0] + d10[0] + d01[0] + d11[0]) * 0.25;
+                v.g = ((double)d00[1] + d10[1] + d01[1] + d11[1]) * 0.25;
+                v.b = ((double)d00[2] + d10[2] + d01[2] + d11[2]) * 0.25;
+                put_layer(j, l, x, y, v);
+            }
+        }
+}
+
+/* The options' path layers into the job (and its shading). */
+static int set_layers(job *j, const ggRenderOptions *opt, ggError *err)
+{
+    if (!opt || (!opt->layers && !opt->layer_map)) return GG_OK;
+    if (!opt->layers || !opt->layer_map)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "ggRender: path layers need both layers and layer_map");
+    if (opt->layers->n < 0 || opt->layers->n > GG_LAYERS_MAX)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggRender: %d path layers (0..%d)",
+                            opt->layers->n, GG_LAYERS_MAX);
+    if (opt->layers->n == 0) return GG_OK;
+    j->layers = opt->layers;
+    j->lmap = opt->layer_map;
+    return GG_OK;
+}
+
+static int render_job(job *j, ggScene *s, const ggRenderOptions *opt, ggImage **out,
+                      ggRayStats *stats, ggError *err);
+
 GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRayStats *stats,
                     ggError *err)
 {
     job j;
-    ggImage *img;
     int rc;
     /* Statistics are the counts of this call alone, also on failure. */
     if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggRender: NULL argument");
     *out = NULL;
     memset(&j, 0, sizeof j);
+    if ((rc = set_layers(&j, opt, err)) != GG_OK) return rc;
+    return render_job(&j, s, opt, out, stats, err);
+}
+
+int gg_render_layer_sums(ggScene *s, const ggRenderOptions *opt, const ggPathLayers *l,
+                         double *sums, uint32_t *counts, ggImage **out, ggRayStats *stats,
+                         ggError *err)
+{
+    job j;
+    if (stats) memset(stats, 0, sizeof *stats);
+    *out = NULL;
+    memset(&j, 0, sizeof j);
+    j.layers = l, j.lsum = sums, j.lcnt = counts;
+    return render_job(&j, s, opt, out, stats, err);
+}
+
+/* ggRender with the job's layers set. */
+static int render_job(job *j0, ggScene *s, const ggRenderOptions *opt, ggImage **out,
+                      ggRayStats *stats, ggError *err)
+{
+    job j = *j0;
+    ggImage *img;
+    int rc;
     if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
+    if (j.lsum && (j.r.spp != 1 || j.r.corners))
+        return gg_error_set(err, GG_ERROR_UNSUPPORTED,
+                            "layer sums: one sample per pixel at its centre only");
     if ((rc = prepare(s, err)) != GG_OK) return rc;
     img = ggImageCreate(j.r.w, j.r.h, s->alloc);
     if (!img)
         return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a %dx%d image", j.r.w, j.r.h);
     gg_shade_init(&j.ctx, s, j.r.depth, j.r.force, j.r.spd, &j.r.acc);
+    gg_shade_set_layers(&j.ctx, j.layers);
+    if (j.layers) miss_layers(&j);
     j.ctx.budget = (uint32_t)j.r.budget;
     if (j.r.spp > 1) j.ctx.fx |= GG_EFFECT_SUPERSAMPLING;
     basis(s, j.r.w, j.r.h, &j.cam);
@@ -542,23 +793,19 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
     if (j.r.corners) {
         /* SPD sampling: rays through the (w+1) x (h+1) pixel corners, each
            pixel the mean of its four corners. Corners are shaded once. */
-        int cw = j.r.x1 - j.r.x0 + 1, ch = j.r.y1 - j.r.y0 + 1, x, y, k;
+        int cw = j.r.x1 - j.r.x0 + 1, ch = j.r.y1 - j.r.y0 + 1;
+        const size_t nl = j.layers ? (size_t)j.layers->n : 0;
         j.corner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * sizeof(float));
-        if (!j.corner) {
+        if (nl) j.lcorner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * nl * sizeof(float));
+        if (!j.corner || (nl && !j.lcorner)) {
+            gg_mem_free(s->alloc, j.corner), gg_mem_free(s->alloc, j.lcorner);
             pthread_mutex_destroy(&j.mu);
             ggImageFree(img);
             return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for pixel corners");
         }
         run_tiles(&j, cw, ch);
-        for (y = j.r.y0; y < j.r.y1 && !j.cancelled; y++)
-            for (x = j.r.x0; x < j.r.x1; x++) {
-                const float *c00 = j.corner + 3 * ((size_t)(y - j.r.y0) * cw + (x - j.r.x0));
-                const float *c10 = c00 + 3, *c01 = c00 + 3 * (size_t)cw, *c11 = c01 + 3;
-                float *o = j.px + 3 * ((size_t)y * j.r.w + x);
-                for (k = 0; k < 3; k++)
-                    o[k] = (float)(((double)c00[k] + c10[k] + c01[k] + c11[k]) * 0.25);
-            }
-        gg_mem_free(s->alloc, j.corner);
+        average_corners(&j, cw);
+        gg_mem_free(s->alloc, j.corner), gg_mem_free(s->alloc, j.lcorner);
     } else {
         run_tiles(&j, j.r.x1 - j.r.x0, j.r.y1 - j.r.y0);
     }

@@ -42,8 +42,13 @@
 **   rec_ray_end    the ray's colour and absorption
 ** Per-hit diagnostics (docs/internals.md, "Shading and the recorder hooks") belong in these
 ** functions and nowhere else in the shading.
+**
+** Path layers. The aov_* hooks split a ray tree's colour into the path
+** layers of c->layers (lpe.h) in the layer copy (FX_AOV) alone, as the
+** rec_* hooks record in the recording copy alone.
 */
 #include "shade.h"
+#include "lpe.h"
 #include "refract_unit.h"
 
 #include "trace_int.h"
@@ -62,6 +67,10 @@
 /* Not an effect: the path that also records the ray tree (trace.h). */
 #define FX_RECORD (1u << 30)
 #define FX_REC    (FX_FULL | FX_RECORD)
+/* Not an effect: the path that also splits the colour into path layers
+   (lpe.h, the aov_* hooks). */
+#define FX_AOV    (1u << 29)
+#define FX_LAYERS (FX_FULL | FX_AOV)
 
 /* Shadow rays through transparent occluders give up after this many
    surfaces (the light is then taken as blocked). */
@@ -79,6 +88,10 @@ typedef struct ray_state {
     double weight; /* this ray's weight in the pixel (largest channel) */
     int kind;      /* GG_RAY_*, recorded only */
     int parent;    /* parent node, recorded only */
+    /* The layer copy only (FX_AOV): the ray's weight in the pixel per
+       channel, and each layer's automaton state after its events. */
+    ggColor thru;
+    uint16_t lpe[GG_LAYERS_MAX];
 } ray_state;
 
 /* What shading knows about one hit (hit_setup fills it). */
@@ -95,6 +108,13 @@ typedef struct hit_info {
     int front;      /* the ray arrived against sf.ng */
     ggVec3 o_out;   /* origin of every ray that leaves to the incoming side */
     ggColor kdc;    /* kd times the surface colour (texture included) */
+    /* The layer copy (aov_local fills them): the ray's thru times its
+       absorption to the hit; per layer the class of the hit's labels and
+       the states after <RD> and <RG> there; the layers not dead after
+       one of them (bit l). */
+    ggColor aw;
+    uint16_t lcls[GG_LAYERS_MAX], lsd[GG_LAYERS_MAX], lsg[GG_LAYERS_MAX];
+    unsigned llive;
 } hit_info;
 
 /* One shadow ray and what it found. */
@@ -134,6 +154,8 @@ typedef struct secondary {
     X(basic, FX_BASIC)                                                                             \
     X(glass, FX_GLASS)                                                                             \
     X(full, FX_FULL)                                                                               \
+    X(layers_basic, FX_BASIC | FX_AOV)                                                             \
+    X(layers, FX_LAYERS)                                                                           \
     GG_SHADE_COPY_REC(X)
 
 /* known: the ray's closest hit when the caller has already asked the
@@ -180,6 +202,14 @@ static void resolve_knobs(gg_shade_ctx *ctx, const ggScene *s)
                                                                      : GG_FRESNEL_EXACT;
 }
 
+void gg_shade_set_layers(gg_shade_ctx *ctx, const struct ggPathLayers *layers)
+{
+    ctx->layers = layers;
+    /* Not an effect: makes trace_root pick the layer copy, the one
+       GG_SHADE_COPIES line that holds FX_AOV. */
+    if (layers) ctx->fx |= FX_AOV;
+}
+
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc)
 {
@@ -205,6 +235,7 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
     resolve_knobs(ctx, s);
     ctx->budget = GG_RAY_BUDGET;
     ctx->rec = NULL;
+    ctx->layers = NULL;
 }
 
 /* ---- small pieces ---- */
@@ -543,6 +574,115 @@ GG_INLINE void rec_ray_end(const gg_shade_ctx *c, int node, int hit, ggColor att
     N->color = col;
 }
 
+/* ---- path layers (lpe.h): the layer copy's hooks ----
+   Each takes FX and starts with `if (!(FX & FX_AOV)) return`, so only the
+   layer copy runs them. A ray carries its weight in the pixel per channel
+   (thru) and each layer's automaton state after the events that led to
+   it (lpe; 0: dead). At a hit, hi->aw is thru times the absorption along
+   the ray: a term T there (what the ledger calls a term: ambient,
+   emission, a light's diffuse or Phong share; the background at a miss)
+   adds aw * T to every layer whose automaton accepts the term's events,
+   in th->aov. */
+
+/* a * b per channel, a weight of exactly 0 keeping out even an infinite
+   term (as the ledger does, lib/debug/ledger.c). */
+static ggColor wmul(ggColor a, ggColor b)
+{
+    return rgb(a.r == 0 ? 0 : a.r * b.r, a.g == 0 ? 0 : a.g * b.g, a.b == 0 ? 0 : a.b * b.b);
+}
+
+static void aov_add(gg_shade_thread *th, int l, ggColor a, ggColor term)
+{
+    th->aov[l] = cadd(th->aov[l], wmul(a, term));
+    /* The ledger's terms are the non-zero ones (lib/debug/ledger.c). */
+    if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
+}
+
+/* An eye ray: weight 1, every layer after its C. */
+static void aov_root(const gg_shade_ctx *c, ray_state *r)
+{
+    int l;
+    r->thru = rgb(1, 1, 1);
+    for (l = 0; l < c->layers->n; l++) r->lpe[l] = c->layers->layer[l].start;
+}
+
+/* The hit's per-layer states (hi->lcls, lsd, lsg, llive), then the
+   terms that end a path there: ambient amb (<RD>A) and, if it glows,
+   emission (O). */
+GG_INLINE void aov_local(const gg_shade_ctx *c, const ray_state *r, hit_info *hi,
+                         gg_shade_thread *th, ggColor amb, const unsigned FX)
+{
+    int l;
+    if (!(FX & FX_AOV)) return;
+    hi->llive = 0;
+    for (l = 0; l < c->layers->n; l++) {
+        const gg_lpe_dfa *d = &c->layers->layer[l];
+        const unsigned s = r->lpe[l];
+        int cls;
+        if (!s) {
+            hi->lsd[l] = hi->lsg[l] = 0;
+            continue;
+        }
+        hi->lcls[l] = (uint16_t)(cls = gg_lpe_surface(d, hi->obj, hi->mi));
+        hi->lsd[l] = (uint16_t)gg_lpe_step(d, s, GG_LPE_RD, cls);
+        hi->lsg[l] = (uint16_t)gg_lpe_step(d, s, GG_LPE_RG, cls);
+        if (hi->lsd[l] | hi->lsg[l]) hi->llive |= 1u << l;
+        if (hi->lsd[l] && d->accept[gg_lpe_step(d, hi->lsd[l], GG_LPE_A, gg_lpe_none(d))])
+            aov_add(th, l, hi->aw, amb);
+        if ((FX & GG_EFFECT_EMISSION) && (hi->mf->flags & GG_MF_EMIT) &&
+            d->accept[gg_lpe_step(d, s, GG_LPE_O, cls)])
+            aov_add(th, l, hi->aw, hi->m->ke);
+    }
+}
+
+/* Light li's diffuse (<RD>L) and Phong (<RG>L) terms at the hit. */
+GG_INLINE void aov_light(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                         gg_shade_thread *th, size_t li, ggColor diff, ggColor ph,
+                         const unsigned FX)
+{
+    unsigned m;
+    (void)r;
+    if (!(FX & FX_AOV)) return;
+    for (m = hi->llive; m; m &= m - 1) {
+        const int l = (int)GG_CTZ(m);
+        const gg_lpe_dfa *d = &c->layers->layer[l];
+        const int lc = gg_lpe_light(d, (int)li);
+        if (hi->lsd[l] && d->accept[gg_lpe_step(d, hi->lsd[l], GG_LPE_L, lc)])
+            aov_add(th, l, hi->aw, diff);
+        if (hi->lsg[l] && d->accept[gg_lpe_step(d, hi->lsg[l], GG_LPE_L, lc)])
+            aov_add(th, l, hi->aw, ph);
+    }
+}
+
+/* A child ray of kind k (GG_LPE_RS, _RS_TIR, _TS) leaving the hit with
+   weight w in its parent's colour. */
+GG_INLINE void aov_child(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
+                         ray_state *child, int k, ggColor w, const unsigned FX)
+{
+    int l;
+    if (!(FX & FX_AOV)) return;
+    child->thru = wmul(hi->aw, w);
+    for (l = 0; l < c->layers->n; l++) {
+        const gg_lpe_dfa *d = &c->layers->layer[l];
+        const unsigned s = r->lpe[l];
+        child->lpe[l] = (uint16_t)(s ? gg_lpe_step(d, s, k, hi->lcls[l]) : 0);
+    }
+}
+
+/* A miss: the background bg, seen through absorption att. */
+GG_INLINE void aov_background(const gg_shade_ctx *c, const ray_state *r, gg_shade_thread *th,
+                              ggColor att, ggColor bg, const unsigned FX)
+{
+    const ggColor a = (FX & FX_AOV) ? wmul(r->thru, att) : att;
+    int l;
+    if (!(FX & FX_AOV)) return;
+    for (l = 0; l < c->layers->n; l++) {
+        const gg_lpe_dfa *d = &c->layers->layer[l];
+        const unsigned s = r->lpe[l];
+        if (s && d->accept[gg_lpe_step(d, s, GG_LPE_B, gg_lpe_none(d))]) aov_add(th, l, a, bg);
+    }
+}
+
 /* ---- the ray budget ---- */
 
 /* Whether the eye ray's tree may cast one more secondary ray (and count
@@ -746,8 +886,8 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
 
 /* Diffuse and Phong terms of one light, whose colour lc arrives along unit Lu. */
 GG_INLINE void light_terms(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
-                           ggColor lc, double nl, ggVec3 Lu, int lr, ggColor *col,
-                           const unsigned FX)
+                           gg_shade_thread *th, size_t li, ggColor lc, double nl, ggVec3 Lu,
+                           int lr, ggColor *col, const unsigned FX)
 {
     ggColor diff = cmul(hi->kdc, cscale(lc, nl)), ph = rgb(0, 0, 0);
     *col = cadd(*col, diff);
@@ -761,6 +901,7 @@ GG_INLINE void light_terms(const gg_shade_ctx *c, const ray_state *r, const hit_
         }
     }
     rec_light_terms(c, lr, diff, ph, FX);
+    aov_light(c, r, hi, th, li, diff, ph, FX);
 }
 
 /* Direct light: one shadow ray per light the surface faces. */
@@ -790,7 +931,7 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         /* L's length and direction only now: a blocked light needs
            neither, and nothing has to survive the shadow query's call. */
         len = v3len(L);
-        light_terms(c, r, hi, sh.lc, nl / len, v3scale(L, 1.0 / len), lr, col, FX);
+        light_terms(c, r, hi, th, li, sh.lc, nl / len, v3scale(L, 1.0 / len), lr, col, FX);
     }
 }
 
@@ -891,6 +1032,7 @@ GG_INLINE void transmit(const gg_shade_ctx *c, const ray_state *r, const hit_inf
     child.channel = chan;
     child.media = x->inside;
     th->st.refract++;
+    aov_child(c, r, hi, &child, GG_LPE_TS, x->split ? channel_weight(ch, w) : rgb(w, w, w), FX);
     ci = rec_next(c, FX);
     tc = TRACE_CHILD(FX, c, &child, th);
     if (x->split)
@@ -946,6 +1088,7 @@ GG_INLINE void mirror(const gg_shade_ctx *c, const ray_state *r, const hit_info 
     child.channel = r->channel;
     child.media = r->media;
     th->st.reflect++;
+    aov_child(c, r, hi, &child, sc->tir ? GG_LPE_RS_TIR : GG_LPE_RS, sc->wr, FX);
     ci = rec_next(c, FX);
     /* Under the SPD rule a transmitter spawns (and counts) a mirror ray
        even when its weight is zero. */
@@ -954,15 +1097,22 @@ GG_INLINE void mirror(const gg_shade_ctx *c, const ray_state *r, const hit_info 
     rec_child(c, node, ci, &child, sc->wr, FX);
 }
 
-/* The colour leaving hit h of ray r (whose record is node). */
+/* The colour leaving hit h of ray r (whose record is node); att: the
+   absorption along r to h, which only the layer copy knows (and needs)
+   at this point. */
 GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_rayq *q,
-                            const gg_hit *h, gg_shade_thread *th, int node, const unsigned FX)
+                            const gg_hit *h, gg_shade_thread *th, int node, ggColor att,
+                            const unsigned FX)
 {
     hit_info hi;
     secondary sc;
     ggColor col;
     hit_setup(c, r, q, h, &hi, FX);
     col = emission_ambient(c, &hi, FX);
+    if (FX & FX_AOV) {
+        hi.aw = wmul(r->thru, att);
+        aov_local(c, r, &hi, th, cmul(hi.kdc, c->s->ambient), FX);
+    }
     rec_hit(c, node, &hi, FX);
     if (FX & GG_EFFECT_SHADOWS) direct_light(c, r, &hi, th, node, &col, FX);
     if (r->depth >= c->max_depth) {
@@ -989,6 +1139,14 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     const gg_hit *hp = known ? known : &h;
     ggColor col, att = rgb(1, 1, 1);
     int node, hit = 1;
+    ray_state root;
+    /* The layer copy: a tree's root starts its layers here, so that
+       the other copies' roots cost nothing for them. */
+    if ((FX & FX_AOV) && r->kind == GG_RAY_EYE) {
+        root = *r;
+        aov_root(c, &root);
+        r = &root;
+    }
     if ((uint64_t)r->depth > th->st.max_depth) th->st.max_depth = (uint64_t)r->depth;
     node = rec_ray(c, r, FX);
     q.inside = r->inside;
@@ -999,10 +1157,16 @@ GG_INLINE ggColor trace_fx(const gg_shade_ctx *c, const ray_state *r, gg_shade_t
     if (!hit) {
         col = s->background;
         if (ABSORBS(c, FX) && r->media.n > 0) att = media_transmittance(s, &r->media, INFINITY);
+        aov_background(c, r, th, att, col, FX);
     } else {
         if (r->depth == 1) th->st.eye_hit++;
-        col = shade_hit(c, r, &q, hp, th, node, FX);
-        if (ABSORBS(c, FX) && r->media.n > 0) att = media_transmittance(s, &r->media, hp->t);
+        /* The layer copy needs the absorption to the hit before shading
+           it; the others take it after, as they always did. */
+        if ((FX & FX_AOV) && ABSORBS(c, FX) && r->media.n > 0)
+            att = media_transmittance(s, &r->media, hp->t);
+        col = shade_hit(c, r, &q, hp, th, node, att, FX);
+        if (!(FX & FX_AOV) && ABSORBS(c, FX) && r->media.n > 0)
+            att = media_transmittance(s, &r->media, hp->t);
     }
     if (ABSORBS(c, FX) && r->media.n > 0) col = cmul(col, att);
     rec_ray_end(c, node, hit, att, col, FX);

@@ -32,6 +32,9 @@ typedef struct gg_shade_ctx {
     gg_qopt qopt;    /* those the geometry answers by, for every query */
     uint32_t budget; /* secondary rays per eye ray's tree (ggRenderOptions.ray_budget) */
     ggTrace *rec;    /* non-NULL: record the ray tree (single-threaded use) */
+    /* non-NULL: split every ray tree's colour into these path layers
+       (the layer copy of shade.c), into gg_shade_thread.aov */
+    const struct ggPathLayers *layers;
 } gg_shade_ctx;
 
 /* What one rendering thread keeps for itself: its ray counts and, per
@@ -43,12 +46,21 @@ typedef struct gg_shade_thread {
     ggRayStats st;
     uint32_t occ[GG_OCC_CACHES];
     uint32_t left; /* secondary rays the current eye ray's tree may still cast */
+    /* With ctx.layers: one colour per layer that the traced rays add
+       their layers' shares to (the caller zeroes them per sample), and,
+       if not NULL, per layer the number of non-zero terms it took. */
+    ggColor *aov;
+    uint32_t *aov_n;
 } gg_shade_thread;
 
 /* Fill ctx from a prepared scene and resolved options; acc may be NULL.
    The ray budget is GG_RAY_BUDGET until the caller sets ctx->budget. */
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc);
+
+/* Split every ray tree's colour into these path layers (NULL: none)
+   from now on, into each thread's gg_shade_thread.aov: the layer copy. */
+void gg_shade_set_layers(gg_shade_ctx *ctx, const struct ggPathLayers *layers);
 
 /* Colour along a ray starting in the outside medium (an eye ray, or any
    ray of ggRayColor) at the given depth (eye ray = 1). */

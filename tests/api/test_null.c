@@ -413,6 +413,57 @@ static void test_debug(void **state)
     ggSceneFree(s);
 }
 
+/* Path layers (debug.h, "ggPathLayersCompile"; render.h's layers) and
+   OpenEXR layers (image.h). */
+static void test_layers(void **state)
+{
+    ggPathLayers *l = (ggPathLayers *)&l;
+    const char *ex[2] = {"CB", NULL};
+    ggImage *img = ggImageCreate(2, 2, NULL), *out = (ggImage *)&out;
+    const char *names[1] = {"a"};
+    const ggImage *layers[1];
+    ggScene *s = scene();
+    ggRenderOptions o;
+    ggImage *r = NULL;
+    float map[2 * 2 * 3];
+    ggError e;
+    (void)state;
+    layers[0] = img;
+    COVER(ggPathLayersCompile),
+        assert_int_equal(ggPathLayersCompile(NULL, 1, NULL, &l, &e), GG_ERROR_INVALID);
+    assert_null(l);
+    assert_int_equal(ggPathLayersCompile(ex, 1, NULL, NULL, &e), GG_ERROR_INVALID);
+    /* a NULL element */
+    assert_int_equal(ggPathLayersCompile(ex, 2, NULL, &l, &e), GG_ERROR_INVALID);
+    assert_null(l);
+    COVER(ggPathLayersCount), assert_int_equal(ggPathLayersCount(NULL), 0);
+    COVER(ggPathLayersFree), ggPathLayersFree(NULL);
+    /* layers without a map, and a map without layers */
+    assert_int_equal(ggPathLayersCompile(ex, 1, NULL, &l, NULL), GG_OK);
+    ggRenderOptionsDefault(&o);
+    o.width = o.height = 2, o.layers = l;
+    assert_int_equal(ggRender(s, &o, &r, NULL, NULL), GG_ERROR_INVALID);
+    o.layers = NULL, o.layer_map = map;
+    assert_int_equal(ggRender(s, &o, &r, NULL, NULL), GG_ERROR_INVALID);
+    assert_null(r);
+    ggPathLayersFree(l);
+    COVER(ggImageWriteEXRLayers),
+        assert_int_equal(ggImageWriteEXRLayers(NULL, layers, names, 1, NULL, "x.exr", &e),
+                         GG_ERROR_INVALID);
+    assert_int_equal(ggImageWriteEXRLayers(img, NULL, names, 1, NULL, "x.exr", &e),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImageWriteEXRLayers(img, layers, NULL, 1, NULL, "x.exr", &e),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImageWriteEXRLayers(img, layers, names, 1, NULL, NULL, &e),
+                     GG_ERROR_INVALID);
+    COVER(ggImageReadEXRLayer),
+        assert_int_equal(ggImageReadEXRLayer(NULL, "a", NULL, &out, &e), GG_ERROR_INVALID);
+    assert_null(out);
+    assert_int_equal(ggImageReadEXRLayer("x.exr", "a", NULL, NULL, &e), GG_ERROR_INVALID);
+    ggImageFree(img);
+    ggSceneFree(s);
+}
+
 /* The light-path expressions (include/ggrt/debug.h, "ggPathParse"). */
 static void test_path(void **state)
 {
@@ -651,7 +702,7 @@ int main(void)
         cmocka_unit_test(test_scene_build),
         cmocka_unit_test(test_scene_query),
         cmocka_unit_test(test_render_trace),
-        cmocka_unit_test(test_debug), cmocka_unit_test(test_path),
+        cmocka_unit_test(test_debug), cmocka_unit_test(test_path), cmocka_unit_test(test_layers),
         cmocka_unit_test(test_stats_overwritten),
         cmocka_unit_test(test_allocator_copied),
         /* Last: the others record what they cover. */

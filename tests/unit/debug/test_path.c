@@ -408,7 +408,8 @@ static void test_find_path(void **state)
         long count = 0;
         int x, y, m = 0;
         assert_int_equal(ggFindPath(s, &o, e, 1000, &r, NULL), GG_OK);
-        assert_int_equal(r->traced, 1);
+        /* without predicates the layer copy answers (no trees recorded) */
+        assert_int_equal(r->traced, k >= 4);
         for (y = 0; y < o.height; y++)
             for (x = 0; x < o.width; x++) {
                 ggColor px;

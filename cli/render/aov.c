@@ -1,0 +1,179 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** aov.c -- ggrt render --aov NAME=LPE and --aov-png DIR (aov.h).
+*/
+#include "render/aov.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+int aov_parse_one(void *ud, const char *value, char *why, size_t whylen)
+{
+    aov_list *l = ud;
+    const char *eq = strchr(value, '=');
+    size_t n = eq ? (size_t)(eq - value) : 0, k;
+    int i;
+    if (l->n >= GG_PATH_LAYERS_MAX) {
+        snprintf(why, whylen, "at most %d layers", GG_PATH_LAYERS_MAX);
+        return 1;
+    }
+    if (!eq || n == 0 || n > GG_EXR_LAYER_NAME || !eq[1]) {
+        snprintf(why, whylen, "expected NAME=LPE, NAME 1 to %d letters, digits, '_' or '-'",
+                 GG_EXR_LAYER_NAME);
+        return 1;
+    }
+    for (k = 0; k < n; k++)
+        if (!((value[k] >= 'a' && value[k] <= 'z') || (value[k] >= 'A' && value[k] <= 'Z') ||
+              (value[k] >= '0' && value[k] <= '9') || value[k] == '_' || value[k] == '-')) {
+            snprintf(why, whylen, "a layer's name is letters, digits, '_' or '-'");
+            return 1;
+        }
+    memcpy(l->name[l->n], value, n);
+    l->name[l->n][n] = '\0';
+    for (i = 0; i < l->n; i++)
+        if (!strcmp(l->name[i], l->name[l->n])) {
+            snprintf(why, whylen, "layer '%s' given twice", l->name[i]);
+            return 1;
+        }
+    l->arg[l->n] = value, l->expr[l->n] = eq + 1;
+    l->n++;
+    return 0;
+}
+
+/* A compile error "layer K: L:C: msg" as a column of the --aov argument. */
+static int aov_error(const aov_list *l, const ggError *err)
+{
+    int k = 0, line = 0, col = 0, off = 0;
+    if (sscanf(err->message, "layer %d: %d:%d: %n", &k, &line, &col, &off) == 3 && off > 0 &&
+        k >= 1 && k <= l->n && line == 1 && col >= 1) {
+        const char *arg = l->arg[k - 1];
+        int at = col + (int)(l->expr[k - 1] - arg);
+        cli_error("--aov %s: 1:%d: %s", arg, at, err->message + off);
+        if (!strchr(arg, '\n')) fprintf(stderr, "  %s\n  %*s^\n", arg, at - 1, "");
+    } else {
+        cli_error("--aov: %s", err->message);
+    }
+    return err->code == GG_ERROR_NOMEM ? EXIT_INPUT : EXIT_USAGE;
+}
+
+int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h)
+{
+    ggError err;
+    int rc = ggPathLayersCompile(l->expr, l->n, NULL, &l->layers, &err);
+    if (rc != GG_OK) return aov_error(l, &err);
+    if (w <= 0 || h <= 0 || w > GG_IMAGE_MAX_DIM || h > GG_IMAGE_MAX_DIM ||
+        (size_t)w * (size_t)h > GG_IMAGE_MAX_PIXELS)
+        return EXIT_OK; /* ggRender refuses the size */
+    l->map = calloc((size_t)w * (size_t)h * 3, (size_t)l->n * sizeof(float));
+    if (!l->map) {
+        cli_error("out of memory for %d path layers of %dx%d", l->n, w, h);
+        return EXIT_INPUT;
+    }
+    l->w = w, l->h = h;
+    opt->layers = l->layers, opt->layer_map = l->map;
+    return EXIT_OK;
+}
+
+/* Layer k of the map as an image (NULL: out of memory). */
+static ggImage *layer_image(const aov_list *l, int k)
+{
+    ggImage *img = ggImageCreate(l->w, l->h, NULL);
+    if (img)
+        memcpy(ggImagePixels(img), l->map + (size_t)k * l->w * l->h * 3,
+               (size_t)l->w * l->h * 3 * sizeof(float));
+    return img;
+}
+
+/* The attribute listing the layers. */
+static char *layer_list(const aov_list *l)
+{
+    size_t n = 1;
+    char *s;
+    int k;
+    for (k = 0; k < l->n; k++) n += strlen(l->arg[k]) + 1;
+    if (!(s = malloc(n))) return NULL;
+    s[0] = '\0';
+    for (k = 0; k < l->n; k++) strcat(strcat(s, l->arg[k]), k + 1 < l->n ? "\n" : "");
+    return s;
+}
+
+/* err says what (and, for I/O, why: errno). */
+static int set_err(ggError *err, int code, const char *what)
+{
+    err->code = code;
+    if (code == GG_ERROR_IO)
+        snprintf(err->message, sizeof err->message, "%s: %s", what, strerror(errno));
+    else
+        snprintf(err->message, sizeof err->message, "%s", what);
+    return code;
+}
+
+static int write_pngs(const aov_list *l, ggImage **imgs, ggError *err)
+{
+    int k, rc = GG_OK;
+    if (mkdir(l->png_dir, 0777) != 0 && errno != EEXIST)
+        return set_err(err, GG_ERROR_IO, l->png_dir);
+    for (k = 0; k < l->n && rc == GG_OK; k++) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%s.png", l->png_dir, l->name[k]);
+        rc = ggImageWritePNG(imgs[k], path, err);
+    }
+    return rc;
+}
+
+int aov_write(const aov_list *l, const ggImage *img, const char *out, const char *scene,
+              const ggRenderOptions *opt, ggError *err)
+{
+    ggImage *imgs[GG_PATH_LAYERS_MAX];
+    const char *names[GG_PATH_LAYERS_MAX];
+    size_t n = strlen(out);
+    int k, rc = GG_OK, exr = n >= 4 && (!strcmp(out + n - 4, ".exr") || !strcmp(out + n - 4, ".EXR"));
+    char *list = layer_list(l);
+    memset(imgs, 0, sizeof imgs);
+    for (k = 0; k < l->n; k++) {
+        names[k] = l->name[k];
+        if (!(imgs[k] = layer_image(l, k))) rc = GG_ERROR_NOMEM;
+    }
+    if (rc != GG_OK || !list) {
+        rc = set_err(err, GG_ERROR_NOMEM, "out of memory for the path layers");
+    } else if (exr) {
+        ggEXRAttr attr[3];
+        ggEXRHeader h;
+        ggRenderOptions f = *opt;
+        char options[2048];
+        memset(&h, 0, sizeof h);
+        h.display_width = ggImageWidth(img), h.display_height = ggImageHeight(img);
+        f.width = h.display_width, f.height = h.display_height, f.threads = 0;
+        attr[0].name = AOV_ATTR, attr[0].value = list;
+        attr[1].name = AOV_ATTR_SCENE, attr[1].value = scene;
+        attr[2].name = AOV_ATTR_OPTIONS, attr[2].value = options;
+        h.attrs = attr, h.attr_count = 3;
+        if (ggRenderOptionsFormat(&f, options, sizeof options) >= sizeof options)
+            h.attr_count = 2;
+        rc = ggImageWriteEXRLayers(img, (const ggImage *const *)imgs, names, l->n, &h, out, err);
+    } else {
+        rc = ggImageWrite(img, out, err);
+    }
+    if (rc == GG_OK && l->png_dir) rc = write_pngs(l, imgs, err);
+    for (k = 0; k < l->n; k++) ggImageFree(imgs[k]);
+    free(list);
+    return rc;
+}
+
+void aov_print_pixel(const aov_list *l, int x, int y)
+{
+    int k;
+    for (k = 0; k < l->n && l->map; k++) {
+        const float *v = l->map + 3 * (((size_t)k * l->h + y) * l->w + x);
+        printf("layer %s %d,%d %.9g %.9g %.9g\n", l->name[k], x, y, v[0], v[1], v[2]);
+    }
+}
+
+void aov_free(aov_list *l)
+{
+    ggPathLayersFree(l->layers);
+    free(l->map);
+    l->layers = NULL, l->map = NULL;
+}

@@ -1,0 +1,47 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** aov.h -- path layers of `ggrt render --aov NAME=LPE` (docs/debugging.md,
+** "Path layers"): the layers compiled once, rendered by the shading's
+** layer copy (ggRenderOptions.layers), written as NAME.R, NAME.G, NAME.B
+** channels of the EXR and, with --aov-png DIR, as DIR/NAME.png.
+*/
+#ifndef GG_CLI_AOV_H
+#define GG_CLI_AOV_H
+
+#include "common/cli.h"
+
+/* The EXR attribute that lists a file's layers, one "NAME=LPE" a line
+   (ggrt check --aov-sum reads it). */
+#define AOV_ATTR "ggrt.aov"
+/* and the scene and render options that made it (ggRenderOptionsFormat),
+   for tracing a pixel that does not add up */
+#define AOV_ATTR_SCENE   "ggrt.aov.scene"
+#define AOV_ATTR_OPTIONS "ggrt.aov.options"
+
+typedef struct aov_list {
+    int n;
+    const char *arg[GG_PATH_LAYERS_MAX]; /* each --aov as given */
+    const char *expr[GG_PATH_LAYERS_MAX];
+    char name[GG_PATH_LAYERS_MAX][GG_EXR_LAYER_NAME + 1];
+    const char *png_dir; /* --aov-png DIR, or NULL */
+    ggPathLayers *layers;
+    float *map;
+    int w, h;
+} aov_list;
+
+/* CLI_FUNC parser of one --aov NAME=LPE; ud is an aov_list. */
+int aov_parse_one(void *ud, const char *value, char *why, size_t whylen);
+/* Compile the layers and give opt a map for a w x h image: EXIT_OK, or
+   the exit status after saying why (a column for an expression). */
+int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h);
+/* Write img with its layers to out (.exr: the layers as channels, and the
+   AOV_ATTR* attributes from scene and opt; .png: the image alone) and,
+   with --aov-png, each layer to DIR/NAME.png: GG_OK or the library's
+   error in err. */
+int aov_write(const aov_list *l, const ggImage *img, const char *out, const char *scene,
+              const ggRenderOptions *opt, ggError *err);
+/* --pixel X,Y: each layer's value there, "layer NAME X,Y R G B". */
+void aov_print_pixel(const aov_list *l, int x, int y);
+void aov_free(aov_list *l);
+
+#endif

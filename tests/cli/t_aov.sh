@@ -1,0 +1,104 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: path layers (render --aov, check --aov-sum).
+# Uses run.sh's ggrt, tmp, ok, bad, expect_exit.
+#
+# The four layers below are disjoint and exhaustive (docs/debugging.md,
+# "Path layers"): every path is C, then scattering events S (each <RS>,
+# <RS'tir'> or <TS>), then one ending, <RD>L, <RD>A, <RG>L, O or B.
+# direct: no S and not B; bg: no S and B; mirror: one S or more, all <RS>;
+# glass: at least one <TS>.
+aov_d='direct=C(<RD>[LA]|<RG>L|O)'
+aov_m='mirror=C<RS>+(<RD>[LA]|<RG>L|O|B)'
+aov_g='glass=C<RS>*<TS>[<RS><TS>]*(<RD>[LA]|<RG>L|O|B)'
+aov_b='bg=CB'
+g=examples/scenes/glass.nff
+
+# mistakes: the column within the --aov argument, a caret under it
+"$ggrt" render $g -s 24x18 -o "$tmp/l.exr" --aov "$aov_d" --aov 'x=C<X>' >"$tmp/out" 2>"$tmp/err"; rc=$?
+if [ $rc = 1 ] && grep -qxF "ggrt render: --aov x=C<X>: 1:5: 'X' is not an event type (C R T L O B A or .)" "$tmp/err" &&
+   grep -qx '      ^' "$tmp/err"; then ok "render --aov: a mistake names its column in the argument"
+else bad "render --aov: a mistake names its column (exit $rc)" "$(cat "$tmp/err")"; fi
+"$ggrt" render $g -s 24x18 -o "$tmp/l.exr" --aov 'g=C.*<TS>[object == 1].*' >"$tmp/out" 2>"$tmp/err"; rc=$?
+if [ $rc = 1 ] && grep -qF "ggrt render: --aov g=C.*<TS>[object == 1].*: 1:10: a path layer takes no predicate" "$tmp/err"
+then ok "render --aov: a predicate is refused at its column"
+else bad "render --aov: a predicate is refused at its column (exit $rc)" "$(cat "$tmp/err")"; fi
+expect_exit 1 "render --aov without NAME=" "$ggrt" render $g -o "$tmp/l.exr" --aov 'C.*'
+expect_exit 1 "render --aov: a name twice" "$ggrt" render $g -o "$tmp/l.exr" --aov 'a=CB' --aov 'a=C.*'
+expect_exit 1 "render --aov into a PNG without --aov-png" "$ggrt" render $g -o "$tmp/l.png" --aov 'a=CB'
+expect_exit 1 "render --aov-png without --aov" "$ggrt" render $g -o "$tmp/l.png" --aov-png "$tmp/d"
+expect_exit 1 "render --aov with --heatmap" "$ggrt" render $g -o "$tmp/l.exr" --aov 'a=CB' --heatmap rays
+"$ggrt" render $g -s 24x18 -q -o "$tmp/plain.exr"
+expect_exit 2 "check --aov-sum: a file without layers" "$ggrt" check --aov-sum "$tmp/plain.exr"
+expect_exit 1 "check --aov-sum with --path" "$ggrt" check --aov-sum "$tmp/plain.exr" --path 'C.*'
+expect_exit 1 "check without a scene or --aov-sum" "$ggrt" check
+
+# the image is the render's without layers; --aov-png writes a PNG a layer
+"$ggrt" render $g -s 48x36 -q -o "$tmp/a.png" --aov "$aov_d" --aov "$aov_m" --aov "$aov_g" \
+  --aov "$aov_b" --aov-png "$tmp/aovpng" 2>"$tmp/err"
+"$ggrt" render $g -s 48x36 -q -o "$tmp/b.png" 2>>"$tmp/err"
+if cmp -s "$tmp/a.png" "$tmp/b.png" && [ -s "$tmp/aovpng/direct.png" ] && [ -s "$tmp/aovpng/mirror.png" ] &&
+   [ -s "$tmp/aovpng/glass.png" ] && [ -s "$tmp/aovpng/bg.png" ]; then
+  ok "render --aov: the image is unchanged, --aov-png writes one PNG a layer"
+else bad "render --aov: the image is unchanged, --aov-png writes one PNG a layer" "$(ls "$tmp/aovpng"; cat "$tmp/err")"; fi
+
+# every example, model, SPD and test-data scene: the four layers add up;
+# leaving one out fails and names the missing share and a path
+for s in examples/scenes/*.nff examples/scenes/models/*.obj examples/scenes/models/*.ply \
+         examples/scenes/spd/*.nff tests/data/*.nff tests/data/debug/*.nff; do
+  "$ggrt" render "$s" -s 32x24 -q -o "$tmp/l4.exr" --aov "$aov_d" --aov "$aov_m" --aov "$aov_g" \
+    --aov "$aov_b" 2>"$tmp/err"
+  "$ggrt" check --aov-sum "$tmp/l4.exr" >"$tmp/c4" 2>>"$tmp/err"; rc=$?
+  if [ $rc = 0 ] && grep -q '^ok: the layers add up to the image' "$tmp/c4"; then
+    ok "check --aov-sum: four disjoint exhaustive layers add up on $s"
+  else bad "check --aov-sum: four layers add up on $s (exit $rc)" "$(cat "$tmp/c4" "$tmp/err")"; fi
+  failed=""; wrong=""
+  for drop in direct mirror glass bg; do
+    set --
+    for l in "$aov_d" "$aov_m" "$aov_g" "$aov_b"; do
+      case $l in "$drop="*) ;; *) set -- "$@" --aov "$l" ;; esac
+    done
+    "$ggrt" render "$s" -s 32x24 -q -o "$tmp/l3.exr" "$@" 2>/dev/null
+    "$ggrt" check --aov-sum "$tmp/l3.exr" >"$tmp/c3" 2>&1; rc=$?
+    if [ $rc = 4 ]; then
+      if grep -qE '^gap: +[1-9][0-9]* pixels, [0-9.e+-]+% of the image' "$tmp/c3" &&
+         grep -q '^  a path no layer matches: C' "$tmp/c3" && grep -qE '^overlap: +0 pixels' "$tmp/c3"
+      then failed="$failed $drop"; else wrong="$wrong $drop"; fi
+    elif [ $rc != 0 ]; then wrong="$wrong $drop(exit $rc)"; fi
+  done
+  if [ -n "$failed" ] && [ -z "$wrong" ]; then
+    ok "check --aov-sum: $s without one layer fails and names the gap (without:$failed)"
+  else bad "check --aov-sum: $s without one layer fails and names the gap" "failed:$failed wrong:$wrong
+$(cat "$tmp/c3")"; fi
+done
+
+# an overlap is told apart from a gap, with the two layers that claim it
+"$ggrt" render $g -s 32x24 -q -o "$tmp/o.exr" --aov "$aov_d" --aov "$aov_m" --aov "$aov_g" \
+  --aov "$aov_b" --aov 'twice=C<RD>L' 2>/dev/null
+"$ggrt" check --aov-sum "$tmp/o.exr" >"$tmp/co" 2>&1; rc=$?
+if [ $rc = 4 ] && grep -qE '^gap: +0 pixels' "$tmp/co" && grep -qE '^overlap: +[1-9]' "$tmp/co" &&
+   grep -qE "^  a path two layers match: C<RD'[0-9]+'><L.'[0-9]+'>, .* \[direct\] \[twice\]" "$tmp/co"
+then ok "check --aov-sum: an overlap, with the path and the two layers"
+else bad "check --aov-sum: an overlap, with the path and the two layers (exit $rc)" "$(cat "$tmp/co")"; fi
+
+# the layers against an independent matcher over the trace JSON
+python3 tests/cli/aov_check.py "$ggrt" $g 24x18 8,6,16,12 "$aov_d" "$aov_m" "$aov_g" "$aov_b" \
+  "tir=C.*<RS'tir'>.*" "obj1=C<.S'1'>+.*" >"$tmp/ac" 2>&1
+case $(cat "$tmp/ac") in
+  "ok   "*) ok "aov: $(sed 's/^ok   //' "$tmp/ac")" ;;
+  *) bad "aov: layers against the independent matcher" "$(cat "$tmp/ac")" ;;
+esac
+
+# find --path without predicates is answered by the layer copy: the same
+# document as the recorder's (an always-true predicate forces it) on every
+# example, model, SPD and test-data scene
+python3 tests/cli/find_layers_check.py "$ggrt" examples/scenes/*.nff examples/scenes/models/*.obj \
+  examples/scenes/models/*.ply examples/scenes/spd/*.nff tests/data/*.nff tests/data/debug/*.nff \
+  >"$tmp/fl" 2>&1
+while IFS= read -r line; do
+  case "$line" in
+    "ok   "*) ok "${line#ok   }" ;;
+    "FAIL "*) bad "${line#FAIL }" ;;
+    *) bad "find_layers_check.py: $line" ;;
+  esac
+done < "$tmp/fl"
+grep -q '^ok' "$tmp/fl" || bad "find_layers_check.py ran" "$(cat "$tmp/fl")"
