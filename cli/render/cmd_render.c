@@ -26,7 +26,7 @@ static const char tail[] =
 static const char *const heat_kinds[] = {"rays", "depth", "time", NULL};
 
 typedef struct render_args {
-    const char *scene, *out;
+    const char *scene, *out, *plan;
     int quiet, no_srgb, heat, pixel[2], has_pixel;
     cli_render ro;
     tile_list tiles; /* --tile or --tiles; tiles.count 0 without */
@@ -92,6 +92,9 @@ static int check_tiles(const cli_cmd *cmd, const render_args *a, const cli_opt *
     size_t n = strlen(a->out);
     if (mine[4].given + mine[5].given > 1)
         return cli_usage_error(cmd, "give one of --tile and --tiles, once");
+    if (!a->tiles.n && !a->plan)
+        return cli_usage_error(cmd, "--tile I and --tiles I,J need /N, the number of tiles, "
+                                    "or --plan");
     if (strcmp(a->out + n - 4, ".exr") && strcmp(a->out + n - 4, ".EXR"))
         return cli_usage_error(cmd, "tiles are OpenEXR files: -o must end in .exr");
     if (a->heat >= 0 || a->has_pixel || a->no_srgb || cli_given(cmd, "crop"))
@@ -131,6 +134,10 @@ static int parse(render_args *a, int argc, char **argv)
                      "several tiles of N, loading the scene once; OUT\n"
                      "names each with %d replaced by the index\n"
                      "(-o part-%d.exr)"),
+        CLI_OPT_STRING(0, "plan", &a->plan, "FILE",
+                       "with --tile or --tiles: the cut of a plan from ggrt\n"
+                       "plan (bands of equal cost) instead of equal bands;\n"
+                       "N may be left out (--tile I)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar and no summary"),
         CLI_OPT_END,
     };
@@ -156,6 +163,7 @@ static int parse(render_args *a, int argc, char **argv)
                   strcmp(a->out + n - 4, ".PNG") && strcmp(a->out + n - 4, ".EXR")))
         return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", a->out);
     if (a->tiles.count) return check_tiles(&cmd, a, mine);
+    if (a->plan) return cli_usage_error(&cmd, "--plan goes with --tile or --tiles");
     return CLI_GO;
 }
 
@@ -332,7 +340,7 @@ int cmd_render(int argc, char **argv)
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
     t[2] = cli_now();
     if (a.tiles.count)
-        rc = tile_render(scene, a.scene, &a.ro.opt, &a.tiles, a.out, a.quiet);
+        rc = tile_render(scene, a.scene, &a.ro.opt, &a.tiles, a.out, a.quiet, a.plan);
     else
         rc = run(&a, scene, t);
     ggSceneFree(scene);
