@@ -16,9 +16,10 @@ static const char about[] =
     "Cut an image into N bands of whole rows that cost about the same to render, for\n"
     "'ggrt render --plan FILE --tile I' on N processes or machines. The cost is measured\n"
     "on a render at 1/F of the size in each direction (--scale F) with the same options:\n"
-    "by default the rays each pixel casts (the same plan on every run and machine), or\n"
-    "the time each pixel takes (--cost time). The plan records the scene file's hash,\n"
-    "the render options and the size; render refuses a plan made for other ones.";
+    "by default the CPU time each pixel takes, or the rays it casts (--cost rays: the\n"
+    "same plan on every run and machine, but less even). The plan records the scene\n"
+    "file's hash, the render options and the size; render refuses a plan made for\n"
+    "other ones.";
 
 static const char tail[] = "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
 
@@ -40,8 +41,8 @@ static int parse(plan_args *a, int argc, char **argv)
                        "the plan to write (required), JSON; written whole\n"
                        "or not at all"),
         CLI_OPT_CHOICE(0, "cost", &a->cost, cost_kinds, "KIND",
-                       "rays (rays cast, default: reproducible) or time\n"
-                       "(seconds, measured: follows the machine)"),
+                       "time (default: CPU seconds per pixel, measured) or\n"
+                       "rays (rays cast: reproducible, less even)"),
         CLI_OPT_INT(0, "scale", &a->scale, 1, 64, "F",
                     "measure on a render of 1/F of the width and height\n"
                     "(default 4: about 1/16 of the render's work)"),
@@ -58,7 +59,7 @@ static int parse(plan_args *a, int argc, char **argv)
                    .max_args = 1,
                    .args_name = "scene"};
     int rc;
-    a->scale = 4;
+    a->scale = 4, a->cost = 1;
     cli_render_init(&a->ro, CLI_RENDER_PIXEL | CLI_RENDER_THREADS);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
@@ -135,7 +136,7 @@ static int measure(ggScene *scene, const plan_args *a, int w, int h, float **cos
         return EXIT_INPUT;
     }
     o.width = *lw, o.height = *lh;
-    o.cost_map = *cost, o.cost_kind = a->cost ? GG_COST_TIME : GG_COST_RAYS;
+    o.cost_map = *cost, o.cost_kind = a->cost ? GG_COST_CPU : GG_COST_RAYS;
     rc = ggRender(scene, &o, &img, NULL, &err);
     ggImageFree(img);
     return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 1);

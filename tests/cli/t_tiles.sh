@@ -70,12 +70,12 @@ done
 # ---- plans: a cut of their own, reproducible, in the manifest ----
 gears="examples/scenes/spd/gears.nff --spd -s 96x64"
 # shellcheck disable=SC2086
-"$ggrt" plan $gears -q --tiles 7 -o "$td/gplan.json" &&
+"$ggrt" plan $gears -q --cost rays --tiles 7 -o "$td/gplan.json" &&
   "$ggrt" render $gears -q --plan "$td/gplan.json" --tile 3 -o "$td/gp-3.exr" ||
   bad "plan and render of gears"
 grows=$(grep '^"rows"' "$td/gplan.json")
 # shellcheck disable=SC2086
-"$ggrt" plan $gears -q -j 1 --tiles 7 -o "$td/again-7.json" 2>"$tmp/err" ||
+"$ggrt" plan $gears -q -j 1 --cost rays --tiles 7 -o "$td/again-7.json" 2>"$tmp/err" ||
   bad "plan of gears with -j 1" "$(cat "$tmp/err")"
 # The seconds differ between runs; the rows may not.
 rows2=$(grep '^"rows"' "$td/again-7.json")
