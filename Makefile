@@ -174,6 +174,7 @@ CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test test-tsan tests deps demo install uninstall installcheck \
         clean fuzz bench examples format pc layers FORCE check-browser check-cluster bench-serve \
+        bench-plan \
         check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
 .DEFAULT_GOAL := all
 .SECONDARY:
@@ -436,6 +437,12 @@ BENCH_SECONDS ?= 10
 bench-serve: $(CLI)
 	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
 	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
+
+# ggrt plan's cut against equal bands: gears in 8 tiles, each tile a -j 1
+# process, the slowest over the fastest tile in wall and CPU seconds
+# (bench/plan_bench.sh; prints figures, not a test). About 1 min.
+bench-plan: $(CLI)
+	@sh bench/plan_bench.sh $(CLI) $(BENCH_PLAN_ARGS)
 
 deps: deps-check
 deps-%:
