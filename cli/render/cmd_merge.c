@@ -14,7 +14,9 @@ static const char about[] =
     "OpenEXR by the extension of OUT: the same file a single 'ggrt render' with the\n"
     "same options writes, byte for byte. Every tile must come from the same scene file\n"
     "(its hash), render options, ggrt version and cut, and together they must cover\n"
-    "the image once: otherwise merge names the tile and the reason and writes nothing.";
+    "the image once: otherwise merge names the tile and the reason and writes nothing.\n"
+    "With --reports, the JSON reports of 'ggrt find', 'check' or 'diff --tile' instead,\n"
+    "joined into the report one process writes for the whole image.";
 
 static const char tail[] = "exit: 0 ok, 1 usage, 2 bad or missing tile, 3 I/O error";
 
@@ -156,17 +158,21 @@ static int assemble(tile_file *t, int nt, ggImage **out)
 }
 
 static int parse(int argc, char **argv, const char **files, int *nfiles, const char **out,
-                 int *quiet)
+                 int *quiet, int *reports)
 {
     cli_opt mine[] = {
         CLI_OPT_STRING('o', "output", out, "FILE",
                        "the image to write (required), .png or .exr;\n"
                        "written whole or not at all"),
+        CLI_OPT_FLAG(0, "reports", reports,
+                     "the files are JSON reports of find, check or diff\n"
+                     "--tile: write the whole image's report to -o FILE"),
         CLI_OPT_FLAG('q', "quiet", quiet, "no summary"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "merge",
-                   .usage = "TILE.exr... -o OUT.png|OUT.exr [options]",
+                   .usage = "TILE.exr... -o OUT.png|OUT.exr [options]\n"
+                            "       ggrt merge --reports PART.json... -o OUT.json [options]",
                    .about = about,
                    .tail = tail,
                    .opts = {mine},
@@ -179,6 +185,7 @@ static int parse(int argc, char **argv, const char **files, int *nfiles, const c
     int rc;
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     if (!*out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
+    if (*reports) return CLI_GO;
     n = strlen(*out);
     if (n < 4 || (strcmp(*out + n - 4, ".png") && strcmp(*out + n - 4, ".exr") &&
                   strcmp(*out + n - 4, ".PNG") && strcmp(*out + n - 4, ".EXR")))
@@ -192,9 +199,15 @@ int cmd_merge(int argc, char **argv)
     tile_file *t = NULL;
     ggImage *img = NULL;
     ggError err;
-    int nfiles = 0, quiet = 0, i, rc;
+    int nfiles = 0, quiet = 0, reports = 0, i, rc;
     if (!files) return EXIT_INPUT;
-    if ((rc = parse(argc, argv, files, &nfiles, &out, &quiet)) != CLI_GO) {
+    if ((rc = parse(argc, argv, files, &nfiles, &out, &quiet, &reports)) != CLI_GO) {
+        free(files);
+        return rc;
+    }
+    if (reports) {
+        rc = cli_check_output("merge", out);
+        if (rc == 0) rc = merge_reports(files, nfiles, out, quiet);
         free(files);
         return rc;
     }

@@ -378,3 +378,25 @@ int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *o
     free(j);
     return rc;
 }
+
+int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path,
+                   const ggRenderOptions *opt, tile_list *tl, const char *plan_path)
+{
+    tile_job *j = malloc(sizeof *j);
+    int rc;
+    if (!j) {
+        cli_error("out of memory");
+        return EXIT_INPUT;
+    }
+    rc = job_init(j, scene, scene_path, opt, tl, "", 1, plan_path);
+    if (rc == EXIT_OK) {
+        b->index = tl->idx[0], b->n = j->cut.n, b->w = j->w, b->h = j->h;
+        tile_cut_rows(&j->cut, b->index, j->h, &b->y0, &b->y1);
+        memcpy(b->hash, j->hash, sizeof b->hash);
+        memcpy(b->options, j->options, sizeof b->options);
+        memcpy(b->cut, j->cutname, sizeof b->cut);
+    }
+    tile_cut_free(&j->cut);
+    free(j);
+    return rc;
+}

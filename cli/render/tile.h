@@ -96,11 +96,28 @@ int tile_path(const char *pattern, int i, char *buf, size_t size);
    0, or -1 with errno set. */
 int tile_hash_file(const char *path, char *buf, size_t size);
 
+/* One tile's band and manifest, for the commands that scan a tile of an
+   image (find, check, diff --tile). */
+typedef struct tile_band {
+    int index, n, w, h, y0, y1;
+    char hash[32], options[2048], cut[TILE_MAX_PLAN * 8 + 16];
+} tile_band;
+
+/* The band of tl's one tile (equal bands, or the plan's, checked as by
+   render --plan) for the scene and options. Prints why and returns an
+   exit code. */
+int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path,
+                   const ggRenderOptions *opt, tile_list *tl, const char *plan_path);
+
 /* Render the listed tiles of the scene, loaded once, each written as
    a tile file (tile.c). opt is the render as given (no crop); quiet drops
    the per-tile lines; plan_path a plan file whose cut to use (NULL: equal
    bands). Returns an exit code. */
 int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
                 tile_list *tl, const char *out, int quiet, const char *plan_path);
+
+/* ggrt merge --reports: the JSON reports of find, check and diff --tile
+   joined into the whole image's (report_merge.c). Exit code. */
+int merge_reports(const char **files, int nfiles, const char *out, int quiet);
 
 #endif
