@@ -57,6 +57,7 @@ static int load(report *r)
     FILE *f = fopen(r->path, "rb");
     char why[200];
     size_t got;
+    int k;
     if (!f) {
         cli_error("%s: %s", r->path, strerror(errno));
         return EXIT_IO;
@@ -69,9 +70,11 @@ static int load(report *r)
         return EXIT_INPUT;
     }
     r->text[got] = '\0';
+    why[0] = '\0';
     if (jdom_parse(r->text, &r->root, why, sizeof why) != 0 || r->root.type != 'o' ||
         !r->root.n) {
-        cli_error("%s: not a JSON report: %s", r->path, r->root.type == 'o' ? why : "not an object");
+        cli_error("%s: not a JSON report: %s", r->path,
+                  r->root.type != 'o' ? "not an object" : r->root.n ? why : "an empty object");
         return EXIT_INPUT;
     }
     if (!(r->tile = jdom_get(&r->root, "tile")) || r->tile->type != 'o') {
@@ -79,6 +82,11 @@ static int load(report *r)
                   r->path);
         return EXIT_INPUT;
     }
+    for (k = 0; same_keys[k]; k++)
+        if (!jdom_get(r->tile, same_keys[k]) || jdom_get(r->tile, same_keys[k])->type != 's') {
+            cli_error("%s: the tile manifest has no \"%s\" string", r->path, same_keys[k]);
+            return EXIT_INPUT;
+        }
     return EXIT_OK;
 }
 
@@ -148,8 +156,13 @@ static int check_reports(report *r, int nr, tile_cut *cut, int *w, int *h, repor
         cli_error("%s: no size or cut", r[0].path);
         return EXIT_INPUT;
     }
+    if (jdom_num(&size->kid[0]) < 1 || jdom_num(&size->kid[0]) > GG_IMAGE_MAX_DIM ||
+        jdom_num(&size->kid[1]) < 1 || jdom_num(&size->kid[1]) > GG_IMAGE_MAX_DIM) {
+        cli_error("%s: size is not [width,height]", r[0].path);
+        return EXIT_INPUT;
+    }
     *w = (int)jdom_num(&size->kid[0]), *h = (int)jdom_num(&size->kid[1]);
-    if (*w < 1 || *h < 1 || tile_cut_parse(text, *h, cut, why, sizeof why) != 0) {
+    if (tile_cut_parse(text, *h, cut, why, sizeof why) != 0) {
         cli_error("%s: bad cut '%.40s': %s", r[0].path, text, why);
         return EXIT_INPUT;
     }

@@ -144,3 +144,7 @@ else bad "merge --reports of a truncated report writes nothing" "$(ls "$rd")"; f
 reports_refuse "a report that is not a tile's" \
   "ggrt merge: $rd/whole.json: not a tile's report: no \"tile\" manifest (find, check or diff --tile)" \
   "$rd/whole.json"
+sed 's/,"params":"[^"]*"//' "$rd/g-2.json" >"$rd/noparams-2.json"
+reports_refuse "a manifest without params" \
+  "ggrt merge: $rd/noparams-2.json: the tile manifest has no \"params\" string" \
+  "$rd/g-0.json" "$rd/g-1.json" "$rd/noparams-2.json" "$rd/g-3.json"
