@@ -175,6 +175,7 @@ CLI    = $(BUILD)/ggrt
 
 .PHONY: all lib cli check test test-tsan tests deps demo install uninstall installcheck \
         clean fuzz bench examples format pc layers FORCE check-browser check-cluster bench-serve \
+        bench-plan \
         check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
 .DEFAULT_GOAL := all
 .SECONDARY:
@@ -424,9 +425,10 @@ check-browser: deps-check deps-browser
 # check-cluster: the recipes of examples/cluster/ on a real scheduler
 # (tests/cluster/check.sh, docs/cluster.md): as root, munged, slurmctld and
 # slurmd on this machine with a key and a slurm.conf in a temporary folder,
-# examples/cluster/slurm.sh and parallel.sh on gears in 8 tiles, each merge
-# cmp'd with one process's render; every daemon stopped, the folder removed.
-# 25 s on 2 cores. Packages: scripts/deps.sh group cluster.
+# examples/cluster/slurm.sh on gears in 8 tiles, then parallel.sh over ssh
+# to root@127.0.0.1 through a private sshd (config and keys in the folder),
+# each merge cmp'd with one process's render; every daemon stopped, the
+# folder removed. 30 s on 2 cores. Packages: scripts/deps.sh group cluster.
 check-cluster: deps-cluster
 	@$(MAKE) --no-print-directory $(BUILD)/release/ggrt BUILD=$(BUILD)/release GG_WERROR=-Werror
 	@sh tests/cluster/check.sh $(BUILD)/release/ggrt
@@ -437,6 +439,12 @@ BENCH_SECONDS ?= 10
 bench-serve: $(CLI)
 	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS)
 	python3 bench/http_bench.py $(CLI) --clients $(BENCH_CLIENTS) --seconds $(BENCH_SECONDS) --render
+
+# ggrt plan's cut against equal bands: gears in 8 tiles, each tile a -j 1
+# process, the slowest over the fastest tile in wall and CPU seconds
+# (bench/plan_bench.sh; prints figures, not a test). About 1 min.
+bench-plan: $(CLI)
+	@sh bench/plan_bench.sh $(CLI) $(BENCH_PLAN_ARGS)
 
 deps: deps-check
 deps-%:

@@ -20,7 +20,7 @@ check:   @build @serve libcmocka-dev python3 assimp-testmodels valgrind clang
 fuzz:    @build clang
 serve:   libmicrohttpd-dev
 browser: chromium chromium-driver python3-selenium
-cluster: @build slurm-wlm munge parallel
+cluster: @build slurm-wlm munge parallel openssh-server openssh-client rsync
 GROUPS
 }
 # check: assimp-testmodels holds the OBJ and PLY files tests/unit/load/test_assimp.c
@@ -33,7 +33,9 @@ GROUPS
 #   it; without it the rest of ggrt builds and `ggrt serve` says what to
 #   install. browser: tests/browser* drive Chromium through Selenium.
 # cluster: make check-cluster (tests/cluster/check.sh) runs a one-node
-#   Slurm with munge, and GNU parallel, on the recipes of examples/cluster/.
+#   Slurm with munge, and GNU parallel, on the recipes of examples/cluster/;
+#   parallel goes over ssh to a private sshd on 127.0.0.1 (openssh-server,
+#   openssh-client) and moves files with rsync (--basefile, --return).
 
 # expand GROUP: its packages, includes resolved (at most 8 levels deep).
 expand() {

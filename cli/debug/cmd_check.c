@@ -45,6 +45,7 @@ typedef struct check_args {
     int format, quiet, worst;
     ggCheckOptions co;
     cli_render ro;
+    dbg_tile tile;
 } check_args;
 
 /* --severity NAME=LEVEL[,NAME=LEVEL...] */
@@ -100,6 +101,7 @@ static int parse(check_args *a, int argc, char **argv)
                        "check that the path layers of this ggrt render\n"
                        "--aov file add up to its image (SCENE optional)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
+        DBG_TILE_OPTS(&a->tile),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "check",
@@ -120,7 +122,27 @@ static int parse(check_args *a, int argc, char **argv)
     if (!a->scene && !a->aov_sum) return cli_usage_error(&cmd, "need a scene");
     if (a->aov_sum && (a->path || a->format))
         return cli_usage_error(&cmd, "--aov-sum takes neither --path nor -f json");
-    return CLI_GO;
+    if (a->aov_sum && (a->tile.tl.count || a->tile.plan))
+        return cli_usage_error(&cmd, "--aov-sum takes no --tile or --plan");
+    return dbg_tile_check(&cmd, &a->tile, a->format, cli_given(&cmd, "crop"));
+}
+
+/* The JSON report; with --tile, its manifest: the params hold what else
+   must agree (the check options). */
+static int json_out(check_args *a, const ggCheckResult *r)
+{
+    ggRenderOptions o;
+    FILE *f = dbg_tile_open(&a->tile);
+    char params[400];
+    int k, n;
+    dbg_tile_options(&a->tile, &a->ro.opt, &o);
+    if (f) json_check(f, a->scene, &o, r);
+    n = snprintf(params, sizeof params, "truncation=%.17g self-hit=%.17g near-tir=%.17g "
+                 "grazing=%.17g severity=", a->co.truncation, a->co.self_hit, a->co.near_tir,
+                 a->co.grazing);
+    for (k = 0; k < GG_CHECK_COUNT && n > 0 && (size_t)n < sizeof params; k++)
+        n += snprintf(params + n, sizeof params - (size_t)n, "%d", a->co.severity[k]);
+    return dbg_tile_close(&a->tile, f, params);
 }
 
 /* What the worst pixel of an invariant is about, in words. */
@@ -257,6 +279,11 @@ int cmd_check(int argc, char **argv)
         ggPathFree(path);
         return rc;
     }
+    if ((rc = dbg_tile_begin(&a.tile, scene, a.scene, &a.ro.opt)) != EXIT_OK) {
+        ggSceneFree(scene);
+        ggPathFree(path);
+        return rc;
+    }
     dbg_progress_begin(&ps, "check", a.quiet || a.format == 1);
     a.ro.opt.progress = dbg_progress, a.ro.opt.progress_ud = &ps;
     rc = ggCheck(scene, &a.ro.opt, &a.co, &r, &err);
@@ -264,11 +291,12 @@ int cmd_check(int argc, char **argv)
     if (rc != GG_OK) {
         rc = cli_fail(rc, &err, 1);
     } else {
+        rc = EXIT_OK;
         if (a.format == 1)
-            json_check(stdout, a.scene, &a.ro.opt, r);
+            rc = json_out(&a, r);
         else
             print_text(&a, r);
-        rc = r->failed ? EXIT_CHECK : EXIT_OK;
+        if (rc == EXIT_OK) rc = r->failed ? EXIT_CHECK : EXIT_OK;
     }
     ggCheckResultFree(r);
     ggSceneFree(scene);

@@ -31,6 +31,7 @@ typedef struct diff_args {
     int nscenes, worst, format, quiet, limit;
     ggRenderOptions oa, ob;
     cli_render ro;
+    dbg_tile tile;
 } diff_args;
 
 static int side(const cli_cmd *cmd, const char *name, const char *text, const ggRenderOptions *base,
@@ -71,6 +72,7 @@ static int parse(diff_args *a, int argc, char **argv)
                     "--path: list at most N of those pixels (default all)"),
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
+        DBG_TILE_OPTS(&a->tile),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "diff",
@@ -90,6 +92,9 @@ static int parse(diff_args *a, int argc, char **argv)
     cli_render_finish(&a->ro);
     if ((rc = side(&cmd, "a", a->a_text, &a->ro.opt, &a->oa)) != CLI_GO) return rc;
     if ((rc = side(&cmd, "b", a->b_text, &a->ro.opt, &a->ob)) != CLI_GO) return rc;
+    if ((rc = dbg_tile_check(&cmd, &a->tile, a->format, a->out || cli_given(&cmd, "crop"))) !=
+        CLI_GO)
+        return rc;
     if (a->out && (rc = cli_check_output("diff", a->out)) != 0) return rc;
     return CLI_GO;
 }
@@ -175,6 +180,24 @@ static void print_text(const diff_args *a, ggScene *sa, ggScene *sb, const ggDif
     for (i = 0; i < r->nworst; i++) print_pixel(a, sa, sb, &r->worst[i]);
 }
 
+/* The JSON report; with --tile, its manifest: the params hold what else
+   must agree (--worst, --limit, scene b's hash). */
+static int json_out(const diff_args *a, const ggDiffResult *r)
+{
+    ggRenderOptions oa, ob;
+    dbg_tile *t = (dbg_tile *)&a->tile;
+    FILE *f = dbg_tile_open(t);
+    char params[128], hash[32] = "";
+    dbg_tile_options(t, &a->oa, &oa);
+    dbg_tile_options(t, &a->ob, &ob);
+    if (f) json_diff(f, a->scenes[0], a->scenes[a->nscenes > 1], &oa, &ob, r);
+    if (t->tl.count && a->nscenes > 1 && tile_hash_file(a->scenes[1], hash, sizeof hash) != 0)
+        snprintf(hash, sizeof hash, "unreadable");
+    snprintf(params, sizeof params, "worst=%d limit=%d%s%s", a->worst, a->limit,
+             hash[0] ? " b=" : "", hash);
+    return dbg_tile_close(t, f, params);
+}
+
 static int run(diff_args *a, ggScene *sa, ggScene *sb, const ggPathExpr *path)
 {
     static const float map_colours[3][3] = {{0, 0, 0}, {0.1f, 0.3f, 1}, {1, 0.1f, 0.05f}};
@@ -182,6 +205,11 @@ static int run(diff_args *a, ggScene *sa, ggScene *sb, const ggPathExpr *path)
     dbg_progress_state ps;
     ggError err;
     int rc;
+    if ((rc = dbg_tile_begin(&a->tile, sa, a->scenes[0], &a->oa)) != EXIT_OK) return rc;
+    if (a->tile.tl.count) {
+        a->ob.crop_x0 = a->oa.crop_x0, a->ob.crop_x1 = a->oa.crop_x1;
+        a->ob.crop_y0 = a->oa.crop_y0, a->ob.crop_y1 = a->oa.crop_y1;
+    }
     dbg_progress_begin(&ps, "diff", a->quiet || a->format == 1);
     a->oa.progress = dbg_progress, a->oa.progress_ud = &ps;
     if (path)
@@ -192,11 +220,10 @@ static int run(diff_args *a, ggScene *sa, ggScene *sb, const ggPathExpr *path)
     a->oa.progress = NULL, a->oa.progress_ud = NULL;
     if (rc != GG_OK) return cli_fail(rc, &err, 1);
     if (a->format == 1)
-        json_diff(stdout, a->scenes[0], a->scenes[a->nscenes > 1], &a->oa, &a->ob, r);
+        rc = json_out(a, r);
     else
-        print_text(a, sa, sb, r);
-    rc = EXIT_OK;
-    if (a->out) {
+        print_text(a, sa, sb, r), rc = EXIT_OK;
+    if (rc == EXIT_OK && a->out) {
         rc = dbg_write_map("diff", a->out, r->map, r->width, r->height, map_colours, 3);
         if (rc == EXIT_OK && a->format != 1)
             printf("wrote %s (black: same; blue: the value differs; red: the ray tree differs)\n",

@@ -32,6 +32,7 @@ typedef struct find_args {
     const char *scene, *where, *path, *out, *overlay, *paths_jsonl, *paths_obj;
     int limit, format, quiet;
     cli_render ro;
+    dbg_tile tile;
 } find_args;
 
 static int parse(find_args *a, int argc, char **argv)
@@ -59,6 +60,7 @@ static int parse(find_args *a, int argc, char **argv)
         CLI_OPT_STRING(0, "paths-obj", &a->paths_obj, "FILE",
                        "--path: write them as OBJ polylines, one per path"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
+        DBG_TILE_OPTS(&a->tile),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "find",
@@ -78,6 +80,10 @@ static int parse(find_args *a, int argc, char **argv)
     if (!a->where == !a->path) return cli_usage_error(&cmd, "need --where EXPR or --path LPE");
     if ((a->paths_jsonl || a->paths_obj) && !a->path)
         return cli_usage_error(&cmd, "--paths-jsonl and --paths-obj write the paths of --path LPE");
+    if ((rc = dbg_tile_check(&cmd, &a->tile, a->format,
+                             a->out || a->overlay || a->paths_jsonl || a->paths_obj ||
+                                 cli_given(&cmd, "crop"))) != CLI_GO)
+        return rc;
     if ((rc = dbg_paths_check("find", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->out && (rc = cli_check_output("find", a->out)) != 0) return rc;
     if (a->overlay && (rc = cli_check_output("find", a->overlay)) != 0) return rc;
@@ -182,6 +188,7 @@ static int run(find_args *a, ggScene *scene, const ggPredicate *pred, const ggPa
     dbg_progress_state ps;
     ggError err;
     int rc;
+    if ((rc = dbg_tile_begin(&a->tile, scene, a->scene, &a->ro.opt)) != EXIT_OK) return rc;
     dbg_progress_begin(&ps, "find", a->quiet || a->format == 1);
     a->ro.opt.progress = dbg_progress, a->ro.opt.progress_ud = &ps;
     if (path)
@@ -190,11 +197,18 @@ static int run(find_args *a, ggScene *scene, const ggPredicate *pred, const ggPa
         rc = ggFind(scene, &a->ro.opt, pred, a->limit ? a->limit : 1 << 30, &r, &err);
     dbg_progress_end(&ps);
     if (rc != GG_OK) return cli_fail(rc, &err, 1);
-    if (a->format == 1)
-        json_find(stdout, a->scene, &a->ro.opt, a->where, a->path, r);
-    else
+    if (a->format == 1) {
+        ggRenderOptions o;
+        FILE *f = dbg_tile_open(&a->tile);
+        char params[64];
+        dbg_tile_options(&a->tile, &a->ro.opt, &o);
+        if (f) json_find(f, a->scene, &o, a->where, a->path, r);
+        snprintf(params, sizeof params, "limit=%d", a->limit);
+        rc = dbg_tile_close(&a->tile, f, params);
+    } else {
         print_text(a, r);
-    rc = EXIT_OK;
+        rc = EXIT_OK;
+    }
     if (a->out) {
         rc = dbg_write_map("find", a->out, r->mask, r->width, r->height, mask_colours, 2);
         if (rc == EXIT_OK && a->format != 1)

@@ -11,6 +11,7 @@
 
 #include "common/cli.h"
 #include "common/json.h"
+#include "render/tile.h"
 
 /* A progress callback for ggFind, ggCheck, ggDiff: a bar on a terminal
    (ud: a dbg_progress_state, NULL for none) and the way a signal cancels. */
@@ -90,5 +91,36 @@ void json_diff(FILE *f, const char *scene_a, const char *scene_b, const ggRender
 void json_ledger(FILE *f, const ggTrace *t, const ggLedger *l);
 /* A divergence as an object (without a key). */
 void json_divergence(FILE *f, const ggDivergence *d);
+
+/* ---- --tile I/N and --plan FILE of find, check and diff (dbg_tile.c) ---- */
+typedef struct dbg_tile {
+    tile_list tl; /* tl.count 0: no --tile */
+    const char *plan;
+    tile_band band;
+    char *text; /* the report, before its manifest */
+    size_t len;
+} dbg_tile;
+
+#define DBG_TILE_OPTS(t)                                                                          \
+    CLI_OPT_FUNC(0, "tile", tile_parse_one, &(t)->tl, "I/N",                                      \
+                 "scan only tile I of N bands of rows (or of --plan's\n"                           \
+                 "cut) and write its JSON report, with a manifest, for\n"                          \
+                 "ggrt merge --reports (docs/cluster.md)"),                                      \
+        CLI_OPT_STRING(0, "plan", &(t)->plan, "FILE",                                             \
+                       "with --tile: the cut of a plan from ggrt plan")
+
+/* After parsing: --tile needs -f json (format 1) and no image outputs
+   (images: any was given). CLI_GO or a usage error. */
+int dbg_tile_check(const cli_cmd *cmd, const dbg_tile *t, int format, int images);
+/* With --tile: the band, and opt's crop window set to it. Exit code. */
+int dbg_tile_begin(dbg_tile *t, ggScene *scene, const char *scene_path, ggRenderOptions *opt);
+/* The options the report names: opt without the band's crop. */
+void dbg_tile_options(const dbg_tile *t, const ggRenderOptions *opt, ggRenderOptions *out);
+/* Where the JSON report goes: stdout, or with --tile a buffer that
+   dbg_tile_close writes to stdout with the manifest ("tile": version,
+   sceneHash, options, cut, index, rows, params: what else must agree)
+   as its last member. Exit code. */
+FILE *dbg_tile_open(dbg_tile *t);
+int dbg_tile_close(dbg_tile *t, FILE *f, const char *params);
 
 #endif

@@ -14,7 +14,9 @@ static const char about[] =
     "OpenEXR by the extension of OUT: the same file a single 'ggrt render' with the\n"
     "same options writes, byte for byte. Every tile must come from the same scene file\n"
     "(its hash), render options, ggrt version and cut, and together they must cover\n"
-    "the image once: otherwise merge names the tile and the reason and writes nothing.";
+    "the image once: otherwise merge names the tile and the reason and writes nothing.\n"
+    "With --reports, the JSON reports of 'ggrt find', 'check' or 'diff --tile' instead,\n"
+    "joined into the report one process writes for the whole image.";
 
 static const char tail[] = "exit: 0 ok, 1 usage, 2 bad or missing tile, 3 I/O error";
 
@@ -23,6 +25,7 @@ typedef struct tile_file {
     const char *path;
     ggEXRHeader hd;
     int index, n;
+    tile_cut cut; /* the first tile's; the others' equal it as text */
     ggImage *img;
 } tile_file;
 
@@ -37,7 +40,7 @@ static int read_header(tile_file *t, const tile_file *ref)
 {
     ggError err;
     const char *cut, *idx;
-    char *end;
+    char *end, why[160];
     long v;
     int k, rc = ggImageReadEXRHeader(t->path, &t->hd, &err);
     if (rc != GG_OK) return cli_fail(rc, &err, 0);
@@ -56,12 +59,11 @@ static int read_header(tile_file *t, const tile_file *ref)
         }
     }
     cut = ggEXRHeaderGet(&t->hd, TILE_A_CUT), idx = ggEXRHeaderGet(&t->hd, TILE_A_TILE);
-    v = strncmp(cut, "rows ", 5) == 0 ? strtol(cut + 5, &end, 10) : 0;
-    if (v < 1 || v > GG_IMAGE_MAX_DIM || *end) {
-        cli_error("%s: unknown cut '%s'", t->path, cut);
+    if (!ref && tile_cut_parse(cut, t->hd.display_height, &t->cut, why, sizeof why) != 0) {
+        cli_error("%s: bad cut '%.40s%s': %s", t->path, cut, strlen(cut) > 40 ? "..." : "", why);
         return EXIT_INPUT;
     }
-    t->n = (int)v;
+    t->n = ref ? ref->n : t->cut.n;
     v = strtol(idx, &end, 10);
     if (!*idx || *end || v < 0 || v >= t->n) {
         cli_error("%s: tile index '%s' is not in 0..%d", t->path, idx, t->n - 1);
@@ -72,7 +74,7 @@ static int read_header(tile_file *t, const tile_file *ref)
 }
 
 /* The windows must be those the cut gives the tile's index. */
-static int check_windows(const tile_file *t)
+static int check_windows(const tile_file *t, const tile_cut *cut)
 {
     const ggEXRHeader *h = &t->hd;
     int y0, y1;
@@ -81,7 +83,7 @@ static int check_windows(const tile_file *t)
                   h->display_width, h->display_height, h->display_x, h->display_y, t->n);
         return EXIT_INPUT;
     }
-    tile_rows(t->index, t->n, h->display_height, &y0, &y1);
+    tile_cut_rows(cut, t->index, h->display_height, &y0, &y1);
     if (h->data_x != 0 || h->data_width != h->display_width || h->data_y != y0 ||
         h->data_height != y1 - y0) {
         cli_error("%s: data window %dx%d at %d,%d is not tile %d of %d (rows %d..%d)", t->path,
@@ -99,7 +101,6 @@ static int check_all(tile_file *t, int nt)
     const tile_file **seen;
     for (i = 0; i < nt; i++) {
         if ((rc = read_header(&t[i], i ? &t[0] : NULL)) != EXIT_OK) return rc;
-        if ((rc = check_windows(&t[i])) != EXIT_OK) return rc;
         if (i && (t[i].hd.display_width != t[0].hd.display_width ||
                   t[i].hd.display_height != t[0].hd.display_height)) {
             cli_error("%s: image size %dx%d, not %dx%d as in %s", t[i].path,
@@ -107,6 +108,7 @@ static int check_all(tile_file *t, int nt)
                       t[0].hd.display_height, t[0].path);
             return EXIT_INPUT;
         }
+        if ((rc = check_windows(&t[i], &t[0].cut)) != EXIT_OK) return rc;
     }
     if (!(seen = calloc((size_t)t[0].n, sizeof *seen))) {
         cli_error("out of memory");
@@ -123,7 +125,7 @@ static int check_all(tile_file *t, int nt)
     for (k = 0; k < t[0].n && rc == EXIT_OK; k++)
         if (!seen[k]) {
             int y0, y1;
-            tile_rows(k, t[0].n, t[0].hd.display_height, &y0, &y1);
+            tile_cut_rows(&t[0].cut, k, t[0].hd.display_height, &y0, &y1);
             cli_error("tile %d of %d (rows %d..%d) is missing", k, t[0].n, y0, y1 - 1);
             rc = EXIT_INPUT;
         }
@@ -156,17 +158,21 @@ static int assemble(tile_file *t, int nt, ggImage **out)
 }
 
 static int parse(int argc, char **argv, const char **files, int *nfiles, const char **out,
-                 int *quiet)
+                 int *quiet, int *reports)
 {
     cli_opt mine[] = {
         CLI_OPT_STRING('o', "output", out, "FILE",
                        "the image to write (required), .png or .exr;\n"
                        "written whole or not at all"),
+        CLI_OPT_FLAG(0, "reports", reports,
+                     "the files are JSON reports of find, check or diff\n"
+                     "--tile: write the whole image's report to -o FILE"),
         CLI_OPT_FLAG('q', "quiet", quiet, "no summary"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "merge",
-                   .usage = "TILE.exr... -o OUT.png|OUT.exr [options]",
+                   .usage = "TILE.exr... -o OUT.png|OUT.exr [options]\n"
+                            "       ggrt merge --reports PART.json... -o OUT.json [options]",
                    .about = about,
                    .tail = tail,
                    .opts = {mine},
@@ -179,6 +185,7 @@ static int parse(int argc, char **argv, const char **files, int *nfiles, const c
     int rc;
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     if (!*out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
+    if (*reports) return CLI_GO;
     n = strlen(*out);
     if (n < 4 || (strcmp(*out + n - 4, ".png") && strcmp(*out + n - 4, ".exr") &&
                   strcmp(*out + n - 4, ".PNG") && strcmp(*out + n - 4, ".EXR")))
@@ -192,9 +199,15 @@ int cmd_merge(int argc, char **argv)
     tile_file *t = NULL;
     ggImage *img = NULL;
     ggError err;
-    int nfiles = 0, quiet = 0, i, rc;
+    int nfiles = 0, quiet = 0, reports = 0, i, rc;
     if (!files) return EXIT_INPUT;
-    if ((rc = parse(argc, argv, files, &nfiles, &out, &quiet)) != CLI_GO) {
+    if ((rc = parse(argc, argv, files, &nfiles, &out, &quiet, &reports)) != CLI_GO) {
+        free(files);
+        return rc;
+    }
+    if (reports) {
+        rc = cli_check_output("merge", out);
+        if (rc == 0) rc = merge_reports(files, nfiles, out, quiet);
         free(files);
         return rc;
     }
@@ -210,6 +223,7 @@ int cmd_merge(int argc, char **argv)
         printf("%d tiles of %d -> %s, %dx%d\n", nfiles, t[0].n, out, ggImageWidth(img),
                ggImageHeight(img));
     for (i = 0; t && i < nfiles; i++) ggEXRHeaderFree(&t[i].hd);
+    if (t) tile_cut_free(&t[0].cut);
     ggImageFree(img);
     free(t);
     free(files);

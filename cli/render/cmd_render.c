@@ -27,7 +27,7 @@ static const char tail[] =
 static const char *const heat_kinds[] = {"rays", "depth", "time", NULL};
 
 typedef struct render_args {
-    const char *scene, *out;
+    const char *scene, *out, *plan;
     int quiet, no_srgb, heat, pixel[2], has_pixel;
     cli_render ro;
     tile_list tiles; /* --tile or --tiles; tiles.count 0 without */
@@ -94,6 +94,9 @@ static int check_tiles(const cli_cmd *cmd, const render_args *a, const cli_opt *
     size_t n = strlen(a->out);
     if (mine[4].given + mine[5].given > 1)
         return cli_usage_error(cmd, "give one of --tile and --tiles, once");
+    if (!a->tiles.n && !a->plan)
+        return cli_usage_error(cmd, "--tile I and --tiles I,J need /N, the number of tiles, "
+                                    "or --plan");
     if (strcmp(a->out + n - 4, ".exr") && strcmp(a->out + n - 4, ".EXR"))
         return cli_usage_error(cmd, "tiles are OpenEXR files: -o must end in .exr");
     if (a->heat >= 0 || a->has_pixel || a->no_srgb || cli_given(cmd, "crop"))
@@ -141,6 +144,10 @@ static int parse(render_args *a, int argc, char **argv)
         CLI_OPT_STRING(0, "aov-png", &a->aov.png_dir, "DIR",
                        "also write each --aov layer as DIR/NAME.png\n"
                        "(DIR is created if missing)"),
+        CLI_OPT_STRING(0, "plan", &a->plan, "FILE",
+                       "with --tile or --tiles: the cut of a plan from ggrt\n"
+                       "plan (bands of equal cost) instead of equal bands;\n"
+                       "N may be left out (--tile I)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar and no summary"),
         CLI_OPT_END,
     };
@@ -173,6 +180,7 @@ static int parse(render_args *a, int argc, char **argv)
         strcmp(a->out + n - 4, ".EXR"))
         return cli_usage_error(&cmd, "--aov writes its layers into -o OUT.exr or, with "
                                      "--aov-png DIR, as PNGs");
+    if (a->plan) return cli_usage_error(&cmd, "--plan goes with --tile or --tiles");
     return CLI_GO;
 }
 
@@ -355,7 +363,7 @@ int cmd_render(int argc, char **argv)
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
     t[2] = cli_now();
     if (a.tiles.count)
-        rc = tile_render(scene, a.scene, &a.ro.opt, &a.tiles, a.out, a.quiet);
+        rc = tile_render(scene, a.scene, &a.ro.opt, &a.tiles, a.out, a.quiet, a.plan);
     else
         rc = run(&a, scene, t);
     aov_free(&a.aov);

@@ -15,13 +15,13 @@ void tile_rows(int i, int n, int h, int *y0, int *y1)
     *y1 = (int)((long long)(i + 1) * h / n);
 }
 
-/* "N" after the slash: 1 to GG_IMAGE_MAX_DIM. */
+/* "N" after the slash: 1 to GG_IMAGE_MAX_DIM; none (n 0): a plan's. */
 static int parse_n(const char *slash, int *n, char *why, size_t whylen)
 {
     long v;
     if (!slash) {
-        snprintf(why, whylen, "expected I/N, e.g. 0/8");
-        return -1;
+        *n = 0;
+        return 0;
     }
     if (cli_parse_long(slash + 1, 1, GG_IMAGE_MAX_DIM, &v, why, whylen) != 0) return -1;
     *n = (int)v;
@@ -31,6 +31,7 @@ static int parse_n(const char *slash, int *n, char *why, size_t whylen)
 static int parse_index(const char *s, size_t len, int n, long *out, char *why, size_t whylen)
 {
     char buf[32];
+    if (n == 0) n = GG_IMAGE_MAX_DIM;
     if (len == 0 || len >= sizeof buf) {
         snprintf(why, whylen, "expected a tile index");
         return -1;
@@ -49,6 +50,7 @@ int tile_parse_one(void *ud, const char *value, char *why, size_t whylen)
     const char *slash = strchr(value, '/');
     long i;
     if (parse_n(slash, &tl->n, why, whylen) != 0) return -1;
+    if (!slash) slash = value + strlen(value);
     if (parse_index(value, (size_t)(slash - value), tl->n, &i, why, whylen) != 0) return -1;
     tl->count = 1, tl->idx[0] = (int)i;
     return 0;
@@ -60,6 +62,7 @@ int tile_parse_list(void *ud, const char *value, char *why, size_t whylen)
     tile_list *tl = ud;
     const char *slash = strchr(value, '/'), *p = value;
     if (parse_n(slash, &tl->n, why, whylen) != 0) return -1;
+    if (!slash) slash = value + strlen(value);
     tl->count = 0;
     while (p < slash) {
         const char *end = memchr(p, ',', (size_t)(slash - p)), *dash;
@@ -89,6 +92,103 @@ int tile_parse_list(void *ud, const char *value, char *why, size_t whylen)
         snprintf(why, whylen, "no tile listed");
         return -1;
     }
+    return 0;
+}
+
+int tile_list_check(tile_list *tl, int n, char *why, size_t whylen)
+{
+    int k;
+    for (k = 0; k < tl->count; k++)
+        if (tl->idx[k] >= n) {
+            snprintf(why, whylen, "tile index '%d' is not in 0..%d", tl->idx[k], n - 1);
+            return -1;
+        }
+    tl->n = n;
+    return 0;
+}
+
+void tile_cut_rows(const tile_cut *c, int i, int h, int *y0, int *y1)
+{
+    if (!c->y) {
+        tile_rows(i, c->n, h, y0, y1);
+        return;
+    }
+    *y0 = c->y[i], *y1 = c->y[i + 1];
+}
+
+int tile_cut_format(const tile_cut *c, char *buf, size_t size)
+{
+    size_t at;
+    int k, n;
+    if (!c->y) {
+        n = snprintf(buf, size, "rows %d", c->n);
+        return n < 0 || (size_t)n >= size ? -1 : 0;
+    }
+    n = snprintf(buf, size, "plan ");
+    for (at = (size_t)n, k = 0; k <= c->n; k++) {
+        if (at >= size) return -1;
+        n = snprintf(buf + at, size - at, k ? ",%d" : "%d", c->y[k]);
+        if (n < 0 || (size_t)n >= size - at) return -1;
+        at += (size_t)n;
+    }
+    return 0;
+}
+
+void tile_cut_free(tile_cut *c)
+{
+    free(c->y);
+    c->y = NULL;
+}
+
+/* "Y0,Y1,...,YN": 0, strictly increasing, h. */
+static int parse_plan_cut(const char *p, int h, tile_cut *c, char *why, size_t whylen)
+{
+    int k = 0, cap = 0;
+    c->y = NULL;
+    for (;;) {
+        char *end;
+        long v = strtol(p, &end, 10);
+        if (end == p || (*end && *end != ',') || v < (k ? c->y[k - 1] + 1 : 0) || v > h ||
+            (k == 0 && v != 0) || k > TILE_MAX_PLAN) {
+            snprintf(why, whylen, "its row %d is not a boundary of rows 0..%d", k, h);
+            return -1;
+        }
+        if (k == cap) {
+            int *y = realloc(c->y, (size_t)(cap = cap ? 2 * cap : 16) * sizeof *y);
+            if (!y) {
+                snprintf(why, whylen, "out of memory");
+                return -1;
+            }
+            c->y = y;
+        }
+        c->y[k++] = (int)v;
+        if (!*end) break;
+        p = end + 1;
+    }
+    if (k < 2 || c->y[k - 1] != h) {
+        snprintf(why, whylen, "it does not end at row %d", h);
+        return -1;
+    }
+    c->n = k - 1;
+    return 0;
+}
+
+int tile_cut_parse(const char *text, int h, tile_cut *c, char *why, size_t whylen)
+{
+    char *end;
+    long v;
+    c->y = NULL;
+    if (strncmp(text, "plan ", 5) == 0) {
+        if (parse_plan_cut(text + 5, h, c, why, whylen) == 0) return 0;
+        tile_cut_free(c);
+        return -1;
+    }
+    v = strncmp(text, "rows ", 5) == 0 ? strtol(text + 5, &end, 10) : 0;
+    if (v < 1 || v > h || *end) {
+        snprintf(why, whylen, "not a cut of %d rows", h);
+        return -1;
+    }
+    c->n = (int)v;
     return 0;
 }
 
@@ -127,7 +227,8 @@ typedef struct tile_job {
     const char *scene_path, *out;
     ggRenderOptions opt; /* whole-image size explicit, no crop */
     int w, h, quiet;
-    char hash[32], cut[32], options[2048];
+    tile_cut cut;
+    char hash[32], cutname[TILE_MAX_PLAN * 8 + 16], options[2048];
 } tile_job;
 
 /* Stops a render on SIGINT, SIGTERM or SIGHUP. */
@@ -148,7 +249,7 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     char path[1024], idx[16];
     int y0, y1, rc;
     double t0 = cli_now();
-    tile_rows(i, tl->n, j->h, &y0, &y1);
+    tile_cut_rows(&j->cut, i, j->h, &y0, &y1);
     if (tile_path(j->out, i, path, sizeof path) != 0) {
         cli_error("output path too long: '%s'", j->out);
         return EXIT_USAGE;
@@ -171,7 +272,7 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     attrs[1].name = TILE_A_HASH, attrs[1].value = j->hash;
     attrs[2].name = TILE_A_SCENE, attrs[2].value = j->scene_path;
     attrs[3].name = TILE_A_OPTIONS, attrs[3].value = j->options;
-    attrs[4].name = TILE_A_CUT, attrs[4].value = j->cut;
+    attrs[4].name = TILE_A_CUT, attrs[4].value = j->cutname;
     attrs[5].name = TILE_A_TILE, attrs[5].value = idx;
     memset(&hd, 0, sizeof hd);
     hd.display_width = j->w, hd.display_height = j->h;
@@ -188,19 +289,64 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     return EXIT_OK;
 }
 
-/* The manifest's options: the size explicit, neither crop nor threads
-   (which do not change a pixel). */
-static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
-                    const ggRenderOptions *opt, const tile_list *tl, const char *out, int quiet)
+int tile_options(const ggScene *scene, const ggRenderOptions *opt, int *w, int *h, char *buf,
+                 size_t size)
 {
     ggCamera cam = ggSceneCamera(scene);
-    ggRenderOptions f;
-    size_t need;
+    ggRenderOptions f = *opt;
+    *w = opt->width ? opt->width : cam.width;
+    *h = opt->height ? opt->height : cam.height;
+    f.width = *w, f.height = *h;
+    f.threads = 0, f.crop_x0 = f.crop_y0 = f.crop_x1 = f.crop_y1 = 0;
+    f.cost_map = NULL, f.progress = NULL, f.progress_ud = NULL;
+    return ggRenderOptionsFormat(&f, buf, size) >= size ? -1 : 0;
+}
+
+/* The cut: equal bands, or the plan's (which must be for this scene and
+   these options, and have the list's N if it gives one). */
+static int job_cut(tile_job *j, tile_list *tl, const char *plan_path)
+{
+    tile_plan p;
+    char why[160];
+    int rc;
+    if (!plan_path) {
+        j->cut.n = tl->n, j->cut.y = NULL;
+        return EXIT_OK;
+    }
+    if ((rc = tile_plan_read(plan_path, &p)) != EXIT_OK) return rc;
+    if ((rc = tile_plan_match(&p, plan_path, j->hash, j->options, j->w, j->h)) != EXIT_OK) {
+        tile_cut_free(&p.cut);
+        return rc;
+    }
+    if (tl->n && tl->n != p.cut.n) {
+        cli_error("%s cuts %d tiles, not %d: give --tile I (or I/%d)", plan_path, p.cut.n, tl->n,
+                  p.cut.n);
+        tile_cut_free(&p.cut);
+        return EXIT_USAGE;
+    }
+    if (tile_list_check(tl, p.cut.n, why, sizeof why) != 0) {
+        cli_error("%s: %s", plan_path, why);
+        tile_cut_free(&p.cut);
+        return EXIT_USAGE;
+    }
+    j->cut = p.cut;
+    return EXIT_OK;
+}
+
+/* The manifest: hash, options, cut. */
+static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
+                    const ggRenderOptions *opt, tile_list *tl, const char *out, int quiet,
+                    const char *plan_path)
+{
+    int rc;
     j->scene_path = scene_path, j->out = out, j->quiet = quiet, j->opt = *opt;
-    j->w = opt->width ? opt->width : cam.width;
-    j->h = opt->height ? opt->height : cam.height;
+    j->cut.y = NULL;
+    if (tile_options(scene, opt, &j->w, &j->h, j->options, sizeof j->options) != 0) {
+        cli_error("render options too long for a tile manifest");
+        return EXIT_USAGE;
+    }
     j->opt.width = j->w, j->opt.height = j->h;
-    if (j->h < tl->n) {
+    if (!plan_path && j->h < tl->n) {
         cli_error("%d tiles of %d rows: at most one tile per row", tl->n, j->h);
         return EXIT_USAGE;
     }
@@ -208,19 +354,13 @@ static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
         cli_error("%s: cannot read to hash it: %s", scene_path, strerror(errno));
         return EXIT_IO;
     }
-    snprintf(j->cut, sizeof j->cut, "rows %d", tl->n);
-    f = j->opt;
-    f.threads = 0, f.crop_x0 = f.crop_y0 = f.crop_x1 = f.crop_y1 = 0;
-    need = ggRenderOptionsFormat(&f, j->options, sizeof j->options);
-    if (need >= sizeof j->options) {
-        cli_error("render options too long for a tile manifest");
-        return EXIT_USAGE;
-    }
+    if ((rc = job_cut(j, tl, plan_path)) != EXIT_OK) return rc;
+    tile_cut_format(&j->cut, j->cutname, sizeof j->cutname);
     return EXIT_OK;
 }
 
 int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
-                const tile_list *tl, const char *out, int quiet)
+                tile_list *tl, const char *out, int quiet, const char *plan_path)
 {
     tile_job *j = malloc(sizeof *j);
     int k, rc;
@@ -228,12 +368,35 @@ int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *o
         cli_error("out of memory");
         return EXIT_INPUT;
     }
-    rc = job_init(j, scene, scene_path, opt, tl, out, quiet);
+    rc = job_init(j, scene, scene_path, opt, tl, out, quiet, plan_path);
     cli_cancel_begin();
     for (k = 0; k < tl->count && rc == EXIT_OK; k++) {
         rc = render_one(scene, j, tl, tl->idx[k]);
         if (rc == EXIT_OK && cli_cancelled()) cli_cancel_exit(cli_cancelled());
     }
+    tile_cut_free(&j->cut);
+    free(j);
+    return rc;
+}
+
+int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path,
+                   const ggRenderOptions *opt, tile_list *tl, const char *plan_path)
+{
+    tile_job *j = malloc(sizeof *j);
+    int rc;
+    if (!j) {
+        cli_error("out of memory");
+        return EXIT_INPUT;
+    }
+    rc = job_init(j, scene, scene_path, opt, tl, "", 1, plan_path);
+    if (rc == EXIT_OK) {
+        b->index = tl->idx[0], b->n = j->cut.n, b->w = j->w, b->h = j->h;
+        tile_cut_rows(&j->cut, b->index, j->h, &b->y0, &b->y1);
+        memcpy(b->hash, j->hash, sizeof b->hash);
+        memcpy(b->options, j->options, sizeof b->options);
+        memcpy(b->cut, j->cutname, sizeof b->cut);
+    }
+    tile_cut_free(&j->cut);
     free(j);
     return rc;
 }

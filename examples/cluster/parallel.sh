@@ -5,11 +5,15 @@
 #   HOSTS=2/alpha,4/beta,: sh examples/cluster/parallel.sh SCENE N OUT [render options...]
 # HOSTS is parallel's --sshlogin list: "K/host" runs K jobs at a time on
 # host, ":" is this machine without ssh (the default: HOSTS=:). Each host
-# needs ggrt on its PATH (or GGRT, the same path on every host). The
-# scene goes to each host once (--basefile) and each tile comes back
-# (--return) into PARTS (default OUT.parts), then is removed there
-# (--cleanup); a scene that reads other files (textures, meshes) needs
-# them on the hosts too, at the same relative paths.
+# needs ggrt on its PATH (or GGRT, the same path on every host). Options
+# for ssh (a port, a key) go in PARALLEL_SSH, parallel's --ssh:
+#   PARALLEL_SSH='ssh -p 2222 -i key' HOSTS=2/me@alpha sh parallel.sh ...
+# Each tile runs in a working folder of its own on its host (--workdir
+# ...: under ~/.parallel/tmp/), the scene is copied there with it
+# (--transferfile), the tile comes back (--return) into PARTS (default
+# OUT.parts), and the folder is removed (--cleanup); a scene that reads
+# other files (textures, meshes) needs them on the hosts, at absolute
+# paths.
 set -eu
 [ $# -ge 3 ] || { echo "usage: parallel.sh SCENE N OUT.png|OUT.exr [render options...]" >&2; exit 1; }
 scene=$1 n=$2 out=$3
@@ -23,9 +27,10 @@ case $scene in /*) ;; *) scene=$(pwd)/$scene ;; esac
 case $out in /*) ;; *) out=$(pwd)/$out ;; esac
 cp "$scene" "$parts/scene.nff"
 cd "$parts"
-# Remote hosts work in a folder of their own (--workdir ...), removed
-# afterwards; ":" alone needs no transfer.
-xfer="--workdir ... --basefile scene.nff --return part-{}.exr --cleanup"
+# Remote hosts work in a folder of their own per tile (--workdir ...),
+# removed afterwards; parallel refuses a relative --basefile with those,
+# so the scene goes with each tile. ":" alone needs no transfer.
+xfer="--workdir ... --transferfile scene.nff --return part-{}.exr --cleanup"
 [ "${HOSTS:-:}" = ":" ] && xfer=
 # --halt now,fail=1: one failed tile stops the run (merge would refuse anyway).
 # shellcheck disable=SC2086

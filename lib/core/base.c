@@ -183,6 +183,16 @@ double gg_time_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+double gg_time_cpu(void)
+{
+#ifdef CLOCK_THREAD_CPUTIME_ID
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0)
+        return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+#endif
+    return gg_time_now();
+}
+
 int gg_file_open(const char *path, const char *verb, FILE **out, int64_t *size, ggError *err)
 {
     char ebuf[128];

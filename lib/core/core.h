@@ -57,6 +57,9 @@ int gg_file_open(const char *path, const char *verb, FILE **out, int64_t *size, 
 
 /* Monotonic clock in seconds. */
 double gg_time_now(void);
+/* Seconds of CPU time the calling thread has used (for differences
+   only); gg_time_now where the system has no per-thread clock. */
+double gg_time_cpu(void);
 
 /* The instruction sets of the per-ISA objects (compiler.h) that this CPU
    and its OS run: a mask of GG_CPU_* bits, 0 where the build has no

@@ -605,7 +605,9 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) {
             ggRayStats before = *st;
-            double t0 = j->cost ? gg_time_now() : 0;
+            double t0 = !j->cost                        ? 0
+                        : j->cost_kind == GG_COST_CPU ? gg_time_cpu()
+                                                      : gg_time_now();
             if (j->cost) st->max_depth = 0;
             if (j->corner) {
                 /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
@@ -624,7 +626,8 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
             if (j->cost) {
                 int x = j->r.x0 + gx, y = j->r.y0 + gy;
                 double v =
-                    j->cost_kind == GG_COST_TIME ? gg_time_now() - t0
+                    j->cost_kind == GG_COST_TIME  ? gg_time_now() - t0
+                    : j->cost_kind == GG_COST_CPU ? gg_time_cpu() - t0
                     : j->cost_kind == GG_COST_DEPTH
                         ? (double)st->max_depth
                         : (double)(st->eye + st->reflect + st->refract + st->shadow - before.eye -

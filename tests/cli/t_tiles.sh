@@ -1,28 +1,35 @@
 # SPDX-License-Identifier: MIT
-# Sourced by tests/cli/run.sh: ggrt render --tile/--tiles and ggrt merge
-# (docs/cluster.md). Tiles of three scenes (one under --spd, whose pixels
-# share their corner rays with the rows above and below) merged from 1, 2,
-# 7 and 16 tiles give the very files one process writes, EXR and PNG (cmp);
+# Sourced by tests/cli/run.sh: ggrt render --tile/--tiles, ggrt plan and
+# ggrt merge (docs/cluster.md). Tiles of three scenes (one under --spd,
+# whose pixels share their corner rays with the rows above and below)
+# merged from 1, 2, 7 and 16 equal bands, and from 2, 7 and 16 bands of a
+# ggrt plan, give the very files one process writes, EXR and PNG (cmp);
 # every bad input to merge names the tile and the reason, exits 2 and
-# writes nothing. Uses run.sh's ggrt, tmp, ok, bad, expect_err.
+# writes nothing; a plan for another scene, other options or another size
+# is refused. Uses run.sh's ggrt, tmp, ok, bad, expect_err.
 
 td="$tmp/tiles"
 mkdir -p "$td"
 
 # merge_same NAME N SCENE [options]: N tiles (rendered by a mix of
 # --tile and --tiles processes, with differing -j) merge into one
-# process's EXR and PNG, byte for byte.
+# process's EXR and PNG, byte for byte. With $plan set, the tiles are
+# the cut of that plan file (--plan, and --tile I without /N).
 merge_same() {
   name=$1; n=$2; shift 2
   rm -f "$td"/p-*.exr
   half=$((n / 2))
+  if [ -n "$plan" ]; then pl="--plan $plan"; of=""; else pl=""; of="/$n"; fi
   if [ "$n" = 1 ]; then
-    "$ggrt" render "$@" -q --tile 0/1 -o "$td/p-0.exr" 2>"$tmp/err" ||
-      { bad "$name: render --tile 0/1" "$(cat "$tmp/err")"; return; }
+    # shellcheck disable=SC2086
+    "$ggrt" render "$@" -q $pl --tile 0$of -o "$td/p-0.exr" 2>"$tmp/err" ||
+      { bad "$name: render --tile 0$of" "$(cat "$tmp/err")"; return; }
   else
     # The first tile alone with one thread, the rest in one process.
-    "$ggrt" render "$@" -q -j 1 --tile 0/$n -o "$td/p-0.exr" 2>"$tmp/err" &&
-    "$ggrt" render "$@" -q --tiles "$half-$((n - 1)),$(seq -s, 1 $((half - 1)) | sed 's/,$//')/$n" \
+    # shellcheck disable=SC2086
+    "$ggrt" render "$@" -q -j 1 $pl --tile 0$of -o "$td/p-0.exr" 2>"$tmp/err" &&
+    "$ggrt" render "$@" -q $pl \
+      --tiles "$half-$((n - 1)),$(seq -s, 1 $((half - 1)) | sed 's/,$//')$of" \
       -o "$td/p-%d.exr" 2>>"$tmp/err" ||
       { bad "$name: render --tiles of $n" "$(cat "$tmp/err")"; return; }
   fi
@@ -44,11 +51,43 @@ for spec in "examples/scenes/spd/gears.nff --spd -s 96x64" \
   set -- $spec
   "$ggrt" render "$@" -q -o "$td/one.exr" && "$ggrt" render "$@" -q -o "$td/one.png" ||
     { bad "one-process render of $spec"; continue; }
+  plan=
   for n in 1 2 7 16; do
     # shellcheck disable=SC2086
     merge_same "$spec" "$n" $spec
   done
+  for n in 2 7 16; do
+    plan="$td/plan-$n.json"
+    # shellcheck disable=SC2086
+    "$ggrt" plan $spec -q --tiles $n -o "$plan" 2>"$tmp/err" ||
+      { bad "plan of $n tiles of $spec" "$(cat "$tmp/err")"; continue; }
+    # shellcheck disable=SC2086
+    merge_same "$spec, plan" "$n" $spec
+  done
+  plan=
 done
+
+# ---- plans: a cut of their own, reproducible, in the manifest ----
+gears="examples/scenes/spd/gears.nff --spd -s 96x64"
+# shellcheck disable=SC2086
+"$ggrt" plan $gears -q --cost rays --tiles 7 -o "$td/gplan.json" &&
+  "$ggrt" render $gears -q --plan "$td/gplan.json" --tile 3 -o "$td/gp-3.exr" ||
+  bad "plan and render of gears"
+grows=$(grep '^"rows"' "$td/gplan.json")
+# shellcheck disable=SC2086
+"$ggrt" plan $gears -q -j 1 --cost rays --tiles 7 -o "$td/again-7.json" 2>"$tmp/err" ||
+  bad "plan of gears with -j 1" "$(cat "$tmp/err")"
+# The seconds differ between runs; the rows may not.
+rows2=$(grep '^"rows"' "$td/again-7.json")
+if [ -n "$grows" ] && [ "$grows" = "$rows2" ]; then ok "a plan by rays is the same with -j 1 and -j 2"
+else bad "a plan by rays is the same with -j 1 and -j 2" "$grows / $rows2"; fi
+if [ "$grows" != '"rows":[0,9,18,27,36,45,54,64],' ] && [ "$grows" != '"rows":[0,9,18,27,36,45,54,64]' ] &&
+   [ -n "$grows" ]; then ok "gears' plan is not the equal cut ($grows)"
+else bad "gears' plan is not the equal cut" "$grows"; fi
+want=$(echo "$grows" | sed 's/^"rows":\[\(.*\)\],*$/plan \1/')
+# (strings runs the attribute's value into the next name: a non-digit.)
+if strings -n 6 "$td/gp-3.exr" | grep -q "^$want\([^0-9,].*\)*\$"; then ok "a plan's tile carries the cut '$want'"
+else bad "a plan's tile carries the cut '$want'" "$(strings -n 6 "$td/gp-3.exr" | grep plan)"; fi
 
 # ---- the manifest and the refusals of render ----
 "$ggrt" render examples/scenes/glass.nff -s 80x48 -q --tiles 0-6/7 -o "$td/g-%d.exr" 2>"$tmp/err" ||
@@ -107,3 +146,45 @@ else bad "merge of a truncated tile writes nothing" "$(ls "$td")"; fi
 "$ggrt" render examples/scenes/glass.nff -s 80x48 -q -o "$td/whole.exr"
 merge_refuses "an EXR that is not a tile" \
   "ggrt merge: $td/whole.exr: not a ggrt tile: no ggrt.version attribute" "$td/whole.exr"
+
+# ---- plans: refused for another scene, other options or size, a bad file ----
+"$ggrt" plan examples/scenes/glass.nff -s 80x48 -q --tiles 7 -o "$td/gl.json" 2>"$tmp/err" ||
+  bad "plan of glass" "$(cat "$tmp/err")"
+rm -f "$td"/x.exr
+expect_err 2 "ggrt render: $td/gl.json is a plan for other render options: 'size=80x48', not 'size=80x48 depth=3'" \
+  "render refuses a plan for other options" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 -d 3 --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
+expect_err 2 "ggrt render: $td/gl.json is a plan for other render options: 'size=80x48', not 'size=80x40'" \
+  "render refuses a plan for another size" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x40 --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
+expect_err 2 "ggrt render: $td/gl.json is a plan for another scene: its hash '$h1', not '$h2'" \
+  "render refuses a plan for another scene" \
+  "$ggrt" render "$td/glass2.nff" -s 80x48 --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
+if [ -e "$td/x.exr" ]; then bad "a refused plan writes no tile"; else ok "a refused plan writes no tile"; fi
+expect_err 1 "ggrt render: $td/gl.json cuts 7 tiles, not 8: give --tile I (or I/7)" \
+  "render refuses --tile I/N with a plan of other N" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/gl.json" --tile 2/8 -o "$td/x.exr"
+expect_err 1 "ggrt render: $td/gl.json: tile index '7' is not in 0..6" "a plan's tile index out of range" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/gl.json" --tiles 5-7 -o "$td/x%d.exr"
+expect_err 1 "ggrt render: --tile I and --tiles I,J need /N, the number of tiles, or --plan" \
+  "--tile I without /N needs a plan" \
+  "$ggrt" render examples/scenes/glass.nff --tile 2 -o "$td/x.exr"
+expect_err 1 "ggrt render: --plan goes with --tile or --tiles" "--plan without --tile" \
+  "$ggrt" render examples/scenes/glass.nff --plan "$td/gl.json" -o "$td/x.exr"
+expect_err 3 "ggrt render: $td/none.json: No such file or directory" "a missing plan file" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/none.json" --tile 2 -o "$td/x.exr"
+printf '{"ggrt_plan":1}\n' >"$td/bad.json"
+expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: no \"sceneHash\"" "a plan file without a hash" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
+sed 's/^"rows":\[.*\]/"rows":[0,10,20,30,40,45,47,50]/' "$td/gl.json" >"$td/bad.json"
+expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: its row 7 is not a boundary of rows 0..48" \
+  "a plan whose rows pass the image" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
+expect_err 1 "ggrt plan: 49 tiles of 48 rows: at most one tile per row" "plan: more tiles than rows" \
+  "$ggrt" plan examples/scenes/glass.nff -s 80x48 --tiles 49 -o "$td/x.json"
+# A plan's tile among equal bands' tiles: another cut.
+"$ggrt" render examples/scenes/glass.nff -s 80x48 -q --plan "$td/gl.json" --tile 5 -o "$td/pl-5.exr"
+pcut=$(sed -n 's/^"rows":\[\(.*\)\],*$/plan \1/p' "$td/gl.json")
+merge_refuses "a plan's tile among equal bands" \
+  "ggrt merge: $td/pl-5.exr: different cut from $g-0.exr: '$pcut', not 'rows 7'" \
+  "$g-0.exr" "$g-1.exr" "$g-2.exr" "$g-3.exr" "$g-4.exr" "$td/pl-5.exr" "$g-6.exr"

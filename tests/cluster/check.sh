@@ -7,26 +7,33 @@
 # this machine, submits examples/cluster/slurm.sh for gears in 8 tiles,
 # waits, prints the tiles' times and compares the merge with one
 # process's render (cmp, PNG and EXR); runs examples/cluster/parallel.sh
-# with HOSTS=: (this machine, no ssh) and compares it too; then stops every
-# daemon it started and removes its folder.
+# with HOSTS=: (this machine, no ssh); starts a private sshd on
+# 127.0.0.1 (its config, host key, client key, authorized_keys, pid file
+# and log in the folder, a port of its own), runs
+# examples/cluster/parallel.sh over ssh to root@127.0.0.1 through it and
+# compares that merge too; then stops every daemon it started and
+# removes its folder (and /run/sshd if it made it).
 #   sh tests/cluster/check.sh build/ggrt
 set -u
 ggrt=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 [ -x "$ggrt" ] || { echo "check-cluster: no ggrt at '$1'" >&2; exit 1; }
 [ "$(id -u)" = 0 ] || { echo "check-cluster: needs root (slurmd runs jobs as their user)" >&2; exit 1; }
-for c in munged mungekey slurmctld slurmd sbatch squeue sinfo parallel; do
+for c in munged mungekey slurmctld slurmd sbatch squeue sinfo parallel ssh ssh-keygen rsync \
+         /usr/sbin/sshd; do
   command -v $c >/dev/null 2>&1 || { echo "check-cluster: no $c: sh scripts/deps.sh cluster" >&2; exit 1; }
 done
 repo=$(pwd)
 # Not /tmp itself: munged refuses a socket folder others can write into.
 t=$(mktemp -d /tmp/ggrt-cluster-XXXXXX)
 pids=
+made_run_sshd=
 stop() {
   for p in $pids; do kill "$p" 2>/dev/null; done
   for p in $pids; do
     i=0; while kill -0 "$p" 2>/dev/null && [ $i -lt 50 ]; do sleep 0.1; i=$((i + 1)); done
     kill -9 "$p" 2>/dev/null
   done
+  [ -n "$made_run_sshd" ] && rmdir /run/sshd 2>/dev/null
   rm -rf "$t"
 }
 trap stop EXIT
@@ -119,11 +126,57 @@ sed 's/^/  merge: /' slurm.png.parts/merge.log
 cmp slurm.png one.png && cmp slurm.exr one.exr || fail "slurm's merge differs from one process"
 echo "check-cluster: slurm: 8 tiles merged = one process (cmp: PNG $(wc -c <one.png) bytes, EXR $(wc -c <one.exr) bytes)"
 
-# ---- the GNU parallel recipe, this machine as its host ----
+# ---- the GNU parallel recipe, this machine as its host (no ssh) ----
 # shellcheck disable=SC2086
-HOSTS=: GGRT=$ggrt sh "$repo/examples/cluster/parallel.sh" gears.nff 8 par.png $opts ||
-  fail "parallel.sh"
-cmp par.png one.png || fail "parallel's merge differs from one process"
-echo "check-cluster: parallel: 8 tiles merged = one process (cmp)"
+HOSTS=: PARTS=par-local.parts GGRT=$ggrt sh "$repo/examples/cluster/parallel.sh" gears.nff 8 \
+  par-local.png $opts >/dev/null || fail "parallel.sh with HOSTS=:"
+cmp par-local.png one.png || fail "parallel's merge (HOSTS=:) differs from one process"
+echo "check-cluster: parallel, HOSTS=: (no ssh): 8 tiles merged = one process (cmp)"
+
+# ---- the GNU parallel recipe over ssh: a private sshd on 127.0.0.1 ----
+# Everything of it in $t/ssh; -D keeps it in the foreground, a child of
+# this script (its pid in $pids), -e logs to stderr, into a file here.
+mkdir -p "$t/ssh"
+ssh-keygen -q -t ed25519 -N '' -f "$t/ssh/host_key" || fail "ssh-keygen (host)"
+ssh-keygen -q -t ed25519 -N '' -f "$t/ssh/client_key" || fail "ssh-keygen (client)"
+cp "$t/ssh/client_key.pub" "$t/ssh/authorized_keys"
+sport=$((port + 2))
+cat >"$t/ssh/sshd_config" <<CONF
+Port $sport
+ListenAddress 127.0.0.1
+HostKey $t/ssh/host_key
+PidFile $t/ssh/sshd.pid
+AuthorizedKeysFile $t/ssh/authorized_keys
+PermitRootLogin prohibit-password
+PubkeyAuthentication yes
+PasswordAuthentication no
+KbdInteractiveAuthentication no
+UsePAM no
+StrictModes no
+PrintMotd no
+CONF
+# Debian's sshd wants its privilege separation folder.
+[ -d /run/sshd ] || { mkdir -m 755 /run/sshd && made_run_sshd=1; }
+/usr/sbin/sshd -D -e -f "$t/ssh/sshd_config" >"$t/sshd.log" 2>&1 &
+pids="$pids $!"
+ssh_cmd="ssh -F /dev/null -p $sport -i $t/ssh/client_key -o IdentitiesOnly=yes -o BatchMode=yes"
+ssh_cmd="$ssh_cmd -o StrictHostKeyChecking=no -o UserKnownHostsFile=/dev/null -o LogLevel=ERROR"
+i=0
+# shellcheck disable=SC2086
+while ! $ssh_cmd root@127.0.0.1 true 2>"$t/ssh-try.log" && [ $i -lt 50 ]; do sleep 0.2; i=$((i + 1)); done
+# shellcheck disable=SC2086
+$ssh_cmd root@127.0.0.1 true || fail "no ssh to root@127.0.0.1:$sport ($(cat "$t/ssh-try.log"))"
+echo "check-cluster: sshd up on 127.0.0.1:$sport (key login as root)"
+# parallel takes its ssh command from PARALLEL_SSH (as --ssh); 2/ is two
+# jobs at a time on that login. The tiles go through ssh, the scene out
+# and the tiles back through rsync over the same ssh.
+# shellcheck disable=SC2086
+PARALLEL_SSH=$ssh_cmd HOSTS=2/root@127.0.0.1 GGRT=$ggrt \
+  sh "$repo/examples/cluster/parallel.sh" gears.nff 8 par.png $opts >"$t/par.log" 2>&1 ||
+  fail "parallel.sh over ssh"
+sed 's/^/  /' "$t/par.log"
+cmp par.png one.png || fail "parallel's merge (over ssh) differs from one process"
+grep -q "Accepted publickey for root" "$t/sshd.log" || fail "sshd logged no login"
+echo "check-cluster: parallel over ssh: $(grep -c 'Accepted publickey for root' "$t/sshd.log") ssh logins; 8 tiles merged = one process (cmp)"
 cd "$repo" || exit 1
 echo "check-cluster: ok"

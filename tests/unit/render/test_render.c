@@ -409,10 +409,45 @@ static void test_shortcuts_match_tracing(void **state)
     }
 }
 
+/* GG_COST_CPU: a CPU time for every pixel (finite, not negative, some
+   positive), the image unchanged, the same rays counted. */
+static void test_cost_cpu(void **state)
+{
+    char path[512];
+    ggScene *s;
+    ggRenderOptions o;
+    ggImage *a, *b;
+    ggRayStats sa, sb;
+    float *cost = calloc(64 * 48, sizeof(float));
+    double sum = 0;
+    int k;
+    (void)state;
+    assert_non_null(cost);
+    snprintf(path, sizeof path, "%s/gears.nff", tu_spd_dir());
+    s = load(path);
+    ggRenderOptionsDefault(&o);
+    o.width = 64, o.height = 48, o.threads = 2;
+    a = render(s, &o, &sa);
+    for (k = 0; k < 64 * 48; k++) cost[k] = -1;
+    o.cost_map = cost, o.cost_kind = GG_COST_CPU;
+    b = render(s, &o, &sb);
+    assert_true(same_pixels(a, b));
+    assert_true(sa.eye == sb.eye && sa.shadow == sb.shadow && sa.reflect == sb.reflect);
+    for (k = 0; k < 64 * 48; k++) {
+        assert_true(isfinite(cost[k]) && cost[k] >= 0 && cost[k] < 1); /* seconds, not rays */
+        sum += cost[k];
+    }
+    assert_true(sum > 0);
+    ggImageFree(a), ggImageFree(b);
+    free(cost);
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_identical),
+        cmocka_unit_test(test_cost_cpu),
         cmocka_unit_test(test_crop_matches_full),
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),

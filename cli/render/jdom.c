@@ -1,0 +1,173 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** jdom.c -- a small JSON reader for ggrt merge --reports (jdom.h): the
+** document as a tree of nodes that point into the text, so that merged
+** values are written back exactly as ggrt wrote them.
+*/
+#include "render/jdom.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct jp {
+    const char *p;
+    int depth;
+    char *why;
+    size_t whylen;
+} jp;
+
+static void ws(jp *r)
+{
+    while (*r->p == ' ' || *r->p == '\t' || *r->p == '\n' || *r->p == '\r') r->p++;
+}
+
+static int fail(jp *r, const char *what)
+{
+    snprintf(r->why, r->whylen, "%s", what);
+    return -1;
+}
+
+static int string(jp *r)
+{
+    if (*r->p != '"') return fail(r, "expected a string");
+    for (r->p++; *r->p != '"'; r->p++) {
+        if ((unsigned char)*r->p < 0x20) return fail(r, "a control character in a string");
+        if (*r->p == '\\' && !*++r->p) return fail(r, "the text ends in a string");
+    }
+    r->p++;
+    return 0;
+}
+
+static int value(jp *r, jnode *n);
+
+static int add_kid(jnode *n, jnode **kid)
+{
+    if ((n->n & (n->n - 1)) == 0) { /* 0, 1, 2, 4...: grow to the next power of two */
+        jnode *k = realloc(n->kid, (size_t)(n->n ? 2 * n->n : 1) * sizeof *k);
+        if (!k) return -1;
+        n->kid = k;
+    }
+    *kid = &n->kid[n->n++];
+    memset(*kid, 0, sizeof **kid);
+    return 0;
+}
+
+/* An object's or array's members. */
+static int members(jp *r, jnode *n, char close)
+{
+    r->p++;
+    ws(r);
+    if (*r->p == close) return r->p++, 0;
+    for (;;) {
+        jnode *k;
+        const char *key = NULL, *keye = NULL;
+        if (close == '}') {
+            ws(r);
+            key = r->p + 1;
+            if (string(r) != 0) return -1;
+            keye = r->p - 1;
+            ws(r);
+            if (*r->p++ != ':') return fail(r, "expected ':'");
+        }
+        if (add_kid(n, &k) != 0) return fail(r, "out of memory");
+        k->key = key, k->keye = keye;
+        if (value(r, k) != 0) return -1;
+        ws(r);
+        if (*r->p == close) return r->p++, 0;
+        if (*r->p++ != ',') return fail(r, close == '}' ? "expected ',' or '}'" : "expected ',' or ']'");
+    }
+}
+
+static int value(jp *r, jnode *n)
+{
+    int rc = 0;
+    ws(r);
+    n->s = r->p;
+    if (++r->depth > 64) return fail(r, "nested more than 64 deep");
+    if (*r->p == '{' || *r->p == '[') {
+        n->type = *r->p == '{' ? 'o' : 'a';
+        rc = members(r, n, *r->p == '{' ? '}' : ']');
+    } else if (*r->p == '"') {
+        n->type = 's', rc = string(r);
+    } else if (!strncmp(r->p, "true", 4) || !strncmp(r->p, "null", 4)) {
+        n->type = *r->p == 't' ? 't' : 'z', r->p += 4;
+    } else if (!strncmp(r->p, "false", 5)) {
+        n->type = 'f', r->p += 5;
+    } else {
+        char *end;
+        strtod(r->p, &end);
+        if (end == r->p || !strchr("-0123456789", *r->p)) return fail(r, "expected a value");
+        n->type = 'n', r->p = end;
+    }
+    r->depth--;
+    n->e = r->p;
+    return rc;
+}
+
+int jdom_parse(const char *text, jnode *root, char *why, size_t whylen)
+{
+    jp r;
+    r.p = text, r.depth = 0, r.why = why, r.whylen = whylen;
+    memset(root, 0, sizeof *root);
+    if (value(&r, root) != 0) {
+        size_t at = (size_t)(r.p - text);
+        size_t n = strlen(why);
+        snprintf(why + n, whylen - n, " at byte %lu", (unsigned long)at);
+        return -1;
+    }
+    ws(&r);
+    if (*r.p) {
+        snprintf(why, whylen, "text after the value at byte %lu", (unsigned long)(r.p - text));
+        return -1;
+    }
+    return 0;
+}
+
+void jdom_free(jnode *n)
+{
+    int i;
+    for (i = 0; i < n->n; i++) jdom_free(&n->kid[i]);
+    free(n->kid);
+    n->kid = NULL, n->n = 0;
+}
+
+const jnode *jdom_get(const jnode *obj, const char *key)
+{
+    size_t len = strlen(key);
+    int i;
+    if (!obj || obj->type != 'o') return NULL;
+    for (i = 0; i < obj->n; i++)
+        if ((size_t)(obj->kid[i].keye - obj->kid[i].key) == len &&
+            !memcmp(obj->kid[i].key, key, len))
+            return &obj->kid[i];
+    return NULL;
+}
+
+double jdom_num(const jnode *n)
+{
+    if (!n) return 0;
+    if (n->type == 'z') return 1e308 * 10; /* null: json_num's NaN or infinity */
+    return n->type == 'n' ? strtod(n->s, NULL) : 0;
+}
+
+int jdom_same(const jnode *a, const jnode *b)
+{
+    if (!a || !b) return a == b;
+    return a->e - a->s == b->e - b->s && !memcmp(a->s, b->s, (size_t)(a->e - a->s));
+}
+
+int jdom_str(const jnode *n, char *buf, size_t size)
+{
+    size_t len;
+    if (!n || n->type != 's') return -1;
+    len = (size_t)(n->e - n->s) - 2;
+    if (len >= size || memchr(n->s + 1, '\\', len)) return -1;
+    memcpy(buf, n->s + 1, len);
+    buf[len] = '\0';
+    return 0;
+}
+
+void jdom_write(FILE *f, const jnode *n)
+{
+    fwrite(n->s, 1, (size_t)(n->e - n->s), f);
+}

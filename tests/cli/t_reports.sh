@@ -1,0 +1,150 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: find, check and diff --tile I/N and ggrt
+# merge --reports (docs/cluster.md, "The debugger across tiles"). The
+# reports of 1, 2 and 7 tiles of three scenes (one under --spd), each
+# tile its own process, merge into the file one process writes, byte for
+# byte; also with a plan's cut, and for --path. Every bad input to merge
+# --reports names the report and the reason, exits 2 and writes nothing.
+# Uses run.sh's ggrt, tmp, ok, bad, expect_err.
+
+rd="$tmp/reports"
+mkdir -p "$rd"
+
+# reports_same NAME N CMD ARGS...: N tiles of `ggrt CMD ARGS -f json
+# --tile I/N` merge into `ggrt CMD ARGS -f json`'s output (cmp).
+reports_same() {
+  name=$1; n=$2; shift 2
+  rm -f "$rd"/r-*.json
+  i=0
+  while [ $i -lt "$n" ]; do
+    "$ggrt" "$@" -f json --tile $i/"$n" >"$rd/r-$i.json" 2>"$tmp/err"
+    [ $? -le 1 ] || [ "$1" = check ] || { bad "$name: tile $i of $n" "$(cat "$tmp/err")"; return; }
+    i=$((i + 1))
+  done
+  "$ggrt" "$@" -f json >"$rd/one.json" 2>/dev/null
+  "$ggrt" merge -q --reports "$rd"/r-*.json -o "$rd/m.json" 2>"$tmp/err" ||
+    { bad "$name: merge --reports of $n" "$(cat "$tmp/err")"; return; }
+  if [ -s "$rd/one.json" ] && cmp -s "$rd/m.json" "$rd/one.json"; then
+    ok "$name: $n tiles' reports merge into one process's, byte for byte"
+  else
+    bad "$name: $n tiles' reports merge into one process's" "$(cmp "$rd/m.json" "$rd/one.json")"
+  fi
+}
+
+for spec in "examples/scenes/spd/gears.nff --spd -s 96x64" \
+            "examples/scenes/glass.nff -s 80x48" \
+            "examples/scenes/texture.nff -s 64x40 -n 4"; do
+  for n in 1 2 7; do
+    # shellcheck disable=SC2086
+    reports_same "find $spec" $n find $spec -w 'some(kind == reflect)' --limit 30
+    # shellcheck disable=SC2086
+    reports_same "check $spec" $n check $spec
+    # shellcheck disable=SC2086
+    reports_same "diff $spec" $n diff $spec --b depth=3 --worst 12
+  done
+done
+# shellcheck disable=SC2086
+reports_same "find --path, gears" 7 find examples/scenes/spd/gears.nff --spd -s 96x64 --path 'C<TS>+B'
+reports_same "diff --path, glass" 7 diff examples/scenes/glass.nff -s 80x48 --b depth=3 --path 'C<TS>+B' --limit 5
+reports_same "find --limit 0, glass" 2 find examples/scenes/glass.nff -s 80x48 -w 'some(kind == tir)' --limit 0
+
+# A plan's cut (by rays: the same cut every run).
+"$ggrt" plan examples/scenes/spd/gears.nff --spd -s 96x64 --cost rays -q --tiles 7 -o "$rd/plan.json" ||
+  bad "plan for the reports"
+rm -f "$rd"/r-*.json
+for i in 0 1 2 3 4 5 6; do
+  "$ggrt" check examples/scenes/spd/gears.nff --spd -s 96x64 -f json --plan "$rd/plan.json" --tile $i \
+    >"$rd/r-$i.json"
+done
+"$ggrt" check examples/scenes/spd/gears.nff --spd -s 96x64 -f json >"$rd/one.json"
+if "$ggrt" merge -q --reports "$rd"/r-*.json -o "$rd/m.json" && cmp -s "$rd/m.json" "$rd/one.json" &&
+   grep -q '"cut":"plan 0,' "$rd/r-3.json"; then
+  ok "check: a plan's 7 tiles' reports merge into one process's"
+else bad "check: a plan's 7 tiles' reports merge into one process's"; fi
+
+# check --path: its share is a mean of floating-point shares that
+# lib/debug/check.c sums per thread, so it moves in the last digits with
+# -j already; the rest is byte for byte, the share within 1e-12.
+rm -f "$rd"/r-*.json
+for i in 0 1; do
+  "$ggrt" check examples/scenes/glass.nff -s 80x48 --path "C.*<RS'tir'>.*" -f json --tile $i/2 >"$rd/r-$i.json"
+done
+"$ggrt" check examples/scenes/glass.nff -s 80x48 --path "C.*<RS'tir'>.*" -f json >"$rd/one.json"
+"$ggrt" merge -q --reports "$rd"/r-*.json -o "$rd/m.json"
+if python3 - "$rd/m.json" "$rd/one.json" >"$tmp/out" 2>&1 <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+sa, sb = a.pop("share"), b.pop("share")
+assert a == b, "reports differ beyond the share"
+assert sa > 0 and abs(sa - sb) <= 1e-12 * sb, (sa, sb)
+PY
+then ok "check --path: 2 tiles' reports merge into one process's (share within 1e-12)"
+else bad "check --path: 2 tiles' reports merge into one process's" "$(cat "$tmp/out")"; fi
+
+# ---- usage ----
+expect_err 1 "ggrt find: --tile writes a JSON report: add -f json" "find --tile needs -f json" \
+  "$ggrt" find examples/scenes/glass.nff -w 'some(kind == tir)' --tile 0/2
+expect_err 1 "ggrt check: --tile writes the JSON report alone: not with -o, --overlay, --paths-jsonl, --paths-obj or --crop" \
+  "check --tile refuses --crop" "$ggrt" check examples/scenes/glass.nff -f json --tile 0/2 --crop 0,0,4,4
+expect_err 1 "ggrt diff: --plan goes with --tile" "diff --plan without --tile" \
+  "$ggrt" diff examples/scenes/glass.nff -f json --plan "$rd/plan.json"
+
+# ---- bad input: the report, the reason, exit 2, nothing written ----
+g=examples/scenes/glass.nff
+for i in 0 1 2 3; do
+  "$ggrt" find $g -s 80x48 -w 'some(kind == tir)' -f json --tile $i/4 >"$rd/g-$i.json"
+done
+# reports_refuse NAME MESSAGE FILES...
+reports_refuse() {
+  what=$1; msg=$2; shift 2
+  rm -f "$rd"/out.*
+  expect_err 2 "$msg" "merge --reports refuses $what" "$ggrt" merge --reports "$@" -o "$rd/out.json"
+  if [ -z "$(ls "$rd" | grep '^out\.')" ]; then ok "merge --reports of $what writes nothing"
+  else bad "merge --reports of $what writes nothing" "$(ls "$rd" | grep '^out')"; fi
+}
+reports_refuse "a missing tile" "ggrt merge: tile 2 of 4 (rows 24..35) is missing" \
+  "$rd/g-0.json" "$rd/g-1.json" "$rd/g-3.json"
+cp "$rd/g-1.json" "$rd/dup-1.json"
+reports_refuse "a duplicate" "ggrt merge: $rd/dup-1.json: tile 1 again (also in $rd/g-1.json)" \
+  "$rd"/g-[0-3].json "$rd/dup-1.json"
+"$ggrt" find $g -s 80x48 -d 3 -w 'some(kind == tir)' -f json --tile 2/4 >"$rd/opt-2.json"
+reports_refuse "a tile of other options" \
+  "ggrt merge: $rd/opt-2.json: different render options from $rd/g-0.json: \"size=80x48 depth=3\", not \"size=80x48\"" \
+  "$rd/g-0.json" "$rd/g-1.json" "$rd/opt-2.json" "$rd/g-3.json"
+sed 's/^l 3 -3 6$/l 3 -3 7/' $g >"$rd/glass2.nff"
+"$ggrt" find "$rd/glass2.nff" -s 80x48 -w 'some(kind == tir)' -f json --tile 3/4 >"$rd/scene-3.json"
+h1=$(sed -n 's/.*"sceneHash":"\([^"]*\)".*/\1/p' "$rd/g-0.json")
+h2=$(sed -n 's/.*"sceneHash":"\([^"]*\)".*/\1/p' "$rd/scene-3.json")
+reports_refuse "a tile of another scene" \
+  "ggrt merge: $rd/scene-3.json: different scene (hash) from $rd/g-0.json: \"$h2\", not \"$h1\"" \
+  "$rd"/g-[0-2].json "$rd/scene-3.json"
+"$ggrt" find $g -s 80x48 -w 'some(kind == tir)' -f json --tile 3/5 >"$rd/cut-3.json"
+reports_refuse "a tile of another cut" \
+  "ggrt merge: $rd/cut-3.json: different cut from $rd/g-0.json: \"rows 5\", not \"rows 4\"" \
+  "$rd"/g-[0-2].json "$rd/cut-3.json"
+"$ggrt" find $g -s 80x48 -w 'some(kind == tir)' --limit 3 -f json --tile 1/4 >"$rd/lim-1.json"
+reports_refuse "a tile of another --limit" \
+  "ggrt merge: $rd/lim-1.json: different command options from $rd/g-0.json: \"limit=3\", not \"limit=20\"" \
+  "$rd/g-0.json" "$rd/lim-1.json" "$rd/g-2.json" "$rd/g-3.json"
+"$ggrt" find $g -s 80x48 -w 'some(kind == refract)' -f json --tile 1/4 >"$rd/where-1.json"
+reports_refuse "a tile of another predicate" \
+  "ggrt merge: $rd/where-1.json: different \"where\" from $rd/g-0.json: \"some(kind == refract)\", not \"some(kind == tir)\"" \
+  "$rd/g-0.json" "$rd/where-1.json" "$rd/g-2.json" "$rd/g-3.json"
+"$ggrt" check $g -s 80x48 -f json --tile 1/4 >"$rd/check-1.json"
+reports_refuse "a check report among find reports" \
+  "ggrt merge: $rd/check-1.json: a ggrt_check report, not ggrt_find as $rd/g-0.json" \
+  "$rd/g-0.json" "$rd/check-1.json" "$rd/g-2.json" "$rd/g-3.json"
+head -c 200 "$rd/g-1.json" >"$rd/trunc-1.json"
+rm -f "$rd"/out.*
+expect_msg 2 "ggrt merge: $rd/trunc-1.json: not a JSON report: " "merge --reports refuses a truncated report" \
+  "$ggrt" merge --reports "$rd/g-0.json" "$rd/trunc-1.json" "$rd/g-2.json" "$rd/g-3.json" -o "$rd/out.json"
+if [ -z "$(ls "$rd" | grep '^out\.')" ]; then ok "merge --reports of a truncated report writes nothing"
+else bad "merge --reports of a truncated report writes nothing" "$(ls "$rd")"; fi
+"$ggrt" find $g -s 80x48 -w 'some(kind == tir)' -f json >"$rd/whole.json"
+reports_refuse "a report that is not a tile's" \
+  "ggrt merge: $rd/whole.json: not a tile's report: no \"tile\" manifest (find, check or diff --tile)" \
+  "$rd/whole.json"
+sed 's/,"params":"[^"]*"//' "$rd/g-2.json" >"$rd/noparams-2.json"
+reports_refuse "a manifest without params" \
+  "ggrt merge: $rd/noparams-2.json: the tile manifest has no \"params\" string" \
+  "$rd/g-0.json" "$rd/g-1.json" "$rd/noparams-2.json" "$rd/g-3.json"
