@@ -102,9 +102,18 @@ void cli_print_arg(FILE *f, const char *a)
 
 /* ---- stdout ---- */
 
+/* A write that failed earlier (output longer than the stream's buffer)
+   leaves ferror set and an empty buffer, so fflush succeeds and says
+   nothing: the reason is then errno as that write left it, trusted only
+   if it is an error a write gives. */
+static int write_errno(int e)
+{
+    return e == ENOSPC || e == EIO || e == EPIPE || e == EFBIG || e == EDQUOT ? e : 0;
+}
+
 int cli_close_stdout(void)
 {
-    int bad = ferror(stdout), e = 0;
+    int bad = ferror(stdout), e = bad ? write_errno(errno) : 0;
     if (fflush(stdout) != 0) bad = 1, e = errno;
     if (fclose(stdout) != 0 && !bad) bad = 1, e = errno;
     if (!bad) return 0;
