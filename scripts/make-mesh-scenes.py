@@ -10,8 +10,10 @@ only, so that ggrt and the Embree anchor read the same file:
                  512,000 triangles
 
 each with two mirrors (a wall behind, one at the left, two triangles
-each) and two lights, 1024x1024, y up. Made here, not committed: about
-100 MB of text each.
+each) and two lights, 1024x1024, y up; and for ggrt the same scenes with
+the model as a mesh (torus-1m-mesh.nff reading torus-1m.obj through
+`mesh "..." flat material current`: the same flat triangles, with shared
+vertices). Made here, not committed: up to 90 MB of text each.
 
   python3 scripts/make-mesh-scenes.py [OUTDIR]   (default build/meshes)
 """
@@ -62,6 +64,14 @@ def write(path, verts, tris):
             f.write("p 3\n%.6f %.6f %.6f\n%.6f %.6f %.6f\n%.6f %.6f %.6f\n"
                     % (verts[t[0]] + verts[t[1]] + verts[t[2]]))
     print("%s: %d triangles (+4 of the mirrors)" % (path, len(tris)))
+    base = path[:-len(".nff")]
+    with open(base + ".obj", "w") as f:
+        f.write("# written by scripts/make-mesh-scenes.py\n")
+        f.write("".join("v %.6f %.6f %.6f\n" % v for v in verts))
+        f.write("".join("f %d %d %d\n" % (t[0] + 1, t[1] + 1, t[2] + 1) for t in tris))
+    with open(base + "-mesh.nff", "w") as f:
+        f.write(HEAD + MIRRORS + 'mesh "%s" flat material current\n' % os.path.basename(base + ".obj"))
+    print("%s-mesh.nff: the same as a mesh (%s.obj)" % (base, os.path.basename(base)))
 
 
 def torus(ntri):
