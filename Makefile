@@ -133,7 +133,15 @@ ISA_fma       = -mfma
 GG_ISA_X86   := $(if $(filter x86_64-% amd64-%,$(shell $(CC) -dumpmachine 2>/dev/null)),1)
 isa_of        = $(if $(GG_ISA_X86),$(strip $(foreach i,avx avx2 avx512 fma,$(if $(filter %_$(i).o,$(1)),$(i)))))
 isa_flags     = $(if $(call isa_of,$(1)),$(ISA_$(call isa_of,$(1))) -DGG_ISA=$(call isa_of,$(1)))
-ISA_AGAIN     = lib/geom/bvh_avx2.o:lib/geom/bvh_avx.c lib/geom/bvh_avx512.o:lib/geom/bvh_avx.c
+ISA_AGAIN     = lib/geom/bvh_avx2.o:lib/geom/bvh_avx.c lib/geom/bvh_avx512.o:lib/geom/bvh_avx.c \
+                lib/geom/bvh_count_avx.o:lib/geom/bvh_avx.c lib/geom/bvh_kloop_avx.o:lib/geom/bvh_avx.c \
+                lib/geom/bvh_kloop_avx2.o:lib/geom/bvh_avx.c lib/geom/bvh_kloop_avx512.o:lib/geom/bvh_avx.c
+# Defines of one object: the counting copy of the AVX walks and the
+# kernel loops (bvh_avx.c, `ggrt bench limit`).
+OBJ_DEFS_bvh_count_avx.o    = -DGG_TRAV_COUNT
+OBJ_DEFS_bvh_kloop_avx.o    = -DGG_TRAV_KLOOP
+OBJ_DEFS_bvh_kloop_avx2.o   = -DGG_TRAV_KLOOP
+OBJ_DEFS_bvh_kloop_avx512.o = -DGG_TRAV_KLOOP
 isa_again_obj = $(foreach p,$(ISA_AGAIN),$(firstword $(subst :, ,$(p))))
 ALL_LAYER_INC = $(LAYERS:%=-Ilib/%)
 
@@ -186,7 +194,7 @@ cli: $(CLI)
 
 # A library object of layer $(1) (the folder of $<).
 lib_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING $(call layer_inc,$(1)) $($(1)_CFLAGS) $(GG_WARN) \
-	  $(call isa_flags,$@) $(GG_MATH) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
+	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
 define layer_rule
 $$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
 	@mkdir -p $$(@D)
@@ -272,7 +280,7 @@ $(filter-out $(SCALAR_TESTS),$(TEST_BIN)): %: %.o $(TESTUTIL_OBJ) $(STATIC)
 # archive: nothing depends on link order).
 SCALAR_GEOM := $(patsubst $(BUILD)/lib/%,$(BUILD)/scalar/lib/%,$(filter $(BUILD)/lib/geom/%,$(FULL_OBJ)))
 scalar_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
-	  $(call isa_flags,$@) $(GG_MATH) $(CFLAGS) -c $< -o $@
+	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CFLAGS) -c $< -o $@
 $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
 	$(scalar_cc)

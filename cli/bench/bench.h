@@ -40,5 +40,6 @@ int bench_effects(const bench_opts *bo);
 int bench_accuracy(const bench_opts *bo);
 int bench_scaling(const bench_opts *bo);
 int bench_rays(const bench_opts *bo);
+int bench_limit(const bench_opts *bo);
 
 #endif

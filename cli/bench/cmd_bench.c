@@ -27,6 +27,10 @@ static const char about[] =
     "            the speed-up and the serial share (time outside the tile loop)\n"
     "  rays      per SPD scene, Mrays/s on one core for the eye, secondary and\n"
     "            shadow rays of a 256x256 render, cast again one by one\n"
+    "  limit     per SPD scene (or per SCENE given), one thread: the kernel calls\n"
+    "            per ray of a render (node, packet and leaf tests, hits shaded),\n"
+    "            each kernel's ns per call alone in a loop on cached data, the\n"
+    "            bound (calls x ns) and the render's time over it\n"
     "\n"
     "Scene folders are relative to the current directory: run from the source tree\n"
     "or name them with --spd and --pov.";
@@ -38,6 +42,7 @@ static const struct {
 } benches[] = {
     {"spd", bench_spd, 1024},        {"counts", bench_counts, 0},   {"effects", bench_effects, 320},
     {"accuracy", bench_accuracy, 0}, {"scaling", bench_scaling, 0}, {"rays", bench_rays, 256},
+    {"limit", bench_limit, 512},
 };
 
 int cmd_bench(int argc, char **argv)
@@ -49,7 +54,7 @@ int cmd_bench(int argc, char **argv)
     cli_opt opts[] = {
         CLI_OPT_INT(0, "size", &bo.size, 1, 4096, "N",
                     "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
-                    "wide, 4:3; scaling: 256; rays: 256)"),
+                    "wide, 4:3; scaling: 256; rays: 256; limit: 512)"),
         CLI_OPT_INT(0, "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),
         CLI_OPT_INT(0, "runs", &bo.runs, 1, 64, "N",
                     "runs per measurement, median reported (default 3)"),
@@ -77,6 +82,7 @@ int cmd_bench(int argc, char **argv)
     };
     cli_cmd cmd = {.name = "bench",
                    .usage = "spd|counts|effects|scaling|rays [options]\n"
+                            "       ggrt bench limit [SCENE...] [options]\n"
                             "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]",
                    .about = about,
                    .opts = {opts},
@@ -94,7 +100,7 @@ int cmd_bench(int argc, char **argv)
     for (i = 1; i < nargs; i++) bo.args[bo.nargs++] = args[i];
     for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) {
         if (strcmp(args[0], benches[i].name)) continue;
-        if (bo.nargs && benches[i].run != bench_accuracy)
+        if (bo.nargs && benches[i].run != bench_accuracy && benches[i].run != bench_limit)
             return cli_usage_error(&cmd, "bench %s takes no scene files ('%s')", args[0],
                                    bo.args[0]);
         if (bo.embree && benches[i].run != bench_spd)
@@ -117,5 +123,5 @@ int cmd_bench(int argc, char **argv)
         return benches[i].run(&bo);
     }
     return cli_usage_error(
-        &cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling, rays)", args[0]);
+        &cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling, rays, limit)", args[0]);
 }

@@ -242,6 +242,54 @@ GG_API ggRay ggCameraRay(const ggScene *scene, const ggRenderOptions *opt, doubl
 GG_API ggColor ggRayColor(const ggScene *scene, const ggRenderOptions *opt, ggRay ray,
                           int depth, ggRayStats *stats);
 
+/* ---- kernel counts and kernel loops (`ggrt bench limit`) ---- */
+
+/* What a render's ray queries did, as the traversal copy the scene's
+   queries take on this CPU (its AVX, AVX2 or AVX-512 build) walks:
+   queries by kind, kernel calls by kernel, and closest hits found (each
+   one a hit the renderer shades, but for the hits a coloured shadow ray's
+   walk meets). */
+typedef struct ggKernelCounts {
+    uint64_t closest; /* closest-hit queries of single rays */
+    uint64_t any;     /* any-hit (occluder) queries */
+    uint64_t shadow;  /* shadow queries that list transparent crossings */
+    uint64_t packets; /* packet walks (up to 16 eye rays each) */
+    uint64_t node;    /* GG_KERNEL_NODE calls */
+    uint64_t packet_node, packet_leaf, tri4, tri, sphere, other; /* the same */
+    uint64_t hits;    /* closest-hit queries (or packet lanes) that hit */
+} ggKernelCounts;
+
+/* The kernels (ggKernelLoop): */
+#define GG_KERNEL_NODE        0 /* one node's 8 boxes against a ray */
+#define GG_KERNEL_PACKET_NODE 1 /* one node's 4 boxes against a packet of 16 */
+#define GG_KERNEL_PACKET_LEAF 2 /* a leaf's box against the 16 rays of a packet */
+#define GG_KERNEL_TRI4        3 /* 4 triangles of a leaf against a ray */
+#define GG_KERNEL_TRI         4 /* one triangle (the scalar kernel) */
+#define GG_KERNEL_SPHERE      5 /* one sphere */
+#define GG_KERNEL_OTHER       6 /* one element of another kind (cone, polygon, ...) */
+#define GG_KERNEL_SHADE       7 /* the shading of one hit, without its rays */
+#define GG_KERNEL_KINDS       8
+
+/* Render as ggRender does (the same image, the same rays), on one thread
+   whatever opt->threads says, with a counting copy of the traversal, and
+   put its counts in *counts (overwritten). The image is not kept. Not
+   while other threads use the scene. GG_ERROR_UNSUPPORTED where the
+   scene's queries take the plain traversal (no AVX: it has no counting
+   copy) or for single-precision queries (their own copy). */
+GG_API int ggRenderCountKernels(ggScene *scene, const ggRenderOptions *opt,
+                                ggKernelCounts *counts, ggError *err);
+
+/* Run kernel k (GG_KERNEL_*) n times on data of the prepared scene: the
+   first element of its kind (triangle block, triangle, sphere, other),
+   the root node, or for GG_KERNEL_SHADE the first hit of a few eye rays
+   through the image's centre; the ray comes from the camera and is aimed
+   at the element, so that the element's test finds a hit. Each call's
+   input depends on the last one's result, as a walk's next node depends
+   on this one's test: time it, and the time over n is a call's latency on
+   cached data. Returns a sum of the results (>= 0), or -1 if the scene
+   has no such data, is not prepared, or takes the plain traversal. */
+GG_API double ggKernelLoop(const ggScene *scene, const ggRenderOptions *opt, int k, long n);
+
 #ifdef __cplusplus
 }
 #endif

@@ -210,19 +210,69 @@ typedef struct trav_copy {
     {                                                                                              \
         gg_bvh_intersect_##isa, gg_bvh_occluder_##isa, gg_bvh_shadow_##isa, gg_bvh_packet_##isa    \
     }
-static const trav_copy copies[4] = {
+/* The fifth, TRAV_COUNTING, is the AVX copy's counting build
+   (gg_geom_count_begin), never a geometry's own. */
+#define TRAV_COUNTING 4
+static const trav_copy copies[5] = {
     GG_TRAV_COPY(plain),
 #if GG_HAVE_BVH_AVX
     GG_TRAV_COPY_GG(avx),
     GG_TRAV_COPY_GG(avx2),
     GG_TRAV_COPY_GG(avx512),
+    GG_TRAV_COPY_GG(count),
 #else
+    GG_TRAV_COPY(plain),
     GG_TRAV_COPY(plain),
     GG_TRAV_COPY(plain),
     GG_TRAV_COPY(plain),
 #endif
 };
 #define COPY(g) (&copies[(g)->trav_avx])
+
+/* ---- counting the kernels (`ggrt bench limit`) ---- */
+
+/* The geometry's own copy while the counting one is in place. */
+static int counted_copy(const gg_geom *g)
+{
+    return g->trav_avx == TRAV_COUNTING ? trav_copy_of(g) : g->trav_avx;
+}
+
+int gg_geom_count_begin(gg_geom *g, gg_kcount *kc)
+{
+    if (!GG_HAVE_BVH_AVX || !g->built || g->trav_avx == GG_KERNEL_PLAIN ||
+        g->trav_avx == TRAV_COUNTING)
+        return -1;
+    g->kcount = kc;
+    g->trav_avx = TRAV_COUNTING;
+    return 0;
+}
+
+void gg_geom_count_end(gg_geom *g)
+{
+    if (g->trav_avx != TRAV_COUNTING) return;
+    g->trav_avx = counted_copy(g);
+    g->kcount = NULL;
+}
+
+double gg_geom_kloop(const gg_geom *g, int k, const gg_rayq *q, long n)
+{
+    if (k < 0 || k >= GG_KL_N || n < 0 || !g->built || !g->nslots) return -1;
+#if GG_HAVE_BVH_AVX
+    switch (counted_copy(g)) {
+    case GG_KERNEL_AVX:
+        return gg_bvh_kloop_avx(g, k, q, n);
+    case GG_KERNEL_AVX2:
+        return gg_bvh_kloop_avx2(g, k, q, n);
+    case GG_KERNEL_AVX512:
+        return gg_bvh_kloop_avx512(g, k, q, n);
+    default:
+        break;
+    }
+#else
+    (void)q;
+#endif
+    return -1;
+}
 
 /* Single-precision queries (GG_ISECT_FLOAT) take their own copy
    (bvh_float.c), chosen here once per query. */

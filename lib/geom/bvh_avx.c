@@ -25,6 +25,18 @@
 ** transparent. The rare lane where an edge function is exactly zero (the
 ** ray through an edge or a vertex) goes to the scalar kernel, which
 ** settles the tie by the top-left rule.
+**
+** Counting. The Makefile builds this file once more, into bvh_count_avx.o
+** (AVX, with -DGG_TRAV_COUNT): names ending in _count, every walk and
+** leaf test counting its kernel calls into g->kcount (gg_kcount, geom.h),
+** for `ggrt bench limit`. The walk and the leaves are this source's, so
+** the counts are those of the AVX, AVX2 and AVX-512 builds alike; those
+** builds count nothing (GG_KCOUNT below is empty there).
+** And into bvh_kloop_avx.o, bvh_kloop_avx2.o, bvh_kloop_avx512.o
+** (-DGG_TRAV_KLOOP): the kernels alone in loops, gg_bvh_kloop_*, each
+** ISA's kernels as its walks inline them, in objects of their own so that
+** the walks' objects stay as they were (a second caller of the packet
+** set-up changed what GCC inlines into the packet walk).
 */
 #include "core.h"
 
@@ -36,6 +48,18 @@
 #endif
 
 #include <immintrin.h>
+
+#ifdef GG_TRAV_COUNT
+#define GG_KCOUNT(g, f) ((void)((g)->kcount->f++))
+#define GG_KNAME(f)     gg_##f##_count
+#elif defined(GG_TRAV_KLOOP)
+/* the kernel loops' build: the walks only as a source of kernels */
+#define GG_KCOUNT(g, f) ((void)0)
+#define GG_KNAME(f)     f##_unused
+#else
+#define GG_KCOUNT(g, f) ((void)0)
+#define GG_KNAME(f)     GG_ISA_NAME(gg_##f)
+#endif
 
 /* Per-ray state of the 4-wide test: the ray's origin and shear broadcast
    to all lanes, and the byte offsets of the kx, ky, kz rows of a block.
@@ -174,6 +198,7 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
 #endif
 }
 
+#if !defined(GG_TRAV_COUNT) && !defined(GG_TRAV_KLOOP)
 unsigned GG_ISA_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
                                   double b1[4], double b2[4], unsigned *zero)
 {
@@ -192,6 +217,7 @@ unsigned GG_ISA_NAME(gg_bvh_tri4)(const gg_tleaf *L, const gg_rpre *r, double tm
     }
     return m & ~*zero;
 }
+#endif
 
 static inline int lowest_lane(unsigned m)
 {
@@ -203,11 +229,72 @@ static inline int lowest_lane(unsigned m)
 GG_INLINE int tri4_lane(const gg_geom *g, const gg_rpre *r, const gg_slot *s, const tri4_out *o,
                         int i, double tmax, double *t, double *b1, double *b2)
 {
-    if (o->zero >> i & 1) return gg_tri_kernel(&g->ltri[s->ki & GG_EK_INDEX], r, tmax, t, b1, b2);
+    if (o->zero >> i & 1) {
+        GG_KCOUNT(g, tri);
+        return gg_tri_kernel(&g->ltri[s->ki & GG_EK_INDEX], r, tmax, t, b1, b2);
+    }
     if (!(o->t[i] <= tmax)) return 0;
     *t = o->t[i], *b1 = o->b1[i], *b2 = o->b2[i];
     return 1;
 }
+
+/* The scalar loops over a run of slots (geom_leaf.h); in the counting
+   build slot by slot (the same tests in the same order: each loop is a
+   sequence of one-slot steps), counting each element tested. */
+#ifdef GG_TRAV_COUNT
+static void count_slot(const gg_geom *g, const gg_rpre *r, const gg_slot *s, int skip)
+{
+    if (s->prim == r->ignore || (skip && r->skip && (g->pflags[s->prim] & r->skip))) return;
+    switch (s->ki >> GG_EK_SHIFT) {
+    case GG_EK_TRI:
+        g->kcount->tri++;
+        break;
+    case GG_EK_SPHERE:
+        g->kcount->sphere++;
+        break;
+    default:
+        g->kcount->other++;
+    }
+}
+
+static int leaf_closest(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                        gg_hit *best)
+{
+    uint32_t i;
+    int found = 0;
+    for (i = 0; i < n; i++) {
+        count_slot(g, r, &g->slots[first + i], 1);
+        found |= gg_leaf_closest(g, r, first + i, 1, best);
+    }
+    return found;
+}
+
+static uint32_t leaf_any(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                         double tmax)
+{
+    uint32_t i, h;
+    for (i = 0; i < n; i++) {
+        count_slot(g, r, &g->slots[first + i], 1);
+        if ((h = gg_leaf_any(g, r, first + i, 1, tmax))) return h;
+    }
+    return 0;
+}
+
+static uint32_t leaf_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
+                            double tmax, gg_hit *best, gg_tcol *col)
+{
+    uint32_t i, h;
+    for (i = 0; i < n; i++) {
+        count_slot(g, r, &g->slots[first + i], 0);
+        if ((h = gg_leaf_shadow(g, r, first + i, 1, tmax, best, col))) return h;
+    }
+    return 0;
+}
+#else
+#define leaf_closest gg_leaf_closest
+#define leaf_any     gg_leaf_any
+#define leaf_shadow  gg_leaf_shadow
+#endif
 
 GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t ref, gg_hit *best)
 {
@@ -215,9 +302,10 @@ GG_INLINE int tx_closest(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t 
     tri4_out o;
     unsigned m;
     int found = 0;
-    if (!(ref & GG_TLEAF)) return gg_leaf_closest(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), best);
+    if (!(ref & GG_TLEAF)) return leaf_closest(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), best);
     L = &g->tleaves[GG_LEAF_I(ref)];
     if (!x->ready) tx_fill(x, r);
+    GG_KCOUNT(g, tri4);
     m = tri4_test(L, x, best->t, &o);
     while (m) {
         int i = lowest_lane(m);
@@ -238,9 +326,10 @@ GG_INLINE uint32_t tx_any(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint32_t
     const gg_tleaf *L;
     tri4_out o;
     unsigned m;
-    if (!(ref & GG_TLEAF)) return gg_leaf_any(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax);
+    if (!(ref & GG_TLEAF)) return leaf_any(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax);
     L = &g->tleaves[GG_LEAF_I(ref)];
     if (!x->ready) tx_fill(x, r);
+    GG_KCOUNT(g, tri4);
     m = tri4_test(L, x, tmax, &o);
     while (m) {
         int i = lowest_lane(m);
@@ -261,11 +350,12 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
     tri4_out o;
     unsigned m;
     if (!(ref & GG_TLEAF))
-        return gg_leaf_shadow(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax, best, col);
+        return leaf_shadow(g, r, GG_LEAF_I(ref), GG_LEAF_N(ref), tmax, best, col);
     L = &g->tleaves[GG_LEAF_I(ref)];
     if (!x->ready) tx_fill(x, r);
     /* best->t <= tmax: the test against tmax keeps every lane either
        bound accepts. */
+    GG_KCOUNT(g, tri4);
     m = tri4_test(L, x, tmax, &o);
     while (m) {
         int i = lowest_lane(m);
@@ -291,19 +381,189 @@ GG_INLINE uint32_t tx_shadow(const gg_geom *g, const gg_rpre *r, gg_tx *x, uint3
 GG_INLINE uint32_t tx_slots_any(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
                                 double tmax)
 {
-    return gg_leaf_any(g, r, first, n, tmax);
+    return leaf_any(g, r, first, n, tmax);
 }
 
 GG_INLINE uint32_t tx_slots_shadow(const gg_geom *g, const gg_rpre *r, uint32_t first, uint32_t n,
                                    double tmax, gg_hit *best, gg_tcol *col)
 {
-    return gg_leaf_shadow(g, r, first, n, tmax, best, col);
+    return leaf_shadow(g, r, first, n, tmax, best, col);
 }
 
 #define GG_TRAV_WIDE   /* the single-ray walks on the 8-wide nodes (bvh_trav.inc.h) */
-#define GG_INC_NAME(f) GG_ISA_NAME(gg_##f) /* gg_bvh_intersect_avx, ..._avx2 */
-#define GG_INC_LINK                        /* external: declared in bvh_int.h */
+#define GG_INC_NAME(f) GG_KNAME(f) /* gg_bvh_intersect_avx, ..._avx2, ..._count */
+#ifdef GG_TRAV_KLOOP
+#define GG_INC_LINK static __attribute__((unused))
+#else
+#define GG_INC_LINK /* external: declared in bvh_int.h */
+#endif
 #include "bvh_trav.inc.h"
+
+#ifdef GG_TRAV_KLOOP
+/* ---- the kernels alone, in a loop (gg_geom_kloop, `ggrt bench limit`) ---- */
+
+/* Read once per loop: the compiler cannot know it is 0, so `x & kl_zero`
+   makes each call's input depend on the last call's result. */
+static volatile uint32_t kl_zero_v;
+
+/* A point of the element in slot s (its box's centre), or of the scene. */
+static void kl_aim(const gg_geom *g, const gg_slot *s, double p[3])
+{
+    double lo[3], hi[3];
+    uint32_t idx = s ? s->ki & GG_EK_INDEX : 0;
+    int k;
+    memcpy(lo, &g->lo, sizeof lo), memcpy(hi, &g->hi, sizeof hi);
+    if (s) switch (s->ki >> GG_EK_SHIFT) {
+        case GG_EK_TRI:
+            gg_tri_bounds(&g->ltri[idx], lo, hi);
+            break;
+        case GG_EK_SPHERE:
+            for (k = 0; k < 3; k++) lo[k] = hi[k] = g->lsph[idx].c[k];
+            break;
+        case GG_EK_CONE:
+            gg_cone_bounds(&g->lcone[idx], lo, hi);
+            break;
+        case GG_EK_POLY:
+            gg_poly_bounds(g, &g->polys[idx], lo, hi);
+            break;
+        default:
+            break;
+        }
+    for (k = 0; k < 3; k++) p[k] = 0.5 * (lo[k] + hi[k]);
+}
+
+/* The first slot of kind `kind` (-1: of none of triangle and sphere). */
+static const gg_slot *kl_slot(const gg_geom *g, int kind)
+{
+    size_t i;
+    for (i = 0; i < g->nslots; i++) {
+        int k = (int)(g->slots[i].ki >> GG_EK_SHIFT);
+        if (kind >= 0 ? k == kind : k != GG_EK_TRI && k != GG_EK_SPHERE) return &g->slots[i];
+    }
+    return NULL;
+}
+
+/* The ray from q's origin to p (t = 1 at p, tmax far beyond). */
+static int kl_ray(gg_rpre *r, gg_rayq *q, const double p[3])
+{
+    q->d.x = p[0] - q->o.x, q->d.y = p[1] - q->o.y, q->d.z = p[2] - q->o.z;
+    q->tmin = 0, q->tmax = 1e30;
+    return gg_rpre_fill(r, q);
+}
+
+static double kl_box8(const gg_geom *g, const gg_rayq *q, long n)
+{
+    wtrav tv;
+    float tn[8];
+    double sum = 0;
+    const uint32_t z = kl_zero_v;
+    const gg_wnode *nd = g->wnodes;
+    __m256 tmin8 = _mm256_set1_ps(f_down_tmin(q->tmin)), tmax8 = _mm256_set1_ps(f_above(q->tmax));
+    long i;
+    if (!g->wnodes || !wtrav_init6(&tv, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z)) return -1;
+    for (i = 0; i < n; i++) {
+        unsigned m = box8(nd, &tv, tmin8, tmax8, tn);
+        sum += m;
+        nd = g->wnodes + (m & z);
+    }
+    return sum + tn[0];
+}
+
+/* Sixteen rays from q's origin around q's direction, all of one sign. */
+static double kl_packet(const gg_geom *g, const gg_rayq *q, int k, long n)
+{
+    gg_rayq qs[GG_PK];
+    pk_all a;
+    pk_ray s;
+    pkt p;
+    float tn[4];
+    double sum = 0;
+    const uint32_t z = kl_zero_v;
+    const gg_bnode *nd = g->nodes;
+    unsigned grp;
+    long i;
+    int l;
+    for (l = 0; l < GG_PK; l++) {
+        qs[l] = *q;
+        /* (added, not scaled: a component 0 would stay 0, and 1/0 takes
+           a lane out of a packet) */
+        qs[l].d.x += 1e-3 * (1 + (l & 3)), qs[l].d.y += 1e-3 * (1 + (l >> 2));
+        qs[l].d.z += 1e-3;
+    }
+    grp = pk_setup(&a, &s, qs, (1u << GG_PK) - 1);
+    if (grp != (1u << GG_PK) - 1 || pk_same(&a, grp) != grp) return -1;
+    pk_pack(&p, &a, grp);
+    for (i = 0; i < n; i++) {
+        unsigned m = k == GG_KL_PBOX4 ? (unsigned)pk_box4(nd, &p, GG_T4(p.tminp), GG_T4(pk_tmax(&p)), tn)
+                                      : pk_lanes(nd, 0, &p);
+        sum += m;
+        nd = g->nodes + (m & z);
+    }
+    return sum;
+}
+
+static double kl_tri4(const gg_geom *g, const gg_rpre *r, long n)
+{
+    gg_tx x;
+    tri4_out o;
+    double sum = 0;
+    const uint32_t z = kl_zero_v;
+    const gg_tleaf *L = g->tleaves;
+    long i;
+    memset(&o, 0, sizeof o);
+    tx_fill(&x, r);
+    for (i = 0; i < n; i++) {
+        unsigned m = tri4_test(L, &x, 1e30, &o);
+        sum += m;
+        L = g->tleaves + (m & z);
+    }
+    return sum + o.t[0];
+}
+
+/* One element's test, chained through the slot it reads. */
+static double kl_elem(const gg_geom *g, const gg_slot *s0, const gg_rpre *r, long n)
+{
+    double sum = 0, t = 0, b1 = 0, b2 = 0;
+    const uint32_t z = kl_zero_v;
+    const gg_slot *sl = s0;
+    long i;
+    for (i = 0; i < n; i++) {
+        int h = gg_elem_hit(g, sl, r, 1e30, &t, &b1, &b2);
+        sum += h;
+        sl = s0 + ((unsigned)h & z);
+    }
+    return sum + t;
+}
+
+double GG_ISA_NAME(gg_bvh_kloop)(const gg_geom *g, int k, const gg_rayq *q0, long n)
+{
+    static const int kinds[] = {GG_EK_TRI, GG_EK_SPHERE, -1};
+    gg_rayq q = *q0;
+    gg_rpre r;
+    double p[3];
+    const gg_slot *sl = NULL;
+    if (k == GG_KL_TRI4 && !g->ntleaves) return -1;
+    if (k >= GG_KL_TRI && k <= GG_KL_OTHER && !(sl = kl_slot(g, kinds[k - GG_KL_TRI]))) return -1;
+    if (k == GG_KL_TRI4) {
+        /* the block's first triangle */
+        const gg_slot *f = &g->slots[g->tleaves[0].first];
+        kl_aim(g, f, p);
+    } else
+        kl_aim(g, sl, p);
+    if (!kl_ray(&r, &q, p)) return -1;
+    switch (k) {
+    case GG_KL_BOX8:
+        return kl_box8(g, &q, n);
+    case GG_KL_PBOX4:
+    case GG_KL_PLANE:
+        return kl_packet(g, &q, k, n);
+    case GG_KL_TRI4:
+        return kl_tri4(g, &r, n);
+    default:
+        return kl_elem(g, sl, &r, n);
+    }
+}
+#endif
 
 #else
 /* ISO C forbids an empty translation unit. */

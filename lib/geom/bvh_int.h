@@ -91,6 +91,16 @@ unsigned gg_bvh_packet_avx512(const gg_geom *g, const gg_rayq *q, unsigned lanes
    of lanes hit with t in (r->tmin, tmax] and fills t, b1, b2 for them;
    *zero gets the lanes left to the scalar kernel (an edge function
    exactly 0). Call only where gg_cpu_features() has GG_CPU_AVX. */
+/* The counting build (bvh_count_avx.o: GG_TRAV_COUNT; call only where
+   the CPU has AVX and g has an AVX copy's tree): g->kcount counts. */
+int gg_bvh_intersect_count(const gg_geom *g, const gg_rayq *q, gg_hit *hit);
+uint32_t gg_bvh_occluder_count(const gg_geom *g, const gg_rayq *q, uint32_t *cache);
+int gg_bvh_shadow_count(const gg_geom *g, const gg_rayq *q, uint32_t *cache, gg_tcol *col);
+unsigned gg_bvh_packet_count(const gg_geom *g, const gg_rayq *q, unsigned lanes, gg_hit *hit);
+/* gg_geom_kloop in each build. */
+double gg_bvh_kloop_avx(const gg_geom *g, int k, const gg_rayq *q, long n);
+double gg_bvh_kloop_avx2(const gg_geom *g, int k, const gg_rayq *q, long n);
+double gg_bvh_kloop_avx512(const gg_geom *g, int k, const gg_rayq *q, long n);
 unsigned gg_bvh_tri4_avx(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],
                          double b1[4], double b2[4], unsigned *zero);
 unsigned gg_bvh_tri4_avx2(const gg_tleaf *L, const gg_rpre *r, double tmax, double t[4],

@@ -28,6 +28,10 @@
 ** With GG_TRAV_COST defined, bvh_intersect takes a gg_trav_cost * more
 ** and counts into it, and the other three are left out (bvh_cost.c, the
 ** ray-tree recorder's copy).
+** With GG_TRAV_COUNT defined, every walk counts its queries and kernel
+** calls into g->kcount (gg_kcount, geom.h; the AVX copy's counting build,
+** bvh_count_avx.o); without it GG_COUNT is nothing, and the copies the
+** render takes are the same instructions as before.
 */
 #ifndef GG_BVH_TRAV_H
 #define GG_BVH_TRAV_H
@@ -330,6 +334,12 @@ typedef gg_t4 any_t;
    load spanning two 8-byte stores cannot be forwarded from the store
    buffer (GG_NO_SLP, compiler.h). */
 
+#ifdef GG_TRAV_COUNT
+#define GG_COUNT(g, f) ((void)((g)->kcount->f++))
+#else
+#define GG_COUNT(g, f) ((void)0)
+#endif
+
 #ifdef GG_TRAV_COST
 #define GG_COST_ARG       , gg_trav_cost *cost
 #define GG_COST_NODE()    (cost->nodes++)
@@ -356,6 +366,7 @@ GG_INC_LINK GG_NO_SLP int GG_INC_NAME(bvh_intersect)(const gg_geom *g, const gg_
     any_t tmin4, tmax4;
 
     if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
+    GG_COUNT(g, closest);
     /* The conservative box test assumes tmin >= 0 (a box wholly behind the
        origin could otherwise be lost to the exit scaling). */
     if (!ANY_INIT(&tv, &r) || q->tmin < 0) {
@@ -379,6 +390,7 @@ GG_INC_LINK GG_NO_SLP int GG_INC_NAME(bvh_intersect)(const gg_geom *g, const gg_
             unsigned mask = ANY_BOXT(nd, &tv, tmin4, tmax4, tn);
             int i0, i1;
             GG_COST_NODE();
+            GG_COUNT(g, box8);
             if (mask) {
                 i0 = lowest_bit(mask);
                 mask &= mask - 1;
@@ -443,6 +455,7 @@ GG_INC_LINK GG_NO_SLP int GG_INC_NAME(bvh_intersect)(const gg_geom *g, const gg_
     }
 done:
     if (best.prim == UINT32_MAX) return 0;
+    GG_COUNT(g, hits);
     *hit = best;
     return 1;
 }
@@ -501,6 +514,7 @@ GG_INLINE uint32_t occ_walk(const gg_geom *g, const gg_rayq *q, gg_rpre *r, cons
         if (!(cur & GG_LEAF)) {
             const any_node *nd = &ANY_NODES(g)[cur];
             unsigned mask = ANY_BOX(nd, tv, tmin4, tmax4);
+            GG_COUNT(g, box8);
             if (mask) {
                 cur = any_descend(nd->child, mask, stack, &sp);
                 continue;
@@ -533,6 +547,7 @@ GG_INC_LINK GG_NO_SLP uint32_t GG_INC_NAME(bvh_occluder)(const gg_geom *g, const
     double tmax;
 
     if (!g->built || !g->nslots || !(q->tmax > q->tmin)) return 0;
+    GG_COUNT(g, any);
     tmax = gg_next_down_tmax(q->tmax);
     if (!(*cache && *cache <= g->nslots)) {
         if (ANY_INIT6(&tv, q->o.x, q->o.y, q->o.z, q->d.x, q->d.y, q->d.z) && q->tmin >= 0)
@@ -568,6 +583,7 @@ GG_INC_LINK GG_NO_SLP int GG_INC_NAME(bvh_shadow)(const gg_geom *g, const gg_ray
     any_t tmin4, tmax4;
 
     if (!g->built || !g->nslots || !gg_rpre_fill(&r, q) || !(q->tmax > q->tmin)) return 0;
+    GG_COUNT(g, shadow);
     r.skip = 0;
     tmax = gg_next_down_tmax(q->tmax);
     best.t = tmax;
@@ -590,6 +606,7 @@ GG_INC_LINK GG_NO_SLP int GG_INC_NAME(bvh_shadow)(const gg_geom *g, const gg_ray
         if (!(cur & GG_LEAF)) {
             const any_node *nd = &ANY_NODES(g)[cur];
             unsigned mask = ANY_BOX(nd, &tv, tmin4, tmax4);
+            GG_COUNT(g, box8);
             if (mask) {
                 cur = any_descend(nd->child, mask, stack, &sp);
                 continue;
@@ -1027,6 +1044,7 @@ GG_INLINE int pk_leaf(const gg_geom *g, pkt *p, uint32_t box, pk_ray *s)
     const int i = (int)(box & 3);
     unsigned m = pk_lanes(nd, i, p);
     int found = 0;
+    GG_COUNT(g, plane);
     while (m) {
         int l = lowest_bit(m);
         m &= m - 1;
@@ -1061,6 +1079,7 @@ static void pk_walk(const gg_geom *g, pkt *p, pk_ray *s)
             const gg_bnode *nd = &g->nodes[cur];
             float tn[4];
             unsigned mask = (unsigned)pk_box4(nd, p, tmin4, tmax4, tn);
+            GG_COUNT(g, pbox4);
             if (mask) {
                 cur = pk_descend(nd, cur, mask, tn, stack, stack_t, &sp);
                 continue;
@@ -1105,10 +1124,12 @@ GG_INC_LINK GG_NO_SLP unsigned GG_INC_NAME(bvh_packet)(const gg_geom *g, const g
             continue;
         }
         pk_pack(&p, &a, grp);
+        GG_COUNT(g, packets);
         pk_walk(g, &p, &s);
         for (m = grp & s.ready; m; m &= m - 1) { /* (a lane that reached no leaf hit nothing) */
             int l = lowest_bit(m);
             if (s.best[l].prim == UINT32_MAX) continue;
+            GG_COUNT(g, hits);
             hit[l] = s.best[l];
             got |= 1u << l;
         }
@@ -1122,5 +1143,6 @@ GG_INC_LINK GG_NO_SLP unsigned GG_INC_NAME(bvh_packet)(const gg_geom *g, const g
 #undef GG_ROWTABLE
 #undef GG_ROWSET
 #undef GG_ROWS
+#undef GG_COUNT
 
 #endif

@@ -217,6 +217,46 @@ typedef struct gg_trav_cost {
    is the one every copy takes (bvh_trav.inc.h): the counts are the render's. */
 int gg_geom_intersect_cost(const gg_geom *g, const gg_rayq *q, gg_hit *hit, gg_trav_cost *cost);
 
+/* The kernel calls of the AVX copies' walks, as a counting copy of them
+   (bvh_avx.c built again with GG_TRAV_COUNT: bvh_count_avx.o) makes
+   them; the copies the render takes count nothing. Per field: queries
+   (closest, any = occluder, shadow = shadow with a crossing list,
+   packets = packet walks), kernel calls (box8: 8-box node tests of the
+   single-ray walks; pbox4: 4-box interval tests of a packet's walk;
+   plane: a packet's 16-lane test of a leaf's box; tri4: 4-wide triangle
+   block tests; tri, sphere, other: one element's test, by kind), and
+   hits: closest-hit queries (single or packet lanes) that found one. */
+typedef struct gg_kcount {
+    uint64_t closest, any, shadow, packets;
+    uint64_t box8, pbox4, plane, tri4, tri, sphere, other, hits;
+} gg_kcount;
+
+/* Route g's queries through the counting copy, counting into *kc (which
+   is not cleared), until gg_geom_count_end; 0, or -1 when g's queries
+   take no AVX copy (the plain copy has no counting twin) or this build
+   has none. Not while other threads query g. */
+int gg_geom_count_begin(gg_geom *g, gg_kcount *kc);
+void gg_geom_count_end(gg_geom *g);
+
+/* The kernels gg_geom_kloop runs: one call each, on the same data every
+   time (cached), each call's input depending on the last one's result,
+   as a walk's next node depends on this one's test. */
+#define GG_KL_BOX8   0 /* box8 on the root of the 8-wide tree */
+#define GG_KL_PBOX4  1 /* pk_box4 on the root of the 4-wide tree, a packet of 16 */
+#define GG_KL_PLANE  2 /* pk_lanes on a box of that root, the same packet */
+#define GG_KL_TRI4   3 /* the 4-wide triangle test of the first block */
+#define GG_KL_TRI    4 /* the triangle kernel on the first triangle */
+#define GG_KL_SPHERE 5 /* the sphere kernel on the first sphere */
+#define GG_KL_OTHER  6 /* gg_elem_hit on the first element of another kind */
+#define GG_KL_N      7
+/* Run kernel k n times as the AVX copy g's queries take compiles it
+   (bvh_kloop_*.o), with a ray from q's origin aimed at the kernel's
+   data (the first element of its kind, the scene box's centre for the
+   nodes); returns a sum of the results (so that the loop is not
+   optimised away), or -1 when g has no such data (no triangle block, no
+   sphere, ...) or no AVX copy. GG_KL_* are ggKernelLoop's GG_KERNEL_*. */
+double gg_geom_kloop(const gg_geom *g, int k, const gg_rayq *q, long n);
+
 /* The transparent surfaces a shadow segment crosses (gg_geom_occluded).
    complete = 1: h[0..n) is every crossing, nearest first (by t, prim,
    sub), and nothing opaque is on the segment; spheres and cone slices

@@ -237,6 +237,10 @@ struct gg_geom {
     int trav_avx; /* the walk copy queries take: 0 plain, 1 AVX (bvh_avx.c), 2 its AVX2 build,
                      3 its AVX-512 build */
     double build_seconds;
+    /* What the counting copy (bvh_count_avx.o) counts into while
+       gg_geom_count_begin has it in place; NULL otherwise. Last, so that
+       no other member moved for the copies that never read it. */
+    gg_kcount *kcount;
 };
 
 /* Per-shape code (shape_*.c). Bounds are conservative boxes in double. */

@@ -1243,3 +1243,32 @@ ggColor gg_shade_eye_hit(const gg_shade_ctx *c, const gg_rayq *q, const gg_hit *
     root_ray(&r, q->o, q->d, 1);
     return trace_root(c, &r, th, h);
 }
+
+/* The shading of hit h of the eye ray q (unit direction) without a ray:
+   hit_setup, emission and ambient, the diffuse and Phong terms of every
+   light the surface faces as if nothing blocked it, and the mirror
+   weight: the arithmetic a hit costs besides its queries, in the glass
+   copy's code (`ggrt bench limit`, through ggKernelLoop). */
+ggColor gg_shade_local(const gg_shade_ctx *c, const gg_rayq *q, const gg_hit *h)
+{
+    const unsigned FX = FX_GLASS;
+    const ggScene *s = c->s;
+    ray_state r;
+    hit_info hi;
+    secondary sc;
+    ggColor col;
+    size_t li;
+    root_ray(&r, q->o, q->d, 1);
+    hit_setup(c, &r, q, h, &hi, FX);
+    col = emission_ambient(c, &hi, FX);
+    for (li = 0; li < s->nlights; li++) {
+        const ggVec3 L = v3sub(s->lights[li].pos, hi.sf.p);
+        double nl, len;
+        if (v3dot(hi.ng, L) <= 0 || (nl = v3dot(hi.ns, L)) <= 0) continue;
+        len = v3len(L);
+        light_terms(c, &r, &hi, s->light_colors[li], nl / len, v3scale(L, 1.0 / len), -1, &col,
+                    FX);
+    }
+    mirror_weight(c, &r, &hi, &sc, FX);
+    return cadd(col, sc.wr);
+}

@@ -84,6 +84,11 @@ ggColor gg_shade_ray_unit(const gg_shade_ctx *ctx, ggVec3 o, ggVec3 u, int depth
    both per ray; a batch of rays can do it once). */
 ggColor gg_shade_eye_hit(const gg_shade_ctx *ctx, const gg_rayq *q, const gg_hit *h,
                          gg_shade_thread *th);
+
+/* What shading hit h of eye ray q (unit d) costs besides its rays: the
+   surface, emission, ambient, each facing light's terms as if unblocked,
+   the mirror weight (ggKernelLoop's GG_KERNEL_SHADE). Not a pixel's colour. */
+ggColor gg_shade_local(const gg_shade_ctx *ctx, const gg_rayq *q, const gg_hit *h);
 /* An eye ray starts in the outside medium: a miss is the background,
    with no absorption. */
 static inline ggColor gg_shade_eye_miss(const gg_shade_ctx *ctx)

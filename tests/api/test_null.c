@@ -335,6 +335,17 @@ static void test_render_trace(void **state)
     COVER(ggCameraRay), cr = ggCameraRay(NULL, NULL, 0, 0);
     assert_true(cr.o.x == 0 && cr.d.x == 0 && cr.d.y == 0 && cr.d.z == 0);
     COVER(ggRayColor), assert_true(is_black(ggRayColor(NULL, NULL, r, 1, &st)));
+    {
+        ggKernelCounts kc;
+        memset(&kc, 0xff, sizeof kc);
+        COVER(ggRenderCountKernels);
+        assert_int_equal(ggRenderCountKernels(NULL, NULL, &kc, NULL), GG_ERROR_INVALID);
+        assert_true(kc.closest == 0 && kc.node == 0 && kc.hits == 0);
+        assert_int_equal(ggRenderCountKernels(s, NULL, NULL, NULL), GG_ERROR_INVALID);
+        COVER(ggKernelLoop), assert_true(ggKernelLoop(NULL, NULL, GG_KERNEL_NODE, 10) < 0);
+        assert_true(ggKernelLoop(s, NULL, -1, 10) < 0);
+        assert_true(ggKernelLoop(s, NULL, GG_KERNEL_KINDS, 10) < 0);
+    }
     COVER(ggTraceCreate), ggTraceFree(ggTraceCreate(NULL));
     COVER(ggTraceFree), ggTraceFree(NULL);
     COVER(ggTraceNodeCount), assert_int_equal(ggTraceNodeCount(NULL), 0);

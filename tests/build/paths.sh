@@ -72,8 +72,9 @@ def comments(path, text):
 
 def isa_again():
     """The objects the Makefile's ISA_AGAIN builds from another source."""
-    m = re.search(r"^ISA_AGAIN\s*=([^\n]*)", open("Makefile").read(), re.M)
-    return {w.split(":")[0] for w in m.group(1).split()} if m else set()
+    # (its value may go on over lines ending in a backslash)
+    m = re.search(r"^ISA_AGAIN\s*=((?:[^\n]*\\\n)*[^\n]*)", open("Makefile").read(), re.M)
+    return {w.split(":")[0] for w in m.group(1).replace("\\", " ").split()} if m else set()
 
 def exists(p):
     p = p.rstrip("/")
