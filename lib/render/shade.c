@@ -1266,8 +1266,9 @@ ggColor gg_shade_local(const gg_shade_ctx *c, const gg_rayq *q, const gg_hit *h)
         double nl, len;
         if (v3dot(hi.ng, L) <= 0 || (nl = v3dot(hi.ns, L)) <= 0) continue;
         len = v3len(L);
-        light_terms(c, &r, &hi, s->light_colors[li], nl / len, v3scale(L, 1.0 / len), -1, &col,
-                    FX);
+        /* no thread: FX_GLASS has no path layers (aov_light returns at once) */
+        light_terms(c, &r, &hi, NULL, li, s->light_colors[li], nl / len, v3scale(L, 1.0 / len),
+                    -1, &col, FX);
     }
     mirror_weight(c, &r, &hi, &sc, FX);
     return cadd(col, sc.wr);
