@@ -288,6 +288,19 @@ static void put_sample_layers(job *j, int gx, int gy, const ggColor *v, const ui
     }
 }
 
+/* put_sample_layers at a pixel centre when only the float map is wanted
+   (ggRender): the same values, without its tests. */
+static void put_map_layers(job *j, int gx, int gy, const ggColor *v, double scale)
+{
+    const size_t plane3 = 3 * (size_t)j->r.w * (size_t)j->r.h;
+    float *o = j->lmap + 3 * ((size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx));
+    int l;
+    for (l = 0; l < j->layers->n; l++, o += plane3) {
+        const ggColor a = cscale(cadd(rgb(0, 0, 0), v[l]), scale);
+        o[0] = (float)a.r, o[1] = (float)a.g, o[2] = (float)a.b;
+    }
+}
+
 /* What an eye ray's miss gives each layer: the background if the layer
    takes CB (the layer copy's trace_fx on a miss: weight 1, no
    absorption outside every medium). */
@@ -501,7 +514,10 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
                 }
                 col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
                 nonfinite += corner ? put_corner(o, &col) : put_centre(o, &col, scale);
-                if (layers) put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
+                if (layers && !corner && !j->lsum)
+                    put_map_layers(j, gx0 + i, gy, th->aov, scale);
+                else if (layers)
+                    put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
