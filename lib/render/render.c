@@ -334,6 +334,17 @@ static void fill_layers(job *j, int gx, int gy, int n, const float (*f)[3])
     }
 }
 
+/* Rows of an empty tile: fill_layers' stores, the n pixels of each layer
+   copied from its row p (f repeated), so in wide stores. */
+static void fill_layer_row(job *j, int gx, int gy, int n, const float (*p)[3 * TILE])
+{
+    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
+    const size_t i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
+    int l;
+    for (l = 0; l < j->layers->n; l++)
+        memcpy(j->lmap + 3 * (i + (size_t)l * plane), p[l], 3 * sizeof(float) * (size_t)n);
+}
+
 /* The same for the layer sums: d and hit h (as stored) at n pixels. */
 static void fill_sums(job *j, int gx, int gy, int n, const double *d, const unsigned char *h)
 {
@@ -578,12 +589,15 @@ static void empty_tile_layers(job *j, int gx0, int gy0, int gx1, int gy1, int n)
         f[l][0] = (float)a.r, f[l][1] = (float)a.g, f[l][2] = (float)a.b;
         d[l] = a.r + a.g + a.b, h[l] = c[l] != 0;
     }
-    for (gy = gy0; !j->corner && gy < gy1; gy++) {
-        if (j->lsum)
-            fill_sums(j, gx0, gy, gx1 - gx0, d, h);
-        else
-            fill_layers(j, gx0, gy, gx1 - gx0, (const float(*)[3])f);
+    if (!j->corner && !j->lsum) {
+        float p[GG_LAYERS_MAX][3 * TILE];
+        for (l = 0; l < j->layers->n; l++)
+            for (k = 0; k < 3 * TILE; k++) p[l][k] = f[l][k % 3];
+        for (gy = gy0; gy < gy1; gy++)
+            fill_layer_row(j, gx0, gy, gx1 - gx0, (const float(*)[3 * TILE])p);
+        return;
     }
+    for (gy = gy0; !j->corner && gy < gy1; gy++) fill_sums(j, gx0, gy, gx1 - gx0, d, h);
     if (!j->corner) return;
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) put_sample_layers(j, gx, gy, v, c, 1.0 / j->r.spp);
