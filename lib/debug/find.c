@@ -143,9 +143,9 @@ static int find_by_render(ggScene *s, const ggRenderOptions *opt, find_job *fj, 
 /* A path find without predicates (l: its one layer, freed here), one
    sample per pixel at its centre: a
    render whose layer copy carries the expression's automaton gives each
-   pixel's matching terms, their count and their sum in ggPathMatch's
-   order (gg_render_layer_sums), so the same matches and shares as
-   tracing every pixel, without the recorder. */
+   pixel's matching terms: whether there is a non-zero one, and their
+   sum's r + g + b in ggPathMatch's order (gg_render_layer_sums), so the
+   same matches and shares as tracing every pixel, without the recorder. */
 static int find_by_layers(ggScene *s, const ggRenderOptions *opt, find_job *fj, ggPathLayers *l,
                           ggError *err)
 {
