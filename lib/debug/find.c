@@ -143,32 +143,36 @@ static int find_by_render(ggScene *s, const ggRenderOptions *opt, find_job *fj, 
 /* A path find without predicates (l: its one layer, freed here), one
    sample per pixel at its centre: a
    render whose layer copy carries the expression's automaton gives each
-   pixel's matching terms, their count and their sum in ggPathMatch's
-   order (gg_render_layer_sums), so the same matches and shares as
-   tracing every pixel, without the recorder. */
+   pixel's matching terms: whether there is a non-zero one, and their
+   sum's r + g + b in ggPathMatch's order (gg_render_layer_sums), so the
+   same matches and shares as tracing every pixel, without the recorder. */
 static int find_by_layers(ggScene *s, const ggRenderOptions *opt, find_job *fj, ggPathLayers *l,
                           ggError *err)
 {
     ggFindResult *r = fj->res;
     const size_t n = (size_t)r->width * (size_t)r->height;
     ggImage *img = NULL;
-    double *sum = gg_mem_calloc(fj->alloc, n, 3 * sizeof *sum);
-    uint32_t *cnt = gg_mem_calloc(fj->alloc, n, sizeof *cnt);
-    int x, y, rc = sum && cnt ? GG_OK
+    double *sum = gg_mem_alloc(fj->alloc, n * sizeof *sum);
+    unsigned char *hit = gg_mem_calloc(fj->alloc, n, 1);
+    int x, y, rc = sum && hit ? GG_OK
                               : gg_error_set(err, GG_ERROR_NOMEM, "out of memory for a path find");
-    if (rc == GG_OK) rc = gg_render_layer_sums(s, opt, l, sum, cnt, &img, &r->stats, err);
-    if (rc == GG_OK) ggImageFree(r->image), r->image = img;
-    for (y = r->y0; rc == GG_OK && y < r->y1; y++)
+    if (rc == GG_OK) rc = gg_render_layer_sums(s, opt, l, sum, hit, &img, &r->stats, err);
+    if (rc == GG_OK) r->image = img;
+    for (y = r->y0; rc == GG_OK && y < r->y1; y++) {
+        const unsigned char *h = hit + (size_t)y * r->width;
         for (x = r->x0; rc == GG_OK && x < r->x1; x++) {
             const size_t i = (size_t)y * r->width + x;
-            const ggColor px = ggImageGet(img, x, y);
-            const double pt = px.r + px.g + px.b, vt = sum[3 * i] + sum[3 * i + 1] + sum[3 * i + 2];
+            ggColor px;
+            double pt;
+            if (!h[x]) continue;
+            px = ggImageGet(img, x, y), pt = px.r + px.g + px.b;
             /* the share as path_match.c's gg_path_run computes it */
-            if (cnt[i] && matched(fj, &fj->t[0], x, y, px, pt != 0 && pt == pt && pt - pt == 0 ? vt / pt : 0))
+            if (matched(fj, &fj->t[0], x, y, px, pt != 0 && pt == pt && pt - pt == 0 ? sum[i] / pt : 0))
                 rc = gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
         }
+    }
     ggPathLayersFree(l);
-    gg_mem_free(fj->alloc, sum), gg_mem_free(fj->alloc, cnt);
+    gg_mem_free(fj->alloc, sum), gg_mem_free(fj->alloc, hit);
     return rc;
 }
 
@@ -183,8 +187,9 @@ GG_API void ggFindResultFree(ggFindResult *r)
     gg_mem_free(a, r);
 }
 
-/* A result for the tracer's image and window, and the workers' lists. */
-static int find_alloc(ggScene *s, const gg_scan *sc, find_job *fj, ggFindResult **out)
+/* A result for the tracer's image and window (with an image of its own
+   when `image`: else a render's is put there), and the workers' lists. */
+static int find_alloc(ggScene *s, const gg_scan *sc, find_job *fj, ggFindResult **out, int image)
 {
     find_res *fr = gg_mem_calloc(s->alloc, 1, sizeof *fr);
     ggFindResult *r;
@@ -195,9 +200,9 @@ static int find_alloc(ggScene *s, const gg_scan *sc, find_job *fj, ggFindResult 
     r->width = sc->desc.width, r->height = sc->desc.height;
     r->x0 = sc->desc.x0, r->y0 = sc->desc.y0, r->x1 = sc->desc.x1, r->y1 = sc->desc.y1;
     r->mask = gg_mem_calloc(fj->alloc, (size_t)r->width * (size_t)r->height, 1);
-    r->image = ggImageCreate(r->width, r->height, fj->alloc);
+    if (image) r->image = ggImageCreate(r->width, r->height, fj->alloc);
     fj->t = gg_mem_calloc(fj->alloc, (size_t)sc->threads, sizeof *fj->t);
-    if (!r->mask || !r->image || !fj->t) return GG_ERROR_NOMEM;
+    if (!r->mask || (image && !r->image) || !fj->t) return GG_ERROR_NOMEM;
     return GG_OK;
 }
 
@@ -228,12 +233,17 @@ static int find_run(ggScene *s, const ggRenderOptions *opt, find_job *fj, unsign
     sc.record = (needs & GG_NEED_TREE) != 0;
     sc.every_pixel = (needs & GG_NEED_COST) != 0;
     gg_scan_init(&sc);
-    rc = find_alloc(s, &sc, fj, &r);
+    if (sc.record && fj->path && sc.desc.samples == 1 &&
+        gg_path_layers_of(fj->path, &l, NULL) != GG_OK)
+        l = NULL;
+    /* a render's image goes into the result: none of its own then */
+    rc = find_alloc(s, &sc, fj, &r, sc.record && !l);
     if (rc != GG_OK) {
+        ggPathLayersFree(l);
         rc = gg_error_set(err, rc, "out of memory for the find result");
     } else if (!sc.record) {
         rc = find_by_render(s, opt, fj, err);
-    } else if (fj->path && sc.desc.samples == 1 && gg_path_layers_of(fj->path, &l, NULL) == GG_OK) {
+    } else if (l) {
         rc = find_by_layers(s, opt, fj, l, err);
     } else {
         sc.fn = find_pixel, sc.ud = fj, sc.alloc = fj->alloc;

@@ -202,11 +202,13 @@ typedef struct job {
     int cost_kind;
     const ggPathLayers *layers; /* path layers (n > 0), or NULL */
     float *lmap;                /* their map (ggRenderOptions.layer_map), or NULL */
-    double *lsum;               /* gg_render_layer_sums: the layers in double, or NULL */
-    uint32_t *lcnt;             /* and the terms each took */
+    double *lsum;               /* gg_render_layer_sums: each layer's r + g + b in double, or NULL */
+    unsigned char *lhit;        /* and 1 where it took a non-zero term (set with lsum) */
     ggColor lmiss[GG_LAYERS_MAX];   /* each layer's share of an eye ray's miss */
     uint32_t nmiss[GG_LAYERS_MAX];  /* and its terms (0 or 1) */
+    unsigned char nmiss8[GG_LAYERS_MAX]; /* the same, as lhit stores them */
     float fmiss[GG_LAYERS_MAX][3];  /* a one-sample pixel's layers of a miss, as stored */
+    double dmiss[GG_LAYERS_MAX];    /* and as lsum stores them */
     float *lcorner;             /* pixel-corner mode: each corner's layers, n RGB */
     ggRayStats stats;
 } job;
@@ -257,7 +259,7 @@ static void put_layer(job *j, int l, int x, int y, ggColor v)
 {
     const size_t i = ((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x;
     if (j->lmap) j->lmap[3 * i] = (float)v.r, j->lmap[3 * i + 1] = (float)v.g, j->lmap[3 * i + 2] = (float)v.b;
-    if (j->lsum) j->lsum[3 * i] = v.r, j->lsum[3 * i + 1] = v.g, j->lsum[3 * i + 2] = v.b;
+    if (j->lsum) j->lsum[i] = v.r + v.g + v.b;
 }
 
 /* One sample's layers v (and term counts n) at grid point (gx, gy): a
@@ -281,8 +283,21 @@ static void put_sample_layers(job *j, int gx, int gy, const ggColor *v, const ui
     for (l = 0; l < nl; l++, i += plane) {
         const ggColor a = cscale(cadd(rgb(0, 0, 0), v[l]), scale);
         if (j->lmap) j->lmap[3 * i] = (float)a.r, j->lmap[3 * i + 1] = (float)a.g, j->lmap[3 * i + 2] = (float)a.b;
-        if (j->lsum) j->lsum[3 * i] = a.r, j->lsum[3 * i + 1] = a.g, j->lsum[3 * i + 2] = a.b;
-        if (j->lcnt) j->lcnt[i] = n ? n[l] : 0;
+        if (j->lsum) j->lsum[i] = a.r + a.g + a.b;
+        if (j->lhit) j->lhit[i] = n && n[l] != 0;
+    }
+}
+
+/* put_sample_layers at a pixel centre when only the float map is wanted
+   (ggRender): the same values, without its tests. */
+static void put_map_layers(job *j, int gx, int gy, const ggColor *v, double scale)
+{
+    const size_t plane3 = 3 * (size_t)j->r.w * (size_t)j->r.h;
+    float *o = j->lmap + 3 * ((size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx));
+    int l;
+    for (l = 0; l < j->layers->n; l++, o += plane3) {
+        const ggColor a = cscale(cadd(rgb(0, 0, 0), v[l]), scale);
+        o[0] = (float)a.r, o[1] = (float)a.g, o[2] = (float)a.b;
     }
 }
 
@@ -299,7 +314,9 @@ static void miss_layers(job *j)
         const ggColor a = cscale(cadd(rgb(0, 0, 0), on ? bg : rgb(0, 0, 0)), 1.0 / j->r.spp);
         j->lmiss[l] = on ? bg : rgb(0, 0, 0);
         j->nmiss[l] = on && (bg.r != 0 || bg.g != 0 || bg.b != 0);
+        j->nmiss8[l] = (unsigned char)j->nmiss[l];
         j->fmiss[l][0] = (float)a.r, j->fmiss[l][1] = (float)a.g, j->fmiss[l][2] = (float)a.b;
+        j->dmiss[l] = a.r + a.g + a.b;
     }
 }
 
@@ -314,6 +331,29 @@ static void fill_layers(job *j, int gx, int gy, int n, const float (*f)[3])
     for (l = 0; l < j->layers->n; l++) {
         float *o = j->lmap + 3 * (i + (size_t)l * plane);
         for (k = 0; k < n; k++, o += 3) o[0] = f[l][0], o[1] = f[l][1], o[2] = f[l][2];
+    }
+}
+
+/* Rows of an empty tile: fill_layers' stores, the n pixels of each layer
+   copied from its row p (f repeated), so in wide stores. */
+static void fill_layer_row(job *j, int gx, int gy, int n, const float (*p)[3 * TILE])
+{
+    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
+    const size_t i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
+    int l;
+    for (l = 0; l < j->layers->n; l++)
+        memcpy(j->lmap + 3 * (i + (size_t)l * plane), p[l], 3 * sizeof(float) * (size_t)n);
+}
+
+/* The same for the layer sums: d and hit h (as stored) at n pixels. */
+static void fill_sums(job *j, int gx, int gy, int n, const double *d, const unsigned char *h)
+{
+    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
+    const size_t i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
+    int l, k;
+    for (l = 0; l < j->layers->n; l++) {
+        const size_t at = i + (size_t)l * plane;
+        for (k = 0; k < n; k++) j->lsum[at + k] = d[l], j->lhit[at + k] = h[l];
     }
 }
 
@@ -335,10 +375,10 @@ static ggColor pixel_layers(job *j, int x, int y, gg_shade_thread *th)
         for (l = 0; l < nl; l++) lacc[l] = cadd(lacc[l], th->aov[l]);
     }
     for (l = 0; l < nl; l++) put_layer(j, l, x, y, cscale(lacc[l], 1.0 / j->r.spp));
-    if (j->lcnt)
+    if (j->lhit)
         for (l = 0; l < nl; l++)
-            j->lcnt[((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x] =
-                th->aov_n[l];
+            j->lhit[((size_t)l * (size_t)j->r.h + (size_t)y) * (size_t)j->r.w + (size_t)x] =
+                th->aov_n[l] != 0;
     return cscale(acc, 1.0 / j->r.spp);
 }
 
@@ -485,12 +525,17 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
                 }
                 col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
                 nonfinite += corner ? put_corner(o, &col) : put_centre(o, &col, scale);
-                if (layers) put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
+                if (layers && !corner && !j->lsum)
+                    put_map_layers(j, gx0 + i, gy, th->aov, scale);
+                else if (layers)
+                    put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
-                if (layers && !j->corner && !j->lsum && !j->lcnt)
+                if (layers && !corner && !j->lsum)
                     fill_layers(j, gx0 + i, gy, 1, (const float(*)[3])j->fmiss);
+                else if (layers && !corner)
+                    fill_sums(j, gx0 + i, gy, 1, j->dmiss, j->nmiss8);
                 else if (layers)
                     put_sample_layers(j, gx0 + i, gy, j->lmiss, j->nmiss, scale);
             }
@@ -534,17 +579,26 @@ static void empty_tile_layers(job *j, int gx0, int gy0, int gx1, int gy1, int n)
     uint32_t c[GG_LAYERS_MAX];
     int l, k, gx, gy;
     float f[GG_LAYERS_MAX][3];
+    double d[GG_LAYERS_MAX];
+    unsigned char h[GG_LAYERS_MAX];
     for (l = 0; l < j->layers->n; l++) {
         ggColor acc = rgb(0, 0, 0), a;
         for (k = 0; k < n; k++) acc = cadd(acc, j->lmiss[l]);
         v[l] = acc, c[l] = (uint32_t)n * j->nmiss[l];
         a = cscale(cadd(rgb(0, 0, 0), acc), 1.0 / j->r.spp);
         f[l][0] = (float)a.r, f[l][1] = (float)a.g, f[l][2] = (float)a.b;
+        d[l] = a.r + a.g + a.b, h[l] = c[l] != 0;
     }
-    if (!j->corner && !j->lsum && !j->lcnt) {
-        for (gy = gy0; gy < gy1; gy++) fill_layers(j, gx0, gy, gx1 - gx0, (const float(*)[3])f);
+    if (!j->corner && !j->lsum) {
+        float p[GG_LAYERS_MAX][3 * TILE];
+        for (l = 0; l < j->layers->n; l++)
+            for (k = 0; k < 3 * TILE; k++) p[l][k] = f[l][k % 3];
+        for (gy = gy0; gy < gy1; gy++)
+            fill_layer_row(j, gx0, gy, gx1 - gx0, (const float(*)[3 * TILE])p);
         return;
     }
+    for (gy = gy0; !j->corner && gy < gy1; gy++) fill_sums(j, gx0, gy, gx1 - gx0, d, h);
+    if (!j->corner) return;
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) put_sample_layers(j, gx, gy, v, c, 1.0 / j->r.spp);
 }
@@ -646,7 +700,7 @@ static void *worker(void *arg)
     uint32_t aov_n[GG_LAYERS_MAX];
     memset(&th, 0, sizeof th);
     th.aov = aov;
-    if (j->lcnt) th.aov_n = aov_n;
+    if (j->lhit) th.aov_n = aov_n;
     for (;;) {
         int t;
         long tile_px;
@@ -752,14 +806,14 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
 }
 
 int gg_render_layer_sums(ggScene *s, const ggRenderOptions *opt, const ggPathLayers *l,
-                         double *sums, uint32_t *counts, ggImage **out, ggRayStats *stats,
+                         double *sums, unsigned char *hits, ggImage **out, ggRayStats *stats,
                          ggError *err)
 {
     job j;
     if (stats) memset(stats, 0, sizeof *stats);
     *out = NULL;
     memset(&j, 0, sizeof j);
-    j.layers = l, j.lsum = sums, j.lcnt = counts;
+    j.layers = l, j.lsum = sums, j.lhit = hits;
     return render_job(&j, s, opt, out, stats, err);
 }
 

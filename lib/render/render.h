@@ -46,15 +46,16 @@ int gg_tracer_empty(const gg_tracer *t, int x0, int y0, int x1, int y1);
 
 /* ggRender with path layers l (lpe.h), for the debugger: the image into
    *out and, per layer and pixel of opt's window, the sum in double of the
-   terms the layer takes (sums: 3 doubles per pixel, layer after layer as
-   ggRenderOptions.layer_map) and how many non-zero terms it took
-   (counts: one per pixel, the same order); outside the window both are
+   terms the layer takes, r + g + b (sums: one double per pixel, layer
+   after layer, row by row) and whether it took a non-zero term (hits: 1
+   or 0, one byte per pixel, the same order); outside the window both are
    left as they are. In the order the ledger adds a pixel's terms (the
    order its rays are cast), so for one sample per pixel at its centre
-   the sums are ggPathMatch's values bit for bit; GG_ERROR_UNSUPPORTED
+   the sums are ggPathMatch's values' r + g + b bit for bit (as gg_path_run
+   adds them for a share); GG_ERROR_UNSUPPORTED
    for more samples or pixel corners. */
 int gg_render_layer_sums(ggScene *s, const ggRenderOptions *opt, const ggPathLayers *l,
-                         double *sums, uint32_t *counts, ggImage **out, ggRayStats *stats,
+                         double *sums, unsigned char *hits, ggImage **out, ggRayStats *stats,
                          ggError *err);
 
 #endif
