@@ -198,6 +198,7 @@ int gg_path_layers_of(const ggPathExpr *e, ggPathLayers **out, ggError *err)
         ggPathLayersFree(P);
         return rc;
     }
+    P->live = P->layer[0].start ? 1u : 0u;
     *out = P;
     return GG_OK;
 }
@@ -237,6 +238,8 @@ GG_API int ggPathLayersCompile(const char *const *exprs, int n, const ggAllocato
         ggPathLayersFree(P);
         return rc;
     }
+    for (l = 0; l < n; l++)
+        if (P->layer[l].start) P->live |= 1u << l;
     *out = P;
     return GG_OK;
 }

@@ -72,6 +72,7 @@ struct ggPathLayers {
     ggAllocator alloc_copy;
     const ggAllocator *alloc;
     int n;
+    unsigned live; /* bit l: layer l's start state is not dead */
     gg_lpe_dfa layer[GG_LAYERS_MAX];
 };
 

@@ -114,8 +114,10 @@ typedef struct hit_info {
     /* The layer copy (aov_local fills them): the ray's thru times its
        absorption to the hit; per live layer the class of the hit's labels
        and the terms its automaton accepts there (lpe.h, GG_LPE_T_*); the
-       layers that accept some light's term there (bit l). */
+       layers that accept some light's term there (bit l); awz: aw has
+       a channel of exactly 0 (wmul's tests needed). */
     ggColor aw;
+    int awz;
     uint16_t lcls[GG_LAYERS_MAX];
     uint32_t lterm[GG_LAYERS_MAX];
     unsigned llive;
@@ -602,14 +604,25 @@ static void aov_add(gg_shade_thread *th, int l, ggColor a, ggColor term)
     if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
 }
 
-/* An eye ray: weight 1, every layer after its C. */
+/* aov_add with a = hi->aw: a plain product when aw has no zero channel
+   (wmul's result then is the same, bit for bit). */
+GG_INLINE void aov_add_hit(gg_shade_thread *th, int l, const hit_info *hi, ggColor term)
+{
+    const ggColor p = hi->awz ? wmul(hi->aw, term) : cmul(hi->aw, term);
+    th->aov[l] = cadd(th->aov[l], p);
+    if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
+}
+
+/* An eye ray: weight 1, every layer not dead after its C. */
 static void aov_root(const gg_shade_ctx *c, ray_state *r)
 {
-    int l;
+    unsigned m;
     r->thru = rgb(1, 1, 1);
-    r->lmask = 0;
-    for (l = 0; l < c->layers->n; l++)
-        if ((r->lpe[l] = c->layers->layer[l].start) != 0) r->lmask |= 1u << l;
+    r->lmask = c->layers->live;
+    for (m = r->lmask; m; m &= m - 1) {
+        const int l = (int)GG_CTZ(m);
+        r->lpe[l] = c->layers->layer[l].start;
+    }
 }
 
 /* The hit's per-layer classes and terms (hi->lcls, lterm, llive), then
@@ -629,9 +642,9 @@ GG_INLINE void aov_local(const gg_shade_ctx *c, const ray_state *r, hit_info *hi
         hi->lcls[l] = (uint16_t)cls;
         hi->lterm[l] = t;
         if (t & (GG_LPE_T_L << GG_LPE_T_RDL | GG_LPE_T_L << GG_LPE_T_RGL)) hi->llive |= 1u << l;
-        if (t & GG_LPE_T_A) aov_add(th, l, hi->aw, amb);
+        if (t & GG_LPE_T_A) aov_add_hit(th, l, hi, amb);
         if ((FX & GG_EFFECT_EMISSION) && (hi->mf->flags & GG_MF_EMIT) && (t & GG_LPE_T_O))
-            aov_add(th, l, hi->aw, hi->m->ke);
+            aov_add_hit(th, l, hi, hi->m->ke);
     }
 }
 
@@ -646,8 +659,8 @@ GG_INLINE void aov_light(const gg_shade_ctx *c, const ray_state *r, const hit_in
     for (m = hi->llive; m; m &= m - 1) {
         const int l = (int)GG_CTZ(m);
         const uint32_t t = hi->lterm[l] >> gg_lpe_num_class(&c->layers->layer[l], (long)li);
-        if (t >> GG_LPE_T_RDL & 1u) aov_add(th, l, hi->aw, diff);
-        if (t >> GG_LPE_T_RGL & 1u) aov_add(th, l, hi->aw, ph);
+        if (t >> GG_LPE_T_RDL & 1u) aov_add_hit(th, l, hi, diff);
+        if (t >> GG_LPE_T_RGL & 1u) aov_add_hit(th, l, hi, ph);
     }
 }
 
@@ -1110,6 +1123,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     col = emission_ambient(c, &hi, FX);
     if (FX & FX_AOV) {
         hi.aw = wmul(r->thru, att);
+        hi.awz = hi.aw.r == 0 || hi.aw.g == 0 || hi.aw.b == 0;
         aov_local(c, r, &hi, th, cmul(hi.kdc, c->s->ambient), FX);
     }
     rec_hit(c, node, &hi, FX);
