@@ -116,6 +116,29 @@ static int expand(builder *b, int i, int layer, ggError *err)
     return 0;
 }
 
+/* d->term (lpe.h) from d's next and accept: which terms that end a path
+   at a hit each (state, class) accepts. */
+static void terms(gg_lpe_dfa *d)
+{
+    const int none = gg_lpe_none(d);
+    int s, cls, u;
+    for (s = 0; s < d->nstates; s++)
+        for (cls = 0; cls < d->ncls; cls++) {
+            const unsigned sd = gg_lpe_step(d, (unsigned)s, GG_LPE_RD, cls);
+            const unsigned sg = gg_lpe_step(d, (unsigned)s, GG_LPE_RG, cls);
+            uint32_t t = 0;
+            for (u = 0; u <= d->nnum; u++) {
+                const int lc = u * (d->nmat + 1) + d->nmat;
+                if (d->accept[gg_lpe_step(d, sd, GG_LPE_L, lc)]) t |= 1u << (GG_LPE_T_RDL + u);
+                if (d->accept[gg_lpe_step(d, sg, GG_LPE_L, lc)]) t |= 1u << (GG_LPE_T_RGL + u);
+            }
+            if (d->accept[gg_lpe_step(d, sd, GG_LPE_A, none)]) t |= GG_LPE_T_A;
+            if (d->accept[gg_lpe_step(d, (unsigned)s, GG_LPE_O, cls)]) t |= GG_LPE_T_O;
+            if (d->accept[gg_lpe_step(d, (unsigned)s, GG_LPE_B, none)]) t |= GG_LPE_T_B;
+            d->term[(size_t)s * (size_t)d->ncls + (size_t)cls] = t;
+        }
+}
+
 /* Expression e as layer `layer` into d. */
 static int compile_layer(const ggPathExpr *e, gg_lpe_dfa *d, int layer, ggError *err)
 {
@@ -136,6 +159,10 @@ static int compile_layer(const ggPathExpr *e, gg_lpe_dfa *d, int layer, ggError 
             d->accept[i] = e->accept >= 0 && (b.sets[i][e->accept / 64] >> (e->accept % 64) & 1u);
         d->nstates = b.n, d->next = b.next, b.next = NULL;
         d->start = (uint16_t)gg_lpe_step(d, 1, GG_LPE_C, gg_lpe_none(d));
+        if (!(d->term = gg_mem_calloc(e->alloc, (size_t)b.n * (size_t)d->ncls, sizeof *d->term)))
+            rc = b.rc = gg_error_set(err, GG_ERROR_NOMEM, "path layers: out of memory");
+        else
+            terms(d);
     }
     gg_mem_free(e->alloc, b.sets), gg_mem_free(e->alloc, b.next);
     return rc == 0 ? GG_OK : b.rc;
@@ -148,6 +175,7 @@ GG_API void ggPathLayersFree(ggPathLayers *layers)
     for (l = 0; l < layers->n; l++) {
         gg_mem_free(layers->alloc, layers->layer[l].next);
         gg_mem_free(layers->alloc, layers->layer[l].accept);
+        gg_mem_free(layers->alloc, layers->layer[l].term);
     }
     gg_mem_free(layers->alloc, layers);
 }
@@ -170,6 +198,7 @@ int gg_path_layers_of(const ggPathExpr *e, ggPathLayers **out, ggError *err)
         ggPathLayersFree(P);
         return rc;
     }
+    P->live = P->layer[0].start ? 1u : 0u;
     *out = P;
     return GG_OK;
 }
@@ -209,6 +238,8 @@ GG_API int ggPathLayersCompile(const char *const *exprs, int n, const ggAllocato
         ggPathLayersFree(P);
         return rc;
     }
+    for (l = 0; l < n; l++)
+        if (P->layer[l].start) P->live |= 1u << l;
     *out = P;
     return GG_OK;
 }

@@ -40,13 +40,30 @@ enum {
    other one class nnum (nmat). The symbol of an event is kind * ncls +
    the class of (number, material), ncls = (nnum + 1) * (nmat + 1); events
    without a surface (C, A, B) and L (no material) use the "other" class
-   for what they lack. State 0 is dead (no path through it can match). */
+   for what they lack. State 0 is dead (no path through it can match).
+
+   term[state * ncls + cls] holds, for a hit of class cls reached in that
+   state, which of the terms that end a path there the automaton accepts:
+   bit u (GG_LPE_T_RDL + u) <RD>L for a light of number class u, bit
+   GG_LPE_T_RGL + u <RG>L, GG_LPE_T_A <RD>A, GG_LPE_T_O O; and, whatever
+   cls, GG_LPE_T_B: B after the state (a miss). The shading then does one
+   lookup per layer at a hit instead of a step per event. */
+#define GG_LPE_T_RDL 0
+#define GG_LPE_T_RGL 12
+#define GG_LPE_T_A   (1u << 24)
+#define GG_LPE_T_O   (1u << 25)
+#define GG_LPE_T_B   (1u << 26)
+#define GG_LPE_T_L   0xfffu /* the light bits of either, shifted down */
+#if GG_LPE_LABELS + 1 > GG_LPE_T_RGL
+#error "lpe.h: a layer's light classes do not fit the term bits"
+#endif
 typedef struct gg_lpe_dfa {
     int nstates, nsym, ncls, nnum, nmat;
     long num[GG_LPE_LABELS], mat[GG_LPE_LABELS];
     uint16_t start;        /* the state after C */
     uint16_t *next;        /* next[state * nsym + symbol] */
     unsigned char *accept; /* per state */
+    uint32_t *term;        /* term[state * ncls + cls], the GG_LPE_T_* bits */
 } gg_lpe_dfa;
 
 /* ggPathLayers (render.h): the layers of one render. */
@@ -55,6 +72,7 @@ struct ggPathLayers {
     ggAllocator alloc_copy;
     const ggAllocator *alloc;
     int n;
+    unsigned live; /* bit l: layer l's start state is not dead */
     gg_lpe_dfa layer[GG_LAYERS_MAX];
 };
 

@@ -89,8 +89,11 @@ typedef struct ray_state {
     int kind;      /* GG_RAY_*, recorded only */
     int parent;    /* parent node, recorded only */
     /* The layer copy only (FX_AOV): the ray's weight in the pixel per
-       channel, and each layer's automaton state after its events. */
+       channel, and each layer's automaton state after its events; lmask
+       has bit l for each layer not dead (lpe[l] != 0; the others' lpe
+       are not kept). */
     ggColor thru;
+    unsigned lmask;
     uint16_t lpe[GG_LAYERS_MAX];
 } ray_state;
 
@@ -109,11 +112,14 @@ typedef struct hit_info {
     ggVec3 o_out;   /* origin of every ray that leaves to the incoming side */
     ggColor kdc;    /* kd times the surface colour (texture included) */
     /* The layer copy (aov_local fills them): the ray's thru times its
-       absorption to the hit; per layer the class of the hit's labels and
-       the states after <RD> and <RG> there; the layers not dead after
-       one of them (bit l). */
+       absorption to the hit; per live layer the class of the hit's labels
+       and the terms its automaton accepts there (lpe.h, GG_LPE_T_*); the
+       layers that accept some light's term there (bit l); awz: aw has
+       a channel of exactly 0 (wmul's tests needed). */
     ggColor aw;
-    uint16_t lcls[GG_LAYERS_MAX], lsd[GG_LAYERS_MAX], lsg[GG_LAYERS_MAX];
+    int awz;
+    uint16_t lcls[GG_LAYERS_MAX];
+    uint32_t lterm[GG_LAYERS_MAX];
     unsigned llive;
 } hit_info;
 
@@ -598,40 +604,47 @@ static void aov_add(gg_shade_thread *th, int l, ggColor a, ggColor term)
     if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
 }
 
-/* An eye ray: weight 1, every layer after its C. */
-static void aov_root(const gg_shade_ctx *c, ray_state *r)
+/* aov_add with a = hi->aw: a plain product when aw has no zero channel
+   (wmul's result then is the same, bit for bit). */
+GG_INLINE void aov_add_hit(gg_shade_thread *th, int l, const hit_info *hi, ggColor term)
 {
-    int l;
-    r->thru = rgb(1, 1, 1);
-    for (l = 0; l < c->layers->n; l++) r->lpe[l] = c->layers->layer[l].start;
+    const ggColor p = hi->awz ? wmul(hi->aw, term) : cmul(hi->aw, term);
+    th->aov[l] = cadd(th->aov[l], p);
+    if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
 }
 
-/* The hit's per-layer states (hi->lcls, lsd, lsg, llive), then the
-   terms that end a path there: ambient amb (<RD>A) and, if it glows,
-   emission (O). */
+/* An eye ray: weight 1, every layer not dead after its C. */
+static void aov_root(const gg_shade_ctx *c, ray_state *r)
+{
+    unsigned m;
+    r->thru = rgb(1, 1, 1);
+    r->lmask = c->layers->live;
+    for (m = r->lmask; m; m &= m - 1) {
+        const int l = (int)GG_CTZ(m);
+        r->lpe[l] = c->layers->layer[l].start;
+    }
+}
+
+/* The hit's per-layer classes and terms (hi->lcls, lterm, llive), then
+   the terms that end a path there: ambient amb (<RD>A) and, if it glows,
+   emission (O). One lookup per live layer (lpe.h, term). */
 GG_INLINE void aov_local(const gg_shade_ctx *c, const ray_state *r, hit_info *hi,
                          gg_shade_thread *th, ggColor amb, const unsigned FX)
 {
-    int l;
+    unsigned m;
     if (!(FX & FX_AOV)) return;
     hi->llive = 0;
-    for (l = 0; l < c->layers->n; l++) {
+    for (m = r->lmask; m; m &= m - 1) {
+        const int l = (int)GG_CTZ(m);
         const gg_lpe_dfa *d = &c->layers->layer[l];
-        const unsigned s = r->lpe[l];
-        int cls;
-        if (!s) {
-            hi->lsd[l] = hi->lsg[l] = 0;
-            continue;
-        }
-        hi->lcls[l] = (uint16_t)(cls = gg_lpe_surface(d, hi->obj, hi->mi));
-        hi->lsd[l] = (uint16_t)gg_lpe_step(d, s, GG_LPE_RD, cls);
-        hi->lsg[l] = (uint16_t)gg_lpe_step(d, s, GG_LPE_RG, cls);
-        if (hi->lsd[l] | hi->lsg[l]) hi->llive |= 1u << l;
-        if (hi->lsd[l] && d->accept[gg_lpe_step(d, hi->lsd[l], GG_LPE_A, gg_lpe_none(d))])
-            aov_add(th, l, hi->aw, amb);
-        if ((FX & GG_EFFECT_EMISSION) && (hi->mf->flags & GG_MF_EMIT) &&
-            d->accept[gg_lpe_step(d, s, GG_LPE_O, cls)])
-            aov_add(th, l, hi->aw, hi->m->ke);
+        const int cls = gg_lpe_surface(d, hi->obj, hi->mi);
+        const uint32_t t = d->term[(size_t)r->lpe[l] * (size_t)d->ncls + (size_t)cls];
+        hi->lcls[l] = (uint16_t)cls;
+        hi->lterm[l] = t;
+        if (t & (GG_LPE_T_L << GG_LPE_T_RDL | GG_LPE_T_L << GG_LPE_T_RGL)) hi->llive |= 1u << l;
+        if (t & GG_LPE_T_A) aov_add_hit(th, l, hi, amb);
+        if ((FX & GG_EFFECT_EMISSION) && (hi->mf->flags & GG_MF_EMIT) && (t & GG_LPE_T_O))
+            aov_add_hit(th, l, hi, hi->m->ke);
     }
 }
 
@@ -645,12 +658,9 @@ GG_INLINE void aov_light(const gg_shade_ctx *c, const ray_state *r, const hit_in
     if (!(FX & FX_AOV)) return;
     for (m = hi->llive; m; m &= m - 1) {
         const int l = (int)GG_CTZ(m);
-        const gg_lpe_dfa *d = &c->layers->layer[l];
-        const int lc = gg_lpe_light(d, (int)li);
-        if (hi->lsd[l] && d->accept[gg_lpe_step(d, hi->lsd[l], GG_LPE_L, lc)])
-            aov_add(th, l, hi->aw, diff);
-        if (hi->lsg[l] && d->accept[gg_lpe_step(d, hi->lsg[l], GG_LPE_L, lc)])
-            aov_add(th, l, hi->aw, ph);
+        const uint32_t t = hi->lterm[l] >> gg_lpe_num_class(&c->layers->layer[l], (long)li);
+        if (t >> GG_LPE_T_RDL & 1u) aov_add_hit(th, l, hi, diff);
+        if (t >> GG_LPE_T_RGL & 1u) aov_add_hit(th, l, hi, ph);
     }
 }
 
@@ -659,13 +669,15 @@ GG_INLINE void aov_light(const gg_shade_ctx *c, const ray_state *r, const hit_in
 GG_INLINE void aov_child(const gg_shade_ctx *c, const ray_state *r, const hit_info *hi,
                          ray_state *child, int k, ggColor w, const unsigned FX)
 {
-    int l;
+    unsigned m;
     if (!(FX & FX_AOV)) return;
     child->thru = wmul(hi->aw, w);
-    for (l = 0; l < c->layers->n; l++) {
-        const gg_lpe_dfa *d = &c->layers->layer[l];
-        const unsigned s = r->lpe[l];
-        child->lpe[l] = (uint16_t)(s ? gg_lpe_step(d, s, k, hi->lcls[l]) : 0);
+    child->lmask = 0;
+    for (m = r->lmask; m; m &= m - 1) {
+        const int l = (int)GG_CTZ(m);
+        if ((child->lpe[l] = (uint16_t)gg_lpe_step(&c->layers->layer[l], r->lpe[l], k,
+                                                   hi->lcls[l])) != 0)
+            child->lmask |= 1u << l;
     }
 }
 
@@ -674,12 +686,12 @@ GG_INLINE void aov_background(const gg_shade_ctx *c, const ray_state *r, gg_shad
                               ggColor att, ggColor bg, const unsigned FX)
 {
     const ggColor a = (FX & FX_AOV) ? wmul(r->thru, att) : att;
-    int l;
+    unsigned m;
     if (!(FX & FX_AOV)) return;
-    for (l = 0; l < c->layers->n; l++) {
+    for (m = r->lmask; m; m &= m - 1) {
+        const int l = (int)GG_CTZ(m);
         const gg_lpe_dfa *d = &c->layers->layer[l];
-        const unsigned s = r->lpe[l];
-        if (s && d->accept[gg_lpe_step(d, s, GG_LPE_B, gg_lpe_none(d))]) aov_add(th, l, a, bg);
+        if (d->term[(size_t)r->lpe[l] * (size_t)d->ncls] & GG_LPE_T_B) aov_add(th, l, a, bg);
     }
 }
 
@@ -1111,6 +1123,7 @@ GG_INLINE ggColor shade_hit(const gg_shade_ctx *c, const ray_state *r, const gg_
     col = emission_ambient(c, &hi, FX);
     if (FX & FX_AOV) {
         hi.aw = wmul(r->thru, att);
+        hi.awz = hi.aw.r == 0 || hi.aw.g == 0 || hi.aw.b == 0;
         aov_local(c, r, &hi, th, cmul(hi.kdc, c->s->ambient), FX);
     }
     rec_hit(c, node, &hi, FX);
