@@ -287,9 +287,17 @@ def tracing_first(d):
               "gears.nff, depth 16, 16 samples: pixel 200,200's tree (%d rays) %.2f s after the click "
               "(%.2f s as the test polled), the image still rendering" % (nodes, dt, polled),
               d.find_element(By.ID, "status-text").text)
-        # Take every job slot (the image above holds one), then ask for
-        # another image: 503 with Retry-After, which the page waits out.
-        codes = [srv.get("/api/render", opts="depth=16 samples=16 cutoff=0.%d" % (i + 1))[0] for i in range(7)]
+        # Take every job slot, then ask for another image: 503 with
+        # Retry-After, which the page waits out. Ask until the server says
+        # 503 (the image above may have finished and freed its slot: a
+        # faster machine did), with renders of 64 samples so none ends
+        # before the page asks.
+        codes = []
+        for i in range(12):
+            codes.append(srv.get("/api/render", opts="depth=16 samples=64 cutoff=0.%02d" % (i + 1))[0])
+            if codes[-1] == 503:
+                break
+        check(codes[-1] == 503, "every job slot taken: the server answers 503 (%s)" % " ".join(map(str, codes)))
         d.execute_script("location.hash = arguments[0]", "a=" + urllib.parse.quote("depth=15 samples=16"))
         ok = wait(d, "waiting", lambda: attr(d, "status", "data-waiting") == "1" and
                   "waiting" in d.find_element(By.ID, "status-text").text, 10)
