@@ -16,8 +16,9 @@ static const char about[] =
     "Cut an image into N bands of whole rows that cost about the same to render, for\n"
     "'ggrt render --plan FILE --tile I' on N processes or machines. The cost is measured\n"
     "on a render at 1/F of the size in each direction (--scale F) with the same options:\n"
-    "by default the CPU time each pixel takes, or the rays it casts (--cost rays: the\n"
-    "same plan on every run and machine, but less even). The plan records the scene\n"
+    "by default the time each pixel takes, the least of R renders (--runs R), or the\n"
+    "rays it casts (--cost rays: the same plan on every run and machine, but less\n"
+    "even). The plan records the scene\n"
     "file's hash, the render options and the size; render refuses a plan made for\n"
     "other ones.";
 
@@ -27,7 +28,7 @@ static const char *const cost_kinds[] = {"rays", "time", NULL};
 
 typedef struct plan_args {
     const char *scene, *out;
-    int n, cost, scale, quiet;
+    int n, cost, scale, runs, quiet;
     cli_render ro;
 } plan_args;
 
@@ -41,11 +42,14 @@ static int parse(plan_args *a, int argc, char **argv)
                        "the plan to write (required), JSON; written whole\n"
                        "or not at all"),
         CLI_OPT_CHOICE(0, "cost", &a->cost, cost_kinds, "KIND",
-                       "time (default: CPU seconds per pixel, measured) or\n"
+                       "time (default: seconds per pixel, measured) or\n"
                        "rays (rays cast: reproducible, less even)"),
         CLI_OPT_INT(0, "scale", &a->scale, 1, 64, "F",
                     "measure on a render of 1/F of the width and height\n"
                     "(default 4: about 1/16 of the render's work)"),
+        CLI_OPT_INT(0, "runs", &a->runs, 1, 100, "R",
+                    "with --cost time: render R times and keep each\n"
+                    "pixel's least time (default 3)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no summary"),
         CLI_OPT_END,
     };
@@ -59,7 +63,7 @@ static int parse(plan_args *a, int argc, char **argv)
                    .max_args = 1,
                    .args_name = "scene"};
     int rc;
-    a->scale = 4, a->cost = 1;
+    a->scale = 4, a->cost = 1, a->runs = 3;
     cli_render_init(&a->ro, CLI_RENDER_PIXEL | CLI_RENDER_THREADS);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
@@ -122,23 +126,40 @@ static void cut_rows(const double *row, int h, int n, int *y, double *share)
     free(pre);
 }
 
-/* The cost map of a render at 1/scale of the size. */
+/* The cost map of a render at 1/scale of the size. By time: each
+   pixel's least wall-clock time over a->runs renders. The least, because
+   whatever else the machine does (a preemption, a cold cache in the first
+   render) only ever adds to a pixel's time; wall clock, because it costs
+   about 30 ns to read where the per-thread CPU clock (GG_COST_CPU) is a
+   system call of about 1 us here, a third of a gears pixel at -n 4, added
+   to every pixel alike, which made cheap rows look dearer than they are
+   (docs/log/2026-12-05-plan.md). */
 static int measure(ggScene *scene, const plan_args *a, int w, int h, float **cost, int *lw,
                    int *lh)
 {
     ggRenderOptions o = a->ro.opt;
     ggImage *img = NULL;
     ggError err;
-    int rc;
+    size_t n, i;
+    int r, rc = GG_OK, runs = a->cost ? a->runs : 1;
+    float *run;
     *lw = (w + a->scale - 1) / a->scale, *lh = (h + a->scale - 1) / a->scale;
-    if (!(*cost = calloc((size_t)*lw * (size_t)*lh, sizeof **cost))) {
+    n = (size_t)*lw * (size_t)*lh;
+    *cost = calloc(n, sizeof **cost), run = calloc(n, sizeof *run);
+    if (!*cost || !run) {
+        free(run);
         cli_error("out of memory for a %dx%d cost map", *lw, *lh);
         return EXIT_INPUT;
     }
     o.width = *lw, o.height = *lh;
-    o.cost_map = *cost, o.cost_kind = a->cost ? GG_COST_CPU : GG_COST_RAYS;
-    rc = ggRender(scene, &o, &img, NULL, &err);
-    ggImageFree(img);
+    o.cost_map = run, o.cost_kind = a->cost ? GG_COST_TIME : GG_COST_RAYS;
+    for (r = 0; r < runs && rc == GG_OK; r++) {
+        rc = ggRender(scene, &o, &img, NULL, &err);
+        ggImageFree(img), img = NULL;
+        for (i = 0; i < n && rc == GG_OK; i++)
+            if (r == 0 || run[i] < (*cost)[i]) (*cost)[i] = run[i];
+    }
+    free(run);
     return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 1);
 }
 
@@ -155,8 +176,8 @@ static void write_json(FILE *f, const plan_args *a, const char *hash, const char
     json_str(f, hash);
     fprintf(f, ",\"options\":");
     json_str(f, options);
-    fprintf(f, ",\"size\":[%d,%d],\"tiles\":%d,\"cost\":\"%s\",\"heatmap\":[%d,%d],\"seconds\":",
-            w, h, a->n, cost_kinds[a->cost], lw, lh);
+    fprintf(f, ",\"size\":[%d,%d],\"tiles\":%d,\"cost\":\"%s\",\"heatmap\":[%d,%d],\"runs\":%d,\"seconds\":",
+            w, h, a->n, cost_kinds[a->cost], lw, lh, a->cost ? a->runs : 1);
     json_num(f, secs);
     fprintf(f, ",\n\"rows\":[");
     for (i = 0; i <= a->n; i++) fprintf(f, i ? ",%d" : "%d", y[i]);

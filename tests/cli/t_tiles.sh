@@ -84,6 +84,15 @@ else bad "a plan by rays is the same with -j 1 and -j 2" "$grows / $rows2"; fi
 if [ "$grows" != '"rows":[0,9,18,27,36,45,54,64],' ] && [ "$grows" != '"rows":[0,9,18,27,36,45,54,64]' ] &&
    [ -n "$grows" ]; then ok "gears' plan is not the equal cut ($grows)"
 else bad "gears' plan is not the equal cut" "$grows"; fi
+# By time: --runs renders, each pixel's least time kept; recorded.
+# shellcheck disable=SC2086
+"$ggrt" plan $gears -q --runs 2 --tiles 7 -o "$td/runs.json" 2>"$tmp/err" ||
+  bad "plan --runs 2" "$(cat "$tmp/err")"
+if grep -q '"cost":"time","heatmap":\[24,16\],"runs":2,' "$td/runs.json"; then ok "a plan by time records its --runs"
+else bad "a plan by time records its --runs" "$(head -1 "$td/runs.json")"; fi
+# shellcheck disable=SC2086
+expect_err 1 "ggrt plan: bad value '0' for --runs: expected a whole number from 1 to 100 (out of range)" \
+  "plan --runs 0 is refused" "$ggrt" plan $gears --runs 0 --tiles 7 -o "$td/runs0.json"
 want=$(echo "$grows" | sed 's/^"rows":\[\(.*\)\],*$/plan \1/')
 # (strings runs the attribute's value into the next name: a non-digit.)
 if strings -n 6 "$td/gp-3.exr" | grep -q "^$want\([^0-9,].*\)*\$"; then ok "a plan's tile carries the cut '$want'"
