@@ -128,3 +128,15 @@ void tu_tmpdir_remove(void)
     rmdir(tmpdir);
     tmpdir[0] = 0;
 }
+
+ggScene *tu_load(const char *path)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    int rc;
+    assert_non_null(s);
+    if ((rc = ggSceneLoadFile(s, path, &e)) == GG_OK) rc = ggScenePrepare(s, &e);
+    if (rc != GG_OK) print_error("%s: %s\n", path, e.message);
+    assert_int_equal(rc, GG_OK);
+    return s;
+}

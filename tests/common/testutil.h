@@ -54,6 +54,11 @@ const char *tu_tmpdir(void);
 const char *tu_tmppath(const char *file);
 void tu_tmpdir_remove(void);
 
+/* The scene file at path, loaded and prepared with the default
+   allocator; fails the test, printing the path and the error, if either
+   step does not return GG_OK. The caller frees it (ggSceneFree). */
+ggScene *tu_load(const char *path);
+
 /* Path of the SPD scenes (GG_SPD_DIR or the repository's examples/scenes/spd). */
 const char *tu_spd_dir(void);
 

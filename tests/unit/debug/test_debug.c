@@ -18,17 +18,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static ggScene *load(const char *path)
-{
-    ggScene *s = ggSceneCreate(NULL);
-    ggError e;
-    int rc = ggSceneLoadFile(s, path, &e);
-    if (rc != GG_OK) print_error("%s\n", e.message);
-    assert_int_equal(rc, GG_OK);
-    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
-    return s;
-}
-
 static ggPredicate *parse(const char *text)
 {
     ggPredicate *p = NULL;
@@ -244,7 +233,7 @@ static void test_find_matches_full_traces(void **state)
     size_t f;
     (void)state;
     for (f = 0; f < sizeof finds / sizeof finds[0]; f++) {
-        ggScene *s = load(finds[f].scene);
+        ggScene *s = tu_load(finds[f].scene);
         ggPredicate *p = parse(finds[f].where);
         ggTrace *t = ggTraceCreate(NULL);
         ggRenderOptions o;
@@ -299,7 +288,7 @@ static void test_find_matches_full_traces(void **state)
 /* A limit keeps the first matches in row order; a crop window scans only it. */
 static void test_find_limit_and_crop(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggPredicate *p = parse("some(kind == tir)");
     ggRenderOptions o;
     ggFindResult *all = NULL, *few = NULL, *crop = NULL;
@@ -349,7 +338,7 @@ static void test_ledger_sums_to_pixel(void **state)
     (void)state;
     for (k = 0; k < sizeof example_scenes / sizeof example_scenes[0]; k++)
         for (mode = 0; mode < 3; mode++) {
-            ggScene *s = load(example_scenes[k]);
+            ggScene *s = tu_load(example_scenes[k]);
             ggTrace *t = ggTraceCreate(NULL);
             ggRenderOptions o;
             int x, y, w = mode ? 24 : 48, h = mode ? 18 : 36;
@@ -391,7 +380,7 @@ static void test_ledger_sums_to_pixel(void **state)
    glass, refracted in, reflected totally and refracted out. */
 static void test_ledger_glass_pixel(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggTrace *t = ggTraceCreate(NULL);
     ggLedger *l = NULL;
     ggColor px;
@@ -432,7 +421,7 @@ static ggCheckResult *check(ggScene *s, int w, int h, int depth)
    checker must still see it (the red sphere's diffuse colour, green). */
 static ggScene *nan_scene(void)
 {
-    ggScene *s = load("examples/scenes/default.nff");
+    ggScene *s = tu_load("examples/scenes/default.nff");
     s->mfast[s->objects[3].material].kd_color.g = NAN;
     return s;
 }
@@ -444,7 +433,7 @@ static void test_check_planted_defects(void **state)
     const ggCheckItem *it;
     (void)state;
     /* kd + ks + kt > 1, named with the material's line */
-    s = load("tests/data/debug/energy.nff");
+    s = tu_load("tests/data/debug/energy.nff");
     r = check(s, 40, 30, 0);
     it = &r->items[GG_CHECK_ENERGY];
     assert_true(it->pixels > 0);
@@ -459,7 +448,7 @@ static void test_check_planted_defects(void **state)
     {
         char path[512];
         snprintf(path, sizeof path, "%s/mount.nff", tu_spd_dir());
-        s = load(path);
+        s = tu_load(path);
         r = check(s, 48, 48, 0);
         it = &r->items[GG_CHECK_ENERGY];
         assert_true(it->pixels > 0);
@@ -496,7 +485,7 @@ static void test_check_planted_defects(void **state)
     ggCheckResultFree(r);
     ggSceneFree(s);
     /* values too large for the image's floats: infinite pixels */
-    s = load("tests/data/debug/overflow.nff");
+    s = tu_load("tests/data/debug/overflow.nff");
     r = check(s, 40, 30, 0);
     it = &r->items[GG_CHECK_NONFINITE];
     assert_true(it->pixels > 0);
@@ -505,7 +494,7 @@ static void test_check_planted_defects(void **state)
     ggCheckResultFree(r);
     ggSceneFree(s);
     /* cut by the depth limit; passes once the depth suffices */
-    s = load("tests/data/debug/cut.nff");
+    s = tu_load("tests/data/debug/cut.nff");
     r = check(s, 40, 30, 0);
     it = &r->items[GG_CHECK_TRUNCATION];
     assert_true(it->pixels > 500);
@@ -529,7 +518,7 @@ static void test_check_clean_scenes(void **state)
     int c;
     (void)state;
     for (k = 0; k < sizeof clean / sizeof clean[0]; k++) {
-        ggScene *s = load(clean[k]);
+        ggScene *s = tu_load(clean[k]);
         ggCheckResult *r = check(s, 64, 48, 0);
         for (c = 0; c < GG_CHECK_COUNT; c++)
             if (r->items[c].severity == GG_SEVERITY_ERROR && r->items[c].pixels)
@@ -545,7 +534,7 @@ static void test_check_clean_scenes(void **state)
 /* The same answers on 1 and 3 threads. */
 static void test_check_threads(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggCheckResult *a = check(s, 60, 40, 0), *b;
     ggRenderOptions o;
     (void)state;
@@ -562,7 +551,7 @@ static void test_check_threads(void **state)
 
 static void test_diff_identical(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o;
     ggDiffResult *r = NULL;
     int i;
@@ -600,8 +589,8 @@ static unsigned long long signature(const ggTrace *t)
 
 static void test_diff_textbook_sphere(void **state)
 {
-    ggScene *a = load("examples/scenes/acc-distant.nff"),
-            *b = load("examples/scenes/acc-distant.nff");
+    ggScene *a = tu_load("examples/scenes/acc-distant.nff"),
+            *b = tu_load("examples/scenes/acc-distant.nff");
     ggRenderOptions oa, ob;
     ggDiffResult *r = NULL;
     ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);
@@ -668,7 +657,7 @@ static void test_diff_textbook_sphere(void **state)
 /* A depth limit cuts the glass pixel: the first divergence is its stop. */
 static void test_compare_depth(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o3;
     ggTrace *a = ggTraceCreate(NULL), *b = ggTraceCreate(NULL);
     ggDivergence d;
@@ -716,7 +705,7 @@ static void expect_divergence(const ggTrace *a, const ggTrace *b, int what, int 
 
 static void test_compare_kinds(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggTrace *a = ggTraceCreate(NULL), *b = ggTraceCreate(NULL);
     ggColor px;
     int l1;
@@ -765,7 +754,7 @@ static void test_compare_kinds(void **state)
 
 static void test_numeric_state(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggTrace *t = ggTraceCreate(NULL);
     ggRenderOptions o;
     ggColor px;
@@ -820,7 +809,7 @@ static void test_numeric_state(void **state)
         char path[512];
         ggTraceNode n0;
         snprintf(path, sizeof path, "%s/tetra.nff", tu_spd_dir());
-        s = load(path);
+        s = tu_load(path);
         small(&o, 64, 64, 1);
         assert_int_equal(ggRenderOptionsParse(&o, "offset=1e-6", NULL), GG_OK);
         assert_int_equal(ggTracePixel(s, &o, 32, 40, -1, t, &px, NULL, NULL), GG_OK);
@@ -875,7 +864,7 @@ static void test_traversal_cost(void **state)
     int x, y;
     (void)state;
     snprintf(path, sizeof path, "%s/balls-s3.nff", tu_spd_dir());
-    s = load(path);
+    s = tu_load(path);
     assert_int_equal(ggSceneGetInfo(s, &in), GG_OK);
     small(&o, 48, 48, 1);
     for (y = 0; y < 48; y++)
@@ -905,7 +894,7 @@ static void test_traversal_cost(void **state)
    everything they count every secondary hit and every refraction. */
 static void test_check_numeric(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o;
     ggCheckOptions co;
     ggCheckResult *r = NULL;
@@ -938,7 +927,7 @@ static void test_check_numeric(void **state)
     ggSceneFree(s);
     ggTraceFree(t);
     /* far from the origin a fixed offset of 1e-12 is no offset at all */
-    s = load("examples/scenes/acc-far.nff");
+    s = tu_load("examples/scenes/acc-far.nff");
     small(&o, 64, 48, 2);
     assert_int_equal(ggCheck(s, &o, NULL, &r, NULL), GG_OK);
     assert_int_equal(r->items[GG_CHECK_SELF_HIT].pixels, 0);

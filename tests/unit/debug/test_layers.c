@@ -95,22 +95,13 @@ static void test_layers_refused(void **state)
     assert_int_equal(ggPathLayersCompile(two, 1, NULL, &l, &e), GG_ERROR_LIMIT);
 }
 
-static ggScene *load(const char *path)
-{
-    ggScene *s = ggSceneCreate(NULL);
-    ggError e;
-    assert_int_equal(ggSceneLoadFile(s, path, &e), GG_OK);
-    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
-    return s;
-}
-
 /* One scene with these options: each layer's pixel against ggPathMatch's
    value of the traced pixel, within 2^-22 of the pixel's terms (float
    layers and pixel, double sums in two orders), and the image against a
    render without layers, bit for bit. */
 static void match_scene(const char *path, ggRenderOptions o, const char *const *ex, int n)
 {
-    ggScene *s = load(path);
+    ggScene *s = tu_load(path);
     ggPathLayers *l = NULL;
     ggPathExpr *pe[8];
     ggTrace *t = ggTraceCreate(NULL);

@@ -334,15 +334,6 @@ static void test_path_format(void **state)
     ggTraceFree(t);
 }
 
-static ggScene *load(const char *path)
-{
-    ggScene *s = ggSceneCreate(NULL);
-    ggError e;
-    assert_int_equal(ggSceneLoadFile(s, path, &e), GG_OK);
-    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
-    return s;
-}
-
 /* On rendered pixels: the classes by last event partition the paths and
    the value; "C.*" carries the whole ledger; each term's text matches it. */
 static void test_path_partition(void **state)
@@ -360,7 +351,7 @@ static void test_path_partition(void **state)
     ggRenderOptionsDefault(&o);
     o.width = 16, o.height = 12;
     for (k = 0; k < 3; k++) {
-        ggScene *s = load(scenes[k]);
+        ggScene *s = tu_load(scenes[k]);
         for (y = 0; y < o.height; y++)
             for (x = 0; x < o.width; x++) {
                 ggColor px;
@@ -395,7 +386,7 @@ static void test_find_path(void **state)
 {
     static const char *const exprs[] = {"C<TS>+B", "C<TS>.*<RS'tir'>.*", "C<RD>L", "C.*[^B]",
                                         "C<TS>[tir_margin < 1e18]<TS>.*", "C.*<RS>[tir_margin < 1e6].*"};
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggTrace *t = ggTraceCreate(NULL);
     ggRenderOptions o;
     size_t k;
@@ -471,7 +462,7 @@ static void test_diff_path(void **state)
 {
     static const char *const exprs[] = {"C<RS>+.*", "C<RD>L", "C.*B"};
     static char ca[64][256], cb[64][256];
-    ggScene *s = load("examples/scenes/acc-distant.nff");
+    ggScene *s = tu_load("examples/scenes/acc-distant.nff");
     ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);
     ggRenderOptions oa, ob;
     size_t k;
@@ -523,7 +514,7 @@ static void test_diff_path(void **state)
 /* ggCheck with a path: only the pixels find --path finds are checked. */
 static void test_check_path(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o;
     ggCheckOptions co;
     ggCheckResult *r;
@@ -560,7 +551,7 @@ static void test_check_path(void **state)
    point on the leaving ray; weights start at 1 / samples. */
 static void test_path_points(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggTrace *t = ggTraceCreate(NULL);
     ggRenderOptions o;
     int x, y, seen_l = 0, seen_b = 0;

@@ -323,17 +323,6 @@ static void test_double_offset_rehits(void **state)
     assert_true(rehit > 100);
 }
 
-static ggScene *load(const char *path)
-{
-    ggScene *s = ggSceneCreate(NULL);
-    ggError e;
-    int rc = ggSceneLoadFile(s, path, &e);
-    if (rc != GG_OK) print_error("%s: %s\n", path, e.message);
-    assert_int_equal(rc, GG_OK);
-    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
-    return s;
-}
-
 static ggImage *render(ggScene *s, int isect, ggRayStats *st)
 {
     ggRenderOptions o;
@@ -370,7 +359,7 @@ static void test_render_float(void **state)
             snprintf(path, sizeof path, "%s/%s.nff", tu_spd_dir(), scenes[i] + 4);
         else
             snprintf(path, sizeof path, "examples/scenes/%s.nff", scenes[i]);
-        s = load(path);
+        s = tu_load(path);
         a = render(s, GG_ACC_ISECT_DOUBLE, &sa);
         b = render(s, GG_ACC_ISECT_FLOAT, &sb);
         px = ggImagePixelsConst(b);

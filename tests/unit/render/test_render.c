@@ -15,17 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static ggScene *load(const char *path)
-{
-    ggScene *s = ggSceneCreate(NULL);
-    ggError e;
-    int rc = ggSceneLoadFile(s, path, &e);
-    if (rc != GG_OK) print_error("%s\n", e.message);
-    assert_int_equal(rc, GG_OK);
-    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
-    return s;
-}
-
 /* A scene from NFF text, prepared. */
 static ggScene *load_text(const char *txt, const char *name)
 {
@@ -90,7 +79,7 @@ static void test_threads_identical(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < 3; i++) {
-        ggScene *s = load(scenes[i]);
+        ggScene *s = tu_load(scenes[i]);
         ggRenderOptions o;
         ggImage *a, *b, *c;
         ggRayStats sa, sb, sc;
@@ -113,7 +102,7 @@ static void test_threads_identical(void **state)
 /* A crop window reproduces exactly those pixels of the full render. */
 static void test_crop_matches_full(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o;
     ggImage *full, *part;
     int x, y, k;
@@ -167,7 +156,7 @@ static void test_forced_effects_same_image(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
-        ggScene *s = load(scenes[i]);
+        ggScene *s = tu_load(scenes[i]);
         ggRenderOptions o;
         ggImageFree(forced_same(s, scenes[i], 64, 48, &o));
         ggSceneFree(s);
@@ -182,7 +171,7 @@ static void test_paths_agree(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < sizeof path_scenes / sizeof path_scenes[0]; i++) {
-        ggScene *s = load(path_scenes[i].path);
+        ggScene *s = tu_load(path_scenes[i].path);
         ggTrace *t = ggTraceCreate(NULL);
         ggRenderOptions o;
         ggImage *a;
@@ -209,7 +198,7 @@ static void test_paths_agree(void **state)
 /* ggRayColor on the camera ray of a pixel centre is that pixel. */
 static void test_raycolor_equals_pixel(void **state)
 {
-    ggScene *s = load("examples/scenes/glass.nff");
+    ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o;
     ggImage *img;
     int x, y;
@@ -233,14 +222,14 @@ static void test_effect_sets(void **state)
     ggScene *s;
     unsigned fx;
     (void)state;
-    s = load("examples/scenes/spd/tetra.nff");
+    s = tu_load("examples/scenes/spd/tetra.nff");
     fx = ggSceneEffects(s);
     /* tetra: diffuse only, one light. */
     assert_int_equal(fx, GG_EFFECT_SHADOWS);
     assert_non_null(strstr(ggSceneEffectReason(s, GG_EFFECT_SHADOWS), "1 point light"));
     assert_null(ggSceneEffectReason(s, GG_EFFECT_REFRACTION));
     ggSceneFree(s);
-    s = load("examples/scenes/water.nff");
+    s = tu_load("examples/scenes/water.nff");
     fx = ggSceneEffects(s);
     assert_true(fx & GG_EFFECT_REFRACTION);
     assert_true(fx & GG_EFFECT_ABSORPTION);
@@ -249,7 +238,7 @@ static void test_effect_sets(void **state)
     assert_false(fx & GG_EFFECT_DISPERSION);
     assert_non_null(strstr(ggSceneEffectReason(s, GG_EFFECT_ABSORPTION), "water.nff:"));
     ggSceneFree(s);
-    s = load("examples/scenes/prism.nff");
+    s = tu_load("examples/scenes/prism.nff");
     assert_true(ggSceneEffects(s) & GG_EFFECT_DISPERSION);
     assert_true(ggSceneEffects(s) & GG_EFFECT_EMISSION);
     ggSceneFree(s);
@@ -330,7 +319,7 @@ static void test_opaque_shadows(void **state)
     assert_string_equal(e.message, "accuracy knob shadows is 2, not 0..1");
     ggSceneFree(s);
 
-    s = load("examples/scenes/gold.nff");
+    s = tu_load("examples/scenes/gold.nff");
     assert_false(ggSceneEffects(s) & GG_EFFECT_COLORED_SHADOWS);
     ggRenderOptionsDefault(&o);
     o.width = 48, o.height = 36, o.threads = 2;
@@ -382,7 +371,7 @@ static void test_shortcuts_match_tracing(void **state)
         char path[512];
         ggScene *s;
         snprintf(path, sizeof path, "%s/%s.nff", tu_spd_dir(), names[i]);
-        s = load(path);
+        s = tu_load(path);
         for (mode = 0; mode < 4; mode++) {
             ggRenderOptions o;
             ggImage *a, *b;
@@ -424,7 +413,7 @@ static void test_cost_cpu(void **state)
     (void)state;
     assert_non_null(cost);
     snprintf(path, sizeof path, "%s/gears.nff", tu_spd_dir());
-    s = load(path);
+    s = tu_load(path);
     ggRenderOptionsDefault(&o);
     o.width = 64, o.height = 48, o.threads = 2;
     a = render(s, &o, &sa);
