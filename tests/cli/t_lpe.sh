@@ -33,7 +33,7 @@ assert abs(p['share'] - 1) < 1e-6, p['share']  # the float pixel: 2^-24
 else bad "trace --path C.* -f json: every ledger term, share 1" "$(cat "$tmp/py" "$tmp/err")"; fi
 
 # the documented examples against an independent matcher on every example scene
-python3 tests/cli/lpe_check.py "$ggrt" docs/debugging.md examples/scenes/*.nff >"$tmp/lpe" 2>&1
+bulk python3 tests/cli/lpe_check.py "$ggrt" docs/debugging.md examples/scenes/*.nff >"$tmp/lpe" 2>&1
 while IFS= read -r line; do
   case "$line" in
     "ok   "*) ok "lpe: ${line#ok   }" ;;
@@ -46,7 +46,7 @@ grep -q '^ok' "$tmp/lpe" || bad "lpe_check.py ran" "$(cat "$tmp/lpe")"
 # diff --path: the pixels whose light moved between path classes, against the
 # independent matcher over both sides' trace JSON (acc-distant: the textbook
 # sphere loses and gains hits, so paths change class)
-python3 tests/cli/lpe_diff_check.py "$ggrt" examples/scenes/acc-distant.nff sphere=textbook \
+bulk python3 tests/cli/lpe_diff_check.py "$ggrt" examples/scenes/acc-distant.nff sphere=textbook \
   "C<RS>+.*" "C<RD>L" "C.*B" "C<RS'2'>.*" "C[^R]*" >"$tmp/lpediff" 2>&1
 while IFS= read -r line; do
   case "$line" in
@@ -102,7 +102,7 @@ for e in "C<TS>.*<RS'tir'>.*" "C.*<RD>L" "C<RS>+.*B"; do
   rm -f "$tmp/p.jsonl" "$tmp/p.obj"
   "$ggrt" find $g -s 24x18 -q --path "$e" --limit 0 --paths-jsonl "$tmp/p.jsonl" \
     --paths-obj "$tmp/p.obj" -f json >/dev/null 2>"$tmp/err"
-  line=$(python3 tests/cli/lpe_export_check.py "$ggrt" $g 24x18 "$e" "$tmp/p.jsonl" "$tmp/p.obj" 2>&1)
+  line=$(bulk python3 tests/cli/lpe_export_check.py "$ggrt" $g 24x18 "$e" "$tmp/p.jsonl" "$tmp/p.obj" 2>&1)
   case "$line" in
     "ok   "*) ok "lpe: ${line#ok   }" ;;
     *) bad "lpe: path export of $e" "$line
