@@ -102,6 +102,32 @@ static inline void tx_fill(gg_tx *x, const gg_rpre *r)
 
 #define GG_TROW(L, off) ((const double *)((const char *)(L)->v + (off)))
 
+/* tri4_test's distances: the scalar kernel's sz (U Az + V Bz + W Cz) / det
+   in each lane, as T * (1 / det); *rcp gets 1 / det. */
+GG_INLINE __m256d tri4_dist(const gg_tx *x, __m256d Az, __m256d Bz, __m256d Cz, __m256d U,
+                            __m256d V, __m256d W, __m256d det, __m256d *rcp)
+{
+    __m256d T = _mm256_mul_pd(
+        x->sz, _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(U, Az), _mm256_mul_pd(V, Bz)),
+                             _mm256_mul_pd(W, Cz)));
+    *rcp = _mm256_div_pd(_mm256_set1_pd(1.0), det);
+    return _mm256_mul_pd(T, *rcp);
+}
+
+/* tri4_test's answer: the hit and zero masks, and t, b1, b2 if a lane hits. */
+GG_INLINE unsigned tri4_put(tri4_out *o, unsigned hm, unsigned zm, __m256d tt, __m256d V,
+                            __m256d W, __m256d rcp)
+{
+    o->zero = zm;
+    o->hit = hm;
+    if (hm) {
+        _mm256_storeu_pd(o->t, tt);
+        _mm256_storeu_pd(o->b1, _mm256_mul_pd(V, rcp));
+        _mm256_storeu_pd(o->b2, _mm256_mul_pd(W, rcp));
+    }
+    return hm | zm;
+}
+
 #ifdef __AVX512VL__
 /* The AVX-512 build's second half of tri4_test: the same compares, each
    writing a mask register (no movemask, no and/or of vectors). */
@@ -114,27 +140,16 @@ GG_INLINE unsigned tri4_finish(const gg_tx *x, double tmax, __m256d zero, __m256
     unsigned pos = _mm256_cmp_pd_mask(U, zero, _CMP_GT_OQ) |
                    _mm256_cmp_pd_mask(V, zero, _CMP_GT_OQ) |
                    _mm256_cmp_pd_mask(W, zero, _CMP_GT_OQ);
-    __m256d det = _mm256_add_pd(_mm256_add_pd(U, V), W), T, rcp, tt;
+    __m256d det = _mm256_add_pd(_mm256_add_pd(U, V), W), rcp, tt;
     unsigned lm = ~(neg & pos) & _mm256_cmp_pd_mask(det, zero, _CMP_NEQ_UQ), zm, hm;
     if (!lm) return 0;
     zm = (_mm256_cmp_pd_mask(U, zero, _CMP_EQ_OQ) | _mm256_cmp_pd_mask(V, zero, _CMP_EQ_OQ) |
           _mm256_cmp_pd_mask(W, zero, _CMP_EQ_OQ)) &
          lm;
-    T = _mm256_mul_pd(x->sz,
-                      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(U, Az), _mm256_mul_pd(V, Bz)),
-                                    _mm256_mul_pd(W, Cz)));
-    rcp = _mm256_div_pd(_mm256_set1_pd(1.0), det);
-    tt = _mm256_mul_pd(T, rcp);
+    tt = tri4_dist(x, Az, Bz, Cz, U, V, W, det, &rcp);
     hm = _mm256_cmp_pd_mask(tt, x->tmin, _CMP_GT_OQ) &
          _mm256_cmp_pd_mask(tt, _mm256_set1_pd(tmax), _CMP_LE_OQ) & lm & ~zm;
-    o->zero = zm;
-    o->hit = hm;
-    if (hm) {
-        _mm256_storeu_pd(o->t, tt);
-        _mm256_storeu_pd(o->b1, _mm256_mul_pd(V, rcp));
-        _mm256_storeu_pd(o->b2, _mm256_mul_pd(W, rcp));
-    }
-    return hm | zm;
+    return tri4_put(o, hm, zm, tt, V, W, rcp);
 }
 #endif
 
@@ -172,29 +187,18 @@ GG_INLINE unsigned tri4_test(const gg_tleaf *L, const gg_tx *x, double tmax, tri
     __m256d det = _mm256_add_pd(_mm256_add_pd(U, V), W);
     /* lanes the scalar kernel would get past its sign and det tests with */
     __m256d live = _mm256_andnot_pd(_mm256_and_pd(neg, pos), _mm256_cmp_pd(det, zero, _CMP_NEQ_UQ));
-    __m256d z, T, rcp, tt, in;
+    __m256d z, rcp, tt, in;
     unsigned lm = (unsigned)_mm256_movemask_pd(live), zm, hm;
     if (!lm) return 0;
     z = _mm256_or_pd(
         _mm256_or_pd(_mm256_cmp_pd(U, zero, _CMP_EQ_OQ), _mm256_cmp_pd(V, zero, _CMP_EQ_OQ)),
         _mm256_cmp_pd(W, zero, _CMP_EQ_OQ));
     zm = (unsigned)_mm256_movemask_pd(z) & lm;
-    T = _mm256_mul_pd(x->sz,
-                      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(U, Az), _mm256_mul_pd(V, Bz)),
-                                    _mm256_mul_pd(W, Cz)));
-    rcp = _mm256_div_pd(_mm256_set1_pd(1.0), det);
-    tt = _mm256_mul_pd(T, rcp);
+    tt = tri4_dist(x, Az, Bz, Cz, U, V, W, det, &rcp);
     in = _mm256_and_pd(_mm256_cmp_pd(tt, x->tmin, _CMP_GT_OQ),
                        _mm256_cmp_pd(tt, _mm256_set1_pd(tmax), _CMP_LE_OQ));
     hm = (unsigned)_mm256_movemask_pd(in) & lm & ~zm;
-    o->zero = zm;
-    o->hit = hm;
-    if (hm) {
-        _mm256_storeu_pd(o->t, tt);
-        _mm256_storeu_pd(o->b1, _mm256_mul_pd(V, rcp));
-        _mm256_storeu_pd(o->b2, _mm256_mul_pd(W, rcp));
-    }
-    return hm | zm;
+    return tri4_put(o, hm, zm, tt, V, W, rcp);
 #endif
 }
 
