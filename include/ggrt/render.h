@@ -159,7 +159,10 @@ typedef struct ggRenderOptions {
     /* Optional per-pixel cost map (ggrt render --heatmap): width * height
        floats, row by row, that ggRender fills with cost_kind's measure for
        every rendered pixel (corner mode: for the corner at the pixel's top
-       left). NULL = none. */
+       left). It measures the render as it runs: the pixels of a tile that
+       no ray can hit, filled with the background without tracing, get the
+       rays and depth tracing would give and their share of the fill's
+       time. NULL = none. */
     float *cost_map;
     int cost_kind; /* GG_COST_* */
     /* Optional path layers (ggrt render --aov): layers compiled by

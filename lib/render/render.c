@@ -637,6 +637,34 @@ static void fill_empty_tile(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
     if (j->layers) empty_tile_layers(j, gx0, gy0, gx1, gy1, n);
 }
 
+/* The clock of a timed cost map (GG_COST_TIME, GG_COST_CPU), else 0. */
+static double cost_clock(const job *j)
+{
+    if (!j->cost) return 0;
+    return j->cost_kind == GG_COST_CPU ? gg_time_cpu()
+           : j->cost_kind == GG_COST_TIME ? gg_time_now()
+                                          : 0;
+}
+
+/* An empty tile's cost map: what fill_empty_tile stands for at each grid
+   point (n eye rays that miss, depth 1) or its share of the seconds
+   secs the tile took. Cost maps measure the render as it runs, so that
+   ggrt plan sees background as the cheap thing it is. */
+static void empty_tile_cost(job *j, int gx0, int gy0, int gx1, int gy1, double secs)
+{
+    const int n = j->corner ? 1 : j->r.spp;
+    const double per = secs / ((double)(gx1 - gx0) * (double)(gy1 - gy0));
+    const double v = j->cost_kind == GG_COST_TIME || j->cost_kind == GG_COST_CPU ? per
+                     : j->cost_kind == GG_COST_DEPTH                         ? 1.0
+                                                                             : (double)n;
+    int gx, gy;
+    for (gy = gy0; gy < gy1; gy++)
+        for (gx = gx0; gx < gx1; gx++) {
+            const int x = j->r.x0 + gx, y = j->r.y0 + gy;
+            if (x < j->r.w && y < j->r.h) j->cost[(size_t)y * j->r.w + x] = (float)v;
+        }
+}
+
 static void render_tile(job *j, int t, gg_shade_thread *th)
 {
     ggRayStats *st = &th->st;
@@ -644,9 +672,10 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     int gx1 = gx0 + TILE < j->cw ? gx0 + TILE : j->cw;
     int gy1 = gy0 + TILE < j->ch ? gy0 + TILE : j->ch;
     int gx, gy;
-    /* Cost maps measure every pixel the slow way, on purpose. */
-    if (!j->cost && tile_empty(j, gx0, gy0, gx1, gy1)) {
+    if (tile_empty(j, gx0, gy0, gx1, gy1)) {
+        double t0 = cost_clock(j);
         fill_empty_tile(j, gx0, gy0, gx1, gy1, th);
+        if (j->cost) empty_tile_cost(j, gx0, gy0, gx1, gy1, cost_clock(j) - t0);
         return;
     }
     if (!j->cost && !j->ctx.rec && (j->corner || j->r.spp == 1)) {
@@ -659,9 +688,7 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
     for (gy = gy0; gy < gy1; gy++)
         for (gx = gx0; gx < gx1; gx++) {
             ggRayStats before = *st;
-            double t0 = !j->cost                        ? 0
-                        : j->cost_kind == GG_COST_CPU ? gg_time_cpu()
-                                                      : gg_time_now();
+            double t0 = cost_clock(j);
             if (j->cost) st->max_depth = 0;
             if (j->corner) {
                 /* Corner (x0 + gx, y0 + gy) of the pixel grid. */
@@ -680,8 +707,8 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
             if (j->cost) {
                 int x = j->r.x0 + gx, y = j->r.y0 + gy;
                 double v =
-                    j->cost_kind == GG_COST_TIME  ? gg_time_now() - t0
-                    : j->cost_kind == GG_COST_CPU ? gg_time_cpu() - t0
+                    j->cost_kind == GG_COST_TIME || j->cost_kind == GG_COST_CPU
+                        ? cost_clock(j) - t0
                     : j->cost_kind == GG_COST_DEPTH
                         ? (double)st->max_depth
                         : (double)(st->eye + st->reflect + st->refract + st->shadow - before.eye -

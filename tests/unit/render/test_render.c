@@ -432,11 +432,84 @@ static void test_cost_cpu(void **state)
     ggSceneFree(s);
 }
 
+static int cmp_float(const void *a, const void *b)
+{
+    const float x = *(const float *)a, y = *(const float *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The median of the n values of v at the pixels (x, y) of a w-wide map
+   for which in(x, y) is want. */
+static float median_where(const float *v, int w, int h, int want, int (*in)(int, int))
+{
+    float *sel = malloc((size_t)w * h * sizeof *sel), m;
+    int x, y, n = 0;
+    assert_non_null(sel);
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            if (in(x, y) == want) sel[n++] = v[(size_t)y * w + x];
+    assert_true(n > 0);
+    qsort(sel, (size_t)n, sizeof *sel, cmp_float);
+    m = sel[n / 2];
+    free(sel);
+    return m;
+}
+
+/* In the 64x64 image below: 1 in the 16-pixel tiles of the corners,
+   which the ball in the middle leaves empty (no ray of theirs can hit);
+   2 in the middle, on the ball; else 0. */
+static int corner_tile(int x, int y)
+{
+    if ((x < 16 || x >= 48) && (y < 16 || y >= 48)) return 1;
+    return x >= 28 && x < 36 && y >= 28 && y < 36 ? 2 : 0;
+}
+
+/* Cost maps measure the render as it runs: an empty tile is filled
+   without tracing (fill_empty_tile), so its pixels cost far less time
+   than the ball's pixels, and their rays and depth are what tracing gives
+   (one eye ray a sample, depth 1). Each pixel's least time of three
+   renders, and medians, so that a preemption decides nothing. */
+static void test_cost_empty_tiles(void **state)
+{
+    const char *txt = "v\nfrom 0 0 10\nat 0 0 0\nup 0 1 0\nangle 30\nhither 1\n"
+                      "resolution 64 64\nl 5 5 10\nf 1 0 0 0.7 0.3 20 0 0\ns 0 0 0 1\n";
+    ggScene *s = load_text(txt, "ball.nff");
+    ggRenderOptions o;
+    ggImage *img;
+    float *t = malloc(64 * 64 * sizeof *t), *best = malloc(64 * 64 * sizeof *best);
+    int k, r;
+    (void)state;
+    assert_non_null(t), assert_non_null(best);
+    ggRenderOptionsDefault(&o);
+    o.width = o.height = 64, o.threads = 1, o.samples = 4;
+    o.cost_map = t, o.cost_kind = GG_COST_TIME;
+    for (r = 0; r < 3; r++) {
+        img = render(s, &o, NULL);
+        ggImageFree(img);
+        for (k = 0; k < 64 * 64; k++) best[k] = r == 0 || t[k] < best[k] ? t[k] : best[k];
+    }
+    assert_true(median_where(best, 64, 64, 1, corner_tile) * 10 <
+                median_where(best, 64, 64, 2, corner_tile));
+    o.cost_kind = GG_COST_RAYS;
+    img = render(s, &o, NULL);
+    ggImageFree(img);
+    for (k = 0; k < 64 * 64; k++)
+        if (corner_tile(k % 64, k / 64) == 1) assert_true(t[k] == 4);
+    o.cost_kind = GG_COST_DEPTH;
+    img = render(s, &o, NULL);
+    ggImageFree(img);
+    for (k = 0; k < 64 * 64; k++)
+        if (corner_tile(k % 64, k / 64) == 1) assert_true(t[k] == 1);
+    free(t), free(best);
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_identical),
         cmocka_unit_test(test_cost_cpu),
+        cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),
