@@ -16,12 +16,14 @@ static const char about[] =
     "Trace every pixel as ggrt render computes it and test the ray trees for:\n"
     "  nonfinite   NaN or infinite pixel values (and the first ray that made them)\n"
     "  negative    negative pixel values\n"
-    "  energy      a surface hit with kd * colour + ks + kt > 1 (with its material's line)\n"
+    "  energy      a surface hit with kd * colour + ks + kt > 1 (with its material's\n"
+    "              line)\n"
     "  truncation  rays cut by the depth limit (-d) or the ray budget whose children\n"
-    "              would have weighed more than --truncation in the pixel (with a bound\n"
-    "              on the missing light, and which option raises the limit)\n"
+    "              would have weighed more than --truncation in the pixel (with a\n"
+    "              bound on the missing light, and which option raises the limit)\n"
     "  self-hit    secondary rays hitting within a few error bounds of their origin\n"
-    "  near-tir    refractions decided within a few rounding errors of the critical angle\n"
+    "  near-tir    refractions decided within a few rounding errors of the critical\n"
+    "              angle\n"
     "  grazing     hits at grazing incidence\n"
     "nonfinite, negative, energy and truncation are errors, self-hit a warning, the\n"
     "others information (--severity changes that).\n"
@@ -34,9 +36,9 @@ static const char about[] =
     "the worst pixel of each in SCENE (default: the scene the file names) for an\n"
     "example path.";
 
-static const char tail[] = "exit: 0 no error-class invariant failed (--aov-sum: the layers add up), "
-                           "4 one did\n(--aov-sum: a gap or an overlap), 1 usage, 2 bad scene or "
-                           "file, 3 I/O error";
+static const char tail[] =
+    "exit: 0 no error-class invariant failed (--aov-sum: the layers add up), 4 one\n"
+    "did (--aov-sum: a gap or an overlap), 1 usage, 2 bad scene or file, 3 I/O error";
 
 static const char *const formats[] = {"text", "json", NULL};
 

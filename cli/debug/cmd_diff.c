@@ -76,7 +76,8 @@ static int parse(diff_args *a, int argc, char **argv)
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "diff",
-                   .usage = "SCENE [SCENE_B] [--a OPTIONS] [--b OPTIONS] [--path LPE] [options]",
+                   .usage = "SCENE [SCENE_B] [--a OPTIONS] [--b OPTIONS] [--path LPE]\n"
+                            "                 [options]",
                    .about = about,
                    .tail = tail,
                    .opts = {mine, a->ro.table},

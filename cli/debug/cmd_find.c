@@ -12,16 +12,17 @@
 static const char about[] =
     "Find the pixels whose rays did something: every pixel is traced as ggrt render\n"
     "computes it and tested with a predicate over its ray trees, e.g.\n"
-    "  some(kind == tir)                       total internal reflection\n"
-    "  some(kind == refract && object == 2)    object 2 seen through a refraction\n"
-    "  some(verdict == blocked && occluder == 1)   shadows cast by object 1\n"
-    "  some(stop == depth && weight > 0.01)    cut by the depth limit, and it matters\n"
+    "  some(kind == tir)                         total internal reflection\n"
+    "  some(kind == refract && object == 2)      object 2 seen through a refraction\n"
+    "  some(verdict == blocked && occluder == 1) shadows cast by object 1\n"
+    "  some(stop == depth && weight > 0.01)      depth-limit cuts that matter\n"
     "The language (fields, some/all/count, && || !) is in docs/debugging.md.\n"
-    "With --path, the pixels with a light path of that shape instead (OSL's light-path\n"
-    "expressions, read from the eye), each with the share of its value those paths carry:\n"
-    "  C<TS>+B                                 background seen only through refractions\n"
-    "  C.*<RS'tir'>.*                          light that took a total internal reflection\n"
-    "  C<RD>L                                  direct diffuse light";
+    "With --path, the pixels with a light path of that shape instead (OSL's\n"
+    "light-path expressions, read from the eye), each with the share of its value\n"
+    "those paths carry:\n"
+    "  C<TS>+B             background seen only through refractions\n"
+    "  C.*<RS'tir'>.*      light that took a total internal reflection\n"
+    "  C<RD>L              direct diffuse light";
 
 static const char tail[] = "exit: 0 ok (matches or not), 1 usage or a bad predicate, 2 bad scene,\n"
                            "3 I/O error";

@@ -7,9 +7,10 @@
 #include <string.h>
 
 static const char about[] =
-    "Describe a scene: objects by kind, lights, materials, meshes (what the file held and\n"
-    "what is stored), the BVH (nodes, depth, memory, build time) and the effects the\n"
-    "scene calls for, each with its reason. SCENE may be an OBJ or PLY model.";
+    "Describe a scene: objects by kind, lights, materials, meshes (what the file\n"
+    "held and what is stored), the BVH (nodes, depth, memory, build time) and the\n"
+    "effects the scene calls for, each with its reason. SCENE may be an OBJ or PLY\n"
+    "model.";
 
 int cmd_info(int argc, char **argv)
 {

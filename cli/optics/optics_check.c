@@ -273,12 +273,14 @@ static const char about_check[] =
     "ggReflection (reflect), ggFresnelDielectric (fresnel) or\n"
     "ggFresnelConductor (conductor); without --lib, ggrt's own.";
 static const char tail_check[] =
-    "Classes (refract): random, grazing (cos = 2^-k), grazing exact dot, near critical\n"
-    "(+-2000 ulp of the critical angle), eta near 1, normal incidence, negative index,\n"
-    "exactly tangent, huge and tiny, non-unit (all with 1/4 <= |eta| <= 4), extreme eta,\n"
-    "tiny normal part, every exponent, any index ratio (every exponent of every component\n"
-    "and index). The other kinds' classes: docs/optics.md, \"ggrt optics check\".\n"
-    "Example: ggrt optics check --lib build/libtextbook_refract.so --symbol textbook_refract\n"
+    "Classes (refract): random, grazing (cos = 2^-k), grazing exact dot, near\n"
+    "critical (+-2000 ulp of the critical angle), eta near 1, normal incidence,\n"
+    "negative index, exactly tangent, huge and tiny, non-unit (all with |eta| in\n"
+    "[1/4, 4]), extreme eta, tiny normal part, every exponent, any index ratio\n"
+    "(every exponent of every component and index). The other kinds' classes:\n"
+    "docs/optics.md, \"ggrt optics check\".\n"
+    "Example:\n"
+    "ggrt optics check --lib build/libtextbook_refract.so --symbol textbook_refract\n"
     "exit: 0 pass, 4 fail (an error above --max-ulp, a wrong TIR decision or a\n"
     "non-finite result), 1 usage, 2 library or symbol not found, 3 output error";
 
@@ -302,8 +304,8 @@ int cli_optics_check(int argc, char **argv)
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "optics check",
-                   .usage = "[--lib PATH --symbol NAME] [--kind KIND] [--cases N] [--seed S]\n"
-                            "                         [--max-ulp U] [--format text|json]",
+                   .usage = "[--lib PATH --symbol NAME] [--kind KIND] [--cases N]\n"
+                            "                         [--seed S] [--max-ulp U] [--format text|json]",
                    .about = about_check,
                    .tail = tail_check,
                    .opts = {opts}};

@@ -10,13 +10,14 @@
 #include <string.h>
 
 static const char about[] =
-    "Join the tiles written by 'ggrt render --tile' or '--tiles' into one image, PNG or\n"
-    "OpenEXR by the extension of OUT: the same file a single 'ggrt render' with the\n"
-    "same options writes, byte for byte. Every tile must come from the same scene file\n"
-    "(its hash), render options, ggrt version and cut, and together they must cover\n"
-    "the image once: otherwise merge names the tile and the reason and writes nothing.\n"
-    "With --reports, the JSON reports of 'ggrt find', 'check' or 'diff --tile' instead,\n"
-    "joined into the report one process writes for the whole image.";
+    "Join the tiles written by 'ggrt render --tile' or '--tiles' into one image, PNG\n"
+    "or OpenEXR by the extension of OUT: the same file a single 'ggrt render' with\n"
+    "the same options writes, byte for byte. Every tile must come from the same\n"
+    "scene file (its hash), render options, ggrt version and cut, and together they\n"
+    "must cover the image once: otherwise merge names the tile and the reason and\n"
+    "writes nothing.\n"
+    "With --reports, the JSON reports of 'ggrt find', 'check' or 'diff --tile'\n"
+    "instead, joined into the report one process writes for the whole image.";
 
 static const char tail[] = "exit: 0 ok, 1 usage, 2 bad or missing tile, 3 I/O error";
 

@@ -14,13 +14,12 @@
 
 static const char about[] =
     "Cut an image into N bands of whole rows that cost about the same to render, for\n"
-    "'ggrt render --plan FILE --tile I' on N processes or machines. The cost is measured\n"
-    "on a render at 1/F of the size in each direction (--scale F) with the same options:\n"
-    "by default the time each pixel takes, the least of R renders (--runs R), or the\n"
-    "rays it casts (--cost rays: the same plan on every run and machine, but less\n"
-    "even). The plan records the scene\n"
-    "file's hash, the render options and the size; render refuses a plan made for\n"
-    "other ones.";
+    "'ggrt render --plan FILE --tile I' on N processes or machines. The cost is\n"
+    "measured on a render at 1/F of the size in each direction (--scale F) with the\n"
+    "same options: by default the time each pixel takes, the least of R renders\n"
+    "(--runs R), or the rays it casts (--cost rays: the same plan on every run and\n"
+    "machine, but less even). The plan records the scene file's hash, the render\n"
+    "options and the size; render refuses a plan made for other ones.";
 
 static const char tail[] = "exit: 0 ok, 1 usage, 2 bad scene, 3 I/O error";
 

@@ -14,10 +14,10 @@
 
 static const char about[] =
     "Render an NFF scene (SPD NFF plus ggrt's extensions) to an 8-bit sRGB PNG or a\n"
-    "float linear OpenEXR, chosen by the extension of OUT. SCENE may also be an OBJ or\n"
-    "PLY model: it is framed by a default camera and two lights, printed (as NFF, to\n"
-    "paste into a scene) on stderr. SIGINT or SIGTERM cancels the render: nothing is\n"
-    "written and an existing OUT is left as it was.";
+    "float linear OpenEXR, chosen by the extension of OUT. SCENE may also be an OBJ\n"
+    "or PLY model: it is framed by a default camera and two lights, printed (as NFF,\n"
+    "to paste into a scene) on stderr. SIGINT or SIGTERM cancels the render: nothing\n"
+    "is written and an existing OUT is left as it was.";
 
 static const char tail[] =
     "A scene with no objects, or with no lights and no emitting surface, renders with\n"

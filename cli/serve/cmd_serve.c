@@ -13,8 +13,8 @@
 
 static const char about[] =
     "Serve the ray debugger on http://127.0.0.1:PORT/: the rendered image, and for\n"
-    "any pixel you click its ray tree (as ggrt trace prints it), its rays drawn in the\n"
-    "scene, heatmaps of rays, depth and time, a second set of options to compare\n"
+    "any pixel you click its ray tree (as ggrt trace prints it), its rays drawn in\n"
+    "the scene, heatmaps of rays, depth and time, a second set of options to compare\n"
     "against, and a JSON API for scripts (docs/serve.md). Prints the URL to open,\n"
     "with a random token that every request must carry, and serves until Ctrl-C.";
 
@@ -45,11 +45,13 @@ static int parse(serve_args *a, int argc, char **argv)
         CLI_OPT_INT(0, "port", &a->port, 0, 65535, "N",
                     "port to listen on (default 8080; 0: any free port)"),
         CLI_OPT_INT(0, "job-seconds", &a->job_seconds, 1, 300, "N",
-                    "cancel a render, find, check or diff still running after N\n"
-                    "seconds (default and most 300); it reports failed"),
+                    "cancel a render, find, check or diff still\n"
+                    "running after N seconds (default and most 300);\n"
+                    "it reports failed"),
         CLI_OPT_STRING(0, "host", &a->host, "ADDR",
-                       "numeric address to listen on (default 127.0.0.1); any other\n"
-                       "than loopback is reachable from other machines"),
+                       "numeric address to listen on (default\n"
+                       "127.0.0.1); any other than loopback is reachable\n"
+                       "from other machines"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "serve",

@@ -13,13 +13,13 @@
 #include <unistd.h>
 
 static const char about[] =
-    "Print every ray that made one pixel: eye, reflection, refraction, total internal\n"
-    "reflection and shadow rays, what each hit (object, scene-file line, point,\n"
-    "normals; for a mesh the triangle, its face, line, group and material in the file),\n"
-    "the material terms, Fresnel split, absorption, why a branch stopped, and the\n"
-    "colour each ray returns with its weight in the pixel, its share of the pixel and\n"
-    "its factor in its parent. SCENE may be an OBJ or PLY model (framed as by ggrt\n"
-    "render).";
+    "Print every ray that made one pixel: eye, reflection, refraction, total\n"
+    "internal reflection and shadow rays, what each hit (object, scene-file line,\n"
+    "point, normals; for a mesh the triangle, its face, line, group and material in\n"
+    "the file), the material terms, Fresnel split, absorption, why a branch stopped,\n"
+    "and the colour each ray returns with its weight in the pixel, its share of the\n"
+    "pixel and its factor in its parent. SCENE may be an OBJ or PLY model (framed as\n"
+    "by ggrt render).";
 
 static const char tail[] =
     "The printed colour equals, bit for bit, what ggrt render writes for the pixel\n"

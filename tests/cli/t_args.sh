@@ -95,3 +95,18 @@ $(cat "$tmp/err2")"; fi
   else bad "the replay traces the same pixel value" "render: $want, trace: $got"; fi
   set --
 fi
+
+# Every --help fits an 80-column terminal: the top level, each command and
+# each form of optics and bench.
+wide=""
+for c in "" render plan merge trace find check diff info serve optics bench \
+         "optics refract" "optics reflect" "optics fresnel" "optics absorb" "optics check" \
+         "optics seeds" "bench spd" "bench counts" "bench effects" "bench scaling" \
+         "bench rays" "bench limit" "bench accuracy"; do
+  # shellcheck disable=SC2086
+  "$ggrt" $c --help >"$tmp/help" 2>&1 || wide="$wide [$c: exit $?]"
+  n=$(awk 'length($0) > 80' "$tmp/help" | wc -l)
+  [ "$n" = 0 ] || wide="$wide [ggrt $c --help: $n lines over 80: $(awk 'length($0) > 80 { print; exit }' "$tmp/help")]"
+done
+if [ -z "$wide" ]; then ok "every --help fits in 80 columns (25 texts)"
+else bad "every --help fits in 80 columns" "$wide"; fi
