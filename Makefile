@@ -438,7 +438,8 @@ check-browser: deps-check deps-browser
 # check-cluster: the recipes of examples/cluster/ on a real scheduler
 # (tests/cluster/check.sh, docs/cluster.md): as root, munged, slurmctld and
 # slurmd on this machine with a key and a slurm.conf in a temporary folder,
-# examples/cluster/slurm.sh on gears in 8 tiles, then parallel.sh over ssh
+# examples/cluster/slurm.sh on gears in 8 tiles of a plan (PLAN=1), then
+# parallel.sh locally and over ssh
 # to root@127.0.0.1 through a private sshd (config and keys in the folder),
 # each merge cmp'd with one process's render; every daemon stopped, the
 # folder removed. 30 s on 2 cores. Packages: scripts/deps.sh group cluster.

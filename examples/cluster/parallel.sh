@@ -13,7 +13,8 @@
 # (--transferfile), the tile comes back (--return) into PARTS (default
 # OUT.parts), and the folder is removed (--cleanup); a scene that reads
 # other files (textures, meshes) needs them on the hosts, at absolute
-# paths.
+# paths. PLAN=1 cuts the rows by cost first, here (ggrt plan:
+# PARTS/plan.json, sent with each tile), rather than in equal bands.
 set -eu
 [ $# -ge 3 ] || { echo "usage: parallel.sh SCENE N OUT.png|OUT.exr [render options...]" >&2; exit 1; }
 scene=$1 n=$2 out=$3
@@ -27,13 +28,18 @@ case $scene in /*) ;; *) scene=$(pwd)/$scene ;; esac
 case $out in /*) ;; *) out=$(pwd)/$out ;; esac
 cp "$scene" "$parts/scene.nff"
 cd "$parts"
+plan=
+if [ "${PLAN:-0}" = 1 ]; then
+  "$ggrt" plan scene.nff --tiles "$n" -q -o plan.json "$@"
+  plan="--plan plan.json"
+fi
 # Remote hosts work in a folder of their own per tile (--workdir ...),
 # removed afterwards; parallel refuses a relative --basefile with those,
 # so the scene goes with each tile. ":" alone needs no transfer.
-xfer="--workdir ... --transferfile scene.nff --return part-{}.exr --cleanup"
+xfer="--workdir ... --transferfile scene.nff ${plan:+--transferfile plan.json} --return part-{}.exr --cleanup"
 [ "${HOSTS:-:}" = ":" ] && xfer=
 # --halt now,fail=1: one failed tile stops the run (merge would refuse anyway).
 # shellcheck disable=SC2086
 seq 0 $((n - 1)) | parallel --will-cite -S "${HOSTS:-:}" --halt now,fail=1 $xfer \
-  "$ggrt" render scene.nff --tile {}/"$n" -q -o part-{}.exr "$@"
+  "$ggrt" render scene.nff --tile {}/"$n" $plan -q -o part-{}.exr "$@"
 "$ggrt" merge part-*.exr -o "$out"

@@ -197,3 +197,14 @@ pcut=$(sed -n 's/^"rows":\[\(.*\)\],*$/plan \1/p' "$td/gl.json")
 merge_refuses "a plan's tile among equal bands" \
   "ggrt merge: $td/pl-5.exr: different cut from $g-0.exr: '$pcut', not 'rows 7'" \
   "$g-0.exr" "$g-1.exr" "$g-2.exr" "$g-3.exr" "$g-4.exr" "$td/pl-5.exr" "$g-6.exr"
+
+# ---- examples/cluster/xargs.sh as pasted: equal bands and a plan ----
+"$ggrt" render examples/scenes/spd/gears.nff --spd -s 96x64 -q -o "$td/x-one.png" 2>/dev/null
+for plan in 0 1; do
+  PLAN=$plan P=2 PARTS="$td/x$plan.parts" GGRT=$ggrt sh examples/cluster/xargs.sh \
+    examples/scenes/spd/gears.nff 5 "$td/x$plan.png" --spd -s 96x64 >"$tmp/out" 2>"$tmp/err"
+  what="equal bands"; [ $plan = 1 ] && what="a plan's cut ($(grep -o '"rows":\[[0-9,]*\]' "$td/x1.parts/plan.json" 2>/dev/null))"
+  if [ -s "$td/x-one.png" ] && cmp -s "$td/x$plan.png" "$td/x-one.png"; then
+    ok "examples/cluster/xargs.sh: 5 tiles in $what merge into one process's PNG"
+  else bad "examples/cluster/xargs.sh, PLAN=$plan" "$(cat "$tmp/out" "$tmp/err")"; fi
+done

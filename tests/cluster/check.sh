@@ -4,14 +4,16 @@
 # (docs/cluster.md). Needs root and scripts/deps.sh group cluster
 # (slurm-wlm, munge, parallel). In a folder of its own it makes a munge
 # key and a one-node slurm.conf, starts munged, slurmctld and slurmd on
-# this machine, submits examples/cluster/slurm.sh for gears in 8 tiles,
-# waits, prints the tiles' times and compares the merge with one
-# process's render (cmp, PNG and EXR); runs examples/cluster/parallel.sh
-# with HOSTS=: (this machine, no ssh); starts a private sshd on
+# this machine, submits examples/cluster/slurm.sh for gears in 8 tiles
+# cut by ggrt plan (PLAN=1), waits, prints the tiles' times and compares
+# the merge with one process's render (cmp, PNG and EXR); runs
+# examples/cluster/parallel.sh in equal bands with HOSTS=: (this machine,
+# no ssh); starts a private sshd on
 # 127.0.0.1 (its config, host key, client key, authorized_keys, pid file
 # and log in the folder, a port of its own), runs
-# examples/cluster/parallel.sh over ssh to root@127.0.0.1 through it and
-# compares that merge too; then stops every daemon it started and
+# examples/cluster/parallel.sh over ssh to root@127.0.0.1 through it,
+# with a plan sent along with each tile (PLAN=1), and compares that merge
+# too; then stops every daemon it started and
 # removes its folder (and /run/sshd if it made it).
 #   sh tests/cluster/check.sh build/ggrt
 set -u
@@ -107,7 +109,7 @@ cd "$t/run" || fail "cd"
 cp "$repo/$scene" gears.nff
 t0=$(date +%s)
 # shellcheck disable=SC2086
-GGRT=$ggrt sh "$repo/examples/cluster/slurm.sh" gears.nff 8 slurm.png $opts >"$t/submit.log" 2>&1 ||
+PLAN=1 GGRT=$ggrt sh "$repo/examples/cluster/slurm.sh" gears.nff 8 slurm.png $opts >"$t/submit.log" 2>&1 ||
   fail "slurm.sh"
 cat "$t/submit.log"
 ids=$(sed -n 's/.*job \([0-9]*\).*job \([0-9]*\).*/\1,\2/p' "$t/submit.log")
@@ -115,7 +117,7 @@ i=0
 while [ -n "$(squeue -h -j "$ids" 2>/dev/null)" ] && [ $i -lt 1500 ]; do sleep 0.2; i=$((i + 1)); done
 [ -z "$(squeue -h -j "$ids" 2>/dev/null)" ] || fail "jobs $ids still queued after 300 s"
 t1=$(date +%s)
-echo "check-cluster: slurm: submitted to merged in $((t1 - t0)) s (Slurm's scheduling ticks, mostly); the tiles:"
+echo "check-cluster: slurm: submitted to merged in $((t1 - t0)) s (Slurm's scheduling ticks, mostly); the plan's cut $(sed -n 's/^"rows":\[\(.*\)\],*$/\1/p' slurm.png.parts/plan.json); the tiles:"
 cat slurm.png.parts/tile-*.log | sed 's/^/  /'
 sed 's/^/  merge: /' slurm.png.parts/merge.log
 [ -f slurm.png ] || fail "the merge job wrote no slurm.png"
@@ -171,12 +173,12 @@ echo "check-cluster: sshd up on 127.0.0.1:$sport (key login as root)"
 # jobs at a time on that login. The tiles go through ssh, the scene out
 # and the tiles back through rsync over the same ssh.
 # shellcheck disable=SC2086
-PARALLEL_SSH=$ssh_cmd HOSTS=2/root@127.0.0.1 GGRT=$ggrt \
+PLAN=1 PARALLEL_SSH=$ssh_cmd HOSTS=2/root@127.0.0.1 GGRT=$ggrt \
   sh "$repo/examples/cluster/parallel.sh" gears.nff 8 par.png $opts >"$t/par.log" 2>&1 ||
   fail "parallel.sh over ssh"
 sed 's/^/  /' "$t/par.log"
 cmp par.png one.png || fail "parallel's merge (over ssh) differs from one process"
 grep -q "Accepted publickey for root" "$t/sshd.log" || fail "sshd logged no login"
-echo "check-cluster: parallel over ssh: $(grep -c 'Accepted publickey for root' "$t/sshd.log") ssh logins; 8 tiles merged = one process (cmp)"
+echo "check-cluster: parallel over ssh: $(grep -c 'Accepted publickey for root' "$t/sshd.log") ssh logins; 8 tiles of a plan merged = one process (cmp)"
 cd "$repo" || exit 1
 echo "check-cluster: ok"
