@@ -121,6 +121,8 @@ echo "check-cluster: slurm: submitted to merged in $((t1 - t0)) s (Slurm's sched
 cat slurm.png.parts/tile-*.log | sed 's/^/  /'
 sed 's/^/  merge: /' slurm.png.parts/merge.log
 [ -f slurm.png ] || fail "the merge job wrote no slurm.png"
+# The tiles rendered the plan's cut: their manifest says so.
+strings -n 6 slurm.png.parts/part-3.exr | grep -q '^plan 0,' || fail "slurm's tiles do not carry the plan's cut"
 # shellcheck disable=SC2086
 "$ggrt" render gears.nff $opts -q -o one.png && "$ggrt" render gears.nff $opts -q -o one.exr ||
   fail "one-process render"
@@ -178,6 +180,7 @@ PLAN=1 PARALLEL_SSH=$ssh_cmd HOSTS=2/root@127.0.0.1 GGRT=$ggrt \
   fail "parallel.sh over ssh"
 sed 's/^/  /' "$t/par.log"
 cmp par.png one.png || fail "parallel's merge (over ssh) differs from one process"
+strings -n 6 par.png.parts/part-3.exr | grep -q '^plan 0,' || fail "parallel's tiles (over ssh) do not carry the plan's cut"
 grep -q "Accepted publickey for root" "$t/sshd.log" || fail "sshd logged no login"
 echo "check-cluster: parallel over ssh: $(grep -c 'Accepted publickey for root' "$t/sshd.log") ssh logins; 8 tiles of a plan merged = one process (cmp)"
 cd "$repo" || exit 1
