@@ -199,6 +199,7 @@ int gg_path_layers_of(const ggPathExpr *e, ggPathLayers **out, ggError *err)
         return rc;
     }
     P->live = P->layer[0].start ? 1u : 0u;
+    P->start[0] = P->layer[0].start;
     *out = P;
     return GG_OK;
 }
@@ -238,8 +239,10 @@ GG_API int ggPathLayersCompile(const char *const *exprs, int n, const ggAllocato
         ggPathLayersFree(P);
         return rc;
     }
-    for (l = 0; l < n; l++)
+    for (l = 0; l < n; l++) {
+        P->start[l] = P->layer[l].start;
         if (P->layer[l].start) P->live |= 1u << l;
+    }
     *out = P;
     return GG_OK;
 }

@@ -73,6 +73,7 @@ struct ggPathLayers {
     const ggAllocator *alloc;
     int n;
     unsigned live; /* bit l: layer l's start state is not dead */
+    uint16_t start[GG_LAYERS_MAX]; /* layer[l].start, side by side for an eye ray's copy */
     gg_lpe_dfa layer[GG_LAYERS_MAX];
 };
 
@@ -96,6 +97,7 @@ static inline int gg_lpe_mat_class(const gg_lpe_dfa *d, long v)
    event of light li (surface 0); of an event without surface or light. */
 static inline int gg_lpe_surface(const gg_lpe_dfa *d, int obj, int mat)
 {
+    if (!(d->nnum | d->nmat)) return 0; /* no labels: one class (the common case) */
     return gg_lpe_num_class(d, obj) * (d->nmat + 1) + gg_lpe_mat_class(d, mat);
 }
 static inline int gg_lpe_light(const gg_lpe_dfa *d, int li)

@@ -288,16 +288,31 @@ static void put_sample_layers(job *j, int gx, int gy, const ggColor *v, const ui
     }
 }
 
-/* put_sample_layers at a pixel centre when only the float map is wanted
-   (ggRender): the same values, without its tests. */
-static void put_map_layers(job *j, int gx, int gy, const ggColor *v, double scale)
+/* put_sample_layers' values at a pixel centre when only the float map
+   is wanted (ggRender), into pixel i of a row's layers (tile_rows_fx). */
+static void row_layers(const job *j, float (*lrow)[3 * TILE], int i, const ggColor *v, double scale)
+{
+    int l;
+    for (l = 0; l < j->layers->n; l++) {
+        const ggColor a = cscale(cadd(rgb(0, 0, 0), v[l]), scale);
+        float *o = &lrow[l][3 * i];
+        o[0] = (float)a.r, o[1] = (float)a.g, o[2] = (float)a.b;
+    }
+}
+
+/* The lines of the layer map that the n pixels from grid point (gx, gy)
+   on will be written to, asked for before the row is traced. */
+static void prefetch_layer_row(const job *j, int gx, int gy, int n)
 {
     const size_t plane3 = 3 * (size_t)j->r.w * (size_t)j->r.h;
-    float *o = j->lmap + 3 * ((size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx));
+    const char *o = (const char *)(j->lmap + 3 * ((size_t)(j->r.y0 + gy) * (size_t)j->r.w +
+                                                  (size_t)(j->r.x0 + gx)));
+    const size_t bytes = 3 * sizeof(float) * (size_t)n;
+    size_t k;
     int l;
-    for (l = 0; l < j->layers->n; l++, o += plane3) {
-        const ggColor a = cscale(cadd(rgb(0, 0, 0), v[l]), scale);
-        o[0] = (float)a.r, o[1] = (float)a.g, o[2] = (float)a.b;
+    for (l = 0; l < j->layers->n; l++, o += plane3 * sizeof(float)) {
+        for (k = 0; k < bytes; k += 64) GG_PREFETCH_W(o + k);
+        GG_PREFETCH_W(o + bytes - 1);
     }
 }
 
@@ -320,22 +335,18 @@ static void miss_layers(job *j)
     }
 }
 
-/* Layer values f (as stored) at the n pixels from grid point (gx, gy)
-   on: the stores of put_sample_layers when only the float map is
-   wanted, for misses. */
-static void fill_layers(job *j, int gx, int gy, int n, const float (*f)[3])
+/* A miss's layers (as stored, j->fmiss) into pixel i of a row's layers. */
+static void row_miss_layers(const job *j, float (*lrow)[3 * TILE], int i)
 {
-    const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
-    const size_t i = (size_t)(j->r.y0 + gy) * (size_t)j->r.w + (size_t)(j->r.x0 + gx);
-    int l, k;
+    int l;
     for (l = 0; l < j->layers->n; l++) {
-        float *o = j->lmap + 3 * (i + (size_t)l * plane);
-        for (k = 0; k < n; k++, o += 3) o[0] = f[l][0], o[1] = f[l][1], o[2] = f[l][2];
+        float *o = &lrow[l][3 * i];
+        o[0] = j->fmiss[l][0], o[1] = j->fmiss[l][1], o[2] = j->fmiss[l][2];
     }
 }
 
-/* Rows of an empty tile: fill_layers' stores, the n pixels of each layer
-   copied from its row p (f repeated), so in wide stores. */
+/* The n pixels from grid point (gx, gy) on of each layer l, copied from
+   its row p[l]: a row of an empty tile (f repeated) or tile_rows_fx's. */
 static void fill_layer_row(job *j, int gx, int gy, int n, const float (*p)[3 * TILE])
 {
     const size_t plane = (size_t)j->r.w * (size_t)j->r.h;
@@ -482,6 +493,10 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
     const ggColor black = {0, 0, 0}, bg = gg_shade_eye_miss(&j->ctx);
     const uint32_t cols = (1u << n) - 1;
     float miss[3];
+    /* Only the float map wanted (ggRender): a row's layers are gathered
+       here and stored with one copy per layer (fill_layer_row). */
+    const int direct = layers && !corner && !j->lsum;
+    float lrow[GG_LAYERS_MAX][3 * TILE];
     uint64_t eye = 0, nonfinite = 0, miss_bad;
     int i, gy;
     miss_bad = (uint64_t)(corner ? put_corner(miss, &bg) : put_centre(miss, &bg, scale));
@@ -502,13 +517,19 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
         float *o = corner ? j->corner + 3 * ((size_t)gy * j->cw + gx0)
                           : j->px + 3 * ((size_t)y * j->r.w + (j->r.x0 + gx0));
         const uint32_t ok = row_dirs(b, c, v, q) & eye_ok & cols;
-        const uint32_t hit = gg_geom_intersect_packet(geom, q, ok, h);
+        uint32_t hit;
+        if (direct) prefetch_layer_row(j, gx0, gy, n);
+        hit = gg_geom_intersect_packet(geom, q, ok, h);
         eye += (uint64_t)n;
         for (i = 0; i < n; i++, o += 3) {
             if (!((ok >> i) & 1u)) {
                 nonfinite += corner ? put_corner(o, &black) : put_centre(o, &black, scale);
                 eye--; /* no ray cast: take it back from the row's n */
-                if (layers) {
+                if (direct) {
+                    int l;
+                    for (l = 0; l < j->layers->n; l++)
+                        lrow[l][3 * i] = lrow[l][3 * i + 1] = lrow[l][3 * i + 2] = 0;
+                } else if (layers) {
                     ggColor none[GG_LAYERS_MAX];
                     int l;
                     for (l = 0; l < j->layers->n; l++) none[l] = black;
@@ -525,21 +546,22 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
                 }
                 col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
                 nonfinite += corner ? put_corner(o, &col) : put_centre(o, &col, scale);
-                if (layers && !corner && !j->lsum)
-                    put_map_layers(j, gx0 + i, gy, th->aov, scale);
+                if (direct)
+                    row_layers(j, lrow, i, th->aov, scale);
                 else if (layers)
                     put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
-                if (layers && !corner && !j->lsum)
-                    fill_layers(j, gx0 + i, gy, 1, (const float(*)[3])j->fmiss);
+                if (direct)
+                    row_miss_layers(j, lrow, i);
                 else if (layers && !corner)
                     fill_sums(j, gx0 + i, gy, 1, j->dmiss, j->nmiss8);
                 else if (layers)
                     put_sample_layers(j, gx0 + i, gy, j->lmiss, j->nmiss, scale);
             }
         }
+        if (direct) fill_layer_row(j, gx0, gy, n, (const float(*)[3 * TILE])lrow);
     }
     th->st.eye += eye;
     th->st.nonfinite += nonfinite;
@@ -593,8 +615,11 @@ static void empty_tile_layers(job *j, int gx0, int gy0, int gx1, int gy1, int n)
         float p[GG_LAYERS_MAX][3 * TILE];
         for (l = 0; l < j->layers->n; l++)
             for (k = 0; k < 3 * TILE; k++) p[l][k] = f[l][k % 3];
-        for (gy = gy0; gy < gy1; gy++)
+        for (gy = gy0; gy < gy1 && gy < gy0 + 2; gy++) prefetch_layer_row(j, gx0, gy, gx1 - gx0);
+        for (gy = gy0; gy < gy1; gy++) {
+            if (gy + 2 < gy1) prefetch_layer_row(j, gx0, gy + 2, gx1 - gx0);
             fill_layer_row(j, gx0, gy, gx1 - gx0, (const float(*)[3 * TILE])p);
+        }
         return;
     }
     for (gy = gy0; !j->corner && gy < gy1; gy++) fill_sums(j, gx0, gy, gx1 - gx0, d, h);

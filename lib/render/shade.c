@@ -597,11 +597,18 @@ static ggColor wmul(ggColor a, ggColor b)
     return rgb(a.r == 0 ? 0 : a.r * b.r, a.g == 0 ? 0 : a.g * b.g, a.b == 0 ? 0 : a.b * b.b);
 }
 
+/* th->aov_n (only ggCheck's layer sums ask for it): layer l's count of
+   terms, the ledger's non-zero ones (lib/debug/ledger.c). Out of line,
+   so that the tests stay out of ggRender's path. */
+static GG_NOINLINE void aov_count(gg_shade_thread *th, int l, ggColor term)
+{
+    if (term.r != 0 || term.g != 0 || term.b != 0) th->aov_n[l]++;
+}
+
 static void aov_add(gg_shade_thread *th, int l, ggColor a, ggColor term)
 {
     th->aov[l] = cadd(th->aov[l], wmul(a, term));
-    /* The ledger's terms are the non-zero ones (lib/debug/ledger.c). */
-    if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
+    if (GG_UNLIKELY(th->aov_n != NULL)) aov_count(th, l, term);
 }
 
 /* aov_add with a = hi->aw: a plain product when aw has no zero channel
@@ -610,19 +617,15 @@ GG_INLINE void aov_add_hit(gg_shade_thread *th, int l, const hit_info *hi, ggCol
 {
     const ggColor p = hi->awz ? wmul(hi->aw, term) : cmul(hi->aw, term);
     th->aov[l] = cadd(th->aov[l], p);
-    if (th->aov_n && (term.r != 0 || term.g != 0 || term.b != 0)) th->aov_n[l]++;
+    if (GG_UNLIKELY(th->aov_n != NULL)) aov_count(th, l, term);
 }
 
 /* An eye ray: weight 1, every layer not dead after its C. */
 static void aov_root(const gg_shade_ctx *c, ray_state *r)
 {
-    unsigned m;
     r->thru = rgb(1, 1, 1);
     r->lmask = c->layers->live;
-    for (m = r->lmask; m; m &= m - 1) {
-        const int l = (int)GG_CTZ(m);
-        r->lpe[l] = c->layers->layer[l].start;
-    }
+    memcpy(r->lpe, c->layers->start, sizeof r->lpe);
 }
 
 /* The hit's per-layer classes and terms (hi->lcls, lterm, llive), then
