@@ -117,7 +117,9 @@ static int expand(builder *b, int i, int layer, ggError *err)
 }
 
 /* d->term (lpe.h) from d's next and accept: which terms that end a path
-   at a hit each (state, class) accepts. */
+   at a hit each (state, class) accepts; then d->quiet, the states that
+   accept none of them whatever the class (the shading skips such a layer
+   at a hit). */
 static void terms(gg_lpe_dfa *d)
 {
     const int none = gg_lpe_none(d);
@@ -137,6 +139,11 @@ static void terms(gg_lpe_dfa *d)
             if (d->accept[gg_lpe_step(d, (unsigned)s, GG_LPE_B, none)]) t |= GG_LPE_T_B;
             d->term[(size_t)s * (size_t)d->ncls + (size_t)cls] = t;
         }
+    for (s = 0; s < d->nstates; s++) {
+        d->quiet[s] = 1;
+        for (cls = 0; cls < d->ncls; cls++)
+            if (d->term[(size_t)s * (size_t)d->ncls + (size_t)cls] & ~GG_LPE_T_B) d->quiet[s] = 0;
+    }
 }
 
 /* Expression e as layer `layer` into d. */
@@ -152,9 +159,10 @@ static int compile_layer(const ggPathExpr *e, gg_lpe_dfa *d, int layer, ggError 
     /* state 0: dead; 1: the start, before C */
     if (state_of(&b, none, layer, err) < 0 || state_of(&b, e->closure[0], layer, err) < 0) rc = -1;
     for (i = 0; rc == 0 && i < b.n; i++) rc = expand(&b, i, layer, err);
-    if (rc == 0 && !(d->accept = gg_mem_calloc(e->alloc, (size_t)b.n, 1)))
+    if (rc == 0 && !(d->accept = gg_mem_calloc(e->alloc, (size_t)b.n, 2)))
         rc = b.rc = gg_error_set(err, GG_ERROR_NOMEM, "path layers: out of memory");
     if (rc == 0) {
+        d->quiet = d->accept + b.n;
         for (i = 0; i < b.n; i++)
             d->accept[i] = e->accept >= 0 && (b.sets[i][e->accept / 64] >> (e->accept % 64) & 1u);
         d->nstates = b.n, d->next = b.next, b.next = NULL;

@@ -63,6 +63,7 @@ typedef struct gg_lpe_dfa {
     uint16_t start;        /* the state after C */
     uint16_t *next;        /* next[state * nsym + symbol] */
     unsigned char *accept; /* per state */
+    unsigned char *quiet;  /* per state: no term but B is accepted at any hit (in accept's block) */
     uint32_t *term;        /* term[state * ncls + cls], the GG_LPE_T_* bits */
 } gg_lpe_dfa;
 

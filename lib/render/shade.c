@@ -112,13 +112,12 @@ typedef struct hit_info {
     ggVec3 o_out;   /* origin of every ray that leaves to the incoming side */
     ggColor kdc;    /* kd times the surface colour (texture included) */
     /* The layer copy (aov_local fills them): the ray's thru times its
-       absorption to the hit; per live layer the class of the hit's labels
-       and the terms its automaton accepts there (lpe.h, GG_LPE_T_*); the
-       layers that accept some light's term there (bit l); awz: aw has
-       a channel of exactly 0 (wmul's tests needed). */
+       absorption to the hit; per live layer not quiet there the terms its
+       automaton accepts there (lpe.h, GG_LPE_T_*); the layers that accept
+       some light's term there (bit l); awz: aw has a channel of exactly 0
+       (wmul's tests needed). */
     ggColor aw;
     int awz;
-    uint16_t lcls[GG_LAYERS_MAX];
     uint32_t lterm[GG_LAYERS_MAX];
     unsigned llive;
 } hit_info;
@@ -628,9 +627,11 @@ static void aov_root(const gg_shade_ctx *c, ray_state *r)
     memcpy(r->lpe, c->layers->start, sizeof r->lpe);
 }
 
-/* The hit's per-layer classes and terms (hi->lcls, lterm, llive), then
-   the terms that end a path there: ambient amb (<RD>A) and, if it glows,
-   emission (O). One lookup per live layer (lpe.h, term). */
+/* The hit's per-layer terms (hi->lterm, llive), then the terms that end
+   a path there: ambient amb (<RD>A) and, if it glows, emission (O). One
+   lookup per live layer (lpe.h, term), none for a layer in a quiet state
+   (one that accepts none of them here, as a layer of mirror paths before
+   its first mirror). */
 GG_INLINE void aov_local(const gg_shade_ctx *c, const ray_state *r, hit_info *hi,
                          gg_shade_thread *th, ggColor amb, const unsigned FX)
 {
@@ -640,9 +641,10 @@ GG_INLINE void aov_local(const gg_shade_ctx *c, const ray_state *r, hit_info *hi
     for (m = r->lmask; m; m &= m - 1) {
         const int l = (int)GG_CTZ(m);
         const gg_lpe_dfa *d = &c->layers->layer[l];
-        const int cls = gg_lpe_surface(d, hi->obj, hi->mi);
-        const uint32_t t = d->term[(size_t)r->lpe[l] * (size_t)d->ncls + (size_t)cls];
-        hi->lcls[l] = (uint16_t)cls;
+        uint32_t t;
+        if (d->quiet[r->lpe[l]]) continue;
+        t = d->term[(size_t)r->lpe[l] * (size_t)d->ncls +
+                    (size_t)gg_lpe_surface(d, hi->obj, hi->mi)];
         hi->lterm[l] = t;
         if (t & (GG_LPE_T_L << GG_LPE_T_RDL | GG_LPE_T_L << GG_LPE_T_RGL)) hi->llive |= 1u << l;
         if (t & GG_LPE_T_A) aov_add_hit(th, l, hi, amb);
@@ -678,8 +680,9 @@ GG_INLINE void aov_child(const gg_shade_ctx *c, const ray_state *r, const hit_in
     child->lmask = 0;
     for (m = r->lmask; m; m &= m - 1) {
         const int l = (int)GG_CTZ(m);
-        if ((child->lpe[l] = (uint16_t)gg_lpe_step(&c->layers->layer[l], r->lpe[l], k,
-                                                   hi->lcls[l])) != 0)
+        const gg_lpe_dfa *d = &c->layers->layer[l];
+        if ((child->lpe[l] = (uint16_t)gg_lpe_step(d, r->lpe[l], k,
+                                                   gg_lpe_surface(d, hi->obj, hi->mi))) != 0)
             child->lmask |= 1u << l;
     }
 }
