@@ -26,7 +26,11 @@ typedef struct check_thread {
     gg_dbg_buf buf;
     ggCheckItem item[GG_CHECK_COUNT];
     long checked;
-    double share_sum; /* path checks: the checked pixels' shares */
+    /* The last pixel checked in full (check_pixel): 0 it was left out (no
+       path matched), 1 it passed every check, 2 something failed; and
+       its paths' share. */
+    int last;
+    double last_share;
     uint64_t *sets;   /* path checks: the automaton's states per ray */
     size_t sets_cap;
 } check_thread;
@@ -38,6 +42,11 @@ typedef struct check_job {
     check_thread *t;
     const ggAllocator *alloc;
     double *children; /* per material: the weight its children get, ks + kt (conductor 1 + kt) */
+    /* Path checks: the checked pixels' shares, summed per row of the
+       window (one thread scans a row, left to right) and the rows in
+       order by merge: the same sum for any number of threads. */
+    double *row_share;
+    int y0;
 } check_job;
 
 GG_API const char *ggCheckName(int check)
@@ -239,7 +248,15 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
     long ncut = 0;
     int c;
     memset(&sum, 0, sizeof sum);
-    (void)same; /* a tree of misses: cheap to check again */
+    /* The last pixel's trees and value (a span of misses, scan.c): the
+       same verdict, which only needs recording again where it failed. */
+    if (same && th->last != 2) {
+        if (th->last == 0) return 0;
+        th->checked++;
+        cj->row_share[y - cj->y0] += th->last_share;
+        return 0;
+    }
+    th->last = 0;
     if (gg_dbg_buf_weights(&th->buf, cj->alloc, t)) return GG_ERROR_NOMEM;
     if (cj->co.path) {
         gg_dbg_pixel p;
@@ -250,9 +267,10 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
         p.trace = t, p.x = x, p.y = y, p.px = px[0], p.w = th->buf.w;
         gg_path_run(cj->co.path, &p, th->sets, &sum, NULL);
         if (sum.matched == 0) return 0;
-        th->share_sum += sum.share;
+        cj->row_share[y - cj->y0] += sum.share;
     }
     th->checked++;
+    th->last = 1, th->last_share = sum.share;
     memset(f, 0, sizeof f);
     memset(&cut_at, 0, sizeof cut_at);
     check_value(th, f, t, px[0]);
@@ -265,6 +283,7 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
     for (c = 0; c < GG_CHECK_COUNT; c++) {
         ggCheckItem *it = &th->item[c];
         if (!f[c].failed) continue;
+        th->last = 2;
         it->pixels++;
         if (f[c].measure > it->worst) it->worst = f[c].measure;
         f[c].at.x = x, f[c].at.y = y, f[c].at.share = sum.share;
@@ -341,7 +360,10 @@ static int check_alloc(ggScene *s, const gg_scan *sc, check_job *cj, ggCheckResu
     r->x0 = sc->desc.x0, r->y0 = sc->desc.y0, r->x1 = sc->desc.x1, r->y1 = sc->desc.y1;
     cj->t = gg_mem_calloc(cj->alloc, (size_t)sc->threads, sizeof *cj->t);
     cj->children = gg_mem_calloc(cj->alloc, s->nmaterials ? s->nmaterials : 1, sizeof(double));
-    if (!cj->t || !cj->children) return GG_ERROR_NOMEM;
+    cj->row_share =
+        gg_mem_calloc(cj->alloc, (size_t)(sc->desc.y1 - sc->desc.y0) + 1, sizeof(double));
+    cj->y0 = sc->desc.y0;
+    if (!cj->t || !cj->children || !cj->row_share) return GG_ERROR_NOMEM;
     for (i = 0; i < s->nmaterials; i++) {
         const ggMaterial *m = &s->materials[i];
         cj->children[i] = (m->fresnel == GG_FRESNEL_CONDUCTOR ? 1 : m->ks) + m->kt;
@@ -354,7 +376,8 @@ static void merge(check_job *cj, int threads)
     ggCheckResult *r = cj->res;
     int i, c, k;
     double share = 0;
-    for (i = 0; i < threads; i++) r->checked += cj->t[i].checked, share += cj->t[i].share_sum;
+    for (i = 0; i < threads; i++) r->checked += cj->t[i].checked;
+    for (k = 0; k < r->y1 - r->y0; k++) share += cj->row_share[k];
     if (cj->co.path && r->checked > 0) r->share = share / (double)r->checked;
     for (c = 0; c < GG_CHECK_COUNT; c++) {
         ggCheckItem *it = &r->items[c];
@@ -405,6 +428,7 @@ GG_API int ggCheck(ggScene *s, const ggRenderOptions *opt, const ggCheckOptions 
     }
     gg_mem_free(cj.alloc, cj.t);
     gg_mem_free(cj.alloc, cj.children);
+    gg_mem_free(cj.alloc, cj.row_share);
     gg_tracer_free(tr);
     if (rc != GG_OK) {
         ggCheckResultFree(r);

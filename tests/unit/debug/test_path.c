@@ -543,6 +543,26 @@ static void test_check_path(void **state)
     assert_int_equal(r->checked, 0);
     assert_int_equal(r->failed, 0);
     ggCheckResultFree(r);
+    /* The share is the same number, to the bit, for any thread count
+       (the pixels' shares are summed per row, the rows in order: summed
+       per thread, 1 and 3 threads differed in the last digits here). */
+    {
+        ggPathExpr *glass = parse("C.*<TS>.*");
+        double share[3];
+        int k;
+        co.path = glass;
+        o.width = 64, o.height = 48;
+        for (k = 0; k < 3; k++) {
+            o.threads = k + 1;
+            assert_int_equal(ggCheck(s, &o, &co, &r, NULL), GG_OK);
+            share[k] = r->share;
+            ggCheckResultFree(r);
+        }
+        assert_true(share[0] > 0 && share[0] < 1);
+        assert_memory_equal(&share[0], &share[1], sizeof share[0]);
+        assert_memory_equal(&share[0], &share[2], sizeof share[0]);
+        ggPathFree(glass);
+    }
     ggPathFree(tir), ggPathFree(all), ggPathFree(none);
     ggSceneFree(s);
 }
