@@ -31,6 +31,13 @@ typedef struct check_thread {
        its paths' share. */
     int last;
     double last_share;
+    /* Path checks: the shares of the row this thread is scanning (row
+       y), stored into check_job.row_share when it moves on (flush_row). */
+    double row_acc;
+    int row_y;
+    /* Threads' structs lie side by side and each writes its own per
+       pixel: the next one's fields start a cache line further on. */
+    unsigned char pad[64];
     uint64_t *sets;   /* path checks: the automaton's states per ray */
     size_t sets_cap;
 } check_thread;
@@ -235,6 +242,31 @@ static void check_value(check_thread *th, pix_fail *f, const ggTrace *t, ggColor
     }
 }
 
+/* Thread th's row of shares into cj->row_share (one store a row: rows
+   next to each other, scanned by different threads, share cache lines). */
+static void flush_row(const check_job *cj, check_thread *th)
+{
+    if (th->row_acc != 0) cj->row_share[th->row_y - cj->y0] += th->row_acc;
+    th->row_acc = 0;
+}
+
+/* Whether checking t needs its rays' weights in the pixel: a path check,
+   or a ray cut by the depth or the budget that would have had children
+   (the truncation check weighs what they lost). */
+static int needs_weights(const check_job *cj, const ggTrace *t, size_t n)
+{
+    size_t i;
+    if (cj->co.path) return 1;
+    for (i = 0; i < n; i++) {
+        const ggTraceNode *d = ggTraceGetNode(t, i);
+        if (d->hit && (d->stop == GG_STOP_DEPTH || d->stop == GG_STOP_BUDGET) &&
+            d->material >= 0 && (size_t)d->material < cj->s->nmaterials &&
+            cj->children[d->material] > 0)
+            return 1;
+    }
+    return 0;
+}
+
 static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs, const ggColor *px,
                        int same)
 {
@@ -248,16 +280,18 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
     long ncut = 0;
     int c;
     memset(&sum, 0, sizeof sum);
+    if (y != th->row_y) flush_row(cj, th), th->row_y = y;
     /* The last pixel's trees and value (a span of misses, scan.c): the
        same verdict, which only needs recording again where it failed. */
     if (same && th->last != 2) {
         if (th->last == 0) return 0;
         th->checked++;
-        cj->row_share[y - cj->y0] += th->last_share;
+        th->row_acc += th->last_share;
         return 0;
     }
     th->last = 0;
-    if (gg_dbg_buf_weights(&th->buf, cj->alloc, t)) return GG_ERROR_NOMEM;
+    if (needs_weights(cj, t, n) && gg_dbg_buf_weights(&th->buf, cj->alloc, t))
+        return GG_ERROR_NOMEM;
     if (cj->co.path) {
         gg_dbg_pixel p;
         if (gg_mem_grow(cj->alloc, (void **)&th->sets, &th->sets_cap,
@@ -267,7 +301,7 @@ static int check_pixel(void *ud, int thread, int x, int y, ggTrace *const *recs,
         p.trace = t, p.x = x, p.y = y, p.px = px[0], p.w = th->buf.w;
         gg_path_run(cj->co.path, &p, th->sets, &sum, NULL);
         if (sum.matched == 0) return 0;
-        cj->row_share[y - cj->y0] += sum.share;
+        th->row_acc += sum.share;
     }
     th->checked++;
     th->last = 1, th->last_share = sum.share;
@@ -376,7 +410,7 @@ static void merge(check_job *cj, int threads)
     ggCheckResult *r = cj->res;
     int i, c, k;
     double share = 0;
-    for (i = 0; i < threads; i++) r->checked += cj->t[i].checked;
+    for (i = 0; i < threads; i++) r->checked += cj->t[i].checked, flush_row(cj, &cj->t[i]);
     for (k = 0; k < r->y1 - r->y0; k++) share += cj->row_share[k];
     if (cj->co.path && r->checked > 0) r->share = share / (double)r->checked;
     for (c = 0; c < GG_CHECK_COUNT; c++) {
