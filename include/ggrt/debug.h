@@ -271,7 +271,8 @@ typedef struct ggCheckResult {
     long checked;   /* pixels checked: scanned, or with a path expression those that
                        have a matching path */
     double share;   /* with a path expression: the mean over the checked pixels of
-                       the share their matching paths carry; else 0 */
+                       the share their matching paths carry (summed row by row,
+                       the same bits for any number of threads); else 0 */
     int failed; /* invariants of severity error with pixels > 0 */
     ggCheckItem items[GG_CHECK_COUNT];
     /* Truncation: an upper bound on any ray's colour in this scene (the
