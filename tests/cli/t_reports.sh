@@ -66,9 +66,11 @@ if "$ggrt" merge -q --reports "$rd"/r-*.json -o "$rd/m.json" && cmp -s "$rd/m.js
   ok "check: a plan's 7 tiles' reports merge into one process's"
 else bad "check: a plan's 7 tiles' reports merge into one process's"; fi
 
-# check --path: its share is a mean of floating-point shares that
-# lib/debug/check.c sums per thread, so it moves in the last digits with
-# -j already; the rest is byte for byte, the share within 1e-12.
+# check --path: its share is a mean of floating-point shares, which merge
+# recombines from the tiles' means (cli/render/report_merge.c, share_of)
+# where one process sums its rows' shares (lib/debug/check.c): they round
+# apart in the last digits; the rest is byte for byte, the share within
+# 1e-12.
 rm -f "$rd"/r-*.json
 for i in 0 1; do
   "$ggrt" check examples/scenes/glass.nff -s 80x48 --path "C.*<RS'tir'>.*" -f json --tile $i/2 >"$rd/r-$i.json"
