@@ -547,6 +547,32 @@ static void test_check_threads(void **state)
     ggSceneFree(s);
 }
 
+/* A failing background: every miss fails the nonfinite check, those in
+   spans of misses too, whose trees scan.c traces once (check.c reuses a
+   passed verdict along the span, not a failed one). The count equals the
+   NaN pixels of ggRender's image. */
+static void test_check_failing_misses(void **state)
+{
+    ggScene *s = tu_load("examples/scenes/spd/tetra.nff"); /* mostly sky */
+    ggCheckResult *r;
+    ggImage *img = NULL;
+    ggRenderOptions o;
+    const float *px;
+    long nan = 0, i;
+    (void)state;
+    s->background.g = NAN;
+    small(&o, 64, 48, 2);
+    assert_int_equal(ggRender(s, &o, &img, NULL, NULL), GG_OK);
+    px = ggImagePixelsConst(img);
+    for (i = 0; i < 64 * 48; i++) nan += px[3 * i] != px[3 * i] || px[3 * i + 1] != px[3 * i + 1];
+    assert_true(nan > 16 * 16); /* at least one whole tile of sky */
+    assert_int_equal(ggCheck(s, &o, NULL, &r, NULL), GG_OK);
+    assert_int_equal(r->items[GG_CHECK_NONFINITE].pixels, nan);
+    ggCheckResultFree(r);
+    ggImageFree(img);
+    ggSceneFree(s);
+}
+
 /* ---- diff ---- */
 
 static void test_diff_identical(void **state)
@@ -997,6 +1023,7 @@ int main(void)
         cmocka_unit_test(test_find_limit_and_crop), cmocka_unit_test(test_ledger_sums_to_pixel),
         cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_check_planted_defects),
         cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
+        cmocka_unit_test(test_check_failing_misses),
         cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
         cmocka_unit_test(test_compare_depth),       cmocka_unit_test(test_compare_kinds),
         cmocka_unit_test(test_numeric_state),       cmocka_unit_test(test_traversal_cost),
