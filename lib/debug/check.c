@@ -35,11 +35,11 @@ typedef struct check_thread {
        y), stored into check_job.row_share when it moves on (flush_row). */
     double row_acc;
     int row_y;
+    uint64_t *sets;   /* path checks: the automaton's states per ray */
+    size_t sets_cap;
     /* Threads' structs lie side by side and each writes its own per
        pixel: the next one's fields start a cache line further on. */
     unsigned char pad[64];
-    uint64_t *sets;   /* path checks: the automaton's states per ray */
-    size_t sets_cap;
 } check_thread;
 
 typedef struct check_job {
@@ -191,6 +191,15 @@ static void self_hits(const check_job *cj, check_thread *th, pix_fail *f, const 
     }
 }
 
+/* Whether n is a hit the depth or the budget cut whose material would
+   have given children weight: what they lost is truncation. */
+static int cut_with_children(const check_job *cj, const ggTraceNode *n)
+{
+    return n->hit && (n->stop == GG_STOP_DEPTH || n->stop == GG_STOP_BUDGET) &&
+           n->material >= 0 && (size_t)n->material < cj->s->nmaterials &&
+           cj->children[n->material] > 0;
+}
+
 /* The invariants that live at one hit. *cut sums the truncated weight. */
 static void check_node(const check_job *cj, check_thread *th, pix_fail *f, const ggTrace *t, int i,
                        double *cut, long *ncut, pix_fail *cut_at)
@@ -215,7 +224,7 @@ static void check_node(const check_job *cj, check_thread *th, pix_fail *f, const
                   -1, n);
     }
     self_hits(cj, th, f, t, i);
-    if ((n->stop == GG_STOP_DEPTH || n->stop == GG_STOP_BUDGET) && cj->children[n->material] > 0) {
+    if (cut_with_children(cj, n)) {
         const ggColor *w = &th->buf.w[i];
         ggColor a;
         double lost;
@@ -257,13 +266,8 @@ static int needs_weights(const check_job *cj, const ggTrace *t, size_t n)
 {
     size_t i;
     if (cj->co.path) return 1;
-    for (i = 0; i < n; i++) {
-        const ggTraceNode *d = ggTraceGetNode(t, i);
-        if (d->hit && (d->stop == GG_STOP_DEPTH || d->stop == GG_STOP_BUDGET) &&
-            d->material >= 0 && (size_t)d->material < cj->s->nmaterials &&
-            cj->children[d->material] > 0)
-            return 1;
-    }
+    for (i = 0; i < n; i++)
+        if (cut_with_children(cj, ggTraceGetNode(t, i))) return 1;
     return 0;
 }
 
