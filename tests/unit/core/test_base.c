@@ -79,6 +79,34 @@ static void test_grow_with_allocator(void **state)
     assert_null(gg_mem_calloc(NULL, (size_t)-1 / 2, 4));
 }
 
+/* Blocks of 4 MB and more from the C library carry a huge-page hint
+   (base.c, huge_hint) over their 2 MB-aligned interior: it must not change
+   what they hold, at either end or across a realloc that moves them. */
+static void test_large_blocks(void **state)
+{
+    const size_t n = ((size_t)9 << 20) + 3, m = ((size_t)21 << 20) + 5;
+    unsigned char *p, *q;
+    size_t i;
+    (void)state;
+    p = gg_mem_calloc(NULL, n, 1);
+    assert_non_null(p);
+    for (i = 0; i < n; i += 4093) assert_int_equal(p[i], 0);
+    assert_int_equal(p[n - 1], 0);
+    for (i = 0; i < n; i++) p[i] = (unsigned char)(i * 7 + 1);
+    q = gg_mem_realloc(NULL, p, m);
+    assert_non_null(q);
+    for (i = 0; i < n; i++)
+        if (q[i] != (unsigned char)(i * 7 + 1)) fail_msg("byte %zu changed by the realloc", i);
+    memset(q + n, 0x5a, m - n);
+    assert_int_equal(q[m - 1], 0x5a);
+    gg_mem_free(NULL, q);
+    p = gg_mem_alloc(NULL, (size_t)5 << 20);
+    assert_non_null(p);
+    memset(p, 0xa5, (size_t)5 << 20);
+    assert_int_equal(p[((size_t)5 << 20) - 1], 0xa5);
+    gg_mem_free(NULL, p);
+}
+
 static void test_ulps(void **state)
 {
     (void)state;
@@ -95,6 +123,7 @@ int main(void)
         cmocka_unit_test(test_status_strings),
         cmocka_unit_test(test_error_set),
         cmocka_unit_test(test_grow_with_allocator),
+        cmocka_unit_test(test_large_blocks),
         cmocka_unit_test(test_ulps),
     };
     return cmocka_run_group_tests_name("base", tests, NULL, NULL);
