@@ -85,6 +85,10 @@ static void k_shadows(ggRenderOptions *o, double v)
 {
     o->accuracy.shadows = (int)v;
 }
+static void k_phong(ggRenderOptions *o, double v)
+{
+    o->accuracy.phong = (int)v;
+}
 
 static const knob knobs[] = {
     {"default", "all accurate", 1, k_none, 0},
@@ -129,6 +133,8 @@ static const knob knobs[] = {
     {"intersect", "float", 0, k_isect, GG_ACC_ISECT_FLOAT},
     {"shadows", "colored", 1, k_shadows, GG_ACC_SHADOWS_COLORED},
     {"shadows", "opaque", 0, k_shadows, GG_ACC_SHADOWS_OPAQUE},
+    {"phong", "exact", 1, k_phong, GG_ACC_PHONG_EXACT},
+    {"phong", "fast", 0, k_phong, GG_ACC_PHONG_FAST},
 };
 #define NKNOBS    (sizeof knobs / sizeof knobs[0])
 #define REF_SPP   16

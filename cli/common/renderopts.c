@@ -106,7 +106,8 @@ void cli_render_init(cli_render *r, unsigned parts)
             "intersect=double|float (triangles and spheres in\n"
             "single precision; wrong far from the origin),\n"
             "shadows=colored|opaque (opaque: anything blocks the\n"
-            "light, glass too)");
+            "light, glass too), phong=exact|fast (fast: a whole\n"
+            "shine by repeated squaring, not pow)");
     r->table[n] = (cli_opt)CLI_OPT_END;
 }
 

@@ -111,6 +111,16 @@ typedef int (*ggProgressFn)(void *ud, long done, long total);
    stay the same, one shadow ray per light at each hit. */
 #define GG_ACC_SHADOWS_COLORED 0
 #define GG_ACC_SHADOWS_OPAQUE  1
+/* phong: the power (R.V)^shine of the Phong highlight.
+   GG_ACC_PHONG_EXACT (default): the C library's pow (within 1 ulp).
+   GG_ACC_PHONG_FAST: a shine that is a whole number from 1 to 2^20 by
+   repeated squaring (at most 40 products), any other shine by pow. The
+   relative error is at most (shine - 1) 2^-53 to first order (5.4e-15 at
+   shine 50), or the term is below 2^-1022 where a partial power goes
+   subnormal; its cost and the pixels it moves: docs/accuracy.md, "Phong's
+   power". */
+#define GG_ACC_PHONG_EXACT 0
+#define GG_ACC_PHONG_FAST  1
 
 typedef struct ggAccuracy {
     int offset;          /* GG_ACC_OFFSET_* */
@@ -126,6 +136,7 @@ typedef struct ggAccuracy {
     double gradient_h;   /* 0: exact gradients; > 0: central differences with step h */
     int intersect;       /* GG_ACC_ISECT_* */
     int shadows;         /* GG_ACC_SHADOWS_* */
+    int phong;           /* GG_ACC_PHONG_* */
 } ggAccuracy;
 
 /* Path layers compiled for a render (ggPathLayersCompile in debug.h). */

@@ -124,6 +124,7 @@ static const char *const texture_names[] = {"scene", "bilinear", "nearest", NULL
 static const char *const wave_names[] = {"rgb", "one", NULL};
 static const char *const isect_names[] = {"double", "float", NULL};
 static const char *const shadow_names[] = {"colored", "opaque", NULL};
+static const char *const phong_names[] = {"exact", "fast", NULL};
 
 static int flag(const word *w, ggRenderOptions *o, ggError *err)
 {
@@ -212,6 +213,8 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
         rc = choice(w, isect_names, &a->intersect, err);
     else if (key_is(w, "shadows"))
         rc = choice(w, shadow_names, &a->shadows, err);
+    else if (key_is(w, "phong"))
+        rc = choice(w, phong_names, &a->phong, err);
     else if (key_is(w, "offset") || key_is(w, "gradient") || key_is(w, "implicit-tol"))
         rc = word_or_number(w, o, err);
     else if (key_is(w, "cutoff")) {
@@ -327,6 +330,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
     put_name(&o, "wavelengths", a->wavelengths, wave_names, 2);
     put_name(&o, "intersect", a->intersect, isect_names, 2);
     put_name(&o, "shadows", a->shadows, shadow_names, 2);
+    put_name(&o, "phong", a->phong, phong_names, 2);
     if (a->cutoff > 0) put_num(&o, "cutoff", a->cutoff);
     if (a->implicit_tol > 0) put_num(&o, "implicit-tol", a->implicit_tol);
     if (a->gradient_h > 0) put_num(&o, "gradient", a->gradient_h);

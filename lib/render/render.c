@@ -74,7 +74,8 @@ static int knob_range(const ggAccuracy *a, ggError *err)
              {"texture", a->texture, GG_ACC_TEXTURE_NEAREST},
              {"wavelengths", a->wavelengths, 1},
              {"intersect", a->intersect, GG_ACC_ISECT_FLOAT},
-             {"shadows", a->shadows, GG_ACC_SHADOWS_OPAQUE}};
+             {"shadows", a->shadows, GG_ACC_SHADOWS_OPAQUE},
+             {"phong", a->phong, GG_ACC_PHONG_FAST}};
     size_t i;
     for (i = 0; i < sizeof k / sizeof k[0]; i++)
         if (k[i].v < 0 || k[i].v > k[i].max)

@@ -27,6 +27,9 @@ typedef struct gg_shade_ctx {
     int fixed_offset;  /* offset=EPS: rays leave at offset_eps, no primitive skipped */
     double offset_eps; /* the fixed offset's epsilon */
     int fresnel_knob;  /* GG_FRESNEL_* replacing every dielectric's, or -1 */
+    /* Phong's power: pow, or with phong=fast whole shines by repeated
+       squaring (a pointer, so the default costs no test per highlight) */
+    double (*power)(double x, double shine);
     bool spd_rules;
     ggAccuracy acc;  /* numerical knobs (render.h) */
     gg_qopt qopt;    /* those the geometry answers by, for every query */

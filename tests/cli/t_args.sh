@@ -46,6 +46,8 @@ expect_exit 0 "--accuracy intersect=float renders" "$ggrt" render $g -s 16x12 -q
   --accuracy intersect=float
 expect_msg 1 "shadows must be colored or opaque, got 'grey'" \
   "--accuracy shadows names the allowed values" "$ggrt" render $g -o "$tmp/x.png" --accuracy shadows=grey
+expect_msg 1 "phong must be exact or fast, got 'cheap'" \
+  "--accuracy phong names the allowed values" "$ggrt" render $g -o "$tmp/x.png" --accuracy phong=cheap
 expect_msg 1 "bad value '0,0,4,4junk' for --crop: $crop ('junk' after Y1)" \
   "trailing junk in --crop" "$ggrt" render $g -o "$tmp/x.png" --crop 0,0,4,4junk
 expect_msg 1 "bad value '0,0,4' for --crop: $crop (only 3 numbers)" \

@@ -24,6 +24,7 @@
     ['gradient', 'gradient (exact or h)', 'text', 'exact'],
     ['intersect', 'intersect', ['double', 'float']],
     ['shadows', 'shadows', ['colored', 'opaque']],
+    ['phong', 'phong power', ['exact', 'fast']],
     ['spd', 'SPD rules', 'flag'],
     ['corners', 'pixel corners', 'flag'],
     ['force-effects', 'force effects', 'flag'],

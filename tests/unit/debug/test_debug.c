@@ -404,6 +404,62 @@ static void test_ledger_glass_pixel(void **state)
     ggSceneFree(s);
 }
 
+/* The Phong term of pixel (x, y) under opt, from its ledger (0 if none). */
+static ggColor phong_term(ggScene *s, const ggRenderOptions *o, int x, int y)
+{
+    ggTrace *t = ggTraceCreate(NULL);
+    ggLedger *l = NULL;
+    ggColor px, v = {0, 0, 0};
+    size_t i;
+    assert_int_equal(ggTracePixel(s, o, x, y, -1, t, &px, NULL, NULL), GG_OK);
+    assert_int_equal(ggLedgerCreate(t, px, NULL, &l, NULL), GG_OK);
+    for (i = 0; i < l->count; i++)
+        if (l->terms[i].kind == GG_TERM_PHONG) v = l->terms[i].value;
+    ggLedgerFree(l);
+    ggTraceFree(t);
+    return v;
+}
+
+/* phong=fast (render.h): a whole shine by repeated squaring, within
+   (shine - 1) 2^-53 of pow and, at shine 4095 (twelve bits, the first
+   square's rounding doubled eleven times), not equal to it everywhere;
+   a shine that is not whole takes pow either way. The highlight of a
+   sphere lit from the eye, around the image centre. */
+static void test_phong_fast(void **state)
+{
+    static const char *const nff[2] = {
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 30\nhither 0.01\nresolution 41 41\n"
+        "b 0 0 0\nl 0 0 5\nf 1 1 1 0.5 0.5 4095 0 1\ns 0 0 0 1\n",
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 30\nhither 0.01\nresolution 41 41\n"
+        "b 0 0 0\nl 0 0 5\nf 1 1 1 0.5 0.5 4095.5 0 1\ns 0 0 0 1\n"};
+    const double bound = (4094 + 4) * 0x1p-53;
+    int k, x, y, differ[2] = {0, 0}, seen[2] = {0, 0};
+    (void)state;
+    for (k = 0; k < 2; k++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggRenderOptions exact, fast;
+        assert_int_equal(ggSceneLoadString(s, nff[k], strlen(nff[k]), "phong.nff", NULL), GG_OK);
+        assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
+        ggRenderOptionsDefault(&exact);
+        ggRenderOptionsDefault(&fast);
+        fast.accuracy.phong = GG_ACC_PHONG_FAST;
+        for (y = 16; y <= 24; y++)
+            for (x = 16; x <= 24; x++) {
+                ggColor a = phong_term(s, &exact, x, y), b = phong_term(s, &fast, x, y);
+                if (a.r == 0) continue;
+                seen[k]++;
+                if (fabs(b.r - a.r) > bound * a.r || fabs(b.g - a.g) > bound * a.g ||
+                    fabs(b.b - a.b) > bound * a.b)
+                    fail_msg("pixel %d,%d: fast %.17g against pow %.17g", x, y, b.r, a.r);
+                differ[k] += b.r != a.r;
+            }
+        ggSceneFree(s);
+    }
+    assert_true(seen[0] > 10 && seen[1] > 10);
+    assert_true(differ[0] > 0);
+    assert_int_equal(differ[1], 0);
+}
+
 /* ---- check ---- */
 
 static ggCheckResult *check(ggScene *s, int w, int h, int depth)
@@ -982,12 +1038,13 @@ static void test_options_text(void **state)
                                           "sphere=textbook refract=exact fresnel=schlick "
                                           "texture=nearest wavelengths=one cutoff=0.001 "
                                           "implicit-tol=1e-7 gradient=1e-5 offset=1e-6 "
-                                          "intersect=float shadows=opaque",
+                                          "intersect=float shadows=opaque phong=fast",
                                           &e),
                      GG_OK);
     assert_int_equal(o.width, 64);
     assert_int_equal(o.accuracy.intersect, GG_ACC_ISECT_FLOAT);
     assert_int_equal(o.accuracy.shadows, GG_ACC_SHADOWS_OPAQUE);
+    assert_int_equal(o.accuracy.phong, GG_ACC_PHONG_FAST);
     assert_int_equal(o.max_depth, 8);
     assert_int_equal(o.crop_y1, 40);
     assert_true(o.spd_rules && o.pixel_corners);
@@ -1021,7 +1078,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_predicate_errors),    cmocka_unit_test(test_find_matches_full_traces),
         cmocka_unit_test(test_find_limit_and_crop), cmocka_unit_test(test_ledger_sums_to_pixel),
-        cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_check_planted_defects),
+        cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_phong_fast),  cmocka_unit_test(test_check_planted_defects),
         cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
         cmocka_unit_test(test_check_failing_misses),
         cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
