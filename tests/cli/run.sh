@@ -4,7 +4,7 @@
 #   sh tests/cli/run.sh build/ggrt
 # Prints TAP (tests/run-tests.sh reads it): "ok N - name" or "not ok N -
 # name" and the details as "# " lines, per check; the plan "1..N" last.
-# GG_TEST_SAMPLE=N (the ASan tree sets 4, the clang tree 2): the loops over every scene times
+# GG_TEST_SAMPLE=N (the ASan tree sets 8, the clang tree 4): the loops over every scene times
 # every expression or layer left out take one combination in N, rotating,
 # so that each scene and each expression is still run; 1 (default) takes
 # them all.
