@@ -143,7 +143,7 @@ int bench_limit(const bench_opts *bo)
         const char *b = strrchr(bo->args[i], '/');
         if (scene_limit(bo, b ? b + 1 : bo->args[i], bo->args[i])) rc = EXIT_INPUT;
     }
-    printf("node: 8-box node test (single rays); pnode: 4-box node test of a 16-ray packet; "
+    printf("node: 8-box node test (single rays); pnode: 8-box node test of a 16-ray packet; "
            "pleaf: a leaf's box\nagainst a packet's 16 rays; tri4: 4 triangles at once; tri, "
            "sphere, other: one element;\nhits: closest hits, each shaded (shade: the shading "
            "without its rays). ns/call: the kernel\nalone in a loop on cached data, each call "

@@ -17,10 +17,10 @@
 ** four at a time, with the same bits as the scalar kernel. For that copy
 ** the tree is also kept in 8-wide nodes (collapsed from the binary tree
 ** with it, bvh_build.c; gg_bvh_wide points their leaves at the blocks:
-** the same float boxes and leaves), which its single-ray walks take: one 8-lane
-** AVX pass tests eight boxes, and a walk visits fewer nodes. Packets,
-** the frustum test, the recorder's cost copy and the single-precision
-** copy walk the 4-wide tree.
+** the same float boxes and leaves), which its walks take, single rays and
+** packets: one 8-lane AVX pass tests eight boxes, and a walk visits fewer
+** nodes. The frustum test, the recorder's cost copy and the
+** single-precision copy walk the 4-wide tree.
 **
 ** Conservative float boxes. Boxes are rounded outward to float (and one
 ** more float ulp out). The ray's origin is rounded up or down per axis so

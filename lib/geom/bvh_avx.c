@@ -480,10 +480,10 @@ static double kl_packet(const gg_geom *g, const gg_rayq *q, int k, long n)
     pk_all a;
     pk_ray s;
     pkt p;
-    float tn[4];
+    float tn[PK_W];
     double sum = 0;
     const uint32_t z = kl_zero_v;
-    const gg_bnode *nd = g->nodes;
+    const pk_node *nd = PK_NODES(g);
     unsigned grp;
     long i;
     int l;
@@ -498,10 +498,10 @@ static double kl_packet(const gg_geom *g, const gg_rayq *q, int k, long n)
     if (grp != (1u << GG_PK) - 1 || pk_same(&a, grp) != grp) return -1;
     pk_pack(&p, &a, grp);
     for (i = 0; i < n; i++) {
-        unsigned m = k == GG_KL_PBOX4 ? (unsigned)pk_box4(nd, &p, GG_T4(p.tminp), GG_T4(pk_tmax(&p)), tn)
+        unsigned m = k == GG_KL_PBOX4 ? PK_BOX(nd, &p, PK_SET1(p.tminp), PK_SET1(pk_tmax(&p)), tn)
                                       : pk_lanes(nd, 0, &p);
         sum += m;
-        nd = g->nodes + (m & z);
+        nd = PK_NODES(g) + (m & z);
     }
     return sum;
 }

@@ -21,9 +21,9 @@
 **         cannot take).
 ** bvh_hooks.h has the hooks of the copies with scalar leaves. The copies
 ** thus share the node walk; only the leaves differ.
-** With GG_TRAV_WIDE defined (bvh_avx.c), the single-ray walks take the
-** 8-wide nodes (g->wnodes, gg_bvh_wide) and box8; the packets keep the
-** 4-wide ones.
+** With GG_TRAV_WIDE defined (bvh_avx.c), the walks take the 8-wide
+** nodes (g->wnodes, gg_bvh_wide): the single-ray ones by box8, the
+** packets by pk_box8.
 ** With GG_TRAV_SINGLE defined, the packet walk is left out (bvh_float.c).
 ** With GG_TRAV_COST defined, bvh_intersect takes a gg_trav_cost * more
 ** and counts into it, and the other three are left out (bvh_cost.c, the
@@ -235,8 +235,8 @@ static inline int lowest_bit(unsigned m)
     return GG_CTZ(m);
 }
 
-/* The walks' nodes: the 4-wide tree, or with GG_TRAV_WIDE (the AVX copy;
-   not the packets') the 8-wide one (gg_wnode, gg_bvh_wide), whose boxes
+/* The single-ray walks' nodes: the 4-wide tree, or with GG_TRAV_WIDE (the
+   AVX copy) the 8-wide one (gg_wnode, gg_bvh_wide), whose boxes
    are the same floats: box8 is box4's test, lane for lane, on eight
    boxes. ANY_W children a node, ANY_STACK entries a walk's stack. */
 #ifdef GG_TRAV_WIDE
@@ -675,8 +675,35 @@ typedef struct GG_PKT_ALIGN pkt {
     float on[3], of[3], tminp; /* tminp <= every lane's tmin */
     size_t nr[3], fr[3];
     gg_t4 on4[3], of4[3], ilo[3], ihi[3], iflo[3], ifhi[3];
+#ifdef GG_TRAV_WIDE
+    __m256 on8[3], of8[3], ilo8[3], ihi8[3], iflo8[3], ifhi8[3]; /* the same, eight lanes */
+#endif
     unsigned lanes;
 } pkt;
+
+/* The tree the packets walk: in the AVX copy's builds (GG_TRAV_WIDE) the
+   8-wide one the single rays walk, so that a render keeps one tree in
+   the cache, not two (docs/log/2026-12-05-speed.md, "Where the misses
+   are"); elsewhere the 4-wide one. PK_W children a node, PK_STACK
+   entries a walk's stack. */
+#ifdef GG_TRAV_WIDE
+#ifndef GG_BVH_SIMD
+#error "the 8-wide packet walk needs the SIMD build"
+#endif
+typedef gg_wnode pk_node;
+#define PK_NODES(g) ((g)->wnodes)
+#define PK_W        8
+#define PK_SHIFT    3
+#define PK_STACK    GG_WSTACK
+#define PK_ROWS     wrow_offsets
+#else
+typedef gg_bnode pk_node;
+#define PK_NODES(g) ((g)->nodes)
+#define PK_W        4
+#define PK_SHIFT    2
+#define PK_STACK    GG_STACK
+#define PK_ROWS     row_offsets
+#endif
 
 /* The lanes' rays, by the caller's lane index. */
 typedef struct pk_ray {
@@ -787,8 +814,8 @@ static void pk_pack(pkt *p, const pk_all *a, unsigned grp)
     const int i0 = lowest_bit(grp);
     int k, l, sm = 0;
     for (k = 0; k < 3; k++) sm |= (int)(a->neg[k] >> i0 & 1) << k;
-    memcpy(p->nr, row_offsets[sm][0], sizeof p->nr);
-    memcpy(p->fr, row_offsets[sm][1], sizeof p->fr);
+    memcpy(p->nr, PK_ROWS[sm][0], sizeof p->nr);
+    memcpy(p->fr, PK_ROWS[sm][1], sizeof p->fr);
     p->lanes = grp;
     for (k = 0; k < 3; k++) {
         p->on[k] = sm >> k & 1 ? a->dn[k] : a->up[k];
@@ -838,6 +865,15 @@ static void pk_pack(pkt *p, const pk_all *a, unsigned grp)
             p->iflo[k] = _mm_min_ps(flo[k], _mm_shuffle_ps(flo[k], flo[k], 0xb1));
             p->ifhi[k] = _mm_max_ps(fhi[k], _mm_shuffle_ps(fhi[k], fhi[k], 0xb1));
         }
+#ifdef GG_TRAV_WIDE
+#define PK_TO8(x) _mm256_insertf128_ps(_mm256_castps128_ps256(x), (x), 1)
+        for (k = 0; k < 3; k++) {
+            p->on8[k] = PK_TO8(p->on4[k]), p->of8[k] = PK_TO8(p->of4[k]);
+            p->ilo8[k] = PK_TO8(p->ilo[k]), p->ihi8[k] = PK_TO8(p->ihi[k]);
+            p->iflo8[k] = PK_TO8(p->iflo[k]), p->ifhi8[k] = PK_TO8(p->ifhi[k]);
+        }
+#undef PK_TO8
+#endif
     }
 #else
     for (k = 0; k < 3; k++) {
@@ -902,10 +938,38 @@ static inline int pk_box4(const gg_bnode *nd, const pkt *p, float tmin, float tm
 }
 #endif
 
+#ifdef GG_TRAV_WIDE
+/* pk_box4 on the eight boxes of a wide node: the same operations in the
+   same order, lane for lane. */
+static inline unsigned pk_box8(const gg_wnode *nd, const pkt *p, __m256 tmin8, __m256 tmax8,
+                               float tn_out[8])
+{
+    __m256 a[3], b[3], tn, tf;
+    int k;
+    for (k = 0; k < 3; k++) {
+        __m256 s = _mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, p->nr[k])), p->on8[k]);
+        __m256 e = _mm256_sub_ps(_mm256_load_ps(GG_ROW(nd, p->fr[k])), p->of8[k]);
+        a[k] = _mm256_min_ps(_mm256_mul_ps(s, p->ilo8[k]), _mm256_mul_ps(s, p->ihi8[k]));
+        b[k] = _mm256_max_ps(_mm256_mul_ps(e, p->iflo8[k]), _mm256_mul_ps(e, p->ifhi8[k]));
+    }
+    tn = _mm256_max_ps(_mm256_max_ps(a[0], a[1]), _mm256_max_ps(a[2], tmin8));
+    tf = _mm256_min_ps(_mm256_min_ps(b[0], b[1]), _mm256_min_ps(b[2], tmax8));
+    _mm256_storeu_ps(tn_out, tn);
+    return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ));
+}
+typedef __m256 pk_t;
+#define PK_SET1(x)                     _mm256_set1_ps(x)
+#define PK_BOX(nd, p, tmin, tmax, tn)  pk_box8(nd, p, tmin, tmax, tn)
+#else
+typedef gg_t4 pk_t;
+#define PK_SET1(x)                     GG_T4(x)
+#define PK_BOX(nd, p, tmin, tmax, tn)  (unsigned)pk_box4(nd, p, tmin, tmax, tn)
+#endif
+
 /* The lanes of p whose own box4 enters box i of nd: the same products
    s * inv, s' * invf and the same max, min and <= as box4's lane i
    (without NaN the order of max and min does not matter). */
-static inline unsigned pk_lanes(const gg_bnode *nd, int i, const pkt *p)
+static inline unsigned pk_lanes(const pk_node *nd, int i, const pkt *p)
 {
     float s[3], e[3];
     unsigned m = 0;
@@ -993,20 +1057,20 @@ static inline float pk_tmax(const pkt *p)
 }
 
 /* A stack entry for child i of node `node`: a node index, or for a leaf
-   GG_LEAF | node << 2 | i, so that its box can be tested lane by lane
-   (node indices are below GG_MAX_ELEMS = 2^28). */
-static inline uint32_t pk_ref(const gg_bnode *nd, uint32_t node, int i)
+   GG_LEAF | node << PK_SHIFT | i, so that its box can be tested lane by
+   lane (node indices are below GG_MAX_ELEMS = 2^28). */
+static inline uint32_t pk_ref(const pk_node *nd, uint32_t node, int i)
 {
-    return nd->child[i] & GG_LEAF ? GG_LEAF | node << 2 | (uint32_t)i : nd->child[i];
+    return nd->child[i] & GG_LEAF ? GG_LEAF | node << PK_SHIFT | (uint32_t)i : nd->child[i];
 }
 
 /* The children of mask, nearest (by the packet's entry distances) next,
    the others pushed farthest deepest, as bvh_intersect orders them. */
-static inline uint32_t pk_descend(const gg_bnode *nd, uint32_t node, unsigned mask,
-                                  const float tn[4], uint32_t *stack, float *stack_t, int *sp)
+static inline uint32_t pk_descend(const pk_node *nd, uint32_t node, unsigned mask,
+                                  const float tn[PK_W], uint32_t *stack, float *stack_t, int *sp)
 {
-    uint32_t rf[4];
-    float tt[4];
+    uint32_t rf[PK_W];
+    float tt[PK_W];
     int k = 0, a, b;
     a = lowest_bit(mask);
     mask &= mask - 1;
@@ -1040,8 +1104,8 @@ static inline uint32_t pk_descend(const gg_bnode *nd, uint32_t node, unsigned ma
    returns whether any lane's closest hit came nearer. */
 GG_INLINE int pk_leaf(const gg_geom *g, pkt *p, uint32_t box, pk_ray *s)
 {
-    const gg_bnode *nd = &g->nodes[(box & ~GG_LEAF) >> 2];
-    const int i = (int)(box & 3);
+    const pk_node *nd = &PK_NODES(g)[(box & ~GG_LEAF) >> PK_SHIFT];
+    const int i = (int)(box & (PK_W - 1));
     unsigned m = pk_lanes(nd, i, p);
     int found = 0;
     GG_COUNT(g, plane);
@@ -1069,16 +1133,16 @@ GG_INLINE int pk_leaf(const gg_geom *g, pkt *p, uint32_t box, pk_ray *s)
    pk_leaf. */
 static void pk_walk(const gg_geom *g, pkt *p, pk_ray *s)
 {
-    uint32_t stack[GG_STACK], cur = 0;
-    float stack_t[GG_STACK], tmaxf = pk_tmax(p), tcull = tmaxf * GG_EXIT_SCALE;
+    uint32_t stack[PK_STACK], cur = 0;
+    float stack_t[PK_STACK], tmaxf = pk_tmax(p), tcull = tmaxf * GG_EXIT_SCALE;
     int sp = 0;
-    gg_t4 tmin4 = GG_T4(p->tminp), tmax4;
-    tmax4 = GG_T4(tmaxf);
+    pk_t tmin4 = PK_SET1(p->tminp), tmax4;
+    tmax4 = PK_SET1(tmaxf);
     for (;;) {
         if (!(cur & GG_LEAF)) {
-            const gg_bnode *nd = &g->nodes[cur];
-            float tn[4];
-            unsigned mask = (unsigned)pk_box4(nd, p, tmin4, tmax4, tn);
+            const pk_node *nd = &PK_NODES(g)[cur];
+            float tn[PK_W];
+            unsigned mask = PK_BOX(nd, p, tmin4, tmax4, tn);
             GG_COUNT(g, pbox4);
             if (mask) {
                 cur = pk_descend(nd, cur, mask, tn, stack, stack_t, &sp);
@@ -1087,7 +1151,7 @@ static void pk_walk(const gg_geom *g, pkt *p, pk_ray *s)
         } else if (pk_leaf(g, p, cur, s)) {
             tmaxf = pk_tmax(p);
             tcull = tmaxf * GG_EXIT_SCALE;
-            tmax4 = GG_T4(tmaxf);
+            tmax4 = PK_SET1(tmaxf);
         }
         for (;;) {
             if (sp == 0) return;

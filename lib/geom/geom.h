@@ -222,7 +222,8 @@ int gg_geom_intersect_cost(const gg_geom *g, const gg_rayq *q, gg_hit *hit, gg_t
    them; the copies the render takes count nothing. Per field: queries
    (closest, any = occluder, shadow = shadow with a crossing list,
    packets = packet walks), kernel calls (box8: 8-box node tests of the
-   single-ray walks; pbox4: 4-box interval tests of a packet's walk;
+   single-ray walks; pbox4: interval tests of a packet's walk (8 boxes in the
+   AVX copies, 4 in the others);
    plane: a packet's 16-lane test of a leaf's box; tri4: 4-wide triangle
    block tests; tri, sphere, other: one element's test, by kind), and
    hits: closest-hit queries (single or packet lanes) that found one. */
@@ -242,7 +243,8 @@ void gg_geom_count_end(gg_geom *g);
    time (cached), each call's input depending on the last one's result,
    as a walk's next node depends on this one's test. */
 #define GG_KL_BOX8   0 /* box8 on the root of the 8-wide tree */
-#define GG_KL_PBOX4  1 /* pk_box4 on the root of the 4-wide tree, a packet of 16 */
+#define GG_KL_PBOX4  1 /* a packet's node test (pk_box8, or pk_box4 without the 8-wide
+                          tree) on the root of the tree packets walk, a packet of 16 */
 #define GG_KL_PLANE  2 /* pk_lanes on a box of that root, the same packet */
 #define GG_KL_TRI4   3 /* the 4-wide triangle test of the first block */
 #define GG_KL_TRI    4 /* the triangle kernel on the first triangle */
