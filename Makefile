@@ -355,14 +355,20 @@ test: $(TEST_TAPS)
 # sanitizer's or valgrind's stack trace shows) or none; a full -g tree is
 # `make` or `make test`, on demand. The release tree keeps CFLAGS' -g: it
 # is also the one installcheck installs.
-SAN_FLAGS = -O1 -g1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+# GG_NO_FORCED_INLINE (lib/core/compiler.h): the compiler's inlining in
+# place of always_inline, which made the sanitizer trees' walks many times
+# larger: the GCC ASan tree's check went from 1021 to 877 s, run beside
+# the old one. Without it a static function may take and return a 32-byte
+# vector in a file built for SSE (-Wno-psabi: both sides are that file).
+SAN_FLAGS = -O1 -g1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
+            -DGG_NO_FORCED_INLINE -Wno-psabi
 SAN_LDFLAGS = -fsanitize=address,undefined
 
 # The suites that run the library from several threads at once, run a
 # third time under ThreadSanitizer (GCC's; TSan reports make the run fail).
 TSAN_TESTS = $(BUILD)/tests/api/test_concurrent $(BUILD)/tests/unit/render/test_render
 TSAN_CC    ?= gcc
-TSAN_FLAGS  = -O1 -g1 -fsanitize=thread -fno-omit-frame-pointer
+TSAN_FLAGS  = -O1 -g1 -fsanitize=thread -fno-omit-frame-pointer -DGG_NO_FORCED_INLINE -Wno-psabi
 test-tsan:
 	@TSAN_OPTIONS="halt_on_error=1 $(TSAN_OPTIONS)" $(MAKE) --no-print-directory test TEST_SUITES=unit \
 	  TEST_BIN="$(TSAN_TESTS)"

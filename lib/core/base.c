@@ -127,10 +127,11 @@ int gg_error_set(ggError *err, int code, const char *fmt, ...)
 /* A large block of the C library's allocator, not yet touched: on Linux,
    ask for transparent huge pages over its 2 MB-aligned interior, so that
    the first touch of each 2 MB is one page fault, not 512 (each costs
-   microseconds, more in a virtual machine), and the walks over a large
-   BVH miss the TLB less. A hint: the kernel may refuse it (THP "never"),
-   and nothing depends on its answer. A caller's allocator's memory is
-   its own and is left alone. */
+   microseconds, more in a virtual machine). Fewer TLB misses in the
+   walks over a large BVH did not show in its renders (measured in
+   docs/log/2026-12-05-speed.md). A hint: the kernel may refuse it
+   (THP "never"), and nothing depends on its answer. A caller's
+   allocator's memory is its own and is left alone. */
 #define HUGE_PAGE  ((uintptr_t)2 << 20)
 #define HUGE_BLOCK ((size_t)4 << 20)
 static void *huge_hint(void *p, size_t size)
