@@ -358,7 +358,7 @@ test: $(TEST_TAPS)
 # GG_NO_FORCED_INLINE (lib/core/compiler.h): the compiler's inlining in
 # place of always_inline, which made the sanitizer trees' walks many times
 # larger: the GCC ASan tree's check went from 1021 to 877 s, run beside
-# the old one. Without it a static function may take and return a 32-byte
+# the old one. Not forced, a static function may take and return a 32-byte
 # vector in a file built for SSE (-Wno-psabi: both sides are that file).
 SAN_FLAGS = -O1 -g1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
             -DGG_NO_FORCED_INLINE -Wno-psabi

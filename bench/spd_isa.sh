@@ -19,7 +19,7 @@ case $isa in avx2|avx512) ;; *) echo "bench/spd_isa.sh: ISA is avx2 or avx512" >
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 grep -q '"threads=%d"' "$src/main.c" ||
   { echo "bench/spd_isa.sh: $src/main.c passes no \"threads=%d\" configuration" >&2; exit 1; }
-sed "s/\"threads=%d\"/\"threads=%d,isa=$isa\"/; s/char cfg\[64\]/char cfg[96]/" "$src/main.c" > "$tmp/main.c"
+sed "s/\"threads=%d\"/\"threads=%d,isa=$isa\"/" "$src/main.c" > "$tmp/main.c"
 cc -O2 -march=native -std=c11 -o "$tmp/anchor" "$tmp/main.c" -lembree3 -lpng -lpthread -lm ||
   { echo "bench/spd_isa.sh: the anchor did not build (apt-get install libembree-dev)" >&2; exit 1; }
 for r in $(seq "$runs"); do
