@@ -136,7 +136,19 @@ static const knob knobs[] = {
     {"phong", "exact", 1, k_phong, GG_ACC_PHONG_EXACT},
     {"phong", "fast", 0, k_phong, GG_ACC_PHONG_FAST},
 };
-#define NKNOBS    (sizeof knobs / sizeof knobs[0])
+#define NKNOBS (sizeof knobs / sizeof knobs[0])
+
+int bench_knob_names(const char **names, int max)
+{
+    size_t i;
+    int n = 0, k;
+    for (i = 0; i < NKNOBS; i++) {
+        if (knobs[i].apply == k_none) continue;
+        for (k = 0; k < n && strcmp(names[k], knobs[i].name); k++) continue;
+        if (k == n && n < max) names[n++] = knobs[i].name;
+    }
+    return n;
+}
 #define REF_SPP   16
 #define REF_DEPTH 12
 

@@ -33,6 +33,23 @@ int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *pe
 /* Is name in the comma-separated list (NULL list: everything)? */
 int bench_selected(const char *list, const char *name);
 
+/* The seven SPD scenes the timing tables run (spd, counts, scaling,
+   rays, limit), by name in --spd DIR; and the example scenes of bench
+   effects (relative to examples/scenes). */
+#define BENCH_NSPD 7
+extern const char *const bench_spd_scenes[];
+#define BENCH_NEFFECTS 10
+extern const char *const bench_effects_scenes[];
+
+/* The knob names of bench accuracy's rows (--knobs), each once, into
+   names[0..max); returns how many. */
+int bench_knob_names(const char **names, int max);
+
+/* The first name of the comma-separated list that is not one of
+   names[0..n) (an empty one counts), copied into bad (size badsize);
+   0 when all are. */
+int bench_unknown(const char *list, const char *const *names, int n, char *bad, size_t badsize);
+
 /* The benchmarks; each returns an exit code. */
 int bench_spd(const bench_opts *bo);
 int bench_counts(const bench_opts *bo);

@@ -7,6 +7,7 @@
 #define _DEFAULT_SOURCE
 #include "bench/bench.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
@@ -54,6 +55,28 @@ int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *pe
     if (wait4(pid, &status, 0, &ru) < 0) return -1;
     if (peak_mb) *peak_mb = ru.ru_maxrss / 1024.0;
     return (size_t)got == outsize && WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+const char *const bench_spd_scenes[] = {"balls-s4", "gears", "rings",     "tetra",
+                                        "mount",    "tree",  "teapot-s12"};
+typedef char
+    bench_nspd_ok[sizeof bench_spd_scenes / sizeof *bench_spd_scenes == BENCH_NSPD ? 1 : -1];
+
+int bench_unknown(const char *list, const char *const *names, int n, char *bad, size_t badsize)
+{
+    const char *p = list;
+    for (;;) {
+        size_t len = strcspn(p, ",");
+        int i, found = 0;
+        for (i = 0; i < n && !found; i++)
+            found = strlen(names[i]) == len && !strncmp(p, names[i], len);
+        if (!found) {
+            snprintf(bad, badsize, "%.*s", (int)len, p);
+            return 1;
+        }
+        if (!p[len]) return 0;
+        p += len + 1;
+    }
 }
 
 int bench_selected(const char *list, const char *name)

@@ -5,6 +5,7 @@
 */
 #include "bench/bench.h"
 
+#include <stdio.h>
 #include <string.h>
 
 static const char about[] =
@@ -38,12 +39,57 @@ static const char about[] =
 static const struct {
     const char *name;
     int (*run)(const bench_opts *bo);
-    int size; /* default --size; 0: the benchmark's own */
+    int size;                  /* default --size; 0: the benchmark's own */
+    const char *const *scenes; /* the names --scenes picks from (NULL: no --scenes) */
+    int nscenes;
 } benches[] = {
-    {"spd", bench_spd, 1024},        {"counts", bench_counts, 0},   {"effects", bench_effects, 320},
-    {"accuracy", bench_accuracy, 0}, {"scaling", bench_scaling, 0}, {"rays", bench_rays, 256},
-    {"limit", bench_limit, 512},
+    {"spd", bench_spd, 1024, bench_spd_scenes, BENCH_NSPD},
+    {"counts", bench_counts, 0, bench_spd_scenes, BENCH_NSPD},
+    {"effects", bench_effects, 320, bench_effects_scenes, BENCH_NEFFECTS},
+    {"accuracy", bench_accuracy, 0, NULL, 0},
+    {"scaling", bench_scaling, 0, bench_spd_scenes, BENCH_NSPD},
+    {"rays", bench_rays, 256, bench_spd_scenes, BENCH_NSPD},
+    {"limit", bench_limit, 512, bench_spd_scenes, BENCH_NSPD},
 };
+
+/* "a, b, c" of names[0..n) into out (size outsize). */
+static void join_names(char *out, size_t outsize, const char *const *names, int n)
+{
+    int i;
+    out[0] = '\0';
+    for (i = 0; i < n; i++)
+        snprintf(out + strlen(out), outsize - strlen(out), "%s%s", i ? ", " : "", names[i]);
+}
+
+/* --knobs against bench accuracy's knob names: 0, or a usage error's code. */
+static int check_knobs(const cli_cmd *cmd, const bench_opts *bo)
+{
+    const char *names[32];
+    char bad[64], all[512];
+    int n = bench_knob_names(names, 32);
+    if (!bo->knobs || !bench_unknown(bo->knobs, (const char *const *)names, n, bad, sizeof bad))
+        return 0;
+    join_names(all, sizeof all, (const char *const *)names, n);
+    return cli_usage_error(cmd, "--knobs: no knob '%s' (the knobs: %s)", bad, all);
+}
+
+/* --scenes against benchmark b's names: 0, or a usage error's code. */
+static int check_scenes(const cli_cmd *cmd, int b, const bench_opts *bo)
+{
+    char bad[64], names[256];
+    if (!bo->scenes) return 0;
+    if (!benches[b].scenes)
+        return cli_usage_error(cmd, "--scenes is not an option of bench %s (it takes scene files)",
+                               benches[b].name);
+    if (bo->nargs)
+        return cli_usage_error(cmd,
+                               "--scenes picks SPD scenes; give scene files or --scenes, not both");
+    if (!bench_unknown(bo->scenes, benches[b].scenes, benches[b].nscenes, bad, sizeof bad))
+        return 0;
+    join_names(names, sizeof names, benches[b].scenes, benches[b].nscenes);
+    return cli_usage_error(cmd, "--scenes: no scene '%s' in bench %s (its scenes: %s)", bad,
+                           benches[b].name, names);
+}
 
 int cmd_bench(int argc, char **argv)
 {
@@ -117,6 +163,7 @@ int cmd_bench(int argc, char **argv)
             return cli_usage_error(&cmd, "--accuracy is an option of bench spd only");
         if (bo.knobs && benches[i].run != bench_accuracy)
             return cli_usage_error(&cmd, "--knobs is an option of bench accuracy only");
+        if ((rc = check_scenes(&cmd, i, &bo)) != 0 || (rc = check_knobs(&cmd, &bo)) != 0) return rc;
         if (!opts[0].given) bo.size = benches[i].size;
         snprintf(name, sizeof name, "bench %s", benches[i].name);
         cli_set_command(name); /* "ggrt bench accuracy: ..." */

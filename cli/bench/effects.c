@@ -7,10 +7,12 @@
 
 #include <string.h>
 
-static const char *const example_scenes[] = {
+const char *const bench_effects_scenes[] = {
     "default", "glass", "water", "gold", "prism", "torus", "texture",
     /* Opaque SPD scenes: where the specialised path has the most to skip. */
     "spd/balls-s3", "spd/tetra", "spd/tree"};
+typedef char bench_neffects_ok
+    [sizeof bench_effects_scenes / sizeof *bench_effects_scenes == BENCH_NEFFECTS ? 1 : -1];
 
 static int render_timed(ggScene *s, ggRenderOptions *o, int runs, ggImage **keep, double *med)
 {
@@ -37,7 +39,7 @@ int bench_effects(const bench_opts *bo)
     printf("ggrt bench effects: %dx%d, %d threads, median of %d runs\n\n", bo->size, bo->size,
            bo->threads, bo->runs);
     printf("%-12s %9s %9s %7s %-9s  effects\n", "scene", "own", "forced", "ratio", "image");
-    for (i = 0; i < sizeof example_scenes / sizeof example_scenes[0]; i++) {
+    for (i = 0; i < BENCH_NEFFECTS; i++) {
         char path[512];
         ggScene *s = ggSceneCreate(NULL);
         ggRenderOptions o;
@@ -46,15 +48,18 @@ int bench_effects(const bench_opts *bo)
         double ta, tb;
         int same;
         unsigned fx;
-        if (!bench_selected(bo->scenes, example_scenes[i])) {
+        int st;
+        if (!bench_selected(bo->scenes, bench_effects_scenes[i])) {
             ggSceneFree(s);
             continue;
         }
-        snprintf(path, sizeof path, "examples/scenes/%s.nff", example_scenes[i]);
-        if (!s || ggSceneLoadFile(s, path, &err) != GG_OK || ggScenePrepare(s, &err) != GG_OK) {
-            printf("%-9s failed: %s\n", example_scenes[i], s ? err.message : "out of memory");
+        snprintf(path, sizeof path, "examples/scenes/%s.nff", bench_effects_scenes[i]);
+        if (!s || (st = ggSceneLoadFile(s, path, &err)) != GG_OK ||
+            (st = ggScenePrepare(s, &err)) != GG_OK) {
+            int rc = s ? cli_exit_code(st, 0) : EXIT_INPUT;
+            printf("%-9s failed: %s\n", bench_effects_scenes[i], s ? err.message : "out of memory");
             ggSceneFree(s);
-            return EXIT_INPUT;
+            return rc;
         }
         ggRenderOptionsDefault(&o);
         o.width = bo->size, o.height = bo->size * 3 / 4, o.threads = bo->threads;
@@ -64,7 +69,7 @@ int bench_effects(const bench_opts *bo)
         same = memcmp(ggImagePixelsConst(a), ggImagePixelsConst(b),
                       (size_t)o.width * o.height * 3 * sizeof(float)) == 0;
         fx = ggSceneEffects(s);
-        printf("%-12s %8.3fs %8.3fs %6.2fx %-9s ", example_scenes[i], ta, tb, tb / ta,
+        printf("%-12s %8.3fs %8.3fs %6.2fx %-9s ", bench_effects_scenes[i], ta, tb, tb / ta,
                same ? "identical" : "DIFFERENT");
         for (e = 0; e < GG_EFFECT_COUNT; e++)
             if (fx & (1u << e)) printf(" %s", ggEffectName(1u << e));

@@ -23,10 +23,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const limit_scenes[] = {"balls-s4", "gears", "rings",     "tetra",
-                                           "mount",    "tree",  "teapot-s12"};
-#define NLIMIT 7
-
 static const char *const kname[GG_KERNEL_KINDS] = {"node", "pnode", "pleaf", "tri4",
                                                    "tri",  "sphere", "other", "shade"};
 
@@ -80,6 +76,7 @@ static void count_row(const char *name, const ggKernelCounts *c, uint64_t rays)
     printf(" %7.3f\n", (double)c->hits / r);
 }
 
+/* One scene's rows; returns an exit code. */
 static int scene_limit(const bench_opts *bo, const char *name, const char *path)
 {
     ggScene *s = ggSceneCreate(NULL);
@@ -90,15 +87,20 @@ static int scene_limit(const bench_opts *bo, const char *name, const char *path)
     double ns[GG_KERNEL_KINDS], bound = 0, t, fast = 0;
     uint64_t calls[GG_KERNEL_KINDS], rays;
     int k;
+    int rs = GG_OK;
     ggRenderOptionsDefault(&o);
     o.width = o.height = bo->size;
     o.max_depth = 5;
     o.threads = 1;
-    if (!s || ggSceneLoadFile(s, path, &err) != GG_OK || ggScenePrepare(s, &err) != GG_OK ||
-        ggRenderCountKernels(s, &o, &c, &err) != GG_OK || (t = render_s(s, &o, bo->runs, &st, &fast, &err)) < 0) {
+    if (!s || (rs = ggSceneLoadFile(s, path, &err)) != GG_OK ||
+        (rs = ggScenePrepare(s, &err)) != GG_OK ||
+        (rs = ggRenderCountKernels(s, &o, &c, &err)) != GG_OK ||
+        (t = render_s(s, &o, bo->runs, &st, &fast, &err)) < 0) {
+        /* (a failed render's status is not kept: bad input) */
+        int rc = s && rs != GG_OK ? cli_exit_code(rs, 0) : EXIT_INPUT;
         printf("%-11s failed: %s\n", name, s ? err.message : "out of memory");
         ggSceneFree(s);
-        return -1;
+        return rc;
     }
     calls[0] = c.node, calls[1] = c.packet_node, calls[2] = c.packet_leaf, calls[3] = c.tri4;
     calls[4] = c.tri, calls[5] = c.sphere, calls[6] = c.other, calls[7] = c.hits;
@@ -120,7 +122,7 @@ static int scene_limit(const bench_opts *bo, const char *name, const char *path)
            "", "", bound, t, fast, bound > 0 ? t / bound : 0, bound > 0 ? fast / bound : 0);
     ggSceneFree(s);
     fflush(stdout);
-    return 0;
+    return EXIT_OK;
 }
 
 int bench_limit(const bench_opts *bo)
@@ -134,14 +136,16 @@ int bench_limit(const bench_opts *bo)
     printf("%-11s %9s", "scene", "rays");
     for (i = 0; i < GG_KERNEL_KINDS; i++) printf(" %7s", i == GG_KERNEL_SHADE ? "hits" : kname[i]);
     printf("\n");
-    for (i = 0; i < NLIMIT && !bo->nargs; i++) {
-        if (!bench_selected(bo->scenes, limit_scenes[i])) continue;
-        snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, limit_scenes[i]);
-        if (scene_limit(bo, limit_scenes[i], path)) rc = EXIT_INPUT;
+    for (i = 0; i < BENCH_NSPD && !bo->nargs; i++) {
+        int r;
+        if (!bench_selected(bo->scenes, bench_spd_scenes[i])) continue;
+        snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, bench_spd_scenes[i]);
+        if ((r = scene_limit(bo, bench_spd_scenes[i], path)) != EXIT_OK) rc = r;
     }
     for (i = 0; i < bo->nargs; i++) {
         const char *b = strrchr(bo->args[i], '/');
-        if (scene_limit(bo, b ? b + 1 : bo->args[i], bo->args[i])) rc = EXIT_INPUT;
+        int r = scene_limit(bo, b ? b + 1 : bo->args[i], bo->args[i]);
+        if (r != EXIT_OK) rc = r;
     }
     printf("node: 8-box node test (single rays); pnode: 8-box node test of a 16-ray packet; "
            "pleaf: a leaf's box\nagainst a packet's 16 rays; tri4: 4 triangles at once; tri, "

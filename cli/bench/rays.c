@@ -20,10 +20,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const ray_scenes[] = {"balls-s4", "gears", "rings",     "tetra",
-                                         "mount",    "tree",  "teapot-s12"};
-#define NRAY_SCENES 7
-
 /* One growing array of rays. */
 typedef struct ray_set {
     ggRay *r;
@@ -107,19 +103,23 @@ static double set_rate(const ggScene *s, const ray_set *set, int k, int runs, lo
     return (double)set->n / bench_median(t, i) / 1e6;
 }
 
-static void scene_row(const bench_opts *bo, const char *name)
+/* Returns an exit code. */
+static int scene_row(const bench_opts *bo, const char *name)
 {
     char path[1024];
     ggScene *s = ggSceneCreate(NULL);
     ray_set sets[NSETS];
     ggError err;
-    int k;
+    int k, rc = EXIT_OK;
+    int st = GG_OK;
     memset(sets, 0, sizeof sets);
     snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, name);
     printf("%-11s", name);
-    if (!s || ggSceneLoadFile(s, path, &err) != GG_OK || ggScenePrepare(s, &err) != GG_OK ||
-        collect(s, bo->size, sets, &err) != GG_OK) {
+    if (!s || (st = ggSceneLoadFile(s, path, &err)) != GG_OK ||
+        (st = ggScenePrepare(s, &err)) != GG_OK ||
+        (st = collect(s, bo->size, sets, &err)) != GG_OK) {
         printf(" failed: %s\n", s ? err.message : "out of memory");
+        rc = s ? cli_exit_code(st, 0) : EXIT_INPUT;
     } else {
         for (k = 0; k < NSETS; k++) {
             long hits = 0;
@@ -132,20 +132,24 @@ static void scene_row(const bench_opts *bo, const char *name)
     for (k = 0; k < NSETS; k++) free(sets[k].r);
     ggSceneFree(s);
     fflush(stdout);
+    return rc;
 }
 
 int bench_rays(const bench_opts *bo)
 {
-    int i;
+    int i, rc = EXIT_OK;
     printf("ggrt bench rays: the rays of a %dx%d render (depth 5, pixel centres), cast again "
            "on one thread, median of %d passes\n",
            bo->size, bo->size, bo->runs);
     printf("%-11s %9s %7s %8s %9s %7s %8s %9s %7s %8s\n", "scene", "eye", "hit", "Mrays/s",
            "secondary", "hit", "Mrays/s", "shadow", "blocked", "Mrays/s");
-    for (i = 0; i < NRAY_SCENES; i++)
-        if (bench_selected(bo->scenes, ray_scenes[i])) scene_row(bo, ray_scenes[i]);
+    for (i = 0; i < BENCH_NSPD; i++)
+        if (bench_selected(bo->scenes, bench_spd_scenes[i])) {
+            int r = scene_row(bo, bench_spd_scenes[i]);
+            if (r != EXIT_OK) rc = r;
+        }
     printf("eye, secondary: closest hit (ggSceneIntersect, single rays, no hit record); shadow: "
            "any hit on (0, 1)\n(ggSceneOccluded, no occluder cache). secondary = reflection, "
            "refraction and TIR rays.\nMrays/s on one core; ggRender's eye rays go as packets.\n");
-    return EXIT_OK;
+    return rc;
 }

@@ -75,21 +75,19 @@ static double render_serial(ggScene *s, int size, int threads, double *serial)
    the serial share (of the 2-thread render). */
 static int threads_table(const bench_opts *bo, int size)
 {
-    static const char *const spd[] = {"balls-s4", "gears", "rings",     "tetra",
-                                      "mount",    "tree",  "teapot-s12"};
     int i, rc;
     printf("\nscaling: SPD scenes at %dx%d against threads (median of %d; serial = time outside "
            "the tile loop)\n",
            size, size, bo->runs);
     printf("%-11s %9s %9s %9s %9s %8s\n", "scene", "1 thread", "2 threads", "speed-up", "serial",
            "share");
-    for (i = 0; i < 7; i++) {
+    for (i = 0; i < BENCH_NSPD; i++) {
         char path[512];
         ggScene *s;
         double t[2][64], sr[64], tm[2], smed;
         int th, k, runs = bo->runs < 64 ? bo->runs : 64;
-        if (!bench_selected(bo->scenes, spd[i])) continue;
-        snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, spd[i]);
+        if (!bench_selected(bo->scenes, bench_spd_scenes[i])) continue;
+        snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, bench_spd_scenes[i]);
         if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
         for (k = 0; k < runs; k++)
             for (th = 1; th <= 2; th++) {
@@ -103,8 +101,8 @@ static int threads_table(const bench_opts *bo, int size)
             }
         tm[0] = bench_median(t[0], runs), tm[1] = bench_median(t[1], runs);
         smed = bench_median(sr, runs);
-        printf("%-11s %8.4fs %8.4fs %8.2fx %8.4fs %7.2f%%\n", spd[i], tm[0], tm[1], tm[0] / tm[1],
-               smed, 100 * smed / tm[1]);
+        printf("%-11s %8.4fs %8.4fs %8.2fx %8.4fs %7.2f%%\n", bench_spd_scenes[i], tm[0], tm[1],
+               tm[0] / tm[1], smed, 100 * smed / tm[1]);
         ggSceneFree(s);
     }
     return EXIT_OK;

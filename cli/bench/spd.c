@@ -21,10 +21,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-static const char *const spd_scenes[] = {"balls-s4", "gears", "rings",     "tetra",
-                                         "mount",    "tree",  "teapot-s12"};
-#define NSPD 7
-
 /* ---- one ggrt measurement ---- */
 
 typedef struct spd_job {
@@ -38,6 +34,7 @@ typedef struct spd_result {
     ggRayStats st;
     ggSceneInfo info;
     int objects;
+    int status; /* of the call that failed, with error */
     char error[512];
 } spd_result;
 
@@ -52,10 +49,10 @@ static int spd_child(void *arg, void *outp)
     int k;
     if (!s) return 1;
     t0 = cli_now();
-    if (ggSceneLoadFile(s, j->path, &err) != GG_OK) goto fail;
+    if ((r->status = ggSceneLoadFile(s, j->path, &err)) != GG_OK) goto fail;
     r->parse = cli_now() - t0;
     t0 = cli_now();
-    if (ggScenePrepare(s, &err) != GG_OK) goto fail;
+    if ((r->status = ggScenePrepare(s, &err)) != GG_OK) goto fail;
     r->prepare = cli_now() - t0;
     ggSceneGetInfo(s, &r->info);
     r->objects = ggSceneObjectCount(s);
@@ -69,7 +66,7 @@ static int spd_child(void *arg, void *outp)
         ggImage *img = NULL;
         memset(&r->st, 0, sizeof r->st);
         t0 = cli_now();
-        if (ggRender(s, &o, &img, &r->st, &err) != GG_OK) goto fail;
+        if ((r->status = ggRender(s, &o, &img, &r->st, &err)) != GG_OK) goto fail;
         times[k] = cli_now() - t0;
         ggImageFree(img);
     }
@@ -80,6 +77,25 @@ fail:
     snprintf(r->error, sizeof r->error, "%s", err.message);
     ggSceneFree(s);
     return 0; /* the error travels in the result */
+}
+
+/* j measured in a child process into *r (and its peak memory into
+   *peak, unless NULL). On failure the table gets the scene's row saying
+   why, and the exit code is returned: the failed call's (cli_exit_code),
+   or EXIT_INPUT when the child itself failed (it could not start, or
+   died). */
+static int spd_measure(spd_job *j, const char *name, spd_result *r, double *peak)
+{
+    memset(r, 0, sizeof *r);
+    if (bench_in_child(spd_child, j, r, sizeof *r, peak) != 0) {
+        printf("%-11s failed: the measuring process failed\n", name);
+        return EXIT_INPUT;
+    }
+    if (r->error[0]) {
+        printf("%-11s failed: %s\n", name, r->error);
+        return cli_exit_code(r->status, 0);
+    }
+    return EXIT_OK;
 }
 
 /* ---- POV-Ray ---- */
@@ -223,43 +239,42 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %8s %7s | %7s %7s %8s | %7s | %9s %9s %8s\n", "scene", "ggrt", "Mrays/s",
            "peakMB", "emb-p1", "emb-p16", "Mrays/s", "pov", "emb1/ggrt", "emb16/ggrt", "pov/ggrt");
-    for (i = 0; i < NSPD; i++) {
+    for (i = 0; i < BENCH_NSPD; i++) {
         double tg[64], t1[64], t16[64], tp[64], peak = 0, rays = 0, erays = 0, g, e1, e16, pv = 0;
         int k, povok = pov;
         spd_job j;
-        if (!bench_selected(bo->scenes, spd_scenes[i])) continue;
+        if (!bench_selected(bo->scenes, bench_spd_scenes[i])) continue;
         memset(&j, 0, sizeof j);
-        snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, spd_scenes[i]);
+        snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, bench_spd_scenes[i]);
         j.size = bo->size, j.threads = bo->threads, j.runs = 1;
         j.accuracy = bo->accuracy;
         for (k = 0; k < runs; k++) {
             spd_result r;
             emb_result a, b;
             double pk = 0;
-            if (bench_in_child(spd_child, &j, &r, sizeof r, &pk) != 0 || r.error[0]) {
-                printf("%-11s failed: %s\n", spd_scenes[i], r.error[0] ? r.error : "child failed");
-                return EXIT_INPUT;
-            }
+            int rc = spd_measure(&j, bench_spd_scenes[i], &r, &pk);
+            if (rc != EXIT_OK) return rc;
             tg[k] = r.render, peak = pk > peak ? pk : peak;
             rays = (double)(r.st.eye + r.st.reflect + r.st.refract + r.st.shadow);
             a = run_embree(bo->embree, j.path, bo->size, bo->threads, 1);
             b = run_embree(bo->embree, j.path, bo->size, bo->threads, 16);
             if (!a.ok || !b.ok) {
-                printf("%-11s the anchor failed (%s -t %d -r %d -p 1|16 -o - %s)\n", spd_scenes[i],
-                       bo->embree, bo->threads, bo->size, j.path);
+                printf("%-11s the anchor failed (%s -t %d -r %d -p 1|16 -o - %s)\n",
+                       bench_spd_scenes[i], bo->embree, bo->threads, bo->size, j.path);
                 return EXIT_INPUT;
             }
             t1[k] = a.trace, t16[k] = b.trace, erays = b.rays;
             if (povok) {
-                pov_result pr = run_pov(bo->pov_dir, spd_scenes[i], bo->size, bo->threads, 1, 0);
+                pov_result pr =
+                    run_pov(bo->pov_dir, bench_spd_scenes[i], bo->size, bo->threads, 1, 0);
                 povok = pr.ok;
                 tp[k] = pr.trace;
             }
         }
         g = med_of(tg, runs), e1 = med_of(t1, runs), e16 = med_of(t16, runs);
         if (povok) pv = med_of(tp, runs);
-        printf("%-11s %6.3fs %8.2f %7.1f | %6.3fs %6.3fs %8.2f |", spd_scenes[i], g, rays / g / 1e6,
-               peak, e1, e16, erays / e16 / 1e6);
+        printf("%-11s %6.3fs %8.2f %7.1f | %6.3fs %6.3fs %8.2f |", bench_spd_scenes[i], g,
+               rays / g / 1e6, peak, e1, e16, erays / e16 / 1e6);
         if (povok)
             printf(" %6.3fs |", pv);
         else
@@ -290,7 +305,7 @@ int bench_spd(const bench_opts *bo)
 {
     int i, npov = 0, pov = bo->pov && have_povray();
     double logsum = 0, worst = 1e300;
-    int avx = 0;
+    int avx = 0, rc;
     if (bo->embree) return bench_spd_embree(bo, pov);
     printf("ggrt bench spd: %dx%d, %d threads, depth 5, pixel centres, no antialiasing, "
            "median of %d runs\n",
@@ -299,27 +314,24 @@ int bench_spd(const bench_opts *bo)
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %7s %8s %8s %9s %8s %7s %9s | %8s %7s %7s\n", "scene", "prims", "parse",
            "prepare", "render", "Mrays", "Mrays/s", "peakMB", "B/prim", "pov", "povMB", "speedup");
-    for (i = 0; i < NSPD; i++) {
+    for (i = 0; i < BENCH_NSPD; i++) {
         spd_job j;
         spd_result r;
         pov_result pr;
         double peak = 0, rays;
-        if (!bench_selected(bo->scenes, spd_scenes[i])) continue;
+        if (!bench_selected(bo->scenes, bench_spd_scenes[i])) continue;
         memset(&j, 0, sizeof j);
-        snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, spd_scenes[i]);
+        snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, bench_spd_scenes[i]);
         j.size = bo->size, j.threads = bo->threads, j.runs = bo->runs;
         j.accuracy = bo->accuracy;
-        if (bench_in_child(spd_child, &j, &r, sizeof r, &peak) != 0 || r.error[0]) {
-            printf("%-11s failed: %s\n", spd_scenes[i], r.error[0] ? r.error : "child failed");
-            return EXIT_INPUT;
-        }
+        if ((rc = spd_measure(&j, bench_spd_scenes[i], &r, &peak)) != EXIT_OK) return rc;
         rays = (double)(r.st.eye + r.st.reflect + r.st.refract + r.st.shadow);
         avx |= r.info.bvh_blocks > 0;
-        printf("%-11s %7zu %6.3fs %7.3fs %7.3fs %9.2f %8.2f %7.1f %9.1f |", spd_scenes[i],
+        printf("%-11s %7zu %6.3fs %7.3fs %7.3fs %9.2f %8.2f %7.1f %9.1f |", bench_spd_scenes[i],
                r.info.primitives, r.parse, r.prepare, r.render, rays / 1e6, rays / r.render / 1e6,
                peak, r.info.primitives ? (double)r.info.geometry_bytes / r.info.primitives : 0.0);
         if (pov) {
-            pr = run_pov(bo->pov_dir, spd_scenes[i], bo->size, bo->threads, bo->runs, 1);
+            pr = run_pov(bo->pov_dir, bench_spd_scenes[i], bo->size, bo->threads, bo->runs, 1);
             if (pr.ok) {
                 double ratio = pr.trace / r.render;
                 printf(" %7.3fs %7.1f %6.2fx\n", pr.trace, pr.peak_mb, ratio);
@@ -347,37 +359,34 @@ int bench_counts(const bench_opts *bo)
 {
     /* The SPD README's reference table (eye rays hitting, reflect, refract,
        shadow), about 10% spread expected. */
-    static const double ref[NSPD][4] = {
+    static const double ref[BENCH_NSPD][4] = {
         {263169, 175095, 0, 954368},      {245086, 304643, 207564, 2246955},
         {263169, 315236, 0, 1085002},     {49788, 0, 0, 46112},
         {173125, 354769, 354769, 412922}, {169836, 0, 0, 1097419},
         {161120, 225248, 0, 407656},
     };
     static const char *const kinds[4] = {"eye-hit", "reflect", "refract", "shadow"};
-    int i, k, bad = 0;
+    int i, k, bad = 0, rc;
     printf("ggrt bench counts: SPD rules (513x513 corner rays, depth 5, transmitters spawn "
            "reflection rays), %d threads\n\n",
            bo->threads);
     printf("%-11s %-8s %10s %10s %8s\n", "scene", "rays", "ggrt", "SPD", "diff");
-    for (i = 0; i < NSPD; i++) {
+    for (i = 0; i < BENCH_NSPD; i++) {
         spd_job j;
         spd_result r;
         double got[4];
-        if (!bench_selected(bo->scenes, spd_scenes[i])) continue;
+        if (!bench_selected(bo->scenes, bench_spd_scenes[i])) continue;
         memset(&j, 0, sizeof j);
-        snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, spd_scenes[i]);
+        snprintf(j.path, sizeof j.path, "%s/%s.nff", bo->spd_dir, bench_spd_scenes[i]);
         j.size = 512, j.threads = bo->threads, j.runs = 1, j.spd_rules = 1;
-        if (bench_in_child(spd_child, &j, &r, sizeof r, NULL) != 0 || r.error[0]) {
-            printf("%-11s failed: %s\n", spd_scenes[i], r.error);
-            return EXIT_INPUT;
-        }
+        if ((rc = spd_measure(&j, bench_spd_scenes[i], &r, NULL)) != EXIT_OK) return rc;
         got[0] = (double)r.st.eye_hit, got[1] = (double)r.st.reflect;
         got[2] = (double)r.st.refract, got[3] = (double)r.st.shadow;
         for (k = 0; k < 4; k++) {
             double d = ref[i][k] > 0 ? 100.0 * (got[k] - ref[i][k]) / ref[i][k] : 0;
             int off = ref[i][k] > 0 ? fabs(d) > 10 : got[k] != 0;
             bad += off;
-            printf("%-11s %-8s %10.0f %10.0f %+7.1f%%%s\n", k ? "" : spd_scenes[i], kinds[k],
+            printf("%-11s %-8s %10.0f %10.0f %+7.1f%%%s\n", k ? "" : bench_spd_scenes[i], kinds[k],
                    got[k], ref[i][k], d, off ? "  <- outside 10%" : "");
         }
     }

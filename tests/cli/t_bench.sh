@@ -69,3 +69,31 @@ if [ $got = 0 ] && grep -q '^default ' "$tmp/acc" && grep -Eq '^intersect +doubl
 then ok "bench accuracy --knobs intersect: the default and the intersect rows only"
 else bad "bench accuracy --knobs intersect: the default and the intersect rows only (exit $got)" "$(cat "$tmp/acc")"; fi
 expect_exit 1 "bench spd --knobs is a usage error" "$ggrt" bench spd --knobs intersect --no-pov
+# Names and folders every benchmark that takes them checks: a --scenes
+# name the benchmark does not run, an empty one, --scenes where it takes
+# scene files, an unknown --knobs name: usage errors (exit 1) naming the
+# choices; a --spd folder without the scenes: exit 3, the file named.
+for b in spd counts effects scaling rays limit; do
+  for list in nosuch gears,,tetra; do
+    "$ggrt" bench "$b" --scenes "$list" --size 16 --runs 1 --no-pov >"$tmp/out" 2>"$tmp/err"; got=$?
+    [ $got = 1 ] && grep -q "^ggrt bench: --scenes: no scene '[a-z]*' in bench $b (its scenes: " "$tmp/err" &&
+      ok "bench $b --scenes $list: a usage error naming its scenes" ||
+      bad "bench $b --scenes $list: a usage error naming its scenes (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
+  done
+done
+for b in spd counts scaling rays limit; do
+  "$ggrt" bench "$b" --spd "$tmp/no-such-folder" --scenes gears --size 16 --runs 1 --no-pov \
+    >"$tmp/out" 2>"$tmp/err"; got=$?
+  [ $got = 3 ] && grep -q "no-such-folder/[a-z0-9-]*\.nff: No such file or directory" "$tmp/out" "$tmp/err" &&
+    ok "bench $b --spd with no scenes in it: exit 3, the file named" ||
+    bad "bench $b --spd with no scenes in it: exit 3, the file named (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
+done
+expect_err 1 "ggrt bench: --scenes is not an option of bench accuracy (it takes scene files)" \
+  "bench accuracy --scenes is a usage error" "$ggrt" bench accuracy examples/scenes/glass.nff --scenes gears
+expect_err 1 "ggrt bench: --scenes picks SPD scenes; give scene files or --scenes, not both" \
+  "bench limit with scene files and --scenes is a usage error" \
+  "$ggrt" bench limit examples/scenes/glass.nff --scenes gears
+"$ggrt" bench accuracy examples/scenes/glass.nff --knobs intersect,nosuch >"$tmp/out" 2>"$tmp/err"; got=$?
+[ $got = 1 ] && grep -q "^ggrt bench: --knobs: no knob 'nosuch' (the knobs: offset, sphere, .*intersect" "$tmp/err" &&
+  ok "bench accuracy --knobs with an unknown knob: a usage error naming the knobs" ||
+  bad "bench accuracy --knobs with an unknown knob: a usage error naming the knobs (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
