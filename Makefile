@@ -416,8 +416,8 @@ check-release:
 	@sh tests/build/targets.sh $(BUILD)/release
 	@$(MAKE) $(CHECK_ARGS) installcheck BUILD=$(BUILD)/release
 # The ASan tree's CLI suite samples its scene-by-expression loops (one
-# combination in 8, each scene and expression still run; tests/cli/run.sh,
-# GG_TEST_SAMPLE): an ASan process takes 95-200 ms to the release one's 10
+# combination in 8, each scene and expression still run) and its tile
+# cuts (each path still taken; tests/cli/run.sh, GG_TEST_SAMPLE): an ASan process takes 95-200 ms to the release one's 10
 # (most of it page faults on this VM), and the loops start some 4000. The
 # clang tree takes one in 4; the release tree runs them all.
 check-asan:

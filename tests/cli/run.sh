@@ -6,8 +6,9 @@
 # name" and the details as "# " lines, per check; the plan "1..N" last.
 # GG_TEST_SAMPLE=N (the ASan tree sets 8, the clang tree 4): the loops over every scene times
 # every expression or layer left out take one combination in N, rotating,
-# so that each scene and each expression is still run; 1 (default) takes
-# them all.
+# so that each scene and each expression is still run, and t_tiles.sh and
+# t_reports.sh cut each scene fewer ways, every path still taken; 1
+# (default) takes them all.
 ggrt=$1
 sample=${GG_TEST_SAMPLE:-1}
 [ -x "$ggrt" ] || { echo "not ok 1 - no ggrt binary at '$ggrt'"; echo "1..1"; exit 1; }

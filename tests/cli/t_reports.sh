@@ -5,7 +5,7 @@
 # tile its own process, merge into the file one process writes, byte for
 # byte; also with a plan's cut, and for --path. Every bad input to merge
 # --reports names the report and the reason, exits 2 and writes nothing.
-# Uses run.sh's ggrt, tmp, ok, bad, expect_err.
+# Uses run.sh's ggrt, tmp, sample, ok, bad, expect_err.
 
 rd="$tmp/reports"
 mkdir -p "$rd"

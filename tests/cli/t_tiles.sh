@@ -6,7 +6,7 @@
 # ggrt plan, give the very files one process writes, EXR and PNG (cmp);
 # every bad input to merge names the tile and the reason, exits 2 and
 # writes nothing; a plan for another scene, other options or another size
-# is refused. Uses run.sh's ggrt, tmp, ok, bad, expect_err.
+# is refused. Uses run.sh's ggrt, tmp, sample, ok, bad, expect_err.
 
 td="$tmp/tiles"
 mkdir -p "$td"
@@ -44,19 +44,29 @@ merge_same() {
   fi
 }
 
+# Equal bands of 1, 2, 7 and 16 tiles and plans of 2, 7 and 16 for each
+# scene; when run.sh samples (GG_TEST_SAMPLE), one of each per scene,
+# rotating, so that 1, 7 and 16 bands and plans of 2, 7 and 16 each run
+# once (--tile alone, --tiles, a plan's cut: every path).
+si=0
 for spec in "examples/scenes/spd/gears.nff --spd -s 96x64" \
             "examples/scenes/glass.nff -s 80x48" \
             "examples/scenes/texture.nff -s 64x40 -n 4"; do
+  bands="1 2 7 16" plans="2 7 16"
+  if [ "$sample" != 1 ]; then
+    bands=$(echo "16 1 7" | cut -d' ' -f$((si + 1))) plans=$(echo "7 16 2" | cut -d' ' -f$((si + 1)))
+  fi
+  si=$((si + 1))
   # shellcheck disable=SC2086
   set -- $spec
   "$ggrt" render "$@" -q -o "$td/one.exr" && "$ggrt" render "$@" -q -o "$td/one.png" ||
     { bad "one-process render of $spec"; continue; }
   plan=
-  for n in 1 2 7 16; do
+  for n in $bands; do
     # shellcheck disable=SC2086
     merge_same "$spec" "$n" $spec
   done
-  for n in 2 7 16; do
+  for n in $plans; do
     plan="$td/plan-$n.json"
     # shellcheck disable=SC2086
     "$ggrt" plan $spec -q --tiles $n -o "$plan" 2>"$tmp/err" ||
