@@ -224,8 +224,15 @@ static int set_value(cli_opt *o, const char *v, char *why, size_t whylen)
         return parse_fields(v, "xX", 2, (long)o->lo, (long)o->hi, o->dst, wh, why, whylen);
     case CLI_XY:
         return parse_fields(v, ",", 2, (long)o->lo, (long)o->hi, o->dst, xy, why, whylen);
-    case CLI_BOX:
-        return parse_fields(v, ",", 4, (long)o->lo, (long)o->hi, o->dst, box, why, whylen);
+    case CLI_BOX: {
+        const int *b = (const int *)o->dst;
+        if (parse_fields(v, ",", 4, (long)o->lo, (long)o->hi, o->dst, box, why, whylen) != 0)
+            return -1;
+        /* (an all-zero window would mean the whole image to the library) */
+        if (b[0] < b[2] && b[1] < b[3]) return 0;
+        snprintf(why, whylen, "an empty window: X1 must exceed X0 and Y1 Y0");
+        return -1;
+    }
     case CLI_VEC3:
         return parse_vec3(v, (ggVec3 *)o->dst, why, whylen);
     case CLI_FUNC:

@@ -148,7 +148,8 @@ typedef struct ggRenderOptions {
     int samples;        /* samples per pixel (n*n grid when a square); 0: scene or 1 */
     int threads;        /* worker threads; 0: all processors. Output does not depend on it */
     /* Crop window [x0, x1) x [y0, y1) in pixels; all 0 = the whole image.
-       Pixels outside stay black; inside they equal the full render's. */
+       Pixels outside stay black; inside they equal the full render's. A
+       window that is empty or leaves the image: GG_ERROR_INVALID. */
     int crop_x0, crop_y0, crop_x1, crop_y1;
     bool pixel_corners; /* SPD rule: rays through pixel corners, (w+1)x(h+1) eye rays */
     bool spd_rules;     /* SPD rule: transmitters also spawn reflection rays */

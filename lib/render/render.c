@@ -111,7 +111,10 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
     r->threads = (int)(n < 1 ? 1 : n > 256 ? 256 : n);
     r->x0 = o->crop_x0, r->y0 = o->crop_y0, r->x1 = o->crop_x1, r->y1 = o->crop_y1;
     if (r->x0 == 0 && r->y0 == 0 && r->x1 == 0 && r->y1 == 0) r->x1 = r->w, r->y1 = r->h;
-    if (r->x0 < 0 || r->y0 < 0 || r->x1 > r->w || r->y1 > r->h || r->x0 >= r->x1 || r->y0 >= r->y1)
+    if (r->x0 >= r->x1 || r->y0 >= r->y1)
+        return gg_error_set(err, GG_ERROR_INVALID, "crop window [%d,%d)x[%d,%d) is empty", r->x0,
+                            r->x1, r->y0, r->y1);
+    if (r->x0 < 0 || r->y0 < 0 || r->x1 > r->w || r->y1 > r->h)
         return gg_error_set(err, GG_ERROR_INVALID,
                             "crop window [%d,%d)x[%d,%d) is not inside the %dx%d image", r->x0,
                             r->x1, r->y0, r->y1, r->w, r->h);

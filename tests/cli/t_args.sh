@@ -112,3 +112,13 @@ for c in "" render plan merge trace find check diff info serve optics bench \
 done
 if [ -z "$wide" ]; then ok "every --help fits in 80 columns (25 texts)"
 else bad "every --help fits in 80 columns" "$wide"; fi
+# An empty --crop window is refused by every command that takes --crop
+# (all zeros too, which the library reads as the whole image).
+for c in render trace find check diff; do
+  case $c in render) o="-o $tmp/x.png" ;; trace) o="--pixel 1,1" ;; find) o="-w some(kind==eye)" ;; *) o= ;; esac
+  for w in 0,0,0,0 3,3,3,5 4,1,2,6; do
+    # shellcheck disable=SC2086
+    expect_msg 1 "bad value '$w' for --crop: $crop (an empty window: X1 must exceed X0 and Y1 Y0)" \
+      "$c --crop $w: an empty window is a usage error" "$ggrt" $c $g -s 16x12 $o --crop $w
+  done
+done

@@ -99,6 +99,32 @@ static void test_threads_identical(void **state)
     }
 }
 
+/* Crop windows the renderer refuses, each with GG_ERROR_INVALID and its
+   reason: empty ones (all 0 is the whole image) and ones that leave the
+   image; nothing is written to *img. */
+static void test_crop_refused(void **state)
+{
+    static const int bad[][5] = {/* x0, y0, x1, y1, empty? */
+                                 {3, 3, 3, 5, 1},   {3, 5, 9, 5, 1},  {9, 3, 3, 5, 1},
+                                 {0, 0, 0, 1, 1},   {-1, 0, 4, 4, 0}, {0, -1, 4, 4, 0},
+                                 {70, 0, 81, 4, 0}, {0, 50, 4, 61, 0}};
+    ggScene *s = tu_load("examples/scenes/glass.nff");
+    ggRenderOptions o;
+    ggError err;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        ggImage *img = NULL;
+        ggRenderOptionsDefault(&o);
+        o.width = 80, o.height = 60, o.threads = 1;
+        o.crop_x0 = bad[i][0], o.crop_y0 = bad[i][1], o.crop_x1 = bad[i][2], o.crop_y1 = bad[i][3];
+        assert_int_equal(ggRender(s, &o, &img, NULL, &err), GG_ERROR_INVALID);
+        assert_null(img);
+        assert_non_null(strstr(err.message, bad[i][4] ? "is empty" : "is not inside the 80x60"));
+    }
+    ggSceneFree(s);
+}
+
 /* A crop window reproduces exactly those pixels of the full render. */
 static void test_crop_matches_full(void **state)
 {
@@ -511,6 +537,7 @@ int main(void)
         cmocka_unit_test(test_cost_cpu),
         cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
+        cmocka_unit_test(test_crop_refused),
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),
         cmocka_unit_test(test_raycolor_equals_pixel),
