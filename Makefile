@@ -48,6 +48,9 @@ CC      ?= cc
 # docs/performance.md, "Optimisation level".
 CFLAGS  ?= -O3 -g
 LDFLAGS ?=
+# GG_EXE_LDFLAGS: flags for the programs' links only, not the shared
+# objects' (the sanitizer trees of make check set -no-pie there).
+GG_EXE_LDFLAGS ?=
 INSTALL ?= install
 
 # Flags for our code. Users' CFLAGS add to these; they cannot turn them off.
@@ -264,7 +267,7 @@ $(BUILD)/cli/serve/web_assets.o: $(BUILD)/cli/serve/web_assets.c
 
 # -ldl: `ggrt optics check --lib` (cli/optics/optics_check.c); the library never loads code.
 $(CLI): $(CLI_OBJ) $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS) -ldl
+	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS) -ldl
 
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
@@ -272,7 +275,7 @@ $(BUILD)/tests/%.o: tests/%.c
 	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(filter-out $(SCALAR_TESTS),$(TEST_BIN)): %: %.o $(TESTUTIL_OBJ) $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
+	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
 # test_bvh_scalar and test_packet_scalar run the BVH and packet suites on the
 # portable C traversal: the geom layer built a second time with
@@ -286,7 +289,7 @@ $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	$(scalar_cc)
 
 $(SCALAR_TESTS): %: %.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \
+	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(filter-out $(BUILD)/lib/geom/%,$(FULL_OBJ)) \
 	  $(SCALAR_GEOM) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
 
 # Each fuzz harness also builds with the plain compiler as a corpus replayer.
@@ -295,7 +298,7 @@ $(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
 	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/tests/replay_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/replay.o $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
+	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
 
 $(BUILD)/bench/%: bench/%.c $(STATIC)
 	@mkdir -p $(@D)
@@ -310,7 +313,7 @@ $(BUILD)/libtextbook_refract.so: examples/textbook_refract.c
 # examples/fuzz_your_refract.c as a corpus replayer (tests/fuzz/replay.c),
 # against ggRefract and against the textbook function (tests/cli/t_optics_check.sh).
 YOURFUZZ = $(BUILD)/tests/yourfuzz_ggrefract $(BUILD)/tests/yourfuzz_textbook
-YOURFUZZ_CC = $(CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(GG_WARN) $(CFLAGS) $(LDFLAGS)
+YOURFUZZ_CC = $(CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(GG_WARN) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS)
 $(BUILD)/tests/yourfuzz_ggrefract: examples/fuzz_your_refract.c tests/fuzz/replay.c $(STATIC)
 	@mkdir -p $(@D)
 	$(YOURFUZZ_CC) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
@@ -363,6 +366,12 @@ test: $(TEST_TAPS)
 SAN_FLAGS = -O1 -g1 -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
             -DGG_NO_FORCED_INLINE -Wno-psabi
 SAN_LDFLAGS = -fsanitize=address,undefined
+# -no-pie: a position-independent ASan ggrt starts by applying 142,000
+# relative relocations (the sanitizers' tables of globals and checks),
+# about a fifth of its start-up, and the ASan trees start thousands of
+# processes. The shared objects keep -fPIC; only the programs' links
+# take it (GG_EXE_LDFLAGS).
+SAN_EXE_LDFLAGS = -no-pie
 
 # The suites that run the library from several threads at once, run a
 # third time under ThreadSanitizer (GCC's; TSan reports make the run fail).
@@ -422,13 +431,13 @@ check-release:
 # clang tree takes one in 4; the release tree runs them all.
 check-asan:
 	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/asan CFLAGS="$(SAN_FLAGS)" LDFLAGS="$(SAN_LDFLAGS)" \
-	  CLI_ENV=GG_TEST_SAMPLE=8
+	  GG_EXE_LDFLAGS="$(SAN_EXE_LDFLAGS)" CLI_ENV=GG_TEST_SAMPLE=8
 check-cc2:
 	@$(MAKE) $(CHECK_ARGS) test BUILD=$(CHECK_DIR2)/release CC="$(CHECK_CC2)" CFLAGS=-O3 \
 	  TEST_SUITES="cli http unit replay" TEST_HTTP=tests/http/http_test.py CLI_ENV=GG_TEST_SAMPLE=4
 check-cc2-asan:
 	@$(MAKE) $(CHECK_ARGS) test BUILD=$(CHECK_DIR2)/asan CC="$(CHECK_CC2)" CFLAGS="$(SAN_FLAGS)" \
-	  LDFLAGS="$(SAN_LDFLAGS)" TEST_SUITES="unit replay"
+	  LDFLAGS="$(SAN_LDFLAGS)" GG_EXE_LDFLAGS="$(SAN_EXE_LDFLAGS)" TEST_SUITES="unit replay"
 check-tsan:
 	@$(MAKE) $(CHECK_ARGS) test-tsan BUILD=$(BUILD)/tsan CC=$(TSAN_CC) CFLAGS="$(TSAN_FLAGS)" LDFLAGS="-fsanitize=thread"
 
