@@ -78,13 +78,17 @@ SYS_LIBS    = -lm -lpthread
 # ggrt serve (cli/serve/) is built with libmicrohttpd when pkg-config finds
 # it (-DGG_HAVE_MHD); without it the rest of the CLI builds the same and
 # `ggrt serve` says what to install. scripts/deps.sh: group serve.
+# ggrt does not link it: `ggrt serve` opens it by the soname read here
+# (MHD_SONAME; cli/serve/serve_http.c says why), and only ggrt serve.
 MHD_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libmicrohttpd 2>/dev/null))
 MHD_LIBS   := $(shell pkg-config --libs libmicrohttpd 2>/dev/null)
+MHD_SONAME := $(if $(MHD_LIBS),$(shell objdump -p "`pkg-config --variable=libdir libmicrohttpd`/libmicrohttpd.so" \
+                2>/dev/null | sed -n 's/^ *SONAME *//p'))
 CLI_DEFS   =
 CLI_LIBS   =
 ifneq ($(MHD_LIBS),)
 ifneq ($(wildcard cli/serve/*.c),)
-CLI_DEFS   = -DGG_HAVE_MHD $(MHD_CFLAGS)
+CLI_DEFS   = -DGG_HAVE_MHD $(MHD_CFLAGS) $(if $(MHD_SONAME),-DGG_MHD_SONAME='"$(MHD_SONAME)"')
 CLI_LIBS   = $(MHD_LIBS)
 endif
 endif
@@ -254,7 +258,7 @@ $(BUILD)/cli/%.o: cli/%.c
 # rebuilds the objects that depend on it.
 $(BUILD)/cli/serve.flag: FORCE
 	@mkdir -p $(@D)
-	@[ "`cat $@ 2>/dev/null`" = "mhd=$(CLI_LIBS)" ] || echo "mhd=$(CLI_LIBS)" > $@
+	@[ "`cat $@ 2>/dev/null`" = "mhd=$(CLI_LIBS) $(MHD_SONAME)" ] || echo "mhd=$(CLI_LIBS) $(MHD_SONAME)" > $@
 $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(wildcard cli/serve/*.c)): $(BUILD)/cli/serve.flag
 FORCE:
 
@@ -265,9 +269,10 @@ $(BUILD)/cli/serve/web_assets.c: $(WEB_SRC) cli/serve/web/embed.sh
 $(BUILD)/cli/serve/web_assets.o: $(BUILD)/cli/serve/web_assets.c
 	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
 
-# -ldl: `ggrt optics check --lib` (cli/optics/optics_check.c); the library never loads code.
+# -ldl: `ggrt optics check --lib` (cli/optics/optics_check.c) and `ggrt serve`
+# (libmicrohttpd, cli/serve/serve_http.c); the library never loads code.
 $(CLI): $(CLI_OBJ) $(STATIC)
-	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(CLI_LIBS) $(IMG_LIBS) $(SYS_LIBS) -ldl
+	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $(CLI_OBJ) $(STATIC) $(IMG_LIBS) $(SYS_LIBS) -ldl
 
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c

@@ -29,9 +29,10 @@ GROUPS
 #   (CHECK_CC2 in the Makefile).
 # demo: the build and serve, since the README goes on from `make demo` to
 #   `ggrt serve`.
-# serve: ggrt serve (cli/serve/) links libmicrohttpd when pkg-config finds
-#   it; without it the rest of ggrt builds and `ggrt serve` says what to
-#   install. browser: tests/browser* drive Chromium through Selenium.
+# serve: ggrt serve (cli/serve/) is built with libmicrohttpd when
+#   pkg-config finds it, and opens it when it starts; without it the rest
+#   of ggrt builds and `ggrt serve` says what to install. browser:
+#   tests/browser* drive Chromium through Selenium.
 # cluster: make check-cluster (tests/cluster/check.sh) runs a one-node
 #   Slurm with munge, and GNU parallel, on the recipes of examples/cluster/;
 #   parallel goes over ssh to a private sshd on 127.0.0.1 (openssh-server,

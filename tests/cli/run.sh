@@ -141,6 +141,13 @@ if python3 -c "import sys, xml.dom.minidom; xml.dom.minidom.parse(sys.argv[1])" 
    grep -q "^l 1 2" "$tmp/t.obj"; then ok "SVG parses as XML, OBJ has lines"; else bad "SVG parses as XML, OBJ has lines"; fi
 expect_exit 1 "trace pixel outside the image" "$ggrt" trace examples/scenes/glass.nff --pixel 9999,1
 
+# ggrt serve opens libmicrohttpd when it starts (cli/serve/serve_http.c):
+# ggrt does not need it, so no other command loads it and its TLS
+# libraries (5 ms of every start).
+if readelf -d "$ggrt" | grep -q 'NEEDED.*libmicrohttpd'; then
+  bad "ggrt does not link libmicrohttpd (serve opens it)" "$(readelf -d "$ggrt" | grep NEEDED)"
+else ok "ggrt does not link libmicrohttpd (serve opens it)"; fi
+
 # The other parts: each tests/cli/t_*.sh, sourced here (they share the
 # counters and helpers above), each with its seconds as a TAP comment.
 for part in tests/cli/t_*.sh; do
