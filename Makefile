@@ -449,7 +449,7 @@ check-tsan:
 # scripts/deps.sh GROUP: the packages a target needs (deps = check's).
 # check-browser: ggrt serve's page in headless Chromium through Selenium
 # (tests/browser/browser_test.py: every scene file, glass.nff in depth, the path filter, the layout;
-# 164 s on 2 cores in CI's run of 2026-12-05); CI runs it after check. Selenium is
+# 164-171 s on 2 cores in CI runs of 2026-12-05); CI runs it after check. Selenium is
 # Debian's python3-selenium, importable by /usr/bin/python3.
 BROWSER_PYTHON ?= /usr/bin/python3
 check-browser: deps-check deps-browser
