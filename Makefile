@@ -85,11 +85,11 @@ MHD_LIBS   := $(shell pkg-config --libs libmicrohttpd 2>/dev/null)
 MHD_SONAME := $(if $(MHD_LIBS),$(shell objdump -p "`pkg-config --variable=libdir libmicrohttpd`/libmicrohttpd.so" \
                 2>/dev/null | sed -n 's/^ *SONAME *//p'))
 CLI_DEFS   =
-CLI_LIBS   =
+CLI_SERVE  =
 ifneq ($(MHD_LIBS),)
 ifneq ($(wildcard cli/serve/*.c),)
 CLI_DEFS   = -DGG_HAVE_MHD $(MHD_CFLAGS) $(if $(MHD_SONAME),-DGG_MHD_SONAME='"$(MHD_SONAME)"')
-CLI_LIBS   = $(MHD_LIBS)
+CLI_SERVE  = mhd $(MHD_SONAME)
 endif
 endif
 # The page served by ggrt serve (cli/serve/web/), compiled into the binary.
@@ -163,7 +163,7 @@ FULL_OBJ := $(filter-out $(NOREADER_OBJ),$(LIB_OBJ))
 CORE_OBJ := $(filter-out $(IO_OBJ),$(LIB_OBJ))
 # cli/main.c and one folder per command or group, cli/common/ shared (docs/internals.md).
 CLI_SRC  := $(sort $(wildcard cli/*.c cli/*/*.c))
-CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_LIBS),$(BUILD)/cli/serve/web_assets.o)
+CLI_OBJ  := $(CLI_SRC:%.c=$(BUILD)/%.o) $(if $(CLI_SERVE),$(BUILD)/cli/serve/web_assets.o)
 # The cmocka suites: tests/unit/LAYER/ (one layer's code) and tests/api/
 # (contracts of every public function); each builds to the same path under
 # $(BUILD) (build/tests/unit/geom/test_bvh).
@@ -258,7 +258,7 @@ $(BUILD)/cli/%.o: cli/%.c
 # rebuilds the objects that depend on it.
 $(BUILD)/cli/serve.flag: FORCE
 	@mkdir -p $(@D)
-	@[ "`cat $@ 2>/dev/null`" = "mhd=$(CLI_LIBS) $(MHD_SONAME)" ] || echo "mhd=$(CLI_LIBS) $(MHD_SONAME)" > $@
+	@[ "`cat $@ 2>/dev/null`" = "serve=$(CLI_SERVE)" ] || echo "serve=$(CLI_SERVE)" > $@
 $(patsubst cli/%.c,$(BUILD)/cli/%.o,$(wildcard cli/serve/*.c)): $(BUILD)/cli/serve.flag
 FORCE:
 
