@@ -46,10 +46,10 @@
    ggrt does not link libmicrohttpd: Debian's is built with TLS, and
    loading it loads GnuTLS and eight more libraries, 5.4 ms of every ggrt
    process's start (`ggrt --version`: 8.8 ms linked, 3.4 ms not), for a
-   server that never speaks TLS. `ggrt serve`
-   opens it by its soname (GG_MHD_SONAME, which the Makefile reads off the
-   library pkg-config names, so the header and the library are one
-   version) and takes the nine functions this file calls. */
+   server that never speaks TLS. `ggrt serve` opens it by its soname
+   (GG_MHD_SONAME, which the Makefile reads off the library pkg-config
+   names, so the header and the library are one version) and takes the
+   nine functions this file calls. */
 #ifndef GG_MHD_SONAME
 #define GG_MHD_SONAME "libmicrohttpd.so.12"
 #endif
@@ -545,15 +545,12 @@ static int listen_on(struct sockaddr_storage *ss, int family, int *port)
 
 srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
 {
-    srv_http *h = calloc(1, sizeof *h);
+    srv_http *h;
     struct sockaddr_storage ss;
     int fd;
     unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG;
-    if (mhd_load(msg, msglen)) {
-        free(h);
-        return NULL;
-    }
-    if (!h) {
+    if (mhd_load(msg, msglen)) return NULL;
+    if (!(h = calloc(1, sizeof *h))) {
         snprintf(msg, msglen, "out of memory");
         return NULL;
     }
