@@ -34,19 +34,23 @@ static int same_pt(const clip2 *c, int a, int b)
 static int ear_empty(const clip2 *c, const int *next, int p, int i, int n)
 {
     int j;
-    for (j = next[n]; j != p; j = next[j]) {
-        if (same_pt(c, j, p) || same_pt(c, j, i) || same_pt(c, j, n)) continue;
-        if (orient(c, p, i, j) >= 0 && orient(c, i, n, j) >= 0 && orient(c, n, p, j) >= 0) return 0;
-    }
+    /* The diagonal n-p first: most vertices lie beyond it. The corner
+       test only for a vertex inside. */
+    for (j = next[n]; j != p; j = next[j])
+        if (orient(c, n, p, j) >= 0 && orient(c, p, i, j) >= 0 && orient(c, i, n, j) >= 0 &&
+            !same_pt(c, j, p) && !same_pt(c, j, i) && !same_pt(c, j, n))
+            return 0;
     return 1;
 }
 
-/* Squared length of the ear's diagonal p-n, or -1 if i is not an ear. */
+/* Squared length of the ear's diagonal p-n; -1 if i is not an ear, -2 if
+   its corner is collinear (zero area). */
 static double ear_score(const clip2 *c, const int *next, const int *prev, int i)
 {
     int p = prev[i], n = next[i];
-    double dx, dy;
-    if (orient(c, p, i, n) <= 0 || !ear_empty(c, next, p, i, n)) return -1;
+    double dx, dy, o = orient(c, p, i, n);
+    if (o == 0) return -2;
+    if (o < 0 || !ear_empty(c, next, p, i, n)) return -1;
     dx = c->q[n][0] - c->q[p][0], dy = c->q[n][1] - c->q[p][1];
     return dx * dx + dy * dy;
 }
@@ -78,9 +82,11 @@ static int ear_clip(const clip2 *c, int nv, int *next, int *prev, double *score,
     while (left > 3) {
         int best = -1, p, n, k;
         double bs = INFINITY;
-        /* Collinear (zero-area) corners go first and make no triangle. */
+        /* Collinear (zero-area) corners go first and make no triangle.
+           score[] is current for every corner: a cut changes only those
+           of its two neighbours, which are scored again below. */
         for (i = first, k = 0; k < left; k++, i = next[i]) {
-            if (orient(c, prev[i], i, next[i]) == 0) {
+            if (score[i] == -2) {
                 best = i, bs = -1;
                 break;
             }
@@ -133,9 +139,9 @@ static int self_intersects(const clip2 *c, int nv)
             double a, b, d, e;
             if (j1 == i) continue; /* neighbours share a vertex */
             a = orient(c, i, i1, j), b = orient(c, i, i1, j1);
+            if (!((a <= 0 && b >= 0) || (a >= 0 && b <= 0))) continue; /* most pairs */
             d = orient(c, j, j1, i), e = orient(c, j, j1, i1);
-            if (((a <= 0 && b >= 0) || (a >= 0 && b <= 0)) &&
-                ((d <= 0 && e >= 0) || (d >= 0 && e <= 0))) {
+            if ((d <= 0 && e >= 0) || (d >= 0 && e <= 0)) {
                 /* collinear and disjoint is not a contact */
                 if (a == 0 && b == 0) {
                     int k;
