@@ -606,70 +606,85 @@ static int clip_tri(const double v[3][3], const bref *r, int k, float p, bref *L
     return got;
 }
 
-static void sbin_grow(sbins *sb, int k, int b, const bref *x)
+/* Four floats: x, y, z of v rounded to nearest, and 0. */
+static v4 v4_pt(const double v[3])
 {
-    box_grow(&sb->b[k][b], v4_ld(x->lo), v4_ld(x->hi));
+#if defined(__SSE2__)
+    /* in registers: through memory, the three floats' stores and the
+       load of all four make the load wait (no store forwarding) */
+    return _mm_movelh_ps(_mm_cvtpd_ps(_mm_loadu_pd(v)), _mm_cvtpd_ps(_mm_load_sd(v + 2)));
+#else
+    float f[4];
+    f[0] = (float)v[0], f[1] = (float)v[1], f[2] = (float)v[2], f[3] = 0;
+    return v4_ld(f);
+#endif
+}
+
+/* Grow lo/hi by point p, skipping a NaN coordinate: minps and maxps give
+   their second operand unless the comparison holds. */
+static void pt_grow(v4 *lo, v4 *hi, v4 p)
+{
+    *lo = v4_min(p, *lo), *hi = v4_max(p, *hi);
+}
+
+/* The box of the points where triangle v's edges cross the plane x_k = p,
+   in float; empty (+inf, -inf) if none does. */
+static bbox edge_box(const double (*v)[3], int k, float p)
+{
+    bbox e = box_empty();
+    int i;
+    for (i = 0; i < 3; i++) {
+        const double *a = v[i], *b = v[i == 2 ? 0 : i + 1];
+        if (straddles(a, b, k, p)) {
+            double q[3];
+            edge_point(a, b, k, p, q);
+            pt_grow(&e.lo, &e.hi, v4_pt(q));
+        }
+    }
+    return e;
 }
 
 /* The bins of a triangle that spans bins b0..b1 of axis k: in each, the
    box of its vertices there and of its edges' points on the bin's
    planes, within its record's box x. Only the split's choice depends on
    these boxes (partition_spatial computes the children's own), so the
-   points need no allowance for rounding. */
+   points need no allowance for rounding. Each point is rounded to float
+   before the boxes take their minima and maxima, which gives the boxes
+   that rounding the double ones would: the rounding is monotonic. Where
+   no edge crosses the plane above bin b (a vertex on it, say), growing by
+   the empty box e (+inf, -inf) widens bin b to all of x: too large,
+   which only the choice of split sees. */
 static void sbin_chop(sbins *sb, const ssplit *sp, int k, const bref *x, const double (*v)[3],
-                      int b0, int b1)
+                      const v4 vf[3], int b0, int b1)
 {
-    /* Filled at bin b before bin b + 1 reads them; the initialisers only
-       satisfy GCC's -O3 maybe-uninitialized analysis. */
-    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    int b, i, j;
+    v4 xlo = v4_ld(x->lo), xhi = v4_ld(x->hi);
+    bbox e = box_empty(); /* the edge points on bin b's lower plane */
+    int b, i;
     for (b = b0; b <= b1; b++) {
-        double lo[3], hi[3];
-        float pl = plane_at(sp, k, b), ph = plane_at(sp, k, b + 1);
-        bref y = *x;
-        if (b > b0)
-            memcpy(lo, clo, sizeof lo), memcpy(hi, chi, sizeof hi);
-        else
-            for (j = 0; j < 3; j++) lo[j] = INFINITY, hi[j] = -INFINITY;
+        float pl = plane_at(sp, k, b), ph = plane_at(sp, k, b + 1), y[8];
+        v4 lo = e.lo, hi = e.hi;
         for (i = 0; i < 3; i++)
-            if ((b == b0 || v[i][k] >= pl) && (b == b1 || v[i][k] <= ph)) grow_pt(lo, hi, v[i]);
+            if ((b == b0 || v[i][k] >= pl) && (b == b1 || v[i][k] <= ph)) pt_grow(&lo, &hi, vf[i]);
         if (b < b1) {
-            for (j = 0; j < 3; j++) clo[j] = INFINITY, chi[j] = -INFINITY;
-            for (i = 0; i < 3; i++) {
-                const double *a = v[i], *e = v[i == 2 ? 0 : i + 1];
-                if (straddles(a, e, k, ph)) {
-                    double q[3];
-                    edge_point(a, e, k, ph, q);
-                    grow_pt(clo, chi, q);
-                }
-            }
-            grow_pt(lo, hi, clo), grow_pt(lo, hi, chi);
+            e = edge_box(v, k, ph);
+            pt_grow(&lo, &hi, e.lo), pt_grow(&lo, &hi, e.hi);
         }
-        for (j = 0; j < 3; j++) {
-            float l = (float)lo[j], h = (float)hi[j];
-            y.lo[j] = l > y.lo[j] ? l : y.lo[j], y.hi[j] = h < y.hi[j] ? h : y.hi[j];
-        }
-        if (y.lo[0] <= y.hi[0] && y.lo[1] <= y.hi[1] && y.lo[2] <= y.hi[2]) sbin_grow(sb, k, b, &y);
+        lo = v4_max(lo, xlo), hi = v4_min(hi, xhi);
+        v4_st(y, lo), v4_st(y + 4, hi);
+        if (y[0] <= y[4] && y[1] <= y[5] && y[2] <= y[6]) box_grow(&sb->b[k][b], lo, hi);
     }
 }
 
-/* Bin record i along axis k: a triangle chopped at every bin plane it
-   crosses, anything else whole in the bin of its centroid. */
-static void sbin_rec(const bctx *c, sbins *sb, const ssplit *sp, uint32_t i, int k,
-                     const double (*v)[3])
+/* Bin record x along axis k, given its bins b0..b1 there: a triangle
+   (vertices v, vf) chopped at every bin plane it crosses, anything else
+   whole. */
+static void sbin_rec(sbins *sb, const ssplit *sp, const bref *x, int k, const double (*v)[3],
+                     const v4 vf[3], int b0, int b1)
 {
-    const bref *x = &c->r[i];
-    int b0, b1;
-    if (!v) {
-        b0 = b1 = sbin_of(sp, k, 0.5f * x->lo[k] + 0.5f * x->hi[k]);
-        sbin_grow(sb, k, b0, x);
-    } else {
-        b0 = sbin_of(sp, k, x->lo[k]), b1 = sbin_of(sp, k, x->hi[k]);
-        if (b0 == b1)
-            sbin_grow(sb, k, b0, x);
-        else
-            sbin_chop(sb, sp, k, x, v, b0, b1);
-    }
+    if (b0 == b1)
+        box_grow(&sb->b[k][b0], v4_ld(x->lo), v4_ld(x->hi));
+    else
+        sbin_chop(sb, sp, k, x, v, vf, b0, b1);
     sb->enter[k][b0]++, sb->leave[k][b1]++;
 }
 
@@ -682,7 +697,7 @@ static void find_spatial(bwork *w, const span *s, ssplit *sp)
     uint32_t n = s->end - s->begin, room = s->cap - s->begin, i;
     float lo[4], hi[4];
     double parea = half_area(s->b), best = INFINITY;
-    int k, b;
+    int k, b, use[3];
     sp->axis = -1, sp->cost = INFINITY;
     sp->nb = n < GG_NSBINS / 2 ? 2 * (int)n : GG_NSBINS;
     v4_st(lo, s->b.lo), v4_st(hi, s->b.hi);
@@ -691,25 +706,36 @@ static void find_spatial(bwork *w, const span *s, ssplit *sp)
         for (b = 0; b < sp->nb; b++)
             sb->b[k][b] = box_empty(), sb->enter[k][b] = sb->leave[k][b] = 0;
     }
+    for (k = 0; k < 3; k++) use[k] = sp->w[k] > 0 && lo[k] + sp->w[k] < hi[k];
     for (i = s->begin; i < s->end; i++) {
+        const bref *x = &c->r[i];
+        int tri = c->clip[c->id[i]], cross = 0, b0[3], b1[3];
         double v[3][3];
-        int tri = c->clip[c->id[i]];
+        v4 vf[3];
+        for (k = 0; k < 3; k++) {
+            if (!use[k]) continue;
+            if (tri) {
+                b0[k] = sbin_of(sp, k, x->lo[k]), b1[k] = sbin_of(sp, k, x->hi[k]);
+                cross |= b0[k] != b1[k];
+            } else {
+                b0[k] = b1[k] = sbin_of(sp, k, 0.5f * x->lo[k] + 0.5f * x->hi[k]);
+            }
+        }
         /* the vertices only for a triangle that crosses a bin plane */
-        if (tri) {
-            const bref *x = &c->r[i];
-            for (tri = 0, k = 0; k < 3 && !tri; k++)
-                tri = sp->w[k] > 0 && sbin_of(sp, k, x->lo[k]) != sbin_of(sp, k, x->hi[k]);
-            if (tri) c->verts(c->ud, c->id[i], v);
+        if (cross) {
+            c->verts(c->ud, c->id[i], v);
+            for (k = 0; k < 3; k++) vf[k] = v4_pt(v[k]);
         }
         for (k = 0; k < 3; k++)
-            if (sp->w[k] > 0 && lo[k] + sp->w[k] < hi[k])
-                sbin_rec(c, sb, sp, i, k, tri ? (const double(*)[3])v : NULL);
+            if (use[k])
+                sbin_rec(sb, sp, x, k, cross ? (const double(*)[3])v : NULL, cross ? vf : NULL,
+                         b0[k], b1[k]);
     }
     for (k = 0; k < 3; k++) {
         float rarea[GG_NSBINS];
         uint32_t rcnt[GG_NSBINS], lcnt = 0;
         bbox r = box_empty(), l = box_empty();
-        if (!(sp->w[k] > 0 && lo[k] + sp->w[k] < hi[k])) continue;
+        if (!use[k]) continue;
         rcnt[0] = 0;
         for (b = sp->nb - 1; b > 0; b--) {
             box_grow(&r, sb->b[k][b].lo, sb->b[k][b].hi);
