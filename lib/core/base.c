@@ -10,6 +10,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -122,6 +123,22 @@ int gg_error_set(ggError *err, int code, const char *fmt, ...)
     gg_error_setv(err, code, fmt, ap);
     va_end(ap);
     return code;
+}
+
+size_t gg_strtod_c(const char *s, size_t n, double *out)
+{
+    char buf[400], *e;
+    const char *dp = localeconv()->decimal_point;
+    size_t i;
+    *out = 0;
+    if (n >= sizeof buf) return 0;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    if (dp && dp[0] && dp[0] != '.' && dp[1] == 0)
+        for (i = 0; i < n; i++)
+            if (buf[i] == '.') buf[i] = dp[0];
+    *out = strtod(buf, &e);
+    return (size_t)(e - buf);
 }
 
 /* A large block of the C library's allocator, not yet touched: on Linux,

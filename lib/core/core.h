@@ -32,6 +32,13 @@ int gg_utf8_len(const unsigned char *s, size_t n);
    is left unchanged by a second pass. Returns the length written. */
 size_t gg_text_escape(char *dst, size_t size, const char *src, size_t n);
 
+/* strtod of s[0..n) with '.' as the radix point whatever LC_NUMERIC says
+   (the library must not depend on the locale): the callers check the
+   text against their own grammar first. Returns the count of characters
+   strtod read (0: none, or n >= 400), the value in *out (inf when it
+   overflows, as strtod). */
+size_t gg_strtod_c(const char *s, size_t n, double *out);
+
 /* Allocation through an optional allocator (NULL = libc). */
 void *gg_mem_alloc(const ggAllocator *a, size_t size);
 void *gg_mem_calloc(const ggAllocator *a, size_t n, size_t size); /* zeroed, overflow-checked */

@@ -4,7 +4,6 @@
 */
 #include "debug_int.h"
 
-#include <locale.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,8 +20,6 @@ static int digit(char c)
 
 size_t gg_dbg_number(const char *s, size_t n, double *out)
 {
-    char buf[128];
-    const char *dp = localeconv()->decimal_point;
     size_t i = 0, j, digits = 0;
     if (i < n && (s[i] == '+' || s[i] == '-')) i++;
     while (i < n && digit(s[i])) i++, digits++;
@@ -39,15 +36,8 @@ size_t gg_dbg_number(const char *s, size_t n, double *out)
             while (i < n && digit(s[i])) i++;
         }
     }
-    if (i >= sizeof buf) return 0;
-    memcpy(buf, s, i);
-    buf[i] = '\0';
-    /* strtod reads the locale's radix point: give it that one (the library
-       must not depend on LC_NUMERIC). */
-    if (dp && dp[0] && dp[0] != '.' && dp[1] == 0)
-        for (j = 0; j < i; j++)
-            if (buf[j] == '.') buf[j] = dp[0];
-    *out = strtod(buf, NULL);
+    if (i >= 128) return 0;
+    (void)gg_strtod_c(s, i, out);
     return i;
 }
 

@@ -20,7 +20,6 @@
 */
 #include "expr.h"
 
-#include <locale.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,20 +113,6 @@ static int is_alpha(int c)
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
 }
 
-/* strtod with a '.' whatever the locale says (the library must not depend
-   on LC_NUMERIC); the text was already checked against the grammar. */
-static double to_double(const char *s, size_t n)
-{
-    char buf[128];
-    const char *dp = localeconv()->decimal_point;
-    size_t i;
-    memcpy(buf, s, n);
-    buf[n] = 0;
-    if (dp && dp[0] && dp[0] != '.' && dp[1] == 0)
-        for (i = 0; i < n; i++)
-            if (buf[i] == '.') buf[i] = dp[0];
-    return strtod(buf, NULL);
-}
 
 static void scan_number(parser *p)
 {
@@ -159,7 +144,7 @@ static void scan_number(parser *p)
         fail(p, p->pos, GG_ERROR_LIMIT, "number longer than 127 characters");
         return;
     }
-    p->num = to_double(s + p->pos, p->tlen);
+    (void)gg_strtod_c(s + p->pos, p->tlen, &p->num); /* checked above */
     if (isinf(p->num)) {
         fail(p, p->pos, GG_ERROR_PARSE, "number '%.*s' is too large for a double",
              (int)(p->tlen > 32 ? 32 : p->tlen), s + p->pos);

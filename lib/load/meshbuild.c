@@ -398,14 +398,9 @@ const char *gg_parse_number(const char *p, const char *end, double *out)
         return p;
     }
     {
-        char buf[400], *q;
         size_t n = (size_t)(p - s);
         double d;
-        if (n >= sizeof buf) return NULL;
-        memcpy(buf, s, n);
-        buf[n] = '\0';
-        d = strtod(buf, &q);
-        if (q != buf + n || !isfinite(d)) return NULL;
+        if (gg_strtod_c(s, n, &d) != n || !isfinite(d)) return NULL;
         *out = d;
         return p;
     }
