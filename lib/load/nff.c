@@ -9,11 +9,11 @@
 ** failed load leaves the scene as it was (see rollback()).
 */
 #include "load.h"
+#include "mesh_int.h"
 #include "scene.h"
 
 #include "vec.h"
 
-#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
@@ -145,18 +145,14 @@ static const char *show(const token *t, char *buf, size_t n)
     return buf;
 }
 
+/* A token that is a decimal number, finite: gg_parse_number (no nan, inf
+   or hex), correctly rounded like strtod and without its locale in the
+   common case. */
 static bool tok_number(const token *t, double *d)
 {
-    char buf[64], *e;
-    if (t->quoted || t->n == 0 || t->n >= sizeof buf) return false;
-    memcpy(buf, t->p, t->n);
-    buf[t->n] = '\0';
-    /* strtod accepts "nan", "inf" and hex: NFF numbers are decimal. */
-    if (!strchr("+-.0123456789", buf[0])) return false;
-    if (strpbrk(buf, "xXnNiI")) return false;
-    errno = 0;
-    *d = strtod(buf, &e);
-    return *e == '\0' && e != buf && isfinite(*d);
+    const char *end = t->p + t->n;
+    if (t->quoted || t->n == 0) return false;
+    return gg_parse_number(t->p, end, d) == end;
 }
 
 static int number(parser *ps, double *d, const char *what)
