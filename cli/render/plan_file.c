@@ -207,28 +207,20 @@ done:
 
 int tile_plan_read(const char *path, tile_plan *p)
 {
-    FILE *f = fopen(path, "rb");
     char *text, why[200];
     size_t got;
     int rc;
     memset(p, 0, sizeof *p);
-    if (!f) {
+    rc = cli_read_text(path, PLAN_MAX_BYTES, &text, &got);
+    if (rc == CLI_READ_IO) {
         cli_error("%s: %s", path, strerror(errno));
         return EXIT_IO;
     }
-    if (!(text = malloc(PLAN_MAX_BYTES + 1))) {
-        fclose(f);
+    if (rc == CLI_READ_NOMEM)
         cli_error("out of memory");
-        return EXIT_INPUT;
-    }
-    got = fread(text, 1, PLAN_MAX_BYTES + 1, f);
-    rc = ferror(f);
-    fclose(f);
-    text[got > PLAN_MAX_BYTES ? PLAN_MAX_BYTES : got] = '\0';
-    if (rc) cli_error("%s: cannot read it", path);
-    else if (got > PLAN_MAX_BYTES || strlen(text) != got)
+    else if (rc == CLI_READ_LARGE || strlen(text) != got)
         cli_error("%s: not a ggrt plan: %s", path,
-                  got > PLAN_MAX_BYTES ? "larger than 1 MiB" : "a NUL byte in it");
+                  rc == CLI_READ_LARGE ? "larger than 1 MiB" : "a NUL byte in it");
     else if (parse_plan(text, p, why, sizeof why) != 0)
         cli_error("%s: not a ggrt plan: %s", path, why);
     else {
@@ -236,7 +228,7 @@ int tile_plan_read(const char *path, tile_plan *p)
         return EXIT_OK;
     }
     free(text);
-    return rc ? EXIT_IO : EXIT_INPUT;
+    return EXIT_INPUT;
 }
 
 int tile_plan_match(const tile_plan *p, const char *plan_path, const char *hash,

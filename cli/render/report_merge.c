@@ -54,22 +54,17 @@ static int is_merged(const jnode *m)
 
 static int load(report *r)
 {
-    FILE *f = fopen(r->path, "rb");
     char why[200];
     size_t got;
-    int k;
-    if (!f) {
+    int k, rc = cli_read_text(r->path, REPORT_MAX_BYTES, &r->text, &got);
+    if (rc == CLI_READ_IO) {
         cli_error("%s: %s", r->path, strerror(errno));
         return EXIT_IO;
     }
-    r->text = malloc(REPORT_MAX_BYTES + 1);
-    got = r->text ? fread(r->text, 1, REPORT_MAX_BYTES + 1, f) : 0;
-    fclose(f);
-    if (!r->text || got > REPORT_MAX_BYTES) {
-        cli_error("%s: %s", r->path, r->text ? "larger than 256 MiB" : "out of memory");
+    if (rc) {
+        cli_error("%s: %s", r->path, rc == CLI_READ_LARGE ? "larger than 256 MiB" : "out of memory");
         return EXIT_INPUT;
     }
-    r->text[got] = '\0';
     why[0] = '\0';
     if (jdom_parse(r->text, &r->root, why, sizeof why) != 0 || r->root.type != 'o' ||
         !r->root.n) {
