@@ -356,14 +356,16 @@ int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int cou
 {
     int i;
     size_t need = s->nverts + (size_t)count;
+    /* norms only as far as vertices with normals reach: a scene of plain
+       polygons (the SPD's, most NFF) then keeps no array of zeros, and
+       its load touches half the memory */
     if (gg_mem_grow(s->alloc, (void **)&s->verts, &s->cap_verts, need, sizeof *v) ||
-        gg_mem_grow(s->alloc, (void **)&s->norms, &s->cap_norms, need, sizeof *v))
+        (n && gg_mem_grow(s->alloc, (void **)&s->norms, &s->cap_norms, need, sizeof *v)))
         return -GG_ERROR_NOMEM;
     *first = s->nverts;
-    for (i = 0; i < count; i++) {
-        s->verts[s->nverts + (size_t)i] = v[i];
-        s->norms[s->nverts + (size_t)i] = n ? n[i] : v3(0, 0, 0);
-    }
+    for (i = 0; i < count; i++) s->verts[s->nverts + (size_t)i] = v[i];
+    if (n)
+        for (i = 0; i < count; i++) s->norms[s->nverts + (size_t)i] = n[i];
     s->nverts = need;
     return 0;
 }
@@ -578,8 +580,9 @@ static int add_prims(ggScene *s, size_t i)
             ggVec3 v[3], n[3];
             v[0] = s->verts[o->vfirst], v[1] = s->verts[o->vfirst + k],
             v[2] = s->verts[o->vfirst + k + 1];
-            n[0] = s->norms[o->vfirst], n[1] = s->norms[o->vfirst + k],
-            n[2] = s->norms[o->vfirst + k + 1];
+            if (o->has_normals)
+                n[0] = s->norms[o->vfirst], n[1] = s->norms[o->vfirst + k],
+                n[2] = s->norms[o->vfirst + k + 1];
             p = gg_geom_add_triangle(s->geom, v, o->has_normals ? n : NULL, id);
             if (p >= 0 && s->materials[o->material].kt > 0)
                 gg_geom_set_flags(s->geom, p, GG_PRIM_TRANSPARENT);

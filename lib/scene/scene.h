@@ -90,7 +90,8 @@ struct ggScene {
     gg_teximage *images; /* the texture cache */
     size_t nimages, cap_images;
     int64_t tex_budget, tex_used; /* bytes of decoded texels: allowed, cached */
-    ggVec3 *verts, *norms; /* polygon vertex pool; norms parallel (zero when absent) */
+    ggVec3 *verts, *norms; /* polygon vertex pool; norms parallel, set (and allocated) only
+                              for the vertices of objects with has_normals */
     size_t nverts, cap_verts, cap_norms;
     gg_mesh *meshes;       /* mesh.c */
     size_t nmeshes, cap_meshes;

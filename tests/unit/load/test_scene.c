@@ -167,6 +167,45 @@ static void test_rollback_keeps_earlier_load(void **state)
     ggSceneFree(s);
 }
 
+/* Vertex normals are kept only for pp polygons: plain polygons before,
+   between and after them (and a failed load in between) leave each pp
+   polygon's normals as the file gave them, and a plain one has none. */
+static void test_pp_normals_among_plain_polygons(void **state)
+{
+    static const char *a = "f 1 1 1 1 0 1 0 0\n"
+                           "p 3\n0 0 0\n1 0 0\n0 1 0\n"
+                           "pp 4\n0 0 1 0 0 1\n1 0 1 0 0.6 0.8\n1 1 1 0.6 0 0.8\n0 1 1 0 0 1\n";
+    static const char *b = "p 4\n0 0 2\n1 0 2\n1 1 2\n0 1 2\n"
+                           "pp 3\n0 0 3 1 0 0\n1 0 3 0 1 0\n0 1 3 0 0 1\n";
+    static const double want[7][3] = {{0, 0, 1}, {0, 0.6, 0.8}, {0.6, 0, 0.8}, {0, 0, 1},
+                                      {1, 0, 0}, {0, 1, 0},     {0, 0, 1}};
+    ggScene *s = load_ok(a);
+    ggShapeDesc d;
+    ggError e;
+    static const char *bad = "pp 3\n0 0 9 1 0 0\n1 0 9 1 0 0\n0 1 9 1 0 0\ns 1";
+    int i, j, k = 0, obj[2] = {1, 3};
+    (void)state;
+    /* a failed load (its pp polygon pushed, then an error) changes nothing */
+    assert_int_not_equal(ggSceneLoadString(s, bad, strlen(bad), "bad.nff", &e), GG_OK);
+    assert_int_equal(ggSceneLoadString(s, b, strlen(b), "b.nff", &e), GG_OK);
+    assert_int_equal(ggSceneObjectCount(s), 4);
+    for (i = 0; i < 4; i++) {
+        assert_int_equal(ggSceneObjectShape(s, i, &d), GG_OK);
+        if (i != obj[0] && i != obj[1]) {
+            assert_null(d.normals);
+            continue;
+        }
+        assert_non_null(d.normals);
+        for (j = 0; j < d.nverts; j++, k++) {
+            assert_true(d.normals[j].x == want[k][0] && d.normals[j].y == want[k][1]);
+            assert_true(d.normals[j].z == want[k][2]);
+        }
+    }
+    assert_int_equal(k, 7);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    ggSceneFree(s);
+}
+
 static void test_missing_file(void **state)
 {
     ggScene *s = ggSceneCreate(NULL);
@@ -243,6 +282,7 @@ int main(void)
         cmocka_unit_test(test_extensions),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_rollback_keeps_earlier_load),
+        cmocka_unit_test(test_pp_normals_among_plain_polygons),
         cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_spd_scenes_load),
         cmocka_unit_test(test_scene_info),
