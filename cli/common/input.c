@@ -39,7 +39,6 @@ int cli_read_text(const char *path, size_t max, char **text, size_t *len)
         if (got == 0) break;
     }
     if (!rc && ferror(f)) rc = CLI_READ_IO;
-    if (!rc && n > max) rc = CLI_READ_LARGE;
     {
         int e = errno; /* fread's reason, not fclose's */
         fclose(f);

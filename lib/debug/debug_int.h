@@ -270,7 +270,8 @@ void gg_dbg_put(ggImage *img, int x, int y, ggColor c);
 int gg_dbg_nonfinite(ggColor c);
 /* A decimal number at s (at most n bytes: sign, digits, fraction,
    exponent), read with '.' as the radix point whatever the locale:
-   returns the bytes it takes (0 if none) and the value in *out. */
+   returns the bytes it takes (0 if none, or if it is 128 bytes or
+   longer) and the value in *out. */
 size_t gg_dbg_number(const char *s, size_t n, double *out);
 
 #endif

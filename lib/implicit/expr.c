@@ -113,7 +113,6 @@ static int is_alpha(int c)
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
 }
 
-
 static void scan_number(parser *p)
 {
     const char *s = p->s;

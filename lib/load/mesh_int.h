@@ -68,7 +68,7 @@ void gg_names_free(const ggAllocator *a, gg_names *t);
 
 /* Parse a decimal number at p (< end): optional sign, digits with an
    optional point, optional exponent; no nan, inf or hex. Correctly
-   rounded (Clinger's fast path, else strtod on a copy). Returns the end
+   rounded (Clinger's fast path, else gg_strtod_c). Returns the end
    of the number, or NULL if there is none or it is not finite. */
 const char *gg_parse_number(const char *p, const char *end, double *out);
 /* A decimal integer with optional sign, within [lo, hi]; NULL if not. */

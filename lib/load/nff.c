@@ -146,8 +146,7 @@ static const char *show(const token *t, char *buf, size_t n)
 }
 
 /* A token that is a decimal number, finite: gg_parse_number (no nan, inf
-   or hex), correctly rounded like strtod and without its locale in the
-   common case. */
+   or hex), correctly rounded like strtod, whatever the locale. */
 static bool tok_number(const token *t, double *d)
 {
     const char *end = t->p + t->n;
