@@ -31,6 +31,8 @@
 #define GG_CTZ(m)      __builtin_ctz(m)
 /* A hint that the line holding p will soon be written. */
 #define GG_PREFETCH_W(p) __builtin_prefetch(p, 1, 3)
+/* A hint that the line holding p will soon be read. */
+#define GG_PREFETCH(p) __builtin_prefetch(p, 0, 3)
 /* One fused multiply-add instruction, in a per-ISA object built for it
    (dd.h's dd_two_prod in refract_fma.c and fresnel_fma.c); math.h's fma
    may be a call. */
@@ -50,6 +52,7 @@ static inline int gg_ctz_portable(unsigned m)
 }
 #define GG_CTZ(m) gg_ctz_portable(m)
 #define GG_PREFETCH_W(p) ((void)(p))
+#define GG_PREFETCH(p)   ((void)(p))
 #define GG_FMA(a, b, c) fma(a, b, c)
 #endif
 

@@ -78,6 +78,7 @@ static int add_prim(gg_geom *g, int kind, size_t data, int32_t obj)
     p->kind = (uint8_t)kind;
     p->data = (uint32_t)data;
     p->obj = obj;
+    p->tag = 0;
     g->pflags[g->nprim] = 0;
     g->built = 0;
     return (int)g->nprim++;
@@ -222,6 +223,57 @@ size_t gg_geom_prim_count(const gg_geom *g)
 int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim)
 {
     return prim < g->nprim ? g->prims[prim].obj : -1;
+}
+
+/* A gg_tri's lines: the vertices first, the normals, then ng. */
+static void prefetch_span(const void *p, size_t n)
+{
+    const char *c = p;
+    size_t i;
+    for (i = 0; i < n; i += 64) GG_PREFETCH(c + i);
+    GG_PREFETCH(c + n - 1);
+}
+
+void gg_geom_prefetch_hit(const gg_geom *g, uint32_t prim, int stage)
+{
+    const gg_prim *p;
+    if (prim >= g->nprim) return;
+    p = &g->prims[prim];
+    if (stage == 0) {
+        GG_PREFETCH(p);
+        return;
+    }
+    if (p->kind == GG_SHAPE_TRIANGLE && stage == 1) {
+        prefetch_span(&g->tris[p->data], sizeof *g->tris);
+    } else if (p->kind == GG_SHAPE_MESH) {
+        const gg_gmesh *m = &g->gmeshes[p->data];
+        const uint32_t *t = m->idx + 3 * (size_t)(prim - m->pfirst);
+        int v;
+        if (stage == 1) {
+            prefetch_span(t, 3 * sizeof *t);
+            return;
+        }
+        for (v = 0; v < 3; v++) {
+            GG_PREFETCH(&m->pos[t[v]]);
+            if (m->nrm) GG_PREFETCH(&m->nrm[t[v]]);
+        }
+    }
+}
+
+void gg_geom_set_tag(gg_geom *g, size_t first, size_t n, int32_t tag)
+{
+    size_t i;
+    for (i = first; i < g->nprim && i - first < n; i++) g->prims[i].tag = tag;
+}
+
+int gg_geom_prim_info(const gg_geom *g, uint32_t prim, gg_prim_info *out)
+{
+    const gg_prim *p;
+    if (prim >= g->nprim) return 0;
+    p = &g->prims[prim];
+    out->obj = p->obj, out->tag = p->tag;
+    out->kind = p->kind == GG_SHAPE_MESH ? GG_SHAPE_TRIANGLE : p->kind;
+    return 1;
 }
 
 int gg_geom_prim_kind(const gg_geom *g, uint32_t prim)

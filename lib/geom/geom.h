@@ -97,6 +97,31 @@ size_t gg_geom_prim_count(const gg_geom *g);
 int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim);
 int gg_geom_prim_kind(const gg_geom *g, uint32_t prim); /* ggShapeKind */
 
+/* A number the owner keeps per primitive, beside its object: 0 until
+   gg_geom_set_tag sets it on primitives first .. first + n - 1 (those
+   that exist). The scene keeps each object's material there, so shading
+   a hit reads one primitive record and no object record: on a mesh of
+   10^6 NFF triangles the object records (one per triangle) are a miss
+   per hit. */
+void gg_geom_set_tag(gg_geom *g, size_t first, size_t n, int32_t tag);
+
+/* A hint, before shading a hit on prim, that starts reading what
+   gg_geom_prim_info and gg_geom_surface will read, one dependent step per
+   stage: 0 the primitive's record; 1 (once that is in) its shape's record,
+   or a mesh triangle's indices; 2 (once those are in) a mesh triangle's
+   vertices and normals. Reads nothing out of range and changes nothing;
+   stages given too early only wait as the reads would have. */
+void gg_geom_prefetch_hit(const gg_geom *g, uint32_t prim, int stage);
+
+/* What gg_geom_prim_object, gg_geom_prim_kind and the tag say of prim,
+   from its one record. Returns 0 (and leaves *out) if prim is out of
+   range, else 1. */
+typedef struct gg_prim_info {
+    int32_t obj, tag;
+    int kind; /* as gg_geom_prim_kind */
+} gg_prim_info;
+int gg_geom_prim_info(const gg_geom *g, uint32_t prim, gg_prim_info *out);
+
 /* The instruction sets (GG_CPU_* of core.h) that g's BVH and queries
    may use, of those the CPU runs; GG_CPU_ALL (the default) is the
    fastest, 0 the plain code. Takes effect at the next gg_geom_build. */

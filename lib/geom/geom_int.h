@@ -126,6 +126,7 @@ typedef struct gg_prim {
     uint8_t kind;  /* ggShapeKind */
     uint32_t data; /* index in the array of that kind */
     int32_t obj;
+    int32_t tag; /* the owner's (gg_geom_set_tag) */
 } gg_prim;
 
 typedef struct gg_sph {

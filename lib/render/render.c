@@ -414,6 +414,27 @@ static ggColor corner_layers(job *j, double px, double py, size_t i, gg_shade_th
 
 /* A pixel-centre pixel from its one sample's colour c, as pixel_center
    and render_tile make it; returns 1 when c is not finite (counted). */
+/* The reads of shading a packet's hits started ahead of it
+   (gg_geom_prefetch_hit): before the first lane (at = -1) every hit's
+   record and the first two lanes' next steps; before shading lane at,
+   the steps of the two hit lanes after it. On large meshes these records
+   are misses, each a chain of two or three. */
+static void prefetch_hits(const gg_geom *g, const gg_hit *h, uint32_t hit, int at)
+{
+    uint32_t m;
+    if (at < 0) {
+        for (m = hit; m; m &= m - 1) gg_geom_prefetch_hit(g, h[GG_CTZ(m)].prim, 0);
+        if (hit) gg_geom_prefetch_hit(g, h[GG_CTZ(hit)].prim, 1);
+        return;
+    }
+    m = hit >> at >> 1; /* the lanes after at */
+    if (!m) return;
+    gg_geom_prefetch_hit(g, h[at + 1 + GG_CTZ(m)].prim, 2);
+    gg_geom_prefetch_hit(g, h[at + 1 + GG_CTZ(m)].prim, 1);
+    m &= m - 1;
+    if (m) gg_geom_prefetch_hit(g, h[at + 1 + GG_CTZ(m)].prim, 1);
+}
+
 static GG_NOINLINE int put_centre(float *o, const ggColor *c, double scale)
 {
     ggColor a = cscale(cadd(rgb(0, 0, 0), *c), scale);
@@ -525,6 +546,7 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
         if (direct) prefetch_layer_row(j, gx0, gy, n);
         hit = gg_geom_intersect_packet(geom, q, ok, h);
         eye += (uint64_t)n;
+        prefetch_hits(geom, h, hit, -1);
         for (i = 0; i < n; i++, o += 3) {
             if (!((ok >> i) & 1u)) {
                 nonfinite += corner ? put_corner(o, &black) : put_centre(o, &black, scale);
@@ -548,6 +570,7 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
                     th->aov[l] = black;
                     if (th->aov_n) th->aov_n[l] = 0;
                 }
+                prefetch_hits(geom, h, hit, i);
                 col = gg_shade_eye_hit(&j->ctx, &q[i], &h[i], th);
                 nonfinite += corner ? put_corner(o, &col) : put_centre(o, &col, scale);
                 if (direct)

@@ -384,11 +384,15 @@ static inline ggVec3 reflect(ggVec3 v, ggVec3 n)
 /* Rays leaving a planar primitive cannot meet it again: they skip it
    outright. Curved ones (a sphere's far side, a torus shadowing itself)
    must stay in; the origin offset keeps them robust. */
-static uint32_t leave_prim(const ggScene *s, uint32_t prim)
+static uint32_t leave_kind(int k, uint32_t prim)
 {
-    int k = gg_geom_prim_kind(s->geom, prim);
     return k == GG_SHAPE_TRIANGLE || k == GG_SHAPE_POLYGON || k == GG_SHAPE_RECT ? prim
                                                                                  : UINT32_MAX;
+}
+
+static uint32_t leave_prim(const ggScene *s, uint32_t prim)
+{
+    return leave_kind(gg_geom_prim_kind(s->geom, prim), prim);
 }
 
 /* Add w to channel ch of a colour (split: a dispersed ray), or to all three. */
@@ -739,12 +743,16 @@ GG_INLINE void hit_setup(const gg_shade_ctx *c, const ray_state *r, const gg_ray
                          const gg_hit *h, hit_info *hi, const unsigned FX)
 {
     const ggScene *s = c->s;
+    gg_prim_info pi;
     hi->q = q, hi->h = h;
-    hi->obj = gg_geom_prim_object(s->geom, h->prim);
-    hi->mi = s->objects[hi->obj].material;
+    /* the material from the primitive's record (its tag), not the
+       object's: one read, where a mesh of NFF triangles has an object
+       record per triangle */
+    gg_geom_prim_info(s->geom, h->prim, &pi);
+    hi->obj = pi.obj, hi->mi = pi.tag;
     hi->m = &s->materials[hi->mi];
     hi->mf = &s->mfast[hi->mi];
-    hi->leave = c->fixed_offset ? UINT32_MAX : leave_prim(s, h->prim);
+    hi->leave = c->fixed_offset ? UINT32_MAX : leave_kind(pi.kind, h->prim);
     /* (u, v) costs an atan2 on curved shapes: only for textures and the
        recorder. */
     gg_geom_surface(s->geom, q, h, &hi->sf,
@@ -809,7 +817,10 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
         len = v3len(d);
         for (i = 0; i < all->n; i++) {
             const gg_hit *hi = &all->h[i];
-            int obj = gg_geom_prim_object(s->geom, hi->prim), mat = s->objects[obj].material;
+            gg_prim_info pi;
+            int obj, mat;
+            gg_geom_prim_info(s->geom, hi->prim, &pi);
+            obj = pi.obj, mat = pi.tag;
             if (*first_obj < 0) *first_obj = obj, *t_first = hi->t;
             if (absorb) tr = cmul(tr, media_transmittance(s, &m, (hi->t - prev) * len));
             tr = cscale(tr, s->materials[mat].kt);
@@ -825,6 +836,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
     q = make_q(c, th, o, d, 1.0, from, 0);
     for (step = 0; step < GG_MAX_SHADOW_STEPS; step++) {
         int obj, mat, found;
+        gg_prim_info pi;
         gg_surf sf;
         /* The first query came answered: its nearest crossing. */
         if (step == 0) {
@@ -833,8 +845,8 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
         } else
             found = gg_geom_intersect(s->geom, &q, &h);
         if (!found) return cmul(tr, media_transmittance(s, &m, len));
-        obj = gg_geom_prim_object(s->geom, h.prim);
-        mat = s->objects[obj].material;
+        gg_geom_prim_info(s->geom, h.prim, &pi);
+        obj = pi.obj, mat = pi.tag;
         if (*first_obj < 0) *first_obj = obj, *t_first = h.t;
         if (s->materials[mat].kt <= 0) {
             *first_obj = obj, *t_first = h.t;

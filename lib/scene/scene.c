@@ -611,7 +611,11 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
     s->light_colors = gg_mem_calloc(s->alloc, s->nlights ? s->nlights : 1, sizeof(ggColor));
     if (!s->geom || !s->mfast || !s->light_colors) goto nomem;
     for (i = 0; i < s->nobjects; i++) {
+        const size_t first = gg_geom_prim_count(s->geom);
         rc = add_prims(s, i);
+        /* shading reads the material from the primitive (geom.h) */
+        gg_geom_set_tag(s->geom, first, gg_geom_prim_count(s->geom) - first,
+                        s->objects[i].material);
         if (rc == GG_GEOM_LIMIT) {
             unprepare(s);
             return gg_error_set(err, GG_ERROR_LIMIT,

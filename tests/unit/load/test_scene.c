@@ -8,6 +8,7 @@
 #include "geom_int.h"
 #include "scene.h"
 
+#include <dirent.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -206,6 +207,70 @@ static void test_pp_normals_among_plain_polygons(void **state)
     ggSceneFree(s);
 }
 
+/* One prepared scene: each primitive's record names its object, that
+   object's material (the tag shading reads in place of the object) and
+   the kind gg_geom_prim_kind gives. */
+static void check_prims(const char *path)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    const gg_geom *g;
+    ggError e;
+    size_t i;
+    if (ggSceneLoadFile(s, path, &e) != GG_OK || ggScenePrepare(s, &e) != GG_OK)
+        fail_msg("%s: %s", path, e.message);
+    g = s->geom;
+    for (i = 0; i < g->nprim; i++) {
+        gg_prim_info pi;
+        assert_int_equal(gg_geom_prim_info(g, (uint32_t)i, &pi), 1);
+        assert_int_equal(pi.obj, gg_geom_prim_object(g, (uint32_t)i));
+        assert_true(pi.obj >= 0 && (size_t)pi.obj < s->nobjects);
+        if (pi.tag != s->objects[pi.obj].material)
+            fail_msg("%s: primitive %lu tagged %d, its object's material is %d", path,
+                     (unsigned long)i, pi.tag, s->objects[pi.obj].material);
+        assert_int_equal(pi.kind, gg_geom_prim_kind(g, (uint32_t)i));
+        /* the hints read records (under ASan: in bounds) and change nothing */
+        gg_geom_prefetch_hit(g, (uint32_t)i, 0);
+        gg_geom_prefetch_hit(g, (uint32_t)i, 1);
+        gg_geom_prefetch_hit(g, (uint32_t)i, 2);
+    }
+    gg_geom_prefetch_hit(g, (uint32_t)g->nprim, 1);
+    {
+        gg_prim_info none;
+        assert_int_equal(gg_geom_prim_info(g, (uint32_t)g->nprim, &none), 0);
+    }
+    ggSceneFree(s);
+}
+
+static int check_prims_dir(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *de;
+    char path[512];
+    int n = 0;
+    if (!d) fail_msg("cannot open %s", dir);
+    while ((de = readdir(d)) != NULL) {
+        size_t len = strlen(de->d_name);
+        if (len > 4 && strcmp(de->d_name + len - 4, ".nff") == 0) {
+            snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
+            check_prims(path);
+            n++;
+        }
+    }
+    closedir(d);
+    return n;
+}
+
+/* Every scene file of the repo (26 today). */
+static void test_prim_records(void **state)
+{
+    int n = 0;
+    (void)state;
+    n += check_prims_dir("examples/scenes");
+    n += check_prims_dir("examples/scenes/spd");
+    n += check_prims_dir("tests/data");
+    assert_true(n >= 20);
+}
+
 static void test_missing_file(void **state)
 {
     ggScene *s = ggSceneCreate(NULL);
@@ -286,6 +351,7 @@ int main(void)
         cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_spd_scenes_load),
         cmocka_unit_test(test_scene_info),
+        cmocka_unit_test(test_prim_records),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
 }
