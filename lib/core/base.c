@@ -142,22 +142,25 @@ size_t gg_strtod_c(const char *s, size_t n, double *out)
 }
 
 /* A large block of the C library's allocator, not yet touched: on Linux,
-   ask for transparent huge pages over its 2 MB-aligned interior, so that
-   the first touch of each 2 MB is one page fault, not 512 (each costs
-   microseconds, more in a virtual machine). Fewer TLB misses in the
-   walks over a large BVH did not show in its renders (measured in
-   docs/log/2026-12-05-speed.md). A hint: the kernel may refuse it
-   (THP "never"), and nothing depends on its answer. A caller's
-   allocator's memory is its own and is left alone. */
-#define HUGE_PAGE  ((uintptr_t)2 << 20)
+   ask for transparent huge pages over it, so that the first touch of
+   each 2 MB is one page fault, not 512 (each costs microseconds, more in
+   a virtual machine). The hint covers every page the block lies in: a
+   hint on its 2 MB-aligned interior alone split the C library's mapping
+   of the block in three, and glibc's realloc then failed to move it
+   (mremap: EFAULT) and copied it instead, every time a growing array
+   doubled (parsing torus-1m.nff: 1.19 s against 0.48 s). A hint:
+   the kernel may refuse it (THP "never"), and nothing depends on its
+   answer. A caller's allocator's memory is its own and is left alone. */
 #define HUGE_BLOCK ((size_t)4 << 20)
+
 static void *huge_hint(void *p, size_t size)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    if (p && size >= HUGE_BLOCK) {
-        uintptr_t a = ((uintptr_t)p + HUGE_PAGE - 1) & ~(HUGE_PAGE - 1);
-        uintptr_t e = ((uintptr_t)p + size) & ~(HUGE_PAGE - 1);
-        if (e > a) (void)madvise((void *)a, (size_t)(e - a), MADV_HUGEPAGE);
+    long pg = sysconf(_SC_PAGESIZE);
+    if (p && size >= HUGE_BLOCK && pg > 0) {
+        const uintptr_t m = (uintptr_t)pg - 1;
+        uintptr_t a = (uintptr_t)p & ~m, e = ((uintptr_t)p + size + m) & ~m;
+        (void)madvise((void *)a, (size_t)(e - a), MADV_HUGEPAGE);
     }
 #else
     (void)size;
