@@ -90,6 +90,26 @@ static int grow(gg_geom *g, void **arr, size_t *cap, size_t need, size_t elem)
     return gg_mem_grow(g->alloc, arr, cap, need, elem) ? GG_GEOM_NOMEM : 0;
 }
 
+/* Room for exactly `need` elements (no doubling past it). */
+static int reserve(gg_geom *g, void **arr, size_t *cap, size_t need, size_t elem)
+{
+    void *np;
+    if (need <= *cap) return 0;
+    if (need > (size_t)-1 / elem) return GG_GEOM_NOMEM;
+    if (!(np = gg_mem_realloc(g->alloc, *arr, need * elem))) return GG_GEOM_NOMEM;
+    *arr = np, *cap = need;
+    return 0;
+}
+
+int gg_geom_reserve(gg_geom *g, size_t nprim, size_t ntri)
+{
+    if (reserve(g, (void **)&g->prims, &g->cap_prim, nprim, sizeof *g->prims) ||
+        reserve(g, (void **)&g->pflags, &g->cap_flags, nprim, 1) ||
+        reserve(g, (void **)&g->tris, &g->cap_tri, ntri, sizeof *g->tris))
+        return GG_GEOM_NOMEM;
+    return 0;
+}
+
 static int finite3(const ggVec3 *p, int n)
 {
     int i;

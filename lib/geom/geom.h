@@ -66,6 +66,13 @@ void gg_geom_free(gg_geom *g);
    simple; self-intersecting ones and those beyond 4096 vertices stay
    whole and use the even-odd crossing test. Triangle normals that are
    zero or NaN make the triangle flat-shaded. */
+/* Room for nprim primitives of which ntri are triangles (of
+   gg_geom_add_triangle, or polygons of 3 vertices) in all, so that
+   adding that many grows no array: each is allocated once at its size
+   instead of doubled and copied. A hint: adding more still works.
+   Returns 0 or GG_GEOM_NOMEM (then nothing is lost). */
+int gg_geom_reserve(gg_geom *g, size_t nprim, size_t ntri);
+
 int gg_geom_add_sphere(gg_geom *g, ggVec3 c, double r, int32_t obj);
 int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n /* 3 or NULL */,
                          int32_t obj);

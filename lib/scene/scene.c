@@ -547,6 +547,25 @@ static void resolve_materials(ggScene *s)
     }
 }
 
+/* The primitives and triangles add_prims will add (at most). */
+static void count_prims(const ggScene *s, size_t *nprim, size_t *ntri)
+{
+    size_t i;
+    *nprim = *ntri = 0;
+    for (i = 0; i < s->nobjects; i++) {
+        const gg_object *o = &s->objects[i];
+        if (o->kind == GG_SHAPE_MESH)
+            *nprim += o->ntri;
+        else if (o->kind == GG_SHAPE_TRIANGLE && o->nverts > 3)
+            *nprim += (size_t)o->nverts - 2, *ntri += (size_t)o->nverts - 2;
+        else {
+            *nprim += 1;
+            if ((o->kind == GG_SHAPE_TRIANGLE || o->kind == GG_SHAPE_POLYGON) && o->nverts == 3)
+                *ntri += 1;
+        }
+    }
+}
+
 static int add_prims(ggScene *s, size_t i)
 {
     const gg_object *o = &s->objects[i];
@@ -610,6 +629,11 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
     s->mfast = gg_mem_calloc(s->alloc, s->nmaterials ? s->nmaterials : 1, sizeof *s->mfast);
     s->light_colors = gg_mem_calloc(s->alloc, s->nlights ? s->nlights : 1, sizeof(ggColor));
     if (!s->geom || !s->mfast || !s->light_colors) goto nomem;
+    {
+        size_t np, nt;
+        count_prims(s, &np, &nt);
+        if (gg_geom_reserve(s->geom, np, nt)) goto nomem;
+    }
     for (i = 0; i < s->nobjects; i++) {
         const size_t first = gg_geom_prim_count(s->geom);
         rc = add_prims(s, i);
