@@ -55,6 +55,7 @@ void gg_geom_free(gg_geom *g)
     gg_mem_free(g->alloc, g->pflags);
     gg_mem_free(g->alloc, g->sphs);
     gg_mem_free(g->alloc, g->tris);
+    gg_mem_free(g->alloc, g->tnrm);
     gg_mem_free(g->alloc, g->polys);
     gg_mem_free(g->alloc, g->pverts);
     gg_mem_free(g->alloc, g->pieces);
@@ -148,22 +149,29 @@ int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t
     if (grow(g, (void **)&g->tris, &g->cap_tri, g->ntri + 1, sizeof *g->tris)) return GG_GEOM_NOMEM;
     t = &g->tris[g->ntri];
     memset(t, 0, sizeof *t);
+    t->ni = GG_TRI_FLAT;
     set_ktri(&t->k, p[0], p[1], p[2]);
     if (n && finite3(n, 3)) {
+        ggVec3 u[3];
         int i, ok = 1;
         for (i = 0; i < 3; i++) {
-            t->n[i] = v3norm(n[i]);
-            if (!(v3dot(t->n[i], t->n[i]) > 0.5)) ok = 0;
+            u[i] = v3norm(n[i]);
+            if (!(v3dot(u[i], u[i]) > 0.5)) ok = 0;
         }
         /* Which side the normals call "out" is decided once per triangle,
            from their sum, so ng never flips inside a triangle. */
         if (ok) {
-            t->has_n = 1;
-            t->flip = v3dot(ng, v3add(v3add(t->n[0], t->n[1]), t->n[2])) < 0;
+            if (g->ntnrm / 3 >= GG_TRI_FLAT ||
+                grow(g, (void **)&g->tnrm, &g->cap_tnrm, g->ntnrm + 3, sizeof *g->tnrm))
+                return GG_GEOM_NOMEM;
+            memcpy(&g->tnrm[g->ntnrm], u, sizeof u);
+            t->ni = (uint32_t)(g->ntnrm / 3);
+            t->flip = v3dot(ng, v3add(v3add(u[0], u[1]), u[2])) < 0;
         }
     }
     gg_tri_set_normal(t);
     if ((rc = add_prim(g, GG_SHAPE_TRIANGLE, g->ntri, obj)) < 0) return rc;
+    if (t->ni != GG_TRI_FLAT) g->ntnrm += 3;
     g->ntri++;
     return (int)g->nprim - 1;
 }
@@ -263,8 +271,12 @@ void gg_geom_prefetch_hit(const gg_geom *g, uint32_t prim, int stage)
         GG_PREFETCH(p);
         return;
     }
-    if (p->kind == GG_SHAPE_TRIANGLE && stage == 1) {
-        prefetch_span(&g->tris[p->data], sizeof *g->tris);
+    if (p->kind == GG_SHAPE_TRIANGLE) {
+        const gg_tri *t = &g->tris[p->data];
+        if (stage == 1)
+            prefetch_span(t, sizeof *t);
+        else if (stage == 2 && t->ni != GG_TRI_FLAT)
+            prefetch_span(&g->tnrm[3 * (size_t)t->ni], 3 * sizeof *g->tnrm);
     } else if (p->kind == GG_SHAPE_MESH) {
         const gg_gmesh *m = &g->gmeshes[p->data];
         const uint32_t *t = m->idx + 3 * (size_t)(prim - m->pfirst);
@@ -682,6 +694,11 @@ static int float_kind(const gg_geom *g, const gg_prim *p)
    rays leaving the hit find the surface again (docs/accuracy.md). */
 #define GG_FLOAT_PERR_SCALE 0x1p29
 
+static const ggVec3 *tri_normals(const gg_geom *g, const gg_tri *t)
+{
+    return t->ni == GG_TRI_FLAT ? NULL : &g->tnrm[3 * (size_t)t->ni];
+}
+
 GG_INLINE void surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
                        unsigned what)
 {
@@ -691,7 +708,7 @@ GG_INLINE void surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg
         gg_sphere_surface(&g->sphs[p->data], q, hit, s, what);
         break;
     case GG_SHAPE_TRIANGLE:
-        gg_tri_surface(&g->tris[p->data], q, hit, s, what);
+        gg_tri_surface(&g->tris[p->data], tri_normals(g, &g->tris[p->data]), q, hit, s, what);
         break;
     case GG_SHAPE_POLYGON:
         gg_poly_surface(g, &g->polys[p->data], q, hit, s, what);

@@ -115,8 +115,8 @@ void gg_geom_set_tag(gg_geom *g, size_t first, size_t n, int32_t tag);
 /* A hint, before shading a hit on prim, that starts reading what
    gg_geom_prim_info and gg_geom_surface will read, one dependent step per
    stage: 0 the primitive's record; 1 (once that is in) its shape's record,
-   or a mesh triangle's indices; 2 (once those are in) a mesh triangle's
-   vertices and normals. Reads nothing out of range and changes nothing;
+   or a mesh triangle's indices; 2 (once those are in) a triangle's vertex
+   normals, a mesh triangle's vertices and normals. Reads nothing out of range and changes nothing;
    stages given too early only wait as the reads would have. */
 void gg_geom_prefetch_hit(const gg_geom *g, uint32_t prim, int stage);
 

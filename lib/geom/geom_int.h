@@ -134,13 +134,15 @@ typedef struct gg_sph {
     double r;
 } gg_sph;
 
+/* 104 bytes, two lines read per hit: the vertex normals, which most
+   triangles lack, live apart (gg_geom.tnrm). */
 typedef struct gg_tri {
     gg_ktri k;
-    ggVec3 n[3]; /* vertex normals (unit) when has_n */
-    int has_n;
-    int flip;  /* the vertex normals face -(B-A)x(C-A): ng is flipped to match */
-    ggVec3 ng; /* the unit geometric normal, flip applied (gg_tri_set_normal) */
+    ggVec3 ng;   /* the unit geometric normal, flip applied (gg_tri_set_normal) */
+    uint32_t ni; /* vertex normals (unit): gg_geom.tnrm[3 ni ..], or GG_TRI_FLAT */
+    int flip;    /* the vertex normals face -(B-A)x(C-A): ng is flipped to match */
 } gg_tri;
+#define GG_TRI_FLAT UINT32_MAX
 
 typedef struct gg_poly {
     uint32_t vfirst, nv;          /* vertices in gg_geom.pverts */
@@ -195,6 +197,8 @@ struct gg_geom {
     size_t nsph, cap_sph;
     gg_tri *tris;
     size_t ntri, cap_tri;
+    ggVec3 *tnrm; /* 3 per triangle that has vertex normals */
+    size_t ntnrm, cap_tnrm;
     gg_poly *polys;
     size_t npoly, cap_poly;
     double (*pverts)[3];
@@ -252,8 +256,9 @@ void gg_tri_bounds(const gg_ktri *t, double lo[3], double hi[3]);
 /* t->ng from t->k and t->flip: call once the two are set (a hit reads it,
    rather than normalising a cross product every time). */
 void gg_tri_set_normal(gg_tri *t);
-void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out,
-                    unsigned what);
+/* n: t's three vertex normals (t->ni's), or NULL for a flat triangle. */
+void gg_tri_surface(const gg_tri *t, const ggVec3 *n, const gg_rayq *q, const gg_hit *h,
+                    gg_surf *out, unsigned what);
 /* Point on a triangle from barycentrics (b1, b2 of vertices 1, 2) and its
    error bound. */
 ggVec3 gg_tri_point(const gg_ktri *t, double b1, double b2, double *perr);

@@ -70,20 +70,22 @@ void gg_mesh_surface(const gg_geom *g, uint32_t prim, const gg_rayq *q, const gg
     const gg_gmesh *m;
     const uint32_t *t = tri_of(g, prim, &m);
     gg_tri tr;
-    int i;
+    ggVec3 n[3];
+    int i, has_n = 0;
     memset(&tr, 0, sizeof tr);
+    tr.ni = GG_TRI_FLAT; /* the normals are n, here */
     gg_mesh_ktri(g, prim, &tr.k);
     if (m->nrm) {
         ggVec3 a = m->pos[t[0]], ng = v3cross(v3sub(m->pos[t[1]], a), v3sub(m->pos[t[2]], a));
-        tr.has_n = 1;
+        has_n = 1;
         for (i = 0; i < 3; i++) {
-            tr.n[i] = m->nrm[t[i]];
-            if (!(v3dot(tr.n[i], tr.n[i]) > 0.5)) tr.has_n = 0;
+            n[i] = m->nrm[t[i]];
+            if (!(v3dot(n[i], n[i]) > 0.5)) has_n = 0;
         }
-        if (tr.has_n) tr.flip = v3dot(ng, v3add(v3add(tr.n[0], tr.n[1]), tr.n[2])) < 0;
+        if (has_n) tr.flip = v3dot(ng, v3add(v3add(n[0], n[1]), n[2])) < 0;
     }
     gg_tri_set_normal(&tr);
-    gg_tri_surface(&tr, q, h, out, what);
+    gg_tri_surface(&tr, has_n ? n : NULL, q, h, out, what);
     if (m->uv && (what & GG_SURF_UV)) {
         double b0 = 1 - h->b1 - h->b2;
         const double *u0 = m->uv + 2 * (size_t)t[0], *u1 = m->uv + 2 * (size_t)t[1],

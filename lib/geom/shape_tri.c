@@ -48,17 +48,17 @@ void gg_tri_set_normal(gg_tri *t)
 }
 
 /* (u, v) = the barycentric weights of vertices 1 and 2. */
-void gg_tri_surface(const gg_tri *t, const gg_rayq *q, const gg_hit *h, gg_surf *out, unsigned what)
+void gg_tri_surface(const gg_tri *t, const ggVec3 *n, const gg_rayq *q, const gg_hit *h,
+                    gg_surf *out, unsigned what)
 {
     const ggVec3 ng = t->ng;
     (void)q;
     out->p = gg_tri_point(&t->k, h->b1, h->b2, &out->perr);
     out->ng = ng;
     out->ns = ng;
-    if (t->has_n) {
+    if (n) {
         double b0 = 1 - h->b1 - h->b2;
-        ggVec3 ns =
-            v3add(v3add(v3scale(t->n[0], b0), v3scale(t->n[1], h->b1)), v3scale(t->n[2], h->b2));
+        ggVec3 ns = v3add(v3add(v3scale(n[0], b0), v3scale(n[1], h->b1)), v3scale(n[2], h->b2));
         ns = v3norm(ns);
         if (v3dot(ns, ng) > 0) out->ns = ns;
     }
