@@ -221,6 +221,88 @@ static void test_paths_agree(void **state)
     }
 }
 
+#define TU_PI 3.14159265358979323846
+
+/* A sphere of n x n quads split in two, each corner's normal its
+   position: into v (3 each) when v is not NULL, else as a mesh. */
+static void add_grid_sphere(ggScene *s, int n, ggVec3 c, double r, int mat, int as_mesh)
+{
+    const size_t nv = (size_t)(n + 1) * (size_t)(n + 1), nt = 2 * (size_t)n * (size_t)n;
+    ggVec3 *p = malloc(nv * sizeof *p), *nrm = malloc(nv * sizeof *nrm);
+    uint32_t *idx = malloc(3 * nt * sizeof *idx);
+    size_t k = 0, i;
+    int a, b;
+    assert_true(p && nrm && idx);
+    for (a = 0; a <= n; a++)
+        for (b = 0; b <= n; b++) {
+            double th = TU_PI * (a + 0.5) / (n + 1), ph = 2 * TU_PI * b / n;
+            ggVec3 u = {sin(th) * cos(ph), cos(th), sin(th) * sin(ph)};
+            nrm[a * (n + 1) + b] = u;
+            p[a * (n + 1) + b] = (ggVec3){c.x + r * u.x, c.y + r * u.y, c.z + r * u.z};
+        }
+    for (a = 0; a < n; a++)
+        for (b = 0; b < n; b++) {
+            uint32_t q = (uint32_t)(a * (n + 1) + b), w = (uint32_t)(n + 1);
+            uint32_t t[6] = {q, q + w, q + 1, q + 1, q + w, q + w + 1};
+            memcpy(idx + k, t, sizeof t), k += 6;
+        }
+    if (as_mesh) {
+        ggMeshData d = {"grid", p, nv, nrm, NULL, idx, nt, NULL};
+        ggMeshOptions mo;
+        ggMeshOptionsDefault(&mo);
+        mo.material = mat;
+        assert_true(ggSceneAddMesh(s, &d, &mo, NULL) >= 0);
+    } else
+        for (i = 0; i < nt; i++) {
+            ggVec3 v[3] = {p[idx[3 * i]], p[idx[3 * i + 1]], p[idx[3 * i + 2]]};
+            ggVec3 m[3] = {nrm[idx[3 * i]], nrm[idx[3 * i + 1]], nrm[idx[3 * i + 2]]};
+            assert_true(ggSceneAddTriangle(s, mat, v, i % 2 ? m : NULL) >= 0);
+        }
+    free(p), free(nrm), free(idx);
+}
+
+/* A scene past render.c's PREFETCH_PRIMS, so that its eye packets start
+   their hits' records ahead (gg_geom_prefetch_hit: triangles with and
+   without vertex normals, a mesh): each pixel is still ggRayColor's
+   colour for its camera ray, which no packet and no hint reaches. */
+static void test_large_scene_pixels(void **state)
+{
+    static const char *txt = "v\nfrom 0 0.5 6\nat 0 0 0\nup 0 1 0\nangle 40\nhither 0.01\n"
+                             "resolution 48 40\nb 0.1 0.2 0.3\nl 4 5 6\nl -5 3 4\n"
+                             "f 0.8 0.8 0.8 0.2 0.7 30 0 1\n"
+                             "p 4\n-6 -2 -6\n6 -2 -6\n6 -2 6\n-6 -2 6\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggMaterial orange = ggMaterialDefault();
+    ggRenderOptions o;
+    ggImage *img;
+    int x, y, bad = 0, lit = 0, mat;
+    (void)state;
+    assert_int_equal(ggSceneLoadString(s, txt, strlen(txt), "large.nff", NULL), GG_OK);
+    /* orange: 51200 triangles, and as many in a mesh */
+    orange.color = (ggColor){0.9, 0.5, 0.3}, orange.kd = 0.9, orange.ks = 0;
+    assert_true((mat = ggSceneAddMaterial(s, &orange)) >= 0);
+    add_grid_sphere(s, 160, (ggVec3){-1.1, 0, 0}, 1, mat, 0);
+    add_grid_sphere(s, 160, (ggVec3){1.1, 0, 0}, 1, mat, 1);
+    assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
+    assert_true(gg_geom_prim_count(s->geom) >= 65536);
+    ggRenderOptionsDefault(&o);
+    o.width = 48, o.height = 40, o.threads = 1;
+    img = render(s, &o, NULL);
+    for (y = 0; y < 40; y++)
+        for (x = 0; x < 48; x++) {
+            ggRay r = ggCameraRay(s, &o, x + 0.5, y + 0.5);
+            ggColor c = ggRayColor(s, &o, r, 1, NULL), px = ggImageGet(img, x, y);
+            bad += !((float)c.r == (float)px.r && (float)c.g == (float)px.g &&
+                     (float)c.b == (float)px.b);
+            lit += px.r > 2 * px.b; /* the spheres' orange, not the sky or the floor */
+        }
+    if (bad) print_error("%d of 1920 pixels differ from ggRayColor\n", bad);
+    assert_int_equal(bad, 0);
+    assert_true(lit > 300);
+    ggImageFree(img);
+    ggSceneFree(s);
+}
+
 /* ggRayColor on the camera ray of a pixel centre is that pixel. */
 static void test_raycolor_equals_pixel(void **state)
 {
@@ -541,6 +623,7 @@ int main(void)
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),
         cmocka_unit_test(test_raycolor_equals_pixel),
+        cmocka_unit_test(test_large_scene_pixels),
         cmocka_unit_test(test_effect_sets),
         cmocka_unit_test(test_depth_limit),
         cmocka_unit_test(test_direct_light_added),
