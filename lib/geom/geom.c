@@ -253,7 +253,7 @@ int32_t gg_geom_prim_object(const gg_geom *g, uint32_t prim)
     return prim < g->nprim ? g->prims[prim].obj : -1;
 }
 
-/* A gg_tri's lines: the vertices first, the normals, then ng. */
+/* Every line of the n bytes at p. */
 static void prefetch_span(const void *p, size_t n)
 {
     const char *c = p;

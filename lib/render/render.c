@@ -412,12 +412,10 @@ static ggColor corner_layers(job *j, double px, double py, size_t i, gg_shade_th
     return c;
 }
 
-/* A pixel-centre pixel from its one sample's colour c, as pixel_center
-   and render_tile make it; returns 1 when c is not finite (counted). */
 /* The reads of shading a packet's hits started ahead of it
    (gg_geom_prefetch_hit): before the first lane (at = -1) every hit's
-   record and the first two lanes' next steps; before shading lane at,
-   the steps of the two hit lanes after it. On large meshes these records
+   record and the first hit's next step; before shading lane at, the
+   next steps of the two hit lanes after it. On large meshes these records
    are misses, each a chain of two or three. Below PREFETCH_PRIMS
    primitives (every SPD scene; their records are at most a few MB, in
    cache) the hints only cost: mount rendered 2-4% slower with them. */
@@ -438,6 +436,8 @@ static void prefetch_hits(const gg_geom *g, const gg_hit *h, uint32_t hit, int a
     if (m) gg_geom_prefetch_hit(g, h[at + 1 + GG_CTZ(m)].prim, 1);
 }
 
+/* A pixel-centre pixel from its one sample's colour c, as pixel_center
+   and render_tile make it; returns 1 when c is not finite (counted). */
 static GG_NOINLINE int put_centre(float *o, const ggColor *c, double scale)
 {
     ggColor a = cscale(cadd(rgb(0, 0, 0), *c), scale);
