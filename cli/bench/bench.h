@@ -33,6 +33,13 @@ int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *pe
 /* Is name in the comma-separated list (NULL list: everything)? */
 int bench_selected(const char *list, const char *name);
 
+/* The name a table row gives scene file `path`: its base name. */
+const char *bench_row_name(const char *path);
+
+/* The width of a table's scene column: 11 (the SPD names), or the
+   longest row name of bo's scene files. */
+int bench_name_width(const bench_opts *bo);
+
 /* The seven SPD scenes the timing tables run (spd, counts, scaling,
    rays, limit), by name in --spd DIR; and the example scenes of bench
    effects (relative to examples/scenes). */

@@ -79,6 +79,22 @@ int bench_unknown(const char *list, const char *const *names, int n, char *bad, 
     }
 }
 
+const char *bench_row_name(const char *path)
+{
+    const char *b = strrchr(path, '/');
+    return b ? b + 1 : path;
+}
+
+int bench_name_width(const bench_opts *bo)
+{
+    int i, w = 11;
+    for (i = 0; i < bo->nargs; i++) {
+        size_t n = strlen(bench_row_name(bo->args[i]));
+        if (n > (size_t)w) w = n > 64 ? 64 : (int)n;
+    }
+    return w;
+}
+
 int bench_selected(const char *list, const char *name)
 {
     const char *p;

@@ -26,8 +26,9 @@ static const char about[] =
     "  scaling   render time against primitives (balls-s1..s4, fitted against\n"
     "            ln n), image size and threads; per SPD scene 1 and 2 threads,\n"
     "            the speed-up and the serial share (time outside the tile loop)\n"
-    "  rays      per SPD scene, Mrays/s on one core for the eye, secondary and\n"
-    "            shadow rays of a 256x256 render, cast again one by one\n"
+    "  rays      per SPD scene (or per SCENE given), Mrays/s on one core for the\n"
+    "            eye, secondary and shadow rays of a 256x256 render, cast again\n"
+    "            one by one\n"
     "  limit     per SPD scene (or per SCENE given), one thread: the kernel calls\n"
     "            per ray of a render (node, packet and leaf tests, hits shaded),\n"
     "            each kernel's ns per call alone in a loop on cached data, the\n"
@@ -127,8 +128,8 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "bench",
-                   .usage = "spd|counts|effects|scaling|rays [options]\n"
-                            "       ggrt bench limit [SCENE...] [options]\n"
+                   .usage = "spd|counts|effects|scaling [options]\n"
+                            "       ggrt bench rays|limit [SCENE...] [options]\n"
                             "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]",
                    .about = about,
                    .opts = {opts},
@@ -146,7 +147,8 @@ int cmd_bench(int argc, char **argv)
     for (i = 1; i < nargs; i++) bo.args[bo.nargs++] = args[i];
     for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) {
         if (strcmp(args[0], benches[i].name)) continue;
-        if (bo.nargs && benches[i].run != bench_accuracy && benches[i].run != bench_limit)
+        if (bo.nargs && benches[i].run != bench_accuracy && benches[i].run != bench_limit &&
+            benches[i].run != bench_rays)
             return cli_usage_error(&cmd, "bench %s takes no scene files ('%s')", args[0],
                                    bo.args[0]);
         if (bo.embree && benches[i].run != bench_spd)

@@ -65,13 +65,13 @@ static double render_s(ggScene *s, const ggRenderOptions *o, int runs, ggRayStat
     return bench_median(t, i);
 }
 
-static void count_row(const char *name, const ggKernelCounts *c, uint64_t rays)
+static void count_row(int w, const char *name, const ggKernelCounts *c, uint64_t rays)
 {
     const uint64_t v[7] = {c->node, c->packet_node, c->packet_leaf, c->tri4,
                            c->tri,  c->sphere,      c->other};
     double r = rays ? (double)rays : 1;
     int k;
-    printf("%-11s %9llu", name, (unsigned long long)rays);
+    printf("%-*s %9llu", w, name, (unsigned long long)rays);
     for (k = 0; k < 7; k++) printf(" %7.2f", (double)v[k] / r);
     printf(" %7.3f\n", (double)c->hits / r);
 }
@@ -86,7 +86,7 @@ static int scene_limit(const bench_opts *bo, const char *name, const char *path)
     ggError err;
     double ns[GG_KERNEL_KINDS], bound = 0, t, fast = 0;
     uint64_t calls[GG_KERNEL_KINDS], rays;
-    int k;
+    int k, w = bench_name_width(bo);
     int rs = GG_OK;
     ggRenderOptionsDefault(&o);
     o.width = o.height = bo->size;
@@ -98,15 +98,15 @@ static int scene_limit(const bench_opts *bo, const char *name, const char *path)
         (t = render_s(s, &o, bo->runs, &st, &fast, &err)) < 0) {
         /* (a failed render's status is not kept: bad input) */
         int rc = s && rs != GG_OK ? cli_exit_code(rs, 0) : EXIT_INPUT;
-        printf("%-11s failed: %s\n", name, s ? err.message : "out of memory");
+        printf("%-*s failed: %s\n", w, name, s ? err.message : "out of memory");
         ggSceneFree(s);
         return rc;
     }
     calls[0] = c.node, calls[1] = c.packet_node, calls[2] = c.packet_leaf, calls[3] = c.tri4;
     calls[4] = c.tri, calls[5] = c.sphere, calls[6] = c.other, calls[7] = c.hits;
     rays = st.eye + st.reflect + st.refract + st.shadow;
-    count_row(name, &c, rays);
-    printf("%-11s %9s", "  ns/call", "");
+    count_row(w, name, &c, rays);
+    printf("%-*s %9s", w, "  ns/call", "");
     for (k = 0; k < GG_KERNEL_KINDS; k++) {
         ns[k] = calls[k] ? kernel_ns(s, &o, k, bo->runs) : 0;
         if (ns[k] < 0)
@@ -117,9 +117,9 @@ static int scene_limit(const bench_opts *bo, const char *name, const char *path)
            here): left out of the bound, which stays a lower bound */
         if (ns[k] > 0) bound += (double)calls[k] * ns[k] * 1e-9;
     }
-    printf("\n%-11s %9s bound %.4f s; render %.4f s median, %.4f s fastest; render/bound "
+    printf("\n%-*s %9s bound %.4f s; render %.4f s median, %.4f s fastest; render/bound "
            "%.2f median, %.2f fastest\n",
-           "", "", bound, t, fast, bound > 0 ? t / bound : 0, bound > 0 ? fast / bound : 0);
+           w, "", "", bound, t, fast, bound > 0 ? t / bound : 0, bound > 0 ? fast / bound : 0);
     ggSceneFree(s);
     fflush(stdout);
     return EXIT_OK;
@@ -133,7 +133,7 @@ int bench_limit(const bench_opts *bo)
            bo->size, bo->runs);
     printf("per ray (eye, secondary and shadow rays of the render): kernel calls as the scene's "
            "traversal makes them\n");
-    printf("%-11s %9s", "scene", "rays");
+    printf("%-*s %9s", bench_name_width(bo), "scene", "rays");
     for (i = 0; i < GG_KERNEL_KINDS; i++) printf(" %7s", i == GG_KERNEL_SHADE ? "hits" : kname[i]);
     printf("\n");
     for (i = 0; i < BENCH_NSPD && !bo->nargs; i++) {
@@ -143,8 +143,7 @@ int bench_limit(const bench_opts *bo)
         if ((r = scene_limit(bo, bench_spd_scenes[i], path)) != EXIT_OK) rc = r;
     }
     for (i = 0; i < bo->nargs; i++) {
-        const char *b = strrchr(bo->args[i], '/');
-        int r = scene_limit(bo, b ? b + 1 : bo->args[i], bo->args[i]);
+        int r = scene_limit(bo, bench_row_name(bo->args[i]), bo->args[i]);
         if (r != EXIT_OK) rc = r;
     }
     printf("node: 8-box node test (single rays); pnode: 8-box node test of a 16-ray packet; "

@@ -2,8 +2,9 @@
 /*
 ** rays.c -- `ggrt bench rays`: millions of rays per second on one core
 ** for the eye, the secondary (reflection, refraction, TIR) and the shadow
-** rays of each SPD scene, so that ggrt's ray queries can be placed beside
-** published BVH figures. The rays are the render's own: every pixel of a
+** rays of each SPD scene, or of the scene files given (the large meshes
+** of scripts/make-mesh-scenes.py), so that ggrt's ray queries can be
+** placed beside published BVH figures. The rays are the render's own: every pixel of a
 ** SIZE x SIZE image (depth 5, pixel centres) is traced with the recorder
 ** (ggTracePixel) and its ray tree's rays kept by kind; each set is then
 ** cast again in a loop on one thread, closest hit (ggSceneIntersect) for
@@ -104,17 +105,15 @@ static double set_rate(const ggScene *s, const ray_set *set, int k, int runs, lo
 }
 
 /* Returns an exit code. */
-static int scene_row(const bench_opts *bo, const char *name)
+static int scene_row(const bench_opts *bo, const char *name, const char *path)
 {
-    char path[1024];
     ggScene *s = ggSceneCreate(NULL);
     ray_set sets[NSETS];
     ggError err;
     int k, rc = EXIT_OK;
     int st = GG_OK;
     memset(sets, 0, sizeof sets);
-    snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, name);
-    printf("%-11s", name);
+    printf("%-*s", bench_name_width(bo), name);
     if (!s || (st = ggSceneLoadFile(s, path, &err)) != GG_OK ||
         (st = ggScenePrepare(s, &err)) != GG_OK ||
         (st = collect(s, bo->size, sets, &err)) != GG_OK) {
@@ -137,17 +136,23 @@ static int scene_row(const bench_opts *bo, const char *name)
 
 int bench_rays(const bench_opts *bo)
 {
+    char path[1024];
     int i, rc = EXIT_OK;
     printf("ggrt bench rays: the rays of a %dx%d render (depth 5, pixel centres), cast again "
            "on one thread, median of %d passes\n",
            bo->size, bo->size, bo->runs);
-    printf("%-11s %9s %7s %8s %9s %7s %8s %9s %7s %8s\n", "scene", "eye", "hit", "Mrays/s",
-           "secondary", "hit", "Mrays/s", "shadow", "blocked", "Mrays/s");
-    for (i = 0; i < BENCH_NSPD; i++)
+    printf("%-*s %9s %7s %8s %9s %7s %8s %9s %7s %8s\n", bench_name_width(bo), "scene", "eye",
+           "hit", "Mrays/s", "secondary", "hit", "Mrays/s", "shadow", "blocked", "Mrays/s");
+    for (i = 0; i < BENCH_NSPD && !bo->nargs; i++)
         if (bench_selected(bo->scenes, bench_spd_scenes[i])) {
-            int r = scene_row(bo, bench_spd_scenes[i]);
-            if (r != EXIT_OK) rc = r;
+            int r;
+            snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, bench_spd_scenes[i]);
+            if ((r = scene_row(bo, bench_spd_scenes[i], path)) != EXIT_OK) rc = r;
         }
+    for (i = 0; i < bo->nargs; i++) {
+        int r = scene_row(bo, bench_row_name(bo->args[i]), bo->args[i]);
+        if (r != EXIT_OK) rc = r;
+    }
     printf("eye, secondary: closest hit (ggSceneIntersect, single rays, no hit record); shadow: "
            "any hit on (0, 1)\n(ggSceneOccluded, no occluder cache). secondary = reflection, "
            "refraction and TIR rays.\nMrays/s on one core; ggRender's eye rays go as packets.\n");

@@ -58,6 +58,20 @@ if [ $got = 0 ] && [ -s "$tmp/rays.want" ] &&
         END { exit !ok }' "$tmp/rays.want" "$tmp/rays"
 then ok "bench rays: the render's eye, secondary and shadow rays, with Mrays/s"
 else bad "bench rays: the render's eye, secondary and shadow rays, with Mrays/s (exit $got)" "$(cat "$tmp/rays" "$tmp/rays.want")"; fi
+# bench rays SCENE...: the same for scene files (two meshes in knot.nff),
+# a row named by the file
+"$ggrt" bench rays examples/scenes/knot.nff --size 16 --runs 1 >"$tmp/rays" 2>&1; got=$?
+"$ggrt" render examples/scenes/knot.nff -s 16x16 -j 1 -o "$tmp/rays.exr" 2>&1 |
+  sed -n 's/^rays: eye \([0-9]*\) .*reflect \([0-9]*\) .*refract \([0-9]*\), shadow \([0-9]*\),.*/\1 \2 \3 \4/p' >"$tmp/rays.want"
+if [ $got = 0 ] && [ -s "$tmp/rays.want" ] &&
+   awk 'NR == FNR { e = $1; s = $2 + $3; sh = $4; next }
+        $1 == "knot.nff" { ok = $2 == e && $5 == s && $8 == sh && $4 > 0 && $10 > 0 }
+        END { exit !ok }' "$tmp/rays.want" "$tmp/rays"
+then ok "bench rays SCENE: the file's eye, secondary and shadow rays, with Mrays/s"
+else bad "bench rays SCENE: the file's eye, secondary and shadow rays, with Mrays/s (exit $got)" "$(cat "$tmp/rays" "$tmp/rays.want")"; fi
+expect_err 1 "ggrt bench: --scenes picks SPD scenes; give scene files or --scenes, not both" \
+  "bench rays with scene files and --scenes is a usage error" \
+  "$ggrt" bench rays examples/scenes/glass.nff --scenes gears
 # bench accuracy --knobs: the default row and the named knob's rows only
 # (no other knob, no scaling tables); float fails on acc-distant
 "$ggrt" bench accuracy examples/scenes/acc-distant.nff --size 32 --runs 1 --knobs intersect \
