@@ -48,27 +48,26 @@ if [ $got = 0 ] && grep -q 'against threads (median of 1; serial = time outside 
 then ok "bench scaling: 1 and 2 threads, speed-up and serial share per scene"
 else bad "bench scaling: 1 and 2 threads, speed-up and serial share per scene (exit $got)" "$(cat "$tmp/scal")"; fi
 # bench rays: the rays it casts are the render's, kind by kind (the counts
-# `ggrt render` prints for the same size: eye, reflect + refract, shadow)
-"$ggrt" bench rays --size 16 --runs 1 --scenes gears >"$tmp/rays" 2>&1; got=$?
-"$ggrt" render examples/scenes/spd/gears.nff -s 16x16 -j 1 -o "$tmp/rays.exr" 2>&1 |
-  sed -n 's/^rays: eye \([0-9]*\) .*reflect \([0-9]*\) .*refract \([0-9]*\), shadow \([0-9]*\),.*/\1 \2 \3 \4/p' >"$tmp/rays.want"
-if [ $got = 0 ] && [ -s "$tmp/rays.want" ] &&
-   awk 'NR == FNR { e = $1; s = $2 + $3; sh = $4; next }
-        $1 == "gears" { ok = $2 == e && $5 == s && $8 == sh && $4 > 0 && $10 > 0 }
-        END { exit !ok }' "$tmp/rays.want" "$tmp/rays"
-then ok "bench rays: the render's eye, secondary and shadow rays, with Mrays/s"
-else bad "bench rays: the render's eye, secondary and shadow rays, with Mrays/s (exit $got)" "$(cat "$tmp/rays" "$tmp/rays.want")"; fi
-# bench rays SCENE...: the same for scene files (two meshes in knot.nff),
-# a row named by the file
-"$ggrt" bench rays examples/scenes/knot.nff --size 16 --runs 1 >"$tmp/rays" 2>&1; got=$?
-"$ggrt" render examples/scenes/knot.nff -s 16x16 -j 1 -o "$tmp/rays.exr" 2>&1 |
-  sed -n 's/^rays: eye \([0-9]*\) .*reflect \([0-9]*\) .*refract \([0-9]*\), shadow \([0-9]*\),.*/\1 \2 \3 \4/p' >"$tmp/rays.want"
-if [ $got = 0 ] && [ -s "$tmp/rays.want" ] &&
-   awk 'NR == FNR { e = $1; s = $2 + $3; sh = $4; next }
-        $1 == "knot.nff" { ok = $2 == e && $5 == s && $8 == sh && $4 > 0 && $10 > 0 }
-        END { exit !ok }' "$tmp/rays.want" "$tmp/rays"
-then ok "bench rays SCENE: the file's eye, secondary and shadow rays, with Mrays/s"
-else bad "bench rays SCENE: the file's eye, secondary and shadow rays, with Mrays/s (exit $got)" "$(cat "$tmp/rays" "$tmp/rays.want")"; fi
+# `ggrt render` prints for the same size: eye, reflect + refract, shadow),
+# for an SPD scene (--scenes) and for a scene file (two meshes in
+# knot.nff, a row named by the file).
+# usage: rays_match NAME SCENE ROW BENCH_ARGS...
+rays_match() {
+  rm_name=$1 rm_scene=$2 rm_row=$3; shift 3
+  "$ggrt" bench rays --size 16 --runs 1 "$@" >"$tmp/rays" 2>&1; got=$?
+  "$ggrt" render "$rm_scene" -s 16x16 -j 1 -o "$tmp/rays.exr" 2>&1 |
+    sed -n 's/^rays: eye \([0-9]*\) .*reflect \([0-9]*\) .*refract \([0-9]*\), shadow \([0-9]*\),.*/\1 \2 \3 \4/p' >"$tmp/rays.want"
+  if [ $got = 0 ] && [ -s "$tmp/rays.want" ] &&
+     awk -v row="$rm_row" 'NR == FNR { e = $1; s = $2 + $3; sh = $4; next }
+          $1 == row { ok = $2 == e && $5 == s && $8 == sh && $4 > 0 && $10 > 0 }
+          END { exit !ok }' "$tmp/rays.want" "$tmp/rays"
+  then ok "$rm_name"
+  else bad "$rm_name (exit $got)" "$(cat "$tmp/rays" "$tmp/rays.want")"; fi
+}
+rays_match "bench rays: the render's eye, secondary and shadow rays, with Mrays/s" \
+  examples/scenes/spd/gears.nff gears --scenes gears
+rays_match "bench rays SCENE: the file's eye, secondary and shadow rays, with Mrays/s" \
+  examples/scenes/knot.nff knot.nff examples/scenes/knot.nff
 expect_err 1 "ggrt bench: --scenes picks SPD scenes; give scene files or --scenes, not both" \
   "bench rays with scene files and --scenes is a usage error" \
   "$ggrt" bench rays examples/scenes/glass.nff --scenes gears
