@@ -8,6 +8,8 @@
 # medians of ggrt's printed render time and the anchor's trace_s (neither
 # counts reading the file or building the BVH), and the ratios
 # anchor/ggrt (above 1: ggrt faster).
+# Held to AVX2: GGRT_ISA=avx2 in the environment and an anchor built as
+# bench/spd_isa.sh builds it (docs/performance.md, "Meshes").
 # usage: sh bench/mesh_compare.sh GGRT EMBREE_BIN [RES] [ROUNDS] [DIR]
 g=$1 e=$2 res=${3:-1024} rounds=${4:-3} dir=${5:-build/meshes}
 [ -x "$g" ] && [ -x "$e" ] || { echo "usage: sh bench/mesh_compare.sh GGRT EMBREE_BIN [RES] [ROUNDS] [DIR]" >&2; exit 1; }
