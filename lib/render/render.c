@@ -413,25 +413,27 @@ static ggColor corner_layers(job *j, double px, double py, size_t i, gg_shade_th
 }
 
 /* The reads of shading a packet's hits started ahead of it
-   (gg_geom_prefetch_hit): before the first lane (at = -1) every hit's
-   record and the first hit's next step; before shading lane at, the
-   next steps of the two hit lanes after it. On large meshes these records
-   are misses, each a chain of two or three. Below PREFETCH_PRIMS
-   primitives (every SPD scene; their records are at most a few MB, in
-   cache) the hints only cost: mount rendered 2-4% slower with them. */
+   (gg_geom_prefetch_hit), each step once: before the first lane (at =
+   -1) step 0 of every hit and step 1 of the first two; before shading
+   lane at, step 2 of the next hit lane and step 1 of the one after it.
+   On large meshes these records are misses, each a chain of two or
+   three. Below PREFETCH_PRIMS primitives (every SPD scene; their records
+   are at most a few MB, in cache) the hints only cost: mount rendered
+   2-4% slower with them. */
 #define PREFETCH_PRIMS 65536
 static void prefetch_hits(const gg_geom *g, const gg_hit *h, uint32_t hit, int at)
 {
     uint32_t m;
+    int k;
     if (at < 0) {
         for (m = hit; m; m &= m - 1) gg_geom_prefetch_hit(g, h[GG_CTZ(m)].prim, 0);
-        if (hit) gg_geom_prefetch_hit(g, h[GG_CTZ(hit)].prim, 1);
+        for (k = 0, m = hit; m && k < 2; k++, m &= m - 1)
+            gg_geom_prefetch_hit(g, h[GG_CTZ(m)].prim, 1);
         return;
     }
     m = hit >> at >> 1; /* the lanes after at */
     if (!m) return;
     gg_geom_prefetch_hit(g, h[at + 1 + GG_CTZ(m)].prim, 2);
-    gg_geom_prefetch_hit(g, h[at + 1 + GG_CTZ(m)].prim, 1);
     m &= m - 1;
     if (m) gg_geom_prefetch_hit(g, h[at + 1 + GG_CTZ(m)].prim, 1);
 }
