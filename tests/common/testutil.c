@@ -129,6 +129,26 @@ void tu_tmpdir_remove(void)
     tmpdir[0] = 0;
 }
 
+int tu_each_file(const char *dir, const char *ext, void (*fn)(const char *path, void *ud), void *ud)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    char path[512];
+    size_t m = strlen(ext);
+    int n = 0;
+    if (!d) fail_msg("cannot open %s", dir);
+    while ((e = readdir(d)) != NULL) {
+        size_t len = strlen(e->d_name);
+        if (len > m && strcmp(e->d_name + len - m, ext) == 0) {
+            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+            fn(path, ud);
+            n++;
+        }
+    }
+    closedir(d);
+    return n;
+}
+
 ggScene *tu_load(const char *path)
 {
     ggScene *s = ggSceneCreate(NULL);

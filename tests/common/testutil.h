@@ -59,6 +59,12 @@ void tu_tmpdir_remove(void);
    step does not return GG_OK. The caller frees it (ggSceneFree). */
 ggScene *tu_load(const char *path);
 
+/* Calls fn(path, ud) for every file in dir whose name ends in ext
+   (".nff"), path being "dir/name"; returns how many. Fails the test if
+   dir cannot be read. */
+int tu_each_file(const char *dir, const char *ext, void (*fn)(const char *path, void *ud),
+                 void *ud);
+
 /* Path of the SPD scenes (GG_SPD_DIR or the repository's examples/scenes/spd). */
 const char *tu_spd_dir(void);
 

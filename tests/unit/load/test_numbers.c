@@ -12,7 +12,6 @@
 
 #include "mesh_int.h"
 
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -159,22 +158,10 @@ static long check_file(const char *path)
     return numbers;
 }
 
-static long check_dir(const char *dir, const char *ext)
+/* tu_each_file's callback: adds the file's numbers to *(long *)ud. */
+static void check_one(const char *path, void *ud)
 {
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    long numbers = 0;
-    char path[512];
-    if (!d) fail_msg("cannot open %s", dir);
-    while ((e = readdir(d)) != NULL) {
-        size_t n = strlen(e->d_name), m = strlen(ext);
-        if (n > m && strcmp(e->d_name + n - m, ext) == 0) {
-            snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-            numbers += check_file(path);
-        }
-    }
-    closedir(d);
-    return numbers;
+    *(long *)ud += check_file(path);
 }
 
 /* The repo's scenes and models, token by token (OBJ's a/b/c split at
@@ -183,12 +170,12 @@ static void test_files(void **state)
 {
     long n = 0;
     (void)state;
-    n += check_dir("examples/scenes", ".nff");
-    n += check_dir("examples/scenes/spd", ".nff");
-    n += check_dir("examples/scenes/models", ".obj");
-    n += check_dir("tests/data", ".nff");
-    n += check_dir("tests/data/meshes", ".obj");
-    n += check_dir("tests/data/meshes", ".ply");
+    tu_each_file("examples/scenes", ".nff", check_one, &n);
+    tu_each_file("examples/scenes/spd", ".nff", check_one, &n);
+    tu_each_file("examples/scenes/models", ".obj", check_one, &n);
+    tu_each_file("tests/data", ".nff", check_one, &n);
+    tu_each_file("tests/data/meshes", ".obj", check_one, &n);
+    tu_each_file("tests/data/meshes", ".ply", check_one, &n);
     assert_true(n > 100000); /* the SPD scenes alone hold far more */
 }
 

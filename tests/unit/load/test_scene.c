@@ -8,7 +8,6 @@
 #include "geom_int.h"
 #include "scene.h"
 
-#include <dirent.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -248,26 +247,14 @@ static int check_prims(const char *path)
     return exact;
 }
 
-static int check_prims_dir(const char *dir, int *exact)
+/* tu_each_file's callback: counts the files whose arrays are exactly
+   full into *(int *)ud. */
+static void check_prims_file(const char *path, void *ud)
 {
-    DIR *d = opendir(dir);
-    struct dirent *de;
-    char path[512];
-    int n = 0;
-    if (!d) fail_msg("cannot open %s", dir);
-    while ((de = readdir(d)) != NULL) {
-        size_t len = strlen(de->d_name);
-        if (len > 4 && strcmp(de->d_name + len - 4, ".nff") == 0) {
-            snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
-            if (check_prims(path))
-                ++*exact;
-            else
-                print_message("%s: room left over (degenerate shapes?)\n", path);
-            n++;
-        }
-    }
-    closedir(d);
-    return n;
+    if (check_prims(path))
+        ++*(int *)ud;
+    else
+        print_message("%s: room left over (degenerate shapes?)\n", path);
 }
 
 /* Every scene file of the repo (26 today). The reservation is exact on
@@ -276,9 +263,9 @@ static void test_prim_records(void **state)
 {
     int n = 0, exact = 0;
     (void)state;
-    n += check_prims_dir("examples/scenes", &exact);
-    n += check_prims_dir("examples/scenes/spd", &exact);
-    n += check_prims_dir("tests/data", &exact);
+    n += tu_each_file("examples/scenes", ".nff", check_prims_file, &exact);
+    n += tu_each_file("examples/scenes/spd", ".nff", check_prims_file, &exact);
+    n += tu_each_file("tests/data", ".nff", check_prims_file, &exact);
     print_message("%d scene files, %d with the arrays exactly full\n", n, exact);
     assert_true(n >= 20 && exact >= n - 2);
 }
