@@ -128,6 +128,11 @@ layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 # (CFLAGS=-DGG_NO_ISA does that on x86-64 too).
 # -ffp-contract=off everywhere: no compiler (clang contracts by default)
 # may fuse a*b+c, so every copy of a kernel rounds the same way.
+# The AVX-512 copy uses AVX-512's masks and compress on 256-bit registers
+# only (-mprefer-vector-width=256 and GG_MOVE_MAX: no 512-bit code from
+# the vectoriser or from inlined copies either): on an Intel Xeon (Sapphire Rapids) its 16-lane
+# 512-bit packet test made every walk slower (docs/performance.md,
+# "AVX-512 copies").
 # -fno-math-errno in the library: nothing in it reads errno after a libm
 # call, so sqrt is one instruction, without the branch to libm that would
 # only set errno; the results are the same bits (docs/performance.md,
@@ -135,7 +140,11 @@ layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 GG_MATH = -ffp-contract=off -fno-math-errno
 ISA_avx       = -mavx
 ISA_avx2      = -mavx -mavx2 -mbmi -mbmi2 -mlzcnt -mpopcnt
-ISA_avx512    = $(ISA_avx2) -mfma -mavx512f -mavx512vl -mavx512dq -mavx512bw
+ISA_avx512    = $(ISA_avx2) -mfma -mavx512f -mavx512vl -mavx512dq -mavx512bw \
+                -mprefer-vector-width=256 $(GG_MOVE_MAX)
+# GCC 12 and later: struct copies and clears at most 256 bits wide too
+GG_MOVE_MAX  := $(shell $(CC) -mmove-max=256 -mstore-max=256 -x c -c /dev/null -o /dev/null \
+                  2>/dev/null && echo -mmove-max=256 -mstore-max=256)
 ISA_fma       = -mfma
 GG_ISA_X86   := $(if $(filter x86_64-% amd64-%,$(shell $(CC) -dumpmachine 2>/dev/null)),1)
 isa_of        = $(if $(GG_ISA_X86),$(strip $(foreach i,avx avx2 avx512 fma,$(if $(filter %_$(i).o,$(1)),$(i)))))
@@ -428,6 +437,7 @@ check-paths:
 check-release:
 	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/release
 	@sh tests/build/targets.sh $(BUILD)/release
+	@sh tests/build/isa.sh $(BUILD)/release
 	@$(MAKE) $(CHECK_ARGS) installcheck BUILD=$(BUILD)/release
 # The ASan tree's CLI suite samples its scene-by-expression loops (one
 # combination in 8, each scene and expression still run) and its tile

@@ -664,7 +664,7 @@ typedef struct pk_all {
 /* One packet's terms, by the caller's lane index: a lane outside it has
    tmax -inf (it enters no box) and the packet's first lane's 1/d (so it
    does not widen the interval). In the AVX-512 build aligned to 64, so
-   that each 16-lane row pk_lanes loads is one cache line. */
+   that each 16-lane row pk_lanes reads is one cache line. */
 #if defined(GG_BVH_SIMD) && defined(__AVX512F__)
 #define GG_PKT_ALIGN __attribute__((aligned(64)))
 #else
@@ -978,26 +978,11 @@ static inline unsigned pk_lanes(const pk_node *nd, int i, const pkt *p)
         s[k] = GG_ROW(nd, p->nr[k])[i] - p->on[k];
         e[k] = GG_ROW(nd, p->fr[k])[i] - p->of[k];
     }
-#if defined(GG_BVH_SIMD) && defined(__AVX512F__)
-    /* the AVX-512 build: all GG_PK = 16 lanes in one pass, into a mask */
-#if GG_PK != 16
-#error "pk_lanes' AVX-512 pass is 16 lanes wide"
-#endif
-    (void)l;
-    {
-        __m512 tn = _mm512_max_ps(
-            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[0]), _mm512_load_ps(p->inv[0])),
-                          _mm512_mul_ps(_mm512_set1_ps(s[1]), _mm512_load_ps(p->inv[1]))),
-            _mm512_max_ps(_mm512_mul_ps(_mm512_set1_ps(s[2]), _mm512_load_ps(p->inv[2])),
-                          _mm512_load_ps(p->tmin)));
-        __m512 tf = _mm512_min_ps(
-            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[0]), _mm512_load_ps(p->invf[0])),
-                          _mm512_mul_ps(_mm512_set1_ps(e[1]), _mm512_load_ps(p->invf[1]))),
-            _mm512_min_ps(_mm512_mul_ps(_mm512_set1_ps(e[2]), _mm512_load_ps(p->invf[2])),
-                          _mm512_load_ps(p->tmax)));
-        m = (unsigned)_mm512_cmp_ps_mask(tn, tf, _CMP_LE_OQ);
-    }
-#elif defined(GG_BVH_SIMD) && defined(__AVX__)
+/* Eight lanes a pass, also in the AVX-512 build: a 16-lane pass in one
+   512-bit register made every walk of that build slower on an Intel Xeon
+   (Sapphire Rapids), and 512-bit instructions are kept out of it
+   (Makefile, ISA_avx512; docs/performance.md, "AVX-512 copies"). */
+#if defined(GG_BVH_SIMD) && defined(__AVX__)
     for (l = 0; l < GG_PK; l += 8) {
         __m256 tn = _mm256_max_ps(
             _mm256_max_ps(_mm256_mul_ps(_mm256_set1_ps(s[0]), _mm256_loadu_ps(p->inv[0] + l)),
