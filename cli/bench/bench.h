@@ -34,6 +34,11 @@ int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *pe
 int bench_selected(const char *list, const char *name);
 
 /* The name a table row gives scene file `path`: its base name. */
+/* Two lines under a table's title: the CPU (its model name, whether it
+   has AVX2 and AVX-512F) and the copy of the walks ggrt runs on it
+   (ggSceneTraversal). */
+void bench_print_machine(void);
+
 const char *bench_row_name(const char *path);
 
 /* The width of a table's scene column: 11 (the SPD names), or the

@@ -79,6 +79,53 @@ int bench_unknown(const char *list, const char *const *names, int n, char *bad, 
     }
 }
 
+/* The CPU's model name from /proc/cpuinfo ("" where there is none) and
+   which of AVX2 and AVX-512F its flags list. */
+static void cpu_model(char *name, size_t n, int *avx2, int *avx512)
+{
+    char line[4096];
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    int got_name = 0, got_flags = 0;
+    name[0] = '\0', *avx2 = *avx512 = 0;
+    if (!f) return;
+    while ((!got_name || !got_flags) && fgets(line, sizeof line, f)) {
+        char *v = strchr(line, ':');
+        if (!v) continue;
+        v += 1 + (v[1] == ' ');
+        if (!got_name && !strncmp(line, "model name", 10)) {
+            v[strcspn(v, "\n")] = '\0';
+            snprintf(name, n, "%s", v);
+            got_name = 1;
+        } else if (!got_flags && !strncmp(line, "flags", 5)) {
+            *avx2 = strstr(v, " avx2 ") != NULL;
+            *avx512 = strstr(v, " avx512f ") != NULL;
+            got_flags = 1;
+        }
+    }
+    fclose(f);
+}
+
+void bench_print_machine(void)
+{
+    static const char sphere[] = "f 1 1 1 1 0 0 0 0\ns 0 0 0 1\n";
+    char name[256];
+    int avx2, avx512;
+    ggScene *s = ggSceneCreate(NULL);
+    ggError err;
+    const char *trav = NULL;
+    cpu_model(name, sizeof name, &avx2, &avx512);
+    if (s && ggSceneLoadString(s, sphere, sizeof sphere - 1, "probe.nff", &err) == GG_OK &&
+        ggScenePrepare(s, &err) == GG_OK)
+        trav = ggSceneTraversal(s);
+    printf("cpu: %s (%s)\n", name[0] ? name : "unknown",
+           avx512 ? "AVX-512F and AVX2"
+           : avx2 ? "AVX2, no AVX-512F"
+                  : "no AVX2");
+    printf("ggrt: traversal %s%s\n", trav ? trav : "unknown",
+           getenv("GGRT_ISA") ? " (GGRT_ISA is set)" : "");
+    ggSceneFree(s);
+}
+
 const char *bench_row_name(const char *path)
 {
     const char *b = strrchr(path, '/');

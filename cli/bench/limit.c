@@ -131,6 +131,7 @@ int bench_limit(const bench_opts *bo)
     int i, rc = EXIT_OK;
     printf("ggrt bench limit: %dx%d, depth 5, pixel centres, 1 thread, %d runs\n", bo->size,
            bo->size, bo->runs);
+    bench_print_machine();
     printf("per ray (eye, secondary and shadow rays of the render): kernel calls as the scene's "
            "traversal makes them\n");
     printf("%-*s %9s", bench_name_width(bo), "scene", "rays");

@@ -141,6 +141,7 @@ int bench_rays(const bench_opts *bo)
     printf("ggrt bench rays: the rays of a %dx%d render (depth 5, pixel centres), cast again "
            "on one thread, median of %d passes\n",
            bo->size, bo->size, bo->runs);
+    bench_print_machine();
     printf("%-*s %9s %7s %8s %9s %7s %8s %9s %7s %8s\n", bench_name_width(bo), "scene", "eye",
            "hit", "Mrays/s", "secondary", "hit", "Mrays/s", "shadow", "blocked", "Mrays/s");
     for (i = 0; i < BENCH_NSPD && !bo->nargs; i++)

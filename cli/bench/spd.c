@@ -208,6 +208,32 @@ static emb_result run_embree(const char *bin, const char *scene, int size, int t
     return er;
 }
 
+/* The anchor's own line on what Embree runs here (its -v: version, the
+   packet sizes its build has natively, ...), from a tiny render of the
+   first scene of the table. */
+static void print_anchor(const bench_opts *bo)
+{
+    char cmd[4096], line[1024], path[1024];
+    const char *first = NULL;
+    int i, found = 0;
+    FILE *p;
+    for (i = 0; i < BENCH_NSPD && !first; i++)
+        if (bench_selected(bo->scenes, bench_spd_scenes[i])) first = bench_spd_scenes[i];
+    if (!first) return;
+    snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, first);
+    snprintf(cmd, sizeof cmd, "'%s' -v -t 1 -r 8 -o - '%s' 2>&1", bo->embree, path);
+    fflush(stdout);
+    if (!(p = popen(cmd, "r"))) return;
+    while (fgets(line, sizeof line, p))
+        if (!found && !strncmp(line, "embree ", 7)) {
+            line[strcspn(line, "\n")] = '\0';
+            printf("anchor: %s\n", line);
+            found = 1;
+        }
+    pclose(p);
+    if (!found) printf("anchor: (its -v printed no \"embree\" line)\n");
+}
+
 /* Median of the first `runs` values of v (v is left as it is). */
 static double med_of(const double *v, int runs)
 {
@@ -235,6 +261,8 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
     printf("ggrt bench spd --embree: %dx%d, %d threads, depth 5, pixel centres, %d rounds "
            "interleaved, medians\n",
            bo->size, bo->size, bo->threads, runs);
+    bench_print_machine();
+    print_anchor(bo);
     print_knobs(bo);
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %8s %7s | %7s %7s %8s | %7s | %9s %9s %8s\n", "scene", "ggrt", "Mrays/s",
@@ -310,6 +338,7 @@ int bench_spd(const bench_opts *bo)
     printf("ggrt bench spd: %dx%d, %d threads, depth 5, pixel centres, no antialiasing, "
            "median of %d runs\n",
            bo->size, bo->size, bo->threads, bo->runs);
+    bench_print_machine();
     print_knobs(bo);
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
     printf("\n%-11s %7s %7s %8s %8s %9s %8s %7s %9s | %8s %7s %7s\n", "scene", "prims", "parse",

@@ -49,10 +49,10 @@ int cmd_info(int argc, char **argv)
     printf("bvh        %zu primitives, %zu nodes (%zu leaves), depth %zu\n", in.primitives,
            in.bvh_nodes, in.bvh_leaves, in.bvh_depth);
     if (in.bvh_blocks)
-        printf("           %zu leaves of 2-4 triangles tested four at a time (AVX)\n",
-               in.bvh_blocks);
+        printf("           %zu leaves of 2-4 triangles tested four at a time\n", in.bvh_blocks);
     else
         printf("           plain traversal (no AVX four-triangle leaves on this CPU)\n");
+    printf("traversal  %s\n", ggSceneTraversal(s));
     printf("memory     %.2f MB geometry (%.1f bytes per primitive)\n", in.geometry_bytes / 1e6,
            in.primitives ? (double)in.geometry_bytes / (double)in.primitives : 0.0);
     printf("time       prepare %.4fs (BVH build %.4fs)\n", in.prepare_seconds, in.bvh_seconds);

@@ -435,6 +435,15 @@ typedef struct ggSceneInfo {
 /* Fill *info; GG_ERROR_INVALID if the scene is not prepared. */
 GG_API int ggSceneGetInfo(const ggScene *scene, ggSceneInfo *info);
 
+/* The instruction set of the traversal copy a prepared scene's ray
+   queries take on this CPU, chosen once from its features (and the
+   GGRT_ISA cap): "avx512" (AVX-512's masks on 256-bit registers),
+   "avx2", "avx", "sse2" (no AVX, or a scene with nothing in it) or "c"
+   (a build without SIMD). The same images and rays in every copy. For
+   reports and benchmarks (`ggrt info`, `ggrt bench`). NULL if the scene
+   is NULL or not prepared. A static string: do not free it. */
+GG_API const char *ggSceneTraversal(const ggScene *scene);
+
 /* A ray's closest hit (valid after ggScenePrepare). */
 typedef struct ggHit {
     double t;       /* ray parameter of the hit */

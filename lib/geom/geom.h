@@ -146,7 +146,7 @@ typedef struct gg_bvh_stats {
     size_t nodes, leaves, max_depth, bytes;
     size_t blocks; /* AVX four-triangle leaf blocks (0: plain traversal) */
     double build_seconds;
-    const char *traversal; /* the copy queries take: "avx", "sse2" or "c" (portable) */
+    const char *traversal; /* the copy queries take: "avx512", "avx2", "avx", "sse2" or "c" */
 } gg_bvh_stats;
 void gg_geom_bvh_stats(const gg_geom *g, gg_bvh_stats *st);
 

@@ -744,6 +744,14 @@ GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
     return GG_OK;
 }
 
+GG_API const char *ggSceneTraversal(const ggScene *s)
+{
+    gg_bvh_stats bs;
+    if (!s || !s->prepared) return NULL;
+    gg_geom_bvh_stats(s->geom, &bs);
+    return bs.traversal;
+}
+
 GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
 {
     const gg_object *o;

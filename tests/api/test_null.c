@@ -309,6 +309,7 @@ static void test_scene_query(void **state)
     COVER(ggScenePrepare), assert_int_equal(ggScenePrepare(NULL, NULL), GG_ERROR_INVALID);
     COVER(ggSceneGetInfo), assert_int_equal(ggSceneGetInfo(NULL, &si), GG_ERROR_INVALID);
     assert_int_equal(ggSceneGetInfo(s, NULL), GG_ERROR_INVALID);
+    COVER(ggSceneTraversal), assert_null(ggSceneTraversal(NULL));
     COVER(ggSceneIntersect), assert_false(ggSceneIntersect(NULL, r, 0, 100, &h));
     assert_true(ggSceneIntersect(s, r, 0, 100, NULL));
     COVER(ggSceneOccluded), assert_false(ggSceneOccluded(NULL, r, 0, 100));

@@ -8,7 +8,8 @@ cat > "$tmp/fake-embree" <<'EOS'
 #!/bin/sh
 p=; t=; r=; o=; f=
 while [ $# -gt 0 ]; do
-  case $1 in -p) p=$2; shift 2 ;; -t) t=$2; shift 2 ;; -r) r=$2; shift 2 ;; -o) o=$2; shift 2 ;; *) f=$1; shift ;; esac
+  case $1 in -p) p=$2; shift 2 ;; -t) t=$2; shift 2 ;; -r) r=$2; shift 2 ;; -o) o=$2; shift 2 ;;
+    -v) echo "embree 9.9.9  ray4/8/16 native 1/1/0  (a stand-in)"; shift ;; *) f=$1; shift ;; esac
 done
 [ "$p" = 1 ] && s=0.2500 || s=0.5000
 echo "$f: a scene"
@@ -21,6 +22,20 @@ if [ $got = 0 ] && grep -Eq '^tetra .*\| +0\.250s +0\.500s +2\.00 \|' "$tmp/benc
    grep -q 'emb1/ggrt' "$tmp/bench" && grep -q '^geometric mean over 1 scenes' "$tmp/bench"
 then ok "bench spd --embree: the anchor's times, rays/s and ratios"
 else bad "bench spd --embree: the anchor's times, rays/s and ratios (exit $got)" "$(cat "$tmp/bench")"; fi
+# under the title: the CPU, the copy of ggrt's walks (as `ggrt info` names
+# it) and the anchor's -v line
+trav=$("$ggrt" info examples/scenes/knot.nff | sed -n 's/^traversal  //p')
+if [ -n "$trav" ] && grep -Eq '^cpu: .+ \((AVX-512F and AVX2|AVX2, no AVX-512F|no AVX2)\)$' "$tmp/bench" &&
+   grep -qx "ggrt: traversal $trav" "$tmp/bench" &&
+   grep -qx 'anchor: embree 9.9.9  ray4/8/16 native 1/1/0  (a stand-in)' "$tmp/bench"
+then ok "bench spd --embree: names the CPU, ggrt's traversal ($trav) and the anchor's -v line"
+else bad "bench spd --embree: names the CPU, ggrt's traversal ('$trav') and the anchor's -v line" "$(cat "$tmp/bench")"; fi
+# GGRT_ISA=avx2 holds the walks to the AVX2 copy or below, and says so
+"$ggrt" info examples/scenes/knot.nff >"$tmp/info" 2>&1
+GGRT_ISA=avx2 "$ggrt" info examples/scenes/knot.nff | grep '^traversal ' >"$tmp/trav2"
+if grep -Eqx 'traversal  (avx2|avx|sse2|c)' "$tmp/trav2" && grep -Eq '^traversal  ' "$tmp/info"
+then ok "info: GGRT_ISA=avx2 gives $(cat "$tmp/trav2" | tr -s ' '), without it $trav"
+else bad "info: GGRT_ISA=avx2 holds the traversal to AVX2 or below" "$(cat "$tmp/trav2" "$tmp/info")"; fi
 # the ratio columns are the anchor's times over the same ggrt time: -p 16's
 # (0.5 s) is twice -p 1's (0.25 s)
 awk '/^tetra /{for(i=1;i<=NF;i++) if($i ~ /x$/) r[++n]=$i} END{

@@ -338,6 +338,31 @@ static void test_scene_info(void **state)
     ggSceneFree(s);
 }
 
+/* ggSceneTraversal names the copy the kernel table chose for this CPU,
+   for every scene with something in it, and nothing before prepare. */
+#if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD)
+#define PLAIN_TRAVERSAL "sse2"
+#else
+#define PLAIN_TRAVERSAL "c"
+#endif
+static void test_traversal(void **state)
+{
+    const int k = gg_cpu_kernels()->trav;
+    const char *want = k == GG_KERNEL_AVX512 ? "avx512"
+                       : k == GG_KERNEL_AVX2 ? "avx2"
+                       : k == GG_KERNEL_AVX  ? "avx"
+                                             : PLAIN_TRAVERSAL;
+    ggScene *s = load_ok("f 1 0 0 0.7 0.3 20 0 0\ns 0 0 0 1\n");
+    ggError e;
+    (void)state;
+    assert_null(ggSceneTraversal(s));
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_non_null(ggSceneTraversal(s));
+    assert_string_equal(ggSceneTraversal(s), want);
+    print_message("traversal: %s\n", want);
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -351,6 +376,7 @@ int main(void)
         cmocka_unit_test(test_spd_scenes_load),
         cmocka_unit_test(test_scene_info),
         cmocka_unit_test(test_prim_records),
+        cmocka_unit_test(test_traversal),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
 }
