@@ -333,7 +333,7 @@ int bench_spd(const bench_opts *bo)
 {
     int i, npov = 0, pov = bo->pov && have_povray();
     double logsum = 0, worst = 1e300;
-    int avx = 0, rc;
+    int rc;
     if (bo->embree) return bench_spd_embree(bo, pov);
     printf("ggrt bench spd: %dx%d, %d threads, depth 5, pixel centres, no antialiasing, "
            "median of %d runs\n",
@@ -355,7 +355,6 @@ int bench_spd(const bench_opts *bo)
         j.accuracy = bo->accuracy;
         if ((rc = spd_measure(&j, bench_spd_scenes[i], &r, &peak)) != EXIT_OK) return rc;
         rays = (double)(r.st.eye + r.st.reflect + r.st.refract + r.st.shadow);
-        avx |= r.info.bvh_blocks > 0;
         printf("%-11s %7zu %6.3fs %7.3fs %7.3fs %9.2f %8.2f %7.1f %9.1f |", bench_spd_scenes[i],
                r.info.primitives, r.parse, r.prepare, r.render, rays / 1e6, rays / r.render / 1e6,
                peak, r.info.primitives ? (double)r.info.geometry_bytes / r.info.primitives : 0.0);
@@ -379,8 +378,6 @@ int bench_spd(const bench_opts *bo)
                exp(logsum / npov), worst, npov);
     printf("render = ggRender wall time (parse and BVH build excluded); pov = POV-Ray's "
            "\"Trace Time\"; peak = max RSS of the whole process\n");
-    printf("traversal: %s\n", avx ? "AVX, leaves of 2-4 triangles tested four at a time"
-                                  : "plain (this CPU has no AVX)");
     return EXIT_OK;
 }
 
