@@ -130,9 +130,9 @@ layer_inc     = $(foreach l,$($(1)_SEES),-Ilib/$(l))
 # may fuse a*b+c, so every copy of a kernel rounds the same way.
 # The AVX-512 copy uses AVX-512's masks and compress on 256-bit registers
 # only (-mprefer-vector-width=256 and GG_MOVE_MAX: no 512-bit code from
-# the vectoriser or from inlined copies either): on an Intel Xeon (Sapphire Rapids) its 16-lane
-# 512-bit packet test made every walk slower (docs/performance.md,
-# "AVX-512 copies").
+# the vectoriser or from inlined copies either): on an Intel Xeon
+# (Sapphire Rapids) its few 512-bit instructions made every walk slower
+# (docs/performance.md, "AVX-512 copies"; tests/build/isa.sh checks).
 # -fno-math-errno in the library: nothing in it reads errno after a libm
 # call, so sqrt is one instruction, without the branch to libm that would
 # only set errno; the results are the same bits (docs/performance.md,
