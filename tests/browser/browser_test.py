@@ -266,7 +266,10 @@ def every_scene(d):
 def tracing_first(d):
     srv = Server("examples/scenes/spd/gears.nff")
     try:
-        opts = "depth=16 samples=16"
+        # 64 samples: about 11 s of rendering on 2 threads of a 2026 Xeon,
+        # so that the image is still rendering when the tree is shown (at
+        # 16 samples a CI run once saw it finish first, in 2.8 s)
+        opts = "depth=16 samples=64"
         d.get(srv.url + "#a=" + urllib.parse.quote(opts))
         wait(d, "rendering", lambda: "rendering" in d.find_element(By.ID, "status-text").text, 20)
         t0 = time.time()
@@ -284,7 +287,7 @@ def tracing_first(d):
         rendering = not attr(d, "viewport", "data-image")
         nodes = len(d.find_elements(By.CSS_SELECTOR, "#tree-a details.node"))
         check(ok and dt < 1.0 and rendering and nodes > 1,
-              "gears.nff, depth 16, 16 samples: pixel 200,200's tree (%d rays) %.2f s after the click "
+              "gears.nff, depth 16, 64 samples: pixel 200,200's tree (%d rays) %.2f s after the click "
               "(%.2f s as the test polled), the image still rendering" % (nodes, dt, polled),
               d.find_element(By.ID, "status-text").text)
         # Take every job slot, then ask for another image: 503 with
