@@ -79,6 +79,16 @@ int bench_unknown(const char *list, const char *const *names, int n, char *bad, 
     }
 }
 
+/* Whether the space-separated list `flags` holds the word f. */
+static int has_flag(const char *flags, const char *f)
+{
+    size_t n = strlen(f);
+    const char *p;
+    for (p = flags; (p = strstr(p, f)); p += n)
+        if ((p == flags || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return 1;
+    return 0;
+}
+
 /* The CPU's model name from /proc/cpuinfo ("" where there is none) and
    which of AVX2 and AVX-512F its flags list. */
 static void cpu_model(char *name, size_t n, int *avx2, int *avx512)
@@ -92,13 +102,13 @@ static void cpu_model(char *name, size_t n, int *avx2, int *avx512)
         char *v = strchr(line, ':');
         if (!v) continue;
         v += 1 + (v[1] == ' ');
+        v[strcspn(v, "\n")] = '\0';
         if (!got_name && !strncmp(line, "model name", 10)) {
-            v[strcspn(v, "\n")] = '\0';
             snprintf(name, n, "%s", v);
             got_name = 1;
         } else if (!got_flags && !strncmp(line, "flags", 5)) {
-            *avx2 = strstr(v, " avx2 ") != NULL;
-            *avx512 = strstr(v, " avx512f ") != NULL;
+            *avx2 = has_flag(v, "avx2");
+            *avx512 = has_flag(v, "avx512f");
             got_flags = 1;
         }
     }

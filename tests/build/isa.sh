@@ -11,13 +11,16 @@ lib=${1:?usage: sh tests/build/isa.sh BUILD}/libggrt.a
 fail() { echo "isa: $*"; exit 1; }
 [ -f "$lib" ] || fail "no $lib (build it first)"
 command -v objdump >/dev/null 2>&1 || { echo "isa: no objdump, not checked"; exit 0; }
-n=$(objdump -d "$lib" | grep -c '%zmm')
-if ! objdump -d "$lib" | grep -q '_avx512>:'; then
+dis=$(mktemp /tmp/ggrt-isa-XXXXXX)
+trap 'rm -f "$dis"' EXIT
+objdump -d "$lib" > "$dis" || fail "objdump -d $lib failed"
+if ! grep -q '_avx512>:' "$dis"; then
   echo "isa: $lib has no AVX-512 copy (not an x86-64 build): nothing to check"
   exit 0
 fi
+n=$(grep -c '%zmm' "$dis")
 [ "$n" -eq 0 ] || {
-  objdump -d "$lib" | awk '/>:$/ { f = $2 } /%zmm/ { print f }' | sort | uniq -c | head
+  awk '/>:$/ { f = $2 } /%zmm/ { print f }' "$dis" | sort | uniq -c | head
   fail "$n instructions on 512-bit registers in $lib (above: the functions)"
 }
 echo "isa: no 512-bit registers in $lib (the AVX-512 copies run on 256-bit ones)"
