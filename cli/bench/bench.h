@@ -33,12 +33,12 @@ int bench_in_child(bench_fn fn, void *arg, void *out, size_t outsize, double *pe
 /* Is name in the comma-separated list (NULL list: everything)? */
 int bench_selected(const char *list, const char *name);
 
-/* The name a table row gives scene file `path`: its base name. */
 /* Two lines under a table's title: the CPU (its model name, whether it
    has AVX2 and AVX-512F) and the copy of the walks ggrt runs on it
    (ggSceneTraversal). */
 void bench_print_machine(void);
 
+/* The name a table row gives scene file `path`: its base name. */
 const char *bench_row_name(const char *path);
 
 /* The width of a table's scene column: 11 (the SPD names), or the

@@ -51,7 +51,7 @@ int cmd_info(int argc, char **argv)
     if (in.bvh_blocks)
         printf("           %zu leaves of 2-4 triangles tested four at a time\n", in.bvh_blocks);
     else
-        printf("           plain traversal (no AVX four-triangle leaves on this CPU)\n");
+        printf("           no leaves of 2-4 triangles to test four at a time\n");
     printf("traversal  %s\n", ggSceneTraversal(s));
     printf("memory     %.2f MB geometry (%.1f bytes per primitive)\n", in.geometry_bytes / 1e6,
            in.primitives ? (double)in.geometry_bytes / (double)in.primitives : 0.0);

@@ -338,8 +338,9 @@ static void test_scene_info(void **state)
     ggSceneFree(s);
 }
 
-/* ggSceneTraversal names the copy the kernel table chose for this CPU,
-   for every scene with something in it, and nothing before prepare. */
+/* ggSceneTraversal names the copy the kernel table chose for this CPU
+   for a prepared scene with something in it (here one sphere: the copy
+   does not depend on triangle blocks), and nothing before prepare. */
 #if defined(__SSE2__) && !defined(GG_BVH_NO_SIMD)
 #define PLAIN_TRAVERSAL "sse2"
 #else
