@@ -197,11 +197,12 @@ static void print_node(FILE *f, const trace_view *v, int i, const ggColor *wp, c
         for (l = 0; l < n->nlights; l++) {
             const ggTraceLight *L = ggTraceGetLight(v->trace, (size_t)(n->first_light + l));
             fprintf(f, "%s    light %d: %s", body, L->light, ggShadowName(L->verdict));
-            if (L->verdict == GG_SHADOW_BLOCKED || L->verdict == GG_SHADOW_ATTENUATED) {
-                if (L->occluder >= 0) {
-                    object_name(v, L->occluder, name, sizeof name);
-                    fprintf(f, " by %s at t %.4g", name, L->t_block);
-                }
+            if (L->occluder >= 0) {
+                /* a visible light's occluder is a transparent object it
+                   crossed without losing anything */
+                object_name(v, L->occluder, name, sizeof name);
+                fprintf(f, " %s %s at t %.4g", L->verdict == GG_SHADOW_VISIBLE ? "through" : "by",
+                        name, L->t_block);
             }
             if (L->verdict == GG_SHADOW_ATTENUATED) {
                 fprintf(f, ", transmittance ");

@@ -101,8 +101,8 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
      nonfinite the colour it returns is NaN or infinite
      light verdict occluder transmittance diffuse phong
                shadow rays: which light, visible blocked attenuated
-               facing_away, the blocking (or first attenuating) object,
-               and what the light gave
+               facing_away, the blocking object (else the first
+               transparent one crossed), and what the light gave
      perr offset tir_margin edge
                the hit's numeric state (trace.h's ggTraceNode; a shadow
                ray: of the hit it leaves)

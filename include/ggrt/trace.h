@@ -32,15 +32,16 @@ extern "C" {
 #define GG_STOP_BUDGET   4 /* the eye ray's tree had used its ray budget (render.h) */
 
 /* The fate of one light at a hit. */
-#define GG_SHADOW_VISIBLE     0 /* the shadow ray reached the light */
+#define GG_SHADOW_VISIBLE     0 /* the shadow ray reached the light, all of it */
 #define GG_SHADOW_BLOCKED     1 /* an opaque object (occluder) is in the way */
-#define GG_SHADOW_ATTENUATED  2 /* light came through transparent objects */
+#define GG_SHADOW_ATTENUATED  2 /* some got through (objects or a medium took the rest) */
 #define GG_SHADOW_FACING_AWAY 3 /* the surface faces away: no shadow ray sent */
 
 typedef struct ggTraceLight {
     int light;            /* light index */
     int verdict;          /* GG_SHADOW_* */
-    int occluder;         /* blocking (or first attenuating) object, or -1 */
+    int occluder;         /* the blocking object, else the first transparent
+                             one crossed (VISIBLE too, when it took nothing), or -1 */
     ggVec3 origin;        /* the shadow ray: origin + t dir, light at t = 1 */
     ggVec3 dir;
     double t_block;       /* where the occluder was hit (ray parameter), else 1 */

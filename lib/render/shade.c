@@ -127,7 +127,7 @@ typedef struct shadow_ray {
     ggVec3 o, d; /* origin and d = light - o: the light is at t = 1 */
     ggColor lc;  /* the light's colour times what got through */
     int verdict; /* GG_SHADOW_* */
-    int occ;     /* the blocking (or first attenuating) object, or -1 */
+    int occ;     /* the blocking object, else the first transparent one crossed, or -1 */
     double tb;   /* where it was met (ray parameter), else 1 */
 } shadow_ray;
 
@@ -926,7 +926,13 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
         }
     }
     through = shadow_walk(c, th, sh->o, sh->d, hi->leave, &r->media, &sh->occ, &sh->tb, &all, FX);
-    if (sh->occ >= 0) sh->verdict = cis0(through) ? GG_SHADOW_BLOCKED : GG_SHADOW_ATTENUATED;
+    /* As shadow_opaque's: attenuated only when something was taken. A
+       crossing that takes nothing (kt = 1, no absorption) leaves the
+       light visible; sh->occ still names the first object crossed. */
+    if (sh->occ >= 0 && cis0(through))
+        sh->verdict = GG_SHADOW_BLOCKED;
+    else if (through.r != 1 || through.g != 1 || through.b != 1)
+        sh->verdict = GG_SHADOW_ATTENUATED;
     sh->lc = cmul(sh->lc, through);
 }
 

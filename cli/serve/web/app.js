@@ -759,8 +759,9 @@
       field(d, 'ambient', col(h.ambient) + (em ? '  emission ' + col(h.emission) : ''));
       for (const L of h.lights) {
         let t = ' ' + L.verdict;
-        if ((L.verdict === 'blocked' || L.verdict === 'attenuated') && L.occluder !== null) {
-          t += ' by ' + objName(L.occluder) + ' at t ' + g4(L.t_block);
+        if (L.occluder !== null) {
+          // a visible light's occluder: a transparent object crossed without loss
+          t += (L.verdict === 'visible' ? ' through ' : ' by ') + objName(L.occluder) + ' at t ' + g4(L.t_block);
         }
         if (L.verdict === 'attenuated') t += ', transmittance ' + col(L.transmittance);
         if (L.verdict === 'visible' || L.verdict === 'attenuated') {

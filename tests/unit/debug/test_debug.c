@@ -587,6 +587,62 @@ static void test_check_clean_scenes(void **state)
     }
 }
 
+/* The shadow verdicts against the transmittance the trace records, on
+   every pixel of every example scene at 32x24: visible exactly when all
+   of the light got through, attenuated when some but not all did,
+   blocked when none did and an occluder is named. A transparent object
+   that takes nothing (glass.nff's kt = 1 spheres) leaves the light
+   visible and is named as the object crossed. */
+typedef struct verdict_counts {
+    long seen[4], crossed_visible;
+} verdict_counts;
+
+static void check_verdicts(const char *path, void *ud)
+{
+    verdict_counts *vc = ud;
+    ggScene *s = tu_load(path);
+    ggTrace *t = ggTraceCreate(NULL);
+    ggRenderOptions o;
+    ggError e;
+    int x, y;
+    size_t i;
+    small(&o, 32, 24, 1);
+    for (y = 0; y < 24; y++)
+        for (x = 0; x < 32; x++) {
+            ggColor px;
+            assert_int_equal(ggTracePixel(s, &o, x, y, -1, t, &px, NULL, &e), GG_OK);
+            for (i = 0; i < ggTraceLightCount(t); i++) {
+                const ggTraceLight *L = ggTraceGetLight(t, i);
+                ggColor a = L->transmittance;
+                int all = a.r == 1 && a.g == 1 && a.b == 1, none = a.r == 0 && a.g == 0 && a.b == 0;
+                int ok = L->verdict == GG_SHADOW_VISIBLE      ? all
+                         : L->verdict == GG_SHADOW_ATTENUATED ? !all
+                         : L->verdict == GG_SHADOW_BLOCKED    ? none && L->occluder >= 0
+                                                              : L->occluder < 0;
+                if (!ok)
+                    print_error(
+                        "%s %d,%d light %d: %s with transmittance (%g %g %g), occluder %d\n", path,
+                        x, y, L->light, ggShadowName(L->verdict), a.r, a.g, a.b, L->occluder);
+                assert_true(ok);
+                vc->seen[L->verdict]++;
+                vc->crossed_visible += L->verdict == GG_SHADOW_VISIBLE && L->occluder >= 0;
+            }
+        }
+    ggTraceFree(t);
+    ggSceneFree(s);
+}
+
+static void test_shadow_verdicts(void **state)
+{
+    verdict_counts vc = {{0}, 0};
+    int v;
+    (void)state;
+    assert_true(tu_each_file("examples/scenes", ".nff", check_verdicts, &vc) >= 10);
+    /* every verdict occurs, and so does a lossless crossing */
+    for (v = 0; v < 4; v++) assert_true(vc.seen[v] > 0);
+    assert_true(vc.crossed_visible > 0);
+}
+
 /* The same answers on 1 and 3 threads. */
 static void test_check_threads(void **state)
 {
@@ -1076,15 +1132,25 @@ static void test_options_text(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_predicate_errors),    cmocka_unit_test(test_find_matches_full_traces),
-        cmocka_unit_test(test_find_limit_and_crop), cmocka_unit_test(test_ledger_sums_to_pixel),
-        cmocka_unit_test(test_ledger_glass_pixel),  cmocka_unit_test(test_phong_fast),  cmocka_unit_test(test_check_planted_defects),
-        cmocka_unit_test(test_check_clean_scenes),  cmocka_unit_test(test_check_threads),
+        cmocka_unit_test(test_predicate_errors),
+        cmocka_unit_test(test_find_matches_full_traces),
+        cmocka_unit_test(test_find_limit_and_crop),
+        cmocka_unit_test(test_ledger_sums_to_pixel),
+        cmocka_unit_test(test_ledger_glass_pixel),
+        cmocka_unit_test(test_phong_fast),
+        cmocka_unit_test(test_check_planted_defects),
+        cmocka_unit_test(test_check_clean_scenes),
+        cmocka_unit_test(test_check_threads),
+        cmocka_unit_test(test_shadow_verdicts),
         cmocka_unit_test(test_check_failing_misses),
-        cmocka_unit_test(test_diff_identical),      cmocka_unit_test(test_diff_textbook_sphere),
-        cmocka_unit_test(test_compare_depth),       cmocka_unit_test(test_compare_kinds),
-        cmocka_unit_test(test_numeric_state),       cmocka_unit_test(test_traversal_cost),
-        cmocka_unit_test(test_check_numeric),       cmocka_unit_test(test_options_text),
+        cmocka_unit_test(test_diff_identical),
+        cmocka_unit_test(test_diff_textbook_sphere),
+        cmocka_unit_test(test_compare_depth),
+        cmocka_unit_test(test_compare_kinds),
+        cmocka_unit_test(test_numeric_state),
+        cmocka_unit_test(test_traversal_cost),
+        cmocka_unit_test(test_check_numeric),
+        cmocka_unit_test(test_options_text),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
