@@ -588,11 +588,12 @@ static void test_check_clean_scenes(void **state)
 }
 
 /* The shadow verdicts against the transmittance the trace records, on
-   every pixel of every example scene at 32x24: visible exactly when all
-   of the light got through, attenuated when some but not all did,
-   blocked when none did and an occluder is named. A transparent object
-   that takes nothing (glass.nff's kt = 1 spheres) leaves the light
-   visible and is named as the object crossed. */
+   every pixel of every example, SPD and test-data scene at 32x24:
+   visible exactly when all of the light got through, attenuated when
+   some but not all did, blocked when none did and an occluder is
+   named. A transparent object that takes nothing (glass.nff's kt = 1
+   spheres) leaves the light visible and is named as the object
+   crossed. */
 typedef struct verdict_counts {
     long seen[4], crossed_visible;
 } verdict_counts;
@@ -638,6 +639,9 @@ static void test_shadow_verdicts(void **state)
     int v;
     (void)state;
     assert_true(tu_each_file("examples/scenes", ".nff", check_verdicts, &vc) >= 10);
+    assert_true(tu_each_file(tu_spd_dir(), ".nff", check_verdicts, &vc) >= 7);
+    assert_true(tu_each_file("tests/data", ".nff", check_verdicts, &vc) >= 1);
+    assert_true(tu_each_file("tests/data/debug", ".nff", check_verdicts, &vc) >= 1);
     /* every verdict occurs, and so does a lossless crossing */
     for (v = 0; v < 4; v++) assert_true(vc.seen[v] > 0);
     assert_true(vc.crossed_visible > 0);
