@@ -593,9 +593,10 @@ static void test_check_clean_scenes(void **state)
    some but not all did, blocked when none did and an occluder is
    named. A transparent object that takes nothing (glass.nff's kt = 1
    spheres) leaves the light visible and is named as the object
-   crossed. */
+   crossed; a light that only an absorbing medium dims is attenuated
+   with no occluder. */
 typedef struct verdict_counts {
-    long seen[4], crossed_visible;
+    long seen[4], crossed_visible, medium_only;
 } verdict_counts;
 
 static void check_verdicts(const char *path, void *ud)
@@ -627,6 +628,7 @@ static void check_verdicts(const char *path, void *ud)
                 assert_true(ok);
                 vc->seen[L->verdict]++;
                 vc->crossed_visible += L->verdict == GG_SHADOW_VISIBLE && L->occluder >= 0;
+                vc->medium_only += L->verdict == GG_SHADOW_ATTENUATED && L->occluder < 0;
             }
         }
     ggTraceFree(t);
@@ -635,16 +637,18 @@ static void check_verdicts(const char *path, void *ud)
 
 static void test_shadow_verdicts(void **state)
 {
-    verdict_counts vc = {{0}, 0};
+    verdict_counts vc = {{0}, 0, 0};
     int v;
     (void)state;
     assert_true(tu_each_file("examples/scenes", ".nff", check_verdicts, &vc) >= 10);
     assert_true(tu_each_file(tu_spd_dir(), ".nff", check_verdicts, &vc) >= 7);
     assert_true(tu_each_file("tests/data", ".nff", check_verdicts, &vc) >= 1);
     assert_true(tu_each_file("tests/data/debug", ".nff", check_verdicts, &vc) >= 1);
-    /* every verdict occurs, and so does a lossless crossing */
+    /* every verdict occurs, and so do a lossless crossing and a light
+       that only the medium around it dims (tests/data/light-in-glass.nff) */
     for (v = 0; v < 4; v++) assert_true(vc.seen[v] > 0);
     assert_true(vc.crossed_visible > 0);
+    assert_true(vc.medium_only > 0);
 }
 
 /* The same answers on 1 and 3 threads. */
