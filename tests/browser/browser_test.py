@@ -4,9 +4,9 @@ Selenium (Debian: chromium, chromium-driver, python3-selenium; run it with
 the python3 that has selenium, /usr/bin/python3 on Debian). One browser,
 one server per scene:
 - every scene file under examples/scenes (models included) and
-  tests/data/debug at 64x48, depth 3: the page loads, a click shows the
-  pixel's tree and the 3D view, no console error; every tab on glass,
-  gears, knot and water;
+  tests/data/debug, and the scenes at the top of tests/data, at 64x48,
+  depth 3: the page loads, a click shows the pixel's tree and the 3D
+  view, no console error; every tab on glass, gears, knot and water;
 - tracing first: a pixel of spd/gears.nff at depth 16 and 16 samples
   shows its tree within 1 s of the click while the image still renders;
   with every job slot taken the page says it is waiting (503, Retry-After);
@@ -188,6 +188,9 @@ def scene_files():
     for top in ("examples/scenes", "tests/data/debug"):
         for dp, _, fn in os.walk(os.path.join(ROOT, top)):
             out += [os.path.relpath(os.path.join(dp, f), ROOT) for f in fn if f.endswith((".nff", ".obj", ".ply"))]
+    # the scenes at the top of tests/data (not hostile/ or meshes/, which
+    # hold inputs that must fail to load)
+    out += [os.path.join("tests/data", f) for f in os.listdir(os.path.join(ROOT, "tests/data")) if f.endswith(".nff")]
     return sorted(out)
 
 

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Every scene through `ggrt serve` (docs/serve.md): for EVERY scene file
 under examples/scenes (recursively: NFF, and the OBJ and PLY models) and
-tests/data/debug, start the server on a small image and parse, strictly
+tests/data/debug, and the scenes at the top of tests/data, start the server on a small image and parse, strictly
 (json.loads that refuses NaN and Infinity), /api/info, /api/scene,
 /api/trace of the four corners, the centre and a random pixel, /api/find,
 /api/find and /api/trace with light-path expressions, /api/check and
@@ -37,6 +37,9 @@ def scene_files():
     for top in ("examples/scenes", "tests/data/debug"):
         for d, _, files in os.walk(os.path.join(ROOT, top)):
             out += [os.path.relpath(os.path.join(d, f), ROOT) for f in files if f.endswith(SCENE_EXT)]
+    # the scenes at the top of tests/data (not hostile/ or meshes/, which
+    # hold inputs that must fail to load)
+    out += [os.path.join("tests/data", f) for f in os.listdir(os.path.join(ROOT, "tests/data")) if f.endswith(".nff")]
     return sorted(out)
 
 
