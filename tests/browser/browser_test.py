@@ -188,8 +188,8 @@ def scene_files():
     for top in ("examples/scenes", "tests/data/debug"):
         for dp, _, fn in os.walk(os.path.join(ROOT, top)):
             out += [os.path.relpath(os.path.join(dp, f), ROOT) for f in fn if f.endswith((".nff", ".obj", ".ply"))]
-    # the scenes at the top of tests/data (not hostile/ or meshes/, which
-    # hold inputs that must fail to load)
+    # the scenes at the top of tests/data: not hostile/, whose inputs must
+    # fail, nor meshes/, loader fixtures of which flat.obj must fail too
     out += [os.path.join("tests/data", f) for f in os.listdir(os.path.join(ROOT, "tests/data")) if f.endswith(".nff")]
     return sorted(out)
 
