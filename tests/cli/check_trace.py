@@ -119,6 +119,11 @@ def check_node(n, counts, parent_depth, parent=None, nodes=None):
                 need(L, "t_block", NUM, w)
             if v == "blocked" and not isinstance(L["occluder"], int):
                 fail("%s: blocked light without an occluder" % w)
+            # the verdict says how much of the light arrived (trace.h)
+            t = L["transmittance"]
+            if (v == "visible" and t != [1, 1, 1]) or (v == "attenuated" and t == [1, 1, 1]) or \
+               (v == "blocked" and t != [0, 0, 0]):
+                fail("%s: %s light with transmittance %r" % (w, v, t))
     for c in need(n, "children", list, w):
         check_node(c, counts, depth, (wt, ab), nodes)
 

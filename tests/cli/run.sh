@@ -118,6 +118,10 @@ check_pixel examples/scenes/water.nff 240,250
 check_pixel examples/scenes/prism.nff 270,150
 check_pixel examples/scenes/gold.nff 120,150
 check_pixel examples/scenes/torus.nff 200,140
+# a shadow ray through the kt 1 sphere (visible, all of the light) and
+# one dimmed only by the glass around it (attenuated, no occluder)
+check_pixel examples/scenes/glass.nff 187,19
+check_pixel tests/data/light-in-glass.nff 16,12
 check_pixel examples/scenes/spd/gears.nff 250,260
 check_pixel examples/scenes/spd/mount.nff 256,300 --spd
 check_pixel examples/scenes/spd/balls-s3.nff 300,200
