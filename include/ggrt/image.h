@@ -115,8 +115,10 @@ GG_API int ggImageRead(const char *path, const ggAllocator *alloc, ggImage **out
 GG_API int ggImageWritePNG(const ggImage *img, const char *path, ggError *err);
 /* Write a float (32-bit) linear R, G, B scanline OpenEXR, ZIP compressed
    (zlib level 1: about as small for float data as the default level and
-   faster, docs/performance.md);
-   values, including NaN and infinities, are stored bit for bit. */
+   faster, docs/performance.md); values, including NaN and infinities,
+   are stored bit for bit. A chunk that zlib does not shrink is stored
+   raw, also where OpenEXR's own ZIP encoder (up to 3.4.7) would store a
+   chunk that reads back as other pixels. */
 GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err);
 /* Chooses PNG or EXR by the extension of path (.png / .exr, any case);
    another extension gives GG_ERROR_UNSUPPORTED.

@@ -430,12 +430,34 @@ static const float *channel_src(const exr_set *set, const char *name, int *slot)
     return set->img[i]->px;
 }
 
+/* OpenEXR's ZIP encoder (3.1 as Debian ships it, and every release up to
+   3.4.7) stores zlib's output when it is exactly as long as the raw chunk,
+   while every reader takes a chunk whose stored size equals its raw size
+   for a raw chunk: the pixels read back are not those written
+   (AcademySoftwareFoundation/openexr#2306). Such a chunk is stored raw
+   here, as a fixed encoder stores it; the encoder left the raw bytes in
+   packed_buffer. zip_guard carries the encoder's own routine. */
+typedef struct zip_guard {
+    exr_result_t (*compress)(exr_encode_pipeline_t *enc);
+} zip_guard;
+
+static exr_result_t compress_guarded(exr_encode_pipeline_t *enc)
+{
+    const zip_guard *g = enc->encoding_user_data;
+    exr_result_t rv = g->compress(enc);
+    if (rv == EXR_ERR_SUCCESS && enc->compressed_bytes == enc->packed_bytes &&
+        enc->compressed_buffer != enc->packed_buffer)
+        memcpy(enc->compressed_buffer, enc->packed_buffer, enc->packed_bytes);
+    return rv;
+}
+
 /* The images are the data window, whose top row is y0. */
 static int write_pixels(exr_context_t ctx, int part, const exr_set *set, int y0, exr_io *io,
                         const char *path, ggError *err)
 {
     const ggImage *img = set->img[0];
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    zip_guard guard = {NULL};
     int32_t lpc = 0;
     int ready = 0, y, c;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctx, part, &lpc);
@@ -458,6 +480,11 @@ static int write_pixels(exr_context_t ctx, int part, const exr_set *set, int y0,
                 (const uint8_t *)(src + 3 * (size_t)y * (size_t)img->width + slot);
         }
         if (!ready) rv = exr_encoding_choose_default_routines(ctx, part, &enc);
+        if (!ready && rv == EXR_ERR_SUCCESS && enc.compress_fn) {
+            guard.compress = enc.compress_fn;
+            enc.encoding_user_data = &guard;
+            enc.compress_fn = compress_guarded;
+        }
         ready = 1;
         if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctx, part, &enc);
     }
