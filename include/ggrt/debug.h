@@ -46,7 +46,8 @@ extern "C" {
 
 /* Apply the settings in `text` to *opt, which keeps everything the text
    does not name. Settings are separated by spaces or commas:
-     size=WxH depth=N samples=N threads=N crop=X0,Y0,X1,Y1
+     size=WxH depth=N samples=N threads=N ray-budget=N (1 to
+     GG_RAY_BUDGET_MAX) crop=X0,Y0,X1,Y1
      spd (the SPD's rules: pixel corners, depth 5 unless set, transmitters
      also reflect)  spd-rules (only the last)  corners  force-effects
    and the accuracy knobs of render.h:
@@ -55,7 +56,7 @@ extern "C" {
      fresnel=scene|none|schlick|exact  texture=scene|bilinear|nearest
      wavelengths=rgb|one  cutoff=W (0 to 1)  implicit-tol=own|T
      gradient=exact|H (T, H > 0)  intersect=double|float
-     shadows=colored|opaque
+     shadows=colored|opaque  phong=exact|fast
    Numbers are read with '.' as the radix point whatever the locale. An
    empty text changes nothing. On a bad setting *opt is unchanged and err
    says where, "line:column: message" counting from 1 (as

@@ -199,6 +199,8 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
         rc = integer(w, 1, 4096, &o->samples, err);
     else if (key_is(w, "threads"))
         rc = integer(w, 1, 256, &o->threads, err);
+    else if (key_is(w, "ray-budget"))
+        rc = integer(w, 1, GG_RAY_BUDGET_MAX, &o->ray_budget, err);
     else if (key_is(w, "sphere"))
         rc = choice(w, sphere_names, &a->sphere, err);
     else if (key_is(w, "refract"))
@@ -220,7 +222,7 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
     else if (key_is(w, "cutoff")) {
         if ((rc = number(w, 0, &d, err)) == GG_OK && d > 1)
             rc = fail(w, w->at + w->eq + 1, err, "cutoff must be a weight from 0 (off) to 1");
-        if (rc == GG_OK) a->cutoff = d;
+        if (rc == GG_OK) a->cutoff = d > 0 ? d : 0; /* -0 is off, as 0 is */
     } else
         return fail(w, w->at, err, "unknown setting '%.*s'", (int)w->eq, w->s + w->at);
     return rc;
@@ -311,18 +313,24 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
     if (opt->max_depth) put(&o, "%sdepth=%d", o.len ? " " : "", opt->max_depth);
     if (opt->samples) put(&o, "%ssamples=%d", o.len ? " " : "", opt->samples);
     if (opt->threads) put(&o, "%sthreads=%d", o.len ? " " : "", opt->threads);
+    if (opt->ray_budget) put(&o, "%sray-budget=%d", o.len ? " " : "", opt->ray_budget);
     if (opt->crop_x0 || opt->crop_y0 || opt->crop_x1 || opt->crop_y1)
         put(&o, "%scrop=%d,%d,%d,%d", o.len ? " " : "", opt->crop_x0, opt->crop_y0, opt->crop_x1,
             opt->crop_y1);
-    if (opt->spd_rules && opt->pixel_corners)
+    /* "spd" also sets an unset depth to 5: only with a depth, which is
+       already written before it, does it read back as these options */
+    if (opt->spd_rules && opt->pixel_corners && opt->max_depth) {
         put(&o, "%sspd", o.len ? " " : "");
-    else if (opt->spd_rules)
-        put(&o, "%sspd-rules", o.len ? " " : "");
-    else if (opt->pixel_corners)
-        put(&o, "%scorners", o.len ? " " : "");
+    } else {
+        if (opt->spd_rules) put(&o, "%sspd-rules", o.len ? " " : "");
+        if (opt->pixel_corners) put(&o, "%scorners", o.len ? " " : "");
+    }
     if (opt->force_effects) put(&o, "%sforce-effects", o.len ? " " : "");
-    if (a->offset == GG_ACC_OFFSET_FIXED)
-        put_num(&o, "offset", a->offset_eps > 0 ? a->offset_eps : 1e-6);
+    /* fixed with no epsilon of its own (1e-6) reads back as itself */
+    if (a->offset == GG_ACC_OFFSET_FIXED && a->offset_eps > 0)
+        put_num(&o, "offset", a->offset_eps);
+    else if (a->offset == GG_ACC_OFFSET_FIXED)
+        put(&o, "%soffset=fixed", o.len ? " " : "");
     put_name(&o, "sphere", a->sphere, sphere_names, 2);
     put_name(&o, "refract", a->refract, refract_names, 3);
     put_name(&o, "fresnel", a->fresnel, fresnel_names, 4);

@@ -1088,6 +1088,31 @@ static void test_check_numeric(void **state)
 
 /* ---- render options as text ---- */
 
+/* Every combination of the SPD flags, a depth or none, and a ray budget
+   or none reads back as itself ("spd" alone would also set the depth),
+   and so does the fixed offset with no epsilon of its own. */
+static void round_trips(void)
+{
+    static const int depth[] = {0, 5, 7}, budget[] = {0, 1, GG_RAY_BUDGET_MAX};
+    ggRenderOptions o, p;
+    char buf[512];
+    int k;
+    for (k = 0; k < 36; k++) {
+        ggRenderOptionsDefault(&o);
+        o.spd_rules = k & 1, o.pixel_corners = k >> 1 & 1;
+        o.max_depth = depth[k / 4 % 3], o.ray_budget = budget[k / 12];
+        ggRenderOptionsFormat(&o, buf, sizeof buf);
+        ggRenderOptionsDefault(&p);
+        assert_int_equal(ggRenderOptionsParse(&p, buf, NULL), GG_OK);
+        if (memcmp(&o, &p, sizeof o)) fail_msg("'%s' does not read back as its options", buf);
+    }
+    /* the fixed offset with its default epsilon (0: 1e-6) */
+    ggRenderOptionsDefault(&o);
+    o.accuracy.offset = GG_ACC_OFFSET_FIXED;
+    ggRenderOptionsFormat(&o, buf, sizeof buf);
+    assert_string_equal(buf, "offset=fixed");
+}
+
 static void test_options_text(void **state)
 {
     ggRenderOptions o, p;
@@ -1119,6 +1144,7 @@ static void test_options_text(void **state)
     ggRenderOptionsDefault(&p);
     assert_int_equal(ggRenderOptionsParse(&p, buf, &e), GG_OK);
     assert_memory_equal(&o, &p, sizeof o); /* a round trip */
+    round_trips();
     /* errors name the column and leave the options alone */
     p = o;
     assert_int_equal(ggRenderOptionsParse(&p, "depth=3 sphere=fast", &e), GG_ERROR_PARSE);
@@ -1131,6 +1157,8 @@ static void test_options_text(void **state)
     assert_int_equal(ggRenderOptionsParse(&p, "size=64x", &e), GG_ERROR_PARSE);
     assert_int_equal(ggRenderOptionsParse(&p, "cutoff=2", &e), GG_ERROR_PARSE);
     assert_int_equal(ggRenderOptionsParse(&p, "spd=1", &e), GG_ERROR_PARSE);
+    assert_int_equal(ggRenderOptionsParse(&p, "ray-budget=0", &e), GG_ERROR_PARSE);
+    assert_int_equal(ggRenderOptionsParse(&p, "ray-budget=16777217", &e), GG_ERROR_PARSE);
     assert_int_equal(ggRenderOptionsParse(NULL, "", &e), GG_ERROR_INVALID);
     /* a short buffer: snprintf's contract */
     assert_true(ggRenderOptionsFormat(&o, buf, 4) > 4);
