@@ -36,8 +36,12 @@ static int jstr(jr *r, char *buf, size_t size)
             c = *r->p++;
             if (c == 'u') {
                 char hex[5] = {0};
-                memcpy(hex, r->p, 4);
-                if (strlen(hex) != 4 || strspn(hex, "0123456789abcdefABCDEF") != 4) return -1;
+                int k;
+                /* byte by byte: never past the text's terminating NUL */
+                for (k = 0; k < 4; k++) {
+                    if (!r->p[k] || !strchr("0123456789abcdefABCDEF", r->p[k])) return -1;
+                    hex[k] = r->p[k];
+                }
                 c = (int)strtol(hex, NULL, 16), r->p += 4;
                 if (c < 1 || c > 0x7f) return -1;
             } else {

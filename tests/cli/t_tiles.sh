@@ -206,6 +206,11 @@ expect_err 2 "ggrt render: $td/big.json: not a ggrt plan: larger than 1 MiB" "a 
 printf '{"ggrt_plan":1}\n' >"$td/bad.json"
 expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: no \"sceneHash\"" "a plan file without a hash" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
+# a \u escape cut off by the end of the file
+printf '{"ggrt_plan":1,"options":"\\u12' >"$td/bad.json"
+expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: options is not a string" \
+  "a plan that ends inside an escape" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
 sed 's/^"rows":\[.*\]/"rows":[0,10,20,30,40,45,47,50]/' "$td/gl.json" >"$td/bad.json"
 expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: its row 7 is not a boundary of rows 0..48" \
   "a plan whose rows pass the image" \
