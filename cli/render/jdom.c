@@ -27,14 +27,53 @@ static int fail(jp *r, const char *what)
     return -1;
 }
 
+static int digit(char c)
+{
+    return c >= '0' && c <= '9';
+}
+
+/* JSON's escapes only, since a value may be written back as it was read. */
 static int string(jp *r)
 {
     if (*r->p != '"') return fail(r, "expected a string");
     for (r->p++; *r->p != '"'; r->p++) {
+        int k;
         if ((unsigned char)*r->p < 0x20) return fail(r, "a control character in a string");
-        if (*r->p == '\\' && !*++r->p) return fail(r, "the text ends in a string");
+        if (*r->p != '\\') continue;
+        if (!*++r->p) return fail(r, "the text ends in a string");
+        if (strchr("\"\\/bfnrt", *r->p)) continue;
+        if (*r->p != 'u') return fail(r, "not a JSON escape in a string");
+        for (k = 1; k <= 4; k++)
+            if (!r->p[k] || !strchr("0123456789abcdefABCDEF", r->p[k]))
+                return fail(r, "a \\u escape without 4 hex digits");
+        r->p += 4;
     }
     r->p++;
+    return 0;
+}
+
+/* JSON's number grammar, which is narrower than strtod's (no hex, inf,
+   nan, leading '+' or zeros), since a value may be written back as read. */
+static int number(jp *r)
+{
+    const char *p = r->p;
+    if (*p == '-') p++;
+    if (*p == '0')
+        p++;
+    else if (digit(*p))
+        while (digit(*p)) p++;
+    else
+        return fail(r, "expected a value");
+    if (*p == '.') {
+        if (!digit(*++p)) return fail(r, "a number without digits after '.'");
+        while (digit(*p)) p++;
+    }
+    if (*p == 'e' || *p == 'E') {
+        p += p[1] == '+' || p[1] == '-' ? 2 : 1;
+        if (!digit(*p)) return fail(r, "a number without digits in its exponent");
+        while (digit(*p)) p++;
+    }
+    r->p = p;
     return 0;
 }
 
@@ -67,14 +106,18 @@ static int members(jp *r, jnode *n, char close)
             if (string(r) != 0) return -1;
             keye = r->p - 1;
             ws(r);
-            if (*r->p++ != ':') return fail(r, "expected ':'");
+            if (*r->p != ':') return fail(r, "expected ':'");
+            r->p++;
         }
         if (add_kid(n, &k) != 0) return fail(r, "out of memory");
         k->key = key, k->keye = keye;
         if (value(r, k) != 0) return -1;
         ws(r);
         if (*r->p == close) return r->p++, 0;
-        if (*r->p++ != ',') return fail(r, close == '}' ? "expected ',' or '}'" : "expected ',' or ']'");
+        /* the byte an error names is the one that is wrong */
+        if (*r->p != ',')
+            return fail(r, close == '}' ? "expected ',' or '}'" : "expected ',' or ']'");
+        r->p++;
     }
 }
 
@@ -94,10 +137,8 @@ static int value(jp *r, jnode *n)
     } else if (!strncmp(r->p, "false", 5)) {
         n->type = 'f', r->p += 5;
     } else {
-        char *end;
-        strtod(r->p, &end);
-        if (end == r->p || !strchr("-0123456789", *r->p)) return fail(r, "expected a value");
-        n->type = 'n', r->p = end;
+        if (number(r) != 0) return -1;
+        n->type = 'n';
     }
     r->depth--;
     n->e = r->p;

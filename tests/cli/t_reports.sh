@@ -118,6 +118,18 @@ reports_refuse "a duplicate" "ggrt merge: $rd/dup-1.json: tile 1 again (also in 
 reports_refuse "a tile of other options" \
   "ggrt merge: $rd/opt-2.json: different render options from $rd/g-0.json: \"size=80x48 depth=3\", not \"size=80x48\"" \
   "$rd/g-0.json" "$rd/g-1.json" "$rd/opt-2.json" "$rd/g-3.json"
+# numbers and escapes outside JSON's grammar, which merge would copy out
+sed 's/"color":\[0\.[0-9]*,/"color":[0x1p-1,/' "$rd/g-0.json" >"$rd/hex-0.json"
+at=$(awk 'NR == 1 { print index($0, "[0x1p-1") + 1 }' "$rd/hex-0.json") # the x
+reports_refuse "a number in hex" \
+  "ggrt merge: $rd/hex-0.json: not a JSON report: expected ',' or ']' at byte $at" \
+  "$rd/hex-0.json" "$rd"/g-[1-3].json
+sed 's/"where":"some(kind == tir)"/"where":"some(kind == \\x41)"/' "$rd/g-0.json" >"$rd/esc-0.json"
+grep -qF '\x41' "$rd/esc-0.json" || bad "esc-0.json has its escape"
+at=$(awk 'NR == 1 { print index($0, "\\x41") }' "$rd/esc-0.json") # the x
+reports_refuse "a string with a bad escape" \
+  "ggrt merge: $rd/esc-0.json: not a JSON report: not a JSON escape in a string at byte $at" \
+  "$rd/esc-0.json" "$rd"/g-[1-3].json
 sed 's/^l 3 -3 6$/l 3 -3 7/' $g >"$rd/glass2.nff"
 "$ggrt" find "$rd/glass2.nff" -s 80x48 -w 'some(kind == tir)' -f json --tile 3/4 >"$rd/scene-3.json"
 h1=$(sed -n 's/.*"sceneHash":"\([^"]*\)".*/\1/p' "$rd/g-0.json")
