@@ -11,6 +11,7 @@
 **     formats again to the same text (the order is canonical);
 **   - the format keeps snprintf's contract in a buffer of any size.
 */
+#include "fuzz_text.h"
 #include "ggrt.h"
 
 #include <stdint.h>
@@ -18,19 +19,6 @@
 #include <string.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-static void check(int ok)
-{
-    if (!ok) abort();
-}
-
-static int is_place(const char *m)
-{
-    size_t a = strspn(m, "0123456789"), b;
-    if (a == 0 || m[a] != ':') return 0;
-    b = strspn(m + a + 1, "0123456789");
-    return b > 0 && m[a + 1 + b] == ':' && m[a + 2 + b] == ' ';
-}
 
 /* Format *o, parse it back into the defaults: the same options. */
 static void round_trip(const ggRenderOptions *o)

@@ -21,6 +21,7 @@
 **     its share; ggFind marks exactly the pixels where ggPredicateMatch
 **     is true.
 */
+#include "fuzz_text.h"
 #include "ggrt.h"
 
 #include <math.h>
@@ -46,19 +47,6 @@ static ggRenderOptions opt;
 static ggTrace *trace[W * H];
 static ggColor pixel[W * H];
 static ggImage *plain;
-
-static void check(int ok)
-{
-    if (!ok) abort();
-}
-
-static int is_place(const char *m)
-{
-    size_t a = strspn(m, "0123456789"), b;
-    if (a == 0 || m[a] != ':') return 0;
-    b = strspn(m + a + 1, "0123456789");
-    return b > 0 && m[a + 1 + b] == ':' && m[a + 2 + b] == ' ';
-}
 
 /* The scene, its plain render and every pixel's trees, once. */
 static void setup(void)
