@@ -472,10 +472,11 @@ GG_API int ggFindPath(ggScene *scene, const ggRenderOptions *opt, const ggPathEx
    and no trees. A layer's pixel is what the terms whose paths its
    expression matches (ggPathMatch's rule) add to the pixel. Expressions
    take the whole grammar but predicates: a '[...]' predicate is refused
-   with GG_ERROR_UNSUPPORTED, "layer K: 1:COL: ..." naming its column.
+   with GG_ERROR_UNSUPPORTED, "layer K: LINE:COL: ..." naming its place.
    A layer may name at most GG_PATH_LAYER_LABELS distinct numbers and as
-   many materials, and its automaton may have at most 4096 states
-   (GG_ERROR_LIMIT). Errors of the expression itself are ggPathParse's,
+   many materials (GG_ERROR_LIMIT, naming the place of the first label
+   too many), and its automaton may have at most 4096 states
+   (GG_ERROR_LIMIT, with no place). Errors of the expression itself are ggPathParse's,
    prefixed "layer K: " (K from 1). On success *out receives the layers
    (free with ggPathLayersFree); on failure NULL. GG_ERROR_INVALID: NULL
    exprs, an element of it, or out; n out of range. alloc may be NULL

@@ -133,11 +133,18 @@ enum { PL_TIR, PL_NUMBER, PL_MATERIAL };                       /* label kinds */
 #define GG_PATH_WORDS   (GG_PATH_MAX_STATES / 64)
 #define GG_PATH_MAX_LABELS 8 /* labels in one < > */
 
+/* A place in an expression's text, for messages after parsing (path
+   layers name the predicate or the label they refuse). */
+typedef struct gg_path_place {
+    int line, col;
+} gg_path_place;
+
 typedef struct gg_path_pat {
     unsigned types, scatters; /* masks: bit PE_*, bit PS_* */
     int nlabels;
     int label_kind[GG_PATH_MAX_LABELS];
     long label_num[GG_PATH_MAX_LABELS];
+    gg_path_place label_at[GG_PATH_MAX_LABELS]; /* each label's quote */
 } gg_path_pat;
 
 /* What one transition accepts: any of its patterns (none of them when
@@ -145,7 +152,7 @@ typedef struct gg_path_pat {
 typedef struct gg_path_class {
     int first, count, neg;
     ggPredicate *pred;
-    size_t pred_pos; /* where its '[' is, for messages */
+    gg_path_place pred_at; /* where its '[' is */
 } gg_path_class;
 
 typedef struct gg_path_edge {

@@ -49,19 +49,29 @@ static const char types_text[] = "CRTLOBA"; /* by PE_* */
 
 static int fail(lp *p, size_t pos, int code, const char *fmt, ...) GG_PRINTF(4, 5);
 
+/* The line and column (from 1; columns count UTF-8 characters) of byte
+   pos, as every message about the text gives them. */
+static gg_path_place place(const lp *p, size_t pos)
+{
+    gg_path_place pl;
+    size_t i;
+    pl.line = 1, pl.col = 1;
+    for (i = 0; i < pos && i < p->len; i++) {
+        if (p->s[i] == '\n')
+            pl.line++, pl.col = 1;
+        else if (((unsigned char)p->s[i] & 0xC0) != 0x80)
+            pl.col++;
+    }
+    return pl;
+}
+
 static int fail(lp *p, size_t pos, int code, const char *fmt, ...)
 {
-    size_t i;
-    int line = 1, col = 1;
+    gg_path_place pl = place(p, pos);
+    int line = pl.line, col = pl.col;
     char msg[300];
     va_list ap;
     if (p->status != GG_OK) return -1;
-    for (i = 0; i < pos && i < p->len; i++) {
-        if (p->s[i] == '\n')
-            line++, col = 1;
-        else if (((unsigned char)p->s[i] & 0xC0) != 0x80)
-            col++;
-    }
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
@@ -135,6 +145,7 @@ static int label(lp *p, int q)
     s = p->s + open + 1, n = i - open - 1;
     p->pos = i + 1;
     pt = &p->e->pats[q];
+    if (pt->nlabels < GG_PATH_MAX_LABELS) pt->label_at[pt->nlabels] = place(p, open);
     if (pt->nlabels >= GG_PATH_MAX_LABELS)
         return fail(p, open, GG_ERROR_LIMIT, "more than %d labels on one event",
                     GG_PATH_MAX_LABELS);
@@ -284,7 +295,7 @@ static int item(lp *p)
     if (peek(p) == '[' && opens_predicate(p)) {
         size_t end;
         int rc;
-        p->e->cls[c].pred_pos = p->pos;
+        p->e->cls[c].pred_at = place(p, p->pos);
         rc = gg_pred_parse_ray(p->s, p->len, p->pos + 1, p->e->alloc, &p->e->cls[c].pred,
                                    &end, p->err);
         if (rc != GG_OK) {

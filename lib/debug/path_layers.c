@@ -35,15 +35,15 @@ typedef struct builder {
     uint16_t *next;
 } builder;
 
-static int add_label(long *list, int *n, long v, int layer, ggError *err)
+static int add_label(long *list, int *n, long v, gg_path_place at, int layer, ggError *err)
 {
     int k;
     for (k = 0; k < *n; k++)
         if (list[k] == v) return GG_OK;
     if (*n >= GG_LPE_LABELS)
         return gg_error_set(err, GG_ERROR_LIMIT,
-                            "layer %d: more than %d distinct numbers or materials", layer + 1,
-                            GG_LPE_LABELS);
+                            "layer %d: %d:%d: more than %d distinct numbers or materials",
+                            layer + 1, at.line, at.col, GG_LPE_LABELS);
     list[(*n)++] = v;
     return GG_OK;
 }
@@ -55,16 +55,17 @@ static int labels(const ggPathExpr *e, gg_lpe_dfa *d, int layer, ggError *err)
     for (c = 0; c < e->ncls; c++)
         if (e->cls[c].pred)
             return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                                "layer %d: 1:%d: a path layer takes no predicate [...]: the "
+                                "layer %d: %d:%d: a path layer takes no predicate [...]: the "
                                 "shading does not keep what predicates read",
-                                layer + 1, (int)e->cls[c].pred_pos + 1);
+                                layer + 1, e->cls[c].pred_at.line, e->cls[c].pred_at.col);
     for (c = 0; c < e->npats; c++)
         for (k = 0; k < e->pats[c].nlabels; k++) {
             const int kind = e->pats[c].label_kind[k];
+            const gg_path_place at = e->pats[c].label_at[k];
             if (kind == PL_NUMBER)
-                rc = add_label(d->num, &d->nnum, e->pats[c].label_num[k], layer, err);
+                rc = add_label(d->num, &d->nnum, e->pats[c].label_num[k], at, layer, err);
             else if (kind == PL_MATERIAL)
-                rc = add_label(d->mat, &d->nmat, e->pats[c].label_num[k], layer, err);
+                rc = add_label(d->mat, &d->nmat, e->pats[c].label_num[k], at, layer, err);
             else
                 rc = GG_OK;
             if (rc != GG_OK) return rc;

@@ -124,7 +124,7 @@ static void fuzz_path(const char *text)
     }
     check(pe != NULL);
     if (r2 != GG_OK) {
-        /* a predicate's column; a limit of the whole automaton has none */
+        /* a predicate's or a label's place; the automaton's size has none */
         check(l == NULL && strncmp(e2.message, "layer 1: ", 9) == 0 && e2.message[9]);
         check(r2 == GG_ERROR_LIMIT ||
               (r2 == GG_ERROR_UNSUPPORTED && strchr(text, '[') && is_place(e2.message + 9)));

@@ -93,6 +93,15 @@ static void test_layers_refused(void **state)
                      GG_ERROR_INVALID);
     two[0] = "C('0'|'1'|'2'|'3'|'4'|'5'|'6'|'7'|'8')B";
     assert_int_equal(ggPathLayersCompile(two, 1, NULL, &l, &e), GG_ERROR_LIMIT);
+    /* the ninth label's quote */
+    assert_string_equal(e.message, "layer 1: 1:35: more than 8 distinct numbers or materials");
+    /* places on the line ggPathParse would name */
+    two[0] = "C\n<TS>[object == 2]B";
+    assert_int_equal(ggPathLayersCompile(two, 1, NULL, &l, &e), GG_ERROR_UNSUPPORTED);
+    assert_non_null(strstr(e.message, "layer 1: 2:5: "));
+    two[0] = "C<RD'm1'> <RD'm2'> <RD'm3'> <RD'm4'> <RD'm5'>\n  <RD'm6'> <RD'm7'> <RD'm8'><RD'm9'>L";
+    assert_int_equal(ggPathLayersCompile(two, 1, NULL, &l, &e), GG_ERROR_LIMIT);
+    assert_string_equal(e.message, "layer 1: 2:32: more than 8 distinct numbers or materials");
 }
 
 /* One scene with these options: each layer's pixel against ggPathMatch's
