@@ -33,9 +33,8 @@ int cli_parse_accuracy(void *ud, const char *v, char *why, size_t whylen)
     if (memcmp(&o, &d, sizeof o) != 0) {
         snprintf(why, whylen,
                  "only the knobs offset, sphere, refract, fresnel, texture, wavelengths, cutoff, "
-                 "implicit-tol, gradient, intersect, shadows, phong go here; the other render "
-                 "options "
-                 "have their own flags");
+                 "implicit-tol, gradient, intersect, shadows, phong go here; the other "
+                 "render options have their own flags");
         return -1;
     }
     *(ggAccuracy *)ud = o.accuracy; /* all or nothing */

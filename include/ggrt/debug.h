@@ -476,8 +476,8 @@ GG_API int ggFindPath(ggScene *scene, const ggRenderOptions *opt, const ggPathEx
    A layer may name at most GG_PATH_LAYER_LABELS distinct numbers and as
    many materials (GG_ERROR_LIMIT, naming the place of the first label
    too many), and its automaton may have at most 4096 states
-   (GG_ERROR_LIMIT, with no place). Errors of the expression itself are ggPathParse's,
-   prefixed "layer K: " (K from 1). On success *out receives the layers
+   (GG_ERROR_LIMIT, with no place). Errors of the expression itself are
+   ggPathParse's, prefixed "layer K: " (K from 1). On success *out receives the layers
    (free with ggPathLayersFree); on failure NULL. GG_ERROR_INVALID: NULL
    exprs, an element of it, or out; n out of range. alloc may be NULL
    (malloc); it is copied. Compiled layers are only read afterwards:
