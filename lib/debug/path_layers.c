@@ -26,6 +26,10 @@ static const struct {
     {PE_R, PS_D, 0, 1},    {PE_R, PS_G, 0, 1}, {PE_L, PS_NONE, 0, 2}, {PE_A, PS_NONE, 0, 0},
     {PE_O, PS_NONE, 0, 1}, {PE_B, PS_NONE, 0, 0}};
 
+/* Slots of the table from a state's set to its number: a power of two
+   at least twice the most states, so that probes stay short. */
+#define GG_LPE_SLOTS (2 * GG_LPE_MAX_STATES)
+
 typedef struct builder {
     const ggPathExpr *e;
     gg_lpe_dfa *d;
@@ -33,6 +37,7 @@ typedef struct builder {
     size_t cap, ncap;
     int n, rc;
     uint16_t *next;
+    uint16_t *slot; /* GG_LPE_SLOTS: a state's number + 1, or 0 for none */
 } builder;
 
 static int add_label(long *list, int *n, long v, gg_path_place at, int layer, ggError *err)
@@ -75,13 +80,30 @@ static int labels(const ggPathExpr *e, gg_lpe_dfa *d, int layer, ggError *err)
     return GG_OK;
 }
 
-/* The DFA state of set s, added if new; -1 on a limit or no memory. */
+static size_t set_hash(const uint64_t *s)
+{
+    uint64_t h = 0x9E3779B97F4A7C15u;
+    int w;
+    for (w = 0; w < GG_PATH_WORDS; w++) {
+        h ^= s[w];
+        h *= 0xBF58476D1CE4E5B9u;
+        h ^= h >> 31;
+    }
+    return (size_t)(h & (GG_LPE_SLOTS - 1));
+}
+
+/* The DFA state of set s, added if new; -1 on a limit or no memory. A
+   table finds it: a scan of every state, for each of up to 4096 states
+   times 810 symbols, took seconds on an expression that ends refused. */
 static int state_of(builder *b, const uint64_t *s, int layer, ggError *err)
 {
     const ggAllocator *a = b->e->alloc;
-    int i;
-    for (i = 0; i < b->n; i++)
+    size_t h = set_hash(s);
+    while (b->slot[h]) {
+        const int i = b->slot[h] - 1;
         if (!memcmp(b->sets[i], s, sizeof(gg_path_set))) return i;
+        h = (h + 1) & (GG_LPE_SLOTS - 1);
+    }
     if (b->n >= GG_LPE_MAX_STATES) {
         b->rc = gg_error_set(err, GG_ERROR_LIMIT, "layer %d: the automaton needs more than %d states",
                              layer + 1, GG_LPE_MAX_STATES);
@@ -94,6 +116,7 @@ static int state_of(builder *b, const uint64_t *s, int layer, ggError *err)
         return -1;
     }
     memcpy(b->sets[b->n], s, sizeof(gg_path_set));
+    b->slot[h] = (uint16_t)(b->n + 1);
     return b->n++;
 }
 
@@ -157,6 +180,8 @@ static int compile_layer(const ggPathExpr *e, gg_lpe_dfa *d, int layer, ggError 
     memset(&b, 0, sizeof b);
     b.e = e, b.d = d;
     memset(none, 0, sizeof none);
+    if (!(b.slot = gg_mem_calloc(e->alloc, GG_LPE_SLOTS, sizeof *b.slot)))
+        return gg_error_set(err, GG_ERROR_NOMEM, "path layers: out of memory");
     /* state 0: dead; 1: the start, before C */
     if (state_of(&b, none, layer, err) < 0 || state_of(&b, e->closure[0], layer, err) < 0) rc = -1;
     for (i = 0; rc == 0 && i < b.n; i++) rc = expand(&b, i, layer, err);
@@ -173,7 +198,7 @@ static int compile_layer(const ggPathExpr *e, gg_lpe_dfa *d, int layer, ggError 
         else
             terms(d);
     }
-    gg_mem_free(e->alloc, b.sets), gg_mem_free(e->alloc, b.next);
+    gg_mem_free(e->alloc, b.sets), gg_mem_free(e->alloc, b.next), gg_mem_free(e->alloc, b.slot);
     return rc == 0 ? GG_OK : b.rc;
 }
 
