@@ -235,14 +235,15 @@ typedef struct cli_render {
     ggRenderOptions opt; /* the result, after cli_render_finish */
     unsigned parts;
     int size[2], depth, budget, samples, threads, crop[4];
-    int spd, corners, force;
+    int spd, spd_rules, corners, force;
     cli_opt table[CLI_RENDER_MAX_OPTS]; /* put it in cli_cmd.opts */
 } cli_render;
 
 /* Defaults (ggRenderOptionsDefault) and the option table for `parts`. */
 void cli_render_init(cli_render *r, unsigned parts);
 /* After cli_parse: copy what was given into r->opt (--spd implies pixel
-   corners, SPD rules and, unless -d was given, depth 5). */
+   corners, SPD rules and, unless -d was given, depth 5; --spd-rules is
+   the rules alone). */
 void cli_render_finish(cli_render *r);
 /* Print the given options of `parts` as command-line arguments that
    reproduce r->opt, each preceded by a space ("-s 64x48 --spd"): the

@@ -88,6 +88,9 @@ void cli_render_init(cli_render *r, unsigned parts)
         r->table[n++] = (cli_opt)CLI_OPT_FLAG(0, "spd", &r->spd,
                                               "SPD test rules: rays through pixel corners, depth "
                                               "5,\ntransmitters also spawn reflection rays");
+        r->table[n++] = (cli_opt)CLI_OPT_FLAG(0, "spd-rules", &r->spd_rules,
+                                              "transmitters also spawn reflection rays (the\n"
+                                              "rule of --spd alone)");
         r->table[n++] =
             (cli_opt)CLI_OPT_FLAG(0, "corners", &r->corners, "rays through pixel corners only");
         r->table[n++] = (cli_opt)CLI_OPT_FLAG(0, "force-effects", &r->force,
@@ -137,6 +140,7 @@ void cli_render_finish(cli_render *r)
         r->opt.crop_x1 = r->crop[2], r->opt.crop_y1 = r->crop[3];
     }
     if (r->corners) r->opt.pixel_corners = true;
+    if (r->spd_rules) r->opt.spd_rules = true;
     if (r->force) r->opt.force_effects = GG_EFFECT_ALL;
     if (r->spd) {
         r->opt.spd_rules = r->opt.pixel_corners = true;
@@ -157,10 +161,12 @@ void cli_render_print(FILE *f, const cli_render *r, unsigned parts)
     if ((parts & CLI_RENDER_CROP) && given(r, "crop"))
         fprintf(f, " --crop %d,%d,%d,%d", o->crop_x0, o->crop_y0, o->crop_x1, o->crop_y1);
     if (parts & CLI_RENDER_RULES) {
-        if (r->spd)
+        if (r->spd) {
             fprintf(f, " --spd");
-        else if (r->corners)
-            fprintf(f, " --corners");
+        } else {
+            if (r->spd_rules) fprintf(f, " --spd-rules");
+            if (r->corners) fprintf(f, " --corners");
+        }
         if (r->force) fprintf(f, " --force-effects");
     }
     if (parts & CLI_RENDER_ACCURACY) cli_print_accuracy(f, &o->accuracy);

@@ -599,11 +599,33 @@ def glass(d, want):
               "diff mode: the first divergent ray is named and marked (%s)" % div, div)
         errors = console_errors(d)
         check(not errors, "no console errors", "\n".join(errors))
+        copied_options(d, srv)
     finally:
         d.get("about:blank")
         rc, err = srv.stop()
         check(rc == 0, "ggrt serve stopped cleanly", err)
         shutil.rmtree(folder, ignore_errors=True)
+
+
+# Option texts whose flags differ from their words: the SPD rule alone,
+# corners alone, spd over a depth, the whole-shine power.
+COPIED_OPTS = ["spd-rules", "spd-rules corners", "corners depth=3", "depth=2 spd", "force-effects phong=fast",
+               "ray-budget=3 samples=2"]
+
+
+def copied_options(d, srv):
+    """For each text of side a, the copied ggrt trace prints /api/trace's JSON for it."""
+    for text in COPIED_OPTS:
+        d.get("about:blank")
+        d.get(srv.url + "#" + urllib.parse.urlencode({"px": "%d,%d" % PIXEL, "a": text}))
+        ok = wait(d, "tree", lambda: d.find_elements(By.CSS_SELECTOR, "#tree-a details.node") and
+                  d.find_element(By.ID, "cmd-trace").get_attribute("value"), 30)
+        cmd = shlex.split(d.find_element(By.ID, "cmd-trace").get_attribute("value")) if ok else []
+        out = subprocess.run([GGRT] + cmd[1:] + ["--format", "json"], cwd=ROOT, stdout=subprocess.PIPE).stdout \
+            if cmd[:2] == ["ggrt", "trace"] else b""
+        code, want = srv.get("/api/trace", x=PIXEL[0], y=PIXEL[1], opts=text)
+        check(code == 200 and out == want, "options '%s': the copied command (%s) prints /api/trace's JSON"
+              % (text, " ".join(cmd)), out[:200])
 
 
 # ---- light-path expressions: the path box, the tree filter, the share heatmap ----

@@ -98,6 +98,28 @@ $(cat "$tmp/err2")"; fi
   set --
 fi
 
+# The SPD flags: --spd-rules is the transmitter rule alone (a reflection
+# ray from every transmitter, here one with Ks 0: more rays, the same
+# picture), so with --corners it is --spd on a scene without a depth.
+printf 'v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 40 30\nb 0.2 0.3 0.4\nl 0 3 10\nf 0.9 0.9 0.9 0.2 0 0 0.8 1.5\ns 0 0 0 1\nf 1 0.2 0.2 1 0 0 0 0\np 4 -4 -1.2 -4 4 -1.2 -4 4 -1.2 4 -4 -1.2 4\n' \
+  > "$tmp/rule8.nff"
+rays8() {
+  # shellcheck disable=SC2086
+  "$ggrt" render "$tmp/rule8.nff" -s 40x30 $1 -o "$tmp/r8.png" 2>&1 | sed -n 's/^rays: //p'
+}
+r_plain=$(rays8 ""); r_rule=$(rays8 --spd-rules); r_both=$(rays8 "--spd-rules --corners")
+r_spd=$(rays8 --spd); r_corn=$(rays8 --corners)
+field() { printf '%s\n' "$1" | sed -n "s/.*$2 \\([0-9]*\\).*/\\1/p"; }
+if [ "$(field "$r_plain" reflect)" = 0 ] && [ "$(field "$r_rule" reflect)" -gt 0 ] &&
+   [ "$(field "$r_rule" eye)" = "$(field "$r_plain" eye)" ] &&
+   [ "$(field "$r_corn" eye)" -gt "$(field "$r_plain" eye)" ]; then
+  ok "--spd-rules casts the transmitters' reflection rays and keeps the pixel centres"
+else bad "--spd-rules casts the transmitters' reflection rays and keeps the pixel centres" "plain: $r_plain
+--spd-rules: $r_rule
+--corners: $r_corn"; fi
+if [ -n "$r_spd" ] && [ "$r_both" = "$r_spd" ]; then ok "--spd-rules --corners casts the rays of --spd"
+else bad "--spd-rules --corners casts the rays of --spd" "$r_both / $r_spd"; fi
+
 # Every --help fits an 80-column terminal: the top level, each command and
 # each form of optics and bench.
 wide=""

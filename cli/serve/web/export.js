@@ -52,8 +52,7 @@
       else if (k === 'samples') out.push('-n', v);
       else if (k === 'threads') out.push('-j', v);
       else if (k === 'ray-budget') out.push('--ray-budget', v);
-      else if (k === 'spd' || k === 'spd-rules') out.push('--spd');
-      else if (k === 'corners' || k === 'force-effects') out.push('--' + k);
+      else if (k === 'spd' || k === 'spd-rules' || k === 'corners' || k === 'force-effects') out.push('--' + k);
       else if (k !== 'crop') acc.push(k + '=' + v);
     }
     if (acc.length) out.push('-a', acc.join(','));
