@@ -199,12 +199,23 @@ int jdom_same(const jnode *a, const jnode *b)
 
 int jdom_str(const jnode *n, char *buf, size_t size)
 {
-    size_t len;
-    if (!n || n->type != 's') return -1;
-    len = (size_t)(n->e - n->s) - 2;
-    if (len >= size || memchr(n->s + 1, '\\', len)) return -1;
-    memcpy(buf, n->s + 1, len);
-    buf[len] = '\0';
+    static const char esc[] = "\"\"\\\\//b\bf\fn\nr\rt\t";
+    const char *p, *e;
+    size_t k = 0;
+    if (!n || n->type != 's' || !size) return -1;
+    for (p = n->s + 1, e = n->e - 1; p < e; p++) {
+        int c = (unsigned char)*p;
+        if (c == '\\' && p[1] == 'u') { /* jdom_parse saw its 4 hex digits */
+            char hex[5];
+            memcpy(hex, p + 2, 4), hex[4] = '\0', p += 5;
+            if ((c = (int)strtol(hex, NULL, 16)) < 1 || c > 0x7f) return -1;
+        } else if (c == '\\') {
+            c = strchr(esc, *++p)[1]; /* pairs: the escape's letter, its byte */
+        }
+        if (k + 1 >= size) return -1;
+        buf[k++] = (char)c;
+    }
+    buf[k] = '\0';
     return 0;
 }
 

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** jdom.h -- a small JSON reader (jdom.c) for ggrt merge --reports: the
-** document as a tree of nodes pointing into the text (which must outlive
-** the tree), so that a value can be written back exactly as it was read.
+** jdom.h -- a small JSON reader (jdom.c) for ggrt merge --reports and
+** plan files: the document as a tree of nodes pointing into the text
+** (which must outlive the tree), so that a value can be written back
+** exactly as it was read.
 */
 #ifndef GG_CLI_JDOM_H
 #define GG_CLI_JDOM_H
@@ -30,7 +31,9 @@ const jnode *jdom_get(const jnode *obj, const char *key);
 double jdom_num(const jnode *n);
 /* Two values with the same text (both NULL too). */
 int jdom_same(const jnode *a, const jnode *b);
-/* A string without escapes into buf. 0, or -1. */
+/* A string into buf with its escapes decoded. 0, or -1 if n is not a
+   string, does not fit with its NUL, or has a \u escape of NUL or of
+   anything beyond ASCII. */
 int jdom_str(const jnode *n, char *buf, size_t size);
 /* The value's text as it was read. */
 void jdom_write(FILE *f, const jnode *n);

@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** plan_file.c -- reading a plan file of ggrt plan (tile.h): a flat JSON
-** object whose values are strings, numbers, true, false, null or arrays
-** of numbers and strings. Only what ggrt plan writes needs reading, but
-** any such object parses (keys in any order, unknown keys skipped).
+** plan_file.c -- reading a plan file of ggrt plan (tile.h): a JSON
+** object read by jdom.c, the reader of merge --reports, so that both take
+** the same grammar. Only what ggrt plan writes needs reading, but any
+** such object parses (keys in any order, unknown keys skipped).
 */
+#include "render/jdom.h"
 #include "render/tile.h"
 
 #include <errno.h>
@@ -12,100 +13,6 @@
 #include <string.h>
 
 #define PLAN_MAX_BYTES (1L << 20)
-
-typedef struct jr {
-    const char *p;
-} jr;
-
-static void ws(jr *r)
-{
-    while (*r->p == ' ' || *r->p == '\t' || *r->p == '\n' || *r->p == '\r') r->p++;
-}
-
-/* A string into buf (NULL: skipped); escapes of ASCII only. */
-static int jstr(jr *r, char *buf, size_t size)
-{
-    size_t n = 0;
-    ws(r);
-    if (*r->p++ != '"') return -1;
-    while (*r->p != '"') {
-        int c = (unsigned char)*r->p++;
-        if (c < 0x20) return -1;
-        if (c == '\\') {
-            const char *esc = "\"\\/b\bf\fn\nr\rt\t", *e;
-            c = *r->p++;
-            if (c == 'u') {
-                char hex[5] = {0};
-                int k;
-                /* byte by byte: never past the text's terminating NUL */
-                for (k = 0; k < 4; k++) {
-                    if (!r->p[k] || !strchr("0123456789abcdefABCDEF", r->p[k])) return -1;
-                    hex[k] = r->p[k];
-                }
-                c = (int)strtol(hex, NULL, 16), r->p += 4;
-                if (c < 1 || c > 0x7f) return -1;
-            } else {
-                for (e = esc; *e && *e != c; e += 2) continue;
-                if (!*e) return -1;
-                c = e[1];
-            }
-        }
-        if (buf && n + 1 >= size) return -1;
-        if (buf) buf[n++] = (char)c;
-    }
-    r->p++;
-    if (buf) buf[n] = '\0';
-    return 0;
-}
-
-static int jnum(jr *r, double *d)
-{
-    char *end;
-    ws(r);
-    if (!strchr("-0123456789", *r->p) || !*r->p) return -1;
-    *d = strtod(r->p, &end);
-    r->p = end;
-    return 0;
-}
-
-/* [n, n, ...] into v[0..max), *count set; more than max is an error. */
-static int jnums(jr *r, double *v, int max, int *count)
-{
-    ws(r);
-    *count = 0;
-    if (*r->p++ != '[') return -1;
-    ws(r);
-    if (*r->p == ']') return r->p++, 0;
-    for (;;) {
-        if (*count == max || jnum(r, &v[*count]) != 0) return -1;
-        ++*count;
-        ws(r);
-        if (*r->p == ']') return r->p++, 0;
-        if (*r->p++ != ',') return -1;
-    }
-}
-
-/* Any value but an object (none is in a plan). */
-static int jskip(jr *r)
-{
-    double d;
-    ws(r);
-    if (*r->p == '"') return jstr(r, NULL, 0);
-    if (!strncmp(r->p, "true", 4) || !strncmp(r->p, "null", 4)) return r->p += 4, 0;
-    if (!strncmp(r->p, "false", 5)) return r->p += 5, 0;
-    if (*r->p == '[') {
-        r->p++;
-        ws(r);
-        if (*r->p == ']') return r->p++, 0;
-        for (;;) {
-            if (jskip(r) != 0) return -1;
-            ws(r);
-            if (*r->p == ']') return r->p++, 0;
-            if (*r->p++ != ',') return -1;
-        }
-    }
-    return jnum(r, &d);
-}
 
 /* The rows as a cut ("plan Y0,...,YN" through tile_cut_parse, the one
    check of a cut). */
@@ -133,78 +40,57 @@ static int rows_cut(const double *y, int k, int h, tile_cut *c, char *why, size_
     return rc;
 }
 
-/* One "key": value of the object. */
-static int member(jr *r, tile_plan *p, double *rows, int *nrows, int *seen, char *why,
-                  size_t whylen)
+/* The numbers of an array of at most max into v; -1 if it is not one. */
+static int numbers(const jnode *a, double *v, int max)
 {
-    char key[64];
-    double size[2];
-    int n;
-    if (jstr(r, key, sizeof key) != 0) return snprintf(why, whylen, "expected a key"), -1;
-    ws(r);
-    if (*r->p++ != ':') return snprintf(why, whylen, "expected ':' after \"%s\"", key), -1;
-    if (!strcmp(key, "ggrt_plan")) {
-        if (jnum(r, &size[0]) != 0 || size[0] != 1)
-            return snprintf(why, whylen, "ggrt_plan is not 1"), -1;
-        *seen |= 1;
-    } else if (!strcmp(key, "sceneHash")) {
-        if (jstr(r, p->hash, sizeof p->hash) != 0)
-            return snprintf(why, whylen, "sceneHash is not a hash"), -1;
-        *seen |= 2;
-    } else if (!strcmp(key, "options")) {
-        if (jstr(r, p->options, sizeof p->options) != 0)
-            return snprintf(why, whylen, "options is not a string"), -1;
-        *seen |= 4;
-    } else if (!strcmp(key, "size")) {
-        if (jnums(r, size, 2, &n) != 0 || n != 2 || size[0] < 1 || size[1] < 1 ||
-            size[0] > GG_IMAGE_MAX_DIM || size[1] > GG_IMAGE_MAX_DIM)
-            return snprintf(why, whylen, "size is not [width,height]"), -1;
-        p->width = (int)size[0], p->height = (int)size[1];
-        *seen |= 8;
-    } else if (!strcmp(key, "rows")) {
-        if (jnums(r, rows, TILE_MAX_PLAN + 1, nrows) != 0)
-            return snprintf(why, whylen, "rows is not a list of at most %d rows",
-                            TILE_MAX_PLAN + 1), -1;
-        *seen |= 16;
-    } else if (jskip(r) != 0) {
-        return snprintf(why, whylen, "\"%s\" has a bad value", key), -1;
+    int i;
+    if (!a || a->type != 'a' || a->n > max) return -1;
+    for (i = 0; i < a->n; i++) {
+        if (a->kid[i].type != 'n') return -1;
+        v[i] = jdom_num(&a->kid[i]);
     }
+    return a->n;
+}
+
+/* The members a plan needs; unknown ones are skipped. */
+static int members(const jnode *o, tile_plan *p, double *rows, int *nrows, char *why, size_t whylen)
+{
+    static const char *const need[] = {"ggrt_plan", "sceneHash", "options", "size", "rows"};
+    const jnode *v;
+    double size[2];
+    int k;
+    for (k = 0; k < 5; k++)
+        if (!jdom_get(o, need[k])) return snprintf(why, whylen, "no \"%s\"", need[k]), -1;
+    v = jdom_get(o, "ggrt_plan");
+    if (v->type != 'n' || jdom_num(v) != 1) return snprintf(why, whylen, "ggrt_plan is not 1"), -1;
+    if (jdom_str(jdom_get(o, "sceneHash"), p->hash, sizeof p->hash) != 0)
+        return snprintf(why, whylen, "sceneHash is not a hash"), -1;
+    if (jdom_str(jdom_get(o, "options"), p->options, sizeof p->options) != 0)
+        return snprintf(why, whylen, "options is not a string"), -1;
+    if (numbers(jdom_get(o, "size"), size, 2) != 2 || size[0] < 1 || size[1] < 1 ||
+        size[0] > GG_IMAGE_MAX_DIM || size[1] > GG_IMAGE_MAX_DIM)
+        return snprintf(why, whylen, "size is not [width,height]"), -1;
+    p->width = (int)size[0], p->height = (int)size[1];
+    if ((*nrows = numbers(jdom_get(o, "rows"), rows, TILE_MAX_PLAN + 1)) < 0)
+        return snprintf(why, whylen, "rows is not a list of at most %d rows", TILE_MAX_PLAN + 1),
+               -1;
     return 0;
 }
 
+/* The same JSON grammar as merge --reports (jdom.c), one object. */
 static int parse_plan(const char *text, tile_plan *p, char *why, size_t whylen)
 {
-    static const char *const need[] = {"ggrt_plan", "sceneHash", "options", "size", "rows"};
     double *rows = malloc((TILE_MAX_PLAN + 1) * sizeof *rows);
-    int nrows = 0, seen = 0, k, rc = -1;
-    jr r;
-    r.p = text;
-    ws(&r);
+    int nrows = 0, rc = -1;
+    jnode root;
     if (!rows) return snprintf(why, whylen, "out of memory"), -1;
-    if (*r.p++ != '{') {
-        snprintf(why, whylen, "not a JSON object");
-        goto done;
+    if (jdom_parse(text, &root, why, whylen) == 0) {
+        if (root.type != 'o')
+            snprintf(why, whylen, "not a JSON object");
+        else if (members(&root, p, rows, &nrows, why, whylen) == 0)
+            rc = rows_cut(rows, nrows, p->height, &p->cut, why, whylen);
     }
-    ws(&r);
-    while (*r.p != '}') {
-        if (member(&r, p, rows, &nrows, &seen, why, whylen) != 0) goto done;
-        ws(&r);
-        if (*r.p == ',') r.p++;
-        else if (*r.p != '}') {
-            snprintf(why, whylen, "expected ',' or '}' at byte %ld", (long)(r.p - text));
-            goto done;
-        }
-    }
-    r.p++;
-    ws(&r);
-    for (k = 0; k < 5; k++)
-        if (!(seen & (1 << k))) {
-            snprintf(why, whylen, "no \"%s\"", need[k]);
-            goto done;
-        }
-    if (*r.p) snprintf(why, whylen, "text after the object");
-    else rc = rows_cut(rows, nrows, p->height, &p->cut, why, whylen);
-done:
+    jdom_free(&root);
     free(rows);
     return rc;
 }

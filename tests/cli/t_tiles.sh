@@ -208,9 +208,21 @@ expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: no \"sceneHash\"" "a p
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
 # a \u escape cut off by the end of the file
 printf '{"ggrt_plan":1,"options":"\\u12' >"$td/bad.json"
-expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: options is not a string" \
+expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: a \\u escape without 4 hex digits at byte 27" \
   "a plan that ends inside an escape" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
+# plans are read with merge --reports' JSON grammar: no hex numbers; escapes
+# are decoded ("size\u003d80x48" is the plan's own options)
+sed 's/"size":\[80,/"size":[0x50,/' "$td/gl.json" >"$td/bad.json"
+at=$(($(grep -bo '"size":\[0x' "$td/bad.json" | cut -d: -f1) + 9)
+expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: expected ',' or ']' at byte $at" \
+  "a plan with a hex number" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
+sed 's/"options":"size=80x48"/"options":"size\\u003d80x48"/' "$td/gl.json" >"$td/esc.json"
+if grep -qF 'size\u003d' "$td/esc.json" &&
+   "$ggrt" render examples/scenes/glass.nff -s 80x48 -q --plan "$td/esc.json" --tile 2 -o "$td/esc.exr"; then
+  ok "a plan's escaped options read as the text they stand for"
+else bad "a plan's escaped options read as the text they stand for" "$(grep options "$td/esc.json")"; fi
 sed 's/^"rows":\[.*\]/"rows":[0,10,20,30,40,45,47,50]/' "$td/gl.json" >"$td/bad.json"
 expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: its row 7 is not a boundary of rows 0..48" \
   "a plan whose rows pass the image" \
