@@ -314,6 +314,12 @@ $(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
 $(BUILD)/tests/replay_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/replay.o $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
 
+# Harnesses of CLI code: NAME:SOURCE for each CLI source a harness tests,
+# compiled with it (-Icli); the others link only the library.
+FUZZ_CLI = json:cli/render/jdom.c
+$(BUILD)/tests/fuzz/fuzz_json.o: TEST_INC += $(CLI_INC)
+$(BUILD)/tests/replay_json: $(BUILD)/cli/render/jdom.o
+
 $(BUILD)/bench/%: bench/%.c $(STATIC)
 	@mkdir -p $(@D)
 	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) $(GG_WARN) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
@@ -604,8 +610,9 @@ fuzz: deps-fuzz
 	@mkdir -p $(BUILD)/fuzz
 	@for f in $(FUZZ); do \
 	  rm -f $(BUILD)/fuzz/fuzz_$$f; \
-	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(TEST_INC) -std=c99 -g -O1 \
-	    -fsanitize=fuzzer $(FUZZ_SAN) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c \
+	  cli=$$(for p in $(FUZZ_CLI); do case $$p in "$$f":*) echo "$${p#*:}" ;; esac; done); \
+	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(TEST_INC) $(CLI_INC) -std=c99 -g -O1 \
+	    -fsanitize=fuzzer $(FUZZ_SAN) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c $$cli \
 	    $(BUILD)/fuzzlib/libggrt.a $(IMG_LIBS) $(SYS_LIBS) || echo "fuzz: fuzz_$$f did not build"; \
 	done
 	@sh tests/fuzz/run.sh $(BUILD)/fuzz $(FUZZ_SECONDS) $(FUZZ_BIN)
