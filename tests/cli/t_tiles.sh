@@ -214,7 +214,8 @@ expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: a \\u escape without 4
 # plans are read with merge --reports' JSON grammar: no hex numbers; escapes
 # are decoded ("size\u003d80x48" is the plan's own options)
 sed 's/"size":\[80,/"size":[0x50,/' "$td/gl.json" >"$td/bad.json"
-at=$(($(grep -bo '"size":\[0x' "$td/bad.json" | cut -d: -f1) + 9)
+at=$(grep -bo '"size":\[0x' "$td/bad.json" | cut -d: -f1)
+at=$((at + 9))
 expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: expected ',' or ']' at byte $at" \
   "a plan with a hex number" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
