@@ -626,6 +626,13 @@ def copied_options(d, srv):
         code, want = srv.get("/api/trace", x=PIXEL[0], y=PIXEL[1], opts=text)
         check(code == 200 and out == want, "options '%s': the copied command (%s) prints /api/trace's JSON"
               % (text, " ".join(cmd)), out[:200])
+        # The panel shows the text, and its render button keeps it.
+        d.find_element(By.ID, "render-a").click()
+        time.sleep(0.3)
+        again = urllib.parse.parse_qs(urllib.parse.urlparse(d.current_url).fragment).get("a", [""])[0]
+        canon = [json.loads(srv.get("/api/render", opts=t)[1] or b"{}").get("options") for t in (text, again)]
+        check(canon[0] and canon[0] == canon[1], "options '%s': the panel's render keeps them ('%s')" % (text, again),
+              canon)
 
 
 # ---- light-path expressions: the path box, the tree filter, the share heatmap ----

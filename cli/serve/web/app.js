@@ -13,6 +13,7 @@
   const OPTS = [
     ['depth', 'depth', 'int', 1, 16],
     ['samples', 'samples', 'int', 1, 64],
+    ['ray-budget', 'ray budget (rays per eye ray)', 'text', '1024'],
     ['refract', 'refract', ['accurate', 'textbook', 'exact']],
     ['fresnel', 'fresnel', ['scene', 'none', 'schlick', 'exact']],
     ['sphere', 'sphere', ['stable', 'textbook']],
@@ -25,7 +26,8 @@
     ['intersect', 'intersect', ['double', 'float']],
     ['shadows', 'shadows', ['colored', 'opaque']],
     ['phong', 'phong power', ['exact', 'fast']],
-    ['spd', 'SPD rules', 'flag'],
+    ['spd', 'SPD (its rule, corners, depth 5)', 'flag'],
+    ['spd-rules', 'SPD rule only', 'flag'],
     ['corners', 'pixel corners', 'flag'],
     ['force-effects', 'force effects', 'flag'],
   ];
@@ -156,7 +158,7 @@
       if (i < 0) o[w] = '1';
       else o[w.slice(0, i)] = w.slice(i + 1);
     }
-    if (o.spd) o.corners = '1';
+    if (o.spd) o.corners = o['spd-rules'] = '1'; // what spd sets, ticked
     return o;
   }
   let serverOpts = {};
@@ -219,16 +221,19 @@
     }
   }
 
-  // The panel as option text: the settings that differ from the server's.
+  // The panel as option text: the settings that differ from the server's,
+  // after the words of the side's text that the panel has no field for.
   function readPanel(side) {
-    const words = [];
+    const words = Object.entries(parseText(side === 'b' ? state.b : state.a))
+      .filter(([k]) => !OPTS.some((o) => o[0] === k)).map(([k, v]) => v === '1' ? k : k + '=' + v);
     for (const input of $('opts-' + side).querySelectorAll('[data-opt]')) {
       const name = input.dataset.opt;
       const v = input.type === 'checkbox' ? (input.checked ? '1' : '0') : input.value.trim();
       if (v === serverValue(name) || v === '') continue;
       if (input.type === 'checkbox') { if (v === '1') words.push(name); } else if (v !== '0' || name === 'cutoff') words.push(name + '=' + v);
     }
-    return words.join(' ');
+    // spd says the rule and the corners itself
+    return words.filter((w) => words.indexOf('spd') < 0 || (w !== 'spd-rules' && w !== 'corners')).join(' ');
   }
 
   // ---- URL state: #px=X,Y&ov=...&tab=...&zoom=...&find=...&path=...&pdim=1&a=OPTIONS&b=OPTIONS&diff=1 ----
