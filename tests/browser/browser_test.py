@@ -17,6 +17,8 @@ one server per scene:
   j/k; arrows after a dropdown), the exports (tree JSON equal to
   /api/trace's bytes, SVG, OBJ, PNG, the command line, which is run),
   ledger, diagnostics, diff mode, a reload from the URL (3D camera too);
+  option texts whose flags differ from their words: the copied command
+  and the options panel keep them;
 - light-path expressions on glass.nff: the path box (its keys not
   captured, a malformed path's column), the share heatmap with its legend
   (the count of matched pixels and every share equal ggrt find --path's),
