@@ -609,10 +609,13 @@ def glass(d, want):
         shutil.rmtree(folder, ignore_errors=True)
 
 
-# Option texts whose flags differ from their words: the SPD rule alone,
-# corners alone, spd over a depth, the whole-shine power.
+# Option texts whose flags differ from their words (the SPD rule alone,
+# corners alone, spd over a depth), and every other setting a page can
+# change: all of ggRenderOptionsParse's words but size, threads and crop.
 COPIED_OPTS = ["spd-rules", "spd-rules corners", "corners depth=3", "depth=2 spd", "force-effects phong=fast",
-               "ray-budget=3 samples=2"]
+               "ray-budget=3 samples=2",
+               "offset=1e-05 sphere=textbook refract=exact fresnel=schlick texture=nearest wavelengths=one",
+               "cutoff=0.01 implicit-tol=1e-06 gradient=1e-05 intersect=float shadows=opaque offset=fixed"]
 
 
 def copied_options(d, srv):
