@@ -26,7 +26,7 @@
     ['intersect', 'intersect', ['double', 'float']],
     ['shadows', 'shadows', ['colored', 'opaque']],
     ['phong', 'phong power', ['exact', 'fast']],
-    ['spd', 'SPD (its rule, corners, depth 5)', 'flag'],
+    ['spd', 'SPD: rule, corners, depth 5', 'flag'],
     ['spd-rules', 'SPD rule only', 'flag'],
     ['corners', 'pixel corners', 'flag'],
     ['force-effects', 'force effects', 'flag'],
