@@ -619,7 +619,8 @@ COPIED_OPTS = ["spd-rules", "spd-rules corners", "corners depth=3", "depth=2 spd
 
 
 def copied_options(d, srv):
-    """For each text of side a, the copied ggrt trace prints /api/trace's JSON for it."""
+    """For each text of side a: the copied ggrt trace prints /api/trace's JSON for it, and the
+    options panel's render keeps it (the same options as /api/render reads them)."""
     for text in COPIED_OPTS:
         d.get("about:blank")
         d.get(srv.url + "#" + urllib.parse.urlencode({"px": "%d,%d" % PIXEL, "a": text}))

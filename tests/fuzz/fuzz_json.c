@@ -70,7 +70,7 @@ static int json_number(const char *p, const char *e)
         p++;
     } else {
         for (d = p; p < e && *p >= '0' && *p <= '9'; p++) continue;
-        if (p == d || *d == '0') return 0;
+        if (p == d) return 0; /* a leading '0' took the branch above */
     }
     if (p < e && *p == '.') {
         for (d = ++p; p < e && *p >= '0' && *p <= '9'; p++) continue;
