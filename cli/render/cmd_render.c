@@ -217,12 +217,15 @@ static void summary(const render_args *a, ggScene *scene, const ggImage *img, co
     printf("%s: %dx%d, %d objects, %d lights -> %s\n", a->scene, ggImageWidth(img),
            ggImageHeight(img), ggSceneObjectCount(scene), ggSceneLightCount(scene), a->out);
     /* The same words as ggrt trace's header: reflect counts the total
-       internal reflections, and total is the sum of the four kinds. */
+       internal reflections, shadow the blocked and attenuated ones (the
+       verdicts of a trace), and total is the sum of the four kinds. */
     printf("rays: eye %llu (hit %llu), reflect %llu (tir %llu of them), refract %llu, "
-           "shadow %llu, total %llu\n",
+           "shadow %llu (blocked %llu, attenuated %llu), total %llu\n",
            (unsigned long long)st->eye, (unsigned long long)st->eye_hit,
            (unsigned long long)st->reflect, (unsigned long long)st->tir,
-           (unsigned long long)st->refract, (unsigned long long)st->shadow, total);
+           (unsigned long long)st->refract, (unsigned long long)st->shadow,
+           (unsigned long long)st->shadow_blocked, (unsigned long long)st->shadow_attenuated,
+           total);
     printf("time: parse %.3fs, prepare %.3fs, render %.3fs (%.2f Mrays/s)\n", t[1] - t[0],
            t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0);
 }

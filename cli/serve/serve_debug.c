@@ -14,14 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void add_stats(ggRayStats *a, const ggRayStats *b)
-{
-    a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
-    a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
-    a->nonfinite += b->nonfinite;
-    if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
-}
-
 /* Rows [y0, y1) of a w-wide array of `each` bytes a pixel. */
 static void copy_rows(void *dst, const void *src, int w, int y0, int y1, size_t each)
 {
@@ -56,8 +48,8 @@ static int band_find(srv_server *s, srv_result *r, const ggRenderOptions *o, int
         m->matches[m->nmatches++] = b->matches[i];
     copy_rows(m->mask, b->mask, r->width, y0, y1, 1);
     m->traced |= b->traced;
-    add_stats(&m->stats, &b->stats);
-    add_stats(&r->stats, &b->stats);
+    ggRayStatsAdd(&m->stats, &b->stats);
+    ggRayStatsAdd(&r->stats, &b->stats);
     ggFindResultFree(b);
     return GG_OK;
 }
@@ -106,8 +98,8 @@ static int band_check(srv_server *s, srv_result *r, const ggRenderOptions *o, gg
         if (bi->worst > it->worst) it->worst = bi->worst;
         for (k = 0; k < bi->nworst; k++) check_keep(it, &bi->pixels_worst[k]);
     }
-    add_stats(&m->stats, &b->stats);
-    add_stats(&r->stats, &b->stats);
+    ggRayStatsAdd(&m->stats, &b->stats);
+    ggRayStatsAdd(&r->stats, &b->stats);
     ggCheckResultFree(b);
     return GG_OK;
 }
@@ -159,9 +151,9 @@ static int band_diff(srv_server *s, srv_result *r, const ggRenderOptions *o,
     copy_rows(m->map, b->map, r->width, y0, y1, 1);
     copy_rows(r->px, ggImagePixelsConst(b->image_a), r->width, y0, y1, 3 * sizeof(float));
     copy_rows(r->px_b, ggImagePixelsConst(b->image_b), r->width, y0, y1, 3 * sizeof(float));
-    add_stats(&m->stats_a, &b->stats_a);
-    add_stats(&m->stats_b, &b->stats_b);
-    add_stats(&r->stats, &b->stats_a);
+    ggRayStatsAdd(&m->stats_a, &b->stats_a);
+    ggRayStatsAdd(&m->stats_b, &b->stats_b);
+    ggRayStatsAdd(&r->stats, &b->stats_a);
     ggDiffResultFree(b);
     return GG_OK;
 }

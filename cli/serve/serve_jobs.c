@@ -50,14 +50,6 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static void add_stats(ggRayStats *a, const ggRayStats *b)
-{
-    a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
-    a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
-    a->nonfinite += b->nonfinite;
-    if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
-}
-
 typedef struct band_ctx {
     srv_server *s;
     job *j;
@@ -92,7 +84,7 @@ static int band_render(srv_server *s, srv_result *r, const ggRenderOptions *o, i
         size_t row = (size_t)r->width * 3;
         memcpy(r->px + (size_t)y0 * row, ggImagePixelsConst(img) + (size_t)y0 * row,
                (size_t)(y1 - y0) * row * sizeof(float));
-        add_stats(&r->stats, &st);
+        ggRayStatsAdd(&r->stats, &st);
     }
     ggImageFree(img);
     return rc;
@@ -410,10 +402,12 @@ void srv_job_json(FILE *f, const srv_job_view *v)
     if (v->state == SRV_STATE_DONE)
         fprintf(f,
                 ",\"stats\":{\"eye\":%llu,\"eye_hit\":%llu,\"reflect\":%llu,\"refract\":%llu,"
-                "\"shadow\":%llu,\"tir\":%llu,\"nonfinite\":%llu,\"max_depth\":%llu}",
+                "\"shadow\":%llu,\"shadow_blocked\":%llu,\"shadow_attenuated\":%llu,"
+                "\"tir\":%llu,\"nonfinite\":%llu,\"max_depth\":%llu}",
                 (unsigned long long)v->stats.eye, (unsigned long long)v->stats.eye_hit,
                 (unsigned long long)v->stats.reflect, (unsigned long long)v->stats.refract,
-                (unsigned long long)v->stats.shadow, (unsigned long long)v->stats.tir,
+                (unsigned long long)v->stats.shadow, (unsigned long long)v->stats.shadow_blocked,
+                (unsigned long long)v->stats.shadow_attenuated, (unsigned long long)v->stats.tir,
                 (unsigned long long)v->stats.nonfinite, (unsigned long long)v->stats.max_depth);
     if (v->state == SRV_STATE_FAILED) {
         fprintf(f, ",\"error\":");

@@ -255,10 +255,13 @@ void trace_print_text(FILE *f, const trace_view *v, int utf8)
     fprintf(f, "\ncolour ");
     pnum(f, 9, v->pixel.r), fputc(' ', f), pnum(f, 9, v->pixel.g), fputc(' ', f);
     pnum(f, 9, v->pixel.b), fputc('\n', f);
-    fprintf(f, "rays: eye %llu, reflect %llu (tir %llu of them), refract %llu, shadow %llu\n\n",
+    fprintf(f,
+            "rays: eye %llu, reflect %llu (tir %llu of them), refract %llu, shadow %llu "
+            "(blocked %llu, attenuated %llu)\n\n",
             (unsigned long long)v->stats.eye, (unsigned long long)v->stats.reflect,
             (unsigned long long)v->stats.tir, (unsigned long long)v->stats.refract,
-            (unsigned long long)v->stats.shadow);
+            (unsigned long long)v->stats.shadow, (unsigned long long)v->stats.shadow_blocked,
+            (unsigned long long)v->stats.shadow_attenuated);
     if (v->stats.budget_cut)
         fprintf(f, "ray budget used up: %llu rays not cast (--ray-budget raises it)\n\n",
                 (unsigned long long)v->stats.budget_cut);

@@ -229,7 +229,21 @@ typedef struct ggRayStats {
        thread's shadow cache finds the blocker first, so this count (unlike
        the image) may differ with the number of threads. */
     uint64_t implicit_cut;
+    /* Shadow rays by verdict (GG_SHADOW_* of trace.h, which ggTracePixel
+       records per light): those that nothing of the light got through
+       (an opaque object, or transparent ones that took every channel),
+       and those that arrived dimmed by transparent objects or a medium.
+       The rest of `shadow` reached the light whole. Under the default
+       coloured shadows a ray that crosses a transmitter is walked to the
+       light (attenuated); under shadows=opaque the transmitter blocks it. */
+    uint64_t shadow_blocked;
+    uint64_t shadow_attenuated;
 } ggRayStats;
+
+/* Add b's counts to *a, as one render of both parts would count them
+   (max_depth: the larger): for renders of tiles or bands of one image.
+   Either NULL is a no-op. */
+GG_API void ggRayStatsAdd(ggRayStats *a, const ggRayStats *b);
 
 /* ---- rendering ---- */
 

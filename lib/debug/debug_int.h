@@ -268,8 +268,6 @@ typedef struct gg_dbg_alloc {
 } gg_dbg_alloc;
 void gg_dbg_alloc_init(gg_dbg_alloc *al, const ggAllocator *a);
 
-/* Add b's counts to a. */
-void gg_dbg_stats_add(ggRayStats *a, const ggRayStats *b);
 /* Store c at (x, y) of img as ggRender does (floats). */
 void gg_dbg_put(ggImage *img, int x, int y, ggColor c);
 

@@ -80,7 +80,7 @@ static int scan_row(shared *sh, int thread, int y, ggTrace *const *recs, ggRaySt
                     if (recs && gg_tracer_status(recs[i]) != GG_OK) return GG_ERROR_NOMEM;
                 }
             }
-            for (i = 0; i < sc->ntracers; i++) gg_dbg_stats_add(&st[i], &one[i]);
+            for (i = 0; i < sc->ntracers; i++) ggRayStatsAdd(&st[i], &one[i]);
             if ((rc = sc->fn(sc->ud, thread, xe, y, recs, px, reuse && xe != x)) != 0) return rc;
         }
     }
@@ -124,7 +124,7 @@ static void *worker(void *arg)
     if (rc != GG_OK) fail(sh, rc);
     for (i = 0; i < sc->ntracers; i++) ggTraceFree(recs[i]);
     pthread_mutex_lock(&sh->mu);
-    for (i = 0; i < sc->ntracers; i++) gg_dbg_stats_add(&sc->stats[i], &st[i]);
+    for (i = 0; i < sc->ntracers; i++) ggRayStatsAdd(&sc->stats[i], &st[i]);
     pthread_mutex_unlock(&sh->mu);
     return NULL;
 }

@@ -49,15 +49,6 @@ void gg_dbg_alloc_init(gg_dbg_alloc *al, const ggAllocator *a)
         al->a = NULL;
 }
 
-void gg_dbg_stats_add(ggRayStats *a, const ggRayStats *b)
-{
-    a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
-    a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
-    a->nonfinite += b->nonfinite, a->budget_cut += b->budget_cut;
-    a->implicit_cut += b->implicit_cut;
-    if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
-}
-
 void gg_dbg_put(ggImage *img, int x, int y, ggColor c)
 {
     float *p = ggImagePixels(img) + 3 * ((size_t)y * (size_t)ggImageWidth(img) + (size_t)x);

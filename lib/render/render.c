@@ -217,12 +217,14 @@ typedef struct job {
     ggRayStats stats;
 } job;
 
-static void add_stats(ggRayStats *a, const ggRayStats *b)
+void ggRayStatsAdd(ggRayStats *a, const ggRayStats *b)
 {
+    if (!a || !b) return;
     a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
     a->refract += b->refract, a->shadow += b->shadow, a->tir += b->tir;
     a->nonfinite += b->nonfinite, a->budget_cut += b->budget_cut;
     a->implicit_cut += b->implicit_cut;
+    a->shadow_blocked += b->shadow_blocked, a->shadow_attenuated += b->shadow_attenuated;
     if (b->max_depth > a->max_depth) a->max_depth = b->max_depth;
 }
 
@@ -815,7 +817,7 @@ static void *worker(void *arg)
         pthread_mutex_unlock(&j->mu);
     }
     pthread_mutex_lock(&j->mu);
-    add_stats(&j->stats, &th.st);
+    ggRayStatsAdd(&j->stats, &th.st);
     pthread_mutex_unlock(&j->mu);
     return NULL;
 }
@@ -1123,7 +1125,7 @@ ggColor gg_tracer_pixel(const gg_tracer *t, int x, int y, ggTrace *rec, ggRaySta
     ggColor c;
     memset(&local, 0, sizeof local);
     c = trace_one(&t->j, x, y, -1, rec, &local);
-    if (st) add_stats(st, &local.st);
+    if (st) ggRayStatsAdd(st, &local.st);
     return c;
 }
 

@@ -979,7 +979,12 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         else
             shadow_opaque(c, r, hi, li, th, &sh, FX);
         rec_shadow(c, lr, li, &sh, FX);
-        if (sh.verdict == GG_SHADOW_BLOCKED || cis0(sh.lc)) continue;
+        if (sh.verdict == GG_SHADOW_BLOCKED) {
+            th->st.shadow_blocked++;
+            continue;
+        }
+        if (sh.verdict == GG_SHADOW_ATTENUATED) th->st.shadow_attenuated++;
+        if (cis0(sh.lc)) continue;
         /* L's length and direction only now: a blocked light needs
            neither, and nothing has to survive the shadow query's call. */
         len = v3len(L);

@@ -336,6 +336,7 @@ static void test_render_trace(void **state)
     COVER(ggCameraRay), cr = ggCameraRay(NULL, NULL, 0, 0);
     assert_true(cr.o.x == 0 && cr.d.x == 0 && cr.d.y == 0 && cr.d.z == 0);
     COVER(ggRayColor), assert_true(is_black(ggRayColor(NULL, NULL, r, 1, &st)));
+    COVER(ggRayStatsAdd), ggRayStatsAdd(NULL, &st), ggRayStatsAdd(&st, NULL);
     {
         ggKernelCounts kc;
         memset(&kc, 0xff, sizeof kc);
@@ -525,7 +526,8 @@ static bool same_stats(const ggRayStats *a, const ggRayStats *b)
     return a->eye == b->eye && a->eye_hit == b->eye_hit && a->reflect == b->reflect &&
            a->refract == b->refract && a->shadow == b->shadow && a->tir == b->tir &&
            a->nonfinite == b->nonfinite && a->max_depth == b->max_depth &&
-           a->budget_cut == b->budget_cut;
+           a->budget_cut == b->budget_cut && a->implicit_cut == b->implicit_cut &&
+           a->shadow_blocked == b->shadow_blocked && a->shadow_attenuated == b->shadow_attenuated;
 }
 
 static void test_stats_overwritten(void **state)

@@ -115,6 +115,8 @@ def check_node(n, counts, parent_depth, parent=None, nodes=None):
                 need(L, k, VEC, w + " light")
             if v != "facing-away":
                 counts["shadow"] = counts.get("shadow", 0) + 1
+            if v in ("blocked", "attenuated"):
+                counts[v] = counts.get(v, 0) + 1
                 need(L, "origin", VEC, w), need(L, "direction", VEC, w)
                 need(L, "t_block", NUM, w)
             if v == "blocked" and not isinstance(L["occluder"], int):
@@ -190,13 +192,19 @@ def main():
     # ...and, when every sample was recorded, with the renderer's counts.
     if doc["sample"] is None:
         m = re.search(r"rays: eye (\d+) \(hit \d+\), reflect (\d+) \(tir (\d+) of them\), "
-                      r"refract (\d+), shadow (\d+)", render)
+                      r"refract (\d+), shadow (\d+) \(blocked (\d+), attenuated (\d+)\)", render)
         if not m:
             fail("no rays line in the render output")
-        got = dict(zip(("eye", "reflect", "tir", "refract", "shadow"), map(int, m.groups())))
+        kinds = ("eye", "reflect", "tir", "refract", "shadow", "blocked", "attenuated")
+        got = dict(zip(kinds, map(int, m.groups())))
         for k in ("eye", "reflect", "refract", "shadow", "tir"):
             if got[k] != stats[k]:
                 fail("render counted %d %s rays for the pixel, trace %d" % (got[k], k, stats[k]))
+        # the renderer's shadow verdicts are the trace's, light by light
+        for k in ("blocked", "attenuated"):
+            if got[k] != counts.get(k, 0):
+                fail("render counted %d %s shadow rays for the pixel, the trace %d"
+                     % (got[k], k, counts.get(k, 0)))
     print("ok: colour %r, rays %r" % (color, tree))
 
 

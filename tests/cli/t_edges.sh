@@ -202,16 +202,20 @@ done
 
 # ---- 9. ray counts say that reflect includes the total internal reflections ----
 # render's summary and trace's header in the same words, and the numbers
-# add up: total is eye + reflect + refract + shadow, tir a part of reflect.
+# add up: total is eye + reflect + refract + shadow, tir a part of reflect,
+# blocked and attenuated parts of shadow.
 for s in examples/scenes/glass.nff examples/scenes/water.nff examples/scenes/default.nff; do
   line=$("$ggrt" render "$s" -s 40x30 -o "$ed/c.png" | grep '^rays: ')
-  nums=$(printf '%s\n' "$line" | sed -n 's/^rays: eye \([0-9]*\) (hit [0-9]*), reflect \([0-9]*\) (tir \([0-9]*\) of them), refract \([0-9]*\), shadow \([0-9]*\), total \([0-9]*\)$/\1 \2 \3 \4 \5 \6/p')
-  read -r c_eye c_refl c_tir c_refr c_sh c_tot <<NUMS
+  nums=$(printf '%s\n' "$line" | sed -n 's/^rays: eye \([0-9]*\) (hit [0-9]*), reflect \([0-9]*\) (tir \([0-9]*\) of them), refract \([0-9]*\), shadow \([0-9]*\) (blocked \([0-9]*\), attenuated \([0-9]*\)), total \([0-9]*\)$/\1 \2 \3 \4 \5 \6 \7 \8/p')
+  read -r c_eye c_refl c_tir c_refr c_sh c_bl c_at c_tot <<NUMS
 $nums
 NUMS
   [ -n "$nums" ] && [ $((c_eye + c_refl + c_refr + c_sh)) = "$c_tot" ] && [ "$c_tir" -le "$c_refl" ] &&
-    ok "render $s: reflect (tir N of them), the total adds up" ||
-    bad "render $s: reflect (tir N of them), the total adds up" "$line"
-  "$ggrt" trace "$s" -s 40x30 --pixel 20,15 | grep -q '^rays: eye [0-9]*, reflect [0-9]* (tir [0-9]* of them), refract' &&
-    ok "trace $s: reflect (tir N of them)" || bad "trace $s: reflect (tir N of them)"
+    [ $((c_bl + c_at)) -le "$c_sh" ] &&
+    ok "render $s: reflect (tir N of them), shadow (blocked, attenuated), the total adds up" ||
+    bad "render $s: reflect (tir N of them), shadow (blocked, attenuated), the total adds up" "$line"
+  "$ggrt" trace "$s" -s 40x30 --pixel 20,15 |
+    grep -q '^rays: eye [0-9]*, reflect [0-9]* (tir [0-9]* of them), refract [0-9]*, shadow [0-9]* (blocked [0-9]*, attenuated [0-9]*)$' &&
+    ok "trace $s: reflect (tir N of them), shadow (blocked, attenuated)" ||
+    bad "trace $s: reflect (tir N of them), shadow (blocked, attenuated)"
 done

@@ -216,6 +216,23 @@ def check_info(s):
           "/api/scene: the lights (glass.nff lines 16, 17), no mesh triangles", j)
 
 
+def check_render_stats(s):
+    """The job's ray counts are ggrt render's, with the shadow verdicts
+    (glass.nff's kt 1 spheres block nothing unless shadows are opaque).
+    Last: it leaves another render as the server's current one."""
+    for q, args in (("?opts=shadows%3Dopaque", ["-a", "shadows=opaque"]), ("", [])):
+        st, h, b = s.wait("/api/render" + q)
+        stats = json.loads(b)["job"].get("stats", {})
+        with tempfile.TemporaryDirectory() as d:
+            out = cli("render", SCENE, *size_args(), *args, "-o", os.path.join(d, "r.exr")).decode()
+        m = re.search(r"^rays: eye (\d+) .*, shadow (\d+) \(blocked (\d+), attenuated (\d+)\)",
+                      out, re.M)
+        keys = ("eye", "shadow", "shadow_blocked", "shadow_attenuated")
+        check(st == 200 and m is not None and [stats.get(k) for k in keys] == [int(v) for v in m.groups()],
+              "/api/render%s: the stats count the shadow verdicts as ggrt render %s does"
+              % (q, " ".join(args)), (out, stats))
+
+
 def check_render(s):
     st, h, b = s.wait("/api/render")
     j = json.loads(b)
@@ -680,6 +697,7 @@ def run(base):
         check_debug(s)
         check_paths(s)
         check_concurrent(s)
+        check_render_stats(s)
     finally:
         rc, err = s.stop()
     check(rc == 0 and "stopping" in err, "SIGINT: clean exit 0", "exit %s: %s" % (rc, err[-2000:]))

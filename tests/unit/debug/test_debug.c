@@ -594,7 +594,9 @@ static void test_check_clean_scenes(void **state)
    named. A transparent object that takes nothing (glass.nff's kt = 1
    spheres) leaves the light visible and is named as the object
    crossed; a light that only an absorbing medium dims is attenuated
-   with no occluder. */
+   with no occluder. A render of the scene counts the same blocked and
+   attenuated shadow rays (ggRayStats) as the traces' verdicts, on 2
+   threads (the occluder caches then differ from the traces'). */
 typedef struct verdict_counts {
     long seen[4], crossed_visible, medium_only;
 } verdict_counts;
@@ -605,7 +607,10 @@ static void check_verdicts(const char *path, void *ud)
     ggScene *s = tu_load(path);
     ggTrace *t = ggTraceCreate(NULL);
     ggRenderOptions o;
+    ggRayStats st;
+    ggImage *img = NULL;
     ggError e;
+    long here[4] = {0};
     int x, y;
     size_t i;
     small(&o, 32, 24, 1);
@@ -627,10 +632,22 @@ static void check_verdicts(const char *path, void *ud)
                         x, y, L->light, ggShadowName(L->verdict), a.r, a.g, a.b, L->occluder);
                 assert_true(ok);
                 vc->seen[L->verdict]++;
+                here[L->verdict]++;
                 vc->crossed_visible += L->verdict == GG_SHADOW_VISIBLE && L->occluder >= 0;
                 vc->medium_only += L->verdict == GG_SHADOW_ATTENUATED && L->occluder < 0;
             }
         }
+    o.threads = 2;
+    assert_int_equal(ggRender(s, &o, &img, &st, &e), GG_OK);
+    if (st.shadow_blocked != (uint64_t)here[GG_SHADOW_BLOCKED] ||
+        st.shadow_attenuated != (uint64_t)here[GG_SHADOW_ATTENUATED])
+        print_error("%s: the render counts %llu blocked, %llu attenuated; the traces %ld, %ld\n",
+                    path, (unsigned long long)st.shadow_blocked,
+                    (unsigned long long)st.shadow_attenuated, here[GG_SHADOW_BLOCKED],
+                    here[GG_SHADOW_ATTENUATED]);
+    assert_true(st.shadow_blocked == (uint64_t)here[GG_SHADOW_BLOCKED]);
+    assert_true(st.shadow_attenuated == (uint64_t)here[GG_SHADOW_ATTENUATED]);
+    ggImageFree(img);
     ggTraceFree(t);
     ggSceneFree(s);
 }

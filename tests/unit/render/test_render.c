@@ -155,6 +155,51 @@ static void test_crop_matches_full(void **state)
     ggSceneFree(s);
 }
 
+/* The counts of a render in three bands (crop windows), added with
+   ggRayStatsAdd, are the whole render's, on every example and SPD scene
+   (but implicit_cut, which a thread's shadow cache may change:
+   render.h). ud: the sum of the whole renders' counts, so that the test
+   sees blocked and attenuated shadow rays. */
+static void bands_add_up(const char *path, void *ud)
+{
+    ggScene *s = tu_load(path);
+    ggRenderOptions o;
+    ggRayStats whole, sum, band;
+    ggImage *img;
+    int b;
+    ggRenderOptionsDefault(&o);
+    o.width = 40, o.height = 30, o.threads = 2;
+    img = render(s, &o, &whole);
+    ggImageFree(img);
+    ggRayStatsAdd(ud, &whole);
+    memset(&sum, 0, sizeof sum);
+    for (b = 0; b < 3; b++) {
+        o.crop_x0 = 0, o.crop_x1 = 40, o.crop_y0 = 10 * b, o.crop_y1 = 10 * b + 10;
+        img = render(s, &o, &band);
+        ggImageFree(img);
+        ggRayStatsAdd(&sum, &band);
+    }
+    ggRayStatsAdd(&sum, NULL), ggRayStatsAdd(NULL, &band);
+    whole.implicit_cut = sum.implicit_cut = 0;
+    if (memcmp(&whole, &sum, sizeof sum) != 0)
+        print_error(
+            "%s: bands add up to %llu shadow rays (%llu blocked), the whole to %llu (%llu)\n", path,
+            (unsigned long long)sum.shadow, (unsigned long long)sum.shadow_blocked,
+            (unsigned long long)whole.shadow, (unsigned long long)whole.shadow_blocked);
+    assert_memory_equal(&whole, &sum, sizeof sum);
+    ggSceneFree(s);
+}
+
+static void test_bands_add_up(void **state)
+{
+    ggRayStats all;
+    (void)state;
+    memset(&all, 0, sizeof all);
+    assert_true(tu_each_file("examples/scenes", ".nff", bands_add_up, &all) >= 10);
+    assert_true(tu_each_file(tu_spd_dir(), ".nff", bands_add_up, &all) >= 7);
+    assert_true(all.shadow_blocked > 0 && all.shadow_attenuated > 0 && all.tir > 0);
+}
+
 /* Scene `path` at w x h rendered as it is and with every effect forced on
    (the full shading copy): the same image and ray counts. Returns the
    first image, with *o the options that made it. */
@@ -619,6 +664,7 @@ int main(void)
         cmocka_unit_test(test_cost_cpu),
         cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
+        cmocka_unit_test(test_bands_add_up),
         cmocka_unit_test(test_crop_refused),
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),
