@@ -171,7 +171,7 @@ static int have_povray(void)
 /* ---- the Embree anchor ---- */
 
 typedef struct emb_result {
-    double trace, rays;
+    double trace, rays, shadow, blocked;
     int ok;
 } emb_result;
 
@@ -202,6 +202,8 @@ static emb_result run_embree(const char *bin, const char *scene, int size, int t
         if (!strncmp(line, "RESULT ", 7)) {
             er.trace = result_field(line, "trace_s");
             er.rays = result_field(line, "total");
+            er.shadow = result_field(line, "shadow");
+            er.blocked = result_field(line, "blocked");
             er.ok = er.trace > 0;
         }
     if (pclose(p) != 0) er.ok = 0;
@@ -256,7 +258,7 @@ static void print_knobs(const bench_opts *bo)
    anchor -p 16 and (if enabled) POV-Ray, one render each; medians. */
 static int bench_spd_embree(const bench_opts *bo, int pov)
 {
-    double lg[3] = {0, 0, 0}, worst16 = 1e300;
+    double lg[3] = {0, 0, 0}, worst16 = 1e300, blk[BENCH_NSPD][2];
     int i, n = 0, npov = 0, runs = bo->runs < 64 ? bo->runs : 64;
     printf("ggrt bench spd --embree: %dx%d, %d threads, depth 5, pixel centres, %d rounds "
            "interleaved, medians\n",
@@ -292,6 +294,8 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
                 return EXIT_INPUT;
             }
             t1[k] = a.trace, t16[k] = b.trace, erays = b.rays;
+            blk[i][0] = r.st.shadow ? 100.0 * (double)r.st.shadow_blocked / (double)r.st.shadow : 0;
+            blk[i][1] = b.shadow > 0 ? 100.0 * b.blocked / b.shadow : -1;
             if (povok) {
                 pov_result pr =
                     run_pov(bo->pov_dir, bench_spd_scenes[i], bo->size, bo->threads, 1, 0);
@@ -322,6 +326,14 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
                exp(lg[0] / n), exp(lg[1] / n));
         if (npov) printf(", pov/ggrt %.2fx (%d scenes)", exp(lg[2] / npov), npov);
         printf("; lowest emb16/ggrt %.2fx\n", worst16);
+        /* The work of the two shadow models: under ggrt's coloured
+           shadows a ray that crosses glass is walked on to the light,
+           where the anchor stops it. */
+        printf("shadow rays blocked, ggrt | anchor:");
+        for (i = 0; i < BENCH_NSPD; i++)
+            if (bench_selected(bo->scenes, bench_spd_scenes[i]))
+                printf(" %s %.1f%% | %.1f%%;", bench_spd_scenes[i], blk[i][0], blk[i][1]);
+        printf("\n");
     }
     printf("ggrt = ggRender wall time; emb-p1, emb-p16 = the anchor's trace_s (single eye rays, "
            "16-ray eye packets; its Mrays/s from its own ray count); pov = POV-Ray's \"Trace "

@@ -13,7 +13,7 @@ while [ $# -gt 0 ]; do
 done
 [ "$p" = 1 ] && s=0.2500 || s=0.5000
 echo "$f: a scene"
-echo "RESULT scene=$(basename "$f") res=$r threads=$t mode=$p trace_s=$s total=1000000 mrays=2 out=$o"
+echo "RESULT scene=$(basename "$f") res=$r threads=$t mode=$p trace_s=$s total=1000000 mrays=2 shadow=400 blocked=100 out=$o"
 EOS
 chmod +x "$tmp/fake-embree"
 "$ggrt" bench spd --embree "$tmp/fake-embree" --size 16 --runs 1 --scenes tetra --no-pov \
@@ -22,6 +22,14 @@ if [ $got = 0 ] && grep -Eq '^tetra .*\| +0\.250s +0\.500s +2\.00 \|' "$tmp/benc
    grep -q 'emb1/ggrt' "$tmp/bench" && grep -q '^geometric mean over 1 scenes' "$tmp/bench"
 then ok "bench spd --embree: the anchor's times, rays/s and ratios"
 else bad "bench spd --embree: the anchor's times, rays/s and ratios (exit $got)" "$(cat "$tmp/bench")"; fi
+# the share of blocked shadow rays: ggrt's as its render counts them, the
+# anchor's from its RESULT line (100 of 400)
+pct=$("$ggrt" render examples/scenes/spd/tetra.nff -s 16x16 -o "$tmp/b.exr" |
+  sed -n 's/^rays: .* shadow \([0-9]*\) (blocked \([0-9]*\), .*/\1 \2/p' |
+  awk '{ if ($1 > 0) printf "%.1f", 100 * $2 / $1 }')
+if [ -n "$pct" ] && grep -qx "shadow rays blocked, ggrt | anchor: tetra $pct% | 25.0%;" "$tmp/bench"
+then ok "bench spd --embree: blocked shadow rays, ggrt's ($pct%) and the anchor's"
+else bad "bench spd --embree: blocked shadow rays, ggrt's ('$pct'%) and the anchor's" "$(cat "$tmp/bench")"; fi
 # under the title: the CPU, the copy of ggrt's walks (as `ggrt info` names
 # it) and the anchor's -v line
 trav=$("$ggrt" info examples/scenes/knot.nff | sed -n 's/^traversal  //p')
