@@ -2,7 +2,11 @@
 /*
 ** jdom.c -- a small JSON reader for ggrt merge --reports (jdom.h): the
 ** document as a tree of nodes that point into the text, so that merged
-** values are written back exactly as ggrt wrote them.
+** values are written back exactly as ggrt wrote them. The text is read
+** twice by the same code: the first reading counts each container's
+** members, the second places every node in one block of the size the
+** counts add up to (a report can hold millions of nodes: no array grown
+** by doubling, no allocation per container).
 */
 #include "render/jdom.h"
 
@@ -14,6 +18,11 @@ typedef struct jp {
     int depth;
     char *why;
     size_t whylen;
+    uint32_t *count; /* members of each container, in the order they open */
+    size_t ncount;   /* containers opened so far in this reading */
+    size_t cap;      /* of count */
+    jnode *block;    /* the nodes: NULL in the first reading */
+    size_t used;     /* nodes of the block placed */
 } jp;
 
 static void ws(jp *r)
@@ -79,26 +88,38 @@ static int number(jp *r)
 
 static int value(jp *r, jnode *n);
 
-static int add_kid(jnode *n, jnode **kid)
+/* A container opens: the first reading starts its count; the second
+   gives it the block's next count[c] nodes. */
+static int open_container(jp *r, jnode *n, size_t *c)
 {
-    if ((n->n & (n->n - 1)) == 0) { /* 0, 1, 2, 4...: grow to the next power of two */
-        jnode *k = realloc(n->kid, (size_t)(n->n ? 2 * n->n : 1) * sizeof *k);
-        if (!k) return -1;
-        n->kid = k;
+    *c = r->ncount++;
+    if (r->block) {
+        n->kid = r->block + r->used;
+        r->used += r->count[*c];
+        return 0;
     }
-    *kid = &n->kid[n->n++];
-    memset(*kid, 0, sizeof **kid);
+    if (*c == r->cap) {
+        size_t cap = r->cap ? 2 * r->cap : 64;
+        uint32_t *k = realloc(r->count, cap * sizeof *k);
+        if (!k) return -1;
+        r->count = k, r->cap = cap;
+    }
+    r->count[*c] = 0;
     return 0;
 }
 
-/* An object's or array's members. */
+/* An object's or array's members. The first reading parses each into a
+   scratch node and counts it. */
 static int members(jp *r, jnode *n, char close)
 {
+    jnode scratch;
+    size_t c;
+    if (open_container(r, n, &c) != 0) return fail(r, "out of memory");
     r->p++;
     ws(r);
     if (*r->p == close) return r->p++, 0;
     for (;;) {
-        jnode *k;
+        jnode *k = &scratch;
         const char *key = NULL, *keye = NULL;
         if (close == '}') {
             ws(r);
@@ -109,8 +130,12 @@ static int members(jp *r, jnode *n, char close)
             if (*r->p != ':') return fail(r, "expected ':'");
             r->p++;
         }
-        if (add_kid(n, &k) != 0) return fail(r, "out of memory");
-        k->key = key, k->keye = keye;
+        if (r->block)
+            k = &n->kid[n->n++];
+        else if (r->count[c]++ == UINT32_MAX - 1)
+            return fail(r, "more than 2^32 - 2 members");
+        memset(k, 0, sizeof *k);
+        if (key) k->member = 1, k->keylen = (uint32_t)(keye - key);
         if (value(r, k) != 0) return -1;
         ws(r);
         if (*r->p == close) return r->p++, 0;
@@ -141,35 +166,73 @@ static int value(jp *r, jnode *n)
         n->type = 'n';
     }
     r->depth--;
-    n->e = r->p;
+    n->len = (uint32_t)(r->p - n->s); /* jdom_parse took no text of 4 GiB */
     return rc;
 }
 
-int jdom_parse(const char *text, jnode *root, char *why, size_t whylen)
+/* One reading of the whole text into root. */
+static int reading(jp *r, const char *text, jnode *root)
 {
-    jp r;
-    r.p = text, r.depth = 0, r.why = why, r.whylen = whylen;
+    r->p = text, r->depth = 0, r->ncount = 0, r->used = 0;
     memset(root, 0, sizeof *root);
-    if (value(&r, root) != 0) {
-        size_t at = (size_t)(r.p - text);
-        size_t n = strlen(why);
-        snprintf(why + n, whylen - n, " at byte %lu", (unsigned long)at);
+    if (value(r, root) != 0) {
+        size_t at = (size_t)(r->p - text);
+        size_t n = strlen(r->why);
+        snprintf(r->why + n, r->whylen - n, " at byte %lu", (unsigned long)at);
         return -1;
     }
-    ws(&r);
-    if (*r.p) {
-        snprintf(why, whylen, "text after the value at byte %lu", (unsigned long)(r.p - text));
+    ws(r);
+    if (*r->p) {
+        snprintf(r->why, r->whylen, "text after the value at byte %lu",
+                 (unsigned long)(r->p - text));
         return -1;
     }
     return 0;
 }
 
-void jdom_free(jnode *n)
+int jdom_parse(const char *text, jnode *root, char *why, size_t whylen)
 {
-    int i;
-    for (i = 0; i < n->n; i++) jdom_free(&n->kid[i]);
-    free(n->kid);
-    n->kid = NULL, n->n = 0;
+    jp r;
+    size_t i, total = 0;
+    int rc;
+    memset(&r, 0, sizeof r);
+    r.why = why, r.whylen = whylen;
+    memset(root, 0, sizeof *root);
+    if (strlen(text) >= UINT32_MAX) {
+        snprintf(why, whylen, "a text of 4 GiB or more");
+        return -1;
+    }
+    if ((rc = reading(&r, text, root)) == 0) {
+        for (i = 0; i < r.ncount; i++) total += r.count[i];
+        /* one node more, so that every root owns a block (jdom_free) */
+        if (!(r.block = malloc((total + 1) * sizeof *r.block))) {
+            snprintf(why, whylen, "out of memory for %lu values", (unsigned long)total);
+            rc = -1;
+        } else {
+            rc = reading(&r, text, root);
+            root->kid = r.block; /* the root's members come first */
+        }
+    }
+    free(r.count);
+    return rc;
+}
+
+void jdom_free(jnode *root)
+{
+    free(root->kid);
+    root->kid = NULL, root->n = 0;
+}
+
+const char *jdom_key(const jnode *n)
+{
+    const char *p = n->s;
+    if (!n->member) return NULL;
+    /* back over the whitespace and ':' between the key's quote and the value */
+    do p--;
+    while (*p != ':');
+    do p--;
+    while (*p != '"');
+    return p - n->keylen;
 }
 
 const jnode *jdom_get(const jnode *obj, const char *key)
@@ -178,8 +241,7 @@ const jnode *jdom_get(const jnode *obj, const char *key)
     int i;
     if (!obj || obj->type != 'o') return NULL;
     for (i = 0; i < obj->n; i++)
-        if ((size_t)(obj->kid[i].keye - obj->kid[i].key) == len &&
-            !memcmp(obj->kid[i].key, key, len))
+        if (obj->kid[i].keylen == len && !memcmp(jdom_key(&obj->kid[i]), key, len))
             return &obj->kid[i];
     return NULL;
 }
@@ -194,7 +256,7 @@ double jdom_num(const jnode *n)
 int jdom_same(const jnode *a, const jnode *b)
 {
     if (!a || !b) return a == b;
-    return a->e - a->s == b->e - b->s && !memcmp(a->s, b->s, (size_t)(a->e - a->s));
+    return a->len == b->len && !memcmp(a->s, b->s, a->len);
 }
 
 int jdom_str(const jnode *n, char *buf, size_t size)
@@ -203,7 +265,7 @@ int jdom_str(const jnode *n, char *buf, size_t size)
     const char *p, *e;
     size_t k = 0;
     if (!n || n->type != 's' || !size) return -1;
-    for (p = n->s + 1, e = n->e - 1; p < e; p++) {
+    for (p = n->s + 1, e = jdom_end(n) - 1; p < e; p++) {
         int c = (unsigned char)*p;
         if (c == '\\' && p[1] == 'u') { /* jdom_parse saw its 4 hex digits */
             char hex[5];
@@ -221,5 +283,5 @@ int jdom_str(const jnode *n, char *buf, size_t size)
 
 void jdom_write(FILE *f, const jnode *n)
 {
-    fwrite(n->s, 1, (size_t)(n->e - n->s), f);
+    fwrite(n->s, 1, n->len, f);
 }

@@ -35,19 +35,19 @@ static const char *const same_what[] = {"ggrt version", "scene (hash)", "render 
 /* Report members merged (the others must be equal in every tile, but the
    scene paths, as given, and the options, which the manifest compares
    without -j). */
-static const char *const merged[] = {"window", "scanned", "matched", "checked", "value_differ",
-                                     "tree_differ", "moved", "stats", "stats_a", "stats_b",
-                                     "first_divergence", "traced", "max_delta", "share",
-                                     "failed", "invariants", "matches", "worst", "moves",
-                                     "scene", "scene_a", "scene_b", "options", "options_a",
-                                     "tile", NULL};
+static const char *const merged[] = {
+    "window",    "scanned", "matched", "checked",    "value_differ",     "tree_differ",
+    "moved",     "stats",   "stats_a", "stats_b",    "first_divergence", "traced",
+    "max_delta", "share",   "failed",  "invariants", "matches",          "worst",
+    "moves",     "scene",   "scene_a", "scene_b",    "options",          "options_a",
+    "tile",      NULL};
 
 static int is_merged(const jnode *m)
 {
     int k;
     for (k = 0; merged[k]; k++)
-        if ((size_t)(m->keye - m->key) == strlen(merged[k]) &&
-            !memcmp(m->key, merged[k], strlen(merged[k])))
+        if ((size_t)m->keylen == strlen(merged[k]) &&
+            !memcmp(jdom_key(m), merged[k], strlen(merged[k])))
             return 1;
     return 0;
 }
@@ -62,14 +62,16 @@ static int load(report *r)
         return EXIT_IO;
     }
     if (rc) {
-        cli_error("%s: %s", r->path, rc == CLI_READ_LARGE ? "larger than 256 MiB" : "out of memory");
+        cli_error("%s: %s", r->path,
+                  rc == CLI_READ_LARGE ? "larger than 256 MiB" : "out of memory");
         return EXIT_INPUT;
     }
     why[0] = '\0';
-    if (jdom_parse(r->text, &r->root, why, sizeof why) != 0 || r->root.type != 'o' ||
-        !r->root.n) {
+    if (jdom_parse(r->text, &r->root, why, sizeof why) != 0 || r->root.type != 'o' || !r->root.n) {
         cli_error("%s: not a JSON report: %s", r->path,
-                  r->root.type != 'o' ? "not an object" : r->root.n ? why : "an empty object");
+                  why[0]                ? why
+                  : r->root.type != 'o' ? "not an object"
+                                        : "an empty object");
         return EXIT_INPUT;
     }
     if (!(r->tile = jdom_get(&r->root, "tile")) || r->tile->type != 'o') {
@@ -90,16 +92,16 @@ static int check_against(const report *r, const report *ref)
 {
     const jnode *a = &r->root.kid[0], *b = &ref->root.kid[0];
     int k, i;
-    if (a->keye - a->key != b->keye - b->key || memcmp(a->key, b->key, (size_t)(a->keye - a->key))) {
-        cli_error("%s: a %.*s report, not %.*s as %s", r->path, (int)(a->keye - a->key), a->key,
-                  (int)(b->keye - b->key), b->key, ref->path);
+    if (a->keylen != b->keylen || memcmp(jdom_key(a), jdom_key(b), a->keylen)) {
+        cli_error("%s: a %.*s report, not %.*s as %s", r->path, (int)a->keylen, jdom_key(a),
+                  (int)b->keylen, jdom_key(b), ref->path);
         return EXIT_INPUT;
     }
     for (k = 0; same_keys[k]; k++) {
         const jnode *x = jdom_get(r->tile, same_keys[k]), *y = jdom_get(ref->tile, same_keys[k]);
         if (!x || !jdom_same(x, y)) {
             cli_error("%s: different %s from %s: %.*s, not %.*s", r->path, same_what[k], ref->path,
-                      x ? (int)(x->e - x->s) : 4, x ? x->s : "none", (int)(y->e - y->s), y->s);
+                      x ? (int)x->len : 4, x ? x->s : "none", (int)y->len, y->s);
             return EXIT_INPUT;
         }
     }
@@ -107,11 +109,11 @@ static int check_against(const report *r, const report *ref)
         const jnode *m = &ref->root.kid[i];
         char key[64];
         const jnode *x;
-        snprintf(key, sizeof key, "%.*s", (int)(m->keye - m->key), m->key);
+        snprintf(key, sizeof key, "%.*s", (int)m->keylen, jdom_key(m));
         if (is_merged(m)) continue;
         if (!(x = jdom_get(&r->root, key)) || !jdom_same(x, m)) {
             cli_error("%s: different \"%s\" from %s: %.*s, not %.*s", r->path, key, ref->path,
-                      x ? (int)(x->e - x->s) : 4, x ? x->s : "none", (int)(m->e - m->s), m->s);
+                      x ? (int)x->len : 4, x ? x->s : "none", (int)m->len, m->s);
             return EXIT_INPUT;
         }
     }
@@ -202,7 +204,7 @@ static const jnode *top(const merge *m, int i, const char *key)
 
 static void key_out(FILE *f, const jnode *member, int first)
 {
-    fprintf(f, "%s\"%.*s\":", first ? "" : ",", (int)(member->keye - member->key), member->key);
+    fprintf(f, "%s\"%.*s\":", first ? "" : ",", (int)member->keylen, jdom_key(member));
 }
 
 static long long sum_top(const merge *m, const char *key)
@@ -222,7 +224,7 @@ static void sums_out(FILE *f, const merge *m, const char *key)
     for (j = 0; o && j < o->n; j++) {
         char k[64];
         long long s = 0;
-        snprintf(k, sizeof k, "%.*s", (int)(o->kid[j].keye - o->kid[j].key), o->kid[j].key);
+        snprintf(k, sizeof k, "%.*s", (int)o->kid[j].keylen, jdom_key(&o->kid[j]));
         for (i = 0; i < m->n; i++) s += (long long)jdom_num(jdom_get(top(m, i, key), k));
         key_out(f, &o->kid[j], j == 0);
         fprintf(f, "%lld", s);
@@ -330,7 +332,8 @@ static int top_list(FILE *f, const merge *m, const char *key, long keep,
 static int invariants_out(FILE *f, const merge *m, int *failed)
 {
     const jnode *a0 = top(m, 0, "invariants");
-    const jnode **items = malloc((size_t)m->n * sizeof *items), **wl = malloc((size_t)m->n * sizeof *wl);
+    const jnode **items = malloc((size_t)m->n * sizeof *items),
+                **wl = malloc((size_t)m->n * sizeof *wl);
     int j, i, k, rc = 0;
     if (!items || !wl) rc = -1;
     fputc('[', f);
@@ -347,7 +350,7 @@ static int invariants_out(FILE *f, const merge *m, int *failed)
         for (k = 0; k < e0->n; k++) {
             const jnode *mk = &e0->kid[k];
             char key[32];
-            snprintf(key, sizeof key, "%.*s", (int)(mk->keye - mk->key), mk->key);
+            snprintf(key, sizeof key, "%.*s", (int)mk->keylen, jdom_key(mk));
             key_out(f, mk, k == 0);
             if (!strcmp(key, "pixels") || !strcmp(key, "rays")) {
                 long long s = 0;
@@ -406,7 +409,7 @@ static int member_out(FILE *f, const merge *m, const jnode *mk, int failed, doub
     int dummy = 0;
     char key[64];
     long limit = param(m, "limit", 0);
-    snprintf(key, sizeof key, "%.*s", (int)(mk->keye - mk->key), mk->key);
+    snprintf(key, sizeof key, "%.*s", (int)mk->keylen, jdom_key(mk));
     if (!strcmp(key, "window"))
         fprintf(f, "[0,0,%d,%d]", m->w, m->h);
     else if (!strcmp(key, "scanned") || !strcmp(key, "matched") || !strcmp(key, "checked") ||
@@ -458,7 +461,7 @@ static int write_merged(FILE *f, const merge *m)
     fputc('{', f);
     for (i = 0; rc == 0 && i < r0->n; i++) {
         const jnode *mk = &r0->kid[i];
-        if (mk->keye - mk->key == 4 && !memcmp(mk->key, "tile", 4)) continue;
+        if (mk->keylen == 4 && !memcmp(jdom_key(mk), "tile", 4)) continue;
         key_out(f, mk, first);
         first = 0;
         rc = member_out(f, m, mk, failed, share);

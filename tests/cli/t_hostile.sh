@@ -74,5 +74,12 @@ for s in 65536x65536 8192x8192; do
       timeout 20 "$ggrt" serve $g -s $s --port 0
   fi
 done
+# A report of 1.3 million values (2.5 MiB of [1,1,...]): its nodes take one
+# block of 32 bytes each (about 42 MB), where values grown array by array
+# took about 75 MB.
+python3 -c 'import sys; sys.stdout.write("[" + "1," * (5 << 18) + "1]")' >"$ho/ones.json"
+under_64m 2 "ggrt merge: $ho/ones.json: not a JSON report: not an object" \
+  "merge --reports: $(wc -c <"$ho/ones.json") bytes of [1,1,...]" \
+  "$ggrt" merge -q --reports "$ho/ones.json" -o "$ho/x.json"
 [ ! -e "$ho/x.png" ] && ok "refused hostile inputs leave no image" ||
   bad "refused hostile inputs leave no image"

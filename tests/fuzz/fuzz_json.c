@@ -45,7 +45,7 @@ static void compact(out *o, const jnode *n)
 {
     int i;
     if (n->type != 'o' && n->type != 'a') {
-        put(o, n->s, (size_t)(n->e - n->s));
+        put(o, n->s, (size_t)n->len);
         return;
     }
     put(o, n->type == 'o' ? "{" : "[", 1);
@@ -53,7 +53,7 @@ static void compact(out *o, const jnode *n)
         const jnode *k = &n->kid[i];
         if (i) put(o, ",", 1);
         if (n->type == 'o') {
-            put(o, k->key - 1, (size_t)(k->keye - k->key) + 2);
+            put(o, jdom_key(k) - 1, (size_t)k->keylen + 2);
             put(o, ":", 1);
         }
         compact(o, k);
@@ -103,16 +103,17 @@ static int json_string(const char *p, const char *e)
 
 static void leaf(const jnode *n)
 {
-    size_t len = (size_t)(n->e - n->s);
+    size_t len = (size_t)n->len;
     char *end, *str;
     switch (n->type) {
     case 'n':
-        check(json_number(n->s, n->e));
+        check(json_number(n->s, jdom_end(n)));
         strtod(n->s, &end);
-        check(end == n->e);
+        check(end == jdom_end(n));
         break;
     case 's':
-        check(len >= 2 && n->s[0] == '"' && n->e[-1] == '"' && json_string(n->s + 1, n->e - 1));
+        check(len >= 2 && n->s[0] == '"' && jdom_end(n)[-1] == '"' &&
+              json_string(n->s + 1, jdom_end(n) - 1));
         str = malloc(len);
         check(str != NULL);
         if (jdom_str(n, str, len) == 0) check(strlen(str) <= len - 2);
@@ -137,24 +138,26 @@ static void nested(const jnode *n)
 {
     const char *at;
     int i;
-    check(n->s < n->e);
+    check(n->s < jdom_end(n));
     if (n->type != 'o' && n->type != 'a') {
         check(n->n == 0);
         leaf(n);
         return;
     }
-    check(n->s[0] == (n->type == 'o' ? '{' : '[') && n->e[-1] == (n->type == 'o' ? '}' : ']'));
+    check(n->s[0] == (n->type == 'o' ? '{' : '[') &&
+          jdom_end(n)[-1] == (n->type == 'o' ? '}' : ']'));
     for (at = n->s + 1, i = 0; i < n->n; i++) {
         const jnode *k = &n->kid[i];
         if (n->type == 'o') {
-            check(k->key && k->key > at && k->key[-1] == '"' && *k->keye == '"');
-            check(k->keye < k->s);
+            const char *key = jdom_key(k);
+            check(k->member && key > at && key[-1] == '"' && key[k->keylen] == '"');
+            check(key + k->keylen < k->s);
         } else {
-            check(!k->key);
+            check(!k->member && !jdom_key(k) && k->keylen == 0);
         }
-        check(k->s >= at && k->e < n->e);
+        check(k->s >= at && jdom_end(k) < jdom_end(n));
         nested(k);
-        at = k->e;
+        at = jdom_end(k);
     }
 }
 
@@ -162,8 +165,8 @@ static int same_tree(const jnode *a, const jnode *b)
 {
     int i;
     if (a->type != b->type || a->n != b->n) return 0;
-    if (a->key && (a->keye - a->key != b->keye - b->key ||
-                   memcmp(a->key, b->key, (size_t)(a->keye - a->key))))
+    if (a->member != b->member || a->keylen != b->keylen ||
+        (a->member && memcmp(jdom_key(a), jdom_key(b), a->keylen)))
         return 0;
     if (a->type != 'o' && a->type != 'a') return jdom_same(a, b);
     for (i = 0; i < a->n; i++)
@@ -199,7 +202,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     for (s = text; *s == ' ' || *s == '\t' || *s == '\n' || *s == '\r'; s++) continue;
     for (e = text + strlen(text); e > s && strchr(" \t\n\r", e[-1]); e--) continue;
-    check(root.s == s && root.e == e && !root.key);
+    check(root.s == s && jdom_end(&root) == e && !root.member);
     nested(&root);
     compact(&o, &root);
     check(jdom_parse(o.buf, &again, why, sizeof why) == 0);
