@@ -6,6 +6,7 @@
 #include "render/tile.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -140,15 +141,24 @@ void tile_cut_free(tile_cut *c)
     c->y = NULL;
 }
 
+long tile_number(const char *p, const char **end)
+{
+    long v = 0;
+    if (*p < '0' || *p > '9') return -1;
+    for (; *p >= '0' && *p <= '9'; p++) v = v > (INT_MAX - 9) / 10 ? INT_MAX : 10 * v + (*p - '0');
+    *end = p;
+    return v;
+}
+
 /* "Y0,Y1,...,YN": 0, strictly increasing, h. */
 static int parse_plan_cut(const char *p, int h, tile_cut *c, char *why, size_t whylen)
 {
     int k = 0, cap = 0;
     c->y = NULL;
     for (;;) {
-        char *end;
-        long v = strtol(p, &end, 10);
-        if (end == p || (*end && *end != ',') || v < (k ? c->y[k - 1] + 1 : 0) || v > h ||
+        const char *end = p;
+        long v = tile_number(p, &end);
+        if (v < 0 || (*end && *end != ',') || v < (k ? c->y[k - 1] + 1 : 0) || v > h ||
             (k == 0 && v != 0) || k > TILE_MAX_PLAN) {
             snprintf(why, whylen, "its row %d is not a boundary of rows 0..%d", k, h);
             return -1;
@@ -175,7 +185,7 @@ static int parse_plan_cut(const char *p, int h, tile_cut *c, char *why, size_t w
 
 int tile_cut_parse(const char *text, int h, tile_cut *c, char *why, size_t whylen)
 {
-    char *end;
+    const char *end = text;
     long v;
     c->y = NULL;
     if (strncmp(text, "plan ", 5) == 0) {
@@ -183,7 +193,7 @@ int tile_cut_parse(const char *text, int h, tile_cut *c, char *why, size_t whyle
         tile_cut_free(c);
         return -1;
     }
-    v = strncmp(text, "rows ", 5) == 0 ? strtol(text + 5, &end, 10) : 0;
+    v = strncmp(text, "rows ", 5) == 0 ? tile_number(text + 5, &end) : 0;
     if (v < 1 || v > h || *end) {
         snprintf(why, whylen, "not a cut of %d rows", h);
         return -1;
@@ -334,9 +344,8 @@ static int job_cut(tile_job *j, tile_list *tl, const char *plan_path)
 }
 
 /* The manifest: hash, options, cut. */
-static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
-                    const ggRenderOptions *opt, tile_list *tl, const char *out, int quiet,
-                    const char *plan_path)
+static int job_init(tile_job *j, ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
+                    tile_list *tl, const char *out, int quiet, const char *plan_path)
 {
     int rc;
     j->scene_path = scene_path, j->out = out, j->quiet = quiet, j->opt = *opt;
@@ -359,8 +368,8 @@ static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
     return EXIT_OK;
 }
 
-int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
-                tile_list *tl, const char *out, int quiet, const char *plan_path)
+int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt, tile_list *tl,
+                const char *out, int quiet, const char *plan_path)
 {
     tile_job *j = malloc(sizeof *j);
     int k, rc;
@@ -379,8 +388,8 @@ int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *o
     return rc;
 }
 
-int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path,
-                   const ggRenderOptions *opt, tile_list *tl, const char *plan_path)
+int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
+                   tile_list *tl, const char *plan_path)
 {
     tile_job *j = malloc(sizeof *j);
     int rc;

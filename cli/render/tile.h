@@ -58,6 +58,11 @@ void tile_cut_rows(const tile_cut *c, int i, int h, int *y0, int *y1);
 /* The manifest's ggrt.cut: "rows N" or "plan Y0,Y1,...,YN". 0, or -1 if
    it does not fit in size bytes. */
 int tile_cut_format(const tile_cut *c, char *buf, size_t size);
+/* A row number or tile index as ggrt writes them: decimal digits and
+   nothing else (strtol would also take spaces and a sign), *end after
+   the last. -1 if p does not start with a digit; a number past INT_MAX
+   reads as INT_MAX. */
+long tile_number(const char *p, const char **end);
 /* Read a ggrt.cut for an image of h rows into *c (c->y allocated, to be
    freed with tile_cut_free). 0, or -1 with the reason. */
 int tile_cut_parse(const char *text, int h, tile_cut *c, char *why, size_t whylen);
@@ -106,15 +111,15 @@ typedef struct tile_band {
 /* The band of tl's one tile (equal bands, or the plan's, checked as by
    render --plan) for the scene and options. Prints why and returns an
    exit code. */
-int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path,
-                   const ggRenderOptions *opt, tile_list *tl, const char *plan_path);
+int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
+                   tile_list *tl, const char *plan_path);
 
 /* Render the listed tiles of the scene, loaded once, each written as
    a tile file (tile.c). opt is the render as given (no crop); quiet drops
    the per-tile lines; plan_path a plan file whose cut to use (NULL: equal
    bands). Returns an exit code. */
-int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
-                tile_list *tl, const char *out, int quiet, const char *plan_path);
+int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt, tile_list *tl,
+                const char *out, int quiet, const char *plan_path);
 
 /* ggrt merge --reports: the JSON reports of find, check and diff --tile
    joined into the whole image's (report_merge.c). Exit code. */

@@ -111,6 +111,10 @@ reports_refuse() {
 }
 reports_refuse "a missing tile" "ggrt merge: tile 2 of 4 (rows 24..35) is missing" \
   "$rd/g-0.json" "$rd/g-1.json" "$rd/g-3.json"
+# a cut as ggrt writes it, digits only: "rows +4" is not "rows 4"
+for i in 0 1 2 3; do sed 's/"cut":"rows 4"/"cut":"rows +4"/' "$rd/g-$i.json" >"$rd/sign-$i.json"; done
+reports_refuse "a cut with a sign" "ggrt merge: $rd/sign-0.json: bad cut 'rows +4': not a cut of 48 rows" \
+  "$rd"/sign-[0-3].json
 cp "$rd/g-1.json" "$rd/dup-1.json"
 reports_refuse "a duplicate" "ggrt merge: $rd/dup-1.json: tile 1 again (also in $rd/g-1.json)" \
   "$rd"/g-[0-3].json "$rd/dup-1.json"
