@@ -6,7 +6,8 @@ one server per scene:
 - every scene file under examples/scenes (models included) and
   tests/data/debug, and the scenes at the top of tests/data, at 64x48,
   depth 3: the page loads, a click shows the pixel's tree and the 3D
-  view, no console error; every tab on glass, gears, knot and water;
+  view, the image's rays and shadow verdicts are ggrt render's, no
+  console error; every tab on glass, gears, knot and water;
 - tracing first: a pixel of spd/gears.nff at depth 16 and 16 samples
   shows its tree within 1 s of the click while the image still renders;
   with every job slot taken the page says it is waiting (503, Retry-After);
@@ -223,6 +224,15 @@ def mesh_triangles(scene):
     return sum(int(n) for n in re.findall(r"^\s+(\d+) triangles, ", out, re.M))
 
 
+def cli_rays(scene, *args):
+    """ggrt render's rays, shadow rays, blocked and attenuated ones."""
+    with tempfile.TemporaryDirectory() as t:
+        out = subprocess.run([GGRT, "render", scene, "-o", os.path.join(t, "x.exr")] + list(args), cwd=ROOT,
+                             stdout=subprocess.PIPE, text=True).stdout
+    m = re.search(r"shadow (\d+) \(blocked (\d+), attenuated (\d+)\), total (\d+)", out)
+    return m and " ".join(m.group(k) for k in (4, 1, 2, 3))
+
+
 def every_scene(d):
     t0, n, broken = time.time(), 0, []
     for sc in scene_files():
@@ -242,6 +252,10 @@ def every_scene(d):
                     what.append("no tree for 32,24: " + page_error(d))
                 if not wait(d, "image", lambda: attr(d, "viewport", "data-image") or page_error(d), 20) or page_error(d):
                     what.append("no image: " + page_error(d))
+                want = cli_rays(sc, "-s", "64x48", "-d", "3")
+                got = attr(d, "viewport", "data-rays-a")
+                if not want or got != want:
+                    what.append("the page counts rays and shadow verdicts %r, ggrt render %r" % (got, want))
                 if not wait(d, "3D", lambda: attr(d, "box3d", "data-triangles"), 10):
                     what.append("no 3D view: " + d.find_element(By.ID, "note3d").text)
                 want = mesh_triangles(sc)
@@ -260,7 +274,7 @@ def every_scene(d):
         n += 1
         tabs = " (every tab)" if os.path.basename(sc) in TABBED else ""
         if not check(not what, "%s: the page loads, a click shows the tree and the 3D view (every mesh "
-                     "triangle), "
+                     "triangle), ggrt render's ray counts, "
                      "no console error%s (%.1f s)" % (sc, tabs, time.time() - t1), "\n".join(what)):
             broken.append(sc)
     print("every scene: %d files in %.1f s; failing: %s" % (n, time.time() - t0, " ".join(broken) or "none"))

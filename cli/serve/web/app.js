@@ -303,10 +303,15 @@
     const bmp = await createImageBitmap(png.body);
     images[side] = { q: q, bmp: bmp, rgb: new Float32Array(f32.body) };
     const r = await api('/api/render', params);
-    const st = r.body.job.stats;
+    const st = r.body.job.stats, rays = st.eye + st.reflect + st.refract + st.shadow;
+    // The words of ggrt render's summary: how many shadow rays nothing of
+    // the light got through, and how many arrived dimmed.
+    $('viewport').dataset['rays' + side.toUpperCase()] =
+      [rays, st.shadow, st.shadow_blocked, st.shadow_attenuated].join(' ');
     status('rendered ' + side.toUpperCase() + ' in ' + r.body.job.seconds.toFixed(2) + ' s' +
       ' (' + ((performance.now() - t0) / 1000).toFixed(1) + ' s here): ' +
-      (st.eye + st.reflect + st.refract + st.shadow).toLocaleString() + ' rays');
+      rays.toLocaleString() + ' rays, shadow ' + st.shadow.toLocaleString() + ' (blocked ' +
+      st.shadow_blocked.toLocaleString() + ', attenuated ' + st.shadow_attenuated.toLocaleString() + ')');
     return images[side];
   }
 
