@@ -217,7 +217,7 @@ typedef struct job {
     ggRayStats stats;
 } job;
 
-void ggRayStatsAdd(ggRayStats *a, const ggRayStats *b)
+GG_API void ggRayStatsAdd(ggRayStats *a, const ggRayStats *b)
 {
     if (!a || !b) return;
     a->eye += b->eye, a->eye_hit += b->eye_hit, a->reflect += b->reflect;
