@@ -91,8 +91,10 @@ void json_options(FILE *f, const char *key, const ggRenderOptions *opt)
 void json_stats(FILE *f, const char *key, const ggRayStats *st)
 {
     fprintf(f,
-            "\"%s\":{\"eye\":%llu,\"reflect\":%llu,\"refract\":%llu,\"shadow\":%llu,\"tir\":%llu}",
+            "\"%s\":{\"eye\":%llu,\"reflect\":%llu,\"refract\":%llu,\"shadow\":%llu,\"tir\":%llu,"
+            "\"shadow_blocked\":%llu,\"shadow_attenuated\":%llu}",
             key, (unsigned long long)st->eye, (unsigned long long)st->reflect,
             (unsigned long long)st->refract, (unsigned long long)st->shadow,
-            (unsigned long long)st->tir);
+            (unsigned long long)st->tir, (unsigned long long)st->shadow_blocked,
+            (unsigned long long)st->shadow_attenuated);
 }

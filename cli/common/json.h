@@ -39,8 +39,9 @@ void json_vec_text(FILE *f, const char *key, ggVec3 v);
 
 /* The options as ggRenderOptionsFormat text. */
 void json_options(FILE *f, const char *key, const ggRenderOptions *opt);
-/* Ray counts: {"eye","reflect","refract","shadow","tir"} (reflect counts
-   the TIR rays too; tir says how many of them). */
+/* Ray counts: {"eye","reflect","refract","shadow","tir","shadow_blocked",
+   "shadow_attenuated"} (reflect counts the TIR rays too; tir says how
+   many of them; the last two, how many shadow rays had each verdict). */
 void json_stats(FILE *f, const char *key, const ggRayStats *st);
 
 #endif

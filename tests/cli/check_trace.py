@@ -186,6 +186,7 @@ def main():
     # The tree's own counts agree with its stats object...
     tree = {"eye": counts.get("eye", 0), "reflect": counts.get("reflect", 0) + counts.get("tir", 0),
             "refract": counts.get("refract", 0), "shadow": counts.get("shadow", 0)}
+    tree["shadow_blocked"], tree["shadow_attenuated"] = counts.get("blocked", 0), counts.get("attenuated", 0)
     for k, v in tree.items():
         if stats[k] != v:
             fail("tree has %d %s rays, its stats say %d" % (v, k, stats[k]))
