@@ -32,7 +32,8 @@ typedef struct tile_file {
 
 static const char *const manifest[] = {TILE_A_VERSION, TILE_A_HASH, TILE_A_OPTIONS,
                                        TILE_A_CUT,     TILE_A_TILE, NULL};
-static const char *const what[] = {"ggrt version", "scene (hash)", "render options", "cut", NULL};
+static const char *const what[] = {"ggrt version", "scene (hash)", "render options", "cut",
+                                   NULL};
 
 /* Read a header and the manifest; the first tile's fields are the
    reference for the others (ref NULL: this is the first). */
@@ -87,7 +88,8 @@ static int check_windows(const tile_file *t, const tile_cut *cut)
     if (h->data_x != 0 || h->data_width != h->display_width || h->data_y != y0 ||
         h->data_height != y1 - y0) {
         cli_error("%s: data window %dx%d at %d,%d is not tile %d of %d (rows %d..%d)", t->path,
-                  h->data_width, h->data_height, h->data_x, h->data_y, t->index, t->n, y0, y1 - 1);
+                  h->data_width, h->data_height, h->data_x, h->data_y, t->index, t->n, y0,
+                  y1 - 1);
         return EXIT_INPUT;
     }
     return EXIT_OK;
@@ -102,9 +104,9 @@ static int check_all(tile_file *t, int nt)
         if ((rc = read_header(&t[i], i ? &t[0] : NULL)) != EXIT_OK) return rc;
         if (i && (t[i].hd.display_width != t[0].hd.display_width ||
                   t[i].hd.display_height != t[0].hd.display_height)) {
-            cli_error("%s: image size %dx%d, not %dx%d as in %s", t[i].path, t[i].hd.display_width,
-                      t[i].hd.display_height, t[0].hd.display_width, t[0].hd.display_height,
-                      t[0].path);
+            cli_error("%s: image size %dx%d, not %dx%d as in %s", t[i].path,
+                      t[i].hd.display_width, t[i].hd.display_height, t[0].hd.display_width,
+                      t[0].hd.display_height, t[0].path);
             return EXIT_INPUT;
         }
         if ((rc = check_windows(&t[i], &t[0].cut)) != EXIT_OK) return rc;
@@ -139,7 +141,8 @@ static int assemble(tile_file *t, int nt, ggImage **out)
     ggError err;
     int i, rc;
     if (!all) {
-        cli_error("out of memory for a %dx%d image", t[0].hd.display_width, t[0].hd.display_height);
+        cli_error("out of memory for a %dx%d image", t[0].hd.display_width,
+                  t[0].hd.display_height);
         return EXIT_INPUT;
     }
     for (i = 0; i < nt; i++) {
@@ -209,7 +212,8 @@ int cmd_merge(int argc, char **argv)
         free(files);
         return rc;
     }
-    if ((rc = cli_check_output("merge", out)) == 0 && !(t = calloc((size_t)nfiles, sizeof *t))) {
+    if ((rc = cli_check_output("merge", out)) == 0 &&
+        !(t = calloc((size_t)nfiles, sizeof *t))) {
         cli_error("out of memory");
         rc = EXIT_INPUT;
     }

@@ -35,12 +35,12 @@ static const char *const same_what[] = {"ggrt version", "scene (hash)", "render 
 /* Report members merged (the others must be equal in every tile, but the
    scene paths, as given, and the options, which the manifest compares
    without -j). */
-static const char *const merged[] = {
-    "window",    "scanned", "matched", "checked",    "value_differ",     "tree_differ",
-    "moved",     "stats",   "stats_a", "stats_b",    "first_divergence", "traced",
-    "max_delta", "share",   "failed",  "invariants", "matches",          "worst",
-    "moves",     "scene",   "scene_a", "scene_b",    "options",          "options_a",
-    "tile",      NULL};
+static const char *const merged[] = {"window", "scanned", "matched", "checked", "value_differ",
+                                     "tree_differ", "moved", "stats", "stats_a", "stats_b",
+                                     "first_divergence", "traced", "max_delta", "share",
+                                     "failed", "invariants", "matches", "worst", "moves",
+                                     "scene", "scene_a", "scene_b", "options", "options_a",
+                                     "tile", NULL};
 
 static int is_merged(const jnode *m)
 {
@@ -62,8 +62,7 @@ static int load(report *r)
         return EXIT_IO;
     }
     if (rc) {
-        cli_error("%s: %s", r->path,
-                  rc == CLI_READ_LARGE ? "larger than 256 MiB" : "out of memory");
+        cli_error("%s: %s", r->path, rc == CLI_READ_LARGE ? "larger than 256 MiB" : "out of memory");
         return EXIT_INPUT;
     }
     why[0] = '\0';
@@ -332,8 +331,7 @@ static int top_list(FILE *f, const merge *m, const char *key, long keep,
 static int invariants_out(FILE *f, const merge *m, int *failed)
 {
     const jnode *a0 = top(m, 0, "invariants");
-    const jnode **items = malloc((size_t)m->n * sizeof *items),
-                **wl = malloc((size_t)m->n * sizeof *wl);
+    const jnode **items = malloc((size_t)m->n * sizeof *items), **wl = malloc((size_t)m->n * sizeof *wl);
     int j, i, k, rc = 0;
     if (!items || !wl) rc = -1;
     fputc('[', f);

@@ -344,8 +344,9 @@ static int job_cut(tile_job *j, tile_list *tl, const char *plan_path)
 }
 
 /* The manifest: hash, options, cut. */
-static int job_init(tile_job *j, ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
-                    tile_list *tl, const char *out, int quiet, const char *plan_path)
+static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
+                    const ggRenderOptions *opt, tile_list *tl, const char *out, int quiet,
+                    const char *plan_path)
 {
     int rc;
     j->scene_path = scene_path, j->out = out, j->quiet = quiet, j->opt = *opt;
@@ -368,8 +369,8 @@ static int job_init(tile_job *j, ggScene *scene, const char *scene_path, const g
     return EXIT_OK;
 }
 
-int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt, tile_list *tl,
-                const char *out, int quiet, const char *plan_path)
+int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
+                tile_list *tl, const char *out, int quiet, const char *plan_path)
 {
     tile_job *j = malloc(sizeof *j);
     int k, rc;
@@ -388,8 +389,8 @@ int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *o
     return rc;
 }
 
-int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
-                   tile_list *tl, const char *plan_path)
+int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path,
+                   const ggRenderOptions *opt, tile_list *tl, const char *plan_path)
 {
     tile_job *j = malloc(sizeof *j);
     int rc;
