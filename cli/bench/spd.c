@@ -295,7 +295,7 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
             }
             t1[k] = a.trace, t16[k] = b.trace, erays = b.rays;
             blk[i][0] = r.st.shadow ? 100.0 * (double)r.st.shadow_blocked / (double)r.st.shadow : 0;
-            blk[i][1] = b.shadow > 0 ? 100.0 * b.blocked / b.shadow : -1;
+            blk[i][1] = b.shadow > 0 && b.blocked >= 0 ? 100.0 * b.blocked / b.shadow : -1;
             if (povok) {
                 pov_result pr =
                     run_pov(bo->pov_dir, bench_spd_scenes[i], bo->size, bo->threads, 1, 0);
@@ -331,8 +331,14 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
            where the anchor stops it. */
         printf("shadow rays blocked, ggrt | anchor:");
         for (i = 0; i < BENCH_NSPD; i++)
-            if (bench_selected(bo->scenes, bench_spd_scenes[i]))
-                printf(" %s %.1f%% | %.1f%%;", bench_spd_scenes[i], blk[i][0], blk[i][1]);
+            if (bench_selected(bo->scenes, bench_spd_scenes[i])) {
+                printf(" %s %.1f%% | ", bench_spd_scenes[i], blk[i][0]);
+                /* an anchor whose RESULT line has no shadow= or blocked= */
+                if (blk[i][1] < 0)
+                    printf("-;");
+                else
+                    printf("%.1f%%;", blk[i][1]);
+            }
         printf("\n");
     }
     printf("ggrt = ggRender wall time; emb-p1, emb-p16 = the anchor's trace_s (single eye rays, "
