@@ -138,10 +138,18 @@ GG_API double ggFresnelConductor(double cos_i, double n_outside, double n, doubl
 
 GG_API double ggAbsorptionCoefficient(double k, double lambda)
 {
+    int e;
     if (!isfinite(k) || !isfinite(lambda) || k < 0 || !(lambda > 0)) return NAN;
     if (k == 0) return 0;
-    /* 4 pi k / lambda < 2^(ek - el + 5): overflow only past 2^1018. */
-    if (dd_expo(k) - dd_expo(lambda) > 1018) return INFINITY;
+    e = dd_expo(k) - dd_expo(lambda);
+    if (e > 1018) {
+        /* 4 pi k / lambda = q 2^e, q = 4 pi (km / lm) in (6.2, 25.2) with
+           km, lm in [1, 2): the same roundings as below, and the result
+           overflows only where q 2^e does (e = 1019 never; 1020 for some
+           mantissas; it used to give +inf from 1019 on). */
+        double q = FOUR_PI * (dd_scale2(k, -dd_expo(k)) / dd_scale2(lambda, -dd_expo(lambda)));
+        return dd_expo(q) + e > 1023 ? INFINITY : dd_scale2(q, e);
+    }
     return FOUR_PI * (k / lambda);
 }
 

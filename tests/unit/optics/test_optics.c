@@ -8,6 +8,7 @@
 
 #include "core.h"
 
+#include <float.h>
 #include <fenv.h>
 #include <math.h>
 #include <string.h>
@@ -618,6 +619,19 @@ static void test_beer_lambert(void **state)
     assert_true(isnan(ggBeerLambert(NAN, 1, 1)));
     assert_true(isnan(ggAbsorptionCoefficient(1, -1)));
     assert_true(isinf(ggAbsorptionCoefficient(1e300, 1e-300)));
+    /* Near overflow, against long double (whose exponent does not
+       overflow here): finite wherever 4 pi k / lambda is below DBL_MAX
+       (an audit found +inf for k = 2^1019, lambda = 1), +inf beyond. */
+    for (i = 0; i < 20000; i++) {
+        int e = 1010 + (int)(tu_next(&r) % 16), el = -(int)(tu_next(&r) % 40);
+        double k = ldexp(tu_range(&r, 1, 2), e + el < 1023 ? e + el : 1023);
+        double lambda = ldexp(tu_range(&r, 1, 2), el), a = ggAbsorptionCoefficient(k, lambda);
+        long double x = 4 * (long double)GG_PI * ((long double)k / lambda);
+        if (x < (long double)DBL_MAX * (1 - 0x1p-50))
+            assert_true(isfinite(a) && fabsl(a - x) <= 4 * U * x);
+        else if (x > (long double)DBL_MAX * (1 + 0x1p-50))
+            assert_true(isinf(a));
+    }
     {
         ggColor k = {1e-7, 0, -1}, l = {1, 1, 1}, t = ggBeerLambertColor(k, l, 1);
         assert_true(t.r < 1 && t.g == 1 && isnan(t.b));
