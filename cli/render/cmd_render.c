@@ -121,9 +121,9 @@ static int parse(render_args *a, int argc, char **argv)
                    "also print the value written at pixel X,Y (linear,\n"
                    "%.9g), and each --aov layer's"),
         CLI_OPT_FLAG(0, "no-srgb", &a->no_srgb,
-                     "PNG: store the values as they are instead of\n"
-                     "sRGB-encoding them (as POV-Ray 3.7 and SPD-era\n"
-                     "renderers do)"),
+                     "PNG only (-o must end in .png): store the values as\n"
+                     "they are instead of sRGB-encoding them (as POV-Ray\n"
+                     "3.7 and SPD-era renderers do)"),
         CLI_OPT_CHOICE(0, "heatmap", &a->heat, heat_kinds, "KIND",
                        "write a per-pixel cost map instead of the picture,\n"
                        "with a legend: rays (rays cast), depth (deepest\n"
@@ -174,6 +174,10 @@ static int parse(render_args *a, int argc, char **argv)
         return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", a->out);
     if (a->tiles.count && a->aov.n) return cli_usage_error(&cmd, "--tile and --tiles take no --aov");
     if (a->tiles.count) return check_tiles(&cmd, a, mine);
+    /* The flag undoes the PNG writer's encoding: on an EXR's linear floats
+       it would clamp and distort the values (and break --aov sums). */
+    if (a->no_srgb && strcmp(a->out + n - 4, ".png") && strcmp(a->out + n - 4, ".PNG"))
+        return cli_usage_error(&cmd, "--no-srgb is for a PNG: -o must end in .png");
     if (a->aov.png_dir && !a->aov.n) return cli_usage_error(&cmd, "--aov-png needs --aov");
     if (a->aov.n && a->heat >= 0) return cli_usage_error(&cmd, "--aov takes no --heatmap");
     if (a->aov.n && !a->aov.png_dir && strcmp(a->out + n - 4, ".exr") &&

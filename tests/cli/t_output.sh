@@ -27,6 +27,14 @@ expect_msg 3 "refusing to write '$tmp/o/link.png': it is a symbolic link" \
 ls "$tmp/o" | grep -q tmp && bad "refusals leave no temporary file" "$(ls "$tmp/o")" ||
   ok "refusals leave no temporary file"
 
+# --no-srgb decodes what the PNG writer encodes: an EXR's floats are not
+# for it, so it is a usage error there, and nothing is written.
+expect_err 1 "ggrt render: --no-srgb is for a PNG: -o must end in .png" \
+  "render --no-srgb with an .exr is refused" "$ggrt" render $g -s 8x6 -q --no-srgb -o "$tmp/o/ns.exr"
+[ ! -e "$tmp/o/ns.exr" ] && ok "render --no-srgb with an .exr writes nothing" ||
+  bad "render --no-srgb with an .exr writes nothing"
+expect_exit 0 "render --no-srgb to a .png" "$ggrt" render $g -s 8x6 -q --no-srgb -o "$tmp/o/ns.png"
+
 # A failed write to stdout or to a file is exit 3 with the reason.
 for c in "trace $g --pixel 1,1" "trace $g --pixel 1,1 --format json" "info $g" "render --help" \
          "--version" "optics reflect --v 1,-1,0 --n 0,1,0"; do
