@@ -110,6 +110,41 @@ static int set_err(ggError *err, int code, const char *what)
     return code;
 }
 
+/* DIR/NAME.png of layer k; 0, or -1 when it does not fit in n bytes. */
+static int layer_path(const aov_list *l, int k, char *buf, size_t n)
+{
+    int len = snprintf(buf, n, "%s/%s.png", l->png_dir, l->name[k]);
+    return len < 0 || (size_t)len >= n ? -1 : 0;
+}
+
+int aov_check_pngs(const aov_list *l)
+{
+    struct stat st;
+    int k, rc;
+    if (stat(l->png_dir, &st) != 0) {
+        if (errno != ENOENT) {
+            cli_error("cannot write into '%s': %s", l->png_dir, strerror(errno));
+            return EXIT_IO;
+        }
+        /* created when the layers are written: only its parent must be
+           there, not a whole missing path (mkdir makes one level) */
+        return cli_check_output("render", l->png_dir);
+    }
+    if (!S_ISDIR(st.st_mode)) {
+        cli_error("refusing to write into '%s' (--aov-png DIR): it is not a directory", l->png_dir);
+        return EXIT_IO;
+    }
+    for (k = 0; k < l->n; k++) {
+        char path[4096];
+        if (layer_path(l, k, path, sizeof path) != 0) {
+            cli_error("'%s/%s.png': file name too long", l->png_dir, l->name[k]);
+            return EXIT_IO;
+        }
+        if ((rc = cli_check_output("render", path)) != 0) return rc;
+    }
+    return 0;
+}
+
 static int write_pngs(const aov_list *l, ggImage **imgs, ggError *err)
 {
     int k, rc = GG_OK;
@@ -117,7 +152,8 @@ static int write_pngs(const aov_list *l, ggImage **imgs, ggError *err)
         return set_err(err, GG_ERROR_IO, l->png_dir);
     for (k = 0; k < l->n && rc == GG_OK; k++) {
         char path[4096];
-        snprintf(path, sizeof path, "%s/%s.png", l->png_dir, l->name[k]);
+        if (layer_path(l, k, path, sizeof path) != 0)
+            return set_err(err, GG_ERROR_INVALID, "an --aov-png file name is too long");
         rc = ggImageWritePNG(imgs[k], path, err);
     }
     return rc;

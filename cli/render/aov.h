@@ -34,6 +34,10 @@ int aov_parse_one(void *ud, const char *value, char *why, size_t whylen);
 /* Compile the layers and give opt a map for a w x h image: EXIT_OK, or
    the exit status after saying why (a column for an expression). */
 int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h);
+/* Before the render: --aov-png DIR must be a directory, or a missing one
+   whose parent takes files, and each DIR/NAME.png must pass
+   cli_check_output as -o does. 0, or EXIT_IO after saying why. */
+int aov_check_pngs(const aov_list *l);
 /* Write img with its layers to out (.exr: the layers as channels, and the
    AOV_ATTR* attributes from scene and opt; .png: the image alone) and,
    with --aov-png, each layer to DIR/NAME.png: GG_OK or the library's

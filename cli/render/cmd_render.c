@@ -143,7 +143,8 @@ static int parse(render_args *a, int argc, char **argv)
                      "the .exr as channels NAME.R, NAME.G, NAME.B"),
         CLI_OPT_STRING(0, "aov-png", &a->aov.png_dir, "DIR",
                        "also write each --aov layer as DIR/NAME.png\n"
-                       "(DIR is created if missing)"),
+                       "(DIR is created if missing, its parent is not);\n"
+                       "each file is checked as -o is, before rendering"),
         CLI_OPT_STRING(0, "plan", &a->plan, "FILE",
                        "with --tile or --tiles: the cut of a plan from ggrt\n"
                        "plan (bands of equal cost) instead of equal bands;\n"
@@ -365,6 +366,7 @@ int cmd_render(int argc, char **argv)
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if (!a.tiles.count && (rc = cli_check_output("render", a.out)) != 0) return rc;
+    if (a.aov.png_dir && (rc = aov_check_pngs(&a.aov)) != 0) return rc;
     ls.a = &a, ls.t = t;
     t[0] = cli_now();
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;

@@ -27,6 +27,25 @@ expect_exit 1 "render --aov: a name twice" "$ggrt" render $g -o "$tmp/l.exr" --a
 expect_exit 1 "render --aov into a PNG without --aov-png" "$ggrt" render $g -o "$tmp/l.png" --aov 'a=CB'
 expect_exit 1 "render --aov-png without --aov" "$ggrt" render $g -o "$tmp/l.png" --aov-png "$tmp/d"
 expect_exit 1 "render --aov with --heatmap" "$ggrt" render $g -o "$tmp/l.exr" --aov 'a=CB' --heatmap rays
+# --aov-png DIR is checked before the render, as -o is: a refusal writes
+# nothing, -o included
+mkdir -p "$tmp/ap"; printf 'x\n' > "$tmp/ap/file"; printf 'old\n' > "$tmp/ap/t.png"
+expect_err 3 "ggrt render: cannot write '$tmp/ap/missing/sub': $tmp/ap/missing: No such file or directory" \
+  "render --aov-png: a missing parent is refused first" \
+  "$ggrt" render $g -s 8x6 -q -o "$tmp/ap/o.exr" --aov 'a=CB' --aov-png "$tmp/ap/missing/sub"
+expect_err 3 "ggrt render: refusing to write into '$tmp/ap/file' (--aov-png DIR): it is not a directory" \
+  "render --aov-png: a file as DIR is refused" \
+  "$ggrt" render $g -s 8x6 -q -o "$tmp/ap/o.exr" --aov 'a=CB' --aov-png "$tmp/ap/file"
+mkdir "$tmp/ap/d"; ln -s ../t.png "$tmp/ap/d/a.png"
+expect_err 3 "ggrt render: refusing to write '$tmp/ap/d/a.png': it is a symbolic link, which ggrt would replace by a file (give the path of the file it points to)" \
+  "render --aov-png: a symbolic link at DIR/NAME.png is refused" \
+  "$ggrt" render $g -s 8x6 -q -o "$tmp/ap/o.exr" --aov 'a=CB' --aov-png "$tmp/ap/d"
+if [ ! -e "$tmp/ap/o.exr" ] && [ ! -e "$tmp/ap/missing" ] && [ -L "$tmp/ap/d/a.png" ] &&
+   [ "$(cat "$tmp/ap/t.png")" = old ]; then ok "render --aov-png: the refusals wrote nothing"
+else bad "render --aov-png: the refusals wrote nothing" "$(ls -lR "$tmp/ap")"; fi
+expect_exit 0 "render --aov-png: a missing DIR is created" \
+  "$ggrt" render $g -s 8x6 -q -o "$tmp/ap/o.exr" --aov 'a=CB' --aov-png "$tmp/ap/new"
+[ -s "$tmp/ap/new/a.png" ] && ok "render --aov-png: DIR/a.png written" || bad "render --aov-png: DIR/a.png written"
 "$ggrt" render $g -s 24x18 -q -o "$tmp/plain.exr"
 expect_exit 2 "check --aov-sum: a file without layers" "$ggrt" check --aov-sum "$tmp/plain.exr"
 expect_exit 1 "check --aov-sum with --path" "$ggrt" check --aov-sum "$tmp/plain.exr" --path 'C.*'
