@@ -61,6 +61,15 @@ double cli_now(void);
    file, saying why on stderr ("ggrt CMD: ..."). Returns 0 or EXIT_IO. */
 int cli_check_output(const char *cmd, const char *path);
 
+/* The image format ggImageWrite picks from an output's extension: .png or
+   .PNG, .exr or .EXR; CLI_IMAGE_NONE for anything else. */
+enum { CLI_IMAGE_NONE = 0, CLI_IMAGE_PNG, CLI_IMAGE_EXR };
+int cli_image_kind(const char *path);
+/* For a parser: refuse an image output with another extension now, not
+   after the work (a usage error: "WHAT must end in .png or .exr: 'PATH'").
+   Returns CLI_GO or EXIT_USAGE. */
+int cli_check_image_name(const cli_cmd *cmd, const char *what, const char *path);
+
 /* A text output file written whole or not at all: cli_out_open creates
    "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it
    over path, or removes it on any error. Both print the reason ("ggrt CMD:

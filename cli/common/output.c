@@ -60,6 +60,22 @@ int cli_check_output(const char *cmd, const char *path)
     return EXIT_IO;
 }
 
+int cli_image_kind(const char *path)
+{
+    size_t n = strlen(path);
+    const char *e = path + n - 4;
+    if (n < 4) return CLI_IMAGE_NONE;
+    if (!strcmp(e, ".png") || !strcmp(e, ".PNG")) return CLI_IMAGE_PNG;
+    if (!strcmp(e, ".exr") || !strcmp(e, ".EXR")) return CLI_IMAGE_EXR;
+    return CLI_IMAGE_NONE;
+}
+
+int cli_check_image_name(const cli_cmd *cmd, const char *what, const char *path)
+{
+    if (cli_image_kind(path) != CLI_IMAGE_NONE) return CLI_GO;
+    return cli_usage_error(cmd, "%s must end in .png or .exr: '%s'", what, path);
+}
+
 int cli_out_open(cli_out *o, const char *cmd, const char *path)
 {
     int fd, rc;

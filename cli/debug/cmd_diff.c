@@ -96,6 +96,8 @@ static int parse(diff_args *a, int argc, char **argv)
     if ((rc = dbg_tile_check(&cmd, &a->tile, a->format, a->out || cli_given(&cmd, "crop"))) !=
         CLI_GO)
         return rc;
+    /* Known before the scan, which may take minutes. */
+    if (a->out && (rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
     if (a->out && (rc = cli_check_output("diff", a->out)) != 0) return rc;
     return CLI_GO;
 }

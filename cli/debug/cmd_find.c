@@ -49,7 +49,7 @@ static int parse(find_args *a, int argc, char **argv)
                        "matched, black elsewhere"),
         CLI_OPT_STRING(0, "overlay", &a->overlay, "FILE",
                        "write the render with the matches in full colour and\n"
-                       "the other pixels dimmed to grey"),
+                       "the other pixels dimmed to grey, .png or .exr"),
         CLI_OPT_INT(0, "limit", &a->limit, 0, 1 << 30, "N",
                     "list the first N matches in row order (default 20;\n"
                     "0 lists them all)"),
@@ -84,6 +84,10 @@ static int parse(find_args *a, int argc, char **argv)
     if ((rc = dbg_tile_check(&cmd, &a->tile, a->format,
                              a->out || a->overlay || a->paths_jsonl || a->paths_obj ||
                                  cli_given(&cmd, "crop"))) != CLI_GO)
+        return rc;
+    /* Known before the scan, which may take minutes. */
+    if (a->out && (rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
+    if (a->overlay && (rc = cli_check_image_name(&cmd, "--overlay", a->overlay)) != CLI_GO)
         return rc;
     if ((rc = dbg_paths_check("find", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->out && (rc = cli_check_output("find", a->out)) != 0) return rc;

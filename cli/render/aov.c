@@ -164,8 +164,7 @@ int aov_write(const aov_list *l, const ggImage *img, const char *out, const char
 {
     ggImage *imgs[GG_PATH_LAYERS_MAX];
     const char *names[GG_PATH_LAYERS_MAX];
-    size_t n = strlen(out);
-    int k, rc = GG_OK, exr = n >= 4 && (!strcmp(out + n - 4, ".exr") || !strcmp(out + n - 4, ".EXR"));
+    int k, rc = GG_OK, exr = cli_image_kind(out) == CLI_IMAGE_EXR;
     char *list = layer_list(l);
     memset(imgs, 0, sizeof imgs);
     for (k = 0; k < l->n; k++) {

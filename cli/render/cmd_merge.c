@@ -182,16 +182,11 @@ static int parse(int argc, char **argv, const char **files, int *nfiles, const c
                    .max_args = argc,
                    .nargs = nfiles,
                    .args_name = "tile"};
-    size_t n;
     int rc;
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     if (!*out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
     if (*reports) return CLI_GO;
-    n = strlen(*out);
-    if (n < 4 || (strcmp(*out + n - 4, ".png") && strcmp(*out + n - 4, ".exr") &&
-                  strcmp(*out + n - 4, ".PNG") && strcmp(*out + n - 4, ".EXR")))
-        return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", *out);
-    return CLI_GO;
+    return cli_check_image_name(&cmd, "the output", *out);
 }
 
 int cmd_merge(int argc, char **argv)

@@ -91,13 +91,12 @@ static void report_bad_pixels(const ggImage *img, const render_args *a)
 /* What --tile and --tiles exclude. */
 static int check_tiles(const cli_cmd *cmd, const render_args *a, const cli_opt *mine)
 {
-    size_t n = strlen(a->out);
     if (mine[4].given + mine[5].given > 1)
         return cli_usage_error(cmd, "give one of --tile and --tiles, once");
     if (!a->tiles.n && !a->plan)
         return cli_usage_error(cmd, "--tile I and --tiles I,J need /N, the number of tiles, "
                                     "or --plan");
-    if (strcmp(a->out + n - 4, ".exr") && strcmp(a->out + n - 4, ".EXR"))
+    if (cli_image_kind(a->out) != CLI_IMAGE_EXR)
         return cli_usage_error(cmd, "tiles are OpenEXR files: -o must end in .exr");
     if (a->heat >= 0 || a->has_pixel || a->no_srgb || cli_given(cmd, "crop"))
         return cli_usage_error(cmd, "--tile and --tiles take none of --heatmap, --pixel, "
@@ -161,7 +160,6 @@ static int parse(render_args *a, int argc, char **argv)
                    .min_args = 1,
                    .max_args = 1,
                    .args_name = "scene"};
-    size_t n;
     int rc;
     a->heat = -1;
     cli_render_init(&a->ro, CLI_RENDER_ALL);
@@ -169,20 +167,16 @@ static int parse(render_args *a, int argc, char **argv)
     cli_render_finish(&a->ro);
     a->has_pixel = mine[1].given;
     if (!a->out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
-    n = strlen(a->out);
-    if (n < 4 || (strcmp(a->out + n - 4, ".png") && strcmp(a->out + n - 4, ".exr") &&
-                  strcmp(a->out + n - 4, ".PNG") && strcmp(a->out + n - 4, ".EXR")))
-        return cli_usage_error(&cmd, "the output must end in .png or .exr: '%s'", a->out);
+    if ((rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
     if (a->tiles.count && a->aov.n) return cli_usage_error(&cmd, "--tile and --tiles take no --aov");
     if (a->tiles.count) return check_tiles(&cmd, a, mine);
     /* The flag undoes the PNG writer's encoding: on an EXR's linear floats
        it would clamp and distort the values (and break --aov sums). */
-    if (a->no_srgb && strcmp(a->out + n - 4, ".png") && strcmp(a->out + n - 4, ".PNG"))
+    if (a->no_srgb && cli_image_kind(a->out) != CLI_IMAGE_PNG)
         return cli_usage_error(&cmd, "--no-srgb is for a PNG: -o must end in .png");
     if (a->aov.png_dir && !a->aov.n) return cli_usage_error(&cmd, "--aov-png needs --aov");
     if (a->aov.n && a->heat >= 0) return cli_usage_error(&cmd, "--aov takes no --heatmap");
-    if (a->aov.n && !a->aov.png_dir && strcmp(a->out + n - 4, ".exr") &&
-        strcmp(a->out + n - 4, ".EXR"))
+    if (a->aov.n && !a->aov.png_dir && cli_image_kind(a->out) != CLI_IMAGE_EXR)
         return cli_usage_error(&cmd, "--aov writes its layers into -o OUT.exr or, with "
                                      "--aov-png DIR, as PNGs");
     if (a->plan) return cli_usage_error(&cmd, "--plan goes with --tile or --tiles");

@@ -7,9 +7,22 @@ for c in find check diff; do
     ok "ggrt $c --help" || bad "ggrt $c --help" "$(cat "$tmp/out")"
 done
 
+g=examples/scenes/glass.nff
+# An image output the writer would refuse (not .png or .exr) is a usage
+# error at parse time, as render -o a.jpg is, not exit 2 after the scan.
+for o in "find $g -w some(kind==tir) -o $tmp/x.jpg:the output must end in .png or .exr: '$tmp/x.jpg'" \
+         "find $g -w some(kind==tir) --overlay $tmp/x.txt:--overlay must end in .png or .exr: '$tmp/x.txt'" \
+         "diff $g --b depth=2 -o $tmp/x.jpg:the output must end in .png or .exr: '$tmp/x.jpg'"; do
+  c=${o%%:*}
+  # shellcheck disable=SC2086
+  expect_err 1 "ggrt ${c%% *}: ${o#*:}" "${c%% *}: an unknown image extension is refused before the scan" \
+    "$ggrt" $c -s 16x12 -q
+done
+[ ! -e "$tmp/x.jpg" ] && [ ! -e "$tmp/x.txt" ] && ok "find, diff: nothing written for a refused extension" ||
+  bad "find, diff: nothing written for a refused extension"
+
 # find: the TIR region of glass.nff holds pixel 110,100; the listed replay
 # command, pasted, gives the listed value; the mask is written.
-g=examples/scenes/glass.nff
 "$ggrt" find $g --where 'some(kind == tir)' --limit 0 -o "$tmp/tir.png" -q >"$tmp/find" 2>"$tmp/err"
 line=$(grep -E '^ +110,100 ' "$tmp/find")
 if [ -n "$line" ] && [ -s "$tmp/tir.png" ] && head -1 "$tmp/find" | grep -q "pixels match some(kind == tir)"; then
