@@ -169,8 +169,9 @@ static void describe(const cli_opt *o, char *buf, size_t len)
         return;
     }
     case CLI_SIZE:
-        what = "WxH", n = 2;
-        break;
+        snprintf(buf, len, "WxH, two whole numbers from %.0f to %.0f, at most %lu pixels", o->lo,
+                 o->hi, (unsigned long)GG_IMAGE_MAX_PIXELS);
+        return;
     case CLI_XY:
         what = "X,Y", n = 2;
         break;
@@ -220,8 +221,16 @@ static int set_value(cli_opt *o, const char *v, char *why, size_t whylen)
                 return 0;
             }
         return -1;
-    case CLI_SIZE:
-        return parse_fields(v, "xX", 2, (long)o->lo, (long)o->hi, o->dst, wh, why, whylen);
+    case CLI_SIZE: {
+        const int *s = (const int *)o->dst;
+        if (parse_fields(v, "xX", 2, (long)o->lo, (long)o->hi, o->dst, wh, why, whylen) != 0)
+            return -1;
+        /* The library's cap, refused here as a usage error: else a command
+           fails only after loading the scene (plan after measuring). */
+        if ((unsigned long long)s[0] * (unsigned long long)s[1] <= GG_IMAGE_MAX_PIXELS) return 0;
+        snprintf(why, whylen, "%dx%d is %.0f pixels", s[0], s[1], (double)s[0] * s[1]);
+        return -1;
+    }
     case CLI_XY:
         return parse_fields(v, ",", 2, (long)o->lo, (long)o->hi, o->dst, xy, why, whylen);
     case CLI_BOX: {

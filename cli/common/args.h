@@ -64,7 +64,8 @@ enum cli_kind {
     CLI_DOUBLE,  /* double *dst, finite, in [lo, hi] */
     CLI_STRING,  /* const char **dst = the argument itself (not copied) */
     CLI_CHOICE,  /* int *dst = index of the value in choices (NULL-terminated) */
-    CLI_SIZE,    /* int dst[2] = W, H from "WxH", each in [lo, hi] */
+    CLI_SIZE,    /* int dst[2] = W, H from "WxH", each in [lo, hi], W*H at most
+                    GG_IMAGE_MAX_PIXELS (an image's size) */
     CLI_XY,      /* int dst[2] = X, Y from "X,Y", each in [lo, hi] */
     CLI_BOX,     /* int dst[4] = X0, Y0, X1, Y1 from "X0,Y0,X1,Y1", each in [lo, hi] */
     CLI_VEC3,    /* ggVec3 *dst from "X,Y,Z", three finite numbers */

@@ -64,8 +64,10 @@ void cli_render_init(cli_render *r, unsigned parts)
     r->parts = parts;
     r->table[n++] = (cli_opt)CLI_OPT_SECTION("render options (the same in every command that renders or traces)");
     if (parts & CLI_RENDER_SIZE)
-        r->table[n++] = (cli_opt)CLI_OPT_SIZE('s', "size", r->size, 1, GG_IMAGE_MAX_DIM, "WxH",
-                                              "image size (default: the scene's resolution)");
+        r->table[n++] =
+            (cli_opt)CLI_OPT_SIZE('s', "size", r->size, 1, GG_IMAGE_MAX_DIM, "WxH",
+                                  "image size (default: the scene's resolution); each\n"
+                                  "side 1 to 65536, at most 16777216 pixels (4096x4096)");
     if (parts & CLI_RENDER_DEPTH)
         r->table[n++] = (cli_opt)CLI_OPT_INT('d', "depth", &r->depth, 1, 64, "N",
                                              "ray-tree depth counting the eye ray (default: the\n"
