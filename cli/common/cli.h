@@ -70,6 +70,12 @@ int cli_image_kind(const char *path);
    Returns CLI_GO or EXIT_USAGE. */
 int cli_check_image_name(const cli_cmd *cmd, const char *what, const char *path);
 
+/* For a parser: refuse an output (named by option opt, "-o") that is the
+   same file as one of the n inputs (st_dev and st_ino, when both exist),
+   which writing it would destroy. Returns CLI_GO or EXIT_USAGE. */
+int cli_check_not_input(const cli_cmd *cmd, const char *opt, const char *out,
+                        const char *const *inputs, int n);
+
 /* A text output file written whole or not at all: cli_out_open creates
    "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it
    over path, or removes it on any error. Both print the reason ("ggrt CMD:

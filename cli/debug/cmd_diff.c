@@ -98,6 +98,7 @@ static int parse(diff_args *a, int argc, char **argv)
         return rc;
     /* Known before the scan, which may take minutes. */
     if (a->out && (rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
+    if ((rc = cli_check_not_input(&cmd, "-o", a->out, a->scenes, a->nscenes)) != CLI_GO) return rc;
     if (a->out && (rc = cli_check_output("diff", a->out)) != 0) return rc;
     return CLI_GO;
 }

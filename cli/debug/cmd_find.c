@@ -89,6 +89,11 @@ static int parse(find_args *a, int argc, char **argv)
     if (a->out && (rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
     if (a->overlay && (rc = cli_check_image_name(&cmd, "--overlay", a->overlay)) != CLI_GO)
         return rc;
+    if ((rc = cli_check_not_input(&cmd, "-o", a->out, &a->scene, 1)) != CLI_GO ||
+        (rc = cli_check_not_input(&cmd, "--overlay", a->overlay, &a->scene, 1)) != CLI_GO ||
+        (rc = cli_check_not_input(&cmd, "--paths-jsonl", a->paths_jsonl, &a->scene, 1)) != CLI_GO ||
+        (rc = cli_check_not_input(&cmd, "--paths-obj", a->paths_obj, &a->scene, 1)) != CLI_GO)
+        return rc;
     if ((rc = dbg_paths_check("find", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->out && (rc = cli_check_output("find", a->out)) != 0) return rc;
     if (a->overlay && (rc = cli_check_output("find", a->overlay)) != 0) return rc;

@@ -164,7 +164,7 @@ static int parse(int argc, char **argv, const char **files, int *nfiles, const c
     cli_opt mine[] = {
         CLI_OPT_STRING('o', "output", out, "FILE",
                        "the image to write (required), .png or .exr;\n"
-                       "written whole or not at all"),
+                       "written whole or not at all; not one of the inputs"),
         CLI_OPT_FLAG(0, "reports", reports,
                      "the files are JSON reports of find, check or diff\n"
                      "--tile: write the whole image's report to -o FILE"),
@@ -185,6 +185,7 @@ static int parse(int argc, char **argv, const char **files, int *nfiles, const c
     int rc;
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     if (!*out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
+    if ((rc = cli_check_not_input(&cmd, "-o", *out, files, *nfiles)) != CLI_GO) return rc;
     if (*reports) return CLI_GO;
     return cli_check_image_name(&cmd, "the output", *out);
 }

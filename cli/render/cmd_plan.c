@@ -39,7 +39,7 @@ static int parse(plan_args *a, int argc, char **argv)
                     "most the number of rows"),
         CLI_OPT_STRING('o', "output", &a->out, "FILE",
                        "the plan to write (required), JSON; written whole\n"
-                       "or not at all"),
+                       "or not at all; not the scene's file"),
         CLI_OPT_CHOICE(0, "cost", &a->cost, cost_kinds, "KIND",
                        "time (default: seconds per pixel, measured) or\n"
                        "rays (rays cast: reproducible, less even)"),
@@ -68,7 +68,7 @@ static int parse(plan_args *a, int argc, char **argv)
     cli_render_finish(&a->ro);
     if (!a->out) return cli_usage_error(&cmd, "need -o PLAN.json");
     if (!a->n) return cli_usage_error(&cmd, "need --tiles N");
-    return CLI_GO;
+    return cli_check_not_input(&cmd, "-o", a->out, &a->scene, 1);
 }
 
 /* Each row's cost at full size: the heat map row its centre falls in,

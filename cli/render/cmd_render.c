@@ -180,7 +180,7 @@ static int parse(render_args *a, int argc, char **argv)
         return cli_usage_error(&cmd, "--aov writes its layers into -o OUT.exr or, with "
                                      "--aov-png DIR, as PNGs");
     if (a->plan) return cli_usage_error(&cmd, "--plan goes with --tile or --tiles");
-    return CLI_GO;
+    return cli_check_not_input(&cmd, "-o", a->out, &a->scene, 1);
 }
 
 /* The heat map replaces the picture; --no-srgb pre-decodes what the PNG

@@ -35,6 +35,22 @@ expect_err 1 "ggrt render: --no-srgb is for a PNG: -o must end in .png" \
   bad "render --no-srgb with an .exr writes nothing"
 expect_exit 0 "render --no-srgb to a .png" "$ggrt" render $g -s 8x6 -q --no-srgb -o "$tmp/o/ns.png"
 
+# An output that is also an input is refused before any work (exit 1),
+# whatever path names it: merge onto one of its tiles, plan onto its scene.
+"$ggrt" render $g -s 16x12 -q --tiles 0-2/3 -o "$tmp/o/part-%d.exr"
+cp "$tmp/o/part-0.exr" "$tmp/o/part-0.copy"
+expect_err 1 "ggrt merge: -o '$tmp/o/./part-0.exr' is the input '$tmp/o/part-0.exr': writing it would destroy it" \
+  "merge -o onto one of its tiles is refused" \
+  "$ggrt" merge "$tmp/o/part-0.exr" "$tmp/o/part-1.exr" "$tmp/o/part-2.exr" -o "$tmp/o/./part-0.exr"
+cmp -s "$tmp/o/part-0.exr" "$tmp/o/part-0.copy" && ok "merge: the tile is untouched" ||
+  bad "merge: the tile is untouched"
+cp $g "$tmp/o/scene.nff"
+expect_err 1 "ggrt plan: -o '$tmp/o/scene.nff' is the input '$tmp/o/scene.nff': writing it would destroy it" \
+  "plan -o onto its scene is refused" "$ggrt" plan "$tmp/o/scene.nff" --tiles 2 -s 16x12 -q -o "$tmp/o/scene.nff"
+cmp -s "$tmp/o/scene.nff" $g && ok "plan: the scene is untouched" || bad "plan: the scene is untouched"
+expect_exit 0 "merge onto a new file still works" \
+  "$ggrt" merge "$tmp/o/part-0.exr" "$tmp/o/part-1.exr" "$tmp/o/part-2.exr" -q -o "$tmp/o/whole.exr"
+
 # A failed write to stdout or to a file is exit 3 with the reason.
 for c in "trace $g --pixel 1,1" "trace $g --pixel 1,1 --format json" "info $g" "render --help" \
          "--version" "optics reflect --v 1,-1,0 --n 0,1,0"; do
