@@ -77,7 +77,8 @@ int main(int argc, char **argv)
 {
     int rc = dispatch(argc, argv);
     /* Output that did not reach stdout (a full disk, /dev/full, a closed
-       pipe's EIO) is an I/O error even when the command itself succeeded. */
+       pipe's EIO) is an I/O error even when the command itself succeeded,
+       and wins over a failed check: the report of what failed was lost. */
     int out = cli_close_stdout();
-    return rc == EXIT_OK ? out : rc;
+    return (rc == EXIT_OK || rc == EXIT_CHECK) && out ? out : rc;
 }

@@ -18,6 +18,7 @@
 #define EXIT_USAGE 1
 #define EXIT_INPUT 2
 #define EXIT_IO    3
+#define EXIT_CHECK 4 /* check, optics check: what was checked failed */
 
 /* Each subcommand: argv[0] is the subcommand's name. */
 int cmd_optics(int argc, char **argv);

@@ -15,8 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define EXIT_CHECK 4 /* as check's invariants */
-
 typedef struct aov_file {
     const char *path;
     int n, w, h;

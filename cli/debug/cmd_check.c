@@ -10,8 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define EXIT_CHECK 4 /* an error-class invariant failed */
-
 static const char about[] =
     "Trace every pixel as ggrt render computes it and test the ray trees for:\n"
     "  nonfinite   NaN or infinite pixel values (and the first ray that made them)\n"

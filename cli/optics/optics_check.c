@@ -18,7 +18,6 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#define EXIT_CHECK 4       /* the function failed the check */
 #define TIR_BAND   0x1p-96 /* decisions this close to critical are not counted */
 
 typedef bool (*refract_fn)(ggVec3, ggVec3, double, double, ggVec3 *);

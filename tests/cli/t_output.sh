@@ -61,6 +61,13 @@ for c in "trace $g --pixel 1,1" "trace $g --pixel 1,1 --format json" "info $g" "
   if [ $got = 3 ] && grep -qxF "ggrt$who: error writing standard output: No space left on device" "$tmp/err"
   then ok "ggrt $c > /dev/full: exit 3"; else bad "ggrt $c > /dev/full: exit 3 (got $got)" "$(cat "$tmp/err")"; fi
 done
+# A check that fails (exit 4) whose report is lost: the I/O error wins.
+for f in text json; do
+  "$ggrt" check tests/data/debug/nan.nff -q -f $f >/dev/full 2>"$tmp/err"; got=$?
+  if [ $got = 3 ] && grep -qxF "ggrt check: error writing standard output: No space left on device" "$tmp/err"
+  then ok "check -f $f of a failing scene > /dev/full: exit 3, not 4"
+  else bad "check -f $f of a failing scene > /dev/full: exit 3, not 4 (got $got)" "$(cat "$tmp/err")"; fi
+done
 # A file that cannot grow (RLIMIT_FSIZE; SIGXFSZ ignored so write fails with
 # EFBIG): the image and the SVG are not written, the old files stay.
 printf 'old\n' > "$tmp/o/big.exr"; printf 'old\n' > "$tmp/o/big.svg"
