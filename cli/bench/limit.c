@@ -99,6 +99,7 @@ static int scene_limit(const bench_opts *bo, const char *name, const char *path)
         /* (a failed render's status is not kept: bad input) */
         int rc = s && rs != GG_OK ? cli_exit_code(rs, 0) : EXIT_INPUT;
         printf("%-*s failed: %s\n", w, name, s ? err.message : "out of memory");
+        cli_error("%s", s ? err.message : "out of memory"); /* and on stderr */
         ggSceneFree(s);
         return rc;
     }

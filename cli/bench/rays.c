@@ -118,6 +118,9 @@ static int scene_row(const bench_opts *bo, const char *name, const char *path)
         (st = ggScenePrepare(s, &err)) != GG_OK ||
         (st = collect(s, bo->size, sets, &err)) != GG_OK) {
         printf(" failed: %s\n", s ? err.message : "out of memory");
+        /* also where errors go, as every command says them (the table
+           may be redirected or read by a script) */
+        cli_error("%s", s ? err.message : "out of memory");
         rc = s ? cli_exit_code(st, 0) : EXIT_INPUT;
     } else {
         for (k = 0; k < NSETS; k++) {

@@ -89,10 +89,12 @@ static int spd_measure(spd_job *j, const char *name, spd_result *r, double *peak
     memset(r, 0, sizeof *r);
     if (bench_in_child(spd_child, j, r, sizeof *r, peak) != 0) {
         printf("%-11s failed: the measuring process failed\n", name);
+        cli_error("%s: the measuring process failed", name); /* and on stderr */
         return EXIT_INPUT;
     }
     if (r->error[0]) {
         printf("%-11s failed: %s\n", name, r->error);
+        cli_error("%s", r->error);
         return cli_exit_code(r->status, 0);
     }
     return EXIT_OK;

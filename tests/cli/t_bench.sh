@@ -124,6 +124,15 @@ for b in spd counts scaling rays limit; do
     ok "bench $b --spd with no scenes in it: exit 3, the file named" ||
     bad "bench $b --spd with no scenes in it: exit 3, the file named (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
 done
+# A scene that fails to load: its row says why and so does stderr, in the
+# tool's message style (as bench accuracy does), exit 2.
+mkdir -p "$tmp/badspd"; printf 's 0 0 zero 1\n' >"$tmp/badspd/gears.nff"
+for b in rays limit spd; do
+  what=$tmp/badspd/gears.nff; [ $b = spd ] && what="--spd $tmp/badspd --scenes gears --no-pov"
+  # shellcheck disable=SC2086
+  expect_err 2 "ggrt bench $b: $tmp/badspd/gears.nff:1:7: expected a number after 's', got 'zero'" \
+    "bench $b: a scene that fails to load is named on stderr" "$ggrt" bench $b $what --size 8 --runs 1
+done
 expect_err 1 "ggrt bench: --scenes is not an option of bench accuracy (it takes scene files)" \
   "bench accuracy --scenes is a usage error" "$ggrt" bench accuracy examples/scenes/glass.nff --scenes gears
 expect_err 1 "ggrt bench: --scenes picks SPD scenes; give scene files or --scenes, not both" \
