@@ -720,9 +720,11 @@ static int mesh_options(parser *ps, ggMeshOptions *mo)
     while (rc == GG_OK && peek(ps, &o) > 0) {
         if (tok_is(&o, "translate") || tok_is(&o, "scale") || tok_is(&o, "rotate")) {
             next(ps, &o);
+            /* Number errors name the option, not 'mesh'. */
+            ps->keyword = o.p[0] == 't' ? "translate" : o.p[0] == 's' ? "scale" : "rotate";
             if ((rc = transform_op(ps, &o, op)) == GG_OK) compose(mo->transform, op);
         } else if (tok_is(&o, "crease")) {
-            next(ps, &o);
+            next(ps, &o), ps->keyword = "crease";
             if ((rc = number(ps, &mo->crease_deg, "a crease angle in degrees")) == GG_OK &&
                 !(mo->crease_deg >= 0 && mo->crease_deg <= 180))
                 rc = fail(ps, &o, GG_ERROR_PARSE, "mesh: the crease angle must be in [0, 180]");
@@ -733,7 +735,12 @@ static int mesh_options(parser *ps, ggMeshOptions *mo)
             next(ps, &o), mo->normals = GG_NORMALS_COMPUTE;
         } else if (tok_is(&o, "material")) {
             next(ps, &o);
-            if (next(ps, &v) > 0 && tok_is(&v, "current")) mo->override_materials = true;
+            /* At the end of the file v holds nothing: the error is at the end. */
+            if (next(ps, &v) <= 0)
+                rc = fail(ps, NULL, GG_ERROR_PARSE,
+                          "expected current or file after 'material', got end of file");
+            else if (tok_is(&v, "current"))
+                mo->override_materials = true;
             else if (tok_is(&v, "file")) mo->override_materials = false;
             else
                 rc = fail(ps, &v, GG_ERROR_PARSE, "expected current or file after 'material', got '%s'",

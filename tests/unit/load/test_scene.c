@@ -151,6 +151,27 @@ static void test_errors(void **state)
                  "scene.nff:1:9: cannot read texture: no-such-file.png: cannot open: "
                  "No such file or directory");
     expect_error("implicit \"x*x + y*", GG_ERROR_PARSE, "scene.nff:1:10: unterminated string");
+    /* mesh's options at the end of the file: an error at the end, no token
+       read that is not there (valgrind saw one after 'material') */
+    expect_error("mesh \"tri.obj\" material", GG_ERROR_PARSE,
+                 "scene.nff:1:24: expected current or file after 'material', got end of file");
+    expect_error("mesh \"tri.obj\" material\n", GG_ERROR_PARSE,
+                 "scene.nff:2:1: expected current or file after 'material', got end of file");
+    expect_error("mesh \"tri.obj\" material other", GG_ERROR_PARSE,
+                 "scene.nff:1:25: expected current or file after 'material', got 'other'");
+    expect_error("mesh \"tri.obj\" rotate", GG_ERROR_PARSE,
+                 "scene.nff:1:22: expected a number after 'rotate', got end of file");
+    expect_error("mesh \"tri.obj\" rotate x", GG_ERROR_PARSE,
+                 "scene.nff:1:24: expected an angle in degrees after 'rotate', got end of file");
+    expect_error("mesh \"tri.obj\" scale", GG_ERROR_PARSE,
+                 "scene.nff:1:21: expected a scale factor after 'scale', got end of file");
+    expect_error("mesh \"tri.obj\" scale 1 2", GG_ERROR_PARSE,
+                 "scene.nff:1:25: expected a number after 'scale', got end of file");
+    expect_error("mesh \"tri.obj\" translate 1 2", GG_ERROR_PARSE,
+                 "scene.nff:1:29: expected a number after 'translate', got end of file");
+    expect_error(
+        "mesh \"tri.obj\" flat crease", GG_ERROR_PARSE,
+        "scene.nff:1:27: expected a crease angle in degrees after 'crease', got end of file");
     /* Everything before the error is rolled back too. */
     expect_error("l 0 0 0\nf 1 1 1 1 0 1 0 0\ns 0 0 0 1\ns 0 0", GG_ERROR_PARSE,
                  "scene.nff:4:6: expected a number after 's', got end of file");
