@@ -38,6 +38,14 @@ int gg_load_mesh_format(const char *name);
 int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,
                       ggError *err);
 
+/* Which file a path names, whatever its spelling ("a.obj", "./a.obj",
+   a link): its device and inode. 0 and *id set, or -1 when it cannot be
+   stat'ed (the read that follows says why). */
+typedef struct gg_file_id {
+    uint64_t dev, ino;
+} gg_file_id;
+int gg_load_file_id(const char *path, gg_file_id *id);
+
 /* What a binary file is, from its first bytes ("a PNG image", "an OpenEXR
    image", "a ZIP archive", ...), or NULL when they match no known format.
    The text readers call it before anything else: an image given as a scene

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 void gg_mb_init(gg_mb *mb, const ggAllocator *a, int format)
 {
@@ -453,6 +454,14 @@ const char *gg_load_binary_kind(const char *data, size_t len)
     if (len >= 12 && memcmp(data, "RIFF", 4) == 0 && memcmp(data + 8, "WEBP", 4) == 0)
         return "a WebP image";
     return NULL;
+}
+
+int gg_load_file_id(const char *path, gg_file_id *id)
+{
+    struct stat st;
+    if (stat(path, &st) != 0) return -1;
+    id->dev = (uint64_t)st.st_dev, id->ino = (uint64_t)st.st_ino;
+    return 0;
 }
 
 int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char **out, size_t *len,

@@ -82,3 +82,16 @@ under_64m 2 "ggrt merge: $ho/ones.json: not a JSON report: not an object" \
   "$ggrt" merge -q --reports "$ho/ones.json" -o "$ho/x.json"
 [ ! -e "$ho/x.png" ] && ok "refused hostile inputs leave no image" ||
   bad "refused hostile inputs leave no image"
+
+# An 88 KB OBJ that is its own MTL library (1000 newmtl lines), named on
+# 4000 mtllib lines: each library is read once. Read at every mtllib line,
+# it took 1.16 GB and 4.4 s before the error at its last line.
+python3 -c '
+import sys
+with open(sys.argv[1], "w") as f:
+    f.write("".join("newmtl m%d\n" % i for i in range(1000)) + "mtllib selfmtl.obj\n" * 4000 +
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+' "$ho/selfmtl.obj"
+under_64m 2 "ggrt info: $ho/selfmtl.obj:5004:7: vertex index 9 is out of range (3 defined so far)" \
+  "a $(wc -c <"$ho/selfmtl.obj")-byte OBJ naming itself as its MTL library 4000 times" \
+  "$ggrt" info "$ho/selfmtl.obj"
