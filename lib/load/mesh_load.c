@@ -50,8 +50,10 @@ static void undo(ggScene *s, const mark *m)
     s->nlights = m->nlights, s->camera = m->camera, s->has_camera = m->has_camera;
 }
 
+/* file: where data came from, NULL for memory; repeat: an earlier mesh of
+   the scene is the same file (check_repeat). */
 static int load(ggScene *s, const char *data, size_t len, const char *name, const char *dir,
-                const ggMeshOptions *o, int line, ggError *err)
+                const ggMeshOptions *o, int line, const gg_file_id *file, bool repeat, ggError *err)
 {
     ggMeshOptions def;
     gg_mb mb;
@@ -70,6 +72,8 @@ static int load(ggScene *s, const char *data, size_t len, const char *name, cons
         rc = gg_ply_read(&mb, (const unsigned char *)data, len, name, err);
     if (rc == GG_OK && !(mb.b.m.name = gg_mem_strdup(s->alloc, name)))
         rc = gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", name);
+    if (file) mb.b.m.has_file = true, mb.b.m.file_dev = file->dev, mb.b.m.file_ino = file->ino;
+    mb.b.m.repeat = repeat;
     if (rc == GG_OK && (id = gg_scene_add_mesh_build(s, &mb.b, o, line, err)) < 0) rc = -id;
     gg_mb_free(&mb);
     if (rc != GG_OK) undo(s, &mk);
@@ -79,23 +83,26 @@ static int load(ggScene *s, const char *data, size_t len, const char *name, cons
 /* A mesh file named again costs its triangles again (each mention is
    placed on its own), so a small scene naming one file many times could
    ask for any amount of memory: the triangles of every mention after a
-   path's first count against GG_MESH_REPEAT_MAX, checked before the file
-   is read again. Counted from the scene's meshes, so a rollback needs no
-   bookkeeping. */
-static int check_repeat(const ggScene *s, const char *path, ggError *err)
+   file's first count against GG_MESH_REPEAT_MAX, checked before the file
+   is read again. A file is its device and inode: compared as strings,
+   `./grid.ply`, `././grid.ply`, ... passed the limit (250 such lines
+   naming a 193 KB PLY took 997 MB). Counted from the scene's meshes
+   (each remembers whether it repeats an earlier one: one pass, not one
+   per pair), so a rollback needs no bookkeeping. *repeat: the file was
+   read before. */
+static int check_repeat(const ggScene *s, const char *path, const gg_file_id *id, bool *repeat,
+                        ggError *err)
 {
     uint64_t again = 0, prev = 0;
-    bool named = false;
-    size_t i, j;
+    size_t i;
+    *repeat = false;
     for (i = 0; i < s->nmeshes; i++) {
-        const char *n = s->meshes[i].name;
-        if (!n) continue;
-        if (!named && strcmp(n, path) == 0) named = true, prev = s->meshes[i].ntri;
-        for (j = 0; j < i; j++)
-            if (s->meshes[j].name && strcmp(s->meshes[j].name, n) == 0) break;
-        if (j < i) again += s->meshes[i].ntri;
+        const gg_mesh *m = &s->meshes[i];
+        if (m->repeat) again += m->ntri;
+        if (!*repeat && m->has_file && m->file_dev == id->dev && m->file_ino == id->ino)
+            *repeat = true, prev = m->ntri;
     }
-    if (!named || again + prev <= GG_MESH_REPEAT_MAX) return GG_OK;
+    if (!*repeat || again + prev <= GG_MESH_REPEAT_MAX) return GG_OK;
     return gg_error_set(err, GG_ERROR_LIMIT,
                         "%s: named again: its %llu triangles would bring the triangles of meshes "
                         "named more than once to %llu, over the limit of %lu",
@@ -107,13 +114,17 @@ int gg_load_mesh_file(ggScene *s, const char *path, const ggMeshOptions *o, int 
 {
     char *text = NULL, *dir;
     size_t len = 0;
-    int rc = check_repeat(s, path, err);
+    gg_file_id id;
+    bool repeat = false;
+    /* a path that cannot be stat'ed cannot be read either: the read says why */
+    int known = gg_load_file_id(path, &id) == 0,
+        rc = known ? check_repeat(s, path, &id, &repeat, err) : GG_OK;
     if (rc == GG_OK) rc = gg_load_read_file(s->alloc, path, GG_MESH_MAX_FILE, &text, &len, err);
     if (rc != GG_OK) return rc;
     if (!(dir = gg_load_dirname(s->alloc, path)))
         rc = gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
     else
-        rc = load(s, text, len, path, dir, o, line, err);
+        rc = load(s, text, len, path, dir, o, line, known ? &id : NULL, repeat, err);
     gg_mem_free(s->alloc, dir);
     gg_mem_free(s->alloc, text);
     return rc;
@@ -130,7 +141,8 @@ GG_API int ggSceneLoadMeshMemory(ggScene *s, const void *data, size_t len, const
 {
     if (!s || (!data && len))
         return gg_error_set(err, GG_ERROR_INVALID, "ggSceneLoadMeshMemory: NULL argument");
-    return load(s, data ? (const char *)data : "", len, name ? name : "<memory>", NULL, o, 0, err);
+    return load(s, data ? (const char *)data : "", len, name ? name : "<memory>", NULL, o, 0, NULL,
+                false, err);
 }
 
 int gg_load_model(ggScene *s, const char *path, ggError *err)

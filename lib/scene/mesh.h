@@ -43,6 +43,10 @@ typedef struct gg_mesh {
     ggVec3 lo, hi;
     int nwarn;
     char *warning; /* the first warning, or NULL */
+    /* The file read (lib/load/mesh_load.c): device and inode, whatever the
+       path's spelling; repeat: an earlier mesh of the scene is that file. */
+    uint64_t file_dev, file_ino;
+    bool has_file, repeat;
 } gg_mesh;
 
 /* What a reader hands over: the mesh in file order, plus per-triangle
