@@ -39,7 +39,12 @@ typedef struct objp {
     tuples tm;
     uint32_t *corner;
     size_t cap_corner;
-    char *oname, *gname;
+    /* o and g names, and each (o, g) pair seen ("oid gid") with its
+       label's index in mb->groups (pgroup): a g line costs its own name,
+       not the o name's length again */
+    gg_names onames, gnames, pairs;
+    uint32_t oid, gid, *pgroup;
+    size_t cap_pgroup;
     uint32_t group, mtl, smooth;
     gg_mtl_lib lib;
     int libs; /* MTL files read */
@@ -250,30 +255,40 @@ static int face(objp *op, int line)
 }
 
 /* o NAME / g NAME...: faces after it belong to "o/g" (either alone when
-   the other is unset; a new o clears g). */
+   the other is unset; a new o clears g). The label is built and interned
+   once per (o, g) pair: 10,000 g lines under a 400,000-byte o name copied
+   and hashed it 10,000 times (5.35 s). */
 static int group(objp *op, bool is_o)
 {
-    const char *w;
-    size_t n = gg_lc_rest(&op->c, &w), lo, lg;
-    char *name = gg_mem_alloc(op->mb->a, n + 1), *label;
-    int rc = 0;
-    if (!name) return nomem(op);
-    memcpy(name, w, n);
-    name[n] = '\0';
-    if (is_o) {
-        gg_mem_free(op->mb->a, op->oname), gg_mem_free(op->mb->a, op->gname);
-        op->oname = name, op->gname = NULL;
-    } else {
-        gg_mem_free(op->mb->a, op->gname);
-        op->gname = name;
+    const ggAllocator *a = op->mb->a;
+    const char *w, *on, *gn;
+    size_t n = gg_lc_rest(&op->c, &w), lo, lg, before = op->pairs.n;
+    char key[32], *label;
+    uint32_t pid;
+    int rc;
+    if (gg_names_add(a, is_o ? &op->onames : &op->gnames, w, n, is_o ? &op->oid : &op->gid))
+        return nomem(op);
+    if (is_o) op->gid = 0; /* "" */
+    snprintf(key, sizeof key, "%lu %lu", (unsigned long)op->oid, (unsigned long)op->gid);
+    if (gg_names_add(a, &op->pairs, key, strlen(key), &pid)) return nomem(op);
+    if (op->pairs.n == before) {
+        op->group = op->pgroup[pid];
+        return GG_OK;
     }
-    lo = op->oname ? strlen(op->oname) : 0, lg = op->gname ? strlen(op->gname) : 0;
-    if (!(label = gg_mem_alloc(op->mb->a, lo + lg + 2))) return nomem(op);
-    snprintf(label, lo + lg + 2, "%s%s%s", op->oname ? op->oname : "", lo && lg ? "/" : "",
-             op->gname ? op->gname : "");
-    rc = gg_names_add(op->mb->a, &op->mb->groups, label, strlen(label), &op->group);
-    gg_mem_free(op->mb->a, label);
-    return rc ? nomem(op) : GG_OK;
+    if (gg_mem_grow(a, (void **)&op->pgroup, &op->cap_pgroup, op->pairs.n, sizeof *op->pgroup))
+        return nomem(op);
+    on = op->onames.s[op->oid], gn = op->gnames.s[op->gid];
+    lo = strlen(on), lg = strlen(gn);
+    if (!(label = gg_mem_alloc(a, lo + lg + 2))) return nomem(op);
+    memcpy(label, on, lo);
+    if (lo && lg) label[lo++] = '/';
+    memcpy(label + lo, gn, lg);
+    label[lo + lg] = '\0';
+    rc = gg_names_add(a, &op->mb->groups, label, lo + lg, &op->group);
+    gg_mem_free(a, label);
+    if (rc) return nomem(op);
+    op->pgroup[pid] = op->group;
+    return GG_OK;
 }
 
 static int usemtl(objp *op)
@@ -514,8 +529,10 @@ static void objp_free(objp *op)
     gg_mem_free(a, op->tm.key);
     gg_mem_free(a, op->tm.val);
     gg_mem_free(a, op->corner);
-    gg_mem_free(a, op->oname);
-    gg_mem_free(a, op->gname);
+    gg_names_free(a, &op->onames);
+    gg_names_free(a, &op->gnames);
+    gg_names_free(a, &op->pairs);
+    gg_mem_free(a, op->pgroup);
     gg_mtl_free(a, &op->lib);
     gg_mem_free(a, op->libid);
 }
@@ -529,9 +546,13 @@ int gg_obj_read(ggScene *s, gg_mb *mb, const char *text, size_t len, const char 
     memset(&op, 0, sizeof op);
     op.s = s, op.mb = mb, op.o = o, op.dir = dir, op.smooth = 1;
     gg_lc_init(&op.c, text, len, name, err);
-    /* group and material 0 are "none" */
-    if (gg_names_add(mb->a, &mb->groups, "", 0, &id) || gg_names_add(mb->a, &mb->mtls, "", 0, &id))
+    /* group, material, o and g name 0 are "none" */
+    if (gg_names_add(mb->a, &mb->groups, "", 0, &id) ||
+        gg_names_add(mb->a, &mb->mtls, "", 0, &id) || gg_names_add(mb->a, &op.onames, "", 0, &id) ||
+        gg_names_add(mb->a, &op.gnames, "", 0, &id)) {
+        objp_free(&op);
         return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", name);
+    }
     rc = gg_lc_check_text(&op.c);
     while (rc == GG_OK && op.c.p < op.c.end) {
         const char *w;

@@ -42,3 +42,14 @@ expect_summary "64x48 of x^-1000000000 - 1 within 20 s, one thread" 20 "rays: ey
   "$ggrt" render "$tmp/steep.nff" -j 1 -o "$tmp/steep.png"
 grep -q "evaluation budget" "$tmp/out" && bad "x^-1000000000 - 1 needs no cut" "$(cat "$tmp/out")" ||
   ok "x^-1000000000 - 1 needs no cut"
+
+# An OBJ label is built once per (o, g) pair: 100,000 `g x` lines under
+# a 400,000-byte o name copied and hashed it at every line (10,000 lines
+# took 5.35 s, 300,000 over 20 s).
+python3 -c '
+import sys
+with open(sys.argv[1], "w") as f:
+    f.write("o " + "a" * 400000 + "\n" + "g x\n" * 100000 + "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+' "$tmp/og.obj"
+expect_summary "100,000 g lines under a 400,000-byte o name within 10 s" 10 \
+  "1 triangles, 3 vertices, normals computed; objects #0..#0, 2 groups" "$ggrt" info "$tmp/og.obj"

@@ -176,6 +176,30 @@ static void test_obj_forms(void **state)
     ggSceneFree(s);
 }
 
+/* Group labels: one per distinct "o/g" however often a pair comes back,
+   and an o alone, a g alone or o "a/b" give the labels they spell. */
+static void test_obj_groups(void **state)
+{
+    const char *text = "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                       "o a\ng b\nf 1 2 3\ng c\nf 1 2 3\ng b\nf 1 2 3\n"
+                       "o a/b\nf 1 2 3\no\ng d\nf 1 2 3\no a\nf 1 2 3\n";
+    const char *want[6] = {"a/b", "a/c", "a/b", "a/b", "d", "a"};
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshInfo mi;
+    ggFaceInfo fi;
+    ggError e;
+    int i;
+    (void)state;
+    assert_int_equal(ggSceneLoadMeshMemory(s, text, strlen(text), "t.obj", NULL, &e), GG_OK);
+    ggSceneGetMeshInfo(s, 0, &mi);
+    assert_int_equal(mi.groups, 4); /* a, a/b, a/c, d */
+    for (i = 0; i < 6; i++) {
+        assert_int_equal(ggSceneGetFaceInfo(s, 0, i, &fi), GG_OK);
+        assert_string_equal(fi.group, want[fi.face]);
+    }
+    ggSceneFree(s);
+}
+
 /* A load that fails after its materials and textures were added keeps
    none of them. */
 static void test_obj_rollback(void **state)
@@ -409,7 +433,7 @@ int main(void)
         cmocka_unit_test(test_obj_concave),    cmocka_unit_test(test_obj_concave_quad),
         cmocka_unit_test(test_obj_rollback),   cmocka_unit_test(test_ply_encodings),
         cmocka_unit_test(test_ply_errors),     cmocka_unit_test(test_nff_mesh),
-        cmocka_unit_test(test_model_as_scene),
+        cmocka_unit_test(test_model_as_scene), cmocka_unit_test(test_obj_groups),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
