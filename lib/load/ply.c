@@ -253,6 +253,13 @@ static inline double decode(const unsigned char *p, int type, bool swap)
     }
 }
 
+/* At the end of an ascii line (after gg_lc_blank, which leaves only a
+   \r that ends a line): '#' is no comment in a PLY body. */
+static bool at_eol(const gg_lc *c)
+{
+    return c->p >= c->end || *c->p == '\n' || *c->p == '\r';
+}
+
 /* The next value of the body; NaN and infinity are passed on (the caller
    decides whether they matter). */
 static int value(plyp *pp, int type, double *out)
@@ -265,16 +272,12 @@ static int value(plyp *pp, int type, double *out)
         pp->p += n;
         return GG_OK;
     }
-    /* ascii: values are separated by any white space, newlines included */
-    for (;;) {
-        gg_lc_blank(&pp->c);
-        if (pp->c.p < pp->c.end && *pp->c.p == '\n') {
-            pp->c.p++, pp->c.line++, pp->c.ls = pp->c.p;
-            continue;
-        }
-        break;
-    }
+    /* ascii: an element is one line (ascii_end), its values separated by
+       blanks */
+    gg_lc_blank(&pp->c);
     if (pp->c.p >= pp->c.end) return bfail(pp, GG_ERROR_PARSE, "the file ends here (truncated)");
+    if (at_eol(&pp->c))
+        return bfail(pp, GG_ERROR_PARSE, "expected a number, got the end of the line");
     {
         const char *q = gg_parse_number(pp->c.p, pp->c.end, out);
         if (!q || (q < pp->c.end && *q != ' ' && *q != '\t' && *q != '\r' && *q != '\n'))
@@ -283,6 +286,26 @@ static int value(plyp *pp, int type, double *out)
             return bfail(pp, GG_ERROR_PARSE, "expected a whole number");
         pp->c.p = q;
     }
+    return GG_OK;
+}
+
+/* After an ascii element: nothing else on its line, then the next line
+   (LF, CRLF or a lone CR). Values used to run on across lines, so a short
+   line took the next one's values and a long one's rest began the next
+   element. */
+static int ascii_end(plyp *pp)
+{
+    char b[100];
+    const char *q;
+    if (pp->fmt) return GG_OK;
+    gg_lc_blank(&pp->c);
+    if (!at_eol(&pp->c)) {
+        for (q = pp->c.p; q < pp->c.end && *q != ' ' && *q != '\t' && *q != '\r' && *q != '\n'; q++)
+            ;
+        return bfail(pp, GG_ERROR_PARSE, "expected the end of the line, got '%s'",
+                     gg_lc_show(pp->c.p, (size_t)(q - pp->c.p), b, sizeof b));
+    }
+    gg_lc_next_line(&pp->c);
     return GG_OK;
 }
 
@@ -421,7 +444,7 @@ static int vertices(plyp *pp, const pelem *e)
                 rc = value(pp, e->p[k].type, &val[k]);
             else if ((rc = list_count(pp, &e->p[k], &n)) == GG_OK)
                 rc = skip(pp, e->p[k].type, n);
-        if (rc != GG_OK) return rc;
+        if (rc != GG_OK || (rc = ascii_end(pp)) != GG_OK) return rc;
         p = v3(val[w[W_X]], val[w[W_Y]], val[w[W_Z]]);
         if (has_n) nv = v3(val[w[W_NX]], val[w[W_NY]], val[w[W_NZ]]);
         if (has_uv) uv[0] = val[w[W_U]], uv[1] = 1 - val[w[W_V]];
@@ -507,10 +530,28 @@ static int faces(plyp *pp, const pelem *e, bool have_vertices)
                 rc = value(pp, e->p[k].type, &d);
             else if ((rc = list_count(pp, &e->p[k], &d)) == GG_OK)
                 rc = skip(pp, e->p[k].type, d);
-        if (rc != GG_OK) return rc;
+        if (rc != GG_OK || (rc = ascii_end(pp)) != GG_OK) return rc;
         if (mb->b.m.ntri + n >= GG_MESH_MAX)
             return bfail(pp, GG_ERROR_LIMIT, "more than 2^28 triangles");
         if (gg_mb_face(mb, pp->corner, n, -1, 1)) return bfail(pp, GG_ERROR_NOMEM, "out of memory");
+    }
+    return GG_OK;
+}
+
+/* After the last ascii element: blank lines at most. Lines beyond the
+   header's counts (a second face where it declares one) were dropped. */
+static int ascii_rest(plyp *pp)
+{
+    char b[100];
+    const char *q;
+    for (; pp->c.p < pp->c.end; gg_lc_next_line(&pp->c)) {
+        gg_lc_blank(&pp->c);
+        if (at_eol(&pp->c)) continue;
+        for (q = pp->c.p; q < pp->c.end && *q != ' ' && *q != '\t' && *q != '\r' && *q != '\n'; q++)
+            ;
+        return gg_lc_fail(&pp->c, NULL, GG_ERROR_PARSE,
+                          "'%s': more lines than the header's element counts declare",
+                          gg_lc_show(pp->c.p, (size_t)(q - pp->c.p), b, sizeof b));
     }
     return GG_OK;
 }
@@ -520,12 +561,14 @@ static int skip_element(plyp *pp, const pelem *e)
 {
     double d;
     int k, rc = plausible(pp, e);
-    for (pp->index = 0; rc == GG_OK && pp->index < e->count && e->np; pp->index++)
+    for (pp->index = 0; rc == GG_OK && pp->index < e->count && e->np; pp->index++) {
         for (k = 0; k < e->np && rc == GG_OK; k++)
             if (!e->p[k].ctype)
                 rc = value(pp, e->p[k].type, &d);
             else if ((rc = list_count(pp, &e->p[k], &d)) == GG_OK)
                 rc = skip(pp, e->p[k].type, d);
+        if (rc == GG_OK) rc = ascii_end(pp);
+    }
     pp->mb->b.m.ignored += e->count;
     return rc;
 }
@@ -554,6 +597,7 @@ int gg_ply_read(gg_mb *mb, const unsigned char *data, size_t len, const char *na
             pp->what = "element", rc = skip_element(pp, e);
         }
     }
+    if (rc == GG_OK && !pp->fmt) rc = ascii_rest(pp);
     if (rc == GG_OK && !mb->b.m.nfaces)
         rc = gg_error_set(err, GG_ERROR_PARSE, "%s: no faces (%zu vertices: a point cloud?)", name,
                           mb->b.m.nverts);

@@ -41,7 +41,7 @@ static const skip skips[] = {
      "truncated or a bad count"},
     {"PLY/issue623.ply", "malformed by design",
      "a list property in the vertex element that the data does not have, no face element",
-     "expected a whole number"},
+     "vertex 0: expected a number, got the end of the line"},
     {"invalid/empty.obj", "empty", "an empty file", "no faces"},
     {"invalid/empty.ply", "empty", "an empty file", "not a PLY file"},
     {"invalid/malformed.obj", "malformed by design", "face indices out of range",

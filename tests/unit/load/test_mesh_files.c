@@ -349,6 +349,61 @@ static void test_ply_errors(void **state)
     }
 }
 
+/* An ascii PLY element is one line holding its values, no more, no
+   fewer, and the body has the lines the header declares: values once ran
+   on across lines, and lines beyond the counts were dropped. Lines may
+   end in LF, CRLF or a lone CR. */
+static void test_ply_ascii_lines(void **state)
+{
+    const char *h = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                    "end_header\n";
+    static const struct {
+        const char *body, *msg;
+    } bad[] = {
+        {"0 0\n1 0 0 0\n1 0\n3 0 1 2\n",
+         "t.ply:10:4: vertex 0: expected a number, got the end of the line"},
+        {"0 0 0\n1 0 0\n0 1 0\n3 0 1 2 junk\n",
+         "t.ply:13:9: face 0: expected the end of the line, got 'junk'"},
+        {"0 0 0\n1 0 0\n0 1 0\n3 0 1\n2\n",
+         "t.ply:13:6: face 0: expected a number, got the end of the line"},
+        {"0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 2 1 0\n",
+         "t.ply:14:1: '3': more lines than the header's element counts declare"},
+        {"0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\n  \n0 0 0\n",
+         "t.ply:16:1: '0': more lines than the header's element counts declare"},
+    };
+    const char *lf = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                     "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\n";
+    char text[400], cr[400];
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(text, sizeof text, "%s%s", h, bad[i].body);
+        expect_error(text, strlen(text), "t.ply", GG_ERROR_PARSE, bad[i].msg);
+    }
+    /* the same file with LF and with lone CR line endings: one mesh */
+    for (i = 0; lf[i]; i++) cr[i] = lf[i] == '\n' ? '\r' : lf[i];
+    cr[i] = '\0';
+    {
+        ggScene *s[2];
+        ggError e;
+        int k;
+        for (k = 0; k < 2; k++) {
+            const char *t = k ? cr : lf;
+            s[k] = ggSceneCreate(NULL);
+            if (ggSceneLoadMeshMemory(s[k], t, strlen(t), "t.ply", NULL, &e) != GG_OK)
+                print_error("%s\n", e.message);
+            assert_int_equal(ggSceneMeshCount(s[k]), 1);
+        }
+        assert_int_equal(s[0]->meshes[0].nverts, s[1]->meshes[0].nverts);
+        assert_int_equal(s[0]->meshes[0].ntri, 1);
+        assert_memory_equal(s[0]->meshes[0].pos, s[1]->meshes[0].pos,
+                            s[0]->meshes[0].nverts * sizeof *s[0]->meshes[0].pos);
+        for (k = 0; k < 2; k++) ggSceneFree(s[k]);
+    }
+}
+
 /* NFF: mesh "file" with a transform, the current material for faces
    without one, the keyword's line on the objects, and rollback. */
 static void test_nff_mesh(void **state)
@@ -428,12 +483,13 @@ static void test_model_as_scene(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_obj_cube),       cmocka_unit_test(test_obj_memory),
-        cmocka_unit_test(test_obj_errors),     cmocka_unit_test(test_obj_forms),
-        cmocka_unit_test(test_obj_concave),    cmocka_unit_test(test_obj_concave_quad),
-        cmocka_unit_test(test_obj_rollback),   cmocka_unit_test(test_ply_encodings),
-        cmocka_unit_test(test_ply_errors),     cmocka_unit_test(test_nff_mesh),
-        cmocka_unit_test(test_model_as_scene), cmocka_unit_test(test_obj_groups),
+        cmocka_unit_test(test_obj_cube),     cmocka_unit_test(test_obj_memory),
+        cmocka_unit_test(test_obj_errors),   cmocka_unit_test(test_obj_forms),
+        cmocka_unit_test(test_obj_concave),  cmocka_unit_test(test_obj_concave_quad),
+        cmocka_unit_test(test_obj_rollback), cmocka_unit_test(test_ply_encodings),
+        cmocka_unit_test(test_ply_errors),   cmocka_unit_test(test_ply_ascii_lines),
+        cmocka_unit_test(test_nff_mesh),     cmocka_unit_test(test_model_as_scene),
+        cmocka_unit_test(test_obj_groups),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
