@@ -46,6 +46,7 @@ typedef struct pelem {
     const char *nm;
     size_t nn;
     unsigned long long count;
+    int line, col; /* where the header gives the count, for errors about it */
     pprop p[PLY_MAX_PROPS];
     int np;
 } pelem;
@@ -128,6 +129,7 @@ static int element(plyp *pp)
     if (!(e->nn = gg_lc_word(&pp->c, &e->nm)))
         return gg_lc_fail(&pp->c, NULL, GG_ERROR_PARSE, "an element needs a name");
     gg_lc_blank(&pp->c), at = pp->c.p;
+    e->line = pp->c.line, e->col = (int)(at - pp->c.ls) + 1;
     if ((rc = gg_lc_number(&pp->c, &d, "an element count")) != GG_OK) return rc;
     if (!(d >= 0 && d <= 4294967295.0) || d != floor(d))
         return gg_lc_fail(&pp->c, at, GG_ERROR_PARSE, "bad element count");
@@ -191,6 +193,24 @@ static int bfail(plyp *pp, int code, const char *fmt, ...)
         return gg_lc_fail(&pp->c, NULL, code, "%s %llu: %s", pp->what, pp->index, msg);
     return gg_error_set(pp->err, code, "%s: byte %zu (%s %llu): %s", pp->name,
                         (size_t)(pp->p - pp->data), pp->what, pp->index, msg);
+}
+
+/* An element's count cannot be: in ascii at the count in the header (the
+   body's place was the end of the elements before), in binary at the byte
+   where the element would start, as its element 0 (the index was the
+   previous element's count). */
+static int cfail(plyp *pp, const pelem *e, int code, const char *fmt, ...) GG_PRINTF(4, 5);
+static int cfail(plyp *pp, const pelem *e, int code, const char *fmt, ...)
+{
+    char msg[300];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    pp->index = 0;
+    if (pp->fmt == 0)
+        return gg_error_set(pp->err, code, "%s:%d:%d: %s", pp->name, e->line, e->col, msg);
+    return bfail(pp, code, "%s", msg);
 }
 
 static bool host_little(void)
@@ -379,7 +399,7 @@ static int plausible(plyp *pp, const pelem *e)
     double need = (double)e->count * (pp->fmt ? min_bytes(e) : 2.0 * e->np);
     /* ascii: the last value may end the file without a separator */
     if (need <= left + (pp->fmt ? 0 : 1)) return GG_OK;
-    return bfail(pp, GG_ERROR_PARSE,
+    return cfail(pp, e, GG_ERROR_PARSE,
                  "%llu %.*s elements need at least %.0f bytes, %.0f are left "
                  "(truncated or a bad count)",
                  e->count, (int)e->nn, e->nm, need, left);
@@ -425,7 +445,7 @@ static int vertices(plyp *pp, const pelem *e)
     vertex_props(e, w);
     if (w[W_X] < 0 || w[W_Y] < 0 || w[W_Z] < 0)
         return bfail(pp, GG_ERROR_PARSE, "the vertex element has no x, y and z properties");
-    if (e->count >= GG_MESH_MAX) return bfail(pp, GG_ERROR_LIMIT, "more than 2^28 vertices");
+    if (e->count >= GG_MESH_MAX) return cfail(pp, e, GG_ERROR_LIMIT, "more than 2^28 vertices");
     if ((rc = plausible(pp, e)) != GG_OK) return rc;
     has_n = w[W_NX] >= 0 && w[W_NY] >= 0 && w[W_NZ] >= 0;
     has_uv = w[W_U] >= 0 && w[W_V] >= 0;
@@ -517,7 +537,7 @@ static int faces(plyp *pp, const pelem *e, bool have_vertices)
     if (li < 0) return bfail(pp, GG_ERROR_PARSE, "the face element has no vertex_indices list");
     if (!have_vertices)
         return bfail(pp, GG_ERROR_UNSUPPORTED, "faces before the vertex element are not supported");
-    if (e->count >= GG_MESH_MAX) return bfail(pp, GG_ERROR_LIMIT, "more than 2^28 faces");
+    if (e->count >= GG_MESH_MAX) return cfail(pp, e, GG_ERROR_LIMIT, "more than 2^28 faces");
     if ((rc = plausible(pp, e)) != GG_OK) return rc;
     if (gg_mb_reserve(mb, 0, false, false, (size_t)e->count))
         return bfail(pp, GG_ERROR_NOMEM, "out of memory");

@@ -326,6 +326,28 @@ static void test_ply_errors(void **state)
                      "t.ply: byte 123 (vertex 0): 200000000 vertex elements need at least "
                      "2400000000 bytes, 0 are left (truncated or a bad count)");
     }
+    /* a count error names the element's index 0, not the count of the
+       element before; in ascii it is at the count in the header */
+    {
+        const char *bh = "ply\nformat binary_little_endian 1.0\nelement vertex 2\n"
+                         "property float x\nproperty float y\nproperty float z\n"
+                         "element face 1000\nproperty list uchar int vertex_indices\nend_header\n";
+        const char *ah = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+                         "property float y\nproperty float z\nelement face 100\n"
+                         "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n";
+        char b[400];
+        size_t hl = strlen(bh);
+        memset(b, 0, sizeof b);
+        memcpy(b, bh, hl);
+        snprintf(msg, sizeof msg,
+                 "t.ply: byte %zu (face 0): 1000 face elements need at least 1000 bytes, 0 "
+                 "are left (truncated or a bad count)",
+                 hl + 24);
+        expect_error(b, hl + 24, "t.ply", GG_ERROR_PARSE, msg);
+        expect_error(ah, strlen(ah), "t.ply", GG_ERROR_PARSE,
+                     "t.ply:7:14: 100 face elements need at least 200 bytes, 0 are left "
+                     "(truncated or a bad count)");
+    }
     {
         const char *a =
             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
