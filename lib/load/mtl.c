@@ -75,24 +75,29 @@ static ggMaterial to_material(const raw *r)
 static int color(gg_lc *c, ggColor *out, const char *kw)
 {
     double v[3];
-    int rc, i;
-    const char *w, *at;
+    int rc, i, n = 3;
+    const char *w, *at[3];
+    size_t wn;
     gg_lc_blank(c);
-    at = c->p;
-    if (gg_lc_word(c, &w) && (w[0] < '0' || w[0] > '9') && w[0] != '.' && w[0] != '-' &&
-        w[0] != '+')
-        return gg_lc_fail(c, at, GG_ERROR_UNSUPPORTED, "%s: only r g b colours are supported", kw);
-    c->p = at;
+    at[0] = c->p;
+    /* Only the named forms are unsupported: anything else that is no
+       number (nan, inf, 0x1) is "expected a colour, got ..." */
+    wn = gg_lc_word(c, &w);
+    if ((wn == 8 && !memcmp(w, "spectral", 8)) || (wn == 3 && !memcmp(w, "xyz", 3)))
+        return gg_lc_fail(c, at[0], GG_ERROR_UNSUPPORTED, "%s: only r g b colours are supported",
+                          kw);
+    c->p = at[0];
     if ((rc = gg_lc_number(c, &v[0], "a colour")) != GG_OK) return rc;
     gg_lc_blank(c);
     /* "Kd r" alone means grey r */
-    if (gg_lc_eol(c))
-        v[1] = v[2] = v[0];
-    else if ((rc = gg_lc_number(c, &v[1], "a colour")) != GG_OK ||
-             (rc = gg_lc_number(c, &v[2], "a colour")) != GG_OK)
-        return rc;
-    for (i = 0; i < 3; i++)
-        if (v[i] < 0) return gg_lc_fail(c, at, GG_ERROR_PARSE, "%s must not be negative", kw);
+    if (gg_lc_eol(c)) v[1] = v[2] = v[0], n = 1;
+    for (i = 1; i < n; i++) {
+        gg_lc_blank(c), at[i] = c->p;
+        if ((rc = gg_lc_number(c, &v[i], "a colour")) != GG_OK) return rc;
+    }
+    /* at the component that is negative */
+    for (i = 0; i < n; i++)
+        if (v[i] < 0) return gg_lc_fail(c, at[i], GG_ERROR_PARSE, "%s must not be negative", kw);
     *out = rgb(v[0], v[1], v[2]);
     return gg_lc_end(c);
 }
@@ -209,7 +214,12 @@ static int statement(const ggAllocator *a, gg_lc *c, gg_mtl_lib *lib, gg_mtl_ent
         return rc;
     }
     if (is(w, n, "illum")) {
+        const char *at;
+        gg_lc_blank(c), at = c->p;
         if ((rc = scalar(c, &d, 0, 10, "illum")) != GG_OK) return rc;
+        /* a model is a number: 3.9 is none, not 3 */
+        if (d != (int)d)
+            return gg_lc_fail(c, at, GG_ERROR_PARSE, "illum must be a whole number, got %g", d);
         r->illum = (int)d, r->has_illum = true;
         return rc;
     }

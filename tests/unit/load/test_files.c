@@ -5,7 +5,7 @@
 ** and a device as a scene, a texture, an image, a mesh and an MTL library
 ** get GG_ERROR_IO "...: not a regular file" at once. An alarm turns a
 ** block into a failure instead of a hung suite. An MTL library named
-** again is not read again.
+** again is not read again; MTL values are checked where they are.
 */
 #include "testutil.h"
 
@@ -157,6 +157,47 @@ static void test_mtllib_once(void **state)
     ggSceneFree(s);
 }
 
+/* MTL values: nan and inf are no colour (not an unsupported colour
+   form), a negative component is named where it is, and illum is a
+   whole number (3.9 was read as 3). */
+static void test_mtl_values(void **state)
+{
+    static const struct {
+        const char *line, *msg;
+        int code;
+    } bad[] = {
+        {"Kd nan", "2:4: expected a colour, got 'nan'", GG_ERROR_PARSE},
+        {"Kd inf", "2:4: expected a colour, got 'inf'", GG_ERROR_PARSE},
+        {"Kd 0x1", "2:4: expected a colour, got '0x1'", GG_ERROR_PARSE},
+        {"Kd 0.5 nan 1", "2:8: expected a colour, got 'nan'", GG_ERROR_PARSE},
+        {"Kd spectral a.spd", "2:4: Kd: only r g b colours are supported", GG_ERROR_UNSUPPORTED},
+        {"Kd 0.5 0.5 -1", "2:12: Kd must not be negative", GG_ERROR_PARSE},
+        {"Ks -1", "2:4: Ks must not be negative", GG_ERROR_PARSE},
+        {"illum 3.9", "2:7: illum must be a whole number, got 3.9", GG_ERROR_PARSE},
+        {"illum 11", "2:7: illum must be in [0, 10], got 11", GG_ERROR_PARSE},
+    };
+    char p[96], mtl[96], text[96], want[256];
+    size_t i;
+    (void)state;
+    snprintf(p, sizeof p, "%s/t.obj", dir);
+    snprintf(mtl, sizeof mtl, "%s/t.mtl", dir);
+    write_file("t.obj", "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggError e;
+        int rc;
+        snprintf(text, sizeof text, "newmtl a\n%s\n", bad[i].line);
+        write_file("t.mtl", text);
+        snprintf(want, sizeof want, "%s:%s", mtl, bad[i].msg);
+        rc = ggSceneLoadMesh(s, p, NULL, &e);
+        if (rc != bad[i].code || strcmp(e.message, want))
+            print_error("%s: got %d '%s'\n", bad[i].line, rc, rc ? e.message : "");
+        assert_int_equal(rc, bad[i].code);
+        assert_string_equal(e.message, want);
+        ggSceneFree(s);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -165,6 +206,7 @@ int main(void)
         cmocka_unit_test(test_devices),
         cmocka_unit_test(test_named_by_scenes),
         cmocka_unit_test(test_mtllib_once),
+        cmocka_unit_test(test_mtl_values),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
