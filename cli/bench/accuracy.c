@@ -345,6 +345,9 @@ int bench_accuracy(const bench_opts *bo)
     char path[1024];
     cli_out co, so;
     int a, rc = EXIT_OK, w = bo->size ? bo->size : 240, h = w * 3 / 4;
+    /* A height of 0 would render at the scene's own height, not the
+       printed size (--size 1). */
+    if (h < 1) h = 1;
     if (bo->nargs == 0) {
         cli_error("name one or more scene files");
         return EXIT_USAGE;

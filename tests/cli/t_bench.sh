@@ -104,6 +104,14 @@ if [ $got = 0 ] && grep -q '^default ' "$tmp/acc" && grep -Eq '^intersect +doubl
    [ "$(grep -c ',intersect,' "$tmp/accuracy.csv")" = 2 ]
 then ok "bench accuracy --knobs intersect: the default and the intersect rows only"
 else bad "bench accuracy --knobs intersect: the default and the intersect rows only (exit $got)" "$(cat "$tmp/acc")"; fi
+# --size 1: 3/4 of a pixel high is 1 row, printed and rendered (not 0,
+# which the library reads as the scene's own height)
+"$ggrt" bench accuracy examples/scenes/glass.nff --size 1 --runs 1 --knobs sphere \
+  --out "$tmp" >"$tmp/acc" 2>&1; got=$?
+if [ $got = 0 ] && grep -q '^ggrt bench accuracy: 1x1,' "$tmp/acc" &&
+   grep -q '^examples/scenes/glass.nff,default,all accurate,1,[0-9.]*,1,' "$tmp/accuracy.csv"
+then ok "bench accuracy --size 1: renders the 1x1 it prints"
+else bad "bench accuracy --size 1: renders the 1x1 it prints (exit $got)" "$(cat "$tmp/acc" "$tmp/accuracy.csv")"; fi
 expect_exit 1 "bench spd --knobs is a usage error" "$ggrt" bench spd --knobs intersect --no-pov
 # Names and folders every benchmark that takes them checks: a --scenes
 # name the benchmark does not run, an empty one, --scenes where it takes
