@@ -88,6 +88,23 @@ static void report_bad_pixels(const ggImage *img, const render_args *a)
     fprintf(stderr, " --pixel %d,%d\n", bx, by);
 }
 
+/* Every tile's file, before any tile is rendered: a bad path found at the
+   second tile would leave the first written and the set half done. */
+static int check_tile_outputs(const cli_cmd *cmd, const render_args *a)
+{
+    const char *inputs[2];
+    char path[1024];
+    int k, rc;
+    inputs[0] = a->scene, inputs[1] = a->plan;
+    for (k = 0; k < a->tiles.count; k++) {
+        if (tile_path(a->out, a->tiles.idx[k], path, sizeof path) != 0)
+            return cli_usage_error(cmd, "output path too long: '%s'", a->out);
+        if ((rc = cli_check_not_input(cmd, "-o", path, inputs, 2)) != CLI_GO) return rc;
+        if ((rc = cli_check_output("render", path)) != 0) return rc;
+    }
+    return CLI_GO;
+}
+
 /* What --tile and --tiles exclude. */
 static int check_tiles(const cli_cmd *cmd, const render_args *a, const cli_opt *mine)
 {
@@ -106,7 +123,7 @@ static int check_tiles(const cli_cmd *cmd, const render_args *a, const cli_opt *
     if (strchr(a->out, '%') != strstr(a->out, "%d") ||
         (strstr(a->out, "%d") && strchr(strstr(a->out, "%d") + 1, '%')))
         return cli_usage_error(cmd, "-o may hold one %%d and no other %%");
-    return CLI_GO;
+    return check_tile_outputs(cmd, a);
 }
 
 static int parse(render_args *a, int argc, char **argv)

@@ -121,6 +121,22 @@ expect_err 1 "ggrt render: 49 tiles of 48 rows: at most one tile per row" "more 
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --tile 0/49 -o "$td/x.exr"
 expect_err 1 "ggrt render: --tile and --tiles take none of --heatmap, --pixel, --no-srgb and --crop" \
   "--tile refuses --crop" "$ggrt" render examples/scenes/glass.nff --tile 0/4 --crop 0,0,4,4 -o "$td/x.exr"
+# Every tile's file is checked before the first is rendered: a directory
+# in the way of tile 1, or tile 1's name being the scene (here a link to
+# it), leaves no tile 0 behind.
+rm -rf "$td"/q-*; mkdir "$td/q-1.exr"
+expect_err 3 "ggrt render: refusing to write '$td/q-1.exr': it is a directory (give a file name)" \
+  "--tiles: a bad path for a later tile is refused before rendering" \
+  "$ggrt" render examples/scenes/glass.nff -s 16x12 -q --tiles 0,1/3 -o "$td/q-%d.exr"
+[ ! -e "$td/q-0.exr" ] && ok "--tiles with a bad later path writes no tile" ||
+  bad "--tiles with a bad later path writes no tile" "$(ls "$td")"
+rm -rf "$td"/q-*; ln -s "$PWD/examples/scenes/glass.nff" "$td/q-1.exr"
+expect_err 1 "ggrt render: -o '$td/q-1.exr' is the input 'examples/scenes/glass.nff': writing it would destroy it" \
+  "--tiles: a tile's path that is the scene is refused" \
+  "$ggrt" render examples/scenes/glass.nff -s 16x12 -q --tiles 0,1/3 -o "$td/q-%d.exr"
+[ ! -e "$td/q-0.exr" ] && ok "--tiles with a later path on the scene writes no tile" ||
+  bad "--tiles with a later path on the scene writes no tile" "$(ls "$td")"
+rm -rf "$td"/q-*
 
 # ---- bad input to merge: the tile, the reason, exit 2, nothing written ----
 # merge_refuses NAME MESSAGE FILES...: exit 2, the exact message, and no
