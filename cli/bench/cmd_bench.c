@@ -101,7 +101,8 @@ int cmd_bench(int argc, char **argv)
     cli_opt opts[] = {
         CLI_OPT_INT(0, "size", &bo.size, 1, 4096, "N",
                     "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
-                    "wide, 4:3; scaling: 256; rays: 256; limit: 512)"),
+                    "wide, 4:3; scaling: 256; rays: 256; limit: 512; not\n"
+                    "counts: the SPD table's 513x513)"),
         CLI_OPT_INT(0, "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),
         CLI_OPT_INT(0, "runs", &bo.runs, 1, 64, "N",
                     "runs per measurement, median reported (default 3)"),
@@ -166,6 +167,10 @@ int cmd_bench(int argc, char **argv)
         if (bo.knobs && benches[i].run != bench_accuracy)
             return cli_usage_error(&cmd, "--knobs is an option of bench accuracy only");
         if ((rc = check_scenes(&cmd, i, &bo)) != 0 || (rc = check_knobs(&cmd, &bo)) != 0) return rc;
+        /* Its reference table is for one size: another would be ignored. */
+        if (opts[0].given && benches[i].run == bench_counts)
+            return cli_usage_error(&cmd, "--size is not an option of bench counts (it renders "
+                                         "at the SPD table's 513x513)");
         if (!opts[0].given) bo.size = benches[i].size;
         snprintf(name, sizeof name, "bench %s", benches[i].name);
         cli_set_command(name); /* "ggrt bench accuracy: ..." */

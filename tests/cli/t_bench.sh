@@ -64,6 +64,8 @@ expect_exit 1 "bench counts --embree is a usage error" "$ggrt" bench counts --em
   ok "bench spd --accuracy shadows=opaque: named under the title" ||
   bad "bench spd --accuracy shadows=opaque: named under the title (exit $got)" "$(cat "$tmp/bench")"
 expect_exit 1 "bench counts --accuracy is a usage error" "$ggrt" bench counts --accuracy shadows=opaque
+expect_err 1 "ggrt bench: --size is not an option of bench counts (it renders at the SPD table's 513x513)" \
+  "bench counts --size is a usage error" "$ggrt" bench counts --scenes tetra --size 64
 # bench scaling: the per-scene thread table with the serial share
 "$ggrt" bench scaling --size 16 --runs 1 --scenes tetra >"$tmp/scal" 2>&1; got=$?
 if [ $got = 0 ] && grep -q 'against threads (median of 1; serial = time outside the tile loop)' "$tmp/scal" &&
@@ -126,7 +128,9 @@ for b in spd counts effects scaling rays limit; do
   done
 done
 for b in spd counts scaling rays limit; do
-  "$ggrt" bench "$b" --spd "$tmp/no-such-folder" --scenes gears --size 16 --runs 1 --no-pov \
+  size="--size 16"; [ $b = counts ] && size= # counts takes no --size
+  # shellcheck disable=SC2086
+  "$ggrt" bench "$b" --spd "$tmp/no-such-folder" --scenes gears $size --runs 1 --no-pov \
     >"$tmp/out" 2>"$tmp/err"; got=$?
   [ $got = 3 ] && grep -q "no-such-folder/[a-z0-9-]*\.nff: No such file or directory" "$tmp/out" "$tmp/err" &&
     ok "bench $b --spd with no scenes in it: exit 3, the file named" ||
