@@ -68,6 +68,9 @@ static int parse(plan_args *a, int argc, char **argv)
     cli_render_finish(&a->ro);
     if (!a->out) return cli_usage_error(&cmd, "need -o PLAN.json");
     if (!a->n) return cli_usage_error(&cmd, "need --tiles N");
+    /* Rays cast do not vary between runs: one is measured and recorded. */
+    if (mine[4].given && a->cost == 0)
+        return cli_usage_error(&cmd, "--runs goes with --cost time (rays are the same every run)");
     return cli_check_not_input(&cmd, "-o", a->out, &a->scene, 1);
 }
 

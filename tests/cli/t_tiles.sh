@@ -103,6 +103,10 @@ else bad "a plan by time records its --runs" "$(head -1 "$td/runs.json")"; fi
 # shellcheck disable=SC2086
 expect_err 1 "ggrt plan: bad value '0' for --runs: expected a whole number from 1 to 100 (out of range)" \
   "plan --runs 0 is refused" "$ggrt" plan $gears --runs 0 --tiles 7 -o "$td/runs0.json"
+# shellcheck disable=SC2086
+expect_err 1 "ggrt plan: --runs goes with --cost time (rays are the same every run)" \
+  "plan --cost rays --runs is refused, not recorded as 1" \
+  "$ggrt" plan $gears --cost rays --runs 7 --tiles 7 -o "$td/runs7.json"
 want=$(echo "$grows" | sed 's/^"rows":\[\(.*\)\],*$/plan \1/')
 # (strings runs the attribute's value into the next name: a non-digit.)
 if strings -n 6 "$td/gp-3.exr" | grep -q "^$want\([^0-9,].*\)*\$"; then ok "a plan's tile carries the cut '$want'"
