@@ -91,6 +91,8 @@ static int parse(diff_args *a, int argc, char **argv)
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
+    /* Without --path no list is cut by it: it would do nothing. */
+    if (mine[5].given && !a->path) return cli_usage_error(&cmd, "--limit goes with --path");
     if ((rc = side(&cmd, "a", a->a_text, &a->ro.opt, &a->oa)) != CLI_GO) return rc;
     if ((rc = side(&cmd, "b", a->b_text, &a->ro.opt, &a->ob)) != CLI_GO) return rc;
     if ((rc = dbg_tile_check(&cmd, &a->tile, a->format, a->out || cli_given(&cmd, "crop"))) !=

@@ -106,6 +106,8 @@ assert sum(d['first_divergence'].values()) == d['tree_differ']
 expect_exit 1 "diff: a bad --b names its column" "$ggrt" diff $a --b 'sphere=round'
 grep -qF "ggrt diff: --b:1:8: sphere must be stable or textbook, got 'round'" "$tmp/err" &&
   ok "diff: the --b message" || bad "diff: the --b message" "$(cat "$tmp/err")"
+expect_err 1 "ggrt diff: --limit goes with --path" "diff --limit without --path is refused" \
+  "$ggrt" diff examples/scenes/glass.nff -s 16x12 --b depth=2 --limit 5
 
 # trace --ledger: the terms add up to the printed colour (glass, water, gears)
 for p in "$g 110,100" "examples/scenes/water.nff 240,250" "examples/scenes/spd/gears.nff 250,260" "examples/scenes/spd/gears.nff 151,21"; do
