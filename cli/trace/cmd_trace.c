@@ -81,7 +81,8 @@ static int parse(trace_args *a, int argc, char **argv)
         CLI_OPT_XY('p', "pixel", a->pixel, 0, GG_IMAGE_MAX_DIM - 1, "X,Y",
                    "the pixel (0,0 is the top left); required"),
         CLI_OPT_INT(0, "sample", &a->sample, 0, 4095, "K",
-                    "record only sample K of the pixel (default: all)"),
+                    "record only sample K of the pixel (default: all);\n"
+                    "with --diff, on both sides"),
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F",
                        "text (default) or json (schema: docs/trace-json.md)"),
         CLI_OPT_FLAG(0, "ascii", &a->ascii, "plain ASCII tree even on a UTF-8 terminal"),
@@ -269,7 +270,6 @@ static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
         ggTraceFree(tb);
         return rc;
     }
-    a->sample = -1;
     rc = trace_into(a, sa, &a->oa, a->scenes[0], ta, &va, &la);
     if (rc == EXIT_OK) rc = trace_into(a, sb, &a->ob, pb, tb, &vb, &lb);
     if (rc == EXIT_OK) {

@@ -139,8 +139,9 @@ void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const c
     char text[800];
     size_t i, j, na = ggTraceNodeCount(a->trace), nb = ggTraceNodeCount(b->trace);
     int differ = ggTraceCompare(a->trace, b->trace, &d);
-    fprintf(f, "pixel %d,%d\n", a->x, a->y);
-    fprintf(f, "a: %s\n   colour %.9g %.9g %.9g\n", name_a, a->pixel.r, a->pixel.g, a->pixel.b);
+    fprintf(f, "pixel %d,%d", a->x, a->y);
+    if (a->sample >= 0) fprintf(f, ", sample %d", a->sample);
+    fprintf(f, "\na: %s\n   colour %.9g %.9g %.9g\n", name_a, a->pixel.r, a->pixel.g, a->pixel.b);
     fprintf(f, "b: %s\n   colour %.9g %.9g %.9g\n", name_b, b->pixel.r, b->pixel.g, b->pixel.b);
     dbg_divergence_text(text, sizeof text, a->trace, b->trace, &d);
     fprintf(f, "%s%s\n\n", differ ? "first divergence (>>): " : "", text);

@@ -108,6 +108,16 @@ grep -qF "ggrt diff: --b:1:8: sphere must be stable or textbook, got 'round'" "$
   ok "diff: the --b message" || bad "diff: the --b message" "$(cat "$tmp/err")"
 expect_err 1 "ggrt diff: --limit goes with --path" "diff --limit without --path is refused" \
   "$ggrt" diff examples/scenes/glass.nff -s 16x12 --b depth=2 --limit 5
+# trace --diff --sample K: both trees are sample K's alone (one eye ray
+# a side, not the pixel's 4), and a K the pixel has not is refused
+"$ggrt" trace examples/scenes/glass.nff -s 32x24 -n 4 --pixel 16,12 --diff --b depth=2 --sample 3 \
+  >"$tmp/ds" 2>&1; got=$?
+if [ $got = 0 ] && grep -qx 'pixel 16,12, sample 3' "$tmp/ds" &&
+   [ "$(grep -c '^.. *eye #0 .*| *eye #0 ' "$tmp/ds")" = 1 ] && ! grep -q 'eye #[1-9]' "$tmp/ds"
+then ok "trace --diff --sample 3: one sample's trees on both sides"
+else bad "trace --diff --sample 3: one sample's trees on both sides (exit $got)" "$(cat "$tmp/ds")"; fi
+expect_err 1 "ggrt trace: sample 9 does not exist (the pixel has 4)" "trace --diff --sample 9 of 4 is refused" \
+  "$ggrt" trace examples/scenes/glass.nff -s 32x24 -n 4 --pixel 16,12 --diff --b depth=2 --sample 9
 
 # trace --ledger: the terms add up to the printed colour (glass, water, gears)
 for p in "$g 110,100" "examples/scenes/water.nff 240,250" "examples/scenes/spd/gears.nff 250,260" "examples/scenes/spd/gears.nff 151,21"; do
