@@ -164,7 +164,8 @@ static int parse(int argc, char **argv, const char **files, int *nfiles, const c
     cli_opt mine[] = {
         CLI_OPT_STRING('o', "output", out, "FILE",
                        "the image to write (required), .png or .exr;\n"
-                       "written whole or not at all; not one of the inputs"),
+                       "written whole or not at all; not one of the inputs;\n"
+                       "with --reports the JSON report (not .png or .exr)"),
         CLI_OPT_FLAG(0, "reports", reports,
                      "the files are JSON reports of find, check or diff\n"
                      "--tile: write the whole image's report to -o FILE"),
@@ -178,16 +179,22 @@ static int parse(int argc, char **argv, const char **files, int *nfiles, const c
                    .tail = tail,
                    .opts = {mine},
                    .args = files,
-                   .min_args = 1,
+                   .min_args = 0, /* counted below, where --reports says what they are */
                    .max_args = argc,
                    .nargs = nfiles,
                    .args_name = "tile"};
     int rc;
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
-    if (!*out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
+    if (!*nfiles) return cli_usage_error(&cmd, "need a %s", *reports ? "report" : "tile");
+    if (!*out)
+        return cli_usage_error(&cmd,
+                               *reports ? "need -o OUT.json" : "need -o OUT.png or -o OUT.exr");
     if ((rc = cli_check_not_input(&cmd, "-o", *out, files, *nfiles)) != CLI_GO) return rc;
-    if (*reports) return CLI_GO;
-    return cli_check_image_name(&cmd, "the output", *out);
+    if (!*reports) return cli_check_image_name(&cmd, "the output", *out);
+    /* A report is JSON: under an image's name a viewer would choke on it. */
+    if (cli_image_kind(*out) != CLI_IMAGE_NONE)
+        return cli_usage_error(&cmd, "--reports writes a JSON report, not an image: '%s'", *out);
+    return CLI_GO;
 }
 
 int cmd_merge(int argc, char **argv)

@@ -95,6 +95,17 @@ expect_err 1 "ggrt check: --tile writes the JSON report alone: not with -o, --ov
   "check --tile refuses --crop" "$ggrt" check examples/scenes/glass.nff -f json --tile 0/2 --crop 0,0,4,4
 expect_err 1 "ggrt diff: --plan goes with --tile" "diff --plan without --tile" \
   "$ggrt" diff examples/scenes/glass.nff -f json --plan "$rd/plan.json"
+# merge --reports writes JSON: an image's name for it is refused before
+# anything is read, and a missing input is named as a report
+rm -f "$rd/fr.png"
+expect_err 1 "ggrt merge: --reports writes a JSON report, not an image: '$rd/fr.png'" \
+  "merge --reports refuses -o an image" "$ggrt" merge --reports "$rd"/r-*.json -o "$rd/fr.png"
+[ ! -e "$rd/fr.png" ] && ok "merge --reports -o an image writes nothing" ||
+  bad "merge --reports -o an image writes nothing" "$(head -c 200 "$rd/fr.png")"
+expect_err 1 "ggrt merge: need a report" "merge --reports without files asks for a report" \
+  "$ggrt" merge --reports -o "$rd/x.json"
+expect_err 1 "ggrt merge: need a tile" "merge without files asks for a tile" \
+  "$ggrt" merge -o "$rd/x.png"
 
 # ---- bad input: the report, the reason, exit 2, nothing written ----
 g=examples/scenes/glass.nff
