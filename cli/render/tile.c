@@ -19,12 +19,18 @@ void tile_rows(int i, int n, int h, int *y0, int *y1)
 /* "N" after the slash: 1 to GG_IMAGE_MAX_DIM; none (n 0): a plan's. */
 static int parse_n(const char *slash, int *n, char *why, size_t whylen)
 {
+    char inner[64];
     long v;
     if (!slash) {
         *n = 0;
         return 0;
     }
-    if (cli_parse_long(slash + 1, 1, GG_IMAGE_MAX_DIM, &v, why, whylen) != 0) return -1;
+    /* The range in the message, as every option's own says it. */
+    if (cli_parse_long(slash + 1, 1, GG_IMAGE_MAX_DIM, &v, inner, sizeof inner) != 0) {
+        snprintf(why, whylen, "N, the number of tiles: expected a whole number from 1 to %d (%s)",
+                 GG_IMAGE_MAX_DIM, inner);
+        return -1;
+    }
     *n = (int)v;
     return 0;
 }

@@ -121,6 +121,10 @@ expect_err 1 "ggrt render: tiles are OpenEXR files: -o must end in .exr" "a tile
   "$ggrt" render examples/scenes/glass.nff --tile 0/4 -o "$td/x.png"
 expect_err 1 "ggrt render: bad value '4/4' for --tile: tile index '4' is not in 0..3" \
   "--tile index out of range" "$ggrt" render examples/scenes/glass.nff --tile 4/4 -o "$td/x.exr"
+for tn in 0 2000000000; do
+  expect_err 1 "ggrt render: bad value '0/$tn' for --tile: N, the number of tiles: expected a whole number from 1 to 65536 (out of range)" \
+    "--tile 0/$tn: the message names N's range" "$ggrt" render examples/scenes/glass.nff --tile 0/$tn -o "$td/x.exr"
+done
 expect_err 1 "ggrt render: 49 tiles of 48 rows: at most one tile per row" "more tiles than rows" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --tile 0/49 -o "$td/x.exr"
 expect_err 1 "ggrt render: --tile and --tiles take none of --heatmap, --pixel, --no-srgb and --crop" \
