@@ -75,6 +75,19 @@ static int crop_and_threads(const trace_args *a, const cli_cmd *cmd)
     return CLI_GO;
 }
 
+/* No output file may be a scene: writing it would destroy the input
+   (trace --svg scene.nff). */
+static int outputs_not_inputs(const trace_args *a, const cli_cmd *cmd)
+{
+    int rc;
+    if ((rc = cli_check_not_input(cmd, "--svg", a->svg, a->scenes, a->nscenes)) != CLI_GO ||
+        (rc = cli_check_not_input(cmd, "--obj", a->obj, a->scenes, a->nscenes)) != CLI_GO ||
+        (rc = cli_check_not_input(cmd, "--paths-jsonl", a->paths_jsonl, a->scenes, a->nscenes)) !=
+            CLI_GO)
+        return rc;
+    return cli_check_not_input(cmd, "--paths-obj", a->paths_obj, a->scenes, a->nscenes);
+}
+
 static int parse(trace_args *a, int argc, char **argv)
 {
     cli_opt mine[] = {
@@ -148,6 +161,7 @@ static int parse(trace_args *a, int argc, char **argv)
     if (a->diff && (rc = diff_sides(a, &cmd)) != CLI_GO) return rc;
     if ((a->paths_jsonl || a->paths_obj) && !a->lpe)
         return cli_usage_error(&cmd, "--paths-jsonl and --paths-obj write the paths of --path LPE");
+    if ((rc = outputs_not_inputs(a, &cmd)) != CLI_GO) return rc;
     if ((rc = dbg_paths_check("trace", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->svg && (rc = cli_check_output("trace", a->svg)) != 0) return rc;
     if (a->obj && (rc = cli_check_output("trace", a->obj)) != 0) return rc;
