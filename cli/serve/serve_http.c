@@ -4,6 +4,7 @@
 ** request is checked here before a route sees it, in this order:
 **   request target over SRV_MAX_URI bytes        414
 **   a method other than GET or HEAD              405
+**   a request body (Content-Length, chunked)     413
 **   a Host header that does not name the server  403 (DNS rebinding)
 **   no token (query or Authorization: Bearer)    401
 **   a wrong token                                403
@@ -18,7 +19,10 @@
 ** every byte, so a watchdog here also cuts a connection whose request
 ** head is not complete SRV_HEAD_SECONDS after it began (a client that
 ** sends one byte a second), and a kept-alive one that waits longer for
-** its next request. A request is answered on the handler's second call,
+** its next request. A connection is exempt from the watchdog only while
+** an authorised request runs: one announcing a body is refused at once
+** (no route takes one), so no client holds a connection by dripping a
+** body. A request is answered on the handler's second call,
 ** once the whole request is in: answered on the first, libmicrohttpd
 ** would close the connection (it cannot know the body was read), and
 ** HTTP/1.1 keep-alive would never work.
@@ -398,6 +402,15 @@ static const char *bearer(struct MHD_Connection *conn)
     return a;
 }
 
+/* Does the request announce a body (a Content-Length other than 0, or
+   any Transfer-Encoding)? */
+static int has_body(struct MHD_Connection *conn)
+{
+    const char *cl = mhd.lookup_connection_value(conn, MHD_HEADER_KIND, "Content-Length");
+    const char *te = mhd.lookup_connection_value(conn, MHD_HEADER_KIND, "Transfer-Encoding");
+    return te || (cl && strspn(cl, "0") != strlen(cl));
+}
+
 static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char *url,
                               const char *method, const char *version, const char *upload,
                               size_t *upload_size, void **con_cls)
@@ -409,7 +422,6 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
     const char *tok;
     int i;
     (void)version, (void)upload;
-    if (*con_cls != &mark_head) watch_mark(h->watch, conn, 1);
     /* Refused at once, on the first call: libmicrohttpd then closes the
        connection, which is what a request with a body we never read
        needs. */
@@ -421,9 +433,15 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
         *upload_size = 0;
         return refuse(conn, 405, "method %s not allowed: the API is read-only (GET)", method);
     }
+    /* No route takes a body, and reading one would let a client that
+       drips it byte by byte hold the connection (and a thread's
+       attention) without ever sending the Host or the token. */
+    if (*con_cls != &mark_head && has_body(conn)) {
+        *upload_size = 0;
+        return refuse(conn, 413, "a request body is refused: the API takes none (GET)");
+    }
     /* Answered on the second call, with the whole request in: the
-       connection can then be kept alive. A body sent with a GET is
-       dropped. */
+       connection can then be kept alive. */
     if (*con_cls != &mark_head) {
         *con_cls = &mark_head;
         return MHD_YES;
@@ -441,6 +459,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
                       "missing token: add ?token=... as printed by ggrt serve, "
                       "or an Authorization: Bearer header");
     if (!same_token(tok, h->srv->token)) return refuse(conn, 403, "wrong token");
+    /* Complete and authorised: only now is the connection kept from the
+       watchdog while the route runs (a trace or a check may take a
+       while). */
+    watch_mark(h->watch, conn, 1);
     memset(&req, 0, sizeof req);
     req.srv = h->srv, req.path = url;
     col.req = &req, col.status = 0, col.msg[0] = '\0';

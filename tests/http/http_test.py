@@ -493,6 +493,49 @@ def check_security(s):
         check(b"root:" not in b, "no file content in the answer to " + path)
 
 
+def raw_answer(s, data, wait):
+    """Send data on a new socket; the answer's status line and whether the
+    server closed the connection, within wait seconds (None, False when
+    it said nothing)."""
+    sk = socket.create_connection(("127.0.0.1", s.port), timeout=wait)
+    got, closed = b"", False
+    try:
+        sk.sendall(data)
+        while True:
+            chunk = sk.recv(65536)
+            if not chunk:
+                closed = True
+                break
+            got += chunk
+    except OSError:
+        pass
+    finally:
+        sk.close()
+    return (got.split(b"\r\n")[0] if got else None), closed
+
+
+def check_request_body(s):
+    """No route takes a body: a request announcing one is refused at once
+    and its connection closed, whether or not it has the Host and the
+    token, so nobody holds a connection by dripping a body (before: the
+    server read 100 MB of body a byte at a time and never answered)."""
+    auth = "Host: 127.0.0.1:%d\r\nAuthorization: Bearer %s\r\n" % (s.port, s.token)
+    for name, head in (("a Content-Length, no token", "GET / HTTP/1.1\r\nHost: x\r\n"
+                        "Content-Length: 100000000\r\n\r\n"),
+                       ("chunked, foreign Host", "GET /api/info HTTP/1.1\r\nHost: evil\r\n"
+                        "Transfer-Encoding: chunked\r\n\r\n1\r\na\r\n"),
+                       ("a Content-Length, authorised", "GET /api/info HTTP/1.1\r\n" + auth +
+                        "Content-Length: 100000000\r\n\r\na")):
+        t = time.time()
+        line, closed = raw_answer(s, head.encode(), 3)
+        dt = time.time() - t
+        check(line is not None and line.startswith(b"HTTP/1.1 413") and closed and dt < 2,
+              "a GET with a body (%s): 413 and closed at once (%.2f s)" % (name, dt), (line, closed))
+    line, closed = raw_answer(s, ("GET /api/info HTTP/1.1\r\n" + auth + "Content-Length: 0\r\n"
+                                  "Connection: close\r\n\r\n").encode(), 10)
+    check(line is not None and line.startswith(b"HTTP/1.1 200"), "Content-Length: 0 is no body: 200", line)
+
+
 def check_bad_queries(s):
     cases = [
         ("/api/trace?y=1", 400, "missing x"),
@@ -690,6 +733,7 @@ def run(base):
         check_pages(s)
         check_info(s)
         check_security(s)
+        check_request_body(s)
         check_bad_queries(s)
         rgb, stats = check_render(s)
         check_trace(s, rgb)
