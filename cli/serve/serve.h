@@ -32,6 +32,7 @@
 #define SRV_MAX_PIXELS      (1L << 24) /* -s: largest width * height */
 #define SRV_MAX_JOBS        8          /* renders kept (image + cost map each) */
 #define SRV_TRACE_BYTES     (4 << 20)  /* memory one recorded ray tree may use */
+#define SRV_RECORD_BYTES    (64 << 20) /* one pixel's trees in a find, check or diff */
 #define SRV_RENDER_SECONDS  300        /* a job still running after this is cancelled
                                           (the default and the most of --job-seconds) */
 #define SRV_MAX_EXPR        512        /* bytes of a find predicate or path expression */
@@ -87,6 +88,12 @@ void srv_body_close(srv_resp *resp, FILE *f);
    or -1 with resp filled (400). */
 int srv_opts_parse(const srv_server *s, const srv_req *r, const char *name, ggRenderOptions *o,
                    char *text, size_t textlen, srv_resp *resp);
+
+/* May a find, check or diff record pixels under o (parameter name)? The
+   bound on one pixel's trees (SRV_RECORD_BYTES) keeps a request from
+   making the library record gigabytes: 0, or -1 with resp filled (413). */
+int srv_opts_recordable(const srv_server *s, const ggRenderOptions *o, const char *name,
+                        srv_resp *resp);
 
 /* ---- the server ---- */
 

@@ -124,10 +124,11 @@ static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
             "\"jobs\":%d,\"job_seconds\":%d,\"uri_bytes\":%d,\"params\":%d,"
             "\"value_bytes\":%d,\"connections\":%d,\"connections_per_address\":%d,"
             "\"threads\":%d,\"timeout_seconds\":%d,\"head_seconds\":%d,"
-            "\"head_bytes\":%d,\"expr_bytes\":%d}",
+            "\"head_bytes\":%d,\"expr_bytes\":%d,\"record_bytes\":%d}",
             SRV_MAX_DEPTH, SRV_MAX_SAMPLES, SRV_TRACE_BYTES, SRV_MAX_JOBS, s->cfg.job_seconds,
             SRV_MAX_URI, SRV_MAX_PARAMS, SRV_MAX_VALUE, SRV_MAX_CONNECTIONS, SRV_MAX_PER_ADDR,
-            SRV_THREADS, SRV_CONN_TIMEOUT, SRV_HEAD_SECONDS, SRV_MEMORY_LIMIT, SRV_MAX_EXPR);
+            SRV_THREADS, SRV_CONN_TIMEOUT, SRV_HEAD_SECONDS, SRV_MEMORY_LIMIT, SRV_MAX_EXPR,
+            SRV_RECORD_BYTES);
     fprintf(f, "}\n");
     srv_body_close(resp, f);
 }

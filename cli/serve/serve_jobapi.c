@@ -277,7 +277,8 @@ void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp)
     memset(&sp, 0, sizeof sp);
     if (find_expr(r, &sp, resp) || format_arg(r, formats, &fmt, resp) ||
         limit_arg(r, 20, FIND_LIMIT, &sp.limit, resp) ||
-        srv_opts_parse(s, r, "opts", &sp.opt, text, sizeof text, resp))
+        srv_opts_parse(s, r, "opts", &sp.opt, text, sizeof text, resp) ||
+        srv_opts_recordable(s, &sp.opt, "opts", resp))
         return;
     if (!sp.lpe && (!strcmp(fmt, "share") || !strcmp(fmt, "png"))) {
         srv_error(resp, 400, "format %s is the share of a path: give path, not where", fmt);
@@ -328,7 +329,8 @@ void srv_api_check(srv_server *s, const srv_req *r, srv_resp *resp)
     FILE *f;
     memset(&sp, 0, sizeof sp);
     if (format_arg(r, formats, &fmt, resp) ||
-        srv_opts_parse(s, r, "opts", &sp.opt, text, sizeof text, resp))
+        srv_opts_parse(s, r, "opts", &sp.opt, text, sizeof text, resp) ||
+        srv_opts_recordable(s, &sp.opt, "opts", resp))
         return;
     if (srv_param_get(r, "x") || srv_param_get(r, "y")) {
         check_pixel(s, r, &sp.opt, resp);
@@ -403,7 +405,9 @@ void srv_api_diff(srv_server *s, const srv_req *r, srv_resp *resp)
     memset(&sp, 0, sizeof sp);
     if (format_arg(r, formats, &fmt, resp) || limit_arg(r, 10, DIFF_LIMIT, &sp.limit, resp) ||
         srv_opts_parse(s, r, "opts", &sp.opt, ta, sizeof ta, resp) ||
-        srv_opts_parse(s, r, "b", &sp.opt_b, tb, sizeof tb, resp))
+        srv_opts_parse(s, r, "b", &sp.opt_b, tb, sizeof tb, resp) ||
+        srv_opts_recordable(s, &sp.opt, "opts", resp) ||
+        srv_opts_recordable(s, &sp.opt_b, "b", resp))
         return;
     sp.type = SRV_TYPE_DIFF;
     snprintf(key, sizeof key, "diff %d|%s|%s", sp.limit, ta, tb);

@@ -536,6 +536,26 @@ def check_request_body(s):
     check(line is not None and line.startswith(b"HTTP/1.1 200"), "Content-Length: 0 is no body: 200", line)
 
 
+def check_record_bound(s):
+    """A find, check or diff records every pixel's trees with the library's
+    allocator: options whose trees could pass the per-pixel bound are 413
+    before any work (before: /api/check?x=&y= with depth 16, 64 samples
+    and ray budget 2^24 took 536 MB on nested-glass.nff, a find 1 GB)."""
+    heavy = urllib.parse.quote("depth=16 samples=64 ray-budget=16777216")
+    for path in ("/api/check?x=44&y=40&opts=" + heavy, "/api/check?opts=" + heavy,
+                 "/api/find?where=some(kind%3D%3Dtir)&opts=" + heavy, "/api/diff?b=" + heavy,
+                 "/api/diff?opts=" + heavy):
+        t = time.time()
+        st, h, b = s.get(path)
+        json_error(st, h, b, 413, "%s: 413 at once (%.2f s)" % (path, time.time() - t))
+        check(b"64 MiB" in b and b"ray-budget" in b, "its message names the bound and the way out", b[:300])
+    st, j = s.json("/api/check?x=44&y=40&opts=" + urllib.parse.quote("depth=16 samples=64"))
+    check(st == 200 and j.get("ggrt_check") == 1, "depth 16, 64 samples, the default budget: still checked",
+          (st, str(j)[:200]))
+    st, j = s.json("/api/info")
+    check(j["limits"].get("record_bytes") == 64 << 20, "/api/info: limits.record_bytes", j["limits"])
+
+
 def check_bad_queries(s):
     cases = [
         ("/api/trace?y=1", 400, "missing x"),
@@ -735,6 +755,7 @@ def run(base):
         check_security(s)
         check_request_body(s)
         check_bad_queries(s)
+        check_record_bound(s)
         rgb, stats = check_render(s)
         check_trace(s, rgb)
         check_heatmaps(s, stats)
