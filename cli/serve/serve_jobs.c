@@ -109,6 +109,11 @@ static int run_bands(srv_server *s, job *j, ggError *err)
     int w = r->width, h = r->height, y = 0, rows = 16, rc = GG_OK;
     band_ctx b;
     b.s = s, b.j = j, b.before = 0;
+    /* With rays through the pixel corners, a band [y0, y1) shades corner
+       rows y0 to y1: two bands would both shade (and count) the row they
+       share. One band then, its progress callback still reporting and
+       cancelling, so that the stats are ggrt render's. */
+    if (r->spec.opt.pixel_corners || r->spec.opt_b.pixel_corners) rows = h;
     while (y < h && rc == GG_OK) {
         ggRenderOptions o, ob;
         double t;

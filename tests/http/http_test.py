@@ -220,7 +220,8 @@ def check_render_stats(s):
     """The job's ray counts are ggrt render's, with the shadow verdicts
     (glass.nff's kt 1 spheres block nothing unless shadows are opaque).
     Last: it leaves another render as the server's current one."""
-    for q, args in (("?opts=shadows%3Dopaque", ["-a", "shadows=opaque"]), ("", [])):
+    for q, args in (("?opts=shadows%3Dopaque", ["-a", "shadows=opaque"]), ("?opts=corners", ["--corners"]),
+                    ("?opts=spd", ["--spd"]), ("", [])):
         st, h, b = s.wait("/api/render" + q)
         stats = json.loads(b)["job"].get("stats", {})
         with tempfile.TemporaryDirectory() as d:
