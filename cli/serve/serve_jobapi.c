@@ -280,6 +280,9 @@ void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp)
         srv_opts_parse(s, r, "opts", &sp.opt, text, sizeof text, resp) ||
         srv_opts_recordable(s, &sp.opt, "opts", resp))
         return;
+    /* 0 lists them all, as ggrt find --limit 0 does, up to the server's
+       most (docs/serve.md) */
+    if (sp.limit == 0) sp.limit = FIND_LIMIT;
     if (!sp.lpe && (!strcmp(fmt, "share") || !strcmp(fmt, "png"))) {
         srv_error(resp, 400, "format %s is the share of a path: give path, not where", fmt);
         return;

@@ -557,6 +557,17 @@ def check_record_bound(s):
     check(j["limits"].get("record_bytes") == 64 << 20, "/api/info: limits.record_bytes", j["limits"])
 
 
+def check_find_limit0(s):
+    """limit=0 lists every match, as ggrt find --limit 0 does (before: none)."""
+    for kind, expr in (("where", "some(kind == tir)"), ("path", "C<TS>.*")):
+        st, h, b = s.wait("/api/find?limit=0&%s=%s" % (kind, urllib.parse.quote(expr)))
+        ref = cli("find", SCENE, *size_args(), "--" + kind, expr, "--limit", "0", "--format", "json", "-q")
+        j = json.loads(b) if st == 200 else {}
+        check(st == 200 and b == ref and len(j["matches"]) == j["matched"] > 20,
+              "/api/find?limit=0&%s= equals ggrt find --limit 0: all %s matches" % (kind, j.get("matched")),
+              (st, len(j.get("matches", [])), b[:200]))
+
+
 def check_bad_queries(s):
     cases = [
         ("/api/trace?y=1", 400, "missing x"),
@@ -761,6 +772,7 @@ def run(base):
         check_trace(s, rgb)
         check_heatmaps(s, stats)
         check_debug(s)
+        check_find_limit0(s)
         check_paths(s)
         check_concurrent(s)
         check_render_stats(s)
