@@ -88,6 +88,9 @@ void srv_body_close(srv_resp *resp, FILE *f);
    or -1 with resp filled (400). */
 int srv_opts_parse(const srv_server *s, const srv_req *r, const char *name, ggRenderOptions *o,
                    char *text, size_t textlen, srv_resp *resp);
+/* The same checks of a text v (NULL: none given), for /api/parse: 0, or
+   -1 with the reason in msg ("L:C: ..." where the text does not parse). */
+int srv_opts_text(const srv_server *s, const char *v, ggRenderOptions *o, char *msg, size_t len);
 
 /* May a find, check or diff record pixels under o (parameter name)? The
    bound on one pixel's trees (SRV_RECORD_BYTES) keeps a request from

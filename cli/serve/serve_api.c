@@ -572,7 +572,7 @@ static void api_parse(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     const char *names[] = {"where", "path", "opts", "b"};
     FILE *f = srv_body_open(resp, 200, "application/json");
-    ggError err;
+    char msg[sizeof(((ggError *)0)->message)];
     int i, first = 1;
     if (!f) {
         srv_body_close(resp, f);
@@ -581,13 +581,13 @@ static void api_parse(srv_server *s, const srv_req *r, srv_resp *resp)
     fputc('{', f);
     for (i = 0; i < 4; i++) {
         const char *v = srv_param_get(r, names[i]);
-        ggRenderOptions o = s->cfg.opt;
+        ggRenderOptions o;
         if (!v) continue;
         if (!first) fputc(',', f);
         if (i < 2)
             parse_expr(f, names[i], v);
-        else
-            parse_answer(f, names[i], ggRenderOptionsParse(&o, v, &err) == GG_OK, err.message);
+        else /* valid exactly where the other routes take it: the server's limits too */
+            parse_answer(f, names[i], srv_opts_text(s, v, &o, msg, sizeof msg) == 0, msg);
         first = 0;
     }
     fprintf(f, "}\n");

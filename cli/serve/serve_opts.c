@@ -73,27 +73,36 @@ void srv_error(srv_resp *resp, int status, const char *fmt, ...)
 
 /* ---- render options ---- */
 
-int srv_opts_parse(const srv_server *s, const srv_req *r, const char *name, ggRenderOptions *o,
-                   char *text, size_t textlen, srv_resp *resp)
+int srv_opts_text(const srv_server *s, const char *v, ggRenderOptions *o, char *msg, size_t len)
 {
-    const char *v = srv_param_get(r, name);
     const ggRenderOptions *base = &s->cfg.opt;
     ggError err;
     *o = *base;
     if (v && ggRenderOptionsParse(o, v, &err) != GG_OK) {
-        srv_error(resp, 400, "%s:%s", name, err.message);
+        snprintf(msg, len, "%s", err.message);
         return -1;
     }
     if (o->width != base->width || o->height != base->height || o->threads != base->threads ||
         o->crop_x0 != base->crop_x0 || o->crop_y0 != base->crop_y0 || o->crop_x1 != base->crop_x1 ||
         o->crop_y1 != base->crop_y1) {
-        srv_error(resp, 400, "%s: size, threads and crop are the server's (its command line)",
-                  name);
+        snprintf(msg, len, "size, threads and crop are the server's (its command line)");
         return -1;
     }
     if (o->max_depth > SRV_MAX_DEPTH || o->samples > SRV_MAX_SAMPLES) {
-        srv_error(resp, 400, "%s: depth is at most %d and samples at most %d here", name,
-                  SRV_MAX_DEPTH, SRV_MAX_SAMPLES);
+        snprintf(msg, len, "depth is at most %d and samples at most %d here", SRV_MAX_DEPTH,
+                 SRV_MAX_SAMPLES);
+        return -1;
+    }
+    return 0;
+}
+
+int srv_opts_parse(const srv_server *s, const srv_req *r, const char *name, ggRenderOptions *o,
+                   char *text, size_t textlen, srv_resp *resp)
+{
+    char msg[sizeof(((ggError *)0)->message)];
+    if (srv_opts_text(s, srv_param_get(r, name), o, msg, sizeof msg)) {
+        /* "opts:1:17: ..." where the text is at fault, "opts: ..." else */
+        srv_error(resp, 400, "%s:%s%s", name, msg[0] >= '0' && msg[0] <= '9' ? "" : " ", msg);
         return -1;
     }
     if (text && ggRenderOptionsFormat(o, text, textlen) >= textlen) {

@@ -568,6 +568,19 @@ def check_find_limit0(s):
               (st, len(j.get("matches", [])), b[:200]))
 
 
+def check_parse_opts(s):
+    """/api/parse says an option text is valid exactly when the routes take
+    it: the server's limits and its size, threads and crop too (before:
+    depth=17 was valid there and 400 everywhere else)."""
+    for text in ("depth=17", "samples=65", "size=8x8", "threads=1", "crop=0,0,1,1", "refract=bogus",
+                 "depth=16 samples=64", "spd"):
+        q = urllib.parse.quote(text)
+        st, j = s.json("/api/parse?opts=%s&b=%s" % (q, q))
+        st2, h, b = s.get("/api/trace?x=1&y=1&opts=" + q)
+        check(st == 200 and j["opts"]["valid"] == j["b"]["valid"] == (st2 == 200),
+              "/api/parse?opts=%s: valid %s, as /api/trace answers %d" % (text, j["opts"]["valid"], st2), j)
+
+
 def check_bad_queries(s):
     cases = [
         ("/api/trace?y=1", 400, "missing x"),
@@ -767,6 +780,7 @@ def run(base):
         check_security(s)
         check_request_body(s)
         check_bad_queries(s)
+        check_parse_opts(s)
         check_record_bound(s)
         rgb, stats = check_render(s)
         check_trace(s, rgb)
