@@ -390,6 +390,17 @@ static int trace_path_arg(const srv_req *r, const char *fmt, int sample, ggPathE
     return 0;
 }
 
+/* 413: a recorded tree went over SRV_TRACE_BYTES. The count is where the
+   recorder stopped: its arrays double as they grow, so the rays that fit
+   depend on the lights (docs/serve.md, limits). */
+static void too_large(srv_resp *resp, int x, int y, const ggTrace *tr, const char *advice)
+{
+    srv_error(resp, 413,
+              "the ray tree of pixel %d,%d does not fit in the %d MiB a trace may record "
+              "(it stopped after %zu rays): %s",
+              x, y, SRV_TRACE_BYTES >> 20, ggTraceNodeCount(tr), advice);
+}
+
 static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     const char *fmt = srv_param_get(r, "format"), *sv = srv_param_get(r, "sample");
@@ -432,10 +443,7 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
         trace_body(resp, fmt, &view, &al, lpe, srv_param_get(r, "path"));
     }
     if ((rc == GG_ERROR_NOMEM || resp->status == 500) && b.refused)
-        srv_error(resp, 413,
-                  "the ray tree of pixel %d,%d needs more than %d MiB (%zu rays recorded): ask "
-                  "for one sample (sample=K) or a smaller depth",
-                  x, y, SRV_TRACE_BYTES >> 20, ggTraceNodeCount(tr));
+        too_large(resp, x, y, tr, "ask for one sample (sample=K) or a smaller depth");
     else if (rc != GG_OK)
         srv_error(resp, rc == GG_ERROR_INVALID ? 400 : 500, "%s", err.message);
     ggTraceFree(tr);
@@ -522,8 +530,11 @@ static void api_compare(srv_server *s, const srv_req *r, srv_resp *resp)
     if (rc == GG_OK)
         compare_body(resp, fmt, &a, &b, srv_param_get(r, "opts") ? srv_param_get(r, "opts") : "",
                      srv_param_get(r, "b") ? srv_param_get(r, "b") : "");
-    if (rc != GG_OK)
-        srv_error(resp, a.b.refused || (b.tr && b.b.refused) ? 413 : 500, "%s", err.message);
+    if (rc != GG_OK && (a.b.refused || (b.tr && b.b.refused)))
+        too_large(resp, x, y, a.b.refused ? a.tr : b.tr,
+                  "ask for fewer samples or a smaller depth (opts, b)");
+    else if (rc != GG_OK)
+        srv_error(resp, rc == GG_ERROR_INVALID ? 400 : 500, "%s", err.message);
     ggTraceFree(a.tr), ggTraceFree(b.tr);
 }
 

@@ -581,6 +581,20 @@ def check_parse_opts(s):
               "/api/parse?opts=%s: valid %s, as /api/trace answers %d" % (text, j["opts"]["valid"], st2), j)
 
 
+def check_too_large(s):
+    """A tree over the recorder's 4 MiB: 413 saying the limit, where it
+    stopped and the way out, for /api/trace and /api/compare alike
+    (before: trace said "4096 rays recorded" against the docs' 10000, and
+    compare "out of memory recording the ray tree")."""
+    heavy = urllib.parse.quote("depth=16 samples=64")
+    for path in ("/api/trace?x=44&y=40&opts=" + heavy, "/api/compare?x=44&y=40&b=" + heavy,
+                 "/api/compare?x=44&y=40&opts=" + heavy):
+        st, h, b = s.get(path)
+        json_error(st, h, b, 413, "%s: 413" % path)
+        check(b"the 4 MiB a trace may record (it stopped after" in b and b"smaller depth" in b,
+              "%s: the limit, where it stopped, the way out" % path, b[:300])
+
+
 def check_bad_queries(s):
     cases = [
         ("/api/trace?y=1", 400, "missing x"),
@@ -781,6 +795,7 @@ def run(base):
         check_request_body(s)
         check_bad_queries(s)
         check_parse_opts(s)
+        check_too_large(s)
         check_record_bound(s)
         rgb, stats = check_render(s)
         check_trace(s, rgb)
