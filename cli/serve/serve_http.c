@@ -452,8 +452,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
     }
     if (!host_ok(h, mhd.lookup_connection_value(conn, MHD_HEADER_KIND, "Host")))
         return refuse(conn, 403, "Host header does not name this server");
+    /* An empty ?token= counts as none: it must not hide a good Bearer
+       header (a page's link may carry one left empty). */
     tok = mhd.lookup_connection_value(conn, MHD_GET_ARGUMENT_KIND, "token");
-    if (!tok) tok = bearer(conn);
+    if (!tok || !*tok) tok = bearer(conn);
     if (!tok || !*tok)
         return refuse(conn, 401,
                       "missing token: add ?token=... as printed by ggrt serve, "

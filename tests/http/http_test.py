@@ -454,6 +454,11 @@ def check_security(s):
     json_error(st, h, b, 403, "a token one digit short: 403")
     st, h, b = s.get("/api/info", token=False, headers={"Authorization": "Bearer " + "f" * 32})
     json_error(st, h, b, 403, "wrong bearer token: 403")
+    for q in ("?token=", "?token"):
+        st, h, b = s.get("/api/info" + q, token=False, headers={"Authorization": "Bearer " + s.token})
+        check(st == 200, "an empty %s counts as none: the Bearer header is used (200)" % q, (st, b[:200]))
+    st, h, b = s.get("/api/info?token=", token=False)
+    json_error(st, h, b, 401, "an empty ?token= and no header: 401")
     st, h, b = s.get("/api/info", token=False, headers={"Authorization": "Basic " + s.token})
     json_error(st, h, b, 401, "another auth scheme: 401")
     for host in ("evil.example:%d" % s.port, "127.0.0.1:%d" % (s.port + 1), "127.0.0.1",
