@@ -3,6 +3,7 @@
 ** serve_http.c -- `ggrt serve`'s HTTP side on GNU libmicrohttpd: every
 ** request is checked here before a route sees it, in this order:
 **   request target over SRV_MAX_URI bytes        414
+**   a %00 (decoded NUL) in the target            400
 **   a method other than GET or HEAD              405
 **   a request body (Content-Length, chunked)     413
 **   a Host header that does not name the server  403 (DNS rebinding)
@@ -141,8 +142,9 @@ typedef struct http_ctx {
 } http_ctx;
 
 /* Markers of a request's state between the handler's calls: its target
-   was too long, or not (set by uri_log), and its head was seen. */
-static int mark_ok, mark_long, mark_head;
+   was too long, held an encoded NUL, or neither (set by uri_log), and its
+   head was seen. */
+static int mark_ok, mark_long, mark_nul, mark_head;
 
 /* ---- the watchdog of request heads ---- */
 
@@ -243,7 +245,9 @@ static void watch_mark(watchdog *w, struct MHD_Connection *c, int busy)
 static void *uri_log(void *cls, const char *uri, struct MHD_Connection *c)
 {
     (void)cls, (void)c;
-    return strlen(uri) > SRV_MAX_URI ? &mark_long : &mark_ok;
+    /* libmicrohttpd decodes the path and the parameters into C strings,
+       where a %00 would silently cut them: seen here, on the raw target. */
+    return strlen(uri) > SRV_MAX_URI ? &mark_long : strstr(uri, "%00") ? &mark_nul : &mark_ok;
 }
 
 static void logger(void *cls, const char *fmt, va_list ap)
@@ -428,6 +432,10 @@ static enum MHD_Result handle(void *cls, struct MHD_Connection *conn, const char
     if (*con_cls == &mark_long) {
         *upload_size = 0;
         return refuse(conn, 414, "request target longer than %d bytes", SRV_MAX_URI);
+    }
+    if (*con_cls == &mark_nul) {
+        *upload_size = 0;
+        return refuse(conn, 400, "a NUL byte (%%00) in the request target");
     }
     if (strcmp(method, "GET") && strcmp(method, "HEAD")) {
         *upload_size = 0;

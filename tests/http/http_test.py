@@ -454,6 +454,8 @@ def check_security(s):
     json_error(st, h, b, 403, "a token one digit short: 403")
     st, h, b = s.get("/api/info", token=False, headers={"Authorization": "Bearer " + "f" * 32})
     json_error(st, h, b, 403, "wrong bearer token: 403")
+    st, h, b = s.get("/api/info?token=%s%%00junk" % s.token, token=False)
+    json_error(st, h, b, 400, "a NUL after the token: 400, not cut to the token")
     for q in ("?token=", "?token"):
         st, h, b = s.get("/api/info" + q, token=False, headers={"Authorization": "Bearer " + s.token})
         check(st == 200, "an empty %s counts as none: the Bearer header is used (200)" % q, (st, b[:200]))
@@ -640,6 +642,8 @@ def check_bad_queries(s):
         ("/api/trace?x=1&y=1&pad=%s" % ("a" * 5000), 414, "a request target over 4096 bytes"),
         ("/api/trace?x=1&y=1&%ff%fe=1", 400, "a strange parameter name"),
         ("/api/trace?x=%00&y=1", 400, "a NUL in a value"),
+        ("/api/info%00/../..", 400, "a NUL in the path"),
+        ("/api/info?x%00y=1", 400, "a NUL in a parameter name"),
     ]
     for path, want, name in cases:
         st, h, b = s.get(path)
