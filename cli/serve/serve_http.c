@@ -33,6 +33,7 @@
 
 #include <arpa/inet.h>
 #include <dlfcn.h>
+#include <errno.h>
 #include <fcntl.h>
 #include <microhttpd.h>
 #include <netinet/in.h>
@@ -263,15 +264,27 @@ static void logger(void *cls, const char *fmt, va_list ap)
    when bound to loopback; any address literal when bound to all of
    them), and the port? A DNS-rebinding page reaches us under its own
    name, which this refuses. */
+/* Is text, all digits, the port number want? strtol with its range
+   checked: atoi wrapped 2^32 + port around to port. */
+static int port_is(const char *text, int want)
+{
+    char *end;
+    long v;
+    if (!*text || strspn(text, "0123456789") != strlen(text)) return 0;
+    errno = 0;
+    v = strtol(text, &end, 10);
+    return errno == 0 && *end == '\0' && v >= 1 && v <= 65535 && v == want;
+}
+
 static int host_ok(const http_ctx *h, const char *host)
 {
     char name[256];
     const char *port = NULL;
     unsigned char bin[16];
     size_t n;
-    int fam = 0;
+    int fam = 0, bracketed = host && host[0] == '[';
     if (!host || !*host || strlen(host) >= sizeof name) return 0;
-    if (host[0] == '[') {
+    if (bracketed) {
         const char *e = strchr(host, ']');
         if (!e) return 0;
         n = (size_t)(e - host - 1);
@@ -286,13 +299,14 @@ static int host_ok(const http_ctx *h, const char *host)
         memcpy(name, host, n), name[n] = '\0';
         if (c) port = c + 1;
     }
-    if (port ? atoi(port) != h->port || strspn(port, "0123456789") != strlen(port) || !*port
-             : h->port != 80)
-        return 0;
-    if (inet_pton(AF_INET, name, bin) == 1)
+    if (port ? !port_is(port, h->port) : h->port != 80) return 0;
+    /* Brackets hold an IPv6 address and nothing else (RFC 3986). */
+    if (!bracketed && inet_pton(AF_INET, name, bin) == 1)
         fam = AF_INET;
     else if (inet_pton(AF_INET6, name, bin) == 1)
         fam = AF_INET6;
+    else if (bracketed)
+        return 0;
     if (!fam) return h->loopback && !strcasecmp(name, "localhost");
     if (h->wildcard) return 1;
     return fam == h->family && !memcmp(bin, h->addr, fam == AF_INET ? 4 : 16);

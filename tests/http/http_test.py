@@ -465,7 +465,8 @@ def check_security(s):
     json_error(st, h, b, 401, "another auth scheme: 401")
     for host in ("evil.example:%d" % s.port, "127.0.0.1:%d" % (s.port + 1), "127.0.0.1",
                  "localhost.evil.example:%d" % s.port, "127.0.0.2:%d" % s.port, "[::1]:%d" % s.port,
-                 "127.0.0.1:%d@evil" % s.port, ""):
+                 "127.0.0.1:%d@evil" % s.port, "", "127.0.0.1:%d" % (s.port + 2 ** 32),
+                 "127.0.0.1:%d" % (s.port + 2 ** 16), "[127.0.0.1]:%d" % s.port, "127.0.0.1:-%d" % s.port):
         st, h, b = s.get("/api/info", headers={"Host": host})
         json_error(st, h, b, 403, "foreign Host %r: 403" % host)
     for host in ("127.0.0.1:%d" % s.port, "localhost:%d" % s.port, "LOCALHOST:%d" % s.port):
