@@ -19,6 +19,7 @@
 #define SRV_MAX_URI         4096       /* bytes of the request target, query included */
 #define SRV_MAX_PARAMS      40         /* query parameters in one request */
 #define SRV_MAX_VALUE       1024       /* bytes of one decoded parameter value */
+#define SRV_MAX_NAME        64         /* bytes of one decoded parameter name */
 #define SRV_MAX_CONNECTIONS 512        /* open connections at once */
 #define SRV_MAX_PER_ADDR    16         /* of them from one client address */
 #define SRV_THREADS         4          /* threads answering requests */

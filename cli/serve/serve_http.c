@@ -344,9 +344,15 @@ static enum MHD_Result take_param(void *cls, enum MHD_ValueKind kind, const char
         snprintf(c->msg, sizeof c->msg, "more than %d query parameters", SRV_MAX_PARAMS);
         return MHD_NO;
     }
-    if (strlen(value) > SRV_MAX_VALUE || strlen(key) > 64) {
+    if (strlen(key) > SRV_MAX_NAME) {
         c->status = 414;
-        snprintf(c->msg, sizeof c->msg, "parameter '%.64s' is longer than %d bytes", key,
+        snprintf(c->msg, sizeof c->msg, "parameter name '%.*s...' is longer than %d bytes",
+                 SRV_MAX_NAME, key, SRV_MAX_NAME);
+        return MHD_NO;
+    }
+    if (strlen(value) > SRV_MAX_VALUE) {
+        c->status = 414;
+        snprintf(c->msg, sizeof c->msg, "parameter '%s' is longer than %d bytes", key,
                  SRV_MAX_VALUE);
         return MHD_NO;
     }

@@ -646,6 +646,11 @@ def check_bad_queries(s):
         ("/api/info%00/../..", 400, "a NUL in the path"),
         ("/api/info?x%00y=1", 400, "a NUL in a parameter name"),
     ]
+    st, h, b = s.get("/api/info?%s=1" % ("k" * 65))
+    json_error(st, h, b, 414, "a 65-byte parameter name: 414")
+    check(b"name" in b and b"longer than 64 bytes" in b, "its message says the name limit, 64", b[:200])
+    st, h, b = s.get("/api/info?%s=1" % ("k" * 64))
+    json_error(st, h, b, 400, "a 64-byte name is within the limit (unknown: 400)")
     for path, want, name in cases:
         st, h, b = s.get(path)
         json_error(st, h, b, want, "%s: %d" % (name, want))
