@@ -268,6 +268,13 @@ GG_API void ggMeshOptionsDefault(ggMeshOptions *opt);
    triangles of meshes named more than once to 2100000, over the limit of
    2097152". So a small scene naming one file many times stays bounded. */
 #define GG_MESH_REPEAT_MAX ((size_t)1 << 21)
+/* An OBJ's group labels ("object/group", one per distinct pair of o and g
+   names, kept for ggSceneGetFaceInfo) may total at most the file's size
+   plus GG_MESH_LABELS_MAX bytes: each pair copies its o name, so a 403 KB
+   file of one 400,000-byte o name and 500 g names asked for 200 MB.
+   Beyond it, at the o or g name: GG_ERROR_LIMIT "og.obj:87:3: the group
+   labels would pass 17184633 bytes, the file's size plus 16 MiB (...)". */
+#define GG_MESH_LABELS_MAX ((size_t)16 << 20)
 GG_API int ggSceneLoadMesh(ggScene *scene, const char *path, const ggMeshOptions *opt,
                            ggError *err);
 /* The same from memory: `name` (NULL: "<memory>") is used in messages and

@@ -45,6 +45,7 @@ typedef struct objp {
     gg_names onames, gnames, pairs;
     uint32_t oid, gid, *pgroup;
     size_t cap_pgroup;
+    size_t label_bytes, label_max; /* of the pairs' labels, and their limit */
     uint32_t group, mtl, smooth;
     gg_mtl_lib lib;
     int libs; /* MTL files read */
@@ -257,7 +258,9 @@ static int face(objp *op, int line)
 /* o NAME / g NAME...: faces after it belong to "o/g" (either alone when
    the other is unset; a new o clears g). The label is built and interned
    once per (o, g) pair: 10,000 g lines under a 400,000-byte o name copied
-   and hashed it 10,000 times (5.35 s). */
+   and hashed it 10,000 times (5.35 s). Each distinct pair still stores
+   its whole label, so their bytes are bounded by the file's size (plus
+   GG_MESH_LABELS_MAX): 500 g names under that o name took 200 MB. */
 static int group(objp *op, bool is_o)
 {
     const ggAllocator *a = op->mb->a;
@@ -279,6 +282,12 @@ static int group(objp *op, bool is_o)
         return nomem(op);
     on = op->onames.s[op->oid], gn = op->gnames.s[op->gid];
     lo = strlen(on), lg = strlen(gn);
+    if (lo + lg + 1 > op->label_max - op->label_bytes)
+        return gg_lc_fail(&op->c, w, GG_ERROR_LIMIT,
+                          "the group labels would pass %zu bytes, the file's size plus %u MiB "
+                          "(each distinct o and g pair stores its \"o/g\" label)",
+                          op->label_max, (unsigned)(GG_MESH_LABELS_MAX >> 20));
+    op->label_bytes += lo + lg + 1;
     if (!(label = gg_mem_alloc(a, lo + lg + 2))) return nomem(op);
     memcpy(label, on, lo);
     if (lo && lg) label[lo++] = '/';
@@ -545,6 +554,7 @@ int gg_obj_read(ggScene *s, gg_mb *mb, const char *text, size_t len, const char 
     int rc;
     memset(&op, 0, sizeof op);
     op.s = s, op.mb = mb, op.o = o, op.dir = dir, op.smooth = 1;
+    op.label_max = len < SIZE_MAX - GG_MESH_LABELS_MAX ? len + GG_MESH_LABELS_MAX : SIZE_MAX;
     gg_lc_init(&op.c, text, len, name, err);
     /* group, material, o and g name 0 are "none" */
     if (gg_names_add(mb->a, &mb->groups, "", 0, &id) ||

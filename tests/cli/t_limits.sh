@@ -100,6 +100,17 @@ with open(sys.argv[1], "w") as f:
     "one OBJ named 200 times under 200 spellings" "$ggrt" info "$lim/gs.nff"
 fi
 
+# One 400,000-byte o name and 10,000 g names (559 KB): every (o, g) pair
+# stored its whole label, 4 GB (500 names took 200 MB). The labels may
+# pass the file's size by 16 MiB (GG_MESH_LABELS_MAX).
+python3 -c '
+import sys
+with open(sys.argv[1], "w") as f:
+    f.write("o " + "a" * 400000 + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\n")
+    f.write("".join("g g%d\nf 1 2 3\n" % i for i in range(10000)))' "$lim/og.obj"
+under_1g 2 "og.obj:89:3: the group labels would pass $(($(wc -c <"$lim/og.obj") + 16777216)) bytes, the file's size plus 16 MiB" \
+  "a $(wc -c <"$lim/og.obj")-byte OBJ of one long o name and 10,000 g names" "$ggrt" info "$lim/og.obj"
+
 # Scenes without bound: a huge sparse file, /dev/zero.
 : >"$lim/sparse.nff"
 if truncate -s 100G "$lim/sparse.nff" 2>/dev/null; then

@@ -200,6 +200,28 @@ static void test_obj_groups(void **state)
     ggSceneFree(s);
 }
 
+/* Each distinct (o, g) pair stores its whole label: one 400,000-byte o
+   name and 60 g names asked for 24 MB (500 of them 200 MB). Their bytes
+   may pass the file's size by GG_MESH_LABELS_MAX, no more. */
+static void test_obj_label_limit(void **state)
+{
+    size_t len = 0, k;
+    char *text = malloc(500000), msg[300];
+    (void)state;
+    assert_non_null(text);
+    memcpy(text, "o ", 2), len = 2;
+    memset(text + len, 'a', 400000), len += 400000;
+    len += (size_t)sprintf(text + len, "\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    for (k = 0; k < 60; k++) len += (size_t)sprintf(text + len, "g g%zu\nf 1 2 3\n", k);
+    /* (o, "") and 41 pairs (o, gK) fit: the 42nd, g41 at line 5 + 2 * 41 */
+    snprintf(msg, sizeof msg,
+             "t.obj:87:3: the group labels would pass %zu bytes, the file's size plus 16 MiB "
+             "(each distinct o and g pair stores its \"o/g\" label)",
+             len + GG_MESH_LABELS_MAX);
+    expect_error(text, len, "t.obj", GG_ERROR_LIMIT, msg);
+    free(text);
+}
+
 /* A load that fails after its materials and textures were added keeps
    none of them. */
 static void test_obj_rollback(void **state)
@@ -511,7 +533,7 @@ int main(void)
         cmocka_unit_test(test_obj_rollback), cmocka_unit_test(test_ply_encodings),
         cmocka_unit_test(test_ply_errors),   cmocka_unit_test(test_ply_ascii_lines),
         cmocka_unit_test(test_nff_mesh),     cmocka_unit_test(test_model_as_scene),
-        cmocka_unit_test(test_obj_groups),
+        cmocka_unit_test(test_obj_groups),   cmocka_unit_test(test_obj_label_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
