@@ -115,12 +115,37 @@ static int normal(objp *op)
     return gg_lc_end(&op->c);
 }
 
-/* A 1-based (or negative, relative) index into `count` items. */
+/* Where a field of a face corner ends: a blank, the end of the line, a
+   comment or a continuation. An empty field there (`1/ `, `1/` at the
+   end of the line) is no index, whatever follows it. */
+static bool field_end(const gg_lc *c, const char *p)
+{
+    return p >= c->end || *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == '\f' ||
+           *p == '\v' || *p == '#' || *p == '\\';
+}
+
+/* A 1-based (or negative, relative) index into `count` items: a whole
+   number up to '/' or the field's end. `0x1` once read as index 0, and
+   a number beyond the long range was "expected an index". */
 static int index_of(objp *op, const char *what, size_t count, long *out)
 {
-    const char *at = op->c.p, *q = gg_parse_long(at, op->c.end, -2147483647L, 2147483647L, out);
-    if (!q) return gg_lc_fail(&op->c, at, GG_ERROR_PARSE, "expected a %s index", what);
-    op->c.p = q;
+    const char *at = op->c.p, *q = at, *e;
+    char b[200];
+    if (q < op->c.end && (*q == '+' || *q == '-')) q++;
+    for (e = q; e < op->c.end && *e >= '0' && *e <= '9'; e++)
+        ;
+    if (e == q || (!field_end(&op->c, e) && *e != '/')) {
+        /* the callers stand on a character that is no field end */
+        for (e = at + 1; !field_end(&op->c, e) && *e != '/'; e++)
+            ;
+        return gg_lc_fail(&op->c, at, GG_ERROR_PARSE, "expected a %s index, got '%s'", what,
+                          gg_lc_show(at, (size_t)(e - at), b, sizeof b));
+    }
+    op->c.p = e;
+    if (!gg_parse_long(at, e, -2147483647L, 2147483647L, out))
+        return gg_lc_fail(&op->c, at, GG_ERROR_PARSE,
+                          "%s index %s is out of range (%zu defined so far)", what,
+                          gg_lc_show(at, (size_t)(e - at), b, sizeof b), count);
     if (*out == 0)
         return gg_lc_fail(&op->c, at, GG_ERROR_PARSE, "%s index 0 (OBJ indices start at 1)", what);
     if (*out > 0 && (size_t)*out <= count) return (*out)--, GG_OK;
@@ -213,17 +238,15 @@ static int corner(objp *op, uint32_t *out)
     int rc = index_of(op, "vertex", op->nv, &iv);
     if (rc == GG_OK && c->p < c->end && *c->p == '/') {
         c->p++;
-        if (c->p < c->end && *c->p != '/' && *c->p != ' ' && *c->p != '\t')
+        if (!field_end(c, c->p) && *c->p != '/')
             rc = index_of(op, "texture coordinate", op->nvt, &it);
         if (rc == GG_OK && c->p < c->end && *c->p == '/') {
             c->p++;
-            if (c->p < c->end && *c->p != ' ' && *c->p != '\t' && *c->p != '\r' && *c->p != '\n')
-                rc = index_of(op, "normal", op->nvn, &in);
+            if (!field_end(c, c->p)) rc = index_of(op, "normal", op->nvn, &in);
         }
     }
     if (rc != GG_OK) return rc;
-    if (c->p < c->end && *c->p != ' ' && *c->p != '\t' && *c->p != '\r' && *c->p != '\n' &&
-        *c->p != '#' && *c->p != '\\')
+    if (!field_end(c, c->p))
         return gg_lc_fail(c, NULL, GG_ERROR_PARSE, "unexpected '%c' in a face corner", *c->p);
     return corner_vertex(op, iv, it, in, out) ? nomem(op) : GG_OK;
 }

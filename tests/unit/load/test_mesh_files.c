@@ -133,6 +133,13 @@ static void test_obj_errors(void **state)
            "t.obj:2:5: texture coordinate index 1 is out of range (0 defined so far)");
     EXPECT("v 0 0 0\nvn 0 0 1\nf 1//1/ 1 1\n", GG_ERROR_PARSE,
            "t.obj:3:7: unexpected '/' in a face corner");
+    /* an index is a whole number: said of 0x1 and of one beyond the range */
+    EXPECT("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0x1 2 3\n", GG_ERROR_PARSE,
+           "t.obj:4:3: expected a vertex index, got '0x1'");
+    EXPECT("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n", GG_ERROR_PARSE,
+           "t.obj:4:7: vertex index 99999999999999999999 is out of range (3 defined so far)");
+    EXPECT("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n", GG_ERROR_PARSE,
+           "t.obj:4:5: expected a texture coordinate index, got 'x'");
     EXPECT("v 0 0 0\ns maybe\n", GG_ERROR_PARSE,
            "t.obj:2:3: expected a smoothing group number or off");
     EXPECT("v 0 0 0\nv 0\xc0 0 0\n", GG_ERROR_PARSE,
@@ -174,6 +181,23 @@ static void test_obj_forms(void **state)
     assert_int_equal(fi.face, 1);
     assert_int_equal(fi.line, 9);
     ggSceneFree(s);
+    /* an empty field before the end of the line, a CR or a comment is
+       none, as before a blank (`f 1/ 2/ 3/` was refused, with a space
+       after it read) */
+    {
+        static const char *const faces[] = {"f 1/ 2/ 3/\n",      "f 1/ 2/ 3/ \n",   "f 1/ 2/ 3/",
+                                            "f 1// 2// 3//\r\n", "f 1/ 2/ 3/# c\n", "f 1/ 2/ 3/\r"};
+        char t[100];
+        size_t i;
+        for (i = 0; i < sizeof faces / sizeof faces[0]; i++) {
+            s = ggSceneCreate(NULL);
+            snprintf(t, sizeof t, "v 0 0 0\nv 1 0 0\nv 0 1 0\n%s", faces[i]);
+            if (ggSceneLoadMeshMemory(s, t, strlen(t), "t.obj", NULL, &e) != GG_OK)
+                print_error("'%s': %s\n", faces[i], e.message);
+            assert_int_equal(ggSceneMeshCount(s), 1);
+            ggSceneFree(s);
+        }
+    }
 }
 
 /* Group labels: one per distinct "o/g" however often a pair comes back,
