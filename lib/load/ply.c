@@ -11,6 +11,7 @@
 
 #include "vec.h"
 
+#include <float.h>
 #include <math.h>
 
 #include <stdio.h>
@@ -56,6 +57,7 @@ typedef struct plyp {
     const char *name;
     ggError *err;
     int fmt;   /* 0 ascii, 1 little, 2 big endian */
+    bool has_format;
     bool swap; /* binary values in the other byte order than this machine's */
     pelem el[PLY_MAX_ELEMS];
     int nel;
@@ -138,6 +140,27 @@ static int element(plyp *pp)
     return gg_lc_end(&pp->c);
 }
 
+/* format ascii|binary_little_endian|binary_big_endian 1.0: without the
+   version, or without the line, a file once loaded as ascii. */
+static int format(plyp *pp)
+{
+    static const char *const names[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+    const char *w, *at;
+    size_t n;
+    double v;
+    gg_lc_blank(&pp->c), at = pp->c.p;
+    n = gg_lc_word(&pp->c, &w);
+    for (pp->fmt = 0; pp->fmt < 3 && !is(w, n, names[pp->fmt]); pp->fmt++)
+        ;
+    if (pp->fmt == 3) return hfail(pp, at, "unknown format '%s'", w, n);
+    if (!(n = gg_lc_word(&pp->c, &w)))
+        return gg_lc_fail(&pp->c, NULL, GG_ERROR_PARSE, "the format needs its version (1.0)");
+    if (gg_parse_number(w, w + n, &v) != w + n || v != 1)
+        return hfail(pp, w, "unsupported format version '%s' (PLY defines 1.0)", w, n);
+    pp->has_format = true;
+    return gg_lc_end(&pp->c);
+}
+
 static int header(plyp *pp)
 {
     const char *w;
@@ -153,18 +176,13 @@ static int header(plyp *pp)
             return gg_lc_fail(&pp->c, NULL, GG_ERROR_PARSE, "the header has no end_header line");
         gg_lc_blank(&pp->c), at = pp->c.p;
         n = gg_lc_word(&pp->c, &w);
+        if (is(w, n, "end_header") && !pp->has_format)
+            return gg_lc_fail(&pp->c, at, GG_ERROR_PARSE,
+                              "the header has no format line (format ascii 1.0, "
+                              "binary_little_endian 1.0 or binary_big_endian 1.0)");
         if (is(w, n, "end_header")) return gg_lc_end(&pp->c);
         if (is(w, n, "format")) {
-            n = gg_lc_word(&pp->c, &w);
-            if (is(w, n, "ascii"))
-                pp->fmt = 0;
-            else if (is(w, n, "binary_little_endian"))
-                pp->fmt = 1;
-            else if (is(w, n, "binary_big_endian"))
-                pp->fmt = 2;
-            else
-                return hfail(pp, at, "unknown format '%s'", w, n);
-            gg_lc_rest(&pp->c, &w);
+            rc = format(pp);
         } else if (is(w, n, "element")) {
             rc = element(pp);
         } else if (is(w, n, "property")) {
@@ -280,6 +298,34 @@ static bool at_eol(const gg_lc *c)
     return c->p >= c->end || *c->p == '\n' || *c->p == '\r';
 }
 
+/* Whether an ascii value (the text w[0..n)) fits its declared type, as
+   a binary file's bytes always do: `property uchar x` took 300 and -5. */
+static int ascii_range(plyp *pp, int type, double d, const char *w, size_t n)
+{
+    static const struct {
+        const char *name;
+        double lo, hi;
+    } r[] = {{"", 0, 0},
+             {"char", -128, 127},
+             {"uchar", 0, 255},
+             {"short", -32768, 32767},
+             {"ushort", 0, 65535},
+             {"int", -2147483648.0, 2147483647.0},
+             {"uint", 0, 4294967295.0},
+             {"float", -FLT_MAX, FLT_MAX},
+             {"double", -DBL_MAX, DBL_MAX}};
+    char b[100];
+    if (type == T_F32 || type == T_F64) {
+        if (!(fabs(d) > r[type].hi)) return GG_OK; /* NaN is the caller's */
+        return bfail(pp, GG_ERROR_PARSE, "%s is beyond the range of a float (+-%.9g)",
+                     gg_lc_show(w, n, b, sizeof b), FLT_MAX);
+    }
+    if (d == floor(d) && d >= r[type].lo && d <= r[type].hi) return GG_OK;
+    return bfail(pp, GG_ERROR_PARSE, "a%s %s must be a whole number from %.0f to %.0f, got %s",
+                 type == T_I32 ? "n" : "", r[type].name, r[type].lo, r[type].hi,
+                 gg_lc_show(w, n, b, sizeof b));
+}
+
 /* The next value of the body; NaN and infinity are passed on (the caller
    decides whether they matter). */
 static int value(plyp *pp, int type, double *out)
@@ -302,8 +348,8 @@ static int value(plyp *pp, int type, double *out)
         const char *q = gg_parse_number(pp->c.p, pp->c.end, out);
         if (!q || (q < pp->c.end && *q != ' ' && *q != '\t' && *q != '\r' && *q != '\n'))
             return bfail(pp, GG_ERROR_PARSE, "expected a number");
-        if (type != T_F32 && type != T_F64 && *out != floor(*out))
-            return bfail(pp, GG_ERROR_PARSE, "expected a whole number");
+        if (ascii_range(pp, type, *out, pp->c.p, (size_t)(q - pp->c.p)) != GG_OK)
+            return GG_ERROR_PARSE;
         pp->c.p = q;
     }
     return GG_OK;

@@ -472,6 +472,67 @@ static void test_ply_ascii_lines(void **state)
     }
 }
 
+/* An ascii value fits its declared type (`property uchar x` took 300 and
+   -5), and the header says its format and version (without them a file
+   loaded as ascii). */
+static void test_ply_values(void **state)
+{
+    const char *h = "ply\nformat ascii 1.0\nelement vertex 3\nproperty uchar x\nproperty float y\n"
+                    "property short z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                    "end_header\n";
+    static const struct {
+        const char *body, *msg;
+    } bad[] = {
+        {"300 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         "t.ply:10:1: vertex 0: a uchar must be a whole number from 0 to 255, got 300"},
+        {"0 0 0\n-5 0 0\n0 1 0\n3 0 1 2\n",
+         "t.ply:11:1: vertex 1: a uchar must be a whole number from 0 to 255, got -5"},
+        {"0 0 0\n1 0 0\n0 1 0.5\n3 0 1 2\n",
+         "t.ply:12:5: vertex 2: a short must be a whole number from -32768 to 32767, got 0.5"},
+        {"0 1e39 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         "t.ply:10:3: vertex 0: 1e39 is beyond the range of a float (+-3.40282347e+38)"},
+        {"0 0 0\n1 0 0\n0 1 0\n256 0 1 2\n",
+         "t.ply:13:1: face 0: a uchar must be a whole number from 0 to 255, got 256"},
+        {"0 0 0\n1 0 0\n0 1 0\n3 0 1 2147483648\n",
+         "t.ply:13:7: face 0: an int must be a whole number from -2147483648 to 2147483647, got "
+         "2147483648"},
+    };
+    static const struct {
+        const char *text, *msg;
+    } hdr[] = {
+        {"ply\nelement vertex 0\nend_header\n",
+         "t.ply:3:1: the header has no format line (format ascii 1.0, binary_little_endian 1.0 "
+         "or binary_big_endian 1.0)"},
+        {"ply\nformat ascii\nelement vertex 0\nend_header\n",
+         "t.ply:2:13: the format needs its version (1.0)"},
+        {"ply\nformat ascii 2.0\nelement vertex 0\nend_header\n",
+         "t.ply:2:14: unsupported format version '2.0' (PLY defines 1.0)"},
+        {"ply\nformat binary_little_endian 1.0 x\nend_header\n", "t.ply:2:33: unexpected 'x'"},
+    };
+    char text[400];
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        snprintf(text, sizeof text, "%s%s", h, bad[i].body);
+        expect_error(text, strlen(text), "t.ply", GG_ERROR_PARSE, bad[i].msg);
+    }
+    for (i = 0; i < sizeof hdr / sizeof hdr[0]; i++)
+        expect_error(hdr[i].text, strlen(hdr[i].text), "t.ply", GG_ERROR_PARSE, hdr[i].msg);
+    /* the limits themselves load; `format ascii 1` is version 1.0 too */
+    {
+        const char *ok = "ply\nformat ascii 1\nelement vertex 3\nproperty uchar x\n"
+                         "property char y\nproperty int z\nelement face 1\n"
+                         "property list uchar uint vertex_indices\nend_header\n"
+                         "255 -128 -2147483648\n0 127 2147483647\n0 0 0\n3 0 1 2\n";
+        ggScene *s = ggSceneCreate(NULL);
+        ggError e;
+        if (ggSceneLoadMeshMemory(s, ok, strlen(ok), "t.ply", NULL, &e) != GG_OK)
+            print_error("%s\n", e.message);
+        assert_int_equal(ggSceneMeshCount(s), 1);
+        ggSceneFree(s);
+    }
+}
+
 /* NFF: mesh "file" with a transform, the current material for faces
    without one, the keyword's line on the objects, and rollback. */
 static void test_nff_mesh(void **state)
@@ -558,6 +619,7 @@ int main(void)
         cmocka_unit_test(test_ply_errors),   cmocka_unit_test(test_ply_ascii_lines),
         cmocka_unit_test(test_nff_mesh),     cmocka_unit_test(test_model_as_scene),
         cmocka_unit_test(test_obj_groups),   cmocka_unit_test(test_obj_label_limit),
+        cmocka_unit_test(test_ply_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
