@@ -400,7 +400,7 @@ static int kw_sphere(parser *ps)
     int rc = numbers(ps, d, 4);
     if (rc != GG_OK) return rc;
     if (!(d[3] > 0))
-        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "sphere radius must be > 0, got %g", d[3]);
+        return fail(ps, &ps->last, GG_ERROR_PARSE, "sphere radius must be > 0, got %g", d[3]);
     memset(&o, 0, sizeof o);
     o.kind = GG_SHAPE_SPHERE, o.a = v3(d[0], d[1], d[2]), o.ra = d[3];
     return add_object(ps, &o);
@@ -695,9 +695,21 @@ static int transform_op(parser *ps, const token *o, double op[12])
         if ((rc = numbers(ps, d, 3)) != GG_OK) return rc;
         op[3] = d[0], op[7] = d[1], op[11] = d[2];
     } else if (tok_is(o, "scale")) {
+        token at[3];
+        int k;
         if ((rc = number(ps, &d[0], "a scale factor")) != GG_OK) return rc;
-        d[1] = d[2] = d[0];
-        if (next_is_number(ps) && (rc = numbers(ps, d + 1, 2)) != GG_OK) return rc;
+        d[1] = d[2] = d[0], at[0] = at[1] = at[2] = ps->last;
+        if (next_is_number(ps))
+            for (k = 1; k < 3; k++) {
+                if ((rc = number(ps, &d[k], "a number")) != GG_OK) return rc;
+                at[k] = ps->last;
+            }
+        /* said at the factor, before the file is read (it was at the file
+           name, after reading it) */
+        for (k = 0; k < 3; k++)
+            if (d[k] == 0)
+                return fail(ps, &at[k], GG_ERROR_INVALID,
+                            "mesh: scale 0 makes the transform singular");
         op[0] = d[0], op[5] = d[1], op[10] = d[2];
     } else if (peek(ps, &t) > 0 && (tok_is(&t, "x") || tok_is(&t, "y") || tok_is(&t, "z"))) {
         next(ps, &t);
@@ -727,7 +739,8 @@ static int mesh_options(parser *ps, ggMeshOptions *mo)
             next(ps, &o), ps->keyword = "crease";
             if ((rc = number(ps, &mo->crease_deg, "a crease angle in degrees")) == GG_OK &&
                 !(mo->crease_deg >= 0 && mo->crease_deg <= 180))
-                rc = fail(ps, &o, GG_ERROR_PARSE, "mesh: the crease angle must be in [0, 180]");
+                rc = fail(ps, &ps->last, GG_ERROR_PARSE,
+                          "mesh: the crease angle must be in [0, 180]");
             if (mo->normals == GG_NORMALS_FLAT) mo->normals = GG_NORMALS_AUTO;
         } else if (tok_is(&o, "flat")) {
             next(ps, &o), mo->normals = GG_NORMALS_FLAT;

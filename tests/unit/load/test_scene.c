@@ -128,7 +128,14 @@ static void test_errors(void **state)
     expect_error("s 0 0 0 1e999", GG_ERROR_PARSE,
                  "scene.nff:1:9: expected a number after 's', got '1e999'");
     expect_error("q 1", GG_ERROR_PARSE, "scene.nff:1:1: unknown keyword 'q'");
-    expect_error("s 0 0 0 -1", GG_ERROR_PARSE, "scene.nff:1:1: sphere radius must be > 0, got -1");
+    /* a value's error is at the value, not its keyword or the file name */
+    expect_error("s 0 0 0 -1", GG_ERROR_PARSE, "scene.nff:1:9: sphere radius must be > 0, got -1");
+    expect_error("mesh \"tri.obj\" crease 200", GG_ERROR_PARSE,
+                 "scene.nff:1:23: mesh: the crease angle must be in [0, 180]");
+    expect_error("mesh \"tri.obj\" scale 0", GG_ERROR_INVALID,
+                 "scene.nff:1:22: mesh: scale 0 makes the transform singular");
+    expect_error("mesh \"tri.obj\" scale 2 0 2 rotate x 90", GG_ERROR_INVALID,
+                 "scene.nff:1:24: mesh: scale 0 makes the transform singular");
     expect_error("p 2 0 0 0 1 1 1", GG_ERROR_PARSE,
                  "scene.nff:1:3: a vertex count after 'p' must be a whole number from 3 to 1000000, got 2");
     expect_error("p 4\n0 0 0\n1 0 0\n1 1 0\n", GG_ERROR_PARSE,
