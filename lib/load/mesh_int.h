@@ -97,7 +97,9 @@ void gg_lc_next_line(gg_lc *c);
 /* A run of characters up to a blank or the end of the line (after
    skipping blanks); its length, 0 at the end of the line. */
 size_t gg_lc_word(gg_lc *c, const char **w);
-/* The rest of the line (no comment stripping), without surrounding blanks. */
+/* The rest of the line up to a '#' at its start or after a blank (a
+   comment; a '#' inside a word is kept: `usemtl a#1`), without
+   surrounding blanks: the names of o, g, usemtl, mtllib, newmtl, map_Kd. */
 size_t gg_lc_rest(gg_lc *c, const char **s);
 /* A number followed by a blank or the end of the line; else an error
    ("expected %s"). */

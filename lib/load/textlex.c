@@ -99,11 +99,18 @@ size_t gg_lc_word(gg_lc *c, const char **w)
 
 size_t gg_lc_rest(gg_lc *c, const char **s)
 {
-    const char *p, *q;
+    const char *p, *q, *h;
     gg_lc_blank(c);
     p = c->p;
     q = next_line_end(p, c->end);
     c->p = q;
+    /* `usemtl red # c` named 'red # c' (the default material) and
+       `mtllib red.mtl # c` warned of a library '#' */
+    for (h = p; h < q; h++)
+        if (*h == '#' && (h == p || blank(h[-1]))) {
+            q = h;
+            break;
+        }
     while (q > p && blank(q[-1])) q--;
     *s = p;
     return (size_t)(q - p);

@@ -224,6 +224,46 @@ static void test_obj_groups(void **state)
     ggSceneFree(s);
 }
 
+/* A '#' after a blank starts a comment in a name (o, g, usemtl, mtllib,
+   newmtl): `mtllib red.mtl # c` warned it could not read '#', `usemtl
+   red # c` named 'red # c' and gave the default material. A '#' inside
+   a word is part of the name. */
+static void test_obj_name_comments(void **state)
+{
+    const char *obj = "mtllib build_test_names.mtl # the library\n"
+                      "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                      "g a # first\nusemtl red # c\nf 1 2 3\n"
+                      "g b#2\nusemtl a#1\nf 1 2 3\n";
+    FILE *f = fopen("build_test_names.mtl", "w");
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshInfo mi;
+    ggFaceInfo fi;
+    ggError e;
+    int i;
+    (void)state;
+    assert_non_null(f);
+    fprintf(f, "newmtl red # c\nKd 1 0 0\nnewmtl a#1\nKd 0 0 1\n");
+    fclose(f);
+    f = fopen("build_test_names.obj", "w");
+    assert_non_null(f);
+    fputs(obj, f);
+    fclose(f);
+    if (ggSceneLoadMesh(s, "build_test_names.obj", NULL, &e) != GG_OK)
+        print_error("%s\n", e.message);
+    assert_int_equal(ggSceneGetMeshInfo(s, 0, &mi), GG_OK);
+    if (mi.warnings) print_error("%s\n", mi.warning);
+    assert_int_equal(mi.warnings, 0);
+    for (i = 0; i < 2; i++) {
+        assert_int_equal(ggSceneGetFaceInfo(s, 0, i, &fi), GG_OK);
+        assert_string_equal(fi.group, fi.face ? "b#2" : "a");
+        assert_string_equal(fi.material_name, fi.face ? "a#1" : "red");
+        assert_true(ggSceneMaterial(s, fi.material).color.r == (fi.face ? 0 : 1));
+    }
+    remove("build_test_names.obj");
+    remove("build_test_names.mtl");
+    ggSceneFree(s);
+}
+
 /* Each distinct (o, g) pair stores its whole label: one 400,000-byte o
    name and 60 g names asked for 24 MB (500 of them 200 MB). Their bytes
    may pass the file's size by GG_MESH_LABELS_MAX, no more. */
@@ -619,7 +659,7 @@ int main(void)
         cmocka_unit_test(test_ply_errors),   cmocka_unit_test(test_ply_ascii_lines),
         cmocka_unit_test(test_nff_mesh),     cmocka_unit_test(test_model_as_scene),
         cmocka_unit_test(test_obj_groups),   cmocka_unit_test(test_obj_label_limit),
-        cmocka_unit_test(test_ply_values),
+        cmocka_unit_test(test_ply_values),   cmocka_unit_test(test_obj_name_comments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
