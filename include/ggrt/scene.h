@@ -93,6 +93,18 @@ GG_API ggMaterial ggMaterialDefault(void);
 #define GG_PARAM_MAX  1e30
 #define GG_WEIGHT_MAX 100
 
+/* The largest magnitude of an object's coordinates and sizes (sphere
+   centres and radii, cone ends and radii, rectangle corners, edges and
+   far corners, polygon, triangle and mesh vertices after the mesh's
+   transform) and of a light's position. Within it every product an
+   intersection test forms stays finite, for eye rays from a camera up to
+   its 1e150 (they are unit) and for shadow rays, which run from a hit to
+   a light unnormalised; beyond it, from about 1e77, triangles, polygons
+   and rectangles were accepted and never hit, and a sphere of 1e20 let
+   the light of a light at 1e150 through. ggSceneAdd* and the loaders
+   refuse more with GG_ERROR_INVALID. */
+#define GG_COORD_MAX 1e64
+
 /* Whether m is physically valid, the rule ggSceneAddMaterial and the NFF
    loader apply: colour, ke, extinction and unit_m in [0, GG_PARAM_MAX];
    kd, ks and kt in [0, GG_WEIGHT_MAX] (above 1 is accepted: `ggrt check`
@@ -190,7 +202,8 @@ GG_API ggCamera ggSceneCamera(const ggScene *scene);
 /* GG_ERROR_INVALID unless every channel is in [0, GG_PARAM_MAX]. */
 GG_API int ggSceneSetBackground(ggScene *scene, ggColor c);
 GG_API int ggSceneSetAmbient(ggScene *scene, ggColor c);
-/* Point light at a finite position. NFF lights without a colour get
+/* Point light at a finite position, no coordinate over GG_COORD_MAX
+   in magnitude. NFF lights without a colour get
    1/sqrt(number of lights) (the SPD convention) at render time when
    `color` has r < 0; any other colour must be finite and >= 0 (no upper
    bound, see GG_PARAM_MAX). */
@@ -200,6 +213,8 @@ GG_API int ggSceneAddLight(ggScene *scene, ggVec3 pos, ggColor color);
 GG_API int ggSceneAddMaterial(ggScene *scene, const ggMaterial *m);
 /* Takes ownership of img (freed with the scene, also on failure). */
 GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);
+/* The shapes: -GG_ERROR_INVALID for a coordinate or size that is not
+   finite or is over GG_COORD_MAX in magnitude, or a degenerate shape. */
 GG_API int ggSceneAddSphere(ggScene *scene, int material, ggVec3 center, double radius);
 /* Planar polygon, n >= 3 vertices, counter-clockwise seen from the front. */
 GG_API int ggSceneAddPolygon(ggScene *scene, int material, const ggVec3 *v, int n);

@@ -281,6 +281,11 @@ static int add_object(parser *ps, gg_object *o)
     o->line = ps->kw_tok.line;
     o->col = ps->kw_tok.col;
     id = gg_scene_add_object(ps->s, o);
+    /* the values parsed, the material known: out of range is all that
+       remains invalid */
+    if (id == -GG_ERROR_INVALID)
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE,
+                    "a coordinate or size is over 1e64 in magnitude (GG_COORD_MAX)");
     if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the object: %s", ggStatusString(-id));
     return GG_OK;
 }
@@ -359,6 +364,9 @@ static int kw_light(parser *ps)
     if (next_is_number(ps) && (rc = color_upto(ps, &c, DBL_MAX, "a light's colour")) != GG_OK)
         return rc;
     id = ggSceneAddLight(ps->s, p, c);
+    if (id == -GG_ERROR_INVALID)
+        return fail(ps, &ps->kw_tok, GG_ERROR_PARSE,
+                    "a light's position is over 1e64 in magnitude (GG_COORD_MAX)");
     if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the light");
     ps->s->lights[id].line = ps->kw_tok.line;
     return GG_OK;

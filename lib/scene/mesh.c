@@ -120,6 +120,9 @@ static int place(gg_mesh_build *b, const ggMeshOptions *o, ggError *err)
                    t[8] * p.x + t[9] * p.y + t[10] * p.z + t[11]);
         if (!v3finite(p))
             return fail(err, m, GG_ERROR_INVALID, "a vertex is not finite (after the transform)");
+        if (!gg_scene_coord_ok(p))
+            return fail(err, m, GG_ERROR_INVALID,
+                        "a vertex is over 1e64 in magnitude (GG_COORD_MAX)");
         m->pos[i] = p;
         if (m->nrm) {
             ggVec3 n = m->nrm[i];

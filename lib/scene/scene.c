@@ -254,7 +254,8 @@ GG_API void ggSceneSetSamples(ggScene *s, int n)
 GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
 {
     gg_light *l;
-    if (!s || !v3finite(pos) || !isfinite(color.g) || !isfinite(color.b) || !isfinite(color.r))
+    if (!s || !v3finite(pos) || !gg_scene_coord_ok(pos) || !isfinite(color.g) ||
+        !isfinite(color.b) || !isfinite(color.r))
         return -GG_ERROR_INVALID;
     /* r < 0 asks for the SPD default colour; any other colour is >= 0. */
     if (color.r >= 0 && (color.g < 0 || color.b < 0)) return -GG_ERROR_INVALID;
@@ -370,9 +371,45 @@ int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int cou
     return 0;
 }
 
+bool gg_scene_coord_ok(ggVec3 v)
+{
+    return fabs(v.x) <= GG_COORD_MAX && fabs(v.y) <= GG_COORD_MAX && fabs(v.z) <= GG_COORD_MAX;
+}
+
+static bool size_ok(double r)
+{
+    return fabs(r) <= GG_COORD_MAX;
+}
+
+/* Every coordinate and size of o within GG_COORD_MAX; an implicit
+   surface is bounded by its own box's rules, a mesh's vertices by
+   mesh.c. */
+static bool object_in_range(const ggScene *s, const gg_object *o)
+{
+    size_t i;
+    switch (o->kind) {
+    case GG_SHAPE_SPHERE:
+        return gg_scene_coord_ok(o->a) && size_ok(o->ra);
+    case GG_SHAPE_CONE:
+        return gg_scene_coord_ok(o->a) && gg_scene_coord_ok(o->b) && size_ok(o->ra) &&
+               size_ok(o->rb);
+    case GG_SHAPE_RECT:
+        return gg_scene_coord_ok(o->a) && gg_scene_coord_ok(o->b) && gg_scene_coord_ok(o->c) &&
+               gg_scene_coord_ok(v3add(v3add(o->a, o->b), o->c));
+    case GG_SHAPE_TRIANGLE:
+    case GG_SHAPE_POLYGON:
+        for (i = 0; i < (size_t)o->nverts; i++)
+            if (!gg_scene_coord_ok(s->verts[o->vfirst + i])) return false;
+        return true;
+    default:
+        return true;
+    }
+}
+
 int gg_scene_add_object(ggScene *s, const gg_object *o)
 {
     if (!s) return -GG_ERROR_INVALID;
+    if (!object_in_range(s, o)) return -GG_ERROR_INVALID;
     if (o->material < 0 || (size_t)o->material >= s->nmaterials) return -GG_ERROR_INVALID;
     if (s->nobjects >= (size_t)INT32_MAX) return -GG_ERROR_LIMIT;
     if (gg_mem_grow(s->alloc, (void **)&s->objects, &s->cap_objects, s->nobjects + 1,

@@ -108,7 +108,12 @@ struct ggScene {
 
 /* Append helpers (return index or -GG_ERROR_NOMEM). */
 int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int count, size_t *first);
+/* -GG_ERROR_INVALID when a coordinate or size of o (its vertices for a
+   polygon or triangle, pushed before) is beyond GG_COORD_MAX. */
 int gg_scene_add_object(ggScene *s, const gg_object *o);
+/* Whether every coordinate of v is at most GG_COORD_MAX in magnitude
+   (false for NaN). */
+bool gg_scene_coord_ok(ggVec3 v);
 int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t);
 
 /* What is wrong with a camera (the first problem found), for the loader's

@@ -1,0 +1,171 @@
+/* SPDX-License-Identifier: MIT */
+/*
+** test_coords.c -- GG_COORD_MAX (scene.h): every shape kind, placed at
+** every scale up to the limit, is hit where it is by a ray from afar,
+** lets through the light of a light at the limit and blocks it from
+** behind; one step beyond the limit, every way of adding it (the building
+** functions, ggSceneAddMesh, the NFF loader, a model file) and a light
+** there are refused. An audit found triangles, polygons and rectangles
+** of 1e77 accepted and never hit (a product of four coordinates
+** overflowed); a sphere of 1e20 let a light at 1e150 through.
+*/
+#include "testutil.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static ggVec3 vec3(double x, double y, double z)
+{
+    ggVec3 r;
+    r.x = x, r.y = y, r.z = z;
+    return r;
+}
+
+static ggVec3 sub3(ggVec3 a, ggVec3 b)
+{
+    return vec3(a.x - b.x, a.y - b.y, a.z - b.z);
+}
+
+enum { SPHERE, TRIANGLE, POLYGON, CONE, RECT, MESH, KINDS };
+static const char *const kind_name[KINDS] = {"sphere", "triangle", "polygon",
+                                             "cone",   "rect",     "mesh"};
+
+/* Shape k spanning [-S, S] in x and y around the origin, facing +z (the
+   cone lies along y, radius S); the return of its ggSceneAdd* call. */
+static int add_shape(ggScene *s, int mat, int k, double S)
+{
+    const ggVec3 q[4] = {vec3(-S, -S, 0), vec3(S, -S, 0), vec3(S, S, 0), vec3(-S, S, 0)};
+    const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+    ggMeshData d;
+    ggMeshOptions o;
+    ggError e;
+    switch (k) {
+    case SPHERE:
+        return ggSceneAddSphere(s, mat, vec3(0, 0, 0), S);
+    case TRIANGLE:
+        return ggSceneAddTriangle(s, mat, q, NULL);
+    case POLYGON:
+        return ggSceneAddPolygon(s, mat, q, 4);
+    case CONE:
+        return ggSceneAddCone(s, mat, vec3(0, -S, 0), S, vec3(0, S, 0), S);
+    case RECT:
+        return ggSceneAddRect(s, mat, q[0], vec3(2 * S, 0, 0), vec3(0, 2 * S, 0));
+    default:
+        memset(&d, 0, sizeof d);
+        d.positions = q, d.npositions = 4, d.indices = idx, d.ntriangles = 2;
+        ggMeshOptionsDefault(&o);
+        o.material = mat;
+        return ggSceneAddMesh(s, &d, &o, &e);
+    }
+}
+
+/* The largest S for which every coordinate and size add_shape forms
+   (the rectangle's edges are 2 S) is within the limit. */
+#define S_MAX (GG_COORD_MAX / 2)
+
+static void test_every_scale_is_hit(void **state)
+{
+    const double scales[] = {1e-3, 1, 1e20, 1e45, 1e60, S_MAX};
+    size_t i;
+    int k;
+    (void)state;
+    for (k = 0; k < KINDS; k++)
+        for (i = 0; i < sizeof scales / sizeof *scales; i++) {
+            const double S = scales[i];
+            ggScene *s = ggSceneCreate(NULL);
+            ggMaterial m = ggMaterialDefault();
+            const ggVec3 light = vec3(0, 0, GG_COORD_MAX);
+            ggRay eye, toward, behind;
+            ggHit h;
+            int mat = ggSceneAddMaterial(s, &m);
+            ggError e;
+            bool hit, blocked, shadowed;
+            double want;
+            assert_true(mat >= 0);
+            if (add_shape(s, mat, k, S) < 0) fail_msg("%s at %g refused", kind_name[k], S);
+            assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+            /* from 3 S above, straight down, off the centre */
+            eye.o = vec3(0.25 * S, 0.125 * S, 3 * S), eye.d = vec3(0, 0, -1);
+            hit = ggSceneIntersect(s, eye, 0, INFINITY, &h);
+            /* shadow rays as the renderer casts them, unnormalised, to a
+               light at the limit: from just above the hit, and from
+               below the shape, which it shadows */
+            toward.o = vec3(h.p.x, h.p.y, h.p.z + 1e-6 * S);
+            toward.d = sub3(light, toward.o);
+            blocked = hit && ggSceneOccluded(s, toward, 0, 1);
+            behind.o = vec3(0.25 * S, 0.125 * S, -3 * S), behind.d = sub3(light, behind.o);
+            shadowed = ggSceneOccluded(s, behind, 0, 1);
+            /* the plane z = 0; the sphere and the cylinder (a cone of
+               equal radii) where x^2 + y^2 + z^2 or x^2 + z^2 is S^2 */
+            want = 3 * S;
+            if (k == SPHERE) want = (3 - sqrt(1 - 0.015625 - 0.0625)) * S;
+            if (k == CONE) want = (3 - sqrt(1 - 0.0625)) * S;
+            if (!hit || !(fabs(h.t - want) <= 1e-9 * S) || blocked || !shadowed)
+                print_error("%s at S = %g: hit %d at t = %g (want %g), light blocked %d, "
+                            "shadow %d\n",
+                            kind_name[k], S, hit, hit ? h.t : 0, want, blocked, shadowed);
+            assert_true(hit);
+            assert_true(fabs(h.t - want) <= 1e-9 * S);
+            assert_false(blocked);
+            assert_true(shadowed);
+            ggSceneFree(s);
+        }
+}
+
+/* One step past the limit: refused by every way in, the scene unchanged. */
+static void test_beyond_is_refused(void **state)
+{
+    const double S = nextafter(GG_COORD_MAX, INFINITY);
+    char text[256];
+    ggError e;
+    int k;
+    (void)state;
+    for (k = 0; k < KINDS; k++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggMaterial m = ggMaterialDefault();
+        int mat = ggSceneAddMaterial(s, &m), rc = add_shape(s, mat, k, S);
+        if (rc != -GG_ERROR_INVALID) print_error("%s of %g: %d\n", kind_name[k], S, rc);
+        assert_int_equal(rc, -GG_ERROR_INVALID);
+        assert_int_equal(ggSceneObjectCount(s), 0);
+        ggSceneFree(s);
+    }
+    {
+        ggScene *s = ggSceneCreate(NULL);
+        ggColor c = {1, 1, 1};
+        assert_int_equal(ggSceneAddLight(s, vec3(0, -S, 0), c), -GG_ERROR_INVALID);
+        assert_true(ggSceneAddLight(s, vec3(0, -GG_COORD_MAX, 0), c) >= 0);
+        ggSceneFree(s);
+    }
+    /* the loader says where, and why */
+    snprintf(text, sizeof text, "s 0 0 0 1\np 3\n0 0 0\n1 0 0\n0 %.17g 0\n", S);
+    {
+        ggScene *s = ggSceneCreate(NULL);
+        assert_int_equal(ggSceneLoadString(s, text, strlen(text), "c.nff", &e), GG_ERROR_PARSE);
+        assert_string_equal(
+            e.message, "c.nff:2:1: a coordinate or size is over 1e64 in magnitude (GG_COORD_MAX)");
+        assert_int_equal(ggSceneObjectCount(s), 0);
+        ggSceneFree(s);
+    }
+    snprintf(text, sizeof text, "v 0 0 0\nv %.17g 0 0\nv 0 1 0\nf 1 2 3\n", S);
+    {
+        ggScene *s = ggSceneCreate(NULL);
+        ggMeshOptions o;
+        int rc;
+        ggMeshOptionsDefault(&o);
+        o.format = GG_MESH_FORMAT_OBJ;
+        rc = ggSceneLoadMeshMemory(s, text, strlen(text), "c.obj", &o, &e);
+        assert_int_equal(rc, GG_ERROR_INVALID);
+        assert_string_equal(e.message, "c.obj: a vertex is over 1e64 in magnitude (GG_COORD_MAX)");
+        ggSceneFree(s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_scale_is_hit),
+        cmocka_unit_test(test_beyond_is_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
