@@ -250,7 +250,8 @@ static int find_run(ggScene *s, const ggRenderOptions *opt, find_job *fj, unsign
         r->traced = 1;
         if ((rc = gg_scan_run(&sc, err)) == GG_OK) r->stats = sc.stats[0];
     }
-    r->scanned = rc == GG_OK ? (long)(r->x1 - r->x0) * (r->y1 - r->y0) : 0;
+    /* r is NULL when find_alloc failed before making it */
+    if (r) r->scanned = rc == GG_OK ? (long)(r->x1 - r->x0) * (r->y1 - r->y0) : 0;
     if (rc == GG_OK && merge(fj, sc.threads) != GG_OK)
         rc = gg_error_set(err, GG_ERROR_NOMEM, "out of memory for the find result");
     find_job_free(fj, sc.threads);

@@ -314,6 +314,103 @@ static void sweep(const scene_case *c)
     pthread_mutex_destroy(&f.mu);
 }
 
+/* ggFind and ggFindPath on their own: the scene is loaded and prepared
+   without failures, then every allocation of one find (its result, the
+   workers' lists, a render or path layers) fails in turn. Each must say
+   GG_OK or GG_ERROR_NOMEM; after NOMEM *out is NULL and the find done
+   again gives the reference's matches. */
+typedef struct find_case {
+    const char *expr; /* a predicate, or a path expression when `path` */
+    int path, threads;
+} find_case;
+
+static int find_once(ggScene *s, const find_case *c, ggFindResult **out)
+{
+    ggRenderOptions o;
+    ggError e;
+    int rc;
+    ggRenderOptionsDefault(&o);
+    o.width = W, o.height = H, o.threads = c->threads;
+    *out = (ggFindResult *)&o; /* must be overwritten */
+    if (c->path) {
+        ggPathExpr *x = NULL;
+        assert_int_equal(ggPathParse(c->expr, NULL, &x, NULL), GG_OK);
+        rc = ggFindPath(s, &o, x, 1000, out, &e);
+        ggPathFree(x);
+    } else {
+        ggPredicate *p = NULL;
+        assert_int_equal(ggPredicateParse(c->expr, NULL, &p, NULL), GG_OK);
+        rc = ggFind(s, &o, p, 1000, out, &e);
+        ggPredicateFree(p);
+    }
+    assert_true(rc == GG_OK || rc == GG_ERROR_NOMEM);
+    if (rc != GG_OK) assert_null(*out);
+    return rc;
+}
+
+static void same_find(const ggFindResult *a, const ggFindResult *b)
+{
+    assert_int_equal(a->scanned, b->scanned);
+    assert_int_equal(a->matched, b->matched);
+    assert_int_equal(a->nmatches, b->nmatches);
+    assert_memory_equal(a->mask, b->mask, (size_t)a->width * a->height);
+    if (a->nmatches) assert_memory_equal(a->matches, b->matches, a->nmatches * sizeof *a->matches);
+}
+
+static void find_sweep(const find_case *c)
+{
+    failer f;
+    ggAllocator a;
+    ggScene *s;
+    ggFindResult *ref, *r;
+    long k, total, nomem = 0;
+    memset(&f, 0, sizeof f);
+    pthread_mutex_init(&f.mu, NULL);
+    a.malloc = f_malloc, a.realloc = f_realloc, a.free = f_free, a.ud = &f;
+    s = ggSceneCreate(&a);
+    assert_non_null(s);
+    assert_int_equal(ggSceneLoadFile(s, "examples/scenes/glass.nff", NULL), GG_OK);
+    assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
+    f.count = 0;
+    assert_int_equal(find_once(s, c, &ref), GG_OK);
+    total = f.count;
+    assert_true(ref->matched > 0);
+    /* with 2 threads the workers' lists grow in either order: the count
+       of allocations may differ from run to run, so every k up to the
+       reference's count is tried, and one more */
+    for (k = 1; k <= total + 1; k++) {
+        f.count = 0, f.fail_at = k, f.failed = 0;
+        if (find_once(s, c, &r) != GG_OK) {
+            nomem++;
+            stop_failing(&f);
+            assert_int_equal(find_once(s, c, &r), GG_OK);
+        }
+        if (c->threads == 1) assert_int_equal(f.failed, k <= total);
+        same_find(r, ref);
+        ggFindResultFree(r);
+    }
+    printf("test_nomem: %s '%s', %d thread(s): %ld allocation failure points, %ld reported "
+           "GG_ERROR_NOMEM\n",
+           c->path ? "ggFindPath" : "ggFind", c->expr, c->threads, total, nomem);
+    ggFindResultFree(ref);
+    ggSceneFree(s);
+    pthread_mutex_destroy(&f.mu);
+}
+
+static void test_find(void **state)
+{
+    /* a ray-tree predicate (the scan), a pixel predicate (a render), a
+       path expression with a predicate (the scan) and one without (path
+       layers) */
+    static const find_case cases[] = {
+        {"some(kind == refract)", 0, 1}, {"some(kind == refract)", 0, 2}, {"pixel > 0.2", 0, 1},
+        {"C.*<RS'tir'>.*", 1, 1},        {"C.*<TS>[depth < 9].*", 1, 2},  {"C.*T.*", 1, 1},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) find_sweep(&cases[i]);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -353,7 +450,7 @@ int main(void)
         cmocka_unit_test(test_spd),          cmocka_unit_test(test_spd_memory),
         cmocka_unit_test(test_default),      cmocka_unit_test(test_prism),
         cmocka_unit_test(test_water),        cmocka_unit_test(test_gold),
-        cmocka_unit_test(test_knot),
+        cmocka_unit_test(test_knot),         cmocka_unit_test(test_find),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
