@@ -161,7 +161,11 @@ GG_API int ggSceneLoadString(ggScene *scene, const char *text, size_t len, const
                              ggError *err);
 
 /* Reads an image file that a scene file names (a texture), with the
-   contract of ggImageRead (image.h); `ud` is the pointer given with it. */
+   contract of ggImageRead (image.h); `ud` is the pointer given with it.
+   Its failure fails the load (an OBJ's map_Kd: a warning) with its
+   message; a reader that wrote none gets "PATH: the image reader failed
+   (status N) without a message", and a status that is not a GG_ERROR_*
+   code is reported as GG_ERROR_IO. */
 typedef int (*ggImageReader)(void *ud, const char *path, const ggAllocator *alloc,
                              ggImage **out, ggError *err);
 /* How ggSceneLoadFile and ggSceneLoadString read textures from now on.

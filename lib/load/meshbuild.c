@@ -495,11 +495,25 @@ int gg_load_read_file(const ggAllocator *a, const char *path, size_t limit, char
     return GG_OK;
 }
 
+/* A reader's failure as the loaders report it. A reader of the caller's
+   may leave err untouched (it is optional in ggImageRead's contract) or
+   return a code of its own: the caller of ggSceneLoad* gets a GG_ERROR_
+   code it can name and a message, never stack garbage. */
+static int reader_failed(const char *path, int rc, ggError *got, ggError *err)
+{
+    const int code = rc >= GG_ERROR_INVALID && rc <= GG_ERROR_CANCELLED ? rc : GG_ERROR_IO;
+    got->message[sizeof got->message - 1] = '\0';
+    if (got->message[0]) return gg_error_set(err, code, "%s", got->message);
+    return gg_error_set(err, code, "%s: the image reader failed (status %d) without a message",
+                        path, rc);
+}
+
 int gg_load_texture(ggScene *s, const char *path, ggImage **img, ggError *err)
 {
     ggImageReader fn = s->reader ? s->reader : gg_load_default_reader();
     gg_image_budget b;
     ggImage *got = NULL;
+    ggError e2 = {0, ""};
     int rc;
     if ((*img = gg_scene_image_find(s, path)) != NULL) return GG_OK;
     if (!fn)
@@ -509,8 +523,8 @@ int gg_load_texture(ggScene *s, const char *path, ggImage **img, ggError *err)
                             path);
     b.total = s->tex_budget;
     b.left = s->tex_budget > s->tex_used ? s->tex_budget - s->tex_used : 0;
-    rc = fn(s->reader ? s->reader_ud : &b, path, s->alloc, &got, err);
-    if (rc != GG_OK) return rc;
+    rc = fn(s->reader ? s->reader_ud : &b, path, s->alloc, &got, &e2);
+    if (rc != GG_OK) return reader_failed(path, rc, &e2, err);
     if (!got)
         return gg_error_set(err, GG_ERROR_INVALID, "%s: the image reader gave no image", path);
     rc = gg_image_check_budget(path, got->width, got->height, &b, err);

@@ -553,7 +553,7 @@ static int kw_texture(parser *ps)
 {
     token t, o;
     gg_texture tx;
-    ggError e2;
+    ggError e2 = {0, ""};
     char path[NFF_MAX_TOKEN + 1024];
     int rc, id, r = next(ps, &t);
     if (r < 0) return fail(ps, &t, GG_ERROR_PARSE, "unterminated string");

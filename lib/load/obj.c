@@ -460,7 +460,7 @@ static int add_material(objp *op, gg_mtl_entry *e)
     if (e->material >= 0) return GG_OK;
     if (e->map_kd) {
         ggImage *img = NULL;
-        ggError e2;
+        ggError e2 = {0, ""};
         rc = gg_load_texture(op->s, e->map_kd, &img, &e2);
         if (rc == GG_ERROR_NOMEM) return nomem(op);
         if (rc != GG_OK) {

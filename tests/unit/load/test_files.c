@@ -198,6 +198,51 @@ static void test_mtl_values(void **state)
     }
 }
 
+/* A reader of the caller's that fails without writing its ggError, or
+   with a status of its own: the load says so, with a GG_ERROR_ code. */
+static int quiet_reader(void *ud, const char *path, const ggAllocator *a, ggImage **out,
+                        ggError *err)
+{
+    (void)path, (void)a, (void)out, (void)err;
+    return *(const int *)ud;
+}
+
+static void test_reader_without_message(void **state)
+{
+    static const int io = GG_ERROR_IO, own = 42;
+    char p[96], want[256];
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    ggMeshInfo mi;
+    (void)state;
+    ggSceneSetImageReader(s, quiet_reader, (void *)&io);
+    write_file("t.nff", "texture \"a.png\"\ns 0 0 0 1\n");
+    snprintf(p, sizeof p, "%s/t.nff", dir);
+    memset(&e, 'Z', sizeof e); /* what the reader would have left */
+    assert_int_equal(ggSceneLoadFile(s, p, &e), GG_ERROR_IO);
+    snprintf(want, sizeof want,
+             "%s:1:9: cannot read texture: %s/a.png: the image reader failed (status 4) "
+             "without a message",
+             p, dir);
+    assert_string_equal(e.message, want);
+    ggSceneSetImageReader(s, quiet_reader, (void *)&own);
+    assert_int_equal(ggSceneLoadFile(s, p, &e), GG_ERROR_IO);
+    assert_non_null(strstr(e.message, "(status 42) without a message"));
+    /* an OBJ's map_Kd: the warning has the message */
+    write_file("t.mtl", "newmtl a\nKd 1 0 0\nmap_Kd b.png\n");
+    write_file("t.obj", "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl a\n"
+                        "f 1/1 2/1 3/1\n");
+    snprintf(p, sizeof p, "%s/t.obj", dir);
+    assert_int_equal(ggSceneLoadMesh(s, p, NULL, &e), GG_OK);
+    assert_int_equal(ggSceneGetMeshInfo(s, 0, &mi), GG_OK);
+    snprintf(want, sizeof want,
+             "texture not used (%s/b.png: the image reader failed (status 42) without a "
+             "message)",
+             dir);
+    assert_non_null(strstr(mi.warning, want));
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -207,6 +252,7 @@ int main(void)
         cmocka_unit_test(test_named_by_scenes),
         cmocka_unit_test(test_mtllib_once),
         cmocka_unit_test(test_mtl_values),
+        cmocka_unit_test(test_reader_without_message),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
