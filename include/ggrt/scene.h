@@ -328,7 +328,10 @@ GG_API int ggSceneAddMesh(ggScene *scene, const ggMeshData *data, const ggMeshOp
    -z), close enough that the bounding sphere fills the view; with
    GG_FRAME_LIGHTS, add a key and a fill light. The result is an ordinary
    camera and lights (ggSceneCamera, ggSceneGetLight), which a program may
-   print as NFF. GG_ERROR_INVALID if the scene has no objects. */
+   print as NFF. GG_ERROR_INVALID if the scene has no objects, or if its
+   bounds are too large to frame (the camera or a light would be beyond
+   ggCameraCheck's 1e150 or not finite; err gives the bounds);
+   GG_ERROR_NOMEM. On failure the camera and lights are as they were. */
 #define GG_FRAME_CAMERA 1u
 #define GG_FRAME_LIGHTS 2u
 GG_API int ggSceneFrame(ggScene *scene, unsigned what, ggError *err);

@@ -194,13 +194,38 @@ static void object_box(const ggScene *s, const gg_object *o, ggVec3 *lo, ggVec3 
     }
 }
 
+/* The bounds [lo, hi] are finite but a camera or light placed around them
+   need not be: a position over 1e150, or a radius that overflowed. */
+static int too_large(ggError *err, int code, ggVec3 lo, ggVec3 hi, const char *why)
+{
+    return gg_error_set(err, code,
+                        "framing: the scene's bounds (%g %g %g to %g %g %g) are too large to "
+                        "frame: %s",
+                        lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, why);
+}
+
+/* A key and a fill light around the bounds; none on failure. */
+static int frame_lights(ggScene *s, ggVec3 c, double r, ggVec3 lo, ggVec3 hi, ggError *err)
+{
+    const size_t n = s->nlights;
+    int id = ggSceneAddLight(s, v3madd(c, v3(1, 1.6, 1.2), 2.5 * r), rgb(0.8, 0.8, 0.8));
+    if (id >= 0)
+        id = ggSceneAddLight(s, v3madd(c, v3(-1.5, 0.5, 1), 2.5 * r), rgb(0.35, 0.35, 0.35));
+    if (id >= 0) return GG_OK;
+    s->nlights = n;
+    if (id == -GG_ERROR_NOMEM) return gg_error_set(err, GG_ERROR_NOMEM, "framing: out of memory");
+    return too_large(err, -id, lo, hi, "a light would not be at a finite position");
+}
+
 GG_API int ggSceneFrame(ggScene *s, unsigned what, ggError *err)
 {
     ggVec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY), c, dir;
     double r, d;
     size_t i;
     ggCamera cam0;
+    ggError ce = {0, ""};
     bool had;
+    int rc;
     if (!s || !s->nobjects)
         return gg_error_set(err, GG_ERROR_INVALID, "framing: the scene is empty");
     for (i = 0; i < s->nobjects; i++) object_box(s, &s->objects[i], &lo, &hi);
@@ -230,15 +255,12 @@ GG_API int ggSceneFrame(ggScene *s, unsigned what, ggError *err)
         }
         if (!(d > 0)) d = r / sin(atan(ty < tx ? ty : tx));
         cam.at = c, cam.from = v3madd(c, dir, 1.08 * d), cam.up = v3(0, 1, 0);
-        ggSceneSetCamera(s, &cam);
+        if (ggCameraCheck(&cam, &ce) != GG_OK || ggSceneSetCamera(s, &cam) != GG_OK)
+            return too_large(err, GG_ERROR_INVALID, lo, hi, ce.message);
     }
-    if (what & GG_FRAME_LIGHTS) {
-        size_t n = s->nlights;
-        if (ggSceneAddLight(s, v3madd(c, v3(1, 1.6, 1.2), 2.5 * r), rgb(0.8, 0.8, 0.8)) < 0 ||
-            ggSceneAddLight(s, v3madd(c, v3(-1.5, 0.5, 1), 2.5 * r), rgb(0.35, 0.35, 0.35)) < 0) {
-            s->nlights = n, s->camera = cam0, s->has_camera = had;
-            return gg_error_set(err, GG_ERROR_NOMEM, "framing: out of memory");
-        }
+    if ((what & GG_FRAME_LIGHTS) && (rc = frame_lights(s, c, r, lo, hi, err)) != GG_OK) {
+        s->camera = cam0, s->has_camera = had;
+        return rc;
     }
     return GG_OK;
 }

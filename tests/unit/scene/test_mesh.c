@@ -406,6 +406,38 @@ static void test_failures(void **state)
     ggSceneFree(s);
 }
 
+/* Bounds too large to frame: GG_ERROR_INVALID saying so, and the camera
+   and lights as they were (not GG_OK with the camera unchanged, nor an
+   "out of memory" for the lights). */
+static void test_frame_too_large(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggMaterial m = ggMaterialDefault();
+    ggCamera c0, c1;
+    ggError e;
+    int mi = ggSceneAddMaterial(s, &m);
+    (void)state;
+    assert_int_equal(ggSceneAddSphere(s, mi, (ggVec3){1e200, 0, 0}, 1), 0);
+    c0 = ggSceneCamera(s);
+    assert_int_equal(ggSceneFrame(s, GG_FRAME_CAMERA, &e), GG_ERROR_INVALID);
+    assert_string_equal(e.message, "framing: the scene's bounds (1e+200 -1 -1 to 1e+200 1 1) are "
+                                   "too large to frame: camera: 'from', 'at' and 'up' must be "
+                                   "finite, at most 1e150");
+    c1 = ggSceneCamera(s);
+    assert_memory_equal(&c0, &c1, sizeof c0);
+    assert_int_equal(ggSceneFrame(s, GG_FRAME_CAMERA | GG_FRAME_LIGHTS, &e), GG_ERROR_INVALID);
+    assert_int_equal(ggSceneLightCount(s), 0);
+    ggSceneFree(s);
+    /* finite bounds whose diagonal overflows: the lights cannot be placed */
+    s = ggSceneCreate(NULL);
+    mi = ggSceneAddMaterial(s, &m);
+    assert_int_equal(ggSceneAddSphere(s, mi, (ggVec3){0, 0, 0}, 1e160), 0);
+    assert_int_equal(ggSceneFrame(s, GG_FRAME_LIGHTS, &e), GG_ERROR_INVALID);
+    assert_non_null(strstr(e.message, "too large to frame: a light would not be at a finite"));
+    assert_int_equal(ggSceneLightCount(s), 0);
+    ggSceneFree(s);
+}
+
 /* Framing: the camera looks at the bounds' centre and every box corner
    is in view; two lights are added. */
 static void test_frame(void **state)
@@ -454,6 +486,7 @@ int main(void)
         cmocka_unit_test(test_transform),
         cmocka_unit_test(test_failures),
         cmocka_unit_test(test_frame),
+        cmocka_unit_test(test_frame_too_large),
         cmocka_unit_test(test_object_triangles),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
