@@ -143,7 +143,7 @@ typedef struct ggAccuracy {
 typedef struct ggPathLayers ggPathLayers;
 
 typedef struct ggRenderOptions {
-    int width, height;  /* 0: from the scene's camera */
+    int width, height;  /* 0: from the scene's camera; < 0: GG_ERROR_INVALID */
     int max_depth;      /* ray-tree depth counting the eye ray; 0: scene or 5 */
     int samples;        /* samples per pixel (n*n grid when a square); 0: scene or 1 */
     int threads;        /* worker threads; 0: all processors. Output does not depend on it */

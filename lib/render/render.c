@@ -94,8 +94,13 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
     }
     r->w = o->width > 0 ? o->width : s->camera.width;
     r->h = o->height > 0 ? o->height : s->camera.height;
-    if (o->width < 0 || o->height < 0 || r->w <= 0 || r->h <= 0 || r->w > GG_IMAGE_MAX_DIM ||
-        r->h > GG_IMAGE_MAX_DIM || (size_t)r->w * (size_t)r->h > GG_IMAGE_MAX_PIXELS)
+    /* a negative size is a bad argument, not one over the limit */
+    if (o->width < 0 || o->height < 0)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "image width and height must be >= 0 (0: the camera's), got %d and %d",
+                            o->width, o->height);
+    if (r->w <= 0 || r->h <= 0 || r->w > GG_IMAGE_MAX_DIM || r->h > GG_IMAGE_MAX_DIM ||
+        (size_t)r->w * (size_t)r->h > GG_IMAGE_MAX_PIXELS)
         return gg_error_set(err, GG_ERROR_LIMIT,
                             "image size %dx%d exceeds the limit of %lu pixels (%d per side)", r->w,
                             r->h, (unsigned long)GG_IMAGE_MAX_PIXELS, GG_IMAGE_MAX_DIM);

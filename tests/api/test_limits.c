@@ -247,6 +247,14 @@ static void test_render_size_limit(void **state)
                         "side)");
     assert_null(img);
     assert_true(largest < 1000000);
+    /* a negative size is no size over the limit: GG_ERROR_INVALID */
+    o.width = -1, o.height = 0;
+    assert_int_equal(ggRender(s, &o, &img, NULL, &e), GG_ERROR_INVALID);
+    assert_string_equal(e.message,
+                        "image width and height must be >= 0 (0: the camera's), got -1 and 0");
+    assert_null(img);
+    o.width = 0, o.height = -5;
+    assert_int_equal(ggRender(s, &o, &img, NULL, &e), GG_ERROR_INVALID);
     o.width = o.height = 4096; /* the limit itself is allowed */
     o.crop_x0 = o.crop_y0 = 0, o.crop_x1 = o.crop_y1 = 1;
     assert_int_equal(ggRender(s, &o, &img, NULL, &e), GG_OK);
