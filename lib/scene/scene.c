@@ -88,8 +88,11 @@ GG_API void ggSceneFree(ggScene *s)
 
 /* ---- validation (docs/scene-format.md, "Parameter ranges") ---- */
 
+/* The largest magnitude, NaN if any coordinate is: fmax alone drops a
+   NaN, and the checks compare this to a bound (a NaN must fail them). */
 static double vmax(ggVec3 v)
 {
+    if (isnan(v.x) || isnan(v.y) || isnan(v.z)) return NAN;
     return fmax(fabs(v.x), fmax(fabs(v.y), fabs(v.z)));
 }
 static bool in_range(double x, double hi)
@@ -133,6 +136,14 @@ int gg_camera_fault(const ggCamera *c)
     return GG_CAMERA_OK;
 }
 
+#define GG_STR_(x) #x
+#define GG_STR(x)  GG_STR_(x)
+/* GG_IMAGE_MAX_PIXELS as text (the macro is a shift, which the
+   preprocessor cannot turn into digits); the typedef stops the build
+   if the two ever differ. */
+#define MAX_PIXELS_TEXT "16777216"
+typedef char max_pixels_text_is_the_limit[GG_IMAGE_MAX_PIXELS == 16777216 ? 1 : -1];
+
 const char *gg_camera_fault_text(int fault)
 {
     switch (fault) {
@@ -145,7 +156,8 @@ const char *gg_camera_fault_text(int fault)
     case GG_CAMERA_FOV:
         return "the field of view must be in (0, 180) degrees";
     case GG_CAMERA_SIZE:
-        return "the image size must be 1 to 65536 a side and at most 2^28 pixels";
+        return "the image size must be 1 to " GG_STR(
+            GG_IMAGE_MAX_DIM) " a side and at most " MAX_PIXELS_TEXT " pixels";
     default:
         return "no problem";
     }
@@ -199,7 +211,9 @@ GG_API int ggMaterialCheck(const ggMaterial *m, ggError *err)
     if (!(vmax((ggVec3){n->r, n->g, n->b}) <= GG_PARAM_MAX) || !color_ok(*k) ||
         (m->fresnel == GG_FRESNEL_CONDUCTOR && !color_ok(*n)))
         return gg_error_set(err, GG_ERROR_INVALID,
-                            "material: the conductor index needs n and k in [0, 1e30]");
+                            "material: the complex index needs |n| <= 1e30 (n >= 0 for a "
+                            "conductor) and k in [0, 1e30], got n %g %g %g, k %g %g %g",
+                            n->r, n->g, n->b, k->r, k->g, k->b);
     if (m->fresnel == GG_FRESNEL_CONDUCTOR &&
         ((n->r == 0 && k->r == 0) || (n->g == 0 && k->g == 0) || (n->b == 0 && k->b == 0)))
         return gg_error_set(err, GG_ERROR_INVALID,

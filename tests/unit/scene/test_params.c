@@ -186,6 +186,11 @@ static void test_api_material(void **state)
     refuse_material(s, &m, "conductor");
     m.eta_n = (ggColor){0.2, -0.1, 0.2}, m.eta_k = (ggColor){3, 3, 3};
     refuse_material(s, &m, "conductor");
+    /* a NaN index is refused whatever the Fresnel mode (fmax dropped it) */
+    m = ggMaterialDefault(), m.eta_n.r = NAN, refuse_material(s, &m, "complex index");
+    m = ggMaterialDefault(), m.eta_n.b = NAN, m.fresnel = GG_FRESNEL_CONDUCTOR;
+    refuse_material(s, &m, "complex index");
+    m = ggMaterialDefault(), m.eta_n.g = -1e300, refuse_material(s, &m, "complex index");
     /* Accepted on purpose: zero weights and exponent, n = 0 with k > 0,
        weights above 1 (ggrt check reports the energy). */
     m = ggMaterialDefault(), m.kd = 0, m.shine = 0, m.ks = 1.5;
@@ -246,6 +251,10 @@ static void test_api_camera(void **state)
     c = c0, c.fov_deg = 0, refuse_camera(s, &c, "field of view");
     c = c0, c.fov_deg = 180, refuse_camera(s, &c, "field of view");
     c = c0, c.width = 0, refuse_camera(s, &c, "image size");
+    /* the pixel limit the message names is GG_IMAGE_MAX_PIXELS */
+    c = c0, c.width = 8192, c.height = 4096;
+    refuse_camera(s, &c, "the image size must be 1 to 65536 a side and at most 16777216 pixels");
+    assert_int_equal(GG_IMAGE_MAX_PIXELS, 16777216);
     c = c0, c.from.x = NAN, refuse_camera(s, &c, "finite");
     c = c0, c.from.z = 1e200, refuse_camera(s, &c, "1e150");
     /* A huge but valid distance: the basis still comes out unit. */
