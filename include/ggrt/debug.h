@@ -46,10 +46,11 @@ extern "C" {
 
 /* Apply the settings in `text` to *opt, which keeps everything the text
    does not name. Settings are separated by spaces or commas:
-     size=WxH depth=N samples=N threads=N ray-budget=N (1 to
-     GG_RAY_BUDGET_MAX) crop=X0,Y0,X1,Y1
+     size=WxH (0 for a side: the camera's) depth=N samples=N threads=N
+     ray-budget=N (1 to GG_RAY_BUDGET_MAX) crop=X0,Y0,X1,Y1
      spd (the SPD's rules: pixel corners, depth 5 unless set, transmitters
-     also reflect)  spd-rules (only the last)  corners  force-effects
+     also reflect)  spd-rules (only the last)  corners  force-effects (all
+     of them)  force-effects=NAME+NAME... (those: ggEffectName's names)
    and the accuracy knobs of render.h:
      offset=scaled|fixed|EPS (a number > 0: fixed with that epsilon)
      sphere=stable|textbook  refract=accurate|textbook|exact
@@ -69,7 +70,10 @@ GG_API int ggRenderOptionsParse(ggRenderOptions *opt, const char *text, ggError 
    ggRenderOptionsParse, in a canonical order ("" for the defaults), into
    buf (always NUL-terminated when size > 0). Returns the length the full
    text needs (like snprintf); the progress callback and the cost map are
-   not settings and are left out. A NULL opt gives "" and 0. */
+   not settings and are left out, as are force_effects bits outside
+   GG_EFFECT_ALL (which no render reads). ggRenderOptionsParse reads the
+   text back to the same settings when each is in the range Parse
+   accepts. A NULL opt gives "" and 0. */
 GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_t size);
 
 /* ------------------------------------------------------------------ */

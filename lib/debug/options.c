@@ -178,18 +178,47 @@ static int word_or_number(const word *w, ggRenderOptions *o, ggError *err)
     return GG_OK;
 }
 
+/* force-effects=NAME+NAME...: those effects (ggEffectName's names; '+'
+   because ',' separates settings). Bare force-effects is all of them. */
+static int effects(const word *w, ggRenderOptions *o, ggError *err)
+{
+    const char *v = w->s + w->at + w->eq + 1;
+    const size_t n = w->len - w->eq - 1;
+    size_t i = 0;
+    unsigned mask = 0;
+    while (i <= n) {
+        size_t j = i;
+        int e;
+        while (j < n && v[j] != '+') j++;
+        for (e = 0; e < GG_EFFECT_COUNT; e++) {
+            const char *name = ggEffectName(1u << e);
+            if (strlen(name) == j - i && !strncmp(v + i, name, j - i)) break;
+        }
+        if (e == GG_EFFECT_COUNT)
+            return fail(w, w->at + w->eq + 1 + i, err,
+                        "force-effects= takes effect names joined by '+' (shadows+reflection), "
+                        "got '%.*s'",
+                        (int)(j - i), v + i);
+        mask |= 1u << e, i = j + 1;
+    }
+    o->force_effects = mask;
+    return GG_OK;
+}
+
 static int setting(const word *w, ggRenderOptions *o, ggError *err)
 {
     ggAccuracy *a = &o->accuracy;
     int v[4], rc = GG_OK;
     double d;
+    if (key_is(w, "force-effects") && w->eq < w->len) return effects(w, o, err);
     if (key_is(w, "spd") || key_is(w, "spd-rules") || key_is(w, "corners") ||
         key_is(w, "force-effects"))
         return flag(w, o, err);
     if (w->eq >= w->len)
         return fail(w, w->at, err, "unknown setting '%.*s'", (int)w->len, w->s + w->at);
     if (key_is(w, "size")) {
-        if ((rc = numbers(w, 2, 1, v, err)) == GG_OK) o->width = v[0], o->height = v[1];
+        /* 0: that side from the camera, as in ggRenderOptions */
+        if ((rc = numbers(w, 2, 0, v, err)) == GG_OK) o->width = v[0], o->height = v[1];
     } else if (key_is(w, "crop")) {
         if ((rc = numbers(w, 4, 0, v, err)) == GG_OK)
             o->crop_x0 = v[0], o->crop_y0 = v[1], o->crop_x1 = v[2], o->crop_y1 = v[3];
@@ -301,6 +330,18 @@ static void put_name(out *o, const char *key, int v, const char *const *names, i
     if (v > 0 && v < count) put(o, "%s%s=%s", o->len ? " " : "", key, names[v]);
 }
 
+/* Bare force-effects reads back as all of them: a subset is named. */
+static void put_effects(out *o, unsigned fx)
+{
+    int e;
+    const char *sep = "=";
+    if (!fx) return;
+    put(o, "%sforce-effects", o->len ? " " : "");
+    if (fx == GG_EFFECT_ALL) return;
+    for (e = 0; e < GG_EFFECT_COUNT; e++)
+        if (fx & (1u << e)) put(o, "%s%s", sep, ggEffectName(1u << e)), sep = "+";
+}
+
 GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_t size)
 {
     out o;
@@ -325,7 +366,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
         if (opt->spd_rules) put(&o, "%sspd-rules", o.len ? " " : "");
         if (opt->pixel_corners) put(&o, "%scorners", o.len ? " " : "");
     }
-    if (opt->force_effects) put(&o, "%sforce-effects", o.len ? " " : "");
+    put_effects(&o, opt->force_effects & GG_EFFECT_ALL);
     /* fixed with no epsilon of its own (1e-6) reads back as itself */
     if (a->offset == GG_ACC_OFFSET_FIXED && a->offset_eps > 0)
         put_num(&o, "offset", a->offset_eps);

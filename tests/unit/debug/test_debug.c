@@ -1130,6 +1130,74 @@ static void round_trips(void)
     assert_string_equal(buf, "offset=fixed");
 }
 
+/* A small deterministic generator for the random round trips. */
+static unsigned long rt_state = 1;
+static int rt_int(int lo, int hi)
+{
+    rt_state = rt_state * 6364136223846793005ul + 1442695040888963407ul;
+    return lo + (int)((rt_state >> 33) % (unsigned long)(hi - lo + 1));
+}
+/* 0 half the time, else a number in (0, hi] with all 53 bits random */
+static double rt_num(double hi)
+{
+    double d;
+    if (rt_int(0, 1)) return 0;
+    d = ldexp((double)rt_int(1, 1 << 26) * 134217728.0 + rt_int(0, (1 << 27) - 1), -53);
+    return d * hi > 0 ? d * hi : hi;
+}
+
+/* Options drawn at random from the ranges ggRenderOptionsParse accepts,
+   every field at once: each formats to text that reads back as them
+   (a size with one side 0, a subset of force_effects: both once lost). */
+static void random_round_trips(void)
+{
+    ggRenderOptions o, p;
+    ggAccuracy *a = &o.accuracy;
+    char buf[1024];
+    ggError e;
+    int k;
+    for (k = 0; k < 20000; k++) {
+        ggRenderOptionsDefault(&o);
+        o.width = rt_int(0, 3) ? rt_int(0, 65536) : 0;
+        o.height = rt_int(0, 3) ? rt_int(0, 65536) : 0;
+        o.max_depth = rt_int(0, 1) ? rt_int(0, 64) : 0;
+        o.samples = rt_int(0, 1) ? rt_int(0, 4096) : 0;
+        o.threads = rt_int(0, 1) ? rt_int(0, 256) : 0;
+        o.ray_budget = rt_int(0, 1) ? rt_int(0, GG_RAY_BUDGET_MAX) : 0;
+        if (rt_int(0, 1))
+            o.crop_x0 = rt_int(0, 65536), o.crop_y0 = rt_int(0, 65536),
+            o.crop_x1 = rt_int(0, 65536), o.crop_y1 = rt_int(0, 65536);
+        o.spd_rules = rt_int(0, 1), o.pixel_corners = rt_int(0, 1);
+        o.force_effects = rt_int(0, 1) ? (unsigned)rt_int(0, GG_EFFECT_ALL) : 0;
+        a->offset = rt_int(0, 1) ? GG_ACC_OFFSET_FIXED : GG_ACC_OFFSET_SCALED;
+        a->offset_eps = a->offset == GG_ACC_OFFSET_FIXED ? rt_num(1e3) : 0;
+        a->sphere = rt_int(0, 1), a->refract = rt_int(0, 2), a->fresnel = rt_int(0, 3);
+        a->texture = rt_int(0, 2), a->wavelengths = rt_int(0, 1), a->intersect = rt_int(0, 1);
+        a->shadows = rt_int(0, 1), a->phong = rt_int(0, 1);
+        a->cutoff = rt_num(1), a->implicit_tol = rt_num(1e-2), a->gradient_h = rt_num(1e2);
+        assert_true(ggRenderOptionsFormat(&o, buf, sizeof buf) < sizeof buf);
+        ggRenderOptionsDefault(&p);
+        if (ggRenderOptionsParse(&p, buf, &e) != GG_OK) fail_msg("'%s': %s", buf, e.message);
+        if (memcmp(&o, &p, sizeof o)) fail_msg("'%s' does not read back as its options", buf);
+    }
+    /* the two the audit found, spelled out */
+    ggRenderOptionsDefault(&o), o.width = 5;
+    ggRenderOptionsFormat(&o, buf, sizeof buf);
+    assert_string_equal(buf, "size=5x0");
+    ggRenderOptionsDefault(&o), o.force_effects = GG_EFFECT_REFRACTION | GG_EFFECT_SHADOWS;
+    ggRenderOptionsFormat(&o, buf, sizeof buf);
+    assert_string_equal(buf, "force-effects=shadows+refraction");
+    o.force_effects = GG_EFFECT_ALL;
+    ggRenderOptionsFormat(&o, buf, sizeof buf);
+    assert_string_equal(buf, "force-effects");
+    ggRenderOptionsDefault(&p);
+    assert_int_equal(ggRenderOptionsParse(&p, "force-effects=phong+bogus", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:21: force-effects= takes effect names joined by '+' "
+                                   "(shadows+reflection), got 'bogus'");
+    assert_int_equal(ggRenderOptionsParse(&p, "force-effects=", &e), GG_ERROR_PARSE);
+    assert_int_equal(p.force_effects, 0);
+}
+
 static void test_options_text(void **state)
 {
     ggRenderOptions o, p;
@@ -1162,6 +1230,7 @@ static void test_options_text(void **state)
     assert_int_equal(ggRenderOptionsParse(&p, buf, &e), GG_OK);
     assert_memory_equal(&o, &p, sizeof o); /* a round trip */
     round_trips();
+    random_round_trips();
     /* errors name the column and leave the options alone */
     p = o;
     assert_int_equal(ggRenderOptionsParse(&p, "depth=3 sphere=fast", &e), GG_ERROR_PARSE);
