@@ -26,7 +26,9 @@
 **     black for a colour, an all-zero struct, NaN for a value or gradient
 **     of f (implicit.h); void setters do nothing. Pointers a declaration
 **     calls optional ("may be NULL": err, stats, alloc, options, ...) are
-**     never required.
+**     never required. Where a declaration says an output is NULL or
+**     zeroed on failure, that is for the failures after these checks: a
+**     call given a NULL handle or output leaves every output as it was.
 **  2. Statistics. A function that takes a ggRayStats *stats (ggRender,
 **     ggTracePixel, ggRayColor) overwrites it, never adds to it: on return
 **     -- success or failure -- it holds the counts of that call alone

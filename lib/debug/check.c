@@ -438,8 +438,8 @@ GG_API int ggCheck(ggScene *s, const ggRenderOptions *opt, const ggCheckOptions 
     check_job cj;
     ggCheckResult *r = NULL;
     int rc, i;
-    if (out) *out = NULL;
     if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggCheck: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     memset(&cj, 0, sizeof cj);
     memset(&sc, 0, sizeof sc);
     if (co)

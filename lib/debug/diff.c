@@ -319,9 +319,9 @@ GG_API int ggDiff(ggScene *sa, const ggRenderOptions *oa, ggScene *sb, const ggR
                   int worst, ggDiffResult **out, ggError *err)
 {
     diff_job dj;
-    if (out) *out = NULL;
     if (!sa || !sb || !out || worst < 0)
         return gg_error_set(err, GG_ERROR_INVALID, "ggDiff: NULL argument or negative count");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     memset(&dj, 0, sizeof dj);
     dj.limit = worst;
     return diff_run(sa, oa, sb, ob, &dj, out, err);
@@ -332,10 +332,10 @@ GG_API int ggDiffPath(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
                       ggDiffResult **out, ggError *err)
 {
     diff_job dj;
-    if (out) *out = NULL;
     if (!sa || !sb || !expr || !out || worst < 0 || limit < 0)
         return gg_error_set(err, GG_ERROR_INVALID,
                             "ggDiffPath: NULL argument or negative count");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     memset(&dj, 0, sizeof dj);
     dj.limit = worst, dj.path = expr, dj.moves_limit = limit;
     return diff_run(sa, oa, sb, ob, &dj, out, err);

@@ -145,8 +145,8 @@ GG_API int ggLedgerCreate(const ggTrace *tr, ggColor px, const ggAllocator *allo
     ledger_res *lr;
     ggColor *w;
     size_t i, n;
-    if (out) *out = NULL;
     if (!tr || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggLedgerCreate: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     if ((n = ggTraceNodeCount(tr)) == 0)
         return gg_error_set(err, GG_ERROR_INVALID, "ggLedgerCreate: the trace is empty");
     lr = gg_mem_calloc(alloc, 1, sizeof *lr);

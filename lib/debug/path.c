@@ -547,8 +547,8 @@ GG_API int ggPathParse(const char *text, const ggAllocator *alloc, ggPathExpr **
     ggPathExpr *e;
     size_t n;
     int rc;
-    if (out) *out = NULL;
     if (!text || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggPathParse: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     n = strlen(text);
     if (n > GG_PATH_MAX_TEXT)
         return gg_error_set(err, GG_ERROR_LIMIT, "1:%d: path expression longer than %d bytes",

@@ -243,9 +243,9 @@ GG_API int ggPathLayersCompile(const char *const *exprs, int n, const ggAllocato
 {
     ggPathLayers *P;
     int l, rc = GG_OK;
-    if (out) *out = NULL;
     if (!exprs || !out)
         return gg_error_set(err, GG_ERROR_INVALID, "ggPathLayersCompile: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     if (n < 1 || n > GG_LAYERS_MAX)
         return gg_error_set(err, GG_ERROR_INVALID, "ggPathLayersCompile: %d layers (1..%d)", n,
                             GG_LAYERS_MAX);

@@ -311,8 +311,8 @@ GG_API int ggPathMatch(const ggPathExpr *e, const ggTrace *tr, int x, int y, ggC
     uint64_t *sets;
     ggColor *w;
     gg_dbg_pixel px;
-    if (sum) memset(sum, 0, sizeof *sum);
     if (!e || !tr || !sum || (matched && !ledger)) return GG_ERROR_INVALID;
+    memset(sum, 0, sizeof *sum); /* after the NULL checks: base.h rule 1 */
     n = ggTraceNodeCount(tr);
     sets = gg_mem_calloc(e->alloc, n ? n : 1, sizeof(gg_path_set));
     w = gg_mem_calloc(e->alloc, n ? n : 1, sizeof *w);

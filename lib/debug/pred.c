@@ -575,9 +575,9 @@ GG_API int ggPredicateParse(const char *text, const ggAllocator *alloc, ggPredic
     ggPredicate *p;
     char b[40];
     size_t n;
-    if (out) *out = NULL;
     if (!text || !out)
         return gg_error_set(err, GG_ERROR_INVALID, "ggPredicateParse: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     n = strlen(text);
     if (n > GG_PREDICATE_MAX_TEXT)
         return gg_error_set(err, GG_ERROR_LIMIT, "1:%d: predicate longer than %d bytes",

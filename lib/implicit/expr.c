@@ -474,8 +474,8 @@ int gg_expr_compile(const char *src, size_t len, const ggAllocator *alloc, gg_ex
     gg_expr *e;
     size_t i;
     int root;
-    if (out) *out = NULL;
     if (!src || !out) return gg_error_set(err, GG_ERROR_INVALID, "expression: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     if (len > GG_EXPR_MAX_LEN)
         return gg_error_set(err, GG_ERROR_LIMIT, "1:%d: expression longer than %d characters",
                             GG_EXPR_MAX_LEN + 1, GG_EXPR_MAX_LEN);

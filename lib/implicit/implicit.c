@@ -224,8 +224,8 @@ GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi, const gg
     ggImplicit *imp;
     gg_expr *e;
     int rc;
-    if (out) *out = NULL;
     if (!expr || !out) return gg_error_set(err, GG_ERROR_INVALID, "implicit: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     if (!check_box(lo, hi))
         return gg_error_set(err, GG_ERROR_INVALID,
                             "implicit: the box needs finite corners with lo < hi on each axis");
@@ -247,8 +247,8 @@ GG_API int ggImplicitCreateFn(ggImplicitFn f, ggImplicitGradFn grad, void *ud, g
                               const ggAllocator *alloc, ggImplicit **out, ggError *err)
 {
     ggImplicit *imp;
-    if (out) *out = NULL;
     if (!f || !out) return gg_error_set(err, GG_ERROR_INVALID, "implicit: NULL argument");
+    *out = NULL; /* after the NULL checks: base.h rule 1 */
     if (!check_box(lo, hi))
         return gg_error_set(err, GG_ERROR_INVALID,
                             "implicit: the box needs finite corners with lo < hi on each axis");

@@ -23,8 +23,8 @@ GG_API int ggRenderCountKernels(ggScene *scene, const ggRenderOptions *opt,
     ggImage *img = NULL;
     gg_kcount kc;
     int rc;
-    if (counts) memset(counts, 0, sizeof *counts);
     if (!scene || !counts) return gg_error_set(err, GG_ERROR_INVALID, "scene or counts is NULL");
+    memset(counts, 0, sizeof *counts); /* after the NULL checks: base.h rule 1 */
     if (opt)
         o = *opt;
     else
