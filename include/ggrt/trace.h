@@ -114,7 +114,8 @@ GG_API const ggTraceLight *ggTraceGetLight(const ggTrace *trace, size_t i);
 
 /* Trace pixel (x, y) exactly as ggRender computes it with these options,
    recording the rays of sample `sample` (0-based; -1 records every
-   sample) into trace, which is cleared first. *pixel receives the value
+   sample) into trace, which is cleared first (a failed call, NULL
+   arguments aside, leaves it empty). *pixel receives the value
    ggRender writes for that pixel, bit for bit; stats, if not NULL,
    receives the counts of the rays of the recorded samples, overwritten
    (base.h rule 2; all zero when the call fails). In pixel-corner mode the pixel's four

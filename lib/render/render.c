@@ -1068,6 +1068,8 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     if (stats) memset(stats, 0, sizeof *stats);
     if (!s || !rec || !pixel)
         return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
+    /* cleared first, so that a failure leaves no earlier call's rays */
+    gg_trace_clear(rec);
     memset(&local, 0, sizeof local);
     if ((rc = resolve(s, opt, &j.r, err)) != GG_OK) return rc;
     if (x < 0 || y < 0 || x >= j.r.w || y >= j.r.h)
@@ -1079,8 +1081,11 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     if ((rc = trace_setup(&j, s, opt, err)) != GG_OK) return rc;
     *pixel = trace_one(&j, x, y, sample, rec, &local);
     if (stats) *stats = local.st;
-    if (rec->status != GG_OK)
-        return gg_error_set(err, rec->status, "out of memory recording the ray tree");
+    if (rec->status != GG_OK) {
+        rc = rec->status;
+        gg_trace_clear(rec); /* not a partial tree: the trace is empty on failure */
+        return gg_error_set(err, rc, "out of memory recording the ray tree");
+    }
     return GG_OK;
 }
 

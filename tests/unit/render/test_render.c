@@ -657,10 +657,41 @@ static void test_cost_empty_tiles(void **state)
     ggSceneFree(s);
 }
 
+/* trace.h: the trace "is cleared first": a call that fails leaves none
+   of an earlier call's rays in it. */
+static void test_trace_cleared_on_failure(void **state)
+{
+    static const char txt[] = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 8 6\nl 2 3 4\n"
+                              "f 1 1 1 0.8 0.2 20 0.5 1.5\ns 0 0 0 1\n";
+    ggScene *s = load_text(txt, "t.nff");
+    ggTrace *t = ggTraceCreate(NULL);
+    ggRenderOptions o;
+    ggColor px = {7, 7, 7};
+    int k;
+    (void)state;
+    ggRenderOptionsDefault(&o);
+    for (k = 0; k < 3; k++) {
+        assert_int_equal(ggTracePixel(s, NULL, 4, 3, -1, t, &px, NULL, NULL), GG_OK);
+        assert_true(ggTraceNodeCount(t) > 0 && ggTraceLightCount(t) > 0);
+        if (k == 0) /* outside the image */
+            assert_int_equal(ggTracePixel(s, NULL, 99, 0, 0, t, &px, NULL, NULL), GG_ERROR_INVALID);
+        else if (k == 1) /* a sample the pixel does not have */
+            assert_int_equal(ggTracePixel(s, NULL, 4, 3, 5, t, &px, NULL, NULL), GG_ERROR_INVALID);
+        else /* bad options */
+            o.max_depth = -1,
+            assert_int_equal(ggTracePixel(s, &o, 4, 3, 0, t, &px, NULL, NULL), GG_ERROR_INVALID);
+        assert_int_equal(ggTraceNodeCount(t), 0);
+        assert_int_equal(ggTraceLightCount(t), 0);
+    }
+    ggTraceFree(t);
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_identical),
+        cmocka_unit_test(test_trace_cleared_on_failure),
         cmocka_unit_test(test_cost_cpu),
         cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
