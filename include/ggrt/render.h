@@ -261,8 +261,10 @@ GG_API int ggRender(ggScene *scene, const ggRenderOptions *opt, ggImage **out,
 
 /* The eye ray through image point (x, y), in pixels from the top left:
    (x + 0.5, y + 0.5) is the centre of pixel (x, y), the point ggRender
-   samples with one sample per pixel. d is unit length. A NULL scene gives
-   the all-zero ray (base.h rule 1). */
+   samples with one sample per pixel. d is unit length, however far off
+   the image the point is. A NULL scene, and a NaN or infinite x or y (or
+   one so large that the direction overflows), give the all-zero ray
+   (base.h rule 1). */
 GG_API ggRay ggCameraRay(const ggScene *scene, const ggRenderOptions *opt, double x, double y);
 
 /* Colour seen along one ray of a prepared scene (never prepares it; any

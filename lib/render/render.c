@@ -161,12 +161,22 @@ GG_API ggRay ggCameraRay(const ggScene *s, const ggRenderOptions *opt, double x,
     resolved r;
     cam_basis b;
     ggRay ray;
+    ggVec3 d;
+    double m;
     memset(&ray, 0, sizeof ray);
     if (!s) return ray;
     if (resolve(s, opt, &r, NULL) != GG_OK) r.w = s->camera.width, r.h = s->camera.height;
     basis(s, r.w > 0 ? r.w : 1, r.h > 0 ? r.h : 1, &b);
+    d = basis_dir(&b, x, y);
+    /* An infinite or NaN direction has no unit length. */
+    if (!v3finite(d) || !((m = v3maxabs(d)) > 0)) return ray;
+    /* Far off the image (x = 1e200) the squares in v3norm's length
+       overflow: scaled to a largest coordinate of 1 first, d comes out
+       unit. Only then: elsewhere d is the one ggRender's rays take, bit
+       for bit. */
+    if (!(v3len(d) < INFINITY)) d = v3scale(d, 1 / m);
     ray.o = b.eye;
-    ray.d = v3norm(basis_dir(&b, x, y));
+    ray.d = v3norm(d);
     return ray;
 }
 

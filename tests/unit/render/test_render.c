@@ -10,6 +10,7 @@
 
 #include "scene.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -687,11 +688,41 @@ static void test_trace_cleared_on_failure(void **state)
     ggSceneFree(s);
 }
 
+/* render.h: ggCameraRay's d is unit length, also far off the image,
+   where the squares of its length overflow; NaN and infinite points give
+   the all-zero ray. */
+static void test_camera_ray_far(void **state)
+{
+    static const char txt[] = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 8 6\n"
+                              "s 0 0 0 1\n";
+    static const double far[][2] = {{1e200, 3},     {-1e200, 3}, {3, 1e300}, {1e300, -1e300},
+                                    {1e154, 1e154}, {4, 1e307},  {4, 3}};
+    ggScene *s = load_text(txt, "t.nff");
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof far / sizeof far[0]; i++) {
+        ggRay r = ggCameraRay(s, NULL, far[i][0], far[i][1]);
+        double len = sqrt(r.d.x * r.d.x + r.d.y * r.d.y + r.d.z * r.d.z);
+        if (!(fabs(len - 1) < 1e-15))
+            fail_msg("ggCameraRay(%g, %g).d = (%g, %g, %g)", far[i][0], far[i][1], r.d.x, r.d.y,
+                     r.d.z);
+        assert_true(r.o.z == 5);
+    }
+    /* x = 1e200 looks along +x (the camera's right) */
+    assert_true(ggCameraRay(s, NULL, 1e200, 3).d.x == 1);
+    for (i = 0; i < 3; i++) {
+        ggRay r = ggCameraRay(s, NULL, i == 0 ? NAN : i == 2 ? DBL_MAX : 4, i == 1 ? INFINITY : 3);
+        assert_true(r.o.z == 0 && r.d.x == 0 && r.d.y == 0 && r.d.z == 0);
+    }
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_identical),
         cmocka_unit_test(test_trace_cleared_on_failure),
+        cmocka_unit_test(test_camera_ray_far),
         cmocka_unit_test(test_cost_cpu),
         cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
