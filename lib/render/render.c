@@ -213,7 +213,8 @@ typedef struct job {
     int tiles_x, ntiles;
     pthread_mutex_t mu;
     int next_tile;
-    long done, total, reported;
+    long done, total, reported; /* progress, in pixels of the window */
+    long points, points_done;   /* the grid's points (corners in corner mode) */
     int cancelled;
     ggProgressFn progress;
     void *progress_ud;
@@ -802,6 +803,16 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
         }
 }
 
+/* Points of the grid in tile t: edge tiles are cut by the grid. */
+static long tile_points(const job *j, int t)
+{
+    const int tiles_y = j->ntiles / j->tiles_x;
+    const int gx0 = (t / tiles_y) * TILE, gy0 = (t % tiles_y) * TILE;
+    const int w = j->cw - gx0 < TILE ? j->cw - gx0 : TILE;
+    const int h = j->ch - gy0 < TILE ? j->ch - gy0 : TILE;
+    return (long)w * h;
+}
+
 static void *worker(void *arg)
 {
     job *j = arg;
@@ -819,10 +830,13 @@ static void *worker(void *arg)
         pthread_mutex_unlock(&j->mu);
         if (t >= j->ntiles) break;
         render_tile(j, t, &th);
-        tile_px = (long)TILE * TILE;
+        tile_px = tile_points(j, t);
         pthread_mutex_lock(&j->mu);
-        j->done += tile_px;
-        if (j->done > j->total) j->done = j->total;
+        /* the grid's points as the window's pixels (render.h: progress is
+           in pixels; a corner grid has a row and a column more) */
+        j->points_done += tile_px;
+        j->done = (long)((double)j->points_done / (double)j->points * (double)j->total);
+        if (j->points_done == j->points) j->done = j->total;
         /* Report about every 1/200 of the work: enough for a smooth bar,
            few enough not to matter. */
         if (j->progress && (j->done - j->reported >= j->total / 200 || j->done == j->total)) {
@@ -845,8 +859,9 @@ static void run_tiles(job *j, int cw, int ch)
     j->tiles_x = (cw + TILE - 1) / TILE;
     j->ntiles = j->tiles_x * ((ch + TILE - 1) / TILE);
     j->next_tile = 0;
-    j->done = 0, j->reported = 0;
-    j->total = (long)j->ntiles * TILE * TILE;
+    j->done = 0, j->reported = 0, j->points_done = 0;
+    j->points = (long)cw * ch;
+    j->total = (long)(j->r.x1 - j->r.x0) * (j->r.y1 - j->r.y0);
     for (i = 1; i < j->r.threads && i < j->ntiles; i++) {
         if (pthread_create(&th[started], NULL, worker, j) != 0) break;
         started++;

@@ -717,12 +717,53 @@ static void test_camera_ray_far(void **state)
     ggSceneFree(s);
 }
 
+/* render.h: the progress callback's done and total are in pixels (of
+   the crop window when there is one), done rising to total. */
+typedef struct progress_log {
+    long calls, done, total;
+    int monotone;
+} progress_log;
+static int log_progress(void *ud, long done, long total)
+{
+    progress_log *l = ud;
+    if (l->calls && (done < l->done || total != l->total)) l->monotone = 0;
+    l->calls++, l->done = done, l->total = total;
+    return 0;
+}
+
+static void test_progress_in_pixels(void **state)
+{
+    static const char txt[] = "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 10 10\n"
+                              "l 2 3 4\ns 0 0 0 1\n";
+    ggScene *s = load_text(txt, "t.nff");
+    int k;
+    (void)state;
+    for (k = 0; k < 4; k++) {
+        ggRenderOptions o;
+        progress_log l = {0, 0, 0, 1};
+        ggImage *img = NULL;
+        long want;
+        ggRenderOptionsDefault(&o);
+        o.progress = log_progress, o.progress_ud = &l, o.threads = 1 + k % 2;
+        if (k >= 2) o.width = 37, o.height = 23, o.pixel_corners = k == 3;
+        if (k == 3) o.crop_x0 = 3, o.crop_y0 = 2, o.crop_x1 = 36, o.crop_y1 = 19;
+        want = k < 2 ? 100 : k == 2 ? 37 * 23 : 33 * 17;
+        assert_int_equal(ggRender(s, &o, &img, NULL, NULL), GG_OK);
+        assert_true(l.calls > 0 && l.monotone);
+        assert_int_equal(l.total, want);
+        assert_int_equal(l.done, want);
+        ggImageFree(img);
+    }
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_identical),
         cmocka_unit_test(test_trace_cleared_on_failure),
         cmocka_unit_test(test_camera_ray_far),
+        cmocka_unit_test(test_progress_in_pixels),
         cmocka_unit_test(test_cost_cpu),
         cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
