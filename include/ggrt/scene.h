@@ -317,8 +317,9 @@ typedef struct ggMeshData {
 /* Add a mesh (opt NULL: defaults; its format is ignored). Triangles of zero
    area are dropped (counted in ggMeshInfo.skipped_faces). Returns the mesh
    index (>= 0) or a negative status: -GG_ERROR_INVALID for an index out of
-   range, a non-finite number, an unknown material or a singular transform
-   (err says which), -GG_ERROR_LIMIT beyond 2^28 triangles or vertices,
+   range, a non-finite number, an unknown material, a singular transform
+   or no triangle with an area ("mesh: no face has an area"; err says
+   which), -GG_ERROR_LIMIT beyond 2^28 triangles or vertices,
    -GG_ERROR_NOMEM. On failure the scene is unchanged. */
 GG_API int ggSceneAddMesh(ggScene *scene, const ggMeshData *data, const ggMeshOptions *opt,
                           ggError *err);

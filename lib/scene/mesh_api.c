@@ -27,6 +27,7 @@ GG_API int ggSceneAddMesh(ggScene *s, const ggMeshData *d, const ggMeshOptions *
     gg_mesh_build b;
     gg_mesh *m = &b.m;
     size_t i;
+    int rc;
     if (!s || !d || !d->positions || !d->indices || !d->ntriangles)
         return -gg_error_set(err, GG_ERROR_INVALID,
                              "ggSceneAddMesh: NULL argument or no triangles");
@@ -47,7 +48,14 @@ GG_API int ggSceneAddMesh(ggScene *s, const ggMeshData *d, const ggMeshOptions *
     }
     for (i = 0; b.tmat && i < m->ntri; i++)
         if (b.tmat[i] < -1) b.tmat[i] = (int)s->nmaterials; /* reported as unknown */
-    return gg_scene_add_mesh_build(s, &b, o, 0, err);
+    rc = gg_scene_add_mesh_build(s, &b, o, 0, err);
+    /* No triangle with an area: in a file a parse error, from code a bad
+       argument, as scene.h lists it. */
+    if (rc == -GG_ERROR_PARSE) {
+        if (err) err->code = GG_ERROR_INVALID;
+        rc = -GG_ERROR_INVALID;
+    }
+    return rc;
 }
 
 GG_API int ggSceneMeshCount(const ggScene *s)

@@ -400,7 +400,12 @@ static void test_failures(void **state)
         static const ggVec3 line[3] = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};
         static const uint32_t t[3] = {0, 1, 2};
         d.positions = line, d.npositions = 3, d.indices = t, d.ntriangles = 1;
-        assert_int_equal(ggSceneAddMesh(s, &d, NULL, &e), -GG_ERROR_PARSE);
+        /* a bad argument, as scene.h lists it (PARSE is for files) */
+        d.name = "line";
+        assert_int_equal(ggSceneAddMesh(s, &d, NULL, &e), -GG_ERROR_INVALID);
+        assert_int_equal(e.code, GG_ERROR_INVALID);
+        assert_string_equal(e.message, "line: no face has an area");
+        assert_int_equal(ggSceneAddMesh(s, &d, NULL, NULL), -GG_ERROR_INVALID);
     }
     assert_int_equal(ggSceneMaterialCount(s), 0);
     ggSceneFree(s);
