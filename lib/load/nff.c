@@ -307,7 +307,7 @@ static int view_check(parser *ps, const ggCamera *c, const token *from, const to
         from->line > at->line || (from->line == at->line && from->col > at->col) ? from : at;
     int f = gg_camera_fault(c);
     if (f == GG_CAMERA_OK) return GG_OK;
-    if (f == GG_CAMERA_UP &&
+    if ((f == GG_CAMERA_UP || f == GG_CAMERA_UP_ZERO) &&
         (up->line > last->line || (up->line == last->line && up->col > last->col)))
         last = up;
     return fail(ps, last, GG_ERROR_PARSE, "view: %s", gg_camera_fault_text(f));

@@ -127,6 +127,8 @@ int gg_camera_fault(const ggCamera *c)
     fwd = v3norm(d);
     if (!v3finite(d) || !(vmax(d) > CAM_EPS * fmax(vmax(c->from), vmax(c->at))) || !unit_len(fwd))
         return GG_CAMERA_FROM_AT;
+    /* zero would pass as parallel to anything: say what it is */
+    if (vmax(c->up) == 0) return GG_CAMERA_UP_ZERO;
     cr = v3cross(fwd, c->up);
     if (!(vmax(cr) > CAM_EPS * vmax(c->up)) || !unit_len(v3norm(cr))) return GG_CAMERA_UP;
     if (!(c->fov_deg > 0 && c->fov_deg < 180)) return GG_CAMERA_FOV;
@@ -153,6 +155,8 @@ const char *gg_camera_fault_text(int fault)
         return "'from' and 'at' are the same point";
     case GG_CAMERA_UP:
         return "'up' is parallel to the view direction";
+    case GG_CAMERA_UP_ZERO:
+        return "'up' is the zero vector";
     case GG_CAMERA_FOV:
         return "the field of view must be in (0, 180) degrees";
     case GG_CAMERA_SIZE:

@@ -121,9 +121,10 @@ int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t);
 #define GG_CAMERA_OK        0
 #define GG_CAMERA_NONFINITE 1 /* from, at or up is not finite */
 #define GG_CAMERA_FROM_AT   2 /* from and at are (all but) the same point */
-#define GG_CAMERA_UP        3 /* up is zero or parallel to the view direction */
+#define GG_CAMERA_UP        3 /* up is parallel to the view direction */
 #define GG_CAMERA_FOV       4 /* fov_deg outside (0, 180) */
 #define GG_CAMERA_SIZE      5 /* width or height outside the image limits */
+#define GG_CAMERA_UP_ZERO   6 /* up is the zero vector */
 int gg_camera_fault(const ggCamera *c);
 const char *gg_camera_fault_text(int fault);
 

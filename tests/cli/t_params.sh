@@ -34,7 +34,7 @@ param "from == at" "v\nfrom 0 0 5\nat 0 0 5\nup 0 1 0\nangle 40\nresolution 8 6\
 param "up parallel to the view" "v\nfrom 0 0 5\nat 0 0 0\nup 0 0 -3\nangle 40\nresolution 8 6\n" \
   "4:4: view: 'up' is parallel to the view direction"
 param "zero up" "v\nfrom 0 0 5\nat 0 0 0\nup 0 0 0\nangle 40\nresolution 8 6\n" \
-  "4:4: view: 'up' is parallel to the view direction"
+  "4:4: view: 'up' is the zero vector"
 param "zero angle" "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 0\n" \
   "5:7: angle must be in (0, 180), got 0"
 # The same error from the other commands that load scenes.

@@ -139,7 +139,7 @@ static void test_nff_camera(void **state)
     refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 1\nangle 40\n",
            "p.nff:4:4: view: 'up' is parallel to the view direction");
     refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 0\nangle 40\n",
-           "p.nff:4:4: view: 'up' is parallel to the view direction");
+           "p.nff:4:4: view: 'up' is the zero vector");
     refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 0\n",
            "p.nff:5:7: angle must be in (0, 180), got 0");
     refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 180\n",
@@ -246,7 +246,7 @@ static void test_api_camera(void **state)
     assert_int_equal(ggSceneSetCamera(s, &c0), GG_OK);
     c = c0, c.at = c.from, refuse_camera(s, &c, "same point");
     c = c0, c.up = (ggVec3){0, 0, 2}, refuse_camera(s, &c, "parallel");
-    c = c0, c.up = (ggVec3){0, 0, 0}, refuse_camera(s, &c, "parallel");
+    c = c0, c.up = (ggVec3){0, 0, 0}, refuse_camera(s, &c, "zero vector");
     c = c0, c.up = (ggVec3){1e-300, 1e-300, 1}, refuse_camera(s, &c, "parallel");
     c = c0, c.fov_deg = 0, refuse_camera(s, &c, "field of view");
     c = c0, c.fov_deg = 180, refuse_camera(s, &c, "field of view");
