@@ -330,8 +330,8 @@ GG_API int ggSceneAddMesh(ggScene *scene, const ggMeshData *data, const ggMeshOp
    GG_FRAME_LIGHTS, add a key and a fill light. The result is an ordinary
    camera and lights (ggSceneCamera, ggSceneGetLight), which a program may
    print as NFF. GG_ERROR_INVALID if the scene has no objects, or if its
-   bounds are too large to frame (the camera or a light would be beyond
-   ggCameraCheck's 1e150 or not finite; err gives the bounds);
+   bounds are too large to frame (a light, placed about six bounding
+   radii out, would be beyond GG_COORD_MAX; err gives the bounds);
    GG_ERROR_NOMEM. On failure the camera and lights are as they were. */
 #define GG_FRAME_CAMERA 1u
 #define GG_FRAME_LIGHTS 2u

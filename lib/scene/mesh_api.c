@@ -202,8 +202,8 @@ static void object_box(const ggScene *s, const gg_object *o, ggVec3 *lo, ggVec3 
     }
 }
 
-/* The bounds [lo, hi] are finite but a camera or light placed around them
-   need not be: a position over 1e150, or a radius that overflowed. */
+/* The bounds [lo, hi] are within GG_COORD_MAX, but the lights placed
+   around them (up to about six times as far out) need not be. */
 static int too_large(ggError *err, int code, ggVec3 lo, ggVec3 hi, const char *why)
 {
     return gg_error_set(err, code,
@@ -222,7 +222,7 @@ static int frame_lights(ggScene *s, ggVec3 c, double r, ggVec3 lo, ggVec3 hi, gg
     if (id >= 0) return GG_OK;
     s->nlights = n;
     if (id == -GG_ERROR_NOMEM) return gg_error_set(err, GG_ERROR_NOMEM, "framing: out of memory");
-    return too_large(err, -id, lo, hi, "a light would not be at a finite position");
+    return too_large(err, -id, lo, hi, "a light would be over 1e64 in magnitude (GG_COORD_MAX)");
 }
 
 GG_API int ggSceneFrame(ggScene *s, unsigned what, ggError *err)
