@@ -37,7 +37,8 @@ static void usage(FILE *f)
                "  -h, --help     this text\n"
                "      --version  print ggrt's version and exit\n"
                "\n'ggrt <command> --help' describes one command; 'man ggrt' all of them.\n"
-               "Exit codes: 0 success, 1 usage, 2 bad input, 3 I/O error.\n");
+               "Exit codes: 0 success, 1 usage, 2 bad input, 3 I/O error, 4 a check failed\n"
+               "(ggrt check, ggrt optics check).\n");
 }
 
 static int dispatch(int argc, char **argv)
