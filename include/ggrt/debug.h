@@ -367,19 +367,22 @@ GG_API void ggLedgerFree(ggLedger *ledger);
    Labels. A surface event (<RS>, <TS>, <RD>, <RG>, O) has the labels
    'N' (the object hit, a number as in ggrt trace), 'mK' (its material)
    and 'tir' for a total internal reflection; an L event has 'N', the
-   light's number. C, A and B have none.
+   light's number. C, A and B have none. Numbers are written as ggrt
+   prints them ('01' is refused); one the scene does not have matches
+   nothing (an expression is compiled without a scene).
 
    Syntax, loosest first:  E|E  alternatives;  E E  one after the other;
    E*  E+  E?  E{n}  E{n,}  E{n,m}  repetition;  ( E )  a group; and the
    events:  C R T L O B A  (an event of that type), D G S (of that scatter),
    .  (any event),  'label'  (any event with that label),
    <TYPE SCATTER 'label'...>  with TYPE one of C R T L O B A or '.',
-   SCATTER one of D G S or '.', both optional (<R> is <R.>), every label
-   required;  [e e ...]  any of these events;  [^e e ...]  any event but
+   SCATTER one of D G S or '.', both optional (<R> is <R.>, <S> is
+   <.S>), every label required;  [e e ...]  any of these events;  [^e e ...]  any event but
    these. An event or a set may be followed by a predicate in brackets,
-   [RAY-EXPR] (a '[' followed by a lower-case letter, a digit, '(' or
-   '!'): the ray expression of ggPredicateParse, on the ray that arrives at
-   the event (for L: the shadow ray; for C: the eye ray), e.g.
+   [RAY-EXPR] (a '[' followed, after any spaces, by a lower-case letter, a
+   digit, '(' or '!'): the ray expression of ggPredicateParse, on the ray
+   that arrives at the event (for L: the shadow ray; for C: the eye ray;
+   for A: the ray whose hit it lights), e.g.
    <TS>[object == 2 && tir_margin < 16]; only a true value matches.
    Spaces between items are ignored. A path matches when the whole string
    of its events does (the expression is anchored at both ends).

@@ -155,7 +155,8 @@ static int label(lp *p, int q)
         size_t k = n > 0 && s[0] == 'm' ? 1 : 0, j;
         long v = 0;
         for (j = k; j < n && j < k + 9 && s[j] >= '0' && s[j] <= '9'; j++) v = 10 * v + (s[j] - '0');
-        if (j == k || j != n)
+        /* '01' is no number ggrt prints: refused, not read as 1 */
+        if (j == k || j != n || (s[k] == '0' && n > k + 1))
             return fail(p, open, GG_ERROR_PARSE,
                         "'%.*s' is not a label: 'N' (an object, or a light's number on L), "
                         "'mN' (a material) or 'tir'",
@@ -197,6 +198,11 @@ static int bracket(lp *p, int q)
         } else if (c >= 'A' && c <= 'Z') {
             return fail(p, p->pos, GG_ERROR_PARSE, "'%c' is not a scatter type (D G S or .)", c);
         }
+    } else if ((k = scatter_of(c)) >= 0) {
+        /* the type left out (the grammar makes both optional): the
+           letters of the two never overlap, so <S> is <.S> */
+        pt->scatters = 1u << k;
+        p->pos++;
     } else if (c >= 'A' && c <= 'Z') {
         return fail(p, p->pos, GG_ERROR_PARSE,
                     "'%c' is not an event type (C R T L O B A or .)", c);

@@ -72,6 +72,8 @@ static void test_path_errors(void **state)
     expect_error("C'foo'", GG_ERROR_PARSE, "1:2: 'foo' is not a label");
     expect_error("C'm'", GG_ERROR_PARSE, "1:2: 'm' is not a label");
     expect_error("C''", GG_ERROR_PARSE, "1:2: '' is not a label");
+    expect_error("C'01'", GG_ERROR_PARSE, "1:2: '01' is not a label");
+    expect_error("C<RS'm007'>", GG_ERROR_PARSE, "1:5: 'm007' is not a label");
     expect_error("C<TS'tir", GG_ERROR_PARSE, "1:5: no closing quote for this label");
     expect_error("C<TS>{3,1}", GG_ERROR_PARSE, "1:6: {3,1}: the least is more than the most");
     expect_error("C<TS>{x}", GG_ERROR_PARSE, "1:7: expected a count in { }, got 'x'");
@@ -233,6 +235,13 @@ static void test_path_semantics(void **state)
         {"C <R> ? S* .", 5, 0.95},
         {"C<>.", 4, 0.8},
         {"C T R B", 1, 0.15},
+        /* the type left out: <S> is <.S> (refused until an audit) */
+        {"C<S>O", 1, 0.2},
+        {"C<D>A", 1, 0.1},
+        {"C<G>L", 1, 0.3},
+        {"C[<D><G>]L", 2, 0.5},
+        {"C<TS><S'tir'>B", 1, 0.15},
+        {"C<TS><S'tir'>O", 0, 0},
         /* predicates: on the ray arriving at the event (L: the shadow ray) */
         {"C<RS>[object == 1]O", 1, 0.2},
         {"C<RS>[object == 2]O", 0, 0},
