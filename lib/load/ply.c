@@ -622,6 +622,20 @@ static int ascii_rest(plyp *pp)
     return GG_OK;
 }
 
+/* After the last binary element: whitespace at most (a writer's closing
+   newline). Anything else means the header's counts are short of the
+   data, which was dropped without a word. */
+static int binary_rest(plyp *pp)
+{
+    const unsigned char *q;
+    for (q = pp->p; q < pp->end; q++)
+        if (*q != '\n' && *q != '\r' && *q != ' ' && *q != '\t')
+            return gg_error_set(pp->err, GG_ERROR_PARSE,
+                                "%s: byte %zu: %zu bytes after the elements the header declares",
+                                pp->name, (size_t)(pp->p - pp->data), (size_t)(pp->end - pp->p));
+    return GG_OK;
+}
+
 /* An element ggrt does not read. */
 static int skip_element(plyp *pp, const pelem *e)
 {
@@ -663,7 +677,7 @@ int gg_ply_read(gg_mb *mb, const unsigned char *data, size_t len, const char *na
             pp->what = "element", rc = skip_element(pp, e);
         }
     }
-    if (rc == GG_OK && !pp->fmt) rc = ascii_rest(pp);
+    if (rc == GG_OK) rc = pp->fmt ? binary_rest(pp) : ascii_rest(pp);
     if (rc == GG_OK && !mb->b.m.nfaces)
         rc = gg_error_set(err, GG_ERROR_PARSE, "%s: no faces (%zu vertices: a point cloud?)", name,
                           mb->b.m.nverts);
