@@ -36,6 +36,21 @@ static void expect_error(const char *text, size_t len, const char *name, int cod
     ggSceneFree(s);
 }
 
+/* Each ascii PLY body after header h fails with its message. */
+typedef struct ply_bad {
+    const char *body, *msg;
+} ply_bad;
+
+static void expect_bodies(const char *h, const ply_bad *bad, size_t n)
+{
+    char text[400];
+    size_t i;
+    for (i = 0; i < n; i++) {
+        snprintf(text, sizeof text, "%s%s", h, bad[i].body);
+        expect_error(text, strlen(text), "t.ply", GG_ERROR_PARSE, bad[i].msg);
+    }
+}
+
 #define EXPECT(text, code, msg) expect_error(text, strlen(text), "t.obj", code, msg)
 
 static void test_obj_cube(void **state)
@@ -500,9 +515,7 @@ static void test_ply_ascii_lines(void **state)
     const char *h = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                     "end_header\n";
-    static const struct {
-        const char *body, *msg;
-    } bad[] = {
+    static const ply_bad bad[] = {
         {"0 0\n1 0 0 0\n1 0\n3 0 1 2\n",
          "t.ply:10:4: vertex 0: expected a number, got the end of the line"},
         {"0 0 0\n1 0 0\n0 1 0\n3 0 1 2 junk\n",
@@ -517,13 +530,10 @@ static void test_ply_ascii_lines(void **state)
     const char *lf = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                      "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\n";
-    char text[400], cr[400];
+    char cr[400];
     size_t i;
     (void)state;
-    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        snprintf(text, sizeof text, "%s%s", h, bad[i].body);
-        expect_error(text, strlen(text), "t.ply", GG_ERROR_PARSE, bad[i].msg);
-    }
+    expect_bodies(h, bad, sizeof bad / sizeof bad[0]);
     /* the same file with LF and with lone CR line endings: one mesh */
     for (i = 0; lf[i]; i++) cr[i] = lf[i] == '\n' ? '\r' : lf[i];
     cr[i] = '\0';
@@ -554,9 +564,7 @@ static void test_ply_values(void **state)
     const char *h = "ply\nformat ascii 1.0\nelement vertex 3\nproperty uchar x\nproperty float y\n"
                     "property short z\nelement face 1\nproperty list uchar int vertex_indices\n"
                     "end_header\n";
-    static const struct {
-        const char *body, *msg;
-    } bad[] = {
+    static const ply_bad bad[] = {
         {"300 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
          "t.ply:10:1: vertex 0: a uchar must be a whole number from 0 to 255, got 300"},
         {"0 0 0\n-5 0 0\n0 1 0\n3 0 1 2\n",
@@ -583,13 +591,9 @@ static void test_ply_values(void **state)
          "t.ply:2:14: unsupported format version '2.0' (PLY defines 1.0)"},
         {"ply\nformat binary_little_endian 1.0 x\nend_header\n", "t.ply:2:33: unexpected 'x'"},
     };
-    char text[400];
     size_t i;
     (void)state;
-    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        snprintf(text, sizeof text, "%s%s", h, bad[i].body);
-        expect_error(text, strlen(text), "t.ply", GG_ERROR_PARSE, bad[i].msg);
-    }
+    expect_bodies(h, bad, sizeof bad / sizeof bad[0]);
     for (i = 0; i < sizeof hdr / sizeof hdr[0]; i++)
         expect_error(hdr[i].text, strlen(hdr[i].text), "t.ply", GG_ERROR_PARSE, hdr[i].msg);
     /* the limits themselves load; `format ascii 1` is version 1.0 too */

@@ -58,6 +58,46 @@ static ggVec3 put(int axis, double tang1, double tang2, double normal)
                                                             : vec3(tang1, tang2, normal);
 }
 
+/* The contract on one input, ggRefract against ggRefractError: a
+   decision the reference is certain of agrees outside the 2^-96 band,
+   and every component is within 1 ulp (4 for a transmitted ray with
+   cos^2(theta_t) < 2^-80). Counted into y (the first three failures of
+   each kind printed); returns the exact cos^2(theta_t). */
+typedef struct tally {
+    long cases, wrong, over;
+    double worst;
+} tally;
+
+static double check_refract(tally *y, ggVec3 v, ggVec3 n, double ni, double nt)
+{
+    ggDirectionError er;
+    ggVec3 t;
+    bool ok = ggRefract(v, n, ni, nt, &t);
+    double bound;
+    assert_int_equal(ggRefractError(v, n, ni, nt, t, !ok, &er), GG_OK);
+    y->cases++;
+    if (er.certain && !er.tir_agrees && !(fabs(er.cos2_t) < 0x1p-96)) {
+        if (y->wrong++ < 3)
+            print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a: %s\n", v.x, v.y,
+                          v.z, n.x, n.y, n.z, ni, nt, ok ? "transmitted" : "TIR");
+        return er.cos2_t;
+    }
+    bound = ok && er.cos2_t < 0x1p-80 ? 4 : 1;
+    if (er.max_ulp > y->worst) y->worst = er.max_ulp;
+    if (!(er.max_ulp <= bound) && y->over++ < 3)
+        print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", er.max_ulp, v.x, v.y,
+                      v.z, n.x, n.y, n.z, ni, nt);
+    return er.cos2_t;
+}
+
+static void tally_done(const char *what, const tally *y)
+{
+    print_message("%s: %ld cases, %ld decisions wrong, %ld over the bound, worst %.3f ulp\n", what,
+                  y->cases, y->wrong, y->over, y->worst);
+    assert_int_equal(y->wrong, 0);
+    assert_int_equal(y->over, 0);
+}
+
 /* v = T + N with |N| = 2^-p |T| for every p in 0..1074 (as far as N stays
    representable), T and the normal n at random scales over the exponent
    range, n along a random axis, tilted by a tiny component in half the
@@ -115,44 +155,24 @@ static void test_refract_tiny_normal_part(void **state)
 static void test_refract_every_exponent(void **state)
 {
     tu_rng rng = {3237};
-    long i, cases = 0, wrong = 0, over = 0;
-    double worst = 0;
+    tally y = {0, 0, 0, 0};
+    long i;
     (void)state;
     for (i = 0; i < 6000; i++) {
-        double d[6], ni, nt, bound;
+        double d[6], ni, nt;
         int j, e = (int)(tu_uniform(&rng) * 1298) - 674;
-        ggVec3 v, n, t;
-        ggDirectionError er;
-        bool ok;
         for (j = 0; j < 6; j++) {
             d[j] = tu_uniform(&rng) < 1.0 / 6 ? 0 : draw(&rng, (int)(tu_uniform(&rng) * 2098) - 1074);
             if (tu_uniform(&rng) < 0.5) d[j] = -d[j];
         }
-        if ((d[0] == 0 && d[1] == 0 && d[2] == 0) || (d[3] == 0 && d[4] == 0 && d[5] == 0)) continue;
-        v = vec3(d[0], d[1], d[2]), n = vec3(d[3], d[4], d[5]);
+        if ((d[0] == 0 && d[1] == 0 && d[2] == 0) || (d[3] == 0 && d[4] == 0 && d[5] == 0))
+            continue;
         ni = draw(&rng, e), nt = draw(&rng, e - 400 + (int)(tu_uniform(&rng) * 801));
         if (tu_uniform(&rng) < 0.5) nt = -nt;
         if (i % 8 == 0) nt = ni;
-        ok = ggRefract(v, n, ni, nt, &t);
-        assert_int_equal(ggRefractError(v, n, ni, nt, t, !ok, &er), GG_OK);
-        cases++;
-        if (er.certain && !er.tir_agrees && !(fabs(er.cos2_t) < 0x1p-96)) {
-            if (wrong++ < 3)
-                print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", v.x, v.y,
-                              v.z, n.x, n.y, n.z, ni, nt);
-            continue;
-        }
-        bound = ok && er.cos2_t < 0x1p-80 ? 4 : 1;
-        if (er.max_ulp > worst) worst = er.max_ulp;
-        if (!(er.max_ulp <= bound) && over++ < 3)
-            print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", er.max_ulp, v.x, v.y,
-                          v.z, n.x, n.y, n.z, ni, nt);
+        check_refract(&y, vec3(d[0], d[1], d[2]), vec3(d[3], d[4], d[5]), ni, nt);
     }
-    print_message("every exponent: %ld cases, %ld decisions wrong, %ld over the bound, worst "
-                  "%.3f ulp\n",
-                  cases, wrong, over, worst);
-    assert_int_equal(wrong, 0);
-    assert_int_equal(over, 0);
+    tally_done("every exponent", &y);
 }
 
 /* The exact answer for the two shapes of test_refract_spread_huge_eta,
@@ -287,15 +307,13 @@ static gg_bf sin2_exact(ggVec3 v, ggVec3 n)
 static void test_refract_huge_eta_tilted(void **state)
 {
     tu_rng rng = {3241};
-    long i, cases = 0, wrong = 0, over = 0, band = 0;
-    double worst = 0;
+    tally y = {0, 0, 0, 0};
+    long i, band = 0;
     (void)state;
     for (i = 0; i < 24000; i++) {
         int p = 1 + (int)(tu_uniform(&rng) * 62), e = (int)(tu_uniform(&rng) * 1200) - 600;
-        ggVec3 n = tu_unit(&rng), d = tu_unit(&rng), v, t;
-        double s = ldexp(tu_range(&rng, 1, 2), -p), rs, ni, nt, bound;
-        ggDirectionError er;
-        bool ok;
+        ggVec3 n = tu_unit(&rng), d = tu_unit(&rng), v;
+        double s = ldexp(tu_range(&rng, 1, 2), -p), rs, ni, nt, c2;
         v.x = -n.x + s * d.x, v.y = -n.y + s * d.y, v.z = -n.z + s * d.z;
         if (v.x * v.y * v.z * n.x * n.y * n.z == 0) continue;
         rs = 1 / sqrt(gg_bf_to_double(sin2_exact(v, n)));
@@ -304,34 +322,18 @@ static void test_refract_huge_eta_tilted(void **state)
         nt = ldexp(tu_uniform(&rng) < 0.5 ? -1.0 : 1.0, e);
         ni = ldexp(tu_uniform(&rng) < 0.5 ? -ni : ni, e);
         if (i % 2) { /* nearer the critical angle: one of ni's neighbours */
-            gg_bf c2 =
+            gg_bf m =
                 gg_bf_sub(gg_bf_from(1.0),
                           gg_bf_mul(gg_bf_mul(gg_bf_from(rs), gg_bf_from(rs)), sin2_exact(v, n)));
-            double m = fabs(gg_bf_to_double(c2));
-            if (m > 0x1p-58) ni = nextafter(ni, tu_uniform(&rng) < 0.5 ? 0 : 2 * ni);
+            if (fabs(gg_bf_to_double(m)) > 0x1p-58)
+                ni = nextafter(ni, tu_uniform(&rng) < 0.5 ? 0 : 2 * ni);
         }
-        ok = ggRefract(v, n, ni, nt, &t);
-        assert_int_equal(ggRefractError(v, n, ni, nt, t, !ok, &er), GG_OK);
-        cases++;
-        if (fabs(er.cos2_t) >= 0x1p-96 && fabs(er.cos2_t) <= 0x1p-58) band++;
-        if (er.certain && !er.tir_agrees && !(fabs(er.cos2_t) < 0x1p-96)) {
-            if (wrong++ < 3)
-                print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a: %s\n", v.x,
-                              v.y, v.z, n.x, n.y, n.z, ni, nt, ok ? "transmitted" : "TIR");
-            continue;
-        }
-        bound = ok && er.cos2_t < 0x1p-80 ? 4 : 1;
-        if (er.max_ulp > worst) worst = er.max_ulp;
-        if (!(er.max_ulp <= bound) && over++ < 3)
-            print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", er.max_ulp, v.x, v.y,
-                          v.z, n.x, n.y, n.z, ni, nt);
+        c2 = fabs(check_refract(&y, v, n, ni, nt));
+        band += c2 >= 0x1p-96 && c2 <= 0x1p-58;
     }
-    print_message("huge eta, tilted normal: %ld cases (%ld with |cos^2 t| in [2^-96, 2^-58]), %ld "
-                  "decisions wrong, %ld over the bound, worst %.3f ulp\n",
-                  cases, band, wrong, over, worst);
+    print_message("huge eta, tilted normal: %ld with |cos^2 t| in [2^-96, 2^-58]\n", band);
     assert_true(band >= 20);
-    assert_int_equal(wrong, 0);
-    assert_int_equal(over, 0);
+    tally_done("huge eta, tilted normal", &y);
 }
 
 /* n == n_outside over the exponent range, k from n down to 2^-1074 with
