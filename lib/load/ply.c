@@ -181,7 +181,12 @@ static int header(plyp *pp)
                               "the header has no format line (format ascii 1.0, "
                               "binary_little_endian 1.0 or binary_big_endian 1.0)");
         if (is(w, n, "end_header")) return gg_lc_end(&pp->c);
-        if (is(w, n, "format")) {
+        if (is(w, n, "format") && (pp->has_format || pp->nel)) {
+            /* the elements' types depend on it: one, before them */
+            return gg_lc_fail(&pp->c, at, GG_ERROR_PARSE, "%s",
+                              pp->has_format ? "a second format line"
+                                             : "the format line must come before the elements");
+        } else if (is(w, n, "format")) {
             rc = format(pp);
         } else if (is(w, n, "element")) {
             rc = element(pp);

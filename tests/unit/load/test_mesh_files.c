@@ -590,6 +590,10 @@ static void test_ply_values(void **state)
         {"ply\nformat ascii 2.0\nelement vertex 0\nend_header\n",
          "t.ply:2:14: unsupported format version '2.0' (PLY defines 1.0)"},
         {"ply\nformat binary_little_endian 1.0 x\nend_header\n", "t.ply:2:33: unexpected 'x'"},
+        {"ply\nformat ascii 1.0\nformat binary_little_endian 1.0\nend_header\n",
+         "t.ply:3:1: a second format line"},
+        {"ply\nelement vertex 0\nformat ascii 1.0\nend_header\n",
+         "t.ply:3:1: the format line must come before the elements"},
     };
     size_t i;
     (void)state;
