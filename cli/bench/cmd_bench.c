@@ -43,15 +43,37 @@ static const struct {
     int size;                  /* default --size; 0: the benchmark's own */
     const char *const *scenes; /* the names --scenes picks from (NULL: no --scenes) */
     int nscenes;
+    /* the options it reads nothing from, refused rather than ignored (the
+       ones of one benchmark only, --embree, --accuracy and --knobs, are
+       checked on their own) */
+    const char *const unused[5];
 } benches[] = {
-    {"spd", bench_spd, 1024, bench_spd_scenes, BENCH_NSPD},
-    {"counts", bench_counts, 0, bench_spd_scenes, BENCH_NSPD},
-    {"effects", bench_effects, 320, bench_effects_scenes, BENCH_NEFFECTS},
-    {"accuracy", bench_accuracy, 0, NULL, 0},
-    {"scaling", bench_scaling, 0, bench_spd_scenes, BENCH_NSPD},
-    {"rays", bench_rays, 256, bench_spd_scenes, BENCH_NSPD},
-    {"limit", bench_limit, 512, bench_spd_scenes, BENCH_NSPD},
+    {"spd", bench_spd, 1024, bench_spd_scenes, BENCH_NSPD, {"out"}},
+    {"counts", bench_counts, 0, bench_spd_scenes, BENCH_NSPD, {"runs", "pov", "no-pov", "out"}},
+    {"effects",
+     bench_effects,
+     320,
+     bench_effects_scenes,
+     BENCH_NEFFECTS,
+     {"spd", "pov", "no-pov", "out"}},
+    {"accuracy", bench_accuracy, 0, NULL, 0, {"spd", "pov", "no-pov"}},
+    {"scaling", bench_scaling, 0, bench_spd_scenes, BENCH_NSPD, {"pov", "no-pov", "out"}},
+    {"rays", bench_rays, 256, bench_spd_scenes, BENCH_NSPD, {"threads", "pov", "no-pov", "out"}},
+    {"limit", bench_limit, 512, bench_spd_scenes, BENCH_NSPD, {"threads", "pov", "no-pov", "out"}},
 };
+
+/* An option the benchmark would ignore: a usage error naming it. */
+static int check_unused(const cli_cmd *cmd, int b)
+{
+    int k;
+    for (k = 0; k < 5 && benches[b].unused[k]; k++)
+        if (cli_given(cmd, benches[b].unused[k]))
+            return cli_usage_error(cmd,
+                                   "--%s is not an option of bench %s (it reads nothing "
+                                   "from it)",
+                                   benches[b].unused[k], benches[b].name);
+    return 0;
+}
 
 /* "a, b, c" of names[0..n) into out (size outsize). */
 static void join_names(char *out, size_t outsize, const char *const *names, int n)
@@ -108,9 +130,9 @@ int cmd_bench(int argc, char **argv)
                     "runs per measurement, median reported (default 3)"),
         CLI_OPT_STRING(0, "spd", &bo.spd_dir, "DIR", "NFF scenes (default examples/scenes/spd)"),
         CLI_OPT_STRING(0, "pov", &bo.pov_dir, "DIR",
-                       "POV-Ray scenes, .pov.gz (default\n"
+                       "spd: POV-Ray scenes, .pov.gz (default\n"
                        "examples/scenes/spd-pov)"),
-        CLI_OPT_FLAG(0, "no-pov", &no_pov, "do not run POV-Ray"),
+        CLI_OPT_FLAG(0, "no-pov", &no_pov, "spd: do not run POV-Ray"),
         CLI_OPT_STRING(0, "embree", &bo.embree, "BIN",
                        "spd: also time the Embree Whitted anchor BIN\n"
                        "(-p 1 and -p 16), rounds interleaved"),
@@ -171,6 +193,7 @@ int cmd_bench(int argc, char **argv)
         if (opts[0].given && benches[i].run == bench_counts)
             return cli_usage_error(&cmd, "--size is not an option of bench counts (it renders "
                                          "at the SPD table's 513x513)");
+        if ((rc = check_unused(&cmd, i)) != 0) return rc;
         if (!opts[0].given) bo.size = benches[i].size;
         snprintf(name, sizeof name, "bench %s", benches[i].name);
         cli_set_command(name); /* "ggrt bench accuracy: ..." */

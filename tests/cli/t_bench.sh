@@ -128,13 +128,22 @@ for b in spd counts effects scaling rays limit; do
   done
 done
 for b in spd counts scaling rays limit; do
-  size="--size 16"; [ $b = counts ] && size= # counts takes no --size
+  # each with the options it reads: counts none of size and runs, only spd POV-Ray
+  more="--size 16 --runs 1"; [ $b = counts ] && more=; [ $b = spd ] && more="$more --no-pov"
   # shellcheck disable=SC2086
-  "$ggrt" bench "$b" --spd "$tmp/no-such-folder" --scenes gears $size --runs 1 --no-pov \
+  "$ggrt" bench "$b" --spd "$tmp/no-such-folder" --scenes gears $more \
     >"$tmp/out" 2>"$tmp/err"; got=$?
   [ $got = 3 ] && grep -q "no-such-folder/[a-z0-9-]*\.nff: No such file or directory" "$tmp/out" "$tmp/err" &&
     ok "bench $b --spd with no scenes in it: exit 3, the file named" ||
     bad "bench $b --spd with no scenes in it: exit 3, the file named (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
+done
+# An option a benchmark reads nothing from is refused, not ignored.
+for c in "counts --runs 2" "rays --threads 2" "limit --no-pov" "effects --spd x" \
+         "scaling --out x" "spd --out x" "accuracy --pov x"; do
+  b=${c%% *}; o=${c#* }; o=${o%% *}
+  # shellcheck disable=SC2086
+  expect_err 1 "ggrt bench: $o is not an option of bench $b (it reads nothing from it)" \
+    "bench $b $o is a usage error" "$ggrt" bench $c
 done
 # A scene that fails to load: its row says why and so does stderr, in the
 # tool's message style (as bench accuracy does), exit 2.
