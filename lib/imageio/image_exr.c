@@ -39,6 +39,16 @@ static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *ms
     if (!io->msg[0]) snprintf(io->msg, sizeof io->msg, "%s", msg ? msg : "unknown error");
 }
 
+/* Writing: the core holds its context's lock while it reports an error
+   (exr_write_header on a full disk), and exr_get_user_data takes that
+   lock again, so on_error hung there for ever. A write reports nothing
+   through the core: write_cb keeps its own message, and the codes say
+   the rest. */
+static void on_write_error(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    (void)ctxt, (void)code, (void)msg;
+}
+
 static int64_t read_cb(exr_const_context_t ctxt, void *ud, void *buf, uint64_t sz, uint64_t off,
                        exr_stream_error_func_ptr_t error_cb)
 {
@@ -83,8 +93,10 @@ static int64_t write_cb(exr_const_context_t ctxt, void *ud, const void *buf, uin
             char ebuf[128];
             if (r < 0 && errno == EINTR) continue;
             io->io_errno = r < 0 ? errno : EIO;
-            error_cb(ctxt, EXR_ERR_WRITE_IO, "write failed: %s",
-                     gg_image_strerror(io->io_errno, ebuf, sizeof ebuf));
+            if (!io->msg[0])
+                snprintf(io->msg, sizeof io->msg, "write failed: %s",
+                         gg_image_strerror(io->io_errno, ebuf, sizeof ebuf));
+            error_cb(ctxt, EXR_ERR_WRITE_IO, "%s", io->msg);
             return -1;
         }
         done += (uint64_t)r;
@@ -572,6 +584,7 @@ static int write_exr(const exr_set *set, const ggEXRHeader *h, const char *path,
     memset(&io, 0, sizeof io);
     io.fd = t.fd;
     init_context(&init, &io);
+    init.error_handler_fn = on_write_error;
     init.write_fn = write_cb;
     /* zlib level 1: float pixels hardly compress better at higher levels
        (docs/performance.md, "Smaller things"). */

@@ -46,6 +46,18 @@ else bad "render --aov-png: the refusals wrote nothing" "$(ls -lR "$tmp/ap")"; f
 expect_exit 0 "render --aov-png: a missing DIR is created" \
   "$ggrt" render $g -s 8x6 -q -o "$tmp/ap/o.exr" --aov 'a=CB' --aov-png "$tmp/ap/new"
 [ -s "$tmp/ap/new/a.png" ] && ok "render --aov-png: DIR/a.png written" || bad "render --aov-png: DIR/a.png written"
+# An EXR whose header cannot be written (512 bytes allowed, sh's unit:
+# the layer attributes take more) fails at once. The core reported the
+# error with its context locked and the library's handler locked it
+# again: a hang that not even SIGTERM ended (ggrt catches it to cancel),
+# hence KILL.
+rm -f "$tmp/ax/h.exr"
+( trap '' XFSZ; ulimit -f 1; timeout -s KILL 30 "$ggrt" render $g -s 16x12 -q -o "$tmp/ax/h.exr" \
+    --aov 'all=C.*' ) 2>"$tmp/err"; got=$?
+if [ $got = 3 ] && grep -q "^ggrt render: .*h.exr: .*File too large" "$tmp/err" &&
+   [ -z "$(ls "$tmp/ax" | grep '^h\.exr')" ]
+then ok "render to an EXR whose header cannot be written: exit 3, no hang"
+else bad "render to an EXR whose header cannot be written: exit 3, no hang (exit $got)" "$(cat "$tmp/err")"; fi
 "$ggrt" render $g -s 24x18 -q -o "$tmp/plain.exr"
 expect_exit 2 "check --aov-sum: a file without layers" "$ggrt" check --aov-sum "$tmp/plain.exr"
 expect_exit 1 "check --aov-sum with --path" "$ggrt" check --aov-sum "$tmp/plain.exr" --path 'C.*'
