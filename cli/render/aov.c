@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 int aov_parse_one(void *ud, const char *value, char *why, size_t whylen)
 {
@@ -104,7 +105,7 @@ static int set_err(ggError *err, int code, const char *what)
 {
     err->code = code;
     if (code == GG_ERROR_IO)
-        snprintf(err->message, sizeof err->message, "%s: %s", what, strerror(errno));
+        snprintf(err->message, sizeof err->message, "%.400s: %s", what, strerror(errno));
     else
         snprintf(err->message, sizeof err->message, "%s", what);
     return code;
@@ -145,53 +146,99 @@ int aov_check_pngs(const aov_list *l)
     return 0;
 }
 
+/* DIR/NAME.png's temporary name, beside it until every file is written. */
+static int layer_temp(const aov_list *l, int k, char *buf, size_t n)
+{
+    int len = snprintf(buf, n, "%s/%s.png.tmp%ld", l->png_dir, l->name[k], (long)getpid());
+    return len < 0 || (size_t)len >= n ? -1 : 0;
+}
+
+/* The first `done` layers' temporary files removed (a failure). */
+static void drop_temps(const aov_list *l, int done)
+{
+    char tmp[4096];
+    int k;
+    for (k = 0; k < done; k++)
+        if (layer_temp(l, k, tmp, sizeof tmp) == 0) remove(tmp);
+}
+
+/* Each layer into its temporary file: on any failure none is left. */
 static int write_pngs(const aov_list *l, ggImage **imgs, ggError *err)
 {
     int k, rc = GG_OK;
     if (mkdir(l->png_dir, 0777) != 0 && errno != EEXIST)
         return set_err(err, GG_ERROR_IO, l->png_dir);
     for (k = 0; k < l->n && rc == GG_OK; k++) {
-        char path[4096];
-        if (layer_path(l, k, path, sizeof path) != 0)
-            return set_err(err, GG_ERROR_INVALID, "an --aov-png file name is too long");
-        rc = ggImageWritePNG(imgs[k], path, err);
+        char tmp[4096];
+        if (layer_temp(l, k, tmp, sizeof tmp) != 0)
+            rc = set_err(err, GG_ERROR_INVALID, "an --aov-png file name is too long");
+        else
+            rc = ggImageWritePNG(imgs[k], tmp, err);
     }
+    if (rc != GG_OK) drop_temps(l, k);
     return rc;
+}
+
+/* The written layers renamed into place, once -o is written too. */
+static int place_pngs(const aov_list *l, ggError *err)
+{
+    int k;
+    for (k = 0; k < l->n; k++) {
+        char tmp[4096], path[4096];
+        if (layer_temp(l, k, tmp, sizeof tmp) != 0 || layer_path(l, k, path, sizeof path) != 0 ||
+            rename(tmp, path) != 0) {
+            drop_temps(l, l->n);
+            return set_err(err, GG_ERROR_IO, path);
+        }
+    }
+    return GG_OK;
+}
+
+/* -o: an EXR with the layers as channels (and the attributes that say
+   how they were made), or the image alone. */
+static int write_out(const aov_list *l, const ggImage *img, ggImage **imgs, const char *out,
+                     const char *scene, const ggRenderOptions *opt, const char *list, ggError *err)
+{
+    const char *names[GG_PATH_LAYERS_MAX];
+    ggEXRAttr attr[3];
+    ggEXRHeader h;
+    ggRenderOptions f = *opt;
+    char options[2048];
+    int k;
+    if (cli_image_kind(out) != CLI_IMAGE_EXR) return ggImageWrite(img, out, err);
+    for (k = 0; k < l->n; k++) names[k] = l->name[k];
+    memset(&h, 0, sizeof h);
+    h.display_width = ggImageWidth(img), h.display_height = ggImageHeight(img);
+    f.width = h.display_width, f.height = h.display_height, f.threads = 0;
+    attr[0].name = AOV_ATTR, attr[0].value = list;
+    attr[1].name = AOV_ATTR_SCENE, attr[1].value = scene;
+    attr[2].name = AOV_ATTR_OPTIONS, attr[2].value = options;
+    h.attrs = attr, h.attr_count = 3;
+    if (ggRenderOptionsFormat(&f, options, sizeof options) >= sizeof options) h.attr_count = 2;
+    return ggImageWriteEXRLayers(img, (const ggImage *const *)imgs, names, l->n, &h, out, err);
 }
 
 int aov_write(const aov_list *l, const ggImage *img, const char *out, const char *scene,
               const ggRenderOptions *opt, ggError *err)
 {
     ggImage *imgs[GG_PATH_LAYERS_MAX];
-    const char *names[GG_PATH_LAYERS_MAX];
-    int k, rc = GG_OK, exr = cli_image_kind(out) == CLI_IMAGE_EXR;
+    int k, rc = GG_OK;
     char *list = layer_list(l);
     memset(imgs, 0, sizeof imgs);
-    for (k = 0; k < l->n; k++) {
-        names[k] = l->name[k];
+    for (k = 0; k < l->n; k++)
         if (!(imgs[k] = layer_image(l, k))) rc = GG_ERROR_NOMEM;
-    }
-    if (rc != GG_OK || !list) {
+    /* The layer PNGs first, under temporary names, renamed into place
+       only once -o is written: a failure in either leaves neither (a
+       layer that failed to write used to leave -o written). */
+    if (rc != GG_OK || !list)
         rc = set_err(err, GG_ERROR_NOMEM, "out of memory for the path layers");
-    } else if (exr) {
-        ggEXRAttr attr[3];
-        ggEXRHeader h;
-        ggRenderOptions f = *opt;
-        char options[2048];
-        memset(&h, 0, sizeof h);
-        h.display_width = ggImageWidth(img), h.display_height = ggImageHeight(img);
-        f.width = h.display_width, f.height = h.display_height, f.threads = 0;
-        attr[0].name = AOV_ATTR, attr[0].value = list;
-        attr[1].name = AOV_ATTR_SCENE, attr[1].value = scene;
-        attr[2].name = AOV_ATTR_OPTIONS, attr[2].value = options;
-        h.attrs = attr, h.attr_count = 3;
-        if (ggRenderOptionsFormat(&f, options, sizeof options) >= sizeof options)
-            h.attr_count = 2;
-        rc = ggImageWriteEXRLayers(img, (const ggImage *const *)imgs, names, l->n, &h, out, err);
-    } else {
-        rc = ggImageWrite(img, out, err);
+    else if (l->png_dir && (rc = write_pngs(l, imgs, err)) != GG_OK)
+        ; /* nothing written; err says why */
+    else if ((rc = write_out(l, img, imgs, out, scene, opt, list, err)) != GG_OK) {
+        if (l->png_dir) drop_temps(l, l->n);
+    } else if (l->png_dir) {
+        rc = place_pngs(l, err);
     }
-    if (rc == GG_OK && l->png_dir) rc = write_pngs(l, imgs, err);
     for (k = 0; k < l->n; k++) ggImageFree(imgs[k]);
     free(list);
     return rc;

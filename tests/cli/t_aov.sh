@@ -46,6 +46,19 @@ else bad "render --aov-png: the refusals wrote nothing" "$(ls -lR "$tmp/ap")"; f
 expect_exit 0 "render --aov-png: a missing DIR is created" \
   "$ggrt" render $g -s 8x6 -q -o "$tmp/ap/o.exr" --aov 'a=CB' --aov-png "$tmp/ap/new"
 [ -s "$tmp/ap/new/a.png" ] && ok "render --aov-png: DIR/a.png written" || bad "render --aov-png: DIR/a.png written"
+# Written whole or not at all, -o and the layers together: a file size
+# limit (SIGXFSZ ignored, so write fails with EFBIG) that a layer PNG
+# passes and the EXR does not, and one that the first PNG fails. Either
+# way -o keeps its old bytes and DIR gets no layer and no temporary file.
+for lim in "bg=CB 8" "all=C.* 1"; do
+  mkdir -p "$tmp/ax"; rm -f "$tmp/ax/"*; printf 'old\n' >"$tmp/ax/o.exr"
+  ( trap '' XFSZ; ulimit -f ${lim#* }; "$ggrt" render $g -s 200x150 -q -o "$tmp/ax/o.exr" \
+      --aov "${lim% *}" --aov-png "$tmp/ax/d" ) 2>"$tmp/err"; got=$?
+  if [ $got = 3 ] && [ "$(cat "$tmp/ax/o.exr")" = old ] && [ -z "$(ls -A "$tmp/ax/d" 2>/dev/null)" ]
+  then ok "render --aov-png, write fails ($lim): nothing written, -o kept"
+  else bad "render --aov-png, write fails ($lim): nothing written, -o kept (exit $got)" \
+    "$(cat "$tmp/err"; ls -lA "$tmp/ax" "$tmp/ax/d")"; fi
+done
 # An EXR whose header cannot be written (512 bytes allowed, sh's unit:
 # the layer attributes take more) fails at once. The core reported the
 # error with its context locked and the library's handler locked it
