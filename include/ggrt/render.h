@@ -170,9 +170,14 @@ typedef struct ggRenderOptions {
     void *progress_ud;
     /* Optional per-pixel cost map (ggrt render --heatmap): width * height
        floats, row by row, that ggRender fills with cost_kind's measure for
-       every rendered pixel (corner mode: for the corner at the pixel's top
-       left). It measures the render as it runs: the pixels of a tile that
-       no ray can hit, filled with the background without tracing, get the
+       every rendered pixel, and only those. GG_COST_RAYS adds up to the
+       render's ggRayStats eye + reflect + refract + shadow. Corner mode
+       gives each corner's cost to one pixel: the one whose top left it
+       is, or on the image's right and bottom edges the edge pixel; the
+       depth is the deepest of its corners. A crop's map then leaves out
+       the corners right of and below the crop, which pixels outside it
+       own, so tiles' maps add up to the whole image's. It measures the render as it runs: the
+       pixels of a tile that no ray can hit, filled with the background without tracing, get the
        rays and depth tracing would give and their share of the fill's
        time. NULL = none. */
     float *cost_map;

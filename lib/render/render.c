@@ -220,6 +220,7 @@ typedef struct job {
     void *progress_ud;
     float *cost;
     int cost_kind;
+    float *ccost; /* pixel-corner mode with a cost map: each corner's cost (cw x ch) */
     const ggPathLayers *layers; /* path layers (n > 0), or NULL */
     float *lmap;                /* their map (ggRenderOptions.layer_map), or NULL */
     double *lsum;               /* gg_render_layer_sums: each layer's r + g + b in double, or NULL */
@@ -723,6 +724,16 @@ static double cost_clock(const job *j)
                                           : 0;
 }
 
+/* The cost of grid point (gx, gy): a pixel's own, or in corner mode the
+   corner's, which fold_corner_costs gives to the pixels that own them. */
+static void put_cost(job *j, int gx, int gy, double v)
+{
+    if (j->corner)
+        j->ccost[(size_t)gy * j->cw + gx] = (float)v;
+    else
+        j->cost[(size_t)(j->r.y0 + gy) * j->r.w + (j->r.x0 + gx)] = (float)v;
+}
+
 /* An empty tile's cost map: what fill_empty_tile stands for at each grid
    point (n eye rays that miss, depth 1) or its share of the seconds
    secs the tile took. Cost maps measure the render as it runs, so that
@@ -736,9 +747,33 @@ static void empty_tile_cost(job *j, int gx0, int gy0, int gx1, int gy1, double s
                                                                              : (double)n;
     int gx, gy;
     for (gy = gy0; gy < gy1; gy++)
-        for (gx = gx0; gx < gx1; gx++) {
-            const int x = j->r.x0 + gx, y = j->r.y0 + gy;
-            if (x < j->r.w && y < j->r.h) j->cost[(size_t)y * j->r.w + x] = (float)v;
+        for (gx = gx0; gx < gx1; gx++) put_cost(j, gx, gy, v);
+}
+
+/* Corner mode's cost map: pixel (x, y) owns the corner at its top left,
+   and a pixel on the image's right or bottom edge the corners beyond it
+   too, so that the map adds up to the render's rays (and seconds) with
+   every corner counted once. The depth is the deepest of the corners
+   owned. A crop's corners right of or below it belong to pixels outside
+   it, so tiles' maps add up to the whole image's. */
+static void fold_corner_costs(job *j)
+{
+    const size_t cw = (size_t)j->cw;
+    int x, y;
+    for (y = j->r.y0; y < j->r.y1; y++)
+        for (x = j->r.x0; x < j->r.x1; x++) {
+            const float *c = j->ccost + (size_t)(y - j->r.y0) * cw + (size_t)(x - j->r.x0);
+            const int right = x == j->r.w - 1, bottom = y == j->r.h - 1;
+            float own[4];
+            double v = 0;
+            int n = 0, k;
+            own[n++] = c[0];
+            if (right) own[n++] = c[1];
+            if (bottom) own[n++] = c[cw];
+            if (right && bottom) own[n++] = c[cw + 1];
+            for (k = 0; k < n; k++)
+                v = j->cost_kind == GG_COST_DEPTH ? (own[k] > v ? own[k] : v) : v + own[k];
+            j->cost[(size_t)y * j->r.w + x] = (float)v;
         }
 }
 
@@ -789,7 +824,6 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
                 o[0] = (float)acc.r, o[1] = (float)acc.g, o[2] = (float)acc.b;
             }
             if (j->cost) {
-                int x = j->r.x0 + gx, y = j->r.y0 + gy;
                 double v =
                     j->cost_kind == GG_COST_TIME || j->cost_kind == GG_COST_CPU
                         ? cost_clock(j) - t0
@@ -797,7 +831,7 @@ static void render_tile(job *j, int t, gg_shade_thread *th)
                         ? (double)st->max_depth
                         : (double)(st->eye + st->reflect + st->refract + st->shadow - before.eye -
                                    before.reflect - before.refract - before.shadow);
-                if (x < j->r.w && y < j->r.h) j->cost[(size_t)y * j->r.w + x] = (float)v;
+                put_cost(j, gx, gy, v);
                 if (before.max_depth > st->max_depth) st->max_depth = before.max_depth;
             }
         }
@@ -979,15 +1013,19 @@ static int render_job(job *j0, ggScene *s, const ggRenderOptions *opt, ggImage *
         const size_t nl = j.layers ? (size_t)j.layers->n : 0;
         j.corner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * sizeof(float));
         if (nl) j.lcorner = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, 3 * nl * sizeof(float));
-        if (!j.corner || (nl && !j.lcorner)) {
+        if (j.cost) j.ccost = gg_mem_calloc(s->alloc, (size_t)cw * (size_t)ch, sizeof(float));
+        if (!j.corner || (nl && !j.lcorner) || (j.cost && !j.ccost)) {
             gg_mem_free(s->alloc, j.corner), gg_mem_free(s->alloc, j.lcorner);
+            gg_mem_free(s->alloc, j.ccost);
             pthread_mutex_destroy(&j.mu);
             ggImageFree(img);
             return gg_error_set(err, GG_ERROR_NOMEM, "out of memory for pixel corners");
         }
         run_tiles(&j, cw, ch);
         average_corners(&j, cw);
+        if (j.cost) fold_corner_costs(&j);
         gg_mem_free(s->alloc, j.corner), gg_mem_free(s->alloc, j.lcorner);
+        gg_mem_free(s->alloc, j.ccost);
     } else {
         run_tiles(&j, j.r.x1 - j.r.x0, j.r.y1 - j.r.y0);
     }

@@ -552,6 +552,78 @@ static void test_shortcuts_match_tracing(void **state)
     }
 }
 
+/* A cost map of kind `kind` for o's window into map (w x h, every entry
+   set to -1 first), with the render's statistics in *st. */
+static void cost_render(ggScene *s, ggRenderOptions o, int kind, float *map, ggRayStats *st)
+{
+    size_t i, n = (size_t)o.width * (size_t)o.height;
+    for (i = 0; i < n; i++) map[i] = -1.0f;
+    o.cost_map = map, o.cost_kind = kind;
+    ggImageFree(render(s, &o, st));
+}
+
+/* tu_each_file's callback: on the scene at path, the rays map adds up to
+   the render's rays and the depth map's deepest entry is its max_depth,
+   with pixel centres, 2 samples and pixel corners; a crop writes only its
+   own pixels; and in corner mode the maps of four crops that tile the
+   image are the whole image's map, entry for entry. */
+static void check_cost_sums(const char *path, void *ud)
+{
+    enum { W = 23, H = 17, N = W * H };
+    static float whole[N], deep[N], map[N], tiled[N];
+    ggScene *s = tu_load(path);
+    int mode, k, kind;
+    size_t i;
+    for (mode = 0; mode < 3; mode++) {
+        ggRenderOptions o;
+        ggRayStats st;
+        double sum = 0, deepest = 0;
+        ggRenderOptionsDefault(&o);
+        o.width = W, o.height = H, o.threads = 2;
+        o.samples = mode == 1 ? 2 : 1;
+        o.pixel_corners = mode == 2;
+        cost_render(s, o, GG_COST_RAYS, whole, &st);
+        for (i = 0; i < N; i++) sum += whole[i];
+        if (sum != (double)(st.eye + st.reflect + st.refract + st.shadow))
+            print_error("%s mode %d: map %.0f rays, render %.0f\n", path, mode, sum,
+                        (double)(st.eye + st.reflect + st.refract + st.shadow));
+        assert_true(sum == (double)(st.eye + st.reflect + st.refract + st.shadow));
+        cost_render(s, o, GG_COST_DEPTH, deep, &st);
+        for (i = 0; i < N; i++) deepest = deep[i] > deepest ? deep[i] : deepest;
+        assert_true(deepest == (double)st.max_depth);
+        if (mode != 2) continue;
+        for (kind = GG_COST_RAYS; kind <= GG_COST_DEPTH; kind++) {
+            for (i = 0; i < N; i++) tiled[i] = -1.0f;
+            for (k = 0; k < 4; k++) {
+                ggRenderOptions c = o;
+                c.crop_x0 = k & 1 ? 11 : 0, c.crop_x1 = k & 1 ? W : 11;
+                c.crop_y0 = k & 2 ? 8 : 0, c.crop_y1 = k & 2 ? H : 8;
+                cost_render(s, c, kind, map, &st);
+                for (i = 0; i < N; i++) {
+                    const int x = (int)(i % W), y = (int)(i / W);
+                    const int in =
+                        x >= c.crop_x0 && x < c.crop_x1 && y >= c.crop_y0 && y < c.crop_y1;
+                    assert_true(in ? map[i] >= 0 : map[i] == -1.0f);
+                    if (in) tiled[i] = map[i];
+                }
+            }
+            assert_memory_equal(tiled, kind == GG_COST_RAYS ? whole : deep, sizeof whole);
+        }
+    }
+    ggSceneFree(s);
+    ++*(int *)ud;
+}
+
+static void test_cost_sums(void **state)
+{
+    int n = 0;
+    (void)state;
+    assert_true(tu_each_file("examples/scenes", ".nff", check_cost_sums, &n) >= 10);
+    assert_true(tu_each_file(tu_spd_dir(), ".nff", check_cost_sums, &n) >= 7);
+    assert_true(tu_each_file("tests/data", ".nff", check_cost_sums, &n) >= 1);
+    assert_true(tu_each_file("tests/data/debug", ".nff", check_cost_sums, &n) >= 1);
+}
+
 /* GG_COST_CPU: a CPU time for every pixel (finite, not negative, some
    positive), the image unchanged, the same rays counted. */
 static void test_cost_cpu(void **state)
@@ -764,6 +836,7 @@ int main(void)
         cmocka_unit_test(test_trace_cleared_on_failure),
         cmocka_unit_test(test_camera_ray_far),
         cmocka_unit_test(test_progress_in_pixels),
+        cmocka_unit_test(test_cost_sums),
         cmocka_unit_test(test_cost_cpu),
         cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
