@@ -96,7 +96,7 @@ GG_API ggMaterial ggMaterialDefault(void);
 /* The largest magnitude of an object's coordinates and sizes (sphere
    centres and radii, cone ends and radii, rectangle corners, edges and
    far corners, polygon, triangle and mesh vertices after the mesh's
-   transform) and of a light's position. Within it every product an
+   transform, implicit surfaces' box corners) and of a light's position. Within it every product an
    intersection test forms stays finite, for eye rays from a camera up to
    its 1e150 (they are unit) and for shadow rays, which run from a hit to
    a light unnormalised; beyond it, from about 1e77, triangles, polygons
@@ -230,7 +230,8 @@ GG_API int ggSceneAddCone(ggScene *scene, int material, ggVec3 base, double rb, 
                           double ra);
 /* Rectangle corner + s e1 + t e2, (s, t) in [0,1]^2 = texture (u, v). */
 GG_API int ggSceneAddRect(ggScene *scene, int material, ggVec3 corner, ggVec3 e1, ggVec3 e2);
-/* Takes ownership of imp. */
+/* Takes ownership of imp (freed also on failure); -GG_ERROR_INVALID for
+   a NULL imp or a box corner over GG_COORD_MAX. */
 GG_API int ggSceneAddImplicit(ggScene *scene, int material, ggImplicit *imp);
 
 /* ---- meshes (docs/scene-format.md, "Meshes") ----

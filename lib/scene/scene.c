@@ -399,11 +399,12 @@ static bool size_ok(double r)
     return fabs(r) <= GG_COORD_MAX;
 }
 
-/* Every coordinate and size of o within GG_COORD_MAX; an implicit
-   surface is bounded by its own box's rules, a mesh's vertices by
+/* Every coordinate and size of o within GG_COORD_MAX (an implicit
+   surface's: its box's corners); a mesh's vertices are checked by
    mesh.c. */
 static bool object_in_range(const ggScene *s, const gg_object *o)
 {
+    ggVec3 lo, hi;
     size_t i;
     switch (o->kind) {
     case GG_SHAPE_SPHERE:
@@ -419,6 +420,9 @@ static bool object_in_range(const ggScene *s, const gg_object *o)
         for (i = 0; i < (size_t)o->nverts; i++)
             if (!gg_scene_coord_ok(s->verts[o->vfirst + i])) return false;
         return true;
+    case GG_SHAPE_IMPLICIT:
+        ggImplicitBounds(o->imp, &lo, &hi);
+        return gg_scene_coord_ok(lo) && gg_scene_coord_ok(hi);
     default:
         return true;
     }

@@ -7,7 +7,8 @@
 ** functions, ggSceneAddMesh, the NFF loader, a model file) and a light
 ** there are refused. An audit found triangles, polygons and rectangles
 ** of 1e77 accepted and never hit (a product of four coordinates
-** overflowed); a sphere of 1e20 let a light at 1e150 through.
+** overflowed); a sphere of 1e20 let a light at 1e150 through; implicit
+** surfaces' boxes were not bounded at all.
 */
 #include "testutil.h"
 
@@ -27,12 +28,13 @@ static ggVec3 sub3(ggVec3 a, ggVec3 b)
     return vec3(a.x - b.x, a.y - b.y, a.z - b.z);
 }
 
-enum { SPHERE, TRIANGLE, POLYGON, CONE, RECT, MESH, KINDS };
-static const char *const kind_name[KINDS] = {"sphere", "triangle", "polygon",
-                                             "cone",   "rect",     "mesh"};
+enum { SPHERE, TRIANGLE, POLYGON, CONE, RECT, MESH, IMPLICIT, KINDS };
+static const char *const kind_name[KINDS] = {"sphere", "triangle", "polygon", "cone",
+                                             "rect",   "mesh",     "implicit"};
 
 /* Shape k spanning [-S, S] in x and y around the origin, facing +z (the
-   cone lies along y, radius S); the return of its ggSceneAdd* call. */
+   cone lies along y, radius S; the implicit surface is the sphere of
+   radius S in the box [-S, S]^3); the return of its ggSceneAdd* call. */
 static int add_shape(ggScene *s, int mat, int k, double S)
 {
     const ggVec3 q[4] = {vec3(-S, -S, 0), vec3(S, -S, 0), vec3(S, S, 0), vec3(-S, S, 0)};
@@ -40,6 +42,8 @@ static int add_shape(ggScene *s, int mat, int k, double S)
     ggMeshData d;
     ggMeshOptions o;
     ggError e;
+    ggImplicit *imp;
+    char f[96];
     switch (k) {
     case SPHERE:
         return ggSceneAddSphere(s, mat, vec3(0, 0, 0), S);
@@ -51,6 +55,11 @@ static int add_shape(ggScene *s, int mat, int k, double S)
         return ggSceneAddCone(s, mat, vec3(0, -S, 0), S, vec3(0, S, 0), S);
     case RECT:
         return ggSceneAddRect(s, mat, q[0], vec3(2 * S, 0, 0), vec3(0, 2 * S, 0));
+    case IMPLICIT:
+        snprintf(f, sizeof f, "x*x + y*y + z*z - %.17g", S * S);
+        if (ggImplicitCreateExpr(f, vec3(-S, -S, -S), vec3(S, S, S), NULL, &imp, &e) != GG_OK)
+            fail_msg("%s: %s", f, e.message);
+        return ggSceneAddImplicit(s, mat, imp);
     default:
         memset(&d, 0, sizeof d);
         d.positions = q, d.npositions = 4, d.indices = idx, d.ntriangles = 2;
@@ -99,7 +108,7 @@ static void test_every_scale_is_hit(void **state)
             /* the plane z = 0; the sphere and the cylinder (a cone of
                equal radii) where x^2 + y^2 + z^2 or x^2 + z^2 is S^2 */
             want = 3 * S;
-            if (k == SPHERE) want = (3 - sqrt(1 - 0.015625 - 0.0625)) * S;
+            if (k == SPHERE || k == IMPLICIT) want = (3 - sqrt(1 - 0.015625 - 0.0625)) * S;
             if (k == CONE) want = (3 - sqrt(1 - 0.0625)) * S;
             if (!hit || !(fabs(h.t - want) <= 1e-9 * S) || blocked || !shadowed)
                 print_error("%s at S = %g: hit %d at t = %g (want %g), light blocked %d, "
