@@ -280,13 +280,17 @@ GG_API void ggMeshOptionsDefault(ggMeshOptions *opt);
    OBJ and MTL, the byte offset and element index for binary PLY. Truncated
    files, bad indices, counts beyond the documented limits and NaN or
    infinite numbers are errors. On error the scene is left as it was. */
-/* A mesh file loaded again (the same path, also through an NFF `mesh`
-   line) is read and placed again; the triangles of all such repeated
-   loads in one scene may not exceed GG_MESH_REPEAT_MAX (2^21, about 700
-   MB with the BVH), checked before the file is read again:
-   GG_ERROR_LIMIT "g.obj: named again: its 20000 triangles would bring the
-   triangles of meshes named more than once to 2100000, over the limit of
-   2097152". So a small scene naming one file many times stays bounded. */
+/* A mesh file loaded again (the same file under any path, also through
+   an NFF `mesh` line) is read and placed again. Each such repeated load
+   counts its triangles, 8 more for the mesh's own records and one more
+   per 256 bytes of its group and material names; together they may not
+   exceed GG_MESH_REPEAT_MAX (2^21 triangles' worth, about 700 MB with the
+   BVH) in one scene, checked before the file is read again:
+   GG_ERROR_LIMIT "g.obj: named again: at 20008 triangles' worth (20000
+   triangles, its records and names) it would bring the meshes named more
+   than once to 2100840, over the limit of 2097152". So a small scene
+   naming one file many times stays bounded, in memory and in time (a
+   file's earlier load is found by hashing). */
 #define GG_MESH_REPEAT_MAX ((size_t)1 << 21)
 /* An OBJ's group labels ("object/group", one per distinct pair of o and g
    names, kept for ggSceneGetFaceInfo) may total at most the file's size

@@ -82,31 +82,28 @@ static int load(ggScene *s, const char *data, size_t len, const char *name, cons
 
 /* A mesh file named again costs its triangles again (each mention is
    placed on its own), so a small scene naming one file many times could
-   ask for any amount of memory: the triangles of every mention after a
-   file's first count against GG_MESH_REPEAT_MAX, checked before the file
-   is read again. A file is its device and inode: compared as strings,
-   `./grid.ply`, `././grid.ply`, ... passed the limit (250 such lines
-   naming a 193 KB PLY took 997 MB). Counted from the scene's meshes
-   (each remembers whether it repeats an earlier one: one pass, not one
-   per pair), so a rollback needs no bookkeeping. *repeat: the file was
-   read before. */
+   ask for any amount of memory: every mention after a file's first
+   counts gg_mesh_repeat_cost (its triangles, its records and its names)
+   against GG_MESH_REPEAT_MAX, checked before the file is read again. A
+   file is its device and inode: compared as strings, `./grid.ply`,
+   `././grid.ply`, ... passed the limit (250 such lines naming a 193 KB
+   PLY took 997 MB). The scene keeps the sum and finds a file's first
+   mesh by hashing (lib/scene/mesh.c). *repeat: the file was read
+   before. */
 static int check_repeat(const ggScene *s, const char *path, const gg_file_id *id, bool *repeat,
                         ggError *err)
 {
-    uint64_t again = 0, prev = 0;
-    size_t i;
-    *repeat = false;
-    for (i = 0; i < s->nmeshes; i++) {
-        const gg_mesh *m = &s->meshes[i];
-        if (m->repeat) again += m->ntri;
-        if (!*repeat && m->has_file && m->file_dev == id->dev && m->file_ino == id->ino)
-            *repeat = true, prev = m->ntri;
-    }
-    if (!*repeat || again + prev <= GG_MESH_REPEAT_MAX) return GG_OK;
+    const gg_mesh *first = gg_scene_mesh_by_file(s, id->dev, id->ino);
+    uint64_t prev;
+    *repeat = first != NULL;
+    if (!first || s->mesh_again + (prev = gg_mesh_repeat_cost(first)) <= GG_MESH_REPEAT_MAX)
+        return GG_OK;
     return gg_error_set(err, GG_ERROR_LIMIT,
-                        "%s: named again: its %llu triangles would bring the triangles of meshes "
-                        "named more than once to %llu, over the limit of %lu",
-                        path, (unsigned long long)prev, (unsigned long long)(again + prev),
+                        "%s: named again: at %llu triangles' worth (%llu triangle%s, its records "
+                        "and names) it would bring the meshes named more than once to %llu, over "
+                        "the limit of %lu",
+                        path, (unsigned long long)prev, (unsigned long long)first->ntri,
+                        first->ntri == 1 ? "" : "s", (unsigned long long)(s->mesh_again + prev),
                         (unsigned long)GG_MESH_REPEAT_MAX);
 }
 

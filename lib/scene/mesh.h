@@ -72,6 +72,15 @@ int gg_scene_add_mesh_build(ggScene *s, gg_mesh_build *b, const ggMeshOptions *o
 /* Remove the meshes after the first n (their objects are the caller's to
    remove). */
 void gg_scene_drop_meshes(ggScene *s, size_t n);
+/* The first mesh of s read from the file (dev, ino), or NULL. */
+const gg_mesh *gg_scene_mesh_by_file(const ggScene *s, uint64_t dev, uint64_t ino);
+/* A mesh's own records (struct, name, objects, the top tree's entries),
+   in triangles' worth: 20,000 one-triangle meshes took 1.5 KB each. */
+#define GG_MESH_REPEAT_RECORD 8
+/* What mesh m costs when a file is named again, in triangles: its own,
+   GG_MESH_REPEAT_RECORD more for the mesh's records, and one per 256
+   bytes of its group and material names (GG_MESH_REPEAT_MAX). */
+uint64_t gg_mesh_repeat_cost(const gg_mesh *m);
 
 /* Angle-weighted vertex normals with creases (mesh_normals.c): computes a
    normal for every corner whose vertex has none from the file (all of them

@@ -75,6 +75,7 @@ GG_API void ggSceneFree(ggScene *s)
     gg_scene_drop_textures(s, 0, 0);
     gg_scene_drop_meshes(s, 0);
     gg_mem_free(s->alloc, s->meshes);
+    gg_mem_free(s->alloc, s->mesh_files);
     gg_mem_free(s->alloc, s->objects);
     gg_mem_free(s->alloc, s->materials);
     gg_mem_free(s->alloc, s->lights);

@@ -95,6 +95,10 @@ struct ggScene {
     size_t nverts, cap_verts, cap_norms;
     gg_mesh *meshes;       /* mesh.c */
     size_t nmeshes, cap_meshes;
+    uint64_t mesh_again;   /* gg_mesh_repeat_cost of the meshes that repeat a file */
+    uint32_t *mesh_files;  /* the meshes first to read a file, by (device, inode):
+                              open addressing, mesh index + 1, 0 empty */
+    size_t cap_mesh_files; /* a power of two, or 0 */
 
     /* Valid after prepare. */
     bool prepared;

@@ -88,7 +88,7 @@ with open(sys.argv[1], "w") as f:
             a = j * (n + 1) + i + 1
             f.write("f %d %d %d\nf %d %d %d\n" % (a, a + 1, a + n + 2, a, a + n + 2, a + n + 1))' "$lim/g.obj"
   i=0; while [ $i -lt 200 ]; do echo 'mesh "g.obj"'; i=$((i + 1)); done >"$lim/gm.nff"
-  under_1g 2 "gm.nff:106:6: mesh: $lim/g.obj: named again: its 20000 triangles would bring the triangles of meshes named more than once to 2100000, over the limit of 2097152" \
+  under_1g 2 "gm.nff:106:6: mesh: $lim/g.obj: named again: at 20008 triangles' worth (20000 triangles, its records and names) it would bring the meshes named more than once to 2100840, over the limit of 2097152" \
     "a $(wc -c <"$lim/g.obj")-byte OBJ named 200 times" "$ggrt" info "$lim/gm.nff"
   # The same file under 200 names (g.obj, ./g.obj, ././g.obj, then links):
   # the limit counts files, not spellings (compared as strings, 250
@@ -96,9 +96,28 @@ with open(sys.argv[1], "w") as f:
   { echo 'mesh "g.obj"'; echo 'mesh "./g.obj"'; echo 'mesh "././g.obj"'; i=4
     while [ $i -le 200 ]; do ln -sf g.obj "$lim/l$i.obj"; echo "mesh \"l$i.obj\""; i=$((i + 1)); done
   } >"$lim/gs.nff"
-  under_1g 2 "gs.nff:106:6: mesh: $lim/l106.obj: named again: its 20000 triangles would bring the triangles of meshes named more than once to 2100000, over the limit of 2097152" \
+  under_1g 2 "gs.nff:106:6: mesh: $lim/l106.obj: named again: at 20008 triangles' worth (20000 triangles, its records and names) it would bring the meshes named more than once to 2100840, over the limit of 2097152" \
     "one OBJ named 200 times under 200 spellings" "$ggrt" info "$lim/gs.nff"
 fi
+
+# A one-triangle OBJ named 300,000 times (4.2 MB): each line searched
+# the meshes before it, 80,000 lines took 185 s; the first of a file is
+# now found by hashing, and each repeat costs its records (8 triangles'
+# worth). Under a KILL at 60 s.
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$lim/t1.obj"
+python3 -c '
+import sys
+open(sys.argv[1], "w").write("mesh \"t1.obj\"\n" * 300000)' "$lim/t1.nff"
+under_1g 2 "t1.nff:233018:6: mesh: $lim/t1.obj: named again: at 9 triangles' worth (1 triangle, its records and names) it would bring the meshes named more than once to 2097153, over the limit of 2097152" \
+  "a one-triangle OBJ named 300,000 times" timeout -s KILL 60 "$ggrt" info "$lim/t1.nff"
+# The same with a 100,000-byte o name, named 20,000 times (2 GB of
+# names): each repeat counts its names too.
+python3 -c '
+import sys
+open(sys.argv[1], "w").write("o " + "n" * 100000 + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")' "$lim/tn.obj"
+i=0; while [ $i -lt 20000 ]; do echo 'mesh "tn.obj"'; i=$((i + 1)); done >"$lim/tn.nff"
+under_1g 2 "tn.nff:5258:6: mesh: $lim/tn.obj: named again: at 399 triangles' worth (1 triangle, its records and names) it would bring the meshes named more than once to 2097543, over the limit of 2097152" \
+  "a one-triangle OBJ with a 100,000-byte name named 20,000 times" timeout -s KILL 60 "$ggrt" info "$lim/tn.nff"
 
 # One 400,000-byte o name and 10,000 g names (559 KB): every (o, g) pair
 # stored its whole label, 4 GB (500 names took 200 MB). The labels may
