@@ -6,8 +6,10 @@
 # ldconfig, removed again on exit; otherwise an rpath), then every compile
 # line of README.md that builds prog.c, run as written on an example
 # (ray_color.c, which uses libm; core_static.c for ggrt-core), and each
-# program run without LD_LIBRARY_PATH; then README's library program,
-# compiled as pasted and run on a good and on a broken scene.
+# program run without LD_LIBRARY_PATH; core_static.c linked with plain
+# `pkg-config --cflags --libs ggrt-core` (no --static) and run; then
+# README's library program, compiled as pasted and run on a good and on a
+# broken scene.
 #   sh tests/build/install.sh BUILD          (make installcheck runs it)
 build=$1
 make=${MAKE:-make}
@@ -78,6 +80,18 @@ while IFS= read -r line; do
   rm -f "$out/prog"
 done < "$out/lines"
 echo "installcheck: $n README compile lines built and ran against the real install"
+
+# libggrt-core is an archive only, so even a link without --static takes
+# it whole and needs its libraries (libm, pthreads) from plain --libs: a
+# program linked dynamically against libc with `pkg-config --cflags --libs
+# ggrt-core`, as docs/internals.md and scene.h name it, must link and run.
+cmd='cc -o prog core_static.c $(pkg-config --cflags --libs ggrt-core)'
+cp "$here/examples/core_static.c" "$out/core_static.c"
+(cd "$out" && sh -c "$cmd" >"$out/cc.log" 2>&1) ||
+  { tail -n 5 "$out/cc.log"; fail "'$cmd' (no --static) does not link: pkg-config --libs ggrt-core gives $(pkg-config --libs ggrt-core)"; }
+(cd "$out" && ./prog >"$out/run.log" 2>&1) || { cat "$out/run.log"; fail "'$cmd': the program failed"; }
+echo "installcheck: $cmd linked ($(pkg-config --libs ggrt-core | sed 's/ *$//')) and ran"
+rm -f "$out/prog" "$out/core_static.c"
 
 # README's library program, pasted as it stands: built by the compile line
 # its own comment gives (with -std=c99 -Wall -Wextra -pedantic -Werror, so
