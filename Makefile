@@ -53,7 +53,9 @@ LDFLAGS ?=
 GG_EXE_LDFLAGS ?=
 INSTALL ?= install
 
-# Flags for our code. Users' CFLAGS add to these; they cannot turn them off.
+# Flags for our code. Users' CPPFLAGS and CFLAGS add to these (after them on
+# every compile line, so -D_FORTIFY_SOURCE=2 or an -I reaches each object);
+# they cannot turn them off.
 # -Werror only where the project builds itself (make check, CI): a user's
 # plain `make` on another compiler should not fail on a new warning.
 GG_WERROR ?=
@@ -210,7 +212,7 @@ cli: $(CLI)
 
 # A library object of layer $(1) (the folder of $<).
 lib_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING $(call layer_inc,$(1)) $($(1)_CFLAGS) $(GG_WARN) \
-	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
+	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CPPFLAGS) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
 define layer_rule
 $$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
 	@mkdir -p $$(@D)
@@ -260,7 +262,7 @@ $(BUILD)/libggrt.so: $(SHARED)
 CLI_INC = -Icli
 $(BUILD)/cli/%.o: cli/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
 # Whether serve is built in: a file that changes only when that does, so
 # that installing libmicrohttpd (or `make MHD_LIBS=` to leave it out)
@@ -276,7 +278,7 @@ $(BUILD)/cli/serve/web_assets.c: $(WEB_SRC) cli/serve/web/embed.sh
 	@mkdir -p $(@D)
 	sh cli/serve/web/embed.sh $(WEB_SRC) > $@.tmp && mv $@.tmp $@
 $(BUILD)/cli/serve/web_assets.o: $(BUILD)/cli/serve/web_assets.c
-	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(CLI_DEFS) $(CLI_INC) $(GG_WARN) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
 # -ldl: `ggrt optics check --lib` (cli/optics/optics_check.c) and `ggrt serve`
 # (libmicrohttpd, cli/serve/serve_http.c); the library never loads code.
@@ -286,7 +288,7 @@ $(CLI): $(CLI_OBJ) $(STATIC)
 # Tests may look inside (every layer) and link the static archive.
 $(BUILD)/tests/%.o: tests/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
 $(filter-out $(SCALAR_TESTS),$(TEST_BIN)): %: %.o $(TESTUTIL_OBJ) $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $< $(TESTUTIL_OBJ) $(STATIC) -lcmocka $(IMG_LIBS) $(SYS_LIBS)
@@ -297,7 +299,7 @@ $(filter-out $(SCALAR_TESTS),$(TEST_BIN)): %: %.o $(TESTUTIL_OBJ) $(STATIC)
 # archive: nothing depends on link order).
 SCALAR_GEOM := $(patsubst $(BUILD)/lib/%,$(BUILD)/scalar/lib/%,$(filter $(BUILD)/lib/geom/%,$(FULL_OBJ)))
 scalar_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
-	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CFLAGS) -c $< -o $@
+	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
 	$(scalar_cc)
@@ -309,7 +311,7 @@ $(SCALAR_TESTS): %: %.o $(TESTUTIL_OBJ) $(FULL_OBJ) $(SCALAR_GEOM)
 # Each fuzz harness also builds with the plain compiler as a corpus replayer.
 $(BUILD)/tests/fuzz/%.o: tests/fuzz/%.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CFLAGS) -c $< -o $@
+	$(CC) $(GG_CPPFLAGS) $(TEST_INC) $(GG_WARN) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
 $(BUILD)/tests/replay_%: $(BUILD)/tests/fuzz/fuzz_%.o $(BUILD)/tests/fuzz/replay.o $(STATIC)
 	$(CC) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
@@ -322,18 +324,18 @@ $(BUILD)/tests/replay_json: $(BUILD)/cli/render/jdom.o
 
 $(BUILD)/bench/%: bench/%.c $(STATIC)
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) $(GG_WARN) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
+	$(CC) $(GG_CPPFLAGS) $(ALL_LAYER_INC) $(GG_WARN) $(CPPFLAGS) $(CFLAGS) -o $@ $< $(STATIC) $(IMG_LIBS) $(SYS_LIBS)
 
 # `ggrt optics check` measures this one (tests/cli/t_optics_check.sh); built
 # by `make` so that README's `optics check --lib` line works after it.
 $(BUILD)/libtextbook_refract.so: examples/textbook_refract.c
 	@mkdir -p $(@D)
-	$(CC) $(GG_CPPFLAGS) $(GG_WARN) $(CFLAGS) -fPIC -shared $(LDFLAGS) -o $@ $< -lm
+	$(CC) $(GG_CPPFLAGS) $(GG_WARN) $(CPPFLAGS) $(CFLAGS) -fPIC -shared $(LDFLAGS) -o $@ $< -lm
 
 # examples/fuzz_your_refract.c as a corpus replayer (tests/fuzz/replay.c),
 # against ggRefract and against the textbook function (tests/cli/t_optics_check.sh).
 YOURFUZZ = $(BUILD)/tests/yourfuzz_ggrefract $(BUILD)/tests/yourfuzz_textbook
-YOURFUZZ_CC = $(CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(GG_WARN) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS)
+YOURFUZZ_CC = $(CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(GG_WARN) $(CPPFLAGS) $(CFLAGS) $(LDFLAGS) $(GG_EXE_LDFLAGS)
 $(BUILD)/tests/yourfuzz_ggrefract: examples/fuzz_your_refract.c tests/fuzz/replay.c $(STATIC)
 	@mkdir -p $(@D)
 	$(YOURFUZZ_CC) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
@@ -570,7 +572,7 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	done
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig; \
 	  export PKG_CONFIG_SYSROOT_DIR PKG_CONFIG_PATH; out=$(abspath $(BUILD))/examples; \
-	  $(CC) -std=c99 -O2 -static -o $$out/core_static_static examples/core_static.c \
+	  $(CC) -std=c99 -O2 $(CPPFLAGS) -static -o $$out/core_static_static examples/core_static.c \
 	    `pkg-config --static --cflags --libs ggrt-core` \
 	    || { echo "installcheck: static link against libggrt-core failed"; exit 1; }; \
 	  if readelf -d $$out/core_static_static | grep -q NEEDED; then \
@@ -587,7 +589,7 @@ examples:
 	@mkdir -p $(EXAMPLE_OUT)
 	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
 	  echo "$(CC) examples/$$e.c \`pkg-config --cflags --libs ggrt\` -lm"; \
-	  $(CC) -std=c99 -Wall -Wextra -pedantic -Werror -O2 -o $(EXAMPLE_OUT)/$$e examples/$$e.c \
+	  $(CC) -std=c99 -Wall -Wextra -pedantic -Werror -O2 $(CPPFLAGS) -o $(EXAMPLE_OUT)/$$e examples/$$e.c \
 	    `pkg-config --cflags --libs ggrt` -lm || exit 1; \
 	done
 
@@ -611,7 +613,7 @@ fuzz: deps-fuzz
 	@for f in $(FUZZ); do \
 	  rm -f $(BUILD)/fuzz/fuzz_$$f; \
 	  cli=$$(for p in $(FUZZ_CLI); do case $$p in "$$f":*) echo "$${p#*:}" ;; esac; done); \
-	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(TEST_INC) $(CLI_INC) -std=c99 -g -O1 \
+	  $(FUZZ_CC) -D_POSIX_C_SOURCE=200809L -Iinclude $(TEST_INC) $(CLI_INC) $(CPPFLAGS) -std=c99 -g -O1 \
 	    -fsanitize=fuzzer $(FUZZ_SAN) -o $(BUILD)/fuzz/fuzz_$$f tests/fuzz/fuzz_$$f.c $$cli \
 	    $(BUILD)/fuzzlib/libggrt.a $(IMG_LIBS) $(SYS_LIBS) || echo "fuzz: fuzz_$$f did not build"; \
 	done

@@ -5,6 +5,8 @@
 # with more than the README's commands do):
 #  - plain `make` builds build/libtextbook_refract.so, which README's
 #    `ggrt optics check --lib build/libtextbook_refract.so` line needs;
+#  - every line of the build, the tests and the benchmarks that compiles C
+#    takes the user's CPPFLAGS;
 #  - `make demo` installs what `ggrt serve` needs, which README shows next;
 #  - no command README shows writes into a file the repository tracks
 #    (its `trace --svg docs/trace-glass.svg` once rewrote the picture
@@ -25,6 +27,19 @@ MAKEFLAGS= MFLAGS= $make -n --no-print-directory BUILD="$tmp/b" all > "$tmp/plan
 grep -q -- "-o $tmp/b/libtextbook_refract.so " "$tmp/plan" ||
   fail "plain make does not build libtextbook_refract.so (README's optics check line needs it)"
 echo "targets: plain make builds libtextbook_refract.so"
+
+# Every line that compiles C takes the user's CPPFLAGS (Debian's
+# dpkg-buildflags puts -D_FORTIFY_SOURCE=2 there): a dry run of the
+# build, the test programs and the benchmarks with a marker in CPPFLAGS.
+MAKEFLAGS= MFLAGS= $make -n --no-print-directory BUILD="$tmp/c" CPPFLAGS=-DGG_TEST_CPPFLAGS \
+  all tests bench > "$tmp/cpp" 2>&1 || { cat "$tmp/cpp"; fail "make -n CPPFLAGS=... all tests bench failed"; }
+awk '{ c = 0; o = 0; for (i = 1; i <= NF; i++) { if ($i ~ /[.]c$/) c = 1; if ($i == "-o") o = 1 } }
+     c && o' "$tmp/cpp" > "$tmp/cc"
+[ -s "$tmp/cc" ] || fail "make -n all tests bench shows no line that compiles a .c file"
+if grep -v -- ' -DGG_TEST_CPPFLAGS ' "$tmp/cc" > "$tmp/nocpp"; then
+  cat "$tmp/nocpp"; fail "$(wc -l < "$tmp/nocpp") compile lines above ignore CPPFLAGS"
+fi
+echo "targets: all $(wc -l < "$tmp/cc") compile lines of make all tests bench take the user's CPPFLAGS"
 
 demo=" $(sh scripts/deps.sh --list demo) "
 for p in $(sh scripts/deps.sh --list build) $(sh scripts/deps.sh --list serve); do
