@@ -54,6 +54,11 @@ static int dispatch(int argc, char **argv)
         return EXIT_OK;
     }
     if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
+        if (argc > 2) {
+            cli_error("unexpected argument '%s' (%s takes none)", argv[2], argv[1]);
+            fprintf(stderr, "run 'ggrt --help' for the list of commands\n");
+            return EXIT_USAGE;
+        }
         printf("ggrt %s\n", ggVersion());
         return EXIT_OK;
     }
@@ -64,14 +69,24 @@ static int dispatch(int argc, char **argv)
             return commands[i].run(argc - 1, argv + 1);
         }
     }
-    /* Two lines, not the whole usage: the typo and where the list is. */
-    near = cli_suggest(argv[1], names, i);
-    if (near)
-        cli_error("unknown command '%s'; did you mean '%s'?", argv[1], near);
-    else
-        cli_error("unknown command '%s'", argv[1]);
+    /* A usage error like a subcommand's unknown option (exit 1), in two
+       lines, not the whole usage: the typo and where the list is. */
+    if (argv[1][0] == '-') {
+        static const char *const opts[] = {"--help", "--version"};
+        near = cli_suggest(argv[1], opts, sizeof opts / sizeof opts[0]);
+        if (near)
+            cli_error("unknown option '%s'; did you mean '%s'?", argv[1], near);
+        else
+            cli_error("unknown option '%s'", argv[1]);
+    } else {
+        near = cli_suggest(argv[1], names, i);
+        if (near)
+            cli_error("unknown command '%s'; did you mean '%s'?", argv[1], near);
+        else
+            cli_error("unknown command '%s'", argv[1]);
+    }
     fprintf(stderr, "run 'ggrt --help' for the list of commands\n");
-    return EXIT_INPUT;
+    return EXIT_USAGE;
 }
 
 int main(int argc, char **argv)

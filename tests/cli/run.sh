@@ -49,7 +49,11 @@ got:  $(cat "$tmp/err")"; fi
 # ---- usage and help ----
 expect_exit 0 "ggrt --help" "$ggrt" --help
 expect_exit 1 "ggrt with no command" "$ggrt"
-expect_exit 2 "unknown command" "$ggrt" frobnicate
+expect_exit 1 "unknown command" "$ggrt" frobnicate
+expect_exit 1 "unknown top-level option" "$ggrt" --bogus
+expect_exit 1 "unknown top-level short option" "$ggrt" -x
+expect_exit 1 "--version with an argument" "$ggrt" --version extra
+expect_exit 0 "ggrt --version" "$ggrt" --version
 for c in render trace info optics bench; do
   expect_exit 0 "ggrt $c --help" "$ggrt" $c --help
 done

@@ -158,19 +158,34 @@ else bad "check glass.nff: truncation names the depth limit and -d (exit $got)" 
   ok "check --ray-budget 2: the hint names the ray budget" ||
   bad "check --ray-budget 2: the hint names the ray budget (exit $got)" "$(tail -6 "$ed/out")"
 
-# ---- 7. an unknown command: the typo, a suggestion, one pointer (exit 2) ----
+# ---- 7. an unknown command or option: the typo, a suggestion, one pointer (exit 1) ----
 for c in render trace find check diff info optics bench serve; do
   "$ggrt" "${c}x" >"$ed/out" 2>"$ed/err"; got=$?
-  if [ $got = 2 ] && [ "$(wc -l <"$ed/err")" = 2 ] &&
+  if [ $got = 1 ] && [ "$(wc -l <"$ed/err")" = 2 ] &&
      grep -qxF "ggrt: unknown command '${c}x'; did you mean '$c'?" "$ed/err" &&
      grep -qxF "run 'ggrt --help' for the list of commands" "$ed/err"
   then ok "unknown command ${c}x: did you mean $c"
   else bad "unknown command ${c}x: did you mean $c (exit $got)" "$(cat "$ed/err")"; fi
 done
 "$ggrt" frobnicate >"$ed/out" 2>"$ed/err"; got=$?
-[ $got = 2 ] && [ "$(wc -l <"$ed/err")" = 2 ] && grep -qxF "ggrt: unknown command 'frobnicate'" "$ed/err" &&
+[ $got = 1 ] && [ "$(wc -l <"$ed/err")" = 2 ] && grep -qxF "ggrt: unknown command 'frobnicate'" "$ed/err" &&
   ok "unknown command frobnicate: two lines, no guess" ||
   bad "unknown command frobnicate: two lines, no guess (exit $got)" "$(cat "$ed/err")"
+# An unknown option before any command is an option, not a command.
+for o in --bogus -x; do
+  "$ggrt" $o >"$ed/out" 2>"$ed/err"; got=$?
+  [ $got = 1 ] && [ "$(wc -l <"$ed/err")" = 2 ] && grep -qxF "ggrt: unknown option '$o'" "$ed/err" &&
+    ok "unknown option $o: two lines, exit 1" ||
+    bad "unknown option $o: two lines, exit 1 (exit $got)" "$(cat "$ed/err")"
+done
+"$ggrt" --verison >"$ed/out" 2>"$ed/err"; got=$?
+[ $got = 1 ] && grep -qxF "ggrt: unknown option '--verison'; did you mean '--version'?" "$ed/err" &&
+  ok "unknown option --verison: did you mean --version" ||
+  bad "unknown option --verison: did you mean --version (exit $got)" "$(cat "$ed/err")"
+"$ggrt" --version extra >"$ed/out" 2>"$ed/err"; got=$?
+[ $got = 1 ] && [ ! -s "$ed/out" ] && grep -qxF "ggrt: unexpected argument 'extra' (--version takes none)" "$ed/err" &&
+  ok "--version extra: a usage error, no version printed" ||
+  bad "--version extra: a usage error, no version printed (exit $got)" "$(cat "$ed/out" "$ed/err")"
 
 # ---- 8. a scene with no lights or no objects renders with a warning ----
 printf 'b 0.1 0.1 0.1\n' >"$ed/empty.nff"
