@@ -65,7 +65,7 @@ run=$(printf '%s' "$line" | sed "s#build/#$build/#g")
 sh -c "$run" > "$tmp/out" 2>&1
 rc=$?
 # The textbook formula misses the 1-ulp bound: exit 4 and a table, not
-# exit 3 (cannot load the library).
+# exit 2 (cannot load the library or find the symbol).
 [ $rc = 4 ] && grep -q 'textbook_refract from ' "$tmp/out" ||
   { cat "$tmp/out"; fail "README's '$line' exited $rc (want 4, the textbook formula measured)"; }
 echo "targets: README's '$line' ran: $(tail -n 1 "$tmp/out")"
