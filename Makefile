@@ -520,13 +520,17 @@ pc:
 	@rm -f $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc
 	@$(MAKE) --no-print-directory $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc
 
+# The headers of include/ggrt/, installed and uninstalled by name. The
+# shared library is mode 644, as Debian's policy (8.1) and lintian want:
+# it is mapped, not executed.
+HEADERS := $(sort $(wildcard include/ggrt/*.h))
 install: all pc
 	$(INSTALL) -d $(DESTDIR)$(INCLUDEDIR)/ggrt $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PKGCONFIGDIR) \
 	  $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1
 	$(INSTALL) -m 644 include/ggrt.h $(DESTDIR)$(INCLUDEDIR)/
-	$(INSTALL) -m 644 include/ggrt/*.h $(DESTDIR)$(INCLUDEDIR)/ggrt/
+	$(INSTALL) -m 644 $(HEADERS) $(DESTDIR)$(INCLUDEDIR)/ggrt/
 	$(INSTALL) -m 644 $(STATIC) $(CORE_STATIC) $(DESTDIR)$(LIBDIR)/
-	$(INSTALL) -m 755 $(SHARED) $(DESTDIR)$(LIBDIR)/
+	$(INSTALL) -m 644 $(SHARED) $(DESTDIR)$(LIBDIR)/
 	ln -sf libggrt.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
 	ln -sf libggrt.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libggrt.so
 	$(INSTALL) -m 644 $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc $(DESTDIR)$(PKGCONFIGDIR)/
@@ -540,7 +544,9 @@ uninstall:
 	  $(DESTDIR)$(LIBDIR)/libggrt.so $(DESTDIR)$(LIBDIR)/$(SONAME) \
 	  $(DESTDIR)$(LIBDIR)/libggrt.so.$(VERSION) $(DESTDIR)$(PKGCONFIGDIR)/ggrt.pc \
 	  $(DESTDIR)$(BINDIR)/ggrt $(DESTDIR)$(MANDIR)/man1/ggrt.1
-	rm -rf $(DESTDIR)$(INCLUDEDIR)/ggrt
+	rm -f $(HEADERS:include/%=$(DESTDIR)$(INCLUDEDIR)/%)
+	@[ ! -d $(DESTDIR)$(INCLUDEDIR)/ggrt ] || rmdir $(DESTDIR)$(INCLUDEDIR)/ggrt 2>/dev/null || \
+	  echo "uninstall: kept $(DESTDIR)$(INCLUDEDIR)/ggrt: it holds files make install did not put there"
 	@[ -n "$(DESTDIR)" ] || sh scripts/ldcache.sh uninstall "$(LIBDIR)" $(SONAME) "$(LDCONFIG)"
 
 # Stage an install under $(BUILD)/stage with PREFIX=/usr and build and run

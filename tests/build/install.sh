@@ -9,7 +9,7 @@
 # program run without LD_LIBRARY_PATH; core_static.c linked with plain
 # `pkg-config --cflags --libs ggrt-core` (no --static) and run; then
 # README's library program, compiled as pasted and run on a good and on a
-# broken scene.
+# broken scene; last, the installed files' modes and `make uninstall`.
 #   sh tests/build/install.sh BUILD          (make installcheck runs it)
 build=$1
 make=${MAKE:-make}
@@ -119,3 +119,23 @@ grep -q '^scene\.nff:1:7: ' "$out/run.log" ||
   { cat "$out/run.log"; fail "README's library program does not print the error (scene.nff:1:7: ...)"; }
 [ ! -e "$out/out.png" ] || fail "README's library program wrote out.png from a broken scene"
 echo "installcheck: README's library program compiled ($cline -Werror), rendered default.nff to a PNG, and reported a broken scene ($(head -n 1 "$out/run.log"))"
+
+# The installed files' modes: nothing under lib/ is executable (the shared
+# library is mode 644, as Debian's policy 8.1 wants). Then make uninstall
+# removes every file make install put there and nothing else: a file of
+# someone else's in include/ggrt/ stays, and so does the folder, until a
+# second uninstall finds it empty and removes it.
+x=$(find "$prefix/lib" -type f -perm /111)
+[ -z "$x" ] || fail "make install left executable files under lib/: $x"
+touch "$prefix/include/ggrt/other.h"
+$make --no-print-directory uninstall BUILD="$build" PREFIX="$prefix" >"$prefix/progs/un.log" 2>&1 ||
+  { cat "$prefix/progs/un.log"; fail "make uninstall PREFIX=$prefix failed"; }
+left=$(cd "$prefix" && find . -path ./progs -prune -o \( -type f -o -type l \) -print |
+  grep -vx './include/ggrt/other.h')
+[ -z "$left" ] || fail "make uninstall left files behind: $left"
+[ -f "$prefix/include/ggrt/other.h" ] || fail "make uninstall removed include/ggrt/other.h, which it did not install"
+rm -f "$prefix/include/ggrt/other.h"
+$make --no-print-directory uninstall BUILD="$build" PREFIX="$prefix" >"$prefix/progs/un.log" 2>&1 ||
+  { cat "$prefix/progs/un.log"; fail "a second make uninstall PREFIX=$prefix failed"; }
+[ ! -d "$prefix/include/ggrt" ] || fail "make uninstall kept the empty include/ggrt"
+echo "installcheck: lib/ holds no executable file; make uninstall removed what install put there and kept a foreign include/ggrt/other.h"
