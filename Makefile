@@ -205,6 +205,8 @@ CLI    = $(BUILD)/ggrt
         check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
 .DEFAULT_GOAL := all
 .SECONDARY:
+# A recipe that fails removes its half-written target.
+.DELETE_ON_ERROR:
 
 all: lib cli $(BUILD)/libtextbook_refract.so
 lib: $(STATIC) $(CORE_STATIC) $(SHARED) $(BUILD)/libggrt.so
