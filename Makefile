@@ -13,6 +13,7 @@
 #                        suites print TAP, tests/run-tests.sh reads it: see check below)
 #   make demo            install the missing packages the build and ggrt serve need,
 #                        build, render the default scene
+#   make help            the targets and the variables users set
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
 #                        page); a live install (no DESTDIR) refreshes ldconfig's cache
 #   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each; every
@@ -199,7 +200,7 @@ SONAME = libggrt.so.$(VERSION_MAJOR)
 SHARED = $(BUILD)/libggrt.so.$(VERSION)
 CLI    = $(BUILD)/ggrt
 
-.PHONY: all lib cli check test test-tsan tests deps demo install uninstall installcheck \
+.PHONY: all help lib cli check test test-tsan tests deps demo install uninstall installcheck \
         clean fuzz bench examples format pc layers FORCE check-browser check-cluster bench-serve \
         bench-plan \
         check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
@@ -211,6 +212,24 @@ CLI    = $(BUILD)/ggrt
 all: lib cli $(BUILD)/libtextbook_refract.so
 lib: $(STATIC) $(CORE_STATIC) $(SHARED) $(BUILD)/libggrt.so
 cli: $(CLI)
+
+help:
+	@echo 'make [TARGET] [VARIABLE=value...]; details: the comments at the top of Makefile'
+	@echo 'targets:'
+	@echo '  all            (default) the libraries, ggrt and libtextbook_refract.so in $$(BUILD)'
+	@echo '  install        headers, libraries, .pc files, ggrt, ggrt(1); uninstall removes them'
+	@echo '  demo           install missing packages, build, render demo.png'
+	@echo '  test           build the test programs in $$(BUILD) and run every suite'
+	@echo '  check          install missing packages, every suite in every build (long)'
+	@echo '  installcheck   the examples and README lines against a staged and a real install'
+	@echo '  examples fuzz bench bench-NAME check-browser check-cluster format clean'
+	@echo 'variables (their values now):'
+	@echo '  PREFIX=$(PREFIX) DESTDIR=$(DESTDIR) (staging root)'
+	@echo '  LIBDIR=$(LIBDIR) INCLUDEDIR=$(INCLUDEDIR) BINDIR=$(BINDIR) MANDIR=$(MANDIR)'
+	@echo '  BUILD=$(BUILD) (objects and programs) CC=$(CC)'
+	@echo '  CFLAGS=$(CFLAGS) CPPFLAGS=$(CPPFLAGS) LDFLAGS=$(LDFLAGS) (added to the project'"'"'s)'
+	@echo '  LDCONFIG=$(LDCONFIG) (empty: not run) GG_WERROR=$(GG_WERROR) (-Werror: warnings fail)'
+	@echo '  GG_NO_DEPS=1: install no packages (check, demo, fuzz...; scripts/deps.sh)'
 
 # A library object of layer $(1) (the folder of $<).
 lib_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING $(call layer_inc,$(1)) $($(1)_CFLAGS) $(GG_WARN) \
