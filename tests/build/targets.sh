@@ -10,7 +10,7 @@
 #  - `make demo` installs what `ggrt serve` needs, which README shows next;
 #  - no command README shows writes into a file the repository tracks
 #    (its `trace --svg docs/trace-glass.svg` once rewrote the picture
-#    beside it, differently);
+#    beside it, differently), or into one git does not ignore;
 #  - with a build folder given, README's `optics check --lib` line runs as
 #    written (build/ replaced by that folder) and measures the library.
 #   sh tests/build/targets.sh [BUILD]       (make check runs it)
@@ -55,8 +55,11 @@ while read -r f; do
   if git ls-files --error-unmatch -- "$f" >/dev/null 2>&1 || { [ ! -d .git ] && [ -e "$f" ]; }; then
     fail "README's command line writes $f, a file of the repository"
   fi
+  if git rev-parse --is-inside-work-tree >/dev/null 2>&1 && ! git check-ignore -q --no-index -- "$f"; then
+    fail "README's command line writes $f, which .gitignore does not name (git status would list it)"
+  fi
 done < "$tmp/outs"
-echo "targets: README's $(wc -l < "$tmp/outs") output paths are none of the repository's files"
+echo "targets: README's $(wc -l < "$tmp/outs") output paths are none of the repository's files, and git ignores them"
 
 [ -n "$build" ] || exit 0
 line=$(grep '^    build/ggrt optics check --lib ' README.md | head -n 1 | sed 's/^    //; s/ *#.*//')
