@@ -671,8 +671,10 @@ format:
 	clang-format -i include/*.h include/ggrt/*.h lib/*/*.c lib/*/*.h cli/*.c cli/*/*.c cli/*/*.h \
 	  tests/*/*.c tests/unit/*/*.c tests/common/*.h bench/*.c examples/*.c
 
+# demo.png: what make demo writes into the top folder.
 clean:
 	rm -rf $(BUILD)
+	rm -f demo.png
 
 -include $(wildcard $(BUILD)/lib/*/*.d $(BUILD)/scalar/lib/*/*.d $(BUILD)/cli/*.d $(BUILD)/cli/*/*.d \
   $(BUILD)/tests/*/*.d $(BUILD)/tests/unit/*/*.d)
