@@ -27,10 +27,12 @@ one server per scene:
   kept and the summary equal ggrt trace --path's), the URL keeping it;
 - the layout at 1280 and 1920 px wide: the tree panel inside the window in
   normal and diff mode and at 4x zoom (screenshots in build/browser/);
+- regressions (fixes): one check per bug fixed in the page (the 3D
+  view's redraw time, typing in the find and path boxes, ...);
 - with --docs DIR, the linked 3D views of glass and knot, and the path
   filter on glass, as PNGs there (docs/serve.md shows them).
     /usr/bin/python3 tests/browser/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
-        [--only glass,layout,first,scenes,paths,docs]
+        [--only glass,layout,first,scenes,paths,fixes,docs]
 Prints one line per check and ends with "browser: N passed, M failed"."""
 import json
 import os
@@ -850,6 +852,44 @@ def docs_shots(d, folder):
             srv.stop()
 
 
+# ---- regressions: one check per bug fixed in the page ----
+
+def fix_3d_clip(d):
+    """The 3D view clips its rays to the canvas: a ray that runs far off
+    screen (nan.nff, pixel 48,36, a node hovered) used to reach the 2D
+    canvas at 1e5 px and take seconds per redraw."""
+    srv = Server("tests/data/debug/nan.nff", "-s", "96x72", "-d", "5")
+    try:
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image") or page_error(d), 60)
+        click_pixel(d, 48, 36)
+        wait(d, "pixel", lambda: selected_pixel(d) == "48,36", 30)
+        wait(d, "3d", lambda: attr(d, "box3d", "data-triangles"), 10)
+        node = d.find_elements(By.CSS_SELECTOR, "#tree-a details.node > summary")[1]
+        ActionChains(d).move_to_element(node).perform()
+        time.sleep(0.5)
+        ms = d.execute_script(
+            "const out = []; for (let i = 0; i < 4; i++) { const t0 = performance.now();"
+            " window.ggrtView3d.draw();"
+            " document.getElementById('ov3d').getContext('2d').getImageData(0, 0, 1, 1);"
+            " out.push(performance.now() - t0); } return out.slice(1);")  # the first: a warm-up
+        far = d.execute_script("return Math.max(0, ...window.ggrtView3d.segs.flatMap("
+                               "(s) => s.s.flat().map(Math.abs)));")
+        check(max(ms) < 500 and far < 5000, "the 3D view redraws nan.nff's rays in %s ms (< 500), "
+              "its segments within %.0f px of the canvas" % ("/".join("%.0f" % t for t in ms), far))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
+def fixes(d):
+    for f in (fix_3d_clip,):
+        try:
+            f(d)
+        except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run
+            check(False, "%s ran to the end" % f.__name__, traceback.format_exc())
+
+
 def main():
     t0 = time.time()
     want = cli_pixel()
@@ -859,7 +899,7 @@ def main():
         d = browser(profile)
         steps = [("glass", lambda: glass(d, want)), ("layout", lambda: layout(d)),
                  ("first", lambda: tracing_first(d)), ("scenes", lambda: every_scene(d)),
-                 ("paths", lambda: paths(d, DOCS))]
+                 ("paths", lambda: paths(d, DOCS)), ("fixes", lambda: fixes(d))]
         if DOCS:
             steps.append(("docs", lambda: docs_shots(d, DOCS)))
         for name, step in steps:

@@ -320,7 +320,13 @@
     const c = M.apply(view.mvp, p);
     return c;
   }
-  // A segment in clip space cut at the near plane (z > -w), then on screen.
+  // A segment in clip space cut at the near plane (z > -w), then on screen,
+  // then clipped (Liang-Barsky) to a box a margin larger than the canvas:
+  // a ray that runs far off screen would otherwise reach the 2D canvas
+  // with coordinates of 1e5 px and more, which it strokes (and dashes) for
+  // seconds. The part on screen is the same; t0 is the fraction cut from
+  // the start, for the dashes' phase.
+  const CLIP_MARGIN = 64;
   function screenSeg(a, b, Wc, Hc) {
     let p = project(a), q = project(b);
     const da = p[2] + p[3], db = q[2] + q[3];
@@ -330,7 +336,21 @@
     if (db < 0) q = cut(q, p, db, da);
     const s = (c) => [(c[0] / c[3] * 0.5 + 0.5) * Wc, (0.5 - c[1] / c[3] * 0.5) * Hc];
     if (!(p[3] > 0) || !(q[3] > 0)) return null;
-    return [s(p), s(q)];
+    const P = s(p), Q = s(q);
+    if (!P.concat(Q).every(isFinite)) return null;
+    const dx = Q[0] - P[0], dy = Q[1] - P[1];
+    let t0 = 0, t1 = 1;
+    const edge = (num, den) => { // keep the part where num + t * den >= 0
+      if (den === 0) return num >= 0;
+      const t = -num / den;
+      if (den > 0) { if (t > t0) t0 = t; } else if (t < t1) t1 = t;
+      return t0 <= t1;
+    };
+    const m = CLIP_MARGIN;
+    if (!(edge(P[0] + m, dx) && edge(Wc + m - P[0], -dx) && edge(P[1] + m, dy) && edge(Hc + m - P[1], -dy))) return null;
+    const r = [[P[0] + t0 * dx, P[1] + t0 * dy], [P[0] + t1 * dx, P[1] + t1 * dy]];
+    r.skip = t0 * Math.hypot(dx, dy); // the length cut from the start, in px
+    return r;
   }
 
   function draw() {
@@ -375,6 +395,9 @@
       if (!s) return null;
       g.beginPath();
       g.setLineDash(dash || []);
+      // The dashes keep their phase where the start was clipped away.
+      const period = dash ? dash.reduce((x, y) => x + y, 0) : 0;
+      g.lineDashOffset = period ? s.skip % period : 0;
       g.strokeStyle = colour;
       g.lineWidth = w;
       g.moveTo(s[0][0], s[0][1]);
@@ -386,6 +409,7 @@
       const c = project(p);
       if (!(c[3] > 0) || c[2] < -c[3]) return null;
       const s = [(c[0] / c[3] * 0.5 + 0.5) * Wc, (0.5 - c[1] / c[3] * 0.5) * Hc];
+      if (!(Math.abs(s[0] - Wc / 2) < Wc / 2 + CLIP_MARGIN && Math.abs(s[1] - Hc / 2) < Hc / 2 + CLIP_MARGIN)) return null;
       g.beginPath();
       g.fillStyle = colour;
       g.arc(s[0], s[1], r, 0, 2 * Math.PI);
@@ -421,6 +445,7 @@
       if (sc) view.segs.push({ s: sc, id: s.id, side: s.side, kind: s.kind });
     }
     g.setLineDash([]);
+    g.lineDashOffset = 0;
     $('note3d').textContent = view.note;
   }
 
