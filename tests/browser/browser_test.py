@@ -882,8 +882,37 @@ def fix_3d_clip(d):
         srv.stop()
 
 
+def fix_typing(d):
+    """Typing with pauses in the find and path boxes: the check of the text
+    as typed marks an error without selecting it (the next keystroke used
+    to overwrite the selection); on submit the error's column is selected."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        for box_id, chunks in (("find-input", ["some(kind == ", "ti", "r)"]), ("path-input", ["C.*<RS'", "tir'>.*"])):
+            box = d.find_element(By.ID, box_id)
+            box.click()
+            for c in chunks:
+                box.send_keys(c)
+                time.sleep(0.8)
+            got = box.get_attribute("value")
+            check(got == "".join(chunks), "typing %r with pauses in #%s keeps the text (%r)"
+                  % ("".join(chunks), box_id, got))
+        box = d.find_element(By.ID, "path-input")
+        box.clear()
+        box.send_keys("C<X>" + Keys.ENTER)
+        ok = wait(d, "bad", lambda: d.execute_script(
+            "const b = document.getElementById('path-input');"
+            "return b.classList.contains('bad') && b.selectionStart === 2 && b.selectionEnd === 3;"), 10)
+        check(ok, "submitting a malformed path selects its error's column")
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
-    for f in (fix_3d_clip,):
+    for f in (fix_3d_clip, fix_typing):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

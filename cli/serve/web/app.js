@@ -471,17 +471,25 @@
   }
 
   // Is the text of the find box (what: 'where') or the path box ('path')
-  // well formed? /api/parse says, with the column of an error.
-  async function checkPredicate(text, what) {
+  // well formed? /api/parse says, with the column of an error. While the
+  // text is typed (submit false) the error is only marked: selecting its
+  // column would have the next keystroke overwrite it. On submit the
+  // column is selected.
+  async function checkPredicate(text, what, submit) {
     what = what || 'where';
     const box = $(what === 'path' ? 'path-input' : 'find-input'), out = $(what === 'path' ? 'path-result' : 'find-result');
     if (!text) { box.classList.remove('bad'); out.textContent = ''; return false; }
     const r = (await api('/api/parse', { [what]: text })).body[what];
+    // An answer for a text since typed over says nothing of the box.
+    if (!submit && box.value.trim() !== text) return r.valid;
     box.classList.toggle('bad', !r.valid);
     box.title = r.valid ? '' : r.error;
     if (!r.valid) {
       out.textContent = r.error;
-      if (r.column > 0) box.setSelectionRange(r.column - 1, Math.min(text.length, r.column));
+      if (submit && r.column > 0) {
+        box.focus();
+        box.setSelectionRange(r.column - 1, Math.min(text.length, r.column));
+      }
     } else if (out.textContent.match(/^\d+:\d+:/)) {
       out.textContent = '';
     }
@@ -1026,7 +1034,7 @@
       e.preventDefault();
       const text = $('find-input').value.trim();
       try {
-        if (!(await checkPredicate(text))) return;
+        if (!(await checkPredicate(text, 'where', true))) return;
       } catch (err) {
         fail(err);
         return;
@@ -1044,7 +1052,7 @@
       e.preventDefault();
       const text = $('path-input').value.trim();
       try {
-        if (text && !(await checkPredicate(text, 'path'))) return;
+        if (text && !(await checkPredicate(text, 'path', true))) return;
       } catch (err) {
         fail(err);
         return;
