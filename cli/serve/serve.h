@@ -37,6 +37,9 @@
 #define SRV_RENDER_SECONDS  300        /* a job still running after this is cancelled
                                           (the default and the most of --job-seconds) */
 #define SRV_MAX_EXPR        512        /* bytes of a find predicate or path expression */
+#define SRV_CANCEL_GRACE                                                                           \
+    1.0 /* seconds a job asked to be cancelled (/api/cancel)                                       \
+           goes on: a request for it meanwhile keeps it */
 
 /* Cost-map kinds a render job can carry, plus the image itself. */
 #define SRV_KIND_IMAGE -1
@@ -130,6 +133,7 @@ void srv_api_image(srv_server *s, const srv_req *r, srv_resp *resp);
 void srv_api_find(srv_server *s, const srv_req *r, srv_resp *resp);
 void srv_api_check(srv_server *s, const srv_req *r, srv_resp *resp);
 void srv_api_diff(srv_server *s, const srv_req *r, srv_resp *resp);
+void srv_api_cancel(srv_server *s, const srv_req *r, srv_resp *resp);
 
 /* Route a checked request. */
 void srv_route(srv_server *s, const srv_req *r, srv_resp *resp);
@@ -176,8 +180,13 @@ typedef struct srv_result {
 } srv_result;
 
 typedef struct srv_job_view {
-    int state; /* enum srv_job_state: SRV_STATE_* */
+    unsigned long id; /* the job's number, for /api/cancel */
+    int state;        /* enum srv_job_state: SRV_STATE_* */
     long done, total;
+    /* queued: the jobs that run before it, and the one running now */
+    int ahead;
+    char running[256]; /* what it is ("" if none), as job_what */
+    long running_done, running_total;
     double seconds;
     ggRayStats stats;
     char error[512];
@@ -196,6 +205,11 @@ void srv_jobs_stop(srv_server *s);
    says so). A job that failed (or was cancelled) is reported once, to
    this request, and forgotten: the next request for it runs it again. */
 int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, srv_job_view *view);
+/* Ask to cancel job id (srv_job_view.id): a queued or running job stops
+   SRV_CANCEL_GRACE seconds later unless a request for it comes first (a
+   job may be shared by several pages), and is then forgotten. Returns 0
+   with *view filled (its state before), or -1 when there is no such job. */
+int srv_jobs_cancel_id(srv_server *s, unsigned long id, srv_job_view *view);
 /* A finished job's results, kept from eviction until srv_jobs_release;
    NULL if the job is not done. */
 const srv_result *srv_jobs_acquire(srv_server *s, const char *key);

@@ -624,6 +624,7 @@ static const route routes[] = {
     {"/api/find", srv_api_find, "opts where path limit format"},
     {"/api/check", srv_api_check, "opts x y format"},
     {"/api/diff", srv_api_diff, "opts b limit format"},
+    {"/api/cancel", srv_api_cancel, "id"},
 };
 
 static const route *find_route(const char *path)

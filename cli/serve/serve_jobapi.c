@@ -423,6 +423,38 @@ void srv_api_diff(srv_server *s, const srv_req *r, srv_resp *resp)
     srv_jobs_release(s, res);
 }
 
+/* ---- cancel ---- */
+
+/* Ask to cancel the job numbered id (the "id" of its job JSON): a queued
+   or running job stops SRV_CANCEL_GRACE seconds later unless it is asked
+   for again meanwhile (another page may want it), and is forgotten. */
+void srv_api_cancel(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const char *v = srv_param_get(r, "id");
+    srv_job_view view;
+    unsigned long id = 0;
+    FILE *f;
+    int i;
+    for (i = 0; v && v[i] >= '0' && v[i] <= '9' && i < 18; i++)
+        id = id * 10 + (unsigned long)(v[i] - '0');
+    if (!v || !v[0] || v[i] || !id) {
+        srv_error(resp, 400, "id must be a job's number (the \"id\" of its job), got '%s'",
+                  v ? v : "nothing");
+        return;
+    }
+    if (srv_jobs_cancel_id(s, id, &view)) {
+        srv_error(resp, 404, "no job %lu: done and replaced, cancelled, or never started", id);
+        return;
+    }
+    f = srv_body_open(resp, 200, "application/json");
+    if (f) {
+        fprintf(f, "{\"cancelling\":%s,\"job\":", view.state < SRV_STATE_DONE ? "true" : "false");
+        srv_job_json(f, &view);
+        fprintf(f, "}\n");
+    }
+    srv_body_close(resp, f);
+}
+
 #else
 typedef int serve_jobapi_unused;
 #endif

@@ -9,7 +9,7 @@
 ** ggDiff scan the options' crop window). Trace requests run beside the
 ** bands on the same prepared scene, which nothing writes (scene.h,
 ** "Threads"); the bands give the progress and the points where a job can
-** be cancelled (shutdown, time limit).
+** be cancelled (shutdown, time limit, /api/cancel).
 */
 #if defined(GG_HAVE_MHD)
 #include "serve/serve.h"
@@ -30,6 +30,8 @@ typedef struct job {
     int state;
     long done, total;
     double t0, seconds;
+    double cancel_at; /* when /api/cancel asked (0: not asked, or asked for again since) */
+    int abandoned;    /* stopped for that: forgotten, not failed */
     char error[512];
     srv_result res;
 } job;
@@ -57,15 +59,24 @@ typedef struct band_ctx {
     long band;   /* pixels of this band */
 } band_ctx;
 
+/* Was job j asked to be cancelled, and not asked for since, for the
+   grace period? (Under the lock.) */
+static int cancel_due(const job *j, double t)
+{
+    return j->cancel_at > 0 && t - j->cancel_at >= SRV_CANCEL_GRACE;
+}
+
 /* The progress callback of every band: publish the progress, and stop on
-   shutdown or past the time limit. */
+   shutdown, past the time limit, or when cancelled (/api/cancel). */
 static int band_progress(void *ud, long done, long total)
 {
     band_ctx *b = ud;
     struct srv_jobs *J = b->s->jobs;
-    int stop = now() - b->j->t0 > b->s->cfg.job_seconds;
+    double t = now();
+    int stop = t - b->j->t0 > b->s->cfg.job_seconds;
     pthread_mutex_lock(&J->mu);
     b->j->done = b->before + (total > 0 ? (long)((double)b->band * done / total) : 0);
+    if (cancel_due(b->j, t)) stop = b->j->abandoned = 1;
     stop |= J->quit;
     pthread_mutex_unlock(&J->mu);
     return stop;
@@ -190,7 +201,11 @@ static void run_job(srv_server *s, job *j)
     j->res.pred = NULL, j->res.lpe = NULL;
     pthread_mutex_lock(&J->mu);
     j->seconds = now() - j->t0;
-    if (rc == GG_OK) {
+    if (rc != GG_OK && j->abandoned) {
+        /* cancelled: forgotten (a request for it later starts it again) */
+        srv_result_free(&j->res);
+        memset(j, 0, sizeof *j);
+    } else if (rc == GG_OK) {
         j->state = SRV_STATE_DONE;
         j->done = j->total;
     } else {
@@ -201,13 +216,30 @@ static void run_job(srv_server *s, job *j)
     pthread_mutex_unlock(&J->mu);
 }
 
+/* Forget a queued job that was cancelled (under the lock). */
+static void drop_queued(job *j)
+{
+    srv_result_free(&j->res);
+    memset(j, 0, sizeof *j);
+}
+
+/* The next job to run: the oldest queued one, those not asked to be
+   cancelled first; one cancelled past its grace is forgotten. */
 static job *next_queued(struct srv_jobs *J)
 {
     job *best = NULL;
+    double t = now();
     int i;
     for (i = 0; i < SRV_MAX_JOBS; i++) {
         job *j = &J->jobs[i];
-        if (j->used && j->state == SRV_STATE_QUEUED && (!best || j->queued < best->queued)) best = j;
+        if (!j->used || j->state != SRV_STATE_QUEUED) continue;
+        if (cancel_due(j, t)) {
+            drop_queued(j);
+            continue;
+        }
+        if (!best || (j->cancel_at > 0) < (best->cancel_at > 0) ||
+            ((j->cancel_at > 0) == (best->cancel_at > 0) && j->queued < best->queued))
+            best = j;
     }
     return best;
 }
@@ -279,9 +311,64 @@ void srv_jobs_stop(srv_server *s)
     s->jobs = NULL;
 }
 
-static void view_of(const job *j, srv_job_view *v)
+/* What job j computes, for a page to say what a queued job waits for:
+   "render", "heatmap of rays", "find WHERE", "find path LPE", "check",
+   "diff", with the canonical options of its key. */
+static void job_what(const job *j, char *out, size_t len)
 {
+    static const char *const kinds[] = {"rays", "depth", "time"};
+    const srv_job_spec *sp = &j->res.spec;
+    const char *opts = strchr(j->key, '|');
+    char head[160];
+    opts = opts ? opts + 1 : "";
+    switch (sp->type) {
+    case SRV_TYPE_RENDER:
+        if (sp->kind >= 0 && sp->kind <= 2)
+            snprintf(head, sizeof head, "heatmap of %s", kinds[sp->kind]);
+        else
+            snprintf(head, sizeof head, "render");
+        break;
+    case SRV_TYPE_FIND:
+        snprintf(head, sizeof head, "find %s%.100s", sp->lpe ? "path " : "",
+                 sp->where ? sp->where : "");
+        /* the key goes on with |WHERE after the options */
+        break;
+    case SRV_TYPE_CHECK:
+        snprintf(head, sizeof head, "check");
+        break;
+    default:
+        snprintf(head, sizeof head, "diff");
+        break;
+    }
+    if (sp->type == SRV_TYPE_FIND) {
+        const char *e = strchr(opts, '|');
+        snprintf(out, len, "%s (options %.*s)", head, e ? (int)(e - opts) : (int)strlen(opts),
+                 opts);
+    } else {
+        snprintf(out, len, "%s (options %s)", head, opts);
+    }
+}
+
+static void view_of(const struct srv_jobs *J, const job *j, srv_job_view *v)
+{
+    int i;
+    v->id = j->queued;
     v->state = j->state;
+    v->ahead = 0;
+    v->running[0] = '\0';
+    if (j->state == SRV_STATE_QUEUED)
+        for (i = 0; i < SRV_MAX_JOBS; i++) {
+            const job *o = &J->jobs[i];
+            if (!o->used || o == j) continue;
+            if (o->state == SRV_STATE_RUNNING) {
+                v->ahead++;
+                job_what(o, v->running, sizeof v->running);
+                v->running_done = o->done, v->running_total = o->total;
+            } else if (o->state == SRV_STATE_QUEUED && o->queued < j->queued &&
+                       !(o->cancel_at > 0 && j->cancel_at <= 0)) {
+                v->ahead++;
+            }
+        }
     v->done = j->done, v->total = j->total;
     v->seconds = j->state >= SRV_STATE_DONE      ? j->seconds
                  : j->state == SRV_STATE_RUNNING ? now() - j->t0
@@ -307,6 +394,10 @@ static job *slot(struct srv_jobs *J)
     for (i = 0; i < SRV_MAX_JOBS; i++) {
         job *j = &J->jobs[i];
         if (!j->used) return j;
+        if (j->state == SRV_STATE_QUEUED && cancel_due(j, now())) {
+            drop_queued(j);
+            return j;
+        }
         if (j->state >= SRV_STATE_DONE && !j->readers && (!lru || j->stamp < lru->stamp)) lru = j;
     }
     if (lru) {
@@ -357,7 +448,8 @@ int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, s
     }
     if (!rc && j) {
         j->stamp = ++J->clock;
-        view_of(j, view);
+        j->cancel_at = 0; /* wanted again: a pending cancel is off */
+        view_of(J, j, view);
         /* A failure is this request's answer, not the job's for good:
            the slot is freed (run_job freed the results) so that the next
            request runs the job again. */
@@ -367,6 +459,24 @@ int srv_jobs_request(srv_server *s, const char *key, const srv_job_spec *spec, s
                  "all %d job slots are queued, running or being read; retry when one is done",
                  SRV_MAX_JOBS);
         rc = -1;
+    }
+    pthread_mutex_unlock(&J->mu);
+    return rc;
+}
+
+int srv_jobs_cancel_id(srv_server *s, unsigned long id, srv_job_view *view)
+{
+    struct srv_jobs *J = s->jobs;
+    int i, rc = -1;
+    memset(view, 0, sizeof *view);
+    pthread_mutex_lock(&J->mu);
+    for (i = 0; i < SRV_MAX_JOBS && id; i++) {
+        job *j = &J->jobs[i];
+        if (!j->used || j->queued != id) continue;
+        view_of(J, j, view);
+        if (j->state < SRV_STATE_DONE && !(j->cancel_at > 0)) j->cancel_at = now();
+        rc = 0;
+        break;
     }
     pthread_mutex_unlock(&J->mu);
     return rc;
@@ -401,9 +511,17 @@ void srv_jobs_release(srv_server *s, const srv_result *r)
 void srv_job_json(FILE *f, const srv_job_view *v)
 {
     static const char *const names[] = {"queued", "running", "done", "failed"};
-    fprintf(f, "{\"state\":\"%s\",\"done\":%ld,\"total\":%ld,\"seconds\":", names[v->state],
-            v->done, v->total);
+    fprintf(f, "{\"id\":%lu,\"state\":\"%s\",\"done\":%ld,\"total\":%ld,\"seconds\":", v->id,
+            names[v->state], v->done, v->total);
     json_num(f, v->seconds);
+    if (v->state == SRV_STATE_QUEUED) {
+        fprintf(f, ",\"ahead\":%d", v->ahead);
+        if (v->running[0]) {
+            fprintf(f, ",\"running\":{\"what\":");
+            json_str(f, v->running);
+            fprintf(f, ",\"done\":%ld,\"total\":%ld}", v->running_done, v->running_total);
+        }
+    }
     if (v->state == SRV_STATE_DONE)
         fprintf(f,
                 ",\"stats\":{\"eye\":%llu,\"eye_hit\":%llu,\"reflect\":%llu,\"refract\":%llu,"

@@ -911,8 +911,34 @@ def fix_typing(d):
         srv.stop()
 
 
+def fix_cancel(d):
+    """A render given up for another (the options changed in the address)
+    is cancelled: the new one does not wait behind it, and while it waits
+    the status line says behind what."""
+    srv = Server(SCENE, "-s", "400x300")
+    try:
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        d.execute_script("location.hash = '#a=' + encodeURIComponent('depth=16 samples=64')")
+        time.sleep(2)
+        t0 = time.time()
+        d.execute_script("location.hash = '#a=' + encodeURIComponent('depth=3')")
+        said = set()
+        while time.time() - t0 < 30 and attr(d, "viewport", "data-image") != "opts=depth%3D3":
+            said.add(d.find_element(By.ID, "status-text").get_attribute("textContent"))
+            time.sleep(0.05)
+        dt = time.time() - t0
+        check(attr(d, "viewport", "data-image") == "opts=depth%3D3" and dt < 15,
+              "a render given up for another is cancelled: the new image in %.1f s (< 15)" % dt)
+        behind = [t for t in said if "queued behind render" in t]
+        check(behind, "the status line says what a queued render waits behind (%s)" % (behind[:1] or said))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
-    for f in (fix_3d_clip, fix_typing):
+    for f in (fix_3d_clip, fix_typing, fix_cancel):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

@@ -738,6 +738,75 @@ def check_tracing_first(work, env):
         s.stop(signal.SIGTERM)
 
 
+def check_cancel(work, env):
+    """/api/cancel: a long render asked to be cancelled stops (and is
+    forgotten) unless someone asks for it within the grace second, so a
+    job queued behind it runs at once; the queued job says what it waits
+    behind."""
+    try:
+        s = Server([SCENE, "--port", "0", "-s", "400x300"], work, env)
+    except RuntimeError as e:
+        bad("ggrt serve for /api/cancel starts", e)
+        return
+    q = urllib.parse.quote
+    slow, fast = "/api/render?opts=" + q("depth=16 samples=64"), "/api/render?opts=" + q("depth=3")
+    try:
+        s.wait("/api/render")  # the server's own first render
+        st, j = s.json(slow)
+        sid = j["job"]["id"]
+        time.sleep(0.3)
+        st, j = s.json(fast)
+        run = j["job"].get("running", {})
+        check(st == 202 and j["job"]["state"] == "queued" and j["job"]["ahead"] >= 1 and
+              "depth=16" in run.get("what", "") and run.get("total") == 400 * 300,
+              "a job queued behind a render says which (%s)" % run.get("what"), j)
+        for bad_id in ("abc", "0", "", "-1", "99999999999999999999"):
+            st, h, b = s.get("/api/cancel?id=" + bad_id)
+            json_error(st, h, b, 400, "/api/cancel?id=%s: 400" % bad_id)
+        st, h, b = s.get("/api/cancel?id=999999")
+        json_error(st, h, b, 404, "/api/cancel of no such job: 404")
+        t = time.time()
+        st, j = s.json("/api/cancel?id=%d" % sid)
+        check(st == 200 and j["cancelling"] is True and j["job"]["id"] == sid,
+              "/api/cancel of the running render: 200, cancelling", j)
+        st = 202
+        while st == 202 and time.time() - t < 60:
+            st, h, b = s.get(fast)
+            time.sleep(0.05)
+        dt = time.time() - t
+        check(st == 200 and dt < 20, "the render queued behind it is done %.1f s after the cancel (< 20 s)" % dt)
+        for _ in range(40):
+            st, h, b = s.get("/api/cancel?id=%d" % sid)
+            if st == 404:
+                break
+            time.sleep(0.1)
+        check(st == 404, "the cancelled job is forgotten (/api/cancel: 404)", (st, b))
+        st, j = s.json("/api/cancel?id=%d" % s.json(fast)[1]["job"]["id"])
+        check(st == 200 and j["cancelling"] is False and j["job"]["state"] == "done",
+              "cancelling a finished job does nothing", j)
+        st, j = s.json(slow)
+        check(st == 202 and j["job"]["id"] != sid, "asking for the cancelled render again starts it anew", j)
+        # Shared: one client cancels, another still polls: it goes on.
+        sid = j["job"]["id"]
+        s.get("/api/cancel?id=%d" % sid)
+        for _ in range(12):
+            st, j = s.json(slow)
+            time.sleep(0.2)
+        check(st == 202 and j["job"]["id"] == sid and j["job"]["state"] == "running",
+              "a cancelled job that is still asked for goes on", j)
+        s.get("/api/cancel?id=%d" % sid)
+        t = time.time()
+        while time.time() - t < 30:  # the band's tile under way ends first
+            st, h, b = s.get("/api/cancel?id=%d" % sid)
+            if st == 404:
+                break
+            time.sleep(0.2)
+        check(st == 404, "... and stops once nobody asks for it (%.1f s)" % (time.time() - t), (st, b))
+    finally:
+        rc, err = s.stop()
+    check(rc == 0, "the server with cancelled jobs exits 0", err[-1000:])
+
+
 def file_list(d):
     out = []
     for root, dirs, files in os.walk(d):
@@ -845,6 +914,7 @@ def run(base):
                        stderr=subprocess.PIPE, text=True, timeout=30)
     check(r.returncode != 0 and "numeric" in r.stderr, "--host must be numeric", r.stderr)
     check_tracing_first(work, env)
+    check_cancel(work, env)
     check_opens(work, env)
     check(file_list(work) == [] and file_list(tmp) == [], "still nothing left behind")
     return tap.done("(%.1f s)" % (time.time() - t0))

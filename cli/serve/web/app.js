@@ -276,20 +276,66 @@
 
   // ---- renders ----
 
+  // The jobs this page is waiting for (id -> loops polling it): a job a
+  // newer view no longer waits for is cancelled (/api/cancel), which the
+  // server does only if no request for it comes within a second (another
+  // view or page may share it); those left when the page goes away too.
+  const polling = new Map();
+  function cancelJob(id, keepalive) {
+    if (!id || polling.get(id)) return;
+    fetch('/api/cancel?id=' + id, {
+      headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store', keepalive: !!keepalive,
+    }).catch(() => { /* the server is gone: nothing to cancel */ });
+  }
+  function watch(id, on) {
+    const n = (polling.get(id) || 0) + (on ? 1 : -1);
+    if (n > 0) polling.set(id, n); else polling.delete(id);
+  }
+  // "label: running 40%", or what a queued job waits behind.
+  function jobStatus(label, j) {
+    const pc = (d, t) => Math.round(100 * d / Math.max(1, t)) + '%';
+    let t = label + ': ' + j.state + ' ' + pc(j.done, j.total);
+    if (j.state === 'queued' && j.running) {
+      t = label + ': queued behind ' + j.running.what + ', ' + pc(j.running.done, j.running.total) + ' done' +
+        (j.ahead > 1 ? ' (' + (j.ahead - 1) + ' more job' + (j.ahead > 2 ? 's' : '') + ' ahead)' : '');
+    } else if (j.state === 'queued' && j.ahead > 0) {
+      t = label + ': queued, ' + j.ahead + ' job' + (j.ahead > 1 ? 's' : '') + ' ahead';
+    }
+    status(t, j.done / Math.max(1, j.total));
+  }
+  // Poll path until its job is done (done(r) says so): r, or null when a
+  // newer view made this one stale (the job is then cancelled unless
+  // something else here still waits for it).
+  async function pollJob(path, params, label, gen, done, pause) {
+    let id = 0;
+    try {
+      for (;;) {
+        const r = await api(path, params);
+        const j = r.body && r.body.job;
+        if (j && j.id !== id) { if (id) watch(id, false); id = j.id; watch(id, true); }
+        if (gen !== generation && gen !== undefined) {
+          watch(id, false);
+          const was = id;
+          id = 0;
+          if (j && j.state !== 'done') cancelJob(was);
+          return null;
+        }
+        if (done(r)) return r;
+        if (j && j.state === 'failed') throw new ApiError(500, j.error);
+        if (j) jobStatus(label, j);
+        await sleep(pause);
+      }
+    } finally {
+      if (id) watch(id, false);
+    }
+  }
+  window.addEventListener('pagehide', () => { for (const id of Array.from(polling.keys())) { polling.delete(id); cancelJob(id, true); } });
+
   // Ask for a render until it is done, showing its progress.
   async function waitRender(params, kind, label, gen) {
     const p = Object.assign({}, params);
     if (kind !== 'image') p.kind = kind;
-    for (;;) {
-      const r = await api('/api/render', p);
-      const j = r.body.job;
-      if (gen !== generation && gen !== undefined) return false;
-      if (j.state === 'done') return true;
-      if (j.state === 'failed') throw new ApiError(500, j.error);
-      status(label + ': ' + j.state + ' ' + Math.round(100 * j.done / Math.max(1, j.total)) + '%',
-        j.done / Math.max(1, j.total));
-      await sleep(120);
-    }
+    return (await pollJob('/api/render', p, label, gen, (r) => r.body.job.state === 'done', 120)) !== null;
   }
 
   async function loadImage(side, gen) {
@@ -417,16 +463,8 @@
   }
 
   // Poll a job route until it answers 200; 202 bodies carry the job.
-  async function waitJob(path, params, label, gen) {
-    for (;;) {
-      const r = await api(path, params);
-      if (gen !== generation) return null;
-      if (r.status === 200) return r;
-      const j = r.body.job;
-      status(label + ': ' + j.state + ' ' + Math.round(100 * j.done / Math.max(1, j.total)) + '%',
-        j.done / Math.max(1, j.total));
-      await sleep(150);
-    }
+  function waitJob(path, params, label, gen) {
+    return pollJob(path, params, label, gen, (r) => r.status === 200, 150);
   }
 
   // A w x h byte map as an RGBA canvas, colour[v] for value v.
