@@ -937,8 +937,32 @@ def fix_cancel(d):
         srv.stop()
 
 
+def fix_binary_202(d):
+    """An image, mask or float request answered 202 (its job was replaced
+    and runs again) asks again: the JSON progress is not taken as data."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        got = d.execute_async_script(
+            "const done = arguments[arguments.length - 1], real = window.fetch; let n = 0;"
+            "window.fetch = function (u, o) {"
+            " if (String(u).indexOf('/api/image') >= 0 && n++ === 0) return Promise.resolve(new Response("
+            "  '{\"job\":{\"id\":1,\"state\":\"queued\",\"done\":0,\"total\":1}}',"
+            "  { status: 202, headers: { 'Content-Type': 'application/json' } }));"
+            " return real(u, o); };"
+            "window.ggrt.api('/api/image', { format: 'f32' }, 'buf')"
+            " .then((r) => done([r.status, r.body.byteLength, n]), (e) => done(['error', e.message, n]))"
+            " .finally(() => { window.fetch = real; });")
+        check(got == [200, 64 * 48 * 12, 2], "a 202 to an f32 request is asked again, not taken as the floats (%s)"
+              % got)
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
-    for f in (fix_3d_clip, fix_typing, fix_cancel):
+    for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

@@ -110,15 +110,24 @@
 
   // GET path?params; as: 'json' (default), 'blob', 'buf', 'text'. A 503
   // (every job slot busy) is waited out as its Retry-After says, with
-  // "waiting" in the status line, for up to about 10 minutes.
+  // "waiting" in the status line, for up to about 10 minutes. Binary
+  // answers (blob, buf: images, masks, floats) must be 200: a 202 (the
+  // job was replaced meanwhile and runs again) is its JSON progress, not
+  // the data, and is asked again.
   async function api(path, params, as) {
     const q = new URLSearchParams(params || {}).toString();
+    const binary = as === 'blob' || as === 'buf';
     let r;
-    // 503 (every job slot busy): wait as Retry-After says, saying so.
-    for (let tries = 0; ; tries++) {
+    for (let tries = 0, running = 0; ; tries++) {
       r = await fetch(path + (q ? '?' + q : ''), {
         headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
       });
+      if (binary && r.status === 202 && running < 6000) {
+        running++;
+        tries--;
+        await sleep(150);
+        continue;
+      }
       if (r.status !== 503 || tries >= 100) break;
       const wait = Math.min(30, Math.max(1, parseInt(r.headers.get('Retry-After'), 10) || 1));
       status('waiting: the server is busy, asking again in ' + wait + ' s');
@@ -126,7 +135,7 @@
       await sleep(1000 * wait);
     }
     delete $('status').dataset.waiting;
-    if (!r.ok) {
+    if (!r.ok || (binary && r.status !== 200)) {
       let msg = r.status + ' ' + r.statusText;
       try { msg = (await r.json()).error || msg; } catch (e) { /* not JSON */ }
       throw new ApiError(r.status, msg);
