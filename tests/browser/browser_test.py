@@ -961,8 +961,27 @@ def fix_binary_202(d):
         srv.stop()
 
 
+def fix_server_gone(d):
+    """With the server stopped, a click says the server is not answering,
+    and the pixel's title does not stay "tracing"."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        srv.stop()
+        click_pixel(d, 10, 10)
+        wait(d, "error", lambda: page_error(d), 10)
+        err, title = page_error(d), d.find_element(By.ID, "pixel-title").text
+        check("not answering" in err and "tracing" not in title,
+              "the server stopped: the page says it is not answering (%r, %r)" % (err, title))
+    finally:
+        d.get("about:blank")
+        if srv.p.poll() is None:
+            srv.stop()
+
+
 def fixes(d):
-    for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202):
+    for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

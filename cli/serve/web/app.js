@@ -119,9 +119,14 @@
     const binary = as === 'blob' || as === 'buf';
     let r;
     for (let tries = 0, running = 0; ; tries++) {
-      r = await fetch(path + (q ? '?' + q : ''), {
-        headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
-      });
+      try {
+        r = await fetch(path + (q ? '?' + q : ''), {
+          headers: { Authorization: 'Bearer ' + TOKEN }, cache: 'no-store',
+        });
+      } catch (e) {
+        // fetch rejects only when no answer came: a network error.
+        throw new ApiError(0, 'the server is not answering (stopped?): ' + path + ' failed (' + e.message + ')');
+      }
       if (binary && r.status === 202 && running < 6000) {
         running++;
         tries--;
@@ -671,12 +676,19 @@
       '|' + state.path;
     drawMarker();
     if (traces.key !== key) {
-      $('pixel-title').textContent = 'pixel ' + state.px.join(',') + ': tracing';
-      const a = await trace('a');
-      const b = state.diff ? await trace('b') : null;
-      const cmp = state.diff ? (await api('/api/compare', Object.assign({ x: state.px[0], y: state.px[1] },
-        diffParams()))).body : null;
-      const paths = state.path ? await pixelPaths(a) : null;
+      const where = 'pixel ' + state.px.join(',');
+      $('pixel-title').textContent = where + ': tracing';
+      let a, b, cmp, paths;
+      try {
+        a = await trace('a');
+        b = state.diff ? await trace('b') : null;
+        cmp = state.diff ? (await api('/api/compare', Object.assign({ x: state.px[0], y: state.px[1] },
+          diffParams()))).body : null;
+        paths = state.path ? await pixelPaths(a) : null;
+      } catch (e) {
+        if (gen === pixelGen) $('pixel-title').textContent = where + ': the trace failed';
+        throw e;
+      }
       if (gen !== pixelGen) return;
       traces = { key: key, a: a, b: b, cmp: cmp, paths: paths };
     }
