@@ -980,8 +980,29 @@ def fix_server_gone(d):
             srv.stop()
 
 
+def fix_hashchange(d):
+    """The address changed in the open page: the visible tab, the diff
+    panel and the 3D camera follow it."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url + "#px=10,10")
+        wait(d, "image", lambda: attr(d, "viewport", "data-image") and selected_pixel(d), 60)
+        wait(d, "3d", lambda: attr(d, "box3d", "data-triangles"), 10)
+        d.execute_script("location.hash = '#px=10,10&tab=ledger&diff=1&b=depth%3D2&cam=1,0.5,7,0,0,0'")
+        ok = wait(d, "tab", lambda: d.execute_script(
+            "return !document.getElementById('tab-ledger').hidden && document.getElementById('tab-tree').hidden"
+            " && document.querySelector('#tabs button.active').dataset.tab === 'ledger'"
+            " && document.getElementById('diff-panel').open && window.ggrtView3d.dist === 7;"), 10)
+        check(ok, "a changed address shows its tab, opens the diff panel and takes its 3D camera",
+              d.execute_script("return [document.querySelector('#tabs button.active').dataset.tab,"
+                               " document.getElementById('diff-panel').open, window.ggrtView3d.dist]"))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
-    for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone):
+    for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

@@ -879,10 +879,15 @@
     }
   }
 
+  // The tab buttons and panels as state.tab says.
+  function showTabs() {
+    for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === state.tab);
+    for (const t of TABS) $('tab-' + t).hidden = t !== state.tab;
+  }
+
   function setTab(tab) {
     state.tab = tab;
-    for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === tab);
-    for (const t of TABS) $('tab-' + t).hidden = t !== tab;
+    showTabs();
     writeHash();
     showTab(pixelGen).catch(fail);
   }
@@ -1147,7 +1152,15 @@
     for (const b of $('tabs').querySelectorAll('button')) b.addEventListener('click', () => setTab(b.dataset.tab));
     $('help-button').addEventListener('click', () => $('help').showModal());
     $('help-close').addEventListener('click', () => $('help').close());
-    window.addEventListener('hashchange', () => { readHash(); refresh(); });
+    // An address changed by hand (or a link) in the open page: the tabs,
+    // the diff panel and the 3D camera follow it, as on a load.
+    window.addEventListener('hashchange', () => {
+      readHash();
+      showTabs();
+      if (state.diff) $('diff-panel').open = true;
+      document.dispatchEvent(new Event('ggrt:hash'));
+      refresh();
+    });
     window.addEventListener('resize', () => { if (!state.zoom) drawImage(); });
   }
 
@@ -1168,8 +1181,7 @@
     readHash();
     sizeCanvases(); // a click can pick a pixel before the image is in
     wire();
-    for (const b of $('tabs').querySelectorAll('button')) b.classList.toggle('active', b.dataset.tab === state.tab);
-    for (const t of TABS) $('tab-' + t).hidden = t !== state.tab;
+    showTabs();
     if (state.diff) $('diff-panel').open = true;
     window.ggrt = {
       api: api, state: state, info: info, scene: scene, W: W, H: H, select: select, overlay: currentOverlay,

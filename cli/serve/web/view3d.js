@@ -563,6 +563,11 @@
     wire();
     draw();
   });
+  // The address changed in the open page: a camera in it is taken.
+  document.addEventListener('ggrt:hash', () => {
+    if (!view.gl || !new URLSearchParams(location.hash.slice(1)).get('cam')) return;
+    if (loadCam()) { view.userMoved = true; draw(); }
+  });
   document.addEventListener('ggrt:pixel', () => {
     if (!view.gl) return;
     // A new pixel's rays are framed unless the camera was moved by hand
