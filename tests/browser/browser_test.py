@@ -1001,8 +1001,27 @@ def fix_hashchange(d):
         srv.stop()
 
 
+def fix_zoom_keys(d):
+    """+ and - step the zoom on screen: up to 8x, down from 5x to 4x."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url + "#zoom=4")
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        d.find_element(By.ID, "image").click()
+        zs = []
+        for k in "++++-":
+            ActionChains(d).send_keys(k).perform()
+            time.sleep(0.1)
+            zs.append(d.execute_script("return window.ggrt.state.zoom"))
+        check(zs == [5, 6, 7, 8, 7], "+ and - step the zoom from 4x: %s" % zs)
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
-    for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange):
+    for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange,
+              fix_zoom_keys):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

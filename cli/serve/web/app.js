@@ -1043,7 +1043,8 @@
       state.overlay = OVERLAYS[(OVERLAYS.indexOf(state.overlay) + 1) % OVERLAYS.length];
       refresh();
     } else if (e.key === '+' || e.key === '=' || e.key === '-') {
-      const z = parseInt($('zoom').value, 10);
+      // From the zoom on screen (fitted, or up to 8), not the dropdown's (1 to 4).
+      const z = Math.max(1, Math.round(parseFloat($('image').style.width) / W) || 1);
       state.zoom = Math.max(1, Math.min(8, z + (e.key === '-' ? -1 : 1)));
       drawImage();
       writeHash();
