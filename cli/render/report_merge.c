@@ -33,14 +33,14 @@ static const char *const same_keys[] = {"version", "sceneHash", "options", "cut"
 static const char *const same_what[] = {"ggrt version", "scene (hash)", "render options", "cut",
                                         "command options"};
 /* Report members merged (the others must be equal in every tile, but the
-   scene paths, as given, and the options, which the manifest compares
-   without -j). */
-static const char *const merged[] = {"window", "scanned", "matched", "checked", "value_differ",
-                                     "tree_differ", "moved", "stats", "stats_a", "stats_b",
-                                     "first_divergence", "traced", "max_delta", "share",
-                                     "failed", "invariants", "matches", "worst", "moves",
-                                     "scene", "scene_a", "scene_b", "options", "options_a",
-                                     "tile", NULL};
+   scene paths, as given, and the options: the manifest compares options
+   and options_a without -j, same_b options_b). */
+static const char *const merged[] = {
+    "window",    "scanned", "matched", "checked",    "value_differ",     "tree_differ",
+    "moved",     "stats",   "stats_a", "stats_b",    "first_divergence", "traced",
+    "max_delta", "share",   "failed",  "invariants", "matches",          "worst",
+    "moves",     "scene",   "scene_a", "scene_b",    "options",          "options_a",
+    "options_b", "tile",    NULL};
 
 static int is_merged(const jnode *m)
 {
@@ -86,6 +86,26 @@ static int load(report *r)
     return EXIT_OK;
 }
 
+/* diff's options_b, which no manifest field holds, read back as options
+   and compared without their threads (-j changes no pixel). 1 if equal,
+   0 if not or if one does not parse. */
+static int same_b(const jnode *x, const jnode *y)
+{
+    char tx[1024], ty[1024];
+    ggRenderOptions ox, oy;
+    ggError err;
+    if (!x || !y) return !x && !y;
+    if (jdom_str(x, tx, sizeof tx) != 0 || jdom_str(y, ty, sizeof ty) != 0) return 0;
+    ggRenderOptionsDefault(&ox), ggRenderOptionsDefault(&oy);
+    if (ggRenderOptionsParse(&ox, tx, &err) != GG_OK ||
+        ggRenderOptionsParse(&oy, ty, &err) != GG_OK)
+        return 0;
+    ox.threads = oy.threads = 0;
+    ggRenderOptionsFormat(&ox, tx, sizeof tx);
+    ggRenderOptionsFormat(&oy, ty, sizeof ty);
+    return strcmp(tx, ty) == 0;
+}
+
 /* The first member names the kind: ggrt_find, ggrt_check, ggrt_diff. */
 static int check_against(const report *r, const report *ref)
 {
@@ -103,6 +123,12 @@ static int check_against(const report *r, const report *ref)
                       x ? (int)x->len : 4, x ? x->s : "none", (int)y->len, y->s);
             return EXIT_INPUT;
         }
+    }
+    if (!same_b(jdom_get(&r->root, "options_b"), jdom_get(&ref->root, "options_b"))) {
+        const jnode *x = jdom_get(&r->root, "options_b"), *y = jdom_get(&ref->root, "options_b");
+        cli_error("%s: different \"options_b\" from %s: %.*s, not %.*s", r->path, ref->path,
+                  x ? (int)x->len : 4, x ? x->s : "none", y ? (int)y->len : 4, y ? y->s : "none");
+        return EXIT_INPUT;
     }
     for (i = 0; i < ref->root.n; i++) {
         const jnode *m = &ref->root.kid[i];

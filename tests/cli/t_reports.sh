@@ -133,6 +133,21 @@ reports_refuse "a duplicate" "ggrt merge: $rd/dup-1.json: tile 1 again (also in 
 reports_refuse "a tile of other options" \
   "ggrt merge: $rd/opt-2.json: different render options from $rd/g-0.json: \"size=80x48 depth=3\", not \"size=80x48\"" \
   "$rd/g-0.json" "$rd/g-1.json" "$rd/opt-2.json" "$rd/g-3.json"
+# -j changes no pixel: diff tiles of another -j merge (into what one
+# process with the first tile's -j writes), for options_b as for
+# options_a; another --b is refused
+"$ggrt" diff $g -s 64x48 --b sphere=textbook -f json --tile 0/2 -j 2 >"$rd/dj-0.json"
+"$ggrt" diff $g -s 64x48 --b sphere=textbook -f json --tile 1/2 -j 1 >"$rd/dj-1.json"
+"$ggrt" diff $g -s 64x48 --b sphere=textbook -f json -j 2 >"$rd/dj-one.json"
+rm -f "$rd"/dj-m.json
+if "$ggrt" merge -q --reports "$rd/dj-0.json" "$rd/dj-1.json" -o "$rd/dj-m.json" 2>"$tmp/err" &&
+   cmp -s "$rd/dj-m.json" "$rd/dj-one.json"; then
+  ok "merge --reports joins diff tiles that differ only in -j"
+else bad "merge --reports joins diff tiles that differ only in -j" "$(cat "$tmp/err")"; fi
+"$ggrt" diff $g -s 64x48 --b depth=3 -f json --tile 1/2 -j 1 >"$rd/db-1.json"
+reports_refuse "a diff tile of another --b" \
+  "ggrt merge: $rd/db-1.json: different \"options_b\" from $rd/dj-0.json: \"size=64x48 depth=3 threads=1\", not \"size=64x48 threads=2 sphere=textbook\"" \
+  "$rd/dj-0.json" "$rd/db-1.json"
 # numbers and escapes outside JSON's grammar, which merge would copy out
 sed 's/"color":\[0\.[0-9]*,/"color":[0x1p-1,/' "$rd/g-0.json" >"$rd/hex-0.json"
 at=$(awk 'NR == 1 { print index($0, "[0x1p-1") + 1 }' "$rd/hex-0.json") # the x
