@@ -81,6 +81,10 @@ int tile_parse_list(void *ud, const char *value, char *why, size_t whylen)
             (dash && parse_index(dash + 1, (size_t)(end - dash - 1), tl->n, &b, why, whylen) != 0))
             return -1;
         if (!dash) b = a;
+        if (b < a) {
+            snprintf(why, whylen, "range %ld-%ld runs backwards: give %ld-%ld", a, b, b, a);
+            return -1;
+        }
         for (k = a; k <= b; k++) {
             for (j = 0; j < tl->count; j++)
                 if (tl->idx[j] == k) {
@@ -94,6 +98,10 @@ int tile_parse_list(void *ud, const char *value, char *why, size_t whylen)
             tl->idx[tl->count++] = (int)k;
         }
         p = end + 1;
+    }
+    if (slash > value && slash[-1] == ',') {
+        snprintf(why, whylen, "expected a tile index after the last ','");
+        return -1;
     }
     if (!tl->count) {
         snprintf(why, whylen, "no tile listed");

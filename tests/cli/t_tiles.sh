@@ -25,11 +25,13 @@ merge_same() {
     "$ggrt" render "$@" -q $pl --tile 0$of -o "$td/p-0.exr" 2>"$tmp/err" ||
       { bad "$name: render --tile 0$of" "$(cat "$tmp/err")"; return; }
   else
-    # The first tile alone with one thread, the rest in one process.
+    # The first tile alone with one thread, the rest in one process
+    # (a range, then the single indices if any: no trailing comma).
+    rest=$(seq -s, 1 $((half - 1)) | sed 's/,$//')
     # shellcheck disable=SC2086
     "$ggrt" render "$@" -q -j 1 $pl --tile 0$of -o "$td/p-0.exr" 2>"$tmp/err" &&
     "$ggrt" render "$@" -q $pl \
-      --tiles "$half-$((n - 1)),$(seq -s, 1 $((half - 1)) | sed 's/,$//')$of" \
+      --tiles "$half-$((n - 1))${rest:+,$rest}$of" \
       -o "$td/p-%d.exr" 2>>"$tmp/err" ||
       { bad "$name: render --tiles of $n" "$(cat "$tmp/err")"; return; }
   fi
@@ -121,6 +123,14 @@ expect_err 1 "ggrt render: tiles are OpenEXR files: -o must end in .exr" "a tile
   "$ggrt" render examples/scenes/glass.nff --tile 0/4 -o "$td/x.png"
 expect_err 1 "ggrt render: bad value '4/4' for --tile: tile index '4' is not in 0..3" \
   "--tile index out of range" "$ggrt" render examples/scenes/glass.nff --tile 4/4 -o "$td/x.exr"
+# a range backwards or a trailing comma is a mistake, not an empty list
+for tl in "0,3-1/4" "3-1/4"; do
+  expect_err 1 "ggrt render: bad value '$tl' for --tiles: range 3-1 runs backwards: give 1-3" \
+    "--tiles $tl is refused" "$ggrt" render examples/scenes/glass.nff --tiles "$tl" -o "$td/x%d.exr"
+done
+expect_err 1 "ggrt render: bad value '0,1,/4' for --tiles: expected a tile index after the last ','" \
+  "--tiles with a trailing comma is refused" \
+  "$ggrt" render examples/scenes/glass.nff --tiles 0,1,/4 -o "$td/x%d.exr"
 for tn in 0 2000000000; do
   expect_err 1 "ggrt render: bad value '0/$tn' for --tile: N, the number of tiles: expected a whole number from 1 to 65536 (out of range)" \
     "--tile 0/$tn: the message names N's range" "$ggrt" render examples/scenes/glass.nff --tile 0/$tn -o "$td/x.exr"
