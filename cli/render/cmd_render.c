@@ -6,8 +6,8 @@
 #include "common/heatmap.h"
 #include "render/aov.h"
 #include "render/tile.h"
+#include "render/warn.h"
 
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -57,35 +57,6 @@ static int progress(void *ud, long done, long total)
         fprintf(stderr, "             ");
     fflush(stderr);
     return 0;
-}
-
-/* NaN, infinite or negative pixels: count them and print the ggrt trace
-   command that replays the worst (the same pixel-deciding options, from
-   the parsed values). */
-static void report_bad_pixels(const ggImage *img, const render_args *a)
-{
-    int w = ggImageWidth(img), h = ggImageHeight(img), x, y, bx = -1, by = -1;
-    long bad = 0;
-    double worst = 0;
-    for (y = 0; y < h; y++)
-        for (x = 0; x < w; x++) {
-            ggColor c = ggImageGet(img, x, y);
-            double m = c.r < c.g ? c.r : c.g;
-            if (c.b < m) m = c.b;
-            /* NaN and infinity rank worst, then the most negative. */
-            if (!isfinite(c.r) || !isfinite(c.g) || !isfinite(c.b)) m = -INFINITY;
-            if (m < 0) {
-                bad++;
-                if (bx < 0 || m < worst) worst = m, bx = x, by = y;
-            }
-        }
-    if (!bad) return;
-    cli_warn("%ld pixel%s NaN, infinite or negative; the worst is %d,%d. Replay it with:", bad,
-             bad == 1 ? " is" : "s are", bx, by);
-    fprintf(stderr, "  ggrt trace");
-    cli_print_arg(stderr, a->scene);
-    cli_render_print(stderr, &a->ro, CLI_RENDER_PIXEL);
-    fprintf(stderr, " --pixel %d,%d\n", bx, by);
 }
 
 /* Every tile's file, before any tile is rendered: a bad path found at the
@@ -246,23 +217,6 @@ static void summary(const render_args *a, ggScene *scene, const ggImage *img, co
            t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0);
 }
 
-/* What the render left out, on stderr like every warning (not part of the
-   summary that -q silences). */
-static void warn_stats(const render_args *a, const ggRayStats *st)
-{
-    if (st->nonfinite)
-        cli_warn("%llu samples were NaN or infinite", (unsigned long long)st->nonfinite);
-    if (st->budget_cut)
-        cli_warn("the ray budget (%d rays per eye ray) left %llu rays uncast; --ray-budget "
-                 "raises it",
-                 a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET,
-                 (unsigned long long)st->budget_cut);
-    if (st->implicit_cut)
-        cli_warn("%llu ray tests of implicit surfaces ran out of their evaluation budget and "
-                 "count as misses (holes possible)",
-                 (unsigned long long)st->implicit_cut);
-}
-
 /* Render, print what was asked, write. The image is written with the
    cancel signals held, so it lands whole or not at all. */
 static int run(render_args *a, ggScene *scene, double *t)
@@ -315,7 +269,7 @@ static int run(render_args *a, ggScene *scene, double *t)
         printf("pixel %d,%d %.9g %.9g %.9g\n", a->pixel[0], a->pixel[1], c.r, c.g, c.b);
         aov_print_pixel(&a->aov, a->pixel[0], a->pixel[1]);
     }
-    report_bad_pixels(img, a);
+    render_warn_pixels(img, 0, 0, a->scene, &a->ro, "");
     rc = finish_image(a, &img, cost);
     free(cost);
     if (rc == EXIT_OK) {
@@ -327,7 +281,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     }
     if (rc == EXIT_OK && (sig = cli_cancelled()) != 0) cli_cancel_exit(sig);
     if (rc == EXIT_OK && !a->quiet) summary(a, scene, img, &st, t);
-    if (rc == EXIT_OK) warn_stats(a, &st);
+    if (rc == EXIT_OK) render_warn_stats(&st, &a->ro, "");
     ggImageFree(img);
     return rc;
 }
@@ -383,7 +337,7 @@ int cmd_render(int argc, char **argv)
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
     t[2] = cli_now();
     if (a.tiles.count)
-        rc = tile_render(scene, a.scene, &a.ro.opt, &a.tiles, a.out, a.quiet, a.plan);
+        rc = tile_render(scene, a.scene, &a.ro, &a.tiles, a.out, a.quiet, a.plan);
     else
         rc = run(&a, scene, t);
     aov_free(&a.aov);

@@ -4,6 +4,7 @@
 ** manifest and the rendering of tiles (tile.h).
 */
 #include "render/tile.h"
+#include "render/warn.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -249,7 +250,8 @@ int tile_hash_file(const char *path, char *buf, size_t size)
 /* What every tile of this render carries but its index. */
 typedef struct tile_job {
     const char *scene_path, *out;
-    ggRenderOptions opt; /* whole-image size explicit, no crop */
+    const cli_render *ro; /* as given, for the warnings (tile_render) */
+    ggRenderOptions opt;  /* whole-image size explicit, no crop */
     int w, h, quiet;
     tile_cut cut;
     char hash[32], cutname[TILE_MAX_PLAN * 8 + 16], options[2048];
@@ -269,8 +271,9 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     ggImage *img = NULL, *band = NULL;
     ggEXRAttr attrs[6];
     ggEXRHeader hd;
+    ggRayStats st;
     ggError err;
-    char path[1024], idx[16];
+    char path[1024], idx[16], what[48];
     int y0, y1, rc;
     double t0 = cli_now();
     tile_cut_rows(&j->cut, i, j->h, &y0, &y1);
@@ -281,7 +284,7 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     if ((rc = cli_check_output("render", path)) != 0) return rc;
     o.crop_x0 = 0, o.crop_x1 = j->w, o.crop_y0 = y0, o.crop_y1 = y1;
     o.progress = cancel_check, o.progress_ud = NULL;
-    rc = ggRender(scene, &o, &img, NULL, &err);
+    rc = ggRender(scene, &o, &img, &st, &err);
     if (cli_cancelled()) {
         ggImageFree(img);
         cli_error("cancelled by signal %d; %s not written", cli_cancelled(), path);
@@ -305,11 +308,20 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     cli_cancel_hold();
     rc = ggImageWriteEXRHeader(band, &hd, path, &err);
     cli_cancel_release();
-    ggImageFree(band);
-    if (rc != GG_OK) return cli_fail(rc, &err, 0);
-    if (!j->quiet)
+    if (rc != GG_OK) {
+        ggImageFree(band);
+        return cli_fail(rc, &err, 0);
+    }
+    if (!j->quiet) {
         printf("tile %d/%d: rows %d..%d -> %s (%.3fs)\n", i, tl->n, y0, y1 - 1, path,
                cli_now() - t0);
+        fflush(stdout); /* before this tile's warnings, on stderr */
+    }
+    /* As a whole render warns, each tile after its line. */
+    snprintf(what, sizeof what, "tile %d/%d: ", i, tl->n);
+    render_warn_pixels(band, 0, y0, j->scene_path, j->ro, what);
+    render_warn_stats(&st, j->ro, what);
+    ggImageFree(band);
     return EXIT_OK;
 }
 
@@ -383,8 +395,8 @@ static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
     return EXIT_OK;
 }
 
-int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
-                tile_list *tl, const char *out, int quiet, const char *plan_path)
+int tile_render(ggScene *scene, const char *scene_path, const cli_render *ro, tile_list *tl,
+                const char *out, int quiet, const char *plan_path)
 {
     tile_job *j = malloc(sizeof *j);
     int k, rc;
@@ -392,7 +404,8 @@ int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *o
         cli_error("out of memory");
         return EXIT_INPUT;
     }
-    rc = job_init(j, scene, scene_path, opt, tl, out, quiet, plan_path);
+    j->ro = ro;
+    rc = job_init(j, scene, scene_path, &ro->opt, tl, out, quiet, plan_path);
     cli_cancel_begin();
     for (k = 0; k < tl->count && rc == EXIT_OK; k++) {
         rc = render_one(scene, j, tl, tl->idx[k]);

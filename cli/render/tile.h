@@ -115,11 +115,12 @@ int tile_band_init(tile_band *b, ggScene *scene, const char *scene_path,
                    const ggRenderOptions *opt, tile_list *tl, const char *plan_path);
 
 /* Render the listed tiles of the scene, loaded once, each written as
-   a tile file (tile.c). opt is the render as given (no crop); quiet drops
-   the per-tile lines; plan_path a plan file whose cut to use (NULL: equal
-   bands). Returns an exit code. */
-int tile_render(ggScene *scene, const char *scene_path, const ggRenderOptions *opt,
-                tile_list *tl, const char *out, int quiet, const char *plan_path);
+   a tile file (tile.c) and followed by the warnings a whole render gives
+   (warn.h). ro is the render as given (no crop); quiet drops the per-tile
+   lines; plan_path a plan file whose cut to use (NULL: equal bands).
+   Returns an exit code. */
+int tile_render(ggScene *scene, const char *scene_path, const cli_render *ro, tile_list *tl,
+                const char *out, int quiet, const char *plan_path);
 
 /* ggrt merge --reports: the JSON reports of find, check and diff --tile
    joined into the whole image's (report_merge.c). Exit code. */

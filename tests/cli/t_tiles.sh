@@ -156,6 +156,29 @@ expect_err 1 "ggrt render: -o '$td/q-1.exr' is the input 'examples/scenes/glass.
   bad "--tiles with a later path on the scene writes no tile" "$(ls "$td")"
 rm -rf "$td"/q-*
 
+# ---- a tile warns as the whole render does (also under -q) ----
+# NaN and negative pixels, with the ggrt trace that replays the worst (in
+# the image's coordinates): the one tile of the whole image says what the
+# whole render says, named; of two, each its own rows' (their counts add
+# up). The ray budget's cut too.
+"$ggrt" render tests/data/debug/nan.nff -s 64x48 -q -o "$td/nan.exr" 2>"$td/nan-one.err"
+"$ggrt" render tests/data/debug/nan.nff -s 64x48 -q --tile 0/1 -o "$td/nan-0.exr" 2>"$td/nan-t.err"
+if grep -q "pixels are NaN" "$td/nan-one.err" &&
+   sed 's|^ggrt render: warning: tile 0/1: |ggrt render: warning: |' "$td/nan-t.err" |
+   cmp -s - "$td/nan-one.err"; then ok "--tile 0/1 warns of NaN pixels as the whole render does"
+else bad "--tile 0/1 warns of NaN pixels as the whole render does" "$(cat "$td/nan-t.err")"; fi
+"$ggrt" render tests/data/debug/nan.nff -s 64x48 -q --tiles 0-1/2 -o "$td/nan-%d.exr" 2>"$td/nan-t.err"
+n1=$(sed -n 's/.*warning: \([0-9]*\) pixels are NaN.*/\1/p' "$td/nan-one.err")
+n0=$(sed -n 's|.*warning: tile 0/2: \([0-9]*\) pixels are NaN.*|\1|p' "$td/nan-t.err")
+n2=$(sed -n 's|.*warning: tile 1/2: \([0-9]*\) pixels are NaN.*|\1|p' "$td/nan-t.err")
+w2=$(sed -n 's|^  ggrt trace .* --pixel [0-9]*,\([0-9]*\)$|\1|p' "$td/nan-t.err" | tail -1)
+if [ -n "$n1" ] && [ -n "$n0" ] && [ -n "$n2" ] && [ $((n0 + n2)) = "$n1" ] && [ "${w2:-0}" -ge 24 ]; then
+  ok "--tiles 0-1/2: each tile warns of its NaN pixels, the replay in its rows"
+else bad "--tiles 0-1/2: each tile warns of its NaN pixels" "$(cat "$td/nan-t.err")"; fi
+expect_msg 0 "ggrt render: warning: tile 1/2: the ray budget (2 rays per eye ray) left " \
+  "a tile warns of the rays its ray budget left uncast" \
+  "$ggrt" render examples/scenes/glass.nff -s 64x48 --ray-budget 2 -q --tile 1/2 -o "$td/budget.exr"
+
 # ---- bad input to merge: the tile, the reason, exit 2, nothing written ----
 # merge_refuses NAME MESSAGE FILES...: exit 2, the exact message, and no
 # output file (nor a temporary one) afterwards.
