@@ -15,6 +15,8 @@
 # other files (textures, meshes) needs them on the hosts, at absolute
 # paths. PLAN=1 cuts the rows by cost first, here (ggrt plan:
 # PARTS/plan.json, sent with each tile), rather than in equal bands.
+# parallel runs the command quoted (-q): GGRT and the options may hold
+# spaces.
 set -eu
 [ $# -ge 3 ] || { echo "usage: parallel.sh SCENE N OUT.png|OUT.exr [render options...]" >&2; exit 1; }
 scene=$1 n=$2 out=$3
@@ -40,6 +42,6 @@ xfer="--workdir ... --transferfile scene.nff ${plan:+--transferfile plan.json} -
 [ "${HOSTS:-:}" = ":" ] && xfer=
 # --halt now,fail=1: one failed tile stops the run (merge would refuse anyway).
 # shellcheck disable=SC2086
-seq 0 $((n - 1)) | parallel --will-cite -S "${HOSTS:-:}" --halt now,fail=1 $xfer \
+seq 0 $((n - 1)) | parallel --will-cite -q -S "${HOSTS:-:}" --halt now,fail=1 $xfer \
   "$ggrt" render scene.nff --tile {}/"$n" $plan -q -o part-{}.exr "$@"
 "$ggrt" merge part-*.exr -o "$out"

@@ -310,3 +310,17 @@ for plan in 0 1; do
     ok "examples/cluster/xargs.sh: 5 tiles in $what merge into one process's PNG"
   else bad "examples/cluster/xargs.sh, PLAN=$plan" "$(cat "$tmp/out" "$tmp/err")"; fi
 done
+
+# ---- examples/cluster/parallel.sh on this machine (HOSTS=:) ----
+if command -v parallel >/dev/null 2>&1; then
+  case $ggrt in /*) ag=$ggrt ;; *) ag=$PWD/$ggrt ;; esac
+  # GGRT with a space in its path: parallel runs the command quoted
+  mkdir -p "$td/g g"; ln -sf "$ag" "$td/g g/ggrt"
+  "$ggrt" render examples/scenes/glass.nff -s 64x48 -q -o "$td/pg-one.png"
+  HOSTS=: PARTS="$td/pg.parts" GGRT="$td/g g/ggrt" sh examples/cluster/parallel.sh \
+    examples/scenes/glass.nff 3 "$td/pg.png" -s 64x48 >"$tmp/out" 2>"$tmp/err"
+  if cmp -s "$td/pg.png" "$td/pg-one.png"; then ok "examples/cluster/parallel.sh: GGRT with a space in its path"
+  else bad "examples/cluster/parallel.sh: GGRT with a space in its path" "$(cat "$tmp/out" "$tmp/err")"; fi
+else
+  skip "examples/cluster/parallel.sh" "no GNU parallel (scripts/deps.sh cluster)"
+fi
