@@ -8,15 +8,18 @@
 # needs ggrt on its PATH (or GGRT, the same path on every host). Options
 # for ssh (a port, a key) go in PARALLEL_SSH, parallel's --ssh:
 #   PARALLEL_SSH='ssh -p 2222 -i key' HOSTS=2/me@alpha sh parallel.sh ...
-# Each tile runs in a working folder of its own on its host (--workdir
-# ...: under ~/.parallel/tmp/), the scene is copied there with it
-# (--transferfile), the tile comes back (--return) into PARTS (default
-# OUT.parts), and the folder is removed (--cleanup); a scene that reads
-# other files (textures, meshes) needs them on the hosts, at absolute
-# paths. PLAN=1 cuts the rows by cost first, here (ggrt plan:
-# PARTS/plan.json, sent with each tile), rather than in equal bands.
-# parallel runs the command quoted (-q): GGRT and the options may hold
-# spaces.
+# With HOSTS=: (this machine alone) each tile reads SCENE where it is,
+# with the files it reads (textures, meshes) beside it. Otherwise each
+# tile runs in a working folder of its own on its host (--workdir ...:
+# under ~/.parallel/tmp/), the scene is copied there with it
+# (--transferfile, under its own extension: .nff, .obj or .ply), the
+# tile comes back (--return) into PARTS (default OUT.parts), and the
+# folder is removed (--cleanup); a scene that reads other files
+# (textures, meshes) needs them on the hosts, at the absolute paths it
+# names them by (or give the hosts the same tree and absolute paths).
+# PLAN=1 cuts the rows by cost first, here (ggrt plan: PARTS/plan.json,
+# sent with each tile), rather than in equal bands. parallel runs the
+# command quoted (-q): GGRT, SCENE and the options may hold spaces.
 set -eu
 [ $# -ge 3 ] || { echo "usage: parallel.sh SCENE N OUT.png|OUT.exr [render options...]" >&2; exit 1; }
 scene=$1 n=$2 out=$3
@@ -24,24 +27,34 @@ shift 3
 parts=${PARTS:-$out.parts}
 mkdir -p "$parts"
 ggrt=${GGRT:-ggrt}
+hosts=${HOSTS:-:}
 # Tiles are written relative to the remote working folder and returned to
-# the same relative path here, so run from PARTS with the scene beside it.
+# the same relative path here, so run from PARTS.
 case $scene in /*) ;; *) scene=$(pwd)/$scene ;; esac
 case $out in /*) ;; *) out=$(pwd)/$out ;; esac
-cp "$scene" "$parts/scene.nff"
+# ggrt reads a scene by its extension: the copy keeps it.
+base=${scene##*/}
+case $base in *.*) sc=scene.${base##*.} ;; *) sc=scene ;; esac
+if [ "$hosts" = ":" ]; then
+  sc=$scene
+else
+  cp "$scene" "$parts/$sc"
+fi
 cd "$parts"
-plan=
 if [ "${PLAN:-0}" = 1 ]; then
-  "$ggrt" plan scene.nff --tiles "$n" -q -o plan.json "$@"
-  plan="--plan plan.json"
+  "$ggrt" plan "$sc" --tiles "$n" -q -o plan.json "$@"
+  set -- --plan plan.json "$@"
 fi
 # Remote hosts work in a folder of their own per tile (--workdir ...),
 # removed afterwards; parallel refuses a relative --basefile with those,
 # so the scene goes with each tile. ":" alone needs no transfer.
-xfer="--workdir ... --transferfile scene.nff ${plan:+--transferfile plan.json} --return part-{}.exr --cleanup"
-[ "${HOSTS:-:}" = ":" ] && xfer=
+xfer=
+if [ "$hosts" != ":" ]; then
+  xfer="--workdir ... --transferfile $sc --return part-{}.exr --cleanup"
+  if [ "${PLAN:-0}" = 1 ]; then xfer="$xfer --transferfile plan.json"; fi
+fi
 # --halt now,fail=1: one failed tile stops the run (merge would refuse anyway).
 # shellcheck disable=SC2086
-seq 0 $((n - 1)) | parallel --will-cite -q -S "${HOSTS:-:}" --halt now,fail=1 $xfer \
-  "$ggrt" render scene.nff --tile {}/"$n" $plan -q -o part-{}.exr "$@"
+seq 0 $((n - 1)) | parallel --will-cite -q -S "$hosts" --halt now,fail=1 $xfer \
+  "$ggrt" render "$sc" --tile {}/"$n" -q -o part-{}.exr "$@"
 "$ggrt" merge part-*.exr -o "$out"

@@ -321,6 +321,18 @@ if command -v parallel >/dev/null 2>&1; then
     examples/scenes/glass.nff 3 "$td/pg.png" -s 64x48 >"$tmp/out" 2>"$tmp/err"
   if cmp -s "$td/pg.png" "$td/pg-one.png"; then ok "examples/cluster/parallel.sh: GGRT with a space in its path"
   else bad "examples/cluster/parallel.sh: GGRT with a space in its path" "$(cat "$tmp/out" "$tmp/err")"; fi
+  # the scene read where it is: a texture beside it (run from its folder),
+  # an OBJ model (read by its extension)
+  "$ggrt" render examples/scenes/texture.nff -s 64x48 -q -o "$td/pt-one.png"
+  (cd examples/scenes && HOSTS=: PARTS="$td/pt.parts" GGRT=$ag sh ../cluster/parallel.sh \
+    texture.nff 4 "$td/pt.png" -s 64x48) >"$tmp/out" 2>"$tmp/err"
+  if cmp -s "$td/pt.png" "$td/pt-one.png"; then ok "examples/cluster/parallel.sh: a scene with a texture beside it"
+  else bad "examples/cluster/parallel.sh: a scene with a texture beside it" "$(cat "$tmp/out" "$tmp/err")"; fi
+  "$ggrt" render examples/scenes/models/knot.obj -s 64x48 -q -o "$td/pk-one.png" 2>/dev/null
+  HOSTS=: PARTS="$td/pk.parts" GGRT=$ag sh examples/cluster/parallel.sh \
+    examples/scenes/models/knot.obj 3 "$td/pk.png" -s 64x48 >"$tmp/out" 2>"$tmp/err"
+  if cmp -s "$td/pk.png" "$td/pk-one.png"; then ok "examples/cluster/parallel.sh: an OBJ model"
+  else bad "examples/cluster/parallel.sh: an OBJ model" "$(cat "$tmp/out" "$tmp/err")"; fi
 else
   skip "examples/cluster/parallel.sh" "no GNU parallel (scripts/deps.sh cluster)"
 fi
