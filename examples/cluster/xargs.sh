@@ -18,12 +18,12 @@ p=${P:-$(getconf _NPROCESSORS_ONLN)}
 # Each process gets its share of the cores (-j), so P of them do not
 # oversubscribe the machine; the image does not depend on -j.
 j=$(( $(getconf _NPROCESSORS_ONLN) / p )); [ "$j" -ge 1 ] || j=1
-plan=
 if [ "${PLAN:-0}" = 1 ]; then
   "$ggrt" plan "$scene" --tiles "$n" -q -o "$parts/plan.json" "$@"
-  plan="--plan $parts/plan.json"
+  # --plan goes with the render options, each word quoted (PARTS may
+  # hold a space).
+  set -- --plan "$parts/plan.json" "$@"
 fi
-# shellcheck disable=SC2086
 seq 0 $((n - 1)) | xargs -P "$p" -I{} \
-  "$ggrt" render "$scene" --tile {}/"$n" $plan -q -j "$j" -o "$parts/part-{}.exr" "$@"
+  "$ggrt" render "$scene" --tile {}/"$n" -q -j "$j" -o "$parts/part-{}.exr" "$@"
 "$ggrt" merge "$parts"/part-*.exr -o "$out"

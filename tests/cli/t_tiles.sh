@@ -310,6 +310,14 @@ for plan in 0 1; do
     ok "examples/cluster/xargs.sh: 5 tiles in $what merge into one process's PNG"
   else bad "examples/cluster/xargs.sh, PLAN=$plan" "$(cat "$tmp/out" "$tmp/err")"; fi
 done
+# a scene, OUT and PARTS with spaces in their names, and a plan (whose
+# path is one argument of each tile's render)
+cp examples/scenes/spd/gears.nff "$td/my gears.nff"
+PLAN=1 P=2 GGRT=$ggrt sh examples/cluster/xargs.sh "$td/my gears.nff" 5 "$td/out y.png" \
+  --spd -s 96x64 >"$tmp/out" 2>"$tmp/err"
+if [ -s "$td/x-one.png" ] && cmp -s "$td/out y.png" "$td/x-one.png" && [ -s "$td/out y.png.parts/plan.json" ]
+then ok "examples/cluster/xargs.sh: PLAN=1 with spaces in the scene's, OUT's and PARTS' names"
+else bad "examples/cluster/xargs.sh: PLAN=1 with spaces in the names" "$(cat "$tmp/out" "$tmp/err")"; fi
 
 # ---- examples/cluster/parallel.sh on this machine (HOSTS=:) ----
 if command -v parallel >/dev/null 2>&1; then
