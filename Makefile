@@ -240,6 +240,17 @@ $$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
 	$$(call lib_cc,$(1))
 endef
 $(foreach l,$(LAYERS),$(eval $(call layer_rule,$(l))))
+# The build's identity, ggBuildId() (lib/core/base.c): "src-" and the
+# POSIX cksum (a CRC-32, the same on every machine) of the library's
+# sources, names and bytes, so that tiles, reports and plans of two builds
+# do not merge (docs/cluster.md). A header under $(BUILD), for base.o.
+GG_ID_SRC := $(sort $(wildcard lib/*/*.c lib/*/*.h include/*.h include/ggrt/*.h))
+$(BUILD)/lib/core/buildid.h: $(GG_ID_SRC)
+	@mkdir -p $(@D)
+	@for f in $(GG_ID_SRC); do echo "$$f"; cat "$$f"; done | cksum | \
+	  sed 's/^\([0-9]*\).*/#define GG_BUILD_ID "src-\1"/' >$@.tmp && mv $@.tmp $@
+$(BUILD)/lib/core/base.o: $(BUILD)/lib/core/buildid.h
+$(BUILD)/lib/core/base.o: core_CFLAGS += -I$(BUILD)/lib/core
 # ISA_AGAIN: the same source, another object (and flags); also in the
 # portable geom build below (scalar_cc).
 define isa_again_rule

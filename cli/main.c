@@ -59,7 +59,7 @@ static int dispatch(int argc, char **argv)
             fprintf(stderr, "run 'ggrt --help' for the list of commands\n");
             return EXIT_USAGE;
         }
-        printf("ggrt %s\n", ggVersion());
+        printf("ggrt %s (build %s)\n", ggVersion(), ggBuildId());
         return EXIT_OK;
     }
     for (i = 0; i < sizeof commands / sizeof commands[0]; i++) {

@@ -64,6 +64,8 @@ int dbg_tile_close(dbg_tile *t, FILE *f, const char *params)
     fwrite(t->text, 1, n, stdout);
     printf(",\"tile\":{\"version\":");
     json_str(stdout, ggVersion());
+    printf(",\"buildId\":");
+    json_str(stdout, ggBuildId());
     printf(",\"sceneHash\":");
     json_str(stdout, t->band.hash);
     printf(",\"options\":");

@@ -118,7 +118,7 @@ int dbg_tile_begin(dbg_tile *t, ggScene *scene, const char *scene_path, ggRender
 void dbg_tile_options(const dbg_tile *t, const ggRenderOptions *opt, ggRenderOptions *out);
 /* Where the JSON report goes: stdout, or with --tile a buffer that
    dbg_tile_close writes to stdout with the manifest ("tile": version,
-   sceneHash, options, cut, index, rows, params: what else must agree)
+   buildId, sceneHash, options, cut, index, rows, params: what else must agree)
    as its last member. Exit code. */
 FILE *dbg_tile_open(dbg_tile *t);
 int dbg_tile_close(dbg_tile *t, FILE *f, const char *params);

@@ -13,9 +13,9 @@ static const char about[] =
     "Join the tiles written by 'ggrt render --tile' or '--tiles' into one image, PNG\n"
     "or OpenEXR by the extension of OUT: the same file a single 'ggrt render' with\n"
     "the same options writes, byte for byte. Every tile must come from the same\n"
-    "scene file (its hash), render options, ggrt version and cut, and together they\n"
-    "must cover the image once: otherwise merge names the tile and the reason and\n"
-    "writes nothing.\n"
+    "scene file (its hash), render options, ggrt version and build (ggrt --version)\n"
+    "and cut, and together they must cover the image once: otherwise merge names\n"
+    "the tile and the reason and writes nothing.\n"
     "With --reports, the JSON reports of 'ggrt find', 'check' or 'diff --tile'\n"
     "instead, joined into the report one process writes for the whole image.";
 
@@ -30,10 +30,10 @@ typedef struct tile_file {
     ggImage *img;
 } tile_file;
 
-static const char *const manifest[] = {TILE_A_VERSION, TILE_A_HASH, TILE_A_OPTIONS,
-                                       TILE_A_CUT,     TILE_A_TILE, NULL};
-static const char *const what[] = {"ggrt version", "scene (hash)", "render options", "cut",
-                                   NULL};
+static const char *const manifest[] = {TILE_A_VERSION, TILE_A_BUILD, TILE_A_HASH, TILE_A_OPTIONS,
+                                       TILE_A_CUT,     TILE_A_TILE,  NULL};
+static const char *const what[] = {"ggrt version",   "ggrt build", "scene (hash)",
+                                   "render options", "cut",        NULL};
 
 /* Read a header and the manifest; the first tile's fields are the
    reference for the others (ref NULL: this is the first). */
@@ -47,6 +47,14 @@ static int read_header(tile_file *t, const tile_file *ref)
     if (rc != GG_OK) return cli_fail(rc, &err, 0);
     for (k = 0; manifest[k]; k++)
         if (!ggEXRHeaderGet(&t->hd, manifest[k])) {
+            /* A tile of a ggrt from before the build id: which build it
+               is cannot be told, so it cannot be trusted to match. */
+            if (k && !strcmp(manifest[k], TILE_A_BUILD)) {
+                cli_error("%s: a tile of an older ggrt: no %s attribute (render it again "
+                          "with this one)",
+                          t->path, TILE_A_BUILD);
+                return EXIT_INPUT;
+            }
             cli_error("%s: not a ggrt tile: no %s attribute", t->path, manifest[k]);
             return EXIT_INPUT;
         }

@@ -172,6 +172,8 @@ static void write_json(FILE *f, const plan_args *a, const char *hash, const char
     int i;
     fprintf(f, "{\"ggrt_plan\":1,\"version\":");
     json_str(f, ggVersion());
+    fprintf(f, ",\"buildId\":");
+    json_str(f, ggBuildId());
     fprintf(f, ",\"scene\":");
     json_str(f, a->scene);
     fprintf(f, ",\"sceneHash\":");

@@ -67,6 +67,12 @@ static int members(const jnode *o, tile_plan *p, double *rows, int *nrows, char 
         return snprintf(why, whylen, "sceneHash is not a hash"), -1;
     if (jdom_str(jdom_get(o, "options"), p->options, sizeof p->options) != 0)
         return snprintf(why, whylen, "options is not a string"), -1;
+    /* A plan of a ggrt from before the build id (the others as today's
+       writes them): which build it is cannot be told. */
+    if (!(v = jdom_get(o, "buildId")))
+        return snprintf(why, whylen, "no \"buildId\" (a plan of an older ggrt: make it again)"), -1;
+    if (jdom_str(v, p->build, sizeof p->build) != 0)
+        return snprintf(why, whylen, "buildId is not a string"), -1;
     if (numbers(jdom_get(o, "size"), size, 2) != 2 || size[0] < 1 || size[1] < 1 ||
         size[0] > GG_IMAGE_MAX_DIM || size[1] > GG_IMAGE_MAX_DIM)
         return snprintf(why, whylen, "size is not [width,height]"), -1;
@@ -124,6 +130,11 @@ int tile_plan_read(const char *path, tile_plan *p)
 int tile_plan_match(const tile_plan *p, const char *plan_path, const char *hash,
                     const char *options, int w, int h)
 {
+    if (strcmp(p->build, ggBuildId()) != 0) {
+        cli_error("%s is a plan of another ggrt build: its '%s', not '%s' (ggrt --version)",
+                  plan_path, p->build, ggBuildId());
+        return EXIT_INPUT;
+    }
     if (strcmp(p->hash, hash) != 0) {
         cli_error("%s is a plan for another scene: its hash '%s', not '%s'", plan_path, p->hash,
                   hash);

@@ -29,9 +29,10 @@ typedef struct report {
 
 /* The manifest's fields compared between tiles, and their names in
    messages. */
-static const char *const same_keys[] = {"version", "sceneHash", "options", "cut", "params", NULL};
-static const char *const same_what[] = {"ggrt version", "scene (hash)", "render options", "cut",
-                                        "command options"};
+static const char *const same_keys[] = {"version", "buildId", "sceneHash", "options",
+                                        "cut",     "params",  NULL};
+static const char *const same_what[] = {"ggrt version",   "ggrt build", "scene (hash)",
+                                        "render options", "cut",        "command options"};
 /* Report members merged (the others must be equal in every tile, but the
    scene paths, as given, and the options: the manifest compares options
    and options_a without -j, same_b options_b). */
@@ -75,6 +76,14 @@ static int load(report *r)
     }
     if (!(r->tile = jdom_get(&r->root, "tile")) || r->tile->type != 'o') {
         cli_error("%s: not a tile's report: no \"tile\" manifest (find, check or diff --tile)",
+                  r->path);
+        return EXIT_INPUT;
+    }
+    /* A report of a ggrt from before the build id: which build it is
+       cannot be told, so it cannot be trusted to match. */
+    if (jdom_get(r->tile, "version") && !jdom_get(r->tile, "buildId")) {
+        cli_error("%s: a tile's report of an older ggrt: no \"buildId\" in its manifest (run it "
+                  "again with this one)",
                   r->path);
         return EXIT_INPUT;
     }

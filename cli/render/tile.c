@@ -269,7 +269,7 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
 {
     ggRenderOptions o = j->opt;
     ggImage *img = NULL, *band = NULL;
-    ggEXRAttr attrs[6];
+    ggEXRAttr attrs[7];
     ggEXRHeader hd;
     ggRayStats st;
     ggError err;
@@ -301,10 +301,11 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     attrs[3].name = TILE_A_OPTIONS, attrs[3].value = j->options;
     attrs[4].name = TILE_A_CUT, attrs[4].value = j->cutname;
     attrs[5].name = TILE_A_TILE, attrs[5].value = idx;
+    attrs[6].name = TILE_A_BUILD, attrs[6].value = ggBuildId();
     memset(&hd, 0, sizeof hd);
     hd.display_width = j->w, hd.display_height = j->h;
     hd.data_x = 0, hd.data_y = y0;
-    hd.attr_count = 6, hd.attrs = attrs;
+    hd.attr_count = 7, hd.attrs = attrs;
     cli_cancel_hold();
     rc = ggImageWriteEXRHeader(band, &hd, path, &err);
     cli_cancel_release();

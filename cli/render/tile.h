@@ -21,6 +21,7 @@
 
 /* The manifest's attribute names. */
 #define TILE_A_VERSION "ggrt.version"   /* ggVersion() */
+#define TILE_A_BUILD   "ggrt.buildId"   /* ggBuildId() */
 #define TILE_A_HASH    "ggrt.sceneHash" /* "fnv1a64:HEX" of the scene file's bytes */
 #define TILE_A_SCENE   "ggrt.scene"     /* the scene path as given (not compared) */
 #define TILE_A_OPTIONS "ggrt.options"   /* ggRenderOptionsFormat, size explicit */
@@ -77,19 +78,19 @@ int tile_options(const ggScene *scene, const ggRenderOptions *opt, int *w, int *
 
 /* A plan file written by ggrt plan (plan.c, docs/cluster.md). */
 typedef struct tile_plan {
-    char hash[32], options[2048];
+    char build[64], hash[32], options[2048];
     int width, height;
     tile_cut cut;
 } tile_plan;
 
 /* Read and check a plan file (a JSON object: "ggrt_plan", "sceneHash",
-   "options", "size", "rows"). Prints the reason ("ggrt CMD: FILE: ...")
+   "options", "size", "rows", "buildId"). Prints the reason ("ggrt CMD: FILE: ...")
    and returns an exit code; on success p->cut.y is allocated. */
 int tile_plan_read(const char *path, tile_plan *p);
 
-/* The plan must be for this scene file's hash, these manifest options and
-   a w x h image: otherwise print why (naming the plan file) and return
-   EXIT_INPUT. */
+/* The plan must be of this ggrt build (ggBuildId), for this scene file's
+   hash, these manifest options and a w x h image: otherwise print why
+   (naming the plan file) and return EXIT_INPUT. */
 int tile_plan_match(const tile_plan *p, const char *plan_path, const char *hash,
                     const char *options, int w, int h);
 

@@ -73,6 +73,16 @@ extern "C" {
 /* Returns GG_VERSION_STRING of the library actually linked. */
 GG_API const char *ggVersion(void);
 
+/* The identity of the library's build: "src-" and the POSIX cksum (a
+   CRC-32) of the sources it was compiled from, lib/ and include/, their
+   names and bytes, as the Makefile computes it. Two builds of the same
+   sources have the same id, whatever the machine or compiler; a change
+   to any source changes it (but for a CRC collision, 1 in 2^32). The
+   version does not change between releases; this does. ggrt's tiles,
+   reports and plans record it, and files of two builds are not merged
+   (docs/cluster.md). Static storage, never NULL. */
+GG_API const char *ggBuildId(void);
+
 /* ------------------------------------------------------------------ */
 /* Status codes                                                        */
 /* ------------------------------------------------------------------ */

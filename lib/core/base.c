@@ -7,6 +7,8 @@
 #define _DEFAULT_SOURCE 1
 #endif
 #include "core.h"
+/* GG_BUILD_ID: made by the Makefile under the build folder. */
+#include "buildid.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -22,6 +24,11 @@
 #include <unistd.h>
 
 GG_API const char *ggVersion(void) { return GG_VERSION_STRING; }
+
+GG_API const char *ggBuildId(void)
+{
+    return GG_BUILD_ID;
+}
 
 GG_API const char *ggStatusString(int code)
 {

@@ -69,6 +69,7 @@ static void test_base_optics(void **state)
     (void)state;
     /* No handles: called to show they are covered and answer. */
     COVER(ggVersion), assert_non_null(ggVersion());
+    COVER(ggBuildId), assert_non_null(ggBuildId());
     COVER(ggStatusString), assert_non_null(ggStatusString(-99));
     COVER(ggUTF8Length), assert_int_equal(ggUTF8Length(NULL, 4), 0);
     COVER(ggUTF8Valid), assert_false(ggUTF8Valid(NULL, 0));

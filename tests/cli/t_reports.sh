@@ -171,6 +171,16 @@ reports_refuse "a tile of another scene" \
 reports_refuse "a tile of another cut" \
   "ggrt merge: $rd/cut-3.json: different cut from $rd/g-0.json: \"rows 5\", not \"rows 4\"" \
   "$rd"/g-[0-2].json "$rd/cut-3.json"
+# another ggrt build (ggBuildId, ggrt --version), or one before build ids
+rbid=$(sed -n 's/.*"buildId":"\([^"]*\)".*/\1/p' "$rd/g-0.json")
+sed "s/\"buildId\":\"$rbid\"/\"buildId\":\"old-${rbid#src-}\"/" "$rd/g-1.json" >"$rd/build-1.json"
+reports_refuse "a tile of another ggrt build" \
+  "ggrt merge: $rd/build-1.json: different ggrt build from $rd/g-0.json: \"old-${rbid#src-}\", not \"$rbid\"" \
+  "$rd/g-0.json" "$rd/build-1.json" "$rd/g-2.json" "$rd/g-3.json"
+sed 's/"buildId":"[^"]*",//' "$rd/g-2.json" >"$rd/older-2.json"
+reports_refuse "a tile of a ggrt before build ids" \
+  "ggrt merge: $rd/older-2.json: a tile's report of an older ggrt: no \"buildId\" in its manifest (run it again with this one)" \
+  "$rd/g-0.json" "$rd/g-1.json" "$rd/older-2.json" "$rd/g-3.json"
 "$ggrt" find $g -s 80x48 -w 'some(kind == tir)' --limit 3 -f json --tile 1/4 >"$rd/lim-1.json"
 reports_refuse "a tile of another --limit" \
   "ggrt merge: $rd/lim-1.json: different command options from $rd/g-0.json: \"limit=3\", not \"limit=20\"" \

@@ -228,6 +228,32 @@ else bad "merge of a truncated tile writes nothing" "$(ls "$td")"; fi
 merge_refuses "an EXR that is not a tile" \
   "ggrt merge: $td/whole.exr: not a ggrt tile: no ggrt.version attribute" "$td/whole.exr"
 
+# ---- tiles and plans of another ggrt build, or of one before build ids ----
+# ggBuildId (ggrt --version): a checksum of the library's sources, in the
+# manifest beside the version. A tile of another build is made here by
+# editing its manifest (the same length: the EXR's sizes hold); one of a
+# ggrt before build ids has no ggrt.buildId (here renamed).
+bid=$("$ggrt" --version | sed -n 's/^ggrt [0-9.]* (build \(src-[0-9]*\))$/\1/p')
+if [ -n "$bid" ]; then ok "ggrt --version names the build ($bid)"
+else bad "ggrt --version names the build" "$("$ggrt" --version)"; fi
+obid=old-${bid#src-}
+# exr_edit IN OUT OLD NEW: OUT is IN with the bytes OLD, found once, made NEW.
+exr_edit() {
+  python3 -c 'import sys
+b = open(sys.argv[1], "rb").read()
+o, n = sys.argv[3].encode(), sys.argv[4].encode()
+assert len(o) == len(n) and b.count(o) == 1, "not once: %r" % o
+open(sys.argv[2], "wb").write(b.replace(o, n))' "$@"
+}
+exr_edit "$g-3.exr" "$td/build-3.exr" "$bid" "$obid" || bad "edit the build id of a tile"
+merge_refuses "a tile of another ggrt build" \
+  "ggrt merge: $td/build-3.exr: different ggrt build from $g-0.exr: '$obid', not '$bid'" \
+  "$g-0.exr" "$g-1.exr" "$g-2.exr" "$td/build-3.exr" "$g-4.exr" "$g-5.exr" "$g-6.exr"
+exr_edit "$g-4.exr" "$td/older-4.exr" "ggrt.buildId" "ggrt.buildIX" || bad "rename the build id of a tile"
+merge_refuses "a tile of a ggrt before build ids" \
+  "ggrt merge: $td/older-4.exr: a tile of an older ggrt: no ggrt.buildId attribute (render it again with this one)" \
+  "$g-0.exr" "$g-1.exr" "$g-2.exr" "$g-3.exr" "$td/older-4.exr" "$g-5.exr" "$g-6.exr"
+
 # ---- plans: refused for another scene, other options or size, a bad file ----
 "$ggrt" plan examples/scenes/glass.nff -s 80x48 -q --tiles 7 -o "$td/gl.json" 2>"$tmp/err" ||
   bad "plan of glass" "$(cat "$tmp/err")"
@@ -242,6 +268,14 @@ expect_err 2 "ggrt render: $td/gl.json is a plan for another scene: its hash '$h
   "render refuses a plan for another scene" \
   "$ggrt" render "$td/glass2.nff" -s 80x48 --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
 if [ -e "$td/x.exr" ]; then bad "a refused plan writes no tile"; else ok "a refused plan writes no tile"; fi
+sed "s/\"buildId\":\"$bid\"/\"buildId\":\"$obid\"/" "$td/gl.json" >"$td/build.json"
+expect_err 2 "ggrt render: $td/build.json is a plan of another ggrt build: its '$obid', not '$bid' (ggrt --version)" \
+  "render refuses a plan of another ggrt build" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/build.json" --tile 2 -o "$td/x.exr"
+sed 's/"buildId":"[^"]*",//' "$td/gl.json" >"$td/older.json"
+expect_err 2 "ggrt render: $td/older.json: not a ggrt plan: no \"buildId\" (a plan of an older ggrt: make it again)" \
+  "render refuses a plan of a ggrt before build ids" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/older.json" --tile 2 -o "$td/x.exr"
 expect_err 1 "ggrt render: $td/gl.json cuts 7 tiles, not 8: give --tile I (or I/7)" \
   "render refuses --tile I/N with a plan of other N" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/gl.json" --tile 2/8 -o "$td/x.exr"

@@ -15,6 +15,21 @@ static void test_version(void **state)
     assert_string_equal(ggVersion(), GG_VERSION_STRING);
 }
 
+/* "src-" and the cksum the Makefile computed: decimal digits, the same
+   pointer and text on every call. */
+static void test_build_id(void **state)
+{
+    const char *id = ggBuildId();
+    size_t n;
+    (void)state;
+    assert_non_null(id);
+    assert_int_equal(strncmp(id, "src-", 4), 0);
+    n = strlen(id + 4);
+    assert_true(n >= 1 && n <= 10);
+    assert_int_equal(strspn(id + 4, "0123456789"), n);
+    assert_ptr_equal(ggBuildId(), id);
+}
+
 static void test_status_strings(void **state)
 {
     int c;
@@ -120,6 +135,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_version),
+        cmocka_unit_test(test_build_id),
         cmocka_unit_test(test_status_strings),
         cmocka_unit_test(test_error_set),
         cmocka_unit_test(test_grow_with_allocator),
