@@ -124,7 +124,10 @@ static int check_all(tile_file *t, int nt)
         return EXIT_INPUT;
     }
     for (i = 0, rc = EXIT_OK; i < nt && rc == EXIT_OK; i++) {
-        if (seen[t[i].index]) {
+        if (seen[t[i].index] && tile_same_file(t[i].path, seen[t[i].index]->path)) {
+            cli_error("%s: given twice (tile %d)", t[i].path, t[i].index);
+            rc = EXIT_INPUT;
+        } else if (seen[t[i].index]) {
             cli_error("%s: tile %d again (also in %s)", t[i].path, t[i].index,
                       seen[t[i].index]->path);
             rc = EXIT_INPUT;

@@ -206,7 +206,10 @@ static int check_reports(report *r, int nr, tile_cut *cut, int *w, int *h, repor
         return EXIT_INPUT;
     }
     for (i = 0; i < nr && rc == EXIT_OK; i++) {
-        if ((*order)[r[i].index]) {
+        if ((*order)[r[i].index] && tile_same_file(r[i].path, (*order)[r[i].index]->path)) {
+            cli_error("%s: given twice (tile %d)", r[i].path, r[i].index);
+            rc = EXIT_INPUT;
+        } else if ((*order)[r[i].index]) {
             cli_error("%s: tile %d again (also in %s)", r[i].path, r[i].index,
                       (*order)[r[i].index]->path);
             rc = EXIT_INPUT;

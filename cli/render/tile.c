@@ -10,6 +10,7 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 void tile_rows(int i, int n, int h, int *y0, int *y1)
 {
@@ -226,6 +227,14 @@ int tile_path(const char *pattern, int i, char *buf, size_t size)
     else
         n = snprintf(buf, size, "%.*s%d%s", (int)(pct - pattern), pattern, i, pct + 2);
     return n < 0 || (size_t)n >= size ? -1 : 0;
+}
+
+int tile_same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (!strcmp(a, b)) return 1;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
+           sa.st_ino == sb.st_ino;
 }
 
 int tile_hash_file(const char *path, char *buf, size_t size)

@@ -98,6 +98,9 @@ int tile_plan_match(const tile_plan *p, const char *plan_path, const char *hash,
    pattern without one is used as it is). 0, or -1 if it does not fit. */
 int tile_path(const char *pattern, int i, char *buf, size_t size);
 
+/* 1 if paths a and b name the same file (one given twice to merge). */
+int tile_same_file(const char *a, const char *b);
+
 /* "fnv1a64:%016llx" of the file's bytes into buf (at least 32 bytes).
    0, or -1 with errno set. */
 int tile_hash_file(const char *path, char *buf, size_t size);

@@ -129,6 +129,8 @@ reports_refuse "a cut with a sign" "ggrt merge: $rd/sign-0.json: bad cut 'rows +
 cp "$rd/g-1.json" "$rd/dup-1.json"
 reports_refuse "a duplicate" "ggrt merge: $rd/dup-1.json: tile 1 again (also in $rd/g-1.json)" \
   "$rd"/g-[0-3].json "$rd/dup-1.json"
+reports_refuse "a report given twice" "ggrt merge: $rd/g-1.json: given twice (tile 1)" \
+  "$rd"/g-[0-3].json "$rd/g-1.json"
 "$ggrt" find $g -s 80x48 -d 3 -w 'some(kind == tir)' -f json --tile 2/4 >"$rd/opt-2.json"
 reports_refuse "a tile of other options" \
   "ggrt merge: $rd/opt-2.json: different render options from $rd/g-0.json: \"size=80x48 depth=3\", not \"size=80x48\"" \

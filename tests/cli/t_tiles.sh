@@ -195,6 +195,8 @@ merge_refuses "a missing tile" "ggrt merge: tile 4 of 7 (rows 27..33) is missing
 cp "$g-3.exr" "$td/dup-3.exr"
 merge_refuses "a duplicate" "ggrt merge: $td/dup-3.exr: tile 3 again (also in $g-3.exr)" \
   "$g"-[0-6].exr "$td/dup-3.exr"
+merge_refuses "a tile given twice" "ggrt merge: $g-3.exr: given twice (tile 3)" \
+  "$g"-[0-6].exr "$g-3.exr"
 "$ggrt" render examples/scenes/glass.nff -s 80x48 -d 3 -q --tile 2/7 -o "$td/opt-2.exr"
 merge_refuses "a tile of other options" \
   "ggrt merge: $td/opt-2.exr: different render options from $g-0.exr: 'size=80x48 depth=3', not 'size=80x48'" \
