@@ -15,7 +15,7 @@ typedef struct command {
 static const command commands[] = {
     {"render", cmd_render, "render a scene to PNG or EXR"},
     {"plan", cmd_plan, "cut an image into tiles of equal cost for render --plan"},
-    {"merge", cmd_merge, "join the tiles of render --tile into one image"},
+    {"merge", cmd_merge, "join render --tile's tiles or find/check/diff --tile's reports"},
     {"trace", cmd_trace, "print the ray tree of one pixel"},
     {"find", cmd_find, "the pixels whose rays satisfy a predicate"},
     {"check", cmd_check, "scan every pixel for invariants (NaN, energy, truncation...)"},

@@ -179,6 +179,10 @@ expect_msg 0 "ggrt render: warning: tile 1/2: the ray budget (2 rays per eye ray
   "a tile warns of the rays its ray budget left uncast" \
   "$ggrt" render examples/scenes/glass.nff -s 64x48 --ray-budget 2 -q --tile 1/2 -o "$td/budget.exr"
 
+# ggrt --help's line for merge names both kinds of input
+if "$ggrt" --help | grep -q "^ *merge .*tiles.*reports"; then ok "ggrt --help: merge joins tiles or reports"
+else bad "ggrt --help: merge joins tiles or reports" "$("$ggrt" --help | grep merge)"; fi
+
 # ---- bad input to merge: the tile, the reason, exit 2, nothing written ----
 # merge_refuses NAME MESSAGE FILES...: exit 2, the exact message, and no
 # output file (nor a temporary one) afterwards.
