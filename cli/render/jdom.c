@@ -47,6 +47,7 @@ static int string(jp *r)
     if (*r->p != '"') return fail(r, "expected a string");
     for (r->p++; *r->p != '"'; r->p++) {
         int k;
+        if (!*r->p) return fail(r, "the text ends in a string"); /* cut off */
         if ((unsigned char)*r->p < 0x20) return fail(r, "a control character in a string");
         if (*r->p != '\\') continue;
         if (!*++r->p) return fail(r, "the text ends in a string");

@@ -203,6 +203,11 @@ head -c 200 "$rd/g-1.json" >"$rd/trunc-1.json"
 rm -f "$rd"/out.*
 expect_msg 2 "ggrt merge: $rd/trunc-1.json: not a JSON report: " "merge --reports refuses a truncated report" \
   "$ggrt" merge --reports "$rd/g-0.json" "$rd/trunc-1.json" "$rd/g-2.json" "$rd/g-3.json" -o "$rd/out.json"
+# cut off inside a string: the end of the text, not a control character
+printf '{"ggrt_find":1,"scene":"exam' >"$rd/trunc-s.json"
+expect_err 2 "ggrt merge: $rd/trunc-s.json: not a JSON report: the text ends in a string at byte 28" \
+  "merge --reports: a report cut off inside a string" \
+  "$ggrt" merge --reports "$rd/trunc-s.json" -o "$rd/out.json"
 if [ -z "$(ls "$rd" | grep '^out\.')" ]; then ok "merge --reports of a truncated report writes nothing"
 else bad "merge --reports of a truncated report writes nothing" "$(ls "$rd")"; fi
 "$ggrt" find $g -s 80x48 -w 'some(kind == tir)' -f json >"$rd/whole.json"
