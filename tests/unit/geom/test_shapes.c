@@ -224,6 +224,48 @@ static void test_sphere_surface(void **state)
     gg_geom_free(g);
 }
 
+/* A negative tmin (geom.h: "a negative tmin works") asks for the
+   closest hit behind the origin too, so the kernel must return the
+   smaller root first whatever the sign of b = (o - c).d. The stable form
+   makes t0 = c/q the larger root when b >= 0 (the ray leaving the
+   centre), which only the swap puts in order: a ray from (0, 0, 5) along
+   +z, away from the unit sphere, has roots -6 and -4, and from the centre
+   -1 and 1. Guards the t0 > t1 swap of gg_sphere_kernel (dropping it
+   returns -4 and 1). Both formulas, several distances and directions. */
+static void test_sphere_negative_tmin(void **state)
+{
+    static const int modes[2] = {GG_SPHERE_STABLE, GG_SPHERE_TEXTBOOK};
+    static const ggVec3 dirs[3] = {{0, 0, 1}, {0, 0.6, 0.8}, {-1, 0, 0}};
+    int m, k, j;
+    (void)state;
+    for (m = 0; m < 2; m++) {
+        gg_geom *g = gg_geom_create(NULL);
+        gg_qopt opt = gg_qopt_default;
+        opt.sphere = modes[m];
+        assert_true(gg_geom_add_sphere(g, V(0, 0, 0), 1, 0) == 0);
+        assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+        for (k = 0; k < 3; k++) {
+            ggVec3 d = dirs[k];
+            for (j = 0; j < 4; j++) {
+                /* origin s along d: behind it (s > 1) both roots are
+                   negative, -s - 1 and -s + 1; at the centre -1 and 1 */
+                double s = j == 0 ? 0 : j == 1 ? 5 : j == 2 ? 1.5 : 64;
+                gg_rayq q = ray(V(s * d.x, s * d.y, s * d.z), d);
+                gg_hit h;
+                q.opt = &opt;
+                q.tmin = -100;
+                assert_true(gg_geom_intersect(g, &q, &h));
+                assert_close(h.t, -s - 1, 4 * 0x1p-53);
+                /* above the nearer root: the farther one */
+                q.tmin = -s - 0.5;
+                assert_true(gg_geom_intersect(g, &q, &h));
+                assert_close(h.t, -s + 1, 4 * 0x1p-53);
+            }
+        }
+        gg_geom_free(g);
+    }
+}
+
 /* ---- triangles ---- */
 
 static void test_triangle_basics(void **state)
@@ -830,6 +872,7 @@ int main(void)
         cmocka_unit_test(test_sphere_textbook_fails),
         cmocka_unit_test(test_sphere_float),
         cmocka_unit_test(test_sphere_surface),
+        cmocka_unit_test(test_sphere_negative_tmin),
         cmocka_unit_test(test_triangle_basics),
         cmocka_unit_test(test_watertight_mesh),
         cmocka_unit_test(test_watertight_mesh_float),
