@@ -13,6 +13,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "optics_ref.h"
+
 #define U 0x1p-53 /* the ulp unit of docs/optics.md */
 
 static ggVec3 V(double x, double y, double z)
@@ -307,6 +309,63 @@ static void test_refract_tir_threshold(void **state)
             assert_close(ggCriticalAngle(ni, 1), GG_PI / 2 - asin(sqrt(2 * e + e * e) / ni),
                          4 * U);
         }
+    }
+}
+
+/* ggCriticalAngle for |ni| a few ulps above |nt|, where the angle is
+   within about 1e-7 rad of pi/2 and its cosine sqrt(ni^2 - nt^2)/ni comes
+   from a difference of squares that cancels to the last bits: the header
+   promises the result is "accurate also when nt is close to ni", which
+   needs ni^2 - nt^2 formed without rounding, as (ni - nt)(ni + nt) is
+   (Sterbenz). Checked against atan2 of the exact difference (the squares
+   as exact long double-double pairs, tests/common/optics_ref.h), within
+   2 ulps of the result, for nt over the whole double range (subnormal to
+   2^1022), either sign, 1 to 16 ulps apart, and for ratios ni/nt up to
+   2^900. Guards the (a - b)(a + b) of lib/optics/optics.c: a*a - b*b
+   rounds both squares and is ~2e-9 rad off at ni = nt + 1 ulp. */
+static void test_critical_angle_near_equal(void **state)
+{
+    tu_rng r = {17};
+    int i;
+    (void)state;
+    if (!ref_init()) {
+        print_message("long double is no wider than double here: skipped\n");
+        skip();
+    }
+    for (i = 0; i < 40000; i++) {
+        double nt, ni, got, want, ulp_w;
+        ldd d;
+        ld a, b;
+        int k;
+        if (i % 2 == 0) {
+            /* ni 1..16 ulps above nt */
+            nt = ldexp(1 + tu_uniform(&r), (int)(tu_uniform(&r) * 2097) - 1074);
+            if (nt == 0) nt = 0x1p-1074;
+            ni = nt;
+            for (k = 1 + (int)(tu_uniform(&r) * 16); k > 0; k--) ni = nextafter(ni, INFINITY);
+        } else {
+            /* any ratio up to 2^900 (nt stays above 2^-1022) */
+            ni = ldexp(1 + tu_uniform(&r), (int)(tu_uniform(&r) * 1100) - 120);
+            nt = ni * ldexp(1 + tu_uniform(&r), -(int)(tu_uniform(&r) * 900) - 1);
+        }
+        if (i % 3 == 1) ni = -ni;
+        if (i % 5 == 2) nt = -nt;
+        a = fabsl((ld)ni), b = fabsl((ld)nt);
+        d = sub(two_prod(a, a), two_prod(b, b)); /* a^2 - b^2, exact to 2^-120 */
+        want = (double)atan2l(b, sqrtl(d.hi + d.lo));
+        got = ggCriticalAngle(ni, nt);
+        ulp_w = ldexp(1, ilogb(want) - 52);
+        if (!(fabs(got - want) <= 2 * ulp_w)) {
+            print_error("ggCriticalAngle(%a, %a) = %a, exact %a: %.3g ulp\n", ni, nt, got, want,
+                        fabs(got - want) / ulp_w);
+            fail();
+        }
+    }
+    /* the audit's case: 1.333 and the next double above it */
+    {
+        double ni = nextafter(1.333, 2);
+        ldd d = sub(two_prod(ni, ni), two_prod(1.333, 1.333));
+        assert_close(ggCriticalAngle(ni, 1.333), (double)atan2l(1.333L, sqrtl(d.hi + d.lo)), 2 * U);
     }
 }
 
@@ -665,6 +724,7 @@ int main(void)
         cmocka_unit_test(test_refract_back_returns_v),
         cmocka_unit_test(test_refract_both_orientations),
         cmocka_unit_test(test_refract_tir_threshold),
+        cmocka_unit_test(test_critical_angle_near_equal),
         cmocka_unit_test(test_refract_negative_index),
         cmocka_unit_test(test_refract_invalid_and_tangent),
         cmocka_unit_test(test_no_fp_exceptions),
