@@ -506,6 +506,77 @@ static void test_ply_errors(void **state)
     }
 }
 
+/* Index n (a face corner) written as a PLY value of `size` bytes in
+   either byte order. */
+static size_t put_index(unsigned char *b, unsigned n, int size, int big)
+{
+    int i;
+    for (i = 0; i < size; i++) b[big ? size - 1 - i : i] = (unsigned char)(n >> (8 * i));
+    return (size_t)size;
+}
+
+/* A binary face with corner 3 of 3 vertices, one past the last, is
+   refused with the byte of that index, for every index type and both byte
+   orders; corners 0, 1, 2 load. Native-endian int and uint indices take a
+   fast path of their own (face_indices in lib/load/ply.c compares the raw
+   uint32 with the vertex count): this guards its `u >= nv` (`u > nv`
+   accepted index 3 and read past the vertices), the others the general
+   path's `d < nv`. */
+static void test_ply_binary_index_bound(void **state)
+{
+    static const struct {
+        const char *name;
+        int size;
+    } types[] = {{"int", 4},  {"uint", 4},   {"int32", 4}, {"uint32", 4}, {"uchar", 1},
+                 {"char", 1}, {"ushort", 2}, {"short", 2}, {"uint16", 2}};
+    size_t t;
+    int big, last;
+    (void)state;
+    for (big = 0; big < 2; big++)
+        for (t = 0; t < sizeof types / sizeof types[0]; t++)
+            for (last = 2; last <= 3; last++) {
+                unsigned char b[400];
+                char msg[160];
+                static const float xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+                size_t n, hl, at;
+                int i, j;
+                n = (size_t)snprintf((char *)b, sizeof b,
+                                     "ply\nformat binary_%s_endian 1.0\nelement vertex 3\n"
+                                     "property float x\nproperty float y\nproperty float z\n"
+                                     "element face 1\nproperty list uchar %s vertex_indices\n"
+                                     "end_header\n",
+                                     big ? "big" : "little", types[t].name);
+                hl = n;
+                for (i = 0; i < 9; i++) {
+                    uint32_t u;
+                    memcpy(&u, &xyz[i], 4);
+                    for (j = 0; j < 4; j++)
+                        b[n + (size_t)(big ? 3 - j : j)] = (unsigned char)(u >> (8 * j));
+                    n += 4;
+                }
+                b[n++] = 3;
+                n += put_index(b + n, 0, types[t].size, big);
+                n += put_index(b + n, 1, types[t].size, big);
+                at = n;
+                n += put_index(b + n, (unsigned)last, types[t].size, big);
+                if (last == 2) {
+                    ggScene *s = ggSceneCreate(NULL);
+                    ggError e;
+                    int rc = ggSceneLoadMeshMemory(s, (const char *)b, n, "t.ply", NULL, &e);
+                    if (rc != GG_OK) print_error("%s: %s\n", types[t].name, e.message);
+                    assert_int_equal(rc, GG_OK);
+                    ggSceneFree(s);
+                } else {
+                    snprintf(msg, sizeof msg,
+                             "t.ply: byte %zu (face 0): vertex index 3 is out of range "
+                             "(3 vertices)",
+                             at);
+                    expect_error((const char *)b, n, "t.ply", GG_ERROR_PARSE, msg);
+                }
+                assert_true(at == hl + 36 + 1 + 2 * (size_t)types[t].size);
+            }
+}
+
 /* An ascii PLY element is one line holding its values, no more, no
    fewer, and the body has the lines the header declares: values once ran
    on across lines, and lines beyond the counts were dropped. Lines may
@@ -694,14 +765,23 @@ static void test_model_as_scene(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_obj_cube),          cmocka_unit_test(test_obj_memory),
-        cmocka_unit_test(test_obj_errors),        cmocka_unit_test(test_obj_forms),
-        cmocka_unit_test(test_obj_concave),       cmocka_unit_test(test_obj_concave_quad),
-        cmocka_unit_test(test_obj_rollback),      cmocka_unit_test(test_ply_encodings),
-        cmocka_unit_test(test_ply_errors),        cmocka_unit_test(test_ply_binary_rest),
-        cmocka_unit_test(test_ply_ascii_lines),   cmocka_unit_test(test_nff_mesh),
-        cmocka_unit_test(test_model_as_scene),    cmocka_unit_test(test_obj_groups),
-        cmocka_unit_test(test_obj_label_limit),   cmocka_unit_test(test_ply_values),
+        cmocka_unit_test(test_obj_cube),
+        cmocka_unit_test(test_obj_memory),
+        cmocka_unit_test(test_obj_errors),
+        cmocka_unit_test(test_obj_forms),
+        cmocka_unit_test(test_obj_concave),
+        cmocka_unit_test(test_obj_concave_quad),
+        cmocka_unit_test(test_obj_rollback),
+        cmocka_unit_test(test_ply_encodings),
+        cmocka_unit_test(test_ply_errors),
+        cmocka_unit_test(test_ply_binary_rest),
+        cmocka_unit_test(test_ply_binary_index_bound),
+        cmocka_unit_test(test_ply_ascii_lines),
+        cmocka_unit_test(test_nff_mesh),
+        cmocka_unit_test(test_model_as_scene),
+        cmocka_unit_test(test_obj_groups),
+        cmocka_unit_test(test_obj_label_limit),
+        cmocka_unit_test(test_ply_values),
         cmocka_unit_test(test_obj_name_comments),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
