@@ -99,6 +99,39 @@ static void test_obj_line_endings(void **state)
     }
 }
 
+/* The OBJ/MTL lexer (lib/load/textlex.c) skips a UTF-8 BOM, and the BOM
+   takes no column there either: gg_lc_check_text must move the line start
+   past it, or every column on line 1 is 3 too far (the NFF reader has a
+   lexer of its own, tested above). Guards `c->ls = c->p` after the skip:
+   without it "\xEF\xBB\xBFv 0 0 x" is reported at 1:10. The NUL check
+   runs in the same function, before any statement. */
+static void test_obj_bom_column(void **state)
+{
+    static const struct {
+        const char *text;
+        size_t len;
+        const char *msg;
+    } cases[] = {
+        {"\xEF\xBB\xBFv 0 0 x", 10, "t.obj:1:7: expected a coordinate, got 'x'"},
+        {"\xEF\xBB\xBF"
+         "f 1 2 3\n",
+         11, "t.obj:1:3: vertex index 1 is out of range (0 defined so far)"},
+        {"\xEF\xBB\xBFv\0", 5, "t.obj:1:2: NUL byte in a text file"},
+        /* line 2 is unaffected either way */
+        {"\xEF\xBB\xBFv 0 0 0\nv 0 0 x", 18, "t.obj:2:7: expected a coordinate, got 'x'"},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggError e;
+        assert_int_equal(ggSceneLoadMeshMemory(s, cases[i].text, cases[i].len, "t.obj", NULL, &e),
+                         GG_ERROR_PARSE);
+        assert_string_equal(e.message, cases[i].msg);
+        ggSceneFree(s);
+    }
+}
+
 static void test_messages_escape_bytes(void **state)
 {
     ggScene *s = ggSceneCreate(NULL);
@@ -202,7 +235,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_nul_bytes),        cmocka_unit_test(test_bom_and_line_endings),
         cmocka_unit_test(test_obj_line_endings), cmocka_unit_test(test_messages_escape_bytes),
-        cmocka_unit_test(test_escape_function),  cmocka_unit_test(test_binary_files),
+        cmocka_unit_test(test_obj_bom_column),   cmocka_unit_test(test_escape_function),
+        cmocka_unit_test(test_binary_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
