@@ -316,6 +316,90 @@ static void test_inside_shortcut(void **state)
     gg_geom_free(g);
 }
 
+static ggVec3 from_axes(const double c[3])
+{
+    return V3(c[0], c[1], c[2]);
+}
+
+/* A ray exactly through the edge two triangles share crosses exactly one
+   of them, also when that edge is horizontal in the ray's sheared space
+   (its ey is exactly 0): gg_tri_owns (lib/geom/shape_tri.h) gives it to
+   the triangle that sees it with ex > 0, the top-left rule. Guards that
+   rule's `ey > 0` (`ey >= 0` lets both triangles own a horizontal edge,
+   so a coloured shadow would cross the pair twice). The edge has constant
+   coordinate ky (the axis that is y after the shear) and the ray no
+   component along ky from an origin with that coordinate: then both ends
+   of the edge shear to y = 0 exactly, whatever the other coordinates.
+   Every dominant axis and sign, both kernels (double and float), random
+   edges, triangles and rays; each triangle alone (exactly one hits) and
+   the transparent pair in a crossing list (one crossing). */
+static void test_shared_horizontal_edge_once(void **state)
+{
+    tu_rng r = {97};
+    int i, isect;
+    (void)state;
+    for (isect = 0; isect < 2; isect++) {
+        gg_qopt opt = gg_qopt_default;
+        opt.isect = isect ? GG_ISECT_FLOAT : GG_ISECT_DOUBLE;
+        for (i = 0; i < 600; i++) {
+            int kz = i % 3, neg = (i / 3) % 2;
+            int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1, tmp;
+            double a[3], b[3], c1[3], c2[3], p[3], o[3], e[3], y0 = tu_range(&r, -4, 4), f;
+            ggVec3 tri[2][3];
+            gg_geom *g2;
+            gg_rayq q;
+            gg_tcol all;
+            uint32_t cache = 0;
+            int k, hits = 0;
+            if (neg) tmp = kx, kx = ky, ky = tmp; /* the swap gg_rayq's setup makes */
+            /* the shared edge a-b at constant ky, the third vertices on either side */
+            a[kx] = tu_range(&r, -6, -1), a[ky] = y0, a[kz] = tu_range(&r, -2, 2);
+            b[kx] = tu_range(&r, 1, 6), b[ky] = y0, b[kz] = tu_range(&r, -2, 2);
+            c1[kx] = tu_range(&r, -3, 3), c1[ky] = y0 + tu_range(&r, 0.5, 4);
+            c1[kz] = tu_range(&r, -2, 2);
+            c2[kx] = tu_range(&r, -3, 3), c2[ky] = y0 - tu_range(&r, 0.5, 4);
+            c2[kz] = tu_range(&r, -2, 2);
+            /* a point inside the edge, and a ray to it along kz (tilted
+               along kx only) from an origin at ky = y0 */
+            f = tu_range(&r, 0.2, 0.8);
+            for (k = 0; k < 3; k++) p[k] = a[k] + f * (b[k] - a[k]);
+            p[ky] = y0;
+            o[kx] = p[kx] + tu_range(&r, -3, 3), o[ky] = y0;
+            o[kz] = p[kz] + (neg ? 20 : -20) + tu_range(&r, -5, 5);
+            for (k = 0; k < 3; k++) e[k] = o[k] + 2 * (p[k] - o[k]);
+            tri[0][0] = from_axes(a), tri[0][1] = from_axes(b), tri[0][2] = from_axes(c1);
+            tri[1][0] = from_axes(b), tri[1][1] = from_axes(a), tri[1][2] = from_axes(c2);
+            q = segment(from_axes(o), from_axes(e));
+            q.opt = &opt;
+            assert_true((ky == 0 ? q.d.x : ky == 1 ? q.d.y : q.d.z) == 0); /* no ky part */
+            for (k = 0; k < 2; k++) {
+                gg_geom *g = gg_geom_create(NULL);
+                gg_hit h;
+                assert_true(gg_geom_add_triangle(g, tri[k], NULL, 0) >= 0);
+                assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+                hits += gg_geom_intersect(g, &q, &h);
+                gg_geom_free(g);
+            }
+            if (hits != 1)
+                print_error("kz %d neg %d: the ray through the shared edge hits %d of the two "
+                            "triangles\n",
+                            kz, neg, hits);
+            assert_int_equal(hits, 1);
+            g2 = gg_geom_create(NULL);
+            for (k = 0; k < 2; k++) {
+                int pr = gg_geom_add_triangle(g2, tri[k], NULL, k);
+                assert_true(pr >= 0);
+                gg_geom_set_flags(g2, pr, GG_PRIM_TRANSPARENT);
+            }
+            assert_int_equal(gg_geom_build(g2, NULL), GG_OK);
+            assert_int_equal(gg_geom_occluded(g2, &q, &cache, &all), 0);
+            assert_true(all.complete && all.has_near);
+            assert_int_equal(all.n, 1);
+            gg_geom_free(g2);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -323,6 +407,7 @@ int main(void)
         cmocka_unit_test(test_list),
         cmocka_unit_test(test_overflow),
         cmocka_unit_test(test_inside_shortcut),
+        cmocka_unit_test(test_shared_horizontal_edge_once),
     };
     return cmocka_run_group_tests_name("crossings", tests, NULL, NULL);
 }
