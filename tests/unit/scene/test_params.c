@@ -8,6 +8,8 @@
 */
 #include "testutil.h"
 
+#include "scene.h" /* the resolved per-channel indices, mfast */
+
 #include <math.h>
 #include <string.h>
 
@@ -202,6 +204,52 @@ static void test_api_material(void **state)
     ggSceneFree(s);
 }
 
+/* Dispersion (docs/scene-format.md, `dispersion V`): Cauchy's law
+   n = A + B / lambda^2 fitted to ior = n_d (at 587.6 nm) and the Abbe
+   number V_d = (n_d - 1) / (n_F - n_C), F = 486.1 nm, C = 656.3 nm. The
+   prepared scene's indices at the channels' wavelengths (GG_LAMBDA_R, G,
+   B) must lie on that curve: B from n_b - n_r, then n_F - n_C and
+   n(587.6) back from it. Glass (n_d > 1) disperses normally, blue bent
+   most: n_b > n_g > n_r, for ior 1.5 and abbe 40 and over ior in (1, 4],
+   abbe over [1, 1e6]. Guards the fit in cauchy() (lib/scene/scene.c):
+   swapping lambda_F and lambda_C reverses the order. */
+static void test_dispersion_indices(void **state)
+{
+    tu_rng r = {31};
+    const double lr = GG_LAMBDA_R, lb = GG_LAMBDA_B, lf = 486.1, lc = 656.3, ld = 587.6;
+    int i;
+    (void)state;
+    for (i = 0; i < 2000; i++) {
+        ggScene *s = api_scene();
+        ggMaterial m = ggMaterialDefault();
+        const gg_mat_fast *f;
+        double b, a, nfc, want;
+        int mi;
+        m.kt = 0.5;
+        m.ior = i == 0 ? 1.5 : tu_range(&r, 1.001, 4);
+        m.abbe = i == 0 ? 40 : pow(10, tu_range(&r, 0, 6));
+        mi = ggSceneAddMaterial(s, &m);
+        assert_true(mi >= 0);
+        assert_true(ggSceneAddSphere(s, mi, (ggVec3){0, 0, 0}, 1) >= 0);
+        assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
+        f = &s->mfast[mi];
+        if (!(f->n_b > f->n_g && f->n_g > f->n_r))
+            print_error("ior %.17g abbe %.17g: n_r %.17g n_g %.17g n_b %.17g\n", m.ior, m.abbe,
+                        f->n_r, f->n_g, f->n_b);
+        assert_true(f->n_b > f->n_g && f->n_g > f->n_r);
+        /* the curve through n_r and n_b */
+        b = (f->n_b - f->n_r) / (1 / (lb * lb) - 1 / (lr * lr));
+        a = f->n_r - b / (lr * lr);
+        nfc = b * (1 / (lf * lf) - 1 / (lc * lc));
+        want = (m.ior - 1) / m.abbe;
+        /* n_b - n_r loses about 8 ulps of ior to rounding */
+        assert_true(fabs(nfc - want) <= 1e-9 * want + 16 * 0x1p-52 * m.ior);
+        assert_close(a + b / (ld * ld), m.ior, 16 * 0x1p-52);
+        assert_close(a + b / (GG_LAMBDA_G * GG_LAMBDA_G), f->n_g, 16 * 0x1p-52);
+        ggSceneFree(s);
+    }
+}
+
 static void test_api_lights_background(void **state)
 {
     ggScene *s = api_scene();
@@ -303,6 +351,7 @@ int main(void)
         cmocka_unit_test(test_nff_lights_background),
         cmocka_unit_test(test_nff_camera),
         cmocka_unit_test(test_api_material),
+        cmocka_unit_test(test_dispersion_indices),
         cmocka_unit_test(test_api_lights_background),
         cmocka_unit_test(test_api_camera),
         cmocka_unit_test(test_accepted_renders_finite),
