@@ -439,6 +439,85 @@ static void test_direct_light_added(void **state)
     ggSceneFree(s);
 }
 
+/* Dispersion splits a transmitted ray into one per channel (shade.c,
+   transmission): a pane of glass (ior 1.5, abbe 40) tilted 40 degrees to
+   the eye ray, against a white background, nothing else lit. The eye
+   ray's children are exactly three refracted rays, channels 0, 1, 2 (R,
+   G, B), each in glass of its own index, n_b > n_g > n_r, each obeying
+   Snell's law with it, so blue is bent most (closest to the normal); and
+   each brings its channel of the background: the pixel is (1, 1, 1),
+   every channel carried by refracted light, in the recorder and in
+   ggRayColor (3 refracted rays). The same pane without dispersion casts
+   one ray for all channels. Guards the loop over the channels (a loop of
+   2 leaves blue black, one of 4 or 3 unsplit rays add light) and the sign
+   of the dispersion (lib/scene/scene.c, cauchy). */
+static void test_dispersion_channels(void **state)
+{
+    static const char pane[] =
+        "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 10\nresolution 1 1\nb 1 1 1\nambient 0 0 0\n"
+        "f 1 1 1 0 0 0 1 1.5\n%s"
+        "p 4\n-2 -1.5320888862379562 1.2855752193730785\n2 -1.5320888862379562 "
+        "1.2855752193730785\n2 1.5320888862379562 -1.2855752193730785\n"
+        "-2 1.5320888862379562 -1.2855752193730785\n";
+    const ggVec3 N = {0, 0.64278760968653925, 0.76604444311897801}; /* towards the eye */
+    int disp;
+    (void)state;
+    for (disp = 1; disp >= 0; disp--) {
+        char txt[600];
+        ggScene *s;
+        ggTrace *t = ggTraceCreate(NULL);
+        ggColor px, c;
+        ggRayStats st;
+        double n_ch[3] = {0, 0, 0}, cos_ch[3] = {0, 0, 0}, sin_i;
+        size_t i, nref = 0;
+        snprintf(txt, sizeof txt, pane, disp ? "dispersion 40\n" : "");
+        s = load_text(txt, "pane.nff");
+        assert_int_equal(!!(ggSceneEffects(s) & GG_EFFECT_DISPERSION), disp);
+        assert_int_equal(ggTracePixel(s, NULL, 0, 0, 0, t, &px, NULL, NULL), GG_OK);
+        {
+            const ggTraceNode *eye = ggTraceGetNode(t, 0);
+            assert_true(eye->hit && eye->kind == GG_RAY_EYE);
+            sin_i = sqrt(1 - (eye->d.x * N.x + eye->d.y * N.y + eye->d.z * N.z) *
+                                 (eye->d.x * N.x + eye->d.y * N.y + eye->d.z * N.z));
+            assert_true(sin_i > 0.6 && sin_i < 0.7); /* 40 degrees */
+        }
+        for (i = 1; i < ggTraceNodeCount(t); i++) {
+            const ggTraceNode *nd = ggTraceGetNode(t, i);
+            double ct, st_;
+            if (nd->parent != 0) continue;
+            assert_int_equal(nd->kind, GG_RAY_REFRACT);
+            nref++;
+            ct = -(nd->d.x * N.x + nd->d.y * N.y + nd->d.z * N.z);
+            st_ = sqrt(1 - ct * ct);
+            assert_close(st_ * nd->n_medium, sin_i, 1e-12); /* Snell, n = 1 outside */
+            if (disp) {
+                assert_true(nd->channel >= 0 && nd->channel <= 2);
+                assert_true(n_ch[nd->channel] == 0); /* once each */
+                n_ch[nd->channel] = nd->n_medium, cos_ch[nd->channel] = ct;
+            } else {
+                assert_int_equal(nd->channel, -1);
+                assert_true(nd->n_medium == 1.5);
+            }
+        }
+        assert_int_equal(nref, disp ? 3 : 1);
+        if (disp) {
+            /* normal dispersion: blue sees the highest index and bends most */
+            assert_true(n_ch[2] > n_ch[1] && n_ch[1] > n_ch[0] && n_ch[0] > 1);
+            assert_true(cos_ch[2] > cos_ch[1] && cos_ch[1] > cos_ch[0]);
+        }
+        /* every channel of the background comes through, once */
+        assert_close(px.r, 1, 1e-12);
+        assert_close(px.g, 1, 1e-12);
+        assert_close(px.b, 1, 1e-12);
+        c = ggRayColor(s, NULL, ggCameraRay(s, NULL, 0.5, 0.5), 1, &st);
+        assert_true((float)c.r == (float)px.r && (float)c.g == (float)px.g &&
+                    (float)c.b == (float)px.b);
+        assert_true(st.refract == (disp ? 3u : 1u));
+        ggTraceFree(t);
+        ggSceneFree(s);
+    }
+}
+
 /* shadows=opaque: a transparent pane between a lit point and the light
    passes kt of the light by default and none of it with the knob; scenes
    without transmitters render the same either way; a knob outside its
@@ -849,6 +928,7 @@ int main(void)
         cmocka_unit_test(test_effect_sets),
         cmocka_unit_test(test_depth_limit),
         cmocka_unit_test(test_direct_light_added),
+        cmocka_unit_test(test_dispersion_channels),
         cmocka_unit_test(test_opaque_shadows),
         cmocka_unit_test(test_absorbing_shadow_no_crossing),
         cmocka_unit_test(test_shortcuts_match_tracing),
