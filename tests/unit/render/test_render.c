@@ -518,6 +518,46 @@ static void test_dispersion_channels(void **state)
     }
 }
 
+/* The adaptive-depth cutoff (ggAccuracy.cutoff, POV-Ray's adc_bailout)
+   drops a refracted ray whose weight in the pixel, its parent's weight
+   times the share it would carry, is below the cutoff. Two panes of kt
+   0.5 in a row in front of a white background, seen head on, nothing lit:
+   the ray through the first carries 0.5 of the pixel, through the second
+   0.25. Cutoff 0 or 0.2 casts both (pixel 0.25), 0.3 only the first
+   (pixel 0: the second pane is black), 0.6 neither. Guards the
+   `r->weight * w` of transmit (lib/render/shade.c): comparing the
+   parent's weight alone casts one ray too many at 0.3 and at 0.6. */
+static void test_cutoff_refraction(void **state)
+{
+    static const char txt[] =
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 10 resolution 1 1\n"
+        "b 1 1 1\nambient 0 0 0\nf 1 1 1 0 0 0 0.5 1\n"
+        "p 4 -2 -2 0 2 -2 0 2 2 0 -2 2 0\np 4 -2 -2 -1 2 -2 -1 2 2 -1 -2 2 -1\n";
+    static const struct {
+        double cutoff;
+        unsigned refract;
+        double pixel;
+    } cases[] = {{0, 2, 0.25}, {0.2, 2, 0.25}, {0.3, 1, 0}, {0.6, 0, 0}};
+    ggScene *s = load_text(txt, "cut.nff");
+    size_t k;
+    (void)state;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        ggRenderOptions o;
+        ggRayStats st;
+        ggColor c;
+        ggRenderOptionsDefault(&o);
+        o.accuracy.cutoff = cases[k].cutoff;
+        c = ggRayColor(s, &o, ggCameraRay(s, &o, 0.5, 0.5), 1, &st);
+        if (st.refract != cases[k].refract)
+            print_error("cutoff %g: %llu refracted rays, want %u\n", cases[k].cutoff,
+                        (unsigned long long)st.refract, cases[k].refract);
+        assert_true(st.refract == cases[k].refract);
+        assert_close(c.r, cases[k].pixel, 1e-15);
+        assert_close(c.b, cases[k].pixel, 1e-15);
+    }
+    ggSceneFree(s);
+}
+
 /* shadows=opaque: a transparent pane between a lit point and the light
    passes kt of the light by default and none of it with the knob; scenes
    without transmitters render the same either way; a knob outside its
@@ -929,6 +969,7 @@ int main(void)
         cmocka_unit_test(test_depth_limit),
         cmocka_unit_test(test_direct_light_added),
         cmocka_unit_test(test_dispersion_channels),
+        cmocka_unit_test(test_cutoff_refraction),
         cmocka_unit_test(test_opaque_shadows),
         cmocka_unit_test(test_absorbing_shadow_no_crossing),
         cmocka_unit_test(test_shortcuts_match_tracing),
