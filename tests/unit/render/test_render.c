@@ -558,6 +558,52 @@ static void test_cutoff_refraction(void **state)
     ggSceneFree(s);
 }
 
+/* A light behind a surface's geometric plane gives it nothing, even where
+   an interpolated shading normal leans towards the light (direct_light in
+   lib/render/shade.c tests ng.L before ns.L). A smooth-shaded triangle at
+   z = 0 seen from +z, every vertex normal leaning to +x: a light at
+   (10, 0, -1) is behind the plane (ng.L < 0) but in front of the shading
+   normal (ns.L > 0), so the pixel stays black (ambient 0) and no shadow
+   ray is cast; the recorder says facing-away. Lights in front of both
+   light it (so the scene can fail). Guards `ng.L <= 0`: without it the
+   point is lit through its back. */
+static void test_light_behind_geometric_plane(void **state)
+{
+    static const char fmt[] =
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 10 resolution 1 1\nb 0 0 0\nambient 0 0 0\n"
+        "l %s\nf 1 1 1 1 0.5 10 0 1\n"
+        "pp 3\n-3 -3 0 0.8 0 0.6\n3 -3 0 0.8 0 0.6\n0 3 0 0.8 0 0.6\n";
+    static const char *const behind[] = {"10 0 -1", "4 3 -0.5", "10 -2 -0.01"};
+    char txt[400];
+    size_t k;
+    (void)state;
+    for (k = 0; k < 4; k++) {
+        ggScene *s;
+        ggTrace *t = ggTraceCreate(NULL);
+        ggColor px, c;
+        ggRayStats st;
+        const ggTraceNode *eye;
+        snprintf(txt, sizeof txt, fmt, k < 3 ? behind[k] : "10 0 1");
+        s = load_text(txt, "pp.nff");
+        assert_int_equal(ggTracePixel(s, NULL, 0, 0, 0, t, &px, NULL, NULL), GG_OK);
+        eye = ggTraceGetNode(t, 0);
+        assert_true(eye->hit && eye->ng.z > 0.999 && eye->ns.x > 0.7);
+        assert_int_equal(eye->nlights, 1);
+        c = ggRayColor(s, NULL, ggCameraRay(s, NULL, 0.5, 0.5), 1, &st);
+        if (k < 3) {
+            assert_int_equal(ggTraceGetLight(t, (size_t)eye->first_light)->verdict,
+                             GG_SHADOW_FACING_AWAY);
+            assert_true(px.r == 0 && px.g == 0 && px.b == 0);
+            assert_true(c.r == 0 && c.g == 0 && c.b == 0);
+            assert_true(st.shadow == 0);
+        } else {
+            assert_true(px.r > 0.01 && (float)c.r == (float)px.r && st.shadow == 1);
+        }
+        ggTraceFree(t);
+        ggSceneFree(s);
+    }
+}
+
 /* shadows=opaque: a transparent pane between a lit point and the light
    passes kt of the light by default and none of it with the knob; scenes
    without transmitters render the same either way; a knob outside its
@@ -970,6 +1016,7 @@ int main(void)
         cmocka_unit_test(test_direct_light_added),
         cmocka_unit_test(test_dispersion_channels),
         cmocka_unit_test(test_cutoff_refraction),
+        cmocka_unit_test(test_light_behind_geometric_plane),
         cmocka_unit_test(test_opaque_shadows),
         cmocka_unit_test(test_absorbing_shadow_no_crossing),
         cmocka_unit_test(test_shortcuts_match_tracing),
