@@ -62,7 +62,9 @@ typedef struct ggMaterial {
     double ks;     /* specular weight: Phong highlight and mirror ray */
     double shine;  /* Phong exponent (NFF's 100000 = no highlight) */
     double kt;     /* transmittance: weight of the refracted ray */
-    double ior;    /* index of refraction (at the G wavelength if dispersive) */
+    double ior;    /* index of refraction; if dispersive, n_d (at 587.6 nm): the
+                      channels' indices follow Cauchy's law through n_d and the
+                      Abbe number (docs/scene-format.md, `dispersion`) */
     ggColor ke;    /* emission added to whatever the surface reflects */
     int fresnel;   /* GG_FRESNEL_* */
     ggColor eta_n, eta_k; /* conductor: complex index per channel */
