@@ -1019,9 +1019,66 @@ def fix_zoom_keys(d):
         srv.stop()
 
 
+BIG_OPTS = "depth=16 samples=64 corners ray-budget=100000"  # a check or find of it is 413
+
+
+def fix_stale_messages(d):
+    """A new request's success clears the error it superseded: the 413 of
+    a pixel's diagnostics goes when another pixel is traced; a B option
+    text the server refuses takes the B tree and the comparison of before
+    away; a find that fails takes the overlay and legend of the one before."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url + "#px=40,30&tab=diag&a=" + urllib.parse.quote(BIG_OPTS))
+        wait(d, "413", lambda: "413" in page_error(d) or "MiB" in page_error(d), 60)
+        first = page_error(d)
+        d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=tree]").click()
+        click_pixel(d, 20, 20)
+        wait(d, "pixel", lambda: selected_pixel(d) == "20,20", 30)
+        time.sleep(0.5)
+        check("MiB" in first and page_error(d) == "" and
+              d.execute_script("return document.querySelectorAll('#tree-a details.node').length") > 0,
+              "a pixel traced after another's failed diagnostics clears the banner (was %r, now %r)"
+              % (first[:60], page_error(d)))
+
+        d.get("about:blank")
+        d.get(srv.url + "#px=10,10&diff=1&b=depth%3D2")
+        wait(d, "B", lambda: d.execute_script(
+            "return !document.getElementById('tree-b').hidden && !document.getElementById('divergence').hidden"
+            " && document.querySelectorAll('#tree-b details.node').length > 0"), 60)
+        d.execute_script("location.hash = '#px=10,10&diff=1&b=cutoff%3Dabc'")
+        wait(d, "error", lambda: "cutoff" in page_error(d), 30)
+        time.sleep(0.5)
+        got = d.execute_script(
+            "return [document.getElementById('tree-b').hidden, document.getElementById('divergence').hidden,"
+            " document.getElementById('diff-result').textContent]")
+        check("cutoff" in page_error(d) and got == [True, True, ""],
+              "a B option text the server refuses hides the B tree and the comparison (%r; %r)"
+              % (page_error(d), got))
+
+        d.get("about:blank")
+        d.get(srv.url + "#ov=find&find=" + urllib.parse.quote("some(kind == tir)"))
+        wait(d, "find", lambda: attr(d, "overlay", "data-kind") == "find", 60)
+        before = d.find_element(By.ID, "legend-text").get_attribute("textContent")
+        d.execute_script("location.hash = '#ov=find&find=' + encodeURIComponent('some(kind == tir)')"
+                         " + '&a=' + encodeURIComponent('%s')" % BIG_OPTS)
+        wait(d, "find error", lambda: attr(d, "overlay", "data-kind") == "find-error", 60)
+        time.sleep(0.3)
+        painted = d.execute_script(
+            "const c = document.getElementById('overlay'), a = c.getContext('2d').getImageData(0, 0, c.width,"
+            " c.height).data; let n = 0; for (let i = 3; i < a.length; i += 4) if (a[i]) n++; return n;")
+        legend = d.find_element(By.ID, "legend-text").get_attribute("textContent")
+        check(before and attr(d, "overlay", "data-kind") == "find-error" and painted == 0 and legend == "",
+              "a failed find clears the overlay and legend of the one before (%d pixels drawn, legend %r)"
+              % (painted, legend))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
     for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange,
-              fix_zoom_keys):
+              fix_zoom_keys, fix_stale_messages):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

@@ -92,10 +92,17 @@
   }
   const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
-  function showError(msg) {
+  // The banner, and what it came from ('pixel': the selected pixel's
+  // requests, 'view': the image and overlay, 'find': the find box), so
+  // that a later success of the same kind clears the error it supersedes.
+  function showError(msg, from) {
     const e = $('error');
     e.textContent = msg;
     e.hidden = !msg;
+    e.dataset.from = msg ? from || '' : '';
+  }
+  function clearError(from) {
+    if ($('error').dataset.from === from) showError('');
   }
   function status(text, frac) {
     $('status-text').textContent = text;
@@ -428,12 +435,7 @@
     const ctx = $('overlay').getContext('2d');
     if (kind === 'none' || (kind === 'find' && !state.find) || (kind === 'path' && !state.path) ||
         (kind === 'diff' && !state.diff)) {
-      ctx.clearRect(0, 0, W, H);
-      $('overlay').dataset.kind = 'none';
-      $('legend-text').textContent = kind === 'diff' ? 'tick "compare A with B" to see the diff map' : '';
-      $('legend').width = 0;
-      $('legend').height = 0;
-      $('legend').style.height = '0';
+      clearOverlay('none', kind === 'diff' ? 'tick "compare A with B" to see the diff map' : '');
       return;
     }
     let ov;
@@ -456,6 +458,27 @@
       lg.width = 0; lg.height = 0; lg.style.height = '0';
     }
     $('legend-text').textContent = ov.legend;
+  }
+
+  // No overlay drawn, no legend; kind says why ('none', 'find-error', ...).
+  function clearOverlay(kind, legend) {
+    $('overlay').getContext('2d').clearRect(0, 0, W, H);
+    $('overlay').dataset.kind = kind;
+    $('legend-text').textContent = legend || '';
+    $('legend').width = 0;
+    $('legend').height = 0;
+    $('legend').style.height = '0';
+  }
+
+  // The B side could not be had (its option text is wrong, say): its
+  // image, diff map and summary go; loadPixel drops its tree.
+  function clearB() {
+    delete images.b;
+    $('diff-result').textContent = '';
+    if (state.overlay === 'diff') clearOverlay('diff-error');
+  }
+  function sideError(side, e) {
+    return side === 'b' && state.diff ? new ApiError(e.status, 'B: ' + e.message) : e;
   }
 
   async function loadHeat(kind, gen) {
@@ -556,9 +579,11 @@
     try {
       r = await waitJob('/api/find', params, 'find', gen);
     } catch (e) {
+      if (gen !== generation) return null;
+      // The overlay and legend of an earlier find go with it.
+      clearOverlay('find-error');
       $('find-input').classList.add('bad');
       $('find-result').textContent = e.message;
-      $('overlay').dataset.kind = 'find-error';
       return null;
     }
     if (!r) return null;
@@ -585,9 +610,10 @@
     try {
       r = await waitJob('/api/find', params, 'paths', gen);
     } catch (e) {
+      if (gen !== generation) return null;
+      clearOverlay('path-error');
       $('path-input').classList.add('bad');
       $('path-result').textContent = e.message;
-      $('overlay').dataset.kind = 'path-error';
       return null;
     }
     if (!r) return null;
@@ -678,22 +704,34 @@
     if (traces.key !== key) {
       const where = 'pixel ' + state.px.join(',');
       $('pixel-title').textContent = where + ': tracing';
-      let a, b, cmp, paths;
+      let a, b = null, cmp = null, paths, bError = null;
       try {
         a = await trace('a');
-        b = state.diff ? await trace('b') : null;
-        cmp = state.diff ? (await api('/api/compare', Object.assign({ x: state.px[0], y: state.px[1] },
-          diffParams()))).body : null;
+        if (state.diff) {
+          // A failed B (its option text is wrong, say) shows A alone: the
+          // B tree and the comparison of before do not stay.
+          try {
+            b = await trace('b');
+            cmp = (await api('/api/compare', Object.assign({ x: state.px[0], y: state.px[1] },
+              diffParams()))).body;
+          } catch (e) {
+            b = cmp = null;
+            bError = sideError('b', e);
+          }
+        }
         paths = state.path ? await pixelPaths(a) : null;
       } catch (e) {
         if (gen === pixelGen) $('pixel-title').textContent = where + ': the trace failed';
         throw e;
       }
       if (gen !== pixelGen) return;
-      traces = { key: key, a: a, b: b, cmp: cmp, paths: paths };
+      // A B refused for its text is kept with the key; else asked again.
+      traces = { key: bError && bError.status !== 400 ? '' : key, a: a, b: b, cmp: cmp, paths: paths,
+        bError: bError };
     }
     showPixel();
     await showTab(gen);
+    if (traces.bError) throw traces.bError;
   }
 
   // The ledger terms of the selected pixel the path matches (ggrt trace
@@ -889,7 +927,9 @@
     state.tab = tab;
     showTabs();
     writeHash();
-    showTab(pixelGen).catch(fail);
+    const gen = pixelGen;
+    showTab(gen).then(() => { if (gen === pixelGen) clearError('pixel'); },
+      (e) => { if (gen === pixelGen) fail(e, 'pixel'); });
   }
 
   let svgUrl = null;
@@ -986,8 +1026,8 @@
 
   // ---- putting it together ----
 
-  function fail(e) {
-    showError(e && e.message ? e.message : String(e));
+  function fail(e, from) {
+    showError(e && e.message ? e.message : String(e), from);
     status('error');
   }
 
@@ -1007,17 +1047,25 @@
     // The pixel's tree first: a trace is one pixel's work, the image may
     // take minutes.
     const pg = ++pixelGen;
-    const pixel = loadPixel(pg).catch((e) => { if (pg === pixelGen) fail(e); });
+    const pixel = loadPixel(pg).catch((e) => { if (pg === pixelGen) fail(e, 'pixel'); });
     try {
       const img = await loadImage('a', gen);
       if (!img || gen !== generation) return;
       drawImage();
       if (traces.a && pg === pixelGen) showValue();
-      if (state.diff) await loadImage('b', gen);
+      if (state.diff) {
+        try {
+          await loadImage('b', gen);
+        } catch (e) {
+          // B cannot be rendered: nothing of the B before it stays on screen.
+          if (gen === generation) clearB();
+          throw sideError('b', e);
+        }
+      }
       await loadOverlay(gen);
       await pixel;
     } catch (e) {
-      if (gen === generation) fail(e);
+      if (gen === generation) fail(e, 'view');
     }
     await pixel;
   }
@@ -1028,7 +1076,9 @@
     drawMarker();
     hoverAt(state.px);
     const gen = ++pixelGen;
-    loadPixel(gen).catch((e) => { if (gen === pixelGen) fail(e); });
+    // The pixel's trees in, the error of an earlier pixel's goes.
+    loadPixel(gen).then(() => { if (gen === pixelGen) clearError('pixel'); },
+      (e) => { if (gen === pixelGen) fail(e, 'pixel'); });
   }
 
   function keys(e) {
@@ -1093,7 +1143,8 @@
     let typing = null;
     $('find-input').addEventListener('input', () => {
       clearTimeout(typing);
-      typing = setTimeout(() => checkPredicate($('find-input').value.trim()).catch(fail), 250);
+      typing = setTimeout(() => checkPredicate($('find-input').value.trim())
+        .then(() => clearError('find'), (e) => fail(e, 'find')), 250);
     });
     $('find-form').addEventListener('submit', async (e) => {
       e.preventDefault();
@@ -1101,7 +1152,7 @@
       try {
         if (!(await checkPredicate(text, 'where', true))) return;
       } catch (err) {
-        fail(err);
+        fail(err, 'find');
         return;
       }
       state.find = text;
@@ -1111,7 +1162,8 @@
     let typingPath = null;
     $('path-input').addEventListener('input', () => {
       clearTimeout(typingPath);
-      typingPath = setTimeout(() => checkPredicate($('path-input').value.trim(), 'path').catch(fail), 250);
+      typingPath = setTimeout(() => checkPredicate($('path-input').value.trim(), 'path')
+        .then(() => clearError('find'), (e) => fail(e, 'find')), 250);
     });
     $('path-form').addEventListener('submit', async (e) => {
       e.preventDefault();
@@ -1119,7 +1171,7 @@
       try {
         if (text && !(await checkPredicate(text, 'path', true))) return;
       } catch (err) {
-        fail(err);
+        fail(err, 'find');
         return;
       }
       // An empty box takes the filter away.
