@@ -6,7 +6,8 @@ one server per scene:
 - every scene file under examples/scenes (models included) and
   tests/data/debug, and the scenes at the top of tests/data, at 64x48,
   depth 3: the page loads, a click shows the pixel's tree and the 3D
-  view, the image's rays and shadow verdicts are ggrt render's, no
+  view (under examples/scenes not blank with the camera and rays
+  presets), the image's rays and shadow verdicts are ggrt render's, no
   console error; every tab on glass, gears, knot and water;
 - tracing first: a pixel of spd/gears.nff at depth 16 and 16 samples
   shows its tree within 1 s of the click while the image still renders;
@@ -264,6 +265,14 @@ def every_scene(d):
                 got = int(attr(d, "box3d", "data-mesh-triangles") or 0)
                 if got != want:
                     what.append("the 3D view shades %d mesh triangles, ggrt info counts %d" % (got, want))
+                # The "camera" and "rays" presets show some of the scene
+                # (acc-distant.nff: a camera 3e7 away looking through
+                # 0.00001 degrees used to show nothing).
+                if sc.startswith("examples/scenes/"):
+                    for view in ("camera", "rays"):
+                        d.find_element(By.CSS_SELECTOR, "#box3d [data-view=%s]" % view).click()
+                        if not count_gl(d):
+                            what.append("the 3D view is blank with the %s preset" % view)
                 if os.path.basename(sc) in TABBED:
                     bad = open_tabs(d)
                     if bad:
@@ -276,7 +285,7 @@ def every_scene(d):
         n += 1
         tabs = " (every tab)" if os.path.basename(sc) in TABBED else ""
         if not check(not what, "%s: the page loads, a click shows the tree and the 3D view (every mesh "
-                     "triangle), ggrt render's ray counts, "
+                     "triangle, not blank from the camera and the rays), ggrt render's ray counts, "
                      "no console error%s (%.1f s)" % (sc, tabs, time.time() - t1), "\n".join(what)):
             broken.append(sc)
     print("every scene: %d files in %.1f s; failing: %s" % (n, time.time() - t0, " ".join(broken) or "none"))

@@ -12,10 +12,12 @@
   const LIGHT = { visible: '#f59e0b', attenuated: '#b45309', blocked: '#dc2626' };
   const MAX_TRIS = 150000; // triangles the view builds from analytic shapes
 
-  // ---- a tiny mat4 (column-major, as WebGL wants it) ----
+  // ---- a tiny mat4 (column-major, as WebGL wants it), in doubles: a
+  // camera 3e7 from a scene of size 1 (acc-distant.nff) needs them until
+  // the product, which alone goes to the GPU as floats ----
   const M = {
     mul(a, b) {
-      const r = new Float32Array(16);
+      const r = new Float64Array(16);
       for (let i = 0; i < 4; i++) {
         for (let j = 0; j < 4; j++) {
           let s = 0;
@@ -26,14 +28,14 @@
       return r;
     },
     perspective(fovy, aspect, near, far) {
-      const f = 1 / Math.tan(fovy / 2), r = new Float32Array(16);
+      const f = 1 / Math.tan(fovy / 2), r = new Float64Array(16);
       r[0] = f / aspect; r[5] = f; r[10] = (far + near) / (near - far); r[11] = -1;
       r[14] = 2 * far * near / (near - far);
       return r;
     },
     lookAt(e, t, up) {
       const f = V.norm(V.sub(t, e)), s = V.norm(V.cross(f, up)), u = V.cross(s, f);
-      return new Float32Array([s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
+      return new Float64Array([s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
         -V.dot(s, e), -V.dot(u, e), V.dot(f, e), 1]);
     },
     apply(m, p) {
@@ -54,6 +56,7 @@
   const view = {
     gl: null, prog: null, buf: null, opaque: 0, clear: 0, lines: null, note: '',
     yaw: 0, pitch: 0, dist: 10, target: [0, 0, 0], up: [0, 0, 1], e1: [1, 0, 0], e2: [0, 1, 0],
+    fov: 0, // the scene camera's field of view (degrees, across) when looking through it; 0: 45 up
     set: false, mvp: null, hl: -1, hlObject: -1, segs: [], triangles: 0, built: false,
   };
   window.ggrtView3d = view;
@@ -265,9 +268,14 @@
     basis(info);
     const lo = info.bounds.lo, hi = info.bounds.hi, diag = diagOf(lo, hi);
     const fwd = V.norm(V.sub(info.camera.at, info.camera.from));
+    view.fov = 0;
     if (which === 'camera') {
+      // Through the scene's camera: its eye, its aim and its field of
+      // view (0.00001 degrees on acc-distant.nff), so that what the image
+      // shows is in view.
       view.target = info.camera.at.slice();
       orbitFrom(info.camera.from);
+      view.fov = info.camera.fov > 0 && info.camera.fov < 180 ? info.camera.fov : 0;
     } else if (which === 'rays') {
       // Frame the selected rays: their box, seen from the side of the camera.
       // Misses count with a stub as long as the box of the rest (they
@@ -298,21 +306,48 @@
     draw();
   }
 
-  // #cam=yaw,pitch,dist,tx,ty,tz in the address, beside app.js's keys.
+  // #cam=yaw,pitch,dist,tx,ty,tz[,fov] in the address, beside app.js's
+  // keys; fov (degrees) when looking through the scene's camera.
   function saveCam() {
     const p = new URLSearchParams(location.hash.slice(1));
     const r = (v) => Number(v.toPrecision(6));
-    p.set('cam', [view.yaw, view.pitch, view.dist].concat(view.target).map(r).join(','));
+    const v = [view.yaw, view.pitch, view.dist].concat(view.target);
+    if (view.fov) v.push(view.fov);
+    p.set('cam', v.map(r).join(','));
     history.replaceState(null, '', location.pathname + location.search + '#' + p.toString());
   }
   function loadCam() {
     const v = (new URLSearchParams(location.hash.slice(1)).get('cam') || '').split(',').map(Number);
-    if (v.length !== 6 || !v.every(isFinite) || !(v[2] > 0)) return false;
+    if ((v.length !== 6 && v.length !== 7) || !v.every(isFinite) || !(v[2] > 0)) return false;
     basis(window.ggrt.info);
     [view.yaw, view.pitch, view.dist] = v;
-    view.target = v.slice(3);
+    view.target = v.slice(3, 6);
+    view.fov = v.length === 7 && v[6] > 0 && v[6] < 180 ? v[6] : 0;
     view.set = true;
     return true;
+  }
+
+  // The vertical field of view (radians): 45 degrees, or the scene
+  // camera's, widened so that its whole image fits the canvas.
+  function fovY(info, Wc, Hc) {
+    if (!view.fov) return 45 * Math.PI / 180;
+    const tx = Math.tan(view.fov * Math.PI / 360), ty = tx * info.height / info.width;
+    return 2 * Math.atan(Math.max(ty, tx * Hc / Wc));
+  }
+  // The near and far planes of the shaded scene: [near, far] (those of
+  // the rays, lights and frustum drawn over it) narrowed to the scene's
+  // box as seen from eye, so that a camera far from a small scene (3e7
+  // from unit spheres) keeps the precision of its depth buffer.
+  function sceneRange(eye, diag, lo, hi, near, far) {
+    const dir = V.norm(V.sub(view.target, eye));
+    let zmin = Infinity, zmax = -Infinity;
+    for (let i = 0; i < 8; i++) {
+      const c = [i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]];
+      const z = V.dot(V.sub(c, eye), dir);
+      zmin = Math.min(zmin, z); zmax = Math.max(zmax, z);
+    }
+    const pad = 0.05 * diag, n = Math.max(near, zmin - pad), f = Math.min(far, zmax + pad);
+    return f > n ? [n, f] : [near, far];
   }
 
   // ---- drawing ----
@@ -365,12 +400,15 @@
     const far = V.len(V.sub(eye, view.target)) + 4 * diag, near = Math.max(far * 1e-5, view.dist * 1e-3);
     let up = view.up;
     if (Math.abs(V.dot(V.norm(V.sub(view.target, eye)), up)) > 0.999) up = view.e2;
-    view.mvp = M.mul(M.perspective(45 * Math.PI / 180, Wc / Hc, near, far), M.lookAt(eye, view.target, up));
+    const look = M.lookAt(eye, view.target, up), fovy = fovY(info, Wc, Hc);
+    view.mvp = M.mul(M.perspective(fovy, Wc / Hc, near, far), look);
+    const [gn, gf] = sceneRange(eye, diag, info.bounds.lo, info.bounds.hi, near, far);
+    const glMvp = new Float32Array(M.mul(M.perspective(fovy, Wc / Hc, gn, gf), look));
     gl.viewport(0, 0, Wc, Hc);
     gl.clearColor(0.97, 0.97, 0.955, 1);
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
     gl.useProgram(view.prog);
-    gl.uniformMatrix4fv(gl.getUniformLocation(view.prog, 'mvp'), false, view.mvp);
+    gl.uniformMatrix4fv(gl.getUniformLocation(view.prog, 'mvp'), false, glMvp);
     gl.uniform1f(gl.getUniformLocation(view.prog, 'hl'), view.hlObject);
     gl.uniform3fv(gl.getUniformLocation(view.prog, 'L1'), V.norm(V.sub(eye, view.target)));
     gl.uniform3fv(gl.getUniformLocation(view.prog, 'L2'), view.up);
