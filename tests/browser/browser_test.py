@@ -1085,9 +1085,49 @@ def fix_stale_messages(d):
         srv.stop()
 
 
+def fix_image_race(d):
+    """An image answer that comes after a newer view's (the options changed
+    meanwhile) does not replace the newer image: the hover readout reads
+    the values of the options shown."""
+    srv = Server(SCENE, "-s", "64x48")
+
+    def floats(opts):
+        srv.get("/api/render", opts=opts)  # starts the render
+        wait(d, "render", lambda: srv.get("/api/image", format="f32", opts=opts)[0] == 200, 30)
+        return struct.unpack("<%df" % (64 * 48 * 3), srv.get("/api/image", format="f32", opts=opts)[1])
+
+    try:
+        a2, a3 = floats("depth=1"), floats("depth=3")
+        px = next((x, y) for y in range(48) for x in range(64) if a2[3 * (y * 64 + x)] != a3[3 * (y * 64 + x)])
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        # The depth=1 image's answers are held back 3 s; depth=3 is asked
+        # for while they are held.
+        d.execute_script(
+            "const real = window.fetch; window.heldBack = 0;"
+            "window.fetch = async function (u, o) {"
+            " if (String(u).indexOf('/api/image') >= 0 && String(u).indexOf('depth%3D1') >= 0) {"
+            "  window.heldBack++; await new Promise((r) => setTimeout(r, 3000)); }"
+            " return real(u, o); };"
+            "location.hash = '#a=depth%3D1';")
+        wait(d, "held", lambda: d.execute_script("return window.heldBack >= 2"), 30)
+        d.execute_script("location.hash = '#a=depth%3D3'")
+        wait(d, "image", lambda: attr(d, "viewport", "data-image") == "opts=depth%3D3", 30)
+        time.sleep(3.5)  # the held-back answers are in
+        click_pixel(d, px[0], px[1], move_only=True)
+        time.sleep(0.2)
+        hov = d.find_element(By.ID, "hover").get_attribute("textContent").split("\n")[0]
+        want = "pixel %d,%d  %s" % (px[0], px[1], " ".join("%.9g" % v for v in a3[3 * (px[1] * 64 + px[0]):][:3]))
+        check(hov == want, "an image answer older than the view shown does not replace it: the hover "
+              "reads depth=3's value (%r, want %r)" % (hov, want))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
     for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange,
-              fix_zoom_keys, fix_stale_messages):
+              fix_zoom_keys, fix_stale_messages, fix_image_race):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

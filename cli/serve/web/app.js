@@ -368,8 +368,12 @@
       api('/api/image', Object.assign({ format: 'png' }, params), 'blob'),
       api('/api/image', Object.assign({ format: 'f32' }, params), 'buf')]);
     const bmp = await createImageBitmap(png.body);
+    // An answer that comes after a newer view's must not replace its
+    // image: the hover would read this one's values.
+    if (gen !== generation) return null;
     images[side] = { q: q, bmp: bmp, rgb: new Float32Array(f32.body) };
     const r = await api('/api/render', params);
+    if (gen !== generation) return null;
     const st = r.body.job.stats, rays = st.eye + st.reflect + st.refract + st.shadow;
     // The words of ggrt render's summary: how many shadow rays nothing of
     // the light got through, and how many arrived dimmed.
