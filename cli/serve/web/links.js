@@ -7,11 +7,12 @@
 // eye && object == N)` with depth 1 and one sample (the pixels whose eye
 // ray hits N first); for an object no eye ray reaches (inside glass,
 // behind a mirror), `some(kind != shadow && object == N)` with the page's
-// options at one sample (the pixels whose trees hit it). Kept once loaded.
+// options at one sample (the pixels whose trees hit it). Kept once loaded,
+// by object and the page's options (the second depends on them).
 'use strict';
 (function () {
   const $ = (id) => document.getElementById(id);
-  const masks = {}; // object -> Uint8Array mask (W*H) or a pending Promise
+  const masks = {}; // object|options -> { mask: Uint8Array (W*H), how } or a pending Promise
   let selected = null; // { side, id }
   let hoverObj = -1;
 
@@ -48,26 +49,27 @@
     return new Uint8Array(m.body);
   }
 
+  const maskKey = (obj) => obj + '|' + window.ggrt.state.a;
   async function loadMask(obj) {
-    if (masks[obj]) return masks[obj];
+    const key = maskKey(obj), a = window.ggrt.state.a;
+    if (masks[key]) return masks[key];
     const p = (async () => {
       const eye = { where: 'some(kind == eye && object == ' + obj + ')', opts: 'depth=1 samples=1', limit: '0' };
       let m = await findMask(eye), how = 'seen first';
       if (!m) {
-        const a = window.ggrt.state.a;
         // One sample a pixel: an outline, not a measurement.
         m = await findMask({ where: 'some(kind != shadow && object == ' + obj + ')', limit: '0',
           opts: (a ? a + ' ' : '') + 'samples=1' });
         how = 'seen through other surfaces';
       }
-      masks[obj] = { mask: m, how: how };
-      return masks[obj];
+      masks[key] = { mask: m, how: how };
+      return masks[key];
     })();
-    masks[obj] = p;
+    masks[key] = p;
     try {
       return await p;
     } catch (e) {
-      delete masks[obj];
+      delete masks[key];
       throw e;
     }
   }
@@ -107,9 +109,11 @@
     hoverObj = obj;
     if (obj < 0) { paintMask(-1, null); return; }
     paintMask(-1, null);
+    const key = maskKey(obj);
     try {
       const m = await loadMask(obj);
-      if (hoverObj === obj) {
+      // Not if the options changed meanwhile: the mask was theirs.
+      if (hoverObj === obj && maskKey(obj) === key) {
         paintMask(obj, m);
         const h = $('hover');
         h.textContent = h.textContent.replace(/object #\d+: finding its pixels/, objectNote(obj));
