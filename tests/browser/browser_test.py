@@ -1170,9 +1170,30 @@ def fix_mask_options(d):
         srv.stop()
 
 
+def fix_value_readout(d):
+    """The pixel's value and its ray counts are apart on screen (three
+    spaces between them in one text used to collapse into one)."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url + "#px=10,10")
+        wait(d, "value", lambda: attr(d, "viewport", "data-image") and attr(d, "pixel-value", "data-rgb"), 60)
+        got = d.execute_script(
+            "const v = document.getElementById('pixel-value'), r = document.getElementById('pixel-rays');"
+            "if (!r) return [v.textContent, null, 0];"
+            "const a = v.getBoundingClientRect(), b = r.getBoundingClientRect();"
+            "return [v.textContent, r.textContent, b.top >= a.bottom - 1 ? 'next line' : b.left - a.right];")
+        check(re.match(r"^\S+ \S+ \S+$", got[0]) and got[1] and got[1].startswith("rays: eye ") and
+              (got[2] == "next line" or got[2] >= 8),
+              "the value and the ray counts are apart (%r, %r: %s)" % tuple(got))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 def fixes(d):
     for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange,
-              fix_zoom_keys, fix_stale_messages, fix_image_race, fix_mask_options):
+              fix_zoom_keys, fix_stale_messages, fix_image_race, fix_mask_options,
+              fix_value_readout):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

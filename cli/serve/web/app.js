@@ -819,8 +819,9 @@
     v.dataset.rgb = img ? v.textContent : '';
     const s = a.stats;
     v.title = 'linear RGB, as ggrt render --pixel prints it';
-    v.textContent += '   rays: eye ' + s.eye + ', reflect ' + s.reflect + ' (tir ' + s.tir + ' of them), refract ' +
-      s.refract + ', shadow ' + s.shadow;
+    // Its own element: spaces in the text would collapse into one.
+    $('pixel-rays').textContent = 'rays: eye ' + s.eye + ', reflect ' + s.reflect + ' (tir ' + s.tir +
+      ' of them), refract ' + s.refract + ', shadow ' + s.shadow;
   }
 
   function objName(i) {
