@@ -73,11 +73,102 @@ void srv_error(srv_resp *resp, int status, const char *fmt, ...)
 
 /* ---- render options ---- */
 
+/* The settings whose values the server bounds below the library's. */
+static const struct {
+    const char *key;
+    int max;
+} srv_limits[] = {{"depth", SRV_MAX_DEPTH}, {"samples", SRV_MAX_SAMPLES}};
+
+/* "LINE:COL: key must be a whole number from 1 to MAX here, got 'V'" for
+   the value of v at offset at, LINE:COL as ggRenderOptionsParse counts
+   them (lines, UTF-8 characters). */
+static void limit_message(const char *v, size_t at, size_t n, int k, char *msg, size_t len)
+{
+    size_t i;
+    int line = 1, col = 1;
+    for (i = 0; i < at; i++) {
+        if (v[i] == '\n')
+            line++, col = 1;
+        else if (((unsigned char)v[i] & 0xC0) != 0x80)
+            col++;
+    }
+    snprintf(msg, len, "%d:%d: %s must be a whole number from 1 to %d here, got '%.*s'", line, col,
+             srv_limits[k].key, srv_limits[k].max, (int)n, v + at);
+}
+
+/* The words of v setting depth or samples, as ggRenderOptionsParse splits
+   them: at[k] receives the offset of the last one's value (0: none). With
+   check, a value the library itself refuses that is a number >= 1 (not
+   whole, or over the library's bound: depth=99) is reported with the
+   server's bound, which is lower, rather than the library's; an error of
+   an earlier setting still comes first. Returns -1 with msg filled then. */
+static int scan_limits(const srv_server *s, const char *v, int check, size_t at[2], char *msg,
+                       size_t len)
+{
+    size_t n = strlen(v), i = 0;
+    at[0] = at[1] = 0;
+    for (;;) {
+        size_t j, eq;
+        int k, crop;
+        while (i < n && strchr(" \t\r\n,", v[i])) i++;
+        if (i >= n) break;
+        crop = !strncmp(v + i, "crop=", 5);
+        for (j = i; j < n && !strchr(crop ? " \t\r\n" : " \t\r\n,", v[j]); j++) {
+        }
+        for (eq = i; eq < j && v[eq] != '='; eq++) {
+        }
+        for (k = 0; k < 2 && eq < j; k++) {
+            size_t kl = strlen(srv_limits[k].key), vn = j - eq - 1;
+            char num[64], *end;
+            double d;
+            if (eq - i != kl || strncmp(v + i, srv_limits[k].key, kl)) continue;
+            at[k] = eq + 1;
+            if (!check || vn == 0 || vn >= sizeof num) continue;
+            memcpy(num, v + eq + 1, vn);
+            num[vn] = 0;
+            if (strspn(num, "0123456789.eE+-") != vn) continue;
+            d = strtod(num, &end);
+            if (*end || !isfinite(d) || d < 1 || (d == floor(d) && d <= srv_limits[k].max))
+                continue;
+            {
+                /* The library's verdict on the text up to this word, and
+                   through it: an earlier error is its own; this word
+                   refused is the server's bound. */
+                ggRenderOptions o = s->cfg.opt;
+                ggError err;
+                char *head = strndup(v, j);
+                int before, through;
+                if (!head) {
+                    snprintf(msg, len, "out of memory");
+                    return -1;
+                }
+                through = ggRenderOptionsParse(&o, head, &err) != GG_OK;
+                head[i] = 0;
+                o = s->cfg.opt;
+                before = ggRenderOptionsParse(&o, head, &err) != GG_OK;
+                free(head);
+                if (before) {
+                    snprintf(msg, len, "%s", err.message);
+                    return -1;
+                }
+                if (through) {
+                    limit_message(v, eq + 1, vn, k, msg, len);
+                    return -1;
+                }
+            }
+        }
+        i = j;
+    }
+    return 0;
+}
+
 int srv_opts_text(const srv_server *s, const char *v, ggRenderOptions *o, char *msg, size_t len)
 {
     const ggRenderOptions *base = &s->cfg.opt;
     ggError err;
+    size_t at[2] = {0, 0};
     *o = *base;
+    if (v && scan_limits(s, v, 1, at, msg, len)) return -1;
     if (v && ggRenderOptionsParse(o, v, &err) != GG_OK) {
         snprintf(msg, len, "%s", err.message);
         return -1;
@@ -89,8 +180,17 @@ int srv_opts_text(const srv_server *s, const char *v, ggRenderOptions *o, char *
         return -1;
     }
     if (o->max_depth > SRV_MAX_DEPTH || o->samples > SRV_MAX_SAMPLES) {
-        snprintf(msg, len, "depth is at most %d and samples at most %d here", SRV_MAX_DEPTH,
-                 SRV_MAX_SAMPLES);
+        /* the last word that set it (the earlier of the two when both
+           are over), named with the server's bound */
+        int k = o->max_depth > SRV_MAX_DEPTH ? 0 : 1;
+        if (k == 0 && o->samples > SRV_MAX_SAMPLES && at[1] && at[1] < at[0]) k = 1;
+        if (at[k]) {
+            size_t n = strcspn(v + at[k], " \t\r\n,");
+            limit_message(v, at[k], n, k, msg, len);
+        } else {
+            snprintf(msg, len, "depth is at most %d and samples at most %d here", SRV_MAX_DEPTH,
+                     SRV_MAX_SAMPLES);
+        }
         return -1;
     }
     return 0;

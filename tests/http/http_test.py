@@ -589,6 +589,26 @@ def check_parse_opts(s):
               "/api/parse?opts=%s: valid %s, as /api/trace answers %d" % (text, j["opts"]["valid"], st2), j)
 
 
+def check_limit_message(s):
+    """A depth or samples over the server's limit is refused naming that
+    limit, where the text sets it (before: depth=99 said "from 1 to 64",
+    the library's bound, though the server refuses above 16)."""
+    for text, want in (("depth=99", "opts:1:7: depth must be a whole number from 1 to 16 here, got '99'"),
+                       ("depth=17", "opts:1:7: depth must be a whole number from 1 to 16 here, got '17'"),
+                       ("spd samples=5000", "opts:1:13: samples must be a whole number from 1 to 64 here, "
+                        "got '5000'"),
+                       ("samples=65 depth=17", "opts:1:9: samples must be a whole number from 1 to 64 here, "
+                        "got '65'"),
+                       ("refract=fast depth=99", "opts:1:9: refract must be accurate, textbook or exact, "
+                        "got 'fast'")):
+        st, h, b = s.get("/api/trace?x=1&y=1&opts=" + urllib.parse.quote(text))
+        try:
+            got = json.loads(b)["error"]
+        except (ValueError, KeyError):
+            got = b[:200]
+        check(st == 400 and got == want, "opts=%s: 400 %r" % (text, got), "want %r" % want)
+
+
 def check_too_large(s):
     """A tree over the recorder's 4 MiB: 413 saying the limit, where it
     stopped and the way out, for /api/trace and /api/compare alike
@@ -879,6 +899,7 @@ def run(base):
         check_request_body(s)
         check_bad_queries(s)
         check_parse_opts(s)
+        check_limit_message(s)
         check_too_large(s)
         check_record_bound(s)
         rgb, stats = check_render(s)
