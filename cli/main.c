@@ -36,9 +36,34 @@ static void usage(FILE *f)
     fprintf(f, "\noptions:\n"
                "  -h, --help     this text\n"
                "      --version  print ggrt's version and exit\n"
-               "\n'ggrt <command> --help' describes one command; 'man ggrt' all of them.\n"
+               "\n'ggrt help <command>' or 'ggrt <command> --help' describes one command;\n"
+               "'man ggrt' all of them.\n"
                "Exit codes: 0 success, 1 usage, 2 bad input, 3 I/O error, 4 a check failed\n"
                "(ggrt check, ggrt optics check).\n");
+}
+
+static int dispatch(int argc, char **argv);
+
+/* `ggrt help CMD [SUB...]` (or --help, -h): CMD's own --help, as
+   `ggrt CMD [SUB...] --help` gives it; an unknown CMD is dispatch's
+   usage error. */
+static int help_on(int argc, char **argv)
+{
+    char *args[16];
+    int i, n = argc - 1;
+    if (!strcmp(argv[2], "-h") || !strcmp(argv[2], "--help") || !strcmp(argv[2], "help") ||
+        !strcmp(argv[2], "--version") || !strcmp(argv[2], "version")) {
+        usage(stdout); /* `ggrt help help`: the usage says both */
+        return EXIT_OK;
+    }
+    if (n + 1 > (int)(sizeof args / sizeof args[0])) {
+        cli_error("too many words after '%s'", argv[1]);
+        return EXIT_USAGE;
+    }
+    args[0] = argv[0];
+    for (i = 2; i < argc; i++) args[i - 1] = argv[i];
+    args[n] = "--help";
+    return dispatch(n + 1, args);
 }
 
 static int dispatch(int argc, char **argv)
@@ -50,6 +75,7 @@ static int dispatch(int argc, char **argv)
         return EXIT_USAGE;
     }
     if (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "help")) {
+        if (argc > 2) return help_on(argc, argv);
         usage(stdout);
         return EXIT_OK;
     }

@@ -186,6 +186,24 @@ done
 [ $got = 1 ] && [ ! -s "$ed/out" ] && grep -qxF "ggrt: unexpected argument 'extra' (--version takes none)" "$ed/err" &&
   ok "--version extra: a usage error, no version printed" ||
   bad "--version extra: a usage error, no version printed (exit $got)" "$(cat "$ed/out" "$ed/err")"
+# `ggrt help CMD` is CMD's --help; `help help` and `help version` the usage.
+"$ggrt" help render >"$ed/out" 2>"$ed/err"; got=$?
+"$ggrt" render --help >"$ed/out2" 2>&1
+[ $got = 0 ] && [ -s "$ed/out" ] && cmp -s "$ed/out" "$ed/out2" &&
+  ok "help render: render's --help" || bad "help render: render's --help (exit $got)" "$(cat "$ed/err")"
+"$ggrt" --help optics check >"$ed/out" 2>"$ed/err"; got=$?
+[ $got = 0 ] && head -n 1 "$ed/out" | grep -q '^usage: ggrt optics check' &&
+  ok "--help optics check: that subcommand's --help" ||
+  bad "--help optics check: that subcommand's --help (exit $got)" "$(cat "$ed/out" "$ed/err")"
+for w in help version; do
+  "$ggrt" help $w >"$ed/out" 2>"$ed/err"; got=$?
+  [ $got = 0 ] && head -n 1 "$ed/out" | grep -q '^usage: ggrt <command>' &&
+    ok "help $w: the usage, exit 0" || bad "help $w: the usage, exit 0 (exit $got)" "$(cat "$ed/out" "$ed/err")"
+done
+"$ggrt" help frobnicate >"$ed/out" 2>"$ed/err"; got=$?
+[ $got = 1 ] && grep -qxF "ggrt: unknown command 'frobnicate'" "$ed/err" &&
+  ok "help frobnicate: unknown command, exit 1" ||
+  bad "help frobnicate: unknown command, exit 1 (exit $got)" "$(cat "$ed/err")"
 
 # ---- 8. a scene with no lights or no objects renders with a warning ----
 printf 'b 0.1 0.1 0.1\n' >"$ed/empty.nff"
