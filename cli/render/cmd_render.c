@@ -156,7 +156,8 @@ static int parse(render_args *a, int argc, char **argv)
     a->has_pixel = mine[1].given;
     if (!a->out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
     if ((rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
-    if (a->tiles.count && a->aov.n) return cli_usage_error(&cmd, "--tile and --tiles take no --aov");
+    if (a->tiles.count && (a->aov.n || a->aov.png_dir))
+        return cli_usage_error(&cmd, "--tile and --tiles take no --aov or --aov-png");
     if (a->tiles.count) return check_tiles(&cmd, a, mine);
     /* The flag undoes the PNG writer's encoding: on an EXR's linear floats
        it would clamp and distort the values (and break --aov sums). */

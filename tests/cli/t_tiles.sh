@@ -121,6 +121,11 @@ expect_err 1 "ggrt render: --tiles writes several files: -o needs a %d" "--tiles
   "$ggrt" render examples/scenes/glass.nff --tiles 0,1/4 -o "$td/x.exr"
 expect_err 1 "ggrt render: tiles are OpenEXR files: -o must end in .exr" "a tile is an EXR" \
   "$ggrt" render examples/scenes/glass.nff --tile 0/4 -o "$td/x.png"
+# --aov-png alone was ignored by a tile (a whole render refuses it without --aov)
+for o in "--aov all=C.* --aov-png $td" "--aov-png $td"; do
+  expect_err 1 "ggrt render: --tile and --tiles take no --aov or --aov-png" "--tile with $o refused" \
+    "$ggrt" render examples/scenes/glass.nff --tile 0/4 $o -o "$td/x.exr"
+done
 expect_err 1 "ggrt render: bad value '4/4' for --tile: tile index '4' is not in 0..3" \
   "--tile index out of range" "$ggrt" render examples/scenes/glass.nff --tile 4/4 -o "$td/x.exr"
 # a range backwards or a trailing comma is a mistake, not an empty list
