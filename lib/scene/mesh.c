@@ -145,13 +145,39 @@ static int fail(ggError *err, const gg_mesh *m, int code, const char *what)
     return gg_error_set(err, code, "%s: %s", m->name && m->name[0] ? m->name : "mesh", what);
 }
 
-/* The 3x3 part's inverse transpose, or 0 if M is singular. */
-static int inverse_transpose(const double *t, double it[9])
+/* The 3x3 part of T with each row scaled by the power of two 2^-p[i]
+   that brings its largest entry into [0.5, 1) (exact); 0 if a row is all
+   zero. */
+static int scaled_rows(const double *t, double s[9], int p[3])
 {
-    double a = t[0], b = t[1], c = t[2], d = t[4], e = t[5], f = t[6], g = t[8], h = t[9],
-           k = t[10];
-    double c00 = e * k - f * h, c01 = f * g - d * k, c02 = d * h - e * g;
-    double det = a * c00 + b * c01 + c * c02;
+    int i, j;
+    for (i = 0; i < 3; i++) {
+        double m = fmax(fmax(fabs(t[4 * i]), fabs(t[4 * i + 1])), fabs(t[4 * i + 2]));
+        if (!(m > 0)) return 0;
+        (void)frexp(m, &p[i]);
+        for (j = 0; j < 3; j++) s[3 * i + j] = ldexp(t[4 * i + j], -p[i]);
+    }
+    return 1;
+}
+
+/* The inverse transpose of the 3x3 part M, as the inverse transpose X of
+   D M (D = diag 2^-p, the rows scaled to about 1) and the shifts sh: M's
+   is D X, so a normal's component i is X's row i times 2^sh[i] (the
+   shifts are D's relative to its largest, all <= 0, for a direction the
+   normalisation then scales the same) -- the same bits as computing on M,
+   without its determinant underflowing: diag(1e-110, 1e-110, 1e-110) and
+   diag(1, 2^-500, 2^-600) are not singular. 0 if M is singular. */
+static int inverse_transpose(const double *t, double it[9], int sh[3])
+{
+    double s[9], a, b, c, d, e, f, g, h, k, c00, c01, c02, det;
+    int p[3], least, i;
+    if (!scaled_rows(t, s, p)) return 0;
+    least = p[0] < p[1] ? p[0] : p[1];
+    least = least < p[2] ? least : p[2];
+    for (i = 0; i < 3; i++) sh[i] = least - p[i];
+    a = s[0], b = s[1], c = s[2], d = s[3], e = s[4], f = s[5], g = s[6], h = s[7], k = s[8];
+    c00 = e * k - f * h, c01 = f * g - d * k, c02 = d * h - e * g;
+    det = a * c00 + b * c01 + c * c02;
     if (!(det != 0) || !isfinite(det)) return 0;
     /* inverse transpose = cofactor matrix / det */
     it[0] = c00 / det, it[1] = c01 / det, it[2] = c02 / det;
@@ -183,10 +209,10 @@ static int place(gg_mesh_build *b, const ggMeshOptions *o, ggError *err)
     const double *t = o->transform;
     double it[9];
     size_t i;
-    int side;
+    int side, sh[3];
     for (i = 0; i < 12; i++)
         if (!isfinite(t[i])) return fail(err, m, GG_ERROR_INVALID, "the transform is not finite");
-    side = inverse_transpose(t, it);
+    side = inverse_transpose(t, it, sh);
     if (!side) return fail(err, m, GG_ERROR_INVALID, "the transform is singular");
     for (i = 0; i < m->nverts; i++) {
         ggVec3 p = m->pos[i];
@@ -202,9 +228,9 @@ static int place(gg_mesh_build *b, const ggMeshOptions *o, ggError *err)
         m->pos[i] = p;
         if (m->nrm) {
             ggVec3 n = m->nrm[i];
-            m->nrm[i] = unit(v3(it[0] * n.x + it[1] * n.y + it[2] * n.z,
-                                it[3] * n.x + it[4] * n.y + it[5] * n.z,
-                                it[6] * n.x + it[7] * n.y + it[8] * n.z));
+            m->nrm[i] = unit(v3(ldexp(it[0] * n.x + it[1] * n.y + it[2] * n.z, sh[0]),
+                                ldexp(it[3] * n.x + it[4] * n.y + it[5] * n.z, sh[1]),
+                                ldexp(it[6] * n.x + it[7] * n.y + it[8] * n.z, sh[2])));
         }
     }
     /* A mirroring transform turns the winding inside out: turn it back, so

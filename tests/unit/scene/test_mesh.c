@@ -361,6 +361,73 @@ static void test_transform(void **state)
     }
 }
 
+/* A mesh's shading normal at the point that (0.1, 0.2, 10) looks down on,
+   the mesh placed by diag(sx, sy, sz) (GG_NORMALS_SMOOTH from the given
+   normals, which the transform's inverse transpose carries). */
+static int scaled_normal(double sx, double sy, double sz, ggVec3 *ns)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggMeshData d = oct_data();
+    ggMeshOptions o;
+    ggHit h;
+    ggRay r = {{0.1 * sx, 0.2 * sy, 10 * sz}, {0, 0, -1}};
+    ggError e;
+    int rc;
+    ggMeshOptionsDefault(&o);
+    d.normals = oct_v;
+    o.transform[0] = sx, o.transform[5] = sy, o.transform[10] = sz;
+    rc = ggSceneAddMesh(s, &d, &o, &e);
+    if (rc == 0) rc = ggScenePrepare(s, &e);
+    if (rc == 0) rc = ggSceneIntersect(s, r, 0, INFINITY, &h) ? 0 : -1;
+    if (rc == 0) *ns = h.ns;
+    ggSceneFree(s);
+    return rc;
+}
+
+/* Tiny and huge scales are not singular: where the determinant
+   underflowed (a uniform scale below about 1e-108, or 2^-500 along y and
+   2^-600 along z) a mesh was refused as "the transform is singular". A
+   scale by a power of two gives the same normals bit for bit, any other within a few ulp; drawn
+   over every scale whose faces still have an area in double (their edges' cross product squared, as
+   every triangle is held to) up to GG_COORD_MAX, x, y and z scaled 1, 2
+   and 4 times. Beyond that the faces are what is refused. */
+static void test_transform_scales(void **state)
+{
+    static const double any[] = {1e-78, 1e-40, 3e-7, 0.3, 7.5, 1e30, 1e63};
+    ggVec3 ref, n;
+    int k;
+    (void)state;
+    assert_int_equal(scaled_normal(1, 2, 4, &ref), 0);
+    for (k = -270; k <= 210; k++) {
+        double sc = ldexp(1, k);
+        assert_int_equal(scaled_normal(sc, 2 * sc, 4 * sc, &n), 0);
+        assert_true(n.x == ref.x && n.y == ref.y && n.z == ref.z);
+    }
+    for (k = 0; k < (int)(sizeof any / sizeof *any); k++) {
+        double sc = any[k];
+        assert_int_equal(scaled_normal(sc, 2 * sc, 4 * sc, &n), 0);
+        assert_close(n.x, ref.x, 1e-15);
+        assert_close(n.y, ref.y, 1e-15);
+        assert_close(n.z, ref.z, 1e-15);
+    }
+    {
+        ggScene *s = ggSceneCreate(NULL);
+        ggMeshData d = oct_data();
+        ggMeshOptions o;
+        ggError e;
+        /* squashed to 2^-500 along y and 2^-600 along z: the determinant is
+           2^-1100, the faces' cross products 2^-500 */
+        ggMeshOptionsDefault(&o);
+        o.transform[5] = 0x1p-500, o.transform[10] = 0x1p-600;
+        assert_int_equal(ggSceneAddMesh(s, &d, &o, &e), 0);
+        ggMeshOptionsDefault(&o);
+        o.transform[0] = o.transform[5] = o.transform[10] = 1e-110;
+        assert_int_equal(ggSceneAddMesh(s, &d, &o, &e), -GG_ERROR_INVALID);
+        assert_string_equal(e.message, "oct: no face has an area");
+        ggSceneFree(s);
+    }
+}
+
 /* Every failure leaves the scene exactly as it was. */
 static void test_failures(void **state)
 {
@@ -485,6 +552,7 @@ int main(void)
         cmocka_unit_test(test_computed_normals),
         cmocka_unit_test(test_angle_weights),
         cmocka_unit_test(test_transform),
+        cmocka_unit_test(test_transform_scales),
         cmocka_unit_test(test_failures),
         cmocka_unit_test(test_frame),
         cmocka_unit_test(test_frame_too_large),
