@@ -68,11 +68,16 @@ GG_WARN   = -std=c99 -Wall -Wextra -pedantic -Wshadow -Wstrict-prototypes $(GG_W
             $(if $(filter -g%,$(CFLAGS)),$(GG_DWARF))
 GG_CPPFLAGS = -D_POSIX_C_SOURCE=200809L -Iinclude -MMD -MP
 
+# PKG_CONFIG: the pkg-config that answers for the libraries built against
+# (a cross build's, say aarch64-linux-gnu-pkg-config); every lookup below,
+# the examples and installcheck use it.
+PKG_CONFIG ?= pkg-config
+
 # Image I/O is the only part that touches libpng and OpenEXR's C core. Their
 # headers come in with -isystem: OpenEXR's use anonymous unions, which
 # -pedantic -Werror would reject.
-PNG_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libpng 2>/dev/null))
-PNG_LIBS   := $(shell pkg-config --libs libpng 2>/dev/null || echo -lpng16)
+PNG_CFLAGS := $(patsubst -I%,-isystem %,$(shell $(PKG_CONFIG) --cflags libpng 2>/dev/null))
+PNG_LIBS   := $(shell $(PKG_CONFIG) --libs libpng 2>/dev/null || echo -lpng16)
 EXR_CFLAGS := -isystem /usr/include/OpenEXR
 EXR_LIBS   := -lOpenEXRCore
 IMG_LIBS    = $(PNG_LIBS) $(EXR_LIBS)
@@ -83,9 +88,9 @@ SYS_LIBS    = -lm -lpthread
 # `ggrt serve` says what to install. scripts/deps.sh: group serve.
 # ggrt does not link it: `ggrt serve` opens it by the soname read here
 # (MHD_SONAME; cli/serve/serve_http.c says why), and only ggrt serve.
-MHD_CFLAGS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags libmicrohttpd 2>/dev/null))
-MHD_LIBS   := $(shell pkg-config --libs libmicrohttpd 2>/dev/null)
-MHD_SONAME := $(if $(MHD_LIBS),$(shell objdump -p "`pkg-config --variable=libdir libmicrohttpd`/libmicrohttpd.so" \
+MHD_CFLAGS := $(patsubst -I%,-isystem %,$(shell $(PKG_CONFIG) --cflags libmicrohttpd 2>/dev/null))
+MHD_LIBS   := $(shell $(PKG_CONFIG) --libs libmicrohttpd 2>/dev/null)
+MHD_SONAME := $(if $(MHD_LIBS),$(shell objdump -p "`$(PKG_CONFIG) --variable=libdir libmicrohttpd`/libmicrohttpd.so" \
                 2>/dev/null | sed -n 's/^ *SONAME *//p'))
 CLI_DEFS   =
 CLI_SERVE  =
@@ -226,7 +231,7 @@ help:
 	@echo 'variables (their values now):'
 	@echo '  PREFIX=$(PREFIX) DESTDIR=$(DESTDIR) (staging root)'
 	@echo '  LIBDIR=$(LIBDIR) INCLUDEDIR=$(INCLUDEDIR) BINDIR=$(BINDIR) MANDIR=$(MANDIR)'
-	@echo '  BUILD=$(BUILD) (objects and programs) CC=$(CC)'
+	@echo '  BUILD=$(BUILD) (objects and programs) CC=$(CC) PKG_CONFIG=$(PKG_CONFIG)'
 	@echo '  CFLAGS=$(CFLAGS) CPPFLAGS=$(CPPFLAGS) LDFLAGS=$(LDFLAGS) (added to the project'"'"'s)'
 	@echo '  LDCONFIG=$(LDCONFIG) (empty: not run) GG_WERROR=$(GG_WERROR) (-Werror: warnings fail)'
 	@echo '  GG_NO_DEPS=1: install no packages (check, demo, fuzz...; scripts/deps.sh)'
@@ -542,10 +547,13 @@ demo: deps-demo
 
 # --- install -----------------------------------------------------------
 
+# A folder under PREFIX is written as ${prefix}/..., so that the .pc files
+# move with the install (pkg-config --define-prefix, a staged tree).
+pc_rel = $(patsubst $(PREFIX)/%,$${prefix}/%,$(1))
 $(BUILD)/%.pc: %.pc.in Makefile
 	@mkdir -p $(@D)
-	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(LIBDIR)|' \
-	    -e 's|@INCLUDEDIR@|$(INCLUDEDIR)|' -e 's|@VERSION@|$(VERSION)|' $< > $@
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(call pc_rel,$(LIBDIR))|' \
+	    -e 's|@INCLUDEDIR@|$(call pc_rel,$(INCLUDEDIR))|' -e 's|@VERSION@|$(VERSION)|' $< > $@
 
 # Regenerated every time: PREFIX may differ between calls.
 pc:
@@ -601,6 +609,11 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	  echo "installcheck: the exports are the $$(echo "$$hdr" | wc -l) GG_API functions of include/ (tests/api/test_null.c calls each)"
 	@rm -rf $(STAGE)
 	@$(MAKE) --no-print-directory install DESTDIR=$(STAGE) PREFIX=/usr >/dev/null
+	@got=" $$(PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig $(PKG_CONFIG) --define-prefix --cflags --libs ggrt-core) "; \
+	  for want in -I$(STAGE)/usr/include -L$(STAGE)/usr/lib; do \
+	    case "$$got" in *" $$want "*) ;; *) echo "installcheck: ggrt-core.pc does not move with the install:$$got"; exit 1;; esac; \
+	  done; \
+	  echo "installcheck: the .pc files move with the install (--define-prefix on the stage:$$got)"
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig \
 	  $(MAKE) --no-print-directory examples EXAMPLE_OUT=$(abspath $(BUILD))/examples
 	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
@@ -611,14 +624,14 @@ installcheck: $(SHARED) $(BUILD)/libggrt.so
 	@PKG_CONFIG_SYSROOT_DIR=$(STAGE) PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig; \
 	  export PKG_CONFIG_SYSROOT_DIR PKG_CONFIG_PATH; out=$(abspath $(BUILD))/examples; \
 	  $(CC) -std=c99 -O2 $(CPPFLAGS) -static -o $$out/core_static_static examples/core_static.c \
-	    `pkg-config --static --cflags --libs ggrt-core` \
+	    `$(PKG_CONFIG) --static --cflags --libs ggrt-core` \
 	    || { echo "installcheck: static link against libggrt-core failed"; exit 1; }; \
 	  if readelf -d $$out/core_static_static | grep -q NEEDED; then \
 	    echo "installcheck: core_static_static needs shared libraries"; exit 1; fi; \
 	  (cd $$out && ./core_static_static $(CURDIR)/examples/scenes/default.nff core_static.ppm 64x48 >/dev/null) \
 	    || { echo "installcheck: the static core example failed"; exit 1; }; \
 	  echo "installcheck: examples/core_static.c linked with -static against libggrt-core" \
-	    "(`pkg-config --static --libs ggrt-core`) and rendered default.nff"
+	    "(`$(PKG_CONFIG) --static --libs ggrt-core`) and rendered default.nff"
 	@MAKE="$(MAKE)" sh tests/build/install.sh $(BUILD)
 
 # Examples build against an installed libggrt found by pkg-config.
@@ -626,9 +639,9 @@ EXAMPLE_OUT ?= $(BUILD)/examples
 examples:
 	@mkdir -p $(EXAMPLE_OUT)
 	@for e in $(EXAMPLE_SRC:examples/%.c=%); do \
-	  echo "$(CC) examples/$$e.c \`pkg-config --cflags --libs ggrt\` -lm"; \
+	  echo "$(CC) examples/$$e.c \`$(PKG_CONFIG) --cflags --libs ggrt\` -lm"; \
 	  $(CC) -std=c99 -Wall -Wextra -pedantic -Werror -O2 $(CPPFLAGS) -o $(EXAMPLE_OUT)/$$e examples/$$e.c \
-	    `pkg-config --cflags --libs ggrt` -lm || exit 1; \
+	    `$(PKG_CONFIG) --cflags --libs ggrt` -lm || exit 1; \
 	done
 
 # --- fuzzing and benchmarks ---------------------------------------------

@@ -7,6 +7,7 @@
 #    `ggrt optics check --lib build/libtextbook_refract.so` line needs;
 #  - every line of the build, the tests and the benchmarks that compiles C
 #    takes the user's CPPFLAGS;
+#  - every pkg-config lookup goes through PKG_CONFIG;
 #  - `make demo` installs what `ggrt serve` needs, which README shows next;
 #  - no command README shows writes into a file the repository tracks
 #    (its `trace --svg docs/trace-glass.svg` once rewrote the picture
@@ -40,6 +41,22 @@ if grep -v -- ' -DGG_TEST_CPPFLAGS ' "$tmp/cc" > "$tmp/nocpp"; then
   cat "$tmp/nocpp"; fail "$(wc -l < "$tmp/nocpp") compile lines above ignore CPPFLAGS"
 fi
 echo "targets: all $(wc -l < "$tmp/cc") compile lines of make all tests bench take the user's CPPFLAGS"
+
+# PKG_CONFIG is the one pkg-config (a cross build names its own): a
+# wrapper that logs its questions answers every lookup, and the examples'
+# compile lines name it. Make runs $(shell ...) even with -n.
+printf '#!/bin/sh\necho "$*" >> %s/pc.log\nexec pkg-config "$@"\n' "$tmp" > "$tmp/pc"
+chmod +x "$tmp/pc"
+MAKEFLAGS= MFLAGS= $make -n --no-print-directory BUILD="$tmp/p" PKG_CONFIG="$tmp/pc" all examples \
+  > "$tmp/pcplan" 2>&1 || { cat "$tmp/pcplan"; fail "make -n PKG_CONFIG=... all examples failed"; }
+for q in 'libpng' 'libmicrohttpd'; do
+  grep -q -- "--cflags $q" "$tmp/pc.log" 2>/dev/null || fail "the build asks pkg-config, not \$(PKG_CONFIG), for $q"
+done
+if grep -q '`pkg-config ' "$tmp/pcplan"; then
+  grep '`pkg-config ' "$tmp/pcplan"; fail "the lines above call pkg-config, not \$(PKG_CONFIG)"
+fi
+grep -q "\`$tmp/pc --cflags --libs ggrt\`" "$tmp/pcplan" || fail "make examples does not use \$(PKG_CONFIG)"
+echo "targets: PKG_CONFIG answers the build's $(wc -l < "$tmp/pc.log") lookups and the examples' compile lines"
 
 demo=" $(sh scripts/deps.sh --list demo) "
 for p in $(sh scripts/deps.sh --list build) $(sh scripts/deps.sh --list serve); do
