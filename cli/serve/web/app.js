@@ -259,7 +259,14 @@
 
   // ---- URL state: #px=X,Y&ov=...&tab=...&zoom=...&find=...&path=...&pdim=1&a=OPTIONS&b=OPTIONS&diff=1 ----
 
-  function writeHash() {
+  // Back and Forward: a step that changes what is looked at (another
+  // pixel, tab or overlay, a find or path submitted, options rendered,
+  // diff mode on or off) is a new history entry (push); an adjustment of
+  // how it is shown (zoom, opacity, dimming, the 3D camera: view3d.js) and
+  // the page's own writing of the address it loaded or was taken back to
+  // replace the entry in place, so that history is not flooded and Back
+  // undoes one step. An address equal to the one shown is never pushed.
+  function writeHash(push) {
     const p = new URLSearchParams();
     if (state.px) p.set('px', state.px[0] + ',' + state.px[1]);
     if (state.overlay !== 'none') p.set('ov', state.overlay);
@@ -274,8 +281,9 @@
     if (state.b) p.set('b', state.b);
     const cam = new URLSearchParams(location.hash.slice(1)).get('cam');
     if (cam) p.set('cam', cam);
-    const h = p.toString();
-    history.replaceState(null, '', location.pathname + location.search + (h ? '#' + h : ''));
+    const h = p.toString(), url = location.pathname + location.search + (h ? '#' + h : '');
+    if (push && url !== location.pathname + location.search + location.hash) history.pushState(null, '', url);
+    else history.replaceState(null, '', url);
   }
 
   function readHash() {
@@ -700,12 +708,29 @@
     }
   }
 
+  // The trees of the pixels shown last, by their key: Back or Forward to
+  // one of them shows it again at once, asking the server nothing.
+  const traceCache = new Map(), TRACE_CACHE = 16;
+  function keepTraces(t) {
+    traceCache.delete(t.key);
+    traceCache.set(t.key, t);
+    if (traceCache.size > TRACE_CACHE) traceCache.delete(traceCache.keys().next().value);
+  }
+
   async function loadPixel(gen) {
-    if (!state.px) return;
+    if (!state.px) {
+      if (traces.a) clearPixel();
+      return;
+    }
     const key = state.px.join(',') + '|' + keyOf(optParams('a')) + '|' + (state.diff ? keyOf(optParams('b')) : '') +
       '|' + state.path;
     drawMarker();
-    if (traces.key !== key) {
+    const kept = traces.key !== key && traceCache.get(key);
+    if (kept) {
+      keepTraces(kept);
+      // A copy: which tab contents are on screen (diagKey, ...) is the copy's.
+      traces = Object.assign({}, kept);
+    } else if (traces.key !== key) {
       const where = 'pixel ' + state.px.join(',');
       $('pixel-title').textContent = where + ': tracing';
       let a, b = null, cmp = null, paths, bError = null;
@@ -728,10 +753,12 @@
         if (gen === pixelGen) $('pixel-title').textContent = where + ': the trace failed';
         throw e;
       }
-      if (gen !== pixelGen) return;
       // A B refused for its text is kept with the key; else asked again.
-      traces = { key: bError && bError.status !== 400 ? '' : key, a: a, b: b, cmp: cmp, paths: paths,
+      const t = { key: bError && bError.status !== 400 ? '' : key, a: a, b: b, cmp: cmp, paths: paths,
         bError: bError };
+      if (t.key) keepTraces(t);
+      if (gen !== pixelGen) return;
+      traces = Object.assign({}, t);
     }
     showPixel();
     await showTab(gen);
@@ -782,6 +809,23 @@
       }
     }
     box.insertBefore(s, box.querySelector('h3').nextSibling);
+  }
+
+  // No pixel selected (Back to before the first click): nothing of the
+  // last one stays on screen.
+  function clearPixel() {
+    traces = { key: '', a: null, b: null };
+    $('pixel-title').textContent = 'no pixel selected';
+    $('pixel-swatch').style.background = '';
+    $('pixel-value').textContent = '';
+    $('pixel-value').dataset.rgb = '';
+    $('pixel-rays').textContent = '';
+    for (const id of ['tree-a', 'tree-b', 'ledger', 'diag', 'trace-text']) $(id).textContent = '';
+    $('tree-b').hidden = true;
+    $('divergence').hidden = true;
+    $('svg-view').removeAttribute('src');
+    delete $('pixel-head').dataset.pixel;
+    document.dispatchEvent(new Event('ggrt:pixel'));
   }
 
   function showPixel() {
@@ -931,7 +975,7 @@
   function setTab(tab) {
     state.tab = tab;
     showTabs();
-    writeHash();
+    writeHash(true);
     const gen = pixelGen;
     showTab(gen).then(() => { if (gen === pixelGen) clearError('pixel'); },
       (e) => { if (gen === pixelGen) fail(e, 'pixel'); });
@@ -1036,11 +1080,12 @@
     status('error');
   }
 
-  // Bring everything on screen up to date with state.
-  async function refresh() {
+  // Bring everything on screen up to date with state; push: a new
+  // history entry (writeHash).
+  async function refresh(push) {
     const gen = ++generation;
     showError('');
-    writeHash();
+    writeHash(push);
     $('overlay-select').value = state.overlay;
     $('opacity').value = String(state.opacity);
     $('diff-on').checked = state.diff;
@@ -1077,7 +1122,7 @@
 
   function select(x, y) {
     state.px = [Math.max(0, Math.min(W - 1, x)), Math.max(0, Math.min(H - 1, y))];
-    writeHash();
+    writeHash(true);
     drawMarker();
     hoverAt(state.px);
     const gen = ++pixelGen;
@@ -1096,7 +1141,7 @@
       select(p[0] + moves[e.key][0], p[1] + moves[e.key][1]);
     } else if (e.key === 'o') {
       state.overlay = OVERLAYS[(OVERLAYS.indexOf(state.overlay) + 1) % OVERLAYS.length];
-      refresh();
+      refresh(true);
     } else if (e.key === '+' || e.key === '=' || e.key === '-') {
       // From the zoom on screen (fitted, or up to 8), not the dropdown's (1 to 4).
       const z = Math.max(1, Math.round(parseFloat($('image').style.width) / W) || 1);
@@ -1135,7 +1180,7 @@
       if (state.overlay === 'diff' && !state.diff) { state.diff = true; $('diff-panel').open = true; }
       if (state.overlay === 'find' && !state.find) $('find-input').focus();
       if (state.overlay === 'path' && !state.path) $('path-input').focus();
-      refresh();
+      refresh(true);
     });
     $('opacity').addEventListener('input', (e) => {
       state.opacity = parseFloat(e.target.value);
@@ -1162,7 +1207,7 @@
       }
       state.find = text;
       state.overlay = 'find';
-      refresh();
+      refresh(true);
     });
     let typingPath = null;
     $('path-input').addEventListener('input', () => {
@@ -1183,7 +1228,7 @@
       state.path = text;
       if (text) state.overlay = 'path';
       else if (state.overlay === 'path') state.overlay = 'none';
-      refresh();
+      refresh(true);
     });
     $('path-dim').addEventListener('change', (e) => {
       state.pathDim = e.target.checked;
@@ -1193,31 +1238,42 @@
         $('tree-a').classList.toggle('path-hide', !state.pathDim);
       }
     });
-    $('render-a').addEventListener('click', () => { state.a = readPanel('a'); refresh(); });
-    $('reset-a').addEventListener('click', () => { state.a = ''; refresh(); });
+    $('render-a').addEventListener('click', () => { state.a = readPanel('a'); refresh(true); });
+    $('reset-a').addEventListener('click', () => { state.a = ''; refresh(true); });
     $('render-b').addEventListener('click', () => {
       state.b = readPanel('b');
       state.diff = true;
       state.overlay = 'diff';
-      refresh();
+      refresh(true);
     });
     $('diff-on').addEventListener('change', (e) => {
       state.diff = e.target.checked;
       if (state.diff) state.b = readPanel('b');
       if (!state.diff && state.overlay === 'diff') state.overlay = 'none';
-      refresh();
+      refresh(true);
     });
     for (const b of $('tabs').querySelectorAll('button')) b.addEventListener('click', () => setTab(b.dataset.tab));
     $('help-button').addEventListener('click', () => $('help').showModal());
     $('help-close').addEventListener('click', () => $('help').close());
-    // An address changed by hand (or a link) in the open page: the tabs,
-    // the diff panel and the 3D camera follow it, as on a load.
-    window.addEventListener('hashchange', () => {
+    // Back, Forward, a link or an address changed by hand: the whole view
+    // follows the address (the pixel and its tree, the tabs, the options
+    // and diff panels, the 3D camera), as on a load. Restoring only
+    // replaces the entry (refresh without push), so it never adds one;
+    // the jobs of the view left are cancelled as for any newer view. The
+    // browser fires popstate and then, the fragment having changed,
+    // hashchange for the same step: the view is restored once.
+    let restored = null;
+    const restore = () => {
       readHash();
       showTabs();
       if (state.diff) $('diff-panel').open = true;
       document.dispatchEvent(new Event('ggrt:hash'));
       refresh();
+    };
+    window.addEventListener('popstate', () => { restored = location.href; restore(); });
+    window.addEventListener('hashchange', (e) => {
+      if (e.newURL === restored) { restored = null; return; }
+      restore();
     });
     window.addEventListener('resize', () => { if (!state.zoom) drawImage(); });
   }

@@ -307,14 +307,20 @@
   }
 
   // #cam=yaw,pitch,dist,tx,ty,tz[,fov] in the address, beside app.js's
-  // keys; fov (degrees) when looking through the scene's camera.
+  // keys; fov (degrees) when looking through the scene's camera. Only a
+  // camera moved by hand (or by top, side, camera) is written: while the
+  // view frames the selected rays the address has none, and a load, Back
+  // or Forward frames its pixel's rays again. A camera move adjusts the
+  // view: it replaces the history entry, never adds one (app.js, writeHash).
   function saveCam() {
     const p = new URLSearchParams(location.hash.slice(1));
     const r = (v) => Number(v.toPrecision(6));
     const v = [view.yaw, view.pitch, view.dist].concat(view.target);
     if (view.fov) v.push(view.fov);
-    p.set('cam', v.map(r).join(','));
-    history.replaceState(null, '', location.pathname + location.search + '#' + p.toString());
+    if (view.userMoved) p.set('cam', v.map(r).join(','));
+    else p.delete('cam');
+    const h = p.toString();
+    history.replaceState(null, '', location.pathname + location.search + (h ? '#' + h : ''));
   }
   function loadCam() {
     const v = (new URLSearchParams(location.hash.slice(1)).get('cam') || '').split(',').map(Number);
@@ -601,10 +607,19 @@
     wire();
     draw();
   });
-  // The address changed in the open page: a camera in it is taken.
+  // The address changed in the open page (Back, Forward, a link): a
+  // camera in it is taken as one set by hand; without one the view frames
+  // the pixel's rays (ggrt:pixel, once its tree is shown), as it did when
+  // that address was written.
   document.addEventListener('ggrt:hash', () => {
-    if (!view.gl || !new URLSearchParams(location.hash.slice(1)).get('cam')) return;
-    if (loadCam()) { view.userMoved = true; draw(); }
+    if (!view.gl) return;
+    if (loadCam()) {
+      view.userMoved = true;
+      draw();
+    } else {
+      view.userMoved = false;
+      if (!window.ggrt.state.px) preset('camera');
+    }
   });
   document.addEventListener('ggrt:pixel', () => {
     if (!view.gl) return;
