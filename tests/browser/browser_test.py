@@ -28,12 +28,15 @@ one server per scene:
   kept and the summary equal ggrt trace --path's), the URL keeping it;
 - the layout at 1280 and 1920 px wide: the tree panel inside the window in
   normal and diff mode and at 4x zoom (screenshots in build/browser/);
+- Back and Forward (history): pixels, a tab, each a history entry restored
+  whole from the address (the tree without asking the server again); the
+  3D camera and the zoom change the entry in place;
 - regressions (fixes): one check per bug fixed in the page (the 3D
   view's redraw time, typing in the find and path boxes, ...);
 - with --docs DIR, the linked 3D views of glass and knot, and the path
   filter on glass, as PNGs there (docs/serve.md shows them).
     /usr/bin/python3 tests/browser/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
-        [--only glass,layout,first,scenes,paths,fixes,docs]
+        [--only glass,layout,first,scenes,paths,history,fixes,docs]
 Prints one line per check and ends with "browser: N passed, M failed"."""
 import json
 import os
@@ -848,6 +851,147 @@ def layout(d):
         srv.stop()
 
 
+# ---- Back and Forward ----
+
+# What the page shows of the selected pixel: its number, title, value, ray
+# counts, the tree's text, and the tab shown.
+SHOWN = ("const q = (s) => document.querySelector(s); if (!q('#pixel-head')) return [location.href];"
+         "return [q('#pixel-head').dataset.pixel || '', q('#pixel-title').textContent,"
+         " q('#pixel-value').textContent, q('#pixel-rays').textContent, q('#tree-a').textContent,"
+         " q('#tabs button.active').dataset.tab];")
+CAM = ("const v = window.ggrtView3d; return [v.yaw, v.pitch, v.dist].concat(v.target)"
+       ".map((x) => Number(x.toPrecision(6))).join(',');")
+
+
+def url_cam(d):
+    return urllib.parse.parse_qs(urllib.parse.urlparse(d.current_url).fragment).get("cam", [""])[0]
+
+
+def history(d):
+    """Back and Forward walk through the pixels and tabs the user chose: each
+    is a history entry (pushState), restored whole from the address (the
+    tree without asking the server again, no banner, no "tracing"); turning
+    the 3D view and zooming replace the entry instead of adding one."""
+    srv = Server(SCENE, "-s", "64x48")
+    A, B, C = (17, 16), (40, 30), (41, 30)  # glass with TIR, the floor, its neighbour (an arrow key)
+    name = lambda p: "%d,%d" % p  # noqa: E731
+    # A tab of its own: Chromium keeps at most 50 entries a tab, which the
+    # steps before may have filled, and history.length would stay at 50.
+    first = d.current_window_handle
+    d.switch_to.new_window("tab")
+    try:
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        wait(d, "3d", lambda: attr(d, "box3d", "data-triangles"), 10)
+        console_errors(d)
+        length = lambda: d.execute_script("return history.length")  # noqa: E731
+        shown = lambda: d.execute_script(SHOWN)  # noqa: E731
+
+        def settled(p):
+            return wait(d, name(p), lambda: (lambda s: s[0] == name(p) and s[1] == "pixel " + name(p) and
+                                             "#" in s[4])(shown()), 30)
+
+        h0 = length()
+        seen = {}
+        for p, how in ((A, "click"), (B, "click"), (C, "arrow")):
+            if how == "click":
+                click_pixel(d, *p)
+            else:
+                d.find_element(By.ID, "image").send_keys(Keys.ARROW_RIGHT)
+            settled(p)
+            seen[p] = shown()
+        check(len({tuple(v) for v in seen.values()}) == 3 and all(seen[p][0] == name(p) for p in seen),
+              "pixels %s, %s (clicked) and %s (arrow key) are shown in turn" % (name(A), name(B), name(C)),
+              [v[:2] for v in seen.values()])
+        check(length() == h0 + 3, "each pixel is a history entry (history.length %d -> %d)" % (h0, length()))
+        # From here on: what the page asks the server, what the title and the banner say.
+        d.execute_script(
+            "window.__calls = []; window.__said = [];"
+            "const real = window.fetch; window.fetch = function (u, o) { window.__calls.push(String(u));"
+            " return real(u, o); };"
+            "const e = document.getElementById('error'), t = document.getElementById('pixel-title');"
+            "new MutationObserver(() => window.__said.push(t.textContent + (e.hidden ? '' : ' | banner: ' +"
+            " e.textContent))).observe(document.body, { subtree: true, childList: true, characterData: true,"
+            " attributes: true, attributeFilter: ['hidden'] });"
+            "window.__shows = 0; window.__events = [];"
+            "new MutationObserver(() => window.__shows++).observe(document.getElementById('pixel-head'),"
+            " { attributes: true, attributeFilter: ['data-shown-at'] });"
+            "for (const k of ['popstate', 'hashchange']) window.addEventListener(k, () => window.__events.push(k));")
+        d.back()
+        ok_b = wait(d, "back to B", lambda: shown() == seen[B], 15)
+        d.back()
+        ok_a = wait(d, "back to A", lambda: shown() == seen[A], 15)
+        now = shown()
+        check(ok_b and ok_a, "Back twice shows %s again: its readout and its tree (%s)" % (name(A), now[:3]),
+              "want %r\ngot  %r\nurl %s" % (seen[A][:4], now[:4], d.current_url))
+        if not (ok_b and ok_a):
+            return  # the page was left: nothing more to see
+        tree = json.loads(srv.get("/api/trace", x=A[0], y=A[1])[1])
+
+        def count(n):
+            return 1 + sum(count(k) for k in n["children"])
+        colour = " ".join("%.9g" % c for c in tree["color"])
+        want = "%d rays, colour %s" % (sum(count(r) for r in tree["roots"]), colour)
+        head = d.execute_script("const h = document.querySelector('#tree-a h3'); return h ? h.textContent : ''")
+        check(head == want and "px=%d%%2C%d" % A in d.current_url,
+              "the tree shown is %s's as /api/trace gives it (%s), the address says px=%s" % (name(A), head, name(A)),
+              "want %r, got %r; %s" % (want, head, d.current_url))
+        calls, said, shows, events = d.execute_script(
+            "return [window.__calls, window.__said, window.__shows, window.__events]")
+        check(calls == [] and not [s for s in said if "tracing" in s or "banner" in s] and not page_error(d),
+              "restoring pixels already fetched asks the server nothing and shows no banner (%d requests)"
+              % len(calls), "requests %r\nsaid %r" % (calls, sorted(set(said))))
+        check(shows == 2, "each step back shows its pixel once (%d times for 2 steps; events %s)"
+              % (shows, " ".join(events)))
+        d.forward()
+        ok = wait(d, "forward to B", lambda: shown() == seen[B], 15)
+        check(ok and length() == h0 + 3, "Forward shows %s again, history.length unchanged (%d)" % (name(B), length()),
+              shown()[:3])
+        # A tab is an entry too.
+        d.find_element(By.CSS_SELECTOR, "#tabs [data-tab=ledger]").click()
+        wait(d, "ledger", lambda: d.find_elements(By.CSS_SELECTOR, "#ledger p[data-holds]"), 15)
+        d.back()
+        ok = wait(d, "tree tab", lambda: shown() == seen[B] and d.find_element(By.ID, "tab-ledger").get_attribute(
+            "hidden") is not None, 15)
+        d.forward()
+        ok = ok and wait(d, "ledger tab", lambda: shown()[5] == "ledger" and shown()[0] == name(B) and
+                         d.find_element(By.ID, "tab-ledger").is_displayed(), 15)
+        check(ok, "a tab is an entry: Back shows %s's tree again, Forward its ledger" % name(B), shown()[5])
+        # Turning and panning the 3D view, zooming the image: the entry is replaced.
+        n = length()
+        ov = d.find_element(By.ID, "ov3d")
+        for dx, shift in ((60, False), (-25, False), (30, True)):
+            a = ActionChains(d).move_to_element_with_offset(ov, 0, 40)
+            if shift:
+                a = a.key_down(Keys.SHIFT)
+            a = a.click_and_hold().move_by_offset(dx, 0).move_by_offset(dx // 2, 10).release()
+            (a.key_up(Keys.SHIFT) if shift else a).perform()
+        Select(d.find_element(By.ID, "zoom")).select_by_value("2")
+        cam = url_cam(d)
+        check(length() == n and cam.count(",") == 5 and "zoom=2" in d.current_url,
+              "turning the 3D view and zooming add no entry (history.length %d -> %d, cam=%s)" % (n, length(), cam))
+        d.back()
+        ok = wait(d, "tree tab", lambda: shown()[5] == "tree" and shown()[0] == name(B), 15)
+        follows = d.execute_script("return !window.ggrtView3d.userMoved") and not url_cam(d)
+        d.forward()
+        ok = ok and wait(d, "ledger tab", lambda: shown()[5] == "ledger" and d.execute_script(CAM) == cam, 15)
+        check(ok and follows, "Back: the 3D view frames the rays as it did; Forward: the camera turned by hand "
+              "(%s)" % d.execute_script(CAM), "cam %s, follows %s" % (cam, follows))
+        # Back to the page as it was loaded: no pixel selected, nothing of the last one left.
+        for _ in range(3):
+            d.back()
+        ok = wait(d, "no pixel", lambda: shown()[:2] == ["", "no pixel selected"] and not shown()[4], 15)
+        check(ok and length() == h0 + 3 and "px=" not in d.current_url,
+              "Back to the page as loaded: no pixel selected, no tree left", shown()[:5])
+        errors = console_errors(d)
+        check(not errors and not page_error(d), "history: no console errors, no banner",
+              "\n".join(errors) + page_error(d))
+    finally:
+        d.close()
+        d.switch_to.window(first)
+        srv.stop()
+
+
 # ---- the screenshots of docs/serve.md ----
 
 def docs_shots(d, folder):
@@ -1219,7 +1363,8 @@ def main():
         d = browser(profile)
         steps = [("glass", lambda: glass(d, want)), ("layout", lambda: layout(d)),
                  ("first", lambda: tracing_first(d)), ("scenes", lambda: every_scene(d)),
-                 ("paths", lambda: paths(d, DOCS)), ("fixes", lambda: fixes(d))]
+                 ("paths", lambda: paths(d, DOCS)), ("history", lambda: history(d)),
+                 ("fixes", lambda: fixes(d))]
         if DOCS:
             steps.append(("docs", lambda: docs_shots(d, DOCS)))
         for name, step in steps:
