@@ -66,18 +66,24 @@ static inline int gg_ctz_portable(unsigned m)
 #pragma STDC FP_CONTRACT OFF
 #endif
 
-/* Relaxed atomics on a shared, sticky hint (lib/implicit/implicit.c, the
-   FMA choice cached in lib/optics/optics.c):
+/* Relaxed atomics on a shared, sticky hint (lib/implicit/implicit.c):
    C99 has none of its own. Without GCC's or clang's builtins they are
    plain accesses, a benign race (a hint read stale is only re-learnt);
-   the CAS then just stores and reports success. */
+   the CAS then just stores and reports success. The acquire load and
+   release store publish a structure filled once (the kernel table,
+   core.h); without the builtins there are none (GG_HAVE_ACQ_REL 0) and
+   the caller takes its locked path every time. */
 #if defined(__GNUC__)
+#define GG_HAVE_ACQ_REL           1
+#define GG_ATOMIC_LOAD_ACQ(p)     __atomic_load_n(p, __ATOMIC_ACQUIRE)
+#define GG_ATOMIC_STORE_REL(p, v) __atomic_store_n(p, v, __ATOMIC_RELEASE)
 #define GG_ATOMIC_LOAD(p)    __atomic_load_n(p, __ATOMIC_RELAXED)
 #define GG_ATOMIC_STORE(p, v) __atomic_store_n(p, v, __ATOMIC_RELAXED)
 #define GG_ATOMIC_OR(p, v)   (void)__atomic_fetch_or(p, v, __ATOMIC_RELAXED)
 #define GG_ATOMIC_CAS(p, e, v) \
     __atomic_compare_exchange_n(p, e, v, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED)
 #else
+#define GG_HAVE_ACQ_REL        0
 #define GG_ATOMIC_LOAD(p)      (*(p))
 #define GG_ATOMIC_STORE(p, v)  (void)(*(p) = (v))
 #define GG_ATOMIC_OR(p, v)     (void)(*(p) |= (v))

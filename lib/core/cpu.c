@@ -99,9 +99,16 @@ unsigned gg_cpu_features(void)
     return features;
 }
 
-const gg_kernel_table *gg_cpu_kernels(void)
+#if GG_HAVE_ACQ_REL
+const gg_kernel_table *gg_cpu_table;
+#endif
+
+const gg_kernel_table *gg_cpu_kernels_once(void)
 {
     pthread_once(&once, probe);
+#if GG_HAVE_ACQ_REL
+    GG_ATOMIC_STORE_REL(&gg_cpu_table, &kernels);
+#endif
     return &kernels;
 }
 #else
@@ -110,11 +117,16 @@ unsigned gg_cpu_features(void)
     return 0;
 }
 
-/* No per-ISA objects: every kernel's plain copy. */
-const gg_kernel_table *gg_cpu_kernels(void)
+/* No per-ISA objects: every kernel's plain copy, the table filled from
+   the start. */
+static const gg_kernel_table plain = {GG_KERNEL_PLAIN, GG_KERNEL_PLAIN, GG_KERNEL_PLAIN,
+                                      GG_KERNEL_PLAIN};
+#if GG_HAVE_ACQ_REL
+const gg_kernel_table *gg_cpu_table = &plain;
+#endif
+
+const gg_kernel_table *gg_cpu_kernels_once(void)
 {
-    static const gg_kernel_table plain = {GG_KERNEL_PLAIN, GG_KERNEL_PLAIN, GG_KERNEL_PLAIN,
-                                          GG_KERNEL_PLAIN};
     return &plain;
 }
 #endif
