@@ -86,17 +86,23 @@ int main(int argc, char **argv)
     ggPathExpr *path;
     ggPathLayers *layers;
     float *map;
+    static const char usage[] = "usage: bench_debug [-s SIZE] [-r ROUNDS 1..64] [-t THREADS] "
+                                "[SCENE...]\n(make bench-debug; default: 10 example and SPD "
+                                "scenes, 512, 3 rounds, 2 threads)\n";
     for (i = 1; i < argc && argv[i][0] == '-'; i += 2) {
-        if (i + 1 >= argc) return 2;
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) return printf("%s", usage), 0;
+        if (i + 1 >= argc) return fprintf(stderr, "%s", usage), 2;
         if (!strcmp(argv[i], "-s"))
             size = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "-r"))
             rounds = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "-t"))
             threads = atoi(argv[i + 1]);
+        else
+            return fprintf(stderr, "bench_debug: unknown option '%s'\n%s", argv[i], usage), 2;
     }
     if (i >= argc) argv = def, i = 0, argc = (int)(sizeof def / sizeof def[0]);
-    if (rounds < 1 || rounds > 64 || size < 1) return 2;
+    if (rounds < 1 || rounds > 64 || size < 1) return fprintf(stderr, "%s", usage), 2;
     for (k = 0; k < 3; k++)
         if (ggPredicateParse(predicates[k], NULL, &pred[k], NULL) != GG_OK) return 1;
     if (ggPathParse(PATH_EXPR, NULL, &path, NULL) != GG_OK) return 1;

@@ -29,14 +29,20 @@ int main(int argc, char **argv)
 {
     static char *def[] = {"examples/scenes/spd/balls-s3.nff", "examples/scenes/glass.nff"};
     int size = 512, runs = 3, threads = 2, i, k;
+    static const char usage[] = "usage: bench_render [-s SIZE] [-r RUNS 1..64] [-t THREADS] "
+                                "[SCENE...]\n(make bench-render; default: balls-s3 and glass, "
+                                "512, 3 runs, 2 threads)\n";
     for (i = 1; i < argc && argv[i][0] == '-'; i += 2) {
-        if (i + 1 >= argc) return 2;
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) return printf("%s", usage), 0;
+        if (i + 1 >= argc) return fprintf(stderr, "%s", usage), 2;
         if (!strcmp(argv[i], "-s")) size = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "-r")) runs = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "-t")) threads = atoi(argv[i + 1]);
+        else
+            return fprintf(stderr, "bench_render: unknown option '%s'\n%s", argv[i], usage), 2;
     }
     if (i >= argc) argv = def, i = 0, argc = 2; /* `make bench` runs it bare */
-    if (runs < 1 || runs > 64 || size < 1) return 2;
+    if (runs < 1 || runs > 64 || size < 1) return fprintf(stderr, "%s", usage), 2;
     for (; i < argc; i++) {
         ggScene *s = ggSceneCreate(NULL);
         ggRenderOptions o;

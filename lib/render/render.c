@@ -1060,12 +1060,12 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
 /* A job set up for tracing single pixels: ggTracePixel and gg_tracer. */
 static int trace_setup(job *j, ggScene *s, const ggRenderOptions *opt, ggError *err)
 {
-    int rc;
     memset(j, 0, sizeof *j);
 #ifdef GG_NO_RECORDER
     (void)s, (void)opt;
     return gg_error_set(err, GG_ERROR_UNSUPPORTED, "this libggrt was built without the recorder");
 #else
+    int rc;
     if ((rc = resolve(s, opt, &j->r, err)) != GG_OK) return rc;
     if ((rc = prepare(s, err)) != GG_OK) return rc;
     gg_shade_init(&j->ctx, s, j->r.depth, j->r.force, j->r.spd, &j->r.acc);
