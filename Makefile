@@ -207,7 +207,7 @@ CLI    = $(BUILD)/ggrt
 
 .PHONY: all help lib cli check test test-tsan tests deps demo install uninstall installcheck \
         clean fuzz bench examples format pc layers FORCE check-browser check-cluster bench-serve \
-        bench-plan \
+        bench-plan bench-bin \
         check-layers check-paths check-release check-asan check-cc2 check-cc2-asan check-tsan
 .DEFAULT_GOAL := all
 .SECONDARY:
@@ -483,6 +483,8 @@ check-release:
 	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/release
 	@sh tests/build/targets.sh $(BUILD)/release
 	@sh tests/build/isa.sh $(BUILD)/release
+	@$(MAKE) $(CHECK_ARGS) bench-bin BUILD=$(BUILD)/release
+	@sh tests/build/bench.sh $(BUILD)/release
 	@$(MAKE) $(CHECK_ARGS) installcheck BUILD=$(BUILD)/release
 # The ASan tree's CLI suite samples its scene-by-expression loops (one
 # combination in 8, each scene and expression still run) and its tile
@@ -672,6 +674,8 @@ fuzz: deps-fuzz
 
 bench: $(BENCH_BIN)
 	@for b in $(BENCH_BIN); do $$b || exit 1; done
+# The programs alone (check-release runs them small: tests/build/bench.sh).
+bench-bin: $(BENCH_BIN)
 
 # The ray-tree recorder's cost when switched off: the same renders with
 # this library and with one built without the recorder, alternated.
