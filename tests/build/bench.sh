@@ -58,4 +58,4 @@ else
 fi
 
 [ "$(git status --porcelain 2>/dev/null)" = "$before" ] ||
-  { git status --short; fail "the benchmarks left files in the source tree"; }
+  { git status --short; fail "the source tree changed while the benchmarks ran (above; nothing may write there)"; }
