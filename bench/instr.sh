@@ -3,8 +3,9 @@
 # Instructions executed in ggRender (callgrind), 256x256, one thread, on the
 # SPD scenes: the stable measure of a speed change (docs/performance.md).
 # usage: sh bench/instr.sh GGRT [SCENE...]   (from the top of a checkout)
+usage() { echo "usage: sh bench/instr.sh GGRT [SCENE...]   (e.g. build/ggrt gears)" >&2; exit 1; }
+[ $# -ge 1 ] && [ -x "$1" ] || usage
 g=$1; shift
-[ -x "$g" ] || { echo "usage: sh bench/instr.sh GGRT [SCENE...]" >&2; exit 1; }
 command -v valgrind >/dev/null || { echo "bench/instr.sh: needs valgrind (apt-get install valgrind)" >&2; exit 1; }
 scenes=${*:-balls-s4 gears rings tetra mount tree teapot-s12}
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

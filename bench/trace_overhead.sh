@@ -1,8 +1,15 @@
 #!/bin/sh
 # SPDX-License-Identifier: MIT
 # Alternate two builds of bench_render (with and without the ray-tree
-# recorder compiled in) on the same scenes, five rounds, and print the
-# median times and their ratio.
+# recorder compiled in) on the same scenes, seven rounds, and print the
+# median times and their ratio; with valgrind, also the instructions of
+# ggRender in each. `make bench-trace` builds both and runs it.
+# usage: sh bench/trace_overhead.sh WITH WITHOUT   (from the top of a checkout)
+[ $# -eq 2 ] && [ -x "$1" ] && [ -x "$2" ] || {
+  echo "usage: sh bench/trace_overhead.sh WITH WITHOUT   (two bench_render builds, e.g." >&2
+  echo "       build/bench/bench_render build/norec/bench/bench_render; make bench-trace runs it)" >&2
+  exit 1
+}
 with=$1; without=$2
 scenes="examples/scenes/spd/balls-s4.nff examples/scenes/spd/gears.nff examples/scenes/glass.nff"
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
