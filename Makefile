@@ -20,11 +20,17 @@
 #                        harness runs, a summary at the end (exit 1 if any found something);
 #                        FUZZ="obj ply" runs only those
 #   make check-browser   ggrt serve's page in headless Chromium (CI runs it after check)
-#   make bench-serve     requests/s and latency of ggrt serve under N clients
 #   scripts/deps.sh      the package groups each of these installs
-#   make bench-optics    ns and instructions per call of the refraction variants
-#   make bench-mesh      mesh read, BVH build, memory and render speed (bench/bench_mesh.c;
-#                        EMBREE=BIN adds the Embree anchor's build times)
+#   make bench           every bench/bench_*.c program in turn
+#   make bench-NAME      one benchmark (prints figures; not a test), NAME one of:
+#                        debug, geometry, image, implicit, render: that bench/bench_*.c;
+#                        optics    ns and instructions per call of the refraction variants;
+#                        mesh      mesh read, BVH build, memory and render speed
+#                                  (bench/bench_mesh.c; EMBREE=BIN adds the Embree
+#                                  anchor's build times);
+#                        trace     the ray-tree recorder's cost when off (bench/trace_overhead.sh);
+#                        plan      ggrt plan's cut against equal bands (bench/plan_bench.sh);
+#                        serve     requests/s and latency of ggrt serve under N clients
 #
 # Objects go to $(BUILD) (default build/); BUILD=dir keeps separate trees.
 
@@ -227,7 +233,9 @@ help:
 	@echo '  test           build the test programs in $$(BUILD) and run every suite'
 	@echo '  check          install missing packages, every suite in every build (long)'
 	@echo '  installcheck   the examples and README lines against a staged and a real install'
-	@echo '  examples fuzz bench bench-NAME check-browser check-cluster format clean'
+	@echo '  bench          every bench/bench_*.c program; bench-NAME one benchmark, NAME one of'
+	@echo '                 debug geometry image implicit mesh optics render trace plan serve'
+	@echo '  examples fuzz check-browser check-cluster format clean'
 	@echo 'variables (their values now):'
 	@echo '  PREFIX=$(PREFIX) DESTDIR=$(DESTDIR) (staging root)'
 	@echo '  LIBDIR=$(LIBDIR) INCLUDEDIR=$(INCLUDEDIR) BINDIR=$(BINDIR) MANDIR=$(MANDIR)'
