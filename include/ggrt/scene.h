@@ -372,6 +372,10 @@ GG_API int ggSceneObjectLine(const ggScene *scene, int index);
    polygon and triangle (nverts vertices at verts, normals or NULL),
    implicit (its box lo = base, hi = apex), mesh (its part's bounds lo =
    base, hi = apex; nverts 0: ggSceneGetMeshInfo describes the mesh).
+   Spheres and cones also get e1, e2: the unit axes across which their
+   texture's u is measured (ggSceneObjectUV), (1, 0, 0) and (0, 1, 0) for
+   a sphere, a pair perpendicular to the axis and to each other for a cone
+   (all zero for a cone the renderer cannot hit: zero height or radii).
    Pointers stay valid until the scene changes. */
 typedef struct ggShapeDesc {
     int kind, material, line;
@@ -383,6 +387,71 @@ typedef struct ggShapeDesc {
 
 /* Fill *d for object index; GG_ERROR_INVALID if out of range. */
 GG_API int ggSceneObjectShape(const ggScene *scene, int index, ggShapeDesc *d);
+
+/* ---- textures and texture coordinates ----
+   A hit on a textured material (ggMaterial.texture >= 0) at (u, v) =
+   (ggHit.u, ggHit.v) has the surface colour color x T(u, v) (the ray
+   tree's `surface`, trace.h), T its texture sampled there. Both are
+   exposed for a client that draws the scene as the renderer textures it
+   (`ggrt serve`'s 3D view). */
+/* What a texture is. An image: T = ggTextureNearest(image, u, v, wrap)
+   if nearest, else ggTextureBilinear(image, u, v, wrap); a render's
+   texture knob may choose the filter instead (GG_ACC_TEXTURE_*,
+   render.h). A checker (image NULL): T = ggTextureChecker(u, v,
+   checker_n, checker_a, checker_b). */
+typedef struct ggTextureInfo {
+    const ggImage *image; /* the texels (linear RGB, v = 0 the top row), or NULL for a
+                             checker; valid until the scene is freed */
+    int wrap;             /* image: GG_WRAP_REPEAT or GG_WRAP_CLAMP */
+    bool nearest;         /* image: nearest texel, else bilinear */
+    double checker_n;     /* checker: squares per side (0 for an image) */
+    ggColor checker_a, checker_b;
+} ggTextureInfo;
+
+/* The textures: one per NFF `texture` or `checker` line, OBJ map_Kd and
+   ggSceneAddTexture (a file named several times is decoded once, and
+   those textures share its image). */
+GG_API int ggSceneTextureCount(const ggScene *scene);
+/* Fill *out for texture `index` (ggMaterial.texture); GG_ERROR_INVALID
+   if out of range or out is NULL. */
+GG_API int ggSceneGetTexture(const ggScene *scene, int index, ggTextureInfo *out);
+
+/* The (u, v) the renderer gives a hit on object `object` at each of the
+   n points p[0..n), written to uv[2i] and uv[2i + 1]: what ggHit.u and
+   .v say of a hit there, to the rounding of the hit point. Per kind, in
+   ggSceneObjectShape's terms:
+     sphere    d = p - center: u = atan2(d.e2, d.e1) / 2pi in [0, 1) (0
+               where it would round to 1), v = acos(d.(e1 x e2) / |d|) / pi
+               in [0, 1], 0 at the pole +z (e1, e2 = +x, +y); the centre
+               itself counts as the pole;
+     cone      d = p - base: u = atan2(d.e2, d.e1) / 2pi as for spheres
+               (0 on the axis), v = the height of p above the base along the
+               axis over the cone's height, clamped to [0, 1];
+     rect      (s, t) with p = corner + s e1 + t e2, p projected into the
+               plane along e1 x e2 (outside [0, 1] for a p beyond the edges);
+     triangle  the barycentric weights of vertices 1 and 2, clamped to [0,
+               1]. A triangle object of nverts > 3 (NFF pp) is hit as the fan
+               of triangles (verts[0], verts[k + 1], verts[k + 2]), k = 0 ..
+               nverts - 3, each with its own weights: `part` is k (0 for a
+               triangle of 3);
+     polygon   (nverts > 3; one of 3 is a triangle) in the plane's frame:
+               n the unit Newell normal (the side from which the vertices
+               run counter-clockwise), eu the first nonzero edge from vertex
+               0 (to vertex 1, 2, ...) made perpendicular to n and unit, ev
+               = n x eu; u = ((p - verts[0]).eu - u0) / (u1 - u0), v likewise
+               along ev, each clamped to [0, 1], where [u0, u1] x [v0, v1] is
+               the vertices' bounding rectangle in that frame;
+     mesh      the mesh's texture coordinates at the corners of triangle
+               `part` (as ggHit.triangle numbers it: one of this object's)
+               interpolated by the barycentric weights of p (not clamped);
+               a mesh without them: as a triangle;
+     implicit  (0, 0).
+   `part` is ignored for the other kinds. The scene need not be prepared.
+   GG_ERROR_INVALID, with uv untouched, for a NULL scene, or p or uv with
+   n > 0, an object or part out of range, a point that is not finite, or
+   a shape the renderer never hits (no area, zero radius or height). */
+GG_API int ggSceneObjectUV(const ggScene *scene, int object, long part, const ggVec3 *p, size_t n,
+                           double *uv);
 
 /* Light `index`: position and colour (negative r: the SPD default colour,
    see ggSceneAddLight). GG_ERROR_INVALID if out of range. */

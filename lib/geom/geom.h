@@ -368,6 +368,49 @@ typedef struct gg_surf {
 void gg_geom_surface(const gg_geom *g, const gg_rayq *q, const gg_hit *hit, gg_surf *s,
                      unsigned what);
 
+/* ---- (u, v) at a point, without a ray (lib/geom/uv.c) ----
+   The (u, v) gg_geom_surface gives a hit at point p, from the shape's
+   description alone, for ggSceneObjectUV: the surface functions above
+   call the same formulas (gg_uv_sphere_dir, gg_uv_cone_local,
+   gg_uv_plane_at, gg_uv_interp), so the two agree to the rounding of the
+   hit point. p is taken onto the surface first: along the radius of a
+   sphere, around a cone's axis, into the plane of a planar shape. Each
+   int function returns 0, or -1 for a shape its gg_geom_add_* refuses
+   as degenerate (it is never hit: it has no (u, v)) or a p that is not
+   finite. */
+/* A sphere from the unit direction n from its centre: u = atan2(n.y,
+   n.x) / 2pi in [0, 1), v = acos(n.z) / pi. */
+void gg_uv_sphere_dir(ggVec3 n, double uv[2]);
+int gg_uv_sphere(ggVec3 c, double r, ggVec3 p, double uv[2]);
+/* A cone's frame: e[0], e[1] across the axis (u is the angle from e[0]
+   toward e[1]), e[2] the unit axis from base to apex; *h its height. */
+int gg_uv_cone_frame(ggVec3 base, double rb, ggVec3 apex, double ra, ggVec3 e[3], double *h);
+/* From the point's coordinates (x, y, z) in that frame, about the base:
+   u = atan2(y, x) / 2pi in [0, 1), v = z / h clamped to [0, 1]. */
+void gg_uv_cone_local(double x, double y, double z, double h, double uv[2]);
+int gg_uv_cone(ggVec3 base, double rb, ggVec3 apex, double ra, ggVec3 p, double uv[2]);
+/* (s, t) of p = corner + s e1 + t e2 (through the dual basis, as the
+   rectangle kernel finds them). */
+int gg_uv_rect(ggVec3 corner, ggVec3 e1, ggVec3 e2, ggVec3 p, double uv[2]);
+/* A triangle's barycentrics (b1, b2) of vertices 1 and 2 at p; with tuv
+   (the corners' (u, v), 6 numbers) the mesh's interpolation of them
+   (gg_uv_interp), else (b1, b2) clamped to [0, 1] as gg_tri_surface does. */
+int gg_uv_triangle(const ggVec3 v[3], const double *tuv, ggVec3 p, double uv[2]);
+void gg_uv_interp(const double *u0, const double *u1, const double *u2, double b1, double b2,
+                  double uv[2]);
+/* A polygon's plane and (u, v) frame (n > 3 vertices: gg_geom_add_polygon
+   makes a triangle of 3): the unit Newell normal n, the first vertex p0,
+   eu along the first edge that is not zero, ev = n x eu, and the
+   polygon's bounding rectangle in that frame [u0, u0 + 1/su] x [v0, v0 +
+   1/sv]. gg_uv_plane_at: (u, v) = ((p - p0) . eu - u0) su and likewise v,
+   each clamped to [0, 1]. */
+typedef struct gg_uv_plane {
+    ggVec3 n, p0, eu, ev;
+    double u0, v0, su, sv;
+} gg_uv_plane;
+int gg_uv_plane_make(const ggVec3 *v, int nv, gg_uv_plane *out);
+void gg_uv_plane_at(const gg_uv_plane *f, ggVec3 p, double uv[2]);
+
 /* Origin for a ray leaving surface point s->p in direction d: pushed off
    the surface along ng, to the side d goes to, far enough that the new ray
    cannot find the same surface again and no farther than needed: by

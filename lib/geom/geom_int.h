@@ -147,10 +147,8 @@ typedef struct gg_tri {
 typedef struct gg_poly {
     uint32_t vfirst, nv;          /* vertices in gg_geom.pverts */
     uint32_t piece_first, npiece; /* triangles in gg_geom.pieces; 0 = crossing test */
-    ggVec3 n;                     /* unit Newell normal (front side) */
-    ggVec3 eu, ev;                /* in-plane frame for (u, v) */
-    double u0, v0, su, sv;        /* bounding rectangle in that frame: origin, 1/size */
-    ggVec3 p0;                    /* first vertex */
+    gg_uv_plane f;                /* plane (unit Newell normal f.n, the front side; first
+                                     vertex f.p0) and (u, v) frame (geom.h) */
 } gg_poly;
 
 typedef struct gg_cone {

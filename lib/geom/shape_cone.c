@@ -74,7 +74,7 @@ void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_sur
     ggVec3 ex = v3(k->ex[0], k->ex[1], k->ex[2]), ey = v3(k->ey[0], k->ey[1], k->ey[2]);
     ggVec3 ez = v3(k->ez[0], k->ez[1], k->ez[2]), base = v3(k->base[0], k->base[1], k->base[2]);
     ggVec3 w = v3sub(v3madd(q->o, q->d, h->t), base), n;
-    double x = v3dot(w, ex), y = v3dot(w, ey), z = v3dot(w, ez), rho, len, phi;
+    double x = v3dot(w, ex), y = v3dot(w, ey), z = v3dot(w, ez), rho, len, uv[2];
     z = z < 0 ? 0 : z > k->h ? k->h : z;
     rho = k->rb + k->k * z;
     len = sqrt(x * x + y * y);
@@ -93,11 +93,8 @@ void gg_cone_surface(const gg_cone *c, const gg_rayq *q, const gg_hit *h, gg_sur
     out->ns = n;
     out->u = out->v = 0;
     if (what & GG_SURF_UV) {
-        phi = atan2(y, x);
-        if (phi < 0) phi += 2 * GG_PI;
-        out->u = phi / (2 * GG_PI);
-        if (out->u >= 1) out->u = 0;
-        out->v = z / k->h;
+        gg_uv_cone_local(x, y, z, k->h, uv);
+        out->u = uv[0], out->v = uv[1];
     }
     out->perr = gg_gamma(8) * (v3maxabs(base) + 2 * rho + z) + gg_gamma(2) * v3maxabs(out->p);
 }

@@ -87,10 +87,9 @@ void gg_mesh_surface(const gg_geom *g, uint32_t prim, const gg_rayq *q, const gg
     gg_tri_set_normal(&tr);
     gg_tri_surface(&tr, has_n ? n : NULL, q, h, out, what);
     if (m->uv && (what & GG_SURF_UV)) {
-        double b0 = 1 - h->b1 - h->b2;
-        const double *u0 = m->uv + 2 * (size_t)t[0], *u1 = m->uv + 2 * (size_t)t[1],
-                     *u2 = m->uv + 2 * (size_t)t[2];
-        out->u = b0 * u0[0] + h->b1 * u1[0] + h->b2 * u2[0];
-        out->v = b0 * u0[1] + h->b1 * u1[1] + h->b2 * u2[1];
+        double uv[2];
+        gg_uv_interp(m->uv + 2 * (size_t)t[0], m->uv + 2 * (size_t)t[1], m->uv + 2 * (size_t)t[2],
+                     h->b1, h->b2, uv);
+        out->u = uv[0], out->v = uv[1];
     }
 }

@@ -209,41 +209,9 @@ done:
 
 int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int nv, gg_poly *out)
 {
-    ggVec3 c = v3(0, 0, 0), n = v3(0, 0, 0), eu = v3(0, 0, 0);
-    double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
     int i;
     memset(out, 0, sizeof *out);
-    for (i = 0; i < nv; i++) c = v3add(c, p[i]);
-    c = v3scale(c, 1.0 / nv);
-    /* Newell's normal, about the centroid to keep the products small: the
-       area-weighted normal of any planar (or nearly planar) polygon,
-       concave or not, pointing to the side it runs counter-clockwise. */
-    for (i = 0; i < nv; i++) {
-        ggVec3 a = v3sub(p[i], c), b = v3sub(p[i + 1 < nv ? i + 1 : 0], c);
-        n = v3add(n, v3cross(a, b));
-    }
-    if (!(v3dot(n, n) > 0) || !v3finite(n)) return -1;
-    n = v3norm(n);
-    for (i = 1; i < nv && v3dot(eu, eu) == 0; i++) {
-        eu = v3sub(p[i], p[0]);
-        eu = v3sub(eu, v3scale(n, v3dot(eu, n)));
-    }
-    eu = v3norm(eu);
-    if (!(v3dot(eu, eu) > 0)) return -1;
-    out->n = n;
-    out->eu = eu;
-    out->ev = v3cross(n, eu);
-    out->p0 = p[0];
-    for (i = 0; i < nv; i++) {
-        ggVec3 d = v3sub(p[i], p[0]);
-        double u = v3dot(d, out->eu), v = v3dot(d, out->ev);
-        umin = u < umin ? u : umin, umax = u > umax ? u : umax;
-        vmin = v < vmin ? v : vmin, vmax = v > vmax ? v : vmax;
-    }
-    if (!(umax > umin) || !(vmax > vmin)) return -1;
-    out->u0 = umin, out->su = 1 / (umax - umin);
-    out->v0 = vmin, out->sv = 1 / (vmax - vmin);
-
+    if (gg_uv_plane_make(p, nv, &out->f)) return GG_GEOM_DEGENERATE;
     if (gg_mem_grow(g->alloc, (void **)&g->pverts, &g->cap_pverts, g->npverts + (size_t)nv,
                     sizeof *g->pverts))
         return GG_GEOM_NOMEM;
@@ -256,7 +224,7 @@ int gg_poly_prepare(gg_geom *g, const ggVec3 *p, int nv, gg_poly *out)
     }
     out->piece_first = (uint32_t)g->npieces;
     if (g->poly_mode == GG_POLY_TRIANGULATE && nv <= GG_POLY_MAX_CLIP) {
-        if (triangulate(g, p, nv, n, out)) return GG_GEOM_NOMEM;
+        if (triangulate(g, p, nv, out->f.n, out)) return GG_GEOM_NOMEM;
     }
     g->npverts += (size_t)nv;
     return 0;
@@ -276,11 +244,6 @@ void gg_poly_bounds(const gg_geom *g, const gg_poly *pl, double lo[3], double hi
     }
 }
 
-static double clamp01(double x)
-{
-    return x < 0 ? 0 : x > 1 ? 1 : x;
-}
-
 /* ng = the Newell normal (front = counter-clockwise side). (u, v) = the
    point's coordinates in the plane frame (eu along the first edge, ev =
    n x eu), scaled so the polygon's bounding rectangle in that frame is
@@ -288,23 +251,22 @@ static double clamp01(double x)
 void gg_poly_surface(const gg_geom *g, const gg_poly *pl, const gg_rayq *q, const gg_hit *h,
                      gg_surf *out, unsigned what)
 {
-    ggVec3 d;
+    double uv[2];
     if (pl->npiece) {
         out->p = gg_tri_point(&g->pieces[h->sub], h->b1, h->b2, &out->perr);
     } else {
         /* Project o + t d onto the plane: the distance along the normal
            then has an error of a few ulps of |p| and |p0|, not of t. */
         ggVec3 p = v3madd(q->o, q->d, h->t);
-        p = v3sub(p, v3scale(pl->n, v3dot(v3sub(p, pl->p0), pl->n)));
+        p = v3sub(p, v3scale(pl->f.n, v3dot(v3sub(p, pl->f.p0), pl->f.n)));
         out->p = p;
-        out->perr = gg_gamma(8) * (v3maxabs(p) + v3maxabs(pl->p0));
+        out->perr = gg_gamma(8) * (v3maxabs(p) + v3maxabs(pl->f.p0));
     }
-    out->ng = pl->n;
-    out->ns = pl->n;
+    out->ng = pl->f.n;
+    out->ns = pl->f.n;
     out->u = out->v = 0;
     if (what & GG_SURF_UV) {
-        d = v3sub(out->p, pl->p0);
-        out->u = clamp01((v3dot(d, pl->eu) - pl->u0) * pl->su);
-        out->v = clamp01((v3dot(d, pl->ev) - pl->v0) * pl->sv);
+        gg_uv_plane_at(&pl->f, out->p, uv);
+        out->u = uv[0], out->v = uv[1];
     }
 }

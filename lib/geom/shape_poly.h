@@ -21,13 +21,13 @@ GG_INLINE int gg_poly_kernel(const gg_geom *g, const gg_poly *pl, const gg_rpre 
 {
     const double(*v)[3] = (const double(*)[3])g->pverts + pl->vfirst;
     const int kx = r->kx, ky = r->ky, kz = r->kz;
-    double den = pl->n.x * r->d[0] + pl->n.y * r->d[1] + pl->n.z * r->d[2];
+    double den = pl->f.n.x * r->d[0] + pl->f.n.y * r->d[1] + pl->f.n.z * r->d[2];
     double tt, px, py, z;
     uint32_t i;
     int inside = 0;
     if (den == 0) return 0;
-    tt = (pl->n.x * (pl->p0.x - r->o[0]) + pl->n.y * (pl->p0.y - r->o[1]) +
-          pl->n.z * (pl->p0.z - r->o[2])) /
+    tt = (pl->f.n.x * (pl->f.p0.x - r->o[0]) + pl->f.n.y * (pl->f.p0.y - r->o[1]) +
+          pl->f.n.z * (pl->f.p0.z - r->o[2])) /
          den;
     if (!(tt > r->tmin && tt <= tmax)) return 0;
     z = v[pl->nv - 1][kz] - r->o[kz];

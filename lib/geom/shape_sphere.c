@@ -20,7 +20,7 @@ void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_su
                        unsigned what)
 {
     ggVec3 pl = v3sub(v3madd(q->o, q->d, h->t), s->c);
-    double len = v3len(pl), phi;
+    double len = v3len(pl), uv[2];
     ggVec3 n;
     /* Re-project the point onto the sphere: o + t d carries the error of t
        times |d|, which grows with the distance travelled; the projection's
@@ -36,11 +36,8 @@ void gg_sphere_surface(const gg_sph *s, const gg_rayq *q, const gg_hit *h, gg_su
     out->ns = n;
     out->u = out->v = 0;
     if (what & GG_SURF_UV) {
-        phi = atan2(n.y, n.x);
-        if (phi < 0) phi += 2 * GG_PI;
-        out->u = phi / (2 * GG_PI);
-        if (out->u >= 1) out->u = 0;
-        out->v = acos(n.z < -1 ? -1 : n.z > 1 ? 1 : n.z) / GG_PI;
+        gg_uv_sphere_dir(n, uv);
+        out->u = uv[0], out->v = uv[1];
     }
     /* |pl| is within gamma(5) of r per component, and the sum c + pl adds
        one rounding of |p|. */

@@ -821,8 +821,17 @@ GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
     o = &s->objects[i];
     d->kind = o->kind, d->material = o->material, d->line = o->line;
     switch (o->kind) {
-    case GG_SHAPE_SPHERE: d->base = o->a, d->radius = o->ra; break;
-    case GG_SHAPE_CONE: d->base = o->a, d->apex = o->b, d->radius = o->ra, d->radius2 = o->rb; break;
+    case GG_SHAPE_SPHERE:
+        d->base = o->a, d->radius = o->ra;
+        d->e1 = v3(1, 0, 0), d->e2 = v3(0, 1, 0); /* the (u, v) frame (ggSceneObjectUV) */
+        break;
+    case GG_SHAPE_CONE: {
+        ggVec3 e[3];
+        double h;
+        d->base = o->a, d->apex = o->b, d->radius = o->ra, d->radius2 = o->rb;
+        if (!gg_uv_cone_frame(o->a, o->ra, o->b, o->rb, e, &h)) d->e1 = e[0], d->e2 = e[1];
+        break;
+    }
     case GG_SHAPE_RECT: d->base = o->a, d->e1 = o->b, d->e2 = o->c; break;
     case GG_SHAPE_IMPLICIT: gg_implicit_bounds(o->imp, &d->base, &d->apex); break;
     case GG_SHAPE_MESH: {

@@ -320,6 +320,21 @@ static void test_scene_query(void **state)
     COVER(ggSceneObjectTriangleCount), assert_int_equal(ggSceneObjectTriangleCount(NULL, 0), 0);
     COVER(ggSceneObjectTriangle),
         assert_int_equal(ggSceneObjectTriangle(NULL, 0, 0, NULL, NULL), GG_ERROR_INVALID);
+    COVER(ggSceneTextureCount), assert_int_equal(ggSceneTextureCount(NULL), 0);
+    {
+        ggTextureInfo ti;
+        double uv[2] = {7, 7};
+        memset(&ti, 0xff, sizeof ti);
+        COVER(ggSceneGetTexture),
+            assert_int_equal(ggSceneGetTexture(NULL, 0, &ti), GG_ERROR_INVALID);
+        assert_true(all_ff(&ti, sizeof ti));
+        assert_int_equal(ggSceneGetTexture(s, 0, NULL), GG_ERROR_INVALID);
+        COVER(ggSceneObjectUV),
+            assert_int_equal(ggSceneObjectUV(NULL, 0, 0, &p, 1, uv), GG_ERROR_INVALID);
+        assert_true(uv[0] == 7 && uv[1] == 7);
+        assert_int_equal(ggSceneObjectUV(s, 0, 0, NULL, 1, uv), GG_ERROR_INVALID);
+        assert_int_equal(ggSceneObjectUV(s, 0, 0, &p, 1, NULL), GG_ERROR_INVALID);
+    }
     COVER(ggSceneFileName), assert_string_equal(ggSceneFileName(NULL), "");
     COVER(ggScenePrepare), assert_int_equal(ggScenePrepare(NULL, NULL), GG_ERROR_INVALID);
     COVER(ggSceneGetInfo), assert_int_equal(ggSceneGetInfo(NULL, &si), GG_ERROR_INVALID);
