@@ -37,6 +37,7 @@
 #define SRV_RENDER_SECONDS  300        /* a job still running after this is cancelled
                                           (the default and the most of --job-seconds) */
 #define SRV_MAX_EXPR        512        /* bytes of a find predicate or path expression */
+#define SRV_TEXTURE_SIDE    2048       /* /api/texture: the largest side it sends */
 #define SRV_CANCEL_GRACE                                                                           \
     1.0 /* seconds a job asked to be cancelled (/api/cancel)                                       \
            goes on: a request for it meanwhile keeps it */

@@ -124,18 +124,86 @@ static void api_info(srv_server *s, const srv_req *r, srv_resp *resp)
             "\"jobs\":%d,\"job_seconds\":%d,\"uri_bytes\":%d,\"params\":%d,"
             "\"value_bytes\":%d,\"connections\":%d,\"connections_per_address\":%d,"
             "\"threads\":%d,\"timeout_seconds\":%d,\"head_seconds\":%d,"
-            "\"head_bytes\":%d,\"expr_bytes\":%d,\"record_bytes\":%d}",
+            "\"head_bytes\":%d,\"expr_bytes\":%d,\"record_bytes\":%d,\"texture_side\":%d}",
             SRV_MAX_DEPTH, SRV_MAX_SAMPLES, SRV_TRACE_BYTES, SRV_MAX_JOBS, s->cfg.job_seconds,
             SRV_MAX_URI, SRV_MAX_PARAMS, SRV_MAX_VALUE, SRV_MAX_CONNECTIONS, SRV_MAX_PER_ADDR,
             SRV_THREADS, SRV_CONN_TIMEOUT, SRV_HEAD_SECONDS, SRV_MEMORY_LIMIT, SRV_MAX_EXPR,
-            SRV_RECORD_BYTES);
+            SRV_RECORD_BYTES, SRV_TEXTURE_SIDE);
     fprintf(f, "}\n");
     srv_body_close(resp, f);
 }
 
 /* ---- /api/scene: shapes for the page's 3D view ---- */
 
-static void shape_json(FILE *f, const ggShapeDesc *d)
+/* ---- texture coordinates for the 3D view (textured objects only) ---- */
+
+/* A texture coordinate in single precision, as the vertices are sent. */
+static void uv_num(FILE *f, double x)
+{
+    fprintf(f, "%.7g", isfinite(x) ? x : 0.0);
+}
+
+/* ',"uv":[u,v,...]': the (u, v) ggSceneObjectUV gives the n points p of
+   object i (part k: a fan triangle); nothing if it has none (a shape the
+   renderer never hits: the page draws it plain). */
+static void uv_json(FILE *f, const ggScene *sc, int i, const ggVec3 *p, int n)
+{
+    /* A triangle object of more than 3 vertices is the fan (0, k+1, k+2)
+       with its own (u, v) per triangle: 3 corners each. */
+    long k, parts = ggSceneObjectKind(sc, i) == GG_SHAPE_TRIANGLE && n > 3 ? n - 2 : 1;
+    int j, per = parts > 1 ? 3 : n;
+    double *uv = malloc(sizeof *uv * 2 * (size_t)(parts > 1 ? 3 * parts : n));
+    if (!uv) return;
+    for (k = 0; k < parts; k++) {
+        ggVec3 c[3];
+        const ggVec3 *q = p;
+        if (per == 3 && parts > 1) c[0] = p[0], c[1] = p[k + 1], c[2] = p[k + 2], q = c;
+        if (ggSceneObjectUV(sc, i, k, q, (size_t)per, uv + 6 * k * (parts > 1)) != GG_OK) {
+            free(uv);
+            return;
+        }
+    }
+    fprintf(f, ",\"uv\":[");
+    for (j = 0; j < 2 * (int)(parts > 1 ? 3 * parts : n); j++) {
+        if (j) fputc(',', f);
+        uv_num(f, uv[j]);
+    }
+    fputc(']', f);
+    free(uv);
+}
+
+/* What the 3D view needs to texture object i like the renderer: the
+   (u, v) at the corners it draws (planar kinds), the frame u is measured
+   in (spheres, cones: the page computes (u, v) per pixel, as they are
+   curved), or the one (u, v) of an implicit surface. */
+static void shape_uv_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *d)
+{
+    ggVec3 q[4];
+    if (ggSceneMaterial(sc, d->material).texture < 0) return;
+    switch (d->kind) {
+    case GG_SHAPE_SPHERE:
+    case GG_SHAPE_CONE:
+        fputc(',', f), json_vec(f, "e1", d->e1), fputc(',', f), json_vec(f, "e2", d->e2);
+        break;
+    case GG_SHAPE_RECT: /* corner, + e1, + e1 + e2, + e2 */
+        q[0] = d->base;
+        q[1] = (ggVec3){d->base.x + d->e1.x, d->base.y + d->e1.y, d->base.z + d->e1.z};
+        q[2] = (ggVec3){q[1].x + d->e2.x, q[1].y + d->e2.y, q[1].z + d->e2.z};
+        q[3] = (ggVec3){d->base.x + d->e2.x, d->base.y + d->e2.y, d->base.z + d->e2.z};
+        uv_json(f, sc, i, q, 4);
+        break;
+    case GG_SHAPE_IMPLICIT:
+        q[0] = d->base;
+        uv_json(f, sc, i, q, 1);
+        break;
+    case GG_SHAPE_MESH: /* in "meshes" */
+        break;
+    default:
+        if (d->verts && d->nverts >= 3) uv_json(f, sc, i, d->verts, d->nverts);
+    }
+}
+
+static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d)
 {
     int i;
     fprintf(f, "{\"kind\":\"%s\",\"material\":%d,\"line\":%d,", ggShapeKindName(d->kind),
@@ -170,6 +238,7 @@ static void shape_json(FILE *f, const ggShapeDesc *d)
         }
         fputc(']', f);
     }
+    shape_uv_json(f, sc, obj, d);
     fputc('}', f);
 }
 
@@ -184,7 +253,8 @@ static void mesh_json(FILE *f, const ggScene *sc, int n)
     stride = (total + MAX_SCENE_TRIANGLES - 1) / MAX_SCENE_TRIANGLES;
     fprintf(f, ",\"meshes\":[");
     for (i = 0; i < n && i < MAX_SCENE_OBJECTS; i++) {
-        long nt = ggSceneObjectTriangleCount(sc, i);
+        long nt = ggSceneObjectTriangleCount(sc, i), t;
+        int textured = ggSceneMaterial(sc, ggSceneObjectMaterial(sc, i)).texture >= 0;
         if (!nt) continue;
         fprintf(f, "%s{\"object\":%d,\"triangles\":%ld,\"verts\":[", first ? "" : ",", i, nt);
         first = 0;
@@ -194,7 +264,20 @@ static void mesh_json(FILE *f, const ggScene *sc, int n)
                 fprintf(f, "%s%.7g,%.7g,%.7g", k || c ? "," : "", v[c].x, v[c].y, v[c].z);
             shown++;
         }
-        fprintf(f, "]}");
+        fputc(']', f);
+        /* A textured part: the (u, v) of each listed triangle's corners, 6
+           numbers a triangle, as the renderer interpolates them. */
+        if (textured) fputs(",\"uv\":[", f);
+        for (k = 0; textured && k < nt; k += stride) {
+            double uv[6] = {0, 0, 0, 0, 0, 0};
+            if (ggSceneObjectTriangle(sc, i, k, v, &t) != GG_OK) continue;
+            ggSceneObjectUV(sc, i, t, v, 3, uv);
+            for (c = 0; c < 6; c++) {
+                if (k || c) fputc(',', f);
+                uv_num(f, uv[c]);
+            }
+        }
+        fputs(textured ? "]}" : "}", f);
     }
     fprintf(f, "],\"triangles\":%ld,\"triangles_shown\":%ld,\"simplified\":%s", total, shown,
             shown < total ? "true" : "false");
@@ -216,6 +299,103 @@ static void lights_json(FILE *f, const ggScene *sc)
     fputc(']', f);
 }
 
+/* ',"textures":[...]' when the scene has any: each image's size, wrap
+   and filter (its texels: /api/texture), each checker's squares and
+   colours (ggSceneGetTexture). */
+static void textures_json(FILE *f, const ggScene *sc)
+{
+    int i, n = ggSceneTextureCount(sc);
+    if (!n) return;
+    fprintf(f, ",\"textures\":[");
+    for (i = 0; i < n; i++) {
+        ggTextureInfo t;
+        if (i) fputc(',', f);
+        if (ggSceneGetTexture(sc, i, &t) != GG_OK) {
+            fprintf(f, "null");
+        } else if (t.image) {
+            fprintf(f,
+                    "{\"kind\":\"image\",\"width\":%d,\"height\":%d,\"wrap\":\"%s\","
+                    "\"filter\":\"%s\"}",
+                    ggImageWidth(t.image), ggImageHeight(t.image),
+                    t.wrap == GG_WRAP_REPEAT ? "repeat" : "clamp",
+                    t.nearest ? "nearest" : "bilinear");
+        } else {
+            fprintf(f, "{\"kind\":\"checker\",\"n\":");
+            json_num(f, t.checker_n);
+            fputc(',', f), json_color(f, "a", t.checker_a), fputc(',', f);
+            json_color(f, "b", t.checker_b), fputc('}', f);
+        }
+    }
+    fputc(']', f);
+}
+
+/* ---- /api/texture: an image texture as PNG ---- */
+
+/* The texels as /api/texture sends them: the image itself, or, past
+   SRV_TEXTURE_SIDE on a side, reduced by the smallest whole factor k
+   that fits: each texel the mean of a k x k block (fewer at the right and
+   bottom edges), in linear light. NULL if out of memory. */
+static float *texture_texels(const ggImage *img, int *w, int *h, int *k)
+{
+    int W = ggImageWidth(img), H = ggImageHeight(img), x, y, i, j, c;
+    const float *src = ggImagePixelsConst(img);
+    float *out;
+    *k = 1;
+    while ((W + *k - 1) / *k > SRV_TEXTURE_SIDE || (H + *k - 1) / *k > SRV_TEXTURE_SIDE) (*k)++;
+    *w = (W + *k - 1) / *k, *h = (H + *k - 1) / *k;
+    if (!(out = malloc(sizeof *out * 3 * (size_t)*w * (size_t)*h))) return NULL;
+    for (y = 0; y < *h; y++)
+        for (x = 0; x < *w; x++) {
+            double sum[3] = {0, 0, 0};
+            int m = 0;
+            for (j = y * *k; j < (y + 1) * *k && j < H; j++)
+                for (i = x * *k; i < (x + 1) * *k && i < W; i++, m++)
+                    for (c = 0; c < 3; c++) sum[c] += src[3 * ((size_t)j * W + i) + c];
+            for (c = 0; c < 3; c++) out[3 * ((size_t)y * *w + x) + c] = (float)(sum[c] / m);
+        }
+    return out;
+}
+
+static void api_texture(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    const char *v = srv_param_get(r, "index");
+    int i, n = ggSceneTextureCount(s->scene), w, h, k;
+    ggTextureInfo t;
+    float *texels;
+    unsigned char *png;
+    if (!v) {
+        srv_error(resp, 400, "missing parameter index");
+        return;
+    }
+    if (srv_parse_int(v, 0, 1L << 30, &i)) {
+        srv_error(resp, 400, "index must be a whole number >= 0, got '%s'", v);
+        return;
+    }
+    if (i >= n || ggSceneGetTexture(s->scene, i, &t) != GG_OK) {
+        srv_error(resp, 404, "no texture %d: the scene has %d (/api/scene lists them)", i, n);
+        return;
+    }
+    if (!t.image) {
+        srv_error(resp, 404,
+                  "texture %d is a procedural checker: it has no image (/api/scene gives its "
+                  "squares and colours)",
+                  i);
+        return;
+    }
+    texels = texture_texels(t.image, &w, &h, &k);
+    png = texels ? srv_png(texels, w, h, &resp->len) : NULL;
+    free(texels);
+    if (!png) {
+        srv_error(resp, 500, "out of memory");
+        return;
+    }
+    resp->status = 200, resp->type = "image/png", resp->body = (char *)png;
+    if (k > 1) {
+        snprintf(resp->extra_name, sizeof resp->extra_name, "X-GGRT-Reduced");
+        snprintf(resp->extra_value, sizeof resp->extra_value, "%d", k);
+    }
+}
+
 static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     FILE *f = srv_body_open(resp, 200, "application/json");
@@ -231,6 +411,7 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
     for (i = 0; i < m; i++) {
         ggMaterial mt = ggSceneMaterial(s->scene, i);
         fprintf(f, "%s{", i ? "," : "");
+        if (mt.texture >= 0) fprintf(f, "\"texture\":%d,", mt.texture);
         json_color(f, "color", mt.color);
         fprintf(f, ",\"kd\":");
         json_num(f, mt.kd);
@@ -247,13 +428,14 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
         ggShapeDesc d;
         if (i) fputc(',', f);
         if (ggSceneObjectShape(s->scene, i, &d) == GG_OK)
-            shape_json(f, &d);
+            shape_json(f, s->scene, i, &d);
         else
             fprintf(f, "null");
     }
     fputc(']', f);
     mesh_json(f, s->scene, n);
     lights_json(f, s->scene);
+    textures_json(f, s->scene);
     fprintf(f, "}\n");
     srv_body_close(resp, f);
 }
@@ -616,6 +798,7 @@ static const route routes[] = {
     {"/export.js", page, ""},
     {"/api/info", api_info, ""},
     {"/api/scene", api_scene, ""},
+    {"/api/texture", api_texture, "index"},
     {"/api/trace", api_trace, "opts x y sample format path"},
     {"/api/compare", api_compare, "opts b x y format"},
     {"/api/parse", api_parse, "where path opts b"},

@@ -8,6 +8,7 @@ nothing behind. Standard library only (http.client).
 Prints TAP (tests/http/tap.py)."""
 import http.client
 import json
+import math
 import os
 import re
 import shutil
@@ -827,6 +828,359 @@ def check_cancel(work, env):
     check(rc == 0, "the server with cancelled jobs exits 0", err[-1000:])
 
 
+# ---- textures: what the 3D view needs, over every scene ----
+
+TEX_SIZE = (48, 36)  # each scene's image; every other pixel's eye ray is traced
+SCENE_EXT = (".nff", ".obj", ".ply")
+
+
+def scene_files():
+    """Every scene file the other loops serve: examples/scenes (NFF, OBJ,
+    PLY), tests/data/debug, and the scenes at the top of tests/data (not
+    hostile/ nor meshes/, whose inputs must fail)."""
+    out = []
+    for top in ("examples/scenes", "tests/data/debug"):
+        for d, _, files in os.walk(os.path.join(ROOT, top)):
+            out += [os.path.relpath(os.path.join(d, f), ROOT) for f in files if f.endswith(SCENE_EXT)]
+    out += [os.path.join("tests/data", f) for f in os.listdir(os.path.join(ROOT, "tests/data")) if f.endswith(".nff")]
+    return sorted(out)
+
+
+def strict_json(b):
+    def refuse(name):
+        raise ValueError("not JSON: " + name)
+    return json.loads(b.decode("utf-8"), parse_constant=refuse)
+
+
+def srgb_to_linear(b):
+    s = b / 255.0
+    return s / 12.92 if s <= 0.04045 else ((s + 0.055) / 1.055) ** 2.4
+
+
+def sub3(a, b):
+    return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+
+
+def dot3(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross3(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def bary(p, a, b, c, plane=True):
+    """Barycentric weights (of b and c) of p in triangle abc's plane, or
+    None for a triangle without area or (plane) a p off that plane."""
+    e1, e2 = sub3(b, a), sub3(c, a)
+    n = cross3(e1, e2)
+    nn = dot3(n, n)
+    if nn == 0:
+        return None
+    q = sub3(p, a)
+    if plane and dot3(q, n) ** 2 > 1e-10 * nn * max(dot3(e1, e1), dot3(e2, e2), 1e-300):
+        return None
+    return dot3(q, cross3(e2, n)) / nn, dot3(q, cross3(n, e1)) / nn
+
+
+def lerp_uv(w, uv):
+    """(u, v) at weights w = (b1, b2) from the corners' [u0, v0, u1, v1, u2, v2]."""
+    b0 = 1 - w[0] - w[1]
+    return [b0 * uv[0] + w[0] * uv[2] + w[1] * uv[4], b0 * uv[1] + w[0] * uv[3] + w[1] * uv[5]]
+
+
+def turn(y, x):
+    u = math.atan2(y, x) / (2 * math.pi)
+    u = u + 1 if u < 0 else u
+    return 0.0 if u >= 1 else u
+
+
+def page_uv(scene, obj, p, mesh_tris):
+    """The (u, v) the 3D view gives point p of object obj from what
+    /api/scene sends (docs/serve.md), as view3d.js computes it; None when
+    the scene sends none for it."""
+    sh = scene["shapes"][obj]
+    k = sh["kind"]
+    if k in ("sphere", "cone"):
+        if "e1" not in sh:
+            return None
+        e3 = cross3(sh["e1"], sh["e2"])
+        d = sub3(p, sh["center"] if k == "sphere" else sh["base"])
+        u = turn(dot3(d, sh["e2"]), dot3(d, sh["e1"]))
+        if k == "sphere":
+            return [u, math.acos(max(-1, min(1, dot3(d, e3) / math.sqrt(dot3(d, d))))) / math.pi]
+        ax = sub3(sh["apex"], sh["base"])
+        h = math.sqrt(dot3(ax, ax))
+        return [u, max(0, min(1, dot3(d, ax) / h / h))]
+    if k == "implicit":
+        return sh.get("uv")
+    if k == "mesh":
+        for a, b, c, uv in mesh_tris.get(obj, ()):
+            w = bary(p, a, b, c)
+            if w and min(w[0], w[1], 1 - w[0] - w[1]) > -1e-7:
+                return lerp_uv(w, uv)
+        return None
+    uv = sh.get("uv")
+    if uv is None:
+        return None
+    if k == "rect":
+        a = sh["corner"]
+        b = [a[i] + sh["e1"][i] for i in range(3)]
+        c = [b[i] + sh["e2"][i] for i in range(3)]
+        dd = [a[i] + sh["e2"][i] for i in range(3)]
+        tris = [(a, b, c, uv[0:6]), (a, c, dd, uv[0:2] + uv[4:8])]
+    else:
+        v, n = sh["verts"], len(sh["verts"])
+        fan = k == "triangle" and n > 3
+        tris = [(v[0], v[j], v[j + 1], uv[6 * (j - 1):6 * j] if fan else uv[0:2] + uv[2 * j:2 * j + 4])
+                for j in range(1, n - 1)]
+    # The first fan triangle with p in it; a polygon's (u, v) is affine
+    # over its plane, so any of its triangles gives it (a concave one's
+    # fan need not hold p).
+    for a, b, c, t in tris:
+        w = bary(p, a, b, c)
+        if w and min(w[0], w[1], 1 - w[0] - w[1]) > -1e-7:
+            return lerp_uv(w, t)
+    if k == "polygon":
+        for a, b, c, t in tris:
+            w = bary(p, a, b, c)
+            if w:
+                return lerp_uv(w, t)
+    return None
+
+
+def texture_sample(tex, texels, u, v, knob=None):
+    """The texture at (u, v) as ggTextureBilinear, ggTextureNearest and
+    ggTextureChecker compute it (include/ggrt/image.h), from /api/scene's
+    description and /api/texture's texels (linear RGB)."""
+    if tex["kind"] == "checker":
+        n = tex["n"]
+        sq = math.floor((u - math.floor(u)) * n) + math.floor((v - math.floor(v)) * n)
+        return tex["a"] if sq % 2 == 0 else tex["b"]
+    w, h, px = texels
+
+    def wrap(x):
+        if tex["wrap"] == "clamp":
+            return min(1.0, max(0.0, x))
+        return x - math.floor(x) if x < 0 or x > 1 else x
+
+    def at(i, j):
+        return px[3 * (j * w + i):3 * (j * w + i) + 3]
+    di, dj = (w - 1) * wrap(u), (h - 1) * wrap(v)
+    if (knob or tex["filter"]) == "nearest":
+        return [min(1.0, c) for c in at(int(math.floor(di + 0.5)), int(math.floor(dj + 0.5)))]
+    i, j = int(di), int(dj)
+    a, b = di - i, dj - j
+    i1, j1 = min(i + 1, w - 1), min(j + 1, h - 1)
+    c00, c01, c10, c11 = at(i, j), at(i, j1), at(i1, j), at(i1, j1)
+    return [min(1.0, c00[k] * (1 - a) * (1 - b) + c01[k] * (1 - a) * b + c10[k] * a * (1 - b) + c11[k] * a * b)
+            for k in range(3)]
+
+
+def texture_scene(path, work, env, kinds):
+    """One scene's texture fields and route; returns (problems, textures,
+    textured hits checked); adds the kinds of shape hit to kinds (a pp
+    polygon's fan as "fan")."""
+    s = Server([path, "--port", "0", "-s", "%dx%d" % TEX_SIZE, "-d", "1"], ROOT, env)
+    bad = []
+    ntex = hits = 0
+    try:
+        st, h, b = s.get("/api/scene")
+        scene = strict_json(b)
+        if st != 200:
+            return ["/api/scene: status %d" % st], 0, 0
+        _, info = s.json("/api/info")
+        textures = scene.get("textures")
+        mats = scene["materials"]
+        used = [m["texture"] for m in mats if "texture" in m]
+        fx = any(e["name"] == "textures" for e in info["effects"])
+        if fx != bool(used):
+            bad.append("effects say textures %s, materials with a texture: %s" % (fx, used))
+        if textures is None:
+            if used:
+                bad.append("materials name textures %s and there is no \"textures\"" % used)
+            textures = []
+        elif not textures:
+            bad.append("\"textures\" is there and empty")
+        ntex = len(textures)
+        if any(not (isinstance(t, int) and 0 <= t < ntex) for t in used):
+            bad.append("a material's texture is not one of the %d listed: %s" % (ntex, used))
+        # An untextured object sends nothing new (a scene without textures
+        # sends what it sent before).
+        for i, sh in enumerate(scene["shapes"]):
+            tx = "texture" in mats[sh["material"]]
+            if not tx and ("uv" in sh or (sh["kind"] in ("sphere", "cone") and "e1" in sh)):
+                bad.append("object %d is untextured and has texture fields" % i)
+            if tx and sh["kind"] in ("sphere", "cone"):
+                e1, e2 = sh.get("e1"), sh.get("e2")
+                if not (e1 and e2 and abs(dot3(e1, e1) - 1) < 1e-12 and abs(dot3(e2, e2) - 1) < 1e-12 and
+                        abs(dot3(e1, e2)) < 1e-12):
+                    bad.append("object %d (%s): e1, e2 are not a unit frame: %r %r" % (i, sh["kind"], e1, e2))
+            if tx and sh["kind"] not in ("sphere", "cone", "mesh"):
+                n = len(sh.get("verts", []))
+                want = {"rect": 8, "implicit": 2, "polygon": 2 * n}.get(
+                    sh["kind"], 6 * (n - 2) if n > 3 else 2 * n)
+                if len(sh.get("uv", [])) != want:
+                    bad.append("object %d (%s): %d uv numbers, not %d" % (i, sh["kind"], len(sh.get("uv", [])), want))
+        mesh_tris = {}
+        for m in scene["meshes"]:
+            tx = "texture" in mats[scene["shapes"][m["object"]]["material"]]
+            v = m["verts"]
+            if tx != ("uv" in m) or (tx and len(m["uv"]) * 3 != len(v) * 2):
+                bad.append("mesh object %d: textured %s, %d uv numbers for %d triangles"
+                           % (m["object"], tx, len(m.get("uv", [])), len(v) // 9))
+            elif tx:
+                mesh_tris[m["object"]] = [(v[k:k + 3], v[k + 3:k + 6], v[k + 6:k + 9], m["uv"][6 * (k // 9):6 * (k // 9) + 6])
+                                          for k in range(0, len(v), 9)]
+        # /api/texture: every image as a PNG of its size; a checker has none.
+        texels = {}
+        for i, t in enumerate(textures):
+            st, h, b = s.get("/api/texture?index=%d" % i)
+            if t["kind"] == "image":
+                try:
+                    w, hh, px = png_pixels(b)
+                except (AssertionError, ValueError, zlib.error) as e:
+                    bad.append("texture %d: not a PNG (%s): %s" % (i, e, b[:100]))
+                    continue
+                if st != 200 or h.get("content-type") != "image/png" or (w, hh) != (t["width"], t["height"]):
+                    bad.append("texture %d: status %d, %dx%d, /api/scene says %dx%d"
+                               % (i, st, w, hh, t["width"], t["height"]))
+                texels[i] = (w, hh, [srgb_to_linear(c) for c in px])
+                if t["wrap"] not in ("repeat", "clamp") or t["filter"] not in ("bilinear", "nearest"):
+                    bad.append("texture %d: wrap %r, filter %r" % (i, t["wrap"], t["filter"]))
+            elif not (t["kind"] == "checker" and t["n"] > 0 and len(t["a"]) == 3 and len(t["b"]) == 3 and
+                      st == 404 and strict_json(b)["status"] == 404):
+                bad.append("texture %d: a checker %r, /api/texture %d %s" % (i, t, st, b[:100]))
+        # Refusals: JSON with the status.
+        for q, want in (("index=%d" % ntex, 404), ("index=-1", 400), ("index=x", 400), ("", 400),
+                        ("index=99999999999", 400), ("index=0&x=1", 400)):
+            st, h, b = s.get("/api/texture" + ("?" + q if q else ""))
+            try:
+                j = strict_json(b)
+                good = st == want and j.get("status") == want and h.get("content-type") == "application/json"
+            except ValueError:
+                good = False
+            if not good:
+                bad.append("/api/texture?%s: %d %s, not %d JSON" % (q, st, b[:100], want))
+        # Every other pixel: where the eye ray meets a textured object, the
+        # (u, v) the page works out from /api/scene is the hit's, and the
+        # texture sampled there from /api/scene and /api/texture, times the
+        # material colour, is the ray tree's surface colour.
+        for y in range(0, TEX_SIZE[1], 2):
+            for x in range(0, TEX_SIZE[0], 2):
+                if not used:
+                    break
+                st, h, b = s.get("/api/trace?x=%d&y=%d&sample=0" % (x, y))
+                hit = strict_json(b)["roots"][0].get("hit") if st == 200 else None
+                if not hit or "texture" not in mats[hit["material"]]:
+                    continue
+                tex = textures[mats[hit["material"]]["texture"]]
+                uv = page_uv(scene, hit["object"], hit["point"], mesh_tris)
+                what = "pixel %d,%d (object %d, %s)" % (x, y, hit["object"], hit["shape"])
+                if hit["shape"] == "mesh" and scene.get("simplified"):
+                    continue  # the triangle hit may not be listed
+                if uv is None:
+                    bad.append("%s: the page gets no (u, v) for it" % what)
+                    continue
+                du = abs(uv[0] - hit["uv"][0])
+                if hit["shape"] in ("sphere", "cone"):
+                    du = min(du, 1 - du)
+                if du > 5e-5 or abs(uv[1] - hit["uv"][1]) > 5e-5:
+                    bad.append("%s: (u, v) %r on the page, %r in the render" % (what, uv, hit["uv"]))
+                    continue
+                if tex["kind"] == "image" and mats[hit["material"]]["texture"] not in texels:
+                    continue
+                c = texture_sample(tex, texels.get(mats[hit["material"]]["texture"]), *hit["uv"])
+                want = [c[k] * mats[hit["material"]]["color"][k] for k in range(3)]
+                if max(abs(want[k] - hit["surface"][k]) for k in range(3)) > 1e-6:
+                    bad.append("%s: surface %r, the texture from the API gives %r" % (what, hit["surface"], want))
+                hits += 1
+                sh = scene["shapes"][hit["object"]]
+                kinds.add("fan" if sh["kind"] == "triangle" and len(sh["verts"]) > 3 else sh["kind"])
+    except (ValueError, KeyError, TypeError, IndexError) as e:
+        bad.append("%s: %r" % (type(e).__name__, e))
+    finally:
+        rc, err = s.stop()
+        if rc != 0:
+            bad.append("ggrt serve exit %s: %s" % (rc, err[-300:]))
+    return bad, ntex, hits
+
+
+def check_textures(work, env):
+    """For every scene file: /api/scene's texture fields (a texture per
+    textured material, image or checker; the (u, v) or frame of every
+    textured object and mesh triangle, nothing for an untextured one),
+    /api/texture (each image a PNG of its size, a checker 404, bad indexes
+    refused with JSON), and at every other pixel whose eye ray meets a
+    textured object, the (u, v) the page derives from them is the render's
+    and the texture sampled there is its surface colour (tests/data/
+    textured.nff has every kind of shape textured)."""
+    t0 = time.time()
+    total_tex = total_hits = with_tex = 0
+    kinds = set()
+    for path in scene_files():
+        problems, ntex, hits = texture_scene(path, work, env, kinds)
+        total_tex += ntex
+        total_hits += hits
+        with_tex += ntex > 0
+        check(not problems, "%s: textures in /api/scene and /api/texture (%d textures, %d textured hits checked)"
+              % (path, ntex, hits), "\n".join(problems[:20]))
+    every = {"sphere", "cone", "rect", "triangle", "fan", "polygon", "mesh", "implicit"}
+    check(with_tex >= 10 and total_hits > 1500 and kinds == every,
+          "textures: %d scenes of %d have textures, %d textures, %d textured hits agree, on %s (%.1f s)"
+          % (with_tex, len(scene_files()), total_tex, total_hits, " ".join(sorted(kinds)), time.time() - t0),
+          "missing kinds: %s" % " ".join(sorted(every - kinds)))
+
+
+def png_bytes(w, h, rgb):
+    """An 8-bit RGB PNG of rows of bytes rgb."""
+    def chunk(t, c):
+        return struct.pack(">I", len(c)) + t + c + struct.pack(">I", zlib.crc32(t + c))
+    raw = b"".join(b"\0" + rgb[y * w * 3:(y + 1) * w * 3] for y in range(h))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def check_texture_reduced(env):
+    """A texture wider than 2048 (4099 x 3) comes reduced by 3 (the
+    smallest whole factor that fits): 1367 x 1, each texel the mean of its
+    3 x 3 block in linear light (the last one of a 1 x 3 block), with
+    X-GGRT-Reduced: 3; /api/scene keeps the texture's own size."""
+    w, h = 4099, 3
+    rgb = bytes((x * 7 + y * 50 + c * 90) % 256 for y in range(h) for x in range(w) for c in range(3))
+    with tempfile.TemporaryDirectory() as d:
+        with open(os.path.join(d, "wide.png"), "wb") as f:
+            f.write(png_bytes(w, h, rgb))
+        with open(os.path.join(d, "wide.nff"), "w") as f:
+            f.write("v from 0 -3 0 at 0 0 0 up 0 0 1 angle 40 resolution 16 12\nl 0 -3 3\n"
+                    "f 1 1 1 1 0 100000 0 0\ntexture \"wide.png\"\nrect -1 0 1  2 0 0  0 0 -2\n")
+        s = Server([os.path.join(d, "wide.nff"), "--port", "0"], d, env)
+        try:
+            _, scene = s.json("/api/scene")
+            st, hd, b = s.get("/api/texture?index=0")
+        finally:
+            s.stop()
+    try:
+        gw, gh, px = png_pixels(b)
+    except (AssertionError, ValueError, zlib.error) as e:
+        check(False, "/api/texture reduces a 4099 x 3 texture", "%d %s: %s" % (st, e, b[:200]))
+        return
+
+    def mean(x):  # linear mean of block x, back to an sRGB byte as ggLinearToSRGB8
+        out = []
+        for c in range(3):
+            xs = range(3 * x, min(3 * x + 3, w))
+            m = sum(srgb_to_linear(rgb[3 * (y * w + i) + c]) for y in range(h) for i in xs) / (len(xs) * h)
+            m = 12.92 * m if m <= 0.0031308 else 1.055 * m ** (1 / 2.4) - 0.055
+            out.append(int(m * 255 + 0.5))
+        return out
+    worst = max(abs(a - b) for x in range(gw) for a, b in zip(mean(x), px[3 * x:3 * x + 3]))
+    check(st == 200 and (gw, gh) == (1367, 1) and hd.get("x-ggrt-reduced") == "3" and worst <= 1 and
+          scene["textures"][0]["width"] == w,
+          "/api/texture: a 4099 x 3 texture comes as 1367 x 1, the 3 x 3 means (off by %d at most), "
+          "X-GGRT-Reduced: 3" % worst, (st, gw, gh, hd.get("x-ggrt-reduced"), scene.get("textures")))
+
+
 def file_list(d):
     out = []
     for root, dirs, files in os.walk(d):
@@ -934,6 +1288,8 @@ def run(base):
     r = subprocess.run([GGRT, "serve", SCENE, "--host", "example.com"], stdout=subprocess.PIPE,
                        stderr=subprocess.PIPE, text=True, timeout=30)
     check(r.returncode != 0 and "numeric" in r.stderr, "--host must be numeric", r.stderr)
+    check_textures(work, env)
+    check_texture_reduced(env)
     check_tracing_first(work, env)
     check_cancel(work, env)
     check_opens(work, env)
