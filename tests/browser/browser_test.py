@@ -31,12 +31,17 @@ one server per scene:
 - Back and Forward (history): pixels, a tab, each a history entry restored
   whole from the address (the tree without asking the server again); the
   3D camera and the zoom change the entry in place;
+- textures: tests/data/textured.nff (every kind of shape, textured) in the
+  3D view through the scene's camera: at every textured hit of every 4th
+  pixel the canvas shows the ray tree's surface colour (the texture at the
+  renderer's (u, v)) under the view's shading, each flat object in more
+  than one colour;
 - regressions (fixes): one check per bug fixed in the page (the 3D
   view's redraw time, typing in the find and path boxes, ...);
 - with --docs DIR, the linked 3D views of glass and knot, and the path
   filter on glass, as PNGs there (docs/serve.md shows them).
     /usr/bin/python3 tests/browser/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
-        [--only glass,layout,first,scenes,paths,history,fixes,docs]
+        [--only glass,layout,first,scenes,paths,history,textures,fixes,docs]
 Prints one line per check and ends with "browser: N passed, M failed"."""
 import json
 import os
@@ -1015,6 +1020,121 @@ def docs_shots(d, folder):
             srv.stop()
 
 
+# ---- textures in the 3D view ----
+
+TEX_SCENE = "tests/data/textured.nff"  # every kind of shape, each with a texture
+TEX_SIZE = (160, 120)
+
+
+def gl_colours(d, points):
+    """For each point of the scene, the 3D canvas's colours in the 3 x 3
+    canvas pixels around where it projects (the view's own matrix), or
+    None off the canvas."""
+    return d.execute_script(
+        "const v = window.ggrtView3d, s = document.getElementById('gl3d');"
+        "const c = document.createElement('canvas'); c.width = s.width; c.height = s.height;"
+        "const g = c.getContext('2d'); g.drawImage(s, 0, 0);"
+        "const a = g.getImageData(0, 0, c.width, c.height).data, m = v.mvp;"
+        "return arguments[0].map((p) => {"
+        " const q = [0, 1, 2, 3].map((i) => m[i] * p[0] + m[4 + i] * p[1] + m[8 + i] * p[2] + m[12 + i]);"
+        " const x = Math.floor((q[0] / q[3] * 0.5 + 0.5) * c.width), y = Math.floor((0.5 - q[1] / q[3] * 0.5) * c.height);"
+        " if (!(x >= 1 && y >= 1 && x < c.width - 1 && y < c.height - 1)) return null;"
+        " const out = []; for (let j = -1; j <= 1; j++) for (let i = -1; i <= 1; i++) {"
+        "  const k = 4 * ((y + j) * c.width + x + i); out.push([a[k], a[k + 1], a[k + 2]]); }"
+        " return out; });", points)
+
+
+def srgb(c):
+    c = min(1.0, max(0.0, c))
+    return 12.92 * c if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055
+
+
+def textures(d):
+    """tests/data/textured.nff (a sphere, cone, rectangles, triangle, pp
+    fan, concave polygon and meshes, each textured, over a checker), the
+    3D view through the scene's camera: where the eye ray of every 4th
+    pixel meets a textured surface, the canvas there (the best of the 3 x 3
+    pixels around the hit point's projection) is the colour the view
+    should give it: the ray tree's surface colour (the texture at the
+    renderer's (u, v) times the material's), sRGB-encoded, times the view's
+    Lambert term at the hit's normal. Each textured object must match at
+    most pixels (the view's triangles stand for curved surfaces, so not
+    all), and each flat one must not be one colour. On the page before
+    textures (flat colours) every object fails. Implicit surfaces are drawn
+    as their boxes and are left out."""
+    srv = Server(TEX_SCENE, "-s", "%dx%d" % TEX_SIZE, "-d", "1")
+    try:
+        console_errors(d)
+        d.get(srv.url + "#tab=rays3d")
+        wait(d, "3d", lambda: attr(d, "box3d", "data-triangles") or page_error(d), 30)
+        loaded = wait(d, "textures", lambda: attr(d, "box3d", "data-textures"), 20)
+        scene = json.loads(srv.get("/api/scene")[1])
+        info = json.loads(srv.get("/api/info")[1])
+        images = len(set(m["texture"] for m in scene["materials"] if "texture" in m))
+        check(loaded == str(images), "textures: the 3D view has the %d textures the materials use (%s)"
+              % (images, loaded), d.find_element(By.ID, "note3d").text)
+        d.find_element(By.CSS_SELECTOR, "#box3d [data-view=camera]").click()
+        time.sleep(0.3)
+        cam = info["camera"]
+
+        def unit(a):
+            n = sum(x * x for x in a) ** 0.5
+            return [x / n for x in a]
+        # the shader's two light directions through the scene's camera
+        l1, l2 = unit([cam["from"][i] - cam["at"][i] for i in range(3)]), unit(cam["up"])
+        hits = []
+        for y in range(2, TEX_SIZE[1], 4):
+            for x in range(2, TEX_SIZE[0], 4):
+                st, b = srv.get("/api/trace", x=x, y=y, opts="depth=1", sample=0)
+                h = json.loads(b)["roots"][0].get("hit") if st == 200 else None
+                sh = h and scene["shapes"][h["object"]]
+                if not h or "texture" not in scene["materials"][h["material"]] or sh["kind"] == "implicit":
+                    continue
+                n = h["ns"]
+                lam = 0.3 + 0.55 * abs(sum(a * b for a, b in zip(n, l1))) + 0.25 * abs(sum(a * b for a, b in zip(n, l2)))
+                want = [min(255.0, 255 * srgb(c) * lam) for c in h["surface"]]
+                hits.append((h["object"], sh["kind"], h["point"], want))
+        cols = gl_colours(d, [p for _, _, p, _ in hits])
+        by = {}
+        for (obj, kind, _, want), near in zip(hits, cols):
+            if near is None:
+                continue
+            err = min(max(abs(a - b) for a, b in zip(want, g)) for g in near)
+            by.setdefault((obj, kind), []).append((err, tuple(near[4])))
+        kinds = set()
+        for (obj, kind), l in sorted(by.items()):
+            errs = sorted(e for e, _ in l)
+            within = sum(1 for e in errs if e <= 24) / len(errs)
+            flat = kind in ("rect", "triangle", "polygon")
+            colours = len(set(c for _, c in l))
+            good = len(l) >= 5 and errs[len(errs) // 2] <= 8 and within >= 0.85 and (not flat or colours >= 5)
+            kinds.add(kind)
+            check(good, "textures: object %d (%s, %s): %d of %d pixels within 24 of the texture's colour "
+                  "there, median off by %d%s" % (obj, kind, scene["materials"][scene["shapes"][obj]["material"]]
+                                                 .get("texture"), round(within * len(l)), len(l),
+                                                 errs[len(errs) // 2],
+                                                 ", %d colours" % colours if flat else ""),
+                  "off by %s" % " ".join("%.0f" % e for e in errs[-20:]))
+        check(kinds == {"sphere", "cone", "rect", "triangle", "polygon", "mesh"},
+              "textures: every kind of shape is checked (%s)" % " ".join(sorted(kinds)))
+        if SHOT:
+            d.find_element(By.ID, "gl3d").screenshot(os.path.join(os.path.dirname(os.path.abspath(SHOT)),
+                                                                  "textures-3d.png"))
+        # The options' texture knob picks the filter, as in the render of
+        # those options: nearest for these bilinear textures.
+        tn = "const v = window.ggrtView3d, gl = document.getElementById('gl3d').getContext('webgl'); v.draw();" \
+             " return gl.getUniform(v.texProg, gl.getUniformLocation(v.texProg, 'tn'));"
+        before = d.execute_script(tn)
+        d.get(srv.url + "#tab=rays3d&a=texture%3Dnearest")
+        wait(d, "textures", lambda: attr(d, "box3d", "data-textures"), 20)
+        check(before == 0 and d.execute_script(tn) == 1,
+              "textures: the options' texture=nearest samples the bilinear textures nearest")
+        check(not console_errors(d), "textures: no console error", console_errors(d))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 # ---- regressions: one check per bug fixed in the page ----
 
 def fix_3d_clip(d):
@@ -1367,7 +1487,7 @@ def main():
         steps = [("glass", lambda: glass(d, want)), ("layout", lambda: layout(d)),
                  ("first", lambda: tracing_first(d)), ("scenes", lambda: every_scene(d)),
                  ("paths", lambda: paths(d, DOCS)), ("history", lambda: history(d)),
-                 ("fixes", lambda: fixes(d))]
+                 ("textures", lambda: textures(d)), ("fixes", lambda: fixes(d))]
         if DOCS:
             steps.append(("docs", lambda: docs_shots(d, DOCS)))
         for name, step in steps:

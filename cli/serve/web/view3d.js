@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // ggrt serve: the 3D view. The scene (/api/scene) shaded with WebGL (one
-// Lambert shader, meshes as their triangles), and over it, on a 2D canvas,
+// Lambert shader, meshes as their triangles, textured surfaces with their
+// texture where the renderer puts it), and over it, on a 2D canvas,
 // the selected pixel's rays coloured by kind, the shadow rays, the lights
 // and the camera's frustum. Linked to the tree: the node under the mouse
 // (or picked with j/k) is drawn thick; a click on a segment selects its
@@ -54,22 +55,40 @@
   };
 
   const view = {
-    gl: null, prog: null, buf: null, opaque: 0, clear: 0, lines: null, note: '',
+    gl: null, prog: null, buf: null, stride: 11, opaque: 0, clear: 0, groups: [], tex: [], lines: null, baseNote: '',
     yaw: 0, pitch: 0, dist: 10, target: [0, 0, 0], up: [0, 0, 1], e1: [1, 0, 0], e2: [0, 1, 0],
     fov: 0, // the scene camera's field of view (degrees, across) when looking through it; 0: 45 up
     set: false, mvp: null, hl: -1, hlObject: -1, segs: [], triangles: 0, built: false,
   };
   window.ggrtView3d = view;
 
-  // ---- geometry: every shape as triangles (pos, normal, rgba, object) ----
+  // ---- geometry: every shape as triangles ----
+  // A vertex: position, normal, rgba, object, and for a textured surface
+  // its texture coordinates t and their kind k: view.stride floats, 11
+  // for a scene without textures (as before textures were drawn), 15 with
+  // t and k. k = 0: untextured. 1: t.xy is (u, v), interpolated over the
+  // triangle: on the planar shapes and mesh triangles the renderer's
+  // (u, v) is affine over each triangle it hits, so interpolating the
+  // corners' (u, v), which the server computes with the library
+  // (ggSceneObjectUV), gives it exactly. 2 (sphere), 3 (cone): t is the
+  // point in the shape's frame (e1, e2, axis; /api/scene), which is
+  // affine, and the fragment shader turns it into (u, v) by the
+  // library's formulas (atan2 and acos are not affine: interpolated
+  // (u, v) would smear across the seam and the poles).
   function builder() {
-    const a = [];
+    const a = [], tk = view.stride === 15;
+    const put = (v, nn, c, obj, t, k) => {
+      a.push(v[0], v[1], v[2], nn[0], nn[1], nn[2], c[0], c[1], c[2], c[3], obj);
+      if (!tk) return;
+      if (t) a.push(t[0], t[1], t[2], k); else a.push(0, 0, 0, 0);
+    };
     return {
-      tri(p, q, r, c, obj, nrm) {
+      // tc: the three corners' t (or undefined), k their kind.
+      tri(p, q, r, c, obj, nrm, tc, k) {
         const nn = nrm || V.norm(V.cross(V.sub(q, p), V.sub(r, p)));
-        for (const v of [p, q, r]) a.push(v[0], v[1], v[2], nn[0], nn[1], nn[2], c[0], c[1], c[2], c[3], obj);
+        put(p, nn, c, obj, tc && tc[0], k); put(q, nn, c, obj, tc && tc[1], k); put(r, nn, c, obj, tc && tc[2], k);
       },
-      vert(v, nn, c, obj) { a.push(v[0], v[1], v[2], nn[0], nn[1], nn[2], c[0], c[1], c[2], c[3], obj); },
+      vert: put,
       data: a,
     };
   }
@@ -81,76 +100,127 @@
     if (mt.kd < 0.05 && mt.ks > 0.5) return [0.55 * c[0] + 0.25, 0.55 * c[1] + 0.25, 0.55 * c[2] + 0.3, 1];
     return [0.2 + 0.8 * c[0], 0.2 + 0.8 * c[1], 0.2 + 0.8 * c[2], 1];
   }
-  function sphere(b, s, c, obj, seg) {
+  // The texture object s shows in the view, or -1: its material's, if
+  // /api/scene describes it (an image or a checker) and gives s what the
+  // view needs to place it (mesh: its part m, listed).
+  function texOf(scene, s, m) {
+    const mt = scene.materials[s.material], t = mt && mt.texture;
+    const d = t >= 0 && scene.textures && scene.textures[t];
+    if (!d || (d.kind !== 'image' && d.kind !== 'checker')) return -1;
+    const n = s.verts ? s.verts.length : 0, uv = s.uv ? s.uv.length : -1;
+    const ok = s.kind === 'sphere' || s.kind === 'cone' ? !!s.e1
+      : s.kind === 'mesh' ? !!(m && m.uv && m.uv.length * 3 === m.verts.length * 2)
+        : s.kind === 'rect' ? uv === 8 : s.kind === 'implicit' ? uv === 2
+          : uv === (s.kind === 'triangle' && n > 3 ? 6 * (n - 2) : 2 * n);
+    return ok ? t : -1;
+  }
+  // A textured surface's colour: the material's own (the texture
+  // multiplies it, as in the renderer), with matColour's opacity.
+  function texColour(scene, m) {
+    const c = scene.materials[m].color.map((v) => Math.min(1, Math.max(0, v)));
+    return [c[0], c[1], c[2], matColour(scene, m)[3]];
+  }
+  // (u, v) pairs i, j, k of a flat list as the corners' t.
+  const uvs = (uv, i, j, k) => [i, j, k].map((n) => [uv[2 * n], uv[2 * n + 1], 0]);
+  function sphere(b, s, c, obj, seg, tex) {
     const P = (i, j) => {
       const th = Math.PI * j / (seg / 2), ph = 2 * Math.PI * i / seg;
       return [Math.sin(th) * Math.cos(ph), Math.sin(th) * Math.sin(ph), Math.cos(th)];
     };
+    // t: the direction in the sphere's (u, v) frame (u about e1 x e2 from e1).
+    const e3 = tex ? V.cross(s.e1, s.e2) : null;
+    const T = (d) => [V.dot(d, s.e1), V.dot(d, s.e2), V.dot(d, e3)];
+    const k = tex ? 2 : 0;
     for (let j = 0; j < seg / 2; j++) {
       for (let i = 0; i < seg; i++) {
         const n = [P(i, j), P(i + 1, j), P(i + 1, j + 1), P(i, j + 1)];
         const p = n.map((d) => V.add(s.center, V.mul(d, s.radius)));
-        b.vert(p[0], n[0], c, obj); b.vert(p[2], n[2], c, obj); b.vert(p[1], n[1], c, obj);
-        b.vert(p[0], n[0], c, obj); b.vert(p[3], n[3], c, obj); b.vert(p[2], n[2], c, obj);
+        const t = tex ? n.map(T) : [];
+        b.vert(p[0], n[0], c, obj, t[0], k); b.vert(p[2], n[2], c, obj, t[2], k); b.vert(p[1], n[1], c, obj, t[1], k);
+        b.vert(p[0], n[0], c, obj, t[0], k); b.vert(p[3], n[3], c, obj, t[3], k); b.vert(p[2], n[2], c, obj, t[2], k);
       }
     }
   }
-  function cone(b, s, c, obj, seg) {
+  function cone(b, s, c, obj, seg, tex) {
     const ax = V.norm(V.sub(s.apex, s.base)), p = V.perp(ax), q = V.cross(ax, p);
+    const h = V.len(V.sub(s.apex, s.base));
     const at = (ctr, r, t) => V.add(ctr, V.add(V.mul(p, r * Math.cos(t)), V.mul(q, r * Math.sin(t))));
+    // t: the point about the base in the cone's frame, height over h.
+    const T = (x) => { const w = V.sub(x, s.base); return [V.dot(w, s.e1), V.dot(w, s.e2), V.dot(w, ax) / h]; };
     for (let i = 0; i < seg; i++) {
       const t0 = 2 * Math.PI * i / seg, t1 = 2 * Math.PI * (i + 1) / seg;
       const a0 = at(s.base, s.radius, t0), a1 = at(s.base, s.radius, t1);
       const b0 = at(s.apex, s.radius2, t0), b1 = at(s.apex, s.radius2, t1);
-      b.tri(a0, a1, b1, c, obj);
-      b.tri(a0, b1, b0, c, obj);
+      b.tri(a0, a1, b1, c, obj, null, tex && [a0, a1, b1].map(T), 3);
+      b.tri(a0, b1, b0, c, obj, null, tex && [a0, b1, b0].map(T), 3);
     }
   }
-  function box(b, lo, hi, c, obj) {
+  function box(b, lo, hi, c, obj, t) {
     const P = (i) => [i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], i & 4 ? hi[2] : lo[2]];
+    const tc = t && [t, t, t];
     for (const [i, j, k, l] of [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]]) {
-      b.tri(P(i), P(j), P(k), c, obj);
-      b.tri(P(i), P(k), P(l), c, obj);
+      b.tri(P(i), P(j), P(k), c, obj, null, tc, 1);
+      b.tri(P(i), P(k), P(l), c, obj, null, tc, 1);
     }
   }
-  function shape(b, scene, s, i, seg) {
-    const c = matColour(scene, s.material);
-    if (s.kind === 'sphere') sphere(b, s, c, i, seg);
-    else if (s.kind === 'cone') cone(b, s, c, i, seg);
+  // tex: whether to texture it (texOf).
+  function shape(b, scene, s, i, seg, c, tex) {
+    const uv = tex && s.uv;
+    if (s.kind === 'sphere') sphere(b, s, c, i, seg, tex);
+    else if (s.kind === 'cone') cone(b, s, c, i, seg, tex);
     else if (s.kind === 'rect') {
+      // uv: the corners a, a + e1, a + e1 + e2, a + e2.
       const a = s.corner, p = V.add(a, s.e1), d = V.add(a, s.e2), e = V.add(p, s.e2);
-      b.tri(a, p, e, c, i); b.tri(a, e, d, c, i);
+      b.tri(a, p, e, c, i, null, uv && uvs(uv, 0, 1, 2), 1); b.tri(a, e, d, c, i, null, uv && uvs(uv, 0, 2, 3), 1);
     } else if (s.kind === 'implicit') {
-      box(b, s.lo, s.hi, [c[0], c[1], c[2], 0.25], i);
+      box(b, s.lo, s.hi, [c[0], c[1], c[2], 0.25], i, uv && [uv[0], uv[1], 0]);
       return 'implicit';
     } else if (s.verts && s.verts.length >= 3) {
-      for (let k = 1; k + 1 < s.verts.length; k++) b.tri(s.verts[0], s.verts[k], s.verts[k + 1], c, i);
+      // A triangle object of more than 3 vertices is the renderer's fan,
+      // with (u, v) per fan triangle (6 numbers each); else per vertex.
+      const n = s.verts.length, fan = s.kind === 'triangle' && n > 3;
+      for (let k = 1; k + 1 < n; k++) {
+        const tc = uv && (fan ? uvs(uv, 3 * (k - 1), 3 * (k - 1) + 1, 3 * (k - 1) + 2) : uvs(uv, 0, k, k + 1));
+        b.tri(s.verts[0], s.verts[k], s.verts[k + 1], c, i, null, tc, 1);
+      }
     }
     return '';
   }
 
+  // The triangles in draw groups: opaque before see-through, each
+  // untextured first, then one group per texture. Returns the vertex data;
+  // view.groups lists {first, count, clear, tex}.
   function build(scene) {
-    const opaque = builder(), clear = builder(), shapes = scene.shapes || [];
+    const groups = new Map(), shapes = scene.shapes || [];
+    const group = (clear, tex) => {
+      const key = (clear ? 1 : 0) + ':' + tex;
+      if (!groups.has(key)) groups.set(key, { clear: clear, tex: tex, b: builder() });
+      return groups.get(key).b;
+    };
     const spheres = shapes.filter((s) => s && (s.kind === 'sphere' || s.kind === 'cone')).length;
     // Spheres and cones get fewer segments when there are many of them.
     const seg = Math.max(6, Math.min(32, 2 * Math.floor(Math.sqrt(MAX_TRIS / 2 / Math.max(1, spheres)) / 2)));
     const meshes = {};
     for (const m of scene.meshes || []) meshes[m.object] = m;
-    let implicit = 0;
+    view.stride = shapes.some((s, i) => s && texOf(scene, s, meshes[i]) >= 0) ? 15 : 11;
+    let implicit = 0, textured = 0;
     view.meshTriangles = 0;
     shapes.forEach((s, i) => {
       if (!s) return;
-      const c = matColour(scene, s.material), b = c[3] < 1 ? clear : opaque;
-      const m = meshes[i];
+      const m = meshes[i], tex = texOf(scene, s, m);
+      const c = tex >= 0 ? texColour(scene, s.material) : matColour(scene, s.material);
+      const b = group(c[3] < 1 || s.kind === 'implicit' || (s.kind === 'mesh' && !m), tex);
+      if (tex >= 0) textured++;
       if (s.kind === 'mesh' && m) {
-        const v = m.verts;
+        const v = m.verts, uv = tex >= 0 ? m.uv : null;
         view.meshTriangles += v.length / 9;
-        for (let k = 0; k + 8 < v.length; k += 9) {
-          b.tri([v[k], v[k + 1], v[k + 2]], [v[k + 3], v[k + 4], v[k + 5]], [v[k + 6], v[k + 7], v[k + 8]], c, i);
+        for (let k = 0, t = 0; k + 8 < v.length; k += 9, t += 6) {
+          b.tri([v[k], v[k + 1], v[k + 2]], [v[k + 3], v[k + 4], v[k + 5]], [v[k + 6], v[k + 7], v[k + 8]], c, i, null,
+            uv && [[uv[t], uv[t + 1], 0], [uv[t + 2], uv[t + 3], 0], [uv[t + 4], uv[t + 5], 0]], 1);
         }
       } else if (s.kind === 'mesh') {
         box(b, s.lo, s.hi, [c[0], c[1], c[2], 0.25], i);
-      } else if (shape(c[3] < 1 || s.kind === 'implicit' ? clear : opaque, scene, s, i, seg) === 'implicit') {
+      } else if (shape(b, scene, s, i, seg, c, tex >= 0) === 'implicit') {
         implicit++;
       }
     });
@@ -162,15 +232,41 @@
     }
     if (implicit) notes.push(implicit + ' implicit surface' + (implicit > 1 ? 's' : '') + ' drawn as ' + (implicit > 1 ? 'their boxes' : 'its box'));
     if (spheres && seg < 16) notes.push('spheres and cones drawn with ' + seg + ' segments');
-    view.note = notes.join('; ');
-    view.opaque = opaque.data.length / 11;
-    view.clear = clear.data.length / 11;
-    view.triangles = (view.opaque + view.clear) / 3;
-    const data = new Float32Array(opaque.data.concat(clear.data));
-    return data;
+    view.baseNote = notes.join('; ');
+    view.textured = textured;
+    // opaque first (untextured, then by texture), then the see-through
+    const order = [...groups.values()].sort((x, y) => (x.clear - y.clear) || (x.tex - y.tex));
+    const all = new Float32Array(order.reduce((n, g) => n + g.b.data.length, 0));
+    view.groups = [];
+    let first = 0;
+    for (const g of order) {
+      const n = g.b.data.length / view.stride;
+      view.groups.push({ first: first, count: n, clear: g.clear, tex: g.tex });
+      all.set(g.b.data, first * view.stride);
+      first += n;
+    }
+    view.opaque = view.groups.filter((g) => !g.clear).reduce((s, g) => s + g.count, 0);
+    view.clear = first - view.opaque;
+    view.triangles = first / 3;
+    return all;
   }
 
   // ---- WebGL ----
+  // Two programs on one vertex layout. The plain one (Lambert from two
+  // directions on the vertex colour) draws every untextured surface, as
+  // it always has. The texture one draws the groups of a texture: its
+  // colour is the texture sampled at the renderer's (u, v) (uniform tk: 1
+  // an image, 2 a checker; 0 while an image loads: the material's colour)
+  // times the material colour, shown as the render shows a colour
+  // (sRGB-encoded), under the same Lambert term. An image is sampled as
+  // ggTextureBilinear and ggTextureNearest sample (include/ggrt/image.h):
+  // the wrap mode first (repeat: u - floor(u) outside [0, 1]; clamp),
+  // then texel (i, j) at d = ((w - 1) u, (h - 1) v), the four texels
+  // blended in linear light (each decoded from the PNG's sRGB byte) and
+  // clamped at 1. Texels are fetched with NEAREST filtering at their
+  // centres, so WebGL's own filtering and wrap (and its need for
+  // power-of-two sizes) play no part. It is compiled only for a scene
+  // with textures (SwiftShader takes a second or more over it).
   const VS = 'attribute vec3 p; attribute vec3 n; attribute vec4 c; attribute float o;' +
     'uniform mat4 mvp; uniform float hl; varying vec3 vn; varying vec4 vc; varying float vh;' +
     'void main() { gl_Position = mvp * vec4(p, 1.0); vn = n; vc = c; vh = abs(o - hl) < 0.5 ? 1.0 : 0.0; }';
@@ -179,10 +275,42 @@
     ' float d = 0.3 + 0.55 * abs(dot(n, L1)) + 0.25 * abs(dot(n, L2));' +
     ' vec3 col = vc.rgb * d; col = mix(col, vec3(0.0, 0.75, 0.9) * d, 0.45 * vh);' +
     ' gl_FragColor = vec4(col, max(vc.a, 0.6 * vh)); }';
+  const VS_TEX = 'attribute vec3 p; attribute vec3 n; attribute vec4 c; attribute float o; attribute vec3 t; attribute float k;' +
+    'uniform mat4 mvp; uniform float hl; varying vec3 vn; varying vec4 vc; varying float vh; varying vec3 vt; varying float vk;' +
+    'void main() { gl_Position = mvp * vec4(p, 1.0); vn = n; vc = c; vh = abs(o - hl) < 0.5 ? 1.0 : 0.0; vt = t; vk = k; }';
+  const FS_TEX = '#ifdef GL_FRAGMENT_PRECISION_HIGH\nprecision highp float;\n#else\nprecision mediump float;\n#endif\n' +
+    'uniform vec3 L1; uniform vec3 L2; uniform float tk; uniform sampler2D tex; uniform vec2 ts; uniform float tw;' +
+    ' uniform float tn; uniform float cn; uniform vec3 ca; uniform vec3 cb;' +
+    'varying vec3 vn; varying vec4 vc; varying float vh; varying vec3 vt; varying float vk;' +
+    'const float PI = 3.14159265358979;' +
+    // u: a turn about an axis in [0, 1), 0 where it would round to 1
+    'float turn(float y, float x) { float u = atan(y, x) / (2.0 * PI); if (u < 0.0) u += 1.0; return u >= 1.0 ? 0.0 : u; }' +
+    'vec2 uvOf() {' +
+    ' if (vk < 1.5) return vt.xy;' +
+    ' if (vk < 2.5) return vec2(turn(vt.y, vt.x), acos(clamp(vt.z / max(length(vt), 1e-30), -1.0, 1.0)) / PI);' +
+    ' return vec2(turn(vt.y, vt.x), clamp(vt.z, 0.0, 1.0)); }' +
+    'float wrap(float x) { return tw > 0.5 ? clamp(x, 0.0, 1.0) : (x < 0.0 || x > 1.0 ? x - floor(x) : x); }' +
+    'vec3 lin(vec3 s) { return mix(s / 12.92, pow((s + 0.055) / 1.055, vec3(2.4)), step(0.04045, s)); }' +
+    'vec3 srgb(vec3 c) { return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c)); }' +
+    'vec3 texel(float i, float j) { return lin(texture2D(tex, (vec2(i, j) + 0.5) / ts).rgb); }' +
+    'vec3 sampled(vec2 uv) {' +
+    ' if (tk > 1.5) { float s = floor((uv.x - floor(uv.x)) * cn) + floor((uv.y - floor(uv.y)) * cn);' +
+    '  return mod(s, 2.0) < 0.5 ? ca : cb; }' +
+    ' float di = (ts.x - 1.0) * wrap(uv.x), dj = (ts.y - 1.0) * wrap(uv.y);' +
+    ' if (tn > 0.5) return min(texel(floor(di + 0.5), floor(dj + 0.5)), 1.0);' +
+    ' float i = floor(di), j = floor(dj), a = di - i, b = dj - j;' +
+    ' float i1 = min(i + 1.0, ts.x - 1.0), j1 = min(j + 1.0, ts.y - 1.0);' +
+    ' return min(texel(i, j) * (1.0 - a) * (1.0 - b) + texel(i, j1) * (1.0 - a) * b +' +
+    '  texel(i1, j) * a * (1.0 - b) + texel(i1, j1) * a * b, 1.0); }' +
+    'void main() { vec3 n = normalize(vn);' +
+    ' float d = 0.3 + 0.55 * abs(dot(n, L1)) + 0.25 * abs(dot(n, L2));' +
+    ' vec3 base = tk > 0.5 ? srgb(clamp(sampled(uvOf()) * vc.rgb, 0.0, 1.0)) : 0.2 + 0.8 * vc.rgb;' +
+    ' vec3 col = base * d; col = mix(col, vec3(0.0, 0.75, 0.9) * d, 0.45 * vh);' +
+    ' gl_FragColor = vec4(col, max(vc.a, 0.6 * vh)); }';
+  // The attributes at fixed locations, the same in both programs.
+  const ATTRS = ['p', 'n', 'c', 'o', 't', 'k'];
 
-  function glInit(canvas) {
-    const gl = canvas.getContext('webgl', { antialias: true, preserveDrawingBuffer: true });
-    if (!gl) return null;
+  function program(gl, vs, fs) {
     const sh = (type, src) => {
       const s = gl.createShader(type);
       gl.shaderSource(s, src);
@@ -191,11 +319,18 @@
       return s;
     };
     const p = gl.createProgram();
-    gl.attachShader(p, sh(gl.VERTEX_SHADER, VS));
-    gl.attachShader(p, sh(gl.FRAGMENT_SHADER, FS));
+    gl.attachShader(p, sh(gl.VERTEX_SHADER, vs));
+    gl.attachShader(p, sh(gl.FRAGMENT_SHADER, fs));
+    ATTRS.forEach((a, i) => gl.bindAttribLocation(p, i, a));
     gl.linkProgram(p);
     if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error('3D view: ' + gl.getProgramInfoLog(p));
-    view.prog = p;
+    return p;
+  }
+  function glInit(canvas) {
+    const gl = canvas.getContext('webgl', { antialias: true, preserveDrawingBuffer: true });
+    if (!gl) return null;
+    view.prog = program(gl, VS, FS);
+    view.texProg = null; // made by loadTextures when the scene has textures
     view.buf = gl.createBuffer();
     return gl;
   }
@@ -203,13 +338,89 @@
   function upload(gl, data) {
     gl.bindBuffer(gl.ARRAY_BUFFER, view.buf);
     gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
-    const st = 11 * 4, p = view.prog;
+    const st = view.stride * 4;
     const at = (name, size, off) => {
-      const l = gl.getAttribLocation(p, name);
+      const l = ATTRS.indexOf(name);
       gl.enableVertexAttribArray(l);
       gl.vertexAttribPointer(l, size, gl.FLOAT, false, st, off * 4);
     };
     at('p', 3, 0); at('n', 3, 3); at('c', 4, 6); at('o', 1, 10);
+    if (view.stride === 15) { at('t', 3, 11); at('k', 1, 14); }
+  }
+
+  // ---- textures ----
+  // view.tex[i]: texture i as the shader takes it: {kind: 'checker', n, a,
+  // b} at once; {kind: 'image', gl, size, wrap, filter} once its PNG
+  // (/api/texture) is in; null while it loads or if it cannot be shown
+  // (the note says why; the surface is drawn in its colour meanwhile).
+  function loadTextures(gl, scene) {
+    const app = window.ggrt, used = new Set(view.groups.map((g) => g.tex).filter((t) => t >= 0));
+    view.tex = [];
+    view.texNotes = [];
+    view.texLoading = 0;
+    if (used.size) view.texProg = program(gl, VS_TEX, FS_TEX);
+    for (const i of used) {
+      const d = scene.textures[i];
+      if (d.kind === 'checker') {
+        view.tex[i] = { kind: 'checker', n: d.n, a: d.a, b: d.b };
+        continue;
+      }
+      view.tex[i] = null;
+      view.texLoading++;
+      app.api('/api/texture', { index: i }, 'blob')
+        .then((r) => createImageBitmap(r.body, { premultiplyAlpha: 'none', colorSpaceConversion: 'none' }))
+        .then((img) => {
+          const max = gl.getParameter(gl.MAX_TEXTURE_SIZE);
+          if (img.width > max || img.height > max) throw new Error(img.width + 'x' + img.height + ' is over this WebGL\'s ' + max);
+          const t = gl.createTexture();
+          gl.bindTexture(gl.TEXTURE_2D, t);
+          gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
+          gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+          gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+          gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB, gl.RGB, gl.UNSIGNED_BYTE, img);
+          // No mipmaps, no filtering, no wrap: the shader does those.
+          gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+          gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+          gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+          gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE);
+          view.tex[i] = { kind: 'image', gl: t, size: [img.width, img.height], wrap: d.wrap, filter: d.filter };
+          if (img.close) img.close();
+        })
+        .catch((e) => { view.texNotes.push('texture ' + i + ' not shown: ' + e.message); })
+        .finally(() => {
+          view.texLoading--;
+          if (!view.texLoading) $('box3d').dataset.textures = String(view.tex.filter((t) => t).length);
+          draw();
+        });
+    }
+    if (!view.texLoading) $('box3d').dataset.textures = String(view.tex.filter((t) => t).length);
+  }
+  // The filter the page's options ask for (their texture knob), else the
+  // server's, else each texture's own: as the render of those options.
+  function textureKnob() {
+    const app = window.ggrt, re = /(?:^|[\s,;])texture\s*=\s*(scene|bilinear|nearest)\b/;
+    const m = re.exec((app.state && app.state.a) || '') || re.exec(app.info.options || '');
+    return m ? m[1] : 'scene';
+  }
+  // Bind texture group g's texture and set the texture program's uniforms.
+  function useTexture(gl, g) {
+    const u = (name) => gl.getUniformLocation(view.texProg, name), t = view.tex && view.tex[g.tex];
+    if (!t) { gl.uniform1f(u('tk'), 0); return; }
+    if (t.kind === 'checker') {
+      gl.uniform1f(u('tk'), 2);
+      gl.uniform1f(u('cn'), t.n);
+      gl.uniform3fv(u('ca'), t.a);
+      gl.uniform3fv(u('cb'), t.b);
+      return;
+    }
+    const knob = textureKnob();
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, t.gl);
+    gl.uniform1i(u('tex'), 0);
+    gl.uniform1f(u('tk'), 1);
+    gl.uniform2f(u('ts'), t.size[0], t.size[1]);
+    gl.uniform1f(u('tw'), t.wrap === 'clamp' ? 1 : 0);
+    gl.uniform1f(u('tn'), (knob === 'scene' ? t.filter : knob) === 'nearest' ? 1 : 0);
   }
 
   // ---- the orbit camera ----
@@ -413,22 +624,33 @@
     gl.viewport(0, 0, Wc, Hc);
     gl.clearColor(0.97, 0.97, 0.955, 1);
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-    gl.useProgram(view.prog);
-    gl.uniformMatrix4fv(gl.getUniformLocation(view.prog, 'mvp'), false, glMvp);
-    gl.uniform1f(gl.getUniformLocation(view.prog, 'hl'), view.hlObject);
-    gl.uniform3fv(gl.getUniformLocation(view.prog, 'L1'), V.norm(V.sub(eye, view.target)));
-    gl.uniform3fv(gl.getUniformLocation(view.prog, 'L2'), view.up);
+    const use = (p) => {
+      gl.useProgram(p);
+      gl.uniformMatrix4fv(gl.getUniformLocation(p, 'mvp'), false, glMvp);
+      gl.uniform1f(gl.getUniformLocation(p, 'hl'), view.hlObject);
+      gl.uniform3fv(gl.getUniformLocation(p, 'L1'), V.norm(V.sub(eye, view.target)));
+      gl.uniform3fv(gl.getUniformLocation(p, 'L2'), view.up);
+    };
     gl.enable(gl.DEPTH_TEST);
     gl.disable(gl.BLEND);
     gl.depthMask(true);
-    if (view.opaque) gl.drawArrays(gl.TRIANGLES, 0, view.opaque);
-    if (view.clear) {
-      gl.enable(gl.BLEND);
-      gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
-      gl.depthMask(false);
-      gl.drawArrays(gl.TRIANGLES, view.opaque, view.clear);
-      gl.depthMask(true);
+    // The opaque groups, then the see-through ones blended over them;
+    // each untextured one with the plain program, each texture's with
+    // the texture program.
+    let cur = null;
+    for (const g of view.groups) {
+      if (!g.count) continue;
+      if (g.clear) {
+        gl.enable(gl.BLEND);
+        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+        gl.depthMask(false);
+      }
+      const p = g.tex >= 0 && view.texProg ? view.texProg : view.prog;
+      if (p !== cur) { use(p); cur = p; }
+      if (p === view.texProg) useTexture(gl, g);
+      gl.drawArrays(gl.TRIANGLES, g.first, g.count);
     }
+    gl.depthMask(true);
     overlay(o.getContext('2d'), Wc, Hc, info, diag);
   }
 
@@ -490,7 +712,7 @@
     }
     g.setLineDash([]);
     g.lineDashOffset = 0;
-    $('note3d').textContent = view.note;
+    $('note3d').textContent = [view.baseNote].concat(view.texNotes || []).filter((x) => x).join('; ');
   }
 
   // The camera: its eye, the image's four corner rays and the image plane.
@@ -601,6 +823,7 @@
       return;
     }
     upload(view.gl, build(app.scene));
+    loadTextures(view.gl, app.scene);
     view.built = true;
     $('box3d').dataset.triangles = String(view.triangles);
     $('box3d').dataset.meshTriangles = String(view.meshTriangles);
@@ -621,6 +844,8 @@
       if (!window.ggrt.state.px) preset('camera');
     }
   });
+  // Options rendered: their texture knob may pick another filter.
+  document.addEventListener('ggrt:image', () => { if (view.gl && view.textured) draw(); });
   document.addEventListener('ggrt:pixel', () => {
     if (!view.gl) return;
     // A new pixel's rays are framed unless the camera was moved by hand
