@@ -190,6 +190,61 @@ GG_API ggVec3 ggGradientNormal(const ggImplicit *imp, ggVec3 p);
    times half the largest side of the box. */
 GG_API ggVec3 ggGradientCentral(const ggImplicit *imp, ggVec3 p, double h);
 
+/* ---- tessellation ---- */
+
+/* Triangles approximating the surface f = 0 inside the box, for drawing
+   it (ggrt serve's 3D view) or exporting it. */
+typedef struct ggTriangulation {
+    int resolution;  /* cells along each axis of the box */
+    size_t nverts;   /* points on the surface */
+    size_t ntris;    /* triangles */
+    ggVec3 *verts;   /* nverts points, each within the refinement of a sign change of f */
+    ggVec3 *normals; /* nverts unit normals: ggGradientNormal there, normalised */
+    uint32_t *tris;  /* 3 ntris indices into verts, counter-clockwise seen from the
+                        side where f > 0 (the normals' side) */
+} ggTriangulation;
+
+/* Resolutions ggImplicitTriangulate takes: 1 .. this many cells per axis. */
+#define GG_TRIANGULATE_MAX_RESOLUTION 256
+
+/* Marching tetrahedra over a grid of resolution^3 cells that fill the box
+   (cells of (hi - lo) / resolution, so as flat as the box), each cut into
+   the six tetrahedra around its main diagonal (the Freudenthal-Kuhn
+   split, the same across shared faces). f is sampled at the
+   (resolution + 1)^3 grid points; a vertex is made on each grid edge
+   whose ends have f < 0 and f >= 0 (or f >= 0 and f < 0), placed on the
+   edge by linear interpolation refined by four steps of the Illinois
+   method, and shared by every triangle that cuts that edge. So:
+     - the mesh is closed (every edge in exactly two triangles, with
+       opposite directions) wherever the surface does not leave the box
+       and f is defined: the box's faces cut it, and no triangle is made
+       in a tetrahedron with a corner where f is NaN;
+     - a part of the surface that no grid edge crosses (smaller than a
+       cell, or two sheets within one cell) is not drawn: the mesh shows
+       f's sign at the grid points, not the interval proof the
+       intersector uses;
+     - triangles may have zero area (a vertex on a grid point where f is
+       exactly 0); none is dropped, so that the mesh stays closed.
+   Normals are the renderer's gradient (ggGradientNormal: exact for
+   expressions and gradient callbacks), normalised; where it is zero or
+   not finite, the direction of the grid edge from its f < 0 end.
+   max_triangles bounds the result (0: only the resolution does: at most
+   12 resolution^3 triangles); more fail with GG_ERROR_LIMIT after about
+   the work of the whole grid, so a caller with a budget may retry at a
+   lower resolution. Costs (resolution + 1)^3 evaluations of f and about
+   five more per vertex; memory: the result and two layers of the grid.
+   *out receives the result, made with alloc (NULL: malloc; copied), to
+   free with ggTriangulationFree; a surface with no sign change on the
+   grid gives zero triangles (and NULL arrays). On failure *out is NULL.
+   Returns GG_OK, GG_ERROR_INVALID (NULL imp or out, resolution < 1),
+   GG_ERROR_LIMIT (resolution > GG_TRIANGULATE_MAX_RESOLUTION, more than
+   max_triangles) or GG_ERROR_NOMEM. Reads imp only: thread-safe as
+   ggImplicitIntersect is. */
+GG_API int ggImplicitTriangulate(const ggImplicit *imp, int resolution, size_t max_triangles,
+                                 const ggAllocator *alloc, ggTriangulation **out);
+/* Free a triangulation; NULL is a no-op. */
+GG_API void ggTriangulationFree(ggTriangulation *t);
+
 #ifdef __cplusplus
 }
 #endif

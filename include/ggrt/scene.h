@@ -515,6 +515,19 @@ GG_API long ggSceneObjectTriangleCount(const ggScene *scene, int object);
 GG_API int ggSceneObjectTriangle(const ggScene *scene, int object, long k, ggVec3 v[3],
                                  long *triangle);
 
+/* The surface of implicit object `object` as triangles, for drawing it:
+   ggImplicitTriangulate of its ggImplicit at that resolution and bound,
+   the result made with the scene's allocator (it may outlive the scene;
+   free it with ggTriangulationFree). The scene need not be prepared; it
+   is only read, so any number of threads may call this at once (not
+   while the scene is written). *out is NULL on failure. Returns what
+   ggImplicitTriangulate does, GG_ERROR_INVALID also for a NULL scene or
+   an object out of range, and GG_ERROR_UNSUPPORTED for an object of
+   another kind (its shape is ggSceneObjectShape's; a mesh's triangles
+   are ggSceneObjectTriangle's). */
+GG_API int ggSceneObjectTriangulate(const ggScene *scene, int object, int resolution,
+                                    size_t max_triangles, ggTriangulation **out);
+
 /* Name of the file the scene was loaded from ("" if built in code). */
 GG_API const char *ggSceneFileName(const ggScene *scene);
 

@@ -812,6 +812,16 @@ GG_API const char *ggSceneTraversal(const ggScene *s)
     return bs.traversal;
 }
 
+GG_API int ggSceneObjectTriangulate(const ggScene *s, int i, int resolution, size_t max_triangles,
+                                    ggTriangulation **out)
+{
+    if (!s || !out) return GG_ERROR_INVALID;
+    *out = NULL;
+    if (i < 0 || (size_t)i >= s->nobjects) return GG_ERROR_INVALID;
+    if (s->objects[i].kind != GG_SHAPE_IMPLICIT) return GG_ERROR_UNSUPPORTED;
+    return ggImplicitTriangulate(s->objects[i].imp, resolution, max_triangles, s->alloc, out);
+}
+
 GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
 {
     const gg_object *o;

@@ -198,6 +198,13 @@ static void test_implicit(void **state)
     COVER(ggImplicitMaxSlope), assert_true(ggImplicitMaxSlope(NULL) == 0);
     COVER(ggImplicitClearWarnings), ggImplicitClearWarnings(NULL);
     COVER(ggImplicitEval), assert_true(isnan(ggImplicitEval(NULL, a)));
+    {
+        ggTriangulation *tr = (ggTriangulation *)&tr;
+        COVER(ggImplicitTriangulate);
+        assert_int_equal(ggImplicitTriangulate(NULL, 8, 0, NULL, &tr), GG_ERROR_INVALID);
+        UNTOUCHED(tr);
+        COVER(ggTriangulationFree), ggTriangulationFree(NULL);
+    }
     COVER(ggGradientNormal), assert_true(is_nan3(ggGradientNormal(NULL, a)));
     COVER(ggGradientCentral), assert_true(is_nan3(ggGradientCentral(NULL, a, 0)));
     /* A real surface with NULL out pointers. */
@@ -320,6 +327,13 @@ static void test_scene_query(void **state)
     COVER(ggSceneObjectTriangleCount), assert_int_equal(ggSceneObjectTriangleCount(NULL, 0), 0);
     COVER(ggSceneObjectTriangle),
         assert_int_equal(ggSceneObjectTriangle(NULL, 0, 0, NULL, NULL), GG_ERROR_INVALID);
+    {
+        ggTriangulation *tr = (ggTriangulation *)&tr;
+        COVER(ggSceneObjectTriangulate);
+        assert_int_equal(ggSceneObjectTriangulate(NULL, 0, 8, 0, &tr), GG_ERROR_INVALID);
+        UNTOUCHED(tr);
+        assert_int_equal(ggSceneObjectTriangulate(s, 0, 8, 0, NULL), GG_ERROR_INVALID);
+    }
     COVER(ggSceneTextureCount), assert_int_equal(ggSceneTextureCount(NULL), 0);
     {
         ggTextureInfo ti;
