@@ -16,6 +16,11 @@
 /* Mesh triangles /api/scene lists (about 5 MB of JSON): past it every k-th
    is listed and "simplified" says so, for the page to note. */
 #define MAX_SCENE_TRIANGLES 60000L
+/* Implicit surfaces' triangles /api/scene sends, all of them together
+   (about 4 MB of JSON): each of the k implicit objects is triangulated at
+   the first of SURFACE_RES whose triangles fit in 1/k of it. */
+#define MAX_SURFACE_TRIANGLES 100000L
+static const int SURFACE_RES[] = {64, 48, 32, 24, 16, 12, 8};
 
 typedef struct route {
     const char *path;
@@ -203,7 +208,37 @@ static void shape_uv_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *
     }
 }
 
-static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d)
+/* ',"surface":{...}' for implicit object i: its triangles at the finest
+   resolution of SURFACE_RES with at most `budget` of them (positions,
+   unit normals -- the renderer's gradient -- and corner indices; docs/
+   serve.md); nothing when none fits or the grid sees no sign change (the
+   page then draws the box). */
+static void surface_json(FILE *f, const ggScene *sc, int i, size_t budget)
+{
+    ggTriangulation *t = NULL;
+    size_t k, r, nres = sizeof SURFACE_RES / sizeof SURFACE_RES[0];
+    int rc = GG_ERROR_LIMIT;
+    for (r = 0; r < nres && rc == GG_ERROR_LIMIT; r++)
+        rc = ggSceneObjectTriangulate(sc, i, SURFACE_RES[r], budget ? budget : 1, &t);
+    if (rc != GG_OK || !t->ntris) {
+        ggTriangulationFree(t);
+        return;
+    }
+    fprintf(f, ",\"surface\":{\"resolution\":%d,\"triangles\":%zu,\"verts\":[", t->resolution,
+            t->ntris);
+    for (k = 0; k < t->nverts; k++) /* single precision is plenty for a picture */
+        fprintf(f, "%s%.7g,%.7g,%.7g", k ? "," : "", t->verts[k].x, t->verts[k].y, t->verts[k].z);
+    fprintf(f, "],\"normals\":[");
+    for (k = 0; k < t->nverts; k++)
+        fprintf(f, "%s%.4g,%.4g,%.4g", k ? "," : "", t->normals[k].x, t->normals[k].y,
+                t->normals[k].z);
+    fprintf(f, "],\"tris\":[");
+    for (k = 0; k < 3 * t->ntris; k++) fprintf(f, "%s%u", k ? "," : "", (unsigned)t->tris[k]);
+    fprintf(f, "]}");
+    ggTriangulationFree(t);
+}
+
+static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d, size_t budget)
 {
     int i;
     fprintf(f, "{\"kind\":\"%s\",\"material\":%d,\"line\":%d,", ggShapeKindName(d->kind),
@@ -225,7 +260,10 @@ static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d
         json_vec(f, "corner", d->base), fputc(',', f), json_vec(f, "e1", d->e1), fputc(',', f);
         json_vec(f, "e2", d->e2);
         break;
-    case GG_SHAPE_IMPLICIT:
+    case GG_SHAPE_IMPLICIT: /* its box, and its surface as triangles */
+        json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
+        surface_json(f, sc, obj, budget);
+        break;
     case GG_SHAPE_MESH: /* the box of the mesh's part */
         json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
         break;
@@ -399,13 +437,15 @@ static void api_texture(srv_server *s, const srv_req *r, srv_resp *resp)
 static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
 {
     FILE *f = srv_body_open(resp, 200, "application/json");
-    int i, n, m;
+    int i, n, m, implicit = 0;
     (void)r;
     if (!f) {
         srv_body_close(resp, f);
         return;
     }
     n = ggSceneObjectCount(s->scene), m = ggSceneMaterialCount(s->scene);
+    for (i = 0; i < n && i < MAX_SCENE_OBJECTS; i++)
+        implicit += ggSceneObjectKind(s->scene, i) == GG_SHAPE_IMPLICIT;
     fprintf(f, "{\"objects\":%d,\"truncated\":%s,\"materials\":[", n,
             n > MAX_SCENE_OBJECTS ? "true" : "false");
     for (i = 0; i < m; i++) {
@@ -428,7 +468,8 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
         ggShapeDesc d;
         if (i) fputc(',', f);
         if (ggSceneObjectShape(s->scene, i, &d) == GG_OK)
-            shape_json(f, s->scene, i, &d);
+            shape_json(f, s->scene, i, &d,
+                       implicit ? (size_t)(MAX_SURFACE_TRIANGLES / implicit) : 0);
         else
             fprintf(f, "null");
     }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // ggrt serve: the 3D view. The scene (/api/scene) shaded with WebGL (one
-// Lambert shader, meshes as their triangles, textured surfaces with their
+// Lambert shader, meshes as their triangles, implicit surfaces as the
+// library's triangulation of f = 0, textured surfaces with their
 // texture where the renderer puts it), and over it, on a 2D canvas,
 // the selected pixel's rays coloured by kind, the shadow rays, the lights
 // and the camera's frustum. Linked to the tree: the node under the mouse
@@ -172,6 +173,17 @@
       // uv: the corners a, a + e1, a + e1 + e2, a + e2.
       const a = s.corner, p = V.add(a, s.e1), d = V.add(a, s.e2), e = V.add(p, s.e2);
       b.tri(a, p, e, c, i, null, uv && uvs(uv, 0, 1, 2), 1); b.tri(a, e, d, c, i, null, uv && uvs(uv, 0, 2, 3), 1);
+    } else if (s.kind === 'implicit' && s.surface) {
+      // The library's triangulation of f = 0 (ggSceneObjectTriangulate),
+      // shaded with the renderer's normals (the gradient of f at each
+      // vertex); its (u, v) is the one pair every hit has.
+      const v = s.surface.verts, n = s.surface.normals, t = s.surface.tris;
+      const tc = uv && [uv[0], uv[1], 0];
+      for (let k = 0; k < t.length; k++) {
+        const q = 3 * t[k];
+        b.vert([v[q], v[q + 1], v[q + 2]], [n[q], n[q + 1], n[q + 2]], c, i, tc, 1);
+      }
+      return 'surface';
     } else if (s.kind === 'implicit') {
       box(b, s.lo, s.hi, [c[0], c[1], c[2], 0.25], i, uv && [uv[0], uv[1], 0]);
       return 'implicit';
@@ -205,11 +217,12 @@
     view.stride = shapes.some((s, i) => s && texOf(scene, s, meshes[i]) >= 0) ? 15 : 11;
     let implicit = 0, textured = 0;
     view.meshTriangles = 0;
+    view.surfaceTriangles = 0;
     shapes.forEach((s, i) => {
       if (!s) return;
       const m = meshes[i], tex = texOf(scene, s, m);
       const c = tex >= 0 ? texColour(scene, s.material) : matColour(scene, s.material);
-      const b = group(c[3] < 1 || s.kind === 'implicit' || (s.kind === 'mesh' && !m), tex);
+      const b = group(c[3] < 1 || (s.kind === 'implicit' && !s.surface) || (s.kind === 'mesh' && !m), tex);
       if (tex >= 0) textured++;
       if (s.kind === 'mesh' && m) {
         const v = m.verts, uv = tex >= 0 ? m.uv : null;
@@ -220,8 +233,10 @@
         }
       } else if (s.kind === 'mesh') {
         box(b, s.lo, s.hi, [c[0], c[1], c[2], 0.25], i);
-      } else if (shape(b, scene, s, i, seg, c, tex >= 0) === 'implicit') {
-        implicit++;
+      } else {
+        const drawn = shape(b, scene, s, i, seg, c, tex >= 0);
+        if (drawn === 'implicit') implicit++;
+        if (drawn === 'surface') view.surfaceTriangles += s.surface.triangles;
       }
     });
     const notes = [];
@@ -230,6 +245,9 @@
       notes.push('meshes simplified: ' + scene.triangles_shown.toLocaleString() + ' of ' +
         scene.triangles.toLocaleString() + ' triangles drawn');
     }
+    // An implicit surface without triangles (no sign change of f on the
+    // server's grid, or too many triangles even at its coarsest) is drawn
+    // as its box.
     if (implicit) notes.push(implicit + ' implicit surface' + (implicit > 1 ? 's' : '') + ' drawn as ' + (implicit > 1 ? 'their boxes' : 'its box'));
     if (spheres && seg < 16) notes.push('spheres and cones drawn with ' + seg + ' segments');
     view.baseNote = notes.join('; ');
@@ -827,6 +845,7 @@
     view.built = true;
     $('box3d').dataset.triangles = String(view.triangles);
     $('box3d').dataset.meshTriangles = String(view.meshTriangles);
+    $('box3d').dataset.surfaceTriangles = String(view.surfaceTriangles);
     wire();
     draw();
   });
