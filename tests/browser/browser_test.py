@@ -6,8 +6,8 @@ one server per scene:
 - every scene file under examples/scenes (models included) and
   tests/data/debug, and the scenes at the top of tests/data, at 64x48,
   depth 3: the page loads, a click shows the pixel's tree and the 3D
-  view (under examples/scenes not blank with the camera and rays
-  presets), the image's rays and shadow verdicts are ggrt render's, no
+  view (every mesh and implicit-surface triangle; under examples/scenes
+  not blank with the camera and rays presets), the image's rays and shadow verdicts are ggrt render's, no
   console error; every tab on glass, gears, knot and water;
 - tracing first: a pixel of spd/gears.nff at depth 16 and 16 samples
   shows its tree within 1 s of the click while the image still renders;
@@ -36,12 +36,15 @@ one server per scene:
   pixel the canvas shows the ray tree's surface colour (the texture at the
   renderer's (u, v)) under the view's shading, each flat object in more
   than one colour;
+- implicit: examples/scenes/torus.nff in the 3D view through the scene's
+  camera: the torus drawn as its surface (at its hits, its colour under the
+  renderer's normal) and the floor seen around it and through its hole;
 - regressions (fixes): one check per bug fixed in the page (the 3D
   view's redraw time, typing in the find and path boxes, ...);
 - with --docs DIR, the linked 3D views of glass and knot, and the path
   filter on glass, as PNGs there (docs/serve.md shows them).
     /usr/bin/python3 tests/browser/browser_test.py build/ggrt [--screenshot FILE] [--docs DIR]
-        [--only glass,layout,first,scenes,paths,history,textures,fixes,docs]
+        [--only glass,layout,first,scenes,paths,history,textures,implicit,fixes,docs]
 Prints one line per check and ends with "browser: N passed, M failed"."""
 import json
 import os
@@ -273,6 +276,12 @@ def every_scene(d):
                 got = int(attr(d, "box3d", "data-mesh-triangles") or 0)
                 if got != want:
                     what.append("the 3D view shades %d mesh triangles, ggrt info counts %d" % (got, want))
+                # Implicit surfaces: every triangle /api/scene sends is shaded.
+                shapes = json.loads(srv.get("/api/scene")[1])["shapes"]
+                want = sum(s["surface"]["triangles"] for s in shapes if s and s.get("surface"))
+                got = int(attr(d, "box3d", "data-surface-triangles") or 0)
+                if got != want or (want == 0) != (not any(s and s["kind"] == "implicit" for s in shapes)):
+                    what.append("the 3D view shades %d implicit-surface triangles, /api/scene sends %d" % (got, want))
                 # The "camera" and "rays" presets show some of the scene
                 # (acc-distant.nff: a camera 3e7 away looking through
                 # 0.00001 degrees used to show nothing).
@@ -1135,6 +1144,86 @@ def textures(d):
         srv.stop()
 
 
+IMP_SCENE = "examples/scenes/torus.nff"
+IMP_SIZE = (160, 120)
+
+
+def implicit(d):
+    """examples/scenes/torus.nff in the 3D view through the scene's
+    camera: the torus is drawn as its surface. Where the eye ray of every
+    4th pixel meets the torus, the canvas there (the best of the 3 x 3
+    pixels around the hit point's projection) is the view's colour of its
+    material under the Lambert term at the renderer's normal; where it
+    meets the floor through the hole or around the ring inside the
+    torus's box, the floor's (its checker at the hit, as the textures step
+    computes it) -- on the page that drew the box, a translucent box
+    covered both, and every torus pixel showed the floor through it."""
+    srv = Server(IMP_SCENE, "-s", "%dx%d" % IMP_SIZE, "-d", "1")
+    try:
+        console_errors(d)
+        d.get(srv.url + "#tab=rays3d")
+        wait(d, "3d", lambda: attr(d, "box3d", "data-triangles") or page_error(d), 30)
+        wait(d, "textures", lambda: attr(d, "box3d", "data-textures"), 20)
+        scene = json.loads(srv.get("/api/scene")[1])
+        info = json.loads(srv.get("/api/info")[1])
+        d.find_element(By.CSS_SELECTOR, "#box3d [data-view=camera]").click()
+        time.sleep(0.3)
+        cam = info["camera"]
+
+        def unit(a):
+            n = sum(x * x for x in a) ** 0.5
+            return [x / n for x in a]
+        l1, l2 = unit([cam["from"][i] - cam["at"][i] for i in range(3)]), unit(cam["up"])
+        imp = [i for i, s in enumerate(scene["shapes"]) if s and s["kind"] == "implicit"]
+        lo, hi = scene["shapes"][imp[0]]["lo"], scene["shapes"][imp[0]]["hi"]
+        hits = []
+        for y in range(2, IMP_SIZE[1], 4):
+            for x in range(2, IMP_SIZE[0], 4):
+                st, b = srv.get("/api/trace", x=x, y=y, opts="depth=1", sample=0)
+                h = json.loads(b)["roots"][0].get("hit") if st == 200 else None
+                if not h:
+                    continue
+                on = h["object"] in imp
+                # the floor where the box would have covered it: under the
+                # box, within its outline as the camera sees it
+                p = h["point"]
+                under = not on and abs(p[0]) < hi[0] and abs(p[1]) < hi[1]
+                if not on and not under:
+                    continue
+                mt = scene["materials"][h["material"]]
+                lam = 0.3 + 0.55 * abs(sum(a * b for a, b in zip(h["ns"], l1))) + \
+                    0.25 * abs(sum(a * b for a, b in zip(h["ns"], l2)))
+                if "texture" in mt:
+                    want = [min(255.0, 255 * srgb(c) * lam) for c in h["surface"]]
+                else:
+                    want = [255 * (0.2 + 0.8 * min(1.0, max(0.0, c))) * lam for c in mt["color"]]
+                hits.append(("torus" if on else "floor", p, want))
+        cols = gl_colours(d, [p for _, p, _ in hits])
+        by = {"torus": [], "floor": []}
+        for (what, _, want), near in zip(hits, cols):
+            if near is not None:
+                by[what].append(min(max(abs(a - b) for a, b in zip(want, g)) for g in near))
+        for what in ("torus", "floor"):
+            errs = sorted(by[what])
+            within = sum(1 for e in errs if e <= 24) / max(1, len(errs))
+            check(len(errs) >= 20 and within >= 0.85 and errs[len(errs) // 2] <= 8,
+                  "implicit: %s: %d of %d pixels within 24 of its colour there, median off by %s"
+                  % ("the torus drawn as its surface" if what == "torus" else "the floor around and through it",
+                     round(within * len(errs)), len(errs), "%.1f" % errs[len(errs) // 2] if errs else "-"),
+                  "off by %s" % " ".join("%.0f" % e for e in errs[-20:]))
+        n = sum(s["surface"]["triangles"] for s in scene["shapes"] if s and s.get("surface"))
+        check(attr(d, "box3d", "data-surface-triangles") == str(n) and "box" not in d.find_element(By.ID, "note3d").text,
+              "implicit: the view shades the %d triangles of the surface, and notes no box" % n,
+              d.find_element(By.ID, "note3d").text)
+        if SHOT:
+            d.find_element(By.ID, "gl3d").screenshot(os.path.join(os.path.dirname(os.path.abspath(SHOT)),
+                                                                  "torus-3d.png"))
+        check(not console_errors(d), "implicit: no console error", console_errors(d))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
+
 # ---- regressions: one check per bug fixed in the page ----
 
 def fix_3d_clip(d):
@@ -1487,7 +1576,8 @@ def main():
         steps = [("glass", lambda: glass(d, want)), ("layout", lambda: layout(d)),
                  ("first", lambda: tracing_first(d)), ("scenes", lambda: every_scene(d)),
                  ("paths", lambda: paths(d, DOCS)), ("history", lambda: history(d)),
-                 ("textures", lambda: textures(d)), ("fixes", lambda: fixes(d))]
+                 ("textures", lambda: textures(d)), ("implicit", lambda: implicit(d)),
+                 ("fixes", lambda: fixes(d))]
         if DOCS:
             steps.append(("docs", lambda: docs_shots(d, DOCS)))
         for name, step in steps:

@@ -1132,6 +1132,71 @@ def check_textures(work, env):
           "missing kinds: %s" % " ".join(sorted(every - kinds)))
 
 
+SURFACE_RES = (64, 48, 32, 24, 16, 12, 8)  # serve_api.c
+MAX_SURFACE_TRIANGLES = 100000
+
+
+def check_surfaces(work, env):
+    """For every scene file: /api/scene is strict JSON; each implicit
+    object has its "surface" (docs/serve.md): a resolution the server
+    tries, as many index triples as it says triangles, every index a
+    vertex, every vertex inside the object's box, every normal unit, all
+    scenes' surfaces within the budget together; no other kind has one."""
+    t0 = time.time()
+    total = scenes = 0
+    for path in scene_files():
+        s = Server([path, "--port", "0", "-s", "32x24", "-d", "1"], ROOT, env)
+        bad, tris = [], 0
+        try:
+            st, _, b = s.get("/api/scene")
+            scene = strict_json(b)
+            if st != 200:
+                bad.append("/api/scene: status %d" % st)
+            for i, sh in enumerate(scene.get("shapes", [])):
+                sf = sh and sh.get("surface")
+                if not sh or sh["kind"] != "implicit":
+                    if sf is not None:
+                        bad.append("object %d (%s) has a surface" % (i, sh and sh["kind"]))
+                    continue
+                if not sf:
+                    bad.append("implicit object %d has no surface" % i)
+                    continue
+                v, n, t = sf["verts"], sf["normals"], sf["tris"]
+                nv = len(v) // 3
+                lo, hi = sh["lo"], sh["hi"]
+                slack = [1e-6 * max(1.0, abs(a), abs(b)) for a, b in zip(lo, hi)]
+                if sf["resolution"] not in SURFACE_RES or len(t) != 3 * sf["triangles"] or not t or \
+                        len(v) != len(n) or len(v) % 3:
+                    bad.append("object %d: resolution %s, %d triangles, %d indices, %d/%d coordinates"
+                               % (i, sf["resolution"], sf["triangles"], len(t), len(v), len(n)))
+                    continue
+                if any(not (isinstance(k, int) and 0 <= k < nv) for k in t):
+                    bad.append("object %d: an index out of 0..%d" % (i, nv - 1))
+                out = [k for k in range(nv) if any(not (lo[c] - slack[c] <= v[3 * k + c] <= hi[c] + slack[c])
+                                                  for c in range(3))]
+                if out:
+                    bad.append("object %d: %d vertices outside the box, e.g. %r" % (i, len(out), v[3 * out[0]:3 * out[0] + 3]))
+                norm = [abs(math.sqrt(sum(n[3 * k + c] ** 2 for c in range(3))) - 1) for k in range(nv)]
+                if max(norm) > 2e-3:
+                    bad.append("object %d: a normal of length off 1 by %g" % (i, max(norm)))
+                tris += sf["triangles"]
+            if tris > MAX_SURFACE_TRIANGLES:
+                bad.append("%d surface triangles, over the budget of %d" % (tris, MAX_SURFACE_TRIANGLES))
+        except ValueError as e:
+            bad.append(str(e))
+        finally:
+            rc, err = s.stop()
+            if rc != 0:
+                bad.append("ggrt serve exit %s: %s" % (rc, err[-300:]))
+        total += tris
+        scenes += tris > 0
+        if bad or tris:
+            check(not bad, "%s: /api/scene's implicit surfaces (%d triangles)" % (path, tris), "\n".join(bad[:20]))
+    check(scenes >= 3 and total > 0,
+          "surfaces: %d of %d scenes have implicit surfaces, %d triangles sent, every scene's /api/scene "
+          "strict JSON (%.1f s)" % (scenes, len(scene_files()), total, time.time() - t0))
+
+
 def png_bytes(w, h, rgb):
     """An 8-bit RGB PNG of rows of bytes rgb."""
     def chunk(t, c):
@@ -1289,6 +1354,7 @@ def run(base):
                        stderr=subprocess.PIPE, text=True, timeout=30)
     check(r.returncode != 0 and "numeric" in r.stderr, "--host must be numeric", r.stderr)
     check_textures(work, env)
+    check_surfaces(work, env)
     check_texture_reduced(env)
     check_tracing_first(work, env)
     check_cancel(work, env)
