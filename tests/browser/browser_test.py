@@ -302,7 +302,7 @@ def every_scene(d):
         n += 1
         tabs = " (every tab)" if os.path.basename(sc) in TABBED else ""
         if not check(not what, "%s: the page loads, a click shows the tree and the 3D view (every mesh "
-                     "triangle, not blank from the camera and the rays), ggrt render's ray counts, "
+                     "and implicit-surface triangle, not blank from the camera and the rays), ggrt render's ray counts, "
                      "no console error%s (%.1f s)" % (sc, tabs, time.time() - t1), "\n".join(what)):
             broken.append(sc)
     print("every scene: %d files in %.1f s; failing: %s" % (n, time.time() - t0, " ".join(broken) or "none"))
