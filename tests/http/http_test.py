@@ -25,6 +25,8 @@ import xml.dom.minidom
 import zlib
 
 import tap
+# Every scene file the loops serve, and JSON without NaN: the scene suite's.
+from http_scenes_test import scene_files, strict  # noqa: E402
 
 GGRT = os.path.abspath(sys.argv[1]) if len(sys.argv) > 1 else "build/ggrt"
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -831,25 +833,6 @@ def check_cancel(work, env):
 # ---- textures: what the 3D view needs, over every scene ----
 
 TEX_SIZE = (48, 36)  # each scene's image; every other pixel's eye ray is traced
-SCENE_EXT = (".nff", ".obj", ".ply")
-
-
-def scene_files():
-    """Every scene file the other loops serve: examples/scenes (NFF, OBJ,
-    PLY), tests/data/debug, and the scenes at the top of tests/data (not
-    hostile/ nor meshes/, whose inputs must fail)."""
-    out = []
-    for top in ("examples/scenes", "tests/data/debug"):
-        for d, _, files in os.walk(os.path.join(ROOT, top)):
-            out += [os.path.relpath(os.path.join(d, f), ROOT) for f in files if f.endswith(SCENE_EXT)]
-    out += [os.path.join("tests/data", f) for f in os.listdir(os.path.join(ROOT, "tests/data")) if f.endswith(".nff")]
-    return sorted(out)
-
-
-def strict_json(b):
-    def refuse(name):
-        raise ValueError("not JSON: " + name)
-    return json.loads(b.decode("utf-8"), parse_constant=refuse)
 
 
 def srgb_to_linear(b):
@@ -986,7 +969,7 @@ def texture_scene(path, work, env, kinds):
     ntex = hits = 0
     try:
         st, h, b = s.get("/api/scene")
-        scene = strict_json(b)
+        scene = strict(b)
         if st != 200:
             return ["/api/scene: status %d" % st], 0, 0
         _, info = s.json("/api/info")
@@ -1049,14 +1032,14 @@ def texture_scene(path, work, env, kinds):
                 if t["wrap"] not in ("repeat", "clamp") or t["filter"] not in ("bilinear", "nearest"):
                     bad.append("texture %d: wrap %r, filter %r" % (i, t["wrap"], t["filter"]))
             elif not (t["kind"] == "checker" and t["n"] > 0 and len(t["a"]) == 3 and len(t["b"]) == 3 and
-                      st == 404 and strict_json(b)["status"] == 404):
+                      st == 404 and strict(b)["status"] == 404):
                 bad.append("texture %d: a checker %r, /api/texture %d %s" % (i, t, st, b[:100]))
         # Refusals: JSON with the status.
         for q, want in (("index=%d" % ntex, 404), ("index=-1", 400), ("index=x", 400), ("", 400),
                         ("index=99999999999", 400), ("index=0&x=1", 400)):
             st, h, b = s.get("/api/texture" + ("?" + q if q else ""))
             try:
-                j = strict_json(b)
+                j = strict(b)
                 good = st == want and j.get("status") == want and h.get("content-type") == "application/json"
             except ValueError:
                 good = False
@@ -1071,7 +1054,7 @@ def texture_scene(path, work, env, kinds):
                 if not used:
                     break
                 st, h, b = s.get("/api/trace?x=%d&y=%d&sample=0" % (x, y))
-                hit = strict_json(b)["roots"][0].get("hit") if st == 200 else None
+                hit = strict(b)["roots"][0].get("hit") if st == 200 else None
                 if not hit or "texture" not in mats[hit["material"]]:
                     continue
                 tex = textures[mats[hit["material"]]["texture"]]
@@ -1149,7 +1132,7 @@ def check_surfaces(work, env):
         bad, tris = [], 0
         try:
             st, _, b = s.get("/api/scene")
-            scene = strict_json(b)
+            scene = strict(b)
             if st != 200:
                 bad.append("/api/scene: status %d" % st)
             for i, sh in enumerate(scene.get("shapes", [])):

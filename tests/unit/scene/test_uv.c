@@ -10,46 +10,17 @@
 ** colour bit for bit, for every filter and wrap mode and the checker.
 */
 #include "testutil.h"
+#include "vec.h"
 
 #include <math.h>
 #include <string.h>
 
 #define PI 3.14159265358979323846
 
-static ggVec3 vec3(double x, double y, double z)
-{
-    ggVec3 r;
-    r.x = x, r.y = y, r.z = z;
-    return r;
-}
-static ggVec3 add3(ggVec3 a, ggVec3 b)
-{
-    return vec3(a.x + b.x, a.y + b.y, a.z + b.z);
-}
-static ggVec3 sub3(ggVec3 a, ggVec3 b)
-{
-    return vec3(a.x - b.x, a.y - b.y, a.z - b.z);
-}
-static ggVec3 scale3(ggVec3 a, double s)
-{
-    return vec3(a.x * s, a.y * s, a.z * s);
-}
-static double dot3(ggVec3 a, ggVec3 b)
-{
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-static ggVec3 cross3(ggVec3 a, ggVec3 b)
-{
-    return vec3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
-}
-static ggVec3 unit3(ggVec3 a)
-{
-    return scale3(a, 1 / sqrt(dot3(a, a)));
-}
 /* p = v0 + b1 (v1 - v0) + b2 (v2 - v0) */
 static ggVec3 bary(const ggVec3 *v0, const ggVec3 *v1, const ggVec3 *v2, double b1, double b2)
 {
-    return add3(*v0, add3(scale3(sub3(*v1, *v0), b1), scale3(sub3(*v2, *v0), b2)));
+    return v3add(*v0, v3add(v3scale(v3sub(*v1, *v0), b1), v3scale(v3sub(*v2, *v0), b2)));
 }
 
 /* One object of each kind, 10 apart along x, all with a checker. */
@@ -109,21 +80,22 @@ typedef struct sample {
 /* The polygon's (u, v) as its contract states them, worked out here. */
 static void poly_uv(const ggShapeDesc *d, ggVec3 p, double *u, double *v)
 {
-    ggVec3 n = vec3(0, 0, 0), eu, ev;
+    ggVec3 n = v3(0, 0, 0), eu, ev;
     double u0 = INFINITY, u1 = -INFINITY, v0 = INFINITY, v1 = -INFINITY;
     int i;
-    for (i = 0; i < d->nverts; i++) n = add3(n, cross3(d->verts[i], d->verts[(i + 1) % d->nverts]));
-    n = unit3(n);
-    eu = sub3(d->verts[1], d->verts[0]);
-    eu = unit3(sub3(eu, scale3(n, dot3(eu, n))));
-    ev = cross3(n, eu);
+    for (i = 0; i < d->nverts; i++)
+        n = v3add(n, v3cross(d->verts[i], d->verts[(i + 1) % d->nverts]));
+    n = v3norm(n);
+    eu = v3sub(d->verts[1], d->verts[0]);
+    eu = v3norm(v3sub(eu, v3scale(n, v3dot(eu, n))));
+    ev = v3cross(n, eu);
     for (i = 0; i < d->nverts; i++) {
-        ggVec3 q = sub3(d->verts[i], d->verts[0]);
-        u0 = fmin(u0, dot3(q, eu)), u1 = fmax(u1, dot3(q, eu));
-        v0 = fmin(v0, dot3(q, ev)), v1 = fmax(v1, dot3(q, ev));
+        ggVec3 q = v3sub(d->verts[i], d->verts[0]);
+        u0 = fmin(u0, v3dot(q, eu)), u1 = fmax(u1, v3dot(q, eu));
+        v0 = fmin(v0, v3dot(q, ev)), v1 = fmax(v1, v3dot(q, ev));
     }
-    *u = (dot3(sub3(p, d->verts[0]), eu) - u0) / (u1 - u0);
-    *v = (dot3(sub3(p, d->verts[0]), ev) - v0) / (v1 - v0);
+    *u = (v3dot(v3sub(p, d->verts[0]), eu) - u0) / (u1 - u0);
+    *v = (v3dot(v3sub(p, d->verts[0]), ev) - v0) / (v1 - v0);
 }
 
 static void make_sample(const ggScene *s, int k, tu_rng *r, sample *o)
@@ -136,7 +108,7 @@ static void make_sample(const ggScene *s, int k, tu_rng *r, sample *o)
     switch (k) {
     case SPHERE: {
         ggVec3 n = tu_unit(r);
-        o->p = add3(d.base, scale3(n, d.radius));
+        o->p = v3add(d.base, v3scale(n, d.radius));
         o->u = atan2(n.y, n.x) / (2 * PI);
         if (o->u < 0) o->u += 1;
         o->v = acos(n.z) / PI;
@@ -144,19 +116,20 @@ static void make_sample(const ggScene *s, int k, tu_rng *r, sample *o)
         break;
     }
     case CONE: {
-        ggVec3 ax = sub3(d.apex, d.base), ez = unit3(ax), rad;
-        double h = sqrt(dot3(ax, ax)), th = tu_range(r, 0, 2 * PI), z = tu_range(r, 0.02, 0.98) * h;
+        ggVec3 ax = v3sub(d.apex, d.base), ez = v3norm(ax), rad;
+        double h = sqrt(v3dot(ax, ax)), th = tu_range(r, 0, 2 * PI),
+               z = tu_range(r, 0.02, 0.98) * h;
         double rho = d.radius + (d.radius2 - d.radius) * z / h;
-        rad = add3(scale3(d.e1, cos(th)), scale3(d.e2, sin(th)));
-        o->p = add3(d.base, add3(scale3(ez, z), scale3(rad, rho)));
+        rad = v3add(v3scale(d.e1, cos(th)), v3scale(d.e2, sin(th)));
+        o->p = v3add(d.base, v3add(v3scale(ez, z), v3scale(rad, rho)));
         o->u = th / (2 * PI), o->v = z / h;
         out = rad;
         break;
     }
     case RECT:
         o->u = tu_range(r, 0.01, 0.99), o->v = tu_range(r, 0.01, 0.99);
-        o->p = add3(d.base, add3(scale3(d.e1, o->u), scale3(d.e2, o->v)));
-        out = scale3(unit3(cross3(d.e1, d.e2)), tu_uniform(r) < 0.5 ? 1 : -1);
+        o->p = v3add(d.base, v3add(v3scale(d.e1, o->u), v3scale(d.e2, o->v)));
+        out = v3scale(v3norm(v3cross(d.e1, d.e2)), tu_uniform(r) < 0.5 ? 1 : -1);
         break;
     case TRI:
     case FAN:
@@ -185,8 +158,8 @@ static void make_sample(const ggScene *s, int k, tu_rng *r, sample *o)
         } else {
             o->u = b1, o->v = b2;
         }
-        out =
-            scale3(unit3(cross3(sub3(v[1], v[0]), sub3(v[2], v[0]))), tu_uniform(r) < 0.5 ? 1 : -1);
+        out = v3scale(v3norm(v3cross(v3sub(v[1], v[0]), v3sub(v[2], v[0]))),
+                      tu_uniform(r) < 0.5 ? 1 : -1);
         break;
     }
     case POLY: { /* an L: the square [51, 52] x [0, 1] is cut out */
@@ -194,22 +167,22 @@ static void make_sample(const ggScene *s, int k, tu_rng *r, sample *o)
         do {
             x = tu_range(r, 50.01, 51.99), z = tu_range(r, -0.99, 0.99);
         } while (x > 50.99 && z > -0.01);
-        o->p = vec3(x, 0, z);
+        o->p = v3(x, 0, z);
         poly_uv(&d, o->p, &o->u, &o->v);
-        out = vec3(0, tu_uniform(r) < 0.5 ? 1 : -1, 0);
+        out = v3(0, tu_uniform(r) < 0.5 ? 1 : -1, 0);
         break;
     }
     default: { /* the implicit sphere of radius 1 about (70, 0, 0) */
         ggVec3 n = tu_unit(r);
-        o->p = add3(vec3(70, 0, 0), n);
+        o->p = v3add(v3(70, 0, 0), n);
         o->u = o->v = 0;
         out = n;
     }
     }
     /* From 3 units out, a little askew, aimed at p. */
-    out = unit3(add3(out, scale3(tu_unit(r), 0.2)));
-    o->ray.o = add3(o->p, scale3(out, 3));
-    o->ray.d = scale3(out, -1);
+    out = v3norm(v3add(out, v3scale(tu_unit(r), 0.2)));
+    o->ray.o = v3add(o->p, v3scale(out, 3));
+    o->ray.d = v3scale(out, -1);
 }
 
 /* Every kind, 200 points each: the documented (u, v) at the point, and
@@ -275,12 +248,13 @@ static void test_frames(void **state)
     assert_true(d.e1.x == 1 && d.e1.y == 0 && d.e1.z == 0);
     assert_true(d.e2.x == 0 && d.e2.y == 1 && d.e2.z == 0);
     assert_int_equal(ggSceneObjectShape(s, CONE, &d), GG_OK);
-    ax = unit3(sub3(d.apex, d.base));
-    assert_close(dot3(d.e1, d.e1), 1, 1e-15);
-    assert_close(dot3(d.e2, d.e2), 1, 1e-15);
-    assert_true(fabs(dot3(d.e1, d.e2)) < 1e-15 && fabs(dot3(d.e1, ax)) < 1e-15 &&
-                fabs(dot3(d.e2, ax)) < 1e-15);
-    p[0] = add3(d.base, d.e1), p[1] = add3(d.base, d.e2), p[2] = add3(d.apex, scale3(d.e1, 0.4));
+    ax = v3norm(v3sub(d.apex, d.base));
+    assert_close(v3dot(d.e1, d.e1), 1, 1e-15);
+    assert_close(v3dot(d.e2, d.e2), 1, 1e-15);
+    assert_true(fabs(v3dot(d.e1, d.e2)) < 1e-15 && fabs(v3dot(d.e1, ax)) < 1e-15 &&
+                fabs(v3dot(d.e2, ax)) < 1e-15);
+    p[0] = v3add(d.base, d.e1), p[1] = v3add(d.base, d.e2),
+    p[2] = v3add(d.apex, v3scale(d.e1, 0.4));
     assert_int_equal(ggSceneObjectUV(s, CONE, 0, p, 3, uv), GG_OK);
     assert_true(du(uv[0], 0, 1) < 1e-15 && uv[1] < 1e-15);
     assert_close(uv[2], 0.25, 1e-15);
