@@ -1085,12 +1085,7 @@ def textures(d):
         d.find_element(By.CSS_SELECTOR, "#box3d [data-view=camera]").click()
         time.sleep(0.3)
         cam = info["camera"]
-
-        def unit(a):
-            n = sum(x * x for x in a) ** 0.5
-            return [x / n for x in a]
-        # the shader's two light directions through the scene's camera
-        l1, l2 = unit([cam["from"][i] - cam["at"][i] for i in range(3)]), unit(cam["up"])
+        l1, l2 = view_lights(cam)
         hits = []
         for y in range(2, TEX_SIZE[1], 4):
             for x in range(2, TEX_SIZE[0], 4):
@@ -1169,11 +1164,7 @@ def implicit(d):
         d.find_element(By.CSS_SELECTOR, "#box3d [data-view=camera]").click()
         time.sleep(0.3)
         cam = info["camera"]
-
-        def unit(a):
-            n = sum(x * x for x in a) ** 0.5
-            return [x / n for x in a]
-        l1, l2 = unit([cam["from"][i] - cam["at"][i] for i in range(3)]), unit(cam["up"])
+        l1, l2 = view_lights(cam)
         imp = [i for i, s in enumerate(scene["shapes"]) if s and s["kind"] == "implicit"]
         lo, hi = scene["shapes"][imp[0]]["lo"], scene["shapes"][imp[0]]["hi"]
         hits = []
@@ -1281,6 +1272,15 @@ def fix_typing(d):
     finally:
         d.get("about:blank")
         srv.stop()
+
+
+def view_lights(cam):
+    """The 3D view's shader's two light directions through the scene's
+    camera (view3d.js): towards the eye and the camera's up."""
+    def unit(a):
+        n = sum(x * x for x in a) ** 0.5
+        return [x / n for x in a]
+    return unit([cam["from"][i] - cam["at"][i] for i in range(3)]), unit(cam["up"])
 
 
 def fix_cancel(d):
