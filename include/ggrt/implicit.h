@@ -195,7 +195,8 @@ GG_API ggVec3 ggGradientCentral(const ggImplicit *imp, ggVec3 p, double h);
 /* Triangles approximating the surface f = 0 inside the box, for drawing
    it (ggrt serve's 3D view) or exporting it. */
 typedef struct ggTriangulation {
-    int resolution;  /* cells along each axis of the box */
+    int resolution;  /* cells along the box's longest side, as asked */
+    int cells[3];    /* cells along x, y and z (see ggImplicitTriangulate) */
     size_t nverts;   /* points on the surface */
     size_t ntris;    /* triangles */
     ggVec3 *verts;   /* nverts points, each within the refinement of a sign change of f */
@@ -204,16 +205,20 @@ typedef struct ggTriangulation {
                         side where f > 0 (the normals' side) */
 } ggTriangulation;
 
-/* Resolutions ggImplicitTriangulate takes: 1 .. this many cells per axis. */
+/* Resolutions ggImplicitTriangulate takes: 1 .. this many cells along the
+   box's longest side. */
 #define GG_TRIANGULATE_MAX_RESOLUTION 256
 
-/* Marching tetrahedra over a grid of resolution^3 cells that fill the box
-   (cells of (hi - lo) / resolution, so as flat as the box), each cut into
-   the six tetrahedra around its main diagonal (the Freudenthal-Kuhn
-   split, the same across shared faces). f is sampled at the
-   (resolution + 1)^3 grid points; a vertex is made on each grid edge
+/* Marching tetrahedra over a grid of cells that fill the box, as near
+   cubes as whole counts allow: `resolution` cells along the box's
+   longest side, ceil(resolution side / longest) along each other side
+   (at least 1; in cells[]), each cell a side / count long. So a flat box
+   gets few layers of cells, not flat cells. Each cell is cut into the
+   six tetrahedra around its main diagonal (the Freudenthal-Kuhn split,
+   the same across shared faces). f is sampled at the grid points (the
+   cells[a] + 1 along each axis); a vertex is made on each grid edge
    whose ends have f < 0 and f >= 0 (or f >= 0 and f < 0), placed on the
-   edge by linear interpolation refined by four steps of the Illinois
+   edge by linear interpolation refined by six steps of the Illinois
    method, and shared by every triangle that cuts that edge. So:
      - the mesh is closed (every edge in exactly two triangles, with
        opposite directions) wherever the surface does not leave the box
@@ -228,11 +233,12 @@ typedef struct ggTriangulation {
    Normals are the renderer's gradient (ggGradientNormal: exact for
    expressions and gradient callbacks), normalised; where it is zero or
    not finite, the direction of the grid edge from its f < 0 end.
-   max_triangles bounds the result (0: only the resolution does: at most
-   12 resolution^3 triangles); more fail with GG_ERROR_LIMIT after about
-   the work of the whole grid, so a caller with a budget may retry at a
-   lower resolution. Costs (resolution + 1)^3 evaluations of f and about
-   five more per vertex; memory: the result and two layers of the grid.
+   max_triangles bounds the result (0: only the grid does: at most 12
+   triangles a cell); one more fails with GG_ERROR_LIMIT (after at
+   most the work of the whole grid), so a caller with a budget may retry at a
+   lower resolution. Costs an evaluation of f per grid point (at most
+   (resolution + 1)^3) and about five more per vertex; memory: the result
+   and two layers of the grid.
    *out receives the result, made with alloc (NULL: malloc; copied), to
    free with ggTriangulationFree; a surface with no sign change on the
    grid gives zero triangles (and NULL arrays). On failure *out is NULL.

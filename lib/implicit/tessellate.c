@@ -3,9 +3,12 @@
 ** tessellate.c -- triangles of an implicit surface's zero set
 ** (ggImplicitTriangulate): marching tetrahedra over a grid in the box.
 **
-** The grid is walked one layer of cells at a time (z from lo to hi), so
-** besides the result only two layers of samples and of edge vertices are
-** kept. Each cell is cut into the six Freudenthal-Kuhn tetrahedra: for
+** The cells are as near cubes as whole counts allow (a flat box gets
+** few layers, not flat cells: at the same count of cells a thin tube in
+** a flat box is crossed by grid edges where flat cells would step over
+** it). The grid is walked one layer of cells at a time (z from lo to
+** hi), so besides the result only two layers of samples and of edge
+** vertices are kept. Each cell is cut into the six Freudenthal-Kuhn tetrahedra: for
 ** each order (a, b, c) of the axes, the corners 0, e_a, e_a + e_b and
 ** e_a + e_b + e_c. Every edge of those tetrahedra runs from a grid point
 ** p to p + (a sum of distinct unit steps), so it is named by p and a
@@ -20,7 +23,7 @@
 #include <math.h>
 #include <string.h>
 
-#define REFINE 4 /* Illinois steps per edge vertex */
+#define REFINE 6 /* Illinois steps per edge vertex */
 #define NONE   UINT32_MAX
 
 typedef struct tri_res {
@@ -31,10 +34,10 @@ typedef struct tri_res {
 
 typedef struct tess {
     const ggImplicit *imp;
-    int n;       /* cells per axis */
-    size_t side; /* n + 1 */
+    int n[3];    /* cells along x, y, z */
+    size_t side; /* n[0] + 1: grid points in a row of a layer */
     ggVec3 lo, hi;
-    double *val[2];   /* f at the grid points of two z layers, side^2 each */
+    double *val[2];   /* f at the grid points of two z layers, side (n[1] + 1) each */
     uint32_t *eid[2]; /* vertex of edge (point, mask): [point * 8 + mask] */
     size_t vcap, tcap, max_tris;
     tri_res *r;
@@ -47,8 +50,8 @@ static double coord(double lo, double hi, int i, int n)
 
 static ggVec3 grid_point(const tess *t, int i, int j, int k)
 {
-    return v3(coord(t->lo.x, t->hi.x, i, t->n), coord(t->lo.y, t->hi.y, j, t->n),
-              coord(t->lo.z, t->hi.z, k, t->n));
+    return v3(coord(t->lo.x, t->hi.x, i, t->n[0]), coord(t->lo.y, t->hi.y, j, t->n[1]),
+              coord(t->lo.z, t->hi.z, k, t->n[2]));
 }
 
 static ggVec3 lerp(ggVec3 a, ggVec3 b, double s)
@@ -212,10 +215,10 @@ static void layer_values(tess *t, int k)
 {
     double *v = t->val[k & 1];
     int i, j;
-    for (j = 0; j <= t->n; j++)
-        for (i = 0; i <= t->n; i++)
+    for (j = 0; j <= t->n[1]; j++)
+        for (i = 0; i <= t->n[0]; i++)
             v[(size_t)j * t->side + (size_t)i] = ggImplicitEval(t->imp, grid_point(t, i, j, k));
-    memset(t->eid[k & 1], 0xff, sizeof(uint32_t) * 8 * t->side * t->side);
+    memset(t->eid[k & 1], 0xff, sizeof(uint32_t) * 8 * t->side * ((size_t)t->n[1] + 1));
 }
 
 static int march(tess *t)
@@ -225,10 +228,10 @@ static int march(tess *t)
                                     {2, 4, 1}, {4, 1, 2}, {4, 2, 1}};
     int i, j, k, o, rc;
     layer_values(t, 0);
-    for (k = 0; k < t->n; k++) {
+    for (k = 0; k < t->n[2]; k++) {
         layer_values(t, k + 1);
-        for (j = 0; j < t->n; j++)
-            for (i = 0; i < t->n; i++)
+        for (j = 0; j < t->n[1]; j++)
+            for (i = 0; i < t->n[0]; i++)
                 for (o = 0; o < 6; o++) {
                     int c[4];
                     c[0] = 0, c[1] = order[o][0], c[2] = c[1] | order[o][1], c[3] = 7;
@@ -249,12 +252,26 @@ GG_API void ggTriangulationFree(ggTriangulation *t)
     gg_mem_free(a, t);
 }
 
+/* Cells along each axis: `resolution` along the box's longest side,
+   ceil(resolution side / longest) (at least 1) along the others. */
+static void cell_counts(ggVec3 lo, ggVec3 hi, int resolution, int n[3])
+{
+    double e[3], l;
+    int a;
+    e[0] = hi.x - lo.x, e[1] = hi.y - lo.y, e[2] = hi.z - lo.z;
+    l = fmax(e[0], fmax(e[1], e[2]));
+    for (a = 0; a < 3; a++) {
+        double c = l > 0 ? ceil(resolution * (e[a] / l)) : resolution;
+        n[a] = !(c >= 1) ? 1 : c > resolution ? resolution : (int)c;
+    }
+}
+
 GG_API int ggImplicitTriangulate(const ggImplicit *imp, int resolution, size_t max_triangles,
                                  const ggAllocator *alloc, ggTriangulation **out)
 {
     tess t;
     tri_res *r;
-    size_t side2;
+    size_t layer;
     int rc = GG_OK, q;
     if (!imp || !out) return GG_ERROR_INVALID;
     *out = NULL;
@@ -263,15 +280,18 @@ GG_API int ggImplicitTriangulate(const ggImplicit *imp, int resolution, size_t m
     r = gg_mem_calloc(alloc, 1, sizeof *r);
     if (!r) return GG_ERROR_NOMEM;
     if (alloc) r->alloc_copy = *alloc, r->alloc = &r->alloc_copy;
-    r->pub.resolution = resolution;
     memset(&t, 0, sizeof t);
-    t.imp = imp, t.n = resolution, t.side = (size_t)resolution + 1, t.r = r;
+    t.imp = imp, t.r = r;
     t.max_tris = max_triangles;
     gg_implicit_bounds(imp, &t.lo, &t.hi);
-    side2 = t.side * t.side;
+    cell_counts(t.lo, t.hi, resolution, t.n);
+    r->pub.resolution = resolution;
+    for (q = 0; q < 3; q++) r->pub.cells[q] = t.n[q];
+    t.side = (size_t)t.n[0] + 1;
+    layer = t.side * ((size_t)t.n[1] + 1);
     for (q = 0; q < 2 && rc == GG_OK; q++) {
-        t.val[q] = gg_mem_calloc(r->alloc, side2, sizeof *t.val[q]);
-        t.eid[q] = gg_mem_calloc(r->alloc, 8 * side2, sizeof *t.eid[q]);
+        t.val[q] = gg_mem_calloc(r->alloc, layer, sizeof *t.val[q]);
+        t.eid[q] = gg_mem_calloc(r->alloc, 8 * layer, sizeof *t.eid[q]);
         if (!t.val[q] || !t.eid[q]) rc = GG_ERROR_NOMEM;
     }
     if (rc == GG_OK) rc = march(&t);

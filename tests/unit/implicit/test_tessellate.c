@@ -6,8 +6,9 @@
 ** unit and the renderer's gradient, every edge in exactly two triangles
 ** with opposite directions (closed and consistently oriented), the
 ** enclosed volume near the exact one; a box that cuts the surface (the
-** open edges all on the cut face); an empty box; undefined parts; the
-** limits; every allocation failing in turn; threads; the scene's call.
+** open edges all on the cut face); near-cubic cells in flat boxes, and a
+** tube thinner than a flat box's cells drawn whole; an empty box;
+** undefined parts; the limits; every allocation failing in turn; threads; the scene's call.
 */
 #include "testutil.h"
 
@@ -192,6 +193,89 @@ static void test_torus_closed(void **state)
     edges(t, &shared, &open, NULL, NULL);
     assert_int_equal(open, 0);
     assert_int_equal((long)t->nverts - (long)shared + (long)t->ntris, 0);
+    ggTriangulationFree(t);
+    ggImplicitFree(imp);
+}
+
+/* Connected pieces of t (triangles sharing a vertex), by union-find. */
+static size_t root(size_t *up, size_t i)
+{
+    while (up[i] != i) i = up[i] = up[up[i]];
+    return i;
+}
+
+static size_t pieces(const ggTriangulation *t)
+{
+    size_t *up = malloc(sizeof *up * (t->nverts ? t->nverts : 1)), i, n = 0;
+    assert_non_null(up);
+    for (i = 0; i < t->nverts; i++) up[i] = i;
+    for (i = 0; i < 3 * t->ntris; i++) up[root(up, t->tris[i])] = root(up, t->tris[i - i % 3]);
+    for (i = 0; i < t->nverts; i++) n += root(up, i) == i;
+    free(up);
+    return n;
+}
+
+/* The counts of cells: the resolution along the longest side, as many as
+   keep the cells no longer than that along the others, at least one. */
+static void test_cell_counts(void **state)
+{
+    static const struct {
+        double lo[3], hi[3];
+        int res, n[3];
+    } c[] = {
+        {{-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}, 24, {24, 24, 24}},
+        {{-1.4, -1.4, -0.4}, {1.4, 1.4, 0.4}, 64, {64, 64, 19}}, /* 18.29 */
+        {{0, 0, 0}, {0.5, 2, 1}, 8, {2, 8, 4}},                  /* whole ratios */
+        {{-1.05, -1.05, -0.05}, {1.05, 1.05, 0.05}, 132, {132, 132, 7}},
+        {{0, 0, 0}, {1, 1e-9, 1}, 256, {256, 1, 256}}, /* all but flat */
+        {{0, 0, 0}, {1, 1, 1}, 1, {1, 1, 1}},
+    };
+    size_t i;
+    int a;
+    (void)state;
+    for (i = 0; i < sizeof c / sizeof c[0]; i++) {
+        ggImplicit *imp = surface("x^2+y^2+z^2-1", v3(c[i].lo[0], c[i].lo[1], c[i].lo[2]),
+                                  v3(c[i].hi[0], c[i].hi[1], c[i].hi[2]));
+        ggTriangulation *t = tri(imp, c[i].res);
+        double longest = 0;
+        for (a = 0; a < 3; a++) longest = fmax(longest, c[i].hi[a] - c[i].lo[a]);
+        for (a = 0; a < 3; a++) {
+            if (t->cells[a] != c[i].n[a])
+                print_error("box %zu axis %d: %d cells, expected %d\n", i, a, t->cells[a],
+                            c[i].n[a]);
+            assert_int_equal(t->cells[a], c[i].n[a]);
+            assert_true((c[i].hi[a] - c[i].lo[a]) / t->cells[a] <=
+                        longest / c[i].res * (1 + 1e-12));
+        }
+        ggTriangulationFree(t);
+        ggImplicitFree(imp);
+    }
+}
+
+/* examples/scenes/acc-thin.nff's torus: a tube of radius 0.03 in a box
+   2.1 x 2.1 x 0.1. Cells as flat as the box, 48^3 of them, are 0.044
+   across: wider than the tube, which they drew in pieces. Near-cubic
+   ones at about that count (132 x 132 x 7, 0.016 across) draw one closed
+   surface of genus 1. */
+static void test_thin_tube(void **state)
+{
+    ggImplicit *imp = surface("(x^2+y^2+z^2+1-0.03^2)^2 - 4*(x^2+y^2)", v3(-1.05, -1.05, -0.05),
+                              v3(1.05, 1.05, 0.05));
+    ggTriangulation *t = tri(imp, 132);
+    size_t shared, open, n;
+    stats st = check(imp, t, 1e-3);
+    double volume = 2 * GG_PI * GG_PI * 0.03 * 0.03;
+    (void)state;
+    edges(t, &shared, &open, NULL, NULL);
+    n = pieces(t);
+    print_message("thin tube at %d x %d x %d cells: %zu triangles, %zu piece(s), volume %.5f "
+                  "(exact %.5f)\n",
+                  t->cells[0], t->cells[1], t->cells[2], t->ntris, n, st.volume, volume);
+    assert_true((long)t->cells[0] * t->cells[1] * t->cells[2] <= 48L * 48 * 48 * 12 / 10);
+    assert_int_equal(open, 0);
+    assert_int_equal(n, 1);
+    assert_int_equal((long)t->nverts - (long)shared + (long)t->ntris, 0);
+    assert_true(fabs(st.volume - volume) <= 0.1 * volume);
     ggTriangulationFree(t);
     ggImplicitFree(imp);
 }
@@ -468,6 +552,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere_closed),    cmocka_unit_test(test_torus_closed),
+        cmocka_unit_test(test_cell_counts),      cmocka_unit_test(test_thin_tube),
         cmocka_unit_test(test_box_cuts_surface), cmocka_unit_test(test_empty_box),
         cmocka_unit_test(test_undefined_parts),  cmocka_unit_test(test_callbacks),
         cmocka_unit_test(test_limits),           cmocka_unit_test(test_nomem),
