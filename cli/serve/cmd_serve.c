@@ -219,8 +219,14 @@ int cmd_serve(int argc, char **argv)
         cli_error("cannot read /dev/urandom for the token");
         return EXIT_IO;
     }
+    if (pthread_mutex_init(&s.scene_mu, NULL) != 0) {
+        cli_error("cannot make a mutex");
+        return EXIT_IO;
+    }
     if ((rc = load(&s)) == EXIT_OK) rc = serve(&s);
     ggSceneFree(s.scene);
+    free(s.scene_json); /* after serve() has stopped the server: no response holds it */
+    pthread_mutex_destroy(&s.scene_mu);
     return rc;
 }
 

@@ -121,6 +121,11 @@ struct srv_server {
                        call the library on it at once (scene.h, "Threads") */
     char token[33];
     struct srv_jobs *jobs;
+    /* /api/scene's body, built by the first request (the scene does not
+       change while served) and kept until the server stops */
+    pthread_mutex_t scene_mu;
+    char *scene_json;
+    size_t scene_json_len;
 };
 
 /* Pixel coordinate parameter `name` (required), in [0, limit): 0, or -1

@@ -17,10 +17,11 @@
    is listed and "simplified" says so, for the page to note. */
 #define MAX_SCENE_TRIANGLES 60000L
 /* Implicit surfaces' triangles /api/scene sends, all of them together
-   (about 4 MB of JSON): each of the k implicit objects is triangulated at
-   the first of SURFACE_RES whose triangles fit in 1/k of it. */
+   (about 4 MB of JSON): each of the k implicit objects is triangulated
+   with about SURFACE_CELLS[r]^3 cells, the first r whose triangles fit in
+   1/k of it. */
 #define MAX_SURFACE_TRIANGLES 100000L
-static const int SURFACE_RES[] = {64, 48, 32, 24, 16, 12, 8};
+static const int SURFACE_CELLS[] = {64, 48, 32, 24, 16, 12, 8};
 
 typedef struct route {
     const char *path;
@@ -208,24 +209,42 @@ static void shape_uv_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *
     }
 }
 
-/* ',"surface":{...}' for implicit object i: its triangles at the finest
-   resolution of SURFACE_RES with at most `budget` of them (positions,
-   unit normals -- the renderer's gradient -- and corner indices; docs/
-   serve.md); nothing when none fits or the grid sees no sign change (the
-   page then draws the box). */
-static void surface_json(FILE *f, const ggScene *sc, int i, size_t budget)
+/* The resolution (cells along the longest side) that gives a box about
+   n^3 of ggImplicitTriangulate's near-cubic cells: n / cbrt of the box's
+   volume over the longest side's cube, each side counted as at least one
+   cell. So a flat box gets cells as fine as its count allows, not n
+   along each side (acc-thin.nff's torus, 2.1 x 2.1 x 0.1: 132). */
+static int surface_resolution(const ggShapeDesc *d, int n)
+{
+    double e[3], l, v = 1, r;
+    int a;
+    e[0] = d->apex.x - d->base.x, e[1] = d->apex.y - d->base.y, e[2] = d->apex.z - d->base.z;
+    l = fmax(e[0], fmax(e[1], e[2]));
+    if (!(l > 0) || !isfinite(l)) return n;
+    for (a = 0; a < 3; a++) v *= fmax(e[a] / l, 1.0 / n);
+    r = floor(n / cbrt(v) + 0.5);
+    return r > GG_TRIANGULATE_MAX_RESOLUTION ? GG_TRIANGULATE_MAX_RESOLUTION : (int)r;
+}
+
+/* ',"surface":{...}' for implicit object i (shape d): its triangles with
+   the most cells of SURFACE_CELLS that give at most `budget` of them
+   (positions, unit normals -- the renderer's gradient -- and corner
+   indices; docs/serve.md); nothing when none fits or the grid sees no
+   sign change (the page then draws the box). */
+static void surface_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *d, size_t budget)
 {
     ggTriangulation *t = NULL;
-    size_t k, r, nres = sizeof SURFACE_RES / sizeof SURFACE_RES[0];
+    size_t k, r, nres = sizeof SURFACE_CELLS / sizeof SURFACE_CELLS[0];
     int rc = GG_ERROR_LIMIT;
     for (r = 0; r < nres && rc == GG_ERROR_LIMIT; r++)
-        rc = ggSceneObjectTriangulate(sc, i, SURFACE_RES[r], budget ? budget : 1, &t);
+        rc = ggSceneObjectTriangulate(sc, i, surface_resolution(d, SURFACE_CELLS[r]),
+                                      budget ? budget : 1, &t);
     if (rc != GG_OK || !t->ntris) {
         ggTriangulationFree(t);
         return;
     }
-    fprintf(f, ",\"surface\":{\"resolution\":%d,\"triangles\":%zu,\"verts\":[", t->resolution,
-            t->ntris);
+    fprintf(f, ",\"surface\":{\"resolution\":%d,\"cells\":[%d,%d,%d],\"triangles\":%zu,\"verts\":[",
+            t->resolution, t->cells[0], t->cells[1], t->cells[2], t->ntris);
     for (k = 0; k < t->nverts; k++) /* single precision is plenty for a picture */
         fprintf(f, "%s%.7g,%.7g,%.7g", k ? "," : "", t->verts[k].x, t->verts[k].y, t->verts[k].z);
     fprintf(f, "],\"normals\":[");
@@ -262,7 +281,7 @@ static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d
         break;
     case GG_SHAPE_IMPLICIT: /* its box, and its surface as triangles */
         json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
-        surface_json(f, sc, obj, budget);
+        surface_json(f, sc, obj, d, budget);
         break;
     case GG_SHAPE_MESH: /* the box of the mesh's part */
         json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
@@ -434,11 +453,10 @@ static void api_texture(srv_server *s, const srv_req *r, srv_resp *resp)
     }
 }
 
-static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
+static void scene_body(srv_server *s, srv_resp *resp)
 {
     FILE *f = srv_body_open(resp, 200, "application/json");
     int i, n, m, implicit = 0;
-    (void)r;
     if (!f) {
         srv_body_close(resp, f);
         return;
@@ -479,6 +497,29 @@ static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
     textures_json(f, s->scene);
     fprintf(f, "}\n");
     srv_body_close(resp, f);
+}
+
+/* The scene is only read while served, so its description is the same
+   bytes every time: built by the first request (the implicit surfaces'
+   triangles take about 0.15 s, a large mesh's list longer) and sent from
+   memory after. A request that comes while it is being built waits for
+   it. A failed build (out of memory) is not kept. */
+static void api_scene(srv_server *s, const srv_req *r, srv_resp *resp)
+{
+    (void)r;
+    pthread_mutex_lock(&s->scene_mu);
+    if (!s->scene_json) {
+        scene_body(s, resp);
+        if (resp->status == 200 && !resp->body_static) {
+            s->scene_json = resp->body, s->scene_json_len = resp->len;
+            resp->body = NULL;
+        }
+    }
+    if (s->scene_json) {
+        resp->status = 200, resp->type = "application/json";
+        resp->body = s->scene_json, resp->len = s->scene_json_len, resp->body_static = 1;
+    }
+    pthread_mutex_unlock(&s->scene_mu);
 }
 
 /* ---- /api/trace ---- */
