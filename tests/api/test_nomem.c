@@ -42,43 +42,6 @@
 #define W 32
 #define H 24
 
-typedef struct failer {
-    pthread_mutex_t mu;
-    long count, fail_at; /* fail the fail_at-th allocation (1-based; 0: never) */
-    int failed;
-} failer;
-
-static int should_fail(failer *f)
-{
-    int r;
-    pthread_mutex_lock(&f->mu);
-    r = ++f->count == f->fail_at;
-    if (r) f->failed = 1;
-    pthread_mutex_unlock(&f->mu);
-    return r;
-}
-static void *f_malloc(void *ud, size_t n)
-{
-    return should_fail(ud) ? NULL : malloc(n);
-}
-static void *f_realloc(void *ud, void *p, size_t n)
-{
-    return should_fail(ud) ? NULL : realloc(p, n);
-}
-static void f_free(void *ud, void *p)
-{
-    (void)ud;
-    free(p);
-}
-
-/* After a failed step: no more failures, the step is done again. */
-static void stop_failing(failer *f)
-{
-    pthread_mutex_lock(&f->mu);
-    f->fail_at = 0;
-    pthread_mutex_unlock(&f->mu);
-}
-
 typedef struct scene_case {
     const char *path; /* examples/scenes/... */
     int from_memory;  /* ggSceneLoadString on the file's text */
@@ -128,16 +91,16 @@ static char *scene_text(const char *path, size_t *len)
 
 /* Each step: its status is GG_OK or GG_ERROR_NOMEM; a NOMEM is counted,
    failing is switched off, and the caller repeats the step. */
-static int failed_step(int rc, failer *f, result *r, const char *where)
+static int failed_step(int rc, tu_failer *f, result *r, const char *where)
 {
     assert_true(rc == GG_OK || rc == GG_ERROR_NOMEM);
     if (rc == GG_OK) return 0;
     r->nomem++, r->where = where;
-    stop_failing(f);
+    tu_failer_stop(f);
     return 1;
 }
 
-static ggScene *load(const scene_case *c, failer *f, const ggAllocator *a, result *r)
+static ggScene *load(const scene_case *c, tu_failer *f, const ggAllocator *a, result *r)
 {
     ggScene *s;
     ggError e;
@@ -145,7 +108,7 @@ static ggScene *load(const scene_case *c, failer *f, const ggAllocator *a, resul
     int rc;
     while (!(s = ggSceneCreate(a))) {
         r->nomem++;
-        stop_failing(f);
+        tu_failer_stop(f);
     }
     cam0 = ggSceneCamera(s);
     for (;;) {
@@ -173,7 +136,7 @@ static ggScene *load(const scene_case *c, failer *f, const ggAllocator *a, resul
     return s;
 }
 
-static ggImage *render(ggScene *s, int threads, failer *f, result *r)
+static ggImage *render(ggScene *s, int threads, tu_failer *f, result *r)
 {
     ggRenderOptions o;
     ggImage *img;
@@ -191,7 +154,7 @@ static ggImage *render(ggScene *s, int threads, failer *f, result *r)
     return img;
 }
 
-static void trace(ggScene *s, const ggAllocator *a, failer *f, result *r)
+static void trace(ggScene *s, const ggAllocator *a, tu_failer *f, result *r)
 {
     ggRenderOptions o;
     ggTrace *t;
@@ -201,7 +164,7 @@ static void trace(ggScene *s, const ggAllocator *a, failer *f, result *r)
     o.width = W, o.height = H, o.threads = 1;
     while (!(t = ggTraceCreate(a))) {
         r->nomem++;
-        stop_failing(f);
+        tu_failer_stop(f);
     }
     for (;;) {
         rc = ggTracePixel(s, &o, W / 2, H / 2, -1, t, &r->pixel, NULL, &e);
@@ -214,7 +177,7 @@ static void trace(ggScene *s, const ggAllocator *a, failer *f, result *r)
     ggTraceFree(t);
 }
 
-static ggImage *write_read(const ggImage *img, const char *name, const ggAllocator *a, failer *f,
+static ggImage *write_read(const ggImage *img, const char *name, const ggAllocator *a, tu_failer *f,
                            result *r)
 {
     char path[128];
@@ -239,12 +202,11 @@ static ggImage *write_read(const ggImage *img, const char *name, const ggAllocat
     return back;
 }
 
-static void pipeline(const scene_case *c, failer *f, result *r)
+static void pipeline(const scene_case *c, tu_failer *f, result *r)
 {
-    ggAllocator a;
+    const ggAllocator a = f->alloc;
     ggScene *s;
     ggImage *two;
-    a.malloc = f_malloc, a.realloc = f_realloc, a.free = f_free, a.ud = f;
     memset(r, 0, sizeof *r);
     s = load(c, f, &a, r);
     r->img = render(s, 1, f, r);
@@ -273,14 +235,13 @@ static void same_image(const ggImage *a, const ggImage *b)
 
 static void sweep(const scene_case *c)
 {
-    failer f;
+    tu_failer f;
     result ref, r;
     long k, points = 0, total, nomem = 0;
     ggColor px;
     const char *only = getenv("GG_NOMEM_ONLY"); /* debugging: one scene */
     if (only && !strstr(c->path, only)) return;
-    memset(&f, 0, sizeof f);
-    pthread_mutex_init(&f.mu, NULL);
+    tu_failer_init(&f);
     pipeline(c, &f, &ref);
     total = f.count;
     assert_int_equal(ref.nomem, 0);
@@ -289,7 +250,7 @@ static void sweep(const scene_case *c)
     assert_memory_equal(&px, &ref.pixel, sizeof px);
     same_image(ref.exr, ref.img);
     for (k = 1;; k++) {
-        f.count = 0, f.fail_at = k, f.failed = 0;
+        tu_failer_arm(&f, k);
         pipeline(c, &f, &r);
         if (!f.failed) {
             result_free(&r);
@@ -316,7 +277,7 @@ static void sweep(const scene_case *c)
            "GG_ERROR_NOMEM, %ld absorbed with the same result; 0 silent losses\n",
            c->what, points, total, nomem, points - nomem);
     result_free(&ref);
-    pthread_mutex_destroy(&f.mu);
+    tu_failer_done(&f);
 }
 
 /* ggFind and ggFindPath on their own: the scene is loaded and prepared
@@ -364,19 +325,16 @@ static void same_find(const ggFindResult *a, const ggFindResult *b)
 
 static void find_sweep(const find_case *c)
 {
-    failer f;
-    ggAllocator a;
+    tu_failer f;
     ggScene *s;
     ggFindResult *ref, *r;
     long k, total, nomem = 0;
-    memset(&f, 0, sizeof f);
-    pthread_mutex_init(&f.mu, NULL);
-    a.malloc = f_malloc, a.realloc = f_realloc, a.free = f_free, a.ud = &f;
-    s = ggSceneCreate(&a);
+    tu_failer_init(&f);
+    s = ggSceneCreate(&f.alloc);
     assert_non_null(s);
     assert_int_equal(ggSceneLoadFile(s, "examples/scenes/glass.nff", NULL), GG_OK);
     assert_int_equal(ggScenePrepare(s, NULL), GG_OK);
-    f.count = 0;
+    tu_failer_arm(&f, 0);
     assert_int_equal(find_once(s, c, &ref), GG_OK);
     total = f.count;
     assert_true(ref->matched > 0);
@@ -384,10 +342,10 @@ static void find_sweep(const find_case *c)
        of allocations may differ from run to run, so every k up to the
        reference's count is tried, and one more */
     for (k = 1; k <= total + 1; k++) {
-        f.count = 0, f.fail_at = k, f.failed = 0;
+        tu_failer_arm(&f, k);
         if (find_once(s, c, &r) != GG_OK) {
             nomem++;
-            stop_failing(&f);
+            tu_failer_stop(&f);
             assert_int_equal(find_once(s, c, &r), GG_OK);
         }
         if (c->threads == 1) assert_int_equal(f.failed, k <= total);
@@ -399,7 +357,7 @@ static void find_sweep(const find_case *c)
            c->path ? "ggFindPath" : "ggFind", c->expr, c->threads, total, nomem);
     ggFindResultFree(ref);
     ggSceneFree(s);
-    pthread_mutex_destroy(&f.mu);
+    tu_failer_done(&f);
 }
 
 static void test_find(void **state)

@@ -160,3 +160,72 @@ ggScene *tu_load(const char *path)
     assert_int_equal(rc, GG_OK);
     return s;
 }
+
+/* ---- the failing allocator ---- */
+
+static int fail_now(tu_failer *f)
+{
+    int r;
+    pthread_mutex_lock(&f->mu);
+    r = ++f->count == f->fail_at;
+    if (r) f->failed = 1;
+    pthread_mutex_unlock(&f->mu);
+    return r;
+}
+
+static void live_add(tu_failer *f, long d)
+{
+    pthread_mutex_lock(&f->mu);
+    f->live += d;
+    pthread_mutex_unlock(&f->mu);
+}
+
+static void *failer_malloc(void *ud, size_t n)
+{
+    void *p;
+    if (fail_now(ud)) return NULL;
+    if ((p = malloc(n))) live_add(ud, 1);
+    return p;
+}
+
+static void *failer_realloc(void *ud, void *p, size_t n)
+{
+    void *q;
+    if (fail_now(ud)) return NULL;
+    q = realloc(p, n);
+    if (q && !p) live_add(ud, 1);
+    return q;
+}
+
+static void failer_free(void *ud, void *p)
+{
+    if (p) live_add(ud, -1);
+    free(p);
+}
+
+void tu_failer_init(tu_failer *f)
+{
+    memset(f, 0, sizeof *f);
+    assert_int_equal(pthread_mutex_init(&f->mu, NULL), 0);
+    f->alloc.malloc = failer_malloc, f->alloc.realloc = failer_realloc;
+    f->alloc.free = failer_free, f->alloc.ud = f;
+}
+
+void tu_failer_arm(tu_failer *f, long k)
+{
+    pthread_mutex_lock(&f->mu);
+    f->count = 0, f->failed = 0, f->fail_at = k;
+    pthread_mutex_unlock(&f->mu);
+}
+
+void tu_failer_stop(tu_failer *f)
+{
+    pthread_mutex_lock(&f->mu);
+    f->fail_at = 0;
+    pthread_mutex_unlock(&f->mu);
+}
+
+void tu_failer_done(tu_failer *f)
+{
+    pthread_mutex_destroy(&f->mu);
+}

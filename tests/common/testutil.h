@@ -5,6 +5,7 @@
 #ifndef GG_TESTUTIL_H
 #define GG_TESTUTIL_H
 
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -64,6 +65,29 @@ ggScene *tu_load(const char *path);
    dir cannot be read. */
 int tu_each_file(const char *dir, const char *ext, void (*fn)(const char *path, void *ud),
                  void *ud);
+
+/* An allocator that fails exactly one allocation, for SQLite-style
+   sweeps: run once counting what the code allocates (N), then for each
+   k = 1 .. N run again with the k-th malloc or realloc returning NULL
+   (and no other). Each counter is under a mutex, so worker threads may
+   allocate through it. `live` counts the blocks not yet freed (a leak
+   check where LeakSanitizer is not running). tu_failer_init makes one
+   that never fails with its ggAllocator in f->alloc; tu_failer_arm
+   zeroes count and failed and fails the k-th allocation from there (0:
+   none); tu_failer_stop fails nothing more; tu_failer_done frees the
+   mutex. Read the counters when no thread is allocating. */
+typedef struct tu_failer {
+    pthread_mutex_t mu;
+    long count;        /* allocations since the last arm (or init) */
+    long fail_at;      /* the one that fails (1-based); 0: none */
+    long live;         /* blocks allocated and not freed */
+    int failed;        /* the failure happened */
+    ggAllocator alloc; /* allocates through this failer */
+} tu_failer;
+void tu_failer_init(tu_failer *f);
+void tu_failer_arm(tu_failer *f, long k);
+void tu_failer_stop(tu_failer *f);
+void tu_failer_done(tu_failer *f);
 
 /* Path of the SPD scenes (GG_SPD_DIR or the repository's examples/scenes/spd). */
 const char *tu_spd_dir(void);

@@ -173,54 +173,33 @@ static void test_layers_match(void **state)
     match_scene("examples/scenes/glass.nff", o, ex, 8);
 }
 
-/* An allocator that fails after `left` calls and counts live blocks. */
-typedef struct budget {
-    int left, live;
-} budget;
-
-static void *b_malloc(void *ud, size_t n)
-{
-    budget *b = ud;
-    void *p = b->left-- > 0 ? malloc(n) : NULL;
-    b->live += p != NULL;
-    return p;
-}
-static void *b_realloc(void *ud, void *p, size_t n)
-{
-    budget *b = ud;
-    void *q = b->left-- > 0 ? realloc(p, n) : NULL;
-    b->live += q && !p;
-    return q;
-}
-static void b_free(void *ud, void *p)
-{
-    budget *b = ud;
-    b->live -= p != NULL;
-    free(p);
-}
-
-/* Every allocation failure gives GG_ERROR_NOMEM, NULL, and no leak. */
+/* Each allocation failing in turn gives GG_ERROR_NOMEM, NULL, and no leak. */
 static void test_layers_nomem(void **state)
 {
     const char *ex[3] = {"C<RS>*<TS>[<RS><TS>]*(<RD>[LA]|<RG>L|O|B)", "C<RD'2'>L", "CB"};
-    int n, ok = 0;
+    tu_failer f;
+    long k, points = 0;
     (void)state;
-    for (n = 0; n < 400 && !ok; n++) {
-        budget b = {n, 0};
-        ggAllocator a = {b_malloc, b_realloc, b_free, &b};
+    tu_failer_init(&f);
+    for (k = 1;; k++) {
         ggPathLayers *l = (ggPathLayers *)&l;
-        int rc = ggPathLayersCompile(ex, 3, &a, &l, NULL);
+        int rc;
+        tu_failer_arm(&f, k);
+        rc = ggPathLayersCompile(ex, 3, &f.alloc, &l, NULL);
         if (rc != GG_OK) {
             assert_int_equal(rc, GG_ERROR_NOMEM);
             assert_null(l);
         } else {
             assert_int_equal(ggPathLayersCount(l), 3);
             ggPathLayersFree(l);
-            ok = 1;
         }
-        assert_int_equal(b.live, 0);
+        assert_int_equal(f.live, 0);
+        if (!f.failed) break;
+        points++;
+        assert_int_equal(rc, GG_ERROR_NOMEM); /* every failure is reported */
     }
-    assert_true(ok && n > 5);
+    assert_true(points > 5);
+    tu_failer_done(&f);
 }
 
 int main(void)

@@ -627,52 +627,41 @@ static void test_path_points(void **state)
 
 /* ---- allocation failures ---- */
 
-typedef struct budget {
-    int left;
-} budget;
-
-static void *b_malloc(void *ud, size_t n)
-{
-    budget *b = ud;
-    return b->left-- > 0 ? malloc(n) : NULL;
-}
-static void *b_realloc(void *ud, void *p, size_t n)
-{
-    budget *b = ud;
-    return b->left-- > 0 ? realloc(p, n) : NULL;
-}
-static void b_free(void *ud, void *p)
-{
-    (void)ud;
-    free(p);
-}
-
+/* Each allocation of the parse failing in turn, then the match's own. */
 static void test_path_nomem(void **state)
 {
     const char *text = "C(<TS>[object == 1]|[^<RS'tir'> B])*<RD>L{1,3}";
     ggTrace *t = hand_tree();
-    int n, ok = 0;
+    tu_failer f;
+    long k, points = 0;
+    ggPathExpr *e;
+    ggPathSummary s;
     (void)state;
-    for (n = 0; n < 200 && !ok; n++) {
-        budget b = {n};
-        ggAllocator a = {b_malloc, b_realloc, b_free, &b};
-        ggPathExpr *e = (ggPathExpr *)1;
-        ggPathSummary s;
-        int rc = ggPathParse(text, &a, &e, NULL);
-        if (rc != GG_OK) {
-            assert_int_equal(rc, GG_ERROR_NOMEM);
-            assert_null(e);
-            continue;
+    tu_failer_init(&f);
+    for (k = 1;; k++) {
+        int rc;
+        e = (ggPathExpr *)1;
+        tu_failer_arm(&f, k);
+        rc = ggPathParse(text, &f.alloc, &e, NULL);
+        if (!f.failed) { /* k is past the parse's allocations */
+            assert_int_equal(rc, GG_OK);
+            break;
         }
-        b.left = 0; /* the match's own memory fails */
-        assert_int_equal(ggPathMatch(e, t, 0, 0, grey(0.95), NULL, NULL, &s), GG_ERROR_NOMEM);
-        assert_int_equal(s.matched, 0);
-        b.left = 2;
-        assert_int_equal(ggPathMatch(e, t, 0, 0, grey(0.95), NULL, NULL, &s), GG_OK);
-        ok = 1;
-        ggPathFree(e);
+        points++;
+        assert_int_equal(rc, GG_ERROR_NOMEM);
+        assert_null(e);
+        assert_int_equal(f.live, 0);
     }
-    assert_true(ok && n > 3);
+    assert_true(points > 3);
+    tu_failer_arm(&f, 1); /* the match's own memory fails */
+    assert_int_equal(ggPathMatch(e, t, 0, 0, grey(0.95), NULL, NULL, &s), GG_ERROR_NOMEM);
+    assert_true(f.failed);
+    assert_int_equal(s.matched, 0);
+    tu_failer_arm(&f, 0);
+    assert_int_equal(ggPathMatch(e, t, 0, 0, grey(0.95), NULL, NULL, &s), GG_OK);
+    ggPathFree(e);
+    assert_int_equal(f.live, 0);
+    tu_failer_done(&f);
     ggTraceFree(t);
 }
 

@@ -409,58 +409,35 @@ static void test_limits(void **state)
 
 /* ---- allocation failure ---- */
 
-static long live, count, fail_at;
-static void *f_malloc(void *ud, size_t n)
-{
-    void *p;
-    (void)ud;
-    if (++count == fail_at) return NULL;
-    if ((p = malloc(n))) live++;
-    return p;
-}
-static void *f_realloc(void *ud, void *p, size_t n)
-{
-    void *q;
-    (void)ud;
-    if (++count == fail_at) return NULL;
-    q = realloc(p, n);
-    if (q && !p) live++;
-    return q;
-}
-static void f_free(void *ud, void *p)
-{
-    (void)ud;
-    if (p) live--;
-    free(p);
-}
-
 static void test_nomem(void **state)
 {
-    ggAllocator a = {f_malloc, f_realloc, f_free, NULL};
+    tu_failer f;
     ggImplicit *imp = surface(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
     ggTriangulation *ref = tri(imp, 12), *t;
     long k, total;
     (void)state;
-    count = 0, fail_at = 0;
-    assert_int_equal(ggImplicitTriangulate(imp, 12, 0, &a, &t), GG_OK);
-    total = count;
+    tu_failer_init(&f);
+    assert_int_equal(ggImplicitTriangulate(imp, 12, 0, &f.alloc, &t), GG_OK);
+    total = f.count;
     ggTriangulationFree(t);
-    assert_int_equal(live, 0);
+    assert_int_equal(f.live, 0);
     for (k = 1; k <= total; k++) {
-        count = 0, fail_at = k;
+        tu_failer_arm(&f, k);
         t = (ggTriangulation *)&t;
-        assert_int_equal(ggImplicitTriangulate(imp, 12, 0, &a, &t), GG_ERROR_NOMEM);
+        assert_int_equal(ggImplicitTriangulate(imp, 12, 0, &f.alloc, &t), GG_ERROR_NOMEM);
         assert_null(t);
-        assert_int_equal(live, 0);
+        assert_int_equal(f.live, 0);
     }
-    count = 0, fail_at = total + 1;
-    assert_int_equal(ggImplicitTriangulate(imp, 12, 0, &a, &t), GG_OK);
+    tu_failer_arm(&f, total + 1);
+    assert_int_equal(ggImplicitTriangulate(imp, 12, 0, &f.alloc, &t), GG_OK);
+    assert_false(f.failed);
     assert_int_equal(t->ntris, ref->ntris);
     assert_memory_equal(t->tris, ref->tris, sizeof *t->tris * 3 * t->ntris);
     assert_memory_equal(t->verts, ref->verts, sizeof *t->verts * t->nverts);
     ggTriangulationFree(t);
-    assert_int_equal(live, 0);
+    assert_int_equal(f.live, 0);
     print_message("allocation failure: each of %ld allocations failed once\n", total);
+    tu_failer_done(&f);
     ggTriangulationFree(ref);
     ggImplicitFree(imp);
 }
@@ -511,13 +488,13 @@ static void test_scene(void **state)
     static const char text[] = "v from 0 -5 3 at 0 0 0 up 0 0 1 angle 40 resolution 8 6\n"
                                "l 2 3 4\nf 1 0.5 0.5 0.8 0.2 20 0 0\ns 3 0 0 0.5\n"
                                "implicit \"" TORUS "\" -1.4 -1.4 -0.4 1.4 1.4 0.4\n";
-    ggAllocator a = {f_malloc, f_realloc, f_free, NULL};
+    tu_failer f;
     ggScene *s;
     ggImplicit *imp = surface(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
     ggTriangulation *ref = tri(imp, 32), *t = (ggTriangulation *)&t, *u;
     (void)state;
-    count = 0, fail_at = 0;
-    s = ggSceneCreate(&a);
+    tu_failer_init(&f);
+    s = ggSceneCreate(&f.alloc);
     assert_non_null(s);
     assert_int_equal(ggSceneLoadString(s, text, sizeof text - 1, "t.nff", NULL), GG_OK);
     assert_int_equal(ggSceneObjectKind(s, 1), GG_SHAPE_IMPLICIT);
@@ -540,10 +517,11 @@ static void test_scene(void **state)
     assert_memory_equal(u->tris, ref->tris, sizeof *t->tris * 3 * t->ntris);
     /* made with the scene's allocator, and outlives the scene */
     ggSceneFree(s);
-    assert_true(live > 0);
+    assert_true(f.live > 0);
     ggTriangulationFree(t);
     ggTriangulationFree(u);
-    assert_int_equal(live, 0);
+    assert_int_equal(f.live, 0);
+    tu_failer_done(&f);
     ggTriangulationFree(ref);
     ggImplicitFree(imp);
 }

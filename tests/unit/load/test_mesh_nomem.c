@@ -14,29 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct failer {
-    long count, fail_at; /* fail the fail_at-th allocation (1-based; 0: never) */
-    int failed;
-} failer;
-
-static void *f_malloc(void *ud, size_t n)
-{
-    failer *f = ud;
-    if (++f->count == f->fail_at) return f->failed = 1, NULL;
-    return malloc(n);
-}
-static void *f_realloc(void *ud, void *p, size_t n)
-{
-    failer *f = ud;
-    if (++f->count == f->fail_at) return f->failed = 1, NULL;
-    return realloc(p, n);
-}
-static void f_free(void *ud, void *p)
-{
-    (void)ud;
-    free(p);
-}
-
 typedef int (*loader)(ggScene *s, ggError *e);
 
 static int load_obj(ggScene *s, ggError *e)
@@ -76,10 +53,9 @@ static int add_code(ggScene *s, ggError *e)
 
 /* One run: load into a scene that already holds a mesh, frame it,
    render 24x18. Returns the image (NULL if a step failed). */
-static ggImage *run(loader ld, failer *f, int *rc_out)
+static ggImage *run(loader ld, tu_failer *f, int *rc_out)
 {
-    ggAllocator a = {f_malloc, f_realloc, f_free, f};
-    ggScene *s = ggSceneCreate(&a);
+    ggScene *s = ggSceneCreate(&f->alloc);
     ggRenderOptions o;
     ggImage *img = NULL;
     ggError e;
@@ -116,16 +92,20 @@ static ggImage *run(loader ld, failer *f, int *rc_out)
 
 static void sweep(loader ld, const char *what)
 {
-    failer f = {0, 0, 0};
+    tu_failer f;
     int rc;
-    long k, points = 0;
-    ggImage *ref = run(ld, &f, &rc), *img;
+    long k, points = 0, kept;
+    ggImage *ref, *img;
+    tu_failer_init(&f);
+    ref = run(ld, &f, &rc);
     assert_int_equal(rc, GG_OK);
+    kept = f.live; /* the reference image's blocks */
     for (k = 1;; k++) {
-        failer g = {0, k, 0};
-        img = run(ld, &g, &rc);
-        if (!g.failed) {
+        tu_failer_arm(&f, k);
+        img = run(ld, &f, &rc);
+        if (!f.failed) {
             ggImageFree(img);
+            assert_int_equal(f.live, kept);
             break;
         }
         points++;
@@ -134,11 +114,14 @@ static void sweep(loader ld, const char *what)
             assert_memory_equal(ggImagePixelsConst(img), ggImagePixelsConst(ref),
                                 24 * 18 * 3 * sizeof(float));
         ggImageFree(img);
+        assert_int_equal(f.live, kept); /* nothing left behind, whatever failed */
     }
     printf("test_mesh_nomem: %s: %ld allocation failure points, each GG_OK with the same image or "
            "GG_ERROR_NOMEM with the scene unchanged\n",
            what, points);
     ggImageFree(ref);
+    assert_int_equal(f.live, 0);
+    tu_failer_done(&f);
 }
 
 static void test_obj(void **state)
