@@ -246,7 +246,7 @@ help:
 
 # A library object of layer $(1) (the folder of $<).
 lib_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING $(call layer_inc,$(1)) $($(1)_CFLAGS) $(GG_WARN) \
-	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CPPFLAGS) $(CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
+	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(CPPFLAGS) $(CFLAGS) $(GG_MATH) -fPIC -fvisibility=hidden -c $< -o $@
 define layer_rule
 $$(BUILD)/lib/$(1)/%.o: lib/$(1)/%.c
 	@mkdir -p $$(@D)
@@ -344,7 +344,7 @@ $(filter-out $(SCALAR_TESTS),$(TEST_BIN)): %: %.o $(TESTUTIL_OBJ) $(STATIC)
 # archive: nothing depends on link order).
 SCALAR_GEOM := $(patsubst $(BUILD)/lib/%,$(BUILD)/scalar/lib/%,$(filter $(BUILD)/lib/geom/%,$(FULL_OBJ)))
 scalar_cc = $(CC) $(GG_CPPFLAGS) -DGG_BUILDING -DGG_BVH_NO_SIMD $(call layer_inc,geom) $(GG_WARN) \
-	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(GG_MATH) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+	  $(call isa_flags,$@) $(OBJ_DEFS_$(notdir $@)) $(CPPFLAGS) $(CFLAGS) $(GG_MATH) -c $< -o $@
 $(BUILD)/scalar/lib/geom/%.o: lib/geom/%.c
 	@mkdir -p $(@D)
 	$(scalar_cc)

@@ -7,6 +7,16 @@
 #ifndef GG_COMPILER_H
 #define GG_COMPILER_H
 
+/* IEEE arithmetic, not a tuning knob: the error bounds of the hit points
+   and offsets, the Fresnel and refraction kernels' exact steps and every
+   NaN and infinity check assume it, and a build that breaks it renders
+   other images under the same ggBuildId (tests/build/compilers.sh). The
+   Makefile passes -ffp-contract=off after the caller's CFLAGS for the
+   same reason. */
+#if defined(__FAST_MATH__) || (defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__)
+#error "libggrt needs IEEE arithmetic: build it without -ffast-math, -Ofast or -ffinite-math-only"
+#endif
+
 #if defined(__GNUC__) /* GCC and clang */
 /* A static function the compiler must inline: the hot paths are written
    as small functions over a struct and rely on it to keep their fields

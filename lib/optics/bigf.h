@@ -21,6 +21,8 @@
 #ifndef GG_BIGF_H
 #define GG_BIGF_H
 
+#include "compiler.h" /* IEEE arithmetic required */
+
 #include <stdint.h>
 
 #define GG_BF_LIMBS 16

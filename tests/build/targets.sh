@@ -8,6 +8,9 @@
 #  - every line of the build, the tests and the benchmarks that compiles C
 #    takes the user's CPPFLAGS;
 #  - every pkg-config lookup goes through PKG_CONFIG;
+#  - the library's floating point stays IEEE whatever CFLAGS say: its
+#    compile lines end with -ffp-contract=off after the user's CFLAGS, and
+#    -ffast-math or -ffinite-math-only stops the build with a reason;
 #  - `make demo` installs what `ggrt serve` needs, which README shows next;
 #  - no command README shows writes into a file the repository tracks
 #    (its `trace --svg docs/trace-glass.svg` once rewrote the picture
@@ -41,6 +44,23 @@ if grep -v -- ' -DGG_TEST_CPPFLAGS ' "$tmp/cc" > "$tmp/nocpp"; then
   cat "$tmp/nocpp"; fail "$(wc -l < "$tmp/nocpp") compile lines above ignore CPPFLAGS"
 fi
 echo "targets: all $(wc -l < "$tmp/cc") compile lines of make all tests bench take the user's CPPFLAGS"
+
+# The library's arithmetic is not a CFLAGS knob (lib/core/compiler.h):
+# contraction stays off after the user's flags, and fast math is refused.
+MAKEFLAGS= MFLAGS= $make -n --no-print-directory BUILD="$tmp/f" CFLAGS="-O2 -ffp-contract=fast" lib \
+  > "$tmp/fp" 2>&1 || { cat "$tmp/fp"; fail "make -n CFLAGS=-ffp-contract=fast lib failed"; }
+grep -- ' lib/.*[.]c ' "$tmp/fp" | grep -- ' -o ' > "$tmp/fpcc"
+[ -s "$tmp/fpcc" ] || fail "make -n lib shows no line that compiles the library"
+if grep -v -- '-ffp-contract=fast.* -ffp-contract=off ' "$tmp/fpcc" > "$tmp/fpbad"; then
+  head -3 "$tmp/fpbad"; fail "$(wc -l < "$tmp/fpbad") library compile lines let CFLAGS turn contraction on"
+fi
+for f in -ffast-math -Ofast -ffinite-math-only; do
+  if ${CC:-cc} -std=c99 $f -Iinclude -Ilib/core -fsyntax-only lib/core/cpu.c > "$tmp/fm" 2>&1 ||
+     ! grep -q 'libggrt needs IEEE arithmetic' "$tmp/fm"; then
+    cat "$tmp/fm"; fail "the library compiles with $f"
+  fi
+done
+echo "targets: $(wc -l < "$tmp/fpcc") library compile lines keep -ffp-contract=off after CFLAGS; -ffast-math, -Ofast, -ffinite-math-only refused"
 
 # PKG_CONFIG is the one pkg-config (a cross build names its own): a
 # wrapper that logs its questions answers every lookup, and the examples'
