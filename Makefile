@@ -472,6 +472,9 @@ CHECK_DIR2 = $(BUILD)/$(notdir $(firstword $(CHECK_CC2)))
 #    the $(CC) ASan run's.
 #  - ThreadSanitizer: TSAN_TESTS.
 #  - installcheck against the release tree.
+#  - the two release trees render every scene file to the same bytes
+#    (tests/build/compilers.sh): they have one ggBuildId, so ggrt merge
+#    would join their tiles.
 CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CHECK_J     = $(if $(findstring jobserver,$(MAKEFLAGS)),,-j$(CHECK_JOBS))
 # (A recipe line names $(MAKE) itself: only then does make hand the
@@ -481,6 +484,7 @@ CHECKS      = check-layers check-paths check-asan check-release $(if $(CHECK_CC2
               check-tsan
 check: deps-check
 	@$(MAKE) --no-print-directory $(CHECK_J) $(CHECKS)
+	@$(if $(CHECK_CC2),sh tests/build/compilers.sh $(BUILD)/release/ggrt $(CHECK_DIR2)/release/ggrt)
 	@echo "check: all suites passed (plain and sanitized with $(CC)$(if $(CHECK_CC2), and $(CHECK_CC2)), thread-sanitized, installcheck)"
 
 check-layers:
