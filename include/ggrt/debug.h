@@ -73,7 +73,8 @@ GG_API int ggRenderOptionsParse(ggRenderOptions *opt, const char *text, ggError 
    not settings and are left out, as are force_effects bits outside
    GG_EFFECT_ALL (which no render reads). ggRenderOptionsParse reads the
    text back to the same settings when each is in the range Parse
-   accepts. A NULL opt gives "" and 0. */
+   accepts. A NULL opt gives "" and 0; a NULL buf (any size) only
+   measures. */
 GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_t size);
 
 /* ------------------------------------------------------------------ */

@@ -346,7 +346,7 @@ GG_API size_t ggRenderOptionsFormat(const ggRenderOptions *opt, char *buf, size_
 {
     out o;
     const ggAccuracy *a;
-    o.buf = buf, o.size = size, o.len = 0;
+    o.buf = buf, o.size = buf ? size : 0, o.len = 0; /* NULL buf: only the length */
     if (buf && size) buf[0] = '\0';
     if (!opt) return 0;
     a = &opt->accuracy;

@@ -429,6 +429,10 @@ static void test_debug(void **state)
     assert_int_equal(ggRenderOptionsParse(&o, NULL, NULL), GG_ERROR_INVALID);
     COVER(ggRenderOptionsFormat), assert_int_equal(ggRenderOptionsFormat(NULL, buf, sizeof buf), 0);
     assert_string_equal(buf, "");
+    o.max_depth = 3; /* a NULL buffer only measures, whatever size says */
+    assert_int_equal(ggRenderOptionsFormat(&o, NULL, 64), strlen("depth=3"));
+    assert_int_equal(ggRenderOptionsFormat(&o, NULL, 0), strlen("depth=3"));
+    o.max_depth = 0;
     COVER(ggPredicateParse),
         assert_int_equal(ggPredicateParse(NULL, NULL, &p, NULL), GG_ERROR_INVALID);
     UNTOUCHED(p);
