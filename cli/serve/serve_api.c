@@ -19,8 +19,13 @@
 /* Implicit surfaces' triangles /api/scene sends, all of them together
    (about 4 MB of JSON): each of the k implicit objects is triangulated
    with about SURFACE_CELLS[r]^3 cells, the first r whose triangles fit in
-   1/k of it. */
+   1/k of it. The grids of the k objects together have at most
+   MAX_SURFACE_CELLS cells, so the time f is evaluated in is bounded
+   however many there are (100 of 4000-character expressions: 10 s
+   without this bound); past 512 objects (8^3 cells each) the boxes are
+   drawn. */
 #define MAX_SURFACE_TRIANGLES 100000L
+#define MAX_SURFACE_CELLS     (64L * 64 * 64)
 static const int SURFACE_CELLS[] = {64, 48, 32, 24, 16, 12, 8};
 
 typedef struct route {
@@ -226,19 +231,24 @@ static int surface_resolution(const ggShapeDesc *d, int n)
     return r > GG_TRIANGULATE_MAX_RESOLUTION ? GG_TRIANGULATE_MAX_RESOLUTION : (int)r;
 }
 
-/* ',"surface":{...}' for implicit object i (shape d): its triangles with
-   the most cells of SURFACE_CELLS that give at most `budget` of them
+/* ',"surface":{...}' for implicit object i (shape d), one of n: its
+   triangles with the most cells of SURFACE_CELLS (n times them within
+   MAX_SURFACE_CELLS) that give at most 1/n of MAX_SURFACE_TRIANGLES
    (positions, unit normals -- the renderer's gradient -- and corner
    indices; docs/serve.md); nothing when none fits or the grid sees no
    sign change (the page then draws the box). */
-static void surface_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *d, size_t budget)
+static void surface_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *d, int n)
 {
     ggTriangulation *t = NULL;
     size_t k, r, nres = sizeof SURFACE_CELLS / sizeof SURFACE_CELLS[0];
+    size_t budget = (size_t)(MAX_SURFACE_TRIANGLES / n);
     int rc = GG_ERROR_LIMIT;
-    for (r = 0; r < nres && rc == GG_ERROR_LIMIT; r++)
+    for (r = 0; r < nres && rc == GG_ERROR_LIMIT; r++) {
+        long c = SURFACE_CELLS[r];
+        if (n * c * c * c > MAX_SURFACE_CELLS) continue;
         rc = ggSceneObjectTriangulate(sc, i, surface_resolution(d, SURFACE_CELLS[r]),
                                       budget ? budget : 1, &t);
+    }
     if (rc != GG_OK || !t->ntris) {
         ggTriangulationFree(t);
         return;
@@ -257,7 +267,9 @@ static void surface_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *d
     ggTriangulationFree(t);
 }
 
-static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d, size_t budget)
+/* Object obj (shape d) as JSON; `implicit`: how many implicit objects
+   share the surfaces' budgets. */
+static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d, int implicit)
 {
     int i;
     fprintf(f, "{\"kind\":\"%s\",\"material\":%d,\"line\":%d,", ggShapeKindName(d->kind),
@@ -281,7 +293,7 @@ static void shape_json(FILE *f, const ggScene *sc, int obj, const ggShapeDesc *d
         break;
     case GG_SHAPE_IMPLICIT: /* its box, and its surface as triangles */
         json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
-        surface_json(f, sc, obj, d, budget);
+        surface_json(f, sc, obj, d, implicit);
         break;
     case GG_SHAPE_MESH: /* the box of the mesh's part */
         json_vec(f, "lo", d->base), fputc(',', f), json_vec(f, "hi", d->apex);
@@ -486,8 +498,7 @@ static void scene_body(srv_server *s, srv_resp *resp)
         ggShapeDesc d;
         if (i) fputc(',', f);
         if (ggSceneObjectShape(s->scene, i, &d) == GG_OK)
-            shape_json(f, s->scene, i, &d,
-                       implicit ? (size_t)(MAX_SURFACE_TRIANGLES / implicit) : 0);
+            shape_json(f, s->scene, i, &d, implicit);
         else
             fprintf(f, "null");
     }

@@ -1115,7 +1115,7 @@ def check_textures(work, env):
           "missing kinds: %s" % " ".join(sorted(every - kinds)))
 
 
-MAX_SURFACE_CELLS = 64 ** 3  # serve_api.c, SURFACE_CELLS[0]
+MAX_SURFACE_CELLS = 64 ** 3  # serve_api.c: all of a scene's surfaces' grids together
 MAX_SURFACE_TRIANGLES = 100000
 # The implicit surfaces of the scene files that the box does not cut:
 # (file, object) -> (pieces, Euler characteristic). acc-thin's tube (radius
@@ -1138,8 +1138,6 @@ def grid_problem(sf, lo, hi):
         if not (1 <= n <= res and e[c] / n <= cell * (1 + 1e-9) and
                 (n == 1 or e[c] / (n - 1) > cell * (1 - 1e-9))):
             return "%d cells along axis %d of %g at resolution %d" % (n, c, e[c], res)
-    if cells[0] * cells[1] * cells[2] > MAX_SURFACE_CELLS * 1.2:
-        return "%d cells, more than about %d" % (cells[0] * cells[1] * cells[2], MAX_SURFACE_CELLS)
     return None
 
 
@@ -1173,8 +1171,8 @@ def topology(sf, lo, hi, slack):
 
 def check_surfaces(work, env):
     """For every scene file: /api/scene is strict JSON; each implicit
-    object has its "surface" (docs/serve.md): a grid by the library's rule
-    and within the server's count of cells, as many index triples as it
+    object has its "surface" (docs/serve.md): a grid by the library's rule,
+    all of a scene's grids within about 64^3 cells, as many index triples as it
     says triangles, every index a vertex, every vertex inside the object's
     box, every normal unit, every edge in two triangles but where the box
     cuts the surface, the closed ones in the pieces and of the genus they
@@ -1184,7 +1182,7 @@ def check_surfaces(work, env):
     total = scenes = closed = 0
     for path in scene_files():
         s = Server([path, "--port", "0", "-s", "32x24", "-d", "1"], ROOT, env)
-        bad, tris = [], 0
+        bad, tris, cells = [], 0, 0
         try:
             st, _, b = s.get("/api/scene")
             scene = strict(b)
@@ -1226,9 +1224,12 @@ def check_surfaces(work, env):
                     bad.append("object %d: %d pieces, Euler characteristic %d; expected %d, %d"
                                % ((i, pieces, euler) + want))
                 tris += sf["triangles"]
+                cells += sf["cells"][0] * sf["cells"][1] * sf["cells"][2]
                 closed += bool(want)
             if tris > MAX_SURFACE_TRIANGLES:
                 bad.append("%d surface triangles, over the budget of %d" % (tris, MAX_SURFACE_TRIANGLES))
+            if cells > MAX_SURFACE_CELLS * 1.2:
+                bad.append("%d cells in all, over about %d" % (cells, MAX_SURFACE_CELLS))
             st2, _, b2 = s.get("/api/scene")
             if st2 != 200 or b2 != b:
                 bad.append("a second /api/scene: status %d, %d bytes against %d" % (st2, len(b2), len(b)))
