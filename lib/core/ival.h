@@ -189,6 +189,6 @@ gg_ival gg_ival_abs(gg_ival a);
 gg_ival gg_ival_min(gg_ival a, gg_ival b);
 gg_ival gg_ival_max(gg_ival a, gg_ival b);
 gg_ival gg_ival_powi(gg_ival a, int n);
-gg_ival gg_ival_powc(gg_ival a, double c); /* c not an integer: domain a >= 0 */
+gg_ival gg_ival_powc(gg_ival a, double c); /* c fractional: domain a >= 0; whole: all a */
 
 #endif

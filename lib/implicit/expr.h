@@ -40,7 +40,7 @@ enum {
     GG_OP_LOG,
     GG_OP_ABS,
     GG_OP_POWI, /* a^n, n integer, |n| >= 2 or n = -1 */
-    GG_OP_POWC, /* a^c, c a constant that is not an integer */
+    GG_OP_POWC, /* a^c, c a constant: not an integer, or one past POWI's 1e9 */
     GG_OP_ADD,  /* binary */
     GG_OP_SUB,
     GG_OP_MUL,

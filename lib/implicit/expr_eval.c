@@ -20,12 +20,27 @@ static double powi(double x, int n)
     return n < 0 ? 1.0 / r : r;
 }
 
-/* Domain of a non-integer power: x >= 0, as C's pow for those exponents.
-   A NaN exponent (folded from a constant like (-0.5)^20.1) is undefined
-   everywhere, as in the interval version; C's pow(1, NaN) would say 1. */
+/* x^c for a constant c that is not a small integer. A fractional c is
+   defined for x >= 0, as C's pow for those exponents; a whole one (past
+   POWI's |c| <= 1e9) for every x, C's pow giving the sign by c's parity
+   (every double from 2^53 on is even), as the header promises of integer
+   powers. A NaN exponent (folded from a constant like (-0.5)^20.1) is
+   undefined everywhere, as in the interval version; C's pow(1, NaN)
+   would say 1. */
 static double powc(double x, double c)
 {
-    return x >= 0 && c == c ? pow(x, c) : NAN;
+    return c == c && (x >= 0 || c == floor(c)) ? pow(x, c) : NAN;
+}
+
+/* x^(c - 1), POWC's derivative's power. From 2^53 on, c - 1 rounds to an
+   even number while the true c - 1 is odd (c is even): a negative x then
+   gets the odd power's sign, so the gradient of x^c points the right way
+   on both sides. */
+static double powc_m1(double x, double c)
+{
+    double e = c - 1;
+    if (x < 0 && fabs(c) >= 0x1p53 && c == floor(c)) return -pow(-x, e);
+    return powc(x, e);
 }
 
 double gg_expr_apply(const gg_expr_ins *in, double a, double b)
@@ -201,7 +216,7 @@ double gg_expr_grad(const gg_expr *e, ggVec3 p, ggVec3 *grad)
             r = dscale(a, powi(a.v, in->n), in->n * powi(a.v, in->n - 1));
             break;
         case GG_OP_POWC:
-            r = dscale(a, powc(a.v, in->c), in->c * powc(a.v, in->c - 1));
+            r = dscale(a, powc(a.v, in->c), in->c * powc_m1(a.v, in->c));
             break;
         case GG_OP_MIN:
             r = a.v <= b.v ? a : b;

@@ -172,9 +172,29 @@ gg_ival gg_ival_powi(gg_ival a, int n)
     return gg_iv(0, pw_up(-a.lo > a.hi ? a.lo : a.hi, n));
 }
 
+/* -(-x)^e for x < 0, x^e otherwise: an odd power e > 0 (whatever the
+   double e's own parity). */
+static double odd_pow(double x, double e)
+{
+    return x < 0 ? -pow(-x, e) : pow(x, e);
+}
+
+/* x^e over a for an odd e (increasing for e > 0; 1 / x^-e for e < 0). */
+static gg_ival ival_odd_pow(gg_ival a, double e)
+{
+    if (e < 0) return gg_ival_div(gg_iv(1, 1), ival_odd_pow(a, -e));
+    return gg_iv(gg_iv_dn(odd_pow(a.lo, e), GG_IV_RELF), gg_iv_up(odd_pow(a.hi, e), GG_IV_RELF));
+}
+
 gg_ival gg_ival_powc(gg_ival a, double c)
 {
     double lo;
+    if (!gg_iv_isempty(a) && a.lo < 0 && c == floor(c)) {
+        /* a whole exponent past POWI's range, defined below 0 too: even,
+           |x|^c; odd, as odd powers are */
+        if (fabs(c) >= 0x1p53 || fmod(c, 2) == 0) return gg_ival_powc(gg_ival_abs(a), c);
+        return ival_odd_pow(a, c);
+    }
     if (gg_iv_isempty(a) || a.hi < 0 || c != c) return gg_iv_empty();
     lo = a.lo > 0 ? a.lo : 0;
     if (c > 0) {
@@ -298,7 +318,9 @@ static gg_ival dunary(const gg_expr_ins *in, gg_ival a, gg_ival r)
         return gg_ival_div(gg_iv(1, 1), a);
     case GG_OP_POWI:
         return gg_iv_scale(gg_ival_powi(a, in->n - 1), in->n);
-    case GG_OP_POWC:
+    case GG_OP_POWC: /* past 2^53 c - 1 rounds to an even number; it is odd */
+        if (a.lo < 0 && fabs(in->c) >= 0x1p53 && in->c == floor(in->c))
+            return gg_iv_scale(ival_odd_pow(a, in->c - 1), in->c);
         return gg_iv_scale(gg_ival_powc(a, in->c - 1), in->c);
     default:
         return gg_iv_entire();

@@ -591,6 +591,61 @@ static void test_domains_and_poles(void **state)
     ggImplicitFree(imp);
 }
 
+/* "a^n with a constant integer n is defined for every a" (implicit.h),
+   however large n: small ones are multiplied out, those past 1e9 go to
+   pow, which must then take negative bases too (x^2000000000 was NaN at
+   x = -1 and its surface missed on that side). Whole exponents from 2 to
+   1e300, both signs, both parities: the value at -x is +-(value at x),
+   finite where that is, and the surface |x|^n + y^2 + z^2 = 2 is hit from
+   both sides at the same distance. */
+static void test_whole_powers_everywhere(void **state)
+{
+    static const double ns[] = {2,          3,          999999999,  1000000000, 1000000001,
+                                1000000002, 2000000000, 4294967297, 1e10,       9007199254740991.0,
+                                0x1p53,     1e17,       1e300};
+    static const double xs[] = {0.5, 0.999, 1, 1.0001, 2};
+    size_t i, j;
+    int sgn, hits = 0, even = 0;
+    (void)state;
+    for (i = 0; i < sizeof ns / sizeof ns[0]; i++)
+        for (sgn = 1; sgn >= -1; sgn -= 2) {
+            double n = sgn * ns[i], odd = fabs(n) < 0x1p53 && fmod(n, 2) != 0;
+            char expr[96], surf[128];
+            ggImplicit *imp;
+            double t1 = 0, t2 = 0;
+            int h1, h2;
+            snprintf(expr, sizeof expr, "x^%.17g", n);
+            imp = surface(expr, v3(-3, -3, -3), v3(3, 3, 3));
+            for (j = 0; j < sizeof xs / sizeof xs[0]; j++) {
+                double fp = ggImplicitEval(imp, v3(xs[j], 0, 0));
+                double fm = ggImplicitEval(imp, v3(-xs[j], 0, 0));
+                if (!(fm == (odd ? -fp : fp)))
+                    print_error("%s at +-%g: %g and %g\n", expr, xs[j], fp, fm);
+                assert_true(fm == (odd ? -fp : fp));
+                assert_true(isfinite(fp) == isfinite(fm));
+            }
+            ggImplicitFree(imp);
+            if (n < 0 || odd) continue;
+            /* x^n + y^2 + z^2 - 2: |x| = 1 at y = 1, z = 0. From 2^53 on f
+               jumps from -1 to inf within an ulp of |x| = 1, a step the root
+               finder does not see: on neither side then. */
+            snprintf(surf, sizeof surf, "x^%.17g + y^2 + z^2 - 2", n);
+            imp = surface(surf, v3(-3, -3, -3), v3(3, 3, 3));
+            h1 = gg_implicit_intersect(imp, v3(-2.5, 1, 0), v3(1, 0, 0), 0, INFINITY, &t1);
+            h2 = gg_implicit_intersect(imp, v3(2.5, 1, 0), v3(-1, 0, 0), 0, INFINITY, &t2);
+            if (h1 != h2 || (h1 && fabs(t1 - t2) > 1e-9) || (n <= 1e10 && !h1))
+                print_error("%s: hit %d at %.17g from -x, %d at %.17g from +x\n", surf, h1, t1, h2,
+                            t2);
+            assert_int_equal(h1, h2);
+            assert_true(!h1 || fabs(t1 - t2) <= 1e-9);
+            assert_true(h1 || n > 1e10);
+            hits += h1, even++;
+            ggImplicitFree(imp);
+        }
+    print_message("whole powers: %d of %d even surfaces hit, each from both sides alike\n", hits,
+                  even);
+}
+
 static double cb_sphere(void *ud, ggVec3 p)
 {
     (*(int *)ud)++;
@@ -942,6 +997,7 @@ int main(void)
         cmocka_unit_test(test_origin_on_surface),
         cmocka_unit_test(test_leaving_rays_do_not_rehit),
         cmocka_unit_test(test_domains_and_poles),
+        cmocka_unit_test(test_whole_powers_everywhere),
         cmocka_unit_test(test_callbacks),
         cmocka_unit_test(test_callback_thin_torus),
         cmocka_unit_test(test_lipschitz_method_on_expressions),
