@@ -28,14 +28,29 @@ void gg_uv_sphere_dir(ggVec3 n, double uv[2])
 
 int gg_uv_sphere(ggVec3 c, double r, ggVec3 p, double uv[2])
 {
-    ggVec3 d = v3sub(p, c);
-    double len = v3len(d);
-    if (!v3finite(c) || !(r > 0) || !isfinite(r) || !isfinite(r * r) || !v3finite(p) ||
-        !isfinite(len))
-        return -1;
+    ggVec3 d = v3sub(p, c), q;
+    double len = v3len(d), m;
+    int k;
+    if (!v3finite(c) || !(r > 0) || !isfinite(r) || !isfinite(r * r) || !v3finite(p)) return -1;
     /* gg_sphere_surface's direction: the point re-projected onto the
        sphere, (0, 0, r) for the centre itself. */
-    gg_uv_sphere_dir(len > 0 ? v3norm(v3scale(d, r / len)) : v3(0, 0, 1), uv);
+    q = v3scale(d, r / len);
+    if (len > 0 && isfinite(len) && v3finite(q) && v3dot(q, q) > 0) {
+        gg_uv_sphere_dir(v3norm(q), uv);
+        return 0;
+    }
+    /* A point so far (or so near) that |d| overflows (or r / |d| does):
+       the direction of d scaled by a power of two, exactly; where p - c
+       itself overflows, of half of it. The centre itself is the pole. */
+    if (!v3finite(d)) d = v3sub(v3scale(p, 0.5), v3scale(c, 0.5));
+    m = fmax(fabs(d.x), fmax(fabs(d.y), fabs(d.z)));
+    if (!(m > 0)) {
+        gg_uv_sphere_dir(v3(0, 0, 1), uv);
+        return 0;
+    }
+    k = ilogb(m);
+    d = v3(ldexp(d.x, -k), ldexp(d.y, -k), ldexp(d.z, -k));
+    gg_uv_sphere_dir(v3norm(d), uv);
     return 0;
 }
 
@@ -60,12 +75,16 @@ int gg_uv_cone(ggVec3 base, double rb, ggVec3 apex, double ra, ggVec3 p, double 
 {
     ggVec3 e[3], w;
     double h, x, y;
+    double s = 1;
     if (gg_uv_cone_frame(base, rb, apex, ra, e, &h) || !v3finite(p)) return -1;
     w = v3sub(p, base);
+    if (!v3finite(w))
+        w = v3sub(v3scale(p, 0.5), v3scale(base, 0.5)), s = 2; /* p - base overflows */
     x = v3dot(w, e[0]), y = v3dot(w, e[1]);
-    /* On the axis gg_cone_surface takes the point at angle 0. */
-    if (!(x * x + y * y > 0)) x = 1, y = 0;
-    gg_uv_cone_local(x, y, v3dot(w, e[2]), h, uv);
+    /* On the axis gg_cone_surface takes the point at angle 0 (x and y
+       tested, not x^2 + y^2, which underflows off the axis). */
+    if (!(x != 0 || y != 0) || x != x || y != y) x = 1, y = 0;
+    gg_uv_cone_local(x, y, s * v3dot(w, e[2]), h, uv);
     return 0;
 }
 

@@ -3,8 +3,9 @@
 ** test_uv.c -- textures and texture coordinates as a client sees them
 ** (scene.h, "textures and texture coordinates"): ggSceneObjectUV gives
 ** every kind of shape the (u, v) that ggSceneIntersect's hits carry, and
-** the one its contract states, at 200 random points of each; its
-** failures write nothing; ggSceneObjectShape's sphere and cone frames
+** the one its contract states, at 200 random points of each, and at
+** every scale from 2^-1074 to 2^1023; its failures write nothing; ggSceneObjectShape's sphere and
+*cone frames
 ** are the ones u is measured in; and ggSceneGetTexture describes each
 ** texture so that sampling it as it says gives the ray tree's surface
 ** colour bit for bit, for every filter and wrap mode and the checker.
@@ -299,6 +300,63 @@ static void test_refusals(void **state)
     ggSceneFree(s);
 }
 
+/* Points at every scale a double has: u and v of spheres and cones
+   depend only on p's direction from the centre or axis, so the same
+   direction at 2^k, k from -1074 to 1023, gives the same (u, v) (within
+   1e-12 where the offset keeps its bits; in range everywhere), and a
+   point whose offset overflows still has one. Before,
+   |d| overflowed and underflowed: (1e308, 1e308, 1e308) left uv unwritten
+   with GG_OK, (4.9e-324, 0, 0) was the pole, and a cone's u was 0 within
+   1e-154 of its axis. */
+static void test_every_scale(void **state)
+{
+    ggScene *s = uv_scene();
+    ggShapeDesc cone;
+    tu_rng r = {42};
+    int k, i, kind;
+    (void)state;
+    assert_int_equal(ggSceneObjectShape(s, CONE, &cone), GG_OK);
+    for (i = 0; i < 20; i++) {
+        ggVec3 dir = tu_unit(&r);
+        double ref[2][2];
+        for (kind = 0; kind < 2; kind++) {
+            /* the sphere at the origin; the cone: a direction across its axis */
+            ggVec3 q =
+                kind ? v3add(cone.base, v3add(v3scale(cone.e1, dir.x), v3scale(cone.e2, dir.y)))
+                     : dir;
+            assert_int_equal(ggSceneObjectUV(s, kind ? CONE : SPHERE, 0, &q, 1, ref[kind]), GG_OK);
+        }
+        for (k = -1074; k <= 1023; k++) {
+            double sc = ldexp(1.0, k), uv[2] = {7, 7};
+            for (kind = 0; kind < 2; kind++) {
+                ggVec3 q = kind ? v3add(cone.base, v3add(v3scale(cone.e1, dir.x * sc),
+                                                         v3scale(cone.e2, dir.y * sc)))
+                                : v3scale(dir, sc);
+                /* the cone's base (about 10) rounds q by 1e-15: u within 1e-12 from 2^-8 */
+                int exact = k >= -1000 && (kind == 0 || k >= -8);
+                assert_int_equal(ggSceneObjectUV(s, kind ? CONE : SPHERE, 0, &q, 1, uv), GG_OK);
+                assert_true(uv[0] >= 0 && uv[0] < 1 && uv[1] >= 0 && uv[1] <= 1);
+                if (exact && kind == 0 &&
+                    (fabs(uv[0] - ref[0][0]) > 1e-12 || fabs(uv[1] - ref[0][1]) > 1e-12))
+                    print_error("sphere, scale 2^%d: (%.17g, %.17g), at 1 (%.17g, %.17g)\n", k,
+                                uv[0], uv[1], ref[0][0], ref[0][1]);
+                if (exact) assert_true(fabs(uv[0] - ref[kind][0]) <= 1e-12);
+                if (exact && kind == 0) assert_true(fabs(uv[1] - ref[0][1]) <= 1e-12);
+            }
+        }
+    }
+    {
+        /* p - c overflows: (1e308, ...) against the sphere at the origin,
+           and (-1e308, 1e308, -1e308) */
+        ggVec3 far[2] = {{1e308, 1e308, 1e308}, {-1e308, 1e308, -1e308}};
+        double uv[4] = {7, 7, 7, 7}, v0 = acos(1 / sqrt(3.0)) / PI;
+        assert_int_equal(ggSceneObjectUV(s, SPHERE, 0, far, 2, uv), GG_OK);
+        assert_true(fabs(uv[0] - 0.125) < 1e-15 && fabs(uv[1] - v0) < 1e-15);
+        assert_true(fabs(uv[2] - 0.375) < 1e-15 && fabs(uv[3] - (1 - v0)) < 1e-12);
+    }
+    ggSceneFree(s);
+}
+
 /* Sample texture t as ggSceneGetTexture says it is sampled (filter: the
    render's texture knob, 0 for the texture's own). */
 static ggColor sample_tex(const ggTextureInfo *t, double u, double v, int filter)
@@ -408,6 +466,7 @@ int main(void)
         cmocka_unit_test(test_uv_agrees_with_hits),
         cmocka_unit_test(test_frames),
         cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_every_scale),
         cmocka_unit_test(test_surface_colours),
         cmocka_unit_test(test_texture_info),
     };
