@@ -433,7 +433,8 @@ GG_API int ggPathMatch(const ggPathExpr *expr, const ggTrace *trace, int x, int 
 
 /* The events of one ledger term's path as text, e.g. "C<TS'2'><TS'2'>B":
    each surface event with its object label (and 'tir'), each L with its
-   light's, into buf (always NUL-terminated when size > 0). Returns the
+   light's, into buf (always NUL-terminated when size > 0, a NULL trace or
+   term included: "", as ggRenderOptionsFormat's NULL opt). Returns the
    length the full text needs (like snprintf); 0 for a NULL trace or
    term, or a term whose node is not in the trace. */
 GG_API size_t ggPathFormat(const ggTrace *trace, const ggLedgerTerm *term, char *buf,

@@ -85,9 +85,9 @@ static size_t mesh_bytes(const gg_mesh *m)
 GG_API int ggSceneGetMeshInfo(const ggScene *s, int i, ggMeshInfo *in)
 {
     const gg_mesh *m;
-    if (!in) return GG_ERROR_INVALID;
+    if (!s || !in) return GG_ERROR_INVALID; /* rule 1: nothing written */
     memset(in, 0, sizeof *in);
-    if (!s || i < 0 || (size_t)i >= s->nmeshes) return GG_ERROR_INVALID;
+    if (i < 0 || (size_t)i >= s->nmeshes) return GG_ERROR_INVALID;
     m = &s->meshes[i];
     in->name = m->name;
     in->format = m->format == GG_MESH_FORMAT_OBJ   ? "obj"
@@ -111,7 +111,7 @@ GG_API int ggSceneGetFaceInfo(const ggScene *s, int object, long tri, ggFaceInfo
     const gg_mesh *m;
     size_t face;
     int k;
-    if (!fi) return GG_ERROR_INVALID;
+    if (!s || !fi) return GG_ERROR_INVALID; /* rule 1: nothing written */
     memset(fi, 0, sizeof *fi);
     fi->group = fi->material_name = fi->mesh_name = "";
     fi->mesh = ggSceneObjectMesh(s, object);

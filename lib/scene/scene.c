@@ -789,9 +789,9 @@ GG_API int ggSceneGetInfo(const ggScene *s, ggSceneInfo *info)
 {
     gg_bvh_stats bs;
     size_t i;
-    if (!info) return GG_ERROR_INVALID;
+    if (!s || !info) return GG_ERROR_INVALID; /* rule 1: nothing written */
     memset(info, 0, sizeof *info);
-    if (!s || !s->prepared) return GG_ERROR_INVALID;
+    if (!s->prepared) return GG_ERROR_INVALID;
     for (i = 0; i < s->nobjects; i++) info->objects_by_kind[s->objects[i].kind]++;
     gg_geom_bvh_stats(s->geom, &bs);
     info->primitives = gg_geom_prim_count(s->geom);
@@ -825,9 +825,9 @@ GG_API int ggSceneObjectTriangulate(const ggScene *s, int i, int resolution, siz
 GG_API int ggSceneObjectShape(const ggScene *s, int i, ggShapeDesc *d)
 {
     const gg_object *o;
-    if (!d) return GG_ERROR_INVALID;
+    if (!s || !d) return GG_ERROR_INVALID; /* rule 1: nothing written */
     memset(d, 0, sizeof *d);
-    if (!s || i < 0 || (size_t)i >= s->nobjects) return GG_ERROR_INVALID;
+    if (i < 0 || (size_t)i >= s->nobjects) return GG_ERROR_INVALID;
     o = &s->objects[i];
     d->kind = o->kind, d->material = o->material, d->line = o->line;
     switch (o->kind) {

@@ -312,7 +312,10 @@ static void test_scene_query(void **state)
     COVER(ggSceneObjectKind), assert_int_equal(ggSceneObjectKind(NULL, 0), -1);
     COVER(ggSceneObjectMaterial), assert_int_equal(ggSceneObjectMaterial(NULL, 0), -1);
     COVER(ggSceneObjectLine), assert_int_equal(ggSceneObjectLine(NULL, 0), 0);
+    memset(&d, 0xff, sizeof d), memset(&mi, 0xff, sizeof mi), memset(&fi, 0xff, sizeof fi);
+    memset(&si, 0xff, sizeof si), memset(&h, 0xff, sizeof h);
     COVER(ggSceneObjectShape), assert_int_equal(ggSceneObjectShape(NULL, 0, &d), GG_ERROR_INVALID);
+    assert_true(all_ff(&d, sizeof d));
     assert_int_equal(ggSceneObjectShape(s, 0, NULL), GG_ERROR_INVALID);
     COVER(ggSceneGetLight), assert_int_equal(ggSceneGetLight(NULL, 0, &p, &c), GG_ERROR_INVALID);
     assert_true(p.x == 7 && c.r == 7);
@@ -320,9 +323,11 @@ static void test_scene_query(void **state)
     COVER(ggSceneMeshCount), assert_int_equal(ggSceneMeshCount(NULL), 0);
     COVER(ggSceneObjectMesh), assert_int_equal(ggSceneObjectMesh(NULL, 0), -1);
     COVER(ggSceneGetMeshInfo), assert_int_equal(ggSceneGetMeshInfo(NULL, 0, &mi), GG_ERROR_INVALID);
+    assert_true(all_ff(&mi, sizeof mi));
     assert_int_equal(ggSceneGetMeshInfo(s, 0, NULL), GG_ERROR_INVALID);
     COVER(ggSceneGetFaceInfo),
         assert_int_equal(ggSceneGetFaceInfo(NULL, 0, 0, &fi), GG_ERROR_INVALID);
+    assert_true(all_ff(&fi, sizeof fi));
     assert_int_equal(ggSceneGetFaceInfo(s, 0, 0, NULL), GG_ERROR_INVALID);
     COVER(ggSceneObjectTriangleCount), assert_int_equal(ggSceneObjectTriangleCount(NULL, 0), 0);
     COVER(ggSceneObjectTriangle),
@@ -352,9 +357,11 @@ static void test_scene_query(void **state)
     COVER(ggSceneFileName), assert_string_equal(ggSceneFileName(NULL), "");
     COVER(ggScenePrepare), assert_int_equal(ggScenePrepare(NULL, NULL), GG_ERROR_INVALID);
     COVER(ggSceneGetInfo), assert_int_equal(ggSceneGetInfo(NULL, &si), GG_ERROR_INVALID);
+    assert_true(all_ff(&si, sizeof si));
     assert_int_equal(ggSceneGetInfo(s, NULL), GG_ERROR_INVALID);
     COVER(ggSceneTraversal), assert_null(ggSceneTraversal(NULL));
     COVER(ggSceneIntersect), assert_false(ggSceneIntersect(NULL, r, 0, 100, &h));
+    assert_true(all_ff(&h, sizeof h));
     assert_true(ggSceneIntersect(s, r, 0, 100, NULL));
     COVER(ggSceneOccluded), assert_false(ggSceneOccluded(NULL, r, 0, 100));
     ggSceneFree(s);
