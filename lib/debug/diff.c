@@ -231,8 +231,12 @@ static int diff_alloc(ggScene *s, const gg_scan *sc, diff_job *dj, ggDiffResult 
 {
     diff_res *dr = gg_mem_calloc(s->alloc, 1, sizeof *dr);
     ggDiffResult *r;
-    size_t lim = dj->limit > 0 ? (size_t)dj->limit : 1;
+    size_t lim, pixels = (size_t)sc->desc.width * (size_t)sc->desc.height;
     int i;
+    /* No more can be listed than there are pixels: a worst of INT_MAX
+       must not ask for INT_MAX entries per thread. */
+    if ((size_t)dj->limit > pixels) dj->limit = (int)pixels;
+    lim = dj->limit > 0 ? (size_t)dj->limit : 1;
     if (!dr) return GG_ERROR_NOMEM;
     gg_dbg_alloc_init(&dr->al, s->alloc);
     r = *out = &dr->pub;
@@ -319,9 +323,9 @@ GG_API int ggDiff(ggScene *sa, const ggRenderOptions *oa, ggScene *sb, const ggR
                   int worst, ggDiffResult **out, ggError *err)
 {
     diff_job dj;
-    if (!sa || !sb || !out || worst < 0)
-        return gg_error_set(err, GG_ERROR_INVALID, "ggDiff: NULL argument or negative count");
+    if (!sa || !sb || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggDiff: NULL argument");
     *out = NULL; /* after the NULL checks: base.h rule 1 */
+    if (worst < 0) return gg_error_set(err, GG_ERROR_INVALID, "ggDiff: negative count");
     memset(&dj, 0, sizeof dj);
     dj.limit = worst;
     return diff_run(sa, oa, sb, ob, &dj, out, err);
@@ -332,10 +336,11 @@ GG_API int ggDiffPath(ggScene *sa, const ggRenderOptions *oa, ggScene *sb,
                       ggDiffResult **out, ggError *err)
 {
     diff_job dj;
-    if (!sa || !sb || !expr || !out || worst < 0 || limit < 0)
-        return gg_error_set(err, GG_ERROR_INVALID,
-                            "ggDiffPath: NULL argument or negative count");
+    if (!sa || !sb || !expr || !out)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggDiffPath: NULL argument");
     *out = NULL; /* after the NULL checks: base.h rule 1 */
+    if (worst < 0 || limit < 0)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggDiffPath: negative count");
     memset(&dj, 0, sizeof dj);
     dj.limit = worst, dj.path = expr, dj.moves_limit = limit;
     return diff_run(sa, oa, sb, ob, &dj, out, err);

@@ -268,9 +268,9 @@ GG_API int ggFind(ggScene *s, const ggRenderOptions *opt, const ggPredicate *pre
                   ggFindResult **out, ggError *err)
 {
     find_job fj;
-    if (!s || !pred || !out || limit < 0)
-        return gg_error_set(err, GG_ERROR_INVALID, "ggFind: NULL argument or negative limit");
+    if (!s || !pred || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggFind: NULL argument");
     *out = NULL; /* after the NULL checks: base.h rule 1 */
+    if (limit < 0) return gg_error_set(err, GG_ERROR_INVALID, "ggFind: negative limit");
     memset(&fj, 0, sizeof fj);
     fj.pred = pred, fj.limit = limit;
     return find_run(s, opt, &fj, pred->needs, out, err);
@@ -280,9 +280,10 @@ GG_API int ggFindPath(ggScene *s, const ggRenderOptions *opt, const ggPathExpr *
                       ggFindResult **out, ggError *err)
 {
     find_job fj;
-    if (!s || !path || !out || limit < 0)
-        return gg_error_set(err, GG_ERROR_INVALID, "ggFindPath: NULL argument or negative limit");
+    if (!s || !path || !out)
+        return gg_error_set(err, GG_ERROR_INVALID, "ggFindPath: NULL argument");
     *out = NULL; /* after the NULL checks: base.h rule 1 */
+    if (limit < 0) return gg_error_set(err, GG_ERROR_INVALID, "ggFindPath: negative limit");
     memset(&fj, 0, sizeof fj);
     fj.path = path, fj.limit = limit;
     return find_run(s, opt, &fj, path->needs | GG_NEED_TREE | GG_NEED_LIGHTS | GG_NEED_WEIGHT,

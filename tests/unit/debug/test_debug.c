@@ -13,6 +13,7 @@
 #include "scene.h"
 #include "trace_int.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -301,6 +302,10 @@ static void test_find_limit_and_crop(void **state)
     assert_int_equal(few->nmatches, 5);
     for (i = 0; i < 5; i++)
         assert_memory_equal(&few->matches[i], &all->matches[i], sizeof *few->matches);
+    /* a negative limit fails with *out NULL (debug.h: NULL on failure) */
+    crop = (ggFindResult *)&crop;
+    assert_int_equal(ggFind(s, &o, p, -5, &crop, NULL), GG_ERROR_INVALID);
+    assert_null(crop);
     o.crop_x0 = 20, o.crop_y0 = 10, o.crop_x1 = 50, o.crop_y1 = 40;
     assert_int_equal(ggFind(s, &o, p, 0, &crop, NULL), GG_OK);
     assert_int_equal(crop->scanned, 30 * 30);
@@ -779,7 +784,17 @@ static void test_diff_textbook_sphere(void **state)
             assert_true(one->worst[i].delta == r->worst[i].delta);
             assert_int_equal(one->worst[i].first.what, r->worst[i].first.what);
         }
+        /* any count up to INT_MAX: at most every differing pixel is
+           listed (a worst of INT_MAX asked for INT_MAX entries a thread) */
+        assert_int_equal(ggDiff(a, &oa, a, &ob, INT_MAX, &one, NULL), GG_OK);
+        assert_int_equal(one->nworst, one->value_differ);
+        for (i = 0; i < 5; i++) assert_true(one->worst[i].delta == r->worst[i].delta);
         ggDiffResultFree(one);
+        /* a negative count fails with *out NULL, as every failure after
+           the NULL checks (debug.h) */
+        one = (ggDiffResult *)&one;
+        assert_int_equal(ggDiff(a, &oa, a, &ob, -1, &one, NULL), GG_ERROR_INVALID);
+        assert_null(one);
     }
     for (y = 0; y < 60; y++)
         for (x = 0; x < 80; x++) {
