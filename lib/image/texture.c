@@ -93,8 +93,9 @@ GG_API ggColor ggTextureChecker(double u, double v, double n, ggColor a, ggColor
     if (!(n > 0.0) || !isfinite(n)) return a;
     su = floor((u - floor(u)) * n);
     sv = floor((v - floor(v)) * n);
-    /* The usual small n: integer parity. A huge n keeps doubles, whose
-       parity fmod gets exactly up to 2^53. */
+    /* The usual small n: integer parity. A huge n keeps doubles: the
+       parity of each, which fmod gets exactly (0 from 2^53 on), not of
+       their sum, which rounds past 2^53 and overflows near DBL_MAX. */
     if (su + sv < 1e9) return (((long)su + (long)sv) & 1) == 0 ? a : b;
-    return fmod(su + sv, 2.0) == 0.0 ? a : b;
+    return fmod(su, 2.0) == fmod(sv, 2.0) ? a : b;
 }

@@ -5,6 +5,7 @@
 */
 #include "testutil.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -338,6 +339,19 @@ static void test_checker(void **state)
     assert_color_eq(ggTextureChecker(0.7, 0.7, 0, a, b), 1, 0, 0);
     assert_color_eq(ggTextureChecker(0.7, 0.7, NAN, a, b), 1, 0, 0);
     assert_color_eq(ggTextureChecker(0.7, 0.2, 2.5, a, b), 0, 0, 1); /* squares (1, 0) */
+    /* n over the whole range of doubles. u = v: the square (s, s), whose
+       sum is even, so a, for any n (the sum overflowed near DBL_MAX and
+       gave b). n = 2^k, k >= 54: u' n is a multiple of 2 for every u' (53
+       bits below the point at most), so a everywhere. */
+    for (k = 0; k < 2000; k++) {
+        double u = tu_uniform(&r), v = tu_uniform(&r);
+        double n = exp(tu_range(&r, 0, log(DBL_MAX)));
+        int e = 54 + k % (1024 - 54);
+        assert_color_eq(ggTextureChecker(u, u, n, a, b), 1, 0, 0);
+        assert_color_eq(ggTextureChecker(u, v, ldexp(1.0, e), a, b), 1, 0, 0);
+    }
+    assert_color_eq(ggTextureChecker(0.9, 0.9, DBL_MAX, a, b), 1, 0, 0);
+    assert_color_eq(ggTextureChecker(0.9, 0.9, 1e308, a, b), 1, 0, 0);
 }
 
 /* The blend as ggrt/image.h writes it, computed long-hand, on random points. */
