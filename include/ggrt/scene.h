@@ -220,7 +220,11 @@ GG_API int ggSceneAddMaterial(ggScene *scene, const ggMaterial *m);
 /* Takes ownership of img (freed with the scene, also on failure). */
 GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);
 /* The shapes: -GG_ERROR_INVALID for a coordinate or size that is not
-   finite or is over GG_COORD_MAX in magnitude, or a degenerate shape. */
+   finite or is over GG_COORD_MAX in magnitude, or a degenerate shape: a
+   sphere's radius not > 0; a cone's radius < 0, both 0, or base = apex;
+   a rect's e1 and e2 parallel. A polygon or triangle with no area is
+   accepted (scene files have them) and never hit: ggScenePrepare leaves
+   it out, ggSceneObjectUV refuses it. */
 GG_API int ggSceneAddSphere(ggScene *scene, int material, ggVec3 center, double radius);
 /* Planar polygon, n >= 3 vertices, counter-clockwise seen from the front. */
 GG_API int ggSceneAddPolygon(ggScene *scene, int material, const ggVec3 *v, int n);
