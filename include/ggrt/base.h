@@ -151,7 +151,9 @@ typedef struct ggColor {
     double r, g, b;
 } ggColor;
 
-/* A ray o + t d. d need not be unit length unless a function says so. */
+/* A ray o + t d. d need not be unit length unless a function says so:
+   any finite nonzero d, 1e-300 or 1e300 long as well (t then scales with
+   it, and may overflow). */
 typedef struct ggRay {
     ggVec3 o, d;
 } ggRay;

@@ -42,6 +42,23 @@ static inline double v3maxabs(ggVec3 a)
     double x = fabs(a.x), y = fabs(a.y), z = fabs(a.z);
     return x > y ? (x > z ? x : z) : (y > z ? y : z);
 }
+
+/* A ray direction of any finite size made safe for the kernels: d scaled
+   by 2^k (exactly) when its largest component is outside [2^-64, 2^64],
+   where |d|^2 or 1/d would overflow or underflow (the BVH's boxes take 1/d
+   in single precision: a d of 2^129 missed everything); k = 0 and d as it
+   is otherwise (zero and non-finite d too). The ray o + t d is o + t' d'
+   with t' = ldexp(t, -k). */
+static inline ggVec3 v3tame(ggVec3 d, int *k)
+{
+    double m = v3maxabs(d);
+    ggVec3 r;
+    *k = 0;
+    if (!(m > 0) || !isfinite(m) || (m >= 0x1p-64 && m <= 0x1p64)) return d;
+    *k = -ilogb(m);
+    r.x = ldexp(d.x, *k), r.y = ldexp(d.y, *k), r.z = ldexp(d.z, *k);
+    return r;
+}
 static inline ggVec3 v3min(ggVec3 a, ggVec3 b)
 {
     return v3(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z);

@@ -666,5 +666,9 @@ int gg_implicit_intersect(const ggImplicit *imp, ggVec3 o, ggVec3 d, double tmin
 GG_API int ggImplicitIntersect(const ggImplicit *imp, ggRay ray, double tmin, double tmax,
                                double *t)
 {
-    return gg_implicit_intersect(imp, ray.o, ray.d, tmin, tmax, t);
+    int k, hit;
+    ray.d = v3tame(ray.d, &k); /* d of any finite size; t scaled with it */
+    hit = gg_implicit_intersect(imp, ray.o, ray.d, ldexp(tmin, -k), ldexp(tmax, -k), t);
+    if (hit && t) *t = ldexp(*t, k);
+    return hit;
 }

@@ -765,14 +765,18 @@ static void fill_hit(const ggScene *s, const gg_rayq *q, const gg_hit *h, ggHit 
     out->triangle = gg_scene_hit_triangle(s, &s->objects[obj], h->prim);
 }
 
+/* Both queries take d of any finite size (base.h): one far from 1 is
+   scaled by a power of two first, and t with it (v3tame). */
 GG_API bool ggSceneIntersect(const ggScene *s, ggRay ray, double tmin, double tmax, ggHit *hit)
 {
     gg_rayq q;
     gg_hit h;
+    int k;
     if (!s || !s->prepared) return false;
-    q = gg_rayq_make(ray.o, ray.d, tmin, tmax, NULL);
+    ray.d = v3tame(ray.d, &k);
+    q = gg_rayq_make(ray.o, ray.d, ldexp(tmin, -k), ldexp(tmax, -k), NULL);
     if (!gg_geom_intersect(s->geom, &q, &h)) return false;
-    if (hit) fill_hit(s, &q, &h, hit);
+    if (hit) fill_hit(s, &q, &h, hit), hit->t = ldexp(hit->t, k);
     return true;
 }
 
@@ -780,8 +784,10 @@ GG_API bool ggSceneOccluded(const ggScene *s, ggRay ray, double tmin, double tma
 {
     gg_rayq q;
     uint32_t cache = 0;
+    int k;
     if (!s || !s->prepared) return false;
-    q = gg_rayq_make(ray.o, ray.d, tmin, tmax, NULL);
+    ray.d = v3tame(ray.d, &k);
+    q = gg_rayq_make(ray.o, ray.d, ldexp(tmin, -k), ldexp(tmax, -k), NULL);
     return gg_geom_occluded(s->geom, &q, &cache, NULL) != 0;
 }
 

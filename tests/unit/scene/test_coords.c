@@ -9,6 +9,8 @@
 ** of 1e77 accepted and never hit (a product of four coordinates
 ** overflowed); a sphere of 1e20 let a light at 1e150 through; implicit
 ** surfaces' boxes were not bounded at all.
+** And ray directions of every size: base.h lets d be of any length; one
+** of 1e300 or 1e-300 was a miss everywhere.
 */
 #include "testutil.h"
 
@@ -170,11 +172,87 @@ static void test_beyond_is_refused(void **state)
     }
 }
 
+/* The same rays with d scaled by 2^k, k from -1021 to 1023 (exact):
+   ggSceneIntersect hits the same object at the same point (t 2^k the
+   same within 1e-12; inf where t itself overflows), ggSceneOccluded says
+   the same, ggRayColor gives the same bits; ggImplicitIntersect likewise.
+   Scenes with spheres, glass, an implicit surface and a mesh. */
+static void test_every_direction_size(void **state)
+{
+    static const char *files[] = {"examples/scenes/glass.nff", "examples/scenes/torus.nff",
+                                  "examples/scenes/knot.nff"};
+    size_t f;
+    int k, i, hits = 0, n = 0;
+    (void)state;
+    for (f = 0; f < sizeof files / sizeof files[0]; f++) {
+        ggScene *s = tu_load(files[f]);
+        ggRenderOptions o;
+        ggRenderOptionsDefault(&o);
+        o.width = 8, o.height = 6, o.max_depth = 3;
+        for (i = 0; i < 48; i++) {
+            ggRay r = ggCameraRay(s, &o, i % 8 + 0.5, i / 8 + 0.5);
+            ggHit h0, h;
+            bool hit0 = ggSceneIntersect(s, r, 0, INFINITY, &h0);
+            bool occ0 = ggSceneOccluded(s, r, 0, INFINITY);
+            ggColor c0 = ggRayColor(s, &o, r, 1, NULL);
+            hits += hit0;
+            for (k = -1074; k <= 1023; k += 3) {
+                ggRay q = r;
+                ggColor c;
+                bool hit;
+                int exact;
+                q.d.x = ldexp(r.d.x, k), q.d.y = ldexp(r.d.y, k), q.d.z = ldexp(r.d.z, k);
+                /* below about 2^-1000 a component goes subnormal and loses
+                   bits: another direction, only required to give a colour */
+                exact = ldexp(q.d.x, -k) == r.d.x && ldexp(q.d.y, -k) == r.d.y &&
+                        ldexp(q.d.z, -k) == r.d.z;
+                c = ggRayColor(s, &o, q, 1, NULL);
+                assert_true(isfinite(c.r) && isfinite(c.g) && isfinite(c.b));
+                if (!exact) continue;
+                hit = ggSceneIntersect(s, q, 0, INFINITY, &h);
+                if (hit != hit0 || (hit && h.object != h0.object))
+                    print_error("%s ray %d, d x 2^%d: hit %d object %d, at 1: %d %d\n", files[f], i,
+                                k, hit, hit ? h.object : -1, hit0, hit0 ? h0.object : -1);
+                assert_true(hit == hit0);
+                if (hit) {
+                    double t = ldexp(h.t, k);
+                    assert_int_equal(h.object, h0.object);
+                    assert_true(isinf(h.t) ? ldexp(h0.t, -k) > 1e307
+                                           : fabs(t - h0.t) <= 1e-12 * h0.t);
+                }
+                assert_true(ggSceneOccluded(s, q, 0, INFINITY) == occ0);
+                assert_memory_equal(&c, &c0, sizeof c);
+                n++;
+            }
+        }
+        ggSceneFree(s);
+    }
+    {
+        ggImplicit *imp = NULL;
+        double t0, t;
+        ggRay r = {{-3, 0.1, 0.2}, {1, 0.01, 0}};
+        assert_int_equal(ggImplicitCreateExpr("x^2+y^2+z^2-1", vec3(-2, -2, -2), vec3(2, 2, 2),
+                                              NULL, &imp, NULL),
+                         GG_OK);
+        assert_true(ggImplicitIntersect(imp, r, 0, INFINITY, &t0));
+        for (k = -1021; k <= 1023; k++) {
+            ggRay q = r;
+            q.d.x = ldexp(r.d.x, k), q.d.y = ldexp(r.d.y, k);
+            assert_true(ggImplicitIntersect(imp, q, 0, INFINITY, &t));
+            assert_true(fabs(ldexp(t, k) - t0) <= 1e-12 * t0);
+        }
+        ggImplicitFree(imp);
+    }
+    print_message("direction sizes: %d rays (%d hitting) at %d scales each, the same answers\n",
+                  3 * 48, hits, n / (3 * 48));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_scale_is_hit),
         cmocka_unit_test(test_beyond_is_refused),
+        cmocka_unit_test(test_every_direction_size),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
