@@ -104,7 +104,7 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
                            GG_IMAGE_MAX_PIXELS (checked before allocating),
                            more than 1024 EXR channels
      GG_ERROR_NOMEM        an allocation failed
-   Nothing is ever printed. */
+   On failure *out is left as it was. Nothing is ever printed. */
 GG_API int ggImageRead(const char *path, const ggAllocator *alloc, ggImage **out, ggError *err);
 
 /* Write an 8-bit RGB sRGB PNG. Each channel is clamped to [0,1] (NaN
@@ -212,7 +212,8 @@ GG_API int ggImageWriteEXRLayers(const ggImage *img, const ggImage *const *layer
    A missing channel of the three reads as 0. GG_ERROR_UNSUPPORTED when
    the file has no channel of the layer; GG_ERROR_PARSE when it is not
    an OpenEXR file (or a damaged one); GG_ERROR_INVALID for a NULL path
-   or out; otherwise ggImageRead's errors. */
+   or out; otherwise ggImageRead's errors. As there, *out is left as it
+   was on failure. */
 GG_API int ggImageReadEXRLayer(const char *path, const char *layer, const ggAllocator *alloc,
                                ggImage **out, ggError *err);
 

@@ -408,7 +408,6 @@ GG_API int ggImageReadEXRLayer(const char *path, const char *layer, const ggAllo
     int rc;
     if (!path || !out)
         return gg_error_set(err, GG_ERROR_INVALID, "ggImageReadEXRLayer: NULL argument");
-    *out = NULL; /* after the NULL checks: base.h rule 1 */
     rc = gg_file_open(path, "cannot open", &fp, NULL, err);
     if (rc != GG_OK) return rc;
     rc = read_exr_layer(fp, path, layer && layer[0] ? layer : NULL, alloc, NULL, out, err);

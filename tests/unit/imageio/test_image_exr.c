@@ -523,6 +523,16 @@ static void test_exr_channels(void **state)
     snprintf(msg, sizeof msg, "%s: no R, G, B or Y channel", tu_tmppath("none.exr"));
     assert_string_equal(e.message, msg);
     assert_null(img);
+    /* a failed read leaves *out as it was, by either reader */
+    img = (ggImage *)&img;
+    assert_int_equal(ggImageRead(tu_tmppath("none.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
+    assert_ptr_equal(img, (ggImage *)&img);
+    assert_int_equal(ggImageReadEXRLayer(tu_tmppath("none.exr"), "aov", NULL, &img, &e),
+                     GG_ERROR_UNSUPPORTED);
+    assert_ptr_equal(img, (ggImage *)&img);
+    assert_int_equal(ggImageReadEXRLayer(tu_tmppath("missing.exr"), NULL, NULL, &img, &e),
+                     GG_ERROR_IO);
+    assert_ptr_equal(img, (ggImage *)&img);
 }
 
 static void test_exr_limits(void **state)
