@@ -49,7 +49,8 @@ typedef ggVec3 (*ggImplicitGradFn)(void *ud, ggVec3 p);
 #define GG_IMPLICIT_MAX_DEPTH 64   /* nesting of (), calls, unary signs, ^ */
 
 /* Compile an expression in x, y, z and make the surface f = 0 inside the
-   box [lo, hi] (lo < hi on every axis, all finite).
+   box [lo, hi] (lo < hi on every axis, all finite, and a diagonal
+   |hi - lo| that is finite in double: sides up to about 1e154).
    The language: numbers (2, 0.5, .5, 1e-3), the variables x y z, the
    constant pi, + - * / ^ with the usual precedence, unary minus (-x^2 is
    -(x^2); ^ is right associative: 2^3^2 = 2^9), parentheses, and the
@@ -159,7 +160,9 @@ GG_API int ggImplicitIntersect(const ggImplicit *imp, ggRay ray, double tmin, do
                                double *t);
 
 #define GG_IMPLICIT_WARN_GRADIENT 1u /* f changed faster than the bound: holes possible */
-#define GG_IMPLICIT_WARN_BUDGET   2u /* some ray ran out of evaluations (see SetBudget) */
+/* some ray ran out of evaluations (see SetBudget), or of subdivision
+   depth: a segment more than 2^250 times the tolerance */
+#define GG_IMPLICIT_WARN_BUDGET 2u
 
 /* The warnings raised by intersections since creation or the last
    ggImplicitClearWarnings: an OR of GG_IMPLICIT_WARN_*, 0 if none. They

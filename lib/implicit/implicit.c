@@ -22,7 +22,11 @@
 #include <string.h>
 
 #define GRID        17     /* samples per axis for estimating a bound */
-#define STACK       100    /* subdivision depth (>= 2 per halving level) */
+/* Subdivision depth: the stack grows by one per halving, so 256 (12 KB)
+   takes a segment down by 2^-250, a box 1e75 times the tolerance; past
+   that a piece that may hold a root raises GG_IMPLICIT_WARN_BUDGET (with
+   100, a unit sphere in a box of 1e40 was missed without a word). */
+#define STACK       256
 #define TOL_DEFAULT 1e-12  /* times the box diagonal */
 #define STEP_MIN    1e-9   /* times the box diagonal: smallest Lipschitz step */
 #define BUDGET      100000 /* evaluations per ray: callbacks (their cost is unknown) */
@@ -191,9 +195,13 @@ static double estimate_bound(const ggImplicit *imp)
     return best > 0 ? 2 * best : 1.0;
 }
 
+/* The tolerance and the smallest step are fractions of the diagonal:
+   a box whose |hi - lo| overflows (sides past about 1e154) would make
+   them infinite, and no ray would ever hit. */
 static int check_box(ggVec3 lo, ggVec3 hi)
 {
-    return v3finite(lo) && v3finite(hi) && lo.x < hi.x && lo.y < hi.y && lo.z < hi.z;
+    return v3finite(lo) && v3finite(hi) && lo.x < hi.x && lo.y < hi.y && lo.z < hi.z &&
+           isfinite(v3len(v3sub(hi, lo)));
 }
 
 /* The budget when none was set: see BUDGET_WORK. The Lipschitz method
@@ -227,8 +235,10 @@ GG_API int ggImplicitCreateExpr(const char *expr, ggVec3 lo, ggVec3 hi, const gg
     if (!expr || !out) return gg_error_set(err, GG_ERROR_INVALID, "implicit: NULL argument");
     *out = NULL; /* after the NULL checks: base.h rule 1 */
     if (!check_box(lo, hi))
-        return gg_error_set(err, GG_ERROR_INVALID,
-                            "implicit: the box needs finite corners with lo < hi on each axis");
+        return gg_error_set(
+            err, GG_ERROR_INVALID,
+            "implicit: the box needs finite corners with lo < hi on each axis and a "
+            "finite diagonal");
     rc = gg_expr_compile(expr, strlen(expr), alloc, &e, err);
     if (rc != GG_OK) return rc;
     imp = new_implicit(lo, hi, alloc);
@@ -250,8 +260,10 @@ GG_API int ggImplicitCreateFn(ggImplicitFn f, ggImplicitGradFn grad, void *ud, g
     if (!f || !out) return gg_error_set(err, GG_ERROR_INVALID, "implicit: NULL argument");
     *out = NULL; /* after the NULL checks: base.h rule 1 */
     if (!check_box(lo, hi))
-        return gg_error_set(err, GG_ERROR_INVALID,
-                            "implicit: the box needs finite corners with lo < hi on each axis");
+        return gg_error_set(
+            err, GG_ERROR_INVALID,
+            "implicit: the box needs finite corners with lo < hi on each axis and a "
+            "finite diagonal");
     imp = new_implicit(lo, hi, alloc);
     if (!imp) return gg_error_set(err, GG_ERROR_NOMEM, "implicit: out of memory");
     imp->fn = f, imp->grad = grad, imp->ud = ud;
@@ -498,7 +510,8 @@ static int search_interval(const ggImplicit *imp, ggVec3 o, ggVec3 d, double t0,
            1/x - 1 at 0): no shortcut then, only subdivision. */
         mono = !partial && gg_iv_finite(f) && !gg_iv_isempty(df) && (df.lo > 0 || df.hi < 0);
         m = nd.a + 0.5 * (nd.b - nd.a);
-        leaf = nd.b - nd.a <= tol || !(m > nd.a && m < nd.b) || sp + 2 > STACK;
+        leaf = nd.b - nd.a <= tol || !(m > nd.a && m < nd.b);
+        if (!leaf && !mono && sp + 2 > STACK) leaf = 1, st->warn |= GG_IMPLICIT_WARN_BUDGET;
         if (mono || leaf) {
             double r, pa, pb;
             /* Undefined at an end, or a pole (not a root) inside. */

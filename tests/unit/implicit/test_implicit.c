@@ -914,6 +914,36 @@ static void test_api_arguments(void **state)
                      GG_ERROR_INVALID);
     assert_int_equal(ggImplicitCreateExpr("x", v3(0, 0, 0), v3(1, INFINITY, 1), NULL, &imp, &err),
                      GG_ERROR_INVALID);
+    /* a box whose diagonal overflows: its tolerance would be infinite and
+       nothing ever hit (one of +-1e308 was accepted) */
+    assert_int_equal(ggImplicitCreateExpr("x^2+y^2+z^2-1", v3(-1e308, -1e308, -1e308),
+                                          v3(1e308, 1e308, 1e308), NULL, &imp, &err),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImplicitCreateFn(cb_sphere_plain, NULL, NULL, v3(-1e155, -1, -1),
+                                        v3(1e155, 1, 1), NULL, &imp, &err),
+                     GG_ERROR_INVALID);
+    {
+        /* a unit sphere in a box of 1e60 (scenes allow 1e64): the default
+           tolerance (1e-12 of the diagonal) is larger than the sphere; with
+           1e-12 it is found, 2^190 times smaller than the segment (the
+           subdivision stopped at 2^-99 and missed it without a word). In a
+           box of 1e150 it is past the depth: a miss that says so. */
+        ggRay r = {{-3, 0.1, 0.2}, {1, 0, 0}};
+        double side[2] = {1e60, 1e150};
+        int b;
+        for (b = 0; b < 2; b++) {
+            assert_int_equal(ggImplicitCreateExpr("x^2+y^2+z^2-1", v3(-side[b], -side[b], -side[b]),
+                                                  v3(side[b], side[b], side[b]), NULL, &imp, &err),
+                             GG_OK);
+            assert_int_equal(ggImplicitSetTolerance(imp, 1e-12), GG_OK);
+            assert_int_equal(ggImplicitIntersect(imp, r, 0, INFINITY, &t), b == 0);
+            if (b == 0) assert_true(fabs(t - (3 - sqrt(1 - 0.05))) < 1e-9);
+            assert_int_equal(ggImplicitWarnings(imp), b == 0 ? 0u : GG_IMPLICIT_WARN_BUDGET);
+            if (b == 0) ggImplicitFree(imp);
+        }
+    }
+    ggImplicitFree(imp);
+    imp = NULL;
     assert_int_equal(
         ggImplicitCreateFn(NULL, NULL, NULL, v3(0, 0, 0), v3(1, 1, 1), NULL, &imp, &err),
         GG_ERROR_INVALID);
