@@ -31,7 +31,7 @@ static const char tail[] =
 static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct trace_args {
-    const char *scenes[2], *svg, *obj, *a_text, *b_text, *lpe, *paths_jsonl, *paths_obj;
+    const char *scenes[2], *svg, *obj, *scene_obj, *a_text, *b_text, *lpe, *paths_jsonl, *paths_obj;
     int nscenes, pixel[2], sample, format, ascii, ledger, diff, no_numeric;
     ggRenderOptions oa, ob; /* --diff: the two sides */
     cli_render ro;
@@ -82,6 +82,8 @@ static int outputs_not_inputs(const trace_args *a, const cli_cmd *cmd)
     int rc;
     if ((rc = cli_check_not_input(cmd, "--svg", a->svg, a->scenes, a->nscenes)) != CLI_GO ||
         (rc = cli_check_not_input(cmd, "--obj", a->obj, a->scenes, a->nscenes)) != CLI_GO ||
+        (rc = cli_check_not_input(cmd, "--scene-obj", a->scene_obj, a->scenes, a->nscenes)) !=
+            CLI_GO ||
         (rc = cli_check_not_input(cmd, "--paths-jsonl", a->paths_jsonl, a->scenes, a->nscenes)) !=
             CLI_GO)
         return rc;
@@ -130,6 +132,9 @@ static int parse(trace_args *a, int argc, char **argv)
         CLI_OPT_STRING(0, "paths-obj", &a->paths_obj, "FILE",
                        "--path: write the matching paths as OBJ polylines,\n"
                        "eye to light, one per path"),
+        CLI_OPT_STRING(0, "scene-obj", &a->scene_obj, "FILE",
+                       "write the scene's objects as OBJ faces, to open\n"
+                       "with --obj's rays or --paths-obj's paths"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "trace",
@@ -156,8 +161,10 @@ static int parse(trace_args *a, int argc, char **argv)
         return cli_usage_error(&cmd, "--ledger explains the whole pixel: drop --sample");
     if (a->lpe && (a->sample >= 0 || a->ledger || a->diff))
         return cli_usage_error(&cmd, "--path looks at the whole pixel: no --sample, --ledger, --diff");
-    if (a->diff && (a->svg || a->obj || a->ledger || a->format == 1))
-        return cli_usage_error(&cmd, "--diff prints text only (no --svg, --obj, --ledger, json)");
+    if (a->diff && (a->svg || a->obj || a->scene_obj || a->ledger || a->format == 1))
+        return cli_usage_error(&cmd,
+                               "--diff prints text only (no --svg, --obj, --scene-obj, --ledger, "
+                               "json)");
     if (a->diff && (rc = diff_sides(a, &cmd)) != CLI_GO) return rc;
     if ((a->paths_jsonl || a->paths_obj) && !a->lpe)
         return cli_usage_error(&cmd, "--paths-jsonl and --paths-obj write the paths of --path LPE");
@@ -165,6 +172,7 @@ static int parse(trace_args *a, int argc, char **argv)
     if ((rc = dbg_paths_check("trace", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->svg && (rc = cli_check_output("trace", a->svg)) != 0) return rc;
     if (a->obj && (rc = cli_check_output("trace", a->obj)) != 0) return rc;
+    if (a->scene_obj && (rc = cli_check_output("trace", a->scene_obj)) != 0) return rc;
     return CLI_GO;
 }
 
@@ -178,6 +186,10 @@ static int write_files(const trace_args *a, const trace_view *view)
     }
     if (rc == EXIT_OK && a->obj && (rc = cli_out_open(&o, "trace", a->obj)) == 0) {
         trace_write_obj(o.f, view);
+        rc = cli_out_close(&o, "trace");
+    }
+    if (rc == EXIT_OK && a->scene_obj && (rc = cli_out_open(&o, "trace", a->scene_obj)) == 0) {
+        trace_write_scene_obj(o.f, view->scene, view->path);
         rc = cli_out_close(&o, "trace");
     }
     return rc;

@@ -30,6 +30,14 @@ void trace_write_svg(FILE *f, const trace_view *v);
 void trace_write_svg_views(FILE *f, const trace_view *v, int camera);
 /* OBJ lines (trace_obj.c); the same error rule as SVG. */
 void trace_write_obj(FILE *f, const trace_view *v);
+/* The scene's objects as OBJ faces, one OBJ object each ("object3_
+   sphere_line12"), to open beside the rays or paths in Blender or
+   MeshLab: spheres and cones tessellated (32 segments, fewer in a scene
+   of thousands), rects and
+   polygons as their face, mesh parts as their triangles, implicit
+   surfaces as ggSceneObjectTriangulate's (64 cells along the box's
+   longest side). path names the scene in a comment. */
+void trace_write_scene_obj(FILE *f, const ggScene *s, const char *path);
 
 /* The ledger (trace_debug.c): terms by share, with the rays that carried
    them; at most `max` terms listed (0: all), the rest summed. */

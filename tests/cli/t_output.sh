@@ -48,8 +48,9 @@ cp $g "$tmp/o/scene.nff"
 expect_err 1 "ggrt plan: -o '$tmp/o/scene.nff' is the input '$tmp/o/scene.nff': writing it would destroy it" \
   "plan -o onto its scene is refused" "$ggrt" plan "$tmp/o/scene.nff" --tiles 2 -s 16x12 -q -o "$tmp/o/scene.nff"
 cmp -s "$tmp/o/scene.nff" $g && ok "plan: the scene is untouched" || bad "plan: the scene is untouched"
-# trace's files too: --svg, --obj, --paths-jsonl and --paths-obj on the
-# scene (by another path for some) are refused and the scene stays.
+# trace's files too: --svg, --obj, --scene-obj, --paths-jsonl and
+# --paths-obj on the scene (by another path for some) are refused and the
+# scene stays.
 # trace_onto OPT FILE [options]
 trace_onto() {
   opt=$1; out=$2; shift 2
@@ -59,6 +60,7 @@ trace_onto() {
 }
 trace_onto --svg "$tmp/o/scene.nff"
 trace_onto --obj "$tmp/o/../o/scene.nff"
+trace_onto --scene-obj "$tmp/o/./scene.nff"
 trace_onto --paths-jsonl "$tmp/o/scene.nff" --path 'C.*L'
 trace_onto --paths-obj "$tmp/o/./scene.nff" --path 'C.*L'
 cmp -s "$tmp/o/scene.nff" $g && ok "trace: the scene is untouched" || bad "trace: the scene is untouched"
