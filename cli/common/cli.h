@@ -77,6 +77,16 @@ int cli_check_image_name(const cli_cmd *cmd, const char *what, const char *path)
 int cli_check_not_input(const cli_cmd *cmd, const char *opt, const char *out,
                         const char *const *inputs, int n);
 
+/* For a parser: refuse two outputs of one command that are one file (by
+   st_dev and st_ino when it exists, else by the real path of its folder
+   and its name): one would overwrite the other, or the second write fail
+   after the work. opts[i] names the option of paths[i]; NULL paths are
+   skipped. Returns CLI_GO or EXIT_USAGE. */
+int cli_check_distinct(const cli_cmd *cmd, const char *const *opts, const char *const *paths,
+                       int n);
+/* Are p and q one file, by cli_check_distinct's test? (NULL: no.) */
+int cli_same_file(const char *p, const char *q);
+
 /* A text output file written whole or not at all: cli_out_open creates
    "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it
    over path, or removes it on any error. Both print the reason ("ggrt CMD:

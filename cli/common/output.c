@@ -3,10 +3,14 @@
 ** output.c -- output files: checked before a command spends time on
 ** them, and text files written whole or not at all (cli.h).
 */
+/* realpath is XSI (POSIX.1-2008 with the X/Open extension). */
+#define _XOPEN_SOURCE 700
 #include "common/cli.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -89,6 +93,48 @@ int cli_check_not_input(const cli_cmd *cmd, const char *opt, const char *out,
             si.st_ino == so.st_ino)
             return cli_usage_error(cmd, "%s '%s' is the input '%s': writing it would destroy it",
                                    opt, out, inputs[i]);
+    return CLI_GO;
+}
+
+/* What names the file at path: "I dev ino" when it exists, else "P " and
+   the real path of its folder, '/', its name (the folder's path as given
+   if that cannot be resolved). 0, or -1 if buf is too small. */
+static int file_key(const char *path, char *buf, size_t n)
+{
+    struct stat st;
+    char dir[4096], real[PATH_MAX];
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    int k;
+    if (stat(path, &st) == 0) {
+        k = snprintf(buf, n, "I %lu %lu", (unsigned long)st.st_dev, (unsigned long)st.st_ino);
+        return k < 0 || (size_t)k >= n ? -1 : 0;
+    }
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == path)
+        snprintf(dir, sizeof dir, "/");
+    else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path), path);
+    k = snprintf(buf, n, "P %s/%s", realpath(dir, real) ? real : dir, base);
+    return k < 0 || (size_t)k >= n ? -1 : 0;
+}
+
+int cli_same_file(const char *p, const char *q)
+{
+    char a[8192], b[8192];
+    return p && q && !file_key(p, a, sizeof a) && !file_key(q, b, sizeof b) && !strcmp(a, b);
+}
+
+int cli_check_distinct(const cli_cmd *cmd, const char *const *opts, const char *const *paths, int n)
+{
+    int i, j;
+    for (i = 0; i < n; i++)
+        for (j = i + 1; j < n; j++)
+            if (cli_same_file(paths[i], paths[j]))
+                return cli_usage_error(cmd,
+                                       "%s '%s' and %s '%s' are the same file: one would "
+                                       "overwrite the other",
+                                       opts[i], paths[i], opts[j], paths[j]);
     return CLI_GO;
 }
 

@@ -94,6 +94,13 @@ static int parse(find_args *a, int argc, char **argv)
         (rc = cli_check_not_input(&cmd, "--paths-jsonl", a->paths_jsonl, &a->scene, 1)) != CLI_GO ||
         (rc = cli_check_not_input(&cmd, "--paths-obj", a->paths_obj, &a->scene, 1)) != CLI_GO)
         return rc;
+    {
+        const char *opts[] = {"-o", "--overlay", "--paths-jsonl", "--paths-obj"};
+        const char *paths[4];
+        paths[0] = a->out, paths[1] = a->overlay, paths[2] = a->paths_jsonl;
+        paths[3] = a->paths_obj;
+        if ((rc = cli_check_distinct(&cmd, opts, paths, 4)) != CLI_GO) return rc;
+    }
     if ((rc = dbg_paths_check("find", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->out && (rc = cli_check_output("find", a->out)) != 0) return rc;
     if (a->overlay && (rc = cli_check_output("find", a->overlay)) != 0) return rc;

@@ -118,7 +118,7 @@ static int layer_path(const aov_list *l, int k, char *buf, size_t n)
     return len < 0 || (size_t)len >= n ? -1 : 0;
 }
 
-int aov_check_pngs(const aov_list *l)
+int aov_check_pngs(const aov_list *l, const char *out, const char *scene)
 {
     struct stat st;
     int k, rc;
@@ -140,6 +140,17 @@ int aov_check_pngs(const aov_list *l)
         if (layer_path(l, k, path, sizeof path) != 0) {
             cli_error("'%s/%s.png': file name too long", l->png_dir, l->name[k]);
             return EXIT_IO;
+        }
+        if (cli_same_file(path, out)) {
+            cli_error("-o '%s' and --aov-png's '%s' are the same file: one would overwrite the "
+                      "other",
+                      out, path);
+            return EXIT_USAGE;
+        }
+        if (cli_same_file(path, scene)) {
+            cli_error("--aov-png's '%s' is the input '%s': writing it would destroy it", path,
+                      scene);
+            return EXIT_USAGE;
         }
         if ((rc = cli_check_output("render", path)) != 0) return rc;
     }

@@ -36,8 +36,9 @@ int aov_parse_one(void *ud, const char *value, char *why, size_t whylen);
 int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h);
 /* Before the render: --aov-png DIR must be a directory, or a missing one
    whose parent takes files, and each DIR/NAME.png must pass
-   cli_check_output as -o does. 0, or EXIT_IO after saying why. */
-int aov_check_pngs(const aov_list *l);
+   cli_check_output as -o does and be neither out (-o) nor scene. 0, or
+   EXIT_IO / EXIT_USAGE after saying why. */
+int aov_check_pngs(const aov_list *l, const char *out, const char *scene);
 /* Write img with its layers to out (.exr: the layers as channels, and the
    AOV_ATTR* attributes from scene and opt; .png: the image alone) and,
    with --aov-png, each layer to DIR/NAME.png: GG_OK or the library's

@@ -332,7 +332,7 @@ int cmd_render(int argc, char **argv)
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if (!a.tiles.count && (rc = cli_check_output("render", a.out)) != 0) return rc;
-    if (a.aov.png_dir && (rc = aov_check_pngs(&a.aov)) != 0) return rc;
+    if (a.aov.png_dir && (rc = aov_check_pngs(&a.aov, a.out, a.scene)) != 0) return rc;
     ls.a = &a, ls.t = t;
     t[0] = cli_now();
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;

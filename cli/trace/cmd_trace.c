@@ -169,6 +169,13 @@ static int parse(trace_args *a, int argc, char **argv)
     if ((a->paths_jsonl || a->paths_obj) && !a->lpe)
         return cli_usage_error(&cmd, "--paths-jsonl and --paths-obj write the paths of --path LPE");
     if ((rc = outputs_not_inputs(a, &cmd)) != CLI_GO) return rc;
+    {
+        const char *opts[] = {"--svg", "--obj", "--scene-obj", "--paths-jsonl", "--paths-obj"};
+        const char *paths[5];
+        paths[0] = a->svg, paths[1] = a->obj, paths[2] = a->scene_obj;
+        paths[3] = a->paths_jsonl, paths[4] = a->paths_obj;
+        if ((rc = cli_check_distinct(&cmd, opts, paths, 5)) != CLI_GO) return rc;
+    }
     if ((rc = dbg_paths_check("trace", a->paths_jsonl, a->paths_obj)) != 0) return rc;
     if (a->svg && (rc = cli_check_output("trace", a->svg)) != 0) return rc;
     if (a->obj && (rc = cli_check_output("trace", a->obj)) != 0) return rc;

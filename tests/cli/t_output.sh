@@ -64,6 +64,26 @@ trace_onto --scene-obj "$tmp/o/./scene.nff"
 trace_onto --paths-jsonl "$tmp/o/scene.nff" --path 'C.*L'
 trace_onto --paths-obj "$tmp/o/./scene.nff" --path 'C.*L'
 cmp -s "$tmp/o/scene.nff" $g && ok "trace: the scene is untouched" || bad "trace: the scene is untouched"
+# Two outputs of one command that are one file, by whatever path: refused
+# before the work (one would overwrite the other, or the second write fail
+# after a whole scan, leaving a file emptied).
+expect_err 1 "ggrt find: -o '$tmp/o/same.png' and --overlay '$tmp/o/./same.png' are the same file: one would overwrite the other" \
+  "find -o and --overlay onto one file are refused" \
+  "$ggrt" find $g -s 16x12 -w 'some(hit)' -o "$tmp/o/same.png" --overlay "$tmp/o/./same.png"
+echo keep > "$tmp/o/keep.txt"
+expect_exit 1 "find --paths-jsonl and --paths-obj onto one existing file are refused" \
+  "$ggrt" find $g -s 16x12 --path 'C.*' --paths-jsonl "$tmp/o/keep.txt" --paths-obj "$tmp/o/../o/keep.txt"
+[ "$(cat "$tmp/o/keep.txt")" = keep ] && ok "find: the file named twice is untouched" ||
+  bad "find: the file named twice is untouched" "$(cat "$tmp/o/keep.txt")"
+expect_exit 1 "trace --svg and --obj onto one file are refused" \
+  "$ggrt" trace $g -s 16x12 -p 1,1 --svg "$tmp/o/t.svg" --obj "$tmp/o/t.svg"
+mkdir -p "$tmp/o/aov"
+expect_exit 1 "render -o onto one of its --aov-png files is refused" \
+  "$ggrt" render $g -s 16x12 -q --aov 'main=C<RD>L' --aov-png "$tmp/o/aov" -o "$tmp/o/aov/main.png"
+cp $g "$tmp/o/aov/all.png"
+expect_exit 1 "render --aov-png onto its scene (named like a layer file) is refused" \
+  "$ggrt" render "$tmp/o/aov/all.png" -s 16x12 -q --aov 'all=C.*' --aov-png "$tmp/o/aov" -o "$tmp/o/aov/o.exr"
+cmp -s "$tmp/o/aov/all.png" $g && ok "render: that scene is untouched" || bad "render: that scene is untouched"
 expect_exit 0 "merge onto a new file still works" \
   "$ggrt" merge "$tmp/o/part-0.exr" "$tmp/o/part-1.exr" "$tmp/o/part-2.exr" -q -o "$tmp/o/whole.exr"
 
