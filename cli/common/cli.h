@@ -101,9 +101,11 @@ int cli_out_close(cli_out *o, const char *cmd);
 /* The whole file at path, NUL-terminated, in malloc'd memory sized as it
    is read, if it holds at most max bytes: returns 0 with *text (the
    caller frees it) and *len; else CLI_READ_IO (errno says why: it
-   cannot be opened or read), CLI_READ_LARGE (more than max bytes) or
-   CLI_READ_NOMEM, and *text is NULL. The caller prints the reason. */
-enum { CLI_READ_IO = 1, CLI_READ_LARGE, CLI_READ_NOMEM };
+   cannot be opened or read), CLI_READ_NOTFILE (a FIFO, device or
+   directory: refused at once, never waited on, as the library refuses
+   them), CLI_READ_LARGE (more than max bytes) or CLI_READ_NOMEM, and
+   *text is NULL. The caller prints the reason. */
+enum { CLI_READ_IO = 1, CLI_READ_LARGE, CLI_READ_NOMEM, CLI_READ_NOTFILE };
 int cli_read_text(const char *path, size_t max, char **text, size_t *len);
 
 /* Print " ARG", quoted for a POSIX shell when it needs quoting, so that a

@@ -317,7 +317,16 @@ int cli_optics_check(int argc, char **argv)
             return cli_usage_error(&cmd, "--symbol needs --lib (without it: %s)", own[k.kind]);
         k.fn = own_fn(k.kind);
     } else {
-        void *h = dlopen(k.lib, RTLD_NOW | RTLD_LOCAL);
+        struct stat st;
+        void *h;
+        /* dlopen of a FIFO waits for a writer: a path that names something
+           other than a regular file is refused first (a bare name is
+           looked up by dlopen in the library path). */
+        if (strchr(k.lib, '/') && stat(k.lib, &st) == 0 && !S_ISREG(st.st_mode)) {
+            cli_error("%s: not a regular file", k.lib);
+            return EXIT_IO;
+        }
+        h = dlopen(k.lib, RTLD_NOW | RTLD_LOCAL);
         if (!h) {
             cli_error("%s", dlerror());
             return EXIT_INPUT;

@@ -58,8 +58,8 @@ static int load(report *r)
     char why[200];
     size_t got;
     int k, rc = cli_read_text(r->path, REPORT_MAX_BYTES, &r->text, &got);
-    if (rc == CLI_READ_IO) {
-        cli_error("%s: %s", r->path, strerror(errno));
+    if (rc == CLI_READ_IO || rc == CLI_READ_NOTFILE) {
+        cli_error("%s: %s", r->path, rc == CLI_READ_IO ? strerror(errno) : "not a regular file");
         return EXIT_IO;
     }
     if (rc) {
