@@ -41,6 +41,12 @@ static int side(const cli_cmd *cmd, const char *name, const char *text, const gg
     *o = *base;
     if (ggRenderOptionsParse(o, text, &err) != GG_OK)
         return cli_usage_error(cmd, "--%s:%s", name, err.message);
+    /* ggDiff compares one window, side a's: a crop of one side would be
+       ignored (b's) or make b's render black around a's window (a's). */
+    if (o->crop_x0 != base->crop_x0 || o->crop_y0 != base->crop_y0 || o->crop_x1 != base->crop_x1 ||
+        o->crop_y1 != base->crop_y1)
+        return cli_usage_error(cmd, "--%s: crop= is the window of both sides: give it as --crop",
+                               name);
     return CLI_GO;
 }
 

@@ -20,6 +20,12 @@ for o in "find $g -w some(kind==tir) -o $tmp/x.jpg:the output must end in .png o
 done
 [ ! -e "$tmp/x.jpg" ] && [ ! -e "$tmp/x.txt" ] && ok "find, diff: nothing written for a refused extension" ||
   bad "find, diff: nothing written for a refused extension"
+# diff compares one window for both sides: crop= in --a or --b was
+# silently ignored (b) or blackened b around it (a).
+for side in a b; do
+  expect_err 1 "ggrt diff: --$side: crop= is the window of both sides: give it as --crop" \
+    "diff --$side crop=... is refused" "$ggrt" diff $g -s 16x12 -q --$side crop=0,0,4,4
+done
 
 # find: the TIR region of glass.nff holds pixel 110,100; the listed replay
 # command, pasted, gives the listed value; the mask is written.
