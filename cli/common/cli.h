@@ -146,6 +146,20 @@ void cli_print_mesh_warnings(const ggScene *s);
 void cli_print_model_view(FILE *f, const ggScene *s, const char *path);
 int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t n);
 
+/* The most bytes one pixel's recorded trees can take under o (find, check,
+   diff, trace record them; each tracing thread holds one pixel's, a diff
+   two): every eye ray of the pixel, each with at most 1 + the ray budget
+   rays -- fewer when the depth is set: at most 4 children a hit (a
+   reflection and three dispersed refractions) -- each ray a node and a
+   light record per light. An upper bound, not an estimate. */
+double cli_record_bytes(const ggScene *s, const ggRenderOptions *o);
+/* Refuse, before the work, options whose trees (threads x sides pixels
+   at once, threads 0: one per core) could take more than half of this machine's
+   memory: 0, or EXIT_USAGE after saying so ("ggrt CMD: the ray trees of
+   one pixel could take ..."). */
+int cli_check_recordable(const char *cmd, const ggScene *s, const ggRenderOptions *o, int threads,
+                         int sides);
+
 /* Flush and close stdout; on failure print the reason and return EXIT_IO,
    else 0. */
 int cli_close_stdout(void);

@@ -4,12 +4,14 @@
 ** and what the commands print about meshes: each mesh of a scene (ggrt
 ** info), its warnings, the default view of a model rendered on its own as
 ** NFF to paste into a scene (ggrt render), and a hit triangle in the
-** file's terms (ggrt trace).
+** file's terms (ggrt trace); how much one pixel's recorded trees can
+** take (find, check, diff, trace; ggrt serve's bound too).
 */
 #include "common/cli.h"
 
 #include <string.h>
 #include <strings.h>
+#include <unistd.h>
 
 ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc)
 {
@@ -106,4 +108,32 @@ int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t
     if (fi.material_name[0] && k < n)
         k += (size_t)snprintf(buf + k, n - k, ", usemtl '%s'", fi.material_name);
     return 1;
+}
+
+double cli_record_bytes(const ggScene *s, const ggRenderOptions *o)
+{
+    double eyes = (double)(o->samples > 0 ? o->samples : 1) * (o->pixel_corners ? 4 : 1);
+    double cap = o->ray_budget > 0 ? o->ray_budget : GG_RAY_BUDGET, rays = 0, level = 1;
+    int d;
+    for (d = 1; o->max_depth > 0 && d < o->max_depth && rays < cap; d++) rays += level *= 4;
+    if (o->max_depth <= 0 || rays > cap) rays = cap;
+    return eyes * (1 + rays) *
+           ((double)sizeof(ggTraceNode) +
+            (double)ggSceneLightCount(s) * (double)sizeof(ggTraceLight));
+}
+
+int cli_check_recordable(const char *cmd, const ggScene *s, const ggRenderOptions *o, int threads,
+                         int sides)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    double mem = pages > 0 && size > 0 ? (double)pages * (double)size : 0;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    int at_once = (threads > 0 ? threads : cores > 0 ? (int)cores : 1) * sides;
+    double one = cli_record_bytes(s, o), need = one * at_once;
+    if (!(mem > 0) || need <= mem / 2) return 0;
+    cli_error_in(cmd,
+                 "the ray trees of one pixel could take %.0f MiB here (%d at once: %.0f MiB), "
+                 "over half of this machine's %.0f MiB: lower samples, depth or ray-budget",
+                 one / (1 << 20), at_once, need / (1 << 20), mem / (1 << 20));
+    return EXIT_USAGE;
 }

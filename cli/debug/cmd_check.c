@@ -279,7 +279,8 @@ int cmd_check(int argc, char **argv)
         ggPathFree(path);
         return rc;
     }
-    if ((rc = dbg_tile_begin(&a.tile, scene, a.scene, &a.ro.opt)) != EXIT_OK) {
+    if ((rc = dbg_tile_begin(&a.tile, scene, a.scene, &a.ro.opt)) != EXIT_OK ||
+        (rc = cli_check_recordable("check", scene, &a.ro.opt, a.ro.opt.threads, 1)) != 0) {
         ggSceneFree(scene);
         ggPathFree(path);
         return rc;

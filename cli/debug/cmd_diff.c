@@ -218,6 +218,10 @@ static int run(diff_args *a, ggScene *sa, ggScene *sb, const ggPathExpr *path)
     ggError err;
     int rc;
     if ((rc = dbg_tile_begin(&a->tile, sa, a->scenes[0], &a->oa)) != EXIT_OK) return rc;
+    /* each thread holds both sides' trees of its pixel */
+    if ((rc = cli_check_recordable("diff", sa, &a->oa, a->oa.threads, 2)) != 0 ||
+        (rc = cli_check_recordable("diff", sb, &a->ob, a->oa.threads, 2)) != 0)
+        return rc;
     if (a->tile.tl.count) {
         a->ob.crop_x0 = a->oa.crop_x0, a->ob.crop_x1 = a->oa.crop_x1;
         a->ob.crop_y0 = a->oa.crop_y0, a->ob.crop_y1 = a->oa.crop_y1;

@@ -206,6 +206,8 @@ static int run(find_args *a, ggScene *scene, const ggPredicate *pred, const ggPa
     ggError err;
     int rc;
     if ((rc = dbg_tile_begin(&a->tile, scene, a->scene, &a->ro.opt)) != EXIT_OK) return rc;
+    if ((rc = cli_check_recordable("find", scene, &a->ro.opt, a->ro.opt.threads, 1)) != 0)
+        return rc;
     dbg_progress_begin(&ps, "find", a->quiet || a->format == 1);
     a->ro.opt.progress = dbg_progress, a->ro.opt.progress_ud = &ps;
     if (path)

@@ -212,30 +212,10 @@ int srv_opts_parse(const srv_server *s, const srv_req *r, const char *name, ggRe
     return 0;
 }
 
-/* The most bytes one pixel's recorded trees can take under o, as a find,
-   check or diff records them (each tracing thread holds one pixel's, a
-   diff two): every eye ray of the pixel, each with at most 1 + the ray
-   budget rays -- fewer when the depth is set: at most 4 children a hit
-   (a reflection and three dispersed refractions) -- each ray a node and
-   a light record per light. An upper bound, not an estimate: the library
-   records with the scene's allocator, so the server cannot meter it as
-   /api/trace meters its own tree. */
-static double record_bytes(const srv_server *s, const ggRenderOptions *o)
-{
-    double eyes = (double)(o->samples > 0 ? o->samples : 1) * (o->pixel_corners ? 4 : 1);
-    double cap = o->ray_budget > 0 ? o->ray_budget : GG_RAY_BUDGET, rays = 0, level = 1;
-    int d;
-    for (d = 1; o->max_depth > 0 && d < o->max_depth && rays < cap; d++) rays += level *= 4;
-    if (o->max_depth <= 0 || rays > cap) rays = cap;
-    return eyes * (1 + rays) *
-           ((double)sizeof(ggTraceNode) +
-            (double)ggSceneLightCount(s->scene) * (double)sizeof(ggTraceLight));
-}
-
 int srv_opts_recordable(const srv_server *s, const ggRenderOptions *o, const char *name,
                         srv_resp *resp)
 {
-    double need = record_bytes(s, o);
+    double need = cli_record_bytes(s->scene, o); /* (common/scene.c) */
     if (need <= SRV_RECORD_BYTES) return 0;
     srv_error(resp, 413,
               "%s: the ray trees of one pixel could take %.0f MiB here, over the %d MiB a find, "

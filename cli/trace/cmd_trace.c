@@ -211,6 +211,7 @@ static int trace_into(const trace_args *a, ggScene *scene, const ggRenderOptions
     int rc;
     memset(v, 0, sizeof *v);
     *ledger = NULL;
+    if ((rc = cli_check_recordable("trace", scene, opt, 1, 1)) != 0) return rc;
     rc = ggTracePixel(scene, opt, a->pixel[0], a->pixel[1], a->sample, tr, &v->pixel, &v->stats,
                       &err);
     if (rc != GG_OK) return cli_fail(rc, &err, 1); /* a pixel or sample outside the image */

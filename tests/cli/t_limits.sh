@@ -139,6 +139,16 @@ fi
 rm -f "$lim/sparse.nff"
 under_1g 3 "ggrt render: /dev/zero: not a regular file" "/dev/zero as the scene" \
   "$ggrt" render /dev/zero -q -o "$lim/out/z.png"
+# Options whose recorded ray trees could not fit: refused before any
+# work, in each command that records them (a trace at -n 4096
+# --ray-budget 16777216 grew past 6.8 GB).
+big="-s 1x1 -n 4096 -d 64 --ray-budget 16777216"
+for c in "trace -p 0,0" "find -w some(hit)" "check" "diff --b depth=3"; do
+  # shellcheck disable=SC2086 # the command and its options
+  under_1g 1 "ggrt ${c%% *}: the ray trees of one pixel could take" \
+    "${c%% *}: trees that could not fit are refused before the work" \
+    "$ggrt" $c tests/data/nested-glass.nff $big
+done
 rm -f "$lim/out/m.png" "$lim/out/f.png"
 [ -z "$(ls "$lim/out")" ] && ok "failed loads leave no image and no *.tmp* file" ||
   bad "failed loads leave no image and no *.tmp* file" "$(ls "$lim/out")"
