@@ -86,6 +86,12 @@ int cli_check_distinct(const cli_cmd *cmd, const char *const *opts, const char *
                        int n);
 /* Are p and q one file, by cli_check_distinct's test? (NULL: no.) */
 int cli_same_file(const char *p, const char *q);
+/* Once the scene is loaded: refuse an output (opts[i] names the option
+   of outs[i]; NULL outs skipped) that is one of the files the scene was
+   read from (ggSceneInputFile: a mesh, MTL or texture file besides the
+   scene), by cli_same_file. 0, or EXIT_USAGE after saying which. */
+int cli_check_not_read(const char *cmd, const ggScene *s, const char *const *opts,
+                       const char *const *outs, int n);
 
 /* A text output file written whole or not at all: cli_out_open creates
    "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it

@@ -171,3 +171,19 @@ int cli_out_close(cli_out *o, const char *cmd)
     cli_error_in(cmd, "%s: %s", o->path, e ? strerror(e) : "write error");
     return EXIT_IO;
 }
+
+int cli_check_not_read(const char *cmd, const ggScene *s, const char *const *opts,
+                       const char *const *outs, int n)
+{
+    int i, k, m = ggSceneInputCount(s);
+    for (i = 0; i < n; i++)
+        for (k = 0; outs[i] && k < m; k++)
+            if (cli_same_file(outs[i], ggSceneInputFile(s, k))) {
+                cli_error_in(cmd,
+                             "%s '%s' is '%s', which the scene reads: writing it would "
+                             "destroy it",
+                             opts[i], outs[i], ggSceneInputFile(s, k));
+                return EXIT_USAGE;
+            }
+    return 0;
+}

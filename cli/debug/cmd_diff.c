@@ -271,7 +271,12 @@ int cmd_diff(int argc, char **argv)
         ggPathFree(path);
         return rc;
     }
-    rc = run(&a, sa, sb, path);
+    {
+        const char *opt = "-o";
+        if ((rc = cli_check_not_read("diff", sa, &opt, &a.out, 1)) == 0 &&
+            (rc = cli_check_not_read("diff", sb, &opt, &a.out, 1)) == 0)
+            rc = run(&a, sa, sb, path);
+    }
     if (sb != sa) ggSceneFree(sb);
     ggSceneFree(sa);
     ggPathFree(path);

@@ -274,7 +274,13 @@ int cmd_find(int argc, char **argv)
         ggPredicateFree(pred), ggPathFree(path);
         return rc;
     }
-    rc = run(&a, scene, pred, path);
+    {
+        const char *opts[] = {"-o", "--overlay", "--paths-jsonl", "--paths-obj"};
+        const char *outs[4];
+        outs[0] = a.out, outs[1] = a.overlay, outs[2] = a.paths_jsonl, outs[3] = a.paths_obj;
+        rc = cli_check_not_read("find", scene, opts, outs, 4);
+    }
+    if (rc == 0) rc = run(&a, scene, pred, path);
     ggPredicateFree(pred), ggPathFree(path);
     ggSceneFree(scene);
     return rc;

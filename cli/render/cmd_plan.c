@@ -244,7 +244,10 @@ int cmd_plan(int argc, char **argv)
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if ((rc = cli_check_output("plan", a.out)) != 0) return rc;
     if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) return rc;
-    rc = plan(scene, &a);
+    {
+        const char *opt = "-o";
+        if ((rc = cli_check_not_read("plan", scene, &opt, &a.out, 1)) == 0) rc = plan(scene, &a);
+    }
     ggSceneFree(scene);
     return rc;
 }

@@ -336,6 +336,14 @@ int cmd_render(int argc, char **argv)
     ls.a = &a, ls.t = t;
     t[0] = cli_now();
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
+    if (!a.tiles.count) {
+        const char *opt = "-o";
+        if ((rc = cli_check_not_read("render", scene, &opt, &a.out, 1)) != 0) {
+            aov_free(&a.aov);
+            ggSceneFree(scene);
+            return rc;
+        }
+    }
     t[2] = cli_now();
     if (a.tiles.count)
         rc = tile_render(scene, a.scene, &a.ro, &a.tiles, a.out, a.quiet, a.plan);

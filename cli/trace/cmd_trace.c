@@ -334,6 +334,16 @@ int cmd_trace(int argc, char **argv)
         ggPathFree(e);
         return rc;
     }
+    {
+        const char *opts[] = {"--svg", "--obj", "--scene-obj", "--paths-jsonl", "--paths-obj"};
+        const char *outs[5];
+        outs[0] = a.svg, outs[1] = a.obj, outs[2] = a.scene_obj;
+        outs[3] = a.paths_jsonl, outs[4] = a.paths_obj;
+        if ((rc = cli_check_not_read("trace", scene, opts, outs, 5)) != 0) {
+            ggSceneFree(scene), ggPathFree(e);
+            return rc;
+        }
+    }
     if (!(tr = ggTraceCreate(NULL))) {
         cli_error("out of memory");
         ggSceneFree(scene), ggPathFree(e);

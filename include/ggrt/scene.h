@@ -535,6 +535,17 @@ GG_API int ggSceneObjectTriangulate(const ggScene *scene, int object, int resolu
 /* Name of the file the scene was loaded from ("" if built in code). */
 GG_API const char *ggSceneFileName(const ggScene *scene);
 
+/* The files the scene was read from, by their paths as the loader
+   resolved them: the scene file (ggSceneFileName), then each mesh file
+   (NFF mesh lines, ggSceneLoadMesh, a model), the MTL files an OBJ read,
+   and each image texture file (NFF texture lines, map_Kd); a mesh or
+   texture file named several times is listed once. For a program that
+   must not write over its inputs (ggrt refuses an output that is one of
+   them). ggSceneInputFile gives NULL for an index outside 0 ..
+   ggSceneInputCount - 1; the strings stay valid until the scene changes. */
+GG_API int ggSceneInputCount(const ggScene *scene);
+GG_API const char *ggSceneInputFile(const ggScene *scene, int index);
+
 /* Build the acceleration structure and the effect set. Called by the
    renderer when needed; call it yourself to time it, to catch errors
    early, or before sharing the scene between threads. Adding to a

@@ -33,7 +33,7 @@ typedef struct gg_mb {
     const ggAllocator *a;
     gg_mesh_build b;
     size_t cap_pos, cap_nrm, cap_uv, cap_vnrm, cap_idx, cap_tface, cap_tmat, cap_tsm;
-    size_t cap_fline, cap_fgroup, cap_fmtl;
+    size_t cap_fline, cap_fgroup, cap_fmtl, cap_libs;
     gg_names groups, mtls;
     /* scratch for splitting polygons */
     uint32_t *ring;

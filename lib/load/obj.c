@@ -386,6 +386,14 @@ static int read_mtl(objp *op, const char *name, size_t n, bool *found)
         rc = GG_ERROR_NOMEM;
     else if (rc == GG_OK && known)
         op->libid[op->nlibid++] = id;
+    if (rc == GG_OK) { /* its path, for ggSceneInputFile */
+        gg_mesh *m = &op->mb->b.m;
+        if (gg_mem_grow(a, (void **)&m->libs, &op->mb->cap_libs, m->nlibs + 1, sizeof *m->libs) ||
+            !(m->libs[m->nlibs] = gg_mem_strdup(a, path)))
+            rc = GG_ERROR_NOMEM;
+        else
+            m->nlibs++;
+    }
     if (rc == GG_ERROR_NOMEM)
         rc = nomem(op);
     else if (rc != GG_OK)

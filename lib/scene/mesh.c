@@ -44,6 +44,7 @@ void gg_mesh_free(const ggAllocator *a, gg_mesh *m)
     gg_mem_free(a, m->fmtl);
     free_names(a, m->groups, m->ngroups);
     free_names(a, m->mtlnames, m->nmtlnames);
+    free_names(a, m->libs, m->nlibs);
     gg_mem_free(a, m->warning);
     memset(m, 0, sizeof *m);
 }

@@ -47,6 +47,8 @@ typedef struct gg_mesh {
        path's spelling; repeat: an earlier mesh of the scene is that file. */
     uint64_t file_dev, file_ino;
     bool has_file, repeat;
+    char **libs; /* the MTL files an OBJ read (paths as resolved), for ggSceneInputFile */
+    size_t nlibs;
 } gg_mesh;
 
 /* What a reader hands over: the mesh in file order, plus per-triangle

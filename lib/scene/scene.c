@@ -10,6 +10,7 @@
 #include "vec.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -562,6 +563,35 @@ GG_API int ggSceneObjectLine(const ggScene *s, int i)
 GG_API const char *ggSceneFileName(const ggScene *s)
 {
     return s && s->filename ? s->filename : "";
+}
+
+/* Input i of s, in ggSceneInputFile's order, or NULL past the end. */
+static const char *input_file(const ggScene *s, size_t i)
+{
+    size_t k, l;
+    if (s->filename) {
+        if (i == 0) return s->filename;
+        i--;
+    }
+    for (k = 0; k < s->nmeshes; k++)
+        if (s->meshes[k].has_file && !s->meshes[k].repeat && i-- == 0) return s->meshes[k].name;
+    for (k = 0; k < s->nmeshes; k++)
+        for (l = 0; l < s->meshes[k].nlibs; l++)
+            if (i-- == 0) return s->meshes[k].libs[l];
+    return i < s->nimages ? s->images[i].path : NULL;
+}
+
+GG_API int ggSceneInputCount(const ggScene *s)
+{
+    size_t n = 0;
+    if (!s) return 0;
+    while (input_file(s, n)) n++;
+    return n > INT_MAX ? INT_MAX : (int)n;
+}
+
+GG_API const char *ggSceneInputFile(const ggScene *s, int index)
+{
+    return s && index >= 0 ? input_file(s, (size_t)index) : NULL;
 }
 
 /* ---- prepare ---- */

@@ -355,6 +355,8 @@ static void test_scene_query(void **state)
         assert_int_equal(ggSceneObjectUV(s, 0, 0, &p, 1, NULL), GG_ERROR_INVALID);
     }
     COVER(ggSceneFileName), assert_string_equal(ggSceneFileName(NULL), "");
+    COVER(ggSceneInputCount), assert_int_equal(ggSceneInputCount(NULL), 0);
+    COVER(ggSceneInputFile), assert_null(ggSceneInputFile(NULL, 0));
     COVER(ggScenePrepare), assert_int_equal(ggScenePrepare(NULL, NULL), GG_ERROR_INVALID);
     COVER(ggSceneGetInfo), assert_int_equal(ggSceneGetInfo(NULL, &si), GG_ERROR_INVALID);
     assert_true(all_ff(&si, sizeof si));

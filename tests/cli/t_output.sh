@@ -84,6 +84,26 @@ cp $g "$tmp/o/aov/all.png"
 expect_exit 1 "render --aov-png onto its scene (named like a layer file) is refused" \
   "$ggrt" render "$tmp/o/aov/all.png" -s 16x12 -q --aov 'all=C.*' --aov-png "$tmp/o/aov" -o "$tmp/o/aov/o.exr"
 cmp -s "$tmp/o/aov/all.png" $g && ok "render: that scene is untouched" || bad "render: that scene is untouched"
+# Nor may an output be a file the scene reads besides itself: a mesh, its
+# material library, a texture (trace --obj models/knot.obj replaced the
+# scene's mesh; render -o texture.png its texture).
+mkdir -p "$tmp/o/k/models"
+cp examples/scenes/knot.nff examples/scenes/texture.nff examples/scenes/texture.png "$tmp/o/k/"
+cp examples/scenes/models/knot.obj examples/scenes/models/blob.ply "$tmp/o/k/models/"
+cp tests/data/meshes/cube.obj tests/data/meshes/cube.mtl "$tmp/o/k/"
+(cd "$tmp/o/k" && md5sum models/knot.obj models/blob.ply texture.png cube.obj cube.mtl) >"$tmp/o/k.md5"
+k="$tmp/o/k"
+expect_err 1 "ggrt trace: --obj '$k/models/knot.obj' is '$k/models/knot.obj', which the scene reads: writing it would destroy it" \
+  "trace --obj onto the scene's mesh is refused" "$ggrt" trace "$k/knot.nff" -s 16x12 -p 8,6 --obj "$k/models/knot.obj"
+expect_exit 1 "render -o onto the scene's texture is refused" "$ggrt" render "$k/texture.nff" -s 16x12 -q -o "$k/texture.png"
+expect_exit 1 "find --overlay onto the scene's texture by another path is refused" \
+  "$ggrt" find "$k/knot.nff" -s 16x12 -q -w 'some(hit)' --overlay "$k/models/../texture.png"
+expect_exit 1 "diff -o onto the scene's texture is refused" "$ggrt" diff "$k/knot.nff" -s 8x6 -q --b depth=2 -o "$k/texture.png"
+expect_exit 1 "plan -o onto the scene's mesh is refused" "$ggrt" plan "$k/knot.nff" -s 16x12 --tiles 2 -q -o "$k/models/blob.ply"
+expect_exit 1 "trace --scene-obj onto a model's material library is refused" \
+  "$ggrt" trace "$k/cube.obj" -s 16x12 -p 8,6 --scene-obj "$k/cube.mtl"
+(cd "$k" && md5sum -c --quiet "$tmp/o/k.md5") >/dev/null 2>&1 && ok "the scenes' meshes, material library and texture are untouched" ||
+  bad "the scenes' meshes, material library and texture are untouched"
 expect_exit 0 "merge onto a new file still works" \
   "$ggrt" merge "$tmp/o/part-0.exr" "$tmp/o/part-1.exr" "$tmp/o/part-2.exr" -q -o "$tmp/o/whole.exr"
 

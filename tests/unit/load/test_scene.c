@@ -10,6 +10,7 @@
 
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static ggScene *load_ok(const char *text)
 {
@@ -392,6 +393,41 @@ static void test_traversal(void **state)
     ggSceneFree(s);
 }
 
+/* ggSceneInputFile: every file a scene was read from -- the scene, its
+   meshes, an OBJ's MTL, its textures -- each an existing regular file,
+   and nothing else; a scene built in code has none. */
+static void test_input_files(void **state)
+{
+    static const char *want[] = {"tests/data/textured.nff", "examples/scenes/models/blob.ply",
+                                 "tests/data/meshes/cube.obj", "tests/data/meshes/cube.mtl",
+                                 "examples/scenes/texture.png"};
+    ggScene *s = tu_load("tests/data/textured.nff"), *code = ggSceneCreate(NULL);
+    int i, n = ggSceneInputCount(s), found[5] = {0, 0, 0, 0, 0};
+    size_t k;
+    (void)state;
+    assert_true(n >= 5);
+    for (i = 0; i < n; i++) {
+        const char *f = ggSceneInputFile(s, i);
+        struct stat st, sw;
+        int hit = 0;
+        assert_non_null(f);
+        assert_int_equal(stat(f, &st), 0);
+        assert_true(S_ISREG(st.st_mode));
+        for (k = 0; k < 5; k++)
+            if (stat(want[k], &sw) == 0 && sw.st_dev == st.st_dev && sw.st_ino == st.st_ino)
+                found[k] = hit = 1;
+        if (!hit) print_error("input %d: %s is none of the expected files\n", i, f);
+        assert_true(hit);
+    }
+    for (k = 0; k < 5; k++) assert_true(found[k]);
+    assert_null(ggSceneInputFile(s, n));
+    assert_null(ggSceneInputFile(s, -1));
+    assert_int_equal(ggSceneInputCount(code), 0);
+    assert_null(ggSceneInputFile(code, 0));
+    ggSceneFree(code);
+    ggSceneFree(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -406,6 +442,7 @@ int main(void)
         cmocka_unit_test(test_scene_info),
         cmocka_unit_test(test_prim_records),
         cmocka_unit_test(test_traversal),
+        cmocka_unit_test(test_input_files),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
 }
