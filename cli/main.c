@@ -70,16 +70,23 @@ static int dispatch(int argc, char **argv)
 {
     const char *names[sizeof commands / sizeof commands[0]], *near;
     size_t i;
+    int ended = 0; /* `ggrt -- CMD`: what follows -- is the command, as in a command's options */
+    if (argc >= 2 && !strcmp(argv[1], "--")) argc--, argv++, ended = 1;
     if (argc < 2) {
         usage(stderr);
         return EXIT_USAGE;
     }
-    if (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "help")) {
+    if (!ended &&
+        (!strcmp(argv[1], "-h") || !strcmp(argv[1], "--help") || !strcmp(argv[1], "help"))) {
         if (argc > 2) return help_on(argc, argv);
         usage(stdout);
         return EXIT_OK;
     }
-    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
+    if (!ended && (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version"))) {
+        if (argc > 2 && (!strcmp(argv[2], "--help") || !strcmp(argv[2], "-h"))) {
+            usage(stdout); /* --help anywhere: the usage, which lists --version */
+            return EXIT_OK;
+        }
         if (argc > 2) {
             cli_error("unexpected argument '%s' (%s takes none)", argv[2], argv[1]);
             fprintf(stderr, "run 'ggrt --help' for the list of commands\n");
@@ -97,7 +104,7 @@ static int dispatch(int argc, char **argv)
     }
     /* A usage error like a subcommand's unknown option (exit 1), in two
        lines, not the whole usage: the typo and where the list is. */
-    if (argv[1][0] == '-') {
+    if (argv[1][0] == '-' && !ended) {
         static const char *const opts[] = {"--help", "--version"};
         near = cli_suggest(argv[1], opts, sizeof opts / sizeof opts[0]);
         if (near)

@@ -15,10 +15,15 @@
 
 ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc)
 {
-    ggScene *s = ggSceneCreate(NULL);
+    ggScene *s;
     ggError err;
     int st;
-    if (!s) {
+    if (!path[0]) { /* the library would say ": No such file or directory" */
+        cli_error("the scene's file name is empty");
+        *rc = EXIT_IO;
+        return NULL;
+    }
+    if (!(s = ggSceneCreate(NULL))) {
         cli_error("out of memory");
         *rc = EXIT_INPUT;
         return NULL;

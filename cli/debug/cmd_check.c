@@ -193,17 +193,18 @@ static void truncation_hint(const check_args *a, const ggCheckResult *r)
 {
     unsigned long long budget = (unsigned long long)r->stats.budget_cut;
     int deepest = (int)r->stats.max_depth;
+    int rb = a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET;
     if (!budget)
         printf("\ntruncation: the depth limit (%d here, counting the eye ray) cut rays whose "
                "light\nwould have weighed more than %g in the pixel.\n",
                deepest, a->co.truncation);
     else
-        printf("\ntruncation: the ray budget (%d rays per eye ray) left %llu rays uncast, and the\n"
-               "depth limit (the deepest ray is at depth %d) may have cut others; their light\n"
-               "would have weighed more than %g in the pixel.\n--ray-budget N raises the "
-               "budget; ",
-               a->ro.opt.ray_budget > 0 ? a->ro.opt.ray_budget : GG_RAY_BUDGET, budget, deepest,
-               a->co.truncation);
+        printf(
+            "\ntruncation: the ray budget (%d ray%s per eye ray) left %llu rays uncast, and the\n"
+            "depth limit (the deepest ray is at depth %d) may have cut others; their light\n"
+            "would have weighed more than %g in the pixel.\n--ray-budget N raises the "
+            "budget; ",
+            rb, rb == 1 ? "" : "s", budget, deepest, a->co.truncation);
     printf("-d N raises the depth limit (up to 64); --truncation W the weight that counts.\n");
 }
 

@@ -78,7 +78,9 @@ static int parse(find_args *a, int argc, char **argv)
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
-    if (!a->where == !a->path) return cli_usage_error(&cmd, "need --where EXPR or --path LPE");
+    if (a->where && a->path)
+        return cli_usage_error(&cmd, "--where and --path each choose the pixels: give one");
+    if (!a->where && !a->path) return cli_usage_error(&cmd, "need --where EXPR or --path LPE");
     if ((a->paths_jsonl || a->paths_obj) && !a->path)
         return cli_usage_error(&cmd, "--paths-jsonl and --paths-obj write the paths of --path LPE");
     if ((rc = dbg_tile_check(&cmd, &a->tile, a->format,

@@ -37,11 +37,12 @@ void render_warn_stats(const ggRayStats *st, const cli_render *ro, const char *w
 {
     if (st->nonfinite)
         cli_warn("%s%llu samples were NaN or infinite", what, (unsigned long long)st->nonfinite);
-    if (st->budget_cut)
-        cli_warn("%sthe ray budget (%d rays per eye ray) left %llu rays uncast; --ray-budget "
+    if (st->budget_cut) {
+        int b = ro->opt.ray_budget > 0 ? ro->opt.ray_budget : GG_RAY_BUDGET;
+        cli_warn("%sthe ray budget (%d ray%s per eye ray) left %llu rays uncast; --ray-budget "
                  "raises it",
-                 what, ro->opt.ray_budget > 0 ? ro->opt.ray_budget : GG_RAY_BUDGET,
-                 (unsigned long long)st->budget_cut);
+                 what, b, b == 1 ? "" : "s", (unsigned long long)st->budget_cut);
+    }
     if (st->implicit_cut)
         cli_warn("%s%llu ray tests of implicit surfaces ran out of their evaluation budget and "
                  "count as misses (holes possible)",

@@ -197,7 +197,7 @@ reports_refuse "a check report among find reports" \
   "$rd/g-0.json" "$rd/check-1.json" "$rd/g-2.json" "$rd/g-3.json"
 mkdir -p "$rd/dir-1.json"
 rm -f "$rd"/out.*
-expect_err 3 "ggrt merge: $rd/dir-1.json: Is a directory" "merge --reports refuses a folder" \
+expect_err 3 "ggrt merge: $rd/dir-1.json: not a regular file" "merge --reports refuses a folder" \
   "$ggrt" merge --reports "$rd/g-0.json" "$rd/dir-1.json" "$rd/g-2.json" "$rd/g-3.json" -o "$rd/out.json"
 head -c 200 "$rd/g-1.json" >"$rd/trunc-1.json"
 rm -f "$rd"/out.*

@@ -300,7 +300,7 @@ expect_err 1 "ggrt render: --plan goes with --tile or --tiles" "--plan without -
 expect_err 3 "ggrt render: $td/none.json: No such file or directory" "a missing plan file" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/none.json" --tile 2 -o "$td/x.exr"
 mkdir -p "$td/dir.json"
-expect_err 3 "ggrt render: $td/dir.json: Is a directory" "a folder as the plan" \
+expect_err 3 "ggrt render: $td/dir.json: not a regular file" "a folder as the plan" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/dir.json" --tile 2 -o "$td/x.exr"
 { cat "$td/gl.json"; head -c 1048576 /dev/zero | tr '\0' ' '; } >"$td/big.json"
 expect_err 2 "ggrt render: $td/big.json: not a ggrt plan: larger than 1 MiB" "a plan over 1 MiB" \
