@@ -784,6 +784,7 @@ static void test_diff_textbook_sphere(void **state)
             assert_true(one->worst[i].delta == r->worst[i].delta);
             assert_int_equal(one->worst[i].first.what, r->worst[i].first.what);
         }
+        ggDiffResultFree(one);
         /* any count up to INT_MAX: at most every differing pixel is
            listed (a worst of INT_MAX asked for INT_MAX entries a thread) */
         assert_int_equal(ggDiff(a, &oa, a, &ob, INT_MAX, &one, NULL), GG_OK);
