@@ -229,3 +229,13 @@ void tu_failer_done(tu_failer *f)
 {
     pthread_mutex_destroy(&f->mu);
 }
+
+ggImplicit *tu_implicit(const char *expr, ggVec3 lo, ggVec3 hi)
+{
+    ggImplicit *imp = NULL;
+    ggError err;
+    int rc = ggImplicitCreateExpr(expr, lo, hi, NULL, &imp, &err);
+    if (rc != GG_OK) print_error("creating \"%s\": %s\n", expr, err.message);
+    assert_int_equal(rc, GG_OK);
+    return imp;
+}

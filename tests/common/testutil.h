@@ -89,6 +89,11 @@ void tu_failer_arm(tu_failer *f, long k);
 void tu_failer_stop(tu_failer *f);
 void tu_failer_done(tu_failer *f);
 
+/* The implicit surface expr = 0 in the box [lo, hi] (ggImplicitCreateExpr,
+   the default allocator); fails the test, printing the expression and
+   the error, if it is refused. The caller frees it (ggImplicitFree). */
+ggImplicit *tu_implicit(const char *expr, ggVec3 lo, ggVec3 hi);
+
 /* Path of the SPD scenes (GG_SPD_DIR or the repository's examples/scenes/spd). */
 const char *tu_spd_dir(void);
 

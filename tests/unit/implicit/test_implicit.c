@@ -17,16 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static ggImplicit *surface(const char *s, ggVec3 lo, ggVec3 hi)
-{
-    ggImplicit *imp = NULL;
-    ggError err;
-    int rc = ggImplicitCreateExpr(s, lo, hi, NULL, &imp, &err);
-    if (rc != GG_OK) print_error("creating \"%s\": %s\n", s, err.message);
-    assert_int_equal(rc, GG_OK);
-    return imp;
-}
-
 static ggVec3 rand_in(tu_rng *r, double lo, double hi)
 {
     return v3(tu_range(r, lo, hi), tu_range(r, lo, hi), tu_range(r, lo, hi));
@@ -75,7 +65,7 @@ static void check_sphere(const char *src, ggVec3 c, double R, ggVec3 lo, ggVec3 
                          int nrays, double tol)
 {
     tu_rng r = {seed};
-    ggImplicit *imp = surface(src, lo, hi);
+    ggImplicit *imp = tu_implicit(src, lo, hi);
     int i, hits = 0, misses = 0, inside = 0;
     for (i = 0; i < nrays; i++) {
         ggVec3 o, target, d, n, nw;
@@ -143,8 +133,8 @@ static void test_torus_closed_form(void **state)
 {
     const double R = 1, r = 0.25;
     tu_rng rng = {31};
-    ggImplicit *imp =
-        surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5), v3(1.5, 1.5, 0.5));
+    ggImplicit *imp = tu_implicit("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                                  v3(1.5, 1.5, 0.5));
     int i, hits = 0, checked = 0;
     double t;
     (void)state;
@@ -221,8 +211,9 @@ static void test_torus_closed_form(void **state)
 static void test_quartic_blobs(void **state)
 {
     tu_rng rng = {41};
-    ggImplicit *cube = surface("x^4+y^4+z^4-1", v3(-1.2, -1.2, -1.2), v3(1.2, 1.2, 1.2));
-    ggImplicit *tangle = surface("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8", v3(-3, -3, -3), v3(3, 3, 3));
+    ggImplicit *cube = tu_implicit("x^4+y^4+z^4-1", v3(-1.2, -1.2, -1.2), v3(1.2, 1.2, 1.2));
+    ggImplicit *tangle =
+        tu_implicit("x^4-5*x^2+y^4-5*y^2+z^4-5*z^2+11.8", v3(-3, -3, -3), v3(3, 3, 3));
     double t, s;
     int i, hits = 0;
     (void)state;
@@ -305,7 +296,7 @@ static void test_central_difference_error_curve(void **state)
         int i;
         snprintf(src, sizeof src, "(x^2+y^2+z^2+%.17g-%.17g)^2-4*%.17g*(x^2+y^2)", s * s,
                  s * s / 16, s * s);
-        imp = surface(src, v3(-1.5 * s, -1.5 * s, -0.5 * s), v3(1.5 * s, 1.5 * s, 0.5 * s));
+        imp = tu_implicit(src, v3(-1.5 * s, -1.5 * s, -0.5 * s), v3(1.5 * s, 1.5 * s, 0.5 * s));
         /* h from 1e-10 s to 1e-1 s, 5 steps per decade. */
         for (i = 0; i <= 45; i++) {
             double h = s * pow(10, -10 + i / 5.0), e = central_error(imp, s, h);
@@ -375,14 +366,16 @@ static void test_thin_parts_not_missed(void **state)
     double t;
     int i;
     (void)state;
-    imp = surface("(x^2+y^2+z^2+1-1e-6)^2-4*(x^2+y^2)", v3(-1.1, -1.1, -0.1), v3(1.1, 1.1, 0.1));
+    imp =
+        tu_implicit("(x^2+y^2+z^2+1-1e-6)^2-4*(x^2+y^2)", v3(-1.1, -1.1, -0.1), v3(1.1, 1.1, 0.1));
     check_thin_torus(imp, 1, 1e-3, 1e-9, 62);
     ggImplicitFree(imp);
-    imp = surface("(x^2+y^2+z^2+1-1e-12)^2-4*(x^2+y^2)", v3(-1.1, -1.1, -0.1), v3(1.1, 1.1, 0.1));
+    imp =
+        tu_implicit("(x^2+y^2+z^2+1-1e-12)^2-4*(x^2+y^2)", v3(-1.1, -1.1, -0.1), v3(1.1, 1.1, 0.1));
     check_thin_torus(imp, 1, 1e-6, 1e-3, 63);
     ggImplicitFree(imp);
     /* A slab 2e-7 thick, crossed at every angle down to near-grazing. */
-    imp = surface("abs(x-0.3)-1e-7", v3(-1, -1, -1), v3(1, 1, 1));
+    imp = tu_implicit("abs(x-0.3)-1e-7", v3(-1, -1, -1), v3(1, 1, 1));
     for (i = 0; i < 4000; i++) {
         ggVec3 o = v3(-0.9, tu_range(&rng, -0.5, 0.5), tu_range(&rng, -0.5, 0.5));
         ggVec3 d = v3norm(v3(pow(10, tu_range(&rng, -3, 0)), tu_range(&rng, -0.3, 0.3),
@@ -399,9 +392,9 @@ static void test_thin_parts_not_missed(void **state)
 static void test_no_false_hits(void **state)
 {
     static const double margins[] = {1e-4, 1e-7, 1e-9, 1e-11};
-    ggImplicit *sph = surface("x^2+y^2+z^2-1", v3(-2, -2, -2), v3(2, 2, 2));
-    ggImplicit *tor =
-        surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5), v3(1.5, 1.5, 0.5));
+    ggImplicit *sph = tu_implicit("x^2+y^2+z^2-1", v3(-2, -2, -2), v3(2, 2, 2));
+    ggImplicit *tor = tu_implicit("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                                  v3(1.5, 1.5, 0.5));
     tu_rng rng = {71};
     size_t m;
     int i;
@@ -489,7 +482,7 @@ static void check_leaving(ggImplicit *imp, int convex, double scale, uint64_t se
 static void test_origin_on_surface(void **state)
 {
     ggImplicit *imp =
-        surface("(x-0.1)^2+(y+0.2)^2+(z-0.3)^2-0.64", v3(-1.5, -1.5, -1.5), v3(1.5, 1.5, 1.5));
+        tu_implicit("(x-0.1)^2+(y+0.2)^2+(z-0.3)^2-0.64", v3(-1.5, -1.5, -1.5), v3(1.5, 1.5, 1.5));
     tu_rng rng = {95};
     int i, n = 0;
     (void)state;
@@ -537,12 +530,12 @@ static void test_leaving_rays_do_not_rehit(void **state)
         ggImplicit *imp;
         snprintf(src, sizeof src, "(x-%.17g)^2+(y-%.17g)^2+(z+%.17g)^2-%.17g", 3 * s, s, 2 * s,
                  s * s);
-        imp = surface(src, v3(1.5 * s, -0.5 * s, -3.5 * s), v3(4.5 * s, 2.5 * s, -0.5 * s));
+        imp = tu_implicit(src, v3(1.5 * s, -0.5 * s, -3.5 * s), v3(4.5 * s, 2.5 * s, -0.5 * s));
         check_leaving(imp, 1, s, 81 + k);
         ggImplicitFree(imp);
         snprintf(src, sizeof src, "(x^2+y^2+z^2+%.17g-%.17g)^2-4*%.17g*(x^2+y^2)", s * s,
                  s * s / 16, s * s);
-        imp = surface(src, v3(-1.5 * s, -1.5 * s, -0.5 * s), v3(1.5 * s, 1.5 * s, 0.5 * s));
+        imp = tu_implicit(src, v3(-1.5 * s, -1.5 * s, -0.5 * s), v3(1.5 * s, 1.5 * s, 0.5 * s));
         check_leaving(imp, 0, s, 91 + k);
         ggImplicitFree(imp);
     }
@@ -558,17 +551,17 @@ static void test_domains_and_poles(void **state)
     double t;
     (void)state;
     /* sqrt is undefined for x < 0: the root at x = 0.25 is still found. */
-    imp = surface("sqrt(x) - 0.5", v3(-1, -1, -1), v3(1, 1, 1));
+    imp = tu_implicit("sqrt(x) - 0.5", v3(-1, -1, -1), v3(1, 1, 1));
     assert_true(gg_implicit_intersect(imp, v3(-2, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
     assert_close(t, 2.25, 1e-13);
     ggImplicitFree(imp);
     /* 1/x - 1 flips sign at the pole x = 0: not a root. */
-    imp = surface("1/x - 1", v3(-2, -1, -1), v3(2, 1, 1));
+    imp = tu_implicit("1/x - 1", v3(-2, -1, -1), v3(2, 1, 1));
     assert_true(gg_implicit_intersect(imp, v3(-3, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
     assert_close(t, 4, 1e-13);
     ggImplicitFree(imp);
     /* tan(x) - 2 between poles: roots atan(2) + k pi only. */
-    imp = surface("tan(x) - 2", v3(-1, -1, -1), v3(5, 1, 1));
+    imp = tu_implicit("tan(x) - 2", v3(-1, -1, -1), v3(5, 1, 1));
     assert_true(gg_implicit_intersect(imp, v3(-1, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
     assert_close(t, 1 + atan(2.0), 1e-13);
     assert_true(
@@ -576,12 +569,12 @@ static void test_domains_and_poles(void **state)
     assert_close(t, 1 + atan(2.0) + GG_PI, 1e-13);
     ggImplicitFree(imp);
     /* A surface defined nowhere. */
-    imp = surface("sqrt(-1-x^2)", v3(-1, -1, -1), v3(1, 1, 1));
+    imp = tu_implicit("sqrt(-1-x^2)", v3(-1, -1, -1), v3(1, 1, 1));
     assert_false(gg_implicit_intersect(imp, v3(-2, 0, 0), v3(1, 0, 0), 0, INFINITY, &t));
     ggImplicitFree(imp);
     /* x - x + 1 never vanishes; interval arithmetic alone cannot see that
        (X - X contains 0), the derivative enclosure does, quickly. */
-    imp = surface("x - x + 1e-3", v3(-1, -1, -1), v3(1, 1, 1));
+    imp = tu_implicit("x - x + 1e-3", v3(-1, -1, -1), v3(1, 1, 1));
     {
         gg_implicit_status st;
         assert_false(gg_implicit_intersect_status(imp, v3(-2, 0.1, 0), v3(1, 0.01, 0), 0, INFINITY,
@@ -615,7 +608,7 @@ static void test_whole_powers_everywhere(void **state)
             double t1 = 0, t2 = 0;
             int h1, h2;
             snprintf(expr, sizeof expr, "x^%.17g", n);
-            imp = surface(expr, v3(-3, -3, -3), v3(3, 3, 3));
+            imp = tu_implicit(expr, v3(-3, -3, -3), v3(3, 3, 3));
             for (j = 0; j < sizeof xs / sizeof xs[0]; j++) {
                 double fp = ggImplicitEval(imp, v3(xs[j], 0, 0));
                 double fm = ggImplicitEval(imp, v3(-xs[j], 0, 0));
@@ -630,7 +623,7 @@ static void test_whole_powers_everywhere(void **state)
                jumps from -1 to inf within an ulp of |x| = 1, a step the root
                finder does not see: on neither side then. */
             snprintf(surf, sizeof surf, "x^%.17g + y^2 + z^2 - 2", n);
-            imp = surface(surf, v3(-3, -3, -3), v3(3, 3, 3));
+            imp = tu_implicit(surf, v3(-3, -3, -3), v3(3, 3, 3));
             h1 = gg_implicit_intersect(imp, v3(-2.5, 1, 0), v3(1, 0, 0), 0, INFINITY, &t1);
             h2 = gg_implicit_intersect(imp, v3(2.5, 1, 0), v3(-1, 0, 0), 0, INFINITY, &t2);
             if (h1 != h2 || (h1 && fabs(t1 - t2) > 1e-9) || (n <= 1e10 && !h1))
@@ -738,10 +731,10 @@ static void test_callback_thin_torus(void **state)
 static void test_lipschitz_method_on_expressions(void **state)
 {
     tu_rng rng = {121};
-    ggImplicit *a =
-        surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5), v3(1.5, 1.5, 0.5));
-    ggImplicit *b =
-        surface("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5), v3(1.5, 1.5, 0.5));
+    ggImplicit *a = tu_implicit("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                                v3(1.5, 1.5, 0.5));
+    ggImplicit *b = tu_implicit("(x^2+y^2+z^2+1-0.0625)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5),
+                                v3(1.5, 1.5, 0.5));
     int i, same = 0;
     (void)state;
     assert_int_equal(ggImplicitSetMethod(b, GG_IMPLICIT_LIPSCHITZ), GG_OK);
@@ -792,7 +785,7 @@ static void test_threads(void **state)
     int k, i;
     (void)state;
     objs[0] =
-        surface("(x^2+y^2+z^2+0.9375)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5), v3(1.5, 1.5, 0.5));
+        tu_implicit("(x^2+y^2+z^2+0.9375)^2-4*(x^2+y^2)", v3(-1.5, -1.5, -0.5), v3(1.5, 1.5, 0.5));
     assert_int_equal(ggImplicitCreateFn(cb_sphere_plain, cb_sphere_grad, NULL, v3(-2, -2, -2),
                                         v3(2, 2, 2), NULL, &objs[1], NULL),
                      GG_OK);
@@ -824,7 +817,7 @@ static void test_budget_warning(void **state)
     /* Never 0, but near x = 0 neither the enclosure of s - s (s oscillating
        without end) nor that of its derivative can show it: far more than
        16 evaluations. */
-    ggImplicit *imp = surface("sin(1/x) - sin(1/x) + 1e-3", v3(-1, -1, -1), v3(1, 1, 1));
+    ggImplicit *imp = tu_implicit("sin(1/x) - sin(1/x) + 1e-3", v3(-1, -1, -1), v3(1, 1, 1));
     double t;
     (void)state;
     assert_int_equal(ggImplicitSetBudget(imp, 16), GG_OK);
@@ -839,7 +832,7 @@ static void test_budget_warning(void **state)
    tests/fuzz/corpus/nff/slow-divide-by-zero.nff took 47 s for a 4x3 image). */
 static void test_divide_by_zero_pruned(void **state)
 {
-    ggImplicit *imp = surface("x^4+y^2+z^2/0", v3(-1.1, -0.1, -1.1), v3(1, 1.1, 1.1));
+    ggImplicit *imp = tu_implicit("x^4+y^2+z^2/0", v3(-1.1, -0.1, -1.1), v3(1, 1.1, 1.1));
     double t;
     (void)state;
     assert_false(gg_implicit_intersect(imp, v3(-2, 0.05, 0.3), v3(1, 0, 0.01), 0, INFINITY, &t));

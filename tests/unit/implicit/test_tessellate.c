@@ -23,16 +23,6 @@
 
 #define TORUS "(x^2+y^2+z^2+1-0.35^2)^2 - 4*(x^2+y^2)"
 
-static ggImplicit *surface(const char *s, ggVec3 lo, ggVec3 hi)
-{
-    ggImplicit *imp = NULL;
-    ggError err;
-    int rc = ggImplicitCreateExpr(s, lo, hi, NULL, &imp, &err);
-    if (rc != GG_OK) print_error("creating \"%s\": %s\n", s, err.message);
-    assert_int_equal(rc, GG_OK);
-    return imp;
-}
-
 static ggTriangulation *tri(const ggImplicit *imp, int n)
 {
     ggTriangulation *t = NULL;
@@ -146,7 +136,7 @@ static stats check(const ggImplicit *imp, const ggTriangulation *t, double tol)
 static void closed_surface(const char *expr, ggVec3 lo, ggVec3 hi, int n, double volume,
                            double vol_tol)
 {
-    ggImplicit *imp = surface(expr, lo, hi);
+    ggImplicit *imp = tu_implicit(expr, lo, hi);
     ggTriangulation *t = tri(imp, n);
     size_t shared, open;
     stats st;
@@ -188,7 +178,7 @@ static void test_torus_closed(void **state)
     closed_surface(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4), 32,
                    2 * GG_PI * GG_PI * 0.35 * 0.35, 0.05);
     /* genus 1: V - E + F = 0 */
-    imp = surface(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
+    imp = tu_implicit(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
     t = tri(imp, 48);
     edges(t, &shared, &open, NULL, NULL);
     assert_int_equal(open, 0);
@@ -234,8 +224,8 @@ static void test_cell_counts(void **state)
     int a;
     (void)state;
     for (i = 0; i < sizeof c / sizeof c[0]; i++) {
-        ggImplicit *imp = surface("x^2+y^2+z^2-1", v3(c[i].lo[0], c[i].lo[1], c[i].lo[2]),
-                                  v3(c[i].hi[0], c[i].hi[1], c[i].hi[2]));
+        ggImplicit *imp = tu_implicit("x^2+y^2+z^2-1", v3(c[i].lo[0], c[i].lo[1], c[i].lo[2]),
+                                      v3(c[i].hi[0], c[i].hi[1], c[i].hi[2]));
         ggTriangulation *t = tri(imp, c[i].res);
         double longest = 0;
         for (a = 0; a < 3; a++) longest = fmax(longest, c[i].hi[a] - c[i].lo[a]);
@@ -259,8 +249,8 @@ static void test_cell_counts(void **state)
    surface of genus 1. */
 static void test_thin_tube(void **state)
 {
-    ggImplicit *imp = surface("(x^2+y^2+z^2+1-0.03^2)^2 - 4*(x^2+y^2)", v3(-1.05, -1.05, -0.05),
-                              v3(1.05, 1.05, 0.05));
+    ggImplicit *imp = tu_implicit("(x^2+y^2+z^2+1-0.03^2)^2 - 4*(x^2+y^2)", v3(-1.05, -1.05, -0.05),
+                                  v3(1.05, 1.05, 0.05));
     ggTriangulation *t = tri(imp, 132);
     size_t shared, open, n;
     stats st = check(imp, t, 1e-3);
@@ -290,7 +280,7 @@ static void on_floor(const ggTriangulation *t, uint32_t a, uint32_t b, void *ud)
 
 static void test_box_cuts_surface(void **state)
 {
-    ggImplicit *imp = surface("x^2+y^2+z^2-1", v3(-1.5, -1.5, 0.2), v3(1.5, 1.5, 1.5));
+    ggImplicit *imp = tu_implicit("x^2+y^2+z^2-1", v3(-1.5, -1.5, 0.2), v3(1.5, 1.5, 1.5));
     ggTriangulation *t = tri(imp, 40);
     size_t shared, open, floor_edges = 0;
     stats st = check(imp, t, 1e-3);
@@ -311,7 +301,7 @@ static void test_empty_box(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < sizeof exprs / sizeof exprs[0]; i++) {
-        ggImplicit *imp = surface(exprs[i], v3(2, 2, 2), v3(3, 3, 3));
+        ggImplicit *imp = tu_implicit(exprs[i], v3(2, 2, 2), v3(3, 3, 3));
         ggTriangulation *t = tri(imp, 16);
         assert_int_equal(t->ntris, 0);
         assert_int_equal(t->nverts, 0);
@@ -327,7 +317,8 @@ static void test_empty_box(void **state)
    and the rest as good as anywhere. */
 static void test_undefined_parts(void **state)
 {
-    ggImplicit *imp = surface("x^2 + y^2 + z^2 - 1 + 0*sqrt(x + 0.3)", v3(-1, -1, -1), v3(1, 1, 1));
+    ggImplicit *imp =
+        tu_implicit("x^2 + y^2 + z^2 - 1 + 0*sqrt(x + 0.3)", v3(-1, -1, -1), v3(1, 1, 1));
     ggTriangulation *t = tri(imp, 32);
     size_t i;
     (void)state;
@@ -364,7 +355,7 @@ static void test_callbacks(void **state)
 
 static void test_limits(void **state)
 {
-    ggImplicit *imp = surface("x^2+y^2+z^2-1", v3(-1.5, -1.5, -1.5), v3(1.5, 1.5, 1.5));
+    ggImplicit *imp = tu_implicit("x^2+y^2+z^2-1", v3(-1.5, -1.5, -1.5), v3(1.5, 1.5, 1.5));
     ggTriangulation *t = (ggTriangulation *)&t, *u;
     size_t all;
     (void)state;
@@ -412,7 +403,7 @@ static void test_limits(void **state)
 static void test_nomem(void **state)
 {
     tu_failer f;
-    ggImplicit *imp = surface(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
+    ggImplicit *imp = tu_implicit(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
     ggTriangulation *ref = tri(imp, 12), *t;
     long k, total;
     (void)state;
@@ -459,7 +450,7 @@ static void *run(void *p)
 
 static void test_threads(void **state)
 {
-    ggImplicit *imp = surface(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
+    ggImplicit *imp = tu_implicit(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
     ggTriangulation *ref = tri(imp, 40);
     job j[4];
     pthread_t th[4];
@@ -490,7 +481,7 @@ static void test_scene(void **state)
                                "implicit \"" TORUS "\" -1.4 -1.4 -0.4 1.4 1.4 0.4\n";
     tu_failer f;
     ggScene *s;
-    ggImplicit *imp = surface(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
+    ggImplicit *imp = tu_implicit(TORUS, v3(-1.4, -1.4, -0.4), v3(1.4, 1.4, 0.4));
     ggTriangulation *ref = tri(imp, 32), *t = (ggTriangulation *)&t, *u;
     (void)state;
     tu_failer_init(&f);
