@@ -11,9 +11,11 @@
 #include "debug/debug.h"
 #include "render/aov.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct aov_file {
     const char *path;
@@ -232,6 +234,19 @@ int aov_sum_check(const char *exr, const char *scene_arg)
     int k, rc;
     memset(&f, 0, sizeof f);
     f.path = exr;
+    /* A SCENE named is checked now, whether or not a gap will need it: a
+       typo must not pass unnoticed because the layers happen to add up. */
+    if (scene_arg) {
+        struct stat st;
+        if (stat(scene_arg, &st) != 0) {
+            cli_error("%s: %s", scene_arg, strerror(errno));
+            return EXIT_IO;
+        }
+        if (!S_ISREG(st.st_mode)) {
+            cli_error("%s: not a regular file", scene_arg);
+            return EXIT_IO;
+        }
+    }
     if ((rc = read_file(&f)) != EXIT_OK) {
         file_free(&f);
         return rc;

@@ -75,6 +75,12 @@ else bad "render to an EXR whose header cannot be written: exit 3, no hang (exit
 expect_exit 2 "check --aov-sum: a file without layers" "$ggrt" check --aov-sum "$tmp/plain.exr"
 expect_exit 1 "check --aov-sum with --path" "$ggrt" check --aov-sum "$tmp/plain.exr" --path 'C.*'
 expect_exit 1 "check without a scene or --aov-sum" "$ggrt" check
+# a SCENE named is read before the layers are compared: a missing one
+# passed when the layers added up (exit 0)
+"$ggrt" render $g -s 16x12 -q --aov 'all=C.*' -o "$tmp/sum1.exr"
+expect_msg 3 "ggrt check: $tmp/missing.nff: No such file or directory" \
+  "check --aov-sum with a missing SCENE: exit 3 though the layers add up" \
+  "$ggrt" check --aov-sum "$tmp/sum1.exr" "$tmp/missing.nff"
 
 # the image is the render's without layers; --aov-png writes a PNG a layer
 "$ggrt" render $g -s 48x36 -q -o "$tmp/a.png" --aov "$aov_d" --aov "$aov_m" --aov "$aov_g" \
