@@ -157,6 +157,18 @@ int aov_check_pngs(const aov_list *l, const char *out, const char *scene)
     return 0;
 }
 
+int aov_check_not_read(const aov_list *l, const ggScene *s)
+{
+    int k, rc;
+    for (k = 0; l->png_dir && k < l->n; k++) {
+        char path[4096];
+        const char *opt = "--aov-png's", *p = path;
+        if (layer_path(l, k, path, sizeof path) != 0) continue; /* aov_check_pngs said so */
+        if ((rc = cli_check_not_read("render", s, &opt, &p, 1)) != 0) return rc;
+    }
+    return 0;
+}
+
 /* DIR/NAME.png's temporary name, beside it until every file is written. */
 static int layer_temp(const aov_list *l, int k, char *buf, size_t n)
 {

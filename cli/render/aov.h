@@ -39,6 +39,9 @@ int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h);
    cli_check_output as -o does and be neither out (-o) nor scene. 0, or
    EXIT_IO / EXIT_USAGE after saying why. */
 int aov_check_pngs(const aov_list *l, const char *out, const char *scene);
+/* Once the scene is loaded: no DIR/NAME.png may be a file it reads
+   (cli_check_not_read). 0, or EXIT_USAGE after saying which. */
+int aov_check_not_read(const aov_list *l, const ggScene *s);
 /* Write img with its layers to out (.exr: the layers as channels, and the
    AOV_ATTR* attributes from scene and opt; .png: the image alone) and,
    with --aov-png, each layer to DIR/NAME.png: GG_OK or the library's

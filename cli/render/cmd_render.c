@@ -322,6 +322,23 @@ static void loaded(ggScene *scene, const char *path, void *ud)
     warn_empty(scene, path);
 }
 
+/* Once the scene is loaded: no output -- the image, each tile, each
+   --aov-png file -- may be a file the scene reads (a mesh, a texture). */
+static int outputs_not_read(const render_args *a, ggScene *scene)
+{
+    const char *opt = "-o", *p;
+    char path[1024];
+    int k, rc;
+    if (!a->tiles.count && (rc = cli_check_not_read("render", scene, &opt, &a->out, 1)) != 0)
+        return rc;
+    for (k = 0; k < a->tiles.count; k++) {
+        if (tile_path(a->out, a->tiles.idx[k], path, sizeof path) != 0) continue; /* said */
+        p = path;
+        if ((rc = cli_check_not_read("render", scene, &opt, &p, 1)) != 0) return rc;
+    }
+    return aov_check_not_read(&a->aov, scene);
+}
+
 int cmd_render(int argc, char **argv)
 {
     render_args a;
@@ -336,13 +353,10 @@ int cmd_render(int argc, char **argv)
     ls.a = &a, ls.t = t;
     t[0] = cli_now();
     if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
-    if (!a.tiles.count) {
-        const char *opt = "-o";
-        if ((rc = cli_check_not_read("render", scene, &opt, &a.out, 1)) != 0) {
-            aov_free(&a.aov);
-            ggSceneFree(scene);
-            return rc;
-        }
+    if ((rc = outputs_not_read(&a, scene)) != 0) {
+        aov_free(&a.aov);
+        ggSceneFree(scene);
+        return rc;
     }
     t[2] = cli_now();
     if (a.tiles.count)

@@ -102,6 +102,20 @@ expect_exit 1 "diff -o onto the scene's texture is refused" "$ggrt" diff "$k/kno
 expect_exit 1 "plan -o onto the scene's mesh is refused" "$ggrt" plan "$k/knot.nff" -s 16x12 --tiles 2 -q -o "$k/models/blob.ply"
 expect_exit 1 "trace --scene-obj onto a model's material library is refused" \
   "$ggrt" trace "$k/cube.obj" -s 16x12 -p 8,6 --scene-obj "$k/cube.mtl"
+# render's other outputs too: a tile, a layer's PNG
+printf 'texture "part-1.exr"\ns 0 0 0 1\n' >"$k/tile.nff"
+"$ggrt" render "$k/texture.nff" -s 16x12 -q -o "$k/part-1.exr"
+cp "$k/part-1.exr" "$k/part-1.copy"
+expect_exit 1 "render --tiles onto the scene's texture is refused" \
+  "$ggrt" render "$k/tile.nff" -s 16x12 -q --tiles 0-1/2 -o "$k/part-%d.exr"
+cmp -s "$k/part-1.exr" "$k/part-1.copy" && ok "render --tiles: the texture is untouched" ||
+  bad "render --tiles: the texture is untouched"
+mkdir -p "$k/layers" && cp examples/scenes/texture.png "$k/layers/all.png"
+printf 'texture "layers/all.png"\ns 0 0 0 1\n' >"$k/layer.nff"
+expect_exit 1 "render --aov-png onto the scene's texture is refused" \
+  "$ggrt" render "$k/layer.nff" -s 16x12 -q --aov 'all=C.*' --aov-png "$k/layers" -o "$k/l.exr"
+cmp -s "$k/layers/all.png" examples/scenes/texture.png && ok "render --aov-png: the texture is untouched" ||
+  bad "render --aov-png: the texture is untouched"
 (cd "$k" && md5sum -c --quiet "$tmp/o/k.md5") >/dev/null 2>&1 && ok "the scenes' meshes, material library and texture are untouched" ||
   bad "the scenes' meshes, material library and texture are untouched"
 expect_exit 0 "merge onto a new file still works" \
