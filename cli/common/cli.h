@@ -59,7 +59,8 @@ double cli_now(void);
 
 /* Before a command spends time producing `path`: refuse a path that is a
    symbolic link, a directory or another non-regular file, or a read-only
-   file, saying why on stderr ("ggrt CMD: ..."). Returns 0 or EXIT_IO. */
+   file, saying why on stderr ("ggrt CMD: ..."). Returns 0, EXIT_IO, or
+   EXIT_USAGE for "-" (which would be a file of that name, not stdout). */
 int cli_check_output(const char *cmd, const char *path);
 
 /* The image format ggImageWrite picks from an output's extension: .png or

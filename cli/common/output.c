@@ -41,6 +41,12 @@ int cli_check_output(const char *cmd, const char *path)
 {
     struct stat st;
     const char *why = NULL;
+    /* Many tools read "-" as standard output; a file of that name would
+       surprise whoever typed it. */
+    if (!strcmp(path, "-")) {
+        cli_error_in(cmd, "'-' would be a file named '-', not standard output: give a file name");
+        return EXIT_USAGE;
+    }
     if (lstat(path, &st) != 0) {
         if (errno == ENOENT) return check_folder(cmd, path); /* a new file */
         cli_error_in(cmd, "cannot write '%s': %s", path, strerror(errno));

@@ -118,6 +118,13 @@ cmp -s "$k/layers/all.png" examples/scenes/texture.png && ok "render --aov-png: 
   bad "render --aov-png: the texture is untouched"
 (cd "$k" && md5sum -c --quiet "$tmp/o/k.md5") >/dev/null 2>&1 && ok "the scenes' meshes, material library and texture are untouched" ||
   bad "the scenes' meshes, material library and texture are untouched"
+# "-" is not standard output here: it would be a file named "-"
+gabs=$(cd "$(dirname "$ggrt")" && pwd)/$(basename "$ggrt"); sabs=$(pwd)/$g
+(cd "$tmp/o" && "$gabs" plan "$sabs" --tiles 2 -s 16x12 -q -o - >/dev/null 2>&1; echo $? >"$tmp/o/rc1"
+ "$gabs" trace "$sabs" -s 16x12 -p 1,1 --svg - >/dev/null 2>&1; echo $? >"$tmp/o/rc2")
+if [ "$(cat "$tmp/o/rc1" "$tmp/o/rc2" | tr '\n' ' ')" = "1 1 " ] && [ ! -e "$tmp/o/-" ]; then
+  ok "'-' as an output name is refused (plan -o -, trace --svg -): no file named -"
+else bad "'-' as an output name is refused" "$(cat "$tmp/o/rc1" "$tmp/o/rc2"; ls "$tmp/o")"; fi
 expect_exit 0 "merge onto a new file still works" \
   "$ggrt" merge "$tmp/o/part-0.exr" "$tmp/o/part-1.exr" "$tmp/o/part-2.exr" -q -o "$tmp/o/whole.exr"
 
