@@ -89,14 +89,13 @@ int cli_check_image_name(const cli_cmd *cmd, const char *what, const char *path)
 int cli_check_not_input(const cli_cmd *cmd, const char *opt, const char *out,
                         const char *const *inputs, int n)
 {
-    struct stat so, si;
+    struct stat so;
     int i;
     /* A missing output is no input's file; a missing input fails on its
        own when it is read. stat, not lstat: a link to an input is it. */
     if (!out || stat(out, &so) != 0) return CLI_GO;
     for (i = 0; i < n; i++)
-        if (inputs[i] && stat(inputs[i], &si) == 0 && si.st_dev == so.st_dev &&
-            si.st_ino == so.st_ino)
+        if (cli_same_file(out, inputs[i]))
             return cli_usage_error(cmd, "%s '%s' is the input '%s': writing it would destroy it",
                                    opt, out, inputs[i]);
     return CLI_GO;

@@ -1051,7 +1051,8 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
     ctx.budget = (uint32_t)r.budget;
     memset(&th, 0, sizeof th);
     {
-        ggColor c = gg_shade_ray(&ctx, ray.o, ray.d, depth > 0 ? depth : 1, &th);
+        int k; /* d of any finite size (base.h): only its direction counts */
+        ggColor c = gg_shade_ray(&ctx, ray.o, v3tame(ray.d, &k), depth > 0 ? depth : 1, &th);
         if (stats) *stats = th.st;
         return c;
     }

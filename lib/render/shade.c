@@ -1241,10 +1241,7 @@ GG_SHADE_COPIES(GG_SHADE_DEF)
 
 int gg_shade_dir(ggVec3 o, ggVec3 d, ggVec3 *u)
 {
-    double len;
-    int k;
-    d = v3tame(d, &k); /* any finite size: only the direction counts */
-    len = v3len(d);
+    double len = v3len(d);
     if (!(len > 0) || !isfinite(len) || !v3finite(o)) return 0;
     *u = v3scale(d, 1.0 / len);
     return 1;
