@@ -370,12 +370,26 @@ int cli_given(const cli_cmd *cmd, const char *name)
 
 /* ---- the parse ---- */
 
+/* Option o's value v, once unless o repeats: a second value would have
+   replaced the first without a word (a script's -s 8x6 ... -s 4x4). */
+static int take_value(const cli_cmd *cmd, cli_opt *o, const char *v)
+{
+    char why[256], nm[64];
+    if (o->given && !o->many)
+        return cli_usage_error(cmd, "%s given twice ('%s', then '%s'): give it once",
+                               spelled(o, nm, sizeof nm), o->last, v);
+    if (set_value(o, v, why, sizeof why) != 0) return bad_value(cmd, o, v, why);
+    o->given++;
+    o->last = v;
+    return CLI_GO;
+}
+
 /* Handle the option in argv[*i]; advances *i past a separate value. */
 static int one_long(cli_cmd *cmd, int argc, char **argv, int *i)
 {
     const char *a = argv[*i] + 2, *eq = strchr(a, '='), *v;
     size_t len = eq ? (size_t)(eq - a) : strlen(a);
-    char why[256], nm[64];
+    char nm[64];
     cli_opt *o = find_long(cmd, a, len);
     if (!o) return unknown(cmd, argv[*i], len + 2);
     if (o->kind == CLI_FLAG) {
@@ -390,16 +404,13 @@ static int one_long(cli_cmd *cmd, int argc, char **argv, int *i)
         v = argv[++*i];
     else
         return cli_usage_error(cmd, "%s needs a value: %s", spelled(o, nm, sizeof nm), o->arg);
-    if (set_value(o, v, why, sizeof why) != 0) return bad_value(cmd, o, v, why);
-    o->given++;
-    return CLI_GO;
+    return take_value(cmd, o, v);
 }
 
 /* Short options, possibly grouped (-qv) or with the value attached (-s8x6). */
 static int one_short(cli_cmd *cmd, int argc, char **argv, int *i)
 {
     const char *p = argv[*i] + 1, *v;
-    char why[256];
     for (; *p; p++) {
         cli_opt *o = find_short(cmd, *p);
         if (!o) {
@@ -417,9 +428,7 @@ static int one_short(cli_cmd *cmd, int argc, char **argv, int *i)
             v = argv[++*i];
         else
             return cli_usage_error(cmd, "-%c needs a value: %s", o->shrt, o->arg);
-        if (set_value(o, v, why, sizeof why) != 0) return bad_value(cmd, o, v, why);
-        o->given++;
-        return CLI_GO;
+        return take_value(cmd, o, v);
     }
     return CLI_GO;
 }

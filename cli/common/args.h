@@ -13,6 +13,8 @@
 **    overflow or a value outside the option's range is an error whose
 **    message names the option, echoes the value as given and states what
 **    is allowed ("expected X,Y: two whole numbers from 0 to 65535");
+**  - refuses an option that takes a value given twice (-s 8x6 ... -s 4x4),
+**    naming both values, unless the table says it repeats (CLI_OPT_MANY);
 **  - never writes into argv (values are parsed in place, read-only);
 **  - prints --help from the same tables, so help cannot forget an option
 **    (tests/cli/manpage.py checks that docs/ggrt.1 documents each one).
@@ -85,7 +87,9 @@ typedef struct cli_opt {
     const char *const *choices; /* CLI_CHOICE */
     cli_func fn;                /* CLI_FUNC */
     void *ud;                   /* CLI_FUNC */
+    int many;                   /* may be given more than once (CLI_OPT_MANY) */
     int given;                  /* set by cli_parse: how many times the option appeared */
+    const char *last;           /* set by cli_parse: its value as given last time */
 } cli_opt;
 
 /* Type checks for the macros (a wrong destination type does not compile). */
@@ -155,6 +159,15 @@ static inline void *cli_p_vec3(ggVec3 *p)
     {                                                                                              \
         .kind = CLI_FUNC, .shrt = (s), .name = (n), .arg = (arg_), .help = (h_), .fn = (fn_),      \
         .ud = (ud_)                                                                                \
+    }
+/* A CLI_FUNC option that may be repeated, each value added to the last
+   (--accuracy a=b --accuracy c=d). Every other option that takes a value
+   may be given once: a second one is a usage error, not a silent
+   override (flags may repeat; they only say yes). */
+#define CLI_OPT_MANY(s, n, fn_, ud_, arg_, h_)                                                     \
+    {                                                                                              \
+        .kind = CLI_FUNC, .shrt = (s), .name = (n), .arg = (arg_), .help = (h_), .fn = (fn_),      \
+        .ud = (ud_), .many = 1                                                                     \
     }
 #define CLI_OPT_SECTION(title)                                                                     \
     {                                                                                              \

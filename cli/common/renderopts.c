@@ -100,7 +100,7 @@ void cli_render_init(cli_render *r, unsigned parts)
                                               "fewer\n(same image, slower: for measuring)");
     }
     if (parts & CLI_RENDER_ACCURACY)
-        r->table[n++] = (cli_opt)CLI_OPT_FUNC(
+        r->table[n++] = (cli_opt)CLI_OPT_MANY(
             'a', "accuracy", cli_parse_accuracy, &r->opt.accuracy, "KNOB=V,...",
             "numerical choices, accurate by default (see\n"
             "docs/accuracy.md): offset=scaled|EPS,\n"

@@ -83,7 +83,7 @@ static int parse(check_args *a, int argc, char **argv)
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
         CLI_OPT_INT(0, "worst", &a->worst, 0, GG_CHECK_WORST, "N",
                     "worst pixels shown per failing invariant (default 3)"),
-        CLI_OPT_FUNC(0, "severity", parse_severity, &a->co, "NAME=LEVEL,...",
+        CLI_OPT_MANY(0, "severity", parse_severity, &a->co, "NAME=LEVEL,...",
                      "change an invariant's class: error, warning or info"),
         CLI_OPT_DOUBLE(0, "truncation", &a->co.truncation, 0, 1e300, "W",
                        "weight in the pixel above which cut rays count\n"

@@ -123,7 +123,7 @@ static int parse(render_args *a, int argc, char **argv)
                      "several tiles of N, loading the scene once; OUT\n"
                      "names each with %d replaced by the index\n"
                      "(-o part-%d.exr)"),
-        CLI_OPT_FUNC(0, "aov", aov_parse_one, &a->aov, "NAME=LPE",
+        CLI_OPT_MANY(0, "aov", aov_parse_one, &a->aov, "NAME=LPE",
                      "a path layer (repeatable, up to 16): the part of\n"
                      "each pixel that the light paths LPE matches carry\n"
                      "(docs/debugging.md, \"Path layers\"), written into\n"

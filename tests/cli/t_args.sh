@@ -17,14 +17,17 @@ size="expected WxH, two whole numbers from 1 to 65536, at most 16777216 pixels"
 crop="expected X0,Y0,X1,Y1, four whole numbers from 0 to 65536"
 for c in render trace; do
   o="-o $tmp/x.png"; [ $c = trace ] && o="--pixel 1,1"
+  op="-o $tmp/x.png"; [ $c = trace ] && op="" # the --pixel tests' own
   expect_msg 1 "bad value '1,2junk' for --pixel: $pix ('junk' after Y)" \
-    "$c: trailing junk in --pixel" "$ggrt" $c $g $o --pixel 1,2junk
+    "$c: trailing junk in --pixel" "$ggrt" $c $g $op --pixel 1,2junk
   expect_msg 1 "bad value '1,2,3' for --pixel: $pix (more than 2 numbers)" \
-    "$c: extra field in --pixel" "$ggrt" $c $g $o --pixel 1,2,3
+    "$c: extra field in --pixel" "$ggrt" $c $g $op --pixel 1,2,3
   expect_msg 1 "bad value '4294967297,1' for --pixel: $pix (X is out of range)" \
-    "$c: --pixel overflow is reported as given, not wrapped" "$ggrt" $c $g $o --pixel 4294967297,1
+    "$c: --pixel overflow is reported as given, not wrapped" "$ggrt" $c $g $op --pixel 4294967297,1
   expect_msg 1 "bad value '99999999999999999999,1' for --pixel: $pix (X is out of range)" \
-    "$c: --pixel beyond long" "$ggrt" $c $g $o --pixel 99999999999999999999,1
+    "$c: --pixel beyond long" "$ggrt" $c $g $op --pixel 99999999999999999999,1
+  expect_msg 1 "--pixel given twice ('1,1', then '2,2'): give it once" \
+    "$c: --pixel given twice is refused" "$ggrt" $c $g $op --pixel 1,1 -s 8x6 --pixel 2,2
   expect_msg 1 "bad value '16x12junk' for --size: $size ('junk' after H)" \
     "$c: trailing junk in -s" "$ggrt" $c $g $o -s 16x12junk
   expect_msg 1 "bad value '8x6x4' for --size: $size (more than 2 numbers)" \
@@ -76,8 +79,21 @@ for c in "render $g -o $tmp/x.png" "trace $g --pixel 1,1" "plan $g --tiles 2 -o 
 done
 [ ! -e "$tmp/p.json" ] && ok "plan -s 5000x5000 writes no plan" || bad "plan -s 5000x5000 writes no plan"
 expect_exit 3 "-s 4096x4096 is within the cap" "$ggrt" render $g -s 4096x4096 -o "$tmp/none/x.png"
-expect_exit 0 "-s8x6, --size=8x6 and grouped short flags" \
-  "$ggrt" render $g -qs8x6 --size=8x6 -o "$tmp/x.png"
+expect_exit 0 "-s8x6 and grouped short flags" "$ggrt" render $g -qs8x6 -o "$tmp/x.png"
+expect_exit 0 "--size=8x6 and --depth=2" "$ggrt" render $g --size=8x6 --depth=2 -q -o "$tmp/x.png"
+# A value option twice was a silent override (the last won): refused, both
+# values named, whichever spelling each used; the options whose values add
+# up may repeat, and so may flags.
+expect_msg 1 "--size given twice ('8x6', then '4x4'): give it once" \
+  "-s and --size together are refused" "$ggrt" render $g -qs8x6 --size=4x4 -o "$tmp/x.png"
+expect_msg 1 "--output given twice" "-o twice is refused" \
+  "$ggrt" render $g -s 8x6 -o "$tmp/x.png" -o "$tmp/y.png"
+expect_msg 1 "--format given twice" "find: -f twice is refused" \
+  "$ggrt" find $g -s 8x6 --where "depth>1" -f json -f text
+expect_exit 0 "-a twice adds up" "$ggrt" render $g -s 8x6 -q -a phong=fast -a offset=1e-6 -o "$tmp/x.png"
+expect_exit 0 "a flag twice is a flag" "$ggrt" render $g -s 8x6 -q -q -o "$tmp/x.png"
+expect_msg 1 "--severity" "check --severity twice adds up (a bad second value is read)" \
+  "$ggrt" check $g -s 8x6 -q --severity energy=info --severity bogus=info
 expect_exit 0 "a value that starts with '-' (optics --v -1,...)" \
   "$ggrt" optics reflect --v -1,-1,0 --n 0,1,0
 expect_exit 0 "--help wins over errors" "$ggrt" render --bogus --help

@@ -79,8 +79,9 @@ for c in trace find check diff serve; do
       fi
       continue
     fi
+    s="-s 8x6"; [ $opt = size ] && s="" # (given twice is refused)
     # shellcheck disable=SC2086
-    "$ggrt" $c $g -s 8x6 $o --$opt $v >/dev/null 2>"$ed/err"; got=$?
+    "$ggrt" $c $g $s $o --$opt $v >/dev/null 2>"$ed/err"; got=$?
     case $c:$got in
       *:0 | check:4) ;; # check exits 4 when an invariant fails: it ran
       *) fails="$fails $opt($got: $(head -c 200 "$ed/err"))" ;;
