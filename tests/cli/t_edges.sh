@@ -44,6 +44,13 @@ prefixed "ggrt bench accuracy" "prefix: bench accuracy with a bad scene" "$ggrt"
 sed 's/^resolution .*/resolution 10 10/' $g >"$ed/small.nff"
 prefixed "ggrt diff" "prefix: diff of two sizes names no library function" \
   "$ggrt" diff $g "$ed/small.nff"
+# ... and says what to do, before any work (exit 1: the options do not fit)
+"$ggrt" diff $g "$ed/small.nff" >/dev/null 2>"$ed/err"; got=$?
+[ $got = 1 ] && grep -q "(a 400x300, b 10x10): give -s WxH for both" "$ed/err" &&
+  ok "diff of two sizes: exit 1 and the remedy" ||
+  bad "diff of two sizes: exit 1 and the remedy (exit $got)" "$(cat "$ed/err")"
+"$ggrt" diff $g "$ed/small.nff" -s 8x6 -q >/dev/null 2>"$ed/err" &&
+  ok "diff of two sizes with -s runs" || bad "diff of two sizes with -s runs" "$(cat "$ed/err")"
 
 # ---- 2. the render options are the same in every command that renders or traces ----
 "$ggrt" render --help | sed -n '/^render options/,/^ *-h, --help/p' |
