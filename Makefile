@@ -295,8 +295,10 @@ $(CORE_STATIC): $(CORE_OBJ)
 	rm -f $@
 	$(AR) rcs $@ $^
 
-$(SHARED): $(FULL_OBJ)
-	$(CC) -shared -Wl,-soname,$(SONAME) $(CFLAGS) $(LDFLAGS) -o $@ $^ $(IMG_LIBS) $(SYS_LIBS)
+# The exports and their version: lib/libggrt.map.
+$(SHARED): $(FULL_OBJ) lib/libggrt.map
+	$(CC) -shared -Wl,-soname,$(SONAME) -Wl,--version-script=lib/libggrt.map $(CFLAGS) $(LDFLAGS) \
+	  -o $@ $(FULL_OBJ) $(IMG_LIBS) $(SYS_LIBS)
 
 $(BUILD)/libggrt.so: $(SHARED)
 	ln -sf libggrt.so.$(VERSION) $(BUILD)/$(SONAME)
@@ -612,15 +614,18 @@ uninstall:
 STAGE = $(abspath $(BUILD))/stage
 installcheck: $(SHARED) $(BUILD)/libggrt.so
 	@nm -D --defined-only $(SHARED) >/dev/null || { echo "installcheck: cannot read $(SHARED)"; exit 1; }
-	@bad=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | grep -v '^gg[A-Z]'); \
+	@bad=$$(nm -D --defined-only $(SHARED) | awk '$$2 != "A" {print $$3}' | grep -v '^gg[A-Z]'); \
 	  if [ -n "$$bad" ]; then echo "installcheck: libggrt.so exports internal symbols: $$bad"; exit 1; fi; \
-	  echo "installcheck: libggrt.so exports $$(nm -D --defined-only $(SHARED) | wc -l) symbols, all public gg*"
+	  echo "installcheck: libggrt.so exports $$(nm -D --defined-only $(SHARED) | awk '$$2 != "A"' | wc -l) symbols, all public gg*"
 	@hdr=$$(sed -n 's/^GG_API[^(]*[ *]\(gg[A-Za-z0-9_]*\)(.*/\1/p' include/ggrt.h include/ggrt/*.h | sort); \
-	  exp=$$(nm -D --defined-only $(SHARED) | awk '{print $$3}' | sort); \
+	  exp=$$(nm -D --defined-only $(SHARED) | awk '$$2 != "A" {sub(/@.*/, "", $$3); print $$3}' | sort); \
 	  if [ "$$hdr" != "$$exp" ]; then echo "installcheck: exports and GG_API declarations differ:"; \
 	    echo "$$hdr" > $(BUILD)/api.h.txt; echo "$$exp" > $(BUILD)/api.so.txt; \
 	    diff $(BUILD)/api.h.txt $(BUILD)/api.so.txt; exit 1; fi; \
 	  echo "installcheck: the exports are the $$(echo "$$hdr" | wc -l) GG_API functions of include/ (tests/api/test_null.c calls each)"
+	@bad=$$(objdump -T $(SHARED) | awk '$$3 == "DF" && $$4 != "*UND*" && $$(NF-1) != "GGRT_0" {print $$NF}'); \
+	  if [ -n "$$bad" ]; then echo "installcheck: exports outside version GGRT_0 (lib/libggrt.map): $$bad"; exit 1; fi; \
+	  echo "installcheck: every export has version GGRT_0 (lib/libggrt.map)"
 	@rm -rf $(STAGE)
 	@$(MAKE) --no-print-directory install DESTDIR=$(STAGE) PREFIX=/usr >/dev/null
 	@got=" $$(PKG_CONFIG_PATH=$(STAGE)/usr/lib/pkgconfig $(PKG_CONFIG) --define-prefix --cflags --libs ggrt-core) "; \

@@ -69,7 +69,10 @@ while IFS= read -r line; do
   if [ $shared = 1 ]; then
     ldd "$out/prog" | grep -qF "libggrt.so.0 => $prefix/lib/libggrt.so.0" ||
       fail "'$cmd': libggrt.so.0 not found in $prefix/lib: $(ldd "$out/prog")"
-    how="found libggrt.so.0 in $prefix/lib"
+    # the symbols' version (lib/libggrt.map) is recorded in the program
+    objdump -p "$out/prog" | grep -A3 'required from libggrt.so.0' | grep -q 'GGRT_0$' ||
+      fail "'$cmd': the program records no GGRT_0 symbol version: $(objdump -p "$out/prog" | grep -A3 libggrt)"
+    how="found libggrt.so.0 in $prefix/lib, symbols at GGRT_0"
   elif readelf -d "$out/prog" | grep -q 'NEEDED.*libggrt'; then
     fail "'$cmd' needs libggrt.so"
   else
