@@ -166,6 +166,12 @@ double cli_record_bytes(const ggScene *s, const ggRenderOptions *o);
    one pixel could take ..."). */
 int cli_check_recordable(const char *cmd, const ggScene *s, const ggRenderOptions *o, int threads,
                          int sides);
+/* The two sides of a diff (diff, trace --diff) must be images of one
+   size: the same pixel of two sizes is not the same ray. 0, or
+   EXIT_USAGE after saying so and what to give (a size of 0 in an options
+   struct is its scene's camera's). */
+int cli_check_same_size(const char *cmd, const ggScene *sa, const ggRenderOptions *oa,
+                        const ggScene *sb, const ggRenderOptions *ob);
 
 /* Flush and close stdout; on failure print the reason and return EXIT_IO,
    else 0. */

@@ -142,3 +142,17 @@ int cli_check_recordable(const char *cmd, const ggScene *s, const ggRenderOption
                  one / (1 << 20), at_once, need / (1 << 20), mem / (1 << 20));
     return EXIT_USAGE;
 }
+
+int cli_check_same_size(const char *cmd, const ggScene *sa, const ggRenderOptions *oa,
+                        const ggScene *sb, const ggRenderOptions *ob)
+{
+    ggCamera ca = ggSceneCamera(sa), cb = ggSceneCamera(sb);
+    int wa = oa->width ? oa->width : ca.width, ha = oa->height ? oa->height : ca.height;
+    int wb = ob->width ? ob->width : cb.width, hb = ob->height ? ob->height : cb.height;
+    if (wa == wb && ha == hb) return 0;
+    cli_error_in(cmd,
+                 "the two sides are images of different sizes (a %dx%d, b %dx%d): give -s WxH "
+                 "for both, or size=WxH in --a or --b",
+                 wa, ha, wb, hb);
+    return EXIT_USAGE;
+}

@@ -210,21 +210,6 @@ static int json_out(const diff_args *a, const ggDiffResult *r)
     return dbg_tile_close(t, f, params);
 }
 
-/* Both sides must render one size; the library refuses two (as invalid),
-   but only the command line knows the remedy. A size of 0 is the
-   scene's camera's. */
-static int same_size(const diff_args *a, const ggScene *sa, const ggScene *sb)
-{
-    ggCamera ca = ggSceneCamera(sa), cb = ggSceneCamera(sb);
-    int wa = a->oa.width ? a->oa.width : ca.width, ha = a->oa.height ? a->oa.height : ca.height;
-    int wb = a->ob.width ? a->ob.width : cb.width, hb = a->ob.height ? a->ob.height : cb.height;
-    if (wa == wb && ha == hb) return EXIT_OK;
-    cli_error("the two sides are images of different sizes (a %dx%d, b %dx%d): give -s WxH "
-              "for both, or size=WxH in --a or --b",
-              wa, ha, wb, hb);
-    return EXIT_USAGE;
-}
-
 static int run(diff_args *a, ggScene *sa, ggScene *sb, const ggPathExpr *path)
 {
     static const float map_colours[3][3] = {{0, 0, 0}, {0.1f, 0.3f, 1}, {1, 0.1f, 0.05f}};
@@ -232,7 +217,7 @@ static int run(diff_args *a, ggScene *sa, ggScene *sb, const ggPathExpr *path)
     dbg_progress_state ps;
     ggError err;
     int rc;
-    if ((rc = same_size(a, sa, sb)) != EXIT_OK) return rc;
+    if ((rc = cli_check_same_size("diff", sa, &a->oa, sb, &a->ob)) != 0) return rc;
     if ((rc = dbg_tile_begin(&a->tile, sa, a->scenes[0], &a->oa)) != EXIT_OK) return rc;
     /* each thread holds both sides' trees of its pixel */
     if ((rc = cli_check_recordable("diff", sa, &a->oa, a->oa.threads, 2)) != 0 ||

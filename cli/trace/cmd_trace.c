@@ -304,7 +304,8 @@ static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
         ggTraceFree(tb);
         return rc;
     }
-    rc = trace_into(a, sa, &a->oa, a->scenes[0], ta, &va, &la);
+    rc = cli_check_same_size("trace", sa, &a->oa, sb, &a->ob);
+    if (rc == EXIT_OK) rc = trace_into(a, sa, &a->oa, a->scenes[0], ta, &va, &la);
     if (rc == EXIT_OK) rc = trace_into(a, sb, &a->ob, pb, tb, &vb, &lb);
     if (rc == EXIT_OK) {
         snprintf(na, sizeof na, "%s '%s'", a->scenes[0], a->a_text);

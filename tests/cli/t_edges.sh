@@ -51,6 +51,15 @@ prefixed "ggrt diff" "prefix: diff of two sizes names no library function" \
   bad "diff of two sizes: exit 1 and the remedy (exit $got)" "$(cat "$ed/err")"
 "$ggrt" diff $g "$ed/small.nff" -s 8x6 -q >/dev/null 2>"$ed/err" &&
   ok "diff of two sizes with -s runs" || bad "diff of two sizes with -s runs" "$(cat "$ed/err")"
+# trace --diff compared pixel 1,1 of a 400x300 image with pixel 1,1 of a
+# 10x10 one: two different rays, shown side by side as one
+"$ggrt" trace $g "$ed/small.nff" --pixel 1,1 --diff >"$ed/out" 2>"$ed/err"; got=$?
+[ $got = 1 ] && [ ! -s "$ed/out" ] && grep -q "^ggrt trace: the two sides are images of different sizes (a 400x300, b 10x10)" "$ed/err" &&
+  ok "trace --diff of two sizes: exit 1, nothing traced" ||
+  bad "trace --diff of two sizes: exit 1, nothing traced (exit $got)" "$(cat "$ed/err")"
+"$ggrt" trace $g -s 8x6 --pixel 1,1 --diff --b size=4x4 >/dev/null 2>"$ed/err"; got=$?
+[ $got = 1 ] && grep -q "(a 8x6, b 4x4)" "$ed/err" && ok "trace --diff: a size= on one side is checked too" ||
+  bad "trace --diff: a size= on one side is checked too (exit $got)" "$(cat "$ed/err")"
 
 # ---- 2. the render options are the same in every command that renders or traces ----
 "$ggrt" render --help | sed -n '/^render options/,/^ *-h, --help/p' |
