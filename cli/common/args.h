@@ -263,6 +263,11 @@ void cli_render_finish(cli_render *r);
    reproduce r->opt, each preceded by a space ("-s 64x48 --spd"): the
    canonical form of the parsed values, never argv's text. */
 void cli_render_print(FILE *f, const cli_render *r, unsigned parts);
+/* Two option texts of ggRenderOptionsFormat told apart by their
+   settings: "'depth=3', not 'depth=5'", each side only the settings the
+   other lacks ("(none)" when it has none), so that a message about two
+   long texts names the difference. Into buf (NUL-terminated). */
+void cli_render_text_diff(const char *a, const char *b, char *buf, size_t size);
 /* The --accuracy option's parser (a CLI_OPT_FUNC; ud is a ggAccuracy *,
    set all or nothing) and its printer (" --accuracy k=v,..." for the
    knobs off their defaults, nothing when all are default). */

@@ -173,3 +173,41 @@ void cli_render_print(FILE *f, const cli_render *r, unsigned parts)
     }
     if (parts & CLI_RENDER_ACCURACY) cli_print_accuracy(f, &o->accuracy);
 }
+
+/* Does the space-separated list `text` hold the word w (of length n)? */
+static int has_word(const char *text, const char *w, size_t n)
+{
+    const char *p = text;
+    while (*p) {
+        size_t k = strcspn(p, " ");
+        if (k == n && !strncmp(p, w, n)) return 1;
+        p += k;
+        p += strspn(p, " ");
+    }
+    return 0;
+}
+
+/* The words of a that b lacks, as "'w1 w2'" or "(none)", at out. */
+static size_t words_only(const char *a, const char *b, char *out, size_t size)
+{
+    const char *p = a + strspn(a, " ");
+    size_t at = 0, any = 0;
+    while (*p) {
+        size_t k = strcspn(p, " ");
+        if (!has_word(b, p, k) && at < size)
+            at += (size_t)snprintf(out + at, size - at, "%s%.*s", any++ ? " " : "'", (int)k, p);
+        p += k;
+        p += strspn(p, " ");
+    }
+    if (at < size) at += (size_t)snprintf(out + at, size - at, "%s", any ? "'" : "(none)");
+    return at;
+}
+
+void cli_render_text_diff(const char *a, const char *b, char *buf, size_t size)
+{
+    size_t at;
+    if (!size) return;
+    at = words_only(a, b, buf, size);
+    if (at < size) at += (size_t)snprintf(buf + at, size - at, ", not ");
+    if (at < size) words_only(b, a, buf + at, size - at);
+}

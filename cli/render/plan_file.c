@@ -141,8 +141,9 @@ int tile_plan_match(const tile_plan *p, const char *plan_path, const char *hash,
         return EXIT_INPUT;
     }
     if (strcmp(p->options, options) != 0) {
-        cli_error("%s is a plan for other render options: '%s', not '%s'", plan_path,
-                  p->options, options);
+        char d[512];
+        cli_render_text_diff(p->options, options, d, sizeof d);
+        cli_error("%s is a plan for other render options: %s", plan_path, d);
         return EXIT_INPUT;
     }
     if (p->width != w || p->height != h) {

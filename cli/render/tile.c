@@ -338,11 +338,10 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
 int tile_options(const ggScene *scene, const ggRenderOptions *opt, int *w, int *h, char *buf,
                  size_t size)
 {
-    ggCamera cam = ggSceneCamera(scene);
-    ggRenderOptions f = *opt;
-    *w = opt->width ? opt->width : cam.width;
-    *h = opt->height ? opt->height : cam.height;
-    f.width = *w, f.height = *h;
+    ggRenderOptions f;
+    /* the settings the render takes: -d 5 is the default depth, not another */
+    if (ggRenderOptionsResolve(scene, opt, &f) != GG_OK) return -1;
+    *w = f.width, *h = f.height;
     f.threads = 0, f.crop_x0 = f.crop_y0 = f.crop_x1 = f.crop_y1 = 0;
     f.cost_map = NULL, f.progress = NULL, f.progress_ud = NULL;
     return ggRenderOptionsFormat(&f, buf, size) >= size ? -1 : 0;

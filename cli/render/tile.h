@@ -69,9 +69,10 @@ long tile_number(const char *p, const char **end);
 int tile_cut_parse(const char *text, int h, tile_cut *c, char *why, size_t whylen);
 void tile_cut_free(tile_cut *c);
 
-/* The options a tile's manifest (and a plan) records: opt with the size
-   explicit (the camera's when 0), neither crop nor threads, which do not
-   change a pixel, as ggRenderOptionsFormat writes them. *w and *h get the
+/* The options a tile's manifest (and a plan) records: opt as the render
+   takes it (ggRenderOptionsResolve: size, depth, samples and ray budget
+   explicit, so -d 5 and the default 5 agree), neither crop nor threads,
+   which do not change a pixel, as ggRenderOptionsFormat writes them. *w and *h get the
    size. 0, or -1 if they do not fit in size bytes. */
 int tile_options(const ggScene *scene, const ggRenderOptions *opt, int *w, int *h, char *buf,
                  size_t size);

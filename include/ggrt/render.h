@@ -217,6 +217,18 @@ typedef struct ggRenderOptions {
    is a no-op. */
 GG_API void ggRenderOptionsDefault(ggRenderOptions *opt);
 
+/* *opt with every setting that 0 leaves to the scene or the library
+   filled in as ggRender would take it: width and height from the scene's
+   camera, max_depth from the scene file or 5, samples from the scene
+   file or 1, ray_budget GG_RAY_BUDGET; everything else copied as it is
+   (negative values too: ggRender refuses them). Two options that resolve
+   to the same settings render the same image of that scene, which is how
+   a program tells "-d 5" from the default apart or not (ggrt merge, ggrt
+   plan). opt and out may be the same struct. Returns GG_OK, or
+   GG_ERROR_INVALID for a NULL argument (out untouched). */
+GG_API int ggRenderOptionsResolve(const ggScene *scene, const ggRenderOptions *opt,
+                                  ggRenderOptions *out);
+
 /* ---- statistics ---- */
 typedef struct ggRayStats {
     uint64_t eye;        /* eye rays cast */

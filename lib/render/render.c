@@ -47,6 +47,22 @@ GG_API void ggRenderOptionsDefault(ggRenderOptions *opt)
     if (opt) memset(opt, 0, sizeof *opt);
 }
 
+GG_API int ggRenderOptionsResolve(const ggScene *scene, const ggRenderOptions *opt,
+                                  ggRenderOptions *out)
+{
+    ggRenderOptions o;
+    if (!scene || !opt || !out) return GG_ERROR_INVALID;
+    o = *opt;
+    /* the same choices as resolve() below makes; negative values stay */
+    if (o.width == 0) o.width = scene->camera.width;
+    if (o.height == 0) o.height = scene->camera.height;
+    if (o.max_depth == 0) o.max_depth = scene->depth > 0 ? scene->depth : 5;
+    if (o.samples == 0) o.samples = scene->samples > 0 ? scene->samples : 1;
+    if (o.ray_budget == 0) o.ray_budget = GG_RAY_BUDGET;
+    *out = o;
+    return GG_OK;
+}
+
 typedef struct resolved {
     int w, h, depth, spp, threads, budget;
     int x0, y0, x1, y1;

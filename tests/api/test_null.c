@@ -383,6 +383,15 @@ static void test_render_trace(void **state)
     COVER(ggSceneEffects), assert_int_equal(ggSceneEffects(NULL), 0);
     COVER(ggSceneEffectReason), assert_null(ggSceneEffectReason(NULL, GG_EFFECT_SHADOWS));
     COVER(ggRenderOptionsDefault), ggRenderOptionsDefault(NULL), ggRenderOptionsDefault(&o);
+    {
+        ggRenderOptions keep;
+        memset(&keep, 0xff, sizeof keep);
+        COVER(ggRenderOptionsResolve);
+        assert_int_equal(ggRenderOptionsResolve(NULL, &o, &keep), GG_ERROR_INVALID);
+        assert_int_equal(ggRenderOptionsResolve(s, NULL, &keep), GG_ERROR_INVALID);
+        assert_int_equal(ggRenderOptionsResolve(s, &o, NULL), GG_ERROR_INVALID);
+        assert_true(all_ff(&keep, sizeof keep));
+    }
     COVER(ggRender), assert_int_equal(ggRender(NULL, NULL, &img, NULL, NULL), GG_ERROR_INVALID);
     assert_ptr_equal(img, (ggImage *)&img);
     assert_int_equal(ggRender(s, NULL, NULL, NULL, NULL), GG_ERROR_INVALID);

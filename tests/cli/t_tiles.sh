@@ -208,13 +208,20 @@ merge_refuses "a tile given twice" "ggrt merge: $g-3.exr: given twice (tile 3)" 
   "$g"-[0-6].exr "$g-3.exr"
 "$ggrt" render examples/scenes/glass.nff -s 80x48 -d 3 -q --tile 2/7 -o "$td/opt-2.exr"
 merge_refuses "a tile of other options" \
-  "ggrt merge: $td/opt-2.exr: different render options from $g-0.exr: 'size=80x48 depth=3', not 'size=80x48'" \
+  "ggrt merge: $td/opt-2.exr: different render options from $g-0.exr: 'depth=3', not 'depth=5'" \
   "$g-0.exr" "$g-1.exr" "$td/opt-2.exr" "$g-3.exr" "$g-4.exr" "$g-5.exr" "$g-6.exr"
 # the ray budget is an option too (it was left out of the manifest once)
 "$ggrt" render examples/scenes/glass.nff -s 80x48 --ray-budget 2 -q --tile 2/7 -o "$td/budget-2.exr" 2>/dev/null
 merge_refuses "a tile of another ray budget" \
-  "ggrt merge: $td/budget-2.exr: different render options from $g-0.exr: 'size=80x48 ray-budget=2', not 'size=80x48'" \
+  "ggrt merge: $td/budget-2.exr: different render options from $g-0.exr: 'ray-budget=2', not 'ray-budget=1024'" \
   "$g-0.exr" "$g-1.exr" "$td/budget-2.exr" "$g-3.exr" "$g-4.exr" "$g-5.exr" "$g-6.exr"
+# options that resolve to the same render are the same: -d 5, -n 1 and
+# --ray-budget 1024 are glass.nff's depth, samples and budget anyway
+"$ggrt" render examples/scenes/glass.nff -s 80x48 -d 5 -n 1 --ray-budget 1024 -q --tile 2/7 \
+  -o "$td/same-2.exr" && "$ggrt" merge "$g-0.exr" "$g-1.exr" "$td/same-2.exr" "$g-3.exr" "$g-4.exr" \
+  "$g-5.exr" "$g-6.exr" -q -o "$td/same.exr" 2>"$tmp/err" &&
+  ok "merge takes a tile whose options are the defaults spelt out" ||
+  bad "merge takes a tile whose options are the defaults spelt out" "$(cat "$tmp/err")"
 sed 's/^l 3 -3 6$/l 3 -3 7/' examples/scenes/glass.nff >"$td/glass2.nff"
 cmp -s "$td/glass2.nff" examples/scenes/glass.nff && bad "glass2.nff differs from glass.nff"
 "$ggrt" render "$td/glass2.nff" -s 80x48 -q --tile 5/7 -o "$td/scene-5.exr"
@@ -269,12 +276,15 @@ merge_refuses "a tile of a ggrt before build ids" \
 "$ggrt" plan examples/scenes/glass.nff -s 80x48 -q --tiles 7 -o "$td/gl.json" 2>"$tmp/err" ||
   bad "plan of glass" "$(cat "$tmp/err")"
 rm -f "$td"/x.exr
-expect_err 2 "ggrt render: $td/gl.json is a plan for other render options: 'size=80x48', not 'size=80x48 depth=3'" \
+expect_err 2 "ggrt render: $td/gl.json is a plan for other render options: 'depth=5', not 'depth=3'" \
   "render refuses a plan for other options" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 -d 3 --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
 expect_err 2 "ggrt render: $td/gl.json is a plan for other render options: 'size=80x48', not 'size=80x40'" \
   "render refuses a plan for another size" \
   "$ggrt" render examples/scenes/glass.nff -s 80x40 --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
+expect_exit 0 "render takes a plan with the default depth spelt out (-d 5)" \
+  "$ggrt" render examples/scenes/glass.nff -s 80x48 -d 5 -q --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
+rm -f "$td"/x.exr
 expect_err 2 "ggrt render: $td/gl.json is a plan for another scene: its hash '$h1', not '$h2'" \
   "render refuses a plan for another scene" \
   "$ggrt" render "$td/glass2.nff" -s 80x48 --plan "$td/gl.json" --tile 2 -o "$td/x.exr"
@@ -321,7 +331,7 @@ at=$((at + 9))
 expect_err 2 "ggrt render: $td/bad.json: not a ggrt plan: expected ',' or ']' at byte $at" \
   "a plan with a hex number" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/bad.json" --tile 2 -o "$td/x.exr"
-sed 's/"options":"size=80x48"/"options":"size\\u003d80x48"/' "$td/gl.json" >"$td/esc.json"
+sed 's/"options":"size=80x48 /"options":"size\\u003d80x48 /' "$td/gl.json" >"$td/esc.json"
 if grep -qF 'size\u003d' "$td/esc.json" &&
    "$ggrt" render examples/scenes/glass.nff -s 80x48 -q --plan "$td/esc.json" --tile 2 -o "$td/esc.exr"; then
   ok "a plan's escaped options read as the text they stand for"

@@ -103,6 +103,70 @@ static void test_threads_identical(void **state)
 /* Crop windows the renderer refuses, each with GG_ERROR_INVALID and its
    reason: empty ones (all 0 is the whole image) and ones that leave the
    image; nothing is written to *img. */
+/* ggRenderOptionsResolve on one scene file: what 0 leaves open comes out
+   as the render takes it, and the resolved options render the same bits
+   and rays as the open ones. */
+static void check_resolve(const char *path, void *ud)
+{
+    ggScene *s = tu_load(path);
+    ggCamera cam = ggSceneCamera(s);
+    ggRenderOptions o, r;
+    ggRayStats sa, sb;
+    ggImage *a, *b;
+    ggRenderOptionsDefault(&o);
+    assert_int_equal(ggRenderOptionsResolve(s, &o, &r), GG_OK);
+    assert_int_equal(r.width, cam.width);
+    assert_int_equal(r.height, cam.height);
+    assert_true(r.max_depth >= 1 && r.max_depth <= 64);
+    assert_true(r.samples >= 1 && r.samples <= 4096);
+    assert_int_equal(r.ray_budget, GG_RAY_BUDGET);
+    o.width = 24, o.height = 18, o.threads = 2;
+    assert_int_equal(ggRenderOptionsResolve(s, &o, &r), GG_OK);
+    assert_int_equal(r.width, 24);
+    a = render(s, &o, &sa);
+    b = render(s, &r, &sb);
+    if (!same_pixels(a, b) || memcmp(&sa, &sb, sizeof sa) != 0)
+        fail_msg("%s: the resolved options render another image or other rays", path);
+    /* resolving again changes nothing; in place is allowed */
+    o = r;
+    assert_int_equal(ggRenderOptionsResolve(s, &r, &r), GG_OK);
+    assert_memory_equal(&o, &r, sizeof o);
+    ggImageFree(a), ggImageFree(b);
+    ggSceneFree(s);
+    ++*(int *)ud;
+}
+
+static void test_options_resolve(void **state)
+{
+    ggScene *s = load_text("v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\n"
+                           "resolution 32 24\ndepth 7\nsamples 4\nl 1 1 5\nf 1 1 1 1 0 0 0 0\n"
+                           "s 0 0 0 1\n",
+                           "resolve.nff");
+    ggRenderOptions o, r;
+    int n = 0;
+    (void)state;
+    ggRenderOptionsDefault(&o);
+    assert_int_equal(ggRenderOptionsResolve(s, &o, &r), GG_OK);
+    assert_int_equal(r.width, 32);
+    assert_int_equal(r.height, 24);
+    assert_int_equal(r.max_depth, 7);
+    assert_int_equal(r.samples, 4);
+    /* what is set is kept, negative values too (ggRender refuses them) */
+    o.max_depth = 3, o.samples = -2, o.width = -1, o.ray_budget = 9;
+    assert_int_equal(ggRenderOptionsResolve(s, &o, &r), GG_OK);
+    assert_int_equal(r.max_depth, 3);
+    assert_int_equal(r.samples, -2);
+    assert_int_equal(r.width, -1);
+    assert_int_equal(r.height, 24);
+    assert_int_equal(r.ray_budget, 9);
+    ggSceneFree(s);
+    /* every scene file: the defaults (5, 1) where the file sets none */
+    tu_each_file("examples/scenes", ".nff", check_resolve, &n);
+    tu_each_file(tu_spd_dir(), ".nff", check_resolve, &n);
+    tu_each_file("tests/data", ".nff", check_resolve, &n);
+    assert_true(n >= 25);
+}
+
 static void test_crop_refused(void **state)
 {
     static const int bad[][5] = {/* x0, y0, x1, y1, empty? */
@@ -1007,6 +1071,7 @@ int main(void)
         cmocka_unit_test(test_crop_matches_full),
         cmocka_unit_test(test_bands_add_up),
         cmocka_unit_test(test_crop_refused),
+        cmocka_unit_test(test_options_resolve),
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),
         cmocka_unit_test(test_raycolor_equals_pixel),
