@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** cancel.c -- the clock and cancellation by SIGINT, SIGTERM and SIGHUP
-** (cli.h).
+** cancel.c -- the clock, cancellation by SIGINT, SIGTERM and SIGHUP,
+** and the progress bar that checks for it (cli.h).
 */
 #include "common/cli.h"
 
@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 double cli_now(void)
 {
@@ -70,4 +71,49 @@ void cli_cancel_exit(int signo)
     cli_cancel_release();
     raise(signo);
     exit(128 + signo); /* not reached unless the signal is blocked elsewhere */
+}
+
+void cli_cancel_after_write(const char *path)
+{
+    sigset_t pending;
+    int i;
+    if (sigpending(&pending) != 0) return;
+    for (i = 0; i < NCANCEL; i++)
+        if (sigismember(&pending, cancel_signals[i]) == 1) {
+            cli_error("signal %d came while %s was being written: it is written whole; "
+                      "stopping",
+                      cancel_signals[i], path);
+            return;
+        }
+}
+
+void cli_bar_begin(cli_bar *b, const char *label, int quiet)
+{
+    b->label = label ? label : "", b->t0 = cli_now(), b->last_pct = -1;
+    b->draw = !quiet && isatty(2);
+}
+
+int cli_bar_step(void *ud, long done, long total)
+{
+    cli_bar *b = ud;
+    int pct = total > 0 ? (int)(100.0 * (double)done / (double)total) : 100, i;
+    double el;
+    if (cli_cancelled()) return 1;
+    if (!b || !b->draw || pct == b->last_pct) return 0;
+    b->last_pct = pct, el = cli_now() - b->t0;
+    fprintf(stderr, "\r%s%s[", b->label, *b->label ? " " : "");
+    for (i = 0; i < 40; i++) fputc(i < pct * 40 / 100 ? '#' : '.', stderr);
+    fprintf(stderr, "] %3d%%  %.1fs", pct, el);
+    if (pct > 0 && pct < 100)
+        fprintf(stderr, "  ~%.0fs left ", el * (100 - pct) / pct);
+    else
+        fprintf(stderr, "             ");
+    fflush(stderr);
+    return 0;
+}
+
+void cli_bar_end(cli_bar *b)
+{
+    if (b->draw && b->last_pct >= 0) fputc('\n', stderr);
+    b->last_pct = -1;
 }

@@ -132,6 +132,25 @@ int cli_cancelled(void);
 void cli_cancel_hold(void);
 void cli_cancel_release(void);
 void cli_cancel_exit(int signo);
+/* Between a finished write of `path` and cli_cancel_release: if a cancel
+   signal came during the write, say that the file was written whole
+   (the process dies of the signal next, and a scheduler will count the
+   job as failed). */
+void cli_cancel_after_write(const char *path);
+
+/* The progress bar of every long command (common/cancel.c): on a
+   terminal, unless quiet, "LABEL [####....]  42%  1.3s  ~2s left" redrawn
+   on stderr as the work goes; cli_bar_step is a ggProgressFn (ud: the
+   cli_bar) that also returns 1 once a cancel signal came, so the library
+   stops. cli_bar_end ends the line the bar drew, if it drew one. */
+typedef struct cli_bar {
+    const char *label; /* "" for none */
+    double t0;
+    int last_pct, draw;
+} cli_bar;
+void cli_bar_begin(cli_bar *b, const char *label, int quiet);
+int cli_bar_step(void *ud, long done, long total);
+void cli_bar_end(cli_bar *b);
 
 /* Load a scene file and prepare it (common/scene.c): how every command
    that takes a scene loads it. `loaded` (may be NULL) is called with ud

@@ -11,29 +11,21 @@
 
 void dbg_progress_begin(dbg_progress_state *p, const char *what, int quiet)
 {
-    p->what = what, p->t0 = cli_now(), p->last_pct = -1;
-    p->draw = !quiet && isatty(2);
+    p->what = what;
+    cli_bar_begin(&p->bar, what, quiet);
     cli_cancel_begin();
 }
 
 int dbg_progress(void *ud, long done, long total)
 {
     dbg_progress_state *p = ud;
-    int pct = total > 0 ? (int)(100.0 * (double)done / (double)total) : 100, i;
-    if (cli_cancelled()) return 1;
-    if (!p || !p->draw || pct == p->last_pct) return 0;
-    p->last_pct = pct;
-    fprintf(stderr, "\r%s [", p->what);
-    for (i = 0; i < 40; i++) fputc(i < pct * 40 / 100 ? '#' : '.', stderr);
-    fprintf(stderr, "] %3d%%  %.1fs ", pct, cli_now() - p->t0);
-    fflush(stderr);
-    return 0;
+    return p ? cli_bar_step(&p->bar, done, total) : cli_cancelled() != 0;
 }
 
 void dbg_progress_end(dbg_progress_state *p)
 {
     int sig;
-    if (p->draw && p->last_pct >= 0) fputc('\n', stderr);
+    cli_bar_end(&p->bar);
     if ((sig = cli_cancelled()) != 0) {
         cli_error_in(p->what, "cancelled by signal %d", sig);
         cli_cancel_exit(sig);

@@ -17,8 +17,7 @@
    (ud: a dbg_progress_state, NULL for none) and the way a signal cancels. */
 typedef struct dbg_progress_state {
     const char *what;
-    double t0;
-    int last_pct, draw;
+    cli_bar bar;
 } dbg_progress_state;
 void dbg_progress_begin(dbg_progress_state *p, const char *what, int quiet);
 int dbg_progress(void *ud, long done, long total);

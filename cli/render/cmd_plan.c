@@ -49,7 +49,7 @@ static int parse(plan_args *a, int argc, char **argv)
         CLI_OPT_INT(0, "runs", &a->runs, 1, 100, "R",
                     "with --cost time: render R times and keep each\n"
                     "pixel's least time (default 3)"),
-        CLI_OPT_FLAG('q', "quiet", &a->quiet, "no summary"),
+        CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar and no summary"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "plan",
@@ -155,9 +155,21 @@ static int measure(ggScene *scene, const plan_args *a, int w, int h, float **cos
     }
     o.width = *lw, o.height = *lh;
     o.cost_map = run, o.cost_kind = a->cost ? GG_COST_TIME : GG_COST_RAYS;
+    cli_cancel_begin();
     for (r = 0; r < runs && rc == GG_OK; r++) {
+        cli_bar bar;
+        char what[48];
+        snprintf(what, sizeof what, "measuring %d/%d", r + 1, runs);
+        cli_bar_begin(&bar, what, a->quiet);
+        o.progress = cli_bar_step, o.progress_ud = &bar;
         rc = ggRender(scene, &o, &img, NULL, &err);
+        cli_bar_end(&bar);
         ggImageFree(img), img = NULL;
+        if (cli_cancelled()) {
+            free(run);
+            cli_error("cancelled by signal %d; %s not written", cli_cancelled(), a->out);
+            cli_cancel_exit(cli_cancelled());
+        }
         for (i = 0; i < n && rc == GG_OK; i++)
             if (r == 0 || run[i] < (*cost)[i]) (*cost)[i] = run[i];
     }
@@ -219,10 +231,17 @@ static int plan(ggScene *scene, const plan_args *a)
     if (!row || !y || !share) {
         cli_error("out of memory");
         rc = EXIT_INPUT;
-    } else if ((rc = cli_out_open(&out, "plan", a->out)) == EXIT_OK) {
-        cut_rows(row, h, a->n, y, share);
-        write_json(out.f, a, hash, options, w, h, lw, lh, y, share, cli_now() - t0);
-        rc = cli_out_close(&out, "plan");
+    } else {
+        /* written whole or not at all, as render's images */
+        cli_cancel_hold();
+        if ((rc = cli_out_open(&out, "plan", a->out)) == EXIT_OK) {
+            cut_rows(row, h, a->n, y, share);
+            write_json(out.f, a, hash, options, w, h, lw, lh, y, share, cli_now() - t0);
+            rc = cli_out_close(&out, "plan");
+            if (rc == EXIT_OK) cli_cancel_after_write(a->out);
+        }
+        cli_cancel_release();
+        if (rc == EXIT_OK && cli_cancelled()) cli_cancel_exit(cli_cancelled());
     }
     if (rc == EXIT_OK && !a->quiet) {
         printf("plan: %d tiles of %dx%d by %s, measured at %dx%d in %.3fs -> %s\n", a->n, w, h,

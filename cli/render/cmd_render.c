@@ -17,7 +17,8 @@ static const char about[] =
     "float linear OpenEXR, chosen by the extension of OUT. SCENE may also be an OBJ\n"
     "or PLY model: it is framed by a default camera and two lights, printed (as NFF,\n"
     "to paste into a scene) on stderr. SIGINT or SIGTERM cancels the render: nothing\n"
-    "is written and an existing OUT is left as it was.";
+    "is written and an existing OUT is left as it was; one that comes while OUT is\n"
+    "being written lets it finish whole, says so, and then stops ggrt.";
 
 static const char tail[] =
     "A scene with no objects, or with no lights and no emitting surface, renders with\n"
@@ -33,31 +34,6 @@ typedef struct render_args {
     tile_list tiles; /* --tile or --tiles; tiles.count 0 without */
     aov_list aov;    /* --aov and --aov-png */
 } render_args;
-
-typedef struct progress_state {
-    double t0;
-    int last_pct, draw;
-} progress_state;
-
-/* Draws the bar on a terminal; always the way a signal cancels the render. */
-static int progress(void *ud, long done, long total)
-{
-    progress_state *p = ud;
-    int pct = total > 0 ? (int)(100.0 * (double)done / (double)total) : 100, i;
-    double el = cli_now() - p->t0;
-    if (cli_cancelled()) return 1;
-    if (!p->draw || pct == p->last_pct) return 0;
-    p->last_pct = pct;
-    fprintf(stderr, "\r[");
-    for (i = 0; i < 40; i++) fputc(i < pct * 40 / 100 ? '#' : '.', stderr);
-    fprintf(stderr, "] %3d%%  %.1fs", pct, el);
-    if (pct > 0 && pct < 100)
-        fprintf(stderr, "  ~%.0fs left ", el * (100 - pct) / pct);
-    else
-        fprintf(stderr, "             ");
-    fflush(stderr);
-    return 0;
-}
 
 /* Every tile's file, before any tile is rendered: a bad path found at the
    second tile would leave the first written and the set half done. */
@@ -226,7 +202,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     ggImage *img = NULL;
     ggRayStats st;
     ggError err;
-    progress_state ps;
+    cli_bar bar;
     ggCamera cam = ggSceneCamera(scene);
     int w = opt->width ? opt->width : cam.width, h = opt->height ? opt->height : cam.height;
     int rc, sig;
@@ -249,11 +225,12 @@ static int run(render_args *a, ggScene *scene, double *t)
         free(cost);
         return rc;
     }
-    ps.t0 = t[2], ps.last_pct = -1, ps.draw = !a->quiet && isatty(2);
-    opt->progress = progress, opt->progress_ud = &ps;
+    cli_bar_begin(&bar, "", a->quiet);
+    bar.t0 = t[2];
+    opt->progress = cli_bar_step, opt->progress_ud = &bar;
     cli_cancel_begin();
     rc = ggRender(scene, opt, &img, &st, &err);
-    if (ps.draw && ps.last_pct >= 0) fputc('\n', stderr);
+    cli_bar_end(&bar);
     t[3] = cli_now();
     if ((sig = cli_cancelled()) != 0) {
         ggImageFree(img);
@@ -277,6 +254,7 @@ static int run(render_args *a, ggScene *scene, double *t)
         cli_cancel_hold();
         rc = a->aov.n ? aov_write(&a->aov, img, a->out, a->scene, opt, &err)
                        : ggImageWrite(img, a->out, &err);
+        if (rc == GG_OK) cli_cancel_after_write(a->out);
         cli_cancel_release(); /* a signal that came meanwhile is handled now */
         rc = rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
     }

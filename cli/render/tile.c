@@ -266,13 +266,6 @@ typedef struct tile_job {
     char hash[32], cutname[TILE_MAX_PLAN * 8 + 16], options[2048];
 } tile_job;
 
-/* Stops a render on SIGINT, SIGTERM or SIGHUP. */
-static int cancel_check(void *ud, long done, long total)
-{
-    (void)ud, (void)done, (void)total;
-    return cli_cancelled() != 0;
-}
-
 /* Render tile i's band and write it with the manifest. */
 static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, int i)
 {
@@ -285,6 +278,7 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     char path[1024], idx[16], what[48];
     int y0, y1, rc;
     double t0 = cli_now();
+    cli_bar bar;
     tile_cut_rows(&j->cut, i, j->h, &y0, &y1);
     if (tile_path(j->out, i, path, sizeof path) != 0) {
         cli_error("output path too long: '%s'", j->out);
@@ -292,8 +286,11 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     }
     if ((rc = cli_check_output("render", path)) != 0) return rc;
     o.crop_x0 = 0, o.crop_x1 = j->w, o.crop_y0 = y0, o.crop_y1 = y1;
-    o.progress = cancel_check, o.progress_ud = NULL;
+    snprintf(what, sizeof what, "tile %d/%d", i, tl->n);
+    cli_bar_begin(&bar, what, j->quiet);
+    o.progress = cli_bar_step, o.progress_ud = &bar;
     rc = ggRender(scene, &o, &img, &st, &err);
+    cli_bar_end(&bar);
     if (cli_cancelled()) {
         ggImageFree(img);
         cli_error("cancelled by signal %d; %s not written", cli_cancelled(), path);
@@ -317,6 +314,7 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     hd.attr_count = 7, hd.attrs = attrs;
     cli_cancel_hold();
     rc = ggImageWriteEXRHeader(band, &hd, path, &err);
+    if (rc == GG_OK) cli_cancel_after_write(path);
     cli_cancel_release();
     if (rc != GG_OK) {
         ggImageFree(band);

@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: MIT
 """SIGINT and SIGTERM cancel `ggrt render` through the library's progress
 callback: the process dies of the signal, says so, leaves the old output as
-it was and no temporary file. Also checks that ggrt never wrote into its
-argv (/proc/PID/cmdline while it runs). Prints one "ok NAME" or
-"FAIL NAME: why" line per check.
+it was and no temporary file; SIGTERM does the same to a tile and to ggrt
+plan's measuring. Also checks that ggrt never wrote into its argv
+(/proc/PID/cmdline while it runs), and that render, a tile and plan draw
+their progress bar on a terminal (a pseudo-terminal here) and not under -q.
+Prints one "ok NAME" or "FAIL NAME: why" line per check.
 usage: cancel.py GGRT TMPDIR"""
 import os
 import signal
@@ -84,3 +86,89 @@ for sig in (signal.SIGINT, signal.SIGTERM):
                "old.png changed")
     left = sorted(os.listdir(d))
     report(left == ["old.png"], "%s: no temporary file left" % name, repr(left))
+
+
+def cancel_other(what, args, out):
+    """SIGTERM during a tile's render or a plan's measuring: dies of it,
+    says so, keeps the old output and leaves no temporary file."""
+    d = os.path.dirname(out)
+    with open(out, "wb") as f:
+        f.write(b"the previous file\n")
+    p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                         preexec_fn=default_signals)
+    t0 = time.time()
+    while not caught(p.pid, signal.SIGTERM) and p.poll() is None and time.time() - t0 < 30:
+        time.sleep(0.01)
+    if not caught(p.pid, signal.SIGTERM):
+        p.kill()
+        p.communicate()
+        report(False, "%s installs a handler" % what, "no handler in SigCgt")
+        return
+    time.sleep(0.3)
+    p.send_signal(signal.SIGTERM)
+    try:
+        _, err = p.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.communicate()
+        report(False, "SIGTERM cancels %s" % what, "still running 20 s later")
+        return
+    err = err.decode(errors="replace")
+    report(p.returncode == -signal.SIGTERM and
+           "cancelled by signal %d; %s not written" % (signal.SIGTERM, out) in err,
+           "SIGTERM: %s dies of the signal and says so" % what,
+           "exit %r, stderr %r" % (p.returncode, err))
+    with open(out, "rb") as f:
+        report(f.read() == b"the previous file\n", "SIGTERM: %s keeps the old output" % what,
+               "the file changed")
+    left = sorted(os.listdir(d))
+    report(left == [os.path.basename(out)], "SIGTERM: %s leaves no temporary file" % what,
+           repr(left))
+
+
+# A plan was killed silently (no handler); a tile said so from the start.
+d = os.path.join(tmp, "cancel-plan")
+os.makedirs(d)
+cancel_other("ggrt plan", [ggrt, "plan", SCENE, "--tiles", "4", "-s", "1024x768", "-n", "9",
+                           "-j", "1", "--scale", "1", "-o", os.path.join(d, "p.json")],
+             os.path.join(d, "p.json"))
+d = os.path.join(tmp, "cancel-tile")
+os.makedirs(d)
+cancel_other("a tile", [ggrt, "render", SCENE, "--tile", "0/2", "-s", "1024x768", "-n", "9",
+                        "-j", "1", "-o", os.path.join(d, "t.exr")], os.path.join(d, "t.exr"))
+
+
+def on_terminal(args):
+    """stderr of args run on a pseudo-terminal (the bar is drawn only there)."""
+    import pty
+    pid, fd = pty.fork()
+    if pid == 0:
+        os.execv(args[0], args)
+    out = b""
+    while True:
+        try:
+            chunk = os.read(fd, 65536)
+        except OSError:
+            break
+        if not chunk:
+            break
+        out += chunk
+    os.waitpid(pid, 0)
+    return out.decode(errors="replace")
+
+
+# The progress bar: a whole render had it; a tile and a plan's measuring
+# renders were silent until the end.
+d = os.path.join(tmp, "bars")
+os.makedirs(d)
+for what, args, label in (
+        ("render", [ggrt, "render", SCENE, "-s", "128x96", "-o", os.path.join(d, "w.png")], "\r["),
+        ("a tile", [ggrt, "render", SCENE, "-s", "128x96", "--tile", "1/2", "-o",
+                    os.path.join(d, "t.exr")], "\rtile 1/2 ["),
+        ("ggrt plan", [ggrt, "plan", SCENE, "-s", "128x96", "--tiles", "2", "-o",
+                       os.path.join(d, "p.json")], "\rmeasuring 3/3 [")):
+    text = on_terminal(args)
+    report(label in text and "100%" in text, "%s draws a progress bar on a terminal" % what,
+           repr(text[-300:]))
+    q = on_terminal(args + ["-q"])
+    report("[" not in q and "%" not in q, "%s -q draws none" % what, repr(q[-300:]))
