@@ -67,6 +67,10 @@ static int parse(plan_args *a, int argc, char **argv)
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
     if (!a->out) return cli_usage_error(&cmd, "need -o PLAN.json");
+    /* A plan is JSON: under an image's name a viewer would choke on it
+       (as merge --reports refuses). */
+    if (cli_image_kind(a->out) != CLI_IMAGE_NONE)
+        return cli_usage_error(&cmd, "a plan is JSON, not an image: '%s'", a->out);
     if (!a->n) return cli_usage_error(&cmd, "need --tiles N");
     /* Rays cast do not vary between runs: one is measured and recorded. */
     if (mine[4].given && a->cost == 0)

@@ -109,7 +109,7 @@ int tile_plan_read(const char *path, tile_plan *p)
     memset(p, 0, sizeof *p);
     rc = cli_read_text(path, PLAN_MAX_BYTES, &text, &got);
     if (rc == CLI_READ_IO || rc == CLI_READ_NOTFILE) {
-        cli_error("%s: %s", path, rc == CLI_READ_IO ? strerror(errno) : "not a regular file");
+        cli_error("the plan %s: %s", path, rc == CLI_READ_IO ? strerror(errno) : "not a regular file");
         return EXIT_IO;
     }
     if (rc == CLI_READ_NOMEM)

@@ -307,10 +307,14 @@ expect_err 1 "ggrt render: --tile I and --tiles I,J need /N, the number of tiles
   "$ggrt" render examples/scenes/glass.nff --tile 2 -o "$td/x.exr"
 expect_err 1 "ggrt render: --plan goes with --tile or --tiles" "--plan without --tile" \
   "$ggrt" render examples/scenes/glass.nff --plan "$td/gl.json" -o "$td/x.exr"
-expect_err 3 "ggrt render: $td/none.json: No such file or directory" "a missing plan file" \
+expect_err 3 "ggrt render: the plan $td/none.json: No such file or directory" "a missing plan file" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/none.json" --tile 2 -o "$td/x.exr"
+# a plan is JSON: one written under an image's name was taken (exit 0)
+expect_err 1 "ggrt plan: a plan is JSON, not an image: '$td/p.png'" "plan -o p.png is refused" \
+  "$ggrt" plan examples/scenes/glass.nff -s 80x48 -q --tiles 3 -o "$td/p.png"
+[ ! -e "$td/p.png" ] && ok "plan -o p.png writes nothing" || bad "plan -o p.png writes nothing"
 mkdir -p "$td/dir.json"
-expect_err 3 "ggrt render: $td/dir.json: not a regular file" "a folder as the plan" \
+expect_err 3 "ggrt render: the plan $td/dir.json: not a regular file" "a folder as the plan" \
   "$ggrt" render examples/scenes/glass.nff -s 80x48 --plan "$td/dir.json" --tile 2 -o "$td/x.exr"
 { cat "$td/gl.json"; head -c 1048576 /dev/zero | tr '\0' ' '; } >"$td/big.json"
 expect_err 2 "ggrt render: $td/big.json: not a ggrt plan: larger than 1 MiB" "a plan over 1 MiB" \
