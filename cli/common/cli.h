@@ -115,6 +115,10 @@ int cli_out_close(cli_out *o, const char *cmd);
 enum { CLI_READ_IO = 1, CLI_READ_LARGE, CLI_READ_NOMEM, CLI_READ_NOTFILE };
 int cli_read_text(const char *path, size_t max, char **text, size_t *len);
 
+/* The shortest "%.Ng" (N = 1..17) of d that reads back as d, into buf:
+   0.1, not 0.10000000000000001, in messages and manifests. */
+void cli_shortest(char *buf, size_t size, double d);
+
 /* Print " ARG", quoted for a POSIX shell when it needs quoting, so that a
    printed command line works when pasted. */
 void cli_print_arg(FILE *f, const char *arg);

@@ -9,6 +9,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 
 int cli_exit_code(int status, int from_args)
@@ -119,4 +120,14 @@ int cli_close_stdout(void)
     if (!bad) return 0;
     cli_error("error writing standard output%s%s", e ? ": " : "", e ? strerror(e) : "");
     return EXIT_IO;
+}
+
+void cli_shortest(char *buf, size_t size, double d)
+{
+    int p;
+    for (p = 1; p < 17; p++) {
+        snprintf(buf, size, "%.*g", p, d);
+        if (strtod(buf, NULL) == d) return;
+    }
+    snprintf(buf, size, "%.17g", d);
 }

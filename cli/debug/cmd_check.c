@@ -133,15 +133,20 @@ static int json_out(check_args *a, const ggCheckResult *r)
 {
     ggRenderOptions o;
     FILE *f = dbg_tile_open(&a->tile);
-    char params[400];
+    char params[600], t[4][32];
     int k, n;
     dbg_tile_options(&a->tile, &a->ro.opt, &o);
     if (f) json_check(f, a->scene, &o, r);
-    n = snprintf(params, sizeof params, "truncation=%.17g self-hit=%.17g near-tir=%.17g "
-                 "grazing=%.17g severity=", a->co.truncation, a->co.self_hit, a->co.near_tir,
-                 a->co.grazing);
+    /* in the options' own words, so that merge can name the one that
+       differs: "self-hit=4 ... severity.self-hit=warning" */
+    cli_shortest(t[0], sizeof t[0], a->co.truncation),
+        cli_shortest(t[1], sizeof t[1], a->co.self_hit);
+    cli_shortest(t[2], sizeof t[2], a->co.near_tir), cli_shortest(t[3], sizeof t[3], a->co.grazing);
+    n = snprintf(params, sizeof params, "truncation=%s self-hit=%s near-tir=%s grazing=%s", t[0],
+                 t[1], t[2], t[3]);
     for (k = 0; k < GG_CHECK_COUNT && n > 0 && (size_t)n < sizeof params; k++)
-        n += snprintf(params + n, sizeof params - (size_t)n, "%d", a->co.severity[k]);
+        n += snprintf(params + n, sizeof params - (size_t)n, " severity.%s=%s", ggCheckName(k),
+                      ggSeverityName(a->co.severity[k]));
     return dbg_tile_close(&a->tile, f, params);
 }
 

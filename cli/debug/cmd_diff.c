@@ -10,6 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define DIFF_LIMIT_ALL (1 << 30) /* --limit not given: every pixel that differs */
+
 static const char about[] =
     "Render two settings of a scene (--a and --b: render options as text, e.g.\n"
     "--b 'sphere=textbook depth=8'; see docs/debugging.md), or two scenes, with every\n"
@@ -74,7 +76,7 @@ static int parse(diff_args *a, int argc, char **argv)
         CLI_OPT_STRING(0, "path", &a->path, "LPE",
                        "also the pixels whose paths LPE matches differ\n"
                        "between a and b (docs/debugging.md)"),
-        CLI_OPT_INT(0, "limit", &a->limit, 0, 1 << 30, "N",
+        CLI_OPT_INT(0, "limit", &a->limit, 0, DIFF_LIMIT_ALL, "N",
                     "--path: list at most N of those pixels (default all)"),
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
@@ -93,7 +95,7 @@ static int parse(diff_args *a, int argc, char **argv)
                    .nargs = &a->nscenes,
                    .args_name = "scene"};
     int rc;
-    a->worst = 10, a->a_text = "", a->b_text = "", a->limit = 1 << 30;
+    a->worst = 10, a->a_text = "", a->b_text = "", a->limit = DIFF_LIMIT_ALL;
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
@@ -205,8 +207,14 @@ static int json_out(const diff_args *a, const ggDiffResult *r)
     if (f) json_diff(f, a->scenes[0], a->scenes[a->nscenes > 1], &oa, &ob, r);
     if (t->tl.count && a->nscenes > 1 && tile_hash_file(a->scenes[1], hash, sizeof hash) != 0)
         snprintf(hash, sizeof hash, "unreadable");
-    snprintf(params, sizeof params, "worst=%d limit=%d%s%s", a->worst, a->limit,
-             hash[0] ? " b=" : "", hash);
+    /* in the options' words ("limit=all": --limit not given), the
+       second scene as "scene-b=HASH" */
+    if (a->limit == DIFF_LIMIT_ALL)
+        snprintf(params, sizeof params, "worst=%d limit=all%s%s", a->worst,
+                 hash[0] ? " scene-b=" : "", hash);
+    else
+        snprintf(params, sizeof params, "worst=%d limit=%d%s%s", a->worst, a->limit,
+                 hash[0] ? " scene-b=" : "", hash);
     return dbg_tile_close(t, f, params);
 }
 

@@ -128,6 +128,14 @@ static int check_against(const report *r, const report *ref)
     for (k = 0; same_keys[k]; k++) {
         const jnode *x = jdom_get(r->tile, same_keys[k]), *y = jdom_get(ref->tile, same_keys[k]);
         if (!x || !jdom_same(x, y)) {
+            char tx[1024], ty[1024], d[1024];
+            /* option texts: only the settings that differ */
+            if (x && (!strcmp(same_keys[k], "options") || !strcmp(same_keys[k], "params")) &&
+                jdom_str(x, tx, sizeof tx) == 0 && jdom_str(y, ty, sizeof ty) == 0) {
+                cli_render_text_diff(tx, ty, d, sizeof d);
+                cli_error("%s: different %s from %s: %s", r->path, same_what[k], ref->path, d);
+                return EXIT_INPUT;
+            }
             cli_error("%s: different %s from %s: %.*s, not %.*s", r->path, same_what[k], ref->path,
                       x ? (int)x->len : 4, x ? x->s : "none", (int)y->len, y->s);
             return EXIT_INPUT;

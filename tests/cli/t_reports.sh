@@ -133,7 +133,7 @@ reports_refuse "a report given twice" "ggrt merge: $rd/g-1.json: given twice (ti
   "$rd"/g-[0-3].json "$rd/g-1.json"
 "$ggrt" find $g -s 80x48 -d 3 -w 'some(kind == tir)' -f json --tile 2/4 >"$rd/opt-2.json"
 reports_refuse "a tile of other options" \
-  "ggrt merge: $rd/opt-2.json: different render options from $rd/g-0.json: \"size=80x48 depth=3\", not \"size=80x48\"" \
+  "ggrt merge: $rd/opt-2.json: different render options from $rd/g-0.json: 'depth=3', not 'depth=5'" \
   "$rd/g-0.json" "$rd/g-1.json" "$rd/opt-2.json" "$rd/g-3.json"
 # -j changes no pixel: diff tiles of another -j merge (into what one
 # process with the first tile's -j writes), for options_b as for
@@ -185,8 +185,28 @@ reports_refuse "a tile of a ggrt before build ids" \
   "$rd/g-0.json" "$rd/g-1.json" "$rd/older-2.json" "$rd/g-3.json"
 "$ggrt" find $g -s 80x48 -w 'some(kind == tir)' --limit 3 -f json --tile 1/4 >"$rd/lim-1.json"
 reports_refuse "a tile of another --limit" \
-  "ggrt merge: $rd/lim-1.json: different command options from $rd/g-0.json: \"limit=3\", not \"limit=20\"" \
+  "ggrt merge: $rd/lim-1.json: different command options from $rd/g-0.json: 'limit=3', not 'limit=20'" \
   "$rd/g-0.json" "$rd/lim-1.json" "$rd/g-2.json" "$rd/g-3.json"
+# check's and diff's options in their own words, only the one that differs
+"$ggrt" check $g -s 80x48 -f json --tile 0/2 >"$rd/c-0.json" 2>/dev/null
+"$ggrt" check $g -s 80x48 --severity self-hit=error -f json --tile 1/2 >"$rd/cs-1.json" 2>/dev/null
+reports_refuse "a check tile of another --severity" \
+  "ggrt merge: $rd/cs-1.json: different command options from $rd/c-0.json: 'severity.self-hit=error', not 'severity.self-hit=warning'" \
+  "$rd/c-0.json" "$rd/cs-1.json"
+"$ggrt" check $g -s 80x48 --truncation 0.2 -f json --tile 1/2 >"$rd/ct-1.json" 2>/dev/null
+reports_refuse "a check tile of another --truncation" \
+  "ggrt merge: $rd/ct-1.json: different command options from $rd/c-0.json: 'truncation=0.2', not 'truncation=0.1'" \
+  "$rd/c-0.json" "$rd/ct-1.json"
+"$ggrt" diff $g examples/scenes/gold.nff -s 80x48 -q -f json --tile 0/2 >"$rd/db-0.json"
+"$ggrt" diff $g $g -s 80x48 -q -f json --tile 1/2 >"$rd/db-1.json"
+hb=$(grep -o 'scene-b=fnv1a64:[0-9a-f]*' "$rd/db-1.json")
+ha=$(grep -o 'scene-b=fnv1a64:[0-9a-f]*' "$rd/db-0.json")
+reports_refuse "a diff tile of another second scene" \
+  "ggrt merge: $rd/db-1.json: different command options from $rd/db-0.json: '$hb', not '$ha'" \
+  "$rd/db-0.json" "$rd/db-1.json"
+grep -q '"params":"worst=10 limit=all scene-b=' "$rd/db-0.json" &&
+  ok "a diff tile's params: limit=all, scene-b=HASH" ||
+  bad "a diff tile's params: limit=all, scene-b=HASH" "$(grep -o '"params":"[^"]*"' "$rd/db-0.json")"
 "$ggrt" find $g -s 80x48 -w 'some(kind == refract)' -f json --tile 1/4 >"$rd/where-1.json"
 reports_refuse "a tile of another predicate" \
   "ggrt merge: $rd/where-1.json: different \"where\" from $rd/g-0.json: \"some(kind == refract)\", not \"some(kind == tir)\"" \
