@@ -22,9 +22,9 @@ done
 g=examples/scenes/glass.nff
 for f in "$fl/fifo.nff" "$fl/dir.nff" /dev/zero; do
   b=$(basename "$f")
-  expect_msg 3 "ggrt render: $f: not a regular file" "$b as render --plan: refused at once" \
+  expect_msg 3 "ggrt render: the plan $f: not a regular file" "$b as render --plan: refused at once" \
     timeout 20 "$ggrt" render $g -s 16x12 -q --plan "$f" --tile 0 -o "$fl/t.exr"
-  expect_msg 3 "ggrt find: $f: not a regular file" "$b as find --plan: refused at once" \
+  expect_msg 3 "ggrt find: the plan $f: not a regular file" "$b as find --plan: refused at once" \
     timeout 20 "$ggrt" find $g -s 16x12 -w 'some(hit)' --plan "$f" --tile 0/2 -f json
   expect_msg 3 "ggrt merge: $f: not a regular file" "$b as a merge --reports input: refused at once" \
     timeout 20 "$ggrt" merge --reports "$f" -o "$fl/r.json"
