@@ -103,7 +103,7 @@ void cli_render_init(cli_render *r, unsigned parts)
         r->table[n++] = (cli_opt)CLI_OPT_MANY(
             'a', "accuracy", cli_parse_accuracy, &r->opt.accuracy, "KNOB=V,...",
             "numerical choices, accurate by default (see\n"
-            "docs/accuracy.md): offset=scaled|EPS,\n"
+            "docs/accuracy.md): offset=scaled|fixed|EPS,\n"
             "sphere=stable|textbook, refract=accurate|exact|textbook,\n"
             "fresnel=scene|none|schlick|exact,\n"
             "texture=scene|bilinear|nearest, wavelengths=rgb|one,\n"

@@ -23,8 +23,8 @@ static const char tail[] =
     "the accuracy knobs per view (depth at most 16, samples at most 64, images at\n"
     "most 4096 a side and 16777216 pixels). --crop is refused: the page shows the\n"
     "whole image. Only SCENE and its textures are read.\n"
-    "exit: 0 stopped by Ctrl-C or SIGTERM, 1 usage, 2 bad scene, 3 scene unreadable\n"
-    "or cannot listen";
+    "exit: 0 stopped by Ctrl-C, SIGTERM or SIGHUP, 1 usage, 2 bad scene, 3 scene\n"
+    "unreadable or cannot listen";
 
 typedef struct serve_args {
     const char *scene, *host;

@@ -4,7 +4,10 @@
 ** GG_TRAV_COST), counting the nodes and elements it tests: the traversal
 ** cost that the ray-tree recorder keeps per ray (ggTraceNode.nodes,
 ** .prims). Its leaves are the plain copy's (bvh.c); the AVX copy's give
-** the same hits (bvh_avx.c), so the walk, and the counts, are the same.
+** the same hits (bvh_avx.c), so the walk, and the counts, are the same
+** on one tree. The tree itself is built for the copy the CPU (or
+** GGRT_ISA) chose, so one ray's counts under GGRT_ISA=sse2 differ from
+** the AVX copies' (ggrt(1), ENVIRONMENT); its hits do not.
 */
 #include "bvh_int.h"
 
