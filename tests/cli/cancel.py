@@ -33,6 +33,19 @@ def caught(pid, signo):
     return 0
 
 
+def signal_and_wait(p, sig):
+    """Send sig to p and wait: its stderr, or None if it still ran 20 s
+    later (then it is killed)."""
+    p.send_signal(sig)
+    try:
+        _, err = p.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.communicate()
+        return None
+    return err.decode(errors="replace")
+
+
 def default_signals():
     # A test run from a background job may have SIGINT ignored; ggrt keeps
     # ignored signals ignored, so give it the ordinary dispositions.
@@ -64,16 +77,11 @@ for sig in (signal.SIGINT, signal.SIGTERM):
            repr(cmdline))
     time.sleep(0.3)  # well inside the render
     t1 = time.time()
-    p.send_signal(sig)
-    try:
-        _, err = p.communicate(timeout=20)
-    except subprocess.TimeoutExpired:
-        p.kill()
-        p.communicate()
+    err = signal_and_wait(p, sig)
+    if err is None:
         report(False, "%s cancels the render" % name, "still running 20 s later")
         continue
     took = time.time() - t1
-    err = err.decode(errors="replace")
     report(p.returncode == -sig and "cancelled by signal %d" % sig in err,
            "%s: ggrt dies of the signal and says so" % name,
            "exit %r, stderr %r" % (p.returncode, err))
@@ -105,15 +113,10 @@ def cancel_other(what, args, out):
         report(False, "%s installs a handler" % what, "no handler in SigCgt")
         return
     time.sleep(0.3)
-    p.send_signal(signal.SIGTERM)
-    try:
-        _, err = p.communicate(timeout=20)
-    except subprocess.TimeoutExpired:
-        p.kill()
-        p.communicate()
+    err = signal_and_wait(p, signal.SIGTERM)
+    if err is None:
         report(False, "SIGTERM cancels %s" % what, "still running 20 s later")
         return
-    err = err.decode(errors="replace")
     report(p.returncode == -signal.SIGTERM and
            "cancelled by signal %d; %s not written" % (signal.SIGTERM, out) in err,
            "SIGTERM: %s dies of the signal and says so" % what,
