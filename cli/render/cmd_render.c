@@ -131,10 +131,11 @@ static int parse(render_args *a, int argc, char **argv)
     cli_render_finish(&a->ro);
     a->has_pixel = mine[1].given;
     if (!a->out) return cli_usage_error(&cmd, "need -o OUT.png or -o OUT.exr");
-    if ((rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
     if (a->tiles.count && (a->aov.n || a->aov.png_dir))
         return cli_usage_error(&cmd, "--tile and --tiles take no --aov or --aov-png");
+    /* (before the image-name check: a tile must be .exr, not .png either) */
     if (a->tiles.count) return check_tiles(&cmd, a, mine);
+    if ((rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
     /* The flag undoes the PNG writer's encoding: on an EXR's linear floats
        it would clamp and distort the values (and break --aov sums). */
     if (a->no_srgb && cli_image_kind(a->out) != CLI_IMAGE_PNG)

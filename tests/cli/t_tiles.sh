@@ -121,6 +121,9 @@ expect_err 1 "ggrt render: --tiles writes several files: -o needs a %d" "--tiles
   "$ggrt" render examples/scenes/glass.nff --tiles 0,1/4 -o "$td/x.exr"
 expect_err 1 "ggrt render: tiles are OpenEXR files: -o must end in .exr" "a tile is an EXR" \
   "$ggrt" render examples/scenes/glass.nff --tile 0/4 -o "$td/x.png"
+# a name with no image extension: the tiles' rule, not "end in .png or .exr"
+expect_err 1 "ggrt render: tiles are OpenEXR files: -o must end in .exr" "a tile named without .exr" \
+  "$ggrt" render examples/scenes/glass.nff --tiles 0-1/4 -o "$td/part-%d"
 # --aov-png alone was ignored by a tile (a whole render refuses it without --aov)
 for o in "--aov all=C.* --aov-png $td" "--aov-png $td"; do
   expect_err 1 "ggrt render: --tile and --tiles take no --aov or --aov-png" "--tile with $o refused" \
