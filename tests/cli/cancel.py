@@ -3,8 +3,9 @@
 callback: the process dies of the signal, says so, leaves the old output as
 it was and no temporary file; SIGTERM does the same to a tile and to ggrt
 plan's measuring. Also checks that ggrt never wrote into its argv
-(/proc/PID/cmdline while it runs), and that render, a tile and plan draw
-their progress bar on a terminal (a pseudo-terminal here) and not under -q.
+(/proc/PID/cmdline while it runs), and that render, a tile, plan, find,
+check and diff draw their progress bar on a terminal (a pseudo-terminal
+here) and not under -q.
 Prints one "ok NAME" or "FAIL NAME: why" line per check.
 usage: cancel.py GGRT TMPDIR"""
 import os
@@ -169,9 +170,13 @@ for what, args, label in (
         ("a tile", [ggrt, "render", SCENE, "-s", "128x96", "--tile", "1/2", "-o",
                     os.path.join(d, "t.exr")], "\rtile 1/2 ["),
         ("ggrt plan", [ggrt, "plan", SCENE, "-s", "128x96", "--tiles", "2", "-o",
-                       os.path.join(d, "p.json")], "\rmeasuring 3/3 [")):
+                       os.path.join(d, "p.json")], "\rmeasuring 3/3 ["),
+        ("ggrt find", [ggrt, "find", SCENE, "-s", "128x96", "-w", "some(kind == reflect)"],
+         "\rfind ["),
+        ("ggrt check", [ggrt, "check", SCENE, "-s", "128x96"], "\rcheck ["),
+        ("ggrt diff", [ggrt, "diff", SCENE, "-s", "128x96", "--b", "depth=2"], "\rdiff [")):
     text = on_terminal(args)
     report(label in text and "100%" in text, "%s draws a progress bar on a terminal" % what,
            repr(text[-300:]))
     q = on_terminal(args + ["-q"])
-    report("[" not in q and "%" not in q, "%s -q draws none" % what, repr(q[-300:]))
+    report(label not in q and "] 100%" not in q, "%s -q draws none" % what, repr(q[-300:]))
