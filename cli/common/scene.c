@@ -146,13 +146,14 @@ int cli_check_recordable(const char *cmd, const ggScene *s, const ggRenderOption
 int cli_check_same_size(const char *cmd, const ggScene *sa, const ggRenderOptions *oa,
                         const ggScene *sb, const ggRenderOptions *ob)
 {
-    ggCamera ca = ggSceneCamera(sa), cb = ggSceneCamera(sb);
-    int wa = oa->width ? oa->width : ca.width, ha = oa->height ? oa->height : ca.height;
-    int wb = ob->width ? ob->width : cb.width, hb = ob->height ? ob->height : cb.height;
-    if (wa == wb && ha == hb) return 0;
+    ggRenderOptions ra, rb; /* the sizes each render takes */
+    if (ggRenderOptionsResolve(sa, oa, &ra) != GG_OK ||
+        ggRenderOptionsResolve(sb, ob, &rb) != GG_OK)
+        return 0; /* (NULLs: the render says so) */
+    if (ra.width == rb.width && ra.height == rb.height) return 0;
     cli_error_in(cmd,
                  "the two sides are images of different sizes (a %dx%d, b %dx%d): give -s WxH "
                  "for both, or size=WxH in --a or --b",
-                 wa, ha, wb, hb);
+                 ra.width, ra.height, rb.width, rb.height);
     return EXIT_USAGE;
 }

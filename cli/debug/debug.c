@@ -7,7 +7,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 void dbg_progress_begin(dbg_progress_state *p, const char *what, int quiet)
 {

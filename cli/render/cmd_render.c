@@ -10,7 +10,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 static const char about[] =
     "Render an NFF scene (SPD NFF plus ggrt's extensions) to an 8-bit sRGB PNG or a\n"
