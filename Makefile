@@ -15,7 +15,8 @@
 #                        build, render the default scene
 #   make help            the targets and the variables users set
 #   make install         PREFIX=/usr/local DESTDIR= (header, libs, ggrt.pc, CLI, man
-#                        page); a live install (no DESTDIR) refreshes ldconfig's cache
+#                        page, bash completion); a live install (no DESTDIR)
+#                        refreshes ldconfig's cache
 #   make fuzz            libFuzzer (clang) on tests/fuzz/*, FUZZ_SECONDS=60 each; every
 #                        harness runs, a summary at the end (exit 1 if any found something);
 #                        FUZZ="obj ply" runs only those
@@ -43,6 +44,9 @@ LIBDIR     ?= $(EXEC_PREFIX)/lib
 INCLUDEDIR ?= $(PREFIX)/include
 BINDIR     ?= $(EXEC_PREFIX)/bin
 MANDIR     ?= $(PREFIX)/share/man
+# Where bash-completion looks for a command's script (cli/completion.bash,
+# installed as "ggrt"; Debian's own packages use /usr/share/...).
+BASHCOMPDIR ?= $(PREFIX)/share/bash-completion/completions
 PKGCONFIGDIR ?= $(LIBDIR)/pkgconfig
 DESTDIR    ?=
 # Run after a live install (no DESTDIR) as root; LDCONFIG= skips it.
@@ -239,6 +243,7 @@ help:
 	@echo 'variables (their values now):'
 	@echo '  PREFIX=$(PREFIX) DESTDIR=$(DESTDIR) (staging root)'
 	@echo '  LIBDIR=$(LIBDIR) INCLUDEDIR=$(INCLUDEDIR) BINDIR=$(BINDIR) MANDIR=$(MANDIR)'
+	@echo '  BASHCOMPDIR=$(BASHCOMPDIR)'
 	@echo '  BUILD=$(BUILD) (objects and programs) CC=$(CC) PKG_CONFIG=$(PKG_CONFIG)'
 	@echo '  CFLAGS=$(CFLAGS) CPPFLAGS=$(CPPFLAGS) LDFLAGS=$(LDFLAGS) (added to the project'"'"'s)'
 	@echo '  LDCONFIG=$(LDCONFIG) (empty: not run) GG_WERROR=$(GG_WERROR) (-Werror: warnings fail)'
@@ -583,7 +588,7 @@ pc:
 HEADERS := $(sort $(wildcard include/ggrt/*.h))
 install: all pc
 	$(INSTALL) -d $(DESTDIR)$(INCLUDEDIR)/ggrt $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PKGCONFIGDIR) \
-	  $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1
+	  $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(BASHCOMPDIR)
 	$(INSTALL) -m 644 include/ggrt.h $(DESTDIR)$(INCLUDEDIR)/
 	$(INSTALL) -m 644 $(HEADERS) $(DESTDIR)$(INCLUDEDIR)/ggrt/
 	$(INSTALL) -m 644 $(STATIC) $(CORE_STATIC) $(DESTDIR)$(LIBDIR)/
@@ -593,6 +598,7 @@ install: all pc
 	$(INSTALL) -m 644 $(BUILD)/ggrt.pc $(BUILD)/ggrt-core.pc $(DESTDIR)$(PKGCONFIGDIR)/
 	$(INSTALL) -m 755 $(CLI) $(DESTDIR)$(BINDIR)/
 	$(INSTALL) -m 644 docs/ggrt.1 $(DESTDIR)$(MANDIR)/man1/
+	$(INSTALL) -m 644 cli/completion.bash $(DESTDIR)$(BASHCOMPDIR)/ggrt
 	@[ -n "$(DESTDIR)" ] || sh scripts/ldcache.sh install "$(LIBDIR)" $(SONAME) "$(LDCONFIG)"
 
 uninstall:
@@ -600,7 +606,7 @@ uninstall:
 	  $(DESTDIR)$(LIBDIR)/libggrt-core.a $(DESTDIR)$(PKGCONFIGDIR)/ggrt-core.pc \
 	  $(DESTDIR)$(LIBDIR)/libggrt.so $(DESTDIR)$(LIBDIR)/$(SONAME) \
 	  $(DESTDIR)$(LIBDIR)/libggrt.so.$(VERSION) $(DESTDIR)$(PKGCONFIGDIR)/ggrt.pc \
-	  $(DESTDIR)$(BINDIR)/ggrt $(DESTDIR)$(MANDIR)/man1/ggrt.1
+	  $(DESTDIR)$(BINDIR)/ggrt $(DESTDIR)$(MANDIR)/man1/ggrt.1 $(DESTDIR)$(BASHCOMPDIR)/ggrt
 	rm -f $(HEADERS:include/%=$(DESTDIR)$(INCLUDEDIR)/%)
 	@[ ! -d $(DESTDIR)$(INCLUDEDIR)/ggrt ] || rmdir $(DESTDIR)$(INCLUDEDIR)/ggrt 2>/dev/null || \
 	  echo "uninstall: kept $(DESTDIR)$(INCLUDEDIR)/ggrt: it holds files make install did not put there"

@@ -123,6 +123,14 @@ grep -q '^scene\.nff:1:7: ' "$out/run.log" ||
 [ ! -e "$out/out.png" ] || fail "README's library program wrote out.png from a broken scene"
 echo "installcheck: README's library program compiled ($cline -Werror), rendered default.nff to a PNG, and reported a broken scene ($(head -n 1 "$out/run.log"))"
 
+# The bash completion, where bash-completion looks for it (BASHCOMPDIR),
+# completing with the installed ggrt found on PATH.
+comp="$prefix/share/bash-completion/completions/ggrt"
+[ -f "$comp" ] || fail "make install put no bash completion at $comp"
+got=$(PATH="$prefix/bin:$PATH" bash -c '. "$1"; COMP_WORDS=(ggrt rend); COMP_CWORD=1; _ggrt; echo "${COMPREPLY[*]}"' sh "$comp")
+[ "$got" = render ] || fail "the installed bash completion gave '$got' for 'ggrt rend', not 'render'"
+echo "installcheck: the installed bash completion completes 'ggrt rend' to 'render'"
+
 # The installed files' modes: nothing under lib/ is executable (the shared
 # library is mode 644, as Debian's policy 8.1 wants). Then make uninstall
 # removes every file make install put there and nothing else: a file of

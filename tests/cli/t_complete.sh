@@ -1,0 +1,89 @@
+# SPDX-License-Identifier: MIT
+# Sourced by tests/cli/run.sh: the bash completion (cli/completion.bash)
+# over every command, optics form and bench subcommand ggrt's --help
+# lists: the commands, each one's long options (exactly its --help's),
+# the values of every option that takes one of a list (exactly what the
+# parser says it expects), and file names after -o and for a scene.
+# Uses run.sh's ggrt, tmp, ok, bad, skip.
+
+if ! command -v bash >/dev/null; then
+  skip "bash completion" "no bash on this machine"
+else
+cat > "$tmp/comp.bash" <<'EOF'
+. cli/completion.bash
+# comp WORD...: the completions of the last word, one a line, sorted.
+comp() { COMP_WORDS=("$@"); COMP_CWORD=$((${#COMP_WORDS[@]} - 1)); COMPREPLY=(); _ggrt
+         printf '%s\n' "${COMPREPLY[@]}" | sed '/^$/d' | sort -u; }
+"$@"
+EOF
+comp() { bash "$tmp/comp.bash" comp "$ggrt" "$@"; }
+# longs HELP-ARGS...: the long options of a --help, one a line, sorted
+# (an option's line starts "  -x, --name" or "      --name"; a help text's
+# own lines are indented further).
+longs() { "$ggrt" "$@" --help | grep -E '^(  -[a-zA-Z], |      )--[a-z]' |
+          sed -E 's/^ +(-[a-zA-Z], )?(--[a-z][a-z0-9-]*).*/\2/' | sort -u; }
+
+cmds=$("$ggrt" --help | awk '/^commands:/ { on = 1; next } on && /^[^ ]/ { on = 0 } on && NF { print $1 }' | sort)
+got=$(comp "")
+if [ "$got" = "$(printf '%s\nhelp\n' "$cmds" | sort)" ] && [ "$(comp re)" = render ]; then
+  ok "completion: the commands of ggrt --help, and 're' to render"
+else
+  bad "completion: the commands" "got: $got"
+fi
+got=$(comp help "")
+[ "$got" = "$cmds" ] && ok "completion: 'ggrt help' offers every command" ||
+  bad "completion: 'ggrt help' offers every command" "got: $got"
+
+forms=$("$ggrt" optics --help | awk '/^forms:/ { on = 1; next } on && /^[^ ]/ { on = 0 } on && NF { print $1 }' | sort)
+got=$(comp optics "")
+[ -n "$forms" ] && [ "$got" = "$forms" ] && ok "completion: optics offers its forms ($(echo $forms))" ||
+  bad "completion: optics offers its forms" "got: $got; want: $forms"
+subs=$("$ggrt" bench --help | sed -n 's/^\(usage:\)\{0,1\} *ggrt bench \([a-z|]*\).*/\2/p' | tr '|' '\n' | sort)
+got=$(comp bench "")
+[ "$(echo "$subs" | wc -l)" -ge 7 ] && [ "$got" = "$subs" ] && ok "completion: bench offers its subcommands ($(echo $subs))" ||
+  bad "completion: bench offers its subcommands" "got: $got; want: $subs"
+
+# Every command (optics by form, bench once with a subcommand): its long
+# options, and each option's values where the parser lists them.
+nopts=0 nchoice=0 failed=""
+for c in $cmds; do
+  case $c in
+    optics) words=$(for f in $forms; do echo "optics:$f"; done) ;;
+    bench) words="bench:spd" ;;
+    *) words=$c ;;
+  esac
+  for w in $words; do
+    set -- $(echo "$w" | tr ':' ' ')
+    want=$(case $1 in bench) longs bench ;; *) longs "$@" ;; esac)
+    got=$(comp "$@" --)
+    [ "$got" = "$want" ] || failed="$failed
+$w: got $(echo $got), want $(echo $want)"
+    for o in $want; do
+      nopts=$((nopts + 1))
+      [ $((nopts % sample)) -eq 0 ] || continue # GG_TEST_SAMPLE: one option in N
+      err=$(bulk "$ggrt" "$@" "$o" '?' --ggrt-completion-probe 2>&1 >/dev/null)
+      list=$(printf '%s\n' "$err" | sed -n "s/.* for $o: expected one of //p" | tr -d ',' | tr ' ' '\n' | sed '/^$/d' | sort)
+      [ -n "$list" ] || continue
+      nchoice=$((nchoice + 1))
+      got=$(comp "$@" "$o" "")
+      [ "$got" = "$list" ] || failed="$failed
+$w $o: got $(echo $got), want $(echo $list)"
+    done
+  done
+done
+if [ -z "$failed" ] && [ $nchoice -ge $((5 / sample)) ]; then
+  ok "completion: the long options of every command and form ($nopts), and the values of the $nchoice that take one of a list"
+else
+  bad "completion: options and their values ($nopts options, $nchoice lists)" "$failed"
+fi
+
+got=$(comp render -o examples/scenes/defa)
+got2=$(comp render examples/scenes/defa)
+got3=$(comp bench spd --spd examples/sce)
+if [ "$got" = examples/scenes/default.nff ] && [ "$got2" = examples/scenes/default.nff ] &&
+   [ "$got3" = examples/scenes ]; then
+  ok "completion: file names after -o and for a scene, folders after --spd"
+else
+  bad "completion: file names" "after -o: $got; scene: $got2; --spd: $got3"
+fi
+fi
