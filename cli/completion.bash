@@ -64,6 +64,13 @@ _ggrt() {
     cur=${COMP_WORDS[COMP_CWORD]}
     prev=""
     ((COMP_CWORD > 0)) && prev=${COMP_WORDS[COMP_CWORD - 1]}
+    # --format=te: bash splits it at the '=' (COMP_WORDBREAKS) into
+    # "--format" "=" "te"; "--format=" alone ends in the word "=".
+    if [[ $cur == = ]] && ((COMP_CWORD > 1)); then
+        prev=${COMP_WORDS[COMP_CWORD - 1]} cur=""
+    elif [[ $prev == = ]] && ((COMP_CWORD > 1)); then
+        prev=${COMP_WORDS[COMP_CWORD - 2]}
+    fi
     prog=$(_ggrt_prog)
     # The command: the first word after ggrt that is not an option.
     for ((i = 1; i < COMP_CWORD; i++)); do

@@ -77,6 +77,13 @@ else
   bad "completion: options and their values ($nopts options, $nchoice lists)" "$failed"
 fi
 
+# --format=j: bash hands the words "--format" "=" "j" (COMP_WORDBREAKS).
+got=$(comp optics check --format = j)
+got2=$(comp optics check --format =)
+[ "$got" = json ] && [ "$got2" = "$(printf 'json\ntext')" ] &&
+  ok "completion: a value after --format= and --format=j" ||
+  bad "completion: a value after --format=" "--format=j: $got; --format=: $got2"
+
 got=$(comp render -o examples/scenes/defa)
 got2=$(comp render examples/scenes/defa)
 got3=$(comp bench spd --spd examples/sce)
