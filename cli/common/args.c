@@ -286,25 +286,27 @@ static int bad_value(const cli_cmd *cmd, const cli_opt *o, const char *v, const 
                            spelled(o, nm, sizeof nm), spec, *why ? " (" : "", why, *why ? ")" : "");
 }
 
-/* Edit distance, for "did you mean". */
+/* Edit distance, for "did you mean": insertions, deletions, changes
+   and swaps of two neighbours (--depht is one edit from --depth). */
 static size_t distance(const char *a, const char *b)
 {
-    size_t la = strlen(a), lb = strlen(b), i, j, row[64];
+    size_t la = strlen(a), lb = strlen(b), i, j, r[3][64];
     if (la >= 63 || lb >= 63) return 99;
-    for (j = 0; j <= lb; j++) row[j] = j;
+    for (j = 0; j <= lb; j++) r[0][j] = j;
     for (i = 1; i <= la; i++) {
-        size_t diag = row[0], tmp;
-        row[0] = i;
+        size_t *cur = r[i % 3], *up = r[(i - 1) % 3], *up2 = r[(i + 1) % 3];
+        cur[0] = i;
         for (j = 1; j <= lb; j++) {
-            size_t best = diag + (a[i - 1] != b[j - 1]);
-            tmp = row[j];
-            if (row[j] + 1 < best) best = row[j] + 1;
-            if (row[j - 1] + 1 < best) best = row[j - 1] + 1;
-            row[j] = best;
-            diag = tmp;
+            size_t best = up[j - 1] + (a[i - 1] != b[j - 1]);
+            if (up[j] + 1 < best) best = up[j] + 1;
+            if (cur[j - 1] + 1 < best) best = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
+                up2[j - 2] + 1 < best)
+                best = up2[j - 2] + 1;
+            cur[j] = best;
         }
     }
-    return row[lb];
+    return r[la % 3][lb];
 }
 
 const char *cli_suggest(const char *word, const char *const *names, size_t n)
@@ -316,21 +318,40 @@ const char *cli_suggest(const char *word, const char *const *names, size_t n)
     return best;
 }
 
+static cli_opt *find_long(const cli_cmd *cmd, const char *name, size_t len);
+
+/* The option an unknown --word most likely meant: the one it starts
+   (--out for --output), else the nearest by edits, at most one edit in
+   three letters (--depht: --depth; not --frob: --crop). */
+static const char *nearest_long(const cli_cmd *cmd, const char *word)
+{
+    const char *best = NULL, *prefixed = NULL;
+    size_t bd = strlen(word) / 3 + 1, t, len = strlen(word), nprefixed = 0;
+    int i;
+    for (t = 0; cmd->opts[t]; t++)
+        for (i = 0; cmd->opts[t][i].kind != CLI_END; i++) {
+            const cli_opt *o = &cmd->opts[t][i];
+            size_t d;
+            if (o->kind == CLI_SECTION || !o->name) continue;
+            if (len && !strncmp(o->name, word, len)) prefixed = o->name, nprefixed++;
+            if ((d = distance(word, o->name)) < bd) bd = d, best = o->name;
+        }
+    if (nprefixed == 1) return prefixed;
+    return best && bd < 3 ? best : NULL;
+}
+
+/* An unknown option, with the one it most likely meant: for -b, a --b
+   (diff's sides; -a is --accuracy there). */
 static int unknown(const cli_cmd *cmd, const char *arg, size_t len)
 {
     const char *best = NULL;
-    size_t bd = 3, t;
     char want[64];
-    int i;
     snprintf(want, sizeof want, "%.*s", (int)(len < 60 ? len : 60), arg);
     if (want[0] == '-' && want[1] == '-')
-        for (t = 0; cmd->opts[t]; t++)
-            for (i = 0; cmd->opts[t][i].kind != CLI_END; i++) {
-                const cli_opt *o = &cmd->opts[t][i];
-                size_t d = o->name ? distance(want + 2, o->name) : 99;
-                if (d < bd) bd = d, best = o->name;
-            }
-    if (best) return cli_usage_error(cmd, "unknown option '%s' (did you mean --%s?)", want, best);
+        best = nearest_long(cmd, want + 2);
+    else if (want[0] == '-' && want[1] && !want[2] && find_long(cmd, want + 1, 1))
+        best = want + 1;
+    if (best) return cli_usage_error(cmd, "unknown option '%s'; did you mean '--%s'?", want, best);
     return cli_usage_error(cmd, "unknown option '%s'", want);
 }
 

@@ -278,5 +278,8 @@ int gg_dbg_nonfinite(ggColor c);
    returns the bytes it takes (0 if none, or if it is 128 bytes or
    longer) and the value in *out. */
 size_t gg_dbg_number(const char *s, size_t n, double *out);
+/* The edit distance between a[0..na) and the string b (insertions,
+   deletions, changes), for "did you mean"; 99 past 32 bytes. */
+int gg_dbg_distance(const char *a, size_t na, const char *b);
 
 #endif

@@ -251,24 +251,6 @@ static void enum_list(int f, char *buf, size_t n)
     }
 }
 
-/* Edit distance, to suggest a field for a misspelt name. */
-static int distance(const char *a, size_t na, const char *b)
-{
-    int d[34][34];
-    size_t nb = strlen(b), i, j;
-    if (na > 32 || nb > 32) return 99;
-    for (i = 0; i <= na; i++) d[i][0] = (int)i;
-    for (j = 0; j <= nb; j++) d[0][j] = (int)j;
-    for (i = 1; i <= na; i++)
-        for (j = 1; j <= nb; j++) {
-            int c = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
-            if (d[i - 1][j] + 1 < c) c = d[i - 1][j] + 1;
-            if (d[i][j - 1] + 1 < c) c = d[i][j - 1] + 1;
-            d[i][j] = c;
-        }
-    return d[na][nb];
-}
-
 static int p_or(parser *ps);
 
 /* An unknown name: a field misspelt, or a named value used alone. */
@@ -280,14 +262,14 @@ static int unknown_name(parser *ps, size_t pos, const char *s, size_t n)
             return fail(ps, pos, GG_ERROR_PARSE, "'%.*s' is a value of %s: write %s == %.*s",
                         (int)n, s, fields[i].name, fields[i].name, (int)n, s);
     for (i = 0; i < PF_COUNT; i++) {
-        int d = distance(s, n, fields[i].name);
+        int d = gg_dbg_distance(s, n, fields[i].name);
         if (d < bd) bd = d, best = i;
     }
     if ((n == 4 && !strncmp(s, "some", n)) || (n == 3 && !strncmp(s, "all", n)) ||
         (n == 5 && !strncmp(s, "count", n)))
         return fail(ps, pos, GG_ERROR_PARSE, "'%.*s' needs a ray expression in ( )", (int)n, s);
     if (best >= 0)
-        return fail(ps, pos, GG_ERROR_PARSE, "unknown field '%.*s' (did you mean '%s'?)", (int)n, s,
+        return fail(ps, pos, GG_ERROR_PARSE, "unknown field '%.*s'; did you mean '%s'?", (int)n, s,
                     fields[best].name);
     return fail(ps, pos, GG_ERROR_PARSE, "unknown field '%.*s'", (int)n, s);
 }

@@ -54,3 +54,20 @@ void gg_dbg_put(ggImage *img, int x, int y, ggColor c)
     float *p = ggImagePixels(img) + 3 * ((size_t)y * (size_t)ggImageWidth(img) + (size_t)x);
     p[0] = (float)c.r, p[1] = (float)c.g, p[2] = (float)c.b;
 }
+
+int gg_dbg_distance(const char *a, size_t na, const char *b)
+{
+    int d[34][34];
+    size_t nb = strlen(b), i, j;
+    if (na > 32 || nb > 32) return 99;
+    for (i = 0; i <= na; i++) d[i][0] = (int)i;
+    for (j = 0; j <= nb; j++) d[0][j] = (int)j;
+    for (i = 1; i <= na; i++)
+        for (j = 1; j <= nb; j++) {
+            int c = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+            if (d[i - 1][j] + 1 < c) c = d[i - 1][j] + 1;
+            if (d[i][j - 1] + 1 < c) c = d[i][j - 1] + 1;
+            d[i][j] = c;
+        }
+    return d[na][nb];
+}

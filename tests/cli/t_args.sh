@@ -38,8 +38,12 @@ for c in render trace; do
     "$c: depth range named" "$ggrt" $c $g $o -d 0
   expect_msg 1 "bad value ' 4' for --samples: expected a whole number from 1 to 4096" \
     "$c: space before a number" "$ggrt" $c $g $o -n " 4"
-  expect_msg 1 "unknown option '--depht' (did you mean --depth?)" \
+  expect_msg 1 "unknown option '--depht'; did you mean '--depth'?" \
     "$c: unknown option with a suggestion" "$ggrt" $c $g $o --depht 3
+  expect_msg 1 "unknown option '--pix'; did you mean '--pixel'?" \
+    "$c: a word that starts one option names it" "$ggrt" $c $g $o --pix 1,1
+  expect_err 1 "ggrt $c: unknown option '--frob'" \
+    "$c: no suggestion two edits from a four-letter word" "$ggrt" $c $g $o --frob 1
   expect_msg 1 "refract must be accurate, textbook or exact, got 'fast'" \
     "$c: --accuracy names the allowed values" "$ggrt" $c $g $o --accuracy refract=fast
 done

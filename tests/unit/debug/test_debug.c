@@ -58,7 +58,7 @@ static void test_predicate_errors(void **state)
     expect_error("some(kind == tri)", GG_ERROR_PARSE,
                  "1:14: 'tri' is not a kind (eye, reflect, refract, tir, shadow)");
     expect_error("some(knd == tir)", GG_ERROR_PARSE,
-                 "1:6: unknown field 'knd' (did you mean 'kind'?)");
+                 "1:6: unknown field 'knd'; did you mean 'kind'?");
     expect_error("kind == tir", GG_ERROR_PARSE, "1:1: 'kind' is a field of a ray");
     expect_error("some(kind == tir", GG_ERROR_PARSE, "1:17: expected ')'");
     expect_error("some(depth = 3)", GG_ERROR_PARSE, "1:12: '=' is not an operator: write ==");

@@ -80,7 +80,8 @@ static void test_path_errors(void **state)
     expect_error("C<TS>{2", GG_ERROR_PARSE, "1:8: expected '}' to close the '{' of column 6, got the end");
     expect_error("C<TS>{2,x}", GG_ERROR_PARSE, "1:9: expected a count in { }, got 'x'");
     /* per-event predicates: the predicate language's errors, at the column of the whole text */
-    expect_error("C<TS>[objct == 2]", GG_ERROR_PARSE, "1:7: unknown field 'objct' (did you mean 'object'?)");
+    expect_error("C<TS>[objct == 2]", GG_ERROR_PARSE,
+                 "1:7: unknown field 'objct'; did you mean 'object'?");
     expect_error("C<TS>[object == 2", GG_ERROR_PARSE, "1:18: expected ']' to close the '[' of column 6, got the end");
     expect_error("C<TS>[object == ]", GG_ERROR_PARSE, "1:17: expected a field, a number or '(', got ']'");
     expect_error("C<TS>[kind == tri]", GG_ERROR_PARSE, "1:15: 'tri' is not a kind");
