@@ -205,6 +205,32 @@ static int effects(const word *w, ggRenderOptions *o, ggError *err)
     return GG_OK;
 }
 
+/* Every setting's name, for the message about one that is not. */
+static const char *const setting_names[] = {
+    "size",    "crop",      "depth",   "samples",      "threads",      "ray-budget",
+    "sphere",  "refract",   "fresnel", "texture",      "wavelengths",  "intersect",
+    "shadows", "phong",     "offset",  "gradient",     "implicit-tol", "cutoff",
+    "spd",     "spd-rules", "corners", "force-effects"};
+
+/* An unknown setting: a command-line option where a NAME=VALUE goes
+   (-d 8 for depth=8), or a name within two edits of one. */
+static int unknown_setting(const word *w, size_t n, ggError *err)
+{
+    const char *s = w->s + w->at, *best = NULL;
+    size_t i;
+    int bd = 3, d;
+    if (n && s[0] == '-')
+        return fail(w, w->at, err,
+                    "unknown setting '%.*s': settings are NAME=VALUE (depth=8, size=64x48), "
+                    "not options",
+                    (int)n, s);
+    for (i = 0; i < sizeof setting_names / sizeof setting_names[0]; i++)
+        if ((d = gg_dbg_distance(s, n, setting_names[i])) < bd) bd = d, best = setting_names[i];
+    if (best)
+        return fail(w, w->at, err, "unknown setting '%.*s'; did you mean '%s'?", (int)n, s, best);
+    return fail(w, w->at, err, "unknown setting '%.*s'", (int)n, s);
+}
+
 static int setting(const word *w, ggRenderOptions *o, ggError *err)
 {
     ggAccuracy *a = &o->accuracy;
@@ -214,8 +240,7 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
     if (key_is(w, "spd") || key_is(w, "spd-rules") || key_is(w, "corners") ||
         key_is(w, "force-effects"))
         return flag(w, o, err);
-    if (w->eq >= w->len)
-        return fail(w, w->at, err, "unknown setting '%.*s'", (int)w->len, w->s + w->at);
+    if (w->eq >= w->len) return unknown_setting(w, w->len, err);
     if (key_is(w, "size")) {
         /* 0: that side from the camera, as in ggRenderOptions */
         if ((rc = numbers(w, 2, 0, v, err)) == GG_OK) o->width = v[0], o->height = v[1];
@@ -253,7 +278,7 @@ static int setting(const word *w, ggRenderOptions *o, ggError *err)
             rc = fail(w, w->at + w->eq + 1, err, "cutoff must be a weight from 0 (off) to 1");
         if (rc == GG_OK) a->cutoff = d > 0 ? d : 0; /* -0 is off, as 0 is */
     } else
-        return fail(w, w->at, err, "unknown setting '%.*s'", (int)w->eq, w->s + w->at);
+        return unknown_setting(w, w->eq, err);
     return rc;
 }
 

@@ -1121,6 +1121,30 @@ static void test_check_numeric(void **state)
 
 /* ---- render options as text ---- */
 
+/* Each setting, misspelt by a letter, is suggested; none is unknown. */
+static void unknown_settings_suggest(void)
+{
+    static const char *const names[] = {
+        "size",    "crop",      "depth",   "samples",      "threads",      "ray-budget",
+        "sphere",  "refract",   "fresnel", "texture",      "wavelengths",  "intersect",
+        "shadows", "phong",     "offset",  "gradient",     "implicit-tol", "cutoff",
+        "spd",     "spd-rules", "corners", "force-effects"};
+    ggRenderOptions o;
+    ggError e;
+    char text[64], want[128];
+    size_t i;
+    for (i = 0; i < sizeof names / sizeof names[0]; i++) {
+        ggRenderOptionsDefault(&o);
+        snprintf(text, sizeof text, "%s=?", names[i]);
+        if (ggRenderOptionsParse(&o, text, &e) != GG_OK) assert_null(strstr(e.message, "unknown"));
+        snprintf(text, sizeof text, "%sq=1", names[i]);
+        assert_int_equal(ggRenderOptionsParse(&o, text, &e), GG_ERROR_PARSE);
+        snprintf(want, sizeof want, "1:1: unknown setting '%sq'; did you mean '%s'?", names[i],
+                 names[i]);
+        assert_string_equal(e.message, want);
+    }
+}
+
 /* Every combination of the SPD flags, a depth or none, and a ray budget
    or none reads back as itself ("spd" alone would also set the depth),
    and so does the fixed offset with no epsilon of its own. */
@@ -1253,7 +1277,13 @@ static void test_options_text(void **state)
     assert_string_equal(e.message, "1:16: sphere must be stable or textbook, got 'fast'");
     assert_memory_equal(&o, &p, sizeof o);
     assert_int_equal(ggRenderOptionsParse(&p, "depht=3", &e), GG_ERROR_PARSE);
-    assert_string_equal(e.message, "1:1: unknown setting 'depht'");
+    assert_string_equal(e.message, "1:1: unknown setting 'depht'; did you mean 'depth'?");
+    assert_int_equal(ggRenderOptionsParse(&p, "frobnicate=3", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:1: unknown setting 'frobnicate'");
+    assert_int_equal(ggRenderOptionsParse(&p, "depth=3 -d 8", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:9: unknown setting '-d': settings are NAME=VALUE (depth=8, "
+                                   "size=64x48), not options");
+    unknown_settings_suggest();
     assert_int_equal(ggRenderOptionsParse(&p, "depth=3x", &e), GG_ERROR_PARSE);
     assert_int_equal(ggRenderOptionsParse(&p, "depth=65", &e), GG_ERROR_PARSE);
     assert_int_equal(ggRenderOptionsParse(&p, "size=64x", &e), GG_ERROR_PARSE);
