@@ -77,7 +77,8 @@ static int parse(diff_args *a, int argc, char **argv)
                        "also the pixels whose paths LPE matches differ\n"
                        "between a and b (docs/debugging.md)"),
         CLI_OPT_INT(0, "limit", &a->limit, 0, DIFF_LIMIT_ALL, "N",
-                    "--path: list at most N of those pixels (default all)"),
+                    "--path: list at most N of those pixels (default all;\n"
+                    "0 lists them all, as in ggrt find)"),
         CLI_OPT_CHOICE('f', "format", &a->format, formats, "F", "text (default) or json"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
         DBG_TILE_OPTS(&a->tile),
@@ -101,8 +102,10 @@ static int parse(diff_args *a, int argc, char **argv)
     cli_render_finish(&a->ro);
     /* Without --path no list is cut by it: it would do nothing. */
     if (mine[5].given && !a->path) return cli_usage_error(&cmd, "--limit goes with --path");
+    if (a->limit == 0) a->limit = DIFF_LIMIT_ALL; /* as find's --limit 0 */
     if ((rc = side(&cmd, "a", a->a_text, &a->ro.opt, &a->oa)) != CLI_GO) return rc;
     if ((rc = side(&cmd, "b", a->b_text, &a->ro.opt, &a->ob)) != CLI_GO) return rc;
+    dbg_warn_same_sides(a->nscenes, &a->oa, &a->ob);
     if ((rc = dbg_tile_check(&cmd, &a->tile, a->format, a->out || cli_given(&cmd, "crop"))) !=
         CLI_GO)
         return rc;
@@ -149,8 +152,9 @@ static void print_moves(const diff_args *a, ggScene *sa, ggScene *sb, const ggDi
 {
     char text[800];
     int i;
-    printf("  light moved (paths %s): %ld pixels%s\n", a->path, r->moved,
-           r->nmoves < r->moved ? ", the first listed" : "");
+    printf("  light moved (paths %s): %ld pixels", a->path, r->moved);
+    if (r->nmoves < r->moved) printf(", the first %d in row order", r->nmoves);
+    printf("\n");
     for (i = 0; i < r->nmoves; i++) {
         const ggDiffMove *m = &r->moves[i];
         ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);

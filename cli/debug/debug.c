@@ -329,3 +329,15 @@ void dbg_divergence_text(char *buf, size_t n, const ggTrace *ta, const ggTrace *
     }
     }
 }
+
+void dbg_warn_same_sides(int nscenes, const ggRenderOptions *oa, const ggRenderOptions *ob)
+{
+    char ta[512], tb[512];
+    if (nscenes > 1) return;
+    ggRenderOptionsFormat(oa, ta, sizeof ta);
+    ggRenderOptionsFormat(ob, tb, sizeof tb);
+    if (strcmp(ta, tb)) return;
+    cli_warn("both sides render with the same options (%s%s%s), so nothing can differ: "
+             "--a and --b set one side each; -a (--accuracy) sets both",
+             *ta ? "'" : "the defaults", ta, *ta ? "'" : "");
+}

@@ -23,6 +23,11 @@ void dbg_progress_begin(dbg_progress_state *p, const char *what, int quiet);
 int dbg_progress(void *ud, long done, long total);
 void dbg_progress_end(dbg_progress_state *p);
 
+/* diff and trace --diff of one scene: a warning when the two sides
+   render with the same options (nothing can differ), naming -a, which
+   sets both, beside --a and --b, which set one each. */
+void dbg_warn_same_sides(int nscenes, const ggRenderOptions *oa, const ggRenderOptions *ob);
+
 /* "ggrt trace SCENE [SCENE_B] <the pixel options of ro> --pixel X,Y" and
    then the words of `extra` (NULL-terminated, may be NULL), each quoted
    for a shell. No newline. */

@@ -54,6 +54,7 @@ static int diff_sides(trace_args *a, const cli_cmd *cmd)
         return cli_usage_error(cmd, "--a:%s", err.message);
     if (ggRenderOptionsParse(&a->ob, a->b_text, &err) != GG_OK)
         return cli_usage_error(cmd, "--b:%s", err.message);
+    dbg_warn_same_sides(a->nscenes, &a->oa, &a->ob);
     return CLI_GO;
 }
 

@@ -90,7 +90,33 @@ assert t['severity'] == 'error' and t['pixels'] > 0 and t['worst_pixels'][0]['va
 "$ggrt" diff $g -s 64x48 -q >"$tmp/out" 2>&1
 grep -q "values differ: *0 pixels" "$tmp/out" && grep -q "ray trees differ: *0 pixels" "$tmp/out" &&
   ok "diff: identical settings differ nowhere" || bad "diff: identical settings differ nowhere" "$(cat "$tmp/out")"
+grep -qxF "ggrt diff: warning: both sides render with the same options ('size=64x48'), so nothing can differ: --a and --b set one side each; -a (--accuracy) sets both" "$tmp/out" &&
+  ok "diff: one scene and the same options on both sides is said to differ nowhere" ||
+  bad "diff: the same options on both sides are warned about" "$(cat "$tmp/out")"
 a=examples/scenes/acc-distant.nff
+# -a is --accuracy, on both sides: with --b the same knob, nothing differs
+"$ggrt" diff $a -s 32x24 -q -a sphere=textbook --b sphere=textbook >"$tmp/out" 2>"$tmp/err"
+grep -qF "warning: both sides render with the same options ('size=32x24 sphere=textbook')" "$tmp/err" &&
+  ok "diff -a K --b K: the same options on both sides, warned" ||
+  bad "diff -a K --b K: the same options on both sides, warned" "$(cat "$tmp/err")"
+"$ggrt" trace $a -s 32x24 --pixel 3,3 --diff -a sphere=textbook >"$tmp/out" 2>"$tmp/err"
+grep -qF "ggrt trace: warning: both sides render with the same options" "$tmp/err" &&
+  ok "trace --diff -a K: the same options on both sides, warned" ||
+  bad "trace --diff -a K: the same options on both sides, warned" "$(cat "$tmp/err")"
+"$ggrt" diff $a -s 32x24 -q --b sphere=textbook >"$tmp/out" 2>"$tmp/err"
+[ ! -s "$tmp/err" ] && ok "diff --b K: no warning when the sides differ" ||
+  bad "diff --b K: no warning when the sides differ" "$(cat "$tmp/err")"
+expect_err 1 "ggrt diff: unknown option '-b'; did you mean '--b'?" "diff -b names --b" \
+  "$ggrt" diff $a -b depth=2
+expect_err 1 "ggrt diff: --b:1:1: unknown setting '-d': settings are NAME=VALUE (depth=8, size=64x48), not options" \
+  "diff --b '-d 8': settings are not options" "$ggrt" diff $a --b "-d 8"
+"$ggrt" diff $a -s 32x24 -q --b sphere=textbook --path 'C.*' --limit 0 -f json >"$tmp/l0.json" 2>"$tmp/err"
+if python3 -c "
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d['moved'] > 2 and len(d['moves']) == d['moved'], (d['moved'], len(d['moves']))
+" "$tmp/l0.json" 2>"$tmp/py"; then ok "diff --limit 0 lists every pixel, as find's does"
+else bad "diff --limit 0 lists every pixel" "$(cat "$tmp/py" "$tmp/err")"; fi
 "$ggrt" diff $a --a '' --b 'sphere=textbook' -o "$tmp/map.png" --worst 3 -q >"$tmp/out" 2>"$tmp/err"
 if grep -q "ray trees differ: *[1-9][0-9]* pixels.*first divergence: hit [1-9]" "$tmp/out" &&
    grep -q "first divergence: ray #0 (eye): a hits object #[0-9]*, b" "$tmp/out" && [ -s "$tmp/map.png" ]; then
