@@ -68,10 +68,9 @@ static int check_unused(const cli_cmd *cmd, int b)
     int k;
     for (k = 0; k < 5 && benches[b].unused[k]; k++)
         if (cli_given(cmd, benches[b].unused[k]))
-            return cli_usage_error(cmd,
-                                   "--%s is not an option of bench %s (it reads nothing "
-                                   "from it)",
-                                   benches[b].unused[k], benches[b].name);
+            return cli_usage_error(
+                cmd, "--%s does not apply to this benchmark (it reads nothing from it)",
+                benches[b].unused[k]);
     return 0;
 }
 
@@ -102,16 +101,16 @@ static int check_scenes(const cli_cmd *cmd, int b, const bench_opts *bo)
     char bad[64], names[256];
     if (!bo->scenes) return 0;
     if (!benches[b].scenes)
-        return cli_usage_error(cmd, "--scenes is not an option of bench %s (it takes scene files)",
-                               benches[b].name);
+        return cli_usage_error(cmd,
+                               "--scenes does not apply to this benchmark (it takes scene files)");
     if (bo->nargs)
         return cli_usage_error(cmd,
                                "--scenes picks SPD scenes; give scene files or --scenes, not both");
     if (!bench_unknown(bo->scenes, benches[b].scenes, benches[b].nscenes, bad, sizeof bad))
         return 0;
     join_names(names, sizeof names, benches[b].scenes, benches[b].nscenes);
-    return cli_usage_error(cmd, "--scenes: no scene '%s' in bench %s (its scenes: %s)", bad,
-                           benches[b].name, names);
+    return cli_usage_error(cmd, "--scenes: no scene '%s' in this benchmark (its scenes: %s)", bad,
+                           names);
 }
 
 int cmd_bench(int argc, char **argv)
@@ -125,7 +124,7 @@ int cmd_bench(int argc, char **argv)
                     "image size N x N (spd: 1024; effects: 320; accuracy: 240\n"
                     "wide, 4:3; scaling: 256; rays: 256; limit: 512; not\n"
                     "counts: the SPD table's 513x513)"),
-        CLI_OPT_INT(0, "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),
+        CLI_OPT_INT('j', "threads", &bo.threads, 1, 256, "N", "threads (default 2)"),
         CLI_OPT_INT(0, "runs", &bo.runs, 1, 64, "N",
                     "runs per measurement, median reported (default 3)"),
         CLI_OPT_STRING(0, "spd", &bo.spd_dir, "DIR", "NFF scenes (default examples/scenes/spd)"),
@@ -170,12 +169,16 @@ int cmd_bench(int argc, char **argv)
     for (i = 1; i < nargs; i++) bo.args[bo.nargs++] = args[i];
     for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) {
         if (strcmp(args[0], benches[i].name)) continue;
+        /* "ggrt bench counts: ..." from here on, the usage errors too */
+        snprintf(name, sizeof name, "bench %s", benches[i].name);
+        cmd.name = name;
+        cli_set_command(name);
         if (bo.nargs && benches[i].run != bench_accuracy && benches[i].run != bench_limit &&
             benches[i].run != bench_rays)
-            return cli_usage_error(&cmd, "bench %s takes no scene files ('%s')", args[0],
-                                   bo.args[0]);
+            return cli_usage_error(&cmd, "this benchmark takes no scene files ('%s')", bo.args[0]);
         if (bo.embree && benches[i].run != bench_spd)
-            return cli_usage_error(&cmd, "--embree is an option of bench spd only");
+            return cli_usage_error(
+                &cmd, "--embree is an option of bench spd only, not of this benchmark");
         {
             /* any knob off its default: the options' text is not empty */
             ggRenderOptions t;
@@ -191,14 +194,20 @@ int cmd_bench(int argc, char **argv)
         if ((rc = check_scenes(&cmd, i, &bo)) != 0 || (rc = check_knobs(&cmd, &bo)) != 0) return rc;
         /* Its reference table is for one size: another would be ignored. */
         if (opts[0].given && benches[i].run == bench_counts)
-            return cli_usage_error(&cmd, "--size is not an option of bench counts (it renders "
+            return cli_usage_error(&cmd, "--size does not apply to this benchmark (it renders "
                                          "at the SPD table's 513x513)");
         if ((rc = check_unused(&cmd, i)) != 0) return rc;
         if (!opts[0].given) bo.size = benches[i].size;
-        snprintf(name, sizeof name, "bench %s", benches[i].name);
-        cli_set_command(name); /* "ggrt bench accuracy: ..." */
         return benches[i].run(&bo);
     }
-    return cli_usage_error(
-        &cmd, "unknown benchmark '%s' (spd, counts, effects, accuracy, scaling, rays, limit)", args[0]);
+    {
+        const char *names[sizeof benches / sizeof benches[0]], *near;
+        char all[128];
+        for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) names[i] = benches[i].name;
+        join_names(all, sizeof all, names, i);
+        if ((near = cli_suggest(args[0], names, (size_t)i)))
+            return cli_usage_error(&cmd, "unknown benchmark '%s'; did you mean '%s'? (%s)", args[0],
+                                   near, all);
+        return cli_usage_error(&cmd, "unknown benchmark '%s' (%s)", args[0], all);
+    }
 }

@@ -301,7 +301,7 @@ int cli_optics_check(int argc, char **argv)
         CLI_OPT_INT(0, "seed", &k.seed, 0, 2147483647, "S", "random seed (default 1)"),
         CLI_OPT_DOUBLE(0, "max-ulp", &k.max_ulp, 0, HUGE_VAL, "U",
                        "the bound each class must meet (default 1)"),
-        CLI_OPT_CHOICE(0, "format", &k.format, formats, "FMT", "text (default) or json"),
+        CLI_OPT_CHOICE('f', "format", &k.format, formats, "F", "text (default) or json"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "optics check",

@@ -64,7 +64,9 @@ expect_exit 1 "bench counts --embree is a usage error" "$ggrt" bench counts --em
   ok "bench spd --accuracy shadows=opaque: named under the title" ||
   bad "bench spd --accuracy shadows=opaque: named under the title (exit $got)" "$(cat "$tmp/bench")"
 expect_exit 1 "bench counts --accuracy is a usage error" "$ggrt" bench counts --accuracy shadows=opaque
-expect_err 1 "ggrt bench: --size is not an option of bench counts (it renders at the SPD table's 513x513)" \
+expect_err 1 "ggrt bench: unknown benchmark 'spf'; did you mean 'spd'? (spd, counts, effects, accuracy, scaling, rays, limit)" \
+  "bench spf: the nearest benchmark named" "$ggrt" bench spf
+expect_err 1 "ggrt bench counts: --size does not apply to this benchmark (it renders at the SPD table's 513x513)" \
   "bench counts --size is a usage error" "$ggrt" bench counts --scenes tetra --size 64
 # bench scaling: the per-scene thread table with the serial share
 "$ggrt" bench scaling --size 16 --runs 1 --scenes tetra >"$tmp/scal" 2>&1; got=$?
@@ -93,7 +95,7 @@ rays_match "bench rays: the render's eye, secondary and shadow rays, with Mrays/
   examples/scenes/spd/gears.nff gears --scenes gears
 rays_match "bench rays SCENE: the file's eye, secondary and shadow rays, with Mrays/s" \
   examples/scenes/knot.nff knot.nff examples/scenes/knot.nff
-expect_err 1 "ggrt bench: --scenes picks SPD scenes; give scene files or --scenes, not both" \
+expect_err 1 "ggrt bench rays: --scenes picks SPD scenes; give scene files or --scenes, not both" \
   "bench rays with scene files and --scenes is a usage error" \
   "$ggrt" bench rays examples/scenes/glass.nff --scenes gears
 # bench accuracy --knobs: the default row and the named knob's rows only
@@ -122,7 +124,7 @@ expect_exit 1 "bench spd --knobs is a usage error" "$ggrt" bench spd --knobs int
 for b in spd counts effects scaling rays limit; do
   for list in nosuch gears,,tetra; do
     "$ggrt" bench "$b" --scenes "$list" --size 16 --runs 1 --no-pov >"$tmp/out" 2>"$tmp/err"; got=$?
-    [ $got = 1 ] && grep -q "^ggrt bench: --scenes: no scene '[a-z]*' in bench $b (its scenes: " "$tmp/err" &&
+    [ $got = 1 ] && grep -q "^ggrt bench $b: --scenes: no scene '[a-z]*' in this benchmark (its scenes: " "$tmp/err" &&
       ok "bench $b --scenes $list: a usage error naming its scenes" ||
       bad "bench $b --scenes $list: a usage error naming its scenes (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
   done
@@ -142,7 +144,7 @@ for c in "counts --runs 2" "rays --threads 2" "limit --no-pov" "effects --spd x"
          "scaling --out x" "spd --out x" "accuracy --pov x"; do
   b=${c%% *}; o=${c#* }; o=${o%% *}
   # shellcheck disable=SC2086
-  expect_err 1 "ggrt bench: $o is not an option of bench $b (it reads nothing from it)" \
+  expect_err 1 "ggrt bench $b: $o does not apply to this benchmark (it reads nothing from it)" \
     "bench $b $o is a usage error" "$ggrt" bench $c
 done
 # A scene that fails to load: its row says why and so does stderr, in the
@@ -154,12 +156,12 @@ for b in rays limit spd; do
   expect_err 2 "ggrt bench $b: $tmp/badspd/gears.nff:1:7: expected a number after 's', got 'zero'" \
     "bench $b: a scene that fails to load is named on stderr" "$ggrt" bench $b $what --size 8 --runs 1
 done
-expect_err 1 "ggrt bench: --scenes is not an option of bench accuracy (it takes scene files)" \
+expect_err 1 "ggrt bench accuracy: --scenes does not apply to this benchmark (it takes scene files)" \
   "bench accuracy --scenes is a usage error" "$ggrt" bench accuracy examples/scenes/glass.nff --scenes gears
-expect_err 1 "ggrt bench: --scenes picks SPD scenes; give scene files or --scenes, not both" \
+expect_err 1 "ggrt bench limit: --scenes picks SPD scenes; give scene files or --scenes, not both" \
   "bench limit with scene files and --scenes is a usage error" \
   "$ggrt" bench limit examples/scenes/glass.nff --scenes gears
 "$ggrt" bench accuracy examples/scenes/glass.nff --knobs intersect,nosuch >"$tmp/out" 2>"$tmp/err"; got=$?
-[ $got = 1 ] && grep -q "^ggrt bench: --knobs: no knob 'nosuch' (the knobs: offset, sphere, .*intersect" "$tmp/err" &&
+[ $got = 1 ] && grep -q "^ggrt bench accuracy: --knobs: no knob 'nosuch' (the knobs: offset, sphere, .*intersect" "$tmp/err" &&
   ok "bench accuracy --knobs with an unknown knob: a usage error naming the knobs" ||
   bad "bench accuracy --knobs with an unknown knob: a usage error naming the knobs (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
