@@ -62,7 +62,8 @@ void cli_render_init(cli_render *r, unsigned parts)
     memset(r, 0, sizeof *r);
     ggRenderOptionsDefault(&r->opt);
     r->parts = parts;
-    r->table[n++] = (cli_opt)CLI_OPT_SECTION("render options (the same in every command that renders or traces)");
+    r->table[n++] = (cli_opt)CLI_OPT_SECTION(
+        "render options (shared by the commands that render: ggrt(1), RENDER OPTIONS)");
     if (parts & CLI_RENDER_SIZE)
         r->table[n++] =
             (cli_opt)CLI_OPT_SIZE('s', "size", r->size, 1, GG_IMAGE_MAX_DIM, "WxH",

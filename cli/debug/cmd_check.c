@@ -99,7 +99,8 @@ static int parse(check_args *a, int argc, char **argv)
                        "expression matches (docs/debugging.md)"),
         CLI_OPT_STRING(0, "aov-sum", &a->aov_sum, "LAYERS.exr",
                        "check that the path layers of this ggrt render\n"
-                       "--aov file add up to its image (SCENE optional)"),
+                       "--aov file add up to its image (SCENE optional;\n"
+                       "text only, no -f json)"),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
         DBG_TILE_OPTS(&a->tile),
         CLI_OPT_END,

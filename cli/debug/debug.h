@@ -105,12 +105,12 @@ typedef struct dbg_tile {
     size_t len;
 } dbg_tile;
 
-#define DBG_TILE_OPTS(t)                                                                          \
-    CLI_OPT_FUNC(0, "tile", tile_parse_one, &(t)->tl, "I/N",                                      \
+#define DBG_TILE_OPTS(t)                                                                           \
+    CLI_OPT_FUNC(0, "tile", tile_parse_one, &(t)->tl, "I/N",                                       \
                  "scan only tile I of N bands of rows (or of --plan's\n"                           \
-                 "cut) and write its JSON report, with a manifest, for\n"                          \
-                 "ggrt merge --reports (docs/cluster.md)"),                                      \
-        CLI_OPT_STRING(0, "plan", &(t)->plan, "FILE",                                             \
+                 "cut) and write its JSON report (-f json), with a\n"                              \
+                 "manifest, for ggrt merge --reports (docs/cluster.md)"),                          \
+        CLI_OPT_STRING(0, "plan", &(t)->plan, "FILE",                                              \
                        "with --tile: the cut of a plan from ggrt plan")
 
 /* After parsing: --tile needs -f json (format 1) and no image outputs

@@ -89,7 +89,7 @@ static const char tail_all[] =
     "Directions are X,Y,Z (no spaces); they need not be unit length.\n"
     "exit: 0 ok (total internal reflection included), 1 usage (unknown or missing\n"
     "option, malformed number), 2 invalid value (zero vector or index, |cos| > 1,\n"
-    "negative k, ...)";
+    "negative k, ...), 3 I/O error (seeds), 4 a check failed (check)";
 
 /* Parse argv[1..] (argv[0] is the form) into o with the options the form
    allows. Returns CLI_GO or the exit code. */
@@ -132,7 +132,8 @@ static int parse(const char *form, unsigned allowed, const char *usage, const ch
 static int need(const opts *o, unsigned flags, const char *form, const char *names)
 {
     if ((o->seen & flags) == flags) return 0;
-    cli_error("%s required (see ggrt optics %s --help)", names, form);
+    cli_error("%s required", names);
+    fprintf(stderr, "(see 'ggrt optics %s --help')\n", form);
     return EXIT_USAGE;
 }
 

@@ -50,9 +50,9 @@ static int parse(serve_args *a, int argc, char **argv)
                     "running after N seconds (default and most 300);\n"
                     "it reports failed"),
         CLI_OPT_STRING(0, "host", &a->host, "ADDR",
-                       "numeric address to listen on (default\n"
-                       "127.0.0.1); any other than loopback is reachable\n"
-                       "from other machines"),
+                       "address to listen on, numeric or localhost\n"
+                       "(default 127.0.0.1); any other than loopback is\n"
+                       "reachable from other machines"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "serve",
@@ -73,14 +73,16 @@ static int parse(serve_args *a, int argc, char **argv)
         return cli_usage_error(&cmd, "--crop does not apply: the page shows the whole image "
                                      "(serve renders it in bands of its own)");
     if (a->ro.opt.max_depth > 16)
-        return cli_usage_error(&cmd, "--depth %d: ggrt serve takes at most 16",
+        return cli_usage_error(&cmd, "bad value '%d' for --depth: ggrt serve takes at most 16",
                                a->ro.opt.max_depth);
     if (a->ro.opt.samples > 64)
-        return cli_usage_error(&cmd, "--samples %d: ggrt serve takes at most 64",
+        return cli_usage_error(&cmd, "bad value '%d' for --samples: ggrt serve takes at most 64",
                                a->ro.opt.samples);
     if (!strcmp(a->host, "localhost")) a->host = "127.0.0.1";
     if (!numeric_host(a->host))
-        return cli_usage_error(&cmd, "--host needs a numeric IPv4 or IPv6 address, got '%s'",
+        return cli_usage_error(&cmd,
+                               "bad value '%s' for --host: expected a numeric IPv4 or IPv6 "
+                               "address, or localhost",
                                a->host);
     return CLI_GO;
 }
