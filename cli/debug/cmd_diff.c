@@ -105,7 +105,6 @@ static int parse(diff_args *a, int argc, char **argv)
     if (a->limit == 0) a->limit = DIFF_LIMIT_ALL; /* as find's --limit 0 */
     if ((rc = side(&cmd, "a", a->a_text, &a->ro.opt, &a->oa)) != CLI_GO) return rc;
     if ((rc = side(&cmd, "b", a->b_text, &a->ro.opt, &a->ob)) != CLI_GO) return rc;
-    dbg_warn_same_sides(a->nscenes, &a->oa, &a->ob);
     if ((rc = dbg_tile_check(&cmd, &a->tile, a->format, a->out || cli_given(&cmd, "crop"))) !=
         CLI_GO)
         return rc;
@@ -113,6 +112,7 @@ static int parse(diff_args *a, int argc, char **argv)
     if (a->out && (rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
     if ((rc = cli_check_not_input(&cmd, "-o", a->out, a->scenes, a->nscenes)) != CLI_GO) return rc;
     if (a->out && (rc = cli_check_output("diff", a->out)) != 0) return rc;
+    dbg_warn_same_sides(a->nscenes, &a->oa, &a->ob); /* once the command will run */
     return CLI_GO;
 }
 

@@ -20,17 +20,21 @@ int aov_parse_one(void *ud, const char *value, char *why, size_t whylen)
         snprintf(why, whylen, "at most %d layers", GG_PATH_LAYERS_MAX);
         return 1;
     }
-    if (!eq || n == 0 || n > GG_EXR_LAYER_NAME || !eq[1]) {
-        snprintf(why, whylen, "expected NAME=LPE, NAME 1 to %d letters, digits, '_' or '-'",
-                 GG_EXR_LAYER_NAME);
+    /* one message for every way NAME=LPE can be wrong, the way named after it */
+    for (k = 0; eq && k < n; k++)
+        if (!((value[k] >= 'a' && value[k] <= 'z') || (value[k] >= 'A' && value[k] <= 'Z') ||
+              (value[k] >= '0' && value[k] <= '9') || value[k] == '_' || value[k] == '-'))
+            break;
+    if (!eq || n == 0 || n > GG_EXR_LAYER_NAME || !eq[1] || k < n) {
+        snprintf(why, whylen, "expected NAME=LPE, NAME 1 to %d letters, digits, '_' or '-' (%s)",
+                 GG_EXR_LAYER_NAME,
+                 !eq      ? "no '='"
+                 : !n     ? "no NAME"
+                 : !eq[1] ? "no LPE"
+                 : k < n  ? "NAME has another character"
+                          : "NAME is longer");
         return 1;
     }
-    for (k = 0; k < n; k++)
-        if (!((value[k] >= 'a' && value[k] <= 'z') || (value[k] >= 'A' && value[k] <= 'Z') ||
-              (value[k] >= '0' && value[k] <= '9') || value[k] == '_' || value[k] == '-')) {
-            snprintf(why, whylen, "a layer's name is letters, digits, '_' or '-'");
-            return 1;
-        }
     memcpy(l->name[l->n], value, n);
     l->name[l->n][n] = '\0';
     for (i = 0; i < l->n; i++)
@@ -43,7 +47,9 @@ int aov_parse_one(void *ud, const char *value, char *why, size_t whylen)
     return 0;
 }
 
-/* A compile error "layer K: L:C: msg" as a column of the --aov argument. */
+/* A compile error "layer K: L:C: msg" as a column of the --aov argument,
+   in the form of --path's and --where's ("--aov:1:6: ...", then the
+   argument and a caret: several --aov are told apart by it). */
 static int aov_error(const aov_list *l, const ggError *err)
 {
     int k = 0, line = 0, col = 0, off = 0;
@@ -51,7 +57,7 @@ static int aov_error(const aov_list *l, const ggError *err)
         k >= 1 && k <= l->n && line == 1 && col >= 1) {
         const char *arg = l->arg[k - 1];
         int at = col + (int)(l->expr[k - 1] - arg);
-        cli_error("--aov %s: 1:%d: %s", arg, at, err->message + off);
+        cli_error("--aov:1:%d: %s", at, err->message + off);
         if (!strchr(arg, '\n')) fprintf(stderr, "  %s\n  %*s^\n", arg, at - 1, "");
     } else {
         cli_error("--aov: %s", err->message);

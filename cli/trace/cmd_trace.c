@@ -54,7 +54,6 @@ static int diff_sides(trace_args *a, const cli_cmd *cmd)
         return cli_usage_error(cmd, "--a:%s", err.message);
     if (ggRenderOptionsParse(&a->ob, a->b_text, &err) != GG_OK)
         return cli_usage_error(cmd, "--b:%s", err.message);
-    dbg_warn_same_sides(a->nscenes, &a->oa, &a->ob);
     return CLI_GO;
 }
 
@@ -297,6 +296,7 @@ static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
     char na[1200], nb[1200];
     const char *pb = a->scenes[a->nscenes > 1];
     int rc = EXIT_OK;
+    dbg_warn_same_sides(a->nscenes, &a->oa, &a->ob);
     if (!tb) {
         cli_error("out of memory");
         return EXIT_INPUT;
@@ -344,6 +344,17 @@ int cmd_trace(int argc, char **argv)
         if ((rc = cli_check_not_read("trace", scene, opts, outs, 5)) != 0) {
             ggSceneFree(scene), ggPathFree(e);
             return rc;
+        }
+    }
+    {
+        /* as render says it, before any ray */
+        ggRenderOptions r;
+        if (ggRenderOptionsResolve(scene, &a.ro.opt, &r) == GG_OK &&
+            (a.pixel[0] >= r.width || a.pixel[1] >= r.height)) {
+            cli_error("--pixel %d,%d is outside the %dx%d image", a.pixel[0], a.pixel[1], r.width,
+                      r.height);
+            ggSceneFree(scene), ggPathFree(e);
+            return EXIT_USAGE;
         }
     }
     if (!(tr = ggTraceCreate(NULL))) {

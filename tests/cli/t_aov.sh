@@ -15,11 +15,11 @@ g=examples/scenes/glass.nff
 
 # mistakes: the column within the --aov argument, a caret under it
 "$ggrt" render $g -s 24x18 -o "$tmp/l.exr" --aov "$aov_d" --aov 'x=C<X>' >"$tmp/out" 2>"$tmp/err"; rc=$?
-if [ $rc = 1 ] && grep -qxF "ggrt render: --aov x=C<X>: 1:5: 'X' is not an event type (C R T L O B A or .)" "$tmp/err" &&
+if [ $rc = 1 ] && grep -qxF "ggrt render: --aov:1:5: 'X' is not an event type (C R T L O B A or .)" "$tmp/err" &&
    grep -qx '      ^' "$tmp/err"; then ok "render --aov: a mistake names its column in the argument"
 else bad "render --aov: a mistake names its column (exit $rc)" "$(cat "$tmp/err")"; fi
 "$ggrt" render $g -s 24x18 -o "$tmp/l.exr" --aov 'g=C.*<TS>[object == 1].*' >"$tmp/out" 2>"$tmp/err"; rc=$?
-if [ $rc = 1 ] && grep -qF "ggrt render: --aov g=C.*<TS>[object == 1].*: 1:10: a path layer takes no predicate" "$tmp/err"
+if [ $rc = 1 ] && grep -qF "ggrt render: --aov:1:10: a path layer takes no predicate" "$tmp/err"
 then ok "render --aov: a predicate is refused at its column"
 else bad "render --aov: a predicate is refused at its column (exit $rc)" "$(cat "$tmp/err")"; fi
 expect_exit 1 "render --aov without NAME=" "$ggrt" render $g -o "$tmp/l.exr" --aov 'C.*'
