@@ -88,8 +88,11 @@ _ggrt() {
         return
     fi
     if [[ $cmd == help ]]; then
-        ((COMP_CWORD == subpos)) &&
+        if ((COMP_CWORD == subpos)); then
             mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$("$prog" --help 2>/dev/null)" commands)" -- "$cur")
+        elif ((COMP_CWORD == subpos + 1)) && [[ ${COMP_WORDS[subpos]} == optics ]]; then
+            mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$("$prog" optics --help 2>/dev/null)" forms)" -- "$cur")
+        fi
         return
     fi
     path=("$prog" "$cmd")
@@ -118,7 +121,8 @@ _ggrt() {
     if [[ $prev == -* ]]; then
         while read -r names meta; do
             [[ ,$names, == *",$prev,"* ]] || continue
-            [[ -n $meta ]] && { _ggrt_value "$meta" "$cur" "$prev" "${path[@]}"; return; }
+            # the parser's messages name the long option: probe with it
+            [[ -n $meta ]] && { _ggrt_value "$meta" "$cur" "${names##*,}" "${path[@]}"; return; }
             break
         done <<<"$opts"
     fi
@@ -126,7 +130,12 @@ _ggrt() {
         mapfile -t COMPREPLY < <(compgen -W "$(printf '%s\n' "$opts" | awk '{ gsub(/,/, " ", $1); print $1 }')" -- "$cur")
         return
     fi
-    # Positional arguments: scenes, images, tiles, reports.
-    mapfile -t COMPREPLY < <(compgen -f -- "$cur")
+    # Positional arguments: scenes, images, tiles, reports; a folder where
+    # the usage's first argument is DIR (optics seeds DIR).
+    if [[ $help =~ ^usage:\ ggrt\ [a-z\ ]*\ DIR ]]; then
+        mapfile -t COMPREPLY < <(compgen -d -- "$cur")
+    else
+        mapfile -t COMPREPLY < <(compgen -f -- "$cur")
+    fi
 }
 complete -o filenames -o bashdefault -F _ggrt ggrt

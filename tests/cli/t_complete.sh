@@ -45,7 +45,7 @@ got=$(comp bench "")
 
 # Every command (optics by form, bench once with a subcommand): its long
 # options, and each option's values where the parser lists them.
-nopts=0 nchoice=0 failed=""
+nopts=0 nchoice=0 nshort=0 failed=""
 for c in $cmds; do
   case $c in
     optics) words=$(for f in $forms; do echo "optics:$f"; done) ;;
@@ -68,11 +68,19 @@ $w: got $(echo $got), want $(echo $want)"
       got=$(comp "$@" "$o" "")
       [ "$got" = "$list" ] || failed="$failed
 $w $o: got $(echo $got), want $(echo $list)"
+      # its short name, where it has one ("  -f, --format F")
+      s=$(case $1 in bench) "$ggrt" bench --help ;; *) "$ggrt" "$@" --help ;; esac |
+          sed -n "s/^  \(-[a-zA-Z]\), $o .*/\1/p")
+      [ -z "$s" ] && continue
+      nshort=$((nshort + 1))
+      got=$(comp "$@" "$s" "")
+      [ "$got" = "$list" ] || failed="$failed
+$w $s: got $(echo $got), want $(echo $list)"
     done
   done
 done
 if [ -z "$failed" ] && [ $nchoice -ge $((5 / sample)) ]; then
-  ok "completion: the long options of every command and form ($nopts), and the values of the $nchoice that take one of a list"
+  ok "completion: the long options of every command and form ($nopts), and the values of the $nchoice that take one of a list ($nshort by a short name too)"
 else
   bad "completion: options and their values ($nopts options, $nchoice lists)" "$failed"
 fi
@@ -83,6 +91,14 @@ got2=$(comp optics check --format =)
 [ "$got" = json ] && [ "$got2" = "$(printf 'json\ntext')" ] &&
   ok "completion: a value after --format= and --format=j" ||
   bad "completion: a value after --format=" "--format=j: $got; --format=: $got2"
+
+got=$(comp help optics re)
+[ "$got" = "$(printf 'reflect\nrefract')" ] && ok "completion: 'ggrt help optics' offers the forms" ||
+  bad "completion: 'ggrt help optics' offers the forms" "got: $got"
+got=$(comp optics seeds RE)
+got2=$(comp render RE)
+[ -z "$got" ] && [ "$got2" = README.md ] && ok "completion: folders only for optics seeds DIR" ||
+  bad "completion: folders only for optics seeds DIR" "seeds RE: $got; render RE: $got2"
 
 got=$(comp render -o examples/scenes/defa)
 got2=$(comp render examples/scenes/defa)
