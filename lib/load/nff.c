@@ -266,8 +266,9 @@ static int material(parser *ps)
         if (id == -GG_ERROR_INVALID && ggMaterialCheck(&ps->mat, &e2) != GG_OK)
             return fail(ps, &ps->mat_tok, GG_ERROR_PARSE, "%s", e2.message);
         if (id < 0)
-            return fail(ps, &ps->kw_tok, -id, "material%s is invalid",
-                        id == -GG_ERROR_INVALID ? "" : " could not be stored");
+            return fail(ps, &ps->kw_tok, -id, "%s",
+                        id == -GG_ERROR_NOMEM ? "out of memory storing the material"
+                                              : "the material is invalid");
         ps->mat_id = id;
     }
     return GG_OK;
@@ -367,7 +368,10 @@ static int kw_light(parser *ps)
     if (id == -GG_ERROR_INVALID)
         return fail(ps, &ps->kw_tok, GG_ERROR_PARSE,
                     "a light's position is over 1e64 in magnitude (GG_COORD_MAX)");
-    if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the light");
+    if (id < 0)
+        return fail(ps, &ps->kw_tok, -id, "%s",
+                    id == -GG_ERROR_NOMEM ? "out of memory adding the light"
+                                          : "cannot add the light");
     ps->s->lights[id].line = ps->kw_tok.line;
     return GG_OK;
 }
@@ -583,7 +587,10 @@ static int kw_texture(parser *ps)
     if (rc != GG_OK)
         return fail(ps, &t, rc, "cannot read texture: %s", e2.message);
     id = gg_scene_add_texture_desc(ps->s, &tx);
-    if (id < 0) return fail(ps, &t, -id, "cannot add the texture");
+    if (id < 0)
+        return fail(ps, &t, -id, "%s",
+                    id == -GG_ERROR_NOMEM ? "out of memory adding the texture"
+                                          : "cannot add the texture");
     ps->mat.texture = id;
     return mat_changed(ps);
 }
@@ -602,7 +609,10 @@ static int kw_checker(parser *ps)
     if ((rc = nonneg_color(ps, &tx.checker_b, "checker colour")) != GG_OK) return rc;
     tx.checker_n = n;
     id = gg_scene_add_texture_desc(ps->s, &tx);
-    if (id < 0) return fail(ps, &ps->kw_tok, -id, "cannot add the texture");
+    if (id < 0)
+        return fail(ps, &ps->kw_tok, -id, "%s",
+                    id == -GG_ERROR_NOMEM ? "out of memory adding the texture"
+                                          : "cannot add the texture");
     ps->mat.texture = id;
     return mat_changed(ps);
 }

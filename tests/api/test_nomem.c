@@ -121,6 +121,8 @@ static ggScene *load(const scene_case *c, tu_failer *f, const ggAllocator *a, re
             rc = ggSceneLoadFile(s, c->path, &e);
         }
         if (!failed_step(rc, f, r, "load")) break;
+        /* the message says what ran out (base.h: "naming what and where") */
+        if (!strstr(e.message, "out of memory")) fail_msg("load: NOMEM said '%s'", e.message);
         /* "On error the scene is left as it was before the call" */
         assert_int_equal(ggSceneObjectCount(s), 0);
         assert_int_equal(ggSceneLightCount(s), 0);
