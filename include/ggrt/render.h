@@ -146,7 +146,8 @@ typedef struct ggRenderOptions {
     int width, height;  /* 0: from the scene's camera; < 0: GG_ERROR_INVALID */
     int max_depth;      /* ray-tree depth counting the eye ray; 0: scene or 5 */
     int samples;        /* samples per pixel (n*n grid when a square); 0: scene or 1 */
-    int threads;        /* worker threads; 0: all processors. Output does not depend on it */
+    int threads;        /* worker threads (at most 256 run); 0: one per processor; < 0:
+                           GG_ERROR_INVALID. Output does not depend on it */
     /* Crop window [x0, x1) x [y0, y1) in pixels; all 0 = the whole image.
        Pixels outside stay black; inside they equal the full render's. A
        window that is empty or leaves the image: GG_ERROR_INVALID. */
@@ -287,8 +288,9 @@ GG_API ggRay ggCameraRay(const ggScene *scene, const ggRenderOptions *opt, doubl
 /* Colour seen along one ray of a prepared scene (never prepares it; any
    number of threads at once): emission + kd * ambient +
    direct light (shadow rays) + ks * reflection + kt * refraction, recursing
-   until depth reaches opt->max_depth (the eye ray has depth 1). Black for
-   a NULL or unprepared scene or bad options. stats may be NULL; else it
+   until depth reaches opt->max_depth (the eye ray has depth 1; `depth` is
+   this ray's, and one below 1 is taken as 1). Black for a NULL or
+   unprepared scene or bad options. stats may be NULL; else it
    receives the counts of this ray's tree, overwritten (base.h rule 2). */
 GG_API ggColor ggRayColor(const ggScene *scene, const ggRenderOptions *opt, ggRay ray,
                           int depth, ggRayStats *stats);

@@ -137,7 +137,11 @@ typedef struct ggCamera {
 GG_API int ggCameraCheck(const ggCamera *cam, ggError *err);
 
 /* New empty scene; NULL if out of memory. alloc may be NULL; it is copied
-   (base.h rule 3). */
+   (base.h rule 3). Empty but for a default camera, which a scene file or
+   ggSceneSetCamera replaces: from (0, 0, 1) looking at the origin, up +y,
+   45 degrees, 512x512 (ggSceneCamera returns it; ggRender renders with
+   it). ggSceneLoadFile of a lone model frames its own camera only while
+   the scene has no other: it tells the default from a set one. */
 GG_API ggScene *ggSceneCreate(const ggAllocator *alloc);
 /* Frees the scene and everything it owns; NULL is a no-op. */
 GG_API void ggSceneFree(ggScene *scene);
@@ -228,7 +232,11 @@ GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);
 GG_API int ggSceneAddSphere(ggScene *scene, int material, ggVec3 center, double radius);
 /* Planar polygon, n >= 3 vertices, counter-clockwise seen from the front. */
 GG_API int ggSceneAddPolygon(ggScene *scene, int material, const ggVec3 *v, int n);
-/* Triangle with per-vertex normals (NULL normals: flat). */
+/* Triangle with per-vertex normals (NULL normals: flat). The shading
+   normal is the normals interpolated and normalised, where it faces the
+   geometric normal's side, else the geometric normal: a zero normal
+   weighs nothing (all three zero: flat). Mesh files differ: there a
+   corner with a zero normal makes its triangle flat (scene-format.md). */
 GG_API int ggSceneAddTriangle(ggScene *scene, int material, const ggVec3 v[3],
                               const ggVec3 *normals);
 /* Open cone or cylinder from base (radius rb) to apex (radius ra). */
@@ -348,9 +356,12 @@ GG_API int ggSceneAddMesh(ggScene *scene, const ggMeshData *data, const ggMeshOp
 #define GG_FRAME_LIGHTS 2u
 GG_API int ggSceneFrame(ggScene *scene, unsigned what, ggError *err);
 
-/* Render settings that a scene file may carry (0 = renderer default). */
-GG_API void ggSceneSetDepth(ggScene *scene, int max_depth);
-GG_API void ggSceneSetSamples(ggScene *scene, int samples_per_pixel);
+/* Render settings that a scene file may carry (its `depth` and `samples`):
+   0 leaves them to the renderer (depth 5, 1 sample); else depth 1..64
+   and samples 1..4096, as in a file. GG_OK, or GG_ERROR_INVALID for a
+   NULL scene or a value out of range (the scene unchanged). */
+GG_API int ggSceneSetDepth(ggScene *scene, int max_depth);
+GG_API int ggSceneSetSamples(ggScene *scene, int samples_per_pixel);
 
 /* ---- inspection ----
    For a NULL scene or an index out of range (base.h rule 1): counts are 0,

@@ -122,8 +122,17 @@ static int resolve(const ggScene *s, const ggRenderOptions *o, resolved *r, ggEr
                             r->h, (unsigned long)GG_IMAGE_MAX_PIXELS, GG_IMAGE_MAX_DIM);
     r->depth = o->max_depth > 0 ? o->max_depth : s->depth > 0 ? s->depth : 5;
     r->spp = o->samples > 0 ? o->samples : s->samples > 0 ? s->samples : 1;
-    if (o->max_depth < 0 || r->depth > 64 || o->samples < 0 || r->spp > 4096)
-        return gg_error_set(err, GG_ERROR_INVALID, "depth must be 1..64 and samples 1..4096");
+    if (o->max_depth < 0 || r->depth > 64)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "max_depth must be 0 (the scene's) or 1..64, got %d",
+                            o->max_depth < 0 ? o->max_depth : r->depth);
+    if (o->samples < 0 || r->spp > 4096)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "samples must be 0 (the scene's) or 1..4096, got %d",
+                            o->samples < 0 ? o->samples : r->spp);
+    if (o->threads < 0)
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "threads must be 0 (one per processor) or more, got %d", o->threads);
     r->budget = o->ray_budget > 0 ? o->ray_budget : GG_RAY_BUDGET;
     if (o->ray_budget < 0 || o->ray_budget > GG_RAY_BUDGET_MAX)
         return gg_error_set(err, GG_ERROR_INVALID, "ray budget %d is out of range 1..%d",

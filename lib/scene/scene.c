@@ -262,13 +262,17 @@ GG_API void ggSceneSetImageReader(ggScene *s, ggImageReader fn, void *ud)
     s->reader = fn;
     s->reader_ud = fn ? ud : NULL;
 }
-GG_API void ggSceneSetDepth(ggScene *s, int d)
+GG_API int ggSceneSetDepth(ggScene *s, int d)
 {
-    if (s) s->depth = d > 0 ? d : 0;
+    if (!s || d < 0 || d > 64) return GG_ERROR_INVALID;
+    s->depth = d;
+    return GG_OK;
 }
-GG_API void ggSceneSetSamples(ggScene *s, int n)
+GG_API int ggSceneSetSamples(ggScene *s, int n)
 {
-    if (s) s->samples = n > 0 ? n : 0;
+    if (!s || n < 0 || n > 4096) return GG_ERROR_INVALID;
+    s->samples = n;
+    return GG_OK;
 }
 
 GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)

@@ -285,8 +285,8 @@ static void test_scene_build(void **state)
     COVER(ggSceneFrame),
         assert_int_equal(ggSceneFrame(NULL, GG_FRAME_CAMERA, NULL), GG_ERROR_INVALID);
     COVER(ggSceneSetTextureBudget), assert_true(ggSceneSetTextureBudget(NULL, 1) == -1);
-    COVER(ggSceneSetDepth), ggSceneSetDepth(NULL, 3);
-    COVER(ggSceneSetSamples), ggSceneSetSamples(NULL, 3);
+    COVER(ggSceneSetDepth), assert_int_equal(ggSceneSetDepth(NULL, 3), GG_ERROR_INVALID);
+    COVER(ggSceneSetSamples), assert_int_equal(ggSceneSetSamples(NULL, 3), GG_ERROR_INVALID);
     /* Nothing above reached the scene. */
     assert_int_equal(ggSceneObjectCount(s), 0);
     assert_int_equal(ggSceneMaterialCount(s), 0);

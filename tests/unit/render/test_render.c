@@ -190,6 +190,50 @@ static void test_crop_refused(void **state)
     ggSceneFree(s);
 }
 
+/* Depth, samples and threads out of range: GG_ERROR_INVALID naming the
+   field and the value, no image; the scene's setters refuse what a file
+   may not say, the scene unchanged. */
+static void test_counts_refused(void **state)
+{
+    static const struct {
+        int depth, samples, threads;
+        const char *msg;
+    } bad[] = {{-1, 0, 1, "max_depth must be 0 (the scene's) or 1..64, got -1"},
+               {65, 0, 1, "max_depth must be 0 (the scene's) or 1..64, got 65"},
+               {0, -2, 1, "samples must be 0 (the scene's) or 1..4096, got -2"},
+               {0, 4097, 1, "samples must be 0 (the scene's) or 1..4096, got 4097"},
+               {0, 0, -4, "threads must be 0 (one per processor) or more, got -4"}};
+    ggScene *s = tu_load("examples/scenes/glass.nff");
+    ggRenderOptions o;
+    ggError err;
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        ggImage *img = NULL;
+        ggRenderOptionsDefault(&o);
+        o.width = 8, o.height = 6;
+        o.max_depth = bad[i].depth, o.samples = bad[i].samples, o.threads = bad[i].threads;
+        assert_int_equal(ggRender(s, &o, &img, NULL, &err), GG_ERROR_INVALID);
+        assert_null(img);
+        assert_string_equal(err.message, bad[i].msg);
+    }
+    assert_int_equal(ggSceneSetDepth(s, 7), GG_OK);
+    assert_int_equal(ggSceneSetDepth(s, -7), GG_ERROR_INVALID);
+    assert_int_equal(ggSceneSetDepth(s, 65), GG_ERROR_INVALID);
+    assert_int_equal(ggSceneSetSamples(s, 4), GG_OK);
+    assert_int_equal(ggSceneSetSamples(s, 1 << 30), GG_ERROR_INVALID);
+    assert_int_equal(ggSceneSetSamples(s, -1), GG_ERROR_INVALID);
+    ggRenderOptionsDefault(&o);
+    assert_int_equal(ggRenderOptionsResolve(s, &o, &o), GG_OK);
+    assert_int_equal(o.max_depth, 7); /* the refused values changed nothing */
+    assert_int_equal(o.samples, 4);
+    assert_int_equal(ggSceneSetDepth(s, 0), GG_OK); /* back to the renderer's */
+    ggRenderOptionsDefault(&o);
+    assert_int_equal(ggRenderOptionsResolve(s, &o, &o), GG_OK);
+    assert_int_equal(o.max_depth, 5);
+    ggSceneFree(s);
+}
+
 /* A crop window reproduces exactly those pixels of the full render. */
 static void test_crop_matches_full(void **state)
 {
@@ -1071,6 +1115,7 @@ int main(void)
         cmocka_unit_test(test_crop_matches_full),
         cmocka_unit_test(test_bands_add_up),
         cmocka_unit_test(test_crop_refused),
+        cmocka_unit_test(test_counts_refused),
         cmocka_unit_test(test_options_resolve),
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),
