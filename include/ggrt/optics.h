@@ -27,9 +27,8 @@
 extern "C" {
 #endif
 
-/* r = v - 2 n (v.n); v is the incoming direction, n a unit normal.
-
-   n need not be unit length: n/|n| is used, so r always has the length of
+/* r = v - 2 n (v.n) for a unit n; v is the incoming direction, n the
+   normal, of any length: n/|n| is used, so r always has the length of
    v and is its mirror image in the plane normal to n. Each component is
    within 1 ulp of |v| of the exact mirror image of the given doubles (it
    is evaluated in double-double and rounded once; docs/optics.md). A
@@ -40,12 +39,13 @@ extern "C" {
    result exceeds DBL_MAX, i.e. |v| > DBL_MAX. */
 GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
 
-/* Refract unit direction v (travelling towards the surface) through a
-   surface with unit normal n, which may face either way, from index ni
-   (v's side) into nt. Returns true and writes the unit transmitted
-   direction to *t; on total internal reflection returns false and writes
-   the mirror direction. A negative nt (a metamaterial, as in Veselago's and
-   Pendry's work) bends the ray to the same side of the normal.
+/* Refract direction v (travelling towards the surface) through a surface
+   with normal n, which may face either way, from index ni (v's side) into
+   nt; v and n of any length (below). Returns true and writes the unit
+   transmitted direction to *t; on total internal reflection returns false
+   and writes the mirror direction. A negative nt (a metamaterial, as in
+   Veselago's and Pendry's work) bends the ray to the same side of the
+   normal.
 
    Details (docs/optics.md derives and measures all of this):
     - v and n need not be unit length; only their directions are used

@@ -154,6 +154,29 @@ static bool tok_number(const token *t, double *d)
     return gg_parse_number(t->p, end, d) == end;
 }
 
+/* Whether a token that is not a number is written as one, [+-]digits[.digits]
+   [e[+-]digits] ("1e400": beyond a double's range), for a message that
+   says so. */
+static bool tok_numeric(const token *t)
+{
+    const char *p = t->p, *e = t->p + t->n;
+    size_t mant = 0;
+    if (p < e && (*p == '+' || *p == '-')) p++;
+    for (; p < e && *p >= '0' && *p <= '9'; p++) mant++;
+    if (p < e && *p == '.')
+        for (p++; p < e && *p >= '0' && *p <= '9'; p++) mant++;
+    if (!mant) return false;
+    if (p < e && (*p == 'e' || *p == 'E')) {
+        const char *d;
+        p++;
+        if (p < e && (*p == '+' || *p == '-')) p++;
+        for (d = p; p < e && *p >= '0' && *p <= '9'; p++) {
+        }
+        if (p == d) return false;
+    }
+    return p == e;
+}
+
 static int number(parser *ps, double *d, const char *what)
 {
     token t;
@@ -164,8 +187,9 @@ static int number(parser *ps, double *d, const char *what)
         return fail(ps, NULL, GG_ERROR_PARSE, "expected %s after '%s', got end of file", what,
                     ps->keyword);
     if (!tok_number(&t, d))
-        return fail(ps, &t, GG_ERROR_PARSE, "expected %s after '%s', got '%s'", what,
-                    ps->keyword, show(&t, b, sizeof b));
+        return fail(ps, &t, GG_ERROR_PARSE, "expected %s after '%s', got '%s'%s", what, ps->keyword,
+                    show(&t, b, sizeof b),
+                    !t.quoted && tok_numeric(&t) ? " (not a number in a double's range)" : "");
     ps->last = t;
     return GG_OK;
 }

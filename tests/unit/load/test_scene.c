@@ -127,7 +127,8 @@ static void test_errors(void **state)
                  "scene.nff:2:9: expected a number after 's', got 'x'");
     expect_error("s 0 0 0 nan", GG_ERROR_PARSE, "scene.nff:1:9: expected a number after 's', got 'nan'");
     expect_error("s 0 0 0 1e999", GG_ERROR_PARSE,
-                 "scene.nff:1:9: expected a number after 's', got '1e999'");
+                 "scene.nff:1:9: expected a number after 's', got '1e999' (not a number in a "
+                 "double's range)");
     expect_error("q 1", GG_ERROR_PARSE, "scene.nff:1:1: unknown keyword 'q'");
     /* a value's error is at the value, not its keyword or the file name */
     expect_error("s 0 0 0 -1", GG_ERROR_PARSE, "scene.nff:1:9: sphere radius must be > 0, got -1");

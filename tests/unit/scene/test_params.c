@@ -66,6 +66,14 @@ static void test_nff_upper_bounds(void **state)
     refuse("f 1 1 1 1 0 1 0.5 1e300\ns 0 0 0 1\n",
            "p.nff:1:19: the index of refraction must be at most 1e+30");
     refuse("b 0 0 2e30\n", "p.nff:1:7: the background must be at most 1e+30, got 2e30");
+    /* a number beyond a double's range is said to be one; a malformed one not */
+    refuse(
+        "s 0 0 1e400 1\n",
+        "p.nff:1:7: expected a number after 's', got '1e400' (not a number in a double's range)");
+    refuse("s 0 0 -.5E+999 1\n", "p.nff:1:7: expected a number after 's', got '-.5E+999' (not a "
+                                 "number in a double's range)");
+    refuse("s 0 0 1.2.3 1\n", "p.nff:1:7: expected a number after 's', got '1.2.3'");
+    refuse("s 0 0 1e 1\n", "p.nff:1:7: expected a number after 's', got '1e'");
     refuse("conductor 1e40 1 1 1 1 1\ns 0 0 0 1\n",
            "p.nff:1:11: conductor n must be at most 1e+30, got 1e40");
     refuse("f 1 1 1 1 0 1 0.9 1.5\ndispersion 0.5\ns 0 0 0 1\n",
