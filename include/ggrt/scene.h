@@ -221,6 +221,13 @@ GG_API int ggSceneAddLight(ggScene *scene, ggVec3 pos, ggColor color);
 /* Copies *m; -GG_ERROR_INVALID unless ggMaterialCheck(m) accepts it and
    its texture (if any) exists. */
 GG_API int ggSceneAddMaterial(ggScene *scene, const ggMaterial *m);
+/* Replaces material `index` with a copy of *m: every object of that
+   material takes the new one at the next render, which prepares the
+   scene again (what a material is decides which effects run and which
+   surfaces a shadow ray sees through). GG_OK, or GG_ERROR_INVALID for a
+   NULL scene, an index out of range or a material ggSceneAddMaterial
+   would refuse, the scene unchanged. A writing function (see Threads). */
+GG_API int ggSceneSetMaterial(ggScene *scene, int index, const ggMaterial *m);
 /* Takes ownership of img (freed with the scene, also on failure). */
 GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);
 /* The shapes: -GG_ERROR_INVALID for a coordinate or size that is not

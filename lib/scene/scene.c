@@ -306,6 +306,16 @@ GG_API int ggSceneAddMaterial(ggScene *s, const ggMaterial *m)
     return (int)s->nmaterials++;
 }
 
+GG_API int ggSceneSetMaterial(ggScene *s, int index, const ggMaterial *m)
+{
+    if (!s || index < 0 || (size_t)index >= s->nmaterials || ggMaterialCheck(m, NULL) != GG_OK ||
+        (m->texture >= 0 && (size_t)m->texture >= s->ntextures))
+        return GG_ERROR_INVALID;
+    unprepare(s);
+    s->materials[index] = *m;
+    return GG_OK;
+}
+
 int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t)
 {
     if (gg_mem_grow(s->alloc, (void **)&s->textures, &s->cap_textures, s->ntextures + 1,

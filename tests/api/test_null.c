@@ -252,6 +252,7 @@ static void test_scene_build(void **state)
     COVER(ggSceneAddLight);
     assert_int_equal(ggSceneAddLight(NULL, v[0], (ggColor){1, 1, 1}), -GG_ERROR_INVALID);
     COVER(ggSceneAddMaterial), assert_int_equal(ggSceneAddMaterial(NULL, &m), -GG_ERROR_INVALID);
+    COVER(ggSceneSetMaterial), assert_int_equal(ggSceneSetMaterial(NULL, 0, &m), GG_ERROR_INVALID);
     assert_int_equal(ggSceneAddMaterial(s, NULL), -GG_ERROR_INVALID);
     /* Takes ownership: a refused image is freed (LSan would see a leak). */
     COVER(ggSceneAddTexture), assert_int_equal(ggSceneAddTexture(NULL, img), -GG_ERROR_INVALID);

@@ -190,6 +190,75 @@ static void test_crop_refused(void **state)
     ggSceneFree(s);
 }
 
+/* ggSceneSetMaterial on a scene already rendered: its next render is the
+   render of the same file given that material before it was ever
+   prepared (no state of the first preparation survives), for the first
+   and the last material of every scene file (each render loads and
+   prepares a file again: every material of the SPD files would take a
+   minute), set to glass (which turns on refraction and coloured shadows
+   where the scene had none). */
+typedef struct set_counts {
+    int files, materials, changed;
+} set_counts;
+
+static void check_set_material(const char *path, void *ud)
+{
+    set_counts *n = ud;
+    ggScene *s = tu_load(path);
+    ggRenderOptions o;
+    ggRayStats st;
+    ggError err;
+    int i, j, count = ggSceneMaterialCount(s);
+    ggRenderOptionsDefault(&o);
+    o.width = 12, o.height = 9, o.threads = 1;
+    n->files++;
+    for (i = 0; i < count; i = i + 1 < count - 1 ? count - 1 : i + 1) {
+        ggMaterial m = ggSceneMaterial(s, i);
+        ggScene *fresh = ggSceneCreate(NULL);
+        ggImage *before = render(s, &o, &st), *after, *ref;
+        m.kd *= 0.5, m.kt = 0.6, m.ior = 1.33, m.ks = 0.2;
+        assert_int_equal(ggSceneSetMaterial(s, i, &m), GG_OK);
+        assert_int_equal(ggSceneLoadFile(fresh, path, &err), GG_OK);
+        for (j = 0; j <= i; j++) { /* those set before it too */
+            ggMaterial mj = ggSceneMaterial(s, j);
+            assert_int_equal(ggSceneSetMaterial(fresh, j, &mj), GG_OK);
+        }
+        after = render(s, &o, &st);
+        ref = render(fresh, &o, &st);
+        if (!same_pixels(after, ref))
+            fail_msg("%s: material %d set after a render renders another image than set before",
+                     path, i);
+        n->materials++;
+        n->changed += !same_pixels(before, after);
+        ggImageFree(before), ggImageFree(after), ggImageFree(ref);
+        ggSceneFree(fresh);
+    }
+    /* refused: the scene unchanged */
+    {
+        ggMaterial bad = ggSceneMaterial(s, 0), keep = bad;
+        bad.kd = -1;
+        assert_int_equal(ggSceneSetMaterial(s, 0, &bad), GG_ERROR_INVALID);
+        assert_int_equal(ggSceneSetMaterial(s, count, &keep), GG_ERROR_INVALID);
+        assert_int_equal(ggSceneSetMaterial(s, -1, &keep), GG_ERROR_INVALID);
+        assert_int_equal(ggSceneSetMaterial(s, 0, NULL), GG_ERROR_INVALID);
+        bad = ggSceneMaterial(s, 0);
+        assert_memory_equal(&bad, &keep, sizeof bad);
+    }
+    ggSceneFree(s);
+}
+
+static void test_set_material(void **state)
+{
+    set_counts n = {0, 0, 0};
+    (void)state;
+    tu_each_file("examples/scenes", ".nff", check_set_material, &n);
+    tu_each_file(tu_spd_dir(), ".nff", check_set_material, &n);
+    tu_each_file("tests/data", ".nff", check_set_material, &n);
+    print_message("test_set_material: %d files, %d materials set, %d changed the image\n", n.files,
+                  n.materials, n.changed);
+    assert_true(n.files >= 25 && n.changed >= n.files / 2);
+}
+
 /* Depth, samples and threads out of range: GG_ERROR_INVALID naming the
    field and the value, no image; the scene's setters refuse what a file
    may not say, the scene unchanged. */
@@ -1116,6 +1185,7 @@ int main(void)
         cmocka_unit_test(test_bands_add_up),
         cmocka_unit_test(test_crop_refused),
         cmocka_unit_test(test_counts_refused),
+        cmocka_unit_test(test_set_material),
         cmocka_unit_test(test_options_resolve),
         cmocka_unit_test(test_forced_effects_same_image),
         cmocka_unit_test(test_paths_agree),
