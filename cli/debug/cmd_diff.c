@@ -112,7 +112,6 @@ static int parse(diff_args *a, int argc, char **argv)
     if (a->out && (rc = cli_check_image_name(&cmd, "the output", a->out)) != CLI_GO) return rc;
     if ((rc = cli_check_not_input(&cmd, "-o", a->out, a->scenes, a->nscenes)) != CLI_GO) return rc;
     if (a->out && (rc = cli_check_output("diff", a->out)) != 0) return rc;
-    dbg_warn_same_sides(a->nscenes, &a->oa, &a->ob); /* once the command will run */
     return CLI_GO;
 }
 
@@ -287,8 +286,10 @@ int cmd_diff(int argc, char **argv)
     {
         const char *opt = "-o";
         if ((rc = cli_check_not_read("diff", sa, &opt, &a.out, 1)) == 0 &&
-            (rc = cli_check_not_read("diff", sb, &opt, &a.out, 1)) == 0)
+            (rc = cli_check_not_read("diff", sb, &opt, &a.out, 1)) == 0) {
+            dbg_warn_same_sides(a.nscenes, &a.oa, &a.ob); /* once the command will run */
             rc = run(&a, sa, sb, path);
+        }
     }
     if (sb != sa) ggSceneFree(sb);
     ggSceneFree(sa);

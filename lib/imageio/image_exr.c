@@ -408,7 +408,7 @@ GG_API int ggImageReadEXRLayer(const char *path, const char *layer, const ggAllo
     int rc;
     if (!path || !out)
         return gg_error_set(err, GG_ERROR_INVALID, "ggImageReadEXRLayer: NULL argument");
-    rc = gg_file_open(path, "cannot open", &fp, NULL, err);
+    rc = gg_file_open(path, NULL, &fp, NULL, err);
     if (rc != GG_OK) return rc;
     rc = read_exr_layer(fp, path, layer && layer[0] ? layer : NULL, alloc, NULL, out, err);
     fclose(fp);
@@ -774,7 +774,7 @@ GG_API int ggImageReadEXRHeader(const char *path, ggEXRHeader *out, ggError *err
     int rc;
     if (!path || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggImageReadEXRHeader: NULL argument");
     memset(out, 0, sizeof *out);
-    rc = gg_file_open(path, "cannot open", &fp, &size, err);
+    rc = gg_file_open(path, NULL, &fp, &size, err);
     if (rc != GG_OK) return rc;
     if (fread(head, 1, sizeof head, fp) != sizeof head || memcmp(head, magic, sizeof magic)) {
         fclose(fp);

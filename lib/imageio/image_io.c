@@ -35,7 +35,7 @@ int gg_image_read_budget(const char *path, const ggAllocator *alloc, const gg_im
     FILE *fp;
     int rc;
     if (!path || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggImageRead: NULL argument");
-    rc = gg_file_open(path, "cannot open", &fp, NULL, err);
+    rc = gg_file_open(path, NULL, &fp, NULL, err);
     if (rc != GG_OK) return rc;
     got = fread(head, 1, sizeof head, fp);
     if (got < sizeof head && ferror(fp)) {

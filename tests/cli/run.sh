@@ -80,7 +80,7 @@ printf 'v from 0 0 1 at 0 0 0 up 0 1 0 angle 45 resolution 99999999 2\n' > "$tmp
 expect_err 2 "ggrt render: $tmp/huge.nff:1:52: a width after 'resolution' must be a whole number from 1 to 65536, got 99999999" \
   "huge resolution" "$ggrt" render "$tmp/huge.nff" -o "$tmp/x.png"
 printf 'f 1 1 1 1 0 1 0 0\ntexture "nowhere.png"\ns 0 0 0 1\n' > "$tmp/tex.nff"
-expect_err 3 "ggrt render: $tmp/tex.nff:2:9: cannot read texture: ${tmp}/nowhere.png: cannot open: No such file or directory" \
+expect_err 3 "ggrt render: $tmp/tex.nff:2:9: cannot read texture: ${tmp}/nowhere.png: No such file or directory" \
   "missing texture" "$ggrt" render "$tmp/tex.nff" -o "$tmp/x.png"
 expect_exit 3 "unwritable output" "$ggrt" render examples/scenes/glass.nff -s 8x6 -q -o /nonexistent/dir/x.png
 [ ! -e "$tmp/x.png" ] && ok "failed renders leave no image" || bad "failed renders leave no image"

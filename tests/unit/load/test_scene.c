@@ -157,7 +157,7 @@ static void test_errors(void **state)
     expect_error("fresnel maybe", GG_ERROR_PARSE,
                  "scene.nff:1:9: expected none, schlick or exact after 'fresnel', got 'maybe'");
     expect_error("texture \"no-such-file.png\"", GG_ERROR_IO,
-                 "scene.nff:1:9: cannot read texture: no-such-file.png: cannot open: "
+                 "scene.nff:1:9: cannot read texture: no-such-file.png: "
                  "No such file or directory");
     expect_error("implicit \"x*x + y*", GG_ERROR_PARSE, "scene.nff:1:10: unterminated string");
     /* mesh's options at the end of the file: an error at the end, no token
