@@ -25,7 +25,8 @@
 ** Spawning a secondary ray from a hit (what the renderer does):
 **     gg_geom_surface(g, &q, &hit, &s, 0);
 **     q2 = gg_rayq_make(gg_offset_origin(&s, dir), dir, 0, INFINITY, q.opt)
-**         (tmax 1 for a shadow ray with dir = light - origin);
+**         (for a shadow ray with dir = light - origin, tmax
+**         gg_offset_end(origin, light), just short of 1);
 **     q2.ignore_prim = hit.prim for planar kinds (TRIANGLE, POLYGON, RECT;
 **         a flat surface cannot be met again), UINT32_MAX for curved ones
 **         (SPHERE, CONE, IMPLICIT: the far side is the same primitive);
@@ -420,5 +421,13 @@ void gg_uv_plane_at(const gg_uv_plane *f, ggVec3 p, double uv[2]);
 #define GG_OFFSET_K 8.0
 ggVec3 gg_offset_origin(const gg_surf *s, ggVec3 d);
 ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps);
+
+/* The end of a shadow ray's segment o + t (target - o): a t short of 1 by
+   GG_OFFSET_K roundings of the coordinates involved, so that a surface
+   through the light (a lamp set into a ceiling) does not block it at
+   t = 1 - 2^-53. At least 0.5 (a target within rounding of o). The
+   fixed-offset knob keeps t = 1: it shows what the textbook epsilon does
+   (docs/accuracy.md). */
+double gg_offset_end(ggVec3 o, ggVec3 target);
 
 #endif

@@ -779,6 +779,14 @@ GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, co
 
 /* ---- direct light ---- */
 
+/* Where a shadow ray toward `light` from o stops: short of the light by
+   the rounding of a hit there (gg_offset_end), as its origin is pushed
+   off the surface it leaves; at the light with the fixed-offset knob. */
+static double shadow_end(const gg_shade_ctx *c, ggVec3 o, ggVec3 light)
+{
+    return c->fixed_offset ? 1.0 : gg_offset_end(o, light);
+}
+
 /* Light arriving at the shadow origin o from a light at parameter 1
    along d (d = light - o), through transparent occluders: kt per surface
    crossed and absorption inside. Returns black if an opaque surface
@@ -833,7 +841,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
     light = v3add(o, d);
     m = *start;
     len = v3len(d);
-    q = make_q(c, th, o, d, 1.0, from, 0);
+    q = make_q(c, th, o, d, shadow_end(c, o, light), from, 0);
     for (step = 0; step < GG_MAX_SHADOW_STEPS; step++) {
         int obj, mat, found;
         gg_prim_info pi;
@@ -860,6 +868,7 @@ GG_INLINE ggColor shadow_walk(const gg_shade_ctx *c, gg_shade_thread *th, ggVec3
         /* Go on from just past this surface towards the light. */
         q.o = spawn(c, &sf, q.d);
         q.d = v3sub(light, q.o);
+        q.tmax = shadow_end(c, q.o, light);
         len = v3len(q.d);
         q.ignore_prim = c->fixed_offset ? UINT32_MAX : leave_prim(s, h.prim);
         /* Crossed into a sphere: the next surface may well be its far side. */
@@ -886,7 +895,8 @@ GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hi
                              size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const gg_rayq sq = make_q(c, th, sh->o, sh->d, 1.0, hi->leave, 0);
+    const gg_rayq sq =
+        make_q(c, th, sh->o, sh->d, shadow_end(c, sh->o, c->s->lights[li].pos), hi->leave, 0);
     if (FX & FX_RECORD) {
         if (nearest_blocker(c, &sq, sh)) return;
     } else if (gg_geom_occluded(s->geom, &sq, &th->occ[li % GG_OCC_CACHES], NULL)) {
@@ -907,7 +917,8 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
                               size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    gg_rayq sq = make_q(c, th, sh->o, sh->d, 1.0, hi->leave, GG_PRIM_TRANSPARENT);
+    gg_rayq sq = make_q(c, th, sh->o, sh->d, shadow_end(c, sh->o, c->s->lights[li].pos), hi->leave,
+                        GG_PRIM_TRANSPARENT);
     gg_tcol all;
     ggColor through;
     if (FX & FX_RECORD) {
@@ -1075,13 +1086,19 @@ GG_INLINE void transmit(const gg_shade_ctx *c, const ray_state *r, const hit_inf
         return;
     }
     if (fresnel) {
-        add_share(&sc->wr, x->split, ch, w * F);
-        sc->reflect = 1;
+        /* F = 0 (equal indices) gives the mirror ray nothing, F = 1 (an
+           index so large that 1 - F rounds to 0) the refracted ray: a
+           ray of weight 0 is not cast, nor does it take from the budget
+           (the SPD rule's zero-weight mirror ray aside, transmission()). */
+        if (F > 0) {
+            add_share(&sc->wr, x->split, ch, w * F);
+            sc->reflect = 1;
+        }
         w *= 1 - F;
     }
     /* Adaptive depth (POV-Ray's adc_bailout): skip rays that cannot
        matter. Off (0) by default. */
-    if (r->weight * w < c->acc.cutoff || !budget_take(c, th, node, FX)) return;
+    if (!(w > 0) || r->weight * w < c->acc.cutoff || !budget_take(c, th, node, FX)) return;
     child_ray(&child, r, node, spawn(c, &hi->sf, t), t, GG_RAY_REFRACT, r->weight * w);
     child.from_prim = hi->leave;
     /* Refracted in through a sphere's outer side: inside it. */
