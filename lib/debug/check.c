@@ -200,6 +200,22 @@ static int cut_with_children(const check_job *cj, const ggTraceNode *n)
            cj->children[n->material] > 0;
 }
 
+/* The weight node i's children could have carried and did not: the
+   material's (ks + kt) less what the children cast carry (a budget stop
+   may come after the mirror ray; a depth stop casts none). Children
+   follow their parent in a trace. */
+static double cut_share(const check_job *cj, const ggTrace *t, int i, const ggTraceNode *n)
+{
+    double cast = 0;
+    size_t j, count = ggTraceNodeCount(t);
+    if (n->stop == GG_STOP_BUDGET)
+        for (j = (size_t)i + 1; j < count; j++) {
+            const ggTraceNode *k = ggTraceGetNode(t, j);
+            if (k->parent == i) cast += cmax(k->weight);
+        }
+    return cast < cj->children[n->material] ? cj->children[n->material] - cast : 0;
+}
+
 /* The invariants that live at one hit. *cut sums the truncated weight. */
 static void check_node(const check_job *cj, check_thread *th, pix_fail *f, const ggTrace *t, int i,
                        double *cut, long *ncut, pix_fail *cut_at)
@@ -229,7 +245,7 @@ static void check_node(const check_job *cj, check_thread *th, pix_fail *f, const
         ggColor a;
         double lost;
         a.r = w->r * n->absorption.r, a.g = w->g * n->absorption.g, a.b = w->b * n->absorption.b;
-        lost = cmax(a) * cj->children[n->material];
+        lost = cmax(a) * cut_share(cj, t, i, n);
         *cut += lost;
         (*ncut)++;
         note(cut_at, lost, i, -1, n);

@@ -568,6 +568,16 @@ static void test_check_planted_defects(void **state)
     assert_int_equal(r->failed, 0);
     ggCheckResultFree(r);
     ggSceneFree(s);
+    /* cut by the ray budget after some children were cast: only the
+       children not cast count (it said 7.07 here, more than a pixel's
+       whole weight; every material conserves energy, so at most 1) */
+    s = tu_load("tests/data/nested-glass.nff");
+    r = check(s, 64, 48, 0);
+    it = &r->items[GG_CHECK_TRUNCATION];
+    assert_true(it->pixels > 0);
+    assert_true(it->worst > 0.1 && it->worst <= 1);
+    ggCheckResultFree(r);
+    ggSceneFree(s);
 }
 
 static void test_check_clean_scenes(void **state)
