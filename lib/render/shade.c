@@ -60,7 +60,10 @@
 #define FX_BASIC                                                                                   \
     (GG_EFFECT_SHADOWS | GG_EFFECT_REFLECTION | GG_EFFECT_PHONG | GG_EFFECT_EMISSION |             \
      GG_EFFECT_TEXTURES | GG_EFFECT_IMPLICIT | GG_EFFECT_SUPERSAMPLING)
-#define FX_FULL GG_EFFECT_ALL
+/* Not an effect: shadow rays stop short of their light (a light inside
+   the scene's bounds, gg_shade_ctx.end_margin); the full copies only. */
+#define FX_END  (1u << 28)
+#define FX_FULL (GG_EFFECT_ALL | FX_END)
 /* The basic path with glass: refraction and the coloured shadows it
    casts (gears, mount), without the rarer effects' tests. */
 #define FX_GLASS (FX_BASIC | GG_EFFECT_REFRACTION | GG_EFFECT_COLORED_SHADOWS)
@@ -125,6 +128,7 @@ typedef struct hit_info {
 /* One shadow ray and what it found. */
 typedef struct shadow_ray {
     ggVec3 o, d; /* origin and d = light - o: the light is at t = 1 */
+    double tend; /* where the query stops: shadow_end */
     ggColor lc;  /* the light's colour times what got through */
     int verdict; /* GG_SHADOW_* */
     int occ;     /* the blocking object, else the first transparent one crossed, or -1 */
@@ -231,6 +235,32 @@ void gg_shade_set_layers(gg_shade_ctx *ctx, const struct ggPathLayers *layers)
     if (layers) ctx->fx |= FX_AOV;
 }
 
+/* The max norm of v. */
+static inline double norm_max(ggVec3 v)
+{
+    double m = fabs(v.x), y = fabs(v.y), z = fabs(v.z);
+    m = y > m ? y : m;
+    return z > m ? z : m;
+}
+/* Whether a light lies inside the box of the scene's primitives grown by
+   2^-40 of the coordinates' size (far more than a hit's rounding): only
+   there can a surface's crossing round onto the light. */
+static int light_in_bounds(const ggScene *s)
+{
+    ggVec3 lo, hi;
+    size_t i;
+    if (!s->geom) return 0;
+    gg_geom_bounds(s->geom, &lo, &hi);
+    for (i = 0; i < s->nlights; i++) {
+        ggVec3 L = s->lights[i].pos;
+        double m = 0x1p-40 * (norm_max(lo) + norm_max(hi) + norm_max(L));
+        if (L.x >= lo.x - m && L.x <= hi.x + m && L.y >= lo.y - m && L.y <= hi.y + m &&
+            L.z >= lo.z - m && L.z <= hi.z + m)
+            return 1;
+    }
+    return 0;
+}
+
 void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned force,
                    bool spd_rules, const ggAccuracy *acc)
 {
@@ -254,6 +284,8 @@ void gg_shade_init(gg_shade_ctx *ctx, const ggScene *s, int max_depth, unsigned 
     /* Opaque shadows: the effect is not simulated, even if forced. */
     if (ctx->acc.shadows == GG_ACC_SHADOWS_OPAQUE) ctx->fx &= ~GG_EFFECT_COLORED_SHADOWS;
     resolve_knobs(ctx, s);
+    ctx->end_margin = !ctx->fixed_offset && light_in_bounds(s);
+    if (ctx->end_margin) ctx->fx |= FX_END; /* a copy that has it (trace_root) */
     ctx->budget = GG_RAY_BUDGET;
     ctx->rec = NULL;
     ctx->layers = NULL;
@@ -784,7 +816,18 @@ GG_INLINE ggColor emission_ambient(const gg_shade_ctx *c, const hit_info *hi, co
    off the surface it leaves; at the light with the fixed-offset knob. */
 static double shadow_end(const gg_shade_ctx *c, ggVec3 o, ggVec3 light)
 {
-    return c->fixed_offset ? 1.0 : gg_offset_end(o, light);
+    return c->end_margin ? gg_offset_end(o, light) : 1.0;
+}
+
+/* gg_offset_end for every light of one hit: |o| once (o_norm, the max
+   norm of the origin), |light| and |d| per light, in line; the same
+   value as gg_offset_end (tests/unit/render/test_render.c). */
+static inline double shadow_end_fast(double o_norm, ggVec3 light, ggVec3 d)
+{
+    double len = norm_max(d), t;
+    if (!(len > 0)) return 0.5;
+    t = 1 - GG_OFFSET_K * 0x1p-53 * (o_norm + norm_max(light)) / len;
+    return t > 0.5 ? t : 0.5;
 }
 
 /* Light arriving at the shadow origin o from a light at parameter 1
@@ -895,8 +938,7 @@ GG_INLINE void shadow_opaque(const gg_shade_ctx *c, const ray_state *r, const hi
                              size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const gg_rayq sq =
-        make_q(c, th, sh->o, sh->d, shadow_end(c, sh->o, c->s->lights[li].pos), hi->leave, 0);
+    const gg_rayq sq = make_q(c, th, sh->o, sh->d, sh->tend, hi->leave, 0);
     if (FX & FX_RECORD) {
         if (nearest_blocker(c, &sq, sh)) return;
     } else if (gg_geom_occluded(s->geom, &sq, &th->occ[li % GG_OCC_CACHES], NULL)) {
@@ -917,8 +959,7 @@ GG_INLINE void shadow_colored(const gg_shade_ctx *c, const ray_state *r, const h
                               size_t li, gg_shade_thread *th, shadow_ray *sh, const unsigned FX)
 {
     const ggScene *s = c->s;
-    gg_rayq sq = make_q(c, th, sh->o, sh->d, shadow_end(c, sh->o, c->s->lights[li].pos), hi->leave,
-                        GG_PRIM_TRANSPARENT);
+    gg_rayq sq = make_q(c, th, sh->o, sh->d, sh->tend, hi->leave, GG_PRIM_TRANSPARENT);
     gg_tcol all;
     ggColor through;
     if (FX & FX_RECORD) {
@@ -972,6 +1013,7 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
                             gg_shade_thread *th, int node, ggColor *col, const unsigned FX)
 {
     const ggScene *s = c->s;
+    const double o_norm = (FX & FX_END) && c->end_margin ? norm_max(hi->o_out) : 0;
     size_t li;
     for (li = 0; li < s->nlights; li++) {
         const ggVec3 L = v3sub(s->lights[li].pos, hi->sf.p);
@@ -982,6 +1024,8 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         th->st.shadow++;
         sh.o = hi->o_out;
         sh.d = v3sub(s->lights[li].pos, sh.o);
+        sh.tend =
+            (FX & FX_END) && c->end_margin ? shadow_end_fast(o_norm, s->lights[li].pos, sh.d) : 1.0;
         sh.lc = s->light_colors[li];
         sh.verdict = GG_SHADOW_VISIBLE, sh.occ = -1, sh.tb = 1;
         /* the scene has them, and the shadows knob did not drop them */

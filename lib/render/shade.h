@@ -25,6 +25,10 @@ typedef struct gg_shade_ctx {
        and the knobs; shading tests these plain flags, never the knobs. */
     unsigned on;       /* the effects the chosen copy's code performs (RUNS, shade.c) */
     int fixed_offset;  /* offset=EPS: rays leave at offset_eps, no primitive skipped */
+    /* A light lies within the scene's bounds (a hair beyond them): shadow
+       rays stop short of it (gg_offset_end); else at it, which is the same
+       answer for less work (no surface can round onto the light). */
+    int end_margin;
     double offset_eps; /* the fixed offset's epsilon */
     int fresnel_knob;  /* GG_FRESNEL_* replacing every dielectric's, or -1 */
     /* Phong's power: pow, or with phong=fast whole shines by repeated
