@@ -167,25 +167,45 @@ static void test_options_resolve(void **state)
     assert_true(n >= 25);
 }
 
-static void test_crop_refused(void **state)
+/* ggRender refuses o: GG_ERROR_INVALID, no image, a message holding msg. */
+static void refused(ggScene *s, const ggRenderOptions *o, const char *msg)
 {
-    static const int bad[][5] = {/* x0, y0, x1, y1, empty? */
-                                 {3, 3, 3, 5, 1},   {3, 5, 9, 5, 1},  {9, 3, 3, 5, 1},
-                                 {0, 0, 0, 1, 1},   {-1, 0, 4, 4, 0}, {0, -1, 4, 4, 0},
-                                 {70, 0, 81, 4, 0}, {0, 50, 4, 61, 0}};
+    ggImage *img = NULL;
+    ggError err;
+    assert_int_equal(ggRender(s, o, &img, NULL, &err), GG_ERROR_INVALID);
+    assert_null(img);
+    if (!strstr(err.message, msg)) fail_msg("'%s' does not hold '%s'", err.message, msg);
+}
+
+static void test_options_refused(void **state)
+{
+    static const struct {
+        int crop[4], depth, samples, threads;
+        const char *msg;
+    } bad[] = {{{3, 3, 3, 5}, 0, 0, 1, "is empty"},
+               {{3, 5, 9, 5}, 0, 0, 1, "is empty"},
+               {{9, 3, 3, 5}, 0, 0, 1, "is empty"},
+               {{0, 0, 0, 1}, 0, 0, 1, "is empty"},
+               {{-1, 0, 4, 4}, 0, 0, 1, "is not inside the 80x60"},
+               {{0, -1, 4, 4}, 0, 0, 1, "is not inside the 80x60"},
+               {{70, 0, 81, 4}, 0, 0, 1, "is not inside the 80x60"},
+               {{0, 50, 4, 61}, 0, 0, 1, "is not inside the 80x60"},
+               {{0, 0, 0, 0}, -1, 0, 1, "max_depth must be 0 (the scene's) or 1..64, got -1"},
+               {{0, 0, 0, 0}, 65, 0, 1, "max_depth must be 0 (the scene's) or 1..64, got 65"},
+               {{0, 0, 0, 0}, 0, -2, 1, "samples must be 0 (the scene's) or 1..4096, got -2"},
+               {{0, 0, 0, 0}, 0, 4097, 1, "samples must be 0 (the scene's) or 1..4096, got 4097"},
+               {{0, 0, 0, 0}, 0, 0, -4, "threads must be 0 (one per processor) or more, got -4"}};
     ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o;
-    ggError err;
     size_t i;
     (void)state;
     for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        ggImage *img = NULL;
         ggRenderOptionsDefault(&o);
-        o.width = 80, o.height = 60, o.threads = 1;
-        o.crop_x0 = bad[i][0], o.crop_y0 = bad[i][1], o.crop_x1 = bad[i][2], o.crop_y1 = bad[i][3];
-        assert_int_equal(ggRender(s, &o, &img, NULL, &err), GG_ERROR_INVALID);
-        assert_null(img);
-        assert_non_null(strstr(err.message, bad[i][4] ? "is empty" : "is not inside the 80x60"));
+        o.width = 80, o.height = 60;
+        o.crop_x0 = bad[i].crop[0], o.crop_y0 = bad[i].crop[1];
+        o.crop_x1 = bad[i].crop[2], o.crop_y1 = bad[i].crop[3];
+        o.max_depth = bad[i].depth, o.samples = bad[i].samples, o.threads = bad[i].threads;
+        refused(s, &o, bad[i].msg);
     }
     ggSceneFree(s);
 }
@@ -310,55 +330,34 @@ static void test_zero_weight_rays(void **state)
         "v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\n"
         "resolution 16 12\nl 1 1 5\nf 1 1 1 0 0 100000 1 %s\nfresnel exact\n"
         "s 0 0 0 1\nf 0.5 0.5 0.5 1 0 0 0 0\np 4 -3 -3 -2 3 -3 -2 3 3 -2 -3 3 -2\n";
+    static const char *const ior[] = {"1", "1e30"};
     char text[512];
-    ggScene *s;
-    ggRenderOptions o;
-    ggRayStats st;
-    ggImage *img;
+    int k;
     (void)state;
-    ggRenderOptionsDefault(&o);
-    o.threads = 1;
-    snprintf(text, sizeof text, fmt, "1");
-    s = load_text(text, "air.nff");
-    img = render(s, &o, &st);
-    assert_true(st.refract > 0);
-    assert_int_equal(st.reflect, 0);
-    ggImageFree(img), ggSceneFree(s);
-    snprintf(text, sizeof text, fmt, "1e30");
-    s = load_text(text, "dense.nff");
-    img = render(s, &o, &st);
-    assert_true(st.reflect > 0);
-    assert_int_equal(st.refract, 0);
-    ggImageFree(img), ggSceneFree(s);
+    for (k = 0; k < 2; k++) {
+        ggScene *s;
+        ggRenderOptions o;
+        ggRayStats st;
+        ggImage *img;
+        ggRenderOptionsDefault(&o);
+        o.threads = 1;
+        snprintf(text, sizeof text, fmt, ior[k]);
+        s = load_text(text, "zero.nff");
+        img = render(s, &o, &st);
+        /* index 1: refraction only; index 1e30: reflection only */
+        assert_true(k ? st.reflect > 0 : st.refract > 0);
+        assert_int_equal(k ? st.refract : st.reflect, 0);
+        ggImageFree(img), ggSceneFree(s);
+    }
 }
 
-/* Depth, samples and threads out of range: GG_ERROR_INVALID naming the
-   field and the value, no image; the scene's setters refuse what a file
-   may not say, the scene unchanged. */
-static void test_counts_refused(void **state)
+/* The scene's setters refuse what a file may not say, the scene
+   unchanged. (ggRender's own refusals: test_options_refused.) */
+static void test_scene_setters(void **state)
 {
-    static const struct {
-        int depth, samples, threads;
-        const char *msg;
-    } bad[] = {{-1, 0, 1, "max_depth must be 0 (the scene's) or 1..64, got -1"},
-               {65, 0, 1, "max_depth must be 0 (the scene's) or 1..64, got 65"},
-               {0, -2, 1, "samples must be 0 (the scene's) or 1..4096, got -2"},
-               {0, 4097, 1, "samples must be 0 (the scene's) or 1..4096, got 4097"},
-               {0, 0, -4, "threads must be 0 (one per processor) or more, got -4"}};
     ggScene *s = tu_load("examples/scenes/glass.nff");
     ggRenderOptions o;
-    ggError err;
-    size_t i;
     (void)state;
-    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        ggImage *img = NULL;
-        ggRenderOptionsDefault(&o);
-        o.width = 8, o.height = 6;
-        o.max_depth = bad[i].depth, o.samples = bad[i].samples, o.threads = bad[i].threads;
-        assert_int_equal(ggRender(s, &o, &img, NULL, &err), GG_ERROR_INVALID);
-        assert_null(img);
-        assert_string_equal(err.message, bad[i].msg);
-    }
     assert_int_equal(ggSceneSetDepth(s, 7), GG_OK);
     assert_int_equal(ggSceneSetDepth(s, -7), GG_ERROR_INVALID);
     assert_int_equal(ggSceneSetDepth(s, 65), GG_ERROR_INVALID);
@@ -1256,8 +1255,8 @@ int main(void)
         cmocka_unit_test(test_cost_empty_tiles),
         cmocka_unit_test(test_crop_matches_full),
         cmocka_unit_test(test_bands_add_up),
-        cmocka_unit_test(test_crop_refused),
-        cmocka_unit_test(test_counts_refused),
+        cmocka_unit_test(test_options_refused),
+        cmocka_unit_test(test_scene_setters),
         cmocka_unit_test(test_set_material),
         cmocka_unit_test(test_light_on_surface),
         cmocka_unit_test(test_zero_weight_rays),
