@@ -91,6 +91,11 @@ static void test_bounds_render_finite(void **state)
         "b 1e30 1e30 1e30\nambient 1e30 1e30 1e30\n"
         "f 1e30 1e30 1e30 100 100 0 100 1e30\nemission 1e30 1e30 1e30\nfresnel exact\n"
         "dispersion 1\nabsorb 1e30 1e30 1e30 1e30\ns 0 0 0 1\ns 0 0 -3 1\n"
+        /* with exact Fresnel, 1 - F rounds to 0 at index 1e30 and no ray
+           refracts (a ray of weight 0 is not cast): the same glass without
+           Fresnel refracts, and inside it every ray meets TIR */
+        "f 1e30 1e30 1e30 100 100 0 100 1e30\nemission 1e30 1e30 1e30\n"
+        "dispersion 1\nabsorb 1e30 1e30 1e30 1e30\ns -1 -1 0.5 0.8\n"
         "f 1e30 1e30 1e30 100 100 0 0 0\nconductor 1e30 1e-30 1 1e30 1e30 1e30\n"
         "s 1 1 -1 0.5\ndepth 64\n";
     ggScene *s = ggSceneCreate(NULL);
