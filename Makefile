@@ -501,6 +501,7 @@ check-paths:
 check-release:
 	@$(MAKE) $(CHECK_ARGS) test BUILD=$(BUILD)/release
 	@sh tests/build/targets.sh $(BUILD)/release
+	@$(MAKE) $(CHECK_ARGS) lib BUILD=$(BUILD)/release
 	@sh tests/build/quiet.sh $(BUILD)/release
 	@sh tests/build/isa.sh $(BUILD)/release
 	@$(MAKE) $(CHECK_ARGS) bench-bin BUILD=$(BUILD)/release
