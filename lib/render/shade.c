@@ -819,17 +819,6 @@ static double shadow_end(const gg_shade_ctx *c, ggVec3 o, ggVec3 light)
     return c->end_margin ? gg_offset_end(o, light) : 1.0;
 }
 
-/* gg_offset_end for every light of one hit: |o| once (o_norm, the max
-   norm of the origin), |light| and |d| per light, in line; the same
-   value as gg_offset_end (tests/unit/render/test_render.c). */
-static inline double shadow_end_fast(double o_norm, ggVec3 light, ggVec3 d)
-{
-    double len = norm_max(d), t;
-    if (!(len > 0)) return 0.5;
-    t = 1 - GG_OFFSET_K * 0x1p-53 * (o_norm + norm_max(light)) / len;
-    return t > 0.5 ? t : 0.5;
-}
-
 /* Light arriving at the shadow origin o from a light at parameter 1
    along d (d = light - o), through transparent occluders: kt per surface
    crossed and absorption inside. Returns black if an opaque surface
@@ -1013,7 +1002,6 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
                             gg_shade_thread *th, int node, ggColor *col, const unsigned FX)
 {
     const ggScene *s = c->s;
-    const double o_norm = (FX & FX_END) && c->end_margin ? norm_max(hi->o_out) : 0;
     size_t li;
     for (li = 0; li < s->nlights; li++) {
         const ggVec3 L = v3sub(s->lights[li].pos, hi->sf.p);
@@ -1024,8 +1012,8 @@ GG_INLINE void direct_light(const gg_shade_ctx *c, const ray_state *r, const hit
         th->st.shadow++;
         sh.o = hi->o_out;
         sh.d = v3sub(s->lights[li].pos, sh.o);
-        sh.tend =
-            (FX & FX_END) && c->end_margin ? shadow_end_fast(o_norm, s->lights[li].pos, sh.d) : 1.0;
+        /* only the copies with FX_END look (light_in_bounds) */
+        sh.tend = (FX & FX_END) ? shadow_end(c, sh.o, s->lights[li].pos) : 1.0;
         sh.lc = s->light_colors[li];
         sh.verdict = GG_SHADOW_VISIBLE, sh.occ = -1, sh.tb = 1;
         /* the scene has them, and the shadows knob did not drop them */
