@@ -230,6 +230,10 @@ GG_API int ggSceneAddMaterial(ggScene *scene, const ggMaterial *m);
 GG_API int ggSceneSetMaterial(ggScene *scene, int index, const ggMaterial *m);
 /* Takes ownership of img (freed with the scene, also on failure). */
 GG_API int ggSceneAddTexture(ggScene *scene, ggImage *img);
+/* A procedural n x n checkerboard over (u, v), squares of colours a and
+   b (NFF `checker n a b`): n in (0, 1e6], every channel in [0,
+   GG_PARAM_MAX]; else -GG_ERROR_INVALID. */
+GG_API int ggSceneAddChecker(ggScene *scene, double n, ggColor a, ggColor b);
 /* The shapes: -GG_ERROR_INVALID for a coordinate or size that is not
    finite or is over GG_COORD_MAX in magnitude, or a degenerate shape: a
    sphere's radius not > 0; a cone's radius < 0, both 0, or base = apex;

@@ -387,6 +387,15 @@ GG_API int ggSceneAddTexture(ggScene *s, ggImage *img)
     return gg_scene_add_texture_desc(s, &t);
 }
 
+GG_API int ggSceneAddChecker(ggScene *s, double n, ggColor a, ggColor b)
+{
+    gg_texture t;
+    if (!s || !(n > 0 && n <= 1e6) || !color_ok(a) || !color_ok(b)) return -GG_ERROR_INVALID;
+    memset(&t, 0, sizeof t);
+    t.checker_n = n, t.checker_a = a, t.checker_b = b;
+    return gg_scene_add_texture_desc(s, &t);
+}
+
 int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int count, size_t *first)
 {
     int i;

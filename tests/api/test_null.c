@@ -253,6 +253,8 @@ static void test_scene_build(void **state)
     assert_int_equal(ggSceneAddLight(NULL, v[0], (ggColor){1, 1, 1}), -GG_ERROR_INVALID);
     COVER(ggSceneAddMaterial), assert_int_equal(ggSceneAddMaterial(NULL, &m), -GG_ERROR_INVALID);
     COVER(ggSceneSetMaterial), assert_int_equal(ggSceneSetMaterial(NULL, 0, &m), GG_ERROR_INVALID);
+    COVER(ggSceneAddChecker),
+        assert_int_equal(ggSceneAddChecker(NULL, 4, m.color, m.color), -GG_ERROR_INVALID);
     assert_int_equal(ggSceneAddMaterial(s, NULL), -GG_ERROR_INVALID);
     /* Takes ownership: a refused image is freed (LSan would see a leak). */
     COVER(ggSceneAddTexture), assert_int_equal(ggSceneAddTexture(NULL, img), -GG_ERROR_INVALID);

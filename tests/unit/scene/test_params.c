@@ -180,6 +180,45 @@ static void refuse_material(ggScene *s, const ggMaterial *m, const char *field)
     assert_non_null(strstr(e.message, field));
 }
 
+/* ggSceneAddChecker is NFF's `checker`: the same texture description and
+   the same image, built in code; the loader's limits refused alike. */
+static void test_api_checker(void **state)
+{
+    static const char head[] =
+        "v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 24 18\nl 1 1 5\n";
+    static const char rest[] = "checker 8 1 0.5 0 0 0.2 1\nrect -2 -2 0 4 0 0 0 4 0\n";
+    const ggColor a = {1, 0.5, 0}, b = {0, 0.2, 1};
+    const ggVec3 corner = {-2, -2, 0}, e1 = {4, 0, 0}, e2 = {0, 4, 0};
+    char text[256];
+    ggScene *sa = ggSceneCreate(NULL), *sb = ggSceneCreate(NULL);
+    ggMaterial m = ggMaterialDefault();
+    ggTextureInfo ta, tb;
+    ggImage *ia = NULL, *ib = NULL;
+    size_t n = 24 * 18 * 3;
+    (void)state;
+    snprintf(text, sizeof text, "%s%s", head, rest);
+    assert_int_equal(ggSceneLoadString(sa, text, strlen(text), "c.nff", NULL), GG_OK);
+    assert_int_equal(ggSceneLoadString(sb, head, strlen(head), "c.nff", NULL), GG_OK);
+    m.texture = ggSceneAddChecker(sb, 8, a, b);
+    assert_int_equal(m.texture, 0);
+    assert_int_equal(ggSceneAddRect(sb, ggSceneAddMaterial(sb, &m), corner, e1, e2), 0);
+    assert_int_equal(ggSceneGetTexture(sa, 0, &ta), GG_OK);
+    assert_int_equal(ggSceneGetTexture(sb, 0, &tb), GG_OK);
+    assert_memory_equal(&ta, &tb, sizeof ta);
+    assert_int_equal(ggRender(sa, NULL, &ia, NULL, NULL), GG_OK);
+    assert_int_equal(ggRender(sb, NULL, &ib, NULL, NULL), GG_OK);
+    assert_memory_equal(ggImagePixelsConst(ia), ggImagePixelsConst(ib), n * sizeof(float));
+    /* the loader's limits */
+    assert_int_equal(ggSceneAddChecker(sb, 0, a, b), -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneAddChecker(sb, 2e6, a, b), -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneAddChecker(sb, NAN, a, b), -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneAddChecker(sb, 4, (ggColor){-1, 0, 0}, b), -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneAddChecker(sb, 4, a, (ggColor){0, 2e30, 0}), -GG_ERROR_INVALID);
+    assert_int_equal(ggSceneTextureCount(sb), 1);
+    ggImageFree(ia), ggImageFree(ib);
+    ggSceneFree(sa), ggSceneFree(sb);
+}
+
 static void test_api_material(void **state)
 {
     ggScene *s = api_scene();
@@ -364,6 +403,7 @@ int main(void)
         cmocka_unit_test(test_nff_lights_background),
         cmocka_unit_test(test_nff_camera),
         cmocka_unit_test(test_api_material),
+        cmocka_unit_test(test_api_checker),
         cmocka_unit_test(test_dispersion_indices),
         cmocka_unit_test(test_api_lights_background),
         cmocka_unit_test(test_api_camera),
