@@ -56,21 +56,13 @@ ggVec3 gg_offset_origin_fixed(const gg_surf *s, ggVec3 d, double eps)
     return push(s, d, eps, 0);
 }
 
-static double norm_inf(ggVec3 v)
-{
-    double m = fabs(v.x);
-    if (fabs(v.y) > m) m = fabs(v.y);
-    if (fabs(v.z) > m) m = fabs(v.z);
-    return m;
-}
-
 /* A hit near the target carries the rounding of the coordinates it is
    computed from, a few units of 2^-53 (|o| + |target|) in space, which
    is that over |target - o| in t; K of them, as at the origin. */
 double gg_offset_end(ggVec3 o, ggVec3 target)
 {
-    double len = norm_inf(v3sub(target, o)), t;
+    double len = v3maxabs(v3sub(target, o)), t;
     if (!(len > 0)) return 0.5;
-    t = 1 - GG_OFFSET_K * 0x1p-53 * (norm_inf(o) + norm_inf(target)) / len;
+    t = 1 - GG_OFFSET_K * 0x1p-53 * (v3maxabs(o) + v3maxabs(target)) / len;
     return t > 0.5 ? t : 0.5;
 }

@@ -235,13 +235,6 @@ void gg_shade_set_layers(gg_shade_ctx *ctx, const struct ggPathLayers *layers)
     if (layers) ctx->fx |= FX_AOV;
 }
 
-/* The max norm of v. */
-static inline double norm_max(ggVec3 v)
-{
-    double m = fabs(v.x), y = fabs(v.y), z = fabs(v.z);
-    m = y > m ? y : m;
-    return z > m ? z : m;
-}
 /* Whether a light lies inside the box of the scene's primitives grown by
    2^-40 of the coordinates' size (far more than a hit's rounding): only
    there can a surface's crossing round onto the light. */
@@ -253,7 +246,7 @@ static int light_in_bounds(const ggScene *s)
     gg_geom_bounds(s->geom, &lo, &hi);
     for (i = 0; i < s->nlights; i++) {
         ggVec3 L = s->lights[i].pos;
-        double m = 0x1p-40 * (norm_max(lo) + norm_max(hi) + norm_max(L));
+        double m = 0x1p-40 * (v3maxabs(lo) + v3maxabs(hi) + v3maxabs(L));
         if (L.x >= lo.x - m && L.x <= hi.x + m && L.y >= lo.y - m && L.y <= hi.y + m &&
             L.z >= lo.z - m && L.z <= hi.z + m)
             return 1;

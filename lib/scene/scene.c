@@ -293,11 +293,16 @@ GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
     return (int)s->nlights++;
 }
 
+/* What ggSceneAddMaterial and ggSceneSetMaterial accept. */
+static bool material_ok(const ggScene *s, const ggMaterial *m)
+{
+    return ggMaterialCheck(m, NULL) == GG_OK &&
+           (m->texture < 0 || (size_t)m->texture < s->ntextures);
+}
+
 GG_API int ggSceneAddMaterial(ggScene *s, const ggMaterial *m)
 {
-    if (!s || ggMaterialCheck(m, NULL) != GG_OK ||
-        (m->texture >= 0 && (size_t)m->texture >= s->ntextures))
-        return -GG_ERROR_INVALID;
+    if (!s || !material_ok(s, m)) return -GG_ERROR_INVALID;
     if (gg_mem_grow(s->alloc, (void **)&s->materials, &s->cap_materials, s->nmaterials + 1,
                     sizeof *m))
         return -GG_ERROR_NOMEM;
@@ -308,8 +313,7 @@ GG_API int ggSceneAddMaterial(ggScene *s, const ggMaterial *m)
 
 GG_API int ggSceneSetMaterial(ggScene *s, int index, const ggMaterial *m)
 {
-    if (!s || index < 0 || (size_t)index >= s->nmaterials || ggMaterialCheck(m, NULL) != GG_OK ||
-        (m->texture >= 0 && (size_t)m->texture >= s->ntextures))
+    if (!s || index < 0 || (size_t)index >= s->nmaterials || !material_ok(s, m))
         return GG_ERROR_INVALID;
     unprepare(s);
     s->materials[index] = *m;
