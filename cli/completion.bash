@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: MIT
 # bash completion for ggrt: commands, optics forms and bench subcommands,
-# each command's options, the choices an option lists (--format text|json)
-# and file names where an option or argument takes a file. Everything is
+# each command's options (a bench subcommand's own), the choices an option
+# lists (--format text|json), the names and values of NAME=VALUE lists
+# (-a offset=fixed,shadows=opaque) and file names where an option or
+# argument takes a file. Everything is
 # read from ggrt's own --help at the moment of completing, so it knows
 # what that ggrt knows; nothing here lists an option.
 # `make install` puts it in $(BASHCOMPDIR) as "ggrt", where bash-completion
@@ -24,18 +26,68 @@ _ggrt_section() {
         on && /^  [a-z]/ { print $1 }'
 }
 
-# _ggrt_options HELP: one line per option of a --help text, "NAMES META",
-# NAMES as "-o,--output" or "--pixel", META the value's name or "".
+# _ggrt_options HELP: one line per option of a --help text, "NAMES META
+# FOR", NAMES as "-o,--output" or "--pixel", META the value's name or
+# "-", FOR the "spd" of a description that starts "spd: ..." (an option
+# of one bench subcommand) or "-".
 _ggrt_options() {
     printf '%s\n' "$1" | awk '
+        function put() { if (names != "") print names, (meta == "" ? "-" : meta), fr; names = "" }
         /^  -[a-zA-Z], --|^      --[a-z]/ {
+            put()
             s = $0; sub(/^ +/, "", s); sub(/  .*/, "", s)
             n = split(s, w, " "); names = ""; meta = ""
             for (i = 1; i <= n; i++)
                 if (w[i] ~ /^-/) { sub(/,$/, "", w[i]); names = names (names == "" ? "" : ",") w[i] }
                 else { meta = w[i]; break }
-            print names, meta
-        }'
+            d = length($0) > 24 && substr($0, 23, 2) == "  " ? substr($0, 25) : ""
+            fr = d ~ /^[a-z]+: / ? substr(d, 1, index(d, ":") - 1) : (d == "" ? "?" : "-")
+            next
+        }
+        names != "" && fr == "?" { d = $0; sub(/^ +/, "", d)
+            fr = d ~ /^[a-z]+: / ? substr(d, 1, index(d, ":") - 1) : "-" }
+        names != "" && !/^                        / { put() }
+        END { put() }'
+}
+
+# _ggrt_desc HELP OPTION: OPTION's entry in a --help text, its first line
+# and the lines indented under it, joined.
+_ggrt_desc() {
+    printf '%s\n' "$1" | awk -v o="$2" '
+        on && (/^  -/ || /^[^ ]/ || /^$/) { exit }
+        on { printf " %s", $0 }
+        !on && /^  / { s = $0; sub(/  [^ -].*/, "", s); n = split(s, w, /[ ,]+/)
+            for (i = 1; i <= n; i++) if (w[i] == o) { on = 1; printf "%s", $0 } }'
+}
+
+# _ggrt_pairs META CUR OPTION HELP WORDS...: complete the last element of
+# a NAME=VALUE,... list (--accuracy offset=fixed,sph): a NAME, or a
+# VALUE for the NAME typed. Names and values come from "name=a|b" in the
+# option's --help entry; where it has none, from the parser's message
+# for a bad list ("a NAME of x, y and a LEVEL of p, q"). Placeholders in
+# capitals (EPS, W) are not offered.
+_ggrt_pairs() {
+    local meta=$1 cur=$2 opt=$3 help=$4 pre elem name names vals desc err a b
+    shift 4
+    pre="" elem=$cur
+    [[ $cur == *,* ]] && pre=${cur%,*}, elem=${cur##*,}
+    desc=$(_ggrt_desc "$help" "$opt" | grep -oE '[a-z][a-z0-9-]*=[a-z0-9|-]*')
+    if [[ -n $desc ]]; then
+        names=$(printf '%s\n' "$desc" | sed 's/=.*//')
+        [[ $elem == *=* ]] && vals=$(printf '%s\n' "$desc" | sed -n "s/^${elem%%=*}=//p" | tr '|' ' ')
+    else
+        a=${meta%%=*} b=${meta#*=} b=${b%%,*}
+        err=$("$@" "$opt" '?' --ggrt-completion-probe 2>&1 >/dev/null </dev/null)
+        names=$(printf '%s\n' "$err" | sed -n "s/.* $a of \(.*\) and a $b of .*/\1/p" | tr -d ',')
+        vals=$(printf '%s\n' "$err" | sed -n "s/.* and a $b of \(.*\)/\1/p" | tr -d ',')
+    fi
+    if [[ $elem == *=* ]]; then
+        name=${elem%%=*}
+        mapfile -t COMPREPLY < <(compgen -P "$pre$name=" -W "$vals" -- "${elem#*=}")
+    else
+        mapfile -t COMPREPLY < <(compgen -P "$pre" -S = -W "$names" -- "$elem")
+        compopt -o nospace 2>/dev/null
+    fi
 }
 
 # _ggrt_value META CUR OPTION WORDS...: complete OPTION's value, named
@@ -58,23 +110,41 @@ _ggrt_value() {
 }
 
 _ggrt() {
-    local prog cur prev i w cmd="" sub="" subpos=0 help opts names meta
-    local -a path=()
+    local prog cur prev i w cmd="" sub="" subpos=0 help opts names meta cword=-1 strip r
+    local -a path=() words=()
     COMPREPLY=()
-    cur=${COMP_WORDS[COMP_CWORD]}
+    # bash splits a word at '=' (COMP_WORDBREAKS): --format=te arrives as
+    # "--format" "=" "te", -a offset=fixed,sh as "-a" "offset" "=" "fixed,sh".
+    # Join them again into the words as typed.
+    for ((i = 0; i <= COMP_CWORD; i++)); do
+        w=${COMP_WORDS[i]}
+        if ((cword >= 0)) && [[ $w == = || ${COMP_WORDS[i - 1]} == = ]]; then
+            words[cword]+=$w
+        else
+            words[++cword]=$w
+        fi
+    done
+    cur=${words[cword]}
     prev=""
-    ((COMP_CWORD > 0)) && prev=${COMP_WORDS[COMP_CWORD - 1]}
-    # --format=te: bash splits it at the '=' (COMP_WORDBREAKS) into
-    # "--format" "=" "te"; "--format=" alone ends in the word "=".
-    if [[ $cur == = ]] && ((COMP_CWORD > 1)); then
-        prev=${COMP_WORDS[COMP_CWORD - 1]} cur=""
-    elif [[ $prev == = ]] && ((COMP_CWORD > 1)); then
-        prev=${COMP_WORDS[COMP_CWORD - 2]}
-    fi
+    ((cword > 0)) && prev=${words[cword - 1]}
+    [[ $cur == --*=* ]] && prev=${cur%%=*} cur=${cur#*=}
+    _ggrt_complete
+    # What bash replaces is the part of the word after its last '=': the
+    # completions go back without what comes before it.
+    strip=""
+    [[ $cur == *=* ]] && strip=${cur%=*}=
+    [[ -n $strip ]] && for i in "${!COMPREPLY[@]}"; do
+        r=${COMPREPLY[i]}
+        COMPREPLY[i]=${r#"$strip"}
+    done
+}
+
+# _ggrt's work on words[0..cword], cur and prev, filling COMPREPLY.
+_ggrt_complete() {
     prog=$(_ggrt_prog)
     # The command: the first word after ggrt that is not an option.
-    for ((i = 1; i < COMP_CWORD; i++)); do
-        w=${COMP_WORDS[i]}
+    for ((i = 1; i < cword; i++)); do
+        w=${words[i]}
         [[ $w == -* ]] && continue
         cmd=$w subpos=$((i + 1))
         break
@@ -88,9 +158,9 @@ _ggrt() {
         return
     fi
     if [[ $cmd == help ]]; then
-        if ((COMP_CWORD == subpos)); then
+        if ((cword == subpos)); then
             mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$("$prog" --help 2>/dev/null)" commands)" -- "$cur")
-        elif ((COMP_CWORD == subpos + 1)) && [[ ${COMP_WORDS[subpos]} == optics ]]; then
+        elif ((cword == subpos + 1)) && [[ ${words[subpos]} == optics ]]; then
             mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$("$prog" optics --help 2>/dev/null)" forms)" -- "$cur")
         fi
         return
@@ -100,7 +170,7 @@ _ggrt() {
     # optics FORM and bench SUB: the word after the command, from the
     # forms: section or the usage's a|b|c.
     if [[ $cmd == optics || $cmd == bench ]]; then
-        if ((COMP_CWORD == subpos)) && [[ $cur != -* ]]; then
+        if ((cword == subpos)) && [[ $cur != -* ]]; then
             if [[ $cmd == optics ]]; then
                 mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$help" forms)" -- "$cur")
             else
@@ -109,7 +179,7 @@ _ggrt() {
             fi
             return
         fi
-        sub=${COMP_WORDS[subpos]}
+        sub=${words[subpos]}
         [[ $cmd == bench && $sub != -* && -n $sub ]] && path+=("$sub")
         if [[ $cmd == optics && $sub != -* && -n $sub ]]; then
             help=$("$prog" optics "$sub" --help 2>/dev/null) || return
@@ -117,11 +187,16 @@ _ggrt() {
         fi
     fi
     opts=$(_ggrt_options "$help")
+    # bench SUB: not the options whose help gives them to another one
+    [[ $cmd == bench && ${#path[@]} -gt 2 ]] &&
+        opts=$(printf '%s\n' "$opts" | awk -v s="$sub" '$3 == "-" || $3 == s')
     # A value for the option before the cursor.
     if [[ $prev == -* ]]; then
-        while read -r names meta; do
+        while read -r names meta _; do
+            [[ $meta == - ]] && meta=""
             [[ ,$names, == *",$prev,"* ]] || continue
             # the parser's messages name the long option: probe with it
+            [[ $meta == [A-Z]*=[A-Z]*,* ]] && { _ggrt_pairs "$meta" "$cur" "${names##*,}" "$help" "${path[@]}"; return; }
             [[ -n $meta ]] && { _ggrt_value "$meta" "$cur" "${names##*,}" "${path[@]}"; return; }
             break
         done <<<"$opts"

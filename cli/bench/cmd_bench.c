@@ -137,7 +137,7 @@ int cmd_bench(int argc, char **argv)
                        "(-p 1 and -p 16), rounds interleaved"),
         CLI_OPT_STRING(0, "scenes", &bo.scenes, "LIST", "comma-separated subset of scene names"),
         CLI_OPT_STRING(0, "out", &bo.out_dir, "DIR",
-                       "where accuracy writes its CSV and SVG (default .)"),
+                       "accuracy: where it writes its CSV and SVG (default .)"),
         CLI_OPT_MANY('a', "accuracy", cli_parse_accuracy, &bo.accuracy, "KNOB=V,...",
                      "spd: render ggrt with these accuracy knobs (as in\n"
                      "'ggrt render --accuracy'), e.g. shadows=opaque for the\n"

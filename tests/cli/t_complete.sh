@@ -23,6 +23,15 @@ comp() { bash "$tmp/comp.bash" comp "$ggrt" "$@"; }
 longs() { "$ggrt" "$@" --help | grep -E '^(  -[a-zA-Z], |      )--[a-z]' |
           sed -E 's/^ +(-[a-zA-Z], )?(--[a-z][a-z0-9-]*).*/\2/' | sort -u; }
 
+# benchlongs SUB: bench's long options less those whose help gives them
+# to another subcommand ("spd: ...", on the option's line or the next).
+benchlongs() { "$ggrt" bench --help | awk -v s="$1" '
+  /^(  -[a-zA-Z], |      )--[a-z]/ { if (o != "") print o; o = $0; sub(/^ +(-[a-zA-Z], )?/, "", o)
+    sub(/[ ].*/, "", o); d = length($0) > 24 && substr($0, 23, 2) == "  " ? substr($0, 25) : ""; sub(/^ +/, "", d); if (d != "") t(d); next }
+  o != "" && d == "" { d = $0; sub(/^ +/, "", d); t(d) }
+  function t(x) { if (x ~ /^[a-z]+: / && substr(x, 1, index(x, ":") - 1) != s) o = "" }
+  END { if (o != "") print o }' | sort -u; }
+
 cmds=$("$ggrt" --help | awk '/^commands:/ { on = 1; next } on && /^[^ ]/ { on = 0 } on && NF { print $1 }' | sort)
 got=$(comp "")
 if [ "$got" = "$(printf '%s\nhelp\n' "$cmds" | sort)" ] && [ "$(comp re)" = render ]; then
@@ -49,12 +58,12 @@ nopts=0 nchoice=0 nshort=0 failed=""
 for c in $cmds; do
   case $c in
     optics) words=$(for f in $forms; do echo "optics:$f"; done) ;;
-    bench) words="bench:spd" ;;
+    bench) words=$(for b in $subs; do echo "bench:$b"; done) ;;
     *) words=$c ;;
   esac
   for w in $words; do
     set -- $(echo "$w" | tr ':' ' ')
-    want=$(case $1 in bench) longs bench ;; *) longs "$@" ;; esac)
+    want=$(case $1 in bench) benchlongs "$2" ;; *) longs "$@" ;; esac)
     got=$(comp "$@" --)
     [ "$got" = "$want" ] || failed="$failed
 $w: got $(echo $got), want $(echo $want)"
@@ -91,6 +100,39 @@ got2=$(comp optics check --format =)
 [ "$got" = json ] && [ "$got2" = "$(printf 'json\ntext')" ] &&
   ok "completion: a value after --format= and --format=j" ||
   bad "completion: a value after --format=" "--format=j: $got; --format=: $got2"
+
+# NAME=VALUE lists (-a offset=fixed,shadows=opaque, --severity): every
+# option whose value is one, in every command: the names offered, each
+# with its values, every pair one the parser takes; then the list's last
+# element completed after a comma, as bash splits the word at '='.
+npairs=0 nnames=0 failed=""
+for c in $cmds; do
+  case $c in optics) continue ;; bench) set -- bench spd ;; *) set -- "$c" ;; esac
+  for o in $("$ggrt" "$@" --help | sed -n 's/^ *\(-[a-zA-Z], \)\{0,1\}\(--[a-z-]*\) [A-Z]*=[A-Z]*,.*/\2/p'); do
+    names=$(comp "$@" "$o" "")
+    [ -n "$names" ] || failed="$failed
+$* $o: no names offered"
+    for n in $names; do
+      nnames=$((nnames + 1))
+      case $n in *=) ;; *) failed="$failed
+$* $o: '$n' does not end in '='"; continue ;; esac
+      for v in $(comp "$@" "$o" "${n%=}" =); do
+        npairs=$((npairs + 1))
+        err=$("$ggrt" "$@" "$o" "$n$v" --ggrt-completion-probe 2>&1 >/dev/null)
+        case $err in *"unknown option '--ggrt-completion-probe'"*) ;; *) failed="$failed
+$* $o $n$v: $err" ;; esac
+      done
+    done
+  done
+done
+got=$(comp render -a offset = fixed,sh)
+got2=$(comp check --severity near-tir = info,grazing = w)
+if [ -z "$failed" ] && [ $npairs -ge 20 ] && [ "$got" = "fixed,shadows=" ] && [ "$got2" = warning ]; then
+  ok "completion: NAME=VALUE lists ($nnames names, $npairs pairs, each taken by the parser), after a comma too"
+else
+  bad "completion: NAME=VALUE lists ($nnames names, $npairs pairs)" "$failed
+offset=fixed,sh: $got; near-tir=info,grazing=w: $got2"
+fi
 
 got=$(comp help optics re)
 [ "$got" = "$(printf 'reflect\nrefract')" ] && ok "completion: 'ggrt help optics' offers the forms" ||
