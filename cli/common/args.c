@@ -311,33 +311,32 @@ static size_t distance(const char *a, const char *b)
 
 const char *cli_suggest(const char *word, const char *const *names, size_t n)
 {
-    const char *best = NULL;
-    size_t bd = 3, d, i;
-    for (i = 0; i < n; i++)
+    const char *best = NULL, *prefixed = NULL;
+    size_t len = strlen(word), bd = len / 3 + 1, nprefixed = 0, d, i;
+    if (bd > 3) bd = 3;
+    for (i = 0; i < n; i++) {
+        if (len && !strncmp(names[i], word, len)) prefixed = names[i], nprefixed++;
         if ((d = distance(word, names[i])) < bd) bd = d, best = names[i];
-    return best;
+    }
+    return nprefixed == 1 ? prefixed : best;
 }
 
 static cli_opt *find_long(const cli_cmd *cmd, const char *name, size_t len);
 
-/* The option an unknown --word most likely meant: the one it starts
-   (--out for --output), else the nearest by edits, at most one edit in
-   three letters (--depht: --depth; not --frob: --crop). */
+/* The long option an unknown --word most likely meant (cli_suggest over
+   the command's long names). */
 static const char *nearest_long(const cli_cmd *cmd, const char *word)
 {
-    const char *best = NULL, *prefixed = NULL;
-    size_t bd = strlen(word) / 3 + 1, t, len = strlen(word), nprefixed = 0;
+    const char *names[256];
+    size_t t, n = 0;
     int i;
     for (t = 0; cmd->opts[t]; t++)
         for (i = 0; cmd->opts[t][i].kind != CLI_END; i++) {
             const cli_opt *o = &cmd->opts[t][i];
-            size_t d;
-            if (o->kind == CLI_SECTION || !o->name) continue;
-            if (len && !strncmp(o->name, word, len)) prefixed = o->name, nprefixed++;
-            if ((d = distance(word, o->name)) < bd) bd = d, best = o->name;
+            if (o->kind != CLI_SECTION && o->name && n < sizeof names / sizeof names[0])
+                names[n++] = o->name;
         }
-    if (nprefixed == 1) return prefixed;
-    return best && bd < 3 ? best : NULL;
+    return cli_suggest(word, names, n);
 }
 
 /* An unknown option, with the one it most likely meant: for -b, a --b

@@ -212,8 +212,12 @@ void cli_help(FILE *f, const cli_cmd *cmd);
    returns EXIT_USAGE. */
 int cli_usage_error(const cli_cmd *cmd, const char *fmt, ...) CLI_PRINTF(2, 3);
 
-/* The name of names[0..n) closest to word within two edits (for "did
-   you mean"), or NULL. */
+/* The name of names[0..n) that word most likely meant (for "did you
+   mean"), or NULL: the only one it starts (--out for --output), else the
+   nearest by edits (insertions, deletions, changes and swaps of two
+   neighbours), at most one edit in three letters and never three
+   (--depht: --depth; not --frob: --crop). lib/debug's settings and
+   fields (gg_dbg_suggest) follow the same rule. */
 const char *cli_suggest(const char *word, const char *const *names, size_t n);
 
 /* How many times option `name` (long name, or the one-letter short name)

@@ -278,8 +278,11 @@ int gg_dbg_nonfinite(ggColor c);
    returns the bytes it takes (0 if none, or if it is 128 bytes or
    longer) and the value in *out. */
 size_t gg_dbg_number(const char *s, size_t n, double *out);
-/* The edit distance between a[0..na) and the string b (insertions,
-   deletions, changes), for "did you mean"; 99 past 32 bytes. */
-int gg_dbg_distance(const char *a, size_t na, const char *b);
+/* The index in names[0..count) of the name s[0..n) most likely meant,
+   for "did you mean", or -1: the only name it starts, else the nearest
+   by edits (insertions, deletions, changes and swaps of neighbours), at
+   most one edit in three letters and never three. The rule of the
+   command line's suggestions (cli_suggest, cli/common/args.h). */
+int gg_dbg_suggest(const char *s, size_t n, const char *const *names, size_t count);
 
 #endif

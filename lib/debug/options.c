@@ -213,21 +213,20 @@ static const char *const setting_names[] = {
     "spd",     "spd-rules", "corners", "force-effects"};
 
 /* An unknown setting: a command-line option where a NAME=VALUE goes
-   (-d 8 for depth=8), or a name within two edits of one. */
+   (-d 8 for depth=8), or a misspelt name (gg_dbg_suggest). */
 static int unknown_setting(const word *w, size_t n, ggError *err)
 {
-    const char *s = w->s + w->at, *best = NULL;
-    size_t i;
-    int bd = 3, d;
+    const char *s = w->s + w->at;
+    int best;
     if (n && s[0] == '-')
         return fail(w, w->at, err,
                     "unknown setting '%.*s': settings are NAME=VALUE (depth=8, size=64x48), "
                     "not options",
                     (int)n, s);
-    for (i = 0; i < sizeof setting_names / sizeof setting_names[0]; i++)
-        if ((d = gg_dbg_distance(s, n, setting_names[i])) < bd) bd = d, best = setting_names[i];
-    if (best)
-        return fail(w, w->at, err, "unknown setting '%.*s'; did you mean '%s'?", (int)n, s, best);
+    best = gg_dbg_suggest(s, n, setting_names, sizeof setting_names / sizeof setting_names[0]);
+    if (best >= 0)
+        return fail(w, w->at, err, "unknown setting '%.*s'; did you mean '%s'?", (int)n, s,
+                    setting_names[best]);
     return fail(w, w->at, err, "unknown setting '%.*s'", (int)n, s);
 }
 

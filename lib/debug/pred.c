@@ -256,15 +256,14 @@ static int p_or(parser *ps);
 /* An unknown name: a field misspelt, or a named value used alone. */
 static int unknown_name(parser *ps, size_t pos, const char *s, size_t n)
 {
-    int i, best = -1, bd = 3;
+    const char *names[PF_COUNT];
+    int i, best;
     for (i = 0; i < PF_COUNT; i++)
         if (fields[i].type == PT_ENUM && enum_value(i, s, n) != NO_VALUE)
             return fail(ps, pos, GG_ERROR_PARSE, "'%.*s' is a value of %s: write %s == %.*s",
                         (int)n, s, fields[i].name, fields[i].name, (int)n, s);
-    for (i = 0; i < PF_COUNT; i++) {
-        int d = gg_dbg_distance(s, n, fields[i].name);
-        if (d < bd) bd = d, best = i;
-    }
+    for (i = 0; i < PF_COUNT; i++) names[i] = fields[i].name;
+    best = gg_dbg_suggest(s, n, names, PF_COUNT);
     if ((n == 4 && !strncmp(s, "some", n)) || (n == 3 && !strncmp(s, "all", n)) ||
         (n == 5 && !strncmp(s, "count", n)))
         return fail(ps, pos, GG_ERROR_PARSE, "'%.*s' needs a ray expression in ( )", (int)n, s);

@@ -55,7 +55,10 @@ void gg_dbg_put(ggImage *img, int x, int y, ggColor c)
     p[0] = (float)c.r, p[1] = (float)c.g, p[2] = (float)c.b;
 }
 
-int gg_dbg_distance(const char *a, size_t na, const char *b)
+/* The edit distance between a[0..na) and b: insertions, deletions,
+   changes and swaps of two neighbours (dpeth is one edit from depth);
+   99 past 32 bytes. */
+static int distance(const char *a, size_t na, const char *b)
 {
     int d[34][34];
     size_t nb = strlen(b), i, j;
@@ -67,7 +70,22 @@ int gg_dbg_distance(const char *a, size_t na, const char *b)
             int c = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
             if (d[i - 1][j] + 1 < c) c = d[i - 1][j] + 1;
             if (d[i][j - 1] + 1 < c) c = d[i][j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
+                d[i - 2][j - 2] + 1 < c)
+                c = d[i - 2][j - 2] + 1;
             d[i][j] = c;
         }
     return d[na][nb];
+}
+
+int gg_dbg_suggest(const char *s, size_t n, const char *const *names, size_t count)
+{
+    int best = -1, bd = (int)(n / 3 + 1), prefixed = -1, nprefixed = 0, d;
+    size_t i;
+    if (bd > 3) bd = 3;
+    for (i = 0; i < count; i++) {
+        if (n && !strncmp(names[i], s, n)) prefixed = (int)i, nprefixed++;
+        if ((d = distance(s, n, names[i])) < bd) bd = d, best = (int)i;
+    }
+    return nprefixed == 1 ? prefixed : best;
 }

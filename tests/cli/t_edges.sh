@@ -184,6 +184,19 @@ for c in render trace find check diff info optics bench serve; do
   then ok "unknown command ${c}x: did you mean $c"
   else bad "unknown command ${c}x: did you mean $c (exit $got)" "$(cat "$ed/err")"; fi
 done
+# The one rule of every "did you mean" (cli_suggest): a word that starts
+# one name names it, a swap of two letters is one edit, and a short word
+# gets no guess two edits away.
+for pair in ren:render tarce:trace ch:check di:diff; do
+  "$ggrt" "${pair%%:*}" >"$ed/out" 2>"$ed/err"
+  grep -qxF "ggrt: unknown command '${pair%%:*}'; did you mean '${pair#*:}'?" "$ed/err" &&
+    ok "unknown command ${pair%%:*}: did you mean ${pair#*:}" ||
+    bad "unknown command ${pair%%:*}: did you mean ${pair#*:}" "$(cat "$ed/err")"
+done
+"$ggrt" inf0x >"$ed/out" 2>"$ed/err"
+grep -qxF "ggrt: unknown command 'inf0x'" "$ed/err" &&
+  ok "unknown command inf0x: no guess two edits from a five-letter word" ||
+  bad "unknown command inf0x: no guess two edits from a five-letter word" "$(cat "$ed/err")"
 "$ggrt" frobnicate >"$ed/out" 2>"$ed/err"; got=$?
 [ $got = 1 ] && [ "$(wc -l <"$ed/err")" = 2 ] && grep -qxF "ggrt: unknown command 'frobnicate'" "$ed/err" &&
   ok "unknown command frobnicate: two lines, no guess" ||

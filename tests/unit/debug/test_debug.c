@@ -1288,6 +1288,15 @@ static void test_options_text(void **state)
     assert_memory_equal(&o, &p, sizeof o);
     assert_int_equal(ggRenderOptionsParse(&p, "depht=3", &e), GG_ERROR_PARSE);
     assert_string_equal(e.message, "1:1: unknown setting 'depht'; did you mean 'depth'?");
+    /* the command line's rule (cli_suggest): a start names the one
+       setting it starts, a swap is one edit, a short word gets no guess
+       two edits away */
+    assert_int_equal(ggRenderOptionsParse(&p, "ray=3", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:1: unknown setting 'ray'; did you mean 'ray-budget'?");
+    assert_int_equal(ggRenderOptionsParse(&p, "dpeth=3", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:1: unknown setting 'dpeth'; did you mean 'depth'?");
+    assert_int_equal(ggRenderOptionsParse(&p, "sz=3", &e), GG_ERROR_PARSE);
+    assert_string_equal(e.message, "1:1: unknown setting 'sz'");
     assert_int_equal(ggRenderOptionsParse(&p, "frobnicate=3", &e), GG_ERROR_PARSE);
     assert_string_equal(e.message, "1:1: unknown setting 'frobnicate'");
     assert_int_equal(ggRenderOptionsParse(&p, "depth=3 -d 8", &e), GG_ERROR_PARSE);
