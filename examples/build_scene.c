@@ -47,10 +47,15 @@ int main(int argc, char **argv)
     glass.kd = 0, glass.kt = 0.95, glass.ior = 1.5, glass.fresnel = GG_FRESNEL_EXACT;
     red = ggMaterialDefault();
     red.color = col(0.9, 0.2, 0.1), red.kd = 0.8, red.ks = 0.2, red.shine = 30;
-    mfloor = ggSceneAddMaterial(scene, &floor);
-    mglass = ggSceneAddMaterial(scene, &glass);
-    mred = ggSceneAddMaterial(scene, &red);
-    if (mfloor < 0 || mglass < 0 || mred < 0) return 1;
+    /* A building call that fails returns a negative status, and
+       ggSceneLastError says why ("ggSceneAddMaterial: kt must be in ...") */
+    if ((mfloor = ggSceneAddMaterial(scene, &floor)) < 0 ||
+        (mglass = ggSceneAddMaterial(scene, &glass)) < 0 ||
+        (mred = ggSceneAddMaterial(scene, &red)) < 0) {
+        fprintf(stderr, "build_scene: %s\n", ggSceneLastError(scene)->message);
+        ggSceneFree(scene);
+        return 1;
+    }
 
     ggSceneAddRect(scene, mfloor, vec(-5, -5, 0), vec(10, 0, 0), vec(0, 10, 0));
     ggSceneAddSphere(scene, mglass, vec(0, 0, 1), 1);

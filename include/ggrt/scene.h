@@ -201,10 +201,24 @@ GG_API int64_t ggSceneSetTextureBudget(ggScene *scene, int64_t bytes);
 
 /* ---- building in code ----
    Functions that add something return its index (>= 0), or a negative
-   status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID) on failure; the setters
-   return GG_OK or GG_ERROR_INVALID. Invalid values are refused by the rule
-   the NFF loader applies (docs/scene-format.md, "Parameter ranges"), and
-   the scene is then unchanged. */
+   status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID, -GG_ERROR_LIMIT) on
+   failure; the setters return GG_OK or GG_ERROR_INVALID. Invalid values
+   are refused by the rule the NFF loader applies (docs/scene-format.md,
+   "Parameter ranges"), and the scene is then unchanged but for what
+   ggSceneLastError says. */
+
+/* Why the last building call on this scene failed, as SQLite's
+   sqlite3_errmsg() tells a connection's: the code (the status returned,
+   made positive) and a message naming the function, the value and the
+   rule, "ggSceneAddSphere: the radius must be > 0, got -1"; code GG_OK and
+   message "" after a building call that succeeded (and before any). The
+   building calls are the functions of this section from
+   ggSceneSetCamera to ggSceneAddImplicit, ggSceneSetDepth and
+   ggSceneSetSamples; a call with a NULL scene has nowhere to say it.
+   Valid until the next call that writes to the scene; NULL for a NULL
+   scene. */
+GG_API const ggError *ggSceneLastError(const ggScene *scene);
+
 /* GG_ERROR_INVALID unless ggCameraCheck(cam) accepts it. */
 GG_API int ggSceneSetCamera(ggScene *scene, const ggCamera *cam);
 /* The camera; all zero for a NULL scene. */

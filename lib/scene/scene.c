@@ -230,12 +230,50 @@ GG_API int ggMaterialCheck(const ggMaterial *m, ggError *err)
     return GG_OK;
 }
 
+/* ---- building in code ----
+   Each building function answers through done() or refuse(): its status,
+   and the message ggSceneLastError gives ("" after a success). */
+
+static int done(ggScene *s, int rc)
+{
+    s->last.code = GG_OK;
+    s->last.message[0] = '\0';
+    return rc;
+}
+
+/* rc is the status returned (GG_ERROR_x, or -GG_ERROR_x where success is
+   an index); the message is "FN: what". */
+static int refuse(ggScene *s, int rc, const char *fmt, ...) GG_PRINTF(3, 4);
+static int refuse(ggScene *s, int rc, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    gg_error_setv(&s->last, rc < 0 ? -rc : rc, fmt, ap);
+    va_end(ap);
+    return rc;
+}
+
+static int bad_channels(ggScene *s, int rc, const char *fn, const char *what, ggColor c)
+{
+    return refuse(s, rc, "%s: every channel of %s must be in [0, %g], got %g %g %g", fn, what,
+                  GG_PARAM_MAX, c.r, c.g, c.b);
+}
+
+GG_API const ggError *ggSceneLastError(const ggScene *s)
+{
+    return s ? &s->last : NULL;
+}
+
 GG_API int ggSceneSetCamera(ggScene *s, const ggCamera *cam)
 {
-    if (!s || !cam || gg_camera_fault(cam) != GG_CAMERA_OK) return GG_ERROR_INVALID;
+    int f;
+    if (!s) return GG_ERROR_INVALID;
+    if (!cam) return refuse(s, GG_ERROR_INVALID, "ggSceneSetCamera: NULL camera");
+    if ((f = gg_camera_fault(cam)) != GG_CAMERA_OK)
+        return refuse(s, GG_ERROR_INVALID, "ggSceneSetCamera: %s", gg_camera_fault_text(f));
     s->camera = *cam;
     s->has_camera = true;
-    return GG_OK;
+    return done(s, GG_OK);
 }
 GG_API ggCamera ggSceneCamera(const ggScene *s)
 {
@@ -246,15 +284,19 @@ GG_API ggCamera ggSceneCamera(const ggScene *s)
 }
 GG_API int ggSceneSetBackground(ggScene *s, ggColor c)
 {
-    if (!s || !color_ok(c)) return GG_ERROR_INVALID;
+    if (!s) return GG_ERROR_INVALID;
+    if (!color_ok(c))
+        return bad_channels(s, GG_ERROR_INVALID, "ggSceneSetBackground", "the colour", c);
     s->background = c;
-    return GG_OK;
+    return done(s, GG_OK);
 }
 GG_API int ggSceneSetAmbient(ggScene *s, ggColor c)
 {
-    if (!s || !color_ok(c)) return GG_ERROR_INVALID;
+    if (!s) return GG_ERROR_INVALID;
+    if (!color_ok(c))
+        return bad_channels(s, GG_ERROR_INVALID, "ggSceneSetAmbient", "the colour", c);
     s->ambient = c;
-    return GG_OK;
+    return done(s, GG_OK);
 }
 GG_API void ggSceneSetImageReader(ggScene *s, ggImageReader fn, void *ud)
 {
@@ -264,60 +306,90 @@ GG_API void ggSceneSetImageReader(ggScene *s, ggImageReader fn, void *ud)
 }
 GG_API int ggSceneSetDepth(ggScene *s, int d)
 {
-    if (!s || d < 0 || d > 64) return GG_ERROR_INVALID;
+    if (!s) return GG_ERROR_INVALID;
+    if (d < 0 || d > 64)
+        return refuse(s, GG_ERROR_INVALID,
+                      "ggSceneSetDepth: max_depth must be 0 (the renderer's) or 1 to 64, got %d",
+                      d);
     s->depth = d;
-    return GG_OK;
+    return done(s, GG_OK);
 }
 GG_API int ggSceneSetSamples(ggScene *s, int n)
 {
-    if (!s || n < 0 || n > 4096) return GG_ERROR_INVALID;
+    if (!s) return GG_ERROR_INVALID;
+    if (n < 0 || n > 4096)
+        return refuse(s, GG_ERROR_INVALID,
+                      "ggSceneSetSamples: samples_per_pixel must be 0 (the renderer's) or 1 to "
+                      "4096, got %d",
+                      n);
     s->samples = n;
-    return GG_OK;
+    return done(s, GG_OK);
 }
 
 GG_API int ggSceneAddLight(ggScene *s, ggVec3 pos, ggColor color)
 {
     gg_light *l;
-    if (!s || !v3finite(pos) || !gg_scene_coord_ok(pos) || !isfinite(color.g) ||
-        !isfinite(color.b) || !isfinite(color.r))
-        return -GG_ERROR_INVALID;
+    if (!s) return -GG_ERROR_INVALID;
+    if (!v3finite(pos) || !gg_scene_coord_ok(pos))
+        return refuse(s, -GG_ERROR_INVALID,
+                      "ggSceneAddLight: the position must be finite and at most %g in "
+                      "magnitude, got %g %g %g",
+                      GG_COORD_MAX, pos.x, pos.y, pos.z);
     /* r < 0 asks for the SPD default colour; any other colour is >= 0. */
-    if (color.r >= 0 && (color.g < 0 || color.b < 0)) return -GG_ERROR_INVALID;
+    if (!isfinite(color.r) || !isfinite(color.g) || !isfinite(color.b) ||
+        (color.r >= 0 && (color.g < 0 || color.b < 0)))
+        return refuse(s, -GG_ERROR_INVALID,
+                      "ggSceneAddLight: the colour must be finite and >= 0 (or r < 0 for the "
+                      "SPD default), got %g %g %g",
+                      color.r, color.g, color.b);
     if (gg_mem_grow(s->alloc, (void **)&s->lights, &s->cap_lights, s->nlights + 1, sizeof *l))
-        return -GG_ERROR_NOMEM;
+        return refuse(s, -GG_ERROR_NOMEM, "ggSceneAddLight: out of memory adding the light");
     unprepare(s);
     l = &s->lights[s->nlights];
     l->pos = pos;
     l->color = color;
     l->line = 0;
-    return (int)s->nlights++;
+    return done(s, (int)s->nlights++);
 }
 
-/* What ggSceneAddMaterial and ggSceneSetMaterial accept. */
-static bool material_ok(const ggScene *s, const ggMaterial *m)
+/* What ggSceneAddMaterial and ggSceneSetMaterial accept; rc is the status
+   a refusal returns. */
+static int material_refused(ggScene *s, const char *fn, const ggMaterial *m, int rc)
 {
-    return ggMaterialCheck(m, NULL) == GG_OK &&
-           (m->texture < 0 || (size_t)m->texture < s->ntextures);
+    ggError e;
+    if (!m) return refuse(s, rc, "%s: NULL material", fn);
+    if (ggMaterialCheck(m, &e) != GG_OK)
+        return refuse(s, rc, "%s: %s", fn,
+                      strncmp(e.message, "material: ", 10) ? e.message : e.message + 10);
+    if (m->texture >= 0 && (size_t)m->texture >= s->ntextures)
+        return refuse(s, rc, "%s: no texture %d (the scene has %zu)", fn, m->texture, s->ntextures);
+    return 0;
 }
 
 GG_API int ggSceneAddMaterial(ggScene *s, const ggMaterial *m)
 {
-    if (!s || !material_ok(s, m)) return -GG_ERROR_INVALID;
+    int rc;
+    if (!s) return -GG_ERROR_INVALID;
+    if ((rc = material_refused(s, "ggSceneAddMaterial", m, -GG_ERROR_INVALID)) != 0) return rc;
     if (gg_mem_grow(s->alloc, (void **)&s->materials, &s->cap_materials, s->nmaterials + 1,
                     sizeof *m))
-        return -GG_ERROR_NOMEM;
+        return refuse(s, -GG_ERROR_NOMEM, "ggSceneAddMaterial: out of memory adding the material");
     unprepare(s);
     s->materials[s->nmaterials] = *m;
-    return (int)s->nmaterials++;
+    return done(s, (int)s->nmaterials++);
 }
 
 GG_API int ggSceneSetMaterial(ggScene *s, int index, const ggMaterial *m)
 {
-    if (!s || index < 0 || (size_t)index >= s->nmaterials || !material_ok(s, m))
-        return GG_ERROR_INVALID;
+    int rc;
+    if (!s) return GG_ERROR_INVALID;
+    if (index < 0 || (size_t)index >= s->nmaterials)
+        return refuse(s, GG_ERROR_INVALID, "ggSceneSetMaterial: no material %d (the scene has %zu)",
+                      index, s->nmaterials);
+    if ((rc = material_refused(s, "ggSceneSetMaterial", m, GG_ERROR_INVALID)) != 0) return rc;
     unprepare(s);
     s->materials[index] = *m;
-    return GG_OK;
+    return done(s, GG_OK);
 }
 
 int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t)
@@ -378,26 +450,40 @@ GG_API int64_t ggSceneSetTextureBudget(ggScene *s, int64_t bytes)
     return old;
 }
 
+/* A texture added in code: its index, or the refusal of running out of
+   memory (the image is freed either way). */
+static int add_texture(ggScene *s, const char *fn, const gg_texture *t)
+{
+    int rc = gg_scene_add_texture_desc(s, t);
+    if (rc < 0) return refuse(s, rc, "%s: out of memory adding the texture", fn);
+    return done(s, rc);
+}
+
 GG_API int ggSceneAddTexture(ggScene *s, ggImage *img)
 {
     gg_texture t;
     if (!s || !img) {
         ggImageFree(img);
-        return -GG_ERROR_INVALID;
+        return s ? refuse(s, -GG_ERROR_INVALID, "ggSceneAddTexture: NULL image")
+                 : -GG_ERROR_INVALID;
     }
     memset(&t, 0, sizeof t);
     t.img = img;
     t.wrap = GG_WRAP_REPEAT;
-    return gg_scene_add_texture_desc(s, &t);
+    return add_texture(s, "ggSceneAddTexture", &t);
 }
 
 GG_API int ggSceneAddChecker(ggScene *s, double n, ggColor a, ggColor b)
 {
     gg_texture t;
-    if (!s || !(n > 0 && n <= 1e6) || !color_ok(a) || !color_ok(b)) return -GG_ERROR_INVALID;
+    if (!s) return -GG_ERROR_INVALID;
+    if (!(n > 0 && n <= 1e6))
+        return refuse(s, -GG_ERROR_INVALID, "ggSceneAddChecker: n must be in (0, 1e6], got %g", n);
+    if (!color_ok(a)) return bad_channels(s, -GG_ERROR_INVALID, "ggSceneAddChecker", "colour a", a);
+    if (!color_ok(b)) return bad_channels(s, -GG_ERROR_INVALID, "ggSceneAddChecker", "colour b", b);
     memset(&t, 0, sizeof t);
     t.checker_n = n, t.checker_a = a, t.checker_b = b;
-    return gg_scene_add_texture_desc(s, &t);
+    return add_texture(s, "ggSceneAddChecker", &t);
 }
 
 int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int count, size_t *first)
@@ -480,62 +566,110 @@ static gg_object object_init(int kind, int material)
     return o;
 }
 
+/* A shape added in code, its own values checked: the material, then
+   gg_scene_add_object's range, limit and memory, each refusal named. */
+static int add_shape(ggScene *s, const char *fn, const gg_object *o)
+{
+    int rc;
+    if (o->material < 0 || (size_t)o->material >= s->nmaterials)
+        return refuse(s, -GG_ERROR_INVALID, "%s: no material %d (the scene has %zu)", fn,
+                      o->material, s->nmaterials);
+    rc = gg_scene_add_object(s, o);
+    if (rc == -GG_ERROR_INVALID)
+        return refuse(s, rc, "%s: a coordinate or size over %g in magnitude", fn, GG_COORD_MAX);
+    if (rc == -GG_ERROR_LIMIT)
+        return refuse(s, rc, "%s: the scene holds %zu objects, the most it can", fn, s->nobjects);
+    if (rc < 0) return refuse(s, rc, "%s: out of memory adding the object", fn);
+    return done(s, rc);
+}
+
+static int not_finite(ggScene *s, const char *fn, const char *what, ggVec3 v)
+{
+    return refuse(s, -GG_ERROR_INVALID, "%s: %s must be finite, got %g %g %g", fn, what, v.x, v.y,
+                  v.z);
+}
+
 GG_API int ggSceneAddSphere(ggScene *s, int material, ggVec3 c, double r)
 {
     gg_object o = object_init(GG_SHAPE_SPHERE, material);
-    if (!v3finite(c) || !isfinite(r) || !(r > 0)) return -GG_ERROR_INVALID;
+    if (!s) return -GG_ERROR_INVALID;
+    if (!v3finite(c)) return not_finite(s, "ggSceneAddSphere", "the centre", c);
+    if (!isfinite(r) || !(r > 0))
+        return refuse(s, -GG_ERROR_INVALID, "ggSceneAddSphere: the radius must be > 0, got %g", r);
     o.a = c;
     o.ra = r;
-    return gg_scene_add_object(s, &o);
+    return add_shape(s, "ggSceneAddSphere", &o);
 }
 
-static int add_vertex_object(ggScene *s, int kind, int material, const ggVec3 *v,
+static int add_vertex_object(ggScene *s, const char *fn, int kind, int material, const ggVec3 *v,
                              const ggVec3 *n, int count)
 {
     gg_object o = object_init(kind, material);
     int i, rc;
-    if (!s || !v || count < 3) return -GG_ERROR_INVALID;
-    for (i = 0; i < count; i++)
-        if (!v3finite(v[i]) || (n && !v3finite(n[i]))) return -GG_ERROR_INVALID;
-    if (material < 0 || (size_t)material >= s->nmaterials) return -GG_ERROR_INVALID;
-    rc = gg_scene_push_vertices(s, v, n, count, &o.vfirst);
-    if (rc < 0) return rc;
+    char what[48];
+    if (!s) return -GG_ERROR_INVALID;
+    if (!v) return refuse(s, -GG_ERROR_INVALID, "%s: NULL vertices", fn);
+    if (count < 3)
+        return refuse(s, -GG_ERROR_INVALID, "%s: a polygon needs 3 vertices or more, got %d", fn,
+                      count);
+    for (i = 0; i < count; i++) {
+        snprintf(what, sizeof what, "vertex %d", i);
+        if (!v3finite(v[i])) return not_finite(s, fn, what, v[i]);
+        snprintf(what, sizeof what, "normal %d", i);
+        if (n && !v3finite(n[i])) return not_finite(s, fn, what, n[i]);
+    }
+    if (material < 0 || (size_t)material >= s->nmaterials)
+        return add_shape(s, fn, &o); /* which refuses it, naming the material */
+    if ((rc = gg_scene_push_vertices(s, v, n, count, &o.vfirst)) < 0)
+        return refuse(s, rc, "%s: out of memory adding the vertices", fn);
     o.nverts = count;
     o.has_normals = n != NULL;
-    rc = gg_scene_add_object(s, &o);
+    rc = add_shape(s, fn, &o);
     if (rc < 0) s->nverts = o.vfirst;
     return rc;
 }
 
 GG_API int ggSceneAddPolygon(ggScene *s, int material, const ggVec3 *v, int n)
 {
-    return add_vertex_object(s, n == 3 ? GG_SHAPE_TRIANGLE : GG_SHAPE_POLYGON, material, v, NULL,
-                             n);
+    return add_vertex_object(s, "ggSceneAddPolygon", n == 3 ? GG_SHAPE_TRIANGLE : GG_SHAPE_POLYGON,
+                             material, v, NULL, n);
 }
 
 GG_API int ggSceneAddTriangle(ggScene *s, int material, const ggVec3 v[3], const ggVec3 *normals)
 {
-    return add_vertex_object(s, GG_SHAPE_TRIANGLE, material, v, normals, 3);
+    return add_vertex_object(s, "ggSceneAddTriangle", GG_SHAPE_TRIANGLE, material, v, normals, 3);
 }
 
 GG_API int ggSceneAddCone(ggScene *s, int material, ggVec3 base, double rb, ggVec3 apex,
                           double ra)
 {
     gg_object o = object_init(GG_SHAPE_CONE, material);
-    if (!v3finite(base) || !v3finite(apex) || !isfinite(rb) || !isfinite(ra) || rb < 0 ||
-        ra < 0 || (rb == 0 && ra == 0) || v3len(v3sub(apex, base)) == 0)
-        return -GG_ERROR_INVALID;
+    if (!s) return -GG_ERROR_INVALID;
+    if (!v3finite(base)) return not_finite(s, "ggSceneAddCone", "the base", base);
+    if (!v3finite(apex)) return not_finite(s, "ggSceneAddCone", "the apex", apex);
+    if (!isfinite(rb) || !isfinite(ra) || rb < 0 || ra < 0 || (rb == 0 && ra == 0))
+        return refuse(s, -GG_ERROR_INVALID,
+                      "ggSceneAddCone: the radii must be finite and >= 0, not both 0, got %g "
+                      "and %g",
+                      rb, ra);
+    if (v3len(v3sub(apex, base)) == 0)
+        return refuse(s, -GG_ERROR_INVALID, "ggSceneAddCone: the base and the apex are one point");
     o.a = base, o.b = apex, o.ra = rb, o.rb = ra;
-    return gg_scene_add_object(s, &o);
+    return add_shape(s, "ggSceneAddCone", &o);
 }
 
 GG_API int ggSceneAddRect(ggScene *s, int material, ggVec3 corner, ggVec3 e1, ggVec3 e2)
 {
     gg_object o = object_init(GG_SHAPE_RECT, material);
-    if (!v3finite(corner) || !v3finite(e1) || !v3finite(e2) || v3len(v3cross(e1, e2)) == 0)
-        return -GG_ERROR_INVALID;
+    if (!s) return -GG_ERROR_INVALID;
+    if (!v3finite(corner)) return not_finite(s, "ggSceneAddRect", "the corner", corner);
+    if (!v3finite(e1)) return not_finite(s, "ggSceneAddRect", "e1", e1);
+    if (!v3finite(e2)) return not_finite(s, "ggSceneAddRect", "e2", e2);
+    if (v3len(v3cross(e1, e2)) == 0)
+        return refuse(s, -GG_ERROR_INVALID,
+                      "ggSceneAddRect: e1 and e2 are parallel (or one is zero): no area");
     o.a = corner, o.b = e1, o.c = e2;
-    return gg_scene_add_object(s, &o);
+    return add_shape(s, "ggSceneAddRect", &o);
 }
 
 GG_API int ggSceneAddImplicit(ggScene *s, int material, ggImplicit *imp)
@@ -544,10 +678,11 @@ GG_API int ggSceneAddImplicit(ggScene *s, int material, ggImplicit *imp)
     int rc;
     if (!s || !imp) {
         ggImplicitFree(imp);
-        return -GG_ERROR_INVALID;
+        return s ? refuse(s, -GG_ERROR_INVALID, "ggSceneAddImplicit: NULL implicit surface")
+                 : -GG_ERROR_INVALID;
     }
     o.imp = imp;
-    rc = gg_scene_add_object(s, &o);
+    rc = add_shape(s, "ggSceneAddImplicit", &o);
     if (rc < 0) ggImplicitFree(imp);
     return rc;
 }

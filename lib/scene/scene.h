@@ -76,6 +76,7 @@ struct ggScene {
     bool has_camera;
     ggColor background, ambient;
     int depth, samples;
+    ggError last;         /* what the last building call refused (ggSceneLastError) */
     ggImageReader reader; /* NULL: gg_load_default_reader() */
     void *reader_ud;
 

@@ -290,6 +290,7 @@ static void test_scene_build(void **state)
     COVER(ggSceneSetTextureBudget), assert_true(ggSceneSetTextureBudget(NULL, 1) == -1);
     COVER(ggSceneSetDepth), assert_int_equal(ggSceneSetDepth(NULL, 3), GG_ERROR_INVALID);
     COVER(ggSceneSetSamples), assert_int_equal(ggSceneSetSamples(NULL, 3), GG_ERROR_INVALID);
+    COVER(ggSceneLastError), assert_null(ggSceneLastError(NULL));
     /* Nothing above reached the scene. */
     assert_int_equal(ggSceneObjectCount(s), 0);
     assert_int_equal(ggSceneMaterialCount(s), 0);

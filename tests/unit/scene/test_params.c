@@ -4,7 +4,8 @@
 ** weights, Phong exponent, light, ambient and background values, a zero
 ** conductor index, a degenerate camera) are refused by the NFF loader at
 ** the value that set them and by the building functions with
-** GG_ERROR_INVALID; what is accepted on purpose renders finite.
+** GG_ERROR_INVALID and ggSceneLastError's message; what is accepted on
+** purpose renders finite.
 */
 #include "testutil.h"
 
@@ -393,6 +394,140 @@ static void test_accepted_renders_finite(void **state)
     }
 }
 
+/* ggSceneLastError after a building call that returned rc: the code is
+   rc made positive, the message starts "FN: " and holds `has`; after a
+   success, GG_OK and "". */
+static void said(const ggScene *s, int rc, const char *fn, const char *has)
+{
+    const ggError *e = ggSceneLastError(s);
+    char want[64];
+    assert_non_null(e);
+    if (!fn) {
+        assert_true(rc >= 0);
+        assert_int_equal(e->code, GG_OK);
+        assert_string_equal(e->message, "");
+        return;
+    }
+    snprintf(want, sizeof want, "%s: ", fn);
+    if (e->code != (rc < 0 ? -rc : rc) || strncmp(e->message, want, strlen(want)) ||
+        !strstr(e->message, has))
+        print_error("rc %d; said %d '%s'; want '%s...%s'\n", rc, e->code, e->message, want, has);
+    assert_true(rc != GG_OK);
+    assert_int_equal(e->code, rc < 0 ? -rc : rc);
+    assert_true(strncmp(e->message, want, strlen(want)) == 0);
+    assert_non_null(strstr(e->message, has));
+}
+
+/* Every refusal scene.h lists for the building functions, each followed
+   by ggSceneLastError's answer, and the scene unchanged; a success after
+   each clears it. */
+static void test_last_error(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggMaterial m = ggMaterialDefault(), bad = ggMaterialDefault();
+    ggCamera cam = ggSceneCamera(s), flat = cam;
+    const ggVec3 o = {0, 0, 0}, x = {1, 0, 0}, y = {0, 1, 0}, inf = {INFINITY, 0, 0};
+    const ggVec3 tri[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}},
+                 nan3[3] = {{0, 0, 0}, {NAN, 0, 0}, {0, 1, 0}};
+    const ggVec3 big[3] = {{0, 0, 0}, {2e64, 0, 0}, {0, 1, 0}};
+    const ggColor neg = {0, -1, 0}, white = {1, 1, 1};
+    (void)state;
+    assert_null(ggSceneLastError(NULL));
+    said(s, 0, NULL, NULL); /* before any call */
+    flat.up = (ggVec3){cam.at.x - cam.from.x, cam.at.y - cam.from.y, cam.at.z - cam.from.z};
+    said(s, ggSceneSetCamera(s, NULL), "ggSceneSetCamera", "NULL camera");
+    said(s, ggSceneSetCamera(s, &flat), "ggSceneSetCamera", "");
+    said(s, ggSceneSetCamera(s, &cam), NULL, NULL);
+    said(s, ggSceneSetBackground(s, neg), "ggSceneSetBackground", "got 0 -1 0");
+    said(s, ggSceneSetAmbient(s, (ggColor){0, 0, 2e30}), "ggSceneSetAmbient", "got 0 0 2e+30");
+    said(s, ggSceneSetAmbient(s, white), NULL, NULL);
+    said(s, ggSceneSetDepth(s, 65), "ggSceneSetDepth", "got 65");
+    said(s, ggSceneSetDepth(s, -1), "ggSceneSetDepth", "got -1");
+    said(s, ggSceneSetSamples(s, 4097), "ggSceneSetSamples", "got 4097");
+    said(s, ggSceneSetSamples(s, 0), NULL, NULL);
+    said(s, ggSceneAddLight(s, inf, white), "ggSceneAddLight", "position");
+    said(s, ggSceneAddLight(s, (ggVec3){0, 0, -2e64}, white), "ggSceneAddLight", "got 0 0 -2e+64");
+    said(s, ggSceneAddLight(s, o, (ggColor){1, -1, 1}), "ggSceneAddLight", "got 1 -1 1");
+    said(s, ggSceneAddLight(s, o, (ggColor){1, NAN, 1}), "ggSceneAddLight", "colour");
+    assert_int_equal(ggSceneLightCount(s), 0);
+    said(s, ggSceneAddLight(s, x, white), NULL, NULL);
+    said(s, ggSceneAddMaterial(s, NULL), "ggSceneAddMaterial", "NULL material");
+    bad.ks = -0.5;
+    said(s, ggSceneAddMaterial(s, &bad), "ggSceneAddMaterial", "ks must be in [0, ");
+    bad = m, bad.texture = 3;
+    said(s, ggSceneAddMaterial(s, &bad), "ggSceneAddMaterial", "no texture 3 (the scene has 0)");
+    assert_int_equal(ggSceneMaterialCount(s), 0);
+    said(s, ggSceneAddSphere(s, 0, o, 1), "ggSceneAddSphere", "no material 0 (the scene has 0)");
+    said(s, ggSceneAddMaterial(s, &m), NULL, NULL);
+    said(s, ggSceneSetMaterial(s, 1, &m), "ggSceneSetMaterial", "no material 1 (the scene has 1)");
+    bad = m, bad.kt = 1, bad.ior = 0;
+    said(s, ggSceneSetMaterial(s, 0, &bad), "ggSceneSetMaterial", "index of refraction");
+    said(s, ggSceneSetMaterial(s, 0, &m), NULL, NULL);
+    said(s, ggSceneAddTexture(s, NULL), "ggSceneAddTexture", "NULL image");
+    said(s, ggSceneAddChecker(s, 0, white, white), "ggSceneAddChecker", "got 0");
+    said(s, ggSceneAddChecker(s, 4, white, neg), "ggSceneAddChecker", "colour b");
+    said(s, ggSceneAddSphere(s, 0, inf, 1), "ggSceneAddSphere", "the centre must be finite");
+    said(s, ggSceneAddSphere(s, 0, o, -1), "ggSceneAddSphere", "got -1");
+    said(s, ggSceneAddSphere(s, 0, o, 2e64), "ggSceneAddSphere", "over 1e+64");
+    said(s, ggSceneAddSphere(s, -1, o, 1), "ggSceneAddSphere", "no material -1");
+    said(s, ggSceneAddPolygon(s, 0, NULL, 3), "ggSceneAddPolygon", "NULL vertices");
+    said(s, ggSceneAddPolygon(s, 0, tri, 2), "ggSceneAddPolygon", "got 2");
+    said(s, ggSceneAddPolygon(s, 0, nan3, 3), "ggSceneAddPolygon", "vertex 1 must be finite");
+    said(s, ggSceneAddPolygon(s, 0, big, 3), "ggSceneAddPolygon", "over 1e+64");
+    said(s, ggSceneAddTriangle(s, 0, tri, nan3), "ggSceneAddTriangle", "normal 1 must be finite");
+    said(s, ggSceneAddTriangle(s, 7, tri, NULL), "ggSceneAddTriangle", "no material 7");
+    said(s, ggSceneAddCone(s, 0, o, 1, inf, 1), "ggSceneAddCone", "the apex must be finite");
+    said(s, ggSceneAddCone(s, 0, o, 0, x, 0), "ggSceneAddCone", "got 0 and 0");
+    said(s, ggSceneAddCone(s, 0, o, -1, x, 1), "ggSceneAddCone", "got -1 and 1");
+    said(s, ggSceneAddCone(s, 0, x, 1, x, 1), "ggSceneAddCone", "one point");
+    said(s, ggSceneAddRect(s, 0, o, x, (ggVec3){2, 0, 0}), "ggSceneAddRect", "parallel");
+    said(s, ggSceneAddRect(s, 0, o, inf, y), "ggSceneAddRect", "e1 must be finite");
+    said(s, ggSceneAddImplicit(s, 0, NULL), "ggSceneAddImplicit", "NULL implicit surface");
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    assert_int_equal(ggSceneTextureCount(s), 0);
+    said(s, ggSceneAddSphere(s, 0, o, 1), NULL, NULL);
+    said(s, ggSceneAddPolygon(s, 0, tri, 3), NULL, NULL);
+    said(s, ggSceneAddCone(s, 0, o, 1, x, 0), NULL, NULL);
+    said(s, ggSceneAddRect(s, 0, o, x, y), NULL, NULL);
+    said(s, ggSceneAddChecker(s, 4, white, white), NULL, NULL);
+    assert_int_equal(ggSceneObjectCount(s), 4);
+    ggSceneFree(s);
+}
+
+/* Out of memory in a building call: -GG_ERROR_NOMEM, and
+   ggSceneLastError says what ran out; the allocation after it works. */
+static void test_last_error_nomem(void **state)
+{
+    tu_failer f;
+    ggScene *s;
+    ggMaterial m = ggMaterialDefault();
+    const ggVec3 tri[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const ggColor white = {1, 1, 1};
+    int rc;
+    (void)state;
+    tu_failer_init(&f);
+    s = ggSceneCreate(&f.alloc);
+    assert_non_null(s);
+    tu_failer_arm(&f, 1);
+    rc = ggSceneAddMaterial(s, &m);
+    said(s, rc, "ggSceneAddMaterial", "out of memory");
+    tu_failer_arm(&f, 1);
+    said(s, ggSceneAddLight(s, (ggVec3){0, 0, 1}, white), "ggSceneAddLight", "out of memory");
+    tu_failer_stop(&f);
+    assert_int_equal(ggSceneAddMaterial(s, &m), 0);
+    tu_failer_arm(&f, 1);
+    said(s, ggSceneAddPolygon(s, 0, tri, 3), "ggSceneAddPolygon", "out of memory");
+    tu_failer_arm(&f, 2);
+    said(s, ggSceneAddPolygon(s, 0, tri, 3), "ggSceneAddPolygon", "out of memory");
+    tu_failer_arm(&f, 1);
+    said(s, ggSceneAddChecker(s, 4, white, white), "ggSceneAddChecker", "out of memory");
+    tu_failer_stop(&f);
+    assert_int_equal(ggSceneObjectCount(s), 0);
+    said(s, ggSceneAddPolygon(s, 0, tri, 3), NULL, NULL);
+    ggSceneFree(s);
+    tu_failer_done(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -408,6 +543,8 @@ int main(void)
         cmocka_unit_test(test_api_lights_background),
         cmocka_unit_test(test_api_camera),
         cmocka_unit_test(test_accepted_renders_finite),
+        cmocka_unit_test(test_last_error),
+        cmocka_unit_test(test_last_error_nomem),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
