@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 # bash completion for ggrt: commands, optics forms and bench subcommands,
-# each command's options (a bench subcommand's own), the choices an option
+# each command's options (an optics form's and a benchmark's own), the choices an option
 # lists (--format text|json), the names and values of NAME=VALUE lists
 # (-a offset=fixed,shadows=opaque) and file names where an option or
 # argument takes a file. Everything is
@@ -26,28 +26,18 @@ _ggrt_section() {
         on && /^  [a-z]/ { print $1 }'
 }
 
-# _ggrt_options HELP: one line per option of a --help text, "NAMES META
-# FOR", NAMES as "-o,--output" or "--pixel", META the value's name or
-# "-", FOR the "spd" of a description that starts "spd: ..." (an option
-# of one bench subcommand) or "-".
+# _ggrt_options HELP: one line per option of a --help text, "NAMES META",
+# NAMES as "-o,--output" or "--pixel", META the value's name or "".
 _ggrt_options() {
     printf '%s\n' "$1" | awk '
-        function put() { if (names != "") print names, (meta == "" ? "-" : meta), fr; names = "" }
         /^  -[a-zA-Z], --|^      --[a-z]/ {
-            put()
             s = $0; sub(/^ +/, "", s); sub(/  .*/, "", s)
             n = split(s, w, " "); names = ""; meta = ""
             for (i = 1; i <= n; i++)
                 if (w[i] ~ /^-/) { sub(/,$/, "", w[i]); names = names (names == "" ? "" : ",") w[i] }
                 else { meta = w[i]; break }
-            d = length($0) > 24 && substr($0, 23, 2) == "  " ? substr($0, 25) : ""
-            fr = d ~ /^[a-z]+: / ? substr(d, 1, index(d, ":") - 1) : (d == "" ? "?" : "-")
-            next
-        }
-        names != "" && fr == "?" { d = $0; sub(/^ +/, "", d)
-            fr = d ~ /^[a-z]+: / ? substr(d, 1, index(d, ":") - 1) : "-" }
-        names != "" && !/^                        / { put() }
-        END { put() }'
+            print names, meta
+        }'
 }
 
 # _ggrt_desc HELP OPTION: OPTION's entry in a --help text, its first line
@@ -175,25 +165,21 @@ _ggrt_complete() {
                 mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$help" forms)" -- "$cur")
             else
                 mapfile -t COMPREPLY < <(compgen -W "$(printf '%s\n' "$help" |
-                    sed -n 's/^\(usage:\)\{0,1\} *ggrt bench \([a-z|]*\).*/\2/p' | tr '|' ' ')" -- "$cur")
+                    sed -n 's/^\(usage:\)\{0,1\} *ggrt bench \([a-z][a-z|]*\).*/\2/p' | tr '|' ' ')" -- "$cur")
             fi
             return
         fi
+        # optics FORM and bench NAME: the options of its own --help
         sub=${words[subpos]}
-        [[ $cmd == bench && $sub != -* && -n $sub ]] && path+=("$sub")
-        if [[ $cmd == optics && $sub != -* && -n $sub ]]; then
-            help=$("$prog" optics "$sub" --help 2>/dev/null) || return
+        if [[ $sub != -* && -n $sub ]]; then
+            help=$("$prog" "$cmd" "$sub" --help 2>/dev/null) || return
             path+=("$sub")
         fi
     fi
     opts=$(_ggrt_options "$help")
-    # bench SUB: not the options whose help gives them to another one
-    [[ $cmd == bench && ${#path[@]} -gt 2 ]] &&
-        opts=$(printf '%s\n' "$opts" | awk -v s="$sub" '$3 == "-" || $3 == s')
     # A value for the option before the cursor.
     if [[ $prev == -* ]]; then
-        while read -r names meta _; do
-            [[ $meta == - ]] && meta=""
+        while read -r names meta; do
             [[ ,$names, == *",$prev,"* ]] || continue
             # the parser's messages name the long option: probe with it
             [[ $meta == [A-Z]*=[A-Z]*,* ]] && { _ggrt_pairs "$meta" "$cur" "${names##*,}" "$help" "${path[@]}"; return; }

@@ -373,9 +373,10 @@ int bench_accuracy(const bench_opts *bo)
             "width='860' height='%d' font-family='sans-serif'>\n<rect width='100%%' "
             "height='100%%' fill='white'/>\n",
             bo->nargs * 420 + 20);
-    printf("ggrt bench accuracy: %dx%d, %d threads, median of %d runs; reference = every knob "
+    printf("ggrt bench accuracy: %dx%d, %d thread%s, median of %d run%s; reference = every knob "
            "accurate (samples knob: %d samples; depth knob: depth %d)\n",
-           w, h, bo->threads, bo->runs, REF_SPP, REF_DEPTH);
+           w, h, bo->threads, BENCH_S(bo->threads), bo->runs, BENCH_S(bo->runs), REF_SPP,
+           REF_DEPTH);
     for (a = 0; a < bo->nargs && rc == EXIT_OK; a++) {
         ggScene *s = cli_load_scene(bo->args[a], NULL, NULL, &rc), *copy = NULL;
         if (s) copy = cli_load_scene(bo->args[a], NULL, NULL, &rc);

@@ -9,6 +9,8 @@
 #include "common/cli.h"
 
 #define BENCH_MAX_ARGS 64
+/* The plural's "s" of a count: "1 thread", "2 threads". */
+#define BENCH_S(n) ((n) == 1 ? "" : "s")
 
 typedef struct bench_opts {
     int size, threads, runs, pov;

@@ -8,70 +8,143 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char about[] =
-    "  spd       the 7 SPD scenes (depth 5, pixel centres, no antialiasing) and,\n"
-    "            if povray is installed, the same scenes with POV-Ray 3.7: trace\n"
-    "            times, ratios, rays per second, peak memory, bytes per primitive;\n"
-    "            with --embree, also the Embree anchor, all three interleaved\n"
-    "  counts    SPD rules (pixel corners, depth 5, transmitters reflect) at\n"
-    "            512x512: eye-hit, reflect, refract and shadow rays against the\n"
-    "            SPD's table\n"
-    "  effects   each example scene rendered with its own effect set and with\n"
-    "            every effect forced on: times, ratio, whether the images match\n"
-    "  accuracy  sweep each accuracy knob from the accurate default: median time,\n"
-    "            rays, RMSE, max error, PSNR, share of pixels off by > 1/255 and\n"
-    "            pixels whose ray tree changed, against an all-accurate\n"
-    "            reference; writes DIR/accuracy.csv and DIR/accuracy.svg\n"
-    "            (docs/accuracy.md), then the scaling tables\n"
-    "  scaling   render time against primitives (balls-s1..s4, fitted against\n"
-    "            ln n), image size and threads; per SPD scene 1 and 2 threads,\n"
-    "            the speed-up and the serial share (time outside the tile loop)\n"
-    "  rays      per SPD scene (or per SCENE given), Mrays/s on one core for the\n"
-    "            eye, secondary and shadow rays of a 256x256 render, cast again\n"
-    "            one by one\n"
-    "  limit     per SPD scene (or per SCENE given), one thread: the kernel calls\n"
-    "            per ray of a render (node, packet and leaf tests, hits shaded),\n"
-    "            each kernel's ns per call alone in a loop on cached data, the\n"
-    "            bound (calls x ns) and the render's time over it\n"
-    "\n"
-    "Scene folders are relative to the current directory: run from the source tree\n"
-    "or name them with --spd and --pov.";
-
+/* Each benchmark: its name, what it measures (ggrt bench --help lists
+   them all; ggrt bench NAME --help prints its own with only the options
+   it reads), its default --size, the scenes --scenes picks from, and the
+   options it reads nothing from, refused rather than ignored. --embree,
+   --accuracy, --pov and --no-pov are spd's alone, --knobs and --out
+   accuracy's (bench_takes). */
 static const struct {
     const char *name;
     int (*run)(const bench_opts *bo);
+    const char *args; /* its usage's arguments */
+    const char *about;
     int size;                  /* default --size; 0: the benchmark's own */
     const char *const *scenes; /* the names --scenes picks from (NULL: no --scenes) */
     int nscenes;
-    /* the options it reads nothing from, refused rather than ignored (the
-       ones of one benchmark only, --embree, --accuracy and --knobs, are
-       checked on their own) */
-    const char *const unused[5];
+    const char *const unused[3];
 } benches[] = {
-    {"spd", bench_spd, 1024, bench_spd_scenes, BENCH_NSPD, {"out"}},
-    {"counts", bench_counts, 0, bench_spd_scenes, BENCH_NSPD, {"runs", "pov", "no-pov", "out"}},
+    {"spd",
+     bench_spd,
+     "[options]",
+     "the 7 SPD scenes (depth 5, pixel centres, no antialiasing) and,\n"
+     "if povray is installed, the same scenes with POV-Ray 3.7: trace\n"
+     "times, ratios, rays per second, peak memory, bytes per primitive;\n"
+     "with --embree, also the Embree anchor, all three interleaved",
+     1024,
+     bench_spd_scenes,
+     BENCH_NSPD,
+     {NULL}},
+    {"counts",
+     bench_counts,
+     "[options]",
+     "SPD rules (pixel corners, depth 5, transmitters reflect) at\n"
+     "512x512: eye-hit, reflect, refract and shadow rays against the\n"
+     "SPD's table",
+     0,
+     bench_spd_scenes,
+     BENCH_NSPD,
+     {"runs", "size"}},
     {"effects",
      bench_effects,
+     "[options]",
+     "each example scene rendered with its own effect set and with\n"
+     "every effect forced on: times, ratio, whether the images match",
      320,
      bench_effects_scenes,
      BENCH_NEFFECTS,
-     {"spd", "pov", "no-pov", "out"}},
-    {"accuracy", bench_accuracy, 0, NULL, 0, {"spd", "pov", "no-pov"}},
-    {"scaling", bench_scaling, 0, bench_spd_scenes, BENCH_NSPD, {"pov", "no-pov", "out"}},
-    {"rays", bench_rays, 256, bench_spd_scenes, BENCH_NSPD, {"threads", "pov", "no-pov", "out"}},
-    {"limit", bench_limit, 512, bench_spd_scenes, BENCH_NSPD, {"threads", "pov", "no-pov", "out"}},
+     {"spd"}},
+    {"accuracy",
+     bench_accuracy,
+     "SCENE... [options]",
+     "sweep each accuracy knob from the accurate default: median time,\n"
+     "rays, RMSE, max error, PSNR, share of pixels off by > 1/255 and\n"
+     "pixels whose ray tree changed, against an all-accurate\n"
+     "reference; writes DIR/accuracy.csv and DIR/accuracy.svg\n"
+     "(docs/accuracy.md), then the scaling tables",
+     0,
+     NULL,
+     0,
+     {"spd"}},
+    {"scaling",
+     bench_scaling,
+     "[options]",
+     "render time against primitives (balls-s1..s4, fitted against\n"
+     "ln n), image size and threads; per SPD scene 1 and 2 threads,\n"
+     "the speed-up and the serial share (time outside the tile loop)",
+     0,
+     bench_spd_scenes,
+     BENCH_NSPD,
+     {NULL}},
+    {"rays",
+     bench_rays,
+     "[SCENE...] [options]",
+     "per SPD scene (or per SCENE given), Mrays/s on one core for the\n"
+     "eye, secondary and shadow rays of a 256x256 render, cast again\n"
+     "one by one",
+     256,
+     bench_spd_scenes,
+     BENCH_NSPD,
+     {"threads"}},
+    {"limit",
+     bench_limit,
+     "[SCENE...] [options]",
+     "per SPD scene (or per SCENE given), one thread: the kernel calls\n"
+     "per ray of a render (node, packet and leaf tests, hits shaded),\n"
+     "each kernel's ns per call alone in a loop on cached data, the\n"
+     "bound (calls x ns) and the render's time over it",
+     512,
+     bench_spd_scenes,
+     BENCH_NSPD,
+     {"threads"}},
 };
+#define NBENCH ((int)(sizeof benches / sizeof benches[0]))
 
-/* An option the benchmark would ignore: a usage error naming it. */
-static int check_unused(const cli_cmd *cmd, int b)
+static const char tail[] =
+    "Scene folders are relative to the current directory: run from the source tree\n"
+    "or name them with --spd and --pov.";
+static const char tail_spd[] =
+    "The scene folder is relative to the current directory: run from the source tree\n"
+    "or name it with --spd.";
+
+/* Whether benchmark b reads the option of long name `opt`. */
+static int bench_takes(int b, const char *opt)
 {
     int k;
-    for (k = 0; k < 5 && benches[b].unused[k]; k++)
-        if (cli_given(cmd, benches[b].unused[k]))
-            return cli_usage_error(
-                cmd, "--%s does not apply to this benchmark (it reads nothing from it)",
-                benches[b].unused[k]);
-    return 0;
+    if (!strcmp(opt, "embree") || !strcmp(opt, "accuracy") || !strcmp(opt, "pov") ||
+        !strcmp(opt, "no-pov"))
+        return benches[b].run == bench_spd;
+    if (!strcmp(opt, "knobs") || !strcmp(opt, "out")) return benches[b].run == bench_accuracy;
+    if (!strcmp(opt, "scenes")) return benches[b].scenes != NULL;
+    for (k = 0; k < 3 && benches[b].unused[k]; k++)
+        if (!strcmp(opt, benches[b].unused[k])) return 0;
+    return 1;
+}
+
+/* Whether exactly one benchmark reads option `opt` (--embree: spd). */
+static int one_takes(const char *opt)
+{
+    int b, n = 0;
+    for (b = 0; b < NBENCH; b++) n += bench_takes(b, opt);
+    return n == 1;
+}
+
+/* ggrt bench --help's list: each benchmark's name and what it measures. */
+static const char *about_all(void)
+{
+    static char buf[2048];
+    size_t n = 0;
+    int b;
+    const char *p;
+    for (b = 0; b < NBENCH; b++) {
+        n += (size_t)snprintf(buf + n, sizeof buf - n, "%s  %-9s ", b ? "\n" : "", benches[b].name);
+        for (p = benches[b].about; *p && n + 16 < sizeof buf; p++) {
+            buf[n++] = *p;
+            if (*p == '\n') n += (size_t)snprintf(buf + n, sizeof buf - n, "%12s", "");
+        }
+        buf[n] = '\0';
+    }
+    return buf;
 }
 
 /* "a, b, c" of names[0..n) into out (size outsize). */
@@ -113,11 +186,69 @@ static int check_scenes(const cli_cmd *cmd, int b, const bench_opts *bo)
                            names);
 }
 
+/* An option given that benchmark b reads nothing from: a usage error
+   naming it, rather than the option ignored. */
+static int check_options(const cli_cmd *cmd, const cli_opt *opts, int b)
+{
+    int k, c;
+    for (k = 0; opts[k].kind != CLI_END; k++) {
+        const char *o = opts[k].name;
+        if (!opts[k].given || bench_takes(b, o)) continue;
+        if (!strcmp(o, "scenes"))
+            return cli_usage_error(
+                cmd, "--scenes does not apply to this benchmark (it takes scene files)");
+        /* Its reference table is for one size: another would be ignored. */
+        if (!strcmp(o, "size") && benches[b].run == bench_counts)
+            return cli_usage_error(cmd, "--size does not apply to this benchmark (it renders "
+                                        "at the SPD table's 513x513)");
+        /* one benchmark's own (--embree: spd's) */
+        for (c = 0; c < NBENCH && !bench_takes(c, o); c++) {
+        }
+        if (c < NBENCH && one_takes(o))
+            return cli_usage_error(cmd, "--%s is an option of bench %s only", o, benches[c].name);
+        return cli_usage_error(
+            cmd, "--%s does not apply to this benchmark (it reads nothing from it)", o);
+    }
+    return 0;
+}
+
+/* ggrt bench NAME --help: NAME's own usage, text and options. */
+static int bench_help(cli_cmd *cmd, const cli_opt *opts, int b, char *name, size_t len)
+{
+    cli_opt own[16];
+    int k, n = 0;
+    for (k = 0; opts[k].kind != CLI_END && n < 15; k++)
+        if (bench_takes(b, opts[k].name)) own[n++] = opts[k];
+    own[n] = opts[k]; /* CLI_END */
+    snprintf(name, len, "bench %s", benches[b].name);
+    cmd->name = name;
+    cmd->usage = benches[b].args;
+    cmd->about = benches[b].about;
+    cmd->opts[0] = own;
+    cmd->tail = bench_takes(b, "pov") ? tail : bench_takes(b, "spd") ? tail_spd : NULL;
+    cli_set_command(name);
+    cli_help(stdout, cmd);
+    return EXIT_OK;
+}
+
+/* The benchmark that the first argument names (-1 if none), and whether
+   --help is asked for (before any "--"). */
+static int named_bench(int argc, char **argv, int *help)
+{
+    int i, b = -1;
+    *help = 0;
+    for (i = 1; i < argc && strcmp(argv[i], "--"); i++)
+        if (!strcmp(argv[i], "-h") || !strcmp(argv[i], "--help")) *help = 1;
+    for (i = 0; argc > 1 && i < NBENCH; i++)
+        if (!strcmp(argv[1], benches[i].name)) b = i;
+    return b;
+}
+
 int cmd_bench(int argc, char **argv)
 {
     bench_opts bo;
     const char *args[BENCH_MAX_ARGS + 1];
-    int no_pov = 0, nargs = 0, rc, i;
+    int no_pov = 0, nargs = 0, rc, i, help;
     char name[32];
     cli_opt opts[] = {
         CLI_OPT_INT(0, "size", &bo.size, 1, 4096, "N",
@@ -152,8 +283,10 @@ int cmd_bench(int argc, char **argv)
     cli_cmd cmd = {.name = "bench",
                    .usage = "spd|counts|effects|scaling [options]\n"
                             "       ggrt bench rays|limit [SCENE...] [options]\n"
-                            "       ggrt bench accuracy SCENE... [--size W] [--out DIR] [options]",
-                   .about = about,
+                            "       ggrt bench accuracy SCENE... [options]\n"
+                            "       ggrt bench NAME --help   (NAME's own text and options)",
+                   .about = about_all(),
+                   .tail = tail,
                    .opts = {opts},
                    .args = args,
                    .min_args = 1,
@@ -164,10 +297,12 @@ int cmd_bench(int argc, char **argv)
     bo.threads = 2, bo.runs = 3;
     bo.spd_dir = "examples/scenes/spd";
     bo.pov_dir = "examples/scenes/spd-pov";
+    if ((i = named_bench(argc, argv, &help)) >= 0 && help)
+        return bench_help(&cmd, opts, i, name, sizeof name);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     bo.pov = !no_pov;
     for (i = 1; i < nargs; i++) bo.args[bo.nargs++] = args[i];
-    for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) {
+    for (i = 0; i < NBENCH; i++) {
         if (strcmp(args[0], benches[i].name)) continue;
         /* "ggrt bench counts: ..." from here on, the usage errors too */
         snprintf(name, sizeof name, "bench %s", benches[i].name);
@@ -176,9 +311,9 @@ int cmd_bench(int argc, char **argv)
         if (bo.nargs && benches[i].run != bench_accuracy && benches[i].run != bench_limit &&
             benches[i].run != bench_rays)
             return cli_usage_error(&cmd, "this benchmark takes no scene files ('%s')", bo.args[0]);
-        if (bo.embree && benches[i].run != bench_spd)
-            return cli_usage_error(
-                &cmd, "--embree is an option of bench spd only, not of this benchmark");
+        if ((rc = check_scenes(&cmd, i, &bo)) != 0 || (rc = check_knobs(&cmd, &bo)) != 0 ||
+            (rc = check_options(&cmd, opts, i)) != 0)
+            return rc;
         {
             /* any knob off its default: the options' text is not empty */
             ggRenderOptions t;
@@ -187,23 +322,13 @@ int cmd_bench(int argc, char **argv)
             t.accuracy = bo.accuracy;
             bo.has_accuracy = ggRenderOptionsFormat(&t, b, sizeof b) > 0;
         }
-        if (bo.has_accuracy && benches[i].run != bench_spd)
-            return cli_usage_error(&cmd, "--accuracy is an option of bench spd only");
-        if (bo.knobs && benches[i].run != bench_accuracy)
-            return cli_usage_error(&cmd, "--knobs is an option of bench accuracy only");
-        if ((rc = check_scenes(&cmd, i, &bo)) != 0 || (rc = check_knobs(&cmd, &bo)) != 0) return rc;
-        /* Its reference table is for one size: another would be ignored. */
-        if (opts[0].given && benches[i].run == bench_counts)
-            return cli_usage_error(&cmd, "--size does not apply to this benchmark (it renders "
-                                         "at the SPD table's 513x513)");
-        if ((rc = check_unused(&cmd, i)) != 0) return rc;
         if (!opts[0].given) bo.size = benches[i].size;
         return benches[i].run(&bo);
     }
     {
-        const char *names[sizeof benches / sizeof benches[0]], *near;
+        const char *names[NBENCH], *near;
         char all[128];
-        for (i = 0; i < (int)(sizeof benches / sizeof benches[0]); i++) names[i] = benches[i].name;
+        for (i = 0; i < NBENCH; i++) names[i] = benches[i].name;
         join_names(all, sizeof all, names, i);
         if ((near = cli_suggest(args[0], names, (size_t)i)))
             return cli_usage_error(&cmd, "unknown benchmark '%s'; did you mean '%s'? (%s)", args[0],

@@ -36,8 +36,8 @@ int bench_effects(const bench_opts *bo)
 {
     size_t i;
     int e;
-    printf("ggrt bench effects: %dx%d, %d threads, median of %d runs\n\n", bo->size, bo->size,
-           bo->threads, bo->runs);
+    printf("ggrt bench effects: %dx%d, %d thread%s, median of %d run%s\n\n", bo->size, bo->size,
+           bo->threads, BENCH_S(bo->threads), bo->runs, BENCH_S(bo->runs));
     printf("%-12s %9s %9s %7s %-9s  effects\n", "scene", "own", "forced", "ratio", "image");
     for (i = 0; i < BENCH_NEFFECTS; i++) {
         char path[512];

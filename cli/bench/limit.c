@@ -130,8 +130,8 @@ int bench_limit(const bench_opts *bo)
 {
     char path[1024];
     int i, rc = EXIT_OK;
-    printf("ggrt bench limit: %dx%d, depth 5, pixel centres, 1 thread, %d runs\n", bo->size,
-           bo->size, bo->runs);
+    printf("ggrt bench limit: %dx%d, depth 5, pixel centres, 1 thread, %d run%s\n", bo->size,
+           bo->size, bo->runs, BENCH_S(bo->runs));
     bench_print_machine();
     printf("per ray (eye, secondary and shadow rays of the render): kernel calls as the scene's "
            "traversal makes them\n");

@@ -113,8 +113,8 @@ int bench_scaling(const bench_opts *bo)
     static const char *const balls[] = {"balls-s1", "balls-s2", "balls-s3", "balls-s4"};
     double ns[4], tr[4];
     int i, rc, size = bo->size ? bo->size : 256;
-    printf("\nscaling: render time against primitive count (%dx%d, %d threads, median of %d)\n",
-           size, size, bo->threads, bo->runs);
+    printf("\nscaling: render time against primitive count (%dx%d, %d thread%s, median of %d)\n",
+           size, size, bo->threads, BENCH_S(bo->threads), bo->runs);
     printf("%-10s %8s %9s %10s %12s\n", "scene", "prims", "time", "rays", "ns per ray");
     for (i = 0; i < 4; i++) {
         char path[512];
@@ -156,7 +156,8 @@ int bench_scaling(const bench_opts *bo)
         double t1 = 0;
         snprintf(path, sizeof path, "%s/balls-s3.nff", bo->spd_dir);
         if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
-        printf("\nscaling: balls-s3 against image size (%d threads)\n", bo->threads);
+        printf("\nscaling: balls-s3 against image size (%d thread%s)\n", bo->threads,
+               BENCH_S(bo->threads));
         for (i = 0; i < 3; i++) {
             double t = render_seconds(s, sz[i], sz[i], bo->threads, bo->runs, &st);
             printf("%4dx%-4d %8.4fs  %6.1f ns per pixel\n", sz[i], sz[i], t,

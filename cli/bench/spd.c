@@ -262,9 +262,9 @@ static int bench_spd_embree(const bench_opts *bo, int pov)
 {
     double lg[3] = {0, 0, 0}, worst16 = 1e300, blk[BENCH_NSPD][2];
     int i, n = 0, npov = 0, runs = bo->runs < 64 ? bo->runs : 64;
-    printf("ggrt bench spd --embree: %dx%d, %d threads, depth 5, pixel centres, %d rounds "
+    printf("ggrt bench spd --embree: %dx%d, %d thread%s, depth 5, pixel centres, %d round%s "
            "interleaved, medians\n",
-           bo->size, bo->size, bo->threads, runs);
+           bo->size, bo->size, bo->threads, BENCH_S(bo->threads), runs, BENCH_S(runs));
     bench_print_machine();
     print_anchor(bo);
     print_knobs(bo);
@@ -355,9 +355,9 @@ int bench_spd(const bench_opts *bo)
     double logsum = 0, worst = 1e300;
     int rc;
     if (bo->embree) return bench_spd_embree(bo, pov);
-    printf("ggrt bench spd: %dx%d, %d threads, depth 5, pixel centres, no antialiasing, "
-           "median of %d runs\n",
-           bo->size, bo->size, bo->threads, bo->runs);
+    printf("ggrt bench spd: %dx%d, %d thread%s, depth 5, pixel centres, no antialiasing, "
+           "median of %d run%s\n",
+           bo->size, bo->size, bo->threads, BENCH_S(bo->threads), bo->runs, BENCH_S(bo->runs));
     bench_print_machine();
     print_knobs(bo);
     if (bo->pov && !pov) printf("(povray not found: install it with apt-get install povray)\n");
@@ -414,8 +414,8 @@ int bench_counts(const bench_opts *bo)
     static const char *const kinds[4] = {"eye-hit", "reflect", "refract", "shadow"};
     int i, k, bad = 0, rc;
     printf("ggrt bench counts: SPD rules (513x513 corner rays, depth 5, transmitters spawn "
-           "reflection rays), %d threads\n\n",
-           bo->threads);
+           "reflection rays), %d thread%s\n\n",
+           bo->threads, BENCH_S(bo->threads));
     printf("%-11s %-8s %10s %10s %8s\n", "scene", "rays", "ggrt", "SPD", "diff");
     for (i = 0; i < BENCH_NSPD; i++) {
         spd_job j;

@@ -140,13 +140,53 @@ for b in spd counts scaling rays limit; do
     bad "bench $b --spd with no scenes in it: exit 3, the file named (exit $got)" "$(cat "$tmp/out" "$tmp/err")"
 done
 # An option a benchmark reads nothing from is refused, not ignored.
-for c in "counts --runs 2" "rays --threads 2" "limit --no-pov" "effects --spd x" \
-         "scaling --out x" "spd --out x" "accuracy --pov x"; do
+for c in "counts --runs 2" "rays --threads 2" "effects --spd x" "accuracy --spd x"; do
   b=${c%% *}; o=${c#* }; o=${o%% *}
   # shellcheck disable=SC2086
   expect_err 1 "ggrt bench $b: $o does not apply to this benchmark (it reads nothing from it)" \
     "bench $b $o is a usage error" "$ggrt" bench $c
 done
+for c in "limit --no-pov:spd" "scaling --out x:accuracy" "spd --knobs sphere:accuracy" \
+         "accuracy --pov x:spd" "rays --embree x:spd" "counts -a shadows=opaque:spd"; do
+  b=${c%% *}; o=${c#* }; o=${o%:*}; owner=${c##*:}; long=${o%% *}; [ "$long" = -a ] && long=--accuracy
+  # shellcheck disable=SC2086
+  expect_err 1 "ggrt bench $b: $long is an option of bench $owner only" \
+    "bench $b $long: an option of bench $owner only" "$ggrt" bench $b $o
+done
+# ggrt bench NAME --help lists exactly the options NAME reads: every other
+# option of ggrt bench --help is refused by NAME, and (where a scene folder
+# that does not exist stops it before it measures) each listed one is not.
+longs_of() { "$ggrt" bench $1 --help | sed -n 's/^ *\(-[a-zA-Z], \)\{0,1\}\(--[a-z-]*\).*/\2/p' | sort; }
+all=$(longs_of "")
+nref=0 nacc=0 failed=""
+for b in spd counts effects accuracy scaling rays limit; do
+  own=$(longs_of $b)
+  "$ggrt" bench $b --help | head -n 1 | grep -q "^usage: ggrt bench $b " || failed="$failed
+$b --help: $("$ggrt" bench $b --help | head -n 1)"
+  for o in $all; do
+    [ $o = --help ] && continue
+    case $o in --no-pov) v= ;; --size|--threads|--runs) v=1 ;; --accuracy) v=shadows=opaque ;;
+               --scenes) v=gears ;; --knobs) v=sphere ;; *) v=$tmp/x ;; esac
+    if printf '%s\n' "$own" | grep -qx -- "$o"; then
+      case $b:$o in effects:*|accuracy:*|*:--spd|*:--scenes|counts:--embree) continue ;; esac
+      # shellcheck disable=SC2086
+      "$ggrt" bench $b $o $v --spd "$tmp/no-such-folder" --scenes gears >"$tmp/out" 2>&1; got=$?
+      nacc=$((nacc + 1))
+      [ $got = 3 ] || failed="$failed
+$b $o $v (listed): exit $got, $(head -n 2 "$tmp/out")"
+    else
+      # shellcheck disable=SC2086
+      "$ggrt" bench $b $o $v >"$tmp/out" 2>&1; got=$?
+      nref=$((nref + 1))
+      [ $got = 1 ] && grep -q "^ggrt bench $b: $o \(does not apply\|is an option of bench\)" "$tmp/out" ||
+        failed="$failed
+$b $o (not listed): exit $got, $(head -n 2 "$tmp/out")"
+    fi
+  done
+done
+[ -z "$failed" ] && [ $nref -ge 20 ] && [ $nacc -ge 10 ] &&
+  ok "bench NAME --help: its own options; the $nref others refused, $nacc listed ones taken" ||
+  bad "bench NAME --help: its own options ($nref refused, $nacc taken)" "$failed"
 # A scene that fails to load: its row says why and so does stderr, in the
 # tool's message style (as bench accuracy does), exit 2.
 mkdir -p "$tmp/badspd"; printf 's 0 0 zero 1\n' >"$tmp/badspd/gears.nff"

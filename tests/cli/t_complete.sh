@@ -23,15 +23,6 @@ comp() { bash "$tmp/comp.bash" comp "$ggrt" "$@"; }
 longs() { "$ggrt" "$@" --help | grep -E '^(  -[a-zA-Z], |      )--[a-z]' |
           sed -E 's/^ +(-[a-zA-Z], )?(--[a-z][a-z0-9-]*).*/\2/' | sort -u; }
 
-# benchlongs SUB: bench's long options less those whose help gives them
-# to another subcommand ("spd: ...", on the option's line or the next).
-benchlongs() { "$ggrt" bench --help | awk -v s="$1" '
-  /^(  -[a-zA-Z], |      )--[a-z]/ { if (o != "") print o; o = $0; sub(/^ +(-[a-zA-Z], )?/, "", o)
-    sub(/[ ].*/, "", o); d = length($0) > 24 && substr($0, 23, 2) == "  " ? substr($0, 25) : ""; sub(/^ +/, "", d); if (d != "") t(d); next }
-  o != "" && d == "" { d = $0; sub(/^ +/, "", d); t(d) }
-  function t(x) { if (x ~ /^[a-z]+: / && substr(x, 1, index(x, ":") - 1) != s) o = "" }
-  END { if (o != "") print o }' | sort -u; }
-
 cmds=$("$ggrt" --help | awk '/^commands:/ { on = 1; next } on && /^[^ ]/ { on = 0 } on && NF { print $1 }' | sort)
 got=$(comp "")
 if [ "$got" = "$(printf '%s\nhelp\n' "$cmds" | sort)" ] && [ "$(comp re)" = render ]; then
@@ -47,7 +38,7 @@ forms=$("$ggrt" optics --help | awk '/^forms:/ { on = 1; next } on && /^[^ ]/ { 
 got=$(comp optics "")
 [ -n "$forms" ] && [ "$got" = "$forms" ] && ok "completion: optics offers its forms ($(echo $forms))" ||
   bad "completion: optics offers its forms" "got: $got; want: $forms"
-subs=$("$ggrt" bench --help | sed -n 's/^\(usage:\)\{0,1\} *ggrt bench \([a-z|]*\).*/\2/p' | tr '|' '\n' | sort)
+subs=$("$ggrt" bench --help | sed -n 's/^\(usage:\)\{0,1\} *ggrt bench \([a-z][a-z|]*\).*/\2/p' | tr '|' '\n' | sort)
 got=$(comp bench "")
 [ "$(echo "$subs" | wc -l)" -ge 7 ] && [ "$got" = "$subs" ] && ok "completion: bench offers its subcommands ($(echo $subs))" ||
   bad "completion: bench offers its subcommands" "got: $got; want: $subs"
@@ -63,7 +54,7 @@ for c in $cmds; do
   esac
   for w in $words; do
     set -- $(echo "$w" | tr ':' ' ')
-    want=$(case $1 in bench) benchlongs "$2" ;; *) longs "$@" ;; esac)
+    want=$(longs "$@")
     got=$(comp "$@" --)
     [ "$got" = "$want" ] || failed="$failed
 $w: got $(echo $got), want $(echo $want)"
@@ -78,8 +69,7 @@ $w: got $(echo $got), want $(echo $want)"
       [ "$got" = "$list" ] || failed="$failed
 $w $o: got $(echo $got), want $(echo $list)"
       # its short name, where it has one ("  -f, --format F")
-      s=$(case $1 in bench) "$ggrt" bench --help ;; *) "$ggrt" "$@" --help ;; esac |
-          sed -n "s/^  \(-[a-zA-Z]\), $o .*/\1/p")
+      s=$("$ggrt" "$@" --help | sed -n "s/^  \(-[a-zA-Z]\), $o .*/\1/p")
       [ -z "$s" ] && continue
       nshort=$((nshort + 1))
       got=$(comp "$@" "$s" "")
