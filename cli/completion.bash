@@ -26,6 +26,12 @@ _ggrt_section() {
         on && /^  [a-z]/ { print $1 }'
 }
 
+# _ggrt_benches HELP: the benchmarks of ggrt bench --help, from its usage
+# lines ("ggrt bench spd|counts [options]").
+_ggrt_benches() {
+    printf '%s\n' "$1" | sed -n 's/^\(usage:\)\{0,1\} *ggrt bench \([a-z][a-z|]*\).*/\2/p' | tr '|' ' '
+}
+
 # _ggrt_options HELP: one line per option of a --help text, "NAMES META",
 # NAMES as "-o,--output" or "--pixel", META the value's name or "".
 _ggrt_options() {
@@ -152,6 +158,8 @@ _ggrt_complete() {
             mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$("$prog" --help 2>/dev/null)" commands)" -- "$cur")
         elif ((cword == subpos + 1)) && [[ ${words[subpos]} == optics ]]; then
             mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$("$prog" optics --help 2>/dev/null)" forms)" -- "$cur")
+        elif ((cword == subpos + 1)) && [[ ${words[subpos]} == bench ]]; then
+            mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_benches "$("$prog" bench --help 2>/dev/null)")" -- "$cur")
         fi
         return
     fi
@@ -164,8 +172,7 @@ _ggrt_complete() {
             if [[ $cmd == optics ]]; then
                 mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_section "$help" forms)" -- "$cur")
             else
-                mapfile -t COMPREPLY < <(compgen -W "$(printf '%s\n' "$help" |
-                    sed -n 's/^\(usage:\)\{0,1\} *ggrt bench \([a-z][a-z|]*\).*/\2/p' | tr '|' ' ')" -- "$cur")
+                mapfile -t COMPREPLY < <(compgen -W "$(_ggrt_benches "$help")" -- "$cur")
             fi
             return
         fi

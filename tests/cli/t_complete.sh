@@ -124,6 +124,9 @@ else
 offset=fixed,sh: $got; near-tir=info,grazing=w: $got2"
 fi
 
+got=$(comp help bench "")
+[ "$got" = "$subs" ] && ok "completion: 'ggrt help bench' offers the benchmarks" ||
+  bad "completion: 'ggrt help bench' offers the benchmarks" "got: $got"
 got=$(comp help optics re)
 [ "$got" = "$(printf 'reflect\nrefract')" ] && ok "completion: 'ggrt help optics' offers the forms" ||
   bad "completion: 'ggrt help optics' offers the forms" "got: $got"
