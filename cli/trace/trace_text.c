@@ -138,13 +138,81 @@ typedef struct glyphs {
     const char *tee, *last, *pipe, *blank;
 } glyphs;
 
+/* One light of a hit: its verdict, what blocked or dimmed it, its terms. */
+static void print_light(FILE *f, const trace_view *v, const char *body, const ggTraceLight *L)
+{
+    char name[256];
+    fprintf(f, "%s    light %d: %s", body, L->light, ggShadowName(L->verdict));
+    if (L->occluder >= 0) {
+        /* a visible light's occluder is a transparent object it crossed
+           without losing anything */
+        object_name(v, L->occluder, name, sizeof name);
+        fprintf(f, " %s %s at t %.4g", L->verdict == GG_SHADOW_VISIBLE ? "through" : "by", name,
+                L->t_block);
+    }
+    if (L->verdict == GG_SHADOW_ATTENUATED) {
+        fprintf(f, ", transmittance ");
+        pcol(f, L->transmittance);
+    }
+    if (L->verdict == GG_SHADOW_VISIBLE || L->verdict == GG_SHADOW_ATTENUATED) {
+        fprintf(f, "  diffuse ");
+        pcol(f, L->diffuse);
+        if (L->phong.r != 0 || L->phong.g != 0 || L->phong.b != 0) {
+            fprintf(f, " phong ");
+            pcol(f, L->phong);
+        }
+    }
+    fprintf(f, "\n");
+}
+
+/* A node's hit: where, the surface, the material, the lights, Fresnel,
+   why it stops. */
+static void print_hit(FILE *f, const trace_view *v, const char *body, const ggTraceNode *n)
+{
+    ggMaterial m = ggSceneMaterial(v->scene, n->material);
+    char name[256];
+    int l;
+    object_name(v, n->object, name, sizeof name);
+    fprintf(f, "%shit %s at t %.6g, %s face\n", body, name, n->t, n->front ? "front" : "back");
+    if (cli_face_text(v->scene, n->object, n->triangle, name, sizeof name))
+        fprintf(f, "%s    %s\n", body, name);
+    fprintf(f, "%s    p ", body);
+    pvec(f, n->p);
+    fprintf(f, "  uv (%.4g, %.4g)\n%s    ng ", n->u, n->v, body);
+    pvec(f, n->ng);
+    fprintf(f, "  ns ");
+    pvec(f, n->ns);
+    if (!v->hide_numeric) print_numeric(f, body, n);
+    fprintf(f, "\n%s    material %d: kd %g ks %g kt %g ior %g, surface colour ", body, n->material,
+            m.kd, m.ks, m.kt, m.ior);
+    pcol(f, n->surface);
+    fprintf(f, "\n%s    ambient ", body);
+    pcol(f, n->ambient);
+    if (n->emission.r != 0 || n->emission.g != 0 || n->emission.b != 0) {
+        fprintf(f, "  emission ");
+        pcol(f, n->emission);
+    }
+    fprintf(f, "\n");
+    for (l = 0; l < n->nlights; l++)
+        print_light(f, v, body, ggTraceGetLight(v->trace, (size_t)(n->first_light + l)));
+    if (n->fresnel >= 0)
+        fprintf(f, "%s    fresnel R %.6g, T %.6g (n %g -> %g)\n", body, n->fresnel, 1 - n->fresnel,
+                n->n_medium, n->n_other);
+    if (n->stop != GG_STOP_NONE)
+        fprintf(f, "%s    stops: %s\n", body,
+                n->stop == GG_STOP_DEPTH    ? "depth limit reached"
+                : n->stop == GG_STOP_MATTE  ? "no ks or kt: no secondary rays"
+                : n->stop == GG_STOP_BUDGET ? "the eye ray's ray budget is used up"
+                                            : ggStopName(n->stop));
+}
+
 static void print_node(FILE *f, const trace_view *v, int i, const ggColor *wp, const char *prefix,
                        const char *branch, const char *cont, const glyphs *g)
 {
     const ggTraceNode *n = ggTraceGetNode(v->trace, (size_t)i);
     ggColor w = node_weight(v->trace, n, wp);
-    int kids[MAX_KIDS], nk = trace_children(v->trace, i, kids, MAX_KIDS), k, l;
-    char body[512], next[512], name[256], med[64];
+    int kids[MAX_KIDS], nk = trace_children(v->trace, i, kids, MAX_KIDS), k;
+    char body[512], next[512], med[64];
     const char *chan[] = {"red", "green", "blue"};
 
     /* Header: kind, weight in the pixel, share of it, factor. */
@@ -171,63 +239,8 @@ static void print_node(FILE *f, const trace_view *v, int i, const ggColor *wp, c
         fprintf(f, "%smissed: background", body);
         if (!v->hide_numeric) print_cost(f, n);
         fputc('\n', f);
-    } else {
-        ggMaterial m = ggSceneMaterial(v->scene, n->material);
-        object_name(v, n->object, name, sizeof name);
-        fprintf(f, "%shit %s at t %.6g, %s face\n", body, name, n->t, n->front ? "front" : "back");
-        if (cli_face_text(v->scene, n->object, n->triangle, name, sizeof name))
-            fprintf(f, "%s    %s\n", body, name);
-        fprintf(f, "%s    p ", body);
-        pvec(f, n->p);
-        fprintf(f, "  uv (%.4g, %.4g)\n%s    ng ", n->u, n->v, body);
-        pvec(f, n->ng);
-        fprintf(f, "  ns ");
-        pvec(f, n->ns);
-        if (!v->hide_numeric) print_numeric(f, body, n);
-        fprintf(f, "\n%s    material %d: kd %g ks %g kt %g ior %g, surface colour ", body,
-                n->material, m.kd, m.ks, m.kt, m.ior);
-        pcol(f, n->surface);
-        fprintf(f, "\n%s    ambient ", body);
-        pcol(f, n->ambient);
-        if (n->emission.r != 0 || n->emission.g != 0 || n->emission.b != 0) {
-            fprintf(f, "  emission ");
-            pcol(f, n->emission);
-        }
-        fprintf(f, "\n");
-        for (l = 0; l < n->nlights; l++) {
-            const ggTraceLight *L = ggTraceGetLight(v->trace, (size_t)(n->first_light + l));
-            fprintf(f, "%s    light %d: %s", body, L->light, ggShadowName(L->verdict));
-            if (L->occluder >= 0) {
-                /* a visible light's occluder is a transparent object it
-                   crossed without losing anything */
-                object_name(v, L->occluder, name, sizeof name);
-                fprintf(f, " %s %s at t %.4g", L->verdict == GG_SHADOW_VISIBLE ? "through" : "by",
-                        name, L->t_block);
-            }
-            if (L->verdict == GG_SHADOW_ATTENUATED) {
-                fprintf(f, ", transmittance ");
-                pcol(f, L->transmittance);
-            }
-            if (L->verdict == GG_SHADOW_VISIBLE || L->verdict == GG_SHADOW_ATTENUATED) {
-                fprintf(f, "  diffuse ");
-                pcol(f, L->diffuse);
-                if (L->phong.r != 0 || L->phong.g != 0 || L->phong.b != 0) {
-                    fprintf(f, " phong ");
-                    pcol(f, L->phong);
-                }
-            }
-            fprintf(f, "\n");
-        }
-        if (n->fresnel >= 0)
-            fprintf(f, "%s    fresnel R %.6g, T %.6g (n %g -> %g)\n", body, n->fresnel,
-                    1 - n->fresnel, n->n_medium, n->n_other);
-        if (n->stop != GG_STOP_NONE)
-            fprintf(f, "%s    stops: %s\n", body,
-                    n->stop == GG_STOP_DEPTH    ? "depth limit reached"
-                    : n->stop == GG_STOP_MATTE  ? "no ks or kt: no secondary rays"
-                    : n->stop == GG_STOP_BUDGET ? "the eye ray's ray budget is used up"
-                                                : ggStopName(n->stop));
-    }
+    } else
+        print_hit(f, v, body, n);
     if (n->absorption.r != 1 || n->absorption.g != 1 || n->absorption.b != 1) {
         fprintf(f, "%sabsorption over the segment ", body);
         pcol(f, n->absorption);
