@@ -308,7 +308,7 @@ void trace_write_svg_views(FILE *f, const trace_view *v, int camera)
             "<?xml version='1.0' encoding='UTF-8'?>\n"
             "<svg xmlns='http://www.w3.org/2000/svg' width='%.0f' height='%.0f' "
             "font-family='sans-serif'>\n",
-            (camera ? 3 : 2) * PANEL + (camera ? 40 : 30), PANEL + 90);
+            (camera ? 3 : 2) * PANEL + (camera ? 40 : 30), PANEL + (camera ? 90 : 110));
     fprintf(f, "<rect width='100%%' height='100%%' fill='white'/>\n");
     fprintf(f, "<text x='10' y='24' font-size='15' fill='#111'>ggrt trace ");
     xml_text(f, v->path);
@@ -327,16 +327,20 @@ void trace_write_svg_views(FILE *f, const trace_view *v, int camera)
                     "<text x='%d' y='%.0f' font-size='12'>%s</text>\n",
                     10 + 110 * k, y, 40 + 110 * k, y, kind_color(k), 46 + 110 * k, y + 4, names[k]);
         }
+        /* the shadow rays: after the others, or on a row of their own where
+           the two views alone (the page's SVG, 870 px) leave no room */
+        int sx = camera ? 450 : 10, sx2 = camera ? 660 : 230;
+        if (!camera) y += 20;
         fprintf(f,
-                "<line x1='450' y1='%.0f' x2='480' y2='%.0f' stroke='#f59e0b' "
-                "stroke-dasharray='5 3' stroke-width='1.5'/><text x='486' y='%.0f' "
+                "<line x1='%d' y1='%.0f' x2='%d' y2='%.0f' stroke='#f59e0b' "
+                "stroke-dasharray='5 3' stroke-width='1.5'/><text x='%d' y='%.0f' "
                 "font-size='12'>shadow ray, light reached</text>\n",
-                y, y, y + 4);
+                sx, y, sx + 30, y, sx + 36, y + 4);
         fprintf(f,
-                "<line x1='660' y1='%.0f' x2='690' y2='%.0f' stroke='#dc2626' "
-                "stroke-dasharray='5 3' stroke-width='1.5'/><text x='696' y='%.0f' "
+                "<line x1='%d' y1='%.0f' x2='%d' y2='%.0f' stroke='#dc2626' "
+                "stroke-dasharray='5 3' stroke-width='1.5'/><text x='%d' y='%.0f' "
                 "font-size='12'>shadow ray, stopped at its occluder</text>\n",
-                y, y, y + 4);
+                sx2, y, sx2 + 30, y, sx2 + 36, y + 4);
     }
     fprintf(f, "</svg>\n");
 }

@@ -106,6 +106,7 @@
   }
   function status(text, frac) {
     $('status-text').textContent = text;
+    $('status-text').title = text; // the whole line where it does not fit
     const p = $('progress');
     if (frac === undefined) p.classList.add('done');
     else { p.classList.remove('done'); p.value = frac; }
@@ -294,7 +295,7 @@
     state.px = px.length === 2 && px.every((v) => v >= 0) && px[0] < W && px[1] < H ? px : null;
     state.overlay = OVERLAYS.indexOf(p.get('ov')) >= 0 ? p.get('ov') : 'none';
     state.tab = TABS.indexOf(p.get('tab')) >= 0 ? p.get('tab') : 'tree';
-    state.zoom = Math.min(8, Math.max(0, parseInt(p.get('zoom') || '0', 10) || 0));
+    state.zoom = Math.min(ZOOM_MAX, Math.max(0, parseInt(p.get('zoom') || '0', 10) || 0));
     const a = parseFloat(p.get('alpha'));
     state.opacity = a >= 0 && a <= 1 ? a : 0.75;
     state.find = p.get('find') || '';
@@ -369,7 +370,12 @@
 
   async function loadImage(side, gen) {
     const params = optParams(side), q = keyOf(params);
-    if (images[side] && images[side].q === q) return images[side];
+    // An image already here: its summary again (the line may say "error"
+    // from the options that were refused before it).
+    if (images[side] && images[side].q === q) {
+      if (images[side].said) status(images[side].said);
+      return images[side];
+    }
     const t0 = performance.now();
     if (!(await waitRender(params, 'image', 'rendering ' + side.toUpperCase(), gen))) return null;
     const [png, f32] = await Promise.all([
@@ -387,12 +393,17 @@
     // the light got through, and how many arrived dimmed.
     $('viewport').dataset['rays' + side.toUpperCase()] =
       [rays, st.shadow, st.shadow_blocked, st.shadow_attenuated].join(' ');
-    status('rendered ' + side.toUpperCase() + ' in ' + r.body.job.seconds.toFixed(2) + ' s' +
+    images[side].said = 'rendered ' + side.toUpperCase() + ' in ' + r.body.job.seconds.toFixed(2) + ' s' +
       ' (' + ((performance.now() - t0) / 1000).toFixed(1) + ' s here): ' +
       rays.toLocaleString() + ' rays, shadow ' + st.shadow.toLocaleString() + ' (blocked ' +
-      st.shadow_blocked.toLocaleString() + ', attenuated ' + st.shadow_attenuated.toLocaleString() + ')');
+      st.shadow_blocked.toLocaleString() + ', attenuated ' + st.shadow_attenuated.toLocaleString() + ')';
+    status(images[side].said);
     return images[side];
   }
+
+  // Zoom: 0 fits the image to the window; else 1..ZOOM_MAX screen pixels
+  // a pixel, the dropdown (fit, 1x..16x) always showing which.
+  const ZOOM_MAX = 16;
 
   function sizeCanvases() {
     let z = state.zoom;
@@ -413,8 +424,13 @@
     const m = $('marker');
     m.width = W * z; m.height = H * z;
     m.style.width = (W * z) + 'px'; m.style.height = (H * z) + 'px';
-    $('zoom').value = String(Math.min(4, z));
+    $('zoom').value = String(state.zoom);
     return z;
+  }
+
+  // Whether image A of the options shown is here (a find waits for it).
+  function imageReady() {
+    return !!(images.a && images.a.q === keyOf(optParams('a')));
   }
 
   function drawImage() {
@@ -657,9 +673,13 @@
 
   // ---- hover ----
 
+  // The pixel under the mouse, from the event's own offset in the canvas:
+  // the canvas's box can start at a fraction of a CSS pixel (top 60.375)
+  // where the browser paints it at a whole one, and clientY less that
+  // top is then a row short.
   function pixelAt(ev) {
-    const r = $('image').getBoundingClientRect();
-    const x = Math.floor((ev.clientX - r.left) / r.width * W), y = Math.floor((ev.clientY - r.top) / r.height * H);
+    const c = $('image');
+    const x = Math.floor(ev.offsetX / c.clientWidth * W), y = Math.floor(ev.offsetY / c.clientHeight * H);
     return x >= 0 && y >= 0 && x < W && y < H ? [x, y] : null;
   }
 
@@ -1065,7 +1085,10 @@
     box.appendChild(el('p', 'f', bad ? bad + ' invariant' + (bad === 1 ? '' : 's') + ' fail here' :
       'every invariant holds at this pixel'));
     box.appendChild(t);
-    box.appendChild(el('p', 'hint', 'radiance bound of the scene: ' + fmtG(c.radiance_bound, 4) +
+    // null: no bound (ggrt check: ks + kt >= 1 somewhere lets a ray's light grow)
+    box.appendChild(el('p', 'hint', 'radiance bound of the scene: ' + (c.radiance_bound === null ||
+      c.radiance_bound === undefined ? 'unbounded (ks + kt >= 1 lets a ray\'s light grow without bound)'
+      : fmtG(c.radiance_bound, 4)) +
       '. The whole image: /api/check (ggrt check).'));
   }
 
@@ -1143,9 +1166,9 @@
       state.overlay = OVERLAYS[(OVERLAYS.indexOf(state.overlay) + 1) % OVERLAYS.length];
       refresh(true);
     } else if (e.key === '+' || e.key === '=' || e.key === '-') {
-      // From the zoom on screen (fitted, or up to 8), not the dropdown's (1 to 4).
+      // From the zoom on screen (fitted or chosen), one step, within 1..ZOOM_MAX.
       const z = Math.max(1, Math.round(parseFloat($('image').style.width) / W) || 1);
-      state.zoom = Math.max(1, Math.min(8, z + (e.key === '-' ? -1 : 1)));
+      state.zoom = Math.max(1, Math.min(Math.max(ZOOM_MAX, z), z + (e.key === '-' ? -1 : 1)));
       drawImage();
       writeHash();
     } else if (e.key >= '1' && e.key <= '6') {
@@ -1200,13 +1223,17 @@
       e.preventDefault();
       const text = $('find-input').value.trim();
       try {
-        if (!(await checkPredicate(text, 'where', true))) return;
+        if (text && !(await checkPredicate(text, 'where', true))) return;
       } catch (err) {
         fail(err, 'find');
         return;
       }
+      // An empty box takes the find away, as the path box does.
       state.find = text;
-      state.overlay = 'find';
+      if (text) state.overlay = 'find';
+      else if (state.overlay === 'find') state.overlay = 'none';
+      $('find-result').textContent = !text ? '' : imageReady() ? 'searching…'
+        : 'waits for the image (rendering)';
       refresh(true);
     });
     let typingPath = null;
@@ -1228,6 +1255,8 @@
       state.path = text;
       if (text) state.overlay = 'path';
       else if (state.overlay === 'path') state.overlay = 'none';
+      $('path-result').textContent = !text ? '' : imageReady() ? 'searching…'
+        : 'waits for the image (rendering)';
       refresh(true);
     });
     $('path-dim').addEventListener('change', (e) => {
@@ -1299,6 +1328,7 @@
     if (state.diff) $('diff-panel').open = true;
     window.ggrt = {
       api: api, state: state, info: info, scene: scene, W: W, H: H, select: select, overlay: currentOverlay,
+      imageReady: imageReady, cancelJob: cancelJob,
       get traces() { return traces; },
     };
     document.dispatchEvent(new Event('ggrt:ready'));

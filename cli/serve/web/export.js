@@ -149,12 +149,17 @@
       } else if (what === 'obj') {
         save(new Blob([rayObj()], { type: 'model/obj' }), 'ggrt-rays-' + tag() + '.obj');
       } else if (what === 'image') {
+        // Not a download that arrives unannounced when a render ends.
+        if (!app.imageReady()) {
+          $('export-note').textContent = 'the image is still rendering: save it when it is done';
+          return;
+        }
         const r = await app.api('/api/image', Object.assign({ format: 'png' }, sideParams('a')), 'blob');
-        if (r.status !== 200) throw new Error('the image is not rendered yet');
         save(r.body, 'ggrt-image.png');
       } else if (what === 'overlay') {
-        const c = $('overlay'), m = $('objmask');
-        const src = c.dataset.kind && c.dataset.kind !== 'none' ? c : m && m.dataset.pixels > 0 ? m : null;
+        // An overlay that failed ('find-error', ...) has nothing drawn.
+        const c = $('overlay'), m = $('objmask'), k = c.dataset.kind || 'none';
+        const src = k !== 'none' && !/-error$/.test(k) ? c : m && m.dataset.pixels > 0 ? m : null;
         if (!src) { $('export-note').textContent = 'no overlay or mask on the image'; return; }
         const name = src === c ? 'ggrt-' + c.dataset.kind + '.png' : 'ggrt-object-' + m.dataset.object + '.png';
         src.toBlob((b) => save(b, name), 'image/png');

@@ -36,12 +36,19 @@
   }
 
   // ---- the object in the image ----
-  async function findMask(params) {
+  // Asked again until done while wanted() (the mouse still on that
+  // object); one no longer wanted is cancelled, so that outlines the
+  // mouse passed over do not queue ahead of the user's own finds.
+  async function findMask(params, wanted) {
     const app = window.ggrt;
     let r;
     for (let i = 0; i < 3000; i++) {
       r = await app.api('/api/find', params);
       if (r.status === 200) break;
+      if (!wanted()) {
+        if (r.body && r.body.job) app.cancelJob(r.body.job.id);
+        throw new Error('no longer wanted');
+      }
       await new Promise((res) => setTimeout(res, 100));
     }
     if (!r.body.matched) return null;
@@ -55,11 +62,12 @@
     if (masks[key]) return masks[key];
     const p = (async () => {
       const eye = { where: 'some(kind == eye && object == ' + obj + ')', opts: 'depth=1 samples=1', limit: '0' };
-      let m = await findMask(eye), how = 'seen first';
+      const wanted = () => hoverObj === obj;
+      let m = await findMask(eye, wanted), how = 'seen first';
       if (!m) {
         // One sample a pixel: an outline, not a measurement.
         m = await findMask({ where: 'some(kind != shadow && object == ' + obj + ')', limit: '0',
-          opts: (a ? a + ' ' : '') + 'samples=1' });
+          opts: (a ? a + ' ' : '') + 'samples=1' }, wanted);
         how = 'seen through other surfaces';
       }
       masks[key] = { mask: m, how: how };
