@@ -12,22 +12,42 @@
 
 #include <math.h>
 
-static const char *const refract_classes[] = {
-    "random",         "grazing",          "grazing exact dot", "near critical",
-    "eta near 1",     "normal incidence", "negative index",    "exactly tangent",
-    "huge and tiny",  "non-unit",         "extreme eta",       "tiny normal part",
-    "every exponent", "any index ratio",  "huge eta, tilted",  NULL};
+static const char *const refract_classes[] = {"random",
+                                              "grazing",
+                                              "grazing exact dot",
+                                              "near critical",
+                                              "eta near 1",
+                                              "normal incidence",
+                                              "negative index",
+                                              "exactly tangent",
+                                              "huge and tiny",
+                                              "non-unit",
+                                              "extreme eta",
+                                              "tiny normal part",
+                                              "every exponent",
+                                              "any index ratio",
+                                              "huge eta, tilted",
+                                              "subnormal sine",
+                                              NULL};
 static const char *const reflect_classes[] = {
     "random",          "grazing",       "grazing exact dot", "normal incidence",
     "exactly tangent", "huge and tiny", "non-unit",          NULL};
-static const char *const fresnel_classes[] = {"random",        "grazing",          "near critical",
-                                              "eta near 1",    "normal incidence", "negative index",
-                                              "huge and tiny", "brewster",
-                                              "subnormal cosine", "any index ratio", NULL};
-static const char *const conductor_classes[] = {"random",        "grazing", "normal incidence",
-                                                "metals",        "tiny k",  "tiny k near critical",
-                                                "huge and tiny", "matched, tiny k",
-                                                "any index ratio", NULL};
+static const char *const fresnel_classes[] = {"random",
+                                              "grazing",
+                                              "near critical",
+                                              "eta near 1",
+                                              "normal incidence",
+                                              "negative index",
+                                              "huge and tiny",
+                                              "brewster",
+                                              "subnormal cosine",
+                                              "any index ratio",
+                                              NULL};
+static const char *const conductor_classes[] = {"random",           "grazing",
+                                                "normal incidence", "metals",
+                                                "tiny k",           "tiny k near critical",
+                                                "huge and tiny",    "matched, tiny k",
+                                                "any index ratio",  NULL};
 
 const char *const *oc_classes(int kind)
 {
@@ -249,6 +269,30 @@ static void huge_eta_tilted(oc_rng *r, oc_case *c)
     c->ni = sn > 0 && isfinite(c->nt * x / sn) ? c->nt * x / sn : c->nt * 0x1p62;
 }
 
+/* v and n parallel but for a cross product below the subnormal range:
+   they share a component s = sm 2^es down to 2^-1074 and their other
+   components x = xm 2^ex and x' differ by k units in the last place, so
+   sin(theta_i) is about (sm k / xm^2) 2^(es - ex - 52), as small as
+   2^-1126; nt is set from it so that eta sin(theta_i) is 1/4 to 2 (eta up
+   to 2^2098). A fuzzer found ggRefract calling such v and n parallel
+   and letting through a ray that totally reflects. */
+static void subnormal_sine(oc_rng *r, oc_case *c)
+{
+    int ex = irange(r, -60, 60), es = irange(r, -1074, -960), e;
+    double xm = range(r, 1, 2), sm = range(r, 1, 2), k = (double)irange(r, 1, 1 << 20);
+    double x = ldexp(xm, ex), s = ldexp(sm, es), m = range(r, 0.25, 2), im = range(r, 1, 2);
+    if (s == 0) s = 0x1p-1074, sm = 1, es = -1074;
+    sm = s / ldexp(1.0, es); /* the mantissa s kept after rounding to a subnormal */
+    c->v = V(x, s, 0), c->n = V(x + k * ldexp(1.0, ex - 52), s, 0);
+    if (oc_next(r) & 1) c->v = V(0, -c->v.x, c->v.y), c->n = V(0, -c->n.x, c->n.y);
+    /* ni = im 2^ei with nt = im (sm k / xm^2) / m 2^(ei + es - ex - 52) normal */
+    e = irange(r, -1000, 0) - ex;
+    c->ni = ldexp(im, ex + 52 - es + e);
+    c->nt = ldexp(im * sm * k / (xm * xm * m), e);
+    if (!isfinite(c->ni)) c->ni = 0x1.fffffffffffffp1023;
+    if (oc_next(r) & 1) c->nt = -c->nt;
+}
+
 static void refract_case(int cls, oc_rng *r, oc_case *c)
 {
     double k;
@@ -310,6 +354,9 @@ static void refract_case(int cls, oc_rng *r, oc_case *c)
         break;
     case 14:
         huge_eta_tilted(r, c);
+        break;
+    case 15:
+        subnormal_sine(r, c);
         break;
     default:
         c->v = incoming(r, c->n, (oc_next(r) & 1) ? uni(r) : 1 - ldexp(uni(r), -irange(r, 1, 60)));

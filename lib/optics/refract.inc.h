@@ -107,16 +107,19 @@ static int dot_sign_wide(ggVec3 a, ggVec3 b)
     return s;
 }
 
-/* True if a and b are exactly parallel (a x b == 0 in exact arithmetic). */
+/* True if a and b are exactly parallel (a x b == 0 in exact arithmetic),
+   for any finite doubles: each component of a x b is a two-term dot
+   product whose sign dot_sign_wide takes exactly. (Comparing the
+   products' TwoProd pairs is not exact where a product is near the
+   subnormal range: v = (0x1.3333333333333p-1, 0x9ap-1074, 0) and n =
+   (0x1.33333333399p-1, 0x9ap-1074, 0), a sine near 2^-1100, gave equal
+   pairs, and with eta near 2^1733 a ray that totally reflects went
+   straight through; the fuzzer found it.) */
 static int parallel_exact(ggVec3 a, ggVec3 b)
 {
-    gg_dd p, q;
-    p = dd_two_prod(a.y, b.z), q = dd_two_prod(a.z, b.y);
-    if (p.hi != q.hi || p.lo != q.lo) return 0;
-    p = dd_two_prod(a.z, b.x), q = dd_two_prod(a.x, b.z);
-    if (p.hi != q.hi || p.lo != q.lo) return 0;
-    p = dd_two_prod(a.x, b.y), q = dd_two_prod(a.y, b.x);
-    return p.hi == q.hi && p.lo == q.lo;
+    return dot_sign_wide(v3(a.y, -a.z, 0), v3(b.z, b.y, 0)) == 0 &&
+           dot_sign_wide(v3(a.z, -a.x, 0), v3(b.x, b.z, 0)) == 0 &&
+           dot_sign_wide(v3(a.x, -a.y, 0), v3(b.y, b.x, 0)) == 0;
 }
 
 /* a (double-word) times the components of x, rounded. */

@@ -25,8 +25,8 @@ if [ -f "$tb" ]; then
   else bad "optics check: no hex-float input" "$(cat "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook json" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_refract --cases 100 --format json
-  if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 15' "$tmp/out"
-  then ok "optics check: json parses, pass false, 15 classes"
+  if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 16' "$tmp/out"
+  then ok "optics check: json parses, pass false, 16 classes"
   else bad "optics check: json" "$(cat "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook reflection (tangent, huge)" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_reflect --kind reflect --cases 300
@@ -42,8 +42,8 @@ expect_exit 1 "optics check: bad --kind" "$ggrt" optics check --kind refraction
 
 expect_exit 0 "optics seeds: writes a corpus" "$ggrt" optics seeds "$tmp/seeds" --cases 4
 n=$(ls "$tmp/seeds" | wc -l)
-if [ "$n" -eq 60 ]; then ok "optics seeds: 4 seeds for each of 15 classes"
-else bad "optics seeds: $n files, want 60"; fi
+if [ "$n" -eq 64 ]; then ok "optics seeds: 4 seeds for each of 16 classes"
+else bad "optics seeds: $n files, want 64"; fi
 expect_exit 3 "optics seeds: unwritable directory" "$ggrt" optics seeds /nonexistent/dir/seeds
 
 # The fuzz harness of examples/fuzz_your_refract.c, replayed over that

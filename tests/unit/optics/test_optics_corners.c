@@ -293,6 +293,62 @@ static gg_bf sin2_exact(ggVec3 v, ggVec3 n)
     return gg_bf_div(w2, gg_bf_mul(vv, nn));
 }
 
+/* v and n parallel but for a cross product below the subnormal range:
+   they share a component s of any exponent down to 2^-1074 and differ
+   in the other by k units in the last place (k up to 2^20), so v x n is
+   s (x - x'), as small as 2^-1126. Every eta from 2^-2098 to 2^2098 is
+   drawn so that eta^2 sin^2(theta_i) is 1/16 to 4: the decision, against
+   sin2_exact in 512 bits, wherever |cos^2(theta_t)| >= 2^-96. (A test of
+   the TwoProd pairs for parallel vectors called such v and n parallel,
+   and a ray eta 2^1733 times denser totally reflects went through: the
+   fuzzer found it, tests/fuzz/corpus/optics/found_near_parallel_subnormal_cross.) */
+static void test_refract_near_parallel_subnormal(void **state)
+{
+    tu_rng rng = {5521};
+    long i, cases = 0, wrong = 0, tir = 0;
+    (void)state;
+    for (i = 0; i < 20000; i++) {
+        int ex = (int)(tu_uniform(&rng) * 200) - 100, es = -1074 + (int)(tu_uniform(&rng) * 120);
+        double x = ldexp(1 + tu_uniform(&rng), ex), sm = 1 + tu_uniform(&rng), s;
+        double k = floor(1 + tu_uniform(&rng) * (i % 3 == 0 ? 4 : 0x1p20)), x2, ni, nt, cos2;
+        gg_bf sin2, m2;
+        ggVec3 v, n;
+        int exact_ok, ok, ei;
+        s = ldexp(sm, es);
+        if (s == 0) s = 0x1p-1074;
+        x2 = x + k * ldexp(1, ex - 52);
+        v = vec3(x, s, 0), n = vec3(x2, s, 0);
+        if (i % 2) v = vec3(0, x, -s), n = vec3(0, -x2, s); /* the other side, other axes */
+        sin2 = sin2_exact(v, n);
+        if (sin2.sign == 0) continue; /* k >= 1: never */
+        /* eta = m / sin, m^2 in [1/16, 4]: ni at any exponent, nt from it */
+        ei = (int)(tu_uniform(&rng) * 2000) - 1000;
+        ni = ldexp(1 + tu_uniform(&rng), ei);
+        {
+            double m = 0.25 + 1.75 * tu_uniform(&rng);
+            gg_bf nt_bf = gg_bf_div(gg_bf_mul(gg_bf_from(ni), gg_bf_sqrt(sin2)), gg_bf_from(m));
+            nt = gg_bf_to_double(nt_bf);
+        }
+        if (!(nt != 0 && isfinite(nt))) continue;
+        if (tu_uniform(&rng) < 0.5) nt = -nt;
+        m2 = gg_bf_mul(gg_bf_mul(gg_bf_div(gg_bf_from(ni), gg_bf_from(nt)),
+                                 gg_bf_div(gg_bf_from(ni), gg_bf_from(nt))),
+                       sin2);
+        cos2 = gg_bf_to_double(gg_bf_sub(gg_bf_from(1.0), m2));
+        exact_ok = !(cos2 < 0);
+        ok = ggRefract(v, n, ni, nt, NULL);
+        cases++, tir += !exact_ok;
+        if (ok != exact_ok && !(fabs(cos2) < 0x1p-96) && wrong++ < 3)
+            print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a: %s\n", v.x, v.y,
+                          v.z, n.x, n.y, n.z, ni, nt, ok ? "transmitted" : "TIR");
+    }
+    print_message("near-parallel v and n, a subnormal cross product: %ld cases (%ld TIR), %ld "
+                  "decisions wrong\n",
+                  cases, tir, wrong);
+    assert_true(cases > 8000 && tir > 1000 && cases - tir > 1000);
+    assert_int_equal(wrong, 0);
+}
+
 /* eta up to 2^62 with v within 2^-p of a tilted normal (every component
    of n and v non-zero, so v - (v.n / n.n) n is not exact in any
    precision): the case generators above put such normals on an axis,
@@ -506,6 +562,7 @@ int main(void)
         cmocka_unit_test(test_refract_tiny_normal_part),
         cmocka_unit_test(test_refract_every_exponent),
         cmocka_unit_test(test_refract_spread_huge_eta),
+        cmocka_unit_test(test_refract_near_parallel_subnormal),
         cmocka_unit_test(test_refract_huge_eta_tilted),
         cmocka_unit_test(test_conductor_matched_tiny_k),
         cmocka_unit_test(test_dielectric_extreme_ratio),
