@@ -87,9 +87,9 @@ GG_API ggVec3 ggReflection(ggVec3 v, ggVec3 n);
       certifies the 1-ulp result wherever it can (0 < eta <= 4, away from
       the critical angle and the surface plane); the rest goes to a full
       double-double evaluation, and inputs with |ni/nt| > 2^450 whose v
-      or n has a component more than 1022 binades below its largest to
-      a 512-bit one (some 20 microseconds). Figures: make bench-optics,
-      docs/performance.md. */
+      or n has a component more than 1022 binades below its largest, or
+      that are transmitted, to a 512-bit one (some 20 microseconds).
+      Figures: make bench-optics, docs/performance.md. */
 GG_API bool ggRefract(ggVec3 v, ggVec3 n, double ni, double nt, ggVec3 *t);
 
 /* The textbook formula, kept for the accuracy study and the benchmark:
