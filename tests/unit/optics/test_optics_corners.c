@@ -175,6 +175,43 @@ static void test_refract_every_exponent(void **state)
     tally_done("every exponent", &y);
 }
 
+/* One ggRefract answer (ok, t) against an exact one (exact_ok, r,
+   cos2): outside the TIR band the decision must agree and each component
+   be within the contract's 1 ulp (4 for a transmitted ray with
+   cos^2(theta_t) < 2^-80); the first three failures of each kind are
+   printed. Inside the band (|cos^2(theta_t)| < 2^-96) either decision
+   is right, and its direction is checked. */
+typedef struct judged {
+    long wrong, over;
+    double worst;
+} judged;
+
+static void judge(judged *j, ggVec3 v, ggVec3 n, double ni, double nt, int ok, ggVec3 t,
+                  int exact_ok, const gg_bf r[3], double cos2)
+{
+    double c[3], bound;
+    int k;
+    if (ok != exact_ok) {
+        if (fabs(cos2) < 0x1p-96) return; /* the band: either decision */
+        if (j->wrong++ < 3)
+            print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a: %s\n", v.x, v.y,
+                          v.z, n.x, n.y, n.z, ni, nt, ok ? "transmitted" : "TIR");
+        return;
+    }
+    bound = ok && cos2 < 0x1p-80 ? 4 : 1;
+    c[0] = t.x, c[1] = t.y, c[2] = t.z;
+    for (k = 0; k < 3; k++) {
+        double d = fabs(gg_bf_to_double(gg_bf_scale2(gg_bf_sub(gg_bf_from(c[k]), r[k]), 53)));
+        if (d > j->worst) j->worst = d;
+        if (!(d <= bound)) {
+            if (j->over++ < 3)
+                print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", d, v.x, v.y, v.z,
+                              n.x, n.y, n.z, ni, nt);
+            return;
+        }
+    }
+}
+
 /* The exact answer for the two shapes of test_refract_spread_huge_eta,
    in 512 bits from the geometry (not from the library's formulas):
    a = the tiny tangential component, b = the large normal one (b > 0),
@@ -224,18 +261,17 @@ static int spread_exact(double a, double b, double ni, double nt, int in_v, gg_b
 static void test_refract_spread_huge_eta(void **state)
 {
     tu_rng rng = {3238};
-    long i, cases = 0, wrong = 0, over = 0, tir = 0;
-    double worst = 0;
+    long i, cases = 0, tir = 0;
+    judged jd = {0, 0, 0};
     (void)state;
     for (i = 0; i < 4000; i++) {
-        int q = 1030 + (int)(tu_uniform(&rng) * 1041), in_v = (int)(i % 2), j, exact_ok;
+        int q = 1030 + (int)(tu_uniform(&rng) * 1041), in_v = (int)(i % 2), exact_ok;
         int E = q - 1074 + (int)(tu_uniform(&rng) * (2097 - q));
         int ei = q - 1060 + (int)(tu_uniform(&rng) * (2083 - q));
         double am = (1 + tu_uniform(&rng)) * (tu_uniform(&rng) < 0.5 ? -1 : 1);
         double bm = 1 + tu_uniform(&rng), mt = 0.25 + 1.75 * tu_uniform(&rng);
         double nim = (1 + tu_uniform(&rng)) * (tu_uniform(&rng) < 0.5 ? -1 : 1);
-        double a = ldexp(am, E - q), b = ldexp(bm, E), ni = ldexp(nim, ei), nt, cos2, bound;
-        double c[3];
+        double a = ldexp(am, E - q), b = ldexp(bm, E), ni = ldexp(nim, ei), nt, cos2;
         ggVec3 v, n, t;
         gg_bf r[3];
         bool ok;
@@ -250,30 +286,13 @@ static void test_refract_spread_huge_eta(void **state)
         ok = ggRefract(v, n, ni, nt, &t);
         exact_ok = spread_exact(a, b, ni, nt, in_v, r, &cos2);
         cases++, tir += !exact_ok;
-        if (ok != exact_ok && !(fabs(cos2) < 0x1p-96)) {
-            if (wrong++ < 3)
-                print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a: %s\n", v.x,
-                              v.y, v.z, n.x, n.y, n.z, ni, nt, ok ? "transmitted" : "TIR");
-            continue;
-        }
-        bound = ok && cos2 < 0x1p-80 ? 4 : 1;
-        c[0] = t.x, c[1] = t.y, c[2] = t.z;
-        for (j = 0; j < 3; j++) {
-            double d = fabs(gg_bf_to_double(gg_bf_scale2(gg_bf_sub(gg_bf_from(c[j]), r[j]), 53)));
-            if (d > worst) worst = d;
-            if (!(d <= bound)) {
-                if (over++ < 3)
-                    print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", d, v.x,
-                                  v.y, v.z, n.x, n.y, n.z, ni, nt);
-                break;
-            }
-        }
+        judge(&jd, v, n, ni, nt, ok, t, exact_ok, r, cos2);
     }
     print_message("huge eta, spread components: %ld cases (%ld TIR), %ld decisions wrong, %ld "
                   "over the bound, worst %.3f ulp\n",
-                  cases, tir, wrong, over, worst);
-    assert_int_equal(wrong, 0);
-    assert_int_equal(over, 0);
+                  cases, tir, jd.wrong, jd.over, jd.worst);
+    assert_int_equal(jd.wrong, 0);
+    assert_int_equal(jd.over, 0);
 }
 
 /* sin^2(theta_i) of v and n, |v x n|^2 / (|v|^2 |n|^2), in 512 bits. */
@@ -355,17 +374,16 @@ static int refract_exact(ggVec3 v, ggVec3 n, double ni, double nt, gg_bf r[3], d
 static void test_refract_near_parallel_subnormal(void **state)
 {
     tu_rng rng = {5521};
-    long i, cases = 0, wrong = 0, over = 0, tir = 0;
-    double worst = 0;
+    long i, cases = 0, tir = 0;
+    judged jd = {0, 0, 0};
     (void)state;
     for (i = 0; i < 20000; i++) {
         int ex = (int)(tu_uniform(&rng) * 200) - 100, es = -1074 + (int)(tu_uniform(&rng) * 120);
         double x = ldexp(1 + tu_uniform(&rng), ex), sm = 1 + tu_uniform(&rng), s;
         double k = floor(1 + tu_uniform(&rng) * (i % 3 == 0 ? 4 : 0x1p20)), x2, ni, nt, cos2;
-        double c[3], bound;
         gg_bf sin2, r[3];
         ggVec3 v, n, t;
-        int exact_ok, ok, ei, j;
+        int exact_ok, ok, ei;
         s = ldexp(sm, es);
         if (s == 0) s = 0x1p-1074;
         x2 = x + k * ldexp(1, ex - 52);
@@ -386,32 +404,14 @@ static void test_refract_near_parallel_subnormal(void **state)
         ok = ggRefract(v, n, ni, nt, &t);
         exact_ok = refract_exact(v, n, ni, nt, r, &cos2);
         cases++, tir += !exact_ok;
-        if (fabs(cos2) < 0x1p-96) continue;
-        if (ok != exact_ok) {
-            if (wrong++ < 3)
-                print_message("decision wrong: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a: %s\n", v.x,
-                              v.y, v.z, n.x, n.y, n.z, ni, nt, ok ? "transmitted" : "TIR");
-            continue;
-        }
-        bound = ok && cos2 < 0x1p-80 ? 4 : 1;
-        c[0] = t.x, c[1] = t.y, c[2] = t.z;
-        for (j = 0; j < 3; j++) {
-            double d = fabs(gg_bf_to_double(gg_bf_scale2(gg_bf_sub(gg_bf_from(c[j]), r[j]), 53)));
-            if (d > worst) worst = d;
-            if (!(d <= bound)) {
-                if (over++ < 3)
-                    print_message("%.3g ulp: v=(%a,%a,%a) n=(%a,%a,%a) ni=%a nt=%a\n", d, v.x, v.y,
-                                  v.z, n.x, n.y, n.z, ni, nt);
-                break;
-            }
-        }
+        judge(&jd, v, n, ni, nt, ok, t, exact_ok, r, cos2);
     }
     print_message("near-parallel v and n, a subnormal cross product: %ld cases (%ld TIR), %ld "
                   "decisions wrong, %ld over the bound, worst %.3f ulp\n",
-                  cases, tir, wrong, over, worst);
+                  cases, tir, jd.wrong, jd.over, jd.worst);
     assert_true(cases > 8000 && tir > 1000 && cases - tir > 1000);
-    assert_int_equal(wrong, 0);
-    assert_int_equal(over, 0);
+    assert_int_equal(jd.wrong, 0);
+    assert_int_equal(jd.over, 0);
 }
 
 /* eta up to 2^62 with v within 2^-p of a tilted normal (every component
