@@ -794,7 +794,8 @@ static GG_NOINLINE int refract_full(const ggVec3 *vp, const ggVec3 *np, double n
        components hundreds of binades apart, whose tangential part the
        double-double terms may carry to a few ulp only (v and n sharing a
        component near 2^-1000 and differing by an ulp in another: 4.8 ulp
-       off). Its decision stands; the direction comes from 512 bits. */
+       off). The 512-bit path answers those (its decision is this one
+       outside the TIR band). */
     if (ediff && rc == 1) return refract_wide(vp, np, ni0, nt0, t);
     return rc;
 }
