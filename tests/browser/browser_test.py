@@ -1688,6 +1688,49 @@ def fix_narrow(d):
         srv.stop()
 
 
+def fix_zero_and_overlay_key(d):
+    """A 0 typed in a text field of the options panel goes to the server,
+    which says what the field takes (it used to be dropped without a word;
+    "scene" in the depth list is still the server's own depth); `o` cycles
+    only the overlays with something to show: find, path and diff once
+    there is a find, a path or a B side."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        for name in ("ray-budget", "offset", "implicit-tol", "gradient"):
+            d.execute_script("document.getElementById('opt-a-%s').value = '0';"
+                             "document.getElementById('render-a').click();" % name)
+            ok = wait(d, "error", lambda: name + " must be" in page_error(d), 30)
+            got = d.execute_script("return window.ggrt.state.a")
+            check(ok and got == name + "=0", "a 0 typed for %s reaches the server, which refuses it (%r; %r)"
+                  % (name, got, page_error(d)[:80]))
+            d.find_element(By.ID, "reset-a").click()
+            wait(d, "reset", lambda: page_error(d) == "", 30)
+        d.execute_script("document.getElementById('opt-a-depth').value = '0';"
+                         "document.getElementById('render-a').click();")
+        time.sleep(0.3)
+        got = d.execute_script("return window.ggrt.state.a")
+        check(got == "", "'scene' in the depth list is the server's depth (option text %r)" % got)
+
+        def cycle(n):
+            seen = []
+            for _ in range(n):
+                ActionChains(d).send_keys("o").perform()
+                time.sleep(0.1)
+                seen.append(d.execute_script("return window.ggrt.state.overlay"))
+            return seen
+        d.find_element(By.ID, "image").click()
+        got = cycle(4)
+        check(got == ["rays", "depth", "time", "none"], "with no find, path or B side, o cycles %s" % got)
+        d.execute_script("location.hash = '#find=' + encodeURIComponent('some(kind == tir)')")
+        wait(d, "find", lambda: d.execute_script("return window.ggrt.state.find !== ''"), 30)
+        got = cycle(5)
+        check(got == ["rays", "depth", "time", "find", "none"], "with a find, o cycles %s" % got)
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
 def fixes(d):
     if os.environ.get("GG_BROWSER_FIXES"):
         for name in os.environ["GG_BROWSER_FIXES"].split(","):
@@ -1695,7 +1738,8 @@ def fixes(d):
         return
     for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange,
               fix_zoom_keys, fix_stale_messages, fix_image_race, fix_mask_options,
-              fix_value_readout, fix_pixel_offset, fix_zoom_select, fix_find_box, fix_narrow):
+              fix_value_readout, fix_pixel_offset, fix_zoom_select, fix_find_box, fix_narrow,
+              fix_zero_and_overlay_key):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

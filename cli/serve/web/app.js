@@ -252,7 +252,9 @@
       const name = input.dataset.opt;
       const v = input.type === 'checkbox' ? (input.checked ? '1' : '0') : input.value.trim();
       if (v === serverValue(name) || v === '') continue;
-      if (input.type === 'checkbox') { if (v === '1') words.push(name); } else if (v !== '0' || name === 'cutoff') words.push(name + '=' + v);
+      // '0' in a depth or samples list is "scene"; typed in a text field it
+      // is a value, passed on so that the server says what it takes.
+      if (input.type === 'checkbox') { if (v === '1') words.push(name); } else if (v !== '0' || input.tagName !== 'SELECT') words.push(name + '=' + v);
     }
     // spd says the rule and the corners itself
     return words.filter((w) => words.indexOf('spd') < 0 || (w !== 'spd-rules' && w !== 'corners')).join(' ');
@@ -1163,7 +1165,11 @@
       e.preventDefault();
       select(p[0] + moves[e.key][0], p[1] + moves[e.key][1]);
     } else if (e.key === 'o') {
-      state.overlay = OVERLAYS[(OVERLAYS.indexOf(state.overlay) + 1) % OVERLAYS.length];
+      // The next overlay with something to show: find, path and diff only
+      // once there is a find, a path or a B side (the list chooses them all).
+      const shown = OVERLAYS.filter((o) => (o !== 'find' || state.find) && (o !== 'path' || state.path) &&
+        (o !== 'diff' || state.diff));
+      state.overlay = shown[(shown.indexOf(state.overlay) + 1) % shown.length];
       refresh(true);
     } else if (e.key === '+' || e.key === '=' || e.key === '-') {
       // From the zoom on screen (fitted or chosen), one step, within 1..ZOOM_MAX.
