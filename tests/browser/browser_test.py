@@ -1582,9 +1582,42 @@ def fix_pixel_offset(d):
         bad = [g for g in got if g[2] != "%d,%d" % g[1]]
         check(not bad, "a click selects the pixel under it, the image 0.375 px off the grid (%d of %d "
               "clicks right; wrong: %s)" % (len(got) - len(bad), len(got), bad))
+        pixel_offset_hidpi(d, srv)
     finally:
+        d.execute_cdp_cmd("Emulation.clearDeviceMetricsOverride", {})
         d.get("about:blank")
         srv.stop()
+
+
+def pixel_offset_hidpi(d, srv):
+    """On a 2x screen the pointer moves by half CSS pixels: a click and the
+    hover readout name the pixel under it in both halves of a pixel, to
+    the last column and row, the image's box 0.375 px off the grid (a
+    click's own position is cut to whole CSS pixels, its offsetX rounded:
+    the right half of each pixel chose the next one)."""
+    size = d.get_window_size()
+    d.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                      {"width": size["width"], "height": size["height"], "deviceScaleFactor": 2, "mobile": False})
+    got = []
+    for zoom in (1, 3):
+        d.get("about:blank")
+        d.get(srv.url + "#zoom=%d" % zoom)
+        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+        d.execute_script("document.getElementById('viewport').style.marginTop = '0.375px'")
+        left, top = d.execute_script("const r = document.getElementById('image').getBoundingClientRect();"
+                                     "return [Math.round(2 * r.left) / 2, Math.round(2 * r.top) / 2]")
+        for x, y in ((5, 5), (30, 20), (63, 47)):
+            for fx, fy in ((0.1, 0.1), (0.6, 0.7), (0.9, 0.9)):
+                px, py = left + zoom * (x + fx), top + zoom * (y + fy)
+                for typ in ("mouseMoved", "mousePressed", "mouseReleased"):
+                    d.execute_cdp_cmd("Input.dispatchMouseEvent", {"type": typ, "x": px, "y": py,
+                                                                   "button": "left", "clickCount": 1})
+                time.sleep(0.1)
+                hover = d.find_element(By.ID, "hover").get_attribute("textContent").split("  ")[0]
+                got.append((zoom, (x, y), (fx, fy), selected_pixel(d), hover))
+    bad = [g for g in got if g[3] != "%d,%d" % g[1] or g[4] != "pixel %d,%d" % g[1]]
+    check(not bad, "on a 2x screen a click and the hover readout name the pixel under the pointer "
+          "(%d of %d right; wrong: %s)" % (len(got) - len(bad), len(got), bad[:4]))
 
 
 def fix_zoom_select(d):

@@ -675,17 +675,27 @@
 
   // ---- hover ----
 
-  // The pixel under the mouse, from the event's own offset in the canvas:
-  // the canvas's box can start at a fraction of a CSS pixel (top 60.375)
-  // where the browser paints it at a whole one, and clientY less that
-  // top is then a row short.
-  function pixelAt(ev) {
-    const c = $('image');
-    const x = Math.floor(ev.offsetX / c.clientWidth * W), y = Math.floor(ev.offsetY / c.clientHeight * H);
+  // The pixel under the pointer. The browser paints the canvas's box with
+  // its edges on whole device pixels (a box laid out at top 60.375 is
+  // painted at 60 on a 1x screen, at 60.5 on a 2x one), and the pointer is
+  // on one device pixel: its centre, against the painted box, names the
+  // image pixel. The position must keep its fraction: pointer events do,
+  // but a click's clientX is cut to a whole CSS pixel and its offsetX
+  // rounded, half a pixel off on a 2x screen (so the click uses the
+  // position of the pointerup before it).
+  function pixelAt(cx, cy) {
+    const r = $('image').getBoundingClientRect(), dpr = window.devicePixelRatio || 1;
+    const at = (v, lo, size, n) => {
+      const a = Math.round(lo * dpr), b = Math.round((lo + size) * dpr); // the painted edges
+      const dev = Math.floor(v * dpr + 1e-6); // the device pixel under the pointer
+      return b > a ? Math.floor((dev + 0.5 - a) / (b - a) * n) : -1;
+    };
+    const x = at(cx, r.left, r.width, W), y = at(cy, r.top, r.height, H);
     return x >= 0 && y >= 0 && x < W && y < H ? [x, y] : null;
   }
+  let lastUp = null; // the last pointerup's position on the image: a click's, with its fraction
 
-  function hover(ev) { hoverAt(pixelAt(ev)); }
+  function hover(ev) { hoverAt(pixelAt(ev.clientX, ev.clientY)); }
 
   function hoverAt(p) {
     const img = images.a;
@@ -1194,9 +1204,13 @@
   }
 
   function wire() {
-    $('image').addEventListener('mousemove', hover);
+    $('image').addEventListener('pointermove', hover);
+    $('image').addEventListener('pointerup', (e) => { lastUp = [e.clientX, e.clientY]; });
     $('image').addEventListener('click', (e) => {
-      const p = pixelAt(e);
+      // The click's own position is whole CSS pixels: the pointerup's, when it is that one.
+      const up = lastUp && Math.abs(lastUp[0] - e.clientX) < 1 && Math.abs(lastUp[1] - e.clientY) < 1;
+      const p = up ? pixelAt(lastUp[0], lastUp[1]) : pixelAt(e.clientX, e.clientY);
+      lastUp = null;
       // When the click came and (showPixel) when its tree was shown, in
       // the page's own clock: what a user waits, without a test's polling.
       $('pixel-head').dataset.clickedAt = performance.now().toFixed(1);
