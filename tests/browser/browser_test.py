@@ -1723,7 +1723,8 @@ def fix_narrow(d):
 
 def fix_zero_and_overlay_key(d):
     """A 0 typed in a text field of the options panel goes to the server,
-    which says what the field takes (it used to be dropped without a word;
+    which says what the field takes, in view when the page is scrolled
+    down (it used to be dropped without a word;
     "scene" in the depth list is still the server's own depth); `o` cycles
     only the overlays with something to show: find, path and diff once
     there is a find, a path or a B side."""
@@ -1740,6 +1741,18 @@ def fix_zero_and_overlay_key(d):
                   % (name, got, page_error(d)[:80]))
             d.find_element(By.ID, "reset-a").click()
             wait(d, "reset", lambda: page_error(d) == "", 30)
+        d.execute_script("window.scrollTo(0, document.body.scrollHeight);"
+                         "document.getElementById('opt-a-ray-budget').value = '-1';"
+                         "document.getElementById('render-a').click();")
+        wait(d, "error", lambda: "ray-budget must be" in page_error(d), 30)
+        box = d.execute_script("const r = document.getElementById('error').getBoundingClientRect();"
+                               "return [window.scrollY, r.top, r.bottom, window.innerHeight]")
+        check(box[0] > 0 and box[1] >= 0 and box[2] <= box[3],
+              "an option refused with the page scrolled down is said in view (scrolled %d px, banner %g to %g of %d)"
+              % tuple(box))
+        d.find_element(By.ID, "reset-a").click()
+        wait(d, "reset", lambda: page_error(d) == "", 30)
+        d.execute_script("window.scrollTo(0, 0)")
         d.execute_script("document.getElementById('opt-a-depth').value = '0';"
                          "document.getElementById('render-a').click();")
         time.sleep(0.3)
