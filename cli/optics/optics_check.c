@@ -34,6 +34,7 @@ typedef struct chk {
 
 typedef struct cstat {
     long cases, tir_wrong, tir_band, nonfinite, uncertain;
+    long measured;         /* finite results measured: wi is one of them */
     double worst, worst_c; /* worst error (R or direction), worst 1 - R */
     oc_case wi, tir_i, nf_i;
 } cstat;
@@ -99,7 +100,7 @@ static void run_direction(const chk *k, const oc_case *c, cstat *s)
             return;
         }
     }
-    if (e.finite && !(e.max_ulp <= s->worst)) s->worst = e.max_ulp, s->wi = *c;
+    if (e.finite && (!s->measured++ || !(e.max_ulp <= s->worst))) s->worst = e.max_ulp, s->wi = *c;
 }
 
 static void run_reflectance(const chk *k, const oc_case *c, cstat *s)
@@ -121,7 +122,7 @@ static void run_reflectance(const chk *k, const oc_case *c, cstat *s)
         if (!s->nonfinite++) s->nf_i = *c;
         return;
     }
-    if (!(e.ulp <= s->worst)) s->worst = e.ulp, s->wi = *c;
+    if (!s->measured++ || !(e.ulp <= s->worst)) s->worst = e.ulp, s->wi = *c;
     if (!(e.complement_ulp <= s->worst_c)) s->worst_c = e.complement_ulp;
 }
 
@@ -164,7 +165,10 @@ static void print_text(const chk *k, const char *const *names, const cstat *st, 
     for (i = 0; names[i]; i++) {
         const cstat *s = &st[i];
         printf("%-22s %6ld ", names[i], s->cases);
-        print_num(s->worst, 0);
+        if (s->measured)
+            print_num(s->worst, 0);
+        else
+            printf("%11s", "-");
         if (dir)
             printf(" %11ld %9ld", s->tir_wrong, s->tir_band);
         else
@@ -176,7 +180,10 @@ static void print_text(const chk *k, const char *const *names, const cstat *st, 
     printf("\nworst input of each class (hex floats, the function's argument order):\n");
     for (i = 0; names[i]; i++) {
         printf("  %-20s ", names[i]);
-        print_input(stdout, k->kind, &st[i].wi, 0);
+        if (st[i].measured)
+            print_input(stdout, k->kind, &st[i].wi, 0);
+        else
+            printf("none: no finite result");
         printf("\n");
         if (st[i].tir_wrong) {
             printf("  %-20s ", "  first TIR wrong");
@@ -212,7 +219,7 @@ static void print_json(const chk *k, const char *const *names, const cstat *st, 
         const cstat *s = &st[i];
         printf("%s\n  {\"name\": \"%s\", \"cases\": %ld, \"worst_ulp\": ", i ? "," : "", names[i],
                s->cases);
-        print_num(s->worst, 1);
+        print_num(s->measured ? s->worst : NAN, 1);
         if (k->kind == OC_FRESNEL || k->kind == OC_CONDUCTOR) {
             printf(", \"worst_complement_ulp\": ");
             print_num(s->worst_c, 1);
@@ -221,7 +228,10 @@ static void print_json(const chk *k, const char *const *names, const cstat *st, 
                "\"reference_undecided\": %ld, \"pass\": %s, \"worst_input\": ",
                s->tir_wrong, s->tir_band, s->nonfinite, s->uncertain,
                failed(k, s) ? "false" : "true");
-        print_input(stdout, k->kind, &s->wi, 1);
+        if (s->measured)
+            print_input(stdout, k->kind, &s->wi, 1);
+        else
+            printf("null");
         if (s->tir_wrong)
             printf(", \"first_tir_wrong\": "), print_input(stdout, k->kind, &s->tir_i, 1);
         if (s->nonfinite)

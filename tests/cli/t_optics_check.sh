@@ -23,11 +23,24 @@ if [ -f "$tb" ]; then
   done
   if grep -q "^  near critical *v={-*0x" "$tmp/out"; then ok "optics check: worst inputs as hex floats"
   else bad "optics check: no hex-float input" "$(cat "$tmp/out")"; fi
+  # Every textbook result in "subnormal sine" is non-finite: no worst ulp
+  # or worst input to show (it printed 0 ulp and an all-zero input).
+  if grep -q "^subnormal sine *300 *- " "$tmp/out" && grep -q "^  subnormal sine *none: no finite result" "$tmp/out"
+  then ok "optics check: a class with no finite result shows no worst ulp or input"
+  else bad "optics check: a class with no finite result" "$(grep "subnormal" "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook json" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_refract --cases 100 --format json
   if python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert not d["pass"] and len(d["classes"]) == 16' "$tmp/out"
   then ok "optics check: json parses, pass false, 16 classes"
   else bad "optics check: json" "$(cat "$tmp/out")"; fi
+  if python3 -c '
+import json, sys
+c = [c for c in json.load(open(sys.argv[1]))["classes"] if c["name"] == "subnormal sine"][0]
+assert c["nonfinite"] == c["cases"] and c["worst_ulp"] is None and c["worst_input"] is None
+r = [c for c in json.load(open(sys.argv[1]))["classes"] if c["name"] == "random"][0]
+assert r["worst_ulp"] > 1 and r["worst_input"].startswith("v={")' "$tmp/out"
+  then ok "optics check: json, null worst ulp and input where nothing was finite"
+  else bad "optics check: json worst of a class with no finite result" "$(cat "$tmp/out")"; fi
   expect_exit 4 "optics check: textbook reflection (tangent, huge)" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_reflect --kind reflect --cases 300
   expect_exit 4 "optics check: the textbook Fresnel formula fails" \
