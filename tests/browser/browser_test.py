@@ -1777,6 +1777,35 @@ def fix_zero_and_overlay_key(d):
         d.get("about:blank")
         srv.stop()
 
+def fix_hover_after_diff(d):
+    """The hover readout is said again when the view changes: with diff
+    mode turned off it no longer shows B's value and the diff map's words
+    for the pixel under the mouse; the status line says what its second
+    time is."""
+    srv = Server(SCENE, "-s", "64x48")
+    try:
+        d.get(srv.url + "#ov=diff&diff=1&b=depth%3D2")
+        wait(d, "diff", lambda: attr(d, "overlay", "data-kind") == "diff", 60)
+        c = d.find_element(By.ID, "image")
+        ActionChains(d).move_to_element(c).perform()
+        hover = lambda: d.find_element(By.ID, "hover").get_attribute("textContent")
+        wait(d, "hover", lambda: "\nB " in hover(), 10)
+        before = hover()
+        d.find_element(By.ID, "diff-on").click()
+        wait(d, "diff off", lambda: d.execute_script("return !window.ggrt.state.diff"), 30)
+        wait(d, "readout", lambda: "\nB " not in hover(), 10)
+        after = hover()
+        check("\nB " in before and ("differs" in before or "same" in before),
+              "with diff mode on, the readout has B and the map's words (%r)" % before)
+        check(after.startswith("pixel ") and "\nB " not in after and "differs" not in after and "same" not in after,
+              "diff mode turned off takes B and the map's words out of the readout (%r)" % after)
+        st = d.find_element(By.ID, "status-text").get_attribute("textContent")
+        check(re.match(r"rendered A in [0-9.]+ s \(this page waited [0-9.]+ s\): ", st) is not None,
+              "the status line says what its second time is (%r)" % st)
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
 def fixes(d):
     if os.environ.get("GG_BROWSER_FIXES"):
         for name in os.environ["GG_BROWSER_FIXES"].split(","):
@@ -1785,7 +1814,7 @@ def fixes(d):
     for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange,
               fix_zoom_keys, fix_stale_messages, fix_image_race, fix_mask_options,
               fix_value_readout, fix_pixel_offset, fix_zoom_select, fix_find_box, fix_narrow,
-              fix_zero_and_overlay_key):
+              fix_zero_and_overlay_key, fix_hover_after_diff):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

@@ -396,7 +396,7 @@
     $('viewport').dataset['rays' + side.toUpperCase()] =
       [rays, st.shadow, st.shadow_blocked, st.shadow_attenuated].join(' ');
     images[side].said = 'rendered ' + side.toUpperCase() + ' in ' + r.body.job.seconds.toFixed(2) + ' s' +
-      ' (' + ((performance.now() - t0) / 1000).toFixed(1) + ' s here): ' +
+      ' (this page waited ' + ((performance.now() - t0) / 1000).toFixed(1) + ' s): ' +
       rays.toLocaleString() + ' rays, shadow ' + st.shadow.toLocaleString() + ' (blocked ' +
       st.shadow_blocked.toLocaleString() + ', attenuated ' + st.shadow_attenuated.toLocaleString() + ')';
     status(images[side].said);
@@ -697,9 +697,11 @@
 
   function hover(ev) { hoverAt(pixelAt(ev.clientX, ev.clientY)); }
 
+  let hovered = null; // the pixel the readout is of: said again when the view changes
   function hoverAt(p) {
     const img = images.a;
     if (!p || !img) return;
+    hovered = p;
     const i = 3 * (p[1] * W + p[0]);
     let t = 'pixel ' + p[0] + ',' + p[1] + '  ' + [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]].map((v) => fmtG(v, 9)).join(' ');
     const ov = currentOverlay();
@@ -1148,6 +1150,7 @@
         }
       }
       await loadOverlay(gen);
+      if (gen === generation) hoverAt(hovered); // without what the view no longer shows (diff off: B)
       await pixel;
     } catch (e) {
       if (gen === generation) fail(e, 'view');
