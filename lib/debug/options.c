@@ -63,14 +63,19 @@ static int number(const word *w, double lo, double *out, ggError *err)
     return GG_OK;
 }
 
+/* The value as a whole number in [lo, hi]: one message for every way to
+   miss (not a number, a fraction, out of range), naming the range. */
 static int integer(const word *w, int lo, int hi, int *out, ggError *err)
 {
+    const char *v = w->s + w->at + w->eq + 1;
+    size_t n = w->len - w->eq - 1;
     double d;
-    int rc = number(w, lo, &d, err);
-    if (rc != GG_OK) return rc;
-    if (d != floor(d) || d > hi)
-        return fail(w, w->at + w->eq + 1, err, "%.*s must be a whole number from %d to %d",
-                    (int)w->eq, w->s + w->at, lo, hi);
+    if (w->eq >= w->len || n == 0)
+        return fail(w, w->at, err, "%.*s needs a value", (int)w->eq, w->s + w->at);
+    if (gg_dbg_number(v, n, &d) != n || !(d >= lo && d <= hi) || d != floor(d))
+        return fail(w, w->at + w->eq + 1, err,
+                    "%.*s must be a whole number from %d to %d, got '%.*s'", (int)w->eq,
+                    w->s + w->at, lo, hi, (int)n, v);
     *out = (int)d;
     return GG_OK;
 }
