@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* 3x5 glyphs, one row per 3 bits (top row first). */
@@ -16,15 +17,13 @@ static const struct {
     char c;
     unsigned char rows[5];
 } glyphs[] = {
-    {'0', {7, 5, 5, 5, 7}}, {'1', {2, 6, 2, 2, 7}}, {'2', {7, 1, 7, 4, 7}},
-    {'3', {7, 1, 7, 1, 7}}, {'4', {5, 5, 7, 1, 1}}, {'5', {7, 4, 7, 1, 7}},
-    {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 1, 1, 1}}, {'8', {7, 5, 7, 5, 7}},
-    {'9', {7, 5, 7, 1, 7}}, {'.', {0, 0, 0, 0, 2}}, {'-', {0, 0, 7, 0, 0}},
-    {'e', {7, 5, 7, 4, 7}}, {'+', {0, 2, 7, 2, 0}}, {'s', {7, 4, 7, 1, 7}},
-    {'r', {6, 5, 6, 5, 5}}, {'a', {7, 5, 7, 5, 5}}, {'y', {5, 5, 7, 2, 2}},
-    {'d', {6, 5, 5, 5, 6}}, {'p', {7, 5, 7, 4, 4}}, {'t', {7, 2, 2, 2, 2}},
-    {'h', {5, 5, 7, 5, 5}}, {'i', {7, 2, 2, 2, 7}}, {'m', {5, 7, 7, 5, 5}},
-    {' ', {0, 0, 0, 0, 0}},
+    {'0', {7, 5, 5, 5, 7}}, {'1', {2, 6, 2, 2, 7}}, {'2', {7, 1, 7, 4, 7}}, {'3', {7, 1, 7, 1, 7}},
+    {'4', {5, 5, 7, 1, 1}}, {'5', {7, 4, 7, 1, 7}}, {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 1, 1, 1}},
+    {'8', {7, 5, 7, 5, 7}}, {'9', {7, 5, 7, 1, 7}}, {'.', {0, 0, 0, 0, 2}}, {'-', {0, 0, 7, 0, 0}},
+    {'e', {7, 5, 7, 4, 7}}, {'+', {0, 2, 7, 2, 0}}, {'s', {0, 3, 6, 3, 6}}, /* not 5 */
+    {'r', {6, 5, 6, 5, 5}}, {'a', {7, 5, 7, 5, 5}}, {'y', {5, 5, 7, 2, 2}}, {'d', {6, 5, 5, 5, 6}},
+    {'p', {7, 5, 7, 4, 4}}, {'t', {7, 2, 2, 2, 2}}, {'h', {5, 5, 7, 5, 5}}, {'i', {7, 2, 2, 2, 7}},
+    {'m', {5, 7, 7, 5, 5}}, {' ', {0, 0, 0, 0, 0}},
 };
 
 static void put(ggImage *img, int x, int y, ggColor c)
@@ -72,25 +71,72 @@ static ggColor ramp(double t)
     return c;
 }
 
-ggImage *heatmap_image(const float *cost, int w, int h, const char *label, double *vmax)
+/* Bins of positive values by binary exponent and 16 steps of mantissa:
+   a quantile to within 1/16 of itself, in one pass and fixed memory. */
+#define HBIN_SUB 16
+#define HBIN_EXP 2200 /* exponents -1100 .. 1099 (frexp gives -1073 .. 1024) */
+
+static size_t hbin(double v)
+{
+    int e;
+    double m = frexp(v, &e); /* v = m 2^e, m in [0.5, 1) */
+    return (size_t)(e + 1100) * HBIN_SUB + (size_t)((m - 0.5) * 2 * HBIN_SUB);
+}
+
+/* Every value of bin b is below this. */
+static double hbin_top(size_t b)
+{
+    return ldexp(0.5 + (double)(b % HBIN_SUB + 1) / (2 * HBIN_SUB), (int)(b / HBIN_SUB) - 1100);
+}
+
+void heatmap_scale(const float *cost, size_t n, int robust, heatmap_range *r)
+{
+    size_t *bins = robust ? calloc((size_t)HBIN_EXP * HBIN_SUB, sizeof *bins) : NULL;
+    size_t i, npos = 0, want, sum = 0, b;
+    double q = 0;
+    r->max = 0, r->top = 0, r->above = 0;
+    for (i = 0; i < n; i++)
+        if (isfinite(cost[i]) && cost[i] > r->max) r->max = cost[i];
+    r->top = r->max;
+    if (!robust || !bins) { /* the scale is the largest value: still a true one */
+        free(bins);
+        return;
+    }
+    for (i = 0; i < n; i++)
+        if (isfinite(cost[i]) && cost[i] > 0) bins[hbin(cost[i])]++, npos++;
+    want = npos - npos / 1000; /* the 99.9th percentile's rank */
+    for (b = 0; npos && b < (size_t)HBIN_EXP * HBIN_SUB; b++)
+        if ((sum += bins[b]) >= want) break;
+    free(bins);
+    if (!npos || !(r->max > HEATMAP_OUTLIER * hbin_top(b))) return;
+    for (i = 0; i < n; i++) /* the largest value of that bin: the quantile when values repeat */
+        if (isfinite(cost[i]) && cost[i] > 0 && hbin(cost[i]) == b && cost[i] > q) q = cost[i];
+    r->top = q;
+    for (i = 0; i < n; i++)
+        if (isfinite(cost[i]) && cost[i] > q) r->above++;
+}
+
+ggImage *heatmap_image(const float *cost, int w, int h, const char *label, int robust,
+                       heatmap_range *range)
 {
     int legend = 14 + (w >= 200 ? 10 : 6), scale = w >= 200 ? 2 : 1, x, y;
     ggImage *img = ggImageCreate(w, h + legend, NULL);
-    double mx = 0;
+    heatmap_range r;
+    double mx;
     char buf[64];
     ggColor white = {1, 1, 1};
-    size_t i;
     if (!img) return NULL;
-    for (i = 0; i < (size_t)w * h; i++)
-        if (isfinite(cost[i]) && cost[i] > mx) mx = cost[i];
-    if (vmax) *vmax = mx;
+    heatmap_scale(cost, (size_t)w * h, robust, &r);
+    if (range) *range = r;
+    mx = r.top;
     for (y = 0; y < h; y++)
         for (x = 0; x < w; x++) ggImageSet(img, x, y, ramp(mx > 0 ? cost[(size_t)y * w + x] / mx : 0));
-    /* Legend: the ramp from 0 to the maximum, labelled at both ends. */
+    /* Legend: the ramp from 0 to the top of the scale, labelled at both
+       ends ("+": larger values take the top colour). */
     for (y = h + 2; y < h + 8; y++)
         for (x = 0; x < w; x++) ggImageSet(img, x, y, ramp((double)x / (w > 1 ? w - 1 : 1)));
     text(img, 1, h + 10, scale, "0", white);
-    snprintf(buf, sizeof buf, "%.3g", mx);
+    snprintf(buf, sizeof buf, "%.3g%s", mx, r.above ? "+" : "");
     text(img, w - 1 - (int)strlen(buf) * 4 * scale, h + 10, scale, buf, white);
     if ((int)(strlen(label) + 8) * 4 * scale < w)
         text(img, w / 2 - (int)strlen(label) * 2 * scale, h + 10, scale, label, white);

@@ -7,10 +7,27 @@
 
 #include "common/cli.h"
 
-/* A w x (h + legend) image: cost as a colour ramp from 0 to the largest
-   finite value (returned in *vmax), then a legend bar labelled 0, the
-   maximum and `label` (drawn with a built-in 3x5 font: digits, '.', '-',
-   '+', and the letters of "rays depth time s"). NULL if out of memory. */
-ggImage *heatmap_image(const float *cost, int w, int h, const char *label, double *vmax);
+/* The scale of a cost map: max is its largest finite value, top the
+   scale's top, above how many values are over it. top is max, except
+   with `robust` where max is over HEATMAP_OUTLIER times the 99.9th
+   percentile of the positive values (to within 1/16 of it): there top is
+   that percentile. For measured times, where a thread descheduled for
+   one pixel left every other the colour of 0; counts (rays, depth) are
+   exact and keep their largest value. Out of memory, top is max. */
+#define HEATMAP_OUTLIER 4.0
+typedef struct heatmap_range {
+    double max, top;
+    size_t above;
+} heatmap_range;
+void heatmap_scale(const float *cost, size_t n, int robust, heatmap_range *r);
+
+/* A w x (h + legend) image: cost as a colour ramp from 0 to the scale's
+   top (heatmap_scale, returned in *range when range is not NULL; values
+   over it take the top colour), then a legend bar labelled 0, the top
+   ("+" after it when values are over it) and `label` (drawn with a
+   built-in 3x5 font: digits, '.', '-', '+', and the letters of "rays
+   depth time s"). NULL if out of memory. */
+ggImage *heatmap_image(const float *cost, int w, int h, const char *label, int robust,
+                       heatmap_range *range);
 
 #endif

@@ -154,14 +154,19 @@ static int finish_image(const render_args *a, ggImage **img, const float *cost)
 {
     static const char *const label[] = {"rays", "depth", "time s"};
     if (cost) {
-        double vmax = 0;
-        ggImage *map =
-            heatmap_image(cost, ggImageWidth(*img), ggImageHeight(*img), label[a->heat], &vmax);
+        heatmap_range r;
+        ggImage *map = heatmap_image(cost, ggImageWidth(*img), ggImageHeight(*img), label[a->heat],
+                                     !strcmp(heat_kinds[a->heat], "time"), &r);
         if (!map) {
             cli_error("out of memory for the heat map");
             return EXIT_INPUT;
         }
-        if (!a->quiet) printf("heat map: %s per pixel, 0 to %.4g\n", label[a->heat], vmax);
+        if (!a->quiet && r.above)
+            printf("heat map: %s per pixel, 0 to %.4g (the 99.9th percentile; %zu pixel%s over it, "
+                   "up to %.4g)\n",
+                   label[a->heat], r.top, r.above, r.above == 1 ? "" : "s", r.max);
+        else if (!a->quiet)
+            printf("heat map: %s per pixel, 0 to %.4g\n", label[a->heat], r.top);
         ggImageFree(*img);
         *img = map;
     }

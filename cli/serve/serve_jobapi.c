@@ -154,25 +154,28 @@ static void send_bytes(srv_server *s, const unsigned char *src, size_t n, srv_re
 }
 
 /* A cost or difference map as ggrt render --heatmap draws it (legend
-   under the image), or the image itself when label is NULL. */
-static void send_png(srv_server *s, const float *v, const char *label, srv_resp *resp)
+   under the image; robust: a time map's scale, heatmap.h), or the image
+   itself when label is NULL. */
+static void send_png(srv_server *s, const float *v, const char *label, int robust, srv_resp *resp)
 {
     int w = s->cfg.width, h = s->cfg.height;
     unsigned char *png;
     if (label) {
-        double vmax = 0;
-        ggImage *map = heatmap_image(v, w, h, label, &vmax);
+        heatmap_range r = {0, 0, 0};
+        ggImage *map = heatmap_image(v, w, h, label, robust, &r);
         png = map ? srv_png(ggImagePixelsConst(map), ggImageWidth(map), ggImageHeight(map),
                             &resp->len)
                   : NULL;
         ggImageFree(map);
         snprintf(resp->extra_name, sizeof resp->extra_name, "X-GGRT-Max");
-        snprintf(resp->extra_value, sizeof resp->extra_value, "%.9g", vmax);
+        snprintf(resp->extra_value, sizeof resp->extra_value, "%.9g", r.max);
+        snprintf(resp->extra2_name, sizeof resp->extra2_name, "X-GGRT-Top");
+        snprintf(resp->extra2_value, sizeof resp->extra2_value, "%.9g", r.top);
     } else {
         png = srv_png(v, w, h, &resp->len);
     }
     if (!png) {
-        resp->extra_name[0] = '\0';
+        resp->extra_name[0] = resp->extra2_name[0] = '\0';
         srv_error(resp, 500, "out of memory");
         return;
     }
@@ -197,7 +200,8 @@ void srv_api_image(srv_server *s, const srv_req *r, srv_resp *resp)
     if (!strcmp(fmt, "f32"))
         send_floats(s, sp.kind >= 0 ? res->cost : res->px, sp.kind >= 0 ? n : 3 * n, resp);
     else
-        send_png(s, sp.kind >= 0 ? res->cost : res->px, sp.kind >= 0 ? label[sp.kind] : NULL, resp);
+        send_png(s, sp.kind >= 0 ? res->cost : res->px, sp.kind >= 0 ? label[sp.kind] : NULL,
+                 sp.kind >= 0 && !strcmp(label[sp.kind], "time s"), resp);
     srv_jobs_release(s, res);
 }
 
@@ -257,7 +261,7 @@ static void find_body(srv_server *s, const char *fmt, const srv_job_spec *sp, co
     } else if (!strcmp(fmt, "share")) {
         send_floats(s, res->share, n, resp);
     } else if (!strcmp(fmt, "png")) {
-        send_png(s, res->share, "share", resp);
+        send_png(s, res->share, "share", 0, resp);
     } else {
         f = srv_body_open(resp, 200, "application/json");
         if (f)
@@ -393,7 +397,7 @@ static void diff_body(srv_server *s, const char *fmt, const srv_job_spec *sp, co
         if (!strcmp(fmt, "f32"))
             send_floats(s, d, n, resp);
         else
-            send_png(s, d, "", resp);
+            send_png(s, d, "", 0, resp);
         free(d);
     }
 }

@@ -1802,6 +1802,12 @@ def fix_hover_after_diff(d):
         st = d.find_element(By.ID, "status-text").get_attribute("textContent")
         check(re.match(r"rendered A in [0-9.]+ s \(this page waited [0-9.]+ s\): ", st) is not None,
               "the status line says what its second time is (%r)" % st)
+        d.execute_script("location.hash = '#ov=time'")
+        wait(d, "time", lambda: attr(d, "overlay", "data-kind") == "time", 60)
+        legend = d.find_element(By.ID, "legend-text").get_attribute("textContent")
+        check(re.match(r"time per pixel \(seconds\), 0 to [0-9.e+-]+( \(the 99\.9th percentile; [0-9]+ pixels? "
+                       r"over it, up to [0-9.e+-]+\))?$", legend) is not None,
+              "the time overlay's legend names its scale (%r)" % legend)
     finally:
         d.get("about:blank")
         srv.stop()

@@ -182,3 +182,16 @@ while IFS= read -r line; do
   esac
 done < "$tmp/cancel"
 grep -q . "$tmp/cancel" || bad "cancel.py ran" "no output"
+
+# Heat maps' scales (cli/common/heatmap.h): a count keeps its largest value
+# even with a few pixels far over the rest (outlier.nff: 16 rays in a small
+# glass sphere's pixels, 1 or 2 elsewhere); a time map says which form it
+# took, the largest value or the 99.9th percentile with the pixels over it.
+expect_exit 0 "render --heatmap rays on outlier.nff" \
+  "$ggrt" render tests/data/outlier.nff --heatmap rays -o "$tmp/heat.png"
+if grep -qx "heat map: rays per pixel, 0 to 16" "$tmp/out"; then ok "a rays heat map's scale is its largest count"
+else bad "a rays heat map's scale" "$(cat "$tmp/out")"; fi
+expect_exit 0 "render --heatmap time" "$ggrt" render $g --heatmap time -j 2 -o "$tmp/heat.png"
+if grep -Eqx "heat map: time s per pixel, 0 to [0-9.e+-]+( \(the 99\.9th percentile; [0-9]+ pixels? over it, up to [0-9.e+-]+\))?" "$tmp/out"
+then ok "a time heat map names its scale"
+else bad "a time heat map's scale" "$(cat "$tmp/out")"; fi

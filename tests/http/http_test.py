@@ -307,6 +307,24 @@ def check_heatmaps(s, stats):
         w, hh, px = png_pixels(b)
         check(st == 200 and w == SIZE[0] and hh > SIZE[1] and float(h.get("x-ggrt-max", "-1")) > 0,
               "/api/image?kind=%s: the heatmap with its legend" % kind)
+    # The scale's top (cli/common/heatmap.h): the largest value for counts;
+    # for times the largest, or the 99.9th percentile of the positive
+    # values (rounded up within 1/16) where the largest is over 4 times it.
+    for kind in ("rays", "time"):
+        st, h, b = s.wait("/api/image?kind=%s&format=f32" % kind)
+        v = struct.unpack("<%df" % (SIZE[0] * SIZE[1]), b)
+        st2, h2, _ = s.wait("/api/image?kind=%s" % kind)
+        top, mx = f32(float(h2.get("x-ggrt-top", "nan"))), f32(float(h2.get("x-ggrt-max", "nan")))
+        pos = sorted(x for x in v if x > 0)
+        q = pos[len(pos) - len(pos) // 1000 - 1] if pos else 0
+        if kind == "rays":
+            good = top == mx == max(v)
+        elif top < mx:
+            good = q <= top <= q * (1 + 1 / 16.0) and mx == max(v) and mx > 4 * q
+        else:
+            good = top == mx == max(v) and mx <= 4 * q * (1 + 1 / 16.0)
+        check(st == st2 == 200 and good, "/api/image?kind=%s: the scale's top %g (largest %g, 99.9th percentile %g)"
+              % (kind, top, mx, q))
     st, h, b = s.wait("/api/image?kind=depth&format=f32")
     depth = struct.unpack("<%df" % (SIZE[0] * SIZE[1]), b)
     check(st == 200 and max(depth) == 5 and min(depth) >= 1, "depth heatmap: 1 to the limit 5",

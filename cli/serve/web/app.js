@@ -511,6 +511,18 @@
     return side === 'b' && state.diff ? new ApiError(e.status, 'B: ' + e.message) : e;
   }
 
+  // A heatmap PNG's scale, from its headers: "0 to TOP", and when a few
+  // outliers are over the top (X-GGRT-Top below X-GGRT-Max: heatmap.h)
+  // how many and how far, counted in the values.
+  function scaleText(headers, values) {
+    const max = parseFloat(headers.get('X-GGRT-Max')), top = parseFloat(headers.get('X-GGRT-Top'));
+    if (!(top < max)) return { top: max, text: '0 to ' + fmtG(max, 4) };
+    let n = 0;
+    for (const v of values) if (v > top) n++;
+    return { top: top, text: '0 to ' + fmtG(top, 4) + ' (the 99.9th percentile; ' + n + ' pixel' +
+      (n === 1 ? '' : 's') + ' over it, up to ' + fmtG(max, 4) + ')' };
+  }
+
   async function loadHeat(kind, gen) {
     const params = optParams('a'), key = kind + '|' + keyOf(params);
     if (overlays[key]) return overlays[key];
@@ -519,11 +531,11 @@
     const [png, f32] = await Promise.all([
       api('/api/image', Object.assign({ format: 'png' }, p), 'blob'),
       api('/api/image', Object.assign({ format: 'f32' }, p), 'buf')]);
-    const max = parseFloat(png.headers.get('X-GGRT-Max'));
     const unit = { rays: 'rays', depth: 'deepest ray', time: 'seconds' }[kind];
+    const values = new Float32Array(f32.body), sc = scaleText(png.headers, values);
     overlays[key] = {
-      bmp: await createImageBitmap(png.body), values: new Float32Array(f32.body), max: max,
-      legend: kind + ' per pixel (' + unit + '), 0 to ' + fmtG(max, 4), unit: unit,
+      bmp: await createImageBitmap(png.body), values: values, max: sc.top,
+      legend: kind + ' per pixel (' + unit + '), ' + sc.text, unit: unit,
     };
     status('heatmap of ' + kind + ' ready');
     return overlays[key];
@@ -651,13 +663,13 @@
     const [png, f32] = await Promise.all([
       api('/api/find', Object.assign({ format: 'png' }, params), 'blob'),
       api('/api/find', Object.assign({ format: 'share' }, params), 'buf')]);
-    const f = r.body, max = parseFloat(png.headers.get('X-GGRT-Max'));
+    const f = r.body, values = new Float32Array(f32.body), sc = scaleText(png.headers, values);
     const text = f.matched + ' pixel' + (f.matched === 1 ? ' has' : 's have') + ' such a path';
     $('path-result').textContent = text;
     $('path-result').dataset.matched = String(f.matched);
     overlays[key] = {
-      bmp: await createImageBitmap(png.body), values: new Float32Array(f32.body), max: max,
-      legend: 'share of each pixel carried by paths ' + state.path + ': ' + text + '; 0 to ' + fmtG(max, 4),
+      bmp: await createImageBitmap(png.body), values: values, max: sc.top,
+      legend: 'share of each pixel carried by paths ' + state.path + ': ' + text + '; ' + sc.text,
       unit: 'share', count: f.matched,
     };
     status('paths done: ' + text);
