@@ -30,7 +30,12 @@ ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *r
     }
     st = ggSceneLoadFile(s, path, &err);
     if (st == GG_OK && loaded) loaded(s, path, ud);
-    if (st == GG_OK) st = ggScenePrepare(s, &err);
+    if (st == GG_OK && (st = ggScenePrepare(s, &err)) != GG_OK) {
+        /* the loader's errors name the file and line; preparing's, the scene */
+        char m[sizeof err.message];
+        memcpy(m, err.message, sizeof m);
+        snprintf(err.message, sizeof err.message, "%.200s: %.300s", path, m);
+    }
     if (st != GG_OK) {
         *rc = cli_fail(st, &err, 0);
         ggSceneFree(s);

@@ -107,6 +107,15 @@ GG_API ggMaterial ggMaterialDefault(void);
    refuse more with GG_ERROR_INVALID. */
 #define GG_COORD_MAX 1e64
 
+/* The least a scene may span: the largest side of the box around its
+   objects and the camera's eye (ggScenePrepare refuses a smaller one
+   with GG_ERROR_INVALID). A scene scaled by a power of two renders the
+   same image from this size up to GG_COORD_MAX (tests/unit/scene/
+   test_coords.c, from 2^-250 of a unit scene); below about 2^-255 the
+   quadratic of a cone's intersection underflows, below 2^-340 a
+   triangle's, and the picture is lost without an error. */
+#define GG_SCENE_SIZE_MIN 1e-60
+
 /* Whether m is physically valid, the rule ggSceneAddMaterial and the NFF
    loader apply: colour, ke, extinction and unit_m in [0, GG_PARAM_MAX];
    kd, ks and kt in [0, GG_WEIGHT_MAX] (above 1 is accepted: `ggrt check`
@@ -586,7 +595,10 @@ GG_API const char *ggSceneInputFile(const ggScene *scene, int index);
    renderer when needed; call it yourself to time it, to catch errors
    early, or before sharing the scene between threads. Adding to a
    prepared scene makes it unprepared again. Preparing writes the scene;
-   a prepared scene returns GG_OK at once without writing. */
+   a prepared scene returns GG_OK at once without writing. GG_ERROR_NOMEM,
+   GG_ERROR_LIMIT (more primitives than the BVH holds), or
+   GG_ERROR_INVALID for a scene with objects that spans less than
+   GG_SCENE_SIZE_MIN; the scene is then unprepared, as before the call. */
 GG_API int ggScenePrepare(ggScene *scene, ggError *err);
 
 /* What a prepared scene holds, for reports (`ggrt info`) and benchmarks. */

@@ -145,7 +145,8 @@ int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t
     int rc;
     if (!finite3(p, 3)) return GG_GEOM_DEGENERATE;
     ng = v3cross(v3sub(p[1], p[0]), v3sub(p[2], p[0]));
-    if (!(v3dot(ng, ng) > 0) || !v3finite(ng)) return GG_GEOM_DEGENERATE;
+    /* nonzero, not |ng|^2 > 0: that underflows for edges below 2^-268 */
+    if (!(v3maxabs(ng) > 0) || !v3finite(ng)) return GG_GEOM_DEGENERATE;
     if (grow(g, (void **)&g->tris, &g->cap_tri, g->ntri + 1, sizeof *g->tris)) return GG_GEOM_NOMEM;
     t = &g->tris[g->ntri];
     memset(t, 0, sizeof *t);
@@ -155,7 +156,7 @@ int gg_geom_add_triangle(gg_geom *g, const ggVec3 p[3], const ggVec3 *n, int32_t
         ggVec3 u[3];
         int i, ok = 1;
         for (i = 0; i < 3; i++) {
-            u[i] = v3norm(n[i]);
+            u[i] = v3unit(n[i]);
             if (!(v3dot(u[i], u[i]) > 0.5)) ok = 0;
         }
         /* Which side the normals call "out" is decided once per triangle,

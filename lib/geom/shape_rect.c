@@ -5,15 +5,38 @@
 */
 #include "shape_rect.h"
 
+/* The dual basis of edges whose |e1 x e2|^2 leaves the normal range
+   (edges below about 2^-242: it went subnormal, 1 / |n|^2 infinite, and
+   the rectangle was never hit): from the edges scaled by 2^-k (exact) to
+   a largest component in [1, 2), the a_i scaled back by 2^-k; n is then
+   the scaled edges' cross product (the kernel uses only its direction). */
+static int dual_scaled(ggVec3 e1, ggVec3 e2, ggVec3 *n, ggVec3 *a1, ggVec3 *a2)
+{
+    double m = fmax(v3maxabs(e1), v3maxabs(e2)), nn;
+    int k;
+    if (!(m > 0)) return -1;
+    k = ilogb(m);
+    e1 = v3(ldexp(e1.x, -k), ldexp(e1.y, -k), ldexp(e1.z, -k));
+    e2 = v3(ldexp(e2.x, -k), ldexp(e2.y, -k), ldexp(e2.z, -k));
+    *n = v3cross(e1, e2), nn = v3dot(*n, *n);
+    if (!(nn > 0) || !isfinite(nn)) return -1;
+    *a1 = v3scale(v3cross(e2, *n), ldexp(1 / nn, -k));
+    *a2 = v3scale(v3cross(*n, e1), ldexp(1 / nn, -k));
+    return v3finite(*a1) && v3finite(*a2) ? 0 : -1;
+}
+
 int gg_rect_prepare(ggVec3 corner, ggVec3 e1, ggVec3 e2, gg_rect *out)
 {
     ggVec3 n = v3cross(e1, e2), a1, a2;
     double nn = v3dot(n, n);
-    if (!v3finite(corner) || !v3finite(e1) || !v3finite(e2) || !(nn > 0) || !isfinite(nn))
+    if (!v3finite(corner) || !v3finite(e1) || !v3finite(e2)) return -1;
+    if (nn >= GG_VEC_SQ_MIN && isfinite(nn)) {
+        /* Dual basis: a1 = (e2 x n) / |n|^2 gives a1.e1 = 1, a1.e2 = 0. */
+        a1 = v3scale(v3cross(e2, n), 1 / nn);
+        a2 = v3scale(v3cross(n, e1), 1 / nn);
+    } else if (dual_scaled(e1, e2, &n, &a1, &a2)) {
         return -1;
-    /* Dual basis: a1 = (e2 x n) / |n|^2 gives a1.e1 = 1, a1.e2 = 0. */
-    a1 = v3scale(v3cross(e2, n), 1 / nn);
-    a2 = v3scale(v3cross(n, e1), 1 / nn);
+    }
     out->k.c[0] = corner.x, out->k.c[1] = corner.y, out->k.c[2] = corner.z;
     out->k.n[0] = n.x, out->k.n[1] = n.y, out->k.n[2] = n.z;
     out->k.a1[0] = a1.x, out->k.a1[1] = a1.y, out->k.a1[2] = a1.z;
@@ -45,7 +68,7 @@ void gg_rect_surface(const gg_rect *r, const gg_rayq *q, const gg_hit *h, gg_sur
 {
     ggVec3 c = v3(r->k.c[0], r->k.c[1], r->k.c[2]);
     ggVec3 a = v3scale(r->e1, h->b1), b = v3scale(r->e2, h->b2);
-    ggVec3 n = v3norm(v3(r->k.n[0], r->k.n[1], r->k.n[2]));
+    ggVec3 n = v3unit(v3(r->k.n[0], r->k.n[1], r->k.n[2]));
     (void)q;
     /* From (s, t), not from o + t d: the point lies on the plane to a few
        ulps of the corner and edges whatever the ray's length. */

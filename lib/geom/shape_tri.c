@@ -43,7 +43,7 @@ void gg_tri_set_normal(gg_tri *t)
     ggVec3 a = v3(t->k.v[0][0], t->k.v[0][1], t->k.v[0][2]);
     ggVec3 b = v3(t->k.v[1][0], t->k.v[1][1], t->k.v[1][2]);
     ggVec3 c = v3(t->k.v[2][0], t->k.v[2][1], t->k.v[2][2]);
-    ggVec3 ng = v3norm(v3cross(v3sub(b, a), v3sub(c, a)));
+    ggVec3 ng = v3unit(v3cross(v3sub(b, a), v3sub(c, a)));
     t->ng = t->flip ? v3neg(ng) : ng;
 }
 

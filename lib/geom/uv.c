@@ -154,13 +154,13 @@ int gg_uv_plane_make(const ggVec3 *p, int nv, gg_uv_plane *out)
         ggVec3 a = v3sub(p[i], c), b = v3sub(p[i + 1 < nv ? i + 1 : 0], c);
         n = v3add(n, v3cross(a, b));
     }
-    if (!(v3dot(n, n) > 0) || !v3finite(n)) return -1;
-    n = v3norm(n);
+    if (!(v3maxabs(n) > 0) || !v3finite(n)) return -1; /* not |n|^2: it underflows */
+    n = v3unit(n);
     for (i = 1; i < nv && v3dot(eu, eu) == 0; i++) {
         eu = v3sub(p[i], p[0]);
         eu = v3sub(eu, v3scale(n, v3dot(eu, n)));
     }
-    eu = v3norm(eu);
+    eu = v3unit(eu);
     if (!(v3dot(eu, eu) > 0)) return -1;
     out->n = n;
     out->eu = eu;

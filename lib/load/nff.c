@@ -650,7 +650,7 @@ static int kw_rect(parser *ps)
     if ((rc = vec(ps, &o.a)) != GG_OK || (rc = vec(ps, &o.b)) != GG_OK ||
         (rc = vec(ps, &o.c)) != GG_OK)
         return rc;
-    if (v3len(v3cross(o.b, o.c)) == 0)
+    if (v3maxabs(v3cross(o.b, o.c)) == 0)
         return fail(ps, &ps->kw_tok, GG_ERROR_PARSE, "rect edges are parallel or zero");
     return add_object(ps, &o);
 }

@@ -252,7 +252,7 @@ static bool degenerate(const gg_mesh *m, size_t t)
     const uint32_t *v = m->idx + 3 * t;
     ggVec3 a = m->pos[v[0]];
     ggVec3 ng = v3cross(v3sub(m->pos[v[1]], a), v3sub(m->pos[v[2]], a));
-    return !(v3dot(ng, ng) > 0) || !v3finite(ng);
+    return !(v3maxabs(ng) > 0) || !v3finite(ng);
 }
 
 static void drop_degenerate(gg_mesh_build *b)

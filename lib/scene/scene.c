@@ -126,13 +126,13 @@ int gg_camera_fault(const ggCamera *c)
         !(fmax(vmax(c->from), fmax(vmax(c->at), vmax(c->up))) <= CAM_MAX))
         return GG_CAMERA_NONFINITE;
     d = v3sub(c->at, c->from);
-    fwd = v3norm(d);
+    fwd = v3unit(d);
     if (!v3finite(d) || !(vmax(d) > CAM_EPS * fmax(vmax(c->from), vmax(c->at))) || !unit_len(fwd))
         return GG_CAMERA_FROM_AT;
     /* zero would pass as parallel to anything: say what it is */
     if (vmax(c->up) == 0) return GG_CAMERA_UP_ZERO;
     cr = v3cross(fwd, c->up);
-    if (!(vmax(cr) > CAM_EPS * vmax(c->up)) || !unit_len(v3norm(cr))) return GG_CAMERA_UP;
+    if (!(vmax(cr) > CAM_EPS * vmax(c->up)) || !unit_len(v3unit(cr))) return GG_CAMERA_UP;
     if (!(c->fov_deg > 0 && c->fov_deg < 180)) return GG_CAMERA_FOV;
     if (c->width < 1 || c->height < 1 || c->width > GG_IMAGE_MAX_DIM ||
         c->height > GG_IMAGE_MAX_DIM || (size_t)c->width * (size_t)c->height > GG_IMAGE_MAX_PIXELS)
@@ -154,7 +154,7 @@ const char *gg_camera_fault_text(int fault)
     case GG_CAMERA_NONFINITE:
         return "'from', 'at' and 'up' must be finite, at most 1e150";
     case GG_CAMERA_FROM_AT:
-        return "'from' and 'at' are the same point";
+        return "'from' and 'at' are the same point (or within 1e-9 of their size)";
     case GG_CAMERA_UP:
         return "'up' is parallel to the view direction";
     case GG_CAMERA_UP_ZERO:
@@ -665,7 +665,7 @@ GG_API int ggSceneAddRect(ggScene *s, int material, ggVec3 corner, ggVec3 e1, gg
     if (!v3finite(corner)) return not_finite(s, "ggSceneAddRect", "the corner", corner);
     if (!v3finite(e1)) return not_finite(s, "ggSceneAddRect", "e1", e1);
     if (!v3finite(e2)) return not_finite(s, "ggSceneAddRect", "e2", e2);
-    if (v3len(v3cross(e1, e2)) == 0)
+    if (v3maxabs(v3cross(e1, e2)) == 0)
         return refuse(s, -GG_ERROR_INVALID,
                       "ggSceneAddRect: e1 and e2 are parallel (or one is zero): no area");
     o.a = corner, o.b = e1, o.c = e2;
@@ -869,6 +869,18 @@ static int add_prims(ggScene *s, size_t i)
     return p < 0 && p != GG_GEOM_DEGENERATE ? p : 0;
 }
 
+/* The largest side of the box around the prepared geometry and the
+   camera's eye; 0 without objects. */
+static double scene_size(const ggScene *s)
+{
+    ggVec3 lo, hi, e = s->camera.from;
+    if (!gg_geom_prim_count(s->geom)) return 0;
+    gg_geom_bounds(s->geom, &lo, &hi);
+    lo = v3(fmin(lo.x, e.x), fmin(lo.y, e.y), fmin(lo.z, e.z));
+    hi = v3(fmax(hi.x, e.x), fmax(hi.y, e.y), fmax(hi.z, e.z));
+    return fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
+}
+
 GG_API int ggScenePrepare(ggScene *s, ggError *err)
 {
     size_t i;
@@ -904,6 +916,15 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
     if (rc != GG_OK) {
         unprepare(s);
         return rc;
+    }
+    if (scene_size(s) < GG_SCENE_SIZE_MIN && gg_geom_prim_count(s->geom)) {
+        double size = scene_size(s);
+        unprepare(s);
+        return gg_error_set(err, GG_ERROR_INVALID,
+                            "preparing the scene: its objects and the camera's eye span only %g, "
+                            "under %g (GG_SCENE_SIZE_MIN), where intersection tests underflow; "
+                            "scale it up",
+                            size, GG_SCENE_SIZE_MIN);
     }
     resolve_materials(s);
     for (i = 0; i < s->nlights; i++) {

@@ -152,3 +152,20 @@ done
 rm -f "$lim/out/m.png" "$lim/out/f.png"
 [ -z "$(ls "$lim/out")" ] && ok "failed loads leave no image and no *.tmp* file" ||
   bad "failed loads leave no image and no *.tmp* file" "$(ls "$lim/out")"
+
+# A scene spanning less than GG_SCENE_SIZE_MIN (1e-60): refused when it is
+# prepared, the file named (renders of it were wrong without a word).
+cat > "$lim/tiny.nff" <<'NFF'
+v
+from 0 -5e-70 3e-70
+at 0 0 0
+up 0 0 1
+angle 40
+hither 1e-72
+resolution 32 32
+l 1e-70 -1e-70 2e-70
+f 1 0 0 1 0 0 0 1
+s 0 0 0 1e-70
+NFF
+expect_err 2 "ggrt render: $lim/tiny.nff: preparing the scene: its objects and the camera's eye span only 6e-70, under 1e-60 (GG_SCENE_SIZE_MIN), where intersection tests underflow; scale it up" \
+  "a scene under GG_SCENE_SIZE_MIN is refused, the file named" "$ggrt" render "$lim/tiny.nff" -o "$lim/out/tiny.png"

@@ -30,7 +30,7 @@ param "negative background" "b 0 0 -1\ns 0 0 0 1\n" \
 param "zero conductor index" "conductor 0.2 0 0.3  3 0 3\ns 0 0 0 1\n" \
   "1:15: conductor: n and k are both 0 in the G channel (the index n + ik must not be 0)"
 param "from == at" "v\nfrom 0 0 5\nat 0 0 5\nup 0 1 0\nangle 40\nresolution 8 6\ns 0 0 0 1\n" \
-  "3:4: view: 'from' and 'at' are the same point"
+  "3:4: view: 'from' and 'at' are the same point (or within 1e-9 of their size)"
 param "up parallel to the view" "v\nfrom 0 0 5\nat 0 0 0\nup 0 0 -3\nangle 40\nresolution 8 6\n" \
   "4:4: view: 'up' is parallel to the view direction"
 param "zero up" "v\nfrom 0 0 5\nat 0 0 0\nup 0 0 0\nangle 40\nresolution 8 6\n" \

@@ -149,8 +149,9 @@ static void test_errors(void **state)
                  "scene.nff:6:12: a width after 'resolution' must be a whole number from 1 to 65536, got 100000");
     expect_error("v\nfrom 0 0 1\nat 0 0 0\nup 0 1 0\nangle 45\nresolution 60000 60000\n",
                  GG_ERROR_LIMIT, "scene.nff:6:1: resolution 60000x60000 exceeds the limit of 16777216 pixels");
-    expect_error("v\nfrom 0 0 1\nat 0 0 1\nup 0 1 0\n", GG_ERROR_PARSE,
-                 "scene.nff:3:4: view: 'from' and 'at' are the same point");
+    expect_error(
+        "v\nfrom 0 0 1\nat 0 0 1\nup 0 1 0\n", GG_ERROR_PARSE,
+        "scene.nff:3:4: view: 'from' and 'at' are the same point (or within 1e-9 of their size)");
     expect_error(
         "f 1 1 1 1 0 1 0.5 0\n", GG_ERROR_PARSE,
         "scene.nff:1:19: a transparent material (T = 0.5) needs an index of refraction > 0");

@@ -387,13 +387,14 @@ static int scaled_normal(double sx, double sy, double sz, ggVec3 *ns)
 /* Tiny and huge scales are not singular: where the determinant
    underflowed (a uniform scale below about 1e-108, or 2^-500 along y and
    2^-600 along z) a mesh was refused as "the transform is singular". A
-   scale by a power of two gives the same normals bit for bit, any other within a few ulp; drawn
-   over every scale whose faces still have an area in double (their edges' cross product squared, as
-   every triangle is held to) up to GG_COORD_MAX, x, y and z scaled 1, 2
-   and 4 times. Beyond that the faces are what is refused. */
+   scale by a power of two gives the same normals bit for bit from 2^-270 up to GG_COORD_MAX, x,
+   y and z scaled 1, 2 and 4 times; any other scale within a few ulp, also 2^-300 and 2^-330, where
+   the faces were refused as having no area until their edges' cross product, not its square (which
+   underflowed from 2^-268), was held to be nonzero. Beyond that the faces are what is refused. */
 static void test_transform_scales(void **state)
 {
-    static const double any[] = {1e-78, 1e-40, 3e-7, 0.3, 7.5, 1e30, 1e63};
+    static const double any[] = {0x1p-330, 0x1p-300, 1e-80, 1e-78, 1e-40,
+                                 3e-7,     0.3,      7.5,   1e30,  1e63};
     ggVec3 ref, n;
     int k;
     (void)state;
@@ -421,7 +422,7 @@ static void test_transform_scales(void **state)
         o.transform[5] = 0x1p-500, o.transform[10] = 0x1p-600;
         assert_int_equal(ggSceneAddMesh(s, &d, &o, &e), 0);
         ggMeshOptionsDefault(&o);
-        o.transform[0] = o.transform[5] = o.transform[10] = 1e-110;
+        o.transform[0] = o.transform[5] = o.transform[10] = 1e-170; /* cross products 0 */
         assert_int_equal(ggSceneAddMesh(s, &d, &o, &e), -GG_ERROR_INVALID);
         assert_string_equal(e.message, "oct: no face has an area");
         ggSceneFree(s);

@@ -145,13 +145,13 @@ static void test_nff_camera(void **state)
 {
     (void)state;
     refuse("v\nfrom 1 2 3\nat 1 2 3\nup 0 1 0\nangle 40\n",
-           "p.nff:3:4: view: 'from' and 'at' are the same point");
+           "p.nff:3:4: view: 'from' and 'at' are the same point (or within 1e-9 of their size)");
     /* The later of the two is the one that made them equal. */
     refuse("v\nat 1 2 3\nfrom 1 2 3\nup 0 1 0\nangle 40\n",
-           "p.nff:3:6: view: 'from' and 'at' are the same point");
+           "p.nff:3:6: view: 'from' and 'at' are the same point (or within 1e-9 of their size)");
     /* Equal after rounding: 1e12 and 1e12 + 1e-3 differ by 1e-15 of their size. */
     refuse("v\nfrom 1e12 0 0\nat 1000000000000.001 0 0\nup 0 1 0\nangle 40\n",
-           "p.nff:3:4: view: 'from' and 'at' are the same point");
+           "p.nff:3:4: view: 'from' and 'at' are the same point (or within 1e-9 of their size)");
     refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 1\nangle 40\n",
            "p.nff:4:4: view: 'up' is parallel to the view direction");
     refuse("v\nfrom 0 0 5\nat 0 0 0\nup 0 0 0\nangle 40\n",
