@@ -1812,6 +1812,25 @@ def fix_hover_after_diff(d):
         d.get("about:blank")
         srv.stop()
 
+def fix_numeric_line(d):
+    """The tree tab shows each hit's numeric state (error bound, offset,
+    TIR margin, edge) as ggrt trace's text does; it was only in the text
+    tab, and it is the number a TIR question needs."""
+    srv = Server(SCENE)
+    try:
+        d.get(srv.url + "#px=110,100")
+        wait(d, "tree", lambda: d.execute_script("return document.querySelectorAll('#tree-a details.node').length > 0"), 60)
+        page = d.execute_script("return [...document.querySelectorAll('#tree-a .numeric')]"
+                                ".map((e) => e.textContent.replace(/^numeric /, ''))")
+        out = subprocess.run([GGRT, "trace", SCENE, "--pixel", "110,100"], cwd=ROOT, stdout=subprocess.PIPE,
+                             text=True).stdout
+        want = [re.sub(r", traversal .*$", "", ln.split("numeric: ", 1)[1]) for ln in out.splitlines() if "numeric: " in ln]
+        check(want and page == want and any("tir margin" in t for t in page),
+              "the tree tab's numeric lines are ggrt trace's (%d of them; %r)" % (len(want), page[:2]))
+    finally:
+        d.get("about:blank")
+        srv.stop()
+
 def fixes(d):
     if os.environ.get("GG_BROWSER_FIXES"):
         for name in os.environ["GG_BROWSER_FIXES"].split(","):
@@ -1820,7 +1839,7 @@ def fixes(d):
     for f in (fix_3d_clip, fix_typing, fix_cancel, fix_binary_202, fix_server_gone, fix_hashchange,
               fix_zoom_keys, fix_stale_messages, fix_image_race, fix_mask_options,
               fix_value_readout, fix_pixel_offset, fix_zoom_select, fix_find_box, fix_narrow,
-              fix_zero_and_overlay_key, fix_hover_after_diff):
+              fix_zero_and_overlay_key, fix_hover_after_diff, fix_numeric_line):
         try:
             f(d)
         except Exception:  # noqa: BLE001 -- one check that cannot go on fails, the others still run

@@ -990,10 +990,21 @@
         : n.stop === 'matte' ? 'no ks or kt: no secondary rays' : n.stop))]);
     }
     if (n.absorption.some((v) => v !== 1)) field(d, 'absorption', 'over the segment ' + col(n.absorption));
+    if (h && h.numeric) field(d, 'numeric', numericText(h.numeric)).classList.add('numeric');
     if (n.traversal) field(d, 'traversal', n.traversal.nodes + ' nodes, ' + n.traversal.prims + ' prims tested');
     field(d, 'returns', col(n.color), [swatch(n.color)]);
     for (const k of n.children) d.appendChild(nodeEl(k, open));
     return d;
+  }
+
+  // A hit's numeric state as ggrt trace's text says it: the hit point's
+  // error bound, the offset of the rays leaving it, the TIR margin and the
+  // distance to an edge where they apply.
+  function numericText(q) {
+    let t = 'perr ' + fmtG(q.perr, 2) + ', offset ' + fmtG(q.offset, 2);
+    if (q.tir_margin !== null && isFinite(q.tir_margin)) t += ', tir margin ' + (q.tir_margin >= 0 ? '+' : '') + fmtG(q.tir_margin, 3);
+    if (q.edge !== null && isFinite(q.edge)) t += ', edge ' + fmtG(q.edge, 3);
+    return t;
   }
 
   function countNodes(n) { return 1 + n.children.reduce((a, k) => a + countNodes(k), 0); }
