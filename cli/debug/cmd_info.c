@@ -46,10 +46,12 @@ int cmd_info(int argc, char **argv)
     cli_print_meshes(stdout, s);
     printf("bounds     %g %g %g .. %g %g %g\n", in.lo.x, in.lo.y, in.lo.z, in.hi.x, in.hi.y,
            in.hi.z);
-    printf("bvh        %zu primitives, %zu nodes (%zu leaves), depth %zu\n", in.primitives,
-           in.bvh_nodes, in.bvh_leaves, in.bvh_depth);
+    printf("bvh        %zu primitive%s, %zu node%s (%zu lea%s), depth %zu\n", in.primitives,
+           in.primitives == 1 ? "" : "s", in.bvh_nodes, in.bvh_nodes == 1 ? "" : "s", in.bvh_leaves,
+           in.bvh_leaves == 1 ? "f" : "ves", in.bvh_depth);
     if (in.bvh_blocks)
-        printf("           %zu leaves of 2-4 triangles tested four at a time\n", in.bvh_blocks);
+        printf("           %zu lea%s of 2-4 triangles tested four at a time\n", in.bvh_blocks,
+               in.bvh_blocks == 1 ? "f" : "ves");
     else
         printf("           no leaves of 2-4 triangles to test four at a time\n");
     printf("traversal  %s\n", ggSceneTraversal(s));
