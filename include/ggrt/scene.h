@@ -158,7 +158,10 @@ GG_API void ggSceneFree(ggScene *scene);
 /* Add what an NFF file (or text) says to the scene. Errors name the place:
    "scene.nff:12:5: expected a number after 's'". Textures and meshes named
    in the file are read relative to the file's folder. On error the scene is
-   left as it was before the call.
+   left as it was before the call, prepared if it was; a load that succeeds
+   leaves it unprepared, as every addition does. ggSceneLoadString's name
+   stands for the file in messages ("<string>" when NULL), and textures and
+   meshes it names are read relative to the current folder.
    ggSceneLoadFile also takes a model on its own: a path ending in .obj or
    .ply (any case) is loaded with ggSceneLoadMesh and default options, then
    framed with ggSceneFrame (camera if the scene has none, lights if it has

@@ -873,6 +873,7 @@ typedef struct snapshot {
     bool has_camera;
     ggColor background, ambient;
     int depth, samples;
+    gg_prepared prep; /* the prepared state, set aside (scene.h) */
 } snapshot;
 
 static void take(const ggScene *s, snapshot *sn)
@@ -935,6 +936,7 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
     ps.mat = ggMaterialDefault();
     ps.mat_id = -1;
     take(s, &sn);
+    gg_scene_set_aside(s, &sn.prep);
     rc = check_text(&ps);
     while (rc == GG_OK && (r = next(&ps, &t)) != 0) {
         const keyword *k = NULL;
@@ -952,7 +954,12 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
         ps.kw_tok = t;
         rc = k->read(&ps);
     }
-    if (rc != GG_OK) rollback(s, &sn);
+    if (rc != GG_OK) {
+        rollback(s, &sn);
+        gg_scene_put_back(s, &sn.prep); /* prepared as it was, if it was */
+    } else {
+        gg_scene_drop_aside(s, &sn.prep);
+    }
     return rc;
 }
 

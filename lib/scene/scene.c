@@ -67,6 +67,36 @@ static void unprepare(ggScene *s)
     s->prepared = false;
 }
 
+void gg_scene_set_aside(ggScene *s, gg_prepared *p)
+{
+    int i;
+    p->prepared = s->prepared, p->geom = s->geom, p->mfast = s->mfast;
+    p->light_colors = s->light_colors, p->effects = s->effects;
+    p->prepare_seconds = s->prepare_seconds;
+    for (i = 0; i < GG_EFFECT_COUNT; i++) p->reasons[i] = s->reasons[i], s->reasons[i] = NULL;
+    s->geom = NULL, s->mfast = NULL, s->light_colors = NULL, s->effects = 0;
+    s->prepared = false;
+}
+
+void gg_scene_put_back(ggScene *s, gg_prepared *p)
+{
+    int i;
+    unprepare(s);
+    s->prepared = p->prepared, s->geom = p->geom, s->mfast = p->mfast;
+    s->light_colors = p->light_colors, s->effects = p->effects;
+    s->prepare_seconds = p->prepare_seconds;
+    for (i = 0; i < GG_EFFECT_COUNT; i++) s->reasons[i] = p->reasons[i];
+}
+
+void gg_scene_drop_aside(ggScene *s, gg_prepared *p)
+{
+    int i;
+    gg_geom_free(p->geom);
+    gg_mem_free(s->alloc, p->mfast);
+    gg_mem_free(s->alloc, p->light_colors);
+    for (i = 0; i < GG_EFFECT_COUNT; i++) gg_mem_free(s->alloc, p->reasons[i]);
+}
+
 GG_API void ggSceneFree(ggScene *s)
 {
     size_t i;

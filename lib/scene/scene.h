@@ -111,6 +111,23 @@ struct ggScene {
     double prepare_seconds;
 };
 
+/* A scene's prepared state, set aside while a load that may fail runs
+   (nff.c): the load's additions find nothing to free, a failed load puts
+   it back (the scene is then prepared as it was), a load that succeeds
+   drops it (the scene is unprepared, as any addition leaves it). */
+typedef struct gg_prepared {
+    bool prepared;
+    gg_geom *geom;
+    gg_mat_fast *mfast;
+    ggColor *light_colors;
+    unsigned effects;
+    char *reasons[GG_EFFECT_COUNT];
+    double prepare_seconds;
+} gg_prepared;
+void gg_scene_set_aside(ggScene *s, gg_prepared *p);
+void gg_scene_put_back(ggScene *s, gg_prepared *p);
+void gg_scene_drop_aside(ggScene *s, gg_prepared *p);
+
 /* Append helpers (return index or -GG_ERROR_NOMEM). */
 int gg_scene_push_vertices(ggScene *s, const ggVec3 *v, const ggVec3 *n, int count, size_t *first);
 /* -GG_ERROR_INVALID when a coordinate or size of o (its vertices for a

@@ -198,6 +198,37 @@ static void test_rollback_keeps_earlier_load(void **state)
     ggSceneFree(s);
 }
 
+/* A failed load leaves a prepared scene prepared, as scene.h promises
+   ("left as it was"): its additions unprepared it, and only the counts
+   were rolled back, so ggSceneIntersect missed, ggRayColor gave black
+   and the next render prepared again a scene shared between threads. A
+   load that succeeds leaves it unprepared, as any addition does. */
+static void test_failed_load_keeps_prepared(void **state)
+{
+    ggScene *s = load_ok("l 0 0 5\nf 1 1 1 1 0.5 1 0 0\ns 0 0 0 1\n");
+    ggRay r = {{0, 0, 5}, {0, 0, -1}};
+    ggHit h;
+    ggError e;
+    unsigned fx;
+    const char *trav;
+    (void)state;
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    fx = ggSceneEffects(s), trav = ggSceneTraversal(s);
+    assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h));
+    static const char *bad = "s 1 1 1 1\np 3\n0 0 0\n1 0 0\n9"; /* cut short: a parse error */
+    assert_int_equal(ggSceneLoadString(s, bad, strlen(bad), "b.nff", &e), GG_ERROR_PARSE);
+    assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h));
+    assert_true(h.t == 4);
+    assert_int_equal(ggSceneEffects(s), fx);
+    assert_non_null(trav);
+    assert_string_equal(ggSceneTraversal(s), trav);
+    assert_int_equal(ggSceneLoadString(s, "s 3 3 3 1\n", 10, "c.nff", &e), GG_OK);
+    assert_false(ggSceneIntersect(s, r, 0, INFINITY, &h)); /* unprepared: no hits */
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_int_equal(ggSceneObjectCount(s), 2);
+    ggSceneFree(s);
+}
+
 /* Vertex normals are kept only for pp polygons: plain polygons before,
    between and after them (and a failed load in between) leave each pp
    polygon's normals as the file gave them, and a plain one has none. */
@@ -438,6 +469,7 @@ int main(void)
         cmocka_unit_test(test_extensions),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_rollback_keeps_earlier_load),
+        cmocka_unit_test(test_failed_load_keeps_prepared),
         cmocka_unit_test(test_pp_normals_among_plain_polygons),
         cmocka_unit_test(test_missing_file),
         cmocka_unit_test(test_spd_scenes_load),
