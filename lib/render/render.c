@@ -980,9 +980,10 @@ GG_API int ggRender(ggScene *s, const ggRenderOptions *opt, ggImage **out, ggRay
 {
     job j;
     int rc;
-    /* Statistics are the counts of this call alone, also on failure. */
-    if (stats) memset(stats, 0, sizeof *stats);
+    /* A NULL handle or output leaves every output as it was (base.h rule
+       1); past that, statistics are this call's alone, also on failure. */
     if (!s || !out) return gg_error_set(err, GG_ERROR_INVALID, "ggRender: NULL argument");
+    if (stats) memset(stats, 0, sizeof *stats);
     *out = NULL;
     memset(&j, 0, sizeof j);
     if ((rc = set_layers(&j, opt, err)) != GG_OK) return rc;
@@ -1070,8 +1071,9 @@ GG_API ggColor ggRayColor(const ggScene *s, const ggRenderOptions *opt, ggRay ra
     gg_shade_ctx ctx;
     resolved r;
     gg_shade_thread th;
+    if (!s) return rgb(0, 0, 0); /* stats as they were (base.h rule 1) */
     if (stats) memset(stats, 0, sizeof *stats);
-    if (!s || !s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
+    if (!s->prepared || resolve(s, opt, &r, NULL) != GG_OK) return rgb(0, 0, 0);
     gg_shade_init(&ctx, s, r.depth, r.force, r.spd, &r.acc);
     ctx.budget = (uint32_t)r.budget;
     memset(&th, 0, sizeof th);
@@ -1154,9 +1156,9 @@ GG_API int ggTracePixel(ggScene *s, const ggRenderOptions *opt, int x, int y, in
     job j;
     gg_shade_thread local;
     int rc;
-    if (stats) memset(stats, 0, sizeof *stats);
-    if (!s || !rec || !pixel)
+    if (!s || !rec || !pixel) /* stats as they were (base.h rule 1) */
         return gg_error_set(err, GG_ERROR_INVALID, "ggTracePixel: NULL argument");
+    if (stats) memset(stats, 0, sizeof *stats);
     /* cleared first, so that a failure leaves no earlier call's rays */
     gg_trace_clear(rec);
     memset(&local, 0, sizeof local);

@@ -396,12 +396,16 @@ static void test_render_trace(void **state)
         assert_int_equal(ggRenderOptionsResolve(s, &o, NULL), GG_ERROR_INVALID);
         assert_true(all_ff(&keep, sizeof keep));
     }
-    COVER(ggRender), assert_int_equal(ggRender(NULL, NULL, &img, NULL, NULL), GG_ERROR_INVALID);
+    /* stats too stay as they were (rule 1 before rule 2: they were zeroed) */
+    memset(&st, 0xff, sizeof st);
+    COVER(ggRender), assert_int_equal(ggRender(NULL, NULL, &img, &st, NULL), GG_ERROR_INVALID);
     assert_ptr_equal(img, (ggImage *)&img);
-    assert_int_equal(ggRender(s, NULL, NULL, NULL, NULL), GG_ERROR_INVALID);
+    assert_int_equal(ggRender(s, NULL, NULL, &st, NULL), GG_ERROR_INVALID);
+    assert_true(all_ff(&st, sizeof st));
     COVER(ggCameraRay), cr = ggCameraRay(NULL, NULL, 0, 0);
     assert_true(cr.o.x == 0 && cr.d.x == 0 && cr.d.y == 0 && cr.d.z == 0);
     COVER(ggRayColor), assert_true(is_black(ggRayColor(NULL, NULL, r, 1, &st)));
+    assert_true(all_ff(&st, sizeof st));
     COVER(ggRayStatsAdd), ggRayStatsAdd(NULL, &st), ggRayStatsAdd(&st, NULL);
     {
         ggKernelCounts kc;
@@ -424,6 +428,7 @@ static void test_render_trace(void **state)
     assert_int_equal(ggTracePixel(NULL, NULL, 1, 1, -1, t, &px, &st, NULL), GG_ERROR_INVALID);
     assert_int_equal(ggTracePixel(s, NULL, 1, 1, -1, NULL, &px, &st, NULL), GG_ERROR_INVALID);
     assert_int_equal(ggTracePixel(s, NULL, 1, 1, -1, t, NULL, &st, NULL), GG_ERROR_INVALID);
+    assert_true(all_ff(&st, sizeof st));
     COVER(ggRayKindName), assert_string_equal(ggRayKindName(-1), "?");
     COVER(ggStopName), assert_string_equal(ggStopName(-1), "?");
     COVER(ggShadowName), assert_string_equal(ggShadowName(-1), "?");
