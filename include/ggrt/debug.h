@@ -178,8 +178,8 @@ typedef struct ggFindResult {
    limit: how many matches to list (0: none; the count and the mask cover
    all). Only what the predicate reads is recorded. *out receives the
    result (NULL on failure). Returns GG_OK, GG_ERROR_INVALID (NULL scene,
-   pred or out; bad options), GG_ERROR_NOMEM, GG_ERROR_CANCELLED, or what
-   ggRender would. */
+   pred or out; bad options; a negative limit), GG_ERROR_NOMEM,
+   GG_ERROR_CANCELLED, or what ggRender would. */
 GG_API int ggFind(ggScene *scene, const ggRenderOptions *opt, const ggPredicate *pred, int limit,
                   ggFindResult **out, ggError *err);
 GG_API void ggFindResultFree(ggFindResult *res);
@@ -583,7 +583,8 @@ typedef struct ggDiffResult {
    two settings must give images of one size; the window is opt_a's.
    worst: how many differing pixels to list. Threads and progress come
    from opt_a. Returns GG_OK, GG_ERROR_INVALID (NULL arguments, sizes that
-   differ), GG_ERROR_NOMEM, GG_ERROR_CANCELLED, or what ggRender would. */
+   differ, a negative worst), GG_ERROR_NOMEM, GG_ERROR_CANCELLED, or what
+   ggRender would. */
 GG_API int ggDiff(ggScene *scene_a, const ggRenderOptions *opt_a, ggScene *scene_b,
                   const ggRenderOptions *opt_b, int worst, ggDiffResult **out, ggError *err);
 GG_API void ggDiffResultFree(ggDiffResult *res);

@@ -89,8 +89,8 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
 
    Errors (the message starts with the path):
      GG_ERROR_INVALID      path or out is NULL
-     GG_ERROR_IO           cannot open or read ("x.png: cannot open: No
-                           such file or directory"), or not a regular file
+     GG_ERROR_IO           cannot open or read ("x.png: No such file or
+                           directory"), or not a regular file
                            ("x.png: not a regular file": a FIFO, device or
                            directory is refused at once, never waited on)
      GG_ERROR_UNSUPPORTED  neither magic ("x.png: not a PNG or OpenEXR

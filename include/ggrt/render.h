@@ -273,7 +273,14 @@ GG_API void ggRayStatsAdd(ggRayStats *a, const ggRayStats *b);
    run at once with different options, and each gives the image it gives
    alone. On an unprepared scene see ggScenePrepare and the threading note
    of scene.h. opt->threads workers are started and joined inside the
-   call; the progress callback runs on them, one at a time. */
+   call; the progress callback runs on them, one at a time.
+   Returns GG_OK; GG_ERROR_INVALID for a NULL scene or out, or options
+   out of range (ggRenderOptionsResolve's rules); GG_ERROR_LIMIT for an
+   image over the limits of image.h; GG_ERROR_UNSUPPORTED for a layer
+   sum with more than one sample per pixel; GG_ERROR_CANCELLED when the
+   progress callback asked to stop; ggScenePrepare's errors; or
+   GG_ERROR_NOMEM. On failure *out is NULL (a NULL scene aside: base.h
+   rule 1). */
 GG_API int ggRender(ggScene *scene, const ggRenderOptions *opt, ggImage **out,
                     ggRayStats *stats, ggError *err);
 
@@ -340,7 +347,9 @@ GG_API int ggRenderCountKernels(ggScene *scene, const ggRenderOptions *opt,
    input depends on the last one's result, as a walk's next node depends
    on this one's test: time it, and the time over n is a call's latency on
    cached data. Returns a sum of the results (>= 0), or -1 if the scene
-   has no such data, is not prepared, or takes the plain traversal. */
+   has no such data or is not prepared, k or n is out of range, or (for
+   every kernel but GG_KERNEL_SHADE, which does not walk) the scene takes
+   the plain traversal. */
 GG_API double ggKernelLoop(const ggScene *scene, const ggRenderOptions *opt, int k, long n);
 
 #ifdef __cplusplus

@@ -126,7 +126,7 @@ GG_API ggMaterial ggMaterialDefault(void);
    both 0 in any channel;
    fresnel one of GG_FRESNEL_*; texture >= -1 (whether the texture exists
    is the scene's to check). Returns GG_OK, or GG_ERROR_INVALID with err
-   naming the first field at fault ("material: ks must be finite and >= 0,
+   naming the first field at fault ("material: ks must be in [0, 100],
    got -1"); a NULL m is GG_ERROR_INVALID. */
 GG_API int ggMaterialCheck(const ggMaterial *m, ggError *err);
 
@@ -330,7 +330,13 @@ GG_API void ggMeshOptionsDefault(ggMeshOptions *opt);
    place: "model.obj:12:5: face index 9 is out of range (8 vertices)" for
    OBJ and MTL, the byte offset and element index for binary PLY. Truncated
    files, bad indices, counts beyond the documented limits and NaN or
-   infinite numbers are errors. On error the scene is left as it was. */
+   infinite numbers are errors. On error the scene is left as it was.
+   Returns GG_OK (not the mesh's index: ggSceneMeshCount - 1 is it);
+   GG_ERROR_INVALID for options out of range (normals not a
+   GG_NORMALS_*, a crease outside 0..180 degrees, an unknown material, a
+   singular or non-finite transform) or a mesh with no face of any area;
+   GG_ERROR_UNSUPPORTED for an unknown format; GG_ERROR_IO, GG_ERROR_PARSE,
+   GG_ERROR_LIMIT or GG_ERROR_NOMEM as the file calls for. */
 /* A mesh file loaded again (the same file under any path, also through
    an NFF `mesh` line) is read and placed again. Each such repeated load
    counts its triangles, 8 more for the mesh's own records and one more
@@ -396,7 +402,9 @@ GG_API int ggSceneFrame(ggScene *scene, unsigned what, ggError *err);
 /* Render settings that a scene file may carry (its `depth` and `samples`):
    0 leaves them to the renderer (depth 5, 1 sample); else depth 1..64
    and samples 1..4096, as in a file. GG_OK, or GG_ERROR_INVALID for a
-   NULL scene or a value out of range (the scene unchanged). */
+   NULL scene or a value out of range (the scene unchanged). A prepared
+   scene stays prepared, its effect set (ggSceneEffects) brought up to
+   date (short of memory for that, it is left unprepared). */
 GG_API int ggSceneSetDepth(ggScene *scene, int max_depth);
 GG_API int ggSceneSetSamples(ggScene *scene, int samples_per_pixel);
 

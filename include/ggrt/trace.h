@@ -120,7 +120,12 @@ GG_API const ggTraceLight *ggTraceGetLight(const ggTrace *trace, size_t i);
    receives the counts of the rays of the recorded samples, overwritten
    (base.h rule 2; all zero when the call fails). In pixel-corner mode the pixel's four
    corner rays are its samples 0..3. Threads: as ggRender, with a trace of
-   its own per thread (a ggTrace is written by the call). */
+   its own per thread (a ggTrace is written by the call).
+   Returns GG_OK; GG_ERROR_INVALID for a NULL scene, trace or pixel,
+   options out of range, a pixel outside the image or a sample the pixel
+   does not have ("sample 9 does not exist (the pixel has 4)");
+   GG_ERROR_UNSUPPORTED from a library built without the recorder;
+   ggScenePrepare's errors; or GG_ERROR_NOMEM. */
 GG_API int ggTracePixel(ggScene *scene, const ggRenderOptions *opt, int x, int y, int sample,
                         ggTrace *trace, ggColor *pixel, ggRayStats *stats, ggError *err);
 

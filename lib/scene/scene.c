@@ -334,6 +334,15 @@ GG_API void ggSceneSetImageReader(ggScene *s, ggImageReader fn, void *ud)
     s->reader = fn;
     s->reader_ud = fn ? ud : NULL;
 }
+/* A prepared scene's effect set after a setting it depends on (depth,
+   samples) changed: computed again, so that ggSceneEffects says what a
+   fresh prepare would; short of memory for it, the scene is unprepared
+   and the next render prepares it. */
+static void refresh_effects(ggScene *s)
+{
+    if (s->prepared && gg_effects_compute(s) != GG_OK) unprepare(s);
+}
+
 GG_API int ggSceneSetDepth(ggScene *s, int d)
 {
     if (!s) return GG_ERROR_INVALID;
@@ -342,6 +351,7 @@ GG_API int ggSceneSetDepth(ggScene *s, int d)
                       "ggSceneSetDepth: max_depth must be 0 (the renderer's) or 1 to 64, got %d",
                       d);
     s->depth = d;
+    refresh_effects(s);
     return done(s, GG_OK);
 }
 GG_API int ggSceneSetSamples(ggScene *s, int n)
@@ -353,6 +363,7 @@ GG_API int ggSceneSetSamples(ggScene *s, int n)
                       "4096, got %d",
                       n);
     s->samples = n;
+    refresh_effects(s);
     return done(s, GG_OK);
 }
 

@@ -421,6 +421,35 @@ static void said(const ggScene *s, int rc, const char *fn, const char *has)
 /* Every refusal scene.h lists for the building functions, each followed
    by ggSceneLastError's answer, and the scene unchanged; a success after
    each clears it. */
+/* ggSceneSetSamples on a prepared scene: still prepared, and its effect
+   set says what a fresh prepare would (supersampling came and went only
+   at the next prepare, with the reason NULL meanwhile). */
+static void test_settings_keep_effects(void **state)
+{
+    ggScene *s = ggSceneCreate(NULL);
+    ggMaterial m = ggMaterialDefault();
+    ggRay r = {{0, 0, 5}, {0, 0, -1}};
+    ggColor white = {1, 1, 1};
+    ggHit h;
+    ggError e;
+    (void)state;
+    assert_true(ggSceneAddSphere(s, ggSceneAddMaterial(s, &m), (ggVec3){0, 0, 0}, 1) >= 0);
+    assert_true(ggSceneAddLight(s, (ggVec3){0, 0, 5}, white) >= 0);
+    assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+    assert_false(ggSceneEffects(s) & GG_EFFECT_SUPERSAMPLING);
+    assert_int_equal(ggSceneSetSamples(s, 4), GG_OK);
+    assert_true(ggSceneEffects(s) & GG_EFFECT_SUPERSAMPLING);
+    assert_non_null(ggSceneEffectReason(s, GG_EFFECT_SUPERSAMPLING));
+    assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h)); /* still prepared */
+    assert_int_equal(ggSceneSetDepth(s, 3), GG_OK);
+    assert_true(ggSceneEffects(s) & GG_EFFECT_SUPERSAMPLING);
+    assert_int_equal(ggSceneSetSamples(s, 1), GG_OK);
+    assert_false(ggSceneEffects(s) & GG_EFFECT_SUPERSAMPLING);
+    assert_null(ggSceneEffectReason(s, GG_EFFECT_SUPERSAMPLING));
+    assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h));
+    ggSceneFree(s);
+}
+
 static void test_last_error(void **state)
 {
     ggScene *s = ggSceneCreate(NULL);
@@ -543,6 +572,7 @@ int main(void)
         cmocka_unit_test(test_api_lights_background),
         cmocka_unit_test(test_api_camera),
         cmocka_unit_test(test_accepted_renders_finite),
+        cmocka_unit_test(test_settings_keep_effects),
         cmocka_unit_test(test_last_error),
         cmocka_unit_test(test_last_error_nomem),
     };
