@@ -88,8 +88,9 @@ static const char tail_absorb[] = "Example, red light through a metre of water:\
 static const char tail_all[] =
     "Directions are X,Y,Z (no spaces); they need not be unit length.\n"
     "exit: 0 ok (total internal reflection included), 1 usage (unknown or missing\n"
-    "option, malformed number), 2 invalid value (zero vector or index, |cos| > 1,\n"
-    "negative k, ...), 3 I/O error (seeds), 4 a check failed (check)";
+    "option, a value malformed or out of range: zero vector or index, |cos| > 1,\n"
+    "negative k, ...), 2 a library or symbol that cannot be loaded (check), 3 I/O\n"
+    "error (seeds), 4 a check failed (check)";
 
 /* Parse argv[1..] (argv[0] is the form) into o with the options the form
    allows. Returns CLI_GO or the exit code. */
@@ -106,13 +107,12 @@ static int parse(const char *form, unsigned allowed, const char *usage, const ch
         CLI_OPT_VEC3(0, "n", &o->n, "X,Y,Z", "surface normal, either way"),
         CLI_OPT_DOUBLE(0, "ni", &o->ni, -inf, inf, "N", "index on the incoming side (default 1)"),
         CLI_OPT_DOUBLE(0, "nt", &o->nt, -inf, inf, "N", "index on the far side (default 1.5)"),
-        CLI_OPT_DOUBLE(0, "k", &o->k, -inf, inf, "K",
+        CLI_OPT_DOUBLE(0, "k", &o->k, 0, inf, "K",
                        "extinction coefficient: the imaginary part of the index"),
-        CLI_OPT_DOUBLE(0, "cos", &o->cos_i, -inf, inf, "C", "cosine of the angle of incidence"),
-        CLI_OPT_DOUBLE(0, "angle", &o->angle, -inf, inf, "DEG", "angle of incidence, degrees"),
+        CLI_OPT_DOUBLE(0, "cos", &o->cos_i, -1, 1, "C", "cosine of the angle of incidence"),
+        CLI_OPT_DOUBLE(0, "angle", &o->angle, 0, 90, "DEG", "angle of incidence, degrees"),
         CLI_OPT_DOUBLE(0, "lambda", &o->lambda, -inf, inf, "L", "vacuum wavelength"),
-        CLI_OPT_DOUBLE(0, "distance", &o->distance, -inf, inf, "D",
-                       "path length, in the unit of L"),
+        CLI_OPT_DOUBLE(0, "distance", &o->distance, 0, inf, "D", "path length, in the unit of L"),
         CLI_OPT_FLAG(0, "textbook", &textbook,
                      "also the textbook formula and its distance from\n"
                      "ggRefract's result"),
@@ -133,6 +133,15 @@ static int need(const opts *o, unsigned flags, const char *form, const char *nam
 {
     if ((o->seen & flags) == flags) return 0;
     cli_error("%s required", names);
+    fprintf(stderr, "(see 'ggrt optics %s --help')\n", form);
+    return EXIT_USAGE;
+}
+
+/* A value the parser took but the form cannot: a usage error in the
+   parser's words, with its hint. */
+static int bad_value(const char *form, const char *value, const char *name, const char *expected)
+{
+    cli_error("bad value '%s' for %s: expected %s", value, name, expected);
     fprintf(stderr, "(see 'ggrt optics %s --help')\n", form);
     return EXIT_USAGE;
 }
@@ -200,23 +209,13 @@ static void print_critical(double ni, double nt)
 
 static int check_index(const char *form, const char *name, double x)
 {
-    (void)form; /* cli_parse made "ggrt optics FORM:" the prefix */
-    if (x != 0) return 0;
-    cli_error("%s must not be zero", name);
-    return EXIT_INPUT;
+    return x != 0 ? 0 : bad_value(form, "0", name, "an index other than 0");
 }
 
 static int check_dirs(const char *form, const opts *o)
 {
-    (void)form; /* cli_parse made "ggrt optics FORM:" the prefix */
-    if (is_zero(o->v)) {
-        cli_error("--v must not be the zero vector");
-        return EXIT_INPUT;
-    }
-    if (is_zero(o->n)) {
-        cli_error("--n must not be the zero vector");
-        return EXIT_INPUT;
-    }
+    if (is_zero(o->v)) return bad_value(form, "0,0,0", "--v", "a direction other than zero");
+    if (is_zero(o->n)) return bad_value(form, "0,0,0", "--n", "a normal other than zero");
     return 0;
 }
 
@@ -323,29 +322,24 @@ static int run_fresnel(const opts *o)
     int rc, how = !!(o->seen & O_ANGLE) + !!(o->seen & O_COS) + !!(o->seen & (O_V | O_N));
     if (how != 1) {
         cli_error("give exactly one of --angle, --cos, or --v with --n");
+        fprintf(stderr, "(see 'ggrt optics fresnel --help')\n");
         return EXIT_USAGE;
     }
     if (o->seen & (O_V | O_N)) {
         if ((rc = need(o, O_V | O_N, "fresnel", "--v and --n together")) != 0) return rc;
         if ((rc = check_dirs("fresnel", o)) != 0) return rc;
         (void)angle_deg(o->v, o->n, &c);
-    } else if (o->seen & O_ANGLE) {
-        if (o->angle < 0 || o->angle > 90) {
-            cli_error("--angle must be in [0, 90] degrees");
-            return EXIT_INPUT;
-        }
+    } else if (o->seen & O_ANGLE) { /* [0, 90]: the parser's range */
         c = o->angle == 90 ? 0 : cos(o->angle * (PI / 180));
-    } else {
-        if (o->cos_i < -1 || o->cos_i > 1) {
-            cli_error("--cos must be in [-1, 1]");
-            return EXIT_INPUT;
-        }
+    } else { /* [-1, 1] */
         c = fabs(o->cos_i);
     }
     if ((rc = check_index("fresnel", "--ni", o->ni)) != 0) return rc;
-    if ((o->seen & O_K) && (o->nt < 0 || o->k < 0 || (o->nt == 0 && o->k == 0))) {
-        cli_error("a conductor needs --nt >= 0 and --k >= 0, not both zero");
-        return EXIT_INPUT;
+    if ((o->seen & O_K) && (o->nt < 0 || (o->nt == 0 && o->k == 0))) {
+        char v[32];
+        snprintf(v, sizeof v, "%g", o->nt);
+        return bad_value("fresnel", v, "--nt",
+                         "a conductor's n >= 0 (with --k; n and k not both 0)");
     }
     if (!(o->seen & O_K) && (rc = check_index("fresnel", "--nt", o->nt)) != 0) return rc;
     printf("%-18s %.9f deg (cos = %.17g)\n", "incidence angle:", DEG(acos(c)), c);
@@ -375,9 +369,10 @@ static int run_absorb(const opts *o)
     int rc;
     if ((rc = need(o, O_K | O_LAMBDA | O_DISTANCE, "absorb", "--k, --lambda and --distance")) != 0)
         return rc;
-    if (o->k < 0 || o->lambda <= 0 || o->distance < 0) {
-        cli_error("need --k >= 0, --lambda > 0, --distance >= 0");
-        return EXIT_INPUT;
+    if (!(o->lambda > 0)) { /* --k and --distance: >= 0 by the parser's range */
+        char v[32];
+        snprintf(v, sizeof v, "%g", o->lambda);
+        return bad_value("absorb", v, "--lambda", "a wavelength > 0");
     }
     printf("%-18s k = %.17g, lambda = %.17g, distance = %.17g\n", "medium:", o->k, o->lambda,
            o->distance);

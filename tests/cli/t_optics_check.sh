@@ -103,3 +103,20 @@ expect_exit 0 "optics refract: eta beyond the doubles" "$ggrt" optics refract \
 if grep -q "eta = ni/nt = -0\.91264981939587964 \* 2^1334$" "$tmp/out" &&
    grep -q "^TIR: *yes" "$tmp/out"; then ok "optics refract: eta as m * 2^e, TIR"
 else bad "optics refract: eta beyond the doubles" "$(cat "$tmp/out")"; fi
+
+# A value an optics form cannot take is a usage error as with every
+# command (exit 1, the parser's words, the hint); it was exit 2 without
+# the hint, some messages without the value.
+for a in "fresnel --cos 2|bad value '2' for --cos: expected a number from -1 to 1 (out of range)" \
+         "fresnel --angle 95|bad value '95' for --angle: expected a number from 0 to 90 (out of range)" \
+         "fresnel --ni 0 --cos 0.5|bad value '0' for --ni: expected an index other than 0" \
+         "refract --v 0,0,0 --n 0,1,0|bad value '0,0,0' for --v: expected a direction other than zero" \
+         "absorb --k 1 --lambda 0 --distance 1|bad value '0' for --lambda: expected a wavelength > 0" \
+         "absorb --k -1 --lambda 1 --distance 1|bad value '-1' for --k: expected a finite number >= 0 (out of range)"; do
+  args=${a%%|*}; msg=${a#*|}; form=${args%% *}
+  # shellcheck disable=SC2086
+  "$ggrt" optics $args >"$tmp/out" 2>"$tmp/err"; rc=$?
+  if [ $rc -eq 1 ] && grep -qxF "ggrt optics $form: $msg" "$tmp/err" && grep -qxF "(see 'ggrt optics $form --help')" "$tmp/err"
+  then ok "optics $args: exit 1, the value named, the hint"
+  else bad "optics $args (exit $rc)" "$(cat "$tmp/err")"; fi
+done
