@@ -45,13 +45,16 @@ int cli_exit_code(int status, int from_args);
    cli_parse calls cli_set_command with its command's name; cli_error
    prints "ggrt CMD: <message>", cli_warn "ggrt CMD: warning: <message>". */
 void cli_set_command(const char *name);
+/* "(see 'ggrt CMD --help')" on stderr, after a usage error's message. */
+void cli_usage_hint(void);
 void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
 void cli_warn(const char *fmt, ...) CLI_PRINTF(1, 2);
 /* cli_error under the name of command cmd, for helpers that are told
    which command they serve ("trace", or "bench accuracy"). */
 void cli_error_in(const char *cmd, const char *fmt, ...) CLI_PRINTF(2, 3);
 /* cli_error(err->message), without a leading library function name
-   ("ggDiff: "), and return cli_exit_code(status, from_args). */
+   ("ggDiff: "), then for a usage error the --help hint; returns
+   cli_exit_code(status, from_args). */
 int cli_fail(int status, const ggError *err, int from_args);
 
 /* Seconds on the monotonic clock (for durations only). */

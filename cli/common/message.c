@@ -66,6 +66,11 @@ void cli_error_in(const char *cmd, const char *fmt, ...)
     va_end(ap);
 }
 
+void cli_usage_hint(void)
+{
+    if (command_name[0]) fprintf(stderr, "(see 'ggrt %s --help')\n", command_name);
+}
+
 int cli_fail(int status, const ggError *err, int from_args)
 {
     const char *m = err && err->message[0] ? err->message : ggStatusString(status), *p = m;
@@ -76,6 +81,7 @@ int cli_fail(int status, const ggError *err, int from_args)
         m = p[0] == ':' && p[1] == ' ' ? p + 2 : m;
     }
     cli_error("%s", m);
+    if (cli_exit_code(status, from_args) == EXIT_USAGE) cli_usage_hint();
     return cli_exit_code(status, from_args);
 }
 

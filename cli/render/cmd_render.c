@@ -214,6 +214,7 @@ static int run(render_args *a, ggScene *scene, double *t)
     float *cost = NULL;
     if (a->has_pixel && (a->pixel[0] >= w || a->pixel[1] >= h)) {
         cli_error("--pixel %d,%d is outside the %dx%d image", a->pixel[0], a->pixel[1], w, h);
+        cli_usage_hint();
         return EXIT_USAGE;
     }
     /* Only for a size ggRender accepts: it refuses a larger one with the

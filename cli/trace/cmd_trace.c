@@ -353,6 +353,7 @@ int cmd_trace(int argc, char **argv)
             (a.pixel[0] >= r.width || a.pixel[1] >= r.height)) {
             cli_error("--pixel %d,%d is outside the %dx%d image", a.pixel[0], a.pixel[1], r.width,
                       r.height);
+            cli_usage_hint();
             ggSceneFree(scene), ggPathFree(e);
             return EXIT_USAGE;
         }

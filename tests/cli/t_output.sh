@@ -195,3 +195,14 @@ expect_exit 0 "render --heatmap time" "$ggrt" render $g --heatmap time -j 2 -o "
 if grep -Eqx "heat map: time s per pixel, 0 to [0-9.e+-]+( \(the 99\.9th percentile; [0-9]+ pixels? over it, up to [0-9.e+-]+\))?" "$tmp/out"
 then ok "a time heat map names its scale"
 else bad "a time heat map's scale" "$(cat "$tmp/out")"; fi
+
+# Usage errors the library finds (a crop window, a sample, a pixel
+# outside the image) end with the --help hint, as the parser's do.
+for a in "render $g --crop 0,0,9999,9999 -o $tmp/x.png" "trace $g --pixel 10,10 --sample 99" "trace $g --pixel 700,1"; do
+  cmd=${a%% *}
+  # shellcheck disable=SC2086
+  "$ggrt" $a >"$tmp/out" 2>"$tmp/err"; rc=$?
+  if [ $rc -eq 1 ] && [ "$(sed -n 2p "$tmp/err")" = "(see 'ggrt $cmd --help')" ] && [ "$(wc -l < "$tmp/err")" -eq 2 ]
+  then ok "ggrt $a: exit 1, the message and the hint"
+  else bad "ggrt $a (exit $rc)" "$(cat "$tmp/err")"; fi
+done
