@@ -48,6 +48,10 @@ int gg_image_read_budget(const char *path, const ggAllocator *alloc, const gg_im
 
 /* strerror into buf, thread-safe; returns buf. */
 const char *gg_image_strerror(int errnum, char *buf, size_t n);
+/* A codec library's message in the middle of one of ours: msg into buf
+   with a capitalised first word lowered ("End of file ..." -> "end of
+   file ..."; "EXR ..." stays); returns buf. */
+const char *gg_image_lower(const char *msg, char *buf, size_t n);
 
 /* Format readers, called by ggImageRead once the magic bytes matched. fp
    is open at offset 0 and stays owned by the caller. */

@@ -116,8 +116,9 @@ static void init_context(exr_context_initializer_t *init, exr_io *io)
 static int fail(const exr_io *io, exr_result_t rv, int code, const char *path, const char *what,
                 ggError *err)
 {
-    char ebuf[128];
-    const char *why = io->msg[0] ? io->msg : exr_get_default_error_message(rv);
+    char ebuf[128], lbuf[sizeof io->msg];
+    const char *why =
+        gg_image_lower(io->msg[0] ? io->msg : exr_get_default_error_message(rv), lbuf, sizeof lbuf);
     if (rv == EXR_ERR_OUT_OF_MEMORY) code = GG_ERROR_NOMEM;
     /* OpenEXR 3.1's C core cannot decompress DWAA/DWAB, for one. */
     if (rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED) {

@@ -19,6 +19,14 @@ const char *gg_image_strerror(int errnum, char *buf, size_t n)
     return buf;
 }
 
+const char *gg_image_lower(const char *msg, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s", msg ? msg : "");
+    /* a capitalised word, not an acronym: "End of file" but not "EXR" */
+    if (buf[0] >= 'A' && buf[0] <= 'Z' && buf[1] >= 'a' && buf[1] <= 'z') buf[0] += 'a' - 'A';
+    return buf;
+}
+
 GG_API int ggImageRead(const char *path, const ggAllocator *alloc, ggImage **out, ggError *err)
 {
     return gg_image_read_budget(path, alloc, NULL, out, err);

@@ -14,11 +14,11 @@
    stream's end-of-file flag tells them apart. */
 static int read_fail(FILE *fp, const char *path, const png_image *pi, ggError *err)
 {
-    if (feof(fp))
-        return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: truncated file (%s)", path,
-                            pi->message);
-    if (ferror(fp)) return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path, pi->message);
-    return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: %s", path, pi->message);
+    char m[sizeof pi->message];
+    gg_image_lower(pi->message, m, sizeof m);
+    if (feof(fp)) return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: truncated file", path);
+    if (ferror(fp)) return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path, m);
+    return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: %s", path, m);
 }
 
 /* libpng 1.6.39 allocates and zeroes a buffer of a tEXt, zTXt, iTXt, sPLT

@@ -201,7 +201,7 @@ static void test_lying_chunk_length(void **state)
     (void)state;
     largest = 0;
     assert_int_equal(ggImageRead(HOSTILE "lie.png", &watch, &img, &e), GG_ERROR_PARSE);
-    assert_string_equal(e.message, HOSTILE "lie.png: invalid PNG: truncated file (Read Error)");
+    assert_string_equal(e.message, HOSTILE "lie.png: invalid PNG: truncated file");
     assert_true(largest <= (size_t)4096 * 4096 * 3 * sizeof(float));
 }
 
