@@ -1564,10 +1564,7 @@ def fix_pixel_offset(d):
     try:
         got = []
         for zoom in (1, 3):
-            d.get("about:blank")
-            d.get(srv.url + "#zoom=%d" % zoom)
-            wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
-            d.execute_script("document.getElementById('viewport').style.marginTop = '0.375px'")
+            page_off_grid(d, srv, zoom)
             c = d.find_element(By.ID, "image")
             w, h = c.size["width"], c.size["height"]
             for x, y in ((5, 5), (30, 20), (50, 41), (63, 47)):
@@ -1589,6 +1586,15 @@ def fix_pixel_offset(d):
         srv.stop()
 
 
+def page_off_grid(d, srv, zoom):
+    """The page at a zoom, its image's box moved 0.375 CSS px off the
+    pixel grid (where a status line that wrapped once put it)."""
+    d.get("about:blank")
+    d.get(srv.url + "#zoom=%d" % zoom)
+    wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
+    d.execute_script("document.getElementById('viewport').style.marginTop = '0.375px'")
+
+
 def pixel_offset_hidpi(d, srv):
     """On a 2x screen the pointer moves by half CSS pixels: a click and the
     hover readout name the pixel under it in both halves of a pixel, to
@@ -1600,10 +1606,7 @@ def pixel_offset_hidpi(d, srv):
                       {"width": size["width"], "height": size["height"], "deviceScaleFactor": 2, "mobile": False})
     got = []
     for zoom in (1, 3):
-        d.get("about:blank")
-        d.get(srv.url + "#zoom=%d" % zoom)
-        wait(d, "image", lambda: attr(d, "viewport", "data-image"), 60)
-        d.execute_script("document.getElementById('viewport').style.marginTop = '0.375px'")
+        page_off_grid(d, srv, zoom)
         left, top = d.execute_script("const r = document.getElementById('image').getBoundingClientRect();"
                                      "return [Math.round(2 * r.left) / 2, Math.round(2 * r.top) / 2]")
         for x, y in ((5, 5), (30, 20), (63, 47)):

@@ -247,26 +247,32 @@ static void test_every_direction_size(void **state)
                   3 * 48, hits, n / (3 * 48));
 }
 
-/* Scene k at scale S (2^e): the shape, a camera 3 S above looking at it
-   off its centre, two lights; a 12x12 render, the image's floats. */
-static void render_scaled(int k, int e, float *px)
+/* Shape k at scale S, a camera 3 S above looking at it off its centre
+   (12x12), two lights: a scene that spans 3 S, not prepared. */
+static ggScene *scaled_scene(int k, double S)
 {
-    const double S = ldexp(1, e);
     ggScene *s = ggSceneCreate(NULL);
     ggMaterial m = ggMaterialDefault();
     ggCamera cam;
-    ggRenderOptions o;
-    ggImage *img = NULL;
-    ggError err;
     int mat;
     m.ks = 0.4, m.shine = 20;
     mat = ggSceneAddMaterial(s, &m);
-    if (add_shape(s, mat, k, S) < 0) fail_msg("%s at 2^%d refused", kind_name[k], e);
+    if (add_shape(s, mat, k, S) < 0) fail_msg("%s at %g refused", kind_name[k], S);
     cam.from = vec3(0.75 * S, -1.25 * S, 3 * S), cam.at = vec3(0.125 * S, 0.25 * S, 0);
     cam.up = vec3(0, 0, 1), cam.fov_deg = 50, cam.width = 12, cam.height = 12;
-    if (ggSceneSetCamera(s, &cam) != GG_OK) fail_msg("%s at 2^%d: camera refused", kind_name[k], e);
+    if (ggSceneSetCamera(s, &cam) != GG_OK) fail_msg("%s at %g: camera refused", kind_name[k], S);
     assert_true(ggSceneAddLight(s, vec3(2 * S, -3 * S, 5 * S), (ggColor){1, 1, 1}) >= 0);
     assert_true(ggSceneAddLight(s, vec3(-3 * S, 1 * S, 4 * S), (ggColor){0.5, 0.5, 0.5}) >= 0);
+    return s;
+}
+
+/* scaled_scene(k, 2^e) rendered on one thread: the image's floats. */
+static void render_scaled(int k, int e, float *px)
+{
+    ggScene *s = scaled_scene(k, ldexp(1, e));
+    ggRenderOptions o;
+    ggImage *img = NULL;
+    ggError err;
     if (ggScenePrepare(s, &err) != GG_OK) fail_msg("%s at 2^%d: %s", kind_name[k], e, err.message);
     ggRenderOptionsDefault(&o);
     o.threads = 1;
@@ -364,19 +370,12 @@ static void test_too_small_is_refused(void **state)
     (void)state;
     for (k = 0; k < KINDS; k++)
         for (i = 0; i < 2; i++) {
-            const double S = sizes[i] / 8; /* the camera 3 S above, the shape 2 S wide */
-            ggScene *s = ggSceneCreate(NULL);
-            ggMaterial m = ggMaterialDefault();
-            ggCamera cam;
+            const double S = sizes[i] / 4; /* the scene spans 3 S */
+            ggScene *s = scaled_scene(k, S);
             ggError e;
             ggImage *img = NULL;
             ggRenderOptions o;
-            int mat = ggSceneAddMaterial(s, &m), rc;
-            if (add_shape(s, mat, k, S) < 0) fail_msg("%s at %g refused", kind_name[k], S);
-            cam.from = vec3(0, 0, 3 * S), cam.at = vec3(0, 0, 0), cam.up = vec3(0, 1, 0);
-            cam.fov_deg = 40, cam.width = cam.height = 4;
-            assert_int_equal(ggSceneSetCamera(s, &cam), GG_OK);
-            rc = ggScenePrepare(s, &e);
+            int rc = ggScenePrepare(s, &e);
             if (i == 0) {
                 assert_int_equal(rc, GG_ERROR_INVALID);
                 assert_non_null(strstr(e.message, "GG_SCENE_SIZE_MIN"));
@@ -385,7 +384,7 @@ static void test_too_small_is_refused(void **state)
                 assert_int_equal(ggRender(s, &o, &img, NULL, &e), GG_ERROR_INVALID);
                 assert_null(img);
             } else if (rc != GG_OK) {
-                fail_msg("%s spanning %g: %s", kind_name[k], 4 * S, e.message);
+                fail_msg("%s spanning %g: %s", kind_name[k], 3 * S, e.message);
             }
             ggSceneFree(s);
         }
