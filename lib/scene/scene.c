@@ -925,6 +925,7 @@ static double scene_size(const ggScene *s)
 GG_API int ggScenePrepare(ggScene *s, ggError *err)
 {
     size_t i;
+    double size;
     int rc;
     double t0 = gg_time_now();
     if (!s) return gg_error_set(err, GG_ERROR_INVALID, "ggScenePrepare: NULL scene");
@@ -958,8 +959,8 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
         unprepare(s);
         return rc;
     }
-    if (scene_size(s) < GG_SCENE_SIZE_MIN && gg_geom_prim_count(s->geom)) {
-        double size = scene_size(s);
+    size = scene_size(s);
+    if (size < GG_SCENE_SIZE_MIN && gg_geom_prim_count(s->geom)) {
         unprepare(s);
         return gg_error_set(err, GG_ERROR_INVALID,
                             "preparing the scene: its objects and the camera's eye span only %g, "
