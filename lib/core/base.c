@@ -282,24 +282,13 @@ int gg_file_open(const char *path, const char *verb, FILE **out, int64_t *size, 
     return GG_OK;
 }
 
-/* ---- vec.h's slow paths ---- */
-
-/* a times 2^-ilogb(its largest component): exact, the largest component
-   in [1, 2); 0 in *k and a as it is for zero, NaN and infinite a. */
-static ggVec3 vec_unscale(ggVec3 a, int *k)
-{
-    double m = v3maxabs(a);
-    *k = 0;
-    if (!(m > 0) || !isfinite(m)) return a;
-    *k = ilogb(m);
-    return v3(ldexp(a.x, -*k), ldexp(a.y, -*k), ldexp(a.z, -*k));
-}
+/* ---- vec.h's slow path ---- */
 
 /* (zero and NaN come here too, and keep v3norm's answer) */
 ggVec3 gg_vec_norm_scaled(ggVec3 a)
 {
     int k;
-    ggVec3 b = vec_unscale(a, &k);
+    ggVec3 b = v3tame(a, &k);     /* tiny: its largest component now in [1, 2) */
     double l = sqrt(v3dot(b, b)); /* a unit vector: 2^k cancels */
     return l > 0 ? v3scale(b, 1.0 / l) : a;
 }
