@@ -111,7 +111,8 @@ GG_API ggMaterial ggMaterialDefault(void);
    objects and the camera's eye (ggScenePrepare refuses a smaller one
    with GG_ERROR_INVALID). A scene scaled by a power of two renders the
    same image from this size up to GG_COORD_MAX (tests/unit/scene/
-   test_coords.c, from 2^-250 of a unit scene); below about 2^-255 the
+   test_coords.c, from 2^-196 of a unit scene; before this limit the same
+   renders held down to 2^-250); below about 2^-255 the
    quadratic of a cone's intersection underflows, below 2^-340 a
    triangle's, and the picture is lost without an error. */
 #define GG_SCENE_SIZE_MIN 1e-60

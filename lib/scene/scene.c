@@ -911,11 +911,11 @@ static int add_prims(ggScene *s, size_t i)
 }
 
 /* The largest side of the box around the prepared geometry and the
-   camera's eye; 0 without objects. */
+   camera's eye; without objects nothing can be too small: infinite. */
 static double scene_size(const ggScene *s)
 {
     ggVec3 lo, hi, e = s->camera.from;
-    if (!gg_geom_prim_count(s->geom)) return 0;
+    if (!gg_geom_prim_count(s->geom)) return HUGE_VAL;
     gg_geom_bounds(s->geom, &lo, &hi);
     lo = v3(fmin(lo.x, e.x), fmin(lo.y, e.y), fmin(lo.z, e.z));
     hi = v3(fmax(hi.x, e.x), fmax(hi.y, e.y), fmax(hi.z, e.z));
@@ -960,7 +960,7 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
         return rc;
     }
     size = scene_size(s);
-    if (size < GG_SCENE_SIZE_MIN && gg_geom_prim_count(s->geom)) {
+    if (size < GG_SCENE_SIZE_MIN) {
         unprepare(s);
         return gg_error_set(err, GG_ERROR_INVALID,
                             "preparing the scene: its objects and the camera's eye span only %g, "
