@@ -89,7 +89,8 @@ static double hbin_top(size_t b)
     return ldexp(0.5 + (double)(b % HBIN_SUB + 1) / (2 * HBIN_SUB), (int)(b / HBIN_SUB) - 1100);
 }
 
-void heatmap_scale(const float *cost, size_t n, int robust, heatmap_range *r)
+/* The scale of a cost map as heatmap.h's heatmap_range describes it. */
+static void scale_of(const float *cost, size_t n, int robust, heatmap_range *r)
 {
     size_t *bins = robust ? calloc((size_t)HBIN_EXP * HBIN_SUB, sizeof *bins) : NULL;
     size_t i, npos = 0, want, sum = 0, b;
@@ -126,7 +127,7 @@ ggImage *heatmap_image(const float *cost, int w, int h, const char *label, int r
     char buf[64];
     ggColor white = {1, 1, 1};
     if (!img) return NULL;
-    heatmap_scale(cost, (size_t)w * h, robust, &r);
+    scale_of(cost, (size_t)w * h, robust, &r);
     if (range) *range = r;
     mx = r.top;
     for (y = 0; y < h; y++)

@@ -19,10 +19,9 @@ typedef struct heatmap_range {
     double max, top;
     size_t above;
 } heatmap_range;
-void heatmap_scale(const float *cost, size_t n, int robust, heatmap_range *r);
 
 /* A w x (h + legend) image: cost as a colour ramp from 0 to the scale's
-   top (heatmap_scale, returned in *range when range is not NULL; values
+   top (returned in *range when range is not NULL; values
    over it take the top colour), then a legend bar labelled 0, the top
    ("+" after it when values are over it) and `label` (drawn with a
    built-in 3x5 font: digits, '.', '-', '+', and the letters of "rays
