@@ -84,8 +84,8 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
    (3.1 decodes all but DWAA/DWAB, which give GG_ERROR_UNSUPPORTED), half,
    float or uint channels (uint converted to float). Channels named exactly R, G, B
    are read; a missing one reads as 0. If none of the three exists, a lone
-   Y channel is read as grey. Values are kept as stored (linear, may be
-   negative, > 1, infinite or NaN). The image is the file's data window.
+   Y channel is read as grey (Y with RY or BY chroma is refused). Values are kept as stored (linear,
+   may be negative, > 1, infinite or NaN). The image is the file's data window.
 
    Errors (the message starts with the path):
      GG_ERROR_INVALID      path or out is NULL
@@ -94,8 +94,9 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
                            ("x.png: not a regular file": a FIFO, device or
                            directory is refused at once, never waited on)
      GG_ERROR_UNSUPPORTED  neither magic ("x.png: not a PNG or OpenEXR
-                           file"), deep EXR data, subsampled R/G/B/Y
-                           channels, no R, G, B or Y channel, a compression
+                           file"), deep EXR data, a subsampled
+                           channel, luminance/chroma images, no R, G, B
+                           or Y channel, a compression
                            the OpenEXR core cannot decode
      GG_ERROR_PARSE        corrupt or truncated file, also an uncompressed
                            EXR chunk shorter than its pixels: no pixel is

@@ -321,10 +321,20 @@ static int read_part(exr_reader *r, const ggAllocator *alloc, ggError *err)
     r->grey = !rgb;
     for (i = 0; i < chl->num_channels; i++) {
         const exr_attr_chlist_entry_t *e = &chl->entries[i];
-        if (layer_slot(e->name.str, r->layer, r->grey) >= 0 &&
-            (e->x_sampling != 1 || e->y_sampling != 1))
+        const char *nm = e->name.str ? e->name.str : "";
+        /* Any channel, not only those read: every channel is decoded (into
+           the scratch buffer if unwanted, see decode_chunk), and OpenEXR
+           3.1.5's half-to-float unpackers ignore the sampling, writing a
+           subsampled channel's lines in full past the buffer (a Y, RY, BY
+           file in one-line chunks). */
+        if (e->x_sampling != 1 || e->y_sampling != 1)
             return gg_error_set(err, GG_ERROR_UNSUPPORTED,
-                                "%s: subsampled channel %s is not supported", r->path, e->name.str);
+                                "%s: subsampled channel %s is not supported", r->path, nm);
+        /* Y with chroma is a colour image: read as grey it would be wrong. */
+        if (r->grey && (strcmp(nm, "RY") == 0 || strcmp(nm, "BY") == 0))
+            return gg_error_set(err, GG_ERROR_UNSUPPORTED,
+                                "%s: luminance/chroma (Y, RY, BY) images are not supported",
+                                r->path);
     }
     /* The chunk offset table alone takes 8 bytes per chunk: a header that
        promises more chunks than the file could hold is truncated or
