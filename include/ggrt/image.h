@@ -71,11 +71,13 @@ GG_API void ggImagePaste(ggImage *dst, const ggImage *src, int x, int y);
    its name). On success *out receives a new image made with alloc (NULL:
    malloc) and GG_OK is returned; on failure *out is left untouched.
 
-   PNG: any colour type, 1 to 16 bits. Grey becomes R = G = B. 8-bit and
-   lower samples are sRGB-decoded to linear through ggSRGBToLinear; 16-bit
-   files go through libpng's own 16-bit linear conversion (sRGB unless the
-   file's gAMA says otherwise). An alpha channel is composited over black
-   (premultiplied); the alpha itself is dropped. As libpng does, a file
+   PNG: any colour type, 1 to 16 bits. Grey becomes R = G = B. Every
+   sample, at any depth, is decoded to linear by ggSRGBToLinear (of the
+   sample over 2^depth - 1), unless the file has a gAMA chunk (and no sRGB
+   or iCCP chunk) more than 5% from sRGB's 1/2.2: then by the power its
+   gamma gives (gAMA 1.0: the sample as it is). An alpha channel (or a
+   tRNS) multiplies the linear value (composited over black); the alpha
+   itself is dropped. As libpng does, a file
    whose pixel data is complete reads even if its closing IEND chunk is
    missing; any shorter file is GG_ERROR_PARSE.
 

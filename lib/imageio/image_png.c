@@ -1,21 +1,24 @@
 /* SPDX-License-Identifier: MIT */
 /*
-** image_png.c -- PNG input and output through libpng's simplified API
-** (no setjmp here: the simplified API catches libpng's errors itself and
-** never prints).
+** image_png.c -- PNG input through libpng's low-level API (its errors
+** caught by setjmp in one function, decode), output through its simplified
+** API (which catches its own); neither ever prints.
 */
 #include "image.h"
 
 #include <errno.h>
+#include <math.h>
 #include <png.h>
+#include <setjmp.h>
+#include <stdio.h>
 #include <string.h>
 
 /* libpng says "Read Error" both for a short file and a failing disk; the
    stream's end-of-file flag tells them apart. */
-static int read_fail(FILE *fp, const char *path, const png_image *pi, ggError *err)
+static int read_fail(FILE *fp, const char *path, const char *message, ggError *err)
 {
-    char m[sizeof pi->message];
-    gg_image_lower(pi->message, m, sizeof m);
+    char m[128];
+    gg_image_lower(message, m, sizeof m);
     if (feof(fp)) return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: truncated file", path);
     if (ferror(fp)) return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path, m);
     return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: %s", path, m);
@@ -57,63 +60,157 @@ io:
                         gg_image_strerror(errno, ebuf, sizeof ebuf));
 }
 
+/* ---- reading: libpng's low-level API, so that every sample is decoded
+   here. The simplified API decodes 16-bit files with libpng's own gamma
+   code (a file without gAMA or sRGB as linear, an sRGB one as a 2.2
+   power) and passes 8-bit files with alpha or another gamma through 8-bit
+   sRGB, 1-2% off: the same picture read differently at two depths. ---- */
+
+typedef struct png_reader {
+    FILE *fp;
+    const char *path;
+    const ggAllocator *alloc;
+    const gg_image_budget *budget;
+    png_structp png;
+    png_infop info;
+    png_bytep data;  /* the decoded rows */
+    png_bytepp rows; /* pointers into data */
+    double *lut;     /* sample -> linear, 256 or 65536 entries */
+    ggImage *img;
+    ggError *err;
+    int rc;            /* GG_OK, or the code of an error already set in err */
+    char message[128]; /* libpng's error */
+} png_reader;
+
+/* Never print: libpng's message is kept for the error, its warnings
+   (ancillary chunks it skips) are dropped. */
+static void on_png_error(png_structp png, png_const_charp msg)
+{
+    png_reader *r = png_get_error_ptr(png);
+    snprintf(r->message, sizeof r->message, "%s", msg);
+    png_longjmp(png, 1);
+}
+
+static void on_png_warning(png_structp png, png_const_charp msg)
+{
+    (void)png, (void)msg;
+}
+
+/* The file's transfer function as an exponent: 0 for sRGB, which an sRGB
+   or iCCP chunk declares and a file without either is taken to be; else
+   1/gamma of its gAMA, where that is not within 5% of sRGB's 1/2.2 (the
+   tolerance libpng itself takes a gAMA as sRGB with). */
+static double transfer_exponent(const png_reader *r)
+{
+    png_fixed_point g = 0;
+    if (png_get_valid(r->png, r->info, PNG_INFO_sRGB | PNG_INFO_iCCP)) return 0;
+    if (!png_get_gAMA_fixed(r->png, r->info, &g) || g <= 0) return 0;
+    if (fabs(g * 2.2e-5 - 1) < 0.05) return 0;
+    return 1e5 / g;
+}
+
+static int fill_lut(png_reader *r, int depth)
+{
+    const size_t n = depth == 16 ? 65536 : 256;
+    const double e = transfer_exponent(r), max = (double)(n - 1);
+    size_t i;
+    r->lut = gg_mem_alloc(r->alloc, n * sizeof *r->lut);
+    if (!r->lut) return 0;
+    for (i = 0; i < n; i++) r->lut[i] = e == 0 ? ggSRGBToLinear(i / max) : pow(i / max, e);
+    return 1;
+}
+
+/* The rows, as 8- or 16-bit RGB or RGBA, into r->img: colour through the
+   transfer function, then times alpha (over black, premultiplied). */
+static void convert(png_reader *r, int channels, int depth)
+{
+    const size_t w = (size_t)r->img->width, h = (size_t)r->img->height;
+    const double amax = depth == 16 ? 65535.0 : 255.0;
+    size_t x, y;
+    int k;
+    for (y = 0; y < h; y++) {
+        const png_byte *s = r->rows[y];
+        float *d = r->img->px + 3 * w * y;
+        for (x = 0; x < w; x++, s += channels * (depth / 8), d += 3) {
+            unsigned v[4];
+            for (k = 0; k < channels; k++)
+                v[k] = depth == 16 ? (unsigned)s[2 * k] << 8 | s[2 * k + 1] : s[k];
+            for (k = 0; k < 3; k++)
+                d[k] = channels == 4 ? (float)(r->lut[v[k]] * (v[3] / amax)) : (float)r->lut[v[k]];
+        }
+    }
+}
+
+/* Everything that may call on_png_error: r's fields say what to free. */
+static int decode(png_reader *r)
+{
+    png_uint_32 w, h, y;
+    int depth, channels;
+    size_t rowbytes;
+    if (setjmp(png_jmpbuf(r->png))) return 0;
+    png_init_io(r->png, r->fp);
+    png_set_user_limits(r->png, 0x7fffffff, 0x7fffffff); /* ours are checked below */
+    png_read_info(r->png, r->info);
+    w = png_get_image_width(r->png, r->info);
+    h = png_get_image_height(r->png, r->info);
+    /* The header's size, before a byte of pixel data is decoded. */
+    r->rc = gg_image_check_size(r->path, w, h, r->err);
+    if (r->rc == GG_OK) r->rc = gg_image_check_budget(r->path, w, h, r->budget, r->err);
+    if (r->rc != GG_OK) return 0;
+    png_set_expand(r->png); /* palette to RGB, grey to 8 bits, tRNS to alpha */
+    png_set_gray_to_rgb(r->png);
+    png_set_interlace_handling(r->png);
+    png_read_update_info(r->png, r->info);
+    depth = png_get_bit_depth(r->png, r->info);
+    channels = png_get_channels(r->png, r->info);
+    rowbytes = png_get_rowbytes(r->png, r->info);
+    if ((depth != 8 && depth != 16) || (channels != 3 && channels != 4) ||
+        rowbytes != (size_t)w * (size_t)channels * (size_t)(depth / 8))
+        png_error(r->png, "unexpected layout after expansion"); /* (not reached) */
+    r->img = ggImageCreate((int)w, (int)h, r->alloc);
+    r->data = r->img ? gg_mem_calloc(r->alloc, rowbytes, h) : NULL;
+    r->rows = r->data ? gg_mem_calloc(r->alloc, h, sizeof *r->rows) : NULL;
+    if (!r->rows || !fill_lut(r, depth)) {
+        r->rc = gg_error_set(r->err, GG_ERROR_NOMEM, "%s: out of memory for %u x %u pixels",
+                             r->path, (unsigned)w, (unsigned)h);
+        return 0;
+    }
+    for (y = 0; y < h; y++) r->rows[y] = r->data + (size_t)y * rowbytes;
+    /* As the simplified API did, nothing after the image data is read: a
+       file whose IEND is missing still reads. */
+    png_read_image(r->png, r->rows);
+    convert(r, channels, depth);
+    return 1;
+}
+
 int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc,
                       const gg_image_budget *b, ggImage **out, ggError *err)
 {
-    png_image pi;
-    ggImage *img;
-    void *buf;
-    size_t n, i, bytes;
-    int linear, rc;
+    png_reader r;
+    int ok, rc;
     if ((rc = check_chunks(fp, path, err)) != GG_OK) return rc;
-    memset(&pi, 0, sizeof pi);
-    pi.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_stdio(&pi, fp)) {
-        rc = read_fail(fp, path, &pi, err);
-        png_image_free(&pi);
+    memset(&r, 0, sizeof r);
+    r.fp = fp, r.path = path, r.alloc = alloc, r.budget = b, r.err = err, r.rc = GG_OK;
+    r.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &r, on_png_error, on_png_warning);
+    r.info = r.png ? png_create_info_struct(r.png) : NULL;
+    ok = r.info && decode(&r);
+    if (ok)
+        rc = GG_OK;
+    else if (!r.info)
+        rc = gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
+    else if (r.rc != GG_OK)
+        rc = r.rc;
+    else
+        rc = read_fail(fp, path, r.message, err);
+    png_destroy_read_struct(r.png ? &r.png : NULL, r.info ? &r.info : NULL, NULL);
+    gg_mem_free(alloc, r.lut);
+    gg_mem_free(alloc, r.rows);
+    gg_mem_free(alloc, r.data);
+    if (!ok) {
+        ggImageFree(r.img);
         return rc;
     }
-    /* The header's size, before a byte of pixel data is decoded. */
-    rc = gg_image_check_size(path, pi.width, pi.height, err);
-    if (rc == GG_OK) rc = gg_image_check_budget(path, pi.width, pi.height, b, err);
-    if (rc != GG_OK) {
-        png_image_free(&pi);
-        return rc;
-    }
-    /* 16-bit files only come out of the simplified API as 16-bit linear;
-       everything else as 8-bit sRGB, which we decode with our own table. */
-    linear = (pi.format & PNG_FORMAT_FLAG_LINEAR) != 0;
-    pi.format = linear ? PNG_FORMAT_LINEAR_RGB : PNG_FORMAT_RGB;
-    n = (size_t)pi.width * (size_t)pi.height * 3;
-    bytes = n * (linear ? 2 : 1);
-    img = ggImageCreate((int)pi.width, (int)pi.height, alloc);
-    /* Zeroed: libpng composites alpha onto what the buffer holds, so
-       transparent pixels come out over black in both paths. */
-    buf = img ? gg_mem_calloc(alloc, bytes, 1) : NULL;
-    if (!buf) {
-        ggImageFree(img);
-        png_image_free(&pi);
-        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory for %u x %u pixels", path,
-                            (unsigned)pi.width, (unsigned)pi.height);
-    }
-    if (!png_image_finish_read(&pi, NULL, buf, (png_int_32)(pi.width * 3), NULL)) {
-        rc = read_fail(fp, path, &pi, err);
-        png_image_free(&pi);
-        gg_mem_free(alloc, buf);
-        ggImageFree(img);
-        return rc;
-    }
-    if (linear) {
-        const png_uint_16 *s = buf;
-        for (i = 0; i < n; i++) img->px[i] = (float)(s[i] / 65535.0);
-    } else {
-        const png_byte *s = buf;
-        float lut[256];
-        for (i = 0; i < 256; i++) lut[i] = (float)ggSRGBToLinear((double)i / 255.0);
-        for (i = 0; i < n; i++) img->px[i] = lut[s[i]];
-    }
-    gg_mem_free(alloc, buf);
-    *out = img;
+    *out = r.img;
     return GG_OK;
 }
 

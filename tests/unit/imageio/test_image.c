@@ -11,6 +11,7 @@
 #include <errno.h>
 #include <math.h>
 #include <png.h>
+#include <setjmp.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -318,6 +319,114 @@ static void test_png_formats(void **state)
     assert_int_equal(ggImageRead(tu_tmppath("lin16.png"), NULL, &img, NULL), GG_OK);
     for (i = 0; i < 6; i++) assert_close(ggImagePixels(img)[i], lin[i] / 65535.0, 2e-5);
     ggImageFree(img);
+}
+
+/* ---- every sample decoded ------------------------------------------------
+
+   PNG files written with libpng's low-level API in each colour type, at 8
+   and 16 bits, with no colour chunk, an sRGB chunk or a gAMA: every
+   sample must read as image.h says, exactly: ggSRGBToLinear (no chunk,
+   sRGB, or a gAMA within 5% of 1/2.2), else the gAMA's power; times alpha. */
+typedef struct png_case {
+    int depth, type; /* PNG_COLOR_TYPE_* */
+    int chunk;       /* 0 none, 1 sRGB, else a gAMA in 1e-5 units */
+} png_case;
+
+static unsigned sample_of(int depth, int x, int k)
+{
+    unsigned v = (unsigned)(x * 7 + k * 50) % 256;
+    return depth == 16 ? v * 256 + (unsigned)(x * 37 + k) % 256 : v;
+}
+
+static void write_png_case(const char *path, const png_case *c, int w)
+{
+    const int nch = c->type == PNG_COLOR_TYPE_GRAY         ? 1
+                    : c->type == PNG_COLOR_TYPE_GRAY_ALPHA ? 2
+                    : c->type == PNG_COLOR_TYPE_RGB        ? 3
+                    : c->type == PNG_COLOR_TYPE_RGBA       ? 4
+                                                           : 1;
+    png_byte row[256 * 8];
+    png_color pal[256];
+    png_byte trns[256];
+    FILE *f = fopen(path, "wb");
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    int x, k;
+    assert_true(f && png && info && w <= 256);
+    if (setjmp(png_jmpbuf(png))) fail_msg("libpng could not write %s", path);
+    png_init_io(png, f);
+    png_set_IHDR(png, info, (png_uint_32)w, 1, c->depth, c->type, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (c->type == PNG_COLOR_TYPE_PALETTE) {
+        for (x = 0; x < 256; x++) {
+            pal[x].red = (png_byte)sample_of(8, x, 0), pal[x].green = (png_byte)sample_of(8, x, 1);
+            pal[x].blue = (png_byte)sample_of(8, x, 2), trns[x] = (png_byte)sample_of(8, x, 3);
+        }
+        png_set_PLTE(png, info, pal, 256);
+        png_set_tRNS(png, info, trns, 256, NULL);
+    }
+    if (c->chunk == 1) png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    if (c->chunk > 1) png_set_gAMA_fixed(png, info, c->chunk);
+    png_write_info(png, info);
+    for (x = 0; x < w; x++)
+        for (k = 0; k < nch; k++) {
+            unsigned v =
+                c->type == PNG_COLOR_TYPE_PALETTE ? (unsigned)x : sample_of(c->depth, x, k);
+            if (c->depth == 16)
+                row[2 * (x * nch + k)] = (png_byte)(v >> 8),
+                                   row[2 * (x * nch + k) + 1] = (png_byte)v;
+            else
+                row[x * nch + k] = (png_byte)v;
+        }
+    png_write_row(png, row);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+    fclose(f);
+}
+
+/* What image.h says pixel x of the case reads as, channel k. */
+static float expected_sample(const png_case *c, int x, int k)
+{
+    const double max = c->depth == 16 ? 65535.0 : 255.0;
+    const int pal = c->type == PNG_COLOR_TYPE_PALETTE,
+              grey = c->type & PNG_COLOR_MASK_COLOR ? 0 : 1;
+    const int alpha = pal || (c->type & PNG_COLOR_MASK_ALPHA);
+    const int ach = pal ? 3 : grey ? 1 : 3;
+    const double v = (pal ? sample_of(8, x, k) : sample_of(c->depth, x, grey ? 0 : k)) / max;
+    const double a = alpha ? (pal ? sample_of(8, x, 3) : sample_of(c->depth, x, ach)) / max : 1;
+    const double lin = c->chunk > 1 && fabs(c->chunk * 2.2e-5 - 1) >= 0.05 ? pow(v, 1e5 / c->chunk)
+                                                                           : ggSRGBToLinear(v);
+    return alpha ? (float)(lin * a) : (float)lin;
+}
+
+static void test_png_every_sample(void **state)
+{
+    static const int types[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                PNG_COLOR_TYPE_RGBA, PNG_COLOR_TYPE_PALETTE};
+    static const int chunks[] = {0, 1, 45455, 45000, 100000, 50000, 220000};
+    ggImage *img = NULL;
+    size_t t, g, d, bad = 0;
+    int x, k;
+    (void)state;
+    for (d = 0; d < 2; d++)
+        for (t = 0; t < sizeof types / sizeof types[0]; t++)
+            for (g = 0; g < sizeof chunks / sizeof chunks[0]; g++) {
+                png_case c = {d ? 16 : 8, types[t], chunks[g]};
+                if (c.depth == 16 && c.type == PNG_COLOR_TYPE_PALETTE) continue;
+                write_png_case(tu_tmppath("case.png"), &c, 256);
+                assert_int_equal(ggImageRead(tu_tmppath("case.png"), NULL, &img, NULL), GG_OK);
+                for (x = 0; x < 256; x++)
+                    for (k = 0; k < 3; k++) {
+                        float want = expected_sample(&c, x, k);
+                        float got = ggImagePixels(img)[3 * x + k];
+                        if (got != want && bad++ < 5)
+                            print_message("depth %d type %d chunk %d x %d: %.9g, not %.9g\n",
+                                          c.depth, c.type, c.chunk, x, got, want);
+                    }
+                ggImageFree(img);
+                img = NULL;
+            }
+    assert_int_equal(bad, 0);
 }
 
 /* ---- errors ------------------------------------------------------------- */
@@ -663,6 +772,7 @@ int main(void)
         cmocka_unit_test(test_png_round_trip_exact),
         cmocka_unit_test(test_png_encode_rounding),
         cmocka_unit_test(test_png_formats),
+        cmocka_unit_test(test_png_every_sample),
         cmocka_unit_test(test_read_errors),
         cmocka_unit_test(test_png_limits),
         cmocka_unit_test(test_truncated_and_corrupt),
