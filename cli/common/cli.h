@@ -101,9 +101,12 @@ int cli_check_not_read(const char *cmd, const ggScene *s, const char *const *opt
    "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it
    over path, or removes it on any error. Both print the reason ("ggrt CMD:
    x.svg: No space left on device") and return 0 / EXIT_IO. */
+/* The longest path an output may have (Linux's PATH_MAX). */
+#define CLI_PATH_MAX 4096
+
 typedef struct cli_out {
     FILE *f;
-    char path[1024], tmp[1100];
+    char path[CLI_PATH_MAX], tmp[CLI_PATH_MAX + 64];
 } cli_out;
 int cli_out_open(cli_out *o, const char *cmd, const char *path);
 int cli_out_close(cli_out *o, const char *cmd);

@@ -7,12 +7,14 @@
 #define _XOPEN_SOURCE 700
 #include "common/cli.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 /* A new file: its folder must exist and take files, checked now so that
@@ -20,7 +22,7 @@
    the whole tree first). */
 static int check_folder(const char *cmd, const char *path)
 {
-    char dir[1024] = ".";
+    char dir[CLI_PATH_MAX] = ".";
     const char *slash = strrchr(path, '/');
     struct stat st;
     size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0; /* "/x.png": the root */
@@ -35,6 +37,21 @@ static int check_folder(const char *cmd, const char *path)
         return EXIT_IO;
     }
     return 0;
+}
+
+/* Whether the file (st) sits in a sticky folder (as /tmp) that lets only
+   its owner, the folder's or root rename over it: not us. */
+static int sticky_other(const char *path, const struct stat *st)
+{
+    char dir[CLI_PATH_MAX] = ".";
+    const char *slash = strrchr(path, '/');
+    size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0;
+    struct stat ds;
+    uid_t me = geteuid();
+    if (n >= sizeof dir) return 0; /* check_folder says so */
+    if (slash) memcpy(dir, path, n), dir[n] = '\0';
+    return me != 0 && st->st_uid != me && stat(dir, &ds) == 0 && (ds.st_mode & S_ISVTX) &&
+           ds.st_uid != me;
 }
 
 int cli_check_output(const char *cmd, const char *path)
@@ -65,18 +82,29 @@ int cli_check_output(const char *cmd, const char *path)
         why = "the file is read-only (make it writable or remove it first)";
     else if (access(path, W_OK) != 0)
         why = strerror(errno);
-    if (!why) return 0;
+    else if (sticky_other(path, &st))
+        why = "its folder is sticky and the file is another user's: it cannot be replaced";
+    /* The new file is made beside it and renamed over it. */
+    if (!why) return check_folder(cmd, path);
     cli_error_in(cmd, "refusing to write '%s': %s", path, why);
     return EXIT_IO;
 }
 
+/* Whether path ends in ext (lower case), in any case, as ggImageWrite
+   takes it. */
+static int ends_in(const char *path, const char *ext)
+{
+    size_t n = strlen(path), k = strlen(ext), i;
+    if (n < k) return 0;
+    for (i = 0; i < k; i++)
+        if (tolower((unsigned char)path[n - k + i]) != ext[i]) return 0;
+    return 1;
+}
+
 int cli_image_kind(const char *path)
 {
-    size_t n = strlen(path);
-    const char *e = path + n - 4;
-    if (n < 4) return CLI_IMAGE_NONE;
-    if (!strcmp(e, ".png") || !strcmp(e, ".PNG")) return CLI_IMAGE_PNG;
-    if (!strcmp(e, ".exr") || !strcmp(e, ".EXR")) return CLI_IMAGE_EXR;
+    if (ends_in(path, ".png")) return CLI_IMAGE_PNG;
+    if (ends_in(path, ".exr")) return CLI_IMAGE_EXR;
     return CLI_IMAGE_NONE;
 }
 
@@ -143,6 +171,30 @@ int cli_check_distinct(const cli_cmd *cmd, const char *const *opts, const char *
     return CLI_GO;
 }
 
+/* A new file beside o->path, named from at most 200 bytes of its name
+   (so that a name of up to NAME_MAX bytes has one), the process id and
+   the clock, tried again if taken (a file left by a killed run of the
+   same pid, as in a container where ggrt is pid 1); with the permissions
+   of the file it will replace, so that a private file stays private. */
+static int open_tmp(cli_out *o)
+{
+    const char *slash = strrchr(o->path, '/'), *base = slash ? slash + 1 : o->path;
+    int keep = (int)(base - o->path) + (strlen(base) > 200 ? 200 : (int)strlen(base));
+    struct stat st;
+    int attempt, fd = -1;
+    for (attempt = 0; attempt < 100; attempt++) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        snprintf(o->tmp, sizeof o->tmp, "%.*s.tmp%ld.%ld", keep, o->path, (long)getpid(),
+                 (long)(ts.tv_nsec % 1000000) + attempt);
+        fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0 || errno != EEXIST) break;
+    }
+    if (fd >= 0 && stat(o->path, &st) == 0 && S_ISREG(st.st_mode))
+        (void)fchmod(fd, st.st_mode & 07777);
+    return fd;
+}
+
 int cli_out_open(cli_out *o, const char *cmd, const char *path)
 {
     int fd, rc;
@@ -153,8 +205,7 @@ int cli_out_open(cli_out *o, const char *cmd, const char *path)
         return EXIT_IO;
     }
     strcpy(o->path, path);
-    snprintf(o->tmp, sizeof o->tmp, "%s.tmp%ld", path, (long)getpid());
-    fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
+    fd = open_tmp(o);
     if (fd < 0 || !(o->f = fdopen(fd, "w"))) {
         cli_error_in(cmd, "%s: cannot create a temporary file beside it: %s", path,
                      strerror(errno));

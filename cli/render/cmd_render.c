@@ -39,7 +39,7 @@ typedef struct render_args {
 static int check_tile_outputs(const cli_cmd *cmd, const render_args *a)
 {
     const char *inputs[2];
-    char path[1024];
+    char path[CLI_PATH_MAX];
     int k, rc;
     inputs[0] = a->scene, inputs[1] = a->plan;
     for (k = 0; k < a->tiles.count; k++) {
@@ -311,7 +311,7 @@ static void loaded(ggScene *scene, const char *path, void *ud)
 static int outputs_not_read(const render_args *a, ggScene *scene)
 {
     const char *opt = "-o", *p;
-    char path[1024];
+    char path[CLI_PATH_MAX];
     int k, rc;
     if (!a->tiles.count && (rc = cli_check_not_read("render", scene, &opt, &a->out, 1)) != 0)
         return rc;

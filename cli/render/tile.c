@@ -275,7 +275,7 @@ static int render_one(ggScene *scene, const tile_job *j, const tile_list *tl, in
     ggEXRHeader hd;
     ggRayStats st;
     ggError err;
-    char path[1024], idx[16], what[48];
+    char path[CLI_PATH_MAX], idx[16], what[48];
     int y0, y1, rc;
     double t0 = cli_now();
     cli_bar bar;

@@ -8,6 +8,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -89,13 +90,20 @@ GG_API int ggImageWrite(const ggImage *img, const char *path, ggError *err)
                         path);
 }
 
+/* At most this many bytes of the file's own name go into its temporary
+   one, so that the suffix fits in a name of NAME_MAX (255) bytes. */
+#define TMP_NAME_KEEP 200
+
 int gg_image_tmp_open(gg_image_tmp *t, const char *path, ggError *err)
 {
     char ebuf[128];
-    size_t n = strlen(path);
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    size_t n = strlen(path), keep = (size_t)(base - path) + strlen(base);
+    struct stat st;
     int attempt, e = 0;
     t->path = path;
     t->fd = -1;
+    if (keep - (size_t)(base - path) > TMP_NAME_KEEP) keep = (size_t)(base - path) + TMP_NAME_KEEP;
     t->tmp = gg_mem_alloc(NULL, n + 48);
     if (!t->tmp) return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
     /* mkstemp would create the file 0600; an image should get the usual
@@ -106,10 +114,16 @@ int gg_image_tmp_open(gg_image_tmp *t, const char *path, ggError *err)
     for (attempt = 0; attempt < 100; attempt++) {
         struct timespec ts;
         clock_gettime(CLOCK_REALTIME, &ts);
-        snprintf(t->tmp, n + 48, "%s.tmp%ld.%lx.%ld", path, (long)getpid(),
+        snprintf(t->tmp, n + 48, "%.*s.tmp%ld.%lx.%ld", (int)keep, path, (long)getpid(),
                  (unsigned long)(uintptr_t)t & 0xffffffUL, (long)(ts.tv_nsec % 1000000) + attempt);
         t->fd = open(t->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (t->fd >= 0) return GG_OK;
+        if (t->fd >= 0) {
+            /* A file replaced keeps its permissions: a private one stays
+               private (best effort: a file of another owner cannot). */
+            if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
+                (void)fchmod(t->fd, st.st_mode & 07777);
+            return GG_OK;
+        }
         e = errno;
         if (e != EEXIST) break;
     }

@@ -27,6 +27,45 @@ expect_msg 3 "refusing to write '$tmp/o/link.png': it is a symbolic link" \
 ls "$tmp/o" | grep -q tmp && bad "refusals leave no temporary file" "$(ls "$tmp/o")" ||
   ok "refusals leave no temporary file"
 
+# A replaced file keeps its permissions (a private one stays private),
+# through the library's writer (-o) and the CLI's (plan -o).
+printf 'old\n' > "$tmp/o/private.png"; chmod 600 "$tmp/o/private.png"
+printf 'old\n' > "$tmp/o/private.json"; chmod 640 "$tmp/o/private.json"
+"$ggrt" render $g -s 8x6 -q -o "$tmp/o/private.png" &&
+  "$ggrt" plan $g -s 8x6 --tiles 2 --cost rays -o "$tmp/o/private.json" >/dev/null &&
+  [ "$(stat -c %a "$tmp/o/private.png")" = 600 ] && [ "$(stat -c %a "$tmp/o/private.json")" = 640 ] &&
+  ok "a replaced file keeps its mode (600, 640)" ||
+  bad "a replaced file keeps its mode (600, 640)" "$(stat -c '%a %n' "$tmp/o/private."*)"
+# Names up to NAME_MAX bytes: the temporary file beside them must fit too.
+long=$(printf 'a%.0s' $(seq 240))
+"$ggrt" render $g -s 8x6 -q -o "$tmp/o/$long.png" &&
+  "$ggrt" plan $g -s 8x6 --tiles 2 --cost rays -o "$tmp/o/$long.json" >/dev/null &&
+  [ -s "$tmp/o/$long.png" ] && [ -s "$tmp/o/$long.json" ] &&
+  ok "outputs named with 244 bytes are written" || bad "outputs named with 244 bytes are written"
+rm -f "$tmp/o/$long.png" "$tmp/o/$long.json"
+# Extensions in any case, as ggImageWrite takes them.
+"$ggrt" render $g -s 8x6 -q -o "$tmp/o/case.Png" && "$ggrt" render $g -s 8x6 -q -o "$tmp/o/case.EXR" &&
+  [ -s "$tmp/o/case.Png" ] && [ -s "$tmp/o/case.EXR" ] &&
+  ok "-o x.Png and x.EXR are written" || bad "-o x.Png and x.EXR are written"
+# An existing, writable output in a folder that cannot take the new file
+# is refused before the work, as a new one is. Root may write anywhere:
+# as root, the check runs as nobody through setpriv.
+as_user=
+if [ "$(id -u)" = 0 ] && command -v setpriv >/dev/null; then
+  as_user="setpriv --reuid=65534 --regid=65534 --clear-groups"
+fi
+if [ "$(id -u)" != 0 ] || [ -n "$as_user" ]; then
+  ro=$(mktemp -d /tmp/ggrt-ro-XXXXXX)
+  cp $g "$ro/s.nff"; printf 'old\n' > "$ro/own.png"; chmod 666 "$ro/own.png"; chmod 555 "$ro"
+  $as_user "$ggrt" render "$ro/s.nff" -s 8x6 -q -o "$ro/own.png" 2>"$tmp/o/ro.err"; rc=$?
+  [ $rc = 3 ] && grep -qF "cannot write '$ro/own.png': $ro: Permission denied" "$tmp/o/ro.err" &&
+    ok "an existing output in a folder that cannot be written is refused (exit 3)" ||
+    bad "an existing output in a folder that cannot be written is refused (exit 3)" "rc $rc: $(cat "$tmp/o/ro.err")"
+  chmod 755 "$ro"; rm -rf "$ro"
+else
+  skip "an existing output in a folder that cannot be written is refused" "root without setpriv"
+fi
+
 # --no-srgb decodes what the PNG writer encodes: an EXR's floats are not
 # for it, so it is a usage error there, and nothing is written.
 expect_err 1 "ggrt render: --no-srgb is for a PNG: -o must end in .png" \
