@@ -168,6 +168,9 @@ static int write_overlay(const char *path, const ggFindResult *r)
 
 /* --paths-jsonl, --paths-obj: every matched pixel traced again (its trees
    are not kept by the find), in row order. */
+/* --paths-jsonl, --paths-obj: each matched pixel traced again, with a
+   bar (this pass can take longer than the scan) and cancelled by the
+   signals the scan is (nothing written). */
 static int write_paths(const find_args *a, ggScene *scene, const ggPathExpr *e,
                        const ggFindResult *r)
 {
@@ -175,28 +178,45 @@ static int write_paths(const find_args *a, ggScene *scene, const ggPathExpr *e,
     ggTrace *tr = ggTraceCreate(NULL);
     ggError err;
     ggColor px;
-    int x, y, rc = tr ? dbg_paths_open(&o, "find", a->paths_jsonl, a->paths_obj) : EXIT_INPUT;
+    cli_bar bar;
+    long done = 0;
+    int x, y, sig, rc = tr ? dbg_paths_open(&o, "find", a->paths_jsonl, a->paths_obj) : EXIT_INPUT;
     if (!tr) cli_error_in("find", "out of memory");
     if (rc != 0) {
         ggTraceFree(tr);
         return rc;
     }
+    cli_bar_begin(&bar, "find: paths", a->quiet || a->format == 1);
     for (y = r->y0; rc == EXIT_OK && y < r->y1; y++)
         for (x = r->x0; rc == EXIT_OK && x < r->x1; x++) {
             if (!r->mask[(size_t)y * r->width + x]) continue;
+            if (cli_bar_step(&bar, done++, r->matched)) {
+                rc = -1;
+                break;
+            }
             if ((rc = ggTracePixel(scene, &a->ro.opt, x, y, -1, tr, &px, NULL, &err)) != GG_OK)
                 rc = cli_fail(rc, &err, 0);
             else
                 rc = dbg_paths_pixel(&o, e, tr, x, y, px);
         }
+    cli_bar_end(&bar);
     ggTraceFree(tr);
     if (rc != EXIT_OK) {
         dbg_paths_abandon(&o);
+        if ((sig = cli_cancelled()) != 0) {
+            cli_error_in("find", "cancelled by signal %d; %s not written", sig,
+                         a->paths_jsonl ? a->paths_jsonl : a->paths_obj);
+            cli_cancel_exit(sig);
+        }
         return rc;
     }
+    cli_cancel_hold();
     if ((rc = dbg_paths_close(&o)) == EXIT_OK && a->format != 1)
         printf("wrote %ld paths to %s%s%s\n", o.paths, a->paths_jsonl ? a->paths_jsonl : "",
                a->paths_jsonl && a->paths_obj ? " and " : "", a->paths_obj ? a->paths_obj : "");
+    if (rc == EXIT_OK) cli_cancel_after_write(a->paths_jsonl ? a->paths_jsonl : a->paths_obj);
+    cli_cancel_release(); /* a signal that came meanwhile is handled now */
+    if (rc == EXIT_OK && (sig = cli_cancelled()) != 0) cli_cancel_exit(sig);
     return rc;
 }
 

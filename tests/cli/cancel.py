@@ -142,6 +142,40 @@ cancel_other("a tile", [ggrt, "render", SCENE, "--tile", "0/2", "-s", "1024x768"
                         "-j", "1", "-o", os.path.join(d, "t.exr")], os.path.join(d, "t.exr"))
 
 
+# find --paths-jsonl traces every matched pixel again after its scan:
+# SIGTERM in that pass was lost (the files were written, exit 0). The
+# signal goes once the paths file has begun (its temporary file grows).
+d = os.path.join(tmp, "cancel-paths")
+os.makedirs(d)
+out = os.path.join(d, "p.jsonl")
+with open(out, "wb") as f:
+    f.write(b"the previous file\n")
+p = subprocess.Popen([ggrt, "find", "examples/scenes/glass.nff", "-s", "300x225", "-j", "1",
+                      "-q", "--path", "C.*", "--limit", "1", "--paths-jsonl", out],
+                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, preexec_fn=default_signals)
+t0 = time.time()
+started = False
+while p.poll() is None and time.time() - t0 < 60 and not started:
+    started = any(".tmp" in n and os.path.getsize(os.path.join(d, n)) > 0
+                  for n in os.listdir(d))
+    time.sleep(0.01)
+if not started:
+    p.kill()
+    p.communicate()
+    report(False, "find --paths-jsonl: SIGTERM in the paths pass", "the pass was not seen")
+else:
+    err = signal_and_wait(p, signal.SIGTERM)
+    report(err is not None and p.returncode == -signal.SIGTERM and
+           "cancelled by signal %d; %s not written" % (signal.SIGTERM, out) in err,
+           "SIGTERM: find --paths-jsonl dies of it in its paths pass and says so",
+           "exit %r, stderr %r" % (p.returncode, err))
+    with open(out, "rb") as f:
+        report(f.read() == b"the previous file\n", "SIGTERM: find keeps the old paths file",
+               "the file changed")
+    left = sorted(os.listdir(d))
+    report(left == ["p.jsonl"], "SIGTERM: find leaves no temporary file", repr(left))
+
+
 def on_terminal(args):
     """stderr of args run on a pseudo-terminal (the bar is drawn only there)."""
     import pty
