@@ -633,7 +633,7 @@ static void trace_body(srv_resp *resp, const char *fmt, trace_view *v, const ggA
         else if (!strcmp(fmt, "text"))
             trace_print_text(f, v, 1);
         else
-            trace_write_svg_views(f, v, 0);
+            trace_write_svg_views(f, v, 0, NULL, NULL, NULL);
     }
     srv_body_close(resp, f);
     free(matched);

@@ -183,14 +183,53 @@ static int parse(trace_args *a, int argc, char **argv)
     return CLI_GO;
 }
 
+/* The camera view of --svg, rendered first, with a bar (a deep scene's
+   thumbnail can take seconds) and cancelled by a signal. */
+static int camera_view(const trace_args *a, const trace_view *view, ggImage **img)
+{
+    ggError err;
+    cli_bar bar;
+    int rc, sig;
+    cli_bar_begin(&bar, "trace: camera view", a->format == 1);
+    rc = trace_camera_render(view, cli_bar_step, &bar, img, &err);
+    cli_bar_end(&bar);
+    if ((sig = cli_cancelled()) != 0) {
+        ggImageFree(*img);
+        cli_error_in("trace", "cancelled by signal %d; %s not written", sig, a->svg);
+        cli_cancel_exit(sig);
+    }
+    return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
+}
+
+/* --svg, --obj, --scene-obj: each written whole or not at all, a signal
+   during the writes handled after them (the files are then complete). */
 static int write_files(const trace_args *a, const trace_view *view)
 {
     cli_out o;
-    int rc = EXIT_OK;
+    ggImage *img = NULL;
+    ggError err;
+    char png[sizeof o.tmp + 8];
+    int rc = EXIT_OK, sig;
+    if (!a->svg && !a->obj && !a->scene_obj) return EXIT_OK;
+    cli_cancel_begin();
+    if (a->svg && (rc = camera_view(a, view, &img)) != EXIT_OK) return rc;
+    cli_cancel_hold();
     if (a->svg && (rc = cli_out_open(&o, "trace", a->svg)) == 0) {
-        trace_write_svg(o.f, view);
-        rc = cli_out_close(&o, "trace");
+        snprintf(png, sizeof png, "%s.png", o.tmp);
+        if ((rc = trace_write_svg_views(o.f, view, 1, img, png, &err)) != GG_OK) {
+            size_t n = strlen(png);
+            fclose(o.f), unlink(o.tmp), unlink(png);
+            /* (the message names the temporary file: name the output) */
+            cli_error_in("trace", "%s: the camera view: %s", a->svg,
+                         strncmp(err.message, png, n) == 0 && err.message[n] == ':'
+                             ? err.message + n + 2
+                             : err.message);
+            rc = cli_exit_code(rc, 0);
+        } else {
+            rc = cli_out_close(&o, "trace");
+        }
     }
+    ggImageFree(img);
     if (rc == EXIT_OK && a->obj && (rc = cli_out_open(&o, "trace", a->obj)) == 0) {
         trace_write_obj(o.f, view);
         rc = cli_out_close(&o, "trace");
@@ -199,6 +238,8 @@ static int write_files(const trace_args *a, const trace_view *view)
         trace_write_scene_obj(o.f, view->scene, view->path);
         rc = cli_out_close(&o, "trace");
     }
+    cli_cancel_release();
+    if ((sig = cli_cancelled()) != 0) cli_cancel_exit(sig);
     return rc;
 }
 

@@ -5,6 +5,7 @@
 */
 #include "trace/trace_view.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -219,52 +220,76 @@ static void xml_text(FILE *f, const char *s)
             fputc(*s, f);
 }
 
-/* Base64 of a file's bytes, for embedding the camera view as a PNG. */
-static void base64_file(FILE *out, const char *path)
+/* Base64 of a file's bytes, for embedding the camera view as a PNG: 0,
+   or -1 with errno if the file could not be read. */
+static int base64_file(FILE *out, const char *path)
 {
     static const char tb[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     FILE *in = fopen(path, "rb");
     unsigned char b[3];
     size_t n;
-    if (!in) return;
+    int bad;
+    if (!in) return -1;
     while ((n = fread(b, 1, 3, in)) > 0) {
         unsigned v = (unsigned)b[0] << 16 | (n > 1 ? (unsigned)b[1] << 8 : 0) | (n > 2 ? b[2] : 0);
         fputc(tb[v >> 18 & 63], out), fputc(tb[v >> 12 & 63], out);
         fputc(n > 1 ? tb[v >> 6 & 63] : '=', out), fputc(n > 2 ? tb[v & 63] : '=', out);
     }
+    bad = ferror(in);
     fclose(in);
+    return bad ? -1 : 0;
 }
 
-static void camera_panel(FILE *f, const trace_view *v, double ox, double oy)
+/* The camera view's size: the render's, scaled to PANEL on its longer
+   side; *sc the scale. */
+static void camera_size(const trace_view *v, int *tw, int *th, double *sc)
+{
+    ggCamera cam = ggSceneCamera(v->scene);
+    int w = v->opt->width > 0 ? v->opt->width : cam.width;
+    int h = v->opt->height > 0 ? v->opt->height : cam.height;
+    *sc = PANEL / (w > h ? w : h);
+    *tw = (int)(w * *sc + 0.5), *th = (int)(h * *sc + 0.5);
+    if (*tw < 1) *tw = 1;
+    if (*th < 1) *th = 1;
+}
+
+int trace_camera_render(const trace_view *v, ggProgressFn progress, void *ud, ggImage **img,
+                        ggError *err)
 {
     ggRenderOptions o = *v->opt;
-    ggCamera cam = ggSceneCamera(v->scene);
-    int w = o.width > 0 ? o.width : cam.width, h = o.height > 0 ? o.height : cam.height;
-    double sc = PANEL / (w > h ? w : h);
-    int tw = (int)(w * sc + 0.5), th = (int)(h * sc + 0.5);
-    ggImage *img = NULL;
-    char tmp[] = "/tmp/ggrt-trace-XXXXXX";
-    int fd;
+    double sc;
+    camera_size(v, &o.width, &o.height, &sc);
+    o.crop_x0 = o.crop_y0 = o.crop_x1 = o.crop_y1 = 0;
+    o.samples = 1, o.pixel_corners = false;
+    o.progress = progress, o.progress_ud = ud;
+    return ggRender(v->scene, &o, img, NULL, err);
+}
+
+/* The camera view, its image (if any) written to png_tmp and embedded:
+   GG_OK, or the error of that file. */
+static int camera_panel(FILE *f, const trace_view *v, double ox, double oy, const ggImage *img,
+                        const char *png_tmp, ggError *err)
+{
+    double sc;
+    int tw, th, rc = GG_OK;
+    camera_size(v, &tw, &th, &sc);
     fprintf(
         f,
         "<g>\n<text x='%.0f' y='%.0f' font-size='13' fill='#333'>camera view, pixel %d,%d</text>\n",
         ox + 6, oy + 16, v->x, v->y);
-    o.width = tw > 0 ? tw : 1, o.height = th > 0 ? th : 1;
-    o.crop_x0 = o.crop_y0 = o.crop_x1 = o.crop_y1 = 0;
-    o.samples = 1, o.progress = NULL, o.pixel_corners = false;
-    fd = mkstemp(tmp);
-    if (fd >= 0) {
-        close(fd);
-        if (ggRender(v->scene, &o, &img, NULL, NULL) == GG_OK &&
-            ggImageWritePNG(img, tmp, NULL) == GG_OK) {
-            fprintf(f,
-                    "<image x='%.0f' y='%.0f' width='%d' height='%d' href='data:image/png;base64,",
-                    ox, oy + 24, tw, th);
-            base64_file(f, tmp);
-            fprintf(f, "'/>\n");
+    if (img) {
+        char ebuf[128];
+        if ((rc = ggImageWritePNG(img, png_tmp, err)) != GG_OK) return rc;
+        fprintf(f, "<image x='%.0f' y='%.0f' width='%d' height='%d' href='data:image/png;base64,",
+                ox, oy + 24, tw, th);
+        if (base64_file(f, png_tmp) != 0) {
+            snprintf(ebuf, sizeof ebuf, "%s", strerror(errno));
+            rc = GG_ERROR_IO;
+            if (err) snprintf(err->message, sizeof err->message, "%s: %s", png_tmp, ebuf);
+            if (err) err->code = rc;
         }
-        unlink(tmp);
-        ggImageFree(img);
+        fprintf(f, "'/>\n");
+        unlink(png_tmp);
     }
     fprintf(f, "<rect x='%.0f' y='%.0f' width='%d' height='%d' fill='none' stroke='#bbb'/>\n", ox,
             oy + 24, tw, th);
@@ -272,10 +297,13 @@ static void camera_panel(FILE *f, const trace_view *v, double ox, double oy)
             "<circle cx='%.2f' cy='%.2f' r='7' fill='none' stroke='#dc2626' stroke-width='2'/>\n",
             ox + (v->x + 0.5) * sc, oy + 24 + (v->y + 0.5) * sc);
     fprintf(f, "</g>\n");
+    return rc;
 }
 
-void trace_write_svg_views(FILE *f, const trace_view *v, int camera)
+int trace_write_svg_views(FILE *f, const trace_view *v, int camera, const ggImage *img,
+                          const char *png_tmp, ggError *err)
 {
+    int rc;
     ggSceneInfo in;
     ggCamera cam = ggSceneCamera(v->scene);
     proj top, side;
@@ -316,7 +344,8 @@ void trace_write_svg_views(FILE *f, const trace_view *v, int camera)
             v->pixel.g, v->pixel.b, ggTraceNodeCount(v->trace));
     panel(f, v, &top, "top view", reach);
     panel(f, v, &side, "side view", reach);
-    if (camera) camera_panel(f, v, 30 + 2 * PANEL, 40);
+    if (camera && (rc = camera_panel(f, v, 30 + 2 * PANEL, 40, img, png_tmp, err)) != GG_OK)
+        return rc;
     {
         static const char *const names[] = {"eye", "reflect", "refract", "TIR"};
         int k;
@@ -343,6 +372,5 @@ void trace_write_svg_views(FILE *f, const trace_view *v, int camera)
                 sx2, y, sx2 + 30, y, sx2 + 36, y + 4);
     }
     fprintf(f, "</svg>\n");
+    return GG_OK;
 }
-
-void trace_write_svg(FILE *f, const trace_view *v) { trace_write_svg_views(f, v, 1); }

@@ -23,11 +23,18 @@ typedef struct trace_view {
 void trace_print_text(FILE *f, const trace_view *v, int utf8);
 void trace_print_json(FILE *f, const trace_view *v);
 /* SVG (trace_svg.c). Write to f; the caller checks f for errors
-   (cli_out_close). */
-void trace_write_svg(FILE *f, const trace_view *v);
-/* The same; camera 0 leaves out the camera view (a small render of the
-   whole scene, through a temporary PNG file): ggrt serve's views. */
-void trace_write_svg_views(FILE *f, const trace_view *v, int camera);
+   (cli_out_close). With camera, a camera view panel: the image
+   trace_camera_render made (NULL: its frame only), embedded as a PNG
+   through the file png_tmp (written, then removed: beside the output, in
+   the folder checked for it). Without (ggrt serve's views), the top and
+   side views alone. GG_OK, or the error of png_tmp (in err). */
+int trace_write_svg_views(FILE *f, const trace_view *v, int camera, const ggImage *img,
+                          const char *png_tmp, ggError *err);
+/* The camera view's image: v's scene with v's options at most 420 pixels
+   a side, one sample, no crop; progress and ud as ggRender takes them (a
+   deep scene's thumbnail can take seconds). ggRender's result. */
+int trace_camera_render(const trace_view *v, ggProgressFn progress, void *ud, ggImage **img,
+                        ggError *err);
 /* OBJ lines (trace_obj.c); the same error rule as SVG. */
 void trace_write_obj(FILE *f, const trace_view *v);
 /* The scene's objects as OBJ faces, one OBJ object each ("object3_

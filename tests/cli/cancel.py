@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: MIT
 """SIGINT and SIGTERM cancel `ggrt render` through the library's progress
 callback: the process dies of the signal, says so, leaves the old output as
-it was and no temporary file; SIGTERM does the same to a tile and to ggrt
-plan's measuring. Also checks that ggrt never wrote into its argv
-(/proc/PID/cmdline while it runs), and that render, a tile, plan, find,
+it was and no temporary file; SIGTERM does the same to a tile, to ggrt
+plan's measuring, to trace --svg's camera view and to find's paths pass.
+Also checks that ggrt never wrote into its argv (/proc/PID/cmdline while
+it runs), and that render, a tile, plan, find,
 check and diff draw their progress bar on a terminal (a pseudo-terminal
 here) and not under -q.
 Prints one "ok NAME" or "FAIL NAME: why" line per check.
@@ -141,6 +142,14 @@ os.makedirs(d)
 cancel_other("a tile", [ggrt, "render", SCENE, "--tile", "0/2", "-s", "1024x768", "-n", "9",
                         "-j", "1", "-o", os.path.join(d, "t.exr")], os.path.join(d, "t.exr"))
 
+
+# trace --svg renders a camera view first (seconds, deep): it was not
+# cancellable and left OUT.tmpPID and a /tmp file behind on a signal.
+d = os.path.join(tmp, "cancel-svg")
+os.makedirs(d)
+cancel_other("trace --svg", [ggrt, "trace", "examples/scenes/glass.nff", "--pixel", "110,100",
+                             "-d", "64", "-j", "1", "--svg", os.path.join(d, "t.svg")],
+             os.path.join(d, "t.svg"))
 
 # find --paths-jsonl traces every matched pixel again after its scan:
 # SIGTERM in that pass was lost (the files were written, exit 0). The
