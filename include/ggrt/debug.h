@@ -170,8 +170,10 @@ typedef struct ggFindResult {
     unsigned char *mask; /* width * height bytes, row by row: 1 where matched */
     ggImage *image;      /* the pixels' values (the render of the window; black outside) */
     int traced;          /* 1 if ray trees were recorded, 0 if the predicate needed
-                            only pixel values and a plain render served */
-    ggRayStats stats;    /* rays cast */
+                            only pixel values and a plain render served (not
+                            through pixel corners: there each pixel is traced) */
+    ggRayStats stats;    /* rays cast, each pixel's own: a window's add up to
+                            the whole image's */
 } ggFindResult;
 
 /* Every pixel of opt's window that satisfies pred, as in ggPredicateMatch.

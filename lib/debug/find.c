@@ -231,6 +231,11 @@ static int find_run(ggScene *s, const ggRenderOptions *opt, find_job *fj, unsign
     memset(&sc, 0, sizeof sc);
     sc.tracer[0] = tr, sc.ntracers = 1;
     sc.record = (needs & GG_NEED_TREE) != 0;
+    /* A render through pixel corners shares each corner's rays between
+       four pixels (and a crop casts its edge's corners again), so its
+       counts are no pixel's own: a tile's would not add up to the whole
+       image's. Each pixel is traced then, as the traced predicates are. */
+    if (opt && opt->pixel_corners) sc.record = 1;
     sc.every_pixel = (needs & GG_NEED_COST) != 0;
     gg_scan_init(&sc);
     if (sc.record && fj->path && sc.desc.samples == 1 &&

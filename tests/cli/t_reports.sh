@@ -52,6 +52,16 @@ done
 reports_same "find --path, gears" 7 find examples/scenes/spd/gears.nff --spd -s 96x64 --path 'C<TS>+B'
 reports_same "diff --path, glass" 7 diff examples/scenes/glass.nff -s 80x48 --b depth=3 --path 'C<TS>+B' --limit 5
 reports_same "find --limit 0, glass" 2 find examples/scenes/glass.nff -s 80x48 -w 'some(kind == tir)' --limit 0
+# A predicate of pixel values alone, through pixel corners: its counts
+# came from a render that shares corners between pixels (and a tile's
+# cast its edge row again: 3 tiles said 156 eye rays, the whole 130).
+reports_same "find of values alone, --spd" 3 find examples/scenes/glass.nff -s 12x9 --spd -w 'x >= 0'
+reports_same "find of values alone, --corners" 3 find examples/scenes/texture.nff -s 12x9 --corners -w 'y >= 3'
+a=$("$ggrt" find examples/scenes/glass.nff -s 12x9 --spd -q -f json -w 'x >= 0' | grep -o '"eye":[0-9]*')
+b=$("$ggrt" find examples/scenes/glass.nff -s 12x9 --spd -q -f json -w 'x >= 0 && some(kind == eye)' |
+  grep -o '"eye":[0-9]*')
+[ -n "$a" ] && [ "$a" = "$b" ] && ok "find --spd: the same pixels, the same counts, however the predicate reads them" ||
+  bad "find --spd: the same pixels, the same counts, however the predicate reads them" "$a / $b"
 
 # A plan's cut (by rays: the same cut every run).
 "$ggrt" plan examples/scenes/spd/gears.nff --spd -s 96x64 --cost rays -q --tiles 7 -o "$rd/plan.json" ||
