@@ -668,12 +668,12 @@ static int trace_path_arg(const srv_req *r, const char *fmt, int sample, ggPathE
 /* 413: a recorded tree went over SRV_TRACE_BYTES. The count is where the
    recorder stopped: its arrays double as they grow, so the rays that fit
    depend on the lights (docs/serve.md, limits). */
-static void too_large(srv_resp *resp, int x, int y, const ggTrace *tr, const char *advice)
+/* (Not how far it got: a failed ggTracePixel leaves the trace empty.) */
+static void too_large(srv_resp *resp, int x, int y, const char *advice)
 {
     srv_error(resp, 413,
-              "the ray tree of pixel %d,%d does not fit in the %d MiB a trace may record "
-              "(it stopped after %zu rays): %s",
-              x, y, SRV_TRACE_BYTES >> 20, ggTraceNodeCount(tr), advice);
+              "the ray tree of pixel %d,%d does not fit in the %d MiB a trace may record: %s", x, y,
+              SRV_TRACE_BYTES >> 20, advice);
 }
 
 static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
@@ -718,7 +718,7 @@ static void api_trace(srv_server *s, const srv_req *r, srv_resp *resp)
         trace_body(resp, fmt, &view, &al, lpe, srv_param_get(r, "path"));
     }
     if ((rc == GG_ERROR_NOMEM || resp->status == 500) && b.refused)
-        too_large(resp, x, y, tr, "ask for one sample (sample=K) or a smaller depth");
+        too_large(resp, x, y, "ask for one sample (sample=K) or a smaller depth");
     else if (rc != GG_OK)
         srv_error(resp, rc == GG_ERROR_INVALID ? 400 : 500, "%s", err.message);
     ggTraceFree(tr);
@@ -806,8 +806,7 @@ static void api_compare(srv_server *s, const srv_req *r, srv_resp *resp)
         compare_body(resp, fmt, &a, &b, srv_param_get(r, "opts") ? srv_param_get(r, "opts") : "",
                      srv_param_get(r, "b") ? srv_param_get(r, "b") : "");
     if (rc != GG_OK && (a.b.refused || (b.tr && b.b.refused)))
-        too_large(resp, x, y, a.b.refused ? a.tr : b.tr,
-                  "ask for fewer samples or a smaller depth (opts, b)");
+        too_large(resp, x, y, "ask for fewer samples or a smaller depth (opts, b)");
     else if (rc != GG_OK)
         srv_error(resp, rc == GG_ERROR_INVALID ? 400 : 500, "%s", err.message);
     ggTraceFree(a.tr), ggTraceFree(b.tr);

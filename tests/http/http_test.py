@@ -640,8 +640,8 @@ def check_too_large(s):
                  "/api/compare?x=44&y=40&opts=" + heavy):
         st, h, b = s.get(path)
         json_error(st, h, b, 413, "%s: 413" % path)
-        check(b"the 4 MiB a trace may record (it stopped after" in b and b"smaller depth" in b,
-              "%s: the limit, where it stopped, the way out" % path, b[:300])
+        check(b"the 4 MiB a trace may record: " in b and b"smaller depth" in b,
+              "%s: the limit and the way out" % path, b[:300])
 
 
 def check_bad_queries(s):
