@@ -121,6 +121,12 @@ int cli_out_close(cli_out *o, const char *cmd);
 enum { CLI_READ_IO = 1, CLI_READ_LARGE, CLI_READ_NOMEM, CLI_READ_NOTFILE };
 int cli_read_text(const char *path, size_t max, char **text, size_t *len);
 
+/* c as "R G B", each "%.<prec>g" but every NaN "nan" (glibc prints a
+   negative one "-nan"; the JSON and the page say "nan"), into buf;
+   returns buf. One spelling of a pixel in every command's text. */
+#define CLI_COLOR_LEN 80
+const char *cli_color(char *buf, size_t size, int prec, ggColor c);
+
 /* The shortest "%.Ng" (N = 1..17) of d that reads back as d, into buf:
    0.1, not 0.10000000000000001, in messages and manifests. */
 void cli_shortest(char *buf, size_t size, double d);

@@ -8,6 +8,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -126,6 +127,26 @@ int cli_close_stdout(void)
     if (!bad) return 0;
     cli_error("error writing standard output%s%s", e ? ": " : "", e ? strerror(e) : "");
     return EXIT_IO;
+}
+
+static int put_num(char *buf, size_t size, int prec, double d)
+{
+    return isnan(d) ? snprintf(buf, size, "nan") : snprintf(buf, size, "%.*g", prec, d);
+}
+
+const char *cli_color(char *buf, size_t size, int prec, ggColor c)
+{
+    size_t n = 0;
+    const double v[3] = {c.r, c.g, c.b};
+    int k, w;
+    for (k = 0; k < 3 && n < size; k++) {
+        if (k) buf[n++] = ' ';
+        if (n >= size) break;
+        w = put_num(buf + n, size - n, prec, v[k]);
+        n += w > 0 ? (size_t)w : 0;
+    }
+    if (size) buf[n < size ? n : size - 1] = '\0';
+    return buf;
 }
 
 void cli_shortest(char *buf, size_t size, double d)

@@ -191,6 +191,7 @@ static void report(const aov_file *f, const aov_side *s, double total, const cha
                    ggScene *scene, const ggRenderOptions *opt, int want)
 {
     ggColor p;
+    char cb[CLI_COLOR_LEN];
     double pt;
     int k;
     printf("%-8s %ld pixels", what, s->pixels);
@@ -203,10 +204,10 @@ static void report(const aov_file *f, const aov_side *s, double total, const cha
     printf(", %.4g%% of the image's light (r+g+b %.6g); worst %d,%d: %.4g (%.2f%% of the pixel)\n",
            total > 0 ? 100 * s->light / total : 0.0, s->light, s->wx, s->wy, s->worst,
            pt > 0 ? 100 * s->worst / pt : 0.0);
-    printf("  image %.6g %.6g %.6g; layers:", p.r, p.g, p.b);
+    printf("  image %s; layers:", cli_color(cb, sizeof cb, 6, p));
     for (k = 0; k < f->n; k++) {
         ggColor l = ggImageGet(f->layer[k], s->wx, s->wy);
-        printf(" %s %.6g %.6g %.6g%s", f->name[k], l.r, l.g, l.b, k + 1 < f->n ? "," : "\n");
+        printf(" %s %s%s", f->name[k], cli_color(cb, sizeof cb, 6, l), k + 1 < f->n ? "," : "\n");
     }
     if (scene) example(f, scene, opt, s->wx, s->wy, want);
 }

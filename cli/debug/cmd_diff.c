@@ -120,12 +120,13 @@ static int parse(diff_args *a, int argc, char **argv)
 static void print_pixel(const diff_args *a, ggScene *sa, ggScene *sb, const ggDiffPixel *p)
 {
     const char *extra[8];
-    char text[800];
+    char text[800], sa_text[CLI_COLOR_LEN], sb_text[CLI_COLOR_LEN];
     ggTrace *ta = ggTraceCreate(NULL), *tb = ggTraceCreate(NULL);
     ggColor ca, cb;
     int k = 0;
-    printf("  %4d,%-4d a %.6g %.6g %.6g  b %.6g %.6g %.6g  |a-b| %.3g\n", p->x, p->y, p->a.r,
-           p->a.g, p->a.b, p->b.r, p->b.g, p->b.b, p->delta);
+    printf("  %4d,%-4d a %s  b %s  |a-b| %.3g\n", p->x, p->y,
+           cli_color(sa_text, sizeof sa_text, 6, p->a), cli_color(sb_text, sizeof sb_text, 6, p->b),
+           p->delta);
     if (p->first.what != GG_DIFF_SAME && ta && tb &&
         ggTracePixel(sa, &a->oa, p->x, p->y, -1, ta, &ca, NULL, NULL) == GG_OK &&
         ggTracePixel(sb, &a->ob, p->x, p->y, -1, tb, &cb, NULL, NULL) == GG_OK) {

@@ -131,7 +131,8 @@ static void print_text(const find_args *a, const ggFindResult *r)
     for (i = 0; i < r->nmatches; i++) {
         const ggFindMatch *m = &r->matches[i];
         const char *extra[3] = {"--path", a->path, NULL};
-        printf("  %4d,%-4d %.6g %.6g %.6g   ", m->x, m->y, m->pixel.r, m->pixel.g, m->pixel.b);
+        char cb[CLI_COLOR_LEN];
+        printf("  %4d,%-4d %s   ", m->x, m->y, cli_color(cb, sizeof cb, 6, m->pixel));
         if (a->path) printf("share %6.2f%%   ", 100 * m->share);
         dbg_replay(stdout, a->scene, NULL, &a->ro, m->x, m->y, a->path ? extra : NULL);
         printf("\n");

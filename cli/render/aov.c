@@ -278,7 +278,10 @@ void aov_print_pixel(const aov_list *l, int x, int y)
     int k;
     for (k = 0; k < l->n && l->map; k++) {
         const float *v = l->map + 3 * (((size_t)k * l->h + y) * l->w + x);
-        printf("layer %s %d,%d %.9g %.9g %.9g\n", l->name[k], x, y, v[0], v[1], v[2]);
+        ggColor c;
+        char cb[CLI_COLOR_LEN];
+        c.r = v[0], c.g = v[1], c.b = v[2];
+        printf("layer %s %d,%d %s\n", l->name[k], x, y, cli_color(cb, sizeof cb, 9, c));
     }
 }
 

@@ -250,7 +250,8 @@ static int run(render_args *a, ggScene *scene, double *t)
     }
     if (a->has_pixel) {
         ggColor c = ggImageGet(img, a->pixel[0], a->pixel[1]);
-        printf("pixel %d,%d %.9g %.9g %.9g\n", a->pixel[0], a->pixel[1], c.r, c.g, c.b);
+        char cb[CLI_COLOR_LEN];
+        printf("pixel %d,%d %s\n", a->pixel[0], a->pixel[1], cli_color(cb, sizeof cb, 9, c));
         aov_print_pixel(&a->aov, a->pixel[0], a->pixel[1]);
     }
     render_warn_pixels(img, 0, 0, a->scene, &a->ro, "");

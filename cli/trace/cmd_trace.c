@@ -314,8 +314,9 @@ static int run_one(trace_args *a, ggScene *scene, ggTrace *tr, const ggPathExpr 
     if (a->format == 1) {
         trace_print_json(stdout, &view);
     } else if (a->ledger) {
-        printf("pixel %d,%d of %s\ncolour %.9g %.9g %.9g\n\n", view.x, view.y, view.path,
-               view.pixel.r, view.pixel.g, view.pixel.b);
+        char cb[CLI_COLOR_LEN];
+        printf("pixel %d,%d of %s\ncolour %s\n\n", view.x, view.y, view.path,
+               cli_color(cb, sizeof cb, 9, view.pixel));
         trace_print_ledger(stdout, &view, 40);
     } else {
         const char *lc = setlocale(LC_CTYPE, "");

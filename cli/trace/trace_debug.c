@@ -42,7 +42,7 @@ void trace_print_ledger(FILE *f, const trace_view *v, size_t max)
 {
     const ggLedger *l = v->ledger;
     size_t i, shown = max && max < l->count ? max : l->count;
-    char text[800];
+    char text[800], cb[CLI_COLOR_LEN];
     ggColor rest = {0, 0, 0};
     double rest_share = 0;
     fprintf(f, "ledger: %zu term%s that add light, largest share first\n", l->count,
@@ -50,21 +50,26 @@ void trace_print_ledger(FILE *f, const trace_view *v, size_t max)
     for (i = 0; i < shown; i++) {
         const ggLedgerTerm *t = &l->terms[i];
         term_text(v, t, text, sizeof text);
-        fprintf(f, "  %6.2f%%  (%.6g %.6g %.6g)  %s\n", 100 * t->share, t->value.r, t->value.g,
-                t->value.b, text);
+        fprintf(f, "  %6.2f%%  (%s)  %s\n", 100 * t->share, cli_color(cb, sizeof cb, 6, t->value),
+                text);
     }
     for (; i < l->count; i++) {
         rest.r += l->terms[i].value.r, rest.g += l->terms[i].value.g;
         rest.b += l->terms[i].value.b, rest_share += l->terms[i].share;
     }
     if (shown < l->count)
-        fprintf(f, "  %6.2f%%  (%.6g %.6g %.6g)  %zu more terms (--format json lists them all)\n",
-                100 * rest_share, rest.r, rest.g, rest.b, l->count - shown);
-    fprintf(f, "sum of the terms %.9g %.9g %.9g\n", l->sum.r, l->sum.g, l->sum.b);
-    fprintf(f, "the pixel        %.9g %.9g %.9g\n", l->pixel.r, l->pixel.g, l->pixel.b);
-    fprintf(f, "difference %.3g %.3g %.3g, within the rounding bound %.3g %.3g %.3g: %s\n",
-            l->sum.r - l->pixel.r, l->sum.g - l->pixel.g, l->sum.b - l->pixel.b, l->bound.r,
-            l->bound.g, l->bound.b, l->holds ? "yes" : "NO");
+        fprintf(f, "  %6.2f%%  (%s)  %zu more terms (--format json lists them all)\n",
+                100 * rest_share, cli_color(cb, sizeof cb, 6, rest), l->count - shown);
+    fprintf(f, "sum of the terms %s\n", cli_color(cb, sizeof cb, 9, l->sum));
+    fprintf(f, "the pixel        %s\n", cli_color(cb, sizeof cb, 9, l->pixel));
+    {
+        char bb[CLI_COLOR_LEN];
+        ggColor d;
+        d.r = l->sum.r - l->pixel.r, d.g = l->sum.g - l->pixel.g, d.b = l->sum.b - l->pixel.b;
+        fprintf(f, "difference %s, within the rounding bound %s: %s\n",
+                cli_color(cb, sizeof cb, 3, d), cli_color(bb, sizeof bb, 3, l->bound),
+                l->holds ? "yes" : "NO");
+    }
 }
 
 /* ---- two trees side by side ---- */
@@ -136,13 +141,13 @@ void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const c
                       const char *name_b)
 {
     ggDivergence d;
-    char text[800];
+    char text[800], cb[CLI_COLOR_LEN];
     size_t i, j, na = ggTraceNodeCount(a->trace), nb = ggTraceNodeCount(b->trace);
     int differ = ggTraceCompare(a->trace, b->trace, &d);
     fprintf(f, "pixel %d,%d", a->x, a->y);
     if (a->sample >= 0) fprintf(f, ", sample %d", a->sample);
-    fprintf(f, "\na: %s\n   colour %.9g %.9g %.9g\n", name_a, a->pixel.r, a->pixel.g, a->pixel.b);
-    fprintf(f, "b: %s\n   colour %.9g %.9g %.9g\n", name_b, b->pixel.r, b->pixel.g, b->pixel.b);
+    fprintf(f, "\na: %s\n   colour %s\n", name_a, cli_color(cb, sizeof cb, 9, a->pixel));
+    fprintf(f, "b: %s\n   colour %s\n", name_b, cli_color(cb, sizeof cb, 9, b->pixel));
     dbg_divergence_text(text, sizeof text, a->trace, b->trace, &d);
     fprintf(f, "%s%s\n\n", differ ? "first divergence (>>): " : "", text);
     fprintf(f, "   %-*s | %s\n", COL, "a", "b");
@@ -165,19 +170,18 @@ void trace_print_paths(FILE *f, const trace_view *v, const char *expr, const uns
 {
     const ggLedger *l = v->ledger;
     size_t i;
-    char text[800], events[600];
-    fprintf(f, "pixel %d,%d of %s\ncolour %.9g %.9g %.9g\n", v->x, v->y, v->path, v->pixel.r,
-            v->pixel.g, v->pixel.b);
-    fprintf(f, "paths matching %s: %ld of %ld, carrying %.6g %.6g %.6g (%.2f%% of the pixel)\n",
-            expr, sum->matched, sum->paths, sum->value.r, sum->value.g, sum->value.b,
-            100 * sum->share);
+    char text[800], events[600], cb[CLI_COLOR_LEN];
+    fprintf(f, "pixel %d,%d of %s\ncolour %s\n", v->x, v->y, v->path,
+            cli_color(cb, sizeof cb, 9, v->pixel));
+    fprintf(f, "paths matching %s: %ld of %ld, carrying %s (%.2f%% of the pixel)\n", expr,
+            sum->matched, sum->paths, cli_color(cb, sizeof cb, 6, sum->value), 100 * sum->share);
     for (i = 0; i < l->count; i++) {
         const ggLedgerTerm *t = &l->terms[i];
         if (!matched[i]) continue;
         ggPathFormat(v->trace, t, events, sizeof events);
         term_text(v, t, text, sizeof text);
-        fprintf(f, "  %6.2f%%  (%.6g %.6g %.6g)  %s\n           %s\n", 100 * t->share, t->value.r,
-                t->value.g, t->value.b, events, text);
+        fprintf(f, "  %6.2f%%  (%s)  %s\n           %s\n", 100 * t->share,
+                cli_color(cb, sizeof cb, 6, t->value), events, text);
     }
 }
 

@@ -51,7 +51,7 @@ expect_exit 0 "render --aov-png: a missing DIR is created" \
 # passes and the EXR does not, and one that the first PNG fails. Either
 # way -o keeps its old bytes and DIR gets no layer and no temporary file.
 for lim in "bg=CB 8" "all=C.* 1"; do
-  mkdir -p "$tmp/ax"; rm -f "$tmp/ax/"*; printf 'old\n' >"$tmp/ax/o.exr"
+  rm -rf "$tmp/ax"; mkdir -p "$tmp/ax"; printf 'old\n' >"$tmp/ax/o.exr"
   ( trap '' XFSZ; ulimit -f ${lim#* }; "$ggrt" render $g -s 200x150 -q -o "$tmp/ax/o.exr" \
       --aov "${lim% *}" --aov-png "$tmp/ax/d" ) 2>"$tmp/err"; got=$?
   if [ $got = 3 ] && [ "$(cat "$tmp/ax/o.exr")" = old ] && [ -z "$(ls -A "$tmp/ax/d" 2>/dev/null)" ]

@@ -245,3 +245,16 @@ for a in "render $g --crop 0,0,9999,9999 -o $tmp/x.png" "trace $g --pixel 10,10 
   then ok "ggrt $a: exit 1, the message and the hint"
   else bad "ggrt $a (exit $rc)" "$(cat "$tmp/err")"; fi
 done
+
+# A NaN pixel reads "nan" in every command's text, as in the tree, the
+# JSON and the page (glibc's printf says "-nan" for a negative one).
+n=tests/data/debug/nan.nff
+{ "$ggrt" trace $n -s 24x18 --pixel 14,12 --path 'C.*'
+  "$ggrt" trace $n -s 24x18 --pixel 14,12 --ledger
+  "$ggrt" render $n -s 24x18 -q -o "$tmp/o/nan.exr" --pixel 14,12 --aov 'a=C.*' 2>/dev/null
+  "$ggrt" find $n -s 24x18 -q --where 'x == 14 && y == 12'
+  "$ggrt" diff $n -s 24x18 --b depth=2 --worst 3; } >"$tmp/o/nan.txt" 2>&1
+if grep -q 'nan inf inf' "$tmp/o/nan.txt" && ! grep -q -- '-nan' "$tmp/o/nan.txt"; then
+  ok "a NaN pixel is 'nan' in trace --path and --ledger, render --pixel, find and diff"
+else bad "a NaN pixel is 'nan' in trace --path and --ledger, render --pixel, find and diff" \
+  "$(grep -- '-nan' "$tmp/o/nan.txt" | head -3)"; fi
