@@ -117,21 +117,34 @@ static void scale_of(const float *cost, size_t n, int robust, heatmap_range *r)
         if (isfinite(cost[i]) && cost[i] > q) r->above++;
 }
 
+/* The map's pixels: cost over the ramp from 0 to mx. Returns img. */
+static ggImage *img_fill(ggImage *img, const float *cost, int w, int h, double mx)
+{
+    int x, y;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            ggImageSet(img, x, y, ramp(mx > 0 ? cost[(size_t)y * w + x] / mx : 0));
+    return img;
+}
+
 ggImage *heatmap_image(const float *cost, int w, int h, const char *label, int robust,
                        heatmap_range *range)
 {
     int legend = 14 + (w >= 200 ? 10 : 6), scale = w >= 200 ? 2 : 1, x, y;
-    ggImage *img = ggImageCreate(w, h + legend, NULL);
+    ggImage *img;
     heatmap_range r;
     double mx;
     char buf[64];
     ggColor white = {1, 1, 1};
-    if (!img) return NULL;
+    if ((uint64_t)w * (uint64_t)(h + legend) > GG_IMAGE_MAX_PIXELS || h + legend > GG_IMAGE_MAX_DIM)
+        legend = 0;
+    if (!(img = ggImageCreate(w, h + legend, NULL))) return NULL;
     scale_of(cost, (size_t)w * h, robust, &r);
+    r.legend = legend;
     if (range) *range = r;
+    if (!legend) return img_fill(img, cost, w, h, r.top);
     mx = r.top;
-    for (y = 0; y < h; y++)
-        for (x = 0; x < w; x++) ggImageSet(img, x, y, ramp(mx > 0 ? cost[(size_t)y * w + x] / mx : 0));
+    img_fill(img, cost, w, h, mx);
     /* Legend: the ramp from 0 to the top of the scale, labelled at both
        ends ("+": larger values take the top colour). */
     for (y = h + 2; y < h + 8; y++)

@@ -18,6 +18,7 @@
 typedef struct heatmap_range {
     double max, top;
     size_t above;
+    int legend; /* the legend's rows under the map (0: left out) */
 } heatmap_range;
 
 /* A w x (h + legend) image: cost as a colour ramp from 0 to the scale's
@@ -25,7 +26,9 @@ typedef struct heatmap_range {
    over it take the top colour), then a legend bar labelled 0, the top
    ("+" after it when values are over it) and `label` (drawn with a
    built-in 3x5 font: digits, '.', '-', '+', and the letters of "rays
-   depth time s"). NULL if out of memory. */
+   depth time s"). Where the legend's rows would take the image over
+   GG_IMAGE_MAX_PIXELS or GG_IMAGE_MAX_DIM (a 4096x4096 map), the map
+   alone, range->legend 0. NULL if out of memory. */
 ggImage *heatmap_image(const float *cost, int w, int h, const char *label, int robust,
                        heatmap_range *range);
 

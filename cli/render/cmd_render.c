@@ -167,6 +167,9 @@ static int finish_image(const render_args *a, ggImage **img, const float *cost)
                    label[a->heat], r.top, r.above, r.above == 1 ? "" : "s", r.max);
         else if (!a->quiet)
             printf("heat map: %s per pixel, 0 to %.4g\n", label[a->heat], r.top);
+        if (!a->quiet && !r.legend)
+            printf("heat map: no legend under it (the image is at the size limit, %lu pixels)\n",
+                   (unsigned long)GG_IMAGE_MAX_PIXELS);
         ggImageFree(*img);
         *img = map;
     }

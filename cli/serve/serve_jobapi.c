@@ -161,7 +161,7 @@ static void send_png(srv_server *s, const float *v, const char *label, int robus
     int w = s->cfg.width, h = s->cfg.height;
     unsigned char *png;
     if (label) {
-        heatmap_range r = {0, 0, 0};
+        heatmap_range r = {0, 0, 0, 0};
         ggImage *map = heatmap_image(v, w, h, label, robust, &r);
         png = map ? srv_png(ggImagePixelsConst(map), ggImageWidth(map), ggImageHeight(map),
                             &resp->len)

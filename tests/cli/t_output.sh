@@ -258,3 +258,13 @@ if grep -q 'nan inf inf' "$tmp/o/nan.txt" && ! grep -q -- '-nan' "$tmp/o/nan.txt
   ok "a NaN pixel is 'nan' in trace --path and --ledger, render --pixel, find and diff"
 else bad "a NaN pixel is 'nan' in trace --path and --ledger, render --pixel, find and diff" \
   "$(grep -- '-nan' "$tmp/o/nan.txt" | head -3)"; fi
+
+# A heat map at the size limit (65536 rows: a side's limit) has no room
+# for its legend's rows: the map alone, and a note (it was "out of memory
+# for the heat map", exit 2, after the whole render).
+printf 'v\nfrom 0 -10 0\nat 0 0 0\nup 0 0 1\nangle 30\nhither 0.01\nresolution 8 8\nb 0.2 0.3 0.4\nf 1 1 1 1 0 100000 0 0\ns 1000 1000 1000 0.001\n' >"$tmp/o/empty.nff"
+"$ggrt" render "$tmp/o/empty.nff" -s 1x65536 -j 1 --heatmap depth -o "$tmp/o/tall.png" >"$tmp/o/tall.out" 2>&1; rc=$?
+if [ $rc = 0 ] && grep -q "no legend under it" "$tmp/o/tall.out" &&
+   [ "$(od -An -tx1 -j16 -N8 "$tmp/o/tall.png" | tr -d ' \n')" = 0000000100010000 ]; then
+  ok "a heat map 65536 rows high: written without its legend (1x65536), with a note"
+else bad "a heat map 65536 rows high: written without its legend, with a note" "rc $rc: $(cat "$tmp/o/tall.out")"; fi
