@@ -232,7 +232,7 @@ int aov_sum_check(const char *exr, const char *scene_arg)
     ggScene *scene = NULL;
     double total, ratio;
     long bad;
-    int k, rc;
+    int k, rc, failed;
     memset(&f, 0, sizeof f);
     f.path = exr;
     /* A SCENE named is checked now, whether or not a gap will need it: a
@@ -262,13 +262,17 @@ int aov_sum_check(const char *exr, const char *scene_arg)
     if (gap.pixels || over.pixels) scene = trace_scene(&f, scene_arg, &opt);
     report(&f, &gap, total, "gap:", scene, &opt, 0);
     report(&f, &over, total, "overlap:", scene, &opt, 2);
+    /* No pixel compared is no evidence: a check that could not look fails. */
+    failed = gap.pixels || over.pixels || bad == (long)f.w * f.h;
     if (gap.pixels || over.pixels)
         printf("\nFAIL: the layers %s%s%s the image\n", gap.pixels ? "miss light of" : "",
                gap.pixels && over.pixels ? " and " : "", over.pixels ? "count light twice in" : "");
+    else if (failed)
+        printf("\nFAIL: no pixel of the image is finite: nothing could be compared\n");
     else
         printf("\nok: the layers add up to the image in all %ld pixels\n",
                (long)f.w * f.h - bad);
     ggSceneFree(scene);
     file_free(&f);
-    return gap.pixels || over.pixels ? EXIT_CHECK : EXIT_OK;
+    return failed ? EXIT_CHECK : EXIT_OK;
 }

@@ -268,3 +268,11 @@ if [ $rc = 0 ] && grep -q "no legend under it" "$tmp/o/tall.out" &&
    [ "$(od -An -tx1 -j16 -N8 "$tmp/o/tall.png" | tr -d ' \n')" = 0000000100010000 ]; then
   ok "a heat map 65536 rows high: written without its legend (1x65536), with a note"
 else bad "a heat map 65536 rows high: written without its legend, with a note" "rc $rc: $(cat "$tmp/o/tall.out")"; fi
+
+# check --aov-sum with no finite pixel compared nothing: that is no pass
+# (it said "ok ... in all 0 pixels", exit 0).
+"$ggrt" render tests/data/debug/nan.nff -s 1x1 -q -o "$tmp/o/allnan.exr" --aov 'all=C.*' 2>/dev/null
+"$ggrt" check --aov-sum "$tmp/o/allnan.exr" >"$tmp/o/allnan.out" 2>&1; rc=$?
+[ $rc = 4 ] && grep -q "^FAIL: no pixel of the image is finite" "$tmp/o/allnan.out" &&
+  ok "check --aov-sum of an image without a finite pixel fails (exit 4)" ||
+  bad "check --aov-sum of an image without a finite pixel fails (exit 4)" "rc $rc: $(cat "$tmp/o/allnan.out")"
