@@ -195,9 +195,17 @@ static int serve(srv_server *s)
         cli_warn("listening on %s, which other machines can reach; anyone with the URL can use "
                  "this server",
                  s->cfg.host);
+    errno = 0;
     printf("http://%s%s%s:%d/?token=%s\n", v6 ? "[" : "", s->cfg.host, v6 ? "]" : "", port,
            s->token);
-    fflush(stdout);
+    /* The URL carries the token, the only way in: a server nobody can
+       reach is not started. */
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        cli_error("cannot print the URL (it carries the token): %s", strerror(errno ? errno : EIO));
+        srv_http_stop(http);
+        srv_jobs_stop(s);
+        return EXIT_IO;
+    }
     fprintf(stderr, "ggrt serve: open the URL above; Ctrl-C stops\n");
     while (sigwait(&set, &sig) != 0) continue;
     fprintf(stderr, "ggrt serve: %s: stopping\n", sig == SIGINT ? "interrupt" : "signal");

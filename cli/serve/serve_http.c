@@ -581,13 +581,15 @@ static int parse_addr(const char *host, struct sockaddr_storage *ss, http_ctx *h
 static int listen_on(struct sockaddr_storage *ss, int family, int *port)
 {
     socklen_t len = family == AF_INET6 ? sizeof(struct sockaddr_in6) : sizeof(struct sockaddr_in);
-    int fd = socket(family, SOCK_STREAM, 0), one = 1;
+    int fd = socket(family, SOCK_STREAM, 0), one = 1, e;
     if (fd < 0) return -1;
     if (setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0 ||
         bind(fd, (struct sockaddr *)ss, len) != 0 || listen(fd, SOMAXCONN) != 0 ||
         getsockname(fd, (struct sockaddr *)ss, &len) != 0 ||
         fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK) != 0) {
+        e = errno; /* (close may change it: the caller says why) */
         close(fd);
+        errno = e;
         return -1;
     }
     *port = ntohs(family == AF_INET6 ? ((struct sockaddr_in6 *)ss)->sin6_port
@@ -599,7 +601,7 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
 {
     srv_http *h;
     struct sockaddr_storage ss;
-    int fd;
+    int fd, listen_errno;
     unsigned flags = MHD_USE_INTERNAL_POLLING_THREAD | MHD_USE_AUTO | MHD_USE_ERROR_LOG;
     if (mhd_load(msg, msglen)) return NULL;
     if (!(h = calloc(1, sizeof *h))) {
@@ -620,7 +622,9 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
         ((struct sockaddr_in *)&ss)->sin_port = htons((uint16_t)s->cfg.port);
     }
     /* The logger first: options before it would log through MHD's own. */
+    errno = 0;
     fd = listen_on(&ss, h->ctx.family, &h->ctx.port);
+    listen_errno = fd < 0 ? errno : 0;
     if (fd >= 0 && watch_start(&h->watch) != 0) {
         close(fd);
         snprintf(msg, msglen, "cannot start the connection watchdog thread");
@@ -642,8 +646,15 @@ srv_http *srv_http_start(srv_server *s, int *port, char *msg, size_t msglen)
                                 MHD_OPTION_URI_LOG_CALLBACK, uri_log, NULL, MHD_OPTION_END);
     /* clang-format on */
     if (!h->d) {
-        snprintf(msg, msglen, "cannot listen on %s port %d (in use? --port 0 takes a free one)",
-                 s->cfg.host, s->cfg.port);
+        /* Why: a port in use, a privileged one, an address not here. */
+        if (listen_errno)
+            snprintf(msg, msglen, "cannot listen on %s port %d: %s%s", s->cfg.host, s->cfg.port,
+                     strerror(listen_errno),
+                     listen_errno == EADDRINUSE && s->cfg.port ? " (--port 0 takes a free one)"
+                                                               : "");
+        else
+            snprintf(msg, msglen, "cannot start the HTTP server on %s port %d", s->cfg.host,
+                     s->cfg.port);
         if (fd >= 0) close(fd);
         watch_stop(&h->watch);
         if (fd >= 0) pthread_cond_destroy(&h->watch.cv), pthread_mutex_destroy(&h->watch.mu);

@@ -1419,7 +1419,19 @@ def run(base):
     r = subprocess.run([GGRT, "serve", SCENE, "--port", str(sk.getsockname()[1])], stdout=subprocess.PIPE,
                        stderr=subprocess.PIPE, text=True, timeout=30)
     sk.close()
-    check(r.returncode == 3 and "cannot listen" in r.stderr, "a port in use: exit 3 with a message", r.stderr)
+    check(r.returncode == 3 and "cannot listen" in r.stderr and "Address already in use" in r.stderr and
+          "--port 0 takes a free one" in r.stderr, "a port in use: exit 3, the reason and the way out", r.stderr)
+    # An address not on this machine: the reason, and no hint of --port 0 (given).
+    r = subprocess.run([GGRT, "serve", SCENE, "--host", "192.0.2.1", "--port", "0"], stdout=subprocess.PIPE,
+                       stderr=subprocess.PIPE, text=True, timeout=30)
+    check(r.returncode == 3 and "Cannot assign requested address" in r.stderr and "--port 0" not in r.stderr,
+          "an address not here: exit 3 with the reason", r.stderr)
+    # The URL cannot be printed (stdout full): not started, exit 3 at once.
+    with open("/dev/full", "w") as full:
+        r = subprocess.run([GGRT, "serve", SCENE, "--port", "0"], stdout=full, stderr=subprocess.PIPE,
+                           text=True, timeout=30)
+    check(r.returncode == 3 and "cannot print the URL" in r.stderr,
+          "stdout full: serve stops at once, exit 3", r.stderr)
     r = subprocess.run([GGRT, "serve", SCENE, "--host", "example.com"], stdout=subprocess.PIPE,
                        stderr=subprocess.PIPE, text=True, timeout=30)
     check(r.returncode != 0 and "numeric" in r.stderr, "--host must be numeric", r.stderr)
