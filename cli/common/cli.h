@@ -134,6 +134,9 @@ void cli_shortest(char *buf, size_t size, double d);
 /* Print " ARG", quoted for a POSIX shell when it needs quoting, so that a
    printed command line works when pasted. */
 void cli_print_arg(FILE *f, const char *arg);
+/* The same for a file name: one that starts with '-' as "./-x.nff", so
+   that the command line does not read it as options. */
+void cli_print_file(FILE *f, const char *path);
 
 /* Cancellation by SIGINT, SIGTERM and SIGHUP (signals ignored when ggrt
    started stay ignored). cli_cancel_begin installs the handlers: from

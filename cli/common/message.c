@@ -108,6 +108,16 @@ void cli_print_arg(FILE *f, const char *a)
     fputc('\'', f);
 }
 
+void cli_print_file(FILE *f, const char *path)
+{
+    char buf[CLI_PATH_MAX + 3];
+    if (path[0] == '-' && strlen(path) < CLI_PATH_MAX) {
+        snprintf(buf, sizeof buf, "./%s", path);
+        path = buf;
+    }
+    cli_print_arg(f, path);
+}
+
 /* ---- stdout ---- */
 
 /* A write that failed earlier (output longer than the stream's buffer)

@@ -54,8 +54,8 @@ void dbg_replay(FILE *f, const char *scene, const char *scene_b, const cli_rende
                 const char *const *extra)
 {
     fprintf(f, "ggrt trace");
-    cli_print_arg(f, scene);
-    if (scene_b) cli_print_arg(f, scene_b);
+    cli_print_file(f, scene);
+    if (scene_b) cli_print_file(f, scene_b);
     cli_render_print(f, ro, CLI_RENDER_PIXEL);
     fprintf(f, " --pixel %d,%d", x, y);
     for (; extra && *extra; extra++) cli_print_arg(f, *extra);

@@ -28,7 +28,7 @@ void render_warn_pixels(const ggImage *img, int x0, int y0, const char *scene, c
     cli_warn("%s%ld pixel%s NaN, infinite or negative; the worst is %d,%d. Replay it with:", what,
              bad, bad == 1 ? " is" : "s are", x0 + bx, y0 + by);
     fprintf(stderr, "  ggrt trace");
-    cli_print_arg(stderr, scene);
+    cli_print_file(stderr, scene);
     cli_render_print(stderr, ro, CLI_RENDER_PIXEL);
     fprintf(stderr, " --pixel %d,%d\n", x0 + bx, y0 + by);
 }

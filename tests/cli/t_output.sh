@@ -276,3 +276,13 @@ else bad "a heat map 65536 rows high: written without its legend, with a note" "
 [ $rc = 4 ] && grep -q "^FAIL: no pixel of the image is finite" "$tmp/o/allnan.out" &&
   ok "check --aov-sum of an image without a finite pixel fails (exit 4)" ||
   bad "check --aov-sum of an image without a finite pixel fails (exit 4)" "rc $rc: $(cat "$tmp/o/allnan.out")"
+
+# A scene named '-x.nff': the replay line find prints names it ./-x.nff,
+# which pastes as a file, not as options.
+cp $g "$tmp/o/-dash.nff"
+abs=$(cd "$(dirname "$ggrt")" && pwd)/$(basename "$ggrt")
+line=$(cd "$tmp/o" && "$abs" find -s 64x48 -q --where 'some(kind==tir)' --limit 1 -- -dash.nff |
+  grep -o 'ggrt trace .*')
+if [ -n "$line" ] && (cd "$tmp/o" && eval "\"$abs\" ${line#ggrt }" >/dev/null 2>&1); then
+  ok "find's replay line for a scene named -dash.nff runs ($line)"
+else bad "find's replay line for a scene named -dash.nff runs" "$line"; fi

@@ -42,6 +42,8 @@
     return o;
   }
   const quote = (s) => /^[A-Za-z0-9_./=,:+-]+$/.test(s) ? s : "'" + s.replace(/'/g, "'\\''") + "'";
+  // A file name that starts with '-' would read as options: "./-x.nff" (as ggrt's own replay lines).
+  const file = (s) => s.startsWith('-') ? './' + s : s;
   function flags(side) {
     const app = window.ggrt;
     const o = Object.assign(words(app.info.options), words(side === 'b' ? app.state.b : app.state.a));
@@ -60,7 +62,7 @@
   }
   function traceCommand() {
     const app = window.ggrt, s = app.state;
-    const c = ['ggrt', 'trace', app.info.scene, '--pixel', s.px.join(',')];
+    const c = ['ggrt', 'trace', file(app.info.scene), '--pixel', s.px.join(',')];
     const t = app.traces && app.traces.a;
     if (t && t.json.sample !== null && t.json.sample !== undefined) c.push('--sample', String(t.json.sample));
     if (s.diff) {
@@ -75,7 +77,7 @@
     const app = window.ggrt, s = app.state;
     const path = s.path && (s.overlay === 'path' || !s.find);
     if (!s.find && !path) return '';
-    return ['ggrt', 'find', app.info.scene].concat(path ? ['--path', s.path] : ['--where', s.find])
+    return ['ggrt', 'find', file(app.info.scene)].concat(path ? ['--path', s.path] : ['--where', s.find])
       .concat(flags('a')).map(quote).join(' ');
   }
 
