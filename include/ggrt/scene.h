@@ -470,8 +470,9 @@ typedef struct ggTextureInfo {
 } ggTextureInfo;
 
 /* The textures: one per NFF `texture` or `checker` line, OBJ map_Kd and
-   ggSceneAddTexture (a file named several times is decoded once, and
-   those textures share its image). */
+   ggSceneAddTexture (a file named several times, under any path, is
+   decoded once, and those textures share its image; with a reader of the
+   caller's, ggSceneSetImageReader, the same name is). */
 GG_API int ggSceneTextureCount(const ggScene *scene);
 /* Fill *out for texture `index` (ggMaterial.texture); GG_ERROR_INVALID
    if out of range or out is NULL. */

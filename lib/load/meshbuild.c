@@ -514,8 +514,13 @@ int gg_load_texture(ggScene *s, const char *path, ggImage **img, ggError *err)
     gg_image_budget b;
     ggImage *got = NULL;
     ggError e2 = {0, ""};
-    int rc;
-    if ((*img = gg_scene_image_find(s, path)) != NULL) return GG_OK;
+    gg_file_id fid;
+    uint64_t id[2];
+    /* One file under two names is one image; a reader of the caller's
+       own (ggSceneSetImageReader) may read no files: its names alone. */
+    int rc, has_id = !s->reader && gg_load_file_id(path, &fid) == 0;
+    if (has_id) id[0] = fid.dev, id[1] = fid.ino;
+    if ((*img = gg_scene_image_find(s, path, has_id ? id : NULL)) != NULL) return GG_OK;
     if (!fn)
         return gg_error_set(err, GG_ERROR_UNSUPPORTED,
                             "%s: this libggrt reads no image files (libggrt-core); give the "
@@ -532,7 +537,7 @@ int gg_load_texture(ggScene *s, const char *path, ggImage **img, ggError *err)
         ggImageFree(got);
         return rc;
     }
-    if (gg_scene_image_add(s, path, got) < 0)
+    if (gg_scene_image_add(s, path, has_id ? id : NULL, got) < 0)
         return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", path);
     *img = got;
     return GG_OK;

@@ -445,15 +445,19 @@ int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t)
     return (int)s->ntextures++;
 }
 
-ggImage *gg_scene_image_find(const ggScene *s, const char *path)
+ggImage *gg_scene_image_find(const ggScene *s, const char *path, const uint64_t *id)
 {
     size_t i;
-    for (i = 0; i < s->nimages; i++)
-        if (strcmp(s->images[i].path, path) == 0) return s->images[i].img;
+    for (i = 0; i < s->nimages; i++) {
+        const gg_teximage *t = &s->images[i];
+        if (strcmp(t->path, path) == 0 ||
+            (id && t->has_id && t->id[0] == id[0] && t->id[1] == id[1]))
+            return t->img;
+    }
     return NULL;
 }
 
-int gg_scene_image_add(ggScene *s, const char *path, ggImage *img)
+int gg_scene_image_add(ggScene *s, const char *path, const uint64_t *id, ggImage *img)
 {
     char *p = gg_mem_strdup(s->alloc, path);
     if (!p || gg_mem_grow(s->alloc, (void **)&s->images, &s->cap_images, s->nimages + 1,
@@ -464,6 +468,8 @@ int gg_scene_image_add(ggScene *s, const char *path, ggImage *img)
     }
     s->images[s->nimages].path = p;
     s->images[s->nimages].img = img;
+    s->images[s->nimages].has_id = id != NULL;
+    s->images[s->nimages].id[0] = id ? id[0] : 0, s->images[s->nimages].id[1] = id ? id[1] : 0;
     s->tex_used += GG_IMAGE_BYTES(img->width, img->height);
     return (int)s->nimages++;
 }

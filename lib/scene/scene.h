@@ -50,6 +50,8 @@ typedef struct gg_texture {
 typedef struct gg_teximage {
     char *path; /* as the loader resolved it against the scene file's folder */
     ggImage *img;
+    uint64_t id[2]; /* the file's device and inode, when has_id */
+    int has_id;
 } gg_teximage;
 
 /* Resolved per-material data used while shading. */
@@ -150,12 +152,14 @@ int gg_scene_add_texture_desc(ggScene *s, const gg_texture *t);
 int gg_camera_fault(const ggCamera *c);
 const char *gg_camera_fault_text(int fault);
 
-/* The texture cache: the image cached under path, or NULL; cache img under
-   path (the scene owns it from then on, also when this fails with
-   -GG_ERROR_NOMEM); free the textures from index nt and the cached images
-   from index ni on (a failed load's rollback). */
-ggImage *gg_scene_image_find(const ggScene *s, const char *path);
-int gg_scene_image_add(ggScene *s, const char *path, ggImage *img);
+/* The texture cache: the image cached under path, or under the file id
+   (device, inode; NULL: none) whatever the path that named it (b.png and
+   ./b.png are one file, decoded and charged to the budget once), or NULL;
+   cache img under path and id (the scene owns it from then on, also when
+   this fails with -GG_ERROR_NOMEM); free the textures from index nt and
+   the cached images from index ni on (a failed load's rollback). */
+ggImage *gg_scene_image_find(const ggScene *s, const char *path, const uint64_t *id);
+int gg_scene_image_add(ggScene *s, const char *path, const uint64_t *id, ggImage *img);
 void gg_scene_drop_textures(ggScene *s, size_t nt, size_t ni);
 
 /* Work out the effect set and reasons (effects.c). */

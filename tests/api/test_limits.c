@@ -103,6 +103,24 @@ static void test_named_250_times_decoded_once(void **state)
     free(text);
 }
 
+/* One file under three names is one image, decoded and charged once (it
+   was keyed by the name: each spelling cost the budget its bytes again). */
+static void test_one_file_three_names(void **state)
+{
+    const char *text = "texture \"" HOSTILE "tex1m.png\" clamp\ns 0 0 0 1\n"
+                       "texture \"" HOSTILE "./tex1m.png\" clamp\ns 1 0 0 1\n"
+                       "texture \"" HOSTILE "../hostile/tex1m.png\" clamp\ns 2 0 0 1\n";
+    ggScene *s = ggSceneCreate(NULL);
+    ggError e;
+    (void)state;
+    assert_true(ggSceneSetTextureBudget(s, TEX1M_BYTES + TEX1M_BYTES / 2) == GG_TEXTURE_BUDGET);
+    assert_int_equal(load(s, text, &e), GG_OK);
+    assert_int_equal(s->nimages, 1);
+    assert_true(s->tex_used == TEX1M_BYTES);
+    assert_ptr_equal(s->textures[0].img, s->textures[2].img);
+    ggSceneFree(s);
+}
+
 static void test_budget_checked_before_decoding(void **state)
 {
     ggScene *s = ggSceneCreate(&watch);
@@ -124,19 +142,40 @@ static void test_budget_checked_before_decoding(void **state)
 
 /* The budget is per scene, over every file: the second spelling of the
    path is another file to the cache, so it is decoded and charged again. */
+/* A copy of tex1m.png: another file, with its own bytes to charge. */
+static const char *copy_of_tex1m(void)
+{
+    static char path[512];
+    char buf[4096];
+    FILE *in = fopen(HOSTILE "tex1m.png", "rb"), *out;
+    size_t n;
+    assert_int_equal(tu_tmpdir_make("limits"), 0);
+    snprintf(path, sizeof path, "%s", tu_tmppath("copy.png"));
+    out = fopen(path, "wb");
+    assert_true(in && out);
+    while ((n = fread(buf, 1, sizeof buf, in)) > 0) assert_true(fwrite(buf, 1, n, out) == n);
+    fclose(in);
+    assert_int_equal(fclose(out), 0);
+    return path;
+}
+
 static void test_budget_is_cumulative(void **state)
 {
     ggScene *s = ggSceneCreate(NULL);
     ggError e;
+    char text[700], want[900];
+    const char *copy = copy_of_tex1m();
     (void)state;
     ggSceneSetTextureBudget(s, 1500000);
     assert_int_equal(load(s, "texture \"" HOSTILE "tex1m.png\"\ns 0 0 0 1\n", &e), GG_OK);
-    assert_int_equal(load(s, "texture \"" HOSTILE "../hostile/tex1m.png\"\ns 0 0 0 1\n", &e),
-                     GG_ERROR_LIMIT);
-    assert_string_equal(e.message, "t.nff:1:9: cannot read texture: " HOSTILE
-                                   "../hostile/tex1m.png: 296 x 296 pixels decode to 1051392 "
-                                   "bytes, over the texture budget (448608 bytes left of "
-                                   "1500000)");
+    snprintf(text, sizeof text, "texture \"%s\"\ns 0 0 0 1\n", copy);
+    assert_int_equal(load(s, text, &e), GG_ERROR_LIMIT);
+    snprintf(want, sizeof want,
+             "t.nff:1:9: cannot read texture: %s: 296 x 296 pixels decode to 1051392 "
+             "bytes, over the texture budget (448608 bytes left of 1500000)",
+             copy);
+    assert_string_equal(e.message, want);
+    tu_tmpdir_remove();
     /* The failed load took nothing; the first texture stays. */
     assert_int_equal(s->nimages, 1);
     assert_true(s->tex_used == TEX1M_BYTES);
@@ -268,6 +307,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_budget_contract),
         cmocka_unit_test(test_named_250_times_decoded_once),
+        cmocka_unit_test(test_one_file_three_names),
         cmocka_unit_test(test_budget_checked_before_decoding),
         cmocka_unit_test(test_budget_is_cumulative),
         cmocka_unit_test(test_budget_with_own_reader),
