@@ -191,6 +191,20 @@ static void drop_temps(const aov_list *l, int done)
         if (layer_temp(l, k, tmp, sizeof tmp) == 0) remove(tmp);
 }
 
+/* err's message names the temporary file tmp: name layer k's file. */
+static void rename_in_message(ggError *err, const char *tmp, const aov_list *l, int k)
+{
+    char path[4096], rest[sizeof err->message];
+    size_t n = strlen(tmp), pn, rn;
+    if (!err || strncmp(err->message, tmp, n) != 0 || layer_path(l, k, path, sizeof path) != 0)
+        return;
+    rn = strlen(err->message + n), pn = strlen(path);
+    if (pn + rn >= sizeof err->message) return;
+    memcpy(rest, err->message + n, rn + 1);
+    memcpy(err->message, path, pn);
+    memcpy(err->message + pn, rest, rn + 1);
+}
+
 /* Each layer into its temporary file: on any failure none is left. */
 static int write_pngs(const aov_list *l, ggImage **imgs, ggError *err)
 {
@@ -201,8 +215,8 @@ static int write_pngs(const aov_list *l, ggImage **imgs, ggError *err)
         char tmp[4096];
         if (layer_temp(l, k, tmp, sizeof tmp) != 0)
             rc = set_err(err, GG_ERROR_INVALID, "an --aov-png file name is too long");
-        else
-            rc = ggImageWritePNG(imgs[k], tmp, err);
+        else if ((rc = ggImageWritePNG(imgs[k], tmp, err)) != GG_OK)
+            rename_in_message(err, tmp, l, k);
     }
     if (rc != GG_OK) drop_temps(l, k);
     return rc;
