@@ -350,6 +350,7 @@ int bench_accuracy(const bench_opts *bo)
     if (h < 1) h = 1;
     if (bo->nargs == 0) {
         cli_error("name one or more scene files");
+        cli_usage_hint();
         return EXIT_USAGE;
     }
     /* Every scene read once first: a bad one fails before the header, the

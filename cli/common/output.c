@@ -62,6 +62,7 @@ int cli_check_output(const char *cmd, const char *path)
        surprise whoever typed it. */
     if (!strcmp(path, "-")) {
         cli_error_in(cmd, "'-' would be a file named '-', not standard output: give a file name");
+        cli_usage_hint();
         return EXIT_USAGE;
     }
     if (lstat(path, &st) != 0) {

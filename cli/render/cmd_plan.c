@@ -220,6 +220,7 @@ static int plan(ggScene *scene, const plan_args *a)
     }
     if (h < a->n) {
         cli_error("%d tiles of %d rows: at most one tile per row", a->n, h);
+        cli_usage_hint();
         return EXIT_USAGE;
     }
     if (tile_hash_file(a->scene, hash, sizeof hash) != 0) {

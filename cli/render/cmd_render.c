@@ -65,7 +65,8 @@ static int check_tiles(const cli_cmd *cmd, const render_args *a, const cli_opt *
         return cli_usage_error(cmd, "--tile and --tiles take none of --heatmap, --pixel, "
                                     "--no-srgb and --crop");
     if (a->tiles.count > 1 && !strstr(a->out, "%d"))
-        return cli_usage_error(cmd, "--tiles writes several files: -o needs a %%d");
+        return cli_usage_error(cmd, "--tiles writes several files: -o needs a %%d (a plain "
+                                    "one, for the tile's number)");
     if (strchr(a->out, '%') != strstr(a->out, "%d") ||
         (strstr(a->out, "%d") && strchr(strstr(a->out, "%d") + 1, '%')))
         return cli_usage_error(cmd, "-o may hold one %%d and no other %%");

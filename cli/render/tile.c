@@ -391,6 +391,7 @@ static int job_init(tile_job *j, ggScene *scene, const char *scene_path,
     j->opt.width = j->w, j->opt.height = j->h;
     if (!plan_path && j->h < tl->n) {
         cli_error("%d tiles of %d rows: at most one tile per row", tl->n, j->h);
+        cli_usage_hint();
         return EXIT_USAGE;
     }
     if (tile_hash_file(scene_path, j->hash, sizeof j->hash) != 0) {

@@ -286,3 +286,14 @@ line=$(cd "$tmp/o" && "$abs" find -s 64x48 -q --where 'some(kind==tir)' --limit 
 if [ -n "$line" ] && (cd "$tmp/o" && eval "\"$abs\" ${line#ggrt }" >/dev/null 2>&1); then
   ok "find's replay line for a scene named -dash.nff runs ($line)"
 else bad "find's replay line for a scene named -dash.nff runs" "$line"; fi
+
+# Usage errors found after the options are read end with the hint too.
+for c in "plan examples/scenes/glass.nff -s 16x48 --tiles 49 -o $tmp/o/p.json" \
+         "render examples/scenes/glass.nff -s 16x12 --tile 0/13 -o $tmp/o/t.exr" \
+         "trace examples/scenes/glass.nff --pixel 1,1 --svg -" "bench accuracy"; do
+  # shellcheck disable=SC2086
+  "$ggrt" $c >/dev/null 2>"$tmp/o/hint.err"; rc=$?
+  cmd=$(echo "$c" | cut -d' ' -f1); [ "$cmd" = bench ] && cmd="bench accuracy"
+  [ $rc = 1 ] && [ "$(tail -1 "$tmp/o/hint.err")" = "(see 'ggrt $cmd --help')" ] &&
+    ok "ggrt $c: exit 1 and the hint" || bad "ggrt $c: exit 1 and the hint" "rc $rc: $(cat "$tmp/o/hint.err")"
+done

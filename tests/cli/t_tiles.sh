@@ -117,8 +117,10 @@ else bad "a plan's tile carries the cut '$want'" "$(strings -n 6 "$td/gp-3.exr" 
 # ---- the manifest and the refusals of render ----
 "$ggrt" render examples/scenes/glass.nff -s 80x48 -q --tiles 0-6/7 -o "$td/g-%d.exr" 2>"$tmp/err" ||
   bad "render --tiles 0-6/7" "$(cat "$tmp/err")"
-expect_err 1 "ggrt render: --tiles writes several files: -o needs a %d" "--tiles needs %d in -o" \
-  "$ggrt" render examples/scenes/glass.nff --tiles 0,1/4 -o "$td/x.exr"
+expect_err 1 "ggrt render: --tiles writes several files: -o needs a %d (a plain one, for the tile's number)" \
+  "--tiles needs %d in -o" "$ggrt" render examples/scenes/glass.nff --tiles 0,1/4 -o "$td/x.exr"
+expect_err 1 "ggrt render: --tiles writes several files: -o needs a %d (a plain one, for the tile's number)" \
+  "--tiles takes a plain %d, not %05d" "$ggrt" render examples/scenes/glass.nff --tiles 0,1/4 -o "$td/x-%05d.exr"
 expect_err 1 "ggrt render: tiles are OpenEXR files: -o must end in .exr" "a tile is an EXR" \
   "$ggrt" render examples/scenes/glass.nff --tile 0/4 -o "$td/x.png"
 # a name with no image extension: the tiles' rule, not "end in .png or .exr"
