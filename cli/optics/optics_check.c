@@ -362,8 +362,8 @@ static int write_seed(const char *dir, const char *name, int idx, int mode, cons
     double d[8];
     unsigned char buf[66];
     char path[4096], base[64];
-    int i, j;
-    FILE *f;
+    cli_out o;
+    int i, j, rc;
     d[0] = c->v.x, d[1] = c->v.y, d[2] = c->v.z, d[3] = c->n.x, d[4] = c->n.y, d[5] = c->n.z;
     d[6] = c->ni, d[7] = c->nt;
     buf[0] = (unsigned char)mode;
@@ -377,16 +377,11 @@ static int write_seed(const char *dir, const char *name, int idx, int mode, cons
     for (i = 0; base[i]; i++)
         if (base[i] == ' ') base[i] = '-';
     snprintf(path, sizeof path, "%s/%s-%03d", dir, base, idx);
-    if (!(f = fopen(path, "wb")) || fwrite(buf, 1, sizeof buf, f) != sizeof buf) {
-        cli_error("%s: %s", path, strerror(errno));
-        if (f) fclose(f);
-        return EXIT_IO;
-    }
-    if (fclose(f) != 0) {
-        cli_error("%s: %s", path, strerror(errno));
-        return EXIT_IO;
-    }
-    return 0;
+    /* Whole or not at all, as every output (a full disk left an empty
+       seed, which a fuzzer would then run). */
+    if ((rc = cli_out_open(&o, "optics seeds", path)) != 0) return rc;
+    fwrite(buf, 1, sizeof buf, o.f);
+    return cli_out_close(&o, "optics seeds");
 }
 
 int cli_optics_seeds(int argc, char **argv)

@@ -297,3 +297,10 @@ for c in "plan examples/scenes/glass.nff -s 16x48 --tiles 49 -o $tmp/o/p.json" \
   [ $rc = 1 ] && [ "$(tail -1 "$tmp/o/hint.err")" = "(see 'ggrt $cmd --help')" ] &&
     ok "ggrt $c: exit 1 and the hint" || bad "ggrt $c: exit 1 and the hint" "rc $rc: $(cat "$tmp/o/hint.err")"
 done
+
+# optics seeds writes each seed whole or not at all (a full disk left an
+# empty seed file behind).
+( trap '' XFSZ; ulimit -f 0; "$ggrt" optics seeds "$tmp/o/seeds" ) >/dev/null 2>"$tmp/o/seeds.err"; rc=$?
+[ $rc = 3 ] && [ -z "$(ls -A "$tmp/o/seeds" 2>/dev/null)" ] &&
+  ok "optics seeds on a full disk: exit 3, no seed file left" ||
+  bad "optics seeds on a full disk: exit 3, no seed file left" "rc $rc: $(ls -A "$tmp/o/seeds" | head -3)"
