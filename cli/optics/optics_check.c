@@ -340,7 +340,14 @@ int cli_optics_check(int argc, char **argv)
         }
         h = dlopen(k.lib, RTLD_NOW | RTLD_LOCAL);
         if (!h) {
-            cli_error("%s", dlerror());
+            /* A name without '/' is searched in the system's library
+               paths, not here: say so when there is such a file here. */
+            int here = !strchr(k.lib, '/') && stat(k.lib, &st) == 0;
+            cli_error("%s%s%s%s", dlerror(),
+                      here ? " (a name without '/' is looked up in the "
+                             "library paths: give ./"
+                           : "",
+                      here ? k.lib : "", here ? " for the file here)" : "");
             return EXIT_INPUT;
         }
         k.fn = dlsym(h, k.symbol);

@@ -46,6 +46,13 @@ assert r["worst_ulp"] > 1 and r["worst_input"].startswith("v={")' "$tmp/out"
   expect_exit 4 "optics check: the textbook Fresnel formula fails" \
     "$ggrt" optics check --lib "$tb" --symbol textbook_fresnel --kind fresnel --cases 300
   expect_exit 2 "optics check: unknown symbol" "$ggrt" optics check --lib "$tb" --symbol nope
+  # A bare name is looked up in the library paths, not in this folder:
+  # the message says so when the file is here.
+  (cd "$bdir" && ./ggrt optics check --lib libtextbook_refract.so --symbol textbook_refract) \
+    >/dev/null 2>"$tmp/lib.err"
+  grep -qF "give ./libtextbook_refract.so for the file here" "$tmp/lib.err" &&
+    ok "optics check --lib NAME (no '/'), the file here: the message says ./NAME" ||
+    bad "optics check --lib NAME (no '/'), the file here: the message says ./NAME" "$(cat "$tmp/lib.err")"
 else
   bad "optics check: $tb was not built"
 fi
