@@ -97,13 +97,15 @@ int cli_same_file(const char *p, const char *q);
 int cli_check_not_read(const char *cmd, const ggScene *s, const char *const *opts,
                        const char *const *outs, int n);
 
-/* A text output file written whole or not at all: cli_out_open creates
-   "<path>.tmpPID" beside it; cli_out_close flushes, fsyncs and renames it
-   over path, or removes it on any error. Both print the reason ("ggrt CMD:
-   x.svg: No space left on device") and return 0 / EXIT_IO. */
 /* The longest path an output may have (Linux's PATH_MAX). */
 #define CLI_PATH_MAX 4096
 
+/* A text output file written whole or not at all: cli_out_open creates a
+   new file beside it (at most 200 bytes of its name, ".tmp", the process
+   id and the clock, tried again if taken; the replaced file's mode);
+   cli_out_close flushes, fsyncs and renames it over path, or removes it on
+   any error. Both print the reason ("ggrt CMD: x.svg: No space left on
+   device") and return 0 / EXIT_IO. */
 typedef struct cli_out {
     FILE *f;
     char path[CLI_PATH_MAX], tmp[CLI_PATH_MAX + 64];

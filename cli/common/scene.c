@@ -145,6 +145,7 @@ int cli_check_recordable(const char *cmd, const ggScene *s, const ggRenderOption
                  "the ray trees of one pixel could take %.0f MiB here (%d at once: %.0f MiB), "
                  "over half of this machine's %.0f MiB: lower samples, depth or ray-budget",
                  one / (1 << 20), at_once, need / (1 << 20), mem / (1 << 20));
+    cli_usage_hint();
     return EXIT_USAGE;
 }
 
@@ -160,5 +161,6 @@ int cli_check_same_size(const char *cmd, const ggScene *sa, const ggRenderOption
                  "the two sides are images of different sizes (a %dx%d, b %dx%d): give -s WxH "
                  "for both, or size=WxH in --a or --b",
                  ra.width, ra.height, rb.width, rb.height);
+    cli_usage_hint();
     return EXIT_USAGE;
 }

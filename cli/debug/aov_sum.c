@@ -172,9 +172,10 @@ static void example(const aov_file *f, ggScene *scene, const ggRenderOptions *op
         char path[512];
         const ggLedgerTerm *t = &led->terms[best];
         ggPathFormat(tr, t, path, sizeof path);
-        printf("  %s: %s, %.4g %.4g %.4g (%.2f%% of the pixel)", want ? "a path two layers match"
-                                                                   : "a path no layer matches",
-               path, t->value.r, t->value.g, t->value.b, 100 * t->share);
+        char cb[CLI_COLOR_LEN];
+        printf("  %s: %s, %s (%.2f%% of the pixel)",
+               want ? "a path two layers match" : "a path no layer matches", path,
+               cli_color(cb, sizeof cb, 4, t->value), 100 * t->share);
         if (want)
             for (k = 0; k < f->n; k++)
                 if (m[k][best]) printf(" [%s]", f->name[k]);
@@ -268,7 +269,8 @@ int aov_sum_check(const char *exr, const char *scene_arg)
         printf("\nFAIL: the layers %s%s%s the image\n", gap.pixels ? "miss light of" : "",
                gap.pixels && over.pixels ? " and " : "", over.pixels ? "count light twice in" : "");
     else if (failed)
-        printf("\nFAIL: no pixel of the image is finite: nothing could be compared\n");
+        printf("\nFAIL: no pixel is finite in the image and all its layers: nothing could be "
+               "compared\n");
     else
         printf("\nok: the layers add up to the image in all %ld pixels\n",
                (long)f.w * f.h - bad);

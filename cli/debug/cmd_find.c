@@ -167,9 +167,8 @@ static int write_overlay(const char *path, const ggFindResult *r)
     return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
 }
 
-/* --paths-jsonl, --paths-obj: every matched pixel traced again (its trees
-   are not kept by the find), in row order. */
-/* --paths-jsonl, --paths-obj: each matched pixel traced again, with a
+/* --paths-jsonl, --paths-obj: each matched pixel traced again (its trees
+   are not kept by the find), in row order, with a
    bar (this pass can take longer than the scan) and cancelled by the
    signals the scan is (nothing written). */
 static int write_paths(const find_args *a, ggScene *scene, const ggPathExpr *e,
@@ -202,11 +201,15 @@ static int write_paths(const find_args *a, ggScene *scene, const ggPathExpr *e,
         }
     cli_bar_end(&bar);
     ggTraceFree(tr);
+    /* (a signal during the last pixel: nothing written either) */
+    if (rc == EXIT_OK && cli_cancelled()) rc = -1;
     if (rc != EXIT_OK) {
         dbg_paths_abandon(&o);
         if ((sig = cli_cancelled()) != 0) {
-            cli_error_in("find", "cancelled by signal %d; %s not written", sig,
-                         a->paths_jsonl ? a->paths_jsonl : a->paths_obj);
+            cli_error_in("find", "cancelled by signal %d; %s%s%s not written", sig,
+                         a->paths_jsonl ? a->paths_jsonl : "",
+                         a->paths_jsonl && a->paths_obj ? " and " : "",
+                         a->paths_obj ? a->paths_obj : "");
             cli_cancel_exit(sig);
         }
         return rc;

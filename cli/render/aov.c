@@ -151,11 +151,13 @@ int aov_check_pngs(const aov_list *l, const char *out, const char *scene)
             cli_error("-o '%s' and --aov-png's '%s' are the same file: one would overwrite the "
                       "other",
                       out, path);
+            cli_usage_hint();
             return EXIT_USAGE;
         }
         if (cli_same_file(path, scene)) {
             cli_error("--aov-png's '%s' is the input '%s': writing it would destroy it", path,
                       scene);
+            cli_usage_hint();
             return EXIT_USAGE;
         }
         if ((rc = cli_check_output("render", path)) != 0) return rc;

@@ -169,8 +169,9 @@ static int finish_image(const render_args *a, ggImage **img, const float *cost)
         else if (!a->quiet)
             printf("heat map: %s per pixel, 0 to %.4g\n", label[a->heat], r.top);
         if (!a->quiet && !r.legend)
-            printf("heat map: no legend under it (the image is at the size limit, %lu pixels)\n",
-                   (unsigned long)GG_IMAGE_MAX_PIXELS);
+            printf("heat map: no legend under it (its rows would take the image over the limit "
+                   "of %lu pixels or %d rows)\n",
+                   (unsigned long)GG_IMAGE_MAX_PIXELS, GG_IMAGE_MAX_DIM);
         ggImageFree(*img);
         *img = map;
     }

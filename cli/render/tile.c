@@ -364,11 +364,13 @@ static int job_cut(tile_job *j, tile_list *tl, const char *plan_path)
     if (tl->n && tl->n != p.cut.n) {
         cli_error("%s cuts %d tiles, not %d: give --tile I (or I/%d)", plan_path, p.cut.n, tl->n,
                   p.cut.n);
+        cli_usage_hint();
         tile_cut_free(&p.cut);
         return EXIT_USAGE;
     }
     if (tile_list_check(tl, p.cut.n, why, sizeof why) != 0) {
         cli_error("%s: %s", plan_path, why);
+        cli_usage_hint();
         tile_cut_free(&p.cut);
         return EXIT_USAGE;
     }

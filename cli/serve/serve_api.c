@@ -665,10 +665,10 @@ static int trace_path_arg(const srv_req *r, const char *fmt, int sample, ggPathE
     return 0;
 }
 
-/* 413: a recorded tree went over SRV_TRACE_BYTES. The count is where the
-   recorder stopped: its arrays double as they grow, so the rays that fit
-   depend on the lights (docs/serve.md, limits). */
-/* (Not how far it got: a failed ggTracePixel leaves the trace empty.) */
+/* 413: a recorded tree went over SRV_TRACE_BYTES (its arrays double as
+   they grow, so the rays that fit depend on the lights: docs/serve.md,
+   limits). Not how far it got: a failed ggTracePixel leaves the trace
+   empty. */
 static void too_large(srv_resp *resp, int x, int y, const char *advice)
 {
     srv_error(resp, 413,

@@ -117,7 +117,10 @@ static void cell(char *buf, size_t n, const ggTrace *t, int i, int indent)
         static const char v[] = "vbaf"; /* visible blocked attenuated facing-away */
         k += (size_t)snprintf(buf + k, n - k, "%s%c", l ? "" : " L:", v[L->verdict & 3]);
     }
-    if (k < n) snprintf(buf + k, n - k, " (%.4g %.4g %.4g)", nd->color.r, nd->color.g, nd->color.b);
+    if (k < n) {
+        char cb[CLI_COLOR_LEN];
+        snprintf(buf + k, n - k, " (%s)", cli_color(cb, sizeof cb, 4, nd->color));
+    }
 }
 
 static void rows(FILE *f, const ggTrace *ta, int ia, const ggTrace *tb, int ib, int indent,

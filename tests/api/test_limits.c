@@ -140,9 +140,8 @@ static void test_budget_checked_before_decoding(void **state)
     ggSceneFree(s);
 }
 
-/* The budget is per scene, over every file: the second spelling of the
-   path is another file to the cache, so it is decoded and charged again. */
-/* A copy of tex1m.png: another file, with its own bytes to charge. */
+/* The budget is per scene, over every file: a copy of tex1m.png is
+   another file, decoded and charged again. */
 static const char *copy_of_tex1m(void)
 {
     static char path[512];

@@ -31,6 +31,16 @@ expect_exit() {
   if [ "$got" = "$want" ]; then ok "$name"; else bad "$name (exit $got, want $want)" "$(cat "$tmp/err")"; fi
 }
 
+# expect_msg CODE TEXT NAME CMD...: exit code, and TEXT somewhere on stderr.
+# (Here, not in a part: parts sourced before t_args.sh use it too.)
+expect_msg() {
+  want=$1; text=$2; name=$3; shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
+  if [ "$got" = "$want" ] && grep -qF -- "$text" "$tmp/err"; then ok "$name"
+  else bad "$name (exit $got, want $want)" "want: $text
+got:  $(cat "$tmp/err")"; fi
+}
+
 # expect_err CODE MESSAGE NAME CMD...: exit code and an exact stderr line.
 # bulk CMD...: a checker that runs ggrt hundreds of times (a trace per
 # pixel, a find per scene and expression). Under AddressSanitizer its

@@ -1,15 +1,6 @@
 # SPDX-License-Identifier: MIT
 # Sourced by tests/cli/run.sh: the shared argument parser (cli/common/args.c) and
-# the replay commands ggrt prints. Uses run.sh's ggrt, tmp, ok, bad.
-
-# expect_msg CODE TEXT NAME CMD...: exit code, and TEXT somewhere on stderr.
-expect_msg() {
-  want=$1; text=$2; name=$3; shift 3
-  "$@" >"$tmp/out" 2>"$tmp/err"; got=$?
-  if [ "$got" = "$want" ] && grep -qF -- "$text" "$tmp/err"; then ok "$name"
-  else bad "$name (exit $got, want $want)" "want: $text
-got:  $(cat "$tmp/err")"; fi
-}
+# the replay commands ggrt prints. Uses run.sh's ggrt, tmp, ok, bad, expect_msg.
 
 g=examples/scenes/glass.nff
 pix="expected X,Y, two whole numbers from 0 to 65535"

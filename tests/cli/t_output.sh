@@ -253,10 +253,11 @@ n=tests/data/debug/nan.nff
   "$ggrt" trace $n -s 24x18 --pixel 14,12 --ledger
   "$ggrt" render $n -s 24x18 -q -o "$tmp/o/nan.exr" --pixel 14,12 --aov 'a=C.*' 2>/dev/null
   "$ggrt" find $n -s 24x18 -q --where 'x == 14 && y == 12'
-  "$ggrt" diff $n -s 24x18 --b depth=2 --worst 3; } >"$tmp/o/nan.txt" 2>&1
+  "$ggrt" diff $n -s 24x18 --b depth=2 --worst 3
+  "$ggrt" trace $n -s 24x18 --pixel 14,12 --diff --b depth=2; } >"$tmp/o/nan.txt" 2>&1
 if grep -q 'nan inf inf' "$tmp/o/nan.txt" && ! grep -q -- '-nan' "$tmp/o/nan.txt"; then
-  ok "a NaN pixel is 'nan' in trace --path and --ledger, render --pixel, find and diff"
-else bad "a NaN pixel is 'nan' in trace --path and --ledger, render --pixel, find and diff" \
+  ok "a NaN pixel is 'nan' in trace --path, --ledger and --diff, render --pixel, find and diff"
+else bad "a NaN pixel is 'nan' in trace --path, --ledger and --diff, render --pixel, find and diff" \
   "$(grep -- '-nan' "$tmp/o/nan.txt" | head -3)"; fi
 
 # A heat map at the size limit (65536 rows: a side's limit) has no room
@@ -273,7 +274,7 @@ else bad "a heat map 65536 rows high: written without its legend, with a note" "
 # (it said "ok ... in all 0 pixels", exit 0).
 "$ggrt" render tests/data/debug/nan.nff -s 1x1 -q -o "$tmp/o/allnan.exr" --aov 'all=C.*' 2>/dev/null
 "$ggrt" check --aov-sum "$tmp/o/allnan.exr" >"$tmp/o/allnan.out" 2>&1; rc=$?
-[ $rc = 4 ] && grep -q "^FAIL: no pixel of the image is finite" "$tmp/o/allnan.out" &&
+[ $rc = 4 ] && grep -q "^FAIL: no pixel is finite in the image and all its layers" "$tmp/o/allnan.out" &&
   ok "check --aov-sum of an image without a finite pixel fails (exit 4)" ||
   bad "check --aov-sum of an image without a finite pixel fails (exit 4)" "rc $rc: $(cat "$tmp/o/allnan.out")"
 
@@ -290,7 +291,8 @@ else bad "find's replay line for a scene named -dash.nff runs" "$line"; fi
 # Usage errors found after the options are read end with the hint too.
 for c in "plan examples/scenes/glass.nff -s 16x48 --tiles 49 -o $tmp/o/p.json" \
          "render examples/scenes/glass.nff -s 16x12 --tile 0/13 -o $tmp/o/t.exr" \
-         "trace examples/scenes/glass.nff --pixel 1,1 --svg -" "bench accuracy"; do
+         "trace examples/scenes/glass.nff --pixel 1,1 --svg -" "bench accuracy" \
+         "diff examples/scenes/glass.nff -s 8x6 --b size=9x9"; do
   # shellcheck disable=SC2086
   "$ggrt" $c >/dev/null 2>"$tmp/o/hint.err"; rc=$?
   cmd=$(echo "$c" | cut -d' ' -f1); [ "$cmd" = bench ] && cmd="bench accuracy"
