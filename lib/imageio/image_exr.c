@@ -119,7 +119,9 @@ static int fail(const exr_io *io, exr_result_t rv, int code, const char *path, c
     char ebuf[128], lbuf[sizeof io->msg];
     const char *why =
         gg_image_lower(io->msg[0] ? io->msg : exr_get_default_error_message(rv), lbuf, sizeof lbuf);
-    if (rv == EXR_ERR_OUT_OF_MEMORY) code = GG_ERROR_NOMEM;
+    /* (3.1.5 also says "out of memory" for a compressed chunk that does
+       not decompress: that is a corrupt file.) */
+    if (rv == EXR_ERR_OUT_OF_MEMORY && !strstr(why, "decompress")) code = GG_ERROR_NOMEM;
     /* OpenEXR 3.1's C core cannot decompress DWAA/DWAB, for one. */
     if (rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED) {
         code = GG_ERROR_UNSUPPORTED;

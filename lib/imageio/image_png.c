@@ -18,6 +18,9 @@
 static int read_fail(FILE *fp, const char *path, const char *message, ggError *err)
 {
     char m[128];
+    /* libpng's own allocations ("Out of memory", "insufficient memory") */
+    if (strstr(message, "memory"))
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory (in libpng)", path);
     gg_image_lower(message, m, sizeof m);
     if (feof(fp)) return gg_error_set(err, GG_ERROR_PARSE, "%s: invalid PNG: truncated file", path);
     if (ferror(fp)) return gg_error_set(err, GG_ERROR_IO, "%s: cannot read: %s", path, m);
@@ -32,8 +35,10 @@ static int read_fail(FILE *fp, const char *path, const char *message, ggError *e
    while reading), and the simplified API reads every chunk before the
    first IDAT inside png_image_begin_read_*, before a limit could be set.
    So those chunks are walked here first: each must fit in what is left of
-   the file, which bounds what any of them can cost. The IDAT data and the
-   chunks after it are libpng's: it streams IDAT and reads nothing after. */
+   the file, which bounds what reading any of them can cost (and decode
+   has libpng skip those no sample depends on, so that a compressed text
+   is not inflated either). The IDAT data and the chunks after it are
+   libpng's: it streams IDAT and reads nothing after. */
 static int check_chunks(FILE *fp, const char *path, ggError *err)
 {
     unsigned char h[8];
@@ -141,6 +146,11 @@ static void convert(png_reader *r, int channels, int depth)
     }
 }
 
+#ifdef PNG_HANDLE_AS_UNKNOWN_SUPPORTED
+static const png_byte unused_chunks[] = "tEXt\0zTXt\0iTXt\0sPLT\0pCAL\0eXIf\0hIST\0sCAL\0"
+                                        "tIME\0pHYs\0bKGD\0cHRM\0sBIT\0oFFs";
+#endif
+
 /* Everything that may call on_png_error: r's fields say what to free. */
 static int decode(png_reader *r)
 {
@@ -150,6 +160,14 @@ static int decode(png_reader *r)
     if (setjmp(png_jmpbuf(r->png))) return 0;
     png_init_io(r->png, r->fp);
     png_set_user_limits(r->png, 0x7fffffff, 0x7fffffff); /* ours are checked below */
+#ifdef PNG_HANDLE_AS_UNKNOWN_SUPPORTED
+    /* The ancillary chunks no sample depends on are skipped unread: libpng
+       inflates each zTXt or compressed iTXt (to 8 MB, up to 1000 chunks)
+       and keeps the text, so a 1.5 MB file of them took 1.6 GB. gAMA,
+       sRGB, iCCP, tRNS and PLTE are still read. */
+    png_set_keep_unknown_chunks(r->png, PNG_HANDLE_CHUNK_NEVER, unused_chunks,
+                                (int)(sizeof unused_chunks / 5));
+#endif
     png_read_info(r->png, r->info);
     w = png_get_image_width(r->png, r->info);
     h = png_get_image_height(r->png, r->info);

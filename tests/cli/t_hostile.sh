@@ -95,3 +95,21 @@ with open(sys.argv[1], "w") as f:
 under_64m 2 "ggrt info: $ho/selfmtl.obj:5004:7: vertex index 9 is out of range (3 defined so far)" \
   "a $(wc -c <"$ho/selfmtl.obj")-byte OBJ naming itself as its MTL library 4000 times" \
   "$ggrt" info "$ho/selfmtl.obj"
+
+# A PNG texture with 100 zTXt chunks of 7.9 MB of text each, 7.7 KB
+# compressed: libpng inflated and kept every one (about 800 MB for this
+# 0.8 MB file; the reader now skips the chunks no sample depends on).
+python3 -c '
+import struct, sys, zlib
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+text = chunk(b"zTXt", b"k\0\0" + zlib.compress(b"A" * 7900000, 9))
+raw = zlib.compress(b"".join(b"\0" + b"\x40" * 12 for _ in range(4)))
+with open(sys.argv[1], "wb") as f:
+    f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 4, 4, 8, 2, 0, 0, 0)) +
+            text * 100 + chunk(b"IDAT", raw) + chunk(b"IEND", b""))
+' "$ho/ztxt.png"
+printf 'v from 0 0 5 at 0 0 0 up 0 1 0 angle 40 resolution 8 8\nl 1 1 5\ntexture "ztxt.png"\n%s\n' \
+  'rect -1 -1 0 2 0 0 0 2 0' >"$ho/ztxt.nff"
+under_64m 0 "rendered" "a $(wc -c <"$ho/ztxt.png")-byte PNG texture of 100 zTXt chunks (790 MB of text) reads" \
+  sh -c '"$0" render "$1" -q -o "$2" && echo rendered >&2' "$ggrt" "$ho/ztxt.nff" "$ho/ztxt-out.png"

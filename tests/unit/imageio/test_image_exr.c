@@ -665,6 +665,19 @@ static void test_exr_luminance_chroma(void **state)
     }
 }
 
+/* A compressed chunk that does not decompress (from a fuzz run): OpenEXR
+   3.1.5 says "out of memory" for it, which read as GG_ERROR_NOMEM. */
+static void test_exr_undecompressable(void **state)
+{
+    ggImage *img = NULL;
+    ggError e;
+    (void)state;
+    assert_int_equal(ggImageRead("tests/data/hostile/undecompressable.exr", NULL, &img, &e),
+                     GG_ERROR_PARSE);
+    assert_null(img);
+    assert_non_null(strstr(e.message, "invalid OpenEXR file: unable to decompress"));
+}
+
 /* The library never prints: failing reads leave stderr empty. */
 static void test_exr_silent(void **state)
 {
@@ -727,6 +740,7 @@ int main(void)
         cmocka_unit_test(test_exr_channels),
         cmocka_unit_test(test_exr_limits),
         cmocka_unit_test(test_exr_luminance_chroma),
+        cmocka_unit_test(test_exr_undecompressable),
         cmocka_unit_test(test_exr_silent),
     };
     return cmocka_run_group_tests_name("image_exr", tests, setup_dir, teardown_dir);
