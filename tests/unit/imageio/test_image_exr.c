@@ -638,30 +638,31 @@ static void write_yc(const char *path, int w, int h, int s)
     fclose(f);
 }
 
+/* write_yc's file of w x h at sampling s is refused with `why`. */
+static void yc_refused(int w, int h, int s, const char *why)
+{
+    ggImage *img = NULL;
+    ggError e;
+    char msg[600];
+    write_yc(tu_tmppath("yc.exr"), w, h, s);
+    assert_int_equal(ggImageRead(tu_tmppath("yc.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
+    assert_null(img);
+    snprintf(msg, sizeof msg, "%s: %s", tu_tmppath("yc.exr"), why);
+    assert_string_equal(e.message, msg);
+}
+
 /* Refused, with no read outside the reader's buffers (ASan): OpenEXR
    3.1.5 wrote the subsampled lines in full past ggrt's scratch buffer; and
    read with its chroma dropped, a colour image came out grey. */
 static void test_exr_luminance_chroma(void **state)
 {
     static const int sizes[][2] = {{64, 4}, {4, 2}, {2, 2}, {8, 6}};
-    ggImage *img = NULL;
-    ggError e;
-    char msg[600];
     size_t i;
     (void)state;
     for (i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
-        write_yc(tu_tmppath("yc.exr"), sizes[i][0], sizes[i][1], 2);
-        assert_int_equal(ggImageRead(tu_tmppath("yc.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
-        assert_null(img);
-        snprintf(msg, sizeof msg, "%s: subsampled channel BY is not supported",
-                 tu_tmppath("yc.exr"));
-        assert_string_equal(e.message, msg);
-        write_yc(tu_tmppath("yc1.exr"), sizes[i][0], sizes[i][1], 1);
-        assert_int_equal(ggImageRead(tu_tmppath("yc1.exr"), NULL, &img, &e), GG_ERROR_UNSUPPORTED);
-        assert_null(img);
-        snprintf(msg, sizeof msg, "%s: luminance/chroma (Y, RY, BY) images are not supported",
-                 tu_tmppath("yc1.exr"));
-        assert_string_equal(e.message, msg);
+        yc_refused(sizes[i][0], sizes[i][1], 2, "subsampled channel BY is not supported");
+        yc_refused(sizes[i][0], sizes[i][1], 1,
+                   "luminance/chroma (Y, RY, BY) images are not supported");
     }
 }
 
