@@ -17,20 +17,31 @@
 #include <time.h>
 #include <unistd.h>
 
+/* The folder of path into dir ("." for a bare name, "/" for "/x.png"):
+   0, or -1 when it does not fit. */
+static int folder_of(const char *path, char dir[CLI_PATH_MAX])
+{
+    const char *slash = strrchr(path, '/');
+    size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0;
+    if (n >= CLI_PATH_MAX) return -1;
+    if (slash)
+        memcpy(dir, path, n), dir[n] = '\0';
+    else
+        strcpy(dir, ".");
+    return 0;
+}
+
 /* A new file: its folder must exist and take files, checked now so that
    a command fails before its work, not after it (trace --svg would print
    the whole tree first). */
 static int check_folder(const char *cmd, const char *path)
 {
-    char dir[CLI_PATH_MAX] = ".";
-    const char *slash = strrchr(path, '/');
+    char dir[CLI_PATH_MAX];
     struct stat st;
-    size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0; /* "/x.png": the root */
-    if (n >= sizeof dir) {
+    if (folder_of(path, dir) != 0) {
         cli_error_in(cmd, "'%s': file name too long", path);
         return EXIT_IO;
     }
-    if (slash) memcpy(dir, path, n), dir[n] = '\0';
     if (stat(dir, &st) != 0 || (!S_ISDIR(st.st_mode) && (errno = ENOTDIR) != 0) ||
         access(dir, W_OK | X_OK) != 0) {
         cli_error_in(cmd, "cannot write '%s': %s: %s", path, dir, strerror(errno));
@@ -43,13 +54,10 @@ static int check_folder(const char *cmd, const char *path)
    its owner, the folder's or root rename over it: not us. */
 static int sticky_other(const char *path, const struct stat *st)
 {
-    char dir[CLI_PATH_MAX] = ".";
-    const char *slash = strrchr(path, '/');
-    size_t n = slash ? (size_t)(slash - path) + (slash == path) : 0;
+    char dir[CLI_PATH_MAX];
     struct stat ds;
     uid_t me = geteuid();
-    if (n >= sizeof dir) return 0; /* check_folder says so */
-    if (slash) memcpy(dir, path, n), dir[n] = '\0';
+    if (folder_of(path, dir) != 0) return 0; /* check_folder says so */
     return me != 0 && st->st_uid != me && stat(dir, &ds) == 0 && (ds.st_mode & S_ISVTX) &&
            ds.st_uid != me;
 }
