@@ -102,12 +102,25 @@ def closest_on_triangle(p, a, b, c):
     return (a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w)
 
 
-def distance(p, faces, tol):
+def boxed(faces):
+    """Each face with its box: (lo, hi, face); the box computed once per
+    object, not once per hit point."""
+    out = []
+    for fc in faces:
+        lo = tuple(min(v[k] for v in fc) for k in range(3))
+        hi = tuple(max(v[k] for v in fc) for k in range(3))
+        out.append((lo, hi, fc))
+    return out
+
+
+def distance(p, boxes, tol):
     """Distance from p to the nearest face (fans of triangles), faces whose
     box is farther than tol skipped."""
     best = math.inf
-    for fc in faces:
-        if any(p[k] < min(v[k] for v in fc) - tol or p[k] > max(v[k] for v in fc) + tol for k in range(3)):
+    px, py, pz = p
+    for lo, hi, fc in boxes:
+        if (px < lo[0] - tol or px > hi[0] + tol or py < lo[1] - tol or py > hi[1] + tol or
+                pz < lo[2] - tol or pz > hi[2] + tol):
             continue
         for i in range(1, len(fc) - 1):
             q = closest_on_triangle(p, fc[0], fc[i], fc[i + 1])
@@ -115,9 +128,12 @@ def distance(p, faces, tol):
     return best
 
 
-def tolerance(kind, faces, seg, scale):
-    vs = [v for fc in faces for v in fc]
-    ext = max(max(v[k] for v in vs) - min(v[k] for v in vs) for k in range(3))
+def extent(boxes):
+    """The longest side of the box around every face."""
+    return max(max(b[1][k] for b in boxes) - min(b[0][k] for b in boxes) for k in range(3))
+
+
+def tolerance(kind, ext, seg, scale):
     # radius at most half the extent; a cone's quads (between its circles)
     # are off the surface by a chord's sagitta, a sphere's (between two
     # parallels and two meridians, both pi/seg from their middle) by
@@ -154,9 +170,10 @@ def check(ggrt, scene, tmp):
     m = re.search(r"^objects\s+(\d+)", info.stdout, re.M)
     want = int(m.group(1)) if m else -1
     if os.path.getsize(obj) > BIG:
-        with open(obj) as f:
-            head = f.readline()
-        n = sum(1 for line in open(obj) if line.startswith("o "))
+        with open(obj, "rb") as f:
+            data = f.read()
+        head = data[:data.find(b"\n") + 1].decode("utf-8", "replace")
+        n = data.count(b"\no ") + data.startswith(b"o ")
         if not head.startswith("# ggrt trace --scene-obj: ") or n != want:
             return "header %r, %d objects of %d" % (head, n, want)
         return None
@@ -173,7 +190,7 @@ def check(ggrt, scene, tmp):
         if not m or not objs[name][1]:
             return "object %s: a bad name or no face" % name
         names[int(m.group(1))] = (name, m.group(2), int(m.group(3)))
-    checked = 0
+    checked, prepared = 0, {}
     for i, (x, y) in enumerate(PIXELS):
         doc = json.loads(r.stdout) if i == 0 else \
             json.loads(run([ggrt, "trace", scene, "-s", "16x12", "--pixel", "%d,%d" % (x, y), "-f", "json"]).stdout)
@@ -181,11 +198,14 @@ def check(ggrt, scene, tmp):
             name, kind, line = names.get(h["object"], (None, None, None))
             if name is None or kind != h["shape"] or line != h["line"]:
                 return "hit on object %d (%s line %d), the OBJ says %s" % (h["object"], h["shape"], h["line"], name)
-            faces = objs[name][1]
+            if name not in prepared:
+                boxes = boxed(objs[name][1])
+                prepared[name] = (boxes, extent(boxes))
+            boxes, ext = prepared[name]
             p = tuple(h["point"])
             scale = max(1.0, max(abs(c) for c in p))
-            tol = tolerance(kind, faces, seg, scale)
-            d = distance(p, faces, tol)
+            tol = tolerance(kind, ext, seg, scale)
+            d = distance(p, boxes, tol)
             if not d <= tol:
                 return "pixel %d,%d: a hit on %s at %r is %g from its faces (at most %g)" % (x, y, name, p, d, tol)
             checked += 1
