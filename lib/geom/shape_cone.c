@@ -40,11 +40,16 @@ uint32_t gg_cone_slices(const gg_cone *c)
     return n < 1 ? 1 : n > 8 ? 8 : (uint32_t)n;
 }
 
+/* Slice i of n: z in [h i / n, h (i + 1) / n), the last one closed at h.
+   Every slice computes the same t and z for a ray (the same kernel data
+   but zlo and zhi), so half-open slices give each crossing to exactly
+   one of them: with closed ones, a crossing on a boundary entered a
+   coloured shadow's list twice and dimmed it twice. */
 void gg_cone_slice(const gg_cone *c, uint32_t i, uint32_t n, gg_kcone *out)
 {
     *out = c->k;
     out->zlo = i == 0 ? 0 : c->k.h * i / n;
-    out->zhi = i + 1 == n ? c->k.h : c->k.h * (i + 1) / n;
+    out->zhi = i + 1 == n ? c->k.h : nextafter(c->k.h * (i + 1) / n, 0);
 }
 
 void gg_cone_bounds(const gg_kcone *k, double lo[3], double hi[3])

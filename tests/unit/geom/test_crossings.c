@@ -400,6 +400,48 @@ static void test_shared_horizontal_edge_once(void **state)
     }
 }
 
+/* A transparent cylinder or cone is cut into up to 8 slices along its
+   axis (gg_cone_slice), all with the same surface: a shadow segment
+   through the axis at a slice boundary crosses the surface twice, once
+   per wall, not once per slice that holds the boundary. Random frames,
+   radii and boundaries; the boundaries at z = i/8 of a length-1 axis,
+   exact in binary. */
+static void test_cone_slice_boundary_once(void **state)
+{
+    tu_rng r = {113};
+    int i;
+    (void)state;
+    for (i = 0; i < 400; i++) {
+        ggVec3 base = rvec(&r, -3, 3), ax = rvec(&r, -1, 1), side, p, o, e;
+        double len, rb = tu_range(&r, 0.01, 0.04), ra = i & 1 ? rb : tu_range(&r, 0.01, 0.04);
+        double z = (double)(1 + i % 7) / 8;
+        gg_geom *g = gg_geom_create(NULL);
+        gg_rayq q;
+        gg_tcol all;
+        uint32_t cache = 0;
+        int pr;
+        len = sqrt(ax.x * ax.x + ax.y * ax.y + ax.z * ax.z);
+        ax = V3(ax.x / len, ax.y / len, ax.z / len);
+        /* a direction across the axis */
+        side = fabs(ax.x) < 0.5 ? V3(0, ax.z, -ax.y) : V3(ax.y, -ax.x, 0);
+        p = V3(base.x + z * ax.x, base.y + z * ax.y, base.z + z * ax.z);
+        o = V3(p.x - side.x, p.y - side.y, p.z - side.z);
+        e = V3(p.x + side.x, p.y + side.y, p.z + side.z);
+        pr = gg_geom_add_cone(g, base, rb, V3(base.x + ax.x, base.y + ax.y, base.z + ax.z), ra, 0);
+        assert_true(pr >= 0);
+        gg_geom_set_flags(g, pr, GG_PRIM_TRANSPARENT);
+        assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+        q = segment(o, e);
+        assert_int_equal(gg_geom_occluded(g, &q, &cache, &all), 0);
+        if (!(all.complete && all.n == 2))
+            print_error("segment %d (z = %g): %d crossings, complete %d\n", i, z, (int)all.n,
+                        (int)all.complete);
+        assert_true(all.complete);
+        assert_int_equal(all.n, 2);
+        gg_geom_free(g);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -408,6 +450,7 @@ int main(void)
         cmocka_unit_test(test_overflow),
         cmocka_unit_test(test_inside_shortcut),
         cmocka_unit_test(test_shared_horizontal_edge_once),
+        cmocka_unit_test(test_cone_slice_boundary_once),
     };
     return cmocka_run_group_tests_name("crossings", tests, NULL, NULL);
 }
