@@ -7,6 +7,7 @@
 
 #include "ggrt/base.h"
 
+#include <float.h>
 #include <math.h>
 
 static inline ggVec3 v3(double x, double y, double z)
@@ -41,16 +42,18 @@ static inline ggVec3 v3norm(ggVec3 a)
    before it is squared. */
 ggVec3 gg_vec_norm_scaled(ggVec3 a);
 /* v3norm for a vector of any size, for the normals of flat shapes that
-   may be tiny: where |a|^2 is below 2^-968 some of its terms lose bits in
-   the subnormal range, and the normals of triangles 2^-260 across came
-   out 1.3 long (a highlight of 1e6). Elsewhere v3norm's answer, to the
-   bit; v3norm itself stays one comparison shorter for the shading's hot
-   paths (a test there cost 0.5-0.8% of a render's instructions). */
+   may be tiny and gradients that may be tiny or huge: where |a|^2 is
+   below 2^-968 some of its terms lose bits in the subnormal range, and
+   the normals of triangles 2^-260 across came out 1.3 long (a highlight
+   of 1e6); where it overflows, v3norm gives the zero vector. Elsewhere
+   v3norm's answer, to the bit; v3norm itself stays one comparison shorter
+   for the shading's hot paths (a test there cost 0.5-0.8% of a render's
+   instructions). */
 #define GG_VEC_SQ_MIN 0x1p-968
 static inline ggVec3 v3unit(ggVec3 a)
 {
     double l2 = v3dot(a, a);
-    if (l2 >= GG_VEC_SQ_MIN) return v3scale(a, 1.0 / sqrt(l2));
+    if (l2 >= GG_VEC_SQ_MIN && l2 <= DBL_MAX) return v3scale(a, 1.0 / sqrt(l2));
     return gg_vec_norm_scaled(a);
 }
 static inline double v3maxabs(ggVec3 a)

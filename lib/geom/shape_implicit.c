@@ -35,7 +35,9 @@ void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg
     ggVec3 lo, hi, n;
     out->p = v3madd(q->o, q->d, h->t);
     n = gg_implicit_normal_step(imp, out->p, q->opt->gradient_h);
-    n = v3norm(n);
+    /* v3unit: a gradient below 2^-484 or above 2^512 has no finite |n|^2,
+       yet a direction (f and 1e200 f are the same surface) */
+    n = v3unit(n);
     if (!(v3dot(n, n) > 0)) n = v3norm(v3neg(q->d)); /* a critical point of f */
     out->ng = n;
     out->ns = n;

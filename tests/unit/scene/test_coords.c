@@ -359,6 +359,46 @@ static void test_tiny_flat_shapes(void **state)
     assert_int_equal(bad, 0);
 }
 
+/* f and c f are one surface with one normal, for any c > 0: the implicit
+   unit sphere written as (x^2 + y^2 + z^2 - 1) 2^k, hit above (0.3, 0.4),
+   has the normal (0.3, 0.4, 0.75^0.5) at every k whose gradient is a
+   finite double. An audit found gradients below about 2^-512 or above
+   2^512 (|grad f|^2 out of range) taken as a critical point: the normal
+   was -d. */
+static void test_implicit_gradient_every_size(void **state)
+{
+    static const int exps[] = {-1000, -900, -700, -540, -520, -500, 0,
+                               500,   520,  540,  700,  900,  1000};
+    size_t i;
+    int bad = 0;
+    (void)state;
+    for (i = 0; i < sizeof exps / sizeof *exps; i++) {
+        ggScene *s = ggSceneCreate(NULL);
+        ggMaterial m = ggMaterialDefault();
+        ggImplicit *imp;
+        ggError e;
+        ggRay r;
+        ggHit h;
+        char f[96];
+        int mat = ggSceneAddMaterial(s, &m);
+        snprintf(f, sizeof f, "(x*x + y*y + z*z - 1) * %.17g", ldexp(1, exps[i]));
+        if (ggImplicitCreateExpr(f, vec3(-2, -2, -2), vec3(2, 2, 2), NULL, &imp, &e) != GG_OK)
+            fail_msg("%s: %s", f, e.message);
+        assert_true(ggSceneAddImplicit(s, mat, imp) >= 0);
+        assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+        r.o = vec3(0.3, 0.4, 5), r.d = vec3(0, 0, -1);
+        assert_true(ggSceneIntersect(s, r, 0, INFINITY, &h));
+        if (!(fabs(h.ng.x - 0.3) <= 1e-9 && fabs(h.ng.y - 0.4) <= 1e-9 &&
+              fabs(h.ng.z - sqrt(0.75)) <= 1e-9)) {
+            print_error("f * 2^%d: normal (%.17g %.17g %.17g), want (0.3 0.4 %.17g)\n", exps[i],
+                        h.ng.x, h.ng.y, h.ng.z, sqrt(0.75));
+            bad++;
+        }
+        ggSceneFree(s);
+    }
+    assert_int_equal(bad, 0);
+}
+
 /* A scene spanning less than GG_SCENE_SIZE_MIN is refused by
    ggScenePrepare with an error that says so, and renders nothing; one
    spanning just more is prepared. */
@@ -393,9 +433,13 @@ static void test_too_small_is_refused(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_every_scale_is_hit),   cmocka_unit_test(test_beyond_is_refused),
-        cmocka_unit_test(test_every_direction_size), cmocka_unit_test(test_scaled_renders_same),
-        cmocka_unit_test(test_too_small_is_refused), cmocka_unit_test(test_tiny_flat_shapes),
+        cmocka_unit_test(test_every_scale_is_hit),
+        cmocka_unit_test(test_beyond_is_refused),
+        cmocka_unit_test(test_every_direction_size),
+        cmocka_unit_test(test_scaled_renders_same),
+        cmocka_unit_test(test_too_small_is_refused),
+        cmocka_unit_test(test_tiny_flat_shapes),
+        cmocka_unit_test(test_implicit_gradient_every_size),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
