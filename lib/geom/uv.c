@@ -138,22 +138,56 @@ int gg_uv_triangle(const ggVec3 v[3], const double *tuv, ggVec3 p, double uv[2])
     return 0;
 }
 
+/* The largest of the fan's cross products (p_i - p_0) x (p_i+1 - p_0),
+   each offset times s: a normal of a planar polygon whatever its winding. */
+static ggVec3 fan_normal(const ggVec3 *p, int nv, double s)
+{
+    ggVec3 best = v3(0, 0, 0);
+    int i;
+    for (i = 1; i + 1 < nv; i++) {
+        ggVec3 x = v3cross(v3scale(v3sub(p[i], p[0]), s), v3scale(v3sub(p[i + 1], p[0]), s));
+        if (v3maxabs(x) > v3maxabs(best)) best = x;
+    }
+    return best;
+}
+
+/* The plane's normal. Newell's normal, about the centroid c to keep the
+   products small: the area-weighted normal of any planar (or nearly
+   planar) polygon, concave or not, pointing to the side it runs
+   counter-clockwise. The offsets from c are scaled by a power of two s
+   (exactly) to near 1, so that the products neither underflow (polygons
+   under 2^-511 across had no normal and vanished) nor overflow; the
+   normal's bits are those without s. Where the lobes of a self-crossing
+   polygon cancel (a bow tie), Newell's sum is 0 or rounding: then the
+   fan's largest cross product (the polygon had vanished, and one vertex
+   moved by 1e-6 brought both lobes back). */
+static ggVec3 plane_normal(const ggVec3 *p, int nv, ggVec3 c)
+{
+    ggVec3 n = v3(0, 0, 0);
+    double m = 0, s, sum = 0;
+    int i;
+    for (i = 0; i < nv; i++) m = fmax(m, v3maxabs(v3sub(p[i], c)));
+    if (!(m > 0) || !isfinite(m)) return n;
+    s = ldexp(1, -ilogb(m));
+    for (i = 0; i < nv; i++) {
+        ggVec3 a = v3scale(v3sub(p[i], c), s), b = v3scale(v3sub(p[i + 1 < nv ? i + 1 : 0], c), s);
+        ggVec3 x = v3cross(a, b);
+        n = v3add(n, x);
+        sum += fabs(x.x) + fabs(x.y) + fabs(x.z);
+    }
+    return v3maxabs(n) > 0x1p-40 * sum ? n : fan_normal(p, nv, s);
+}
+
 int gg_uv_plane_make(const ggVec3 *p, int nv, gg_uv_plane *out)
 {
-    ggVec3 c = v3(0, 0, 0), n = v3(0, 0, 0), eu = v3(0, 0, 0);
+    ggVec3 c = v3(0, 0, 0), n, eu = v3(0, 0, 0);
     double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
     int i;
     memset(out, 0, sizeof *out);
     if (nv < 3) return -1;
     for (i = 0; i < nv; i++) c = v3add(c, p[i]);
     c = v3scale(c, 1.0 / nv);
-    /* Newell's normal, about the centroid to keep the products small: the
-       area-weighted normal of any planar (or nearly planar) polygon,
-       concave or not, pointing to the side it runs counter-clockwise. */
-    for (i = 0; i < nv; i++) {
-        ggVec3 a = v3sub(p[i], c), b = v3sub(p[i + 1 < nv ? i + 1 : 0], c);
-        n = v3add(n, v3cross(a, b));
-    }
+    n = plane_normal(p, nv, c);
     if (!(v3maxabs(n) > 0) || !v3finite(n)) return -1; /* not |n|^2: it underflows */
     n = v3unit(n);
     for (i = 1; i < nv && v3dot(eu, eu) == 0; i++) {

@@ -815,6 +815,46 @@ static void test_polygon_pentagram(void **state)
     gg_geom_free(g);
 }
 
+/* A bow tie whose two lobes have equal and opposite areas: Newell's
+   normal sums to 0, yet the polygon is planar and has a plane. Both lobes
+   are hit (even-odd), as they are when one vertex moves by 1e-6 and the
+   sum is not 0; in any plane, tilted and at every size from 2^-520 to
+   2^500 (the polygon had vanished, gg_uv_plane_make refusing it). */
+static void test_polygon_bow_tie(void **state)
+{
+    static const int exps[] = {-520, -300, 0, 300, 500};
+    static const double corner[4][2] = {{-1, -1}, {1, 1}, {1, -1}, {-1, 1}};
+    size_t e;
+    int tilt;
+    (void)state;
+    for (e = 0; e < sizeof exps / sizeof *exps; e++)
+        for (tilt = 0; tilt < 2; tilt++) {
+            const double S = ldexp(1, exps[e]), c = tilt ? 0.6 : 1, sn = tilt ? 0.8 : 0;
+            gg_geom *g = gg_geom_create(NULL);
+            ggVec3 p[4];
+            gg_rayq q;
+            gg_hit h;
+            int i, side;
+            /* the bow tie in the plane spanned by x and (0, c, sn) */
+            for (i = 0; i < 4; i++)
+                p[i] = V(corner[i][0] * S, corner[i][1] * S * c, corner[i][1] * S * sn);
+            assert_int_equal(gg_geom_add_polygon(g, p, 4, 0), 0);
+            assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+            for (side = -1; side <= 1; side += 2) {
+                /* the middle of the left and right lobes, and above the crossing */
+                double y = 0.125 * S;
+                q = ray(V(side * 0.5 * S, y * c, y * sn + 4 * S), V(0, 0, -1));
+                if (!gg_geom_intersect(g, &q, &h))
+                    fail_msg("2^%d, tilt %d: the %s lobe is not hit", exps[e], tilt,
+                             side < 0 ? "left" : "right");
+                assert_close(h.t / S, 4, 1e-12);
+                q = ray(V(0, (side * 0.5 * S) * c, (side * 0.5 * S) * sn + 4 * S), V(0, 0, -1));
+                assert_false(gg_geom_intersect(g, &q, &h));
+            }
+            gg_geom_free(g);
+        }
+}
+
 static void test_degenerate(void **state)
 {
     gg_geom *g = gg_geom_create(NULL);
@@ -882,6 +922,7 @@ int main(void)
         cmocka_unit_test(test_polygon_gear),
         cmocka_unit_test(test_polygon_pieces_watertight),
         cmocka_unit_test(test_polygon_pentagram),
+        cmocka_unit_test(test_polygon_bow_tie),
         cmocka_unit_test(test_degenerate),
     };
     return cmocka_run_group_tests_name("shapes", tests, NULL, NULL);
