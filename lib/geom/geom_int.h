@@ -118,7 +118,8 @@ typedef struct gg_kcone {
     double zlo, zhi;                     /* the slice of [0, h] this element covers */
 } gg_kcone;
 typedef struct gg_krect {
-    double c[3], n[3], a1[3], a2[3]; /* corner, e1 x e2, dual basis of (e1, e2) */
+    double v[4][3];            /* corners c, c + e1, (c + e1) + e2, c + e2 */
+    double n[3], a1[3], a2[3]; /* e1 x e2, dual basis of (e1, e2) */
 } gg_krect;
 
 /* ---- primitives in insertion order ---- */

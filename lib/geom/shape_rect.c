@@ -25,6 +25,20 @@ static int dual_scaled(ggVec3 e1, ggVec3 e2, ggVec3 *n, ggVec3 *a1, ggVec3 *a2)
     return v3finite(*a1) && v3finite(*a2) ? 0 : -1;
 }
 
+/* The corners c, c + e1, (c + e1) + e2, c + e2: the kernel's edges, the
+   bounds' box. -1 if one is not finite. */
+static int set_corners(gg_krect *k, ggVec3 c, ggVec3 e1, ggVec3 e2)
+{
+    ggVec3 p[4];
+    int i;
+    p[0] = c, p[1] = v3add(c, e1), p[2] = v3add(p[1], e2), p[3] = v3add(c, e2);
+    for (i = 0; i < 4; i++) {
+        if (!v3finite(p[i])) return -1;
+        k->v[i][0] = p[i].x, k->v[i][1] = p[i].y, k->v[i][2] = p[i].z;
+    }
+    return 0;
+}
+
 int gg_rect_prepare(ggVec3 corner, ggVec3 e1, ggVec3 e2, gg_rect *out)
 {
     ggVec3 n = v3cross(e1, e2), a1, a2;
@@ -37,7 +51,7 @@ int gg_rect_prepare(ggVec3 corner, ggVec3 e1, ggVec3 e2, gg_rect *out)
     } else if (dual_scaled(e1, e2, &n, &a1, &a2)) {
         return -1;
     }
-    out->k.c[0] = corner.x, out->k.c[1] = corner.y, out->k.c[2] = corner.z;
+    if (set_corners(&out->k, corner, e1, e2)) return -1;
     out->k.n[0] = n.x, out->k.n[1] = n.y, out->k.n[2] = n.z;
     out->k.a1[0] = a1.x, out->k.a1[1] = a1.y, out->k.a1[2] = a1.z;
     out->k.a2[0] = a2.x, out->k.a2[1] = a2.y, out->k.a2[2] = a2.z;
@@ -48,15 +62,11 @@ int gg_rect_prepare(ggVec3 corner, ggVec3 e1, ggVec3 e2, gg_rect *out)
 
 void gg_rect_bounds(const gg_rect *r, double lo[3], double hi[3])
 {
-    ggVec3 c = v3(r->k.c[0], r->k.c[1], r->k.c[2]);
-    ggVec3 p[4];
     int i, k;
-    p[0] = c, p[1] = v3add(c, r->e1), p[2] = v3add(c, r->e2);
-    p[3] = v3add(p[1], r->e2);
     for (k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     for (i = 0; i < 4; i++)
         for (k = 0; k < 3; k++) {
-            double v = v3get(p[i], k);
+            double v = r->k.v[i][k];
             double pad = fabs(v) * 0x1p-48;
             lo[k] = v - pad < lo[k] ? v - pad : lo[k];
             hi[k] = v + pad > hi[k] ? v + pad : hi[k];
@@ -66,7 +76,7 @@ void gg_rect_bounds(const gg_rect *r, double lo[3], double hi[3])
 /* (u, v) = (s, t) in [0,1]^2; ng = unit e1 x e2. */
 void gg_rect_surface(const gg_rect *r, const gg_rayq *q, const gg_hit *h, gg_surf *out)
 {
-    ggVec3 c = v3(r->k.c[0], r->k.c[1], r->k.c[2]);
+    ggVec3 c = v3(r->k.v[0][0], r->k.v[0][1], r->k.v[0][2]);
     ggVec3 a = v3scale(r->e1, h->b1), b = v3scale(r->e2, h->b2);
     ggVec3 n = v3unit(v3(r->k.n[0], r->k.n[1], r->k.n[2]));
     (void)q;

@@ -195,7 +195,7 @@ static void slot_points(const gg_geom *g, const gg_slot *s, double lo[3], double
     }
     case GG_SHAPE_RECT: {
         const gg_rect *r = &g->rects[p->data];
-        const double *c = r->k.c;
+        const double *c = r->k.v[0];
         PT(c[0], c[1], c[2]);
         PT(c[0] + r->e1.x, c[1] + r->e1.y, c[2] + r->e1.z);
         PT(c[0] + r->e2.x, c[1] + r->e2.y, c[2] + r->e2.z);
