@@ -7,6 +7,7 @@
 #include "testutil.h"
 
 #include "geom_int.h"
+#include "implicit.h"
 
 #include <float.h>
 #include <math.h>
@@ -53,14 +54,30 @@ static gg_rayq ray(ggVec3 o, ggVec3 d)
     return q;
 }
 
-enum { S_SPHERE, S_TRI, S_CYL, S_CONE, S_RECT, S_POLY, S_COUNT };
-static const char *names[S_COUNT] = {"sphere", "triangle", "cylinder", "cone", "rect", "polygon"};
+enum { S_SPHERE, S_TRI, S_CYL, S_CONE, S_RECT, S_POLY, S_IMPLICIT, S_COUNT };
+static const char *names[S_COUNT] = {"sphere", "triangle", "cylinder", "cone",
+                                     "rect",   "polygon",  "implicit"};
 
 typedef struct shape {
     int kind;
     ggVec3 c, axis;  /* centre / base, unit axis for cones */
     double r, r2, h; /* radius, apex radius, height */
+    ggImplicit *imp; /* S_IMPLICIT: the sphere as (x - cx)^2 + ... - r^2 */
 } shape;
+
+/* The implicit sphere of radius r about t, in the box t +- 1.5 r. */
+static ggImplicit *implicit_sphere(ggVec3 t, double r)
+{
+    char f[256];
+    ggImplicit *imp;
+    ggError e;
+    snprintf(f, sizeof f, "(x - %.17g)^2 + (y - %.17g)^2 + (z - %.17g)^2 - %.17g", t.x, t.y, t.z,
+             r * r);
+    if (ggImplicitCreateExpr(f, sub(t, V(1.5 * r, 1.5 * r, 1.5 * r)),
+                             add(t, V(1.5 * r, 1.5 * r, 1.5 * r)), NULL, &imp, &e) != GG_OK)
+        fail_msg("%s: %s", f, e.message);
+    return imp;
+}
 
 /* One shape of the kind, of size ~scale, centred at t. */
 static shape make(gg_geom *g, int kind, double scale, ggVec3 t, tu_rng *r)
@@ -68,7 +85,7 @@ static shape make(gg_geom *g, int kind, double scale, ggVec3 t, tu_rng *r)
     shape s;
     ggVec3 a = tu_unit(r), b = unit(cross(a, tu_unit(r))), c = cross(a, b);
     int id = -1;
-    s.kind = kind, s.c = t, s.axis = a, s.r = scale, s.r2 = scale, s.h = 2 * scale;
+    s.kind = kind, s.c = t, s.axis = a, s.r = scale, s.r2 = scale, s.h = 2 * scale, s.imp = NULL;
     /* long enough to be split into 4 height slices (gg_cone_slices) */
     if (kind == S_CYL || kind == S_CONE) s.h = 12 * scale;
     switch (kind) {
@@ -89,6 +106,10 @@ static shape make(gg_geom *g, int kind, double scale, ggVec3 t, tu_rng *r)
         break;
     case S_RECT:
         id = gg_geom_add_rect(g, t, mul(b, scale), mul(add(c, mul(b, 0.3)), scale), 0);
+        break;
+    case S_IMPLICIT:
+        s.imp = implicit_sphere(t, scale);
+        id = gg_geom_add_implicit(g, s.imp, 0);
         break;
     default: {
         ggVec3 p[12];
@@ -119,7 +140,7 @@ static long double first_root(const shape *s, ggVec3 o, ggVec3 d)
     long double fz = (long double)o.z - s->c.z, A, B, C, disc, t[2];
     long double fzz = 0, dz = 0;
     int i;
-    if (s->kind == S_SPHERE) {
+    if (s->kind == S_SPHERE || s->kind == S_IMPLICIT) {
         A = (long double)d.x * d.x + (long double)d.y * d.y + (long double)d.z * d.z;
         B = fx * d.x + fy * d.y + fz * d.z;
         C = fx * fx + fy * fy + fz * fz - (long double)s->r * s->r;
@@ -141,7 +162,7 @@ static long double first_root(const shape *s, ggVec3 o, ggVec3 d)
     for (i = 0; i < 2; i++) {
         long double z = fzz + t[i] * dz;
         if (t[i] <= 0) continue;
-        if (s->kind != S_SPHERE && (z < 0 || z > s->h)) continue;
+        if ((s->kind == S_CYL || s->kind == S_CONE) && (z < 0 || z > s->h)) continue;
         return t[i];
     }
     return -1;
@@ -224,10 +245,11 @@ static void leave(int kind, double scale, ggVec3 t, int n, tu_rng *r, counts *ct
                     t.x, t.y, t.z, i, tries);
     assert_int_equal(i, n);
     gg_geom_free(g);
+    ggImplicitFree(s.imp);
 }
 
 /* Scales 1e-6 .. 1e6, at the origin and translated by up to 1e5 per
-   axis, six shape kinds: 6 * 7 * 2 * 12000 > 1e6 secondary rays. */
+   axis, seven shape kinds: 7 * 7 * 2 * 12000 > 1e6 secondary rays. */
 static void test_no_rehits(void **state)
 {
     static const double scales[] = {1e-6, 1e-4, 1e-2, 1, 1e2, 1e4, 1e6};
@@ -424,12 +446,55 @@ static void test_offset_ulp_step(void **state)
     }
 }
 
+/* An implicit surface's offset follows its root tolerance, not the size
+   of its box: a ball of radius 0.005 resting on the plane y = -1, written
+   as f = y + 1 in a box 2e6 wide, shadows the plane just beside where it
+   touches. The offset was 1e-9 of the box (8 * 0.002 along the normal:
+   above the ball's top), and the contact shadow was lost. */
+static void test_implicit_offset_follows_tolerance(void **state)
+{
+    gg_geom *g = gg_geom_create(NULL);
+    ggImplicit *imp;
+    ggError e;
+    int i, blocked = 0;
+    (void)state;
+    assert_int_equal(
+        ggImplicitCreateExpr("y + 1", V(-1e6, -2, -1e6), V(1e6, 0, 1e6), NULL, &imp, &e), GG_OK);
+    assert_int_equal(gg_geom_add_implicit(g, imp, 0), 0);
+    assert_true(gg_geom_add_sphere(g, V(0, -0.995, 0), 0.005, 1) >= 0);
+    assert_int_equal(gg_geom_build(g, NULL), GG_OK);
+    for (i = 0; i < 8; i++) {
+        /* plane points under the ball, 0.001 to 0.0045 from the contact */
+        double x = 0.001 + 0.0005 * i, gap = 0.005 - sqrt(0.005 * 0.005 - x * x);
+        /* straight down from the gap between the ball and the plane */
+        gg_rayq q = ray(V(x, -1 + 0.5 * gap, 0), V(0, -1, 0)), sh;
+        gg_hit h;
+        gg_surf sf;
+        uint32_t cache = 0;
+        assert_true(gg_geom_intersect(g, &q, &h));
+        assert_int_equal(h.prim, 0);
+        gg_geom_surface(g, &q, &h, &sf, 0);
+        sh = ray(gg_offset_origin(&sf, V(0, 1, 0)), V(0, 13, 0));
+        sh.tmax = 1;
+        blocked += gg_geom_occluded(g, &sh, &cache, NULL);
+        if (i == 0)
+            print_message("perr %.3g at the plane, tolerance %.3g\n", sf.perr,
+                          gg_implicit_tolerance(imp));
+    }
+    assert_int_equal(blocked, 8);
+    gg_geom_free(g);
+    ggImplicitFree(imp);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_offset_basics),  cmocka_unit_test(test_offset_ulp_step),
-        cmocka_unit_test(test_no_rehits),      cmocka_unit_test(test_fixed_epsilon_fails),
+        cmocka_unit_test(test_offset_basics),
+        cmocka_unit_test(test_offset_ulp_step),
+        cmocka_unit_test(test_no_rehits),
+        cmocka_unit_test(test_fixed_epsilon_fails),
         cmocka_unit_test(test_nested_spheres),
+        cmocka_unit_test(test_implicit_offset_follows_tolerance),
     };
     return cmocka_run_group_tests_name("offset", tests, NULL, NULL);
 }
