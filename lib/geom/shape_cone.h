@@ -14,7 +14,8 @@
    that the world-space form suffers. A cylinder (k = 0) uses the same
    stable discriminant as the sphere (distance of the line from the axis);
    a cone uses b^2 - ac with the stable root pair c/q, q/a. Returns the
-   nearest root in (r->tmin, tmax] whose z lies in [0, h]. */
+   nearest root in (r->tmin, tmax] whose z lies in the element's
+   [zlo, zhi], all of [0, h] or a slice of it (gg_cone_slice). */
 GG_INLINE int gg_cone_kernel(const gg_kcone *cn, const gg_rpre *r, double tmax, double *t)
 {
     double wx = r->o[0] - cn->base[0], wy = r->o[1] - cn->base[1], wz = r->o[2] - cn->base[2];
