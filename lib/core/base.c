@@ -292,3 +292,25 @@ ggVec3 gg_vec_norm_scaled(ggVec3 a)
     double l = sqrt(v3dot(b, b)); /* a unit vector: 2^k cancels */
     return l > 0 ? v3scale(b, 1.0 / l) : a;
 }
+
+/* ---- hashing (core.h) ---- */
+
+uint64_t gg_hash_seed(const void *p)
+{
+    volatile char here = 0;
+    uint64_t a = (uint64_t)(uintptr_t)p, b = (uint64_t)(uintptr_t)&here;
+    return gg_hash_word(gg_hash_word(0x243f6a8885a308d3ull, a), b ^ here);
+}
+
+uint64_t gg_hash_bytes(uint64_t seed, const void *p, size_t n)
+{
+    const unsigned char *c = p;
+    uint64_t h = seed, w;
+    size_t i;
+    for (i = 0; i + 8 <= n; i += 8) {
+        memcpy(&w, c + i, 8);
+        h = gg_hash_word(h, w);
+    }
+    for (w = 0; i < n; i++) w = w << 8 | c[i];
+    return gg_hash_word(gg_hash_word(h, w), n);
+}

@@ -24,6 +24,7 @@ typedef struct gg_names {
     size_t n, cap;
     uint32_t *tab; /* open addressing: index + 1, 0 empty */
     size_t tcap;
+    uint64_t seed; /* gg_hash_seed of tab (core.h: why) */
 } gg_names;
 
 /* A mesh being read. Faces are added in file order; a face's triangles

@@ -298,14 +298,6 @@ void gg_mb_warn(gg_mb *mb, const char *fmt, ...)
 
 /* ---- names ---- */
 
-static uint64_t hash(const char *s, size_t n)
-{
-    uint64_t h = 1469598103934665603ull;
-    size_t i;
-    for (i = 0; i < n; i++) h = (h ^ (unsigned char)s[i]) * 1099511628211ull;
-    return h;
-}
-
 int gg_names_add(const ggAllocator *a, gg_names *t, const char *name, size_t len, uint32_t *id)
 {
     size_t k, i;
@@ -313,16 +305,19 @@ int gg_names_add(const ggAllocator *a, gg_names *t, const char *name, size_t len
     if (2 * (t->n + 1) > t->tcap) {
         size_t cap = t->tcap ? 2 * t->tcap : 64;
         uint32_t *tab = gg_mem_calloc(a, cap, sizeof *tab);
+        uint64_t seed = gg_hash_seed(tab);
         if (!tab) return -1;
         for (i = 0; i < t->n; i++) {
-            for (k = hash(t->s[i], strlen(t->s[i])) & (cap - 1); tab[k]; k = (k + 1) & (cap - 1))
+            for (k = gg_hash_bytes(seed, t->s[i], strlen(t->s[i])) & (cap - 1); tab[k];
+                 k = (k + 1) & (cap - 1))
                 ;
             tab[k] = (uint32_t)i + 1;
         }
         gg_mem_free(a, t->tab);
-        t->tab = tab, t->tcap = cap;
+        t->tab = tab, t->tcap = cap, t->seed = seed;
     }
-    for (k = hash(name, len) & (t->tcap - 1); t->tab[k]; k = (k + 1) & (t->tcap - 1)) {
+    for (k = gg_hash_bytes(t->seed, name, len) & (t->tcap - 1); t->tab[k];
+         k = (k + 1) & (t->tcap - 1)) {
         const char *s = t->s[t->tab[k] - 1];
         if (strlen(s) == len && !memcmp(s, name, len)) {
             *id = t->tab[k] - 1;

@@ -23,6 +23,7 @@ typedef struct tuples {
     uint32_t (*key)[3];
     uint32_t *val;
     size_t cap, n;
+    uint64_t seed; /* gg_hash_seed of the current table (core.h: why) */
 } tuples;
 
 typedef struct objp {
@@ -154,11 +155,9 @@ static int index_of(objp *op, const char *what, size_t count, long *out)
                       "%s index %ld is out of range (%zu defined so far)", what, *out, count);
 }
 
-static uint64_t thash(const uint32_t k[3])
+static uint64_t thash(uint64_t seed, const uint32_t k[3])
 {
-    uint64_t h = (k[0] * 0x9E3779B97F4A7C15ull) ^ (k[1] * 0xC2B2AE3D27D4EB4Full) ^
-                 (k[2] * 0x165667B19E3779F9ull);
-    return h ^ (h >> 31);
+    return gg_hash_word(gg_hash_word(seed, k[0] | (uint64_t)k[1] << 32), k[2]);
 }
 
 static int tuples_grow(const ggAllocator *a, tuples *t)
@@ -166,6 +165,7 @@ static int tuples_grow(const ggAllocator *a, tuples *t)
     size_t cap = t->cap ? 2 * t->cap : 1024, i, k;
     uint32_t(*key)[3] = gg_mem_calloc(a, cap, sizeof *key);
     uint32_t *val = gg_mem_alloc(a, cap * sizeof *val);
+    uint64_t seed = gg_hash_seed(key);
     if (!key || !val) {
         gg_mem_free(a, key);
         gg_mem_free(a, val);
@@ -173,14 +173,14 @@ static int tuples_grow(const ggAllocator *a, tuples *t)
     }
     for (i = 0; i < t->cap; i++) {
         if (!t->key[i][0]) continue;
-        for (k = thash(t->key[i]) & (cap - 1); key[k][0]; k = (k + 1) & (cap - 1))
+        for (k = thash(seed, t->key[i]) & (cap - 1); key[k][0]; k = (k + 1) & (cap - 1))
             ;
         memcpy(key[k], t->key[i], sizeof key[k]);
         val[k] = t->val[i];
     }
     gg_mem_free(a, t->key);
     gg_mem_free(a, t->val);
-    t->key = key, t->val = val, t->cap = cap;
+    t->key = key, t->val = val, t->cap = cap, t->seed = seed;
     return 0;
 }
 
@@ -204,7 +204,8 @@ static int corner_vertex(objp *op, long iv, long it, long in, uint32_t *out)
         /* key[0] = iv + 1 never 0: 0 marks an empty slot */
         key[0] = (uint32_t)iv + 1, key[1] = (uint32_t)(it + 1), key[2] = (uint32_t)(in + 1);
         if (2 * (op->tm.n + 1) > op->tm.cap && tuples_grow(mb->a, &op->tm)) return -1;
-        for (k = thash(key) & (op->tm.cap - 1); op->tm.key[k][0]; k = (k + 1) & (op->tm.cap - 1))
+        for (k = thash(op->tm.seed, key) & (op->tm.cap - 1); op->tm.key[k][0];
+             k = (k + 1) & (op->tm.cap - 1))
             if (!memcmp(op->tm.key[k], key, sizeof key)) {
                 *out = op->tm.val[k];
                 return 0;

@@ -55,6 +55,7 @@ static int classes(nctx *c)
     const gg_mesh *m = &c->b->m;
     size_t cap = 16, i;
     uint32_t *tab;
+    uint64_t seed;
     while (cap < 2 * m->nverts) cap *= 2;
     tab = gg_mem_alloc(c->a, cap * sizeof *tab);
     c->cls = gg_mem_alloc(c->a, (m->nverts + 1) * sizeof *c->cls);
@@ -63,11 +64,12 @@ static int classes(nctx *c)
         return GG_ERROR_NOMEM;
     }
     memset(tab, 0xff, cap * sizeof *tab);
+    seed = gg_hash_seed(tab); /* the positions are the file's (core.h) */
     for (i = 0; i < m->nverts; i++) {
         ggVec3 p = m->pos[i];
-        uint64_t h = bits(p.x) * 0x9E3779B97F4A7C15ull ^ bits(p.y) * 0xC2B2AE3D27D4EB4Full ^
-                     bits(p.z) * 0x165667B19E3779F9ull;
-        size_t k = (size_t)(h ^ h >> 29) & (cap - 1);
+        uint64_t h =
+            gg_hash_word(gg_hash_word(gg_hash_word(seed, bits(p.x)), bits(p.y)), bits(p.z));
+        size_t k = (size_t)h & (cap - 1);
         for (;; k = (k + 1) & (cap - 1)) {
             uint32_t v = tab[k];
             if (v == UINT32_MAX) {
