@@ -143,6 +143,28 @@ cancel_other("a tile", [ggrt, "render", SCENE, "--tile", "0/2", "-s", "1024x768"
                         "-j", "1", "-o", os.path.join(d, "t.exr")], os.path.join(d, "t.exr"))
 
 
+# A render whose one tile is long (16x16 pixels of 256 samples through
+# nested glass, about 20 s): the cancel waited for the tile, some 15 s.
+# The tile's per-pixel loop now asks the progress callback as it goes.
+d = os.path.join(tmp, "cancel-long-tile")
+os.makedirs(d)
+out = os.path.join(d, "n.png")
+with open(out, "wb") as f:
+    f.write(b"the previous file\n")
+p = subprocess.Popen([ggrt, "render", "tests/data/nested-glass.nff", "-s", "16x16", "-n", "256",
+                      "-j", "1", "-q", "-o", out], stdout=subprocess.DEVNULL,
+                     stderr=subprocess.PIPE, preexec_fn=default_signals)
+t0 = time.time()
+while not caught(p.pid, signal.SIGTERM) and p.poll() is None and time.time() - t0 < 30:
+    time.sleep(0.01)
+time.sleep(1)
+t1 = time.time()
+err = signal_and_wait(p, signal.SIGTERM)
+waited = time.time() - t1
+report(err is not None and p.returncode == -signal.SIGTERM and waited < 5,
+       "SIGTERM: a render of one long tile stops within the tile",
+       "exit %r after %.1f s, stderr %r" % (p.returncode, waited, err))
+
 # trace --svg renders a camera view first (seconds, deep): it was not
 # cancellable and left OUT.tmpPID and a /tmp file behind on a signal.
 d = os.path.join(tmp, "cancel-svg")
