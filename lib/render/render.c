@@ -542,6 +542,38 @@ static uint32_t row_dirs(const cam_basis *b, double c[3][TILE], const double v[3
     return ok;
 }
 
+/* A tile of many samples per pixel, or of deep trees, can take long: 16
+   by 16 pixels of 256 samples through nested glass took 20 s, a bar
+   that stood at 0 and a cancel that waited for the tile. Every
+   POLL_RAYS rays, the per-pixel loop of render_tile and the rows (or,
+   with a raised ray budget, the pixels) of tile_rows_fx ask poll_tile; it calls the progress
+   callback (with the pixels this thread has done in the tile) at most every POLL_SECONDS, and says
+   whether the render is cancelled. */
+#define POLL_RAYS    (1u << 15)
+#define POLL_SECONDS 0.1
+
+static uint64_t rays_cast(const ggRayStats *st)
+{
+    return st->eye + st->reflect + st->refract + st->shadow;
+}
+
+static int poll_tile(job *j, long px_done)
+{
+    int stop;
+    pthread_mutex_lock(&j->mu);
+    if (j->progress && !j->cancelled) {
+        double now = gg_time_now();
+        long done = j->done + (long)((double)px_done / (double)j->points * (double)j->total);
+        if (done > j->reported && done < j->total && now - j->reported_at >= POLL_SECONDS) {
+            j->reported = done, j->reported_at = now;
+            if (j->progress(j->progress_ud, done, j->total)) j->cancelled = 1;
+        }
+    }
+    stop = j->cancelled;
+    pthread_mutex_unlock(&j->mu);
+    return stop;
+}
+
 /* render_tile for one sample at each pixel centre (pixel_center,
    sample_color, basis_dir, gg_shade_dir and gg_shade_ray_unit), or at each
    pixel corner (sample_color ...), step by step,
@@ -574,7 +606,10 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
        here and stored with one copy per layer (fill_layer_row). */
     const int direct = layers && !corner && !j->lsum;
     float lrow[GG_LAYERS_MAX][3 * TILE];
-    uint64_t eye = 0, nonfinite = 0, miss_bad;
+    uint64_t eye = 0, nonfinite = 0, miss_bad, poll_at = rays_cast(&th->st) + POLL_RAYS;
+    /* A row's trees are bounded by the ray budget: with the default, poll
+       once a row; with more, after each pixel (a tree can take seconds) */
+    const int deep = j->ctx.budget > GG_RAY_BUDGET;
     int i, gy;
     miss_bad = (uint64_t)(corner ? put_corner(miss, &bg) : put_centre(miss, &bg, scale));
     for (i = 0; i < TILE; i++) {
@@ -629,6 +664,10 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
                     row_layers(j, lrow, i, th->aov, scale);
                 else if (layers)
                     put_sample_layers(j, gx0 + i, gy, th->aov, th->aov_n, scale);
+                if (deep && rays_cast(&th->st) >= poll_at) {
+                    if (poll_tile(j, (long)(gy - gy0) * n + i + 1)) goto cancelled;
+                    poll_at = rays_cast(&th->st) + POLL_RAYS;
+                }
             } else {
                 o[0] = miss[0], o[1] = miss[1], o[2] = miss[2];
                 nonfinite += miss_bad;
@@ -641,7 +680,12 @@ GG_INLINE void tile_rows_fx(job *j, int gx0, int gy0, int gx1, int gy1, gg_shade
             }
         }
         if (direct) fill_layer_row(j, gx0, gy, n, (const float(*)[3 * TILE])lrow);
+        if (rays_cast(&th->st) >= poll_at) {
+            if (poll_tile(j, (long)(gy - gy0 + 1) * n)) break;
+            poll_at = rays_cast(&th->st) + POLL_RAYS;
+        }
     }
+cancelled: /* (the image is not used then) */
     th->st.eye += eye;
     th->st.nonfinite += nonfinite;
     if (eye > 0 && th->st.max_depth < 1) th->st.max_depth = 1;
@@ -801,39 +845,6 @@ static void fold_corner_costs(job *j)
                 v = j->cost_kind == GG_COST_DEPTH ? (own[k] > v ? own[k] : v) : v + own[k];
             j->cost[(size_t)y * j->r.w + x] = (float)v;
         }
-}
-
-/* A tile of many samples per pixel, or of deep trees, can take long: 16
-   by 16 pixels of 256 samples through nested glass took 20 s, a bar
-   that stood at 0 and a cancel that waited for the tile. Every
-   POLL_RAYS rays, the per-pixel loop below asks poll_tile; it calls the
-   progress callback (with the pixels this thread has done in the tile)
-   at most every POLL_SECONDS, and says whether the render is cancelled.
-   The fast one-sample rows (tile_rows) do not poll: their tiles are 256
-   eye rays of bounded trees. */
-#define POLL_RAYS    (1u << 15)
-#define POLL_SECONDS 0.1
-
-static uint64_t rays_cast(const ggRayStats *st)
-{
-    return st->eye + st->reflect + st->refract + st->shadow;
-}
-
-static int poll_tile(job *j, long px_done)
-{
-    int stop;
-    pthread_mutex_lock(&j->mu);
-    if (j->progress && !j->cancelled) {
-        double now = gg_time_now();
-        long done = j->done + (long)((double)px_done / (double)j->points * (double)j->total);
-        if (done > j->reported && done < j->total && now - j->reported_at >= POLL_SECONDS) {
-            j->reported = done, j->reported_at = now;
-            if (j->progress(j->progress_ud, done, j->total)) j->cancelled = 1;
-        }
-    }
-    stop = j->cancelled;
-    pthread_mutex_unlock(&j->mu);
-    return stop;
 }
 
 static void render_tile(job *j, int t, gg_shade_thread *th)
