@@ -209,6 +209,15 @@ GG_API int ggImageWriteEXRHeader(const ggImage *img, const ggEXRHeader *h, const
 GG_API int ggImageWriteEXRLayers(const ggImage *img, const ggImage *const *layers,
                                  const char *const *names, int n, const ggEXRHeader *h,
                                  const char *path, ggError *err);
+/* ggImageWriteEXRLayers with the n layers read in place from map, laid
+   out as ggRenderOptions.layer_map (render.h) for img's size: layer l's
+   pixel (x, y) at map[3 * ((l * height + y) * width + x)]. The same file,
+   byte for byte, as the layers copied into images give, without the
+   memory of that copy (ggrt render --aov). map must hold n such layers.
+   GG_ERROR_INVALID, nothing written: map NULL with n > 0, and
+   ggImageWriteEXRLayers' refusals. */
+GG_API int ggImageWriteEXRLayerMap(const ggImage *img, const float *map, const char *const *names,
+                                   int n, const ggEXRHeader *h, const char *path, ggError *err);
 /* Read layer `layer` (channels LAYER.R, .G, .B) of the OpenEXR file at
    path as an image, as ggImageRead reads R, G, B (the first part, the
    data window); layer NULL or "" reads the image's own R, G, B (or Y).

@@ -430,10 +430,12 @@ GG_API int ggImageReadEXRLayer(const char *path, const char *layer, const ggAllo
 
 /* ---- writing ---------------------------------------------------------- */
 
-/* What a file holds: the image and its layers (names[0] NULL: the image's
-   own R, G, B). */
+/* What a file holds: the image, whose size all share, and the pixels of
+   it and its layers (names[0] NULL: the image's own R, G, B). Pixels, not
+   images: a render's layers are written from its layer map in place. */
 typedef struct exr_set {
-    const ggImage *const *img;
+    const ggImage *img;
+    const float *const *px;
     const char *const *names;
     int n;
 } exr_set;
@@ -451,7 +453,7 @@ static const float *channel_src(const exr_set *set, const char *name, int *slot)
     }
     *slot = channel_slot(dot ? dot + 1 : name, 0);
     if (i == set->n || *slot < 0) *slot = 0, i = 0; /* not one of ours: cannot happen */
-    return set->img[i]->px;
+    return set->px[i];
 }
 
 /* OpenEXR's ZIP encoder (3.1 as Debian ships it, and every release up to
@@ -479,7 +481,7 @@ static exr_result_t compress_guarded(exr_encode_pipeline_t *enc)
 static int write_pixels(exr_context_t ctx, int part, const exr_set *set, int y0, exr_io *io,
                         const char *path, ggError *err)
 {
-    const ggImage *img = set->img[0];
+    const ggImage *img = set->img;
     exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
     zip_guard guard = {NULL};
     int32_t lpc = 0;
@@ -584,7 +586,7 @@ static exr_result_t init_part(exr_context_t ctx, int part, const ggImage *img,
 static int write_exr(const exr_set *set, const ggEXRHeader *h, const char *path, ggError *err)
 {
     static const char *const names[3] = {"R", "G", "B"};
-    const ggImage *img = set->img[0];
+    const ggImage *img = set->img;
     exr_context_initializer_t init;
     exr_context_t ctx = NULL;
     gg_image_tmp t;
@@ -627,31 +629,35 @@ static int write_exr(const exr_set *set, const ggEXRHeader *h, const char *path,
     return gg_image_tmp_commit(&t, NULL, err);
 }
 
-/* One image: its own R, G, B. */
-static exr_set single(const ggImage *const *img)
+/* One image: its own R, G, B (px holds its pixels). */
+static exr_set single(const ggImage *img, const float **px)
 {
     static const char *const none[1] = {NULL};
     exr_set set;
-    set.img = img, set.names = none, set.n = 1;
+    px[0] = img->px;
+    set.img = img, set.px = px, set.names = none, set.n = 1;
     return set;
 }
 
 GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err)
 {
-    exr_set set = single(&img);
+    const float *px[1];
+    exr_set set;
     if (!img || !path) return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXR: NULL argument");
+    set = single(img, px);
     return write_exr(&set, NULL, path, err);
 }
 
 GG_API int ggImageWriteEXRHeader(const ggImage *img, const ggEXRHeader *h, const char *path,
                                  ggError *err)
 {
+    const float *px[1];
     exr_set set;
     int rc;
     if (!img || !path)
         return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRHeader: NULL argument");
     if (h && (rc = check_header(h, err)) != GG_OK) return rc;
-    set = single(&img);
+    set = single(img, px);
     return write_exr(&set, h, path, err);
 }
 
@@ -668,39 +674,67 @@ static int layer_name_ok(const char *n)
     return 1;
 }
 
+/* The n layer names of ggImageWriteEXRLayers (fn names the caller in the
+   message), and then img's R, G, B and the layers px[1..n] written. */
+static int write_layers(const char *fn, const ggImage *img, const float **px,
+                        const char *const *names, int n, const ggEXRHeader *h, const char *path,
+                        ggError *err)
+{
+    const char *nm[1 + GG_EXR_LAYERS_MAX];
+    exr_set set;
+    int i, j, rc;
+    px[0] = img->px, nm[0] = NULL;
+    for (i = 0; i < n; i++) {
+        if (!layer_name_ok(names[i]))
+            return gg_error_set(err, GG_ERROR_INVALID,
+                                "%s: layer %d: a name is 1 to %d letters, digits, '_' or '-'", fn,
+                                i + 1, GG_EXR_LAYER_NAME);
+        for (j = 0; j < i; j++)
+            if (!strcmp(names[i], names[j]))
+                return gg_error_set(err, GG_ERROR_INVALID, "%s: layer name '%s' repeated", fn,
+                                    names[i]);
+        nm[i + 1] = names[i];
+    }
+    if (h && (rc = check_header(h, err)) != GG_OK) return rc;
+    set.img = img, set.px = px, set.names = nm, set.n = n + 1;
+    return write_exr(&set, h, path, err);
+}
+
 GG_API int ggImageWriteEXRLayers(const ggImage *img, const ggImage *const *layers,
                                  const char *const *names, int n, const ggEXRHeader *h,
                                  const char *path, ggError *err)
 {
-    const ggImage *all[1 + GG_EXR_LAYERS_MAX];
-    const char *nm[1 + GG_EXR_LAYERS_MAX];
-    exr_set set;
-    int i, j, rc;
+    static const char fn[] = "ggImageWriteEXRLayers";
+    const float *px[1 + GG_EXR_LAYERS_MAX];
+    int i;
     if (!img || !path || (n > 0 && (!layers || !names)))
-        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRLayers: NULL argument");
+        return gg_error_set(err, GG_ERROR_INVALID, "%s: NULL argument", fn);
     if (n < 0 || n > GG_EXR_LAYERS_MAX)
-        return gg_error_set(err, GG_ERROR_INVALID, "ggImageWriteEXRLayers: %d layers (0..%d)", n,
+        return gg_error_set(err, GG_ERROR_INVALID, "%s: %d layers (0..%d)", fn, n,
                             GG_EXR_LAYERS_MAX);
-    all[0] = img, nm[0] = NULL;
     for (i = 0; i < n; i++) {
         if (!layers[i] || layers[i]->width != img->width || layers[i]->height != img->height)
-            return gg_error_set(err, GG_ERROR_INVALID,
-                                "ggImageWriteEXRLayers: layer %d is missing or not %dx%d", i + 1,
-                                img->width, img->height);
-        if (!layer_name_ok(names[i]))
-            return gg_error_set(err, GG_ERROR_INVALID,
-                                "ggImageWriteEXRLayers: layer %d: a name is 1 to %d letters, "
-                                "digits, '_' or '-'",
-                                i + 1, GG_EXR_LAYER_NAME);
-        for (j = 0; j < i; j++)
-            if (!strcmp(names[i], names[j]))
-                return gg_error_set(err, GG_ERROR_INVALID,
-                                    "ggImageWriteEXRLayers: layer name '%s' repeated", names[i]);
-        all[i + 1] = layers[i], nm[i + 1] = names[i];
+            return gg_error_set(err, GG_ERROR_INVALID, "%s: layer %d is missing or not %dx%d", fn,
+                                i + 1, img->width, img->height);
+        px[i + 1] = layers[i]->px;
     }
-    if (h && (rc = check_header(h, err)) != GG_OK) return rc;
-    set.img = all, set.names = nm, set.n = n + 1;
-    return write_exr(&set, h, path, err);
+    return write_layers(fn, img, px, names, n, h, path, err);
+}
+
+GG_API int ggImageWriteEXRLayerMap(const ggImage *img, const float *map, const char *const *names,
+                                   int n, const ggEXRHeader *h, const char *path, ggError *err)
+{
+    static const char fn[] = "ggImageWriteEXRLayerMap";
+    const float *px[1 + GG_EXR_LAYERS_MAX];
+    int i;
+    if (!img || !path || (n > 0 && (!map || !names)))
+        return gg_error_set(err, GG_ERROR_INVALID, "%s: NULL argument", fn);
+    if (n < 0 || n > GG_EXR_LAYERS_MAX)
+        return gg_error_set(err, GG_ERROR_INVALID, "%s: %d layers (0..%d)", fn, n,
+                            GG_EXR_LAYERS_MAX);
+    for (i = 0; i < n; i++)
+        px[i + 1] = map + (size_t)i * (size_t)img->width * (size_t)img->height * 3;
+    return write_layers(fn, img, px, names, n, h, path, err);
 }
 
 /* ---- headers ---------------------------------------------------------- */

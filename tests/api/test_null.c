@@ -546,6 +546,14 @@ static void test_layers(void **state)
                      GG_ERROR_INVALID);
     assert_int_equal(ggImageWriteEXRLayers(img, layers, names, 1, NULL, NULL, &e),
                      GG_ERROR_INVALID);
+    COVER(ggImageWriteEXRLayerMap),
+        assert_int_equal(ggImageWriteEXRLayerMap(NULL, map, names, 1, NULL, "x.exr", &e),
+                         GG_ERROR_INVALID);
+    assert_int_equal(ggImageWriteEXRLayerMap(img, NULL, names, 1, NULL, "x.exr", &e),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImageWriteEXRLayerMap(img, map, NULL, 1, NULL, "x.exr", &e),
+                     GG_ERROR_INVALID);
+    assert_int_equal(ggImageWriteEXRLayerMap(img, map, names, 1, NULL, NULL, &e), GG_ERROR_INVALID);
     COVER(ggImageReadEXRLayer),
         assert_int_equal(ggImageReadEXRLayer(NULL, "a", NULL, &out, &e), GG_ERROR_INVALID);
     UNTOUCHED(out);

@@ -2,7 +2,8 @@
 /*
 ** test_exr_header.c -- ggImageWriteEXRHeader and ggImageReadEXRHeader:
 ** data and display windows, string attributes, the contract's refusals,
-** and that a NULL header writes exactly ggImageWriteEXR's file.
+** that a NULL header writes exactly ggImageWriteEXR's file, and a layer
+** map exactly ggImageWriteEXRLayers' file.
 */
 #include "testutil.h"
 
@@ -127,6 +128,57 @@ static void test_null_header_same_file(void **state)
     ggImageFree(img);
 }
 
+/* Layers written from a layer map (ggrt render --aov's) make the file
+   the same layers copied into images make, byte for byte, and read back
+   as the map's layers. */
+static void test_layer_map_same_file(void **state)
+{
+    static const char *const names[3] = {"a", "b-2", "c_3"};
+    ggEXRAttr attr[1] = {{"ggrt.aov", "a=C.*"}};
+    ggEXRHeader h;
+    ggImage *img = ramp(9, 17), *layers[3], *back = NULL;
+    const size_t n = 9 * 17 * 3;
+    float *map = malloc(3 * n * sizeof(float));
+    ggError err;
+    size_t na = 0, nb = 0, k;
+    char *a, *b;
+    int i;
+    (void)state;
+    assert_non_null(map);
+    for (k = 0; k < 3 * n; k++) map[k] = (float)k * -1.3f + 2.0f;
+    for (i = 0; i < 3; i++) {
+        layers[i] = ggImageCreate(9, 17, NULL);
+        memcpy(ggImagePixels(layers[i]), map + i * n, n * sizeof(float));
+    }
+    memset(&h, 0, sizeof h);
+    h.display_width = 9, h.display_height = 17, h.attrs = attr, h.attr_count = 1;
+    assert_int_equal(ggImageWriteEXRLayers(img, (const ggImage *const *)layers, names, 3, &h,
+                                           tu_tmppath("a.exr"), &err),
+                     GG_OK);
+    assert_int_equal(ggImageWriteEXRLayerMap(img, map, names, 3, &h, tu_tmppath("b.exr"), &err),
+                     GG_OK);
+    a = tu_slurp(tu_tmppath("a.exr"), &na);
+    b = tu_slurp(tu_tmppath("b.exr"), &nb);
+    assert_non_null(a);
+    assert_non_null(b);
+    assert_int_equal(na, nb);
+    assert_memory_equal(a, b, na);
+    assert_int_equal(ggImageReadEXRLayer(tu_tmppath("b.exr"), "b-2", NULL, &back, &err), GG_OK);
+    assert_memory_equal(ggImagePixelsConst(back), map + n, n * sizeof(float));
+    /* n = 0: the image alone, as ggImageWriteEXRHeader writes it */
+    assert_int_equal(ggImageWriteEXRLayerMap(img, NULL, NULL, 0, NULL, tu_tmppath("c.exr"), &err),
+                     GG_OK);
+    assert_int_equal(ggImageWriteEXRLayerMap(img, map, names, 65, NULL, tu_tmppath("d.exr"), &err),
+                     GG_ERROR_INVALID);
+    assert_int_equal(access(tu_tmppath("d.exr"), F_OK), -1);
+    for (i = 0; i < 3; i++) ggImageFree(layers[i]);
+    ggImageFree(back);
+    ggImageFree(img);
+    free(map);
+    free(a);
+    free(b);
+}
+
 static void test_refusals(void **state)
 {
     ggEXRAttr bad_name[1] = {{"", "v"}};
@@ -205,6 +257,7 @@ int main(void)
         cmocka_unit_test(test_round_trip_windows_attrs),
         cmocka_unit_test(test_offset_windows),
         cmocka_unit_test(test_null_header_same_file),
+        cmocka_unit_test(test_layer_map_same_file),
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_truncated),
     };
