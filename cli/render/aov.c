@@ -65,6 +65,26 @@ static int aov_error(const aov_list *l, const ggError *err)
     return err->code == GG_ERROR_NOMEM ? EXIT_INPUT : EXIT_USAGE;
 }
 
+/* Everything the layers take after the render, allocated before it: an
+   --aov render that cannot fit fails at once, not after rendering. */
+static int layers_alloc(aov_list *l, int w, int h)
+{
+    size_t layer = (size_t)w * (size_t)h * 3 * sizeof(float);
+    l->map = calloc((size_t)l->n, layer);
+    /* --aov-png converts one layer at a time into one image */
+    if (l->map && l->png_dir) l->scratch = ggImageCreate(w, h, NULL);
+    if (!l->map || (l->png_dir && !l->scratch)) {
+        double mib = (double)(l->n + (l->png_dir != NULL)) * (double)layer / (1 << 20);
+        free(l->map);
+        l->map = NULL;
+        cli_error("out of memory for the path layers: %d layer%s of %dx%d need %.0f MiB%s", l->n,
+                  l->n == 1 ? "" : "s", w, h, mib,
+                  l->png_dir ? " with --aov-png's conversion" : "");
+        return EXIT_INPUT;
+    }
+    return EXIT_OK;
+}
+
 int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h)
 {
     ggError err;
@@ -73,24 +93,10 @@ int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h)
     if (w <= 0 || h <= 0 || w > GG_IMAGE_MAX_DIM || h > GG_IMAGE_MAX_DIM ||
         (size_t)w * (size_t)h > GG_IMAGE_MAX_PIXELS)
         return EXIT_OK; /* ggRender refuses the size */
-    l->map = calloc((size_t)w * (size_t)h * 3, (size_t)l->n * sizeof(float));
-    if (!l->map) {
-        cli_error("out of memory for %d path layers of %dx%d", l->n, w, h);
-        return EXIT_INPUT;
-    }
+    if ((rc = layers_alloc(l, w, h)) != EXIT_OK) return rc;
     l->w = w, l->h = h;
     opt->layers = l->layers, opt->layer_map = l->map;
     return EXIT_OK;
-}
-
-/* Layer k of the map as an image (NULL: out of memory). */
-static ggImage *layer_image(const aov_list *l, int k)
-{
-    ggImage *img = ggImageCreate(l->w, l->h, NULL);
-    if (img)
-        memcpy(ggImagePixels(img), l->map + (size_t)k * l->w * l->h * 3,
-               (size_t)l->w * l->h * 3 * sizeof(float));
-    return img;
 }
 
 /* The attribute listing the layers. */
@@ -207,17 +213,20 @@ static void rename_in_message(ggError *err, const char *tmp, const aov_list *l, 
     memcpy(err->message + pn, rest, rn + 1);
 }
 
-/* Each layer into its temporary file: on any failure none is left. */
-static int write_pngs(const aov_list *l, ggImage **imgs, ggError *err)
+/* Each layer into its temporary file, through the one image allocated
+   before the render (aov_prepare): on any failure none is left. */
+static int write_pngs(const aov_list *l, ggError *err)
 {
+    size_t layer = (size_t)l->w * (size_t)l->h * 3;
     int k, rc = GG_OK;
     if (mkdir(l->png_dir, 0777) != 0 && errno != EEXIST)
         return set_err(err, GG_ERROR_IO, l->png_dir);
     for (k = 0; k < l->n && rc == GG_OK; k++) {
         char tmp[4096];
+        memcpy(ggImagePixels(l->scratch), l->map + (size_t)k * layer, layer * sizeof(float));
         if (layer_temp(l, k, tmp, sizeof tmp) != 0)
             rc = set_err(err, GG_ERROR_INVALID, "an --aov-png file name is too long");
-        else if ((rc = ggImageWritePNG(imgs[k], tmp, err)) != GG_OK)
+        else if ((rc = ggImageWritePNG(l->scratch, tmp, err)) != GG_OK)
             rename_in_message(err, tmp, l, k);
     }
     if (rc != GG_OK) drop_temps(l, k);
@@ -239,10 +248,10 @@ static int place_pngs(const aov_list *l, ggError *err)
     return GG_OK;
 }
 
-/* -o: an EXR with the layers as channels (and the attributes that say
-   how they were made), or the image alone. */
-static int write_out(const aov_list *l, const ggImage *img, ggImage **imgs, const char *out,
-                     const char *scene, const ggRenderOptions *opt, const char *list, ggError *err)
+/* -o: an EXR with the layers as channels, written from the map in place
+   (and the attributes that say how they were made), or the image alone. */
+static int write_out(const aov_list *l, const ggImage *img, const char *out, const char *scene,
+                     const ggRenderOptions *opt, const char *list, ggError *err)
 {
     const char *names[GG_PATH_LAYERS_MAX];
     ggEXRAttr attr[3];
@@ -260,31 +269,26 @@ static int write_out(const aov_list *l, const ggImage *img, ggImage **imgs, cons
     attr[2].name = AOV_ATTR_OPTIONS, attr[2].value = options;
     h.attrs = attr, h.attr_count = 3;
     if (ggRenderOptionsFormat(&f, options, sizeof options) >= sizeof options) h.attr_count = 2;
-    return ggImageWriteEXRLayers(img, (const ggImage *const *)imgs, names, l->n, &h, out, err);
+    return ggImageWriteEXRLayerMap(img, l->map, names, l->n, &h, out, err);
 }
 
 int aov_write(const aov_list *l, const ggImage *img, const char *out, const char *scene,
               const ggRenderOptions *opt, ggError *err)
 {
-    ggImage *imgs[GG_PATH_LAYERS_MAX];
-    int k, rc = GG_OK;
+    int rc;
     char *list = layer_list(l);
-    memset(imgs, 0, sizeof imgs);
-    for (k = 0; k < l->n; k++)
-        if (!(imgs[k] = layer_image(l, k))) rc = GG_ERROR_NOMEM;
     /* The layer PNGs first, under temporary names, renamed into place
        only once -o is written: a failure in either leaves neither (a
        layer that failed to write used to leave -o written). */
-    if (rc != GG_OK || !list)
+    if (!list || !l->map || (l->png_dir && !l->scratch))
         rc = set_err(err, GG_ERROR_NOMEM, "out of memory for the path layers");
-    else if (l->png_dir && (rc = write_pngs(l, imgs, err)) != GG_OK)
+    else if (l->png_dir && (rc = write_pngs(l, err)) != GG_OK)
         ; /* nothing written; err says why */
-    else if ((rc = write_out(l, img, imgs, out, scene, opt, list, err)) != GG_OK) {
+    else if ((rc = write_out(l, img, out, scene, opt, list, err)) != GG_OK) {
         if (l->png_dir) drop_temps(l, l->n);
     } else if (l->png_dir) {
         rc = place_pngs(l, err);
     }
-    for (k = 0; k < l->n; k++) ggImageFree(imgs[k]);
     free(list);
     return rc;
 }
@@ -305,5 +309,6 @@ void aov_free(aov_list *l)
 {
     ggPathLayersFree(l->layers);
     free(l->map);
-    l->layers = NULL, l->map = NULL;
+    ggImageFree(l->scratch);
+    l->layers = NULL, l->map = NULL, l->scratch = NULL;
 }

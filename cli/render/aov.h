@@ -25,14 +25,17 @@ typedef struct aov_list {
     char name[GG_PATH_LAYERS_MAX][GG_EXR_LAYER_NAME + 1];
     const char *png_dir; /* --aov-png DIR, or NULL */
     ggPathLayers *layers;
-    float *map;
+    float *map;       /* the render's layer map (ggRenderOptions.layer_map) */
+    ggImage *scratch; /* with --aov-png: a layer at a time, for ggImageWritePNG */
     int w, h;
 } aov_list;
 
 /* CLI_FUNC parser of one --aov NAME=LPE; ud is an aov_list. */
 int aov_parse_one(void *ud, const char *value, char *why, size_t whylen);
-/* Compile the layers and give opt a map for a w x h image: EXIT_OK, or
-   the exit status after saying why (a column for an expression). */
+/* Compile the layers and give opt a map for a w x h image, allocating
+   before the render all that writing the layers takes: EXIT_OK, or the
+   exit status after saying why (a column for an expression; for memory,
+   EXIT_INPUT and how much the layers need). */
 int aov_prepare(aov_list *l, ggRenderOptions *opt, int w, int h);
 /* Before the render: --aov-png DIR must be a directory, or a missing one
    whose parent takes files, and each DIR/NAME.png must pass

@@ -72,6 +72,41 @@ if [ $got = 3 ] && grep -q "^ggrt render: .*h.exr: .*File too large" "$tmp/err" 
    [ -z "$(ls "$tmp/ax" | grep '^h\.exr')" ]
 then ok "render to an EXR whose header cannot be written: exit 3, no hang"
 else bad "render to an EXR whose header cannot be written: exit 3, no hang (exit $got)" "$(cat "$tmp/err")"; fi
+# Memory: what the layers take is allocated before the render, once. Under
+# 192 MiB of address space, 16 layers of 768x768 (108 MiB) render and are
+# written: they used to be copied into images for writing, twice the
+# memory, and failed after the render ("out of memory for the path
+# layers", exit 2, at least 245 MiB needed). 16 layers of 2048x2048 fail
+# at once, saying what they need: no render, no summary, no file. Not
+# under ASan, whose shadow memory cannot run under the ulimit.
+case $ggrt in
+*/asan/*) ;;
+*)
+  printf 'v\nfrom 0 0 5\nat 0 0 0\nup 0 1 0\nangle 40\nhither 1\nresolution 64 64\nl 1 1 5\nf 1 0 0 1 0 0 0 0\ns 0 0 0 1\n' \
+    >"$tmp/sph.nff"
+  set --; k=1
+  while [ $k -le 16 ]; do set -- "$@" --aov "l$k=C.*"; k=$((k + 1)); done
+  rm -f "$tmp/m.exr"
+  ( ulimit -v 196608; "$ggrt" render "$tmp/sph.nff" -s 768x768 -j 2 -q -o "$tmp/m.exr" "$@" ) 2>"$tmp/err"; got=$?
+  if [ $got = 0 ] && [ -s "$tmp/m.exr" ] && [ ! -s "$tmp/err" ]
+  then ok "render --aov: 16 layers of 768x768 are written under 192 MiB (held once)"
+  else bad "render --aov: 16 layers of 768x768 are written under 192 MiB (exit $got)" "$(cat "$tmp/err")"; fi
+  for png in "" "--aov-png"; do
+    rm -rf "$tmp/m.exr" "$tmp/mp"
+    ( ulimit -v 196608; "$ggrt" render "$tmp/sph.nff" -s 2048x2048 -j 2 -o "$tmp/m.exr" "$@" \
+        ${png:+$png "$tmp/mp"} ) >"$tmp/out" 2>"$tmp/err"; got=$?
+    want="ggrt render: out of memory for the path layers: 16 layers of 2048x2048 need 768 MiB"
+    [ -n "$png" ] && want="${want%768 MiB}816 MiB with --aov-png's conversion"
+    if [ $got = 2 ] && [ "$(cat "$tmp/err")" = "$want" ] && [ ! -s "$tmp/out" ] &&
+       [ ! -e "$tmp/m.exr" ] && [ ! -e "$tmp/mp" ]
+    then ok "render --aov${png:+ $png}: layers that cannot fit fail before the render, with their need"
+    else bad "render --aov${png:+ $png}: layers that cannot fit fail before the render (exit $got)" \
+      "want: $want
+got:  $(cat "$tmp/err" "$tmp/out")"; fi
+  done
+  set --
+  ;;
+esac
 "$ggrt" render $g -s 24x18 -q -o "$tmp/plain.exr"
 expect_exit 2 "check --aov-sum: a file without layers" "$ggrt" check --aov-sum "$tmp/plain.exr"
 expect_exit 1 "check --aov-sum with --path" "$ggrt" check --aov-sum "$tmp/plain.exr" --path 'C.*'
