@@ -80,18 +80,26 @@ typedef struct kids {
     int refr[3], mirror;
 } kids;
 
-static void children(const ggTrace *t, int i, kids *k)
+/* One side's tree and its children, found once (trace_kids). */
+typedef struct side {
+    const ggTrace *t;
+    trace_kids kids;
+} side;
+
+/* A node has a mirror ray and up to three refracted channels; the rest
+   of 64 is room. */
+static void children(const side *s, int i, kids *k)
 {
-    size_t j, n = ggTraceNodeCount(t);
+    int all[64], n, j;
     k->refr[0] = k->refr[1] = k->refr[2] = k->mirror = -1;
     if (i < 0) return;
-    for (j = (size_t)i + 1; j < n; j++) {
-        const ggTraceNode *c = ggTraceGetNode(t, j);
-        if (c->parent != i) continue;
+    n = trace_children(&s->kids, s->t, i, all, 64);
+    for (j = 0; j < n; j++) {
+        const ggTraceNode *c = ggTraceGetNode(s->t, (size_t)all[j]);
         if (c->kind == GG_RAY_REFRACT)
-            k->refr[c->channel < 0 ? 0 : c->channel] = (int)j;
+            k->refr[c->channel < 0 ? 0 : c->channel] = all[j];
         else
-            k->mirror = (int)j;
+            k->mirror = all[j];
     }
 }
 
@@ -123,21 +131,21 @@ static void cell(char *buf, size_t n, const ggTrace *t, int i, int indent)
     }
 }
 
-static void rows(FILE *f, const ggTrace *ta, int ia, const ggTrace *tb, int ib, int indent,
+static void rows(FILE *f, const side *a, int ia, const side *b, int ib, int indent,
                  const ggDivergence *d)
 {
     char ca[256], cb[256];
     kids ka, kb;
     int c, mark = (ia >= 0 && ia == d->node_a) || (ib >= 0 && ib == d->node_b);
-    cell(ca, sizeof ca, ta, ia, indent);
-    cell(cb, sizeof cb, tb, ib, indent);
+    cell(ca, sizeof ca, a->t, ia, indent);
+    cell(cb, sizeof cb, b->t, ib, indent);
     fprintf(f, "%s %-*.*s | %-.*s\n", mark ? ">>" : "  ", COL, COL, ca, COL, cb);
-    children(ta, ia, &ka);
-    children(tb, ib, &kb);
+    children(a, ia, &ka);
+    children(b, ib, &kb);
     for (c = 0; c < 3; c++)
         if (ka.refr[c] >= 0 || kb.refr[c] >= 0)
-            rows(f, ta, ka.refr[c], tb, kb.refr[c], indent + 1, d);
-    if (ka.mirror >= 0 || kb.mirror >= 0) rows(f, ta, ka.mirror, tb, kb.mirror, indent + 1, d);
+            rows(f, a, ka.refr[c], b, kb.refr[c], indent + 1, d);
+    if (ka.mirror >= 0 || kb.mirror >= 0) rows(f, a, ka.mirror, b, kb.mirror, indent + 1, d);
 }
 
 void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const char *name_a,
@@ -147,6 +155,7 @@ void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const c
     char text[800], cb[CLI_COLOR_LEN];
     size_t i, j, na = ggTraceNodeCount(a->trace), nb = ggTraceNodeCount(b->trace);
     int differ = ggTraceCompare(a->trace, b->trace, &d);
+    side sa, sb;
     fprintf(f, "pixel %d,%d", a->x, a->y);
     if (a->sample >= 0) fprintf(f, ", sample %d", a->sample);
     fprintf(f, "\na: %s\n   colour %s\n", name_a, cli_color(cb, sizeof cb, 9, a->pixel));
@@ -154,14 +163,18 @@ void trace_print_diff(FILE *f, const trace_view *a, const trace_view *b, const c
     dbg_divergence_text(text, sizeof text, a->trace, b->trace, &d);
     fprintf(f, "%s%s\n\n", differ ? "first divergence (>>): " : "", text);
     fprintf(f, "   %-*s | %s\n", COL, "a", "b");
+    /* without memory for an index, trace_children scans */
+    sa.t = a->trace, sb.t = b->trace;
+    (void)trace_kids_make(&sa.kids, a->trace), (void)trace_kids_make(&sb.kids, b->trace);
     for (i = 0, j = 0; i < na || j < nb;) {
         /* the roots in order, sample by sample */
         while (i < na && ggTraceGetNode(a->trace, i)->parent >= 0) i++;
         while (j < nb && ggTraceGetNode(b->trace, j)->parent >= 0) j++;
         if (i >= na && j >= nb) break;
-        rows(f, a->trace, i < na ? (int)i : -1, b->trace, j < nb ? (int)j : -1, 0, &d);
+        rows(f, &sa, i < na ? (int)i : -1, &sb, j < nb ? (int)j : -1, 0, &d);
         i++, j++;
     }
+    trace_kids_free(&sa.kids), trace_kids_free(&sb.kids);
     fprintf(f, "\nL: the shadow ray of each light: v visible, b blocked, a attenuated, f facing "
                "away\n");
 }

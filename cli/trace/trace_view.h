@@ -61,7 +61,18 @@ void trace_print_paths(FILE *f, const trace_view *v, const char *expr, const uns
 void trace_print_paths_json(FILE *f, const trace_view *v, const char *expr,
                             const unsigned char *matched, const ggPathSummary *sum);
 
-/* Children of node i, in order: fills kids (up to max), returns count. */
-int trace_children(const ggTrace *t, int i, int *kids, int max);
+/* The children of a tree's nodes, found in one pass (trace_text.c): node
+   i's are kid[first[i]] .. kid[first[i + 1] - 1], in order, the later
+   nodes whose parent is i. trace_kids_make: 0, or -1 without memory
+   (first and kid NULL). */
+typedef struct trace_kids {
+    int *first, *kid;
+} trace_kids;
+int trace_kids_make(trace_kids *k, const ggTrace *t);
+void trace_kids_free(trace_kids *k);
+/* Children of node i, in order: fills kids (up to max), returns count;
+   from k, or where k has no index (NULL, or made without memory) by a
+   scan of the later nodes, slower but the same. */
+int trace_children(const trace_kids *k, const ggTrace *t, int i, int *kids, int max);
 
 #endif
