@@ -112,6 +112,19 @@ typedef struct cli_out {
 } cli_out;
 int cli_out_open(cli_out *o, const char *cmd, const char *path);
 int cli_out_close(cli_out *o, const char *cmd);
+/* Give up an open cli_out: close it and remove its temporary file (path
+   stays as it was). For a write a cancel signal stopped. */
+void cli_out_abandon(cli_out *o);
+
+/* The triangles of a scene's implicit surfaces, all of them together,
+   where ggrt draws them for a person to look at: ggrt serve's 3D view at
+   most CLI_SURFACE_TRIANGLES (a page the browser draws at once), ggrt
+   trace --scene-obj at most CLI_SCENE_OBJ_TRIANGLES (a file for Blender
+   or MeshLab: about 20 MB; one surface at 64 cells takes 10k to 100k
+   triangles, a rough one over a million). Each writes a surface coarser,
+   or leaves it out, rather than go over. */
+#define CLI_SURFACE_TRIANGLES   100000L
+#define CLI_SCENE_OBJ_TRIANGLES (5 * CLI_SURFACE_TRIANGLES)
 
 /* The whole file at path, NUL-terminated, in malloc'd memory sized as it
    is read, if it holds at most max bytes: returns 0 with *text (the

@@ -237,6 +237,13 @@ int cli_out_close(cli_out *o, const char *cmd)
     return EXIT_IO;
 }
 
+void cli_out_abandon(cli_out *o)
+{
+    if (o->f) fclose(o->f);
+    o->f = NULL;
+    unlink(o->tmp);
+}
+
 int cli_check_not_read(const char *cmd, const ggScene *s, const char *const *opts,
                        const char *const *outs, int n)
 {

@@ -24,7 +24,7 @@
    however many there are (100 of 4000-character expressions: 10 s
    without this bound); past 512 objects (8^3 cells each) the boxes are
    drawn. */
-#define MAX_SURFACE_TRIANGLES 100000L
+#define MAX_SURFACE_TRIANGLES CLI_SURFACE_TRIANGLES
 #define MAX_SURFACE_CELLS     (64L * 64 * 64)
 static const int SURFACE_CELLS[] = {64, 48, 32, 24, 16, 12, 8};
 

@@ -134,7 +134,9 @@ static int parse(trace_args *a, int argc, char **argv)
                        "eye to light, one per path"),
         CLI_OPT_STRING(0, "scene-obj", &a->scene_obj, "FILE",
                        "write the scene's objects as OBJ faces, to open\n"
-                       "with --obj's rays or --paths-obj's paths"),
+                       "with --obj's rays or --paths-obj's paths; implicit\n"
+                       "surfaces at most 500000 triangles in all, a rough\n"
+                       "one written coarser or left out, with a warning"),
         CLI_OPT_END,
     };
     cli_cmd cmd = {.name = "trace",
@@ -201,43 +203,87 @@ static int camera_view(const trace_args *a, const trace_view *view, ggImage **im
     return rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
 }
 
-/* --svg, --obj, --scene-obj: each written whole or not at all, a signal
-   during the writes handled after them (the files are then complete). */
+/* --svg into o: the views with the camera view img, embedded through a
+   PNG beside it. EXIT_OK, or the error said and nothing left. */
+static int write_svg(const trace_args *a, const trace_view *view, const ggImage *img, cli_out *o)
+{
+    ggError err;
+    char png[sizeof o->tmp + 8];
+    size_t n;
+    int rc;
+    if ((rc = cli_out_open(o, "trace", a->svg)) != 0) return rc;
+    snprintf(png, sizeof png, "%s.png", o->tmp);
+    if ((rc = trace_write_svg_views(o->f, view, 1, img, png, &err)) == GG_OK) return EXIT_OK;
+    n = strlen(png);
+    cli_out_abandon(o), unlink(png);
+    /* (the message names the temporary file: name the output) */
+    cli_error_in("trace", "%s: the camera view: %s", a->svg,
+                 strncmp(err.message, png, n) == 0 && err.message[n] == ':' ? err.message + n + 2
+                                                                            : err.message);
+    return cli_exit_code(rc, 0);
+}
+
+/* "a.svg, r.obj and s.obj" */
+static void name_files(char *buf, size_t size, const char *const *names, int n)
+{
+    size_t at = 0;
+    int k;
+    buf[0] = '\0';
+    for (k = 0; k < n && at < size; k++)
+        at += (size_t)snprintf(buf + at, size - at, "%s%s",
+                               k == 0       ? ""
+                               : k == n - 1 ? " and "
+                                            : ", ",
+                               names[k]);
+}
+
+/* --svg, --obj, --scene-obj: each written to a temporary file, the lot
+   renamed over their names at the end with the signals held, so that
+   each is written whole or not at all. A signal before that (--scene-obj
+   of a large scene takes seconds: it stops within a surface) removes the
+   temporary files, writes none and ends the process. */
 static int write_files(const trace_args *a, const trace_view *view)
 {
-    cli_out o;
+    cli_out o[3];
+    const char *names[3];
+    char all[3 * CLI_PATH_MAX];
     ggImage *img = NULL;
-    ggError err;
-    char png[sizeof o.tmp + 8];
-    int rc = EXIT_OK, sig;
+    int rc = EXIT_OK, sig, n = 0, k;
     if (!a->svg && !a->obj && !a->scene_obj) return EXIT_OK;
     cli_cancel_begin();
     if (a->svg && (rc = camera_view(a, view, &img)) != EXIT_OK) return rc;
-    cli_cancel_hold();
-    if (a->svg && (rc = cli_out_open(&o, "trace", a->svg)) == 0) {
-        snprintf(png, sizeof png, "%s.png", o.tmp);
-        if ((rc = trace_write_svg_views(o.f, view, 1, img, png, &err)) != GG_OK) {
-            size_t n = strlen(png);
-            fclose(o.f), unlink(o.tmp), unlink(png);
-            /* (the message names the temporary file: name the output) */
-            cli_error_in("trace", "%s: the camera view: %s", a->svg,
-                         strncmp(err.message, png, n) == 0 && err.message[n] == ':'
-                             ? err.message + n + 2
-                             : err.message);
-            rc = cli_exit_code(rc, 0);
-        } else {
-            rc = cli_out_close(&o, "trace");
-        }
-    }
+    if (a->svg && (rc = write_svg(a, view, img, &o[n])) == EXIT_OK) names[n++] = a->svg;
     ggImageFree(img);
-    if (rc == EXIT_OK && a->obj && (rc = cli_out_open(&o, "trace", a->obj)) == 0) {
-        trace_write_obj(o.f, view);
-        rc = cli_out_close(&o, "trace");
+    if (rc == EXIT_OK && a->obj && !cli_cancelled() &&
+        (rc = cli_out_open(&o[n], "trace", a->obj)) == EXIT_OK) {
+        trace_write_obj(o[n].f, view);
+        names[n++] = a->obj;
     }
-    if (rc == EXIT_OK && a->scene_obj && (rc = cli_out_open(&o, "trace", a->scene_obj)) == 0) {
-        trace_write_scene_obj(o.f, view->scene, view->path);
-        rc = cli_out_close(&o, "trace");
+    if (rc == EXIT_OK && a->scene_obj && !cli_cancelled() &&
+        (rc = cli_out_open(&o[n], "trace", a->scene_obj)) == EXIT_OK) {
+        trace_write_scene_obj(o[n].f, view->scene, view->path);
+        names[n++] = a->scene_obj;
     }
+    if (rc != EXIT_OK || (sig = cli_cancelled()) != 0) {
+        for (k = 0; k < n; k++) cli_out_abandon(&o[k]);
+        if ((sig = cli_cancelled()) != 0) {
+            names[0] = a->svg, names[1] = a->obj, names[2] = a->scene_obj;
+            for (k = n = 0; k < 3; k++)
+                if (names[k]) names[n++] = names[k];
+            name_files(all, sizeof all, names, n);
+            cli_error_in("trace", "cancelled by signal %d; %s not written", sig, all);
+            cli_cancel_exit(sig);
+        }
+        return rc;
+    }
+    name_files(all, sizeof all, names, n);
+    cli_cancel_hold();
+    for (k = 0; k < n; k++)
+        if (rc == EXIT_OK)
+            rc = cli_out_close(&o[k], "trace");
+        else
+            cli_out_abandon(&o[k]);
+    if (rc == EXIT_OK) cli_cancel_after_write(all);
     cli_cancel_release();
     if ((sig = cli_cancelled()) != 0) cli_cancel_exit(sig);
     return rc;

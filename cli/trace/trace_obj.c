@@ -46,7 +46,10 @@ void trace_write_obj(FILE *f, const trace_view *v)
 #define PI          3.14159265358979323846
 #define SEGMENTS    32       /* around a sphere or cone (a sphere has half as many bands)... */
 #define ROUND_VERTS 2000000L /* ...halved, to 8 at least, while they would make more */
-#define SURFACE_RES 64       /* implicit surfaces: cells along the box's longest side */
+/* Implicit surfaces: cells along the box's longest side, the first that
+   fits the surface's share of CLI_SCENE_OBJ_TRIANGLES (serve's steps). */
+static const int SURFACE_CELLS[] = {64, 48, 32, 24, 16, 12, 8};
+#define NSTEPS (int)(sizeof SURFACE_CELLS / sizeof SURFACE_CELLS[0])
 
 static void put_v(FILE *f, ggVec3 p)
 {
@@ -113,26 +116,54 @@ static long face(FILE *f, const ggVec3 *v, int n, long first)
     return n;
 }
 
+/* (the loops that can be long stop at a cancel signal: the file is then
+   removed) */
 static long mesh_part(FILE *f, const ggScene *s, int obj, long first)
 {
     long k, n = ggSceneObjectTriangleCount(s, obj), used = 0;
     ggVec3 v[3];
-    for (k = 0; k < n; k++)
+    for (k = 0; k < n && !cli_cancelled(); k++)
         if (ggSceneObjectTriangle(s, obj, k, v, NULL) == GG_OK) used += face(f, v, 3, first + used);
     return used;
 }
 
-/* The triangulation the 3D view draws (docs/serve.md), here at one
-   resolution; nothing where it fails or finds no sign change. */
-static long surface(FILE *f, const ggScene *s, int obj, long first)
+/* The triangulation the 3D view draws (docs/serve.md): at the first of
+   SURFACE_CELLS whose triangles fit in `share`, with a warning and a
+   comment in the file when that is not the first (a rough surface at 64
+   cells made a million triangles, eight of them 436 MB in 13 s); left
+   out, with both, when none fits. Nothing where it fails or finds no
+   sign change. *tris gets the triangles written. */
+static long surface(FILE *f, const ggScene *s, const char *path, int obj, const ggShapeDesc *d,
+                    long first, long share, long *tris)
 {
     ggTriangulation *t = NULL;
     size_t k;
-    if (ggSceneObjectTriangulate(s, obj, SURFACE_RES, 0, &t) != GG_OK) return 0;
-    for (k = 0; k < t->nverts; k++) put_v(f, t->verts[k]);
-    for (k = 0; k < t->ntris; k++)
+    int r, rc = GG_ERROR_LIMIT;
+    *tris = 0;
+    for (r = 0; r < NSTEPS && rc == GG_ERROR_LIMIT && !cli_cancelled(); r++)
+        rc =
+            ggSceneObjectTriangulate(s, obj, SURFACE_CELLS[r], (size_t)(share > 0 ? share : 1), &t);
+    if (rc == GG_ERROR_LIMIT && !cli_cancelled()) {
+        cli_warn("--scene-obj: implicit #%d (%s:%d) would take more than its share (%ld of %ld "
+                 "triangles) even at %d cells: left out",
+                 obj, path, d->line, share, CLI_SCENE_OBJ_TRIANGLES, SURFACE_CELLS[NSTEPS - 1]);
+        fprintf(f, "# left out: more than %ld triangles even at %d cells\n", share,
+                SURFACE_CELLS[NSTEPS - 1]);
+    }
+    if (rc != GG_OK) return 0;
+    if (t->resolution != SURFACE_CELLS[0]) {
+        cli_warn("--scene-obj: implicit #%d (%s:%d) would take more than its share (%ld of %ld "
+                 "triangles) at %d cells: written at %d cells, %zu triangles",
+                 obj, path, d->line, share, CLI_SCENE_OBJ_TRIANGLES, SURFACE_CELLS[0],
+                 t->resolution, t->ntris);
+        fprintf(f, "# %d cells along the box's longest side, not %d: at most %ld triangles\n",
+                t->resolution, SURFACE_CELLS[0], share);
+    }
+    for (k = 0; k < t->nverts && !cli_cancelled(); k++) put_v(f, t->verts[k]);
+    for (k = 0; k < t->ntris && !cli_cancelled(); k++)
         fprintf(f, "f %ld %ld %ld\n", first + (long)t->tris[3 * k] + 1,
                 first + (long)t->tris[3 * k + 1] + 1, first + (long)t->tris[3 * k + 2] + 1);
+    *tris = (long)t->ntris;
     k = t->nverts;
     ggTriangulationFree(t);
     return (long)k;
@@ -153,13 +184,20 @@ static int segments(const ggScene *s, int n)
     return seg;
 }
 
-void trace_write_scene_obj(FILE *f, const ggScene *s, const char *path)
+static int implicit_count(const ggScene *s, int n)
 {
-    int i, n = ggSceneObjectCount(s), seg = segments(s, n);
-    long first = 0;
+    int i, k = 0;
+    for (i = 0; i < n; i++) k += ggSceneObjectKind(s, i) == GG_SHAPE_IMPLICIT;
+    return k;
+}
+
+int trace_write_scene_obj(FILE *f, const ggScene *s, const char *path)
+{
+    int i, n = ggSceneObjectCount(s), seg = segments(s, n), left = implicit_count(s, n);
+    long first = 0, budget = CLI_SCENE_OBJ_TRIANGLES, used;
     fprintf(f, "# ggrt trace --scene-obj: %s, %d objects, one OBJ object each; %d segments\n", path,
             n, seg);
-    for (i = 0; i < n; i++) {
+    for (i = 0; i < n && !cli_cancelled(); i++) {
         ggShapeDesc d;
         if (ggSceneObjectShape(s, i, &d) != GG_OK) continue;
         fprintf(f, "o object%d_%s_line%d\n", i, ggShapeKindName(d.kind), d.line);
@@ -177,8 +215,9 @@ void trace_write_scene_obj(FILE *f, const ggScene *s, const char *path)
             first += face(f, q, 4, first);
             break;
         }
-        case GG_SHAPE_IMPLICIT:
-            first += surface(f, s, i, first);
+        case GG_SHAPE_IMPLICIT: /* an equal share of what those before left */
+            first += surface(f, s, path, i, &d, first, budget / left--, &used);
+            budget -= used;
             break;
         case GG_SHAPE_MESH:
             first += mesh_part(f, s, i, first);
@@ -187,4 +226,5 @@ void trace_write_scene_obj(FILE *f, const ggScene *s, const char *path)
             if (d.verts && d.nverts >= 3) first += face(f, d.verts, d.nverts, first);
         }
     }
+    return cli_cancelled();
 }

@@ -43,8 +43,11 @@ void trace_write_obj(FILE *f, const trace_view *v);
    of thousands), rects and
    polygons as their face, mesh parts as their triangles, implicit
    surfaces as ggSceneObjectTriangulate's (64 cells along the box's
-   longest side). path names the scene in a comment. */
-void trace_write_scene_obj(FILE *f, const ggScene *s, const char *path);
+   longest side; fewer, or none, with a warning, past an equal share of
+   what CLI_SCENE_OBJ_TRIANGLES the surfaces before left). path names the
+   scene in a comment and the warnings. Stops at a cancel signal: returns
+   it (cli_cancelled; the file is then incomplete), else 0. */
+int trace_write_scene_obj(FILE *f, const ggScene *s, const char *path);
 
 /* The ledger (trace_debug.c): terms by share, with the rays that carried
    them; at most `max` terms listed (0: all), the rest summed. */

@@ -2,7 +2,8 @@
 """SIGINT and SIGTERM cancel `ggrt render` through the library's progress
 callback: the process dies of the signal, says so, leaves the old output as
 it was and no temporary file; SIGTERM does the same to a tile, to ggrt
-plan's measuring, to trace --svg's camera view and to find's paths pass.
+plan's measuring, to trace --svg's camera view, to trace --scene-obj's
+write and to find's paths pass.
 Also checks that ggrt never wrote into its argv (/proc/PID/cmdline while
 it runs), and that render, a tile, plan, find,
 check and diff draw their progress bar on a terminal (a pseudo-terminal
@@ -205,6 +206,48 @@ else:
                "the file changed")
     left = sorted(os.listdir(d))
     report(left == ["p.jsonl"], "SIGTERM: find leaves no temporary file", repr(left))
+
+# trace --scene-obj of rough implicit surfaces took seconds with the
+# signals held: SIGTERM at 3 s took effect at 9 s, once the file (436 MB)
+# was complete. The signal goes once the file has begun (its temporary
+# file grows); it must stop within a surface, write nothing and leave no
+# temporary file.
+d = os.path.join(tmp, "cancel-scene-obj")
+os.makedirs(d)
+rough = os.path.join(tmp, "rough.nff")
+with open(rough, "w") as f:
+    for i in range(8):
+        f.write('implicit "sin(50*x)+sin(50*y)+sin(50*z)+%g" -1 -1 -1 1 1 1\n' % (i / 10))
+out = os.path.join(d, "s.obj")
+with open(out, "wb") as f:
+    f.write(b"the previous file\n")
+p = subprocess.Popen([ggrt, "trace", rough, "-p", "8,8", "--scene-obj", out],
+                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, preexec_fn=default_signals)
+t0 = time.time()
+started = False
+while p.poll() is None and time.time() - t0 < 60 and not started:
+    started = any(".tmp" in n and os.path.getsize(os.path.join(d, n)) > 0
+                  for n in os.listdir(d))
+    time.sleep(0.01)
+if not started:
+    p.kill()
+    p.communicate()
+    report(False, "trace --scene-obj: SIGTERM while it writes", "the write was not seen")
+else:
+    t1 = time.time()
+    err = signal_and_wait(p, signal.SIGTERM)
+    took = time.time() - t1
+    report(err is not None and p.returncode == -signal.SIGTERM and
+           "cancelled by signal %d; %s not written" % (signal.SIGTERM, out) in err,
+           "SIGTERM: trace --scene-obj dies of it while it writes and says so",
+           "exit %r, stderr %r" % (p.returncode, err))
+    report(took < 1.0, "SIGTERM stops trace --scene-obj at once (%.2fs)" % took,
+           "it took %.2fs: the write ran on" % took)
+    with open(out, "rb") as f:
+        report(f.read() == b"the previous file\n", "SIGTERM: trace keeps the old --scene-obj file",
+               "the file changed")
+    left = sorted(os.listdir(d))
+    report(left == ["s.obj"], "SIGTERM: trace --scene-obj leaves no temporary file", repr(left))
 
 
 def on_terminal(args):

@@ -11,7 +11,8 @@ with at least one face; and every hit point of the ray trees of a few
 pixels (`ggrt trace -f json`) must lie on the faces of the object the ray
 hit, named as the tree names it: within the tessellation's sagitta for
 spheres and cones (from the header's segment count), within a cell for
-implicit surfaces (a quarter of a cell, 64 along the box's longest side),
+implicit surfaces (a quarter of a cell, 64 along the box's longest side
+or as many as the object's comment says, for a surface written coarser),
 within rounding for
 flat faces and meshes. So the file shows each object where the renderer
 hits it. A file over 20 MB (balls-s4, rings, tree) is checked for its
@@ -34,8 +35,8 @@ def run(args):
 
 
 def parse_obj(path):
-    """(header, {name: (verts, faces)}, problems)"""
-    verts, objs, order, bad, header, cur = [], {}, [], [], "", None
+    """(header, {name: (verts, faces)}, order, problems, {name: cells})"""
+    verts, objs, order, bad, header, cur, cells = [], {}, [], [], "", None, {}
     with open(path) as f:
         for ln, line in enumerate(f, 1):
             w = line.split()
@@ -43,6 +44,9 @@ def parse_obj(path):
                 continue
             if w[0] == "#":
                 header = header or line
+                m = re.match(r"# (\d+) cells along", line)
+                if m and cur is not None:
+                    cells[cur] = int(m.group(1))
             elif w[0] == "o":
                 cur = w[1]
                 order.append(cur)
@@ -60,7 +64,7 @@ def parse_obj(path):
                 objs[cur][1].append([verts[i - 1] for i in idx])
             else:
                 bad.append("line %d: %r" % (ln, line.strip()))
-    return header, objs, order, bad
+    return header, objs, order, bad, cells
 
 
 def sub(a, b):
@@ -133,7 +137,7 @@ def extent(boxes):
     return max(max(b[1][k] for b in boxes) - min(b[0][k] for b in boxes) for k in range(3))
 
 
-def tolerance(kind, ext, seg, scale):
+def tolerance(kind, ext, seg, scale, cells):
     # radius at most half the extent; a cone's quads (between its circles)
     # are off the surface by a chord's sagitta, a sphere's (between two
     # parallels and two meridians, both pi/seg from their middle) by
@@ -144,7 +148,7 @@ def tolerance(kind, ext, seg, scale):
     if kind == "cone":
         return 0.5 * ext * (1 - c) * 1.01 + 1e-9 * scale
     if kind == "implicit":  # a vertex on each cut edge: the surface within a cell
-        return ext / 64 * 0.25 + 1e-9 * scale
+        return ext / cells * 0.25 + 1e-9 * scale
     return 1e-9 * scale
 
 
@@ -177,7 +181,7 @@ def check(ggrt, scene, tmp):
         if not head.startswith("# ggrt trace --scene-obj: ") or n != want:
             return "header %r, %d objects of %d" % (head, n, want)
         return None
-    header, objs, order, bad = parse_obj(obj)
+    header, objs, order, bad, cells = parse_obj(obj)
     if bad:
         return "; ".join(bad[:3])
     m = re.search(r"(\d+) segments", header)
@@ -204,7 +208,7 @@ def check(ggrt, scene, tmp):
             boxes, ext = prepared[name]
             p = tuple(h["point"])
             scale = max(1.0, max(abs(c) for c in p))
-            tol = tolerance(kind, ext, seg, scale)
+            tol = tolerance(kind, ext, seg, scale, cells.get(name, 64))
             d = distance(p, boxes, tol)
             if not d <= tol:
                 return "pixel %d,%d: a hit on %s at %r is %g from its faces (at most %g)" % (x, y, name, p, d, tol)
