@@ -36,8 +36,9 @@ void gg_implicit_shape_surface(const ggImplicit *imp, const gg_rayq *q, const gg
     double tol = q->opt->implicit_tol > 0 ? q->opt->implicit_tol : gg_implicit_tolerance(imp);
     out->p = v3madd(q->o, q->d, h->t);
     n = gg_implicit_normal_step(imp, out->p, q->opt->gradient_h);
-    /* v3unit: a gradient below 2^-484 or above 2^512 has no finite |n|^2,
-       yet a direction (f and 1e200 f are the same surface) */
+    /* v3unit: |grad f|^2 underflows below about 2^-537 and overflows
+       above 2^512, yet the gradient has a direction (f and 1e200 f are
+       the same surface) */
     n = v3unit(n);
     if (!(v3dot(n, n) > 0)) n = v3norm(v3neg(q->d)); /* a critical point of f */
     out->ng = n;
