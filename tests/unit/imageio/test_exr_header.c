@@ -107,24 +107,28 @@ static void test_offset_windows(void **state)
     ggImageFree(img);
 }
 
+/* The temporary files a and b hold the same bytes. */
+static void assert_same_files(const char *a, const char *b)
+{
+    size_t na = 0, nb = 0;
+    char *pa = tu_slurp(tu_tmppath(a), &na), *pb = tu_slurp(tu_tmppath(b), &nb);
+    assert_non_null(pa);
+    assert_non_null(pb);
+    assert_int_equal(na, nb);
+    assert_memory_equal(pa, pb, na);
+    free(pa);
+    free(pb);
+}
+
 /* A NULL header writes ggImageWriteEXR's file, byte for byte. */
 static void test_null_header_same_file(void **state)
 {
     ggImage *img = ramp(9, 17);
     ggError err;
-    size_t na = 0, nb = 0;
-    char *a, *b;
     (void)state;
     assert_int_equal(ggImageWriteEXR(img, tu_tmppath("a.exr"), &err), GG_OK);
     assert_int_equal(ggImageWriteEXRHeader(img, NULL, tu_tmppath("b.exr"), &err), GG_OK);
-    a = tu_slurp(tu_tmppath("a.exr"), &na);
-    b = tu_slurp(tu_tmppath("b.exr"), &nb);
-    assert_non_null(a);
-    assert_non_null(b);
-    assert_int_equal(na, nb);
-    assert_memory_equal(a, b, na);
-    free(a);
-    free(b);
+    assert_same_files("a.exr", "b.exr");
     ggImageFree(img);
 }
 
@@ -140,8 +144,7 @@ static void test_layer_map_same_file(void **state)
     const size_t n = 9 * 17 * 3;
     float *map = malloc(3 * n * sizeof(float));
     ggError err;
-    size_t na = 0, nb = 0, k;
-    char *a, *b;
+    size_t k;
     int i;
     (void)state;
     assert_non_null(map);
@@ -157,12 +160,7 @@ static void test_layer_map_same_file(void **state)
                      GG_OK);
     assert_int_equal(ggImageWriteEXRLayerMap(img, map, names, 3, &h, tu_tmppath("b.exr"), &err),
                      GG_OK);
-    a = tu_slurp(tu_tmppath("a.exr"), &na);
-    b = tu_slurp(tu_tmppath("b.exr"), &nb);
-    assert_non_null(a);
-    assert_non_null(b);
-    assert_int_equal(na, nb);
-    assert_memory_equal(a, b, na);
+    assert_same_files("a.exr", "b.exr");
     assert_int_equal(ggImageReadEXRLayer(tu_tmppath("b.exr"), "b-2", NULL, &back, &err), GG_OK);
     assert_memory_equal(ggImagePixelsConst(back), map + n, n * sizeof(float));
     /* n = 0: the image alone, as ggImageWriteEXRHeader writes it */
@@ -175,8 +173,6 @@ static void test_layer_map_same_file(void **state)
     ggImageFree(back);
     ggImageFree(img);
     free(map);
-    free(a);
-    free(b);
 }
 
 static void test_refusals(void **state)
