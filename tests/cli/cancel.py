@@ -99,14 +99,20 @@ for sig in (signal.SIGINT, signal.SIGTERM):
     report(left == ["old.png"], "%s: no temporary file left" % name, repr(left))
 
 
+def start_over(args, out):
+    """args started with the ordinary signal dispositions, out first
+    holding "the previous file"."""
+    with open(out, "wb") as f:
+        f.write(b"the previous file\n")
+    return subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            preexec_fn=default_signals)
+
+
 def cancel_other(what, args, out):
     """SIGTERM during a tile's render or a plan's measuring: dies of it,
     says so, keeps the old output and leaves no temporary file."""
     d = os.path.dirname(out)
-    with open(out, "wb") as f:
-        f.write(b"the previous file\n")
-    p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                         preexec_fn=default_signals)
+    p = start_over(args, out)
     t0 = time.time()
     while not caught(p.pid, signal.SIGTERM) and p.poll() is None and time.time() - t0 < 30:
         time.sleep(0.01)
@@ -150,11 +156,8 @@ cancel_other("a tile", [ggrt, "render", SCENE, "--tile", "0/2", "-s", "1024x768"
 d = os.path.join(tmp, "cancel-long-tile")
 os.makedirs(d)
 out = os.path.join(d, "n.png")
-with open(out, "wb") as f:
-    f.write(b"the previous file\n")
-p = subprocess.Popen([ggrt, "render", "tests/data/nested-glass.nff", "-s", "16x16", "-n", "256",
-                      "-j", "1", "-q", "-o", out], stdout=subprocess.DEVNULL,
-                     stderr=subprocess.PIPE, preexec_fn=default_signals)
+p = start_over([ggrt, "render", "tests/data/nested-glass.nff", "-s", "16x16", "-n", "256", "-j",
+                "1", "-q", "-o", out], out)
 t0 = time.time()
 while not caught(p.pid, signal.SIGTERM) and p.poll() is None and time.time() - t0 < 30:
     time.sleep(0.01)
@@ -179,10 +182,7 @@ def cancel_while_writing(what, args, out, bound=None):
     ggrt dies of it and says so (within bound seconds, if given), keeps
     out as it was and leaves no temporary file."""
     d = os.path.dirname(out)
-    with open(out, "wb") as f:
-        f.write(b"the previous file\n")
-    p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                         preexec_fn=default_signals)
+    p = start_over(args, out)
     t0 = time.time()
     started = False
     while p.poll() is None and time.time() - t0 < 60 and not started:
