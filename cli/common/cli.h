@@ -125,6 +125,10 @@ void cli_out_abandon(cli_out *o);
    or leaves it out, rather than go over. */
 #define CLI_SURFACE_TRIANGLES   100000L
 #define CLI_SCENE_OBJ_TRIANGLES (5 * CLI_SURFACE_TRIANGLES)
+/* The grids both try, finest first (cells along the box's longest side),
+   until a surface's triangles fit (common/scene.c). */
+#define CLI_SURFACE_STEPS 7
+extern const int cli_surface_cells[CLI_SURFACE_STEPS];
 
 /* The whole file at path, NUL-terminated, in malloc'd memory sized as it
    is read, if it holds at most max bytes: returns 0 with *text (the

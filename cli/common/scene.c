@@ -45,6 +45,8 @@ ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *r
     return s;
 }
 
+const int cli_surface_cells[CLI_SURFACE_STEPS] = {64, 48, 32, 24, 16, 12, 8};
+
 int cli_is_model(const char *path)
 {
     size_t n = strlen(path);

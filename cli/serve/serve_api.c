@@ -18,7 +18,7 @@
 #define MAX_SCENE_TRIANGLES 60000L
 /* Implicit surfaces' triangles /api/scene sends, all of them together
    (about 4 MB of JSON): each of the k implicit objects is triangulated
-   with about SURFACE_CELLS[r]^3 cells, the first r whose triangles fit in
+   with about cli_surface_cells[r]^3 cells, the first r whose triangles fit in
    1/k of it. The grids of the k objects together have at most
    MAX_SURFACE_CELLS cells, so the time f is evaluated in is bounded
    however many there are (100 of 4000-character expressions: 10 s
@@ -26,7 +26,6 @@
    drawn. */
 #define MAX_SURFACE_TRIANGLES CLI_SURFACE_TRIANGLES
 #define MAX_SURFACE_CELLS     (64L * 64 * 64)
-static const int SURFACE_CELLS[] = {64, 48, 32, 24, 16, 12, 8};
 
 typedef struct route {
     const char *path;
@@ -232,7 +231,7 @@ static int surface_resolution(const ggShapeDesc *d, int n)
 }
 
 /* ',"surface":{...}' for implicit object i (shape d), one of n: its
-   triangles with the most cells of SURFACE_CELLS (n times them within
+   triangles with the most cells of cli_surface_cells (n times them within
    MAX_SURFACE_CELLS) that give at most 1/n of MAX_SURFACE_TRIANGLES
    (positions, unit normals -- the renderer's gradient -- and corner
    indices; docs/serve.md); nothing when none fits or the grid sees no
@@ -240,13 +239,13 @@ static int surface_resolution(const ggShapeDesc *d, int n)
 static void surface_json(FILE *f, const ggScene *sc, int i, const ggShapeDesc *d, int n)
 {
     ggTriangulation *t = NULL;
-    size_t k, r, nres = sizeof SURFACE_CELLS / sizeof SURFACE_CELLS[0];
+    size_t k, r;
     size_t budget = (size_t)(MAX_SURFACE_TRIANGLES / n);
     int rc = GG_ERROR_LIMIT;
-    for (r = 0; r < nres && rc == GG_ERROR_LIMIT; r++) {
-        long c = SURFACE_CELLS[r];
+    for (r = 0; r < CLI_SURFACE_STEPS && rc == GG_ERROR_LIMIT; r++) {
+        long c = cli_surface_cells[r];
         if (n * c * c * c > MAX_SURFACE_CELLS) continue;
-        rc = ggSceneObjectTriangulate(sc, i, surface_resolution(d, SURFACE_CELLS[r]),
+        rc = ggSceneObjectTriangulate(sc, i, surface_resolution(d, cli_surface_cells[r]),
                                       budget ? budget : 1, &t);
     }
     if (rc != GG_OK || !t->ntris) {

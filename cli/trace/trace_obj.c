@@ -46,10 +46,6 @@ void trace_write_obj(FILE *f, const trace_view *v)
 #define PI          3.14159265358979323846
 #define SEGMENTS    32       /* around a sphere or cone (a sphere has half as many bands)... */
 #define ROUND_VERTS 2000000L /* ...halved, to 8 at least, while they would make more */
-/* Implicit surfaces: cells along the box's longest side, the first that
-   fits the surface's share of CLI_SCENE_OBJ_TRIANGLES (serve's steps). */
-static const int SURFACE_CELLS[] = {64, 48, 32, 24, 16, 12, 8};
-#define NSTEPS (int)(sizeof SURFACE_CELLS / sizeof SURFACE_CELLS[0])
 
 static void put_v(FILE *f, ggVec3 p)
 {
@@ -128,7 +124,7 @@ static long mesh_part(FILE *f, const ggScene *s, int obj, long first)
 }
 
 /* The triangulation the 3D view draws (docs/serve.md): at the first of
-   SURFACE_CELLS whose triangles fit in `share`, with a warning and a
+   cli_surface_cells whose triangles fit in `share`, with a warning and a
    comment in the file when that is not the first (a rough surface at 64
    cells made a million triangles, eight of them 436 MB in 13 s); left
    out, with both, when none fits. Nothing where it fails or finds no
@@ -140,24 +136,25 @@ static long surface(FILE *f, const ggScene *s, const char *path, int obj, const 
     size_t k;
     int r, rc = GG_ERROR_LIMIT;
     *tris = 0;
-    for (r = 0; r < NSTEPS && rc == GG_ERROR_LIMIT && !cli_cancelled(); r++)
-        rc =
-            ggSceneObjectTriangulate(s, obj, SURFACE_CELLS[r], (size_t)(share > 0 ? share : 1), &t);
+    for (r = 0; r < CLI_SURFACE_STEPS && rc == GG_ERROR_LIMIT && !cli_cancelled(); r++)
+        rc = ggSceneObjectTriangulate(s, obj, cli_surface_cells[r], (size_t)(share > 0 ? share : 1),
+                                      &t);
     if (rc == GG_ERROR_LIMIT && !cli_cancelled()) {
         cli_warn("--scene-obj: implicit #%d (%s:%d) would take more than its share (%ld of %ld "
                  "triangles) even at %d cells: left out",
-                 obj, path, d->line, share, CLI_SCENE_OBJ_TRIANGLES, SURFACE_CELLS[NSTEPS - 1]);
+                 obj, path, d->line, share, CLI_SCENE_OBJ_TRIANGLES,
+                 cli_surface_cells[CLI_SURFACE_STEPS - 1]);
         fprintf(f, "# left out: more than %ld triangles even at %d cells\n", share,
-                SURFACE_CELLS[NSTEPS - 1]);
+                cli_surface_cells[CLI_SURFACE_STEPS - 1]);
     }
     if (rc != GG_OK) return 0;
-    if (t->resolution != SURFACE_CELLS[0]) {
+    if (t->resolution != cli_surface_cells[0]) {
         cli_warn("--scene-obj: implicit #%d (%s:%d) would take more than its share (%ld of %ld "
                  "triangles) at %d cells: written at %d cells, %zu triangles",
-                 obj, path, d->line, share, CLI_SCENE_OBJ_TRIANGLES, SURFACE_CELLS[0],
+                 obj, path, d->line, share, CLI_SCENE_OBJ_TRIANGLES, cli_surface_cells[0],
                  t->resolution, t->ntris);
         fprintf(f, "# %d cells along the box's longest side, not %d: at most %ld triangles\n",
-                t->resolution, SURFACE_CELLS[0], share);
+                t->resolution, cli_surface_cells[0], share);
     }
     for (k = 0; k < t->nverts && !cli_cancelled(); k++) put_v(f, t->verts[k]);
     for (k = 0; k < t->ntris && !cli_cancelled(); k++)
