@@ -121,6 +121,14 @@ typedef struct ggError {
     char message[512];
 } ggError;
 
+/* Progress of a long step: done out of total (done never decreases within
+   a step, and done <= total). Return non-zero to cancel: the step then
+   returns GG_ERROR_CANCELLED. Each function that takes one says its
+   units, how often it calls, and what a cancel leaves (ggRender: pixels,
+   render.h; loading and preparing a scene: ggSceneSetProgress, scene.h).
+   `ud` is passed back unchanged. */
+typedef int (*ggProgressFn)(void *ud, long done, long total);
+
 /* ------------------------------------------------------------------ */
 /* Allocator                                                           */
 /* ------------------------------------------------------------------ */

@@ -44,14 +44,14 @@ GG_API const char *ggSceneEffectReason(const ggScene *scene, unsigned effect);
 
 /* ---- options ---- */
 
-/* Progress callback: done and total in pixels. Return non-zero to cancel
-   (ggRender then returns GG_ERROR_CANCELLED). Called from one thread at a
-   time, a few hundred times per render as tiles of 16x16 pixels finish,
-   and besides at most ten times a second from within a tile of several
-   samples per pixel, a cost map or a recording that takes long (every
-   2^15 rays a thread casts), so that a cancel is seen within about a
-   tenth of a second and a pixel. done never decreases. */
-typedef int (*ggProgressFn)(void *ud, long done, long total);
+/* ggRender's progress (ggProgressFn, base.h): done and total in pixels.
+   Return non-zero to cancel (ggRender then returns GG_ERROR_CANCELLED).
+   Called from one thread at a time, a few hundred times per render as
+   tiles of 16x16 pixels finish, and besides at most ten times a second
+   from within a tile of several samples per pixel, a cost map or a
+   recording that takes long (every 2^15 rays a thread casts), so that a
+   cancel is seen within about a tenth of a second and a pixel. done never
+   decreases. */
 
 /* Accuracy knobs, for measuring what accuracy costs (ggrt bench accuracy,
    docs/accuracy.md). All zero = the accurate defaults. */

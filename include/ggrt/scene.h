@@ -212,6 +212,31 @@ GG_API void ggSceneSetImageReader(ggScene *scene, ggImageReader fn, void *ud);
 #define GG_TEXTURE_BUDGET ((int64_t)256 << 20)
 GG_API int64_t ggSceneSetTextureBudget(ggScene *scene, int64_t bytes);
 
+/* Progress of the long steps on this scene from now on, for a bar and a
+   cancel button (ggProgressFn, base.h): fn NULL (the initial state)
+   means none. fn(ud, done, total) is called on the thread that called
+   the step:
+   - loading (ggSceneLoadFile, ggSceneLoadString, ggSceneLoadMesh,
+     ggSceneLoadMeshMemory, and a mesh file an NFF file names): bytes of
+     the file being read, total its size. Once with done 0 when a file's
+     reading starts, again each time a further MiB has been read, and with
+     done == total when it is read, before the load takes effect. A mesh
+     file named by an NFF file is a step of its own: its bytes from 0,
+     then the NFF file's count goes on where it was;
+   - preparing (ggScenePrepare, and ggRender and the debugger's functions
+     when they prepare): thousandths, total 1000. 0 at the start, up to
+     300 as the objects' primitives are gathered (every 65536 of them),
+     then up to 1000 as the BVH is built: its subtrees as they are
+     finished (about every 16384 elements), then its nodes; 1000 at the
+     end. The thousandths count work, not time.
+   A non-zero return cancels: the call returns GG_ERROR_CANCELLED with a
+   message naming the step ("scene.nff:912:1: loading cancelled"), and
+   the scene is as a failed call leaves it: a load as before the call, a
+   prepare unprepared (nothing in the scene lost; preparing again starts
+   over). A scene shared between threads must not change its callback
+   while another thread prepares it. */
+GG_API void ggSceneSetProgress(ggScene *scene, ggProgressFn fn, void *ud);
+
 /* ---- building in code ----
    Functions that add something return its index (>= 0), or a negative
    status (-GG_ERROR_NOMEM, -GG_ERROR_INVALID, -GG_ERROR_LIMIT) on

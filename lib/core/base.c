@@ -12,6 +12,7 @@
 #include "buildid.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <fcntl.h>
 #include <locale.h>
 #include <stdio.h>
@@ -233,6 +234,39 @@ char *gg_mem_strdup(const ggAllocator *a, const char *s)
     char *d = gg_mem_alloc(a, n);
     if (d) memcpy(d, s, n);
     return d;
+}
+
+/* A count as a long: v scaled by 2^k, k the same for the three values
+   of a part, so that `of` fits. */
+static int progress_shift(uint64_t of)
+{
+    int k = 0;
+    while ((of >> k) > (uint64_t)LONG_MAX) k++;
+    return k;
+}
+
+void gg_progress_part(gg_progress *p, ggProgressFn fn, void *ud, uint64_t lo, uint64_t hi,
+                      uint64_t of)
+{
+    int k = progress_shift(of);
+    p->fn = fn, p->ud = ud;
+    p->lo = (long)(lo >> k), p->hi = (long)(hi >> k), p->of = (long)(of >> k);
+    p->last = p->lo, p->stopped = 0;
+}
+
+int gg_progress_to(gg_progress *p, uint64_t done, uint64_t total)
+{
+    long v = p->hi;
+    if (p->stopped || !p->fn) return p->stopped;
+    if (done < total) {
+        double f = (double)done / (double)total;
+        v = p->lo + (long)(f * (double)(p->hi - p->lo));
+        if (v > p->hi) v = p->hi;
+    }
+    if (v < p->last) v = p->last;
+    p->last = v;
+    if (p->fn(p->ud, v, p->of)) p->stopped = 1;
+    return p->stopped;
 }
 
 double gg_time_now(void)

@@ -83,6 +83,24 @@ static inline uint64_t gg_hash_word(uint64_t h, uint64_t w)
 }
 uint64_t gg_hash_bytes(uint64_t seed, const void *p, size_t n);
 
+/* A long step's progress (ggProgressFn, base.h) as a part of the
+   caller's count: gg_progress_part(p, fn, ud, lo, hi, of) makes the part
+   that runs from lo to hi of `of`; gg_progress_to(p, done, total) calls
+   fn with done/total of the part mapped into [lo, hi] (never below the
+   value passed before, so that done never decreases), and returns
+   non-zero once fn has asked to stop: sticky, later calls return it
+   without calling fn. With fn NULL it never calls and never stops.
+   Counts above LONG_MAX are scaled down (a 4 GiB mesh on a 32-bit long). */
+typedef struct gg_progress {
+    ggProgressFn fn;
+    void *ud;
+    long lo, hi, of, last;
+    int stopped;
+} gg_progress;
+void gg_progress_part(gg_progress *p, ggProgressFn fn, void *ud, uint64_t lo, uint64_t hi,
+                      uint64_t of);
+int gg_progress_to(gg_progress *p, uint64_t done, uint64_t total);
+
 /* Monotonic clock in seconds. */
 double gg_time_now(void);
 /* Seconds of CPU time the calling thread has used (for differences

@@ -161,6 +161,12 @@ typedef struct bctx {
     span *task;
     size_t ntask, cap, next;
     pthread_mutex_t mu;
+    /* Progress: the calling thread reports done (elements of the finished
+       tasks and of the leaves it made outside them) to prog; stop, set
+       when prog asks, ends the build (both under mu while tasks run). */
+    gg_progress *prog;
+    size_t done, total;
+    int stop;
 } bctx;
 
 /* Per-axis bins over a node: b[0] and cnt[0] once merged; while binning,
@@ -182,7 +188,10 @@ typedef struct sbins {
 typedef struct bwork {
     bctx *c;
     size_t ninner;
-    int top; /* the calling thread, splitting the top: may hand out tasks */
+    int top;     /* the calling thread, splitting the top: may hand out tasks */
+    int first;   /* the calling thread: reports progress, and stops when told */
+    int in_task; /* building a task (its elements count when it ends) */
+    size_t told; /* c->done when it last reported */
     bins bn;
     sbins sb;
     bref *tmp; /* the right side of a spatial split, while partitioning */
@@ -849,6 +858,27 @@ static uint32_t partition_spatial(bwork *w, const span *s, const ssplit *sp, spa
 
 static void build(bwork *w, const span *s);
 
+/* The calling thread's report of c->done (locked: tasks may be running),
+   every 2^14 elements; false once it is told to stop. */
+static int report(bwork *w, int force)
+{
+    bctx *c = w->c;
+    size_t done;
+    int stop;
+    if (!w->first || !c->prog) return 1;
+    if (c->threads > 1) pthread_mutex_lock(&c->mu);
+    done = c->done, stop = c->stop;
+    if (c->threads > 1) pthread_mutex_unlock(&c->mu);
+    if (stop) return 0;
+    if (!force && done - w->told < ((size_t)1 << 14)) return 1;
+    w->told = done;
+    if (!gg_progress_to(c->prog, done, c->total)) return 1;
+    if (c->threads > 1) pthread_mutex_lock(&c->mu);
+    c->stop = 1;
+    if (c->threads > 1) pthread_mutex_unlock(&c->mu);
+    return 0;
+}
+
 /* Build subtree k now, or (splitting the top, and small enough) leave
    it to the threads. */
 static void build_child(bwork *w, const span *k)
@@ -925,6 +955,9 @@ static void build(bwork *w, const span *s)
     span L, R;
     split sp;
     ssplit ssp;
+    /* A node of the top is a pass over its elements: a report each (in a
+       task, only between tasks: worker). Only this thread sets stop. */
+    if (w->first && (c->stop || (w->top && !report(w, 1)))) return;
     v4_st(lo, s->b.lo), v4_st(hi, s->b.hi);
     memcpy(nd->lo, lo, sizeof nd->lo), memcpy(nd->hi, hi, sizeof nd->hi);
     sp.axis = ssp.axis = -1, sp.cost = ssp.cost = INFINITY;
@@ -949,6 +982,15 @@ static void build(bwork *w, const span *s)
     return;
 leaf:
     nd->leaf = 1, nd->a = s->begin, nd->b = n;
+    if (w->first && !w->in_task) { /* the tasks' elements count when each ends */
+        if (c->threads > 1) {
+            pthread_mutex_lock(&c->mu);
+            c->done += n;
+            pthread_mutex_unlock(&c->mu);
+        } else if ((c->done += n) - w->told >= ((size_t)1 << 14)) {
+            (void)report(w, 1); /* sets stop when told */
+        }
+    }
 }
 
 /* ---- threads ---- */
@@ -983,14 +1025,18 @@ static void *worker(void *p)
 {
     bwork *w = p;
     bctx *c = w->c;
+    span s;
+    int have = 0;
     for (;;) {
-        span s;
-        int have = 0;
         pthread_mutex_lock(&c->mu);
-        if (c->next < c->ntask) s = c->task[c->next++], have = 1;
+        if (have) c->done += s.end - s.begin; /* the task before, finished */
+        have = 0;
+        if (!c->stop && c->next < c->ntask) s = c->task[c->next++], have = 1;
         pthread_mutex_unlock(&c->mu);
-        if (!have) return NULL;
+        if (!have || !report(w, 0)) return NULL;
+        w->in_task = 1;
         build(w, &s);
+        w->in_task = 0;
     }
 }
 
@@ -1245,7 +1291,7 @@ static bwork *start_work(bctx *c, size_t n, size_t room)
     w = gg_mem_calloc(c->alloc, (size_t)c->threads, sizeof *w);
     if (!w) return NULL;
     for (t = 0; t < c->threads; t++) w[t].c = c;
-    w[0].top = c->threads > 1;
+    w[0].top = c->threads > 1, w[0].first = 1;
     return w;
 }
 
@@ -1293,7 +1339,8 @@ static size_t build_room(const uint8_t *tri, gg_bvh_verts verts, size_t n)
 }
 
 int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
-                 gg_bvh_verts verts, const void *ud, size_t n, uint32_t **order, size_t *nref)
+                 gg_bvh_verts verts, const void *ud, size_t n, gg_progress *prog, uint32_t **order,
+                 size_t *nref)
 {
     bctx c;
     bwork *w = NULL;
@@ -1307,6 +1354,10 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
     c.alloc = g->alloc;
     c.tri = gg_bvh_avx_wanted(g) ? tri : NULL;
     c.clip = room > n ? tri : NULL, c.verts = verts, c.ud = ud;
+    /* The count is in references (spatial splits add some, up to room):
+       the tree two thirds of it at most, the nodes and the records made
+       from it (here and in gg_geom_build) the rest. */
+    c.prog = prog, c.total = room + room / 2;
     c.id = gg_mem_alloc(g->alloc, room * sizeof *c.id);
     c.r = gg_mem_calloc(g->alloc, room, sizeof *c.r);
     c.n = gg_mem_alloc(g->alloc, 2 * room * sizeof *c.n);
@@ -1316,6 +1367,10 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
         c.id[i] = (uint32_t)i;
     }
     build_tree(&c, w, n, room, &ninner);
+    if (c.stop) { /* the tree is not whole */
+        rc = -2;
+        goto done;
+    }
     gg_mem_free(g->alloc, c.r), c.r = NULL;
     compact(&c, 0, c.id, nref);
     {
@@ -1327,6 +1382,10 @@ int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const
     }
     collapse(&c, g, 0, 1);
     if (build_wide(&c, g, 2 * room)) goto done;
+    if (prog && gg_progress_to(prog, room + room / 4, c.total)) {
+        rc = -2;
+        goto done;
+    }
     *order = c.id, c.id = NULL;
     rc = 0;
 done:

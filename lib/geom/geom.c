@@ -564,6 +564,11 @@ static uint32_t add_record(gg_geom *g, const elem *e, size_t cnt[4])
     }
 }
 
+void gg_geom_set_progress(gg_geom *g, gg_progress *p)
+{
+    g->prog = p;
+}
+
 int gg_geom_build(gg_geom *g, ggError *err)
 {
     double t0 = gg_time_now();
@@ -573,8 +578,10 @@ int gg_geom_build(gg_geom *g, ggError *err)
     uint32_t *order = NULL, *kidx = NULL;
     verts_ud vu;
     uint8_t *tri = NULL;
-    int rc = GG_ERROR_NOMEM;
+    int rc = GG_ERROR_NOMEM, k;
+    gg_progress *prog = g->prog;
 
+    g->prog = NULL; /* this build's only */
     free_built(g);
     if (n >= GG_MAX_ELEMS)
         return gg_error_set(err, GG_ERROR_LIMIT, "geometry: %zu elements exceed the limit %u", n,
@@ -601,9 +608,12 @@ int gg_geom_build(gg_geom *g, ggError *err)
     }
     if (mark_isolated(g, el, (const double(*)[3])lo, (const double(*)[3])hi, n)) goto fail;
     vu.g = g, vu.el = el;
-    if (gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, elem_verts, &vu, n,
-                     &order, &nref))
+    k = gg_bvh_build(g, (const double(*)[3])lo, (const double(*)[3])hi, tri, elem_verts, &vu, n,
+                     prog, &order, &nref);
+    if (k) {
+        if (k == -2) rc = GG_ERROR_CANCELLED;
         goto fail;
+    }
     g->slots = gg_mem_calloc(g->alloc, nref + 1, sizeof *g->slots);
     if (!g->slots) goto fail;
 
@@ -629,6 +639,10 @@ int gg_geom_build(gg_geom *g, ggError *err)
     g->clipped = nref > n;
     g->nlcone = cnt[2];
     if (gg_bvh_tri_leaves(g) || gg_bvh_wide(g)) goto fail;
+    if (prog && gg_progress_to(prog, 1, 1)) {
+        rc = GG_ERROR_CANCELLED;
+        goto fail;
+    }
     g->built = 1;
     rc = GG_OK;
 fail:
@@ -640,7 +654,9 @@ fail:
     gg_mem_free(g->alloc, tri);
     if (rc != GG_OK) {
         free_built(g);
-        return gg_error_set(err, rc, "geometry: out of memory building the BVH");
+        return gg_error_set(err, rc,
+                            rc == GG_ERROR_CANCELLED ? "building the BVH: cancelled"
+                                                     : "geometry: out of memory building the BVH");
     }
     g->build_seconds = gg_time_now() - t0;
     return GG_OK;

@@ -135,8 +135,17 @@ int gg_geom_prim_info(const gg_geom *g, uint32_t prim, gg_prim_info *out);
    fastest, 0 the plain code. Takes effect at the next gg_geom_build. */
 void gg_geom_set_cpu(gg_geom *g, unsigned cpu);
 
+/* The progress of g's next gg_geom_build (and of no later one): the
+   elements of the BVH's finished subtrees, out of all, reported to p from
+   the calling thread, which may stop the build. NULL: none. p must
+   outlive that build. */
+void gg_geom_set_progress(gg_geom *g, gg_progress *p);
+
 /* Build the BVH (SAH). Must be called after the last add and before any
-   query. Returns GG_OK, GG_ERROR_LIMIT or GG_ERROR_NOMEM. */
+   query. Returns GG_OK, GG_ERROR_LIMIT, GG_ERROR_NOMEM, or
+   GG_ERROR_CANCELLED when the progress set with gg_geom_set_progress
+   asked to stop (then g is as after a failed build: unbuilt, its
+   primitives kept). */
 int gg_geom_build(gg_geom *g, ggError *err);
 
 /* Scene bounds (valid after build). */

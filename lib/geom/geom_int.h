@@ -241,6 +241,7 @@ struct gg_geom {
     int trav_avx; /* the walk copy queries take: 0 plain, 1 AVX (bvh_avx.c), 2 its AVX2 build,
                      3 its AVX-512 build */
     double build_seconds;
+    gg_progress *prog; /* the next build's progress (gg_geom_set_progress), or NULL */
     /* What the counting copy (bvh_count_avx.o) counts into while
        gg_geom_count_begin has it in place; NULL otherwise. Last, so that
        no other member moved for the copies that never read it. */
@@ -353,10 +354,13 @@ int gg_rpre_init(gg_rpre *r, const gg_rayq *q);
    spatial splits may clip triangles (verts(ud, i, v) gives element i's
    vertices v[vertex][axis]), so that an element may be in more than one
    leaf. Allocates *order (g->alloc) with the element of each of the
-   *nref slots in leaf order. */
+   *nref slots in leaf order. Reports to prog (if not NULL) the elements
+   of the subtrees finished, out of n, from the calling thread. Returns
+   0, -1 when out of memory, -2 when prog asked to stop. */
 typedef void (*gg_bvh_verts)(const void *ud, uint32_t i, double v[3][3]);
 int gg_bvh_build(gg_geom *g, const double (*lo)[3], const double (*hi)[3], const uint8_t *tri,
-                 gg_bvh_verts verts, const void *ud, size_t n, uint32_t **order, size_t *nref);
+                 gg_bvh_verts verts, const void *ud, size_t n, gg_progress *prog, uint32_t **order,
+                 size_t *nref);
 void gg_bvh_free(gg_geom *g);
 /* After the slots are filled: keep the leaves that hold only triangles
    also as gg_tleaf blocks, and choose the traversal copy (g->trav_avx),

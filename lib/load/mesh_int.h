@@ -42,9 +42,23 @@ typedef struct gg_mb {
     int *next, *prev;
     uint8_t *ear;
     size_t cap_ring;
+    /* The file's bytes read (ggSceneSetProgress): its size, and the
+       position last reported. */
+    gg_progress prog;
+    size_t len, told;
 } gg_mb;
 
 void gg_mb_init(gg_mb *mb, const ggAllocator *a, int format);
+/* Report that the parser is at byte `at` of the file: every MiB, or now
+   with force. Non-zero when the scene's progress callback asked to stop
+   (the parser then fails with GG_ERROR_CANCELLED, "loading cancelled").
+   Inline: parsers call it per line or element. */
+int gg_mb_report(gg_mb *mb, size_t at);
+static inline int gg_mb_progress(gg_mb *mb, size_t at, int force)
+{
+    if (!mb->prog.fn || (!force && at - mb->told < ((size_t)1 << 20))) return 0;
+    return gg_mb_report(mb, at);
+}
 void gg_mb_free(gg_mb *mb);
 /* Append a vertex (position, and optional normal / uv: NULL for none).
    Returns 0, or -1 when out of memory. */

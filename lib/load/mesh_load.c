@@ -66,10 +66,15 @@ static int load(ggScene *s, const char *data, size_t len, const char *name, cons
                             "%s: unknown mesh format (the name should end in .obj or .ply)", name);
     take(s, &mk);
     gg_mb_init(&mb, s->alloc, fmt);
-    if (fmt == GG_MESH_FORMAT_OBJ)
+    gg_progress_part(&mb.prog, s->progress, s->progress_ud, 0, len, len), mb.len = len;
+    if (gg_mb_progress(&mb, 0, 1))
+        rc = gg_error_set(err, GG_ERROR_CANCELLED, "%s: loading cancelled", name);
+    else if (fmt == GG_MESH_FORMAT_OBJ)
         rc = gg_obj_read(s, &mb, data, len, name, dir, o, err);
     else
         rc = gg_ply_read(&mb, (const unsigned char *)data, len, name, err);
+    if (rc == GG_OK && gg_mb_progress(&mb, len, 1))
+        rc = gg_error_set(err, GG_ERROR_CANCELLED, "%s: loading cancelled", name);
     if (rc == GG_OK && !(mb.b.m.name = gg_mem_strdup(s->alloc, name)))
         rc = gg_error_set(err, GG_ERROR_NOMEM, "%s: out of memory", name);
     if (file) mb.b.m.has_file = true, mb.b.m.file_dev = file->dev, mb.b.m.file_ino = file->ino;

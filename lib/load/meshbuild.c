@@ -22,6 +22,12 @@ void gg_mb_init(gg_mb *mb, const ggAllocator *a, int format)
     mb->b.m.format = format;
 }
 
+int gg_mb_report(gg_mb *mb, size_t at)
+{
+    mb->told = at;
+    return gg_progress_to(&mb->prog, at, mb->len);
+}
+
 void gg_mb_free(gg_mb *mb)
 {
     gg_mesh_build_free(mb->a, &mb->b);

@@ -46,6 +46,8 @@ typedef struct parser {
     token last; /* the last number read, for messages about its value */
     token comp[3]; /* the numbers of the last colour read */
     token mat_tok; /* the keyword that last changed the material */
+    gg_progress prog; /* bytes read (ggSceneSetProgress) */
+    size_t told;      /* ... when last reported */
 } parser;
 
 static int fail(parser *ps, const token *t, int code, const char *fmt, ...) GG_PRINTF(4, 5);
@@ -921,6 +923,18 @@ static int check_text(parser *ps)
     return fail(ps, NULL, GG_ERROR_PARSE, "NUL byte in a text file");
 }
 
+/* The bytes read so far, every MiB (ggSceneSetProgress); a cancel is an
+   error at the statement reached. */
+static int progress(parser *ps, int force)
+{
+    size_t at = (size_t)(ps->cur - ps->text);
+    if (!ps->prog.fn || (!force && at - ps->told < ((size_t)1 << 20))) return GG_OK;
+    ps->told = at;
+    if (gg_progress_to(&ps->prog, at, (size_t)(ps->end - ps->text)))
+        return fail(ps, NULL, GG_ERROR_CANCELLED, "loading cancelled");
+    return GG_OK;
+}
+
 int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, const char *dir,
                  ggError *err)
 {
@@ -937,7 +951,9 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
     ps.mat_id = -1;
     take(s, &sn);
     gg_scene_set_aside(s, &sn.prep);
+    gg_progress_part(&ps.prog, s->progress, s->progress_ud, 0, len, len);
     rc = check_text(&ps);
+    if (rc == GG_OK) rc = progress(&ps, 1);
     while (rc == GG_OK && (r = next(&ps, &t)) != 0) {
         const keyword *k = NULL;
         if (r < 0) {
@@ -953,7 +969,9 @@ int gg_nff_parse(ggScene *s, const char *text, size_t len, const char *name, con
         ps.keyword = k->name;
         ps.kw_tok = t;
         rc = k->read(&ps);
+        if (rc == GG_OK) rc = progress(&ps, 0);
     }
+    if (rc == GG_OK) rc = progress(&ps, 1);
     if (rc != GG_OK) {
         rollback(s, &sn);
         gg_scene_put_back(s, &sn.prep); /* prepared as it was, if it was */

@@ -602,6 +602,8 @@ int gg_obj_read(ggScene *s, gg_mb *mb, const char *text, size_t len, const char 
         size_t n = gg_lc_word(&op.c, &w);
         if (n) rc = statement(&op, w, n, line);
         if (rc == GG_OK) gg_lc_next_line(&op.c);
+        if (rc == GG_OK && gg_mb_progress(mb, (size_t)(op.c.p - text), 0))
+            rc = gg_lc_fail(&op.c, NULL, GG_ERROR_CANCELLED, "loading cancelled");
     }
     if (rc == GG_OK) rc = finish(&op);
     objp_free(&op);

@@ -205,6 +205,17 @@ static int header(plyp *pp)
 /* ---- the body ---- */
 
 static int bfail(plyp *pp, int code, const char *fmt, ...) GG_PRINTF(3, 4);
+
+/* Progress at the parser's byte (binary or ascii), every MiB; a cancel
+   fails at the element reached. */
+#define PROGRESS(pp)                                                                               \
+    (gg_mb_progress((pp)->mb,                                                                      \
+                    (pp)->fmt ? (size_t)((pp)->p - (pp)->data)                                     \
+                              : (size_t)((const unsigned char *)(pp)->c.p - (pp)->data),           \
+                    0)                                                                             \
+         ? bfail(pp, GG_ERROR_CANCELLED, "loading cancelled")                                      \
+         : GG_OK)
+
 static int bfail(plyp *pp, int code, const char *fmt, ...)
 {
     char msg[300];
@@ -462,7 +473,7 @@ static int fixed_vertices(plyp *pp, const pelem *e, const int w[W_N], bool has_n
 {
     gg_mb *mb = pp->mb;
     size_t off[PLY_MAX_PROPS], stride = 0;
-    int k;
+    int k, rc;
     for (k = 0; k < e->np; k++) off[k] = stride, stride += (size_t)type_size(e->p[k].type);
     if ((double)stride * (double)e->count > (double)(pp->end - pp->p))
         return bfail(pp, GG_ERROR_PARSE, "the file ends inside the vertices (truncated)");
@@ -483,6 +494,7 @@ static int fixed_vertices(plyp *pp, const pelem *e, const int w[W_N], bool has_n
                          "a coordinate, normal or texture coordinate is not finite");
         if (gg_mb_vertex(mb, p, has_n ? &nv : NULL, has_uv ? uv : NULL))
             return bfail(pp, GG_ERROR_NOMEM, "out of memory");
+        if ((rc = PROGRESS(pp)) != GG_OK) return rc;
     }
     return GG_OK;
 }
@@ -525,6 +537,7 @@ static int vertices(plyp *pp, const pelem *e)
                          "a coordinate, normal or texture coordinate is not finite");
         if (gg_mb_vertex(mb, p, has_n ? &nv : NULL, has_uv ? uv : NULL))
             return bfail(pp, GG_ERROR_NOMEM, "out of memory");
+        if ((rc = PROGRESS(pp)) != GG_OK) return rc;
     }
     mb->b.m.file_vertices = e->count;
     return GG_OK;
@@ -605,6 +618,7 @@ static int faces(plyp *pp, const pelem *e, bool have_vertices)
         if (mb->b.m.ntri + n >= GG_MESH_MAX)
             return bfail(pp, GG_ERROR_LIMIT, "more than 2^28 triangles");
         if (gg_mb_face(mb, pp->corner, n, -1, 1)) return bfail(pp, GG_ERROR_NOMEM, "out of memory");
+        if ((rc = PROGRESS(pp)) != GG_OK) return rc;
     }
     return GG_OK;
 }

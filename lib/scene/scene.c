@@ -928,15 +928,57 @@ static double scene_size(const ggScene *s)
     return fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
 }
 
+GG_API void ggSceneSetProgress(ggScene *s, ggProgressFn fn, void *ud)
+{
+    if (!s) return;
+    s->progress = fn, s->progress_ud = ud;
+}
+
+/* Preparing's thousandths (ggSceneSetProgress): gathering the
+   primitives up to GATHERED, the BVH the rest. */
+#define PREP_OF       1000
+#define PREP_GATHERED 300
+
+static int prepare_cancelled(ggScene *s, ggError *err)
+{
+    unprepare(s);
+    return gg_error_set(err, GG_ERROR_CANCELLED, "preparing the scene: cancelled");
+}
+
+/* The objects' primitives into s->geom, with progress every 2^16 of
+   them; 1 when out of memory, GG_GEOM_LIMIT, or 2 when cancelled. */
+static int gather(ggScene *s, gg_progress *pg, size_t np, size_t *bad)
+{
+    size_t i, told = 0;
+    for (i = 0; i < s->nobjects; i++) {
+        const size_t first = gg_geom_prim_count(s->geom);
+        int rc = add_prims(s, i);
+        /* shading reads the material from the primitive (geom.h) */
+        gg_geom_set_tag(s->geom, first, gg_geom_prim_count(s->geom) - first,
+                        s->objects[i].material);
+        if (rc == GG_GEOM_LIMIT) return *bad = i, GG_GEOM_LIMIT;
+        if (rc < 0) return 1;
+        if (gg_geom_prim_count(s->geom) - told >= ((size_t)1 << 16) || i + 1 == s->nobjects) {
+            told = gg_geom_prim_count(s->geom);
+            if (gg_progress_to(pg, told, np)) return 2;
+        }
+    }
+    return 0;
+}
+
 GG_API int ggScenePrepare(ggScene *s, ggError *err)
 {
-    size_t i;
+    size_t i, bad = 0;
     double size;
     int rc;
     double t0 = gg_time_now();
+    gg_progress pg, pb;
     if (!s) return gg_error_set(err, GG_ERROR_INVALID, "ggScenePrepare: NULL scene");
     if (s->prepared) return GG_OK;
     unprepare(s);
+    gg_progress_part(&pg, s->progress, s->progress_ud, 0, PREP_GATHERED, PREP_OF);
+    gg_progress_part(&pb, s->progress, s->progress_ud, PREP_GATHERED, PREP_OF, PREP_OF);
+    if (gg_progress_to(&pg, 0, 1)) return prepare_cancelled(s, err);
     s->geom = gg_geom_create(s->alloc);
     s->mfast = gg_mem_calloc(s->alloc, s->nmaterials ? s->nmaterials : 1, sizeof *s->mfast);
     s->light_colors = gg_mem_calloc(s->alloc, s->nlights ? s->nlights : 1, sizeof(ggColor));
@@ -945,22 +987,19 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
         size_t np, nt;
         count_prims(s, &np, &nt);
         if (gg_geom_reserve(s->geom, np, nt)) goto nomem;
+        rc = gather(s, &pg, np, &bad);
     }
-    for (i = 0; i < s->nobjects; i++) {
-        const size_t first = gg_geom_prim_count(s->geom);
-        rc = add_prims(s, i);
-        /* shading reads the material from the primitive (geom.h) */
-        gg_geom_set_tag(s->geom, first, gg_geom_prim_count(s->geom) - first,
-                        s->objects[i].material);
-        if (rc == GG_GEOM_LIMIT) {
-            unprepare(s);
-            return gg_error_set(err, GG_ERROR_LIMIT,
-                                "preparing the scene: object %lu exceeds the BVH's primitive limit",
-                                (unsigned long)i);
-        }
-        if (rc < 0) goto nomem;
+    if (rc == GG_GEOM_LIMIT) {
+        unprepare(s);
+        return gg_error_set(err, GG_ERROR_LIMIT,
+                            "preparing the scene: object %lu exceeds the BVH's primitive limit",
+                            (unsigned long)bad);
     }
+    if (rc == 2) return prepare_cancelled(s, err);
+    if (rc) goto nomem;
+    gg_geom_set_progress(s->geom, s->progress ? &pb : NULL);
     rc = gg_geom_build(s->geom, err);
+    if (rc == GG_ERROR_CANCELLED) return prepare_cancelled(s, err);
     if (rc != GG_OK) {
         unprepare(s);
         return rc;
@@ -984,6 +1023,7 @@ GG_API int ggScenePrepare(ggScene *s, ggError *err)
         s->light_colors[i] = c;
     }
     if (gg_effects_compute(s) != GG_OK) goto nomem;
+    if (gg_progress_to(&pb, 1, 1)) return prepare_cancelled(s, err);
     s->prepared = true;
     s->prepare_seconds = gg_time_now() - t0;
     return GG_OK;

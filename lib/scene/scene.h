@@ -80,6 +80,8 @@ struct ggScene {
     int depth, samples;
     ggError last;         /* what the last building call refused (ggSceneLastError) */
     ggImageReader reader; /* NULL: gg_load_default_reader() */
+    ggProgressFn progress; /* loading's and preparing's (ggSceneSetProgress), or NULL */
+    void *progress_ud;
     void *reader_ud;
 
     gg_object *objects;

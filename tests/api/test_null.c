@@ -242,6 +242,7 @@ static void test_scene_build(void **state)
         assert_int_equal(ggSceneLoadString(NULL, "s 0 0 0 1", 9, NULL, NULL), GG_ERROR_INVALID);
     assert_int_equal(ggSceneLoadString(s, NULL, 9, NULL, NULL), GG_ERROR_INVALID);
     COVER(ggSceneSetImageReader), ggSceneSetImageReader(NULL, NULL, NULL);
+    COVER(ggSceneSetProgress), ggSceneSetProgress(NULL, NULL, NULL);
     COVER(ggSceneSetCamera), assert_int_equal(ggSceneSetCamera(NULL, &c), GG_ERROR_INVALID);
     assert_int_equal(ggSceneSetCamera(s, NULL), GG_ERROR_INVALID);
     COVER(ggSceneCamera), assert_true(z.width == 0 && z.fov_deg == 0);
