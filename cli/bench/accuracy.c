@@ -356,7 +356,7 @@ int bench_accuracy(const bench_opts *bo)
     /* Every scene read once first: a bad one fails before the header, the
        files and minutes of sweeps over the scenes before it. */
     for (a = 0; a < bo->nargs; a++) {
-        ggScene *s = cli_load_scene(bo->args[a], NULL, NULL, &rc);
+        ggScene *s = cli_load_scene(bo->args[a], NULL, NULL, 1, &rc);
         if (!s) return rc;
         ggSceneFree(s);
     }
@@ -379,8 +379,8 @@ int bench_accuracy(const bench_opts *bo)
            w, h, bo->threads, BENCH_S(bo->threads), bo->runs, BENCH_S(bo->runs), REF_SPP,
            REF_DEPTH);
     for (a = 0; a < bo->nargs && rc == EXIT_OK; a++) {
-        ggScene *s = cli_load_scene(bo->args[a], NULL, NULL, &rc), *copy = NULL;
-        if (s) copy = cli_load_scene(bo->args[a], NULL, NULL, &rc);
+        ggScene *s = cli_load_scene(bo->args[a], NULL, NULL, 1, &rc), *copy = NULL;
+        if (s) copy = cli_load_scene(bo->args[a], NULL, NULL, 1, &rc);
         if (copy) rc = sweep(s, copy, bo, bo->args[a], w, h, co.f, so.f, a * 420.0);
         ggSceneFree(s);
         ggSceneFree(copy);

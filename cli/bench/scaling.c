@@ -88,7 +88,7 @@ static int threads_table(const bench_opts *bo, int size)
         int th, k, runs = bo->runs < 64 ? bo->runs : 64;
         if (!bench_selected(bo->scenes, bench_spd_scenes[i])) continue;
         snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, bench_spd_scenes[i]);
-        if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
+        if (!(s = cli_load_scene(path, NULL, NULL, 1, &rc))) return rc;
         for (k = 0; k < runs; k++)
             for (th = 1; th <= 2; th++) {
                 double ser = 0;
@@ -123,7 +123,7 @@ int bench_scaling(const bench_opts *bo)
         ggRayStats st;
         double t, rays;
         snprintf(path, sizeof path, "%s/%s.nff", bo->spd_dir, balls[i]);
-        if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
+        if (!(s = cli_load_scene(path, NULL, NULL, 1, &rc))) return rc;
         ggSceneGetInfo(s, &in);
         t = render_seconds(s, size, size, bo->threads, bo->runs, &st);
         rays = (double)(st.eye + st.reflect + st.refract + st.shadow);
@@ -155,7 +155,7 @@ int bench_scaling(const bench_opts *bo)
         int sz[3] = {128, 256, 512}, th;
         double t1 = 0;
         snprintf(path, sizeof path, "%s/balls-s3.nff", bo->spd_dir);
-        if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
+        if (!(s = cli_load_scene(path, NULL, NULL, 1, &rc))) return rc;
         printf("\nscaling: balls-s3 against image size (%d thread%s)\n", bo->threads,
                BENCH_S(bo->threads));
         for (i = 0; i < 3; i++) {

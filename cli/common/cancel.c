@@ -89,7 +89,7 @@ void cli_cancel_after_write(const char *path)
 
 void cli_bar_begin(cli_bar *b, const char *label, int quiet)
 {
-    b->label = label ? label : "", b->t0 = cli_now(), b->last_pct = -1;
+    b->label = label ? label : "", b->t0 = cli_now(), b->after = 0, b->last_pct = -1;
     b->draw = !quiet && isatty(2);
 }
 
@@ -100,7 +100,8 @@ int cli_bar_step(void *ud, long done, long total)
     double el;
     if (cli_cancelled()) return 1;
     if (!b || !b->draw || pct == b->last_pct) return 0;
-    b->last_pct = pct, el = cli_now() - b->t0;
+    if ((el = cli_now() - b->t0) < b->after) return 0;
+    b->last_pct = pct;
     fprintf(stderr, "\r%s%s[", b->label, *b->label ? " " : "");
     for (i = 0; i < 40; i++) fputc(i < pct * 40 / 100 ? '#' : '.', stderr);
     fprintf(stderr, "] %3d%%  %.1fs", pct, el);

@@ -180,10 +180,13 @@ void cli_cancel_after_write(const char *path);
    terminal, unless quiet, "LABEL [####....]  42%  1.3s  ~2s left" redrawn
    on stderr as the work goes; cli_bar_step is a ggProgressFn (ud: the
    cli_bar) that also returns 1 once a cancel signal came, so the library
-   stops. cli_bar_end ends the line the bar drew, if it drew one. */
+   stops. cli_bar_end ends the line the bar drew, if it drew one. A bar
+   whose `after` is set (seconds; cli_bar_begin sets 0) draws nothing
+   until the work has taken that long: a step that is usually quick
+   (loading a scene) shows a bar only when it is not. */
 typedef struct cli_bar {
     const char *label; /* "" for none */
-    double t0;
+    double t0, after;
     int last_pct, draw;
 } cli_bar;
 void cli_bar_begin(cli_bar *b, const char *label, int quiet);
@@ -193,11 +196,12 @@ void cli_bar_end(cli_bar *b);
 /* Load a scene file and prepare it (common/scene.c): how every command
    that takes a scene loads it. `loaded` (may be NULL) is called with ud
    between the two, on the scene as read (ggrt render prints a model's
-   view and warnings there). On failure prints why ("ggrt CMD: file:line:
-   ...") and returns NULL with the exit code in *rc (cli_exit_code);
-   else *rc is EXIT_OK. */
+   view and warnings there). Unless quiet, a step that takes over half a
+   second shows a bar ("loading", "preparing"; cli_bar). On failure
+   prints why ("ggrt CMD: file:line: ...") and returns NULL with the exit
+   code in *rc (cli_exit_code); else *rc is EXIT_OK. */
 typedef void (*cli_loaded_fn)(ggScene *s, const char *path, void *ud);
-ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc);
+ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int quiet, int *rc);
 
 /* Meshes (common/scene.c): does the path name a model (.obj, .ply) that
    ggSceneLoadFile frames; each mesh's description (ggrt info); a warning

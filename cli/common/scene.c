@@ -13,10 +13,20 @@
 #include <strings.h>
 #include <unistd.h>
 
-ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *rc)
+/* The bar of one step of cli_load_scene (the scene's progress callback
+   while it runs). */
+static void step_bar(ggScene *s, cli_bar *bar, const char *label, int quiet)
+{
+    cli_bar_begin(bar, label, quiet);
+    bar->after = 0.5;
+    ggSceneSetProgress(s, cli_bar_step, bar);
+}
+
+ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int quiet, int *rc)
 {
     ggScene *s;
     ggError err;
+    cli_bar bar;
     int st;
     if (!path[0]) { /* the library would say ": No such file or directory" */
         cli_error("the scene's file name is empty");
@@ -28,14 +38,21 @@ ggScene *cli_load_scene(const char *path, cli_loaded_fn loaded, void *ud, int *r
         *rc = EXIT_INPUT;
         return NULL;
     }
+    step_bar(s, &bar, "loading", quiet);
     st = ggSceneLoadFile(s, path, &err);
+    cli_bar_end(&bar);
     if (st == GG_OK && loaded) loaded(s, path, ud);
-    if (st == GG_OK && (st = ggScenePrepare(s, &err)) != GG_OK) {
-        /* the loader's errors name the file and line; preparing's, the scene */
-        char m[sizeof err.message];
-        memcpy(m, err.message, sizeof m);
-        snprintf(err.message, sizeof err.message, "%.200s: %.300s", path, m);
+    if (st == GG_OK) {
+        step_bar(s, &bar, "preparing", quiet);
+        if ((st = ggScenePrepare(s, &err)) != GG_OK) {
+            /* the loader's errors name the file and line; preparing's, the scene */
+            char m[sizeof err.message];
+            memcpy(m, err.message, sizeof m);
+            snprintf(err.message, sizeof err.message, "%.200s: %.300s", path, m);
+        }
+        cli_bar_end(&bar);
     }
+    ggSceneSetProgress(s, NULL, NULL); /* the bar is this function's */
     if (st != GG_OK) {
         *rc = cli_fail(st, &err, 0);
         ggSceneFree(s);

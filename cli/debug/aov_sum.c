@@ -222,7 +222,7 @@ static ggScene *trace_scene(const aov_file *f, const char *scene_arg, ggRenderOp
     int rc;
     ggRenderOptionsDefault(opt);
     if (!path || ggRenderOptionsParse(opt, f->options, &err) != GG_OK) return NULL;
-    return cli_load_scene(path, NULL, NULL, &rc);
+    return cli_load_scene(path, NULL, NULL, 0, &rc);
 }
 
 int aov_sum_check(const char *exr, const char *scene_arg)

@@ -282,7 +282,7 @@ int cmd_check(int argc, char **argv)
         return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
                                     : dbg_expr_error("check", "path", a.path, &err);
     a.co.path = path;
-    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) {
+    if (!(scene = cli_load_scene(a.scene, NULL, NULL, a.quiet, &rc))) {
         ggPathFree(path);
         return rc;
     }

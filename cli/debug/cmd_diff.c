@@ -274,12 +274,12 @@ int cmd_diff(int argc, char **argv)
     if (a.path && (rc = ggPathParse(a.path, NULL, &path, &err)) != GG_OK)
         return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
                                     : dbg_expr_error("diff", "path", a.path, &err);
-    if (!(sa = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) {
+    if (!(sa = cli_load_scene(a.scenes[0], NULL, NULL, a.quiet, &rc))) {
         ggPathFree(path);
         return rc;
     }
     sb = sa;
-    if (a.nscenes > 1 && !(sb = cli_load_scene(a.scenes[1], NULL, NULL, &rc))) {
+    if (a.nscenes > 1 && !(sb = cli_load_scene(a.scenes[1], NULL, NULL, a.quiet, &rc))) {
         ggSceneFree(sa);
         ggPathFree(path);
         return rc;

@@ -296,7 +296,7 @@ int cmd_find(int argc, char **argv)
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if ((rc = compile(&a, &pred, &path)) != EXIT_OK) return rc;
-    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) {
+    if (!(scene = cli_load_scene(a.scene, NULL, NULL, a.quiet, &rc))) {
         ggPredicateFree(pred), ggPathFree(path);
         return rc;
     }

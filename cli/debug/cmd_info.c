@@ -31,7 +31,7 @@ int cmd_info(int argc, char **argv)
                    .max_args = 1,
                    .args_name = "scene"};
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
-    if (!(s = cli_load_scene(path, NULL, NULL, &rc))) return rc;
+    if (!(s = cli_load_scene(path, NULL, NULL, 0, &rc))) return rc;
     ggSceneGetInfo(s, &in);
     cam = ggSceneCamera(s);
     printf("scene      %s\n", path);

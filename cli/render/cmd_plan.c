@@ -267,7 +267,7 @@ int cmd_plan(int argc, char **argv)
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;
     if ((rc = cli_check_output("plan", a.out)) != 0) return rc;
-    if (!(scene = cli_load_scene(a.scene, NULL, NULL, &rc))) return rc;
+    if (!(scene = cli_load_scene(a.scene, NULL, NULL, a.quiet, &rc))) return rc;
     {
         const char *opt = "-o";
         if ((rc = cli_check_not_read("plan", scene, &opt, &a.out, 1)) == 0) rc = plan(scene, &a);

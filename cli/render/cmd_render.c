@@ -342,7 +342,7 @@ int cmd_render(int argc, char **argv)
     if (a.aov.png_dir && (rc = aov_check_pngs(&a.aov, a.out, a.scene)) != 0) return rc;
     ls.a = &a, ls.t = t;
     t[0] = cli_now();
-    if (!(scene = cli_load_scene(a.scene, loaded, &ls, &rc))) return rc;
+    if (!(scene = cli_load_scene(a.scene, loaded, &ls, a.quiet, &rc))) return rc;
     if ((rc = outputs_not_read(&a, scene)) != 0) {
         aov_free(&a.aov);
         ggSceneFree(scene);

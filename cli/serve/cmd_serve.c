@@ -130,7 +130,7 @@ static int load(srv_server *s)
 {
     ggCamera cam;
     int rc;
-    if (!(s->scene = cli_load_scene(s->cfg.scene_path, NULL, NULL, &rc))) return rc;
+    if (!(s->scene = cli_load_scene(s->cfg.scene_path, NULL, NULL, 0, &rc))) return rc;
     cam = ggSceneCamera(s->scene);
     s->cfg.width = s->cfg.opt.width > 0 ? s->cfg.opt.width : cam.width;
     s->cfg.height = s->cfg.opt.height > 0 ? s->cfg.opt.height : cam.height;

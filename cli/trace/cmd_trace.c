@@ -389,7 +389,7 @@ static int run_diff(trace_args *a, ggScene *sa, ggTrace *ta)
         cli_error("out of memory");
         return EXIT_INPUT;
     }
-    if (a->nscenes > 1 && !(sb = cli_load_scene(pb, NULL, NULL, &rc))) {
+    if (a->nscenes > 1 && !(sb = cli_load_scene(pb, NULL, NULL, a->format == 1, &rc))) {
         ggTraceFree(tb);
         return rc;
     }
@@ -420,7 +420,7 @@ int cmd_trace(int argc, char **argv)
     if (a.lpe && (rc = ggPathParse(a.lpe, NULL, &e, &err)) != GG_OK)
         return rc == GG_ERROR_NOMEM ? cli_fail(rc, &err, 0)
                                     : dbg_expr_error("trace", "path", a.lpe, &err);
-    if (!(scene = cli_load_scene(a.scenes[0], NULL, NULL, &rc))) {
+    if (!(scene = cli_load_scene(a.scenes[0], NULL, NULL, a.format == 1, &rc))) {
         ggPathFree(e);
         return rc;
     }
