@@ -217,9 +217,10 @@ int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t
 /* The most bytes one pixel's recorded trees can take under o (find, check,
    diff, trace record them; each tracing thread holds one pixel's, a diff
    two): every eye ray of the pixel, each with at most 1 + the ray budget
-   rays -- fewer when the depth is set: at most 4 children a hit (a
-   reflection and three dispersed refractions) -- each ray a node and a
-   light record per light. An upper bound, not an estimate. */
+   rays -- fewer when the depth is set: at most as many children a hit as
+   the scene's effects allow (a reflection, and a refraction or three
+   dispersed ones: 0, 1, 2 or 4) -- each ray a node and a light record
+   per light. An upper bound, not an estimate. */
 double cli_record_bytes(const ggScene *s, const ggRenderOptions *o);
 /* Refuse, before the work, options whose trees (threads x sides pixels
    at once, threads 0: one per core) could take more than half of this machine's

@@ -139,12 +139,25 @@ int cli_face_text(const ggScene *s, int object, long triangle, char *buf, size_t
     return 1;
 }
 
-double cli_record_bytes(const ggScene *s, const ggRenderOptions *o)
+/* The most children a hit of s has: a reflection (a mirror, or the total
+   internal reflection of glass) and a refraction, three after dispersion
+   (shade.c: transmit, reflect). */
+static double children(const ggScene *s)
 {
+    unsigned fx = ggSceneEffects(s);
+    if (fx & GG_EFFECT_REFRACTION) return fx & GG_EFFECT_DISPERSION ? 4 : 2;
+    return fx & GG_EFFECT_REFLECTION ? 1 : 0;
+}
+
+double cli_record_bytes(const ggScene *s, const ggRenderOptions *given)
+{
+    ggRenderOptions r; /* depth 0 is the scene's or 5: what the render takes */
+    const ggRenderOptions *o = ggRenderOptionsResolve(s, given, &r) == GG_OK ? &r : given;
     double eyes = (double)(o->samples > 0 ? o->samples : 1) * (o->pixel_corners ? 4 : 1);
     double cap = o->ray_budget > 0 ? o->ray_budget : GG_RAY_BUDGET, rays = 0, level = 1;
+    double b = children(s);
     int d;
-    for (d = 1; o->max_depth > 0 && d < o->max_depth && rays < cap; d++) rays += level *= 4;
+    for (d = 1; o->max_depth > 0 && d < o->max_depth && rays < cap; d++) rays += level *= b;
     if (o->max_depth <= 0 || rays > cap) rays = cap;
     return eyes * (1 + rays) *
            ((double)sizeof(ggTraceNode) +
