@@ -141,65 +141,53 @@ static seen one_file(const char *path, int mesh)
     return sn;
 }
 
-/* Cancel at each call of loading, then of preparing: GG_ERROR_CANCELLED
-   with the step named, the load leaving the scene as it was, the prepare
-   leaving it unprepared and able to prepare again. Returns the cancels. */
+/* One run with a cancel at call k of loading (prep 0) or preparing
+   (prep 1): GG_ERROR_CANCELLED with the step named, the load leaving the
+   scene as it was, the prepare leaving it unprepared; either way the
+   scene then prepares to the end. Returns the calls the step made (fewer
+   than k: it ran to its end, uncancelled). */
+static int cancel_at(const char *path, int mesh, int prep, int k, rec *r)
+{
+    ggScene *s = base_scene();
+    counts before;
+    ggError e;
+    int rc, calls;
+    if (prep) assert_int_equal(load(s, path, mesh, NULL), GG_OK);
+    before = count(s);
+    memset(r, 0, sizeof *r), r->stop_at = k;
+    ggSceneSetProgress(s, record, r);
+    rc = prep ? ggScenePrepare(s, &e) : load(s, path, mesh, &e);
+    calls = r->n;
+    if (calls < k) {
+        assert_int_equal(rc, GG_OK);
+    } else {
+        if (rc != GG_ERROR_CANCELLED)
+            fail_msg("%s: cancel at %s call %d: %d (%s)", path, prep ? "prepare" : "load", k, rc,
+                     e.message);
+        if (!strstr(e.message, prep ? "preparing the scene: cancelled" : "loading cancelled"))
+            fail_msg("%s: '%s'", path, e.message);
+        same_counts(before, count(s), path);
+        memset(r, 0, sizeof *r);
+        assert_int_equal(ggScenePrepare(s, &e), GG_OK);
+        assert_int_equal(r->done[r->n - 1], 1000);
+    }
+    ggSceneFree(s);
+    return calls;
+}
+
+/* A cancel at each call of loading, then of preparing; past `max`
+   calls, only at the last. Returns the cancels. */
 static int cancel_each(const char *path, int mesh, int max)
 {
     rec *r = calloc(1, sizeof *r);
-    int k, n = 0, calls;
-    ggError e;
+    int prep, k, calls, n = 0;
     assert_non_null(r);
-    for (k = 1;; k++) { /* loading */
-        ggScene *s = base_scene();
-        counts before = count(s);
-        int rc;
-        memset(r, 0, sizeof *r), r->stop_at = k;
-        ggSceneSetProgress(s, record, r);
-        rc = load(s, path, mesh, &e);
-        calls = r->n;
-        if (calls < k) { /* no k-th call: the load is done */
-            assert_int_equal(rc, GG_OK);
-            ggSceneFree(s);
-            break;
+    for (prep = 0; prep < 2; prep++)
+        for (k = 1; (calls = cancel_at(path, mesh, prep, k, r)) >= k; k++) {
+            n++;
+            if (k >= max && calls - 1 > k) k = calls - 1;
+            if (UNDER_TSAN && !prep) break; /* loading runs no threads */
         }
-        if (rc != GG_ERROR_CANCELLED)
-            fail_msg("%s: cancel at load call %d: %d (%s)", path, k, rc, e.message);
-        if (!strstr(e.message, "loading cancelled")) fail_msg("%s: '%s'", path, e.message);
-        same_counts(before, count(s), path);
-        ggSceneSetProgress(s, NULL, NULL);
-        assert_int_equal(ggScenePrepare(s, NULL), GG_OK); /* the scene before still works */
-        ggSceneFree(s);
-        n++;
-        if (k >= max) k = calls > k ? calls - 1 : k; /* large files: the first and the last calls */
-        if (UNDER_TSAN) break;                       /* loading runs no threads */
-    }
-    for (k = 1;; k++) { /* preparing */
-        ggScene *s = base_scene();
-        counts before;
-        int rc;
-        assert_int_equal(load(s, path, mesh, NULL), GG_OK);
-        before = count(s);
-        memset(r, 0, sizeof *r), r->stop_at = k;
-        ggSceneSetProgress(s, record, r);
-        rc = ggScenePrepare(s, &e);
-        calls = r->n;
-        if (calls < k) {
-            assert_int_equal(rc, GG_OK);
-            ggSceneFree(s);
-            break;
-        }
-        if (rc != GG_ERROR_CANCELLED)
-            fail_msg("%s: cancel at prepare call %d: %d (%s)", path, k, rc, e.message);
-        if (!strstr(e.message, "cancelled")) fail_msg("%s: '%s'", path, e.message);
-        same_counts(before, count(s), path);
-        r->stop_at = 0;
-        assert_int_equal(ggScenePrepare(s, &e), GG_OK); /* again, to the end */
-        assert_int_equal(r->done[r->n - 1], 1000);
-        ggSceneFree(s);
-        n++;
-        if (k >= max) k = calls > k ? calls - 1 : k;
-    }
     free(r);
     return n;
 }
