@@ -233,8 +233,9 @@ GG_API int64_t ggSceneSetTextureBudget(ggScene *scene, int64_t bytes);
    message naming the step ("scene.nff:912:1: loading cancelled"), and
    the scene is as a failed call leaves it: a load as before the call, a
    prepare unprepared (nothing in the scene lost; preparing again starts
-   over). A scene shared between threads must not change its callback
-   while another thread prepares it. */
+   over). fn must not change the scene it reports on. A scene shared
+   between threads must not change its callback while another thread
+   prepares it. */
 GG_API void ggSceneSetProgress(ggScene *scene, ggProgressFn fn, void *ud);
 
 /* ---- building in code ----
