@@ -149,9 +149,10 @@ for c in "trace -p 0,0" "find -w some(hit)" "check" "diff --b depth=3"; do
     "${c%% *}: trees that could not fit are refused before the work" \
     "$ggrt" $c tests/data/nested-glass.nff $big
 done
-# The bound counts the children a hit can have in this scene: a mirror
-# has one, so 50,000 lights and no glass fit at depth 5 (5 nodes, 35 MB a
-# pixel), where four children a hit were assumed (341 nodes, 7 GB).
+# The bound counts the scene's depth and the children a hit can have in
+# it: a mirror has one, so 50,000 lights and no glass fit at depth 5 (5
+# nodes, 34 MiB a pixel); it took depth 0 as none and four children a hit
+# (the ray budget's 1025 nodes, 7039 MiB).
 awk 'BEGIN { print "v\nfrom 0 -10 5\nat 0 0 0\nup 0 0 1\nangle 40\nhither 0.01\nresolution 2 2"
   for (i = 0; i < 50000; i++) printf "l %d %d %d 0.002 0.002 0.002\n", i % 40 - 20, int(i / 40) % 40 - 20, 5 + i % 7
   print "f 0.8 0.7 0.6 0.8 0.2 10 0 0\ns 0 0 1 1\np 4\n-5 -5 0\n5 -5 0\n5 5 0\n-5 5 0" }' >"$lim/lights.nff"
