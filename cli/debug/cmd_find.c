@@ -31,6 +31,7 @@ static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct find_args {
     const char *scene, *where, *path, *out, *overlay, *paths_jsonl, *paths_obj;
+    uint64_t paths_max; /* --paths-max */
     int limit, format, quiet;
     cli_render ro;
     dbg_tile tile;
@@ -60,6 +61,8 @@ static int parse(find_args *a, int argc, char **argv)
                        "points, weights, contribution"),
         CLI_OPT_STRING(0, "paths-obj", &a->paths_obj, "FILE",
                        "--path: write them as OBJ polylines, one per path"),
+        CLI_OPT_FUNC(0, "paths-max", dbg_paths_max_parse, &a->paths_max, "SIZE",
+                     DBG_PATHS_MAX_HELP),
         CLI_OPT_FLAG('q', "quiet", &a->quiet, "no progress bar"),
         DBG_TILE_OPTS(&a->tile),
         CLI_OPT_END,
@@ -75,6 +78,7 @@ static int parse(find_args *a, int argc, char **argv)
                    .args_name = "scene"};
     int rc;
     a->limit = 20;
+    a->paths_max = DBG_PATHS_MAX;
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
@@ -180,7 +184,9 @@ static int write_paths(const find_args *a, ggScene *scene, const ggPathExpr *e,
     ggColor px;
     cli_bar bar;
     long done = 0;
-    int x, y, sig, rc = tr ? dbg_paths_open(&o, "find", a->paths_jsonl, a->paths_obj) : EXIT_INPUT;
+    int x, y, sig,
+        rc = tr ? dbg_paths_open(&o, "find", a->paths_jsonl, a->paths_obj, a->paths_max)
+                : EXIT_INPUT;
     if (!tr) cli_error_in("find", "out of memory");
     if (rc != 0) {
         ggTraceFree(tr);

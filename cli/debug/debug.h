@@ -69,13 +69,26 @@ typedef struct dbg_paths_out {
     int have_jsonl, have_obj;
     long paths;    /* paths written */
     long vertices; /* OBJ vertices written */
+    uint64_t max;  /* --paths-max: bytes of both files at most, 0 no limit */
 } dbg_paths_out;
+/* --paths-max SIZE (find, trace): the bytes the two files may take
+   together, a whole number with K, M or G (powers of 1024), 0 for no
+   limit; default DBG_PATHS_MAX (4 GiB: a whole image of default.nff with
+   every path, 'C.*', is 570 MB; a pixel of nested glass can be 14 MB).
+   dbg_paths_max_parse is its CLI_OPT_FUNC (ud: a uint64_t). */
+#define DBG_PATHS_MAX ((uint64_t)4 << 30)
+#define DBG_PATHS_MAX_HELP                                                                         \
+    "--path: the two files' bytes at most, with K, M or G\n"                                       \
+    "(default 4G; 0: no limit); past it nothing is written"
+int dbg_paths_max_parse(void *ud, const char *value, char *why, size_t whylen);
 /* Before the work: the outputs can be written (cli_check_output); NULL
    names are skipped. Returns 0 or an exit code. */
 int dbg_paths_check(const char *cmd, const char *jsonl, const char *obj);
-int dbg_paths_open(dbg_paths_out *o, const char *cmd, const char *jsonl, const char *obj);
+int dbg_paths_open(dbg_paths_out *o, const char *cmd, const char *jsonl, const char *obj,
+                   uint64_t max);
 /* The paths e matches of the pixel (x, y) of value px, whose every sample
-   tr holds. Returns an exit code. */
+   tr holds. Past o->max bytes it says so (exit 2) for the caller to
+   abandon the files. Returns an exit code. */
 int dbg_paths_pixel(dbg_paths_out *o, const ggPathExpr *e, const ggTrace *tr, int x, int y,
                     ggColor px);
 /* Close and rename into place; returns an exit code. abandon: remove the

@@ -8,6 +8,7 @@
 */
 #include "debug/debug.h"
 
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,11 +20,34 @@ int dbg_paths_check(const char *cmd, const char *jsonl, const char *obj)
     return 0;
 }
 
-int dbg_paths_open(dbg_paths_out *o, const char *cmd, const char *jsonl, const char *obj)
+int dbg_paths_max_parse(void *ud, const char *value, char *why, size_t whylen)
+{
+    static const char units[] = "KMG";
+    const char *u;
+    char *end;
+    unsigned long long n;
+    int shift = 0;
+    if (value[0] < '0' || value[0] > '9') goto bad; /* no sign, no blank */
+    errno = 0;
+    n = strtoull(value, &end, 10);
+    if (*end && !end[1] && (u = strchr(units, *end)) != NULL)
+        shift = 10 * (int)(u - units + 1), end++;
+    if (errno || *end || n > (1ull << 50) >> shift) goto bad;
+    *(uint64_t *)ud = (uint64_t)n << shift;
+    return 0;
+bad:
+    snprintf(why, whylen,
+             "a whole number of bytes, with K, M or G (powers of 1024), at most 2^50; 0 for no "
+             "limit");
+    return -1;
+}
+
+int dbg_paths_open(dbg_paths_out *o, const char *cmd, const char *jsonl, const char *obj,
+                   uint64_t max)
 {
     int rc;
     memset(o, 0, sizeof *o);
-    o->cmd = cmd;
+    o->cmd = cmd, o->max = max;
     if (jsonl) {
         if ((rc = cli_out_open(&o->jsonl, cmd, jsonl)) != 0) return rc;
         o->have_jsonl = 1;
@@ -97,6 +121,19 @@ static int write_term(dbg_paths_out *o, const ggTrace *tr, int x, int y, const g
     return 0;
 }
 
+/* Past --paths-max after pixel (x, y): exit 2, nothing to be written. */
+static int over_max(const dbg_paths_out *o, int x, int y)
+{
+    off_t a = o->have_jsonl ? ftello(o->jsonl.f) : 0, b = o->have_obj ? ftello(o->obj.f) : 0;
+    uint64_t n = (uint64_t)(a > 0 ? a : 0) + (uint64_t)(b > 0 ? b : 0);
+    if (!o->max || n <= o->max) return EXIT_OK;
+    cli_error_in(o->cmd,
+                 "the paths passed --paths-max (%llu bytes) at pixel %d,%d: %llu bytes, %ld "
+                 "paths; nothing is written (narrow --path or the pixels, or raise --paths-max)",
+                 (unsigned long long)o->max, x, y, (unsigned long long)n, o->paths);
+    return EXIT_INPUT;
+}
+
 int dbg_paths_pixel(dbg_paths_out *o, const ggPathExpr *e, const ggTrace *tr, int x, int y,
                     ggColor px)
 {
@@ -113,9 +150,11 @@ int dbg_paths_pixel(dbg_paths_out *o, const ggPathExpr *e, const ggTrace *tr, in
         if (m[i] && write_term(o, tr, x, y, &l->terms[i]) != 0) rc = GG_ERROR_NOMEM;
     free(m);
     ggLedgerFree(l);
-    if (rc == GG_OK) return EXIT_OK;
-    cli_error_in(o->cmd, "out of memory writing the paths");
-    return EXIT_INPUT;
+    if (rc != GG_OK) {
+        cli_error_in(o->cmd, "out of memory writing the paths");
+        return EXIT_INPUT;
+    }
+    return over_max(o, x, y);
 }
 
 int dbg_paths_close(dbg_paths_out *o)

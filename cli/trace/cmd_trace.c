@@ -32,6 +32,7 @@ static const char *const formats[] = {"text", "json", NULL};
 
 typedef struct trace_args {
     const char *scenes[2], *svg, *obj, *scene_obj, *a_text, *b_text, *lpe, *paths_jsonl, *paths_obj;
+    uint64_t paths_max; /* --paths-max */
     int nscenes, pixel[2], sample, format, ascii, ledger, diff, no_numeric;
     ggRenderOptions oa, ob; /* --diff: the two sides */
     cli_render ro;
@@ -132,6 +133,8 @@ static int parse(trace_args *a, int argc, char **argv)
         CLI_OPT_STRING(0, "paths-obj", &a->paths_obj, "FILE",
                        "--path: write the matching paths as OBJ polylines,\n"
                        "eye to light, one per path"),
+        CLI_OPT_FUNC(0, "paths-max", dbg_paths_max_parse, &a->paths_max, "SIZE",
+                     DBG_PATHS_MAX_HELP),
         CLI_OPT_STRING(0, "scene-obj", &a->scene_obj, "FILE",
                        "write the scene's objects as OBJ faces, to open\n"
                        "with --obj's rays or --paths-obj's paths; implicit\n"
@@ -151,6 +154,7 @@ static int parse(trace_args *a, int argc, char **argv)
                    .args_name = "scene"};
     int rc;
     a->sample = -1, a->a_text = a->b_text = "";
+    a->paths_max = DBG_PATHS_MAX;
     cli_render_init(&a->ro, CLI_RENDER_ALL);
     if ((rc = cli_parse(&cmd, argc, argv)) != CLI_GO) return rc;
     cli_render_finish(&a->ro);
@@ -335,7 +339,7 @@ static int print_paths(const trace_args *a, const ggPathExpr *e, const trace_vie
 static int write_paths(const trace_args *a, const ggPathExpr *e, const trace_view *v)
 {
     dbg_paths_out o;
-    int rc = dbg_paths_open(&o, "trace", a->paths_jsonl, a->paths_obj);
+    int rc = dbg_paths_open(&o, "trace", a->paths_jsonl, a->paths_obj, a->paths_max);
     if (rc != 0) return rc;
     if ((rc = dbg_paths_pixel(&o, e, v->trace, v->x, v->y, v->pixel)) != EXIT_OK) {
         dbg_paths_abandon(&o);

@@ -127,3 +127,26 @@ if grep -qF "refusing to write '$tmp/dir': it is a directory" "$tmp/err" && [ ! 
 else bad "--paths-jsonl: the message names the file" "$(cat "$tmp/out" "$tmp/err")"; fi
 expect_exit 3 "--paths-obj naming a folder fails before the work" \
   "$ggrt" trace $g -p 1,1 --path 'C.*' --paths-obj "$tmp/dir"
+# --paths-max: the two files' bytes at most; exactly their size passes,
+# one byte less writes nothing (exit 2), in find and in trace
+mkdir "$tmp/pm"
+"$ggrt" find $g -s 24x18 -q --path 'C.*' --paths-jsonl "$tmp/pm/a.jsonl" --paths-obj "$tmp/pm/a.obj" >/dev/null
+n=$(($(wc -c <"$tmp/pm/a.jsonl") + $(wc -c <"$tmp/pm/a.obj")))
+expect_exit 0 "find --paths-max: the files' own size ($n bytes) is enough" \
+  "$ggrt" find $g -s 24x18 -q --path 'C.*' --paths-jsonl "$tmp/pm/b.jsonl" --paths-obj "$tmp/pm/b.obj" --paths-max $n
+cmp -s "$tmp/pm/a.jsonl" "$tmp/pm/b.jsonl" && cmp -s "$tmp/pm/a.obj" "$tmp/pm/b.obj" &&
+  ok "find --paths-max: under it, the same files" || bad "find --paths-max: under it, the same files"
+rm -f "$tmp/pm/"*
+expect_msg 2 "ggrt find: the paths passed --paths-max ($((n - 1)) bytes) at pixel " \
+  "find --paths-max: a byte less is refused, the pixel named" \
+  "$ggrt" find $g -s 24x18 -q --path 'C.*' --paths-jsonl "$tmp/pm/b.jsonl" --paths-obj "$tmp/pm/b.obj" --paths-max $((n - 1))
+[ -z "$(ls "$tmp/pm")" ] && ok "find --paths-max: past it, no file and no temporary file" ||
+  bad "find --paths-max: past it, no file and no temporary file" "$(ls "$tmp/pm")"
+expect_msg 2 "ggrt trace: the paths passed --paths-max (1024 bytes) at pixel 10,1" \
+  "trace --paths-max 1K: refused past 1024 bytes" \
+  "$ggrt" trace $g -s 24x18 -p 10,1 --path 'C.*' --paths-jsonl "$tmp/pm/t.jsonl" --paths-max 1K
+[ -z "$(ls "$tmp/pm")" ] && ok "trace --paths-max: past it, no file" || bad "trace --paths-max: past it, no file" "$(ls "$tmp/pm")"
+for v in 1.5G -1 1KB 0x10 "" 1048577G; do
+  expect_exit 1 "--paths-max '$v' is a usage error" "$ggrt" find $g --path 'C.*' --paths-jsonl "$tmp/pm/x" --paths-max "$v"
+done
+expect_exit 0 "--paths-max 0: no limit" "$ggrt" trace $g -s 24x18 -p 10,1 --path 'C.*' --paths-jsonl "$tmp/pm/t.jsonl" --paths-max 0
