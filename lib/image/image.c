@@ -154,26 +154,53 @@ GG_API double ggSRGBToLinear(double c)
    (k - 0.5) / 255: a linear c encodes to the largest k with thr[k] <= c,
    which is round(255 * ggLinearToSRGB(c)) evaluated exactly, without a
    pow per channel. */
-static unsigned char encode8(const double thr[256], float v)
+static unsigned char encode8(const double thr[256], double c)
 {
-    double c = v;
     int lo = 0, step;
-    if (!(c > 0.0)) return 0; /* also NaN */
-    if (c >= 1.0) return 255;
     for (step = 128; step > 0; step >>= 1)
         if (lo + step < 256 && thr[lo + step] <= c) lo += step;
     return (unsigned char)lo;
 }
 
+/* A float's bits from 2^-13 up to 1, taken 16 bits at a time (an exponent
+   and 7 bits of mantissa): SRGB8_BUCKETS buckets, each narrower (2^-7 of
+   its start) than any gap between two midpoints (at least 0.9% of the
+   lower one), so the level at a bucket's start is the answer but for at
+   most one step up. Below 2^-13 every value is level 0 (thr[1] is 1.5e-4). */
+#define SRGB8_SHIFT   16
+#define SRGB8_FIRST   (0x39000000u >> SRGB8_SHIFT) /* 2^-13 */
+#define SRGB8_BUCKETS ((0x3f800000u >> SRGB8_SHIFT) - SRGB8_FIRST)
+
+static float bits_float(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
 GG_API void ggLinearToSRGB8(const float *in, unsigned char *out, size_t n)
 {
-    double thr[256];
+    double thr[257];
+    unsigned char start[SRGB8_BUCKETS];
     size_t i;
     int k;
     if (!in || !out) return;
     thr[0] = 0.0;
     for (k = 1; k < 256; k++) thr[k] = ggSRGBToLinear((k - 0.5) / 255.0);
-    for (i = 0; i < n; i++) out[i] = encode8(thr, in[i]);
+    thr[256] = INFINITY; /* the step up from 255 is never taken */
+    for (k = 0; k < (int)SRGB8_BUCKETS; k++)
+        start[k] = encode8(thr, bits_float((SRGB8_FIRST + (uint32_t)k) << SRGB8_SHIFT));
+    for (i = 0; i < n; i++) {
+        uint32_t u, b;
+        double c = in[i];
+        memcpy(&u, &in[i], sizeof u);
+        b = (u >> SRGB8_SHIFT) - SRGB8_FIRST; /* wraps for small and negative */
+        if (b < SRGB8_BUCKETS) {
+            k = start[b];
+            out[i] = (unsigned char)(k + (thr[k + 1] <= c));
+        } else
+            out[i] = c >= 1.0 ? 255 : 0; /* also NaN, tiny and negative */
+    }
 }
 
 static double to_compare_space(double c, int space)

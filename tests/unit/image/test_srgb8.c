@@ -6,6 +6,7 @@
 #include "testutil.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,12 +86,74 @@ static void test_srgb8_is_png(void **state)
     ggImageFree(back);
 }
 
+/* Every float from 2^-16 to 2 (and a stride through the rest of the
+   32-bit patterns: negative, tiny, huge, infinite, NaN) encodes to the
+   largest level whose midpoint is <= it, found here by a plain search of
+   the midpoints as the contract states them. */
+static int level_of(const double thr[256], float v)
+{
+    double c = v;
+    int k = 0;
+    if (!(c > 0.0)) return 0;
+    while (k < 255 && thr[k + 1] <= c) k++;
+    return k;
+}
+
+/* ggLinearToSRGB8 on the bit patterns from, from + stride, ... below to;
+   with `rising` the patterns are positive floats in increasing order, so
+   the expected level only grows and is found by stepping on from the
+   last one. */
+static void check_range(const double thr[256], uint32_t from, uint32_t to, uint32_t stride,
+                        int rising)
+{
+    enum { CHUNK = 1 << 16 };
+    static float in[CHUNK];
+    static unsigned char out[CHUNK];
+    uint64_t u = from;
+    int want = 0;
+    while (u < to) {
+        size_t n = 0, i;
+        for (; n < CHUNK && u < to; n++, u += stride) {
+            uint32_t b = (uint32_t)u;
+            memcpy(&in[n], &b, sizeof b);
+        }
+        ggLinearToSRGB8(in, out, n);
+        for (i = 0; i < n; i++) {
+            if (!rising)
+                want = level_of(thr, in[i]);
+            else
+                while (want < 255 && thr[want + 1] <= in[i]) want++;
+            if (out[i] != want) fail_msg("%a: %d, want %d", (double)in[i], out[i], want);
+        }
+    }
+}
+
+static void test_srgb8_every_float(void **state)
+{
+    double thr[256];
+    int k;
+    (void)state;
+    thr[0] = 0.0;
+    for (k = 1; k < 256; k++) thr[k] = ggSRGBToLinear((k - 0.5) / 255.0);
+    check_range(thr, 0x37800000u, 0x40000000u, 1, 1); /* 2^-16 .. 2, every one */
+    check_range(thr, 0x00000000u, 0x37800000u, 4093, 0);
+    check_range(thr, 0x40000000u, 0xffffffffu, 4093, 0);
+    /* the floats nearest each midpoint, either side */
+    for (k = 1; k < 256; k++) {
+        float m = (float)thr[k];
+        uint32_t b;
+        memcpy(&b, &m, sizeof b);
+        check_range(thr, b - 64, b + 64, 1, 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_srgb8_levels),
         cmocka_unit_test(test_srgb8_rounding),
         cmocka_unit_test(test_srgb8_is_png),
+        cmocka_unit_test(test_srgb8_every_float),
     };
     return cmocka_run_group_tests_name("srgb8", tests, NULL, NULL);
 }
