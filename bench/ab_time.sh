@@ -8,10 +8,16 @@
 # order each round matters too: on the shared 2-core machine the second
 # render of a pair ran 5-10% slower (docs/performance.md).
 # usage: sh bench/ab_time.sh OLD_GGRT NEW_GGRT SCENE [SIZE] [THREADS] [ROUNDS]
-#   (from the top of a checkout; defaults 512, 1, 7)
+#   (from the top of a checkout; defaults 512, 1, 7). SCENE is an SPD
+#   scene's name (gears) or a scene file's path (build/meshes/torus-1m.nff).
 old=$1 new=$2 s=$3 size=${4:-512} thr=${5:-1} n=${6:-7}
 [ -x "$old" ] && [ -x "$new" ] && [ -n "$s" ] ||
   { echo "usage: sh bench/ab_time.sh OLD_GGRT NEW_GGRT SCENE [SIZE] [THREADS] [ROUNDS]" >&2; exit 1; }
+case $s in
+*/* | *.nff | *.obj | *.ply) path=$s ;;
+*) path=examples/scenes/spd/$s.nff ;;
+esac
+[ -f "$path" ] || { echo "bench/ab_time.sh: no scene $path" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 i=0
 while [ $i -lt "$n" ]; do
@@ -19,7 +25,7 @@ while [ $i -lt "$n" ]; do
   [ $((i % 2)) -eq 1 ] && order="new old"
   for b in $order; do
     eval bin=\$$b
-    "$bin" render "examples/scenes/spd/$s.nff" -s "${size}x$size" -j "$thr" -o "$tmp/x.exr" 2>&1 |
+    "$bin" render "$path" -s "${size}x$size" -j "$thr" -o "$tmp/x.exr" 2>&1 |
       sed -n "s/.*render \([0-9.]*\)s.*/$b \1/p" >>"$tmp/t"
   done
   i=$((i + 1))
