@@ -87,9 +87,26 @@ void cli_cancel_after_write(const char *path)
         }
 }
 
+double cli_bar_delay(double dflt)
+{
+    static int read;
+    static double delay = -1;
+    if (!read) {
+        const char *v = getenv("GGRT_PROGRESS_DELAY");
+        char why[96];
+        read = 1;
+        if (v && cli_parse_num(v, 0, 1e9, &delay, why, sizeof why) != 0) {
+            cli_warn("GGRT_PROGRESS_DELAY=%s: %s (seconds, 0 or more); ignored", v, why);
+            delay = -1;
+        }
+    }
+    return delay >= 0 ? delay : dflt;
+}
+
 void cli_bar_begin(cli_bar *b, const char *label, int quiet)
 {
-    b->label = label ? label : "", b->t0 = cli_now(), b->after = 0, b->last_pct = -1;
+    b->label = label ? label : "", b->t0 = cli_now(), b->last_pct = -1;
+    b->after = cli_bar_delay(0);
     b->draw = !quiet && isatty(2);
 }
 

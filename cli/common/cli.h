@@ -181,14 +181,18 @@ void cli_cancel_after_write(const char *path);
    on stderr as the work goes; cli_bar_step is a ggProgressFn (ud: the
    cli_bar) that also returns 1 once a cancel signal came, so the library
    stops. cli_bar_end ends the line the bar drew, if it drew one. A bar
-   whose `after` is set (seconds; cli_bar_begin sets 0) draws nothing
-   until the work has taken that long: a step that is usually quick
-   (loading a scene) shows a bar only when it is not. */
+   whose `after` is set (seconds; cli_bar_begin sets cli_bar_delay(0))
+   draws nothing until the work has taken that long: a step that is
+   usually quick (loading a scene) shows a bar only when it is not.
+   cli_bar_delay gives GGRT_PROGRESS_DELAY's seconds where the environment
+   sets it, else dflt (a value that is not a number of seconds is ignored,
+   with one warning). */
 typedef struct cli_bar {
     const char *label; /* "" for none */
     double t0, after;
     int last_pct, draw;
 } cli_bar;
+double cli_bar_delay(double dflt);
 void cli_bar_begin(cli_bar *b, const char *label, int quiet);
 int cli_bar_step(void *ud, long done, long total);
 void cli_bar_end(cli_bar *b);

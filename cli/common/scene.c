@@ -18,7 +18,7 @@
 static void step_bar(ggScene *s, cli_bar *bar, const char *label, int quiet)
 {
     cli_bar_begin(bar, label, quiet);
-    bar->after = 0.5;
+    bar->after = cli_bar_delay(0.5);
     ggSceneSetProgress(s, cli_bar_step, bar);
 }
 

@@ -7,10 +7,12 @@ write and to find's paths pass.
 Also checks that ggrt never wrote into its argv (/proc/PID/cmdline while
 it runs), and that render, a tile, plan, find,
 check and diff draw their progress bar on a terminal (a pseudo-terminal
-here) and not under -q.
+here) and not under -q, and every command that reads a scene its
+loading and preparing bars once GGRT_PROGRESS_DELAY has passed.
 Prints one "ok NAME" or "FAIL NAME: why" line per check.
 usage: cancel.py GGRT TMPDIR"""
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -237,12 +239,17 @@ cancel_while_writing("trace --scene-obj", [ggrt, "trace", rough, "-p", "8,8", "-
                      out, bound=5.0)
 
 
-def on_terminal(args):
-    """stderr of args run on a pseudo-terminal (the bar is drawn only there)."""
+def on_terminal(args, delay=None):
+    """stderr of args run on a pseudo-terminal (the bar is drawn only there),
+    with GGRT_PROGRESS_DELAY set to delay unless it is None."""
     import pty
+    env = dict(os.environ)
+    env.pop("GGRT_PROGRESS_DELAY", None)
+    if delay is not None:
+        env["GGRT_PROGRESS_DELAY"] = delay
     pid, fd = pty.fork()
     if pid == 0:
-        os.execv(args[0], args)
+        os.execve(args[0], args, env)
     out = b""
     while True:
         try:
@@ -275,3 +282,35 @@ for what, args, label in (
            repr(text[-300:]))
     q = on_terminal(args + ["-q"])
     report(label not in q and "] 100%" not in q, "%s -q draws none" % what, repr(q[-300:]))
+    report("loading [" not in text and "preparing [" not in text,
+           "%s: no loading bar for a scene read in under half a second" % what, repr(text[:300]))
+
+# Loading and preparing show bars once they take half a second: with
+# GGRT_PROGRESS_DELAY=0 every command that reads a scene draws both
+# (and not under -q); with a long delay no bar at all, the work's too.
+for what, args, quiet in (
+        ("render", [ggrt, "render", SCENE, "-s", "32x24", "-o", os.path.join(d, "w.png")], "-q"),
+        ("ggrt plan", [ggrt, "plan", SCENE, "-s", "32x24", "--tiles", "2", "-o",
+                       os.path.join(d, "p.json")], "-q"),
+        ("ggrt find", [ggrt, "find", SCENE, "-s", "32x24", "-w", "some(kind == reflect)"], "-q"),
+        ("ggrt check", [ggrt, "check", SCENE, "-s", "32x24"], "-q"),
+        ("ggrt diff", [ggrt, "diff", SCENE, "-s", "32x24", "--b", "depth=2"], "-q"),
+        ("ggrt trace", [ggrt, "trace", SCENE, "-p", "10,10"], None),
+        ("ggrt info", [ggrt, "info", SCENE], None)):
+    text = on_terminal(args, "0")
+    report("\rloading [" in text and "\rpreparing [" in text and "] 100%" in text,
+           "%s: GGRT_PROGRESS_DELAY=0 draws the loading and preparing bars" % what,
+           repr(text[:400]))
+    if quiet:
+        q = on_terminal(args + [quiet], "0")
+        report("loading [" not in q and "preparing [" not in q,
+               "%s %s: GGRT_PROGRESS_DELAY=0 draws no loading bar" % (what, quiet), repr(q[:300]))
+    late = on_terminal(args, "600")
+    report(not re.search(r"\] +[0-9]+%", late),
+           "%s: GGRT_PROGRESS_DELAY=600 draws no bar" % what, repr(late[:300]))
+text = on_terminal([ggrt, "info", SCENE], "soon")
+report("GGRT_PROGRESS_DELAY=soon: not a number" in text and "loading [" not in text,
+       "GGRT_PROGRESS_DELAY that is not a number: a warning, and the default delay",
+       repr(text[:300]))
+text = on_terminal([ggrt, "trace", SCENE, "-p", "10,10", "--format", "json"], "0")
+report("loading [" not in text, "trace --format json: no loading bar", repr(text[:300]))
