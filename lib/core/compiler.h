@@ -124,6 +124,15 @@ static inline int gg_ctz_portable(unsigned m)
 #else
 #define GG_NO_SLP
 #endif
+/* The same for a few loads inside a function that is inlined (where
+   GG_NO_SLP does not reach): the statement GG_SCALAR(x); passes the
+   double x through an empty asm, so the load that produced it is not
+   paired with another. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define GG_SCALAR(x) __asm__("" : "+x"(x))
+#else
+#define GG_SCALAR(x) ((void)(x))
+#endif
 
 /* Per-ISA code. An object named *_avx.o, *_avx2.o or *_fma.o is
    compiled, on x86-64 with GCC or clang, with that instruction set's
