@@ -482,7 +482,7 @@ static GG_NOINLINE int inside_float(const gg_ksph *k, const gg_rayq *q, double *
     return gg_rpre_init(&r, q) && gg_sphere_kernel_f(k, &r, gg_next_down(q->tmax), t);
 }
 
-int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit *hit)
+GG_NO_SLP int gg_geom_inside_hit(const gg_geom *g, const gg_rayq *q, unsigned skip, gg_hit *hit)
 {
     const uint32_t prim = q->inside;
     const gg_sph *sp;
