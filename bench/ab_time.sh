@@ -9,7 +9,8 @@
 # render of a pair ran 5-10% slower (docs/performance.md).
 # usage: sh bench/ab_time.sh OLD_GGRT NEW_GGRT SCENE [SIZE] [THREADS] [ROUNDS]
 #   (from the top of a checkout; defaults 512, 1, 7). SCENE is an SPD
-#   scene's name (gears) or a scene file's path (build/meshes/torus-1m.nff).
+#   scene's name (gears) or a scene file's path (the meshes of
+#   scripts/make-mesh-scenes.py, say).
 old=$1 new=$2 s=$3 size=${4:-512} thr=${5:-1} n=${6:-7}
 [ -x "$old" ] && [ -x "$new" ] && [ -n "$s" ] ||
   { echo "usage: sh bench/ab_time.sh OLD_GGRT NEW_GGRT SCENE [SIZE] [THREADS] [ROUNDS]" >&2; exit 1; }
