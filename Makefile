@@ -450,7 +450,7 @@ SAN_EXE_LDFLAGS = -no-pie
 # The suites that run the library from several threads at once, run a
 # third time under ThreadSanitizer (GCC's; TSan reports make the run fail).
 TSAN_TESTS = $(BUILD)/tests/api/test_concurrent $(BUILD)/tests/unit/render/test_render \
-             $(BUILD)/tests/unit/load/test_progress
+             $(BUILD)/tests/unit/load/test_progress $(BUILD)/tests/unit/imageio/test_image
 TSAN_CC    ?= gcc
 TSAN_FLAGS  = -O1 -g1 -fsanitize=thread -fno-omit-frame-pointer -DGG_NO_FORCED_INLINE -Wno-psabi
 test-tsan:

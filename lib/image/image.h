@@ -60,6 +60,12 @@ int gg_image_read_png(FILE *fp, const char *path, const ggAllocator *alloc,
 int gg_image_read_exr(FILE *fp, const char *path, const ggAllocator *alloc,
                       const gg_image_budget *b, ggImage **out, ggError *err);
 
+/* The threads an OpenEXR write compresses its chunks on (image_exr.c): 0,
+   the default, for the CPUs online, at most 8, with four chunks or more
+   each. The tests set a count to compare files; the bytes written are
+   the same for any. */
+extern int gg_image_exr_threads;
+
 /* A temporary file beside its destination, renamed over it on commit. */
 typedef struct gg_image_tmp {
     const char *path; /* destination, as the caller spelled it */

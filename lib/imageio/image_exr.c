@@ -12,6 +12,7 @@
 
 #include <errno.h>
 #include <openexr.h>
+#include <pthread.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -456,65 +457,196 @@ static const float *channel_src(const exr_set *set, const char *name, int *slot)
     return set->px[i];
 }
 
+/* ---- writing the pixels: chunks compressed in parallel, written in order ----
+
+   zlib takes nearly all of a write (170-320 ms for a 1024 x 1024 render
+   on one core), and the chunks (16 rows each) compress independently.
+   Threads take the next chunk in turn and compress it; the file must
+   hold the chunks in increasing y, so each waits for the chunk before
+   its own to be written before writing (the pipeline's
+   yield_until_ready_fn and write_fn). The file's bytes do not depend on
+   the number of threads. */
+
+/* What the threads share: the next chunk to take, the next to write and
+   the first error. */
+typedef struct exr_job {
+    exr_context_t ctx;
+    int part, y0, lpc, nchunks;
+    const exr_set *set;
+    pthread_mutex_t mu;
+    pthread_cond_t turn;
+    int next_take, next_write;
+    exr_result_t rv;
+} exr_job;
+
+/* One thread's pipeline: the chunk it is on, and the core's own compress
+   and write routines, which ours wrap. */
+typedef struct exr_coder {
+    exr_job *job;
+    int chunk;
+    exr_result_t (*compress)(exr_encode_pipeline_t *enc);
+    exr_result_t (*write)(exr_encode_pipeline_t *enc);
+} exr_coder;
+
+int gg_image_exr_threads;
+
+/* Threads for n chunks (gg_image_exr_threads, image.h). */
+static int coder_threads(int n)
+{
+    long t = gg_image_exr_threads > 0 ? gg_image_exr_threads : sysconf(_SC_NPROCESSORS_ONLN);
+    if (t > 8 && gg_image_exr_threads <= 0) t = 8;
+    if (gg_image_exr_threads <= 0 && t > n / 4) t = n / 4;
+    return t < 1 ? 1 : (int)t;
+}
+
+static void job_fail(exr_job *job, exr_result_t rv)
+{
+    pthread_mutex_lock(&job->mu);
+    if (job->rv == EXR_ERR_SUCCESS) job->rv = rv;
+    pthread_cond_broadcast(&job->turn);
+    pthread_mutex_unlock(&job->mu);
+}
+
 /* OpenEXR's ZIP encoder (3.1 as Debian ships it, and every release up to
    3.4.7) stores zlib's output when it is exactly as long as the raw chunk,
    while every reader takes a chunk whose stored size equals its raw size
    for a raw chunk: the pixels read back are not those written
    (AcademySoftwareFoundation/openexr#2306). Such a chunk is stored raw
    here, as a fixed encoder stores it; the encoder left the raw bytes in
-   packed_buffer. zip_guard carries the encoder's own routine. */
-typedef struct zip_guard {
-    exr_result_t (*compress)(exr_encode_pipeline_t *enc);
-} zip_guard;
-
+   packed_buffer. */
 static exr_result_t compress_guarded(exr_encode_pipeline_t *enc)
 {
-    const zip_guard *g = enc->encoding_user_data;
-    exr_result_t rv = g->compress(enc);
+    const exr_coder *w = enc->encoding_user_data;
+    exr_result_t rv = w->compress(enc);
     if (rv == EXR_ERR_SUCCESS && enc->compressed_bytes == enc->packed_bytes &&
         enc->compressed_buffer != enc->packed_buffer)
         memcpy(enc->compressed_buffer, enc->packed_buffer, enc->packed_bytes);
     return rv;
 }
 
-/* The images are the data window, whose top row is y0. */
+/* Wait until the chunks before this one are written (or one failed). */
+static exr_result_t wait_turn(exr_encode_pipeline_t *enc)
+{
+    const exr_coder *w = enc->encoding_user_data;
+    exr_job *job = w->job;
+    exr_result_t rv;
+    pthread_mutex_lock(&job->mu);
+    while (job->next_write != w->chunk && job->rv == EXR_ERR_SUCCESS)
+        pthread_cond_wait(&job->turn, &job->mu);
+    rv = job->rv;
+    pthread_mutex_unlock(&job->mu);
+    return rv;
+}
+
+static exr_result_t write_in_turn(exr_encode_pipeline_t *enc)
+{
+    const exr_coder *w = enc->encoding_user_data;
+    exr_job *job = w->job;
+    exr_result_t rv = w->write(enc);
+    if (rv != EXR_ERR_SUCCESS) return rv; /* the caller fails the job */
+    pthread_mutex_lock(&job->mu);
+    job->next_write++;
+    pthread_cond_broadcast(&job->turn);
+    pthread_mutex_unlock(&job->mu);
+    return rv;
+}
+
+/* Point the pipeline's channels at the rows of chunk y (the images are
+   the data window, whose top row is y0). */
+static void coder_channels(exr_encode_pipeline_t *enc, const exr_set *set, int y)
+{
+    const ggImage *img = set->img;
+    int c;
+    for (c = 0; c < enc->channel_count; c++) {
+        exr_coding_channel_info_t *ch = &enc->channels[c];
+        int slot;
+        const float *src = channel_src(set, ch->channel_name, &slot);
+        ch->user_data_type = EXR_PIXEL_FLOAT;
+        ch->user_bytes_per_element = (int16_t)sizeof(float);
+        ch->user_pixel_stride = 3 * (int32_t)sizeof(float);
+        ch->user_line_stride = 3 * (int32_t)sizeof(float) * img->width;
+        ch->encode_from_ptr = (const uint8_t *)(src + 3 * (size_t)y * (size_t)img->width + slot);
+    }
+}
+
+/* One thread: chunks taken in turn until none is left or one failed. */
+static void *coder_run(void *arg)
+{
+    exr_coder *w = arg;
+    exr_job *job = w->job;
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    int ready = 0;
+    for (;;) {
+        exr_chunk_info_t ci;
+        exr_result_t rv;
+        int y;
+        pthread_mutex_lock(&job->mu);
+        w->chunk =
+            job->rv == EXR_ERR_SUCCESS && job->next_take < job->nchunks ? job->next_take++ : -1;
+        pthread_mutex_unlock(&job->mu);
+        if (w->chunk < 0) break;
+        y = w->chunk * job->lpc;
+        rv = exr_write_scanline_chunk_info(job->ctx, job->part, job->y0 + y, &ci);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = ready ? exr_encoding_update(job->ctx, job->part, &ci, &enc)
+                       : exr_encoding_initialize(job->ctx, job->part, &ci, &enc);
+        if (rv == EXR_ERR_SUCCESS) {
+            coder_channels(&enc, job->set, y);
+            if (!ready) rv = exr_encoding_choose_default_routines(job->ctx, job->part, &enc);
+        }
+        if (rv == EXR_ERR_SUCCESS && !ready) {
+            w->compress = enc.compress_fn, w->write = enc.write_fn;
+            if (enc.compress_fn) enc.compress_fn = compress_guarded;
+            enc.yield_until_ready_fn = wait_turn, enc.write_fn = write_in_turn;
+            enc.encoding_user_data = w;
+        }
+        ready = 1;
+        if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(job->ctx, job->part, &enc);
+        if (rv != EXR_ERR_SUCCESS) {
+            job_fail(job, rv);
+            break;
+        }
+    }
+    if (ready) exr_encoding_destroy(job->ctx, &enc);
+    return NULL;
+}
+
 static int write_pixels(exr_context_t ctx, int part, const exr_set *set, int y0, exr_io *io,
                         const char *path, ggError *err)
 {
-    const ggImage *img = set->img;
-    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
-    zip_guard guard = {NULL};
+    exr_job job;
+    exr_coder w[8];
+    pthread_t th[8];
     int32_t lpc = 0;
-    int ready = 0, y, c;
+    int nt, started = 0, i;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctx, part, &lpc);
-    for (y = 0; rv == EXR_ERR_SUCCESS && y < img->height; y += lpc) {
-        exr_chunk_info_t ci;
-        rv = exr_write_scanline_chunk_info(ctx, part, y0 + y, &ci);
-        if (rv != EXR_ERR_SUCCESS) break;
-        rv = ready ? exr_encoding_update(ctx, part, &ci, &enc)
-                   : exr_encoding_initialize(ctx, part, &ci, &enc);
-        if (rv != EXR_ERR_SUCCESS) break;
-        for (c = 0; c < enc.channel_count; c++) {
-            exr_coding_channel_info_t *ch = &enc.channels[c];
-            int slot;
-            const float *src = channel_src(set, ch->channel_name, &slot);
-            ch->user_data_type = EXR_PIXEL_FLOAT;
-            ch->user_bytes_per_element = (int16_t)sizeof(float);
-            ch->user_pixel_stride = 3 * (int32_t)sizeof(float);
-            ch->user_line_stride = 3 * (int32_t)sizeof(float) * img->width;
-            ch->encode_from_ptr =
-                (const uint8_t *)(src + 3 * (size_t)y * (size_t)img->width + slot);
-        }
-        if (!ready) rv = exr_encoding_choose_default_routines(ctx, part, &enc);
-        if (!ready && rv == EXR_ERR_SUCCESS && enc.compress_fn) {
-            guard.compress = enc.compress_fn;
-            enc.encoding_user_data = &guard;
-            enc.compress_fn = compress_guarded;
-        }
-        ready = 1;
-        if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(ctx, part, &enc);
+    if (rv != EXR_ERR_SUCCESS || lpc < 1)
+        return fail(io, rv != EXR_ERR_SUCCESS ? rv : EXR_ERR_INVALID_ARGUMENT, GG_ERROR_IO, path,
+                    "cannot write OpenEXR", err);
+    memset(&job, 0, sizeof job);
+    job.ctx = ctx, job.part = part, job.y0 = y0, job.lpc = lpc, job.set = set;
+    job.nchunks = (int)(((int64_t)set->img->height + lpc - 1) / lpc);
+    job.rv = EXR_ERR_SUCCESS;
+    if (pthread_mutex_init(&job.mu, NULL) != 0)
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: cannot write OpenEXR: no mutex", path);
+    if (pthread_cond_init(&job.turn, NULL) != 0) {
+        pthread_mutex_destroy(&job.mu);
+        return gg_error_set(err, GG_ERROR_NOMEM, "%s: cannot write OpenEXR: no condition", path);
     }
-    if (ready) exr_encoding_destroy(ctx, &enc);
+    nt = coder_threads(job.nchunks);
+    if (nt > 8) nt = 8;
+    for (i = 0; i < nt; i++) w[i].job = &job, w[i].chunk = -1, w[i].compress = w[i].write = NULL;
+    /* This thread is coder 0; a thread that cannot start leaves its
+       chunks to the others. */
+    for (i = 1; i < nt; i++) {
+        if (pthread_create(&th[started], NULL, coder_run, &w[i]) != 0) break;
+        started++;
+    }
+    coder_run(&w[0]);
+    for (i = 0; i < started; i++) pthread_join(th[i], NULL);
+    rv = job.rv;
+    pthread_cond_destroy(&job.turn);
+    pthread_mutex_destroy(&job.mu);
     if (rv != EXR_ERR_SUCCESS) return fail(io, rv, GG_ERROR_IO, path, "cannot write OpenEXR", err);
     return GG_OK;
 }

@@ -648,10 +648,70 @@ static void failed_overwrite(int (*writer)(const ggImage *, const char *, ggErro
 
 static void test_failed_write_keeps_old_file(void **state)
 {
+    static const int threads[] = {0, 1, 3, 8};
+    size_t i;
     (void)state;
     failed_overwrite(ggImageWritePNG, "keep.png");
-    failed_overwrite(ggImageWriteEXR, "keep.exr");
-    failed_overwrite(ggImageWrite, "keep2.exr");
+    /* the EXR writer's chunks compressed on one thread and on several:
+       the failure stops them all (300 rows: 19 chunks) */
+    for (i = 0; i < sizeof threads / sizeof threads[0]; i++) {
+        gg_image_exr_threads = threads[i];
+        failed_overwrite(ggImageWriteEXR, "keep.exr");
+        failed_overwrite(ggImageWrite, "keep2.exr");
+    }
+    gg_image_exr_threads = 0;
+}
+
+/* An OpenEXR file's bytes do not depend on how many threads compressed
+   its chunks: images of 1 to 70 chunks, smooth and noisy, with and
+   without a layer, on 1, 2, 3, 5 and 8 threads, against one thread. */
+static void test_exr_threads_same_bytes(void **state)
+{
+    static const int heights[] = {1, 15, 16, 17, 64, 100, 1111};
+    static const int threads[] = {2, 3, 5, 8};
+    tu_rng r = {31};
+    size_t h, t;
+    int noisy;
+    (void)state;
+    for (h = 0; h < sizeof heights / sizeof heights[0]; h++)
+        for (noisy = 0; noisy < 2; noisy++) {
+            ggImage *img = random_image(37, heights[h], &r, 0.0, noisy ? 1.0 : 0.0);
+            ggImage *layer = random_image(37, heights[h], &r, 0.0, 1.0);
+            const ggImage *layers[1];
+            const char *names[1] = {"aov"};
+            unsigned char *one, *one_l;
+            size_t n1, n1_l;
+            layers[0] = layer;
+            gg_image_exr_threads = 1;
+            assert_int_equal(ggImageWriteEXR(img, tu_tmppath("t1.exr"), NULL), GG_OK);
+            assert_int_equal(
+                ggImageWriteEXRLayers(img, layers, names, 1, NULL, tu_tmppath("t1l.exr"), NULL),
+                GG_OK);
+            one = slurp(tu_tmppath("t1.exr"), &n1);
+            one_l = slurp(tu_tmppath("t1l.exr"), &n1_l);
+            for (t = 0; t < sizeof threads / sizeof threads[0]; t++) {
+                unsigned char *b;
+                size_t nb;
+                gg_image_exr_threads = threads[t];
+                assert_int_equal(ggImageWriteEXR(img, tu_tmppath("tn.exr"), NULL), GG_OK);
+                b = slurp(tu_tmppath("tn.exr"), &nb);
+                assert_int_equal(nb, n1);
+                assert_memory_equal(b, one, n1);
+                free(b);
+                assert_int_equal(
+                    ggImageWriteEXRLayers(img, layers, names, 1, NULL, tu_tmppath("tnl.exr"), NULL),
+                    GG_OK);
+                b = slurp(tu_tmppath("tnl.exr"), &nb);
+                assert_int_equal(nb, n1_l);
+                assert_memory_equal(b, one_l, n1_l);
+                free(b);
+            }
+            free(one);
+            free(one_l);
+            ggImageFree(img);
+            ggImageFree(layer);
+        }
+    gg_image_exr_threads = 0;
 }
 
 static void test_write_mode_and_dispatch(void **state)
@@ -778,6 +838,7 @@ int main(void)
         cmocka_unit_test(test_truncated_and_corrupt),
         cmocka_unit_test(test_write_unwritable),
         cmocka_unit_test(test_failed_write_keeps_old_file),
+        cmocka_unit_test(test_exr_threads_same_bytes),
         cmocka_unit_test(test_write_mode_and_dispatch),
         cmocka_unit_test(test_crop_paste),
         cmocka_unit_test(test_compare),

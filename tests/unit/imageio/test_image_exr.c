@@ -315,7 +315,7 @@ static int round_trips(int w, int h, int k, int layered, tu_rng *r)
 /* Every amount of redundancy, from none to all, in one chunk of 16 rows
    or in the second: zlib's output then passes through the length of the
    raw chunk, which OpenEXR's own ZIP encoder gets wrong
-   (lib/imageio/image_exr.c, zip_guard). Before the guard, 6 of these
+   (lib/imageio/image_exr.c, compress_guarded). Before the guard, 6 of these
    1,570 images, 2 of the 785 files with a layer, and the 2x3 image below
    (found by tests/fuzz/fuzz_image.c) came back with other pixels. */
 static void test_exr_round_trip_any_compressibility(void **state)
