@@ -124,8 +124,8 @@ GG_API int ggImageWritePNG(const ggImage *img, const char *path, ggError *err);
    chunk that reads back as other pixels. The chunks (16 rows each) are
    compressed on threads of the call's own, as many as the CPUs online
    (at most 8, four chunks or more each), and written in order: the
-   file's bytes do not depend on the count. Safe to call from several
-   threads at once, each with its own image or its own path. */
+   file's bytes do not depend on the count. Several threads may write
+   at once, as with the other writers. */
 GG_API int ggImageWriteEXR(const ggImage *img, const char *path, ggError *err);
 /* Chooses PNG or EXR by the extension of path (.png / .exr, any case);
    another extension gives GG_ERROR_UNSUPPORTED.
