@@ -200,8 +200,9 @@ static void summary(const render_args *a, ggScene *scene, const ggImage *img, co
            (unsigned long long)st->refract, (unsigned long long)st->shadow,
            (unsigned long long)st->shadow_blocked, (unsigned long long)st->shadow_attenuated,
            total);
-    printf("time: parse %.3fs, prepare %.3fs, render %.3fs (%.2f Mrays/s)\n", t[1] - t[0],
-           t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0);
+    printf("time: parse %.3fs, prepare %.3fs, render %.3fs (%.2f Mrays/s), write %.3fs\n",
+           t[1] - t[0], t[2] - t[1], t[3] - t[2], t[3] > t[2] ? total / (t[3] - t[2]) / 1e6 : 0.0,
+           t[4] - t[3]);
 }
 
 /* Render, print what was asked, write. The image is written with the
@@ -267,6 +268,7 @@ static int run(render_args *a, ggScene *scene, double *t)
         rc = a->aov.n ? aov_write(&a->aov, img, a->out, a->scene, opt, &err)
                        : ggImageWrite(img, a->out, &err);
         if (rc == GG_OK) cli_cancel_after_write(a->out);
+        t[4] = cli_now();     /* the layers and the image, as written */
         cli_cancel_release(); /* a signal that came meanwhile is handled now */
         rc = rc == GG_OK ? EXIT_OK : cli_fail(rc, &err, 0);
     }
@@ -334,7 +336,7 @@ int cmd_render(int argc, char **argv)
     render_args a;
     loaded_state ls;
     ggScene *scene;
-    double t[4];
+    double t[5];
     int rc;
     memset(&a, 0, sizeof a);
     if ((rc = parse(&a, argc, argv)) != CLI_GO) return rc;

@@ -27,6 +27,15 @@ expect_msg 3 "refusing to write '$tmp/o/link.png': it is a symbolic link" \
 ls "$tmp/o" | grep -q tmp && bad "refusals leave no temporary file" "$(ls "$tmp/o")" ||
   ok "refusals leave no temporary file"
 
+# The summary's last line times each step, the write too (an OpenEXR
+# file can take half as long as the render), for PNG and EXR.
+for out in s.png s.exr; do
+  "$ggrt" render $g -s 64x48 -o "$tmp/o/$out" >"$tmp/o/sum.out" 2>&1
+  grep -Eq '^time: parse [0-9.]+s, prepare [0-9.]+s, render [0-9.]+s \([0-9.]+ Mrays/s\), write [0-9.]+s$' \
+    "$tmp/o/sum.out" && ok "render -o $out: the time line has parse, prepare, render and write" ||
+    bad "render -o $out: the time line has parse, prepare, render and write" "$(tail -1 "$tmp/o/sum.out")"
+done
+
 # A replaced file keeps its permissions (a private one stays private),
 # through the library's writer (-o) and the CLI's (plan -o).
 printf 'old\n' > "$tmp/o/private.png"; chmod 600 "$tmp/o/private.png"
