@@ -89,12 +89,12 @@ void cli_cancel_after_write(const char *path)
 
 double cli_bar_delay(double dflt)
 {
-    static int read;
+    static int looked;
     static double delay = -1;
-    if (!read) {
+    if (!looked) {
         const char *v = getenv("GGRT_PROGRESS_DELAY");
         char why[96];
-        read = 1;
+        looked = 1;
         if (v && cli_parse_num(v, 0, 1e9, &delay, why, sizeof why) != 0) {
             cli_warn("GGRT_PROGRESS_DELAY=%s: %s (seconds, 0 or more); ignored", v, why);
             delay = -1;
