@@ -4,11 +4,14 @@
 **   make bench-image
 ** Prints milliseconds for writing and reading a 1024 x 1024 render-like
 ** image as PNG and EXR, the size of each file, and nanoseconds per texture
-** sample. The EXR is ZIP compressed at zlib level 1, the level
-** ggImageWriteEXR always uses (include/ggrt/image.h).
+** sample and per value of the 8-bit sRGB encoding. The EXR is ZIP
+** compressed at zlib level 1, the level ggImageWriteEXR always uses
+** (include/ggrt/image.h), on its threads (as many as the CPUs, at most 8)
+** and, for comparison, on one (gg_image_exr_threads, lib/image/image.h).
 */
 #include "ggrt.h"
 #include "core.h"
+#include "image.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -59,10 +62,27 @@ int main(void)
         }                                                                                          \
         printf("  %-28s %8.1f ms\n", label, best * 1e3);                                           \
     } while (0)
+    {
+        size_t nv = 3 * (size_t)n * (size_t)n;
+        unsigned char *b8 = malloc(nv);
+        double best = 1e30;
+        int r;
+        for (r = 0; b8 && r < reps; r++) {
+            t0 = gg_time_now();
+            ggLinearToSRGB8(ggImagePixels(img), b8, nv);
+            if (gg_time_now() - t0 < best) best = gg_time_now() - t0;
+        }
+        if (b8) printf("  %-28s %8.2f ns/value\n", "8-bit sRGB (ggLinearToSRGB8)", best * 1e9 / nv);
+        free(b8);
+    }
     TIME("write PNG (8-bit sRGB)", ggImageWritePNG(img, png, NULL));
     print_size("PNG file", png);
     TIME("read PNG", (ggImageRead(png, NULL, &back, NULL), ggImageFree(back)));
+    printf("  (EXR chunks compressed on up to %ld CPUs)\n", sysconf(_SC_NPROCESSORS_ONLN));
     TIME("write EXR (float, ZIP)", ggImageWriteEXR(img, exr, NULL));
+    gg_image_exr_threads = 1;
+    TIME("write EXR on one thread", ggImageWriteEXR(img, exr, NULL));
+    gg_image_exr_threads = 0;
     print_size("EXR file (zlib level 1)", exr);
     TIME("read EXR", (ggImageRead(exr, NULL, &back, NULL), ggImageFree(back)));
     /* Texture sampling over precomputed (u, v): "coherent" walks the
