@@ -468,19 +468,23 @@ done:
 #ifndef GG_TRAV_ANY_DESCEND
 #define GG_TRAV_ANY_DESCEND
 #if defined(GG_TRAV_WIDE) && defined(__AVX512VL__)
-/* The AVX-512 build: the children after the first packed into the low
-   lanes of one register (in lane order, as the loop below pushes them)
-   and stored as eight; the stack has room for the lanes past the last
-   (GG_WSTACK). Compressing into a register, not into memory: a
-   compressing store is microcoded on some CPUs (AMD Zen 4). */
+/* The AVX-512 build: the children hit packed into the low lanes of one
+   register (in lane order, as the loop below pushes them). The first
+   goes to the walk from the register, not by a load indexed by the
+   mask's lowest bit: that chain (mask to GPR, tzcnt, load) stood between
+   a node's test and the next node's (gears 1.035 faster, fastest of 9
+   and 11 rounds: docs/performance.md, "The any-hit descent"). The rest,
+   shifted down a lane, are stored as eight; the stack has room for the
+   lanes past the last (GG_WSTACK). Compressing into a register, not into
+   memory: a compressing store is microcoded on some CPUs (AMD Zen 4). */
 GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
 {
     const __m256i c = _mm256_load_si256((const __m256i *)(const void *)child);
-    const unsigned rest = mask & (mask - 1);
+    const __m256i all = _mm256_maskz_compress_epi32((__mmask8)mask, c);
     _mm256_storeu_si256((__m256i *)(void *)(stack + *sp),
-                        _mm256_maskz_compress_epi32((__mmask8)rest, c));
-    *sp += __builtin_popcount(rest);
-    return child[lowest_bit(mask)];
+                        _mm256_alignr_epi32(_mm256_setzero_si256(), all, 1));
+    *sp += __builtin_popcount(mask) - 1;
+    return (uint32_t)_mm256_cvtsi256_si32(all);
 }
 #else
 GG_INLINE uint32_t any_descend(const uint32_t *child, unsigned mask, uint32_t *stack, int *sp)
