@@ -491,11 +491,16 @@ typedef struct exr_coder {
 int gg_image_exr_threads;
 
 /* Threads for n chunks (gg_image_exr_threads, image.h). */
+#define EXR_MAX_CODERS 8
+
 static int coder_threads(int n)
 {
-    long t = gg_image_exr_threads > 0 ? gg_image_exr_threads : sysconf(_SC_NPROCESSORS_ONLN);
-    if (t > 8 && gg_image_exr_threads <= 0) t = 8;
-    if (gg_image_exr_threads <= 0 && t > n / 4) t = n / 4;
+    long t = gg_image_exr_threads;
+    if (t <= 0) {
+        t = sysconf(_SC_NPROCESSORS_ONLN);
+        if (t > n / 4) t = n / 4;
+    }
+    if (t > EXR_MAX_CODERS) t = EXR_MAX_CODERS;
     return t < 1 ? 1 : (int)t;
 }
 
@@ -615,8 +620,8 @@ static int write_pixels(exr_context_t ctx, int part, const exr_set *set, int y0,
                         const char *path, ggError *err)
 {
     exr_job job;
-    exr_coder w[8];
-    pthread_t th[8];
+    exr_coder w[EXR_MAX_CODERS];
+    pthread_t th[EXR_MAX_CODERS];
     int32_t lpc = 0;
     int nt, started = 0, i;
     exr_result_t rv = exr_get_scanlines_per_chunk(ctx, part, &lpc);
@@ -634,7 +639,6 @@ static int write_pixels(exr_context_t ctx, int part, const exr_set *set, int y0,
         return gg_error_set(err, GG_ERROR_NOMEM, "%s: cannot write OpenEXR: no condition", path);
     }
     nt = coder_threads(job.nchunks);
-    if (nt > 8) nt = 8;
     for (i = 0; i < nt; i++) w[i].job = &job, w[i].chunk = -1, w[i].compress = w[i].write = NULL;
     /* This thread is coder 0; a thread that cannot start leaves its
        chunks to the others. */
